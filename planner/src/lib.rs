@@ -1,1 +1,12 @@
-//! Motion planner.
+//! Motion planner of the motion twin: pure motion math and PLC motion
+//! instruction semantics. No physics, GPU, files, clocks or CLI: time is passed
+//! in by the caller, one coarse update at a time.
+//!
+//! * [`profile`] — trapezoidal and S-curve profiles, jerk units.
+//! * [`axis`] — axis configuration (linear, rotary, modulo) and axis state.
+//! * [`instruction`] — status shared by all instructions: the Logix
+//!   MOTION_INSTRUCTION bits and the PLCopen function-block outputs.
+//! * [`modulo`] — MC_MoveModulo.
+//! * [`task`] — the coarse-update executor that owns axes and commands.
+
+pub mod profile;

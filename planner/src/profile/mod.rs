@@ -1,0 +1,453 @@
+//! Single-dimension motion profiles: trapezoidal and jerk-limited S-curve.
+//!
+//! Every instruction of the planner moves a scalar (an axis position, or a path
+//! length along a coordinated move) with a [`Profile`]: a time-ordered list of
+//! constant-jerk segments, sampleable at any time with [`Profile::sample`].
+//!
+//! * [`Profile::to_position`] plans from an arbitrary start [`State`]
+//!   (position, velocity, acceleration) to a target position, arriving with a
+//!   given final speed (0 for a stop at the target, non-zero for a blend into
+//!   the next move). Rest-to-rest profiles are time-optimal for their limits.
+//! * [`Profile::to_velocity`] changes velocity only (stops, jogs).
+//!
+//! Re-planning mid-motion (aborting, blending) is sampling the running profile
+//! at the current time and planning a new one from that [`State`].
+//!
+//! # Shape
+//! A position profile is always *ramp → cruise → ramp*: a velocity change from
+//! the start state to a peak velocity `v_p`, a cruise at `v_p`, and a velocity
+//! change to the final speed. The planner picks the largest `v_p ≤ v_max`
+//! whose two ramps fit in the distance (bisection on the ramp distance, which
+//! grows monotonically with `v_p` above both end speeds), which makes
+//! rest-to-rest profiles time-optimal. An S-curve ramp is the classic
+//! three-phase jerk ramp (jerk up, constant acceleration, jerk down), so a
+//! rest-to-rest S-curve has the seven phases of the textbook double-S.
+//!
+//! # Limits, and where they apply
+//! A ramp that raises the speed |v| uses the *acceleration* limit and the
+//! *accel jerk*; one that lowers it uses the *deceleration* limit and the
+//! *decel jerk*; a ramp that reverses the direction of travel uses the smaller
+//! of each pair. Choices the textbooks leave open, made here:
+//! * a trapezoidal profile ignores the start acceleration (acceleration may
+//!   jump, by definition of a trapezoid);
+//! * a start speed above `v_max` (a re-plan with a lower speed) is brought down
+//!   to `v_max` with the deceleration limits; a start acceleration above the
+//!   limit is first ramped back to the limit with the ramp's jerk;
+//! * when the end speed cannot be reached in the distance available (a blend
+//!   into a move that is too short), the profile ends at the highest speed it
+//!   can reach — [`Profile::final_state`] tells the caller which;
+//! * when the target lies behind the point where the axis can stop, the
+//!   profile brakes, reverses, and approaches it from the other side.
+
+mod jerk;
+mod ramp;
+
+pub use jerk::{JerkUnits, JerkUnitsError, jerk_from_percent_of_time, jerk_to_percent_of_time, jerk_to_units_per_sec3};
+
+use ramp::{Phase, Ramp, coast_velocity};
+use thiserror::Error;
+
+/// Kinematic state of one dimension at an instant (units, units/s, units/s²).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct State {
+    /// Position in the dimension's units.
+    pub position: f64,
+    /// Velocity in units/s.
+    pub velocity: f64,
+    /// Acceleration in units/s².
+    pub acceleration: f64,
+}
+
+impl State {
+    /// A state at rest at `position`.
+    pub fn at_rest(position: f64) -> Self {
+        Self { position, velocity: 0.0, acceleration: 0.0 }
+    }
+}
+
+/// A profile sampled at one instant: [`State`] plus the jerk (units/s³).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Sample {
+    /// Position in units.
+    pub position: f64,
+    /// Velocity in units/s.
+    pub velocity: f64,
+    /// Acceleration in units/s².
+    pub acceleration: f64,
+    /// Jerk in units/s³ (0 for trapezoidal profiles).
+    pub jerk: f64,
+}
+
+impl Sample {
+    /// The kinematic state (drops the jerk).
+    pub fn state(&self) -> State {
+        State { position: self.position, velocity: self.velocity, acceleration: self.acceleration }
+    }
+}
+
+/// Velocity-profile shape.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    /// Constant-acceleration ramps; acceleration changes in steps.
+    Trapezoidal,
+    /// Jerk-limited ramps (units/s³, both > 0 and finite).
+    SCurve {
+        /// Jerk while the speed rises.
+        accel_jerk: f64,
+        /// Jerk while the speed falls.
+        decel_jerk: f64,
+    },
+}
+
+/// Validated dynamic limits of one profile. All values are magnitudes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    velocity: f64,
+    acceleration: f64,
+    deceleration: f64,
+    shape: Shape,
+}
+
+/// Why a set of [`Limits`] cannot be built.
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[non_exhaustive]
+pub enum LimitsError {
+    /// A limit is zero, negative, NaN or infinite.
+    #[error("{which} must be finite and > 0, got {value}")]
+    NotPositive {
+        /// Which limit (`"velocity"`, `"acceleration"`, …).
+        which: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+}
+
+fn positive(which: &'static str, value: f64) -> Result<f64, LimitsError> {
+    if value.is_finite() && value > 0.0 { Ok(value) } else { Err(LimitsError::NotPositive { which, value }) }
+}
+
+impl Limits {
+    /// Limits for a trapezoidal profile.
+    ///
+    /// # Errors
+    /// [`LimitsError::NotPositive`] when a value is not finite and > 0.
+    pub fn trapezoidal(velocity: f64, acceleration: f64, deceleration: f64) -> Result<Self, LimitsError> {
+        Ok(Self {
+            velocity: positive("velocity", velocity)?,
+            acceleration: positive("acceleration", acceleration)?,
+            deceleration: positive("deceleration", deceleration)?,
+            shape: Shape::Trapezoidal,
+        })
+    }
+
+    /// Limits for an S-curve profile.
+    ///
+    /// # Errors
+    /// [`LimitsError::NotPositive`] when a value is not finite and > 0.
+    pub fn s_curve(
+        velocity: f64,
+        acceleration: f64,
+        deceleration: f64,
+        accel_jerk: f64,
+        decel_jerk: f64,
+    ) -> Result<Self, LimitsError> {
+        let mut limits = Self::trapezoidal(velocity, acceleration, deceleration)?;
+        limits.shape = Shape::SCurve {
+            accel_jerk: positive("accel jerk", accel_jerk)?,
+            decel_jerk: positive("decel jerk", decel_jerk)?,
+        };
+        Ok(limits)
+    }
+
+    /// Maximum speed (units/s).
+    pub fn velocity(&self) -> f64 {
+        self.velocity
+    }
+    /// Maximum acceleration (units/s²), used while the speed rises.
+    pub fn acceleration(&self) -> f64 {
+        self.acceleration
+    }
+    /// Maximum deceleration (units/s²), used while the speed falls.
+    pub fn deceleration(&self) -> f64 {
+        self.deceleration
+    }
+    /// The profile shape with its jerks.
+    pub fn shape(&self) -> Shape {
+        self.shape
+    }
+}
+
+/// One constant-jerk piece of a profile, starting at `t0_s`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Segment {
+    t0_s: f64,
+    duration_s: f64,
+    start: State,
+    jerk: f64,
+}
+
+impl Segment {
+    fn at(&self, tau: f64) -> Sample {
+        let State { position: p, velocity: v, acceleration: a } = self.start;
+        let j = self.jerk;
+        Sample {
+            position: p + tau * (v + tau * (a / 2.0 + tau * j / 6.0)),
+            velocity: v + tau * (a + tau * j / 2.0),
+            acceleration: a + tau * j,
+            jerk: j,
+        }
+    }
+}
+
+/// A planned single-dimension motion, sampleable at any time.
+///
+/// Time 0 is the start of the profile; before it the start state holds, after
+/// [`Profile::duration_s`] the final state holds and the position keeps
+/// advancing at the final speed (a blended profile hands over moving).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Profile {
+    segments: Vec<Segment>,
+    start: State,
+    final_state: State,
+    duration_s: f64,
+}
+
+impl Profile {
+    /// A profile that stays at `state` (with zero acceleration) forever.
+    pub fn hold(state: State) -> Self {
+        let state = State { acceleration: 0.0, ..state };
+        Self { segments: Vec::new(), start: state, final_state: state, duration_s: 0.0 }
+    }
+
+    /// Plans from `start` to `target_position`, arriving with speed
+    /// `final_speed` (≥ 0, in the direction of travel at arrival).
+    ///
+    /// The final speed actually reached is in [`Profile::final_state`]: it is
+    /// lower than asked when the distance is too short to reach it, and 0 when
+    /// the target lies behind the stopping point (the profile then reverses).
+    /// A negative or non-finite `final_speed` is taken as 0; a non-finite
+    /// target gives a profile that holds the start position (callers validate
+    /// operands before planning).
+    pub fn to_position(start: State, target_position: f64, final_speed: f64, limits: &Limits) -> Self {
+        let final_speed = if final_speed.is_finite() && final_speed > 0.0 { final_speed } else { 0.0 };
+        if !target_position.is_finite() || !start.position.is_finite() {
+            return Self::hold(start);
+        }
+        let start = sanitize(start, limits);
+        let stop = Ramp::new(start.velocity, start.acceleration, 0.0, limits);
+        let distance = target_position - start.position;
+        let beyond_stop = distance - stop.distance();
+        // Which way the axis travels at arrival.
+        let dir = if beyond_stop > 0.0 {
+            1.0
+        } else if beyond_stop < 0.0 {
+            -1.0
+        } else {
+            let mut profile = Self::from_ramps(start, &[&stop], None, limits);
+            profile.final_state.position = target_position;
+            return profile;
+        };
+        let v0 = dir * start.velocity;
+        let a0 = dir * start.acceleration;
+        let dist = dir * distance;
+        let d = |vp: f64, vf: f64| Ramp::new(v0, a0, vp, limits).distance() + Ramp::new(vp, 0.0, vf, limits).distance();
+
+        let v_max = limits.velocity;
+        let v_free = coast_velocity(v0, a0, limits);
+        let mut vf = final_speed;
+        let peak;
+        if d(v_max, vf) <= dist {
+            peak = v_max;
+        } else {
+            let lo = vf.max(v_free.max(0.0)).min(v_max);
+            if lo >= vf && d(lo, vf) <= dist {
+                peak = largest_feasible(lo, v_max, |vp| d(vp, vf) <= dist);
+            } else if v_free > vf {
+                // Too close to cruise above the start speed: brake earlier.
+                // Braking straight to `vf` fits because stopping fits.
+                peak = largest_feasible(vf, v_free.min(v_max), |vp| d(vp, vf) <= dist);
+            } else {
+                // Cannot even reach `vf` in the distance: end as fast as possible.
+                let only_ramp = |vt: f64| Ramp::new(v0, a0, vt, limits).distance() <= dist;
+                vf = largest_feasible(0.0, vf, only_ramp);
+                peak = vf;
+            }
+        }
+        let first = Ramp::new(v0, a0, peak, limits);
+        let last = Ramp::new(peak, 0.0, vf, limits);
+        let cruise_len = dist - first.distance() - last.distance();
+        let tolerance = 1e-12 * (1.0 + dist.abs() + start.position.abs());
+        if cruise_len < -tolerance || (cruise_len > tolerance && peak <= 1e-9 * v_max) {
+            // The ramps do not meet (the acceleration limits switch between
+            // braking and reversing, so the ramp distance jumps near zero
+            // speed): stop first, then move from rest, which always fits.
+            let stop = Self::to_velocity(start, 0.0, limits);
+            let rest = State::at_rest(stop.final_state.position);
+            return stop.then(Self::to_position(rest, target_position, final_speed, limits));
+        }
+        let cruise_s = if cruise_len > 0.0 && peak > 0.0 { cruise_len / peak } else { 0.0 };
+        let mirrored_start = State { position: 0.0, velocity: v0, acceleration: a0 };
+        let mut profile = Self::from_ramps(mirrored_start, &[&first, &last], Some((1, cruise_s)), limits);
+        profile.mirror_and_shift(dir, start.position);
+        profile.start = start;
+        profile.final_state = State { position: target_position, velocity: dir * vf, acceleration: 0.0 };
+        profile
+    }
+
+    /// Changes velocity from `start` to `target_velocity` (signed) and holds it.
+    ///
+    /// Used for stops (`target_velocity = 0`) and jogs. The position after the
+    /// ramp keeps advancing at `target_velocity`; [`Profile::final_state`]
+    /// gives the state at the end of the ramp. `target_velocity` is clamped to
+    /// ±`limits.velocity()`; a non-finite one is taken as 0.
+    pub fn to_velocity(start: State, target_velocity: f64, limits: &Limits) -> Self {
+        let vt = if target_velocity.is_finite() { target_velocity.clamp(-limits.velocity, limits.velocity) } else { 0.0 };
+        let start = sanitize(start, limits);
+        let ramp = Ramp::new(start.velocity, start.acceleration, vt, limits);
+        let mut profile = Self::from_ramps(start, &[&ramp], None, limits);
+        profile.final_state.velocity = vt;
+        profile
+    }
+
+    fn from_ramps(start: State, ramps: &[&Ramp], cruise: Option<(usize, f64)>, limits: &Limits) -> Self {
+        let mut segments = Vec::with_capacity(7);
+        let mut t = 0.0;
+        let mut state = start;
+        if matches!(limits.shape, Shape::Trapezoidal) {
+            state.acceleration = 0.0;
+        }
+        let mut push = |phase: Phase, state: &mut State, t: &mut f64| {
+            if phase.duration_s <= 0.0 {
+                return;
+            }
+            if let Some(a) = phase.set_acceleration {
+                state.acceleration = a;
+            }
+            let seg = Segment { t0_s: *t, duration_s: phase.duration_s, start: *state, jerk: phase.jerk };
+            let end = seg.at(phase.duration_s);
+            *state = end.state();
+            if phase.set_acceleration.is_some() {
+                state.acceleration = 0.0;
+            }
+            *t += phase.duration_s;
+            segments.push(seg);
+        };
+        for (i, ramp) in ramps.iter().enumerate() {
+            if let Some((at, cruise_s)) = cruise
+                && at == i
+            {
+                push(Phase { duration_s: cruise_s, jerk: 0.0, set_acceleration: Some(0.0) }, &mut state, &mut t);
+            }
+            for phase in ramp.phases() {
+                push(phase, &mut state, &mut t);
+            }
+        }
+        let final_state = State { acceleration: 0.0, ..state };
+        Self { segments, start, final_state, duration_s: t }
+    }
+
+    /// This profile followed by `next` (which must start where this one ends).
+    fn then(mut self, next: Profile) -> Profile {
+        let offset = self.duration_s;
+        self.segments.extend(next.segments.into_iter().map(|s| Segment { t0_s: s.t0_s + offset, ..s }));
+        self.duration_s += next.duration_s;
+        self.final_state = next.final_state;
+        self
+    }
+
+    fn mirror_and_shift(&mut self, dir: f64, offset: f64) {
+        for seg in &mut self.segments {
+            seg.start.position = offset + dir * seg.start.position;
+            seg.start.velocity *= dir;
+            seg.start.acceleration *= dir;
+            seg.jerk *= dir;
+        }
+    }
+
+    /// Duration in seconds until the final state is reached.
+    pub fn duration_s(&self) -> f64 {
+        self.duration_s
+    }
+
+    /// The state the profile started from.
+    pub fn start_state(&self) -> State {
+        self.start
+    }
+
+    /// The state at [`Profile::duration_s`] (position exactly the target for
+    /// position profiles; velocity the speed actually reached).
+    pub fn final_state(&self) -> State {
+        self.final_state
+    }
+
+    /// Samples the profile at time `t_s` (seconds since its start).
+    pub fn sample(&self, t_s: f64) -> Sample {
+        if t_s >= self.duration_s || t_s.is_nan() {
+            let f = self.final_state;
+            let extra = if t_s.is_nan() { 0.0 } else { t_s - self.duration_s };
+            return Sample { position: f.position + f.velocity * extra, velocity: f.velocity, acceleration: 0.0, jerk: 0.0 };
+        }
+        if t_s <= 0.0 || self.segments.is_empty() {
+            let s = self.start;
+            return Sample { position: s.position, velocity: s.velocity, acceleration: s.acceleration, jerk: 0.0 };
+        }
+        let i = self.segments.partition_point(|s| s.t0_s <= t_s).saturating_sub(1);
+        let seg = &self.segments[i];
+        seg.at((t_s - seg.t0_s).min(seg.duration_s))
+    }
+
+    /// Whether the profile is in a phase that raises the speed at `t_s`
+    /// (the Logix `.ACCEL` bit), and one that lowers it (`.DECEL`).
+    pub fn accel_decel_at(&self, t_s: f64) -> (bool, bool) {
+        if t_s >= self.duration_s || t_s < 0.0 {
+            return (false, false);
+        }
+        let s = self.sample(t_s);
+        let raising = s.velocity * s.acceleration > 0.0 || (s.velocity == 0.0 && s.acceleration != 0.0);
+        let lowering = s.velocity * s.acceleration < 0.0;
+        (raising, lowering)
+    }
+}
+
+/// Signed distance an axis in `state` travels until it stands still, braking
+/// with `limits` (the deceleration ramp of a stop).
+pub fn stopping_distance(state: State, limits: &Limits) -> f64 {
+    let state = sanitize(state, limits);
+    Ramp::new(state.velocity, state.acceleration, 0.0, limits).distance()
+}
+
+fn sanitize(state: State, limits: &Limits) -> State {
+    let finite = |x: f64| if x.is_finite() { x } else { 0.0 };
+    let mut s = State {
+        position: state.position,
+        velocity: finite(state.velocity),
+        acceleration: finite(state.acceleration),
+    };
+    if matches!(limits.shape, Shape::Trapezoidal) {
+        s.acceleration = 0.0;
+    }
+    s
+}
+
+/// Largest `x` in `[lo, hi]` with `ok(x)`, assuming `ok(lo)` and monotone `ok`.
+fn largest_feasible(lo: f64, hi: f64, ok: impl Fn(f64) -> bool) -> f64 {
+    if hi <= lo || ok(hi) {
+        return if hi <= lo { lo } else { hi };
+    }
+    let (mut lo, mut hi) = (lo, hi);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if ok(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+#[cfg(test)]
+mod tests;
