@@ -10,3 +10,7 @@
 //! * [`task`] — the coarse-update executor that owns axes and commands.
 
 pub mod profile;
+pub mod axis;
+pub mod instruction;
+pub mod modulo;
+pub mod task;

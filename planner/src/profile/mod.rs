@@ -229,21 +229,30 @@ impl Profile {
     /// target gives a profile that holds the start position (callers validate
     /// operands before planning).
     pub fn to_position(start: State, target_position: f64, final_speed: f64, limits: &Limits) -> Self {
-        let final_speed = if final_speed.is_finite() && final_speed > 0.0 { final_speed } else { 0.0 };
+        let requested_final_speed = if final_speed.is_finite() && final_speed > 0.0 { final_speed } else { 0.0 };
+        let final_speed = requested_final_speed;
         if !target_position.is_finite() || !start.position.is_finite() {
             return Self::hold(start);
         }
         let start = sanitize(start, limits);
-        let stop = Ramp::new(start.velocity, start.acceleration, 0.0, limits);
         let distance = target_position - start.position;
-        let beyond_stop = distance - stop.distance();
+        // The least distance to the target's side: brake to the final speed.
+        let toward = if distance < 0.0 { -1.0 } else { 1.0 };
+        let mut final_speed = final_speed;
+        let mut brake = Ramp::new(start.velocity, start.acceleration, toward * final_speed, limits);
+        if toward * (distance - brake.distance()) < 0.0 && final_speed > 0.0 {
+            // Overshoots even so: stop there, come back, arrive at rest.
+            final_speed = 0.0;
+            brake = Ramp::new(start.velocity, start.acceleration, 0.0, limits);
+        }
+        let beyond = distance - brake.distance();
         // Which way the axis travels at arrival.
-        let dir = if beyond_stop > 0.0 {
+        let dir = if beyond > 0.0 {
             1.0
-        } else if beyond_stop < 0.0 {
+        } else if beyond < 0.0 {
             -1.0
         } else {
-            let mut profile = Self::from_ramps(start, &[&stop], None, limits);
+            let mut profile = Self::from_ramps(start, &[&brake], None, limits);
             profile.final_state.position = target_position;
             return profile;
         };
@@ -283,7 +292,7 @@ impl Profile {
             // speed): stop first, then move from rest, which always fits.
             let stop = Self::to_velocity(start, 0.0, limits);
             let rest = State::at_rest(stop.final_state.position);
-            return stop.then(Self::to_position(rest, target_position, final_speed, limits));
+            return stop.then(Self::to_position(rest, target_position, requested_final_speed, limits));
         }
         let cruise_s = if cruise_len > 0.0 && peak > 0.0 { cruise_len / peak } else { 0.0 };
         let mirrored_start = State { position: 0.0, velocity: v0, acceleration: a0 };

@@ -120,11 +120,6 @@ impl Ramp {
         self.distance
     }
 
-    /// Duration of the ramp in seconds.
-    #[cfg(test)]
-    pub(super) fn duration_s(&self) -> f64 {
-        self.phases().map(|p| p.duration_s).sum()
-    }
 }
 
 /// Velocity reached from (v, a) by bringing the acceleration to zero as fast

@@ -1,0 +1,227 @@
+//! Axes: configuration (linear, rotary, modulo), limits, and state.
+//!
+//! Positions are `f64` in the axis' position units (degrees for a rotary axis
+//! configured in degrees, metres or millimetres for a linear one), exactly as
+//! a PLC axis works in its configured units; the twin converts them to SI at
+//! the joint. The command position is *unwrapped* (TwinCAT's absolute
+//! "SetPos", continuous through full turns); a modulo axis also reports the
+//! wrapped position through its [`Modulo`] period.
+
+use thiserror::Error;
+
+/// Linear or rotary axis. Either may be modulo (TwinCAT makes no difference).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AxisKind {
+    /// A linear axis.
+    #[default]
+    Linear,
+    /// A rotary axis.
+    Rotary,
+}
+
+/// A modulo period (the unwind, e.g. 360 degrees): validated finite and > 0.
+///
+/// Wrapped positions are in `[0, period)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Modulo {
+    period: f64,
+}
+
+impl Modulo {
+    /// A modulo period.
+    ///
+    /// # Errors
+    /// [`AxisConfigError::NotPositive`] when the period is not finite and > 0.
+    pub fn new(period: f64) -> Result<Self, AxisConfigError> {
+        positive("modulo_period", period).map(|period| Self { period })
+    }
+
+    /// The period in axis units.
+    pub fn period(&self) -> f64 {
+        self.period
+    }
+
+    /// `position` wrapped into `[0, period)`.
+    pub fn wrap(&self, position: f64) -> f64 {
+        let w = position - self.period * (position / self.period).floor();
+        if w >= self.period || w < 0.0 { 0.0 } else { w }
+    }
+}
+
+/// Configuration of one axis (the System Manager / axis properties page).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisConfig {
+    /// Axis tag name.
+    pub name: String,
+    /// Linear or rotary (default: linear).
+    pub kind: AxisKind,
+    /// Modulo period in axis units, e.g. 360 (default: none, not modulo).
+    pub modulo_period: Option<f64>,
+    /// Maximum speed, units/s (default 1). Instructions may not ask for more.
+    pub max_velocity: f64,
+    /// Default and maximum acceleration, units/s² (default 10); used when an
+    /// instruction passes 0.
+    pub max_acceleration: f64,
+    /// Default deceleration, units/s² (default 10); used when an instruction
+    /// passes 0.
+    pub max_deceleration: f64,
+    /// Default jerk, units/s³ (default 0 = no jerk limit: trapezoidal
+    /// profiles); used when an instruction passes 0.
+    pub max_jerk: f64,
+    /// In-position window, ± units around the target (default 0.01).
+    pub in_position_window: f64,
+    /// Target position monitoring: `Done` waits for the actual position to be
+    /// inside the in-position window (default true). Off: `Done` as soon as
+    /// setpoint generation ends.
+    pub target_position_monitoring: bool,
+    /// Modulo tolerance window, ± units (default 0): a modulo move from
+    /// standstill whose start is at most this far from its modulo target takes
+    /// the shortest way to it, whatever the direction asked.
+    pub modulo_tolerance_window: f64,
+}
+
+impl AxisConfig {
+    /// A configuration with the documented defaults.
+    pub fn new(name: impl Into<String>, kind: AxisKind) -> Self {
+        Self {
+            name: name.into(),
+            kind,
+            modulo_period: None,
+            max_velocity: 1.0,
+            max_acceleration: 10.0,
+            max_deceleration: 10.0,
+            max_jerk: 0.0,
+            in_position_window: 0.01,
+            target_position_monitoring: true,
+            modulo_tolerance_window: 0.0,
+        }
+    }
+
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`AxisConfigError`] naming the first field that is out of range.
+    pub fn validate(&self) -> Result<(), AxisConfigError> {
+        if let Some(p) = self.modulo_period {
+            Modulo::new(p)?;
+        }
+        positive("max_velocity", self.max_velocity)?;
+        positive("max_acceleration", self.max_acceleration)?;
+        positive("max_deceleration", self.max_deceleration)?;
+        non_negative("max_jerk", self.max_jerk)?;
+        non_negative("in_position_window", self.in_position_window)?;
+        non_negative("modulo_tolerance_window", self.modulo_tolerance_window)?;
+        if let Some(p) = self.modulo_period
+            && self.modulo_tolerance_window >= p / 2.0
+        {
+            return Err(AxisConfigError::ToleranceWindowTooWide { window: self.modulo_tolerance_window, period: p });
+        }
+        Ok(())
+    }
+
+    /// The modulo period, if the axis is modulo.
+    pub fn modulo(&self) -> Option<Modulo> {
+        self.modulo_period.and_then(|p| Modulo::new(p).ok())
+    }
+}
+
+/// An axis configuration field out of range.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum AxisConfigError {
+    /// A field that must be finite and > 0 is not.
+    #[error("axis field {field} must be finite and > 0, got {value}")]
+    NotPositive {
+        /// Field name.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A field that must be finite and ≥ 0 is not.
+    #[error("axis field {field} must be finite and >= 0, got {value}")]
+    Negative {
+        /// Field name.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// The modulo tolerance window must be under half the period.
+    #[error("modulo_tolerance_window {window} must be less than half the modulo period {period}")]
+    ToleranceWindowTooWide {
+        /// The window.
+        window: f64,
+        /// The period.
+        period: f64,
+    },
+    /// The initial position is not finite.
+    #[error("axis initial position must be finite, got {value}")]
+    InitialPosition {
+        /// Its value.
+        value: f64,
+    },
+}
+
+fn positive(field: &'static str, value: f64) -> Result<f64, AxisConfigError> {
+    if value.is_finite() && value > 0.0 { Ok(value) } else { Err(AxisConfigError::NotPositive { field, value }) }
+}
+
+fn non_negative(field: &'static str, value: f64) -> Result<f64, AxisConfigError> {
+    if value.is_finite() && value >= 0.0 { Ok(value) } else { Err(AxisConfigError::Negative { field, value }) }
+}
+
+/// What an axis reports after a coarse update.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AxisState {
+    /// Command (set) position, unwrapped, axis units.
+    pub command_position: f64,
+    /// Command velocity, units/s.
+    pub command_velocity: f64,
+    /// Command acceleration, units/s².
+    pub command_acceleration: f64,
+    /// Command jerk, units/s³.
+    pub command_jerk: f64,
+    /// Actual position, unwrapped, axis units: fed back from outside, or the
+    /// command position for an axis that is never fed (an ideal drive).
+    pub actual_position: f64,
+    /// Command position wrapped by the modulo period (modulo axes only).
+    pub modulo_command_position: Option<f64>,
+    /// Whether any motion command is generating setpoints on the axis.
+    pub has_job: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_is_in_range_and_exact_at_multiples() {
+        let m = Modulo::new(360.0).unwrap();
+        assert_eq!(m.wrap(90.0), 90.0);
+        assert_eq!(m.wrap(450.0), 90.0);
+        assert_eq!(m.wrap(-90.0), 270.0);
+        assert_eq!(m.wrap(720.0), 0.0);
+        assert_eq!(m.wrap(-1e-17), 0.0);
+        for k in -1000..1000 {
+            let x = f64::from(k) * 7.3;
+            let w = m.wrap(x);
+            assert!((0.0..360.0).contains(&w));
+        }
+    }
+
+    #[test]
+    fn validation_names_the_field() {
+        let mut c = AxisConfig::new("A", AxisKind::Rotary);
+        assert_eq!(c.validate(), Ok(()));
+        c.max_velocity = f64::NAN;
+        assert!(matches!(c.validate(), Err(AxisConfigError::NotPositive { field: "max_velocity", .. })));
+        c.max_velocity = 1.0;
+        c.max_jerk = -1.0;
+        assert!(matches!(c.validate(), Err(AxisConfigError::Negative { field: "max_jerk", .. })));
+        c.max_jerk = 0.0;
+        c.modulo_period = Some(0.0);
+        assert!(matches!(c.validate(), Err(AxisConfigError::NotPositive { field: "modulo_period", .. })));
+        c.modulo_period = Some(360.0);
+        c.modulo_tolerance_window = 180.0;
+        assert!(matches!(c.validate(), Err(AxisConfigError::ToleranceWindowTooWide { .. })));
+    }
+}

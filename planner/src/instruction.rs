@@ -1,0 +1,142 @@
+//! Instruction status shared by every instruction.
+//!
+//! * [`MotionInstructionBits`] — the Logix `MOTION_INSTRUCTION` tag: control
+//!   bits `.EN .DN .ER .PC .IP .AC .ACCEL .DECEL` and the `ERR`, `EXERR` and
+//!   `SEGMENT` codes.
+//! * [`FbOutputs`] — the PLCopen function-block outputs `Done`, `Busy`,
+//!   `Active`, `CommandAborted`, `Error`, `ErrorID`.
+//!
+//! These are *status*: an instruction in process is not an error. Errors are
+//! carried as numbers in the status (as on the controller), and each
+//! instruction module has its own typed error enum that maps to them.
+
+/// A Logix `MOTION_INSTRUCTION` tag.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct MotionInstructionBits {
+    /// `.EN` (bit 31): the rung is true / the instruction was enabled.
+    pub en: bool,
+    /// `.DN` (bit 29): the instruction was verified and started (or queued).
+    pub dn: bool,
+    /// `.ER` (bit 28): the instruction failed; see `err`/`exerr`.
+    pub er: bool,
+    /// `.PC` (bit 27): the process is complete.
+    pub pc: bool,
+    /// `.IP` (bit 26): the process is in progress.
+    pub ip: bool,
+    /// `.AC` (bit 23): the instruction controls the motion now.
+    pub ac: bool,
+    /// `.ACCEL` (bit 1): the move is raising its speed.
+    pub accel: bool,
+    /// `.DECEL` (bit 2): the move is lowering its speed.
+    pub decel: bool,
+    /// `ERR`: the error code (0 = none).
+    pub err: i32,
+    /// `EXERR`: the extended error code (the operand at fault, …).
+    pub exerr: i32,
+    /// `SEGMENT`: the offending segment or element, where the error has one.
+    pub segment: i32,
+}
+
+impl MotionInstructionBits {
+    /// The `FLAGS` DINT with each bit at its documented position.
+    pub fn flags(&self) -> u32 {
+        let bit = |b: bool, n: u32| u32::from(b) << n;
+        bit(self.en, 31)
+            | bit(self.dn, 29)
+            | bit(self.er, 28)
+            | bit(self.pc, 27)
+            | bit(self.ip, 26)
+            | bit(self.ac, 23)
+            | bit(self.decel, 2)
+            | bit(self.accel, 1)
+    }
+
+    /// A bit by its mnemonic (`"EN"`, `"DN"`, `"ER"`, `"PC"`, `"IP"`, `"AC"`,
+    /// `"ACCEL"`, `"DECEL"`, case-insensitive), for `MC1.PC`-style tag paths.
+    pub fn bit(&self, mnemonic: &str) -> Option<bool> {
+        Some(match mnemonic.to_ascii_uppercase().as_str() {
+            "EN" => self.en,
+            "DN" => self.dn,
+            "ER" => self.er,
+            "PC" => self.pc,
+            "IP" => self.ip,
+            "AC" => self.ac,
+            "ACCEL" => self.accel,
+            "DECEL" => self.decel,
+            _ => return None,
+        })
+    }
+}
+
+/// PLCopen function-block outputs.
+///
+/// Rules kept by every block: when `busy` falls, exactly one of `done`,
+/// `command_aborted`, `error` is set; `active` only while the block controls
+/// the axis; the final outputs stay while `Execute` stays TRUE, are cleared
+/// on its falling edge, and show for exactly one cycle if `Execute` was
+/// already FALSE when the block finished.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FbOutputs {
+    /// `Done`: the command completed.
+    pub done: bool,
+    /// `Busy`: the command is being processed (queued or active).
+    pub busy: bool,
+    /// `Active`: the command controls the axis now.
+    pub active: bool,
+    /// `CommandAborted`: another command or a stop replaced this one.
+    pub command_aborted: bool,
+    /// `Error`: the command failed; see `error_id`.
+    pub error: bool,
+    /// `ErrorID`: the error number (0 = none).
+    pub error_id: u32,
+}
+
+impl FbOutputs {
+    /// An output by its PLCopen name (`"Done"`, `"Busy"`, `"Active"`,
+    /// `"CommandAborted"`, `"Error"`, case-insensitive), for tag paths such
+    /// as `MoveTable.Done`.
+    pub fn bit(&self, name: &str) -> Option<bool> {
+        Some(match name.to_ascii_lowercase().as_str() {
+            "done" => self.done,
+            "busy" => self.busy,
+            "active" => self.active,
+            "commandaborted" => self.command_aborted,
+            "error" => self.error,
+            _ => return None,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flags_put_each_bit_at_its_spec_position() {
+        let one = |f: fn(&mut MotionInstructionBits)| {
+            let mut b = MotionInstructionBits::default();
+            f(&mut b);
+            b.flags()
+        };
+        assert_eq!(one(|b| b.en = true), 1 << 31);
+        assert_eq!(one(|b| b.dn = true), 1 << 29);
+        assert_eq!(one(|b| b.er = true), 1 << 28);
+        assert_eq!(one(|b| b.pc = true), 1 << 27);
+        assert_eq!(one(|b| b.ip = true), 1 << 26);
+        assert_eq!(one(|b| b.ac = true), 1 << 23);
+        assert_eq!(one(|b| b.accel = true), 1 << 1);
+        assert_eq!(one(|b| b.decel = true), 1 << 2);
+    }
+
+    #[test]
+    fn bits_by_name() {
+        let b = MotionInstructionBits { pc: true, ..Default::default() };
+        assert_eq!(b.bit("PC"), Some(true));
+        assert_eq!(b.bit("ip"), Some(false));
+        assert_eq!(b.bit("XX"), None);
+        let o = FbOutputs { done: true, ..Default::default() };
+        assert_eq!(o.bit("Done"), Some(true));
+        assert_eq!(o.bit("CommandAborted"), Some(false));
+        assert_eq!(o.bit("ErrorID"), None);
+    }
+}

@@ -1,0 +1,450 @@
+//! The coarse-update executor: a motion task that owns axes and instruction
+//! instances and advances them one coarse update (`dt`) at a time.
+//!
+//! Each [`MotionTask::update`]:
+//! 1. evaluates every instance's inputs in the order the instances were
+//!    added (rising edges of `Execute` start, buffer or abort commands;
+//!    falling edges clear finished outputs);
+//! 2. advances every axis' active command by `dt` and samples its profile
+//!    (the command setpoint); a blended command hands over to the buffered
+//!    one inside the update, at the exact hand-over time;
+//! 3. takes the actual position — the last one fed with
+//!    [`MotionTask::feed_actual_position`], or the new command position for an
+//!    axis never fed (an ideal drive) — and updates `Done` (target position
+//!    monitoring), starting a buffered command when its predecessor is done.
+//!
+//! Nothing here reads a clock: time advances only through `update`, so the
+//! same calls give bit-identical setpoints.
+
+use crate::axis::{AxisConfig, AxisConfigError, AxisState};
+use crate::instruction::FbOutputs;
+use crate::modulo::{McBufferMode, MoveModulo, MoveModuloError, MoveModuloInputs};
+use crate::profile::{Profile, Sample, State};
+use thiserror::Error;
+
+/// Handle of an axis in a [`MotionTask`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct AxisHandle(u32);
+
+/// Handle of a function-block instance in a [`MotionTask`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct FbHandle(u32);
+
+/// Why a task, axis or instance cannot be set up.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum TaskError {
+    /// The coarse update period must be finite and in (0, 1] s.
+    #[error("coarse update period {dt_s} s must be finite and in (0, 1] s")]
+    Period {
+        /// The period given.
+        dt_s: f64,
+    },
+    /// An axis configuration is invalid.
+    #[error("axis '{name}': {source}")]
+    Axis {
+        /// Axis name.
+        name: String,
+        /// What is wrong.
+        #[source]
+        source: AxisConfigError,
+    },
+}
+
+#[derive(Debug, Clone)]
+struct Job {
+    fb: Option<FbHandle>,
+    command: MoveModulo,
+    profile: Profile,
+    t_s: f64,
+    target: f64,
+    generation_done: bool,
+}
+
+#[derive(Debug, Clone)]
+struct AxisSlot {
+    config: AxisConfig,
+    command: Sample,
+    actual: f64,
+    fed: bool,
+    last_direction: f64,
+    job: Option<Job>,
+    buffered: Option<(FbHandle, MoveModulo)>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    Idle,
+    Buffered,
+    Active,
+    Finished { at_update: u64 },
+}
+
+#[derive(Debug, Clone)]
+struct FbSlot {
+    name: String,
+    axis: AxisHandle,
+    inputs: MoveModuloInputs,
+    previous_execute: bool,
+    outputs: FbOutputs,
+    phase: Phase,
+}
+
+/// A motion task: axes, instances, and the coarse update.
+#[derive(Debug, Clone)]
+pub struct MotionTask {
+    dt_s: f64,
+    updates: u64,
+    axes: Vec<AxisSlot>,
+    fbs: Vec<FbSlot>,
+}
+
+impl MotionTask {
+    /// A task with coarse update period `dt_s` seconds.
+    ///
+    /// # Errors
+    /// [`TaskError::Period`] unless 0 < `dt_s` ≤ 1.
+    pub fn new(dt_s: f64) -> Result<Self, TaskError> {
+        if !(dt_s.is_finite() && dt_s > 0.0 && dt_s <= 1.0) {
+            return Err(TaskError::Period { dt_s });
+        }
+        Ok(Self { dt_s, updates: 0, axes: Vec::new(), fbs: Vec::new() })
+    }
+
+    /// The coarse update period in seconds.
+    pub fn dt_s(&self) -> f64 {
+        self.dt_s
+    }
+
+    /// Time of the last update: `updates × dt` seconds (exact multiple, no
+    /// accumulated rounding).
+    pub fn time_s(&self) -> f64 {
+        self.updates as f64 * self.dt_s
+    }
+
+    /// Number of updates run so far.
+    pub fn updates(&self) -> u64 {
+        self.updates
+    }
+
+    /// Adds an axis at rest at `initial_position` (axis units).
+    ///
+    /// # Errors
+    /// [`TaskError::Axis`] when the configuration or the position is invalid.
+    pub fn add_axis(&mut self, config: AxisConfig, initial_position: f64) -> Result<AxisHandle, TaskError> {
+        let err = |source| TaskError::Axis { name: config.name.clone(), source };
+        config.validate().map_err(err)?;
+        if !initial_position.is_finite() {
+            return Err(err(AxisConfigError::InitialPosition { value: initial_position }));
+        }
+        self.axes.push(AxisSlot {
+            config,
+            command: Sample { position: initial_position, ..Sample::default() },
+            actual: initial_position,
+            fed: false,
+            last_direction: 1.0,
+            job: None,
+            buffered: None,
+        });
+        Ok(AxisHandle(self.axes.len() as u32 - 1))
+    }
+
+    /// Adds an MC_MoveModulo instance named `name` acting on `axis`.
+    pub fn add_move_modulo(&mut self, name: impl Into<String>, axis: AxisHandle) -> FbHandle {
+        self.fbs.push(FbSlot {
+            name: name.into(),
+            axis,
+            inputs: MoveModuloInputs::default(),
+            previous_execute: false,
+            outputs: FbOutputs::default(),
+            phase: Phase::Idle,
+        });
+        FbHandle(self.fbs.len() as u32 - 1)
+    }
+
+    /// Sets an instance's inputs (a call of the block); they are evaluated at
+    /// the next [`MotionTask::update`] and stay until set again.
+    pub fn set_move_modulo_inputs(&mut self, fb: FbHandle, inputs: MoveModuloInputs) {
+        self.fbs[fb.0 as usize].inputs = inputs;
+    }
+
+    /// An instance's current inputs.
+    pub fn move_modulo_inputs(&self, fb: FbHandle) -> MoveModuloInputs {
+        self.fbs[fb.0 as usize].inputs
+    }
+
+    /// An instance's outputs after the last update.
+    pub fn outputs(&self, fb: FbHandle) -> FbOutputs {
+        self.fbs[fb.0 as usize].outputs
+    }
+
+    /// An instance's name.
+    pub fn fb_name(&self, fb: FbHandle) -> &str {
+        &self.fbs[fb.0 as usize].name
+    }
+
+    /// Every instance, in the order added.
+    pub fn fb_handles(&self) -> impl Iterator<Item = FbHandle> + use<> {
+        (0..self.fbs.len() as u32).map(FbHandle)
+    }
+
+    /// Every axis, in the order added.
+    pub fn axis_handles(&self) -> impl Iterator<Item = AxisHandle> + use<> {
+        (0..self.axes.len() as u32).map(AxisHandle)
+    }
+
+    /// An axis' configuration.
+    pub fn axis_config(&self, axis: AxisHandle) -> &AxisConfig {
+        &self.axes[axis.0 as usize].config
+    }
+
+    /// An axis' state after the last update.
+    pub fn axis_state(&self, axis: AxisHandle) -> AxisState {
+        let a = &self.axes[axis.0 as usize];
+        AxisState {
+            command_position: a.command.position,
+            command_velocity: a.command.velocity,
+            command_acceleration: a.command.acceleration,
+            command_jerk: a.command.jerk,
+            actual_position: a.actual,
+            modulo_command_position: a.config.modulo().map(|m| m.wrap(a.command.position)),
+            has_job: a.job.as_ref().is_some_and(|j| !j.generation_done),
+        }
+    }
+
+    /// Feeds the measured position of an axis (axis units, unwrapped); used
+    /// from the next update on. An axis never fed follows its command.
+    pub fn feed_actual_position(&mut self, axis: AxisHandle, position: f64) {
+        let a = &mut self.axes[axis.0 as usize];
+        if position.is_finite() {
+            a.actual = position;
+            a.fed = true;
+        }
+    }
+
+    /// Axis reset (MC_Reset): the actual position becomes the set position,
+    /// motion stops at once, and the running and buffered commands are
+    /// aborted (`CommandAborted`).
+    pub fn reset_axis(&mut self, axis: AxisHandle) {
+        let a = &mut self.axes[axis.0 as usize];
+        a.command = Sample { position: a.actual, ..Sample::default() };
+        let job_fb = a.job.take().and_then(|j| j.fb);
+        let buffered_fb = a.buffered.take().map(|(fb, _)| fb);
+        for fb in job_fb.into_iter().chain(buffered_fb) {
+            self.finish(fb, Finish::Aborted);
+        }
+    }
+
+    /// Runs one coarse update.
+    pub fn update(&mut self) {
+        self.updates += 1;
+        for i in 0..self.fbs.len() {
+            self.evaluate_inputs(FbHandle(i as u32));
+        }
+        for i in 0..self.axes.len() {
+            self.advance_axis(AxisHandle(i as u32));
+        }
+    }
+
+    fn evaluate_inputs(&mut self, fb: FbHandle) {
+        let updates = self.updates;
+        let slot = &mut self.fbs[fb.0 as usize];
+        let execute = slot.inputs.execute;
+        let rising = execute && !slot.previous_execute;
+        slot.previous_execute = execute;
+        if let Phase::Finished { at_update } = slot.phase
+            && !execute
+            && at_update < updates
+        {
+            slot.outputs = FbOutputs::default();
+            slot.phase = Phase::Idle;
+        }
+        if !rising {
+            return;
+        }
+        if matches!(slot.phase, Phase::Active | Phase::Buffered) {
+            // Not possible while busy: refuse, and detach the running command.
+            self.detach(fb);
+            self.finish(fb, Finish::Error(MoveModuloError::Busy));
+            return;
+        }
+        let slot = &mut self.fbs[fb.0 as usize];
+        slot.outputs = FbOutputs::default();
+        let axis = slot.axis;
+        let inputs = slot.inputs;
+        let command = match MoveModulo::new(&inputs, &self.axes[axis.0 as usize].config) {
+            Ok(c) => c,
+            Err(e) => return self.finish(fb, Finish::Error(e)),
+        };
+        let a = &mut self.axes[axis.0 as usize];
+        let idle = a.job.is_none();
+        match command.buffer_mode() {
+            McBufferMode::Aborting => self.start(axis, fb, command, None),
+            _ if idle => self.start(axis, fb, command, None),
+            mode => {
+                if a.buffered.is_some() {
+                    return self.finish(fb, Finish::Error(MoveModuloError::BufferFull));
+                }
+                a.buffered = Some((fb, command));
+                let blend = a.job.as_ref().and_then(|j| mode.junction_velocity(j.command.velocity(), command.velocity()));
+                if let (Some(vj), Some(job)) = (blend, a.job.as_mut())
+                    && !job.generation_done
+                {
+                    // End the running command at its target with the junction speed.
+                    let now = job.profile.sample(job.t_s).state();
+                    job.profile = Profile::to_position(now, job.target, vj, job.command.limits());
+                    job.t_s = 0.0;
+                }
+                let slot = &mut self.fbs[fb.0 as usize];
+                slot.phase = Phase::Buffered;
+                slot.outputs.busy = true;
+            }
+        }
+    }
+
+    /// Starts `command` on `axis` now, `elapsed_s` into its profile (a blend
+    /// hand-over inside an update), aborting whatever runs there.
+    fn start(&mut self, axis: AxisHandle, fb: FbHandle, command: MoveModulo, elapsed_s: Option<f64>) {
+        let a = &mut self.axes[axis.0 as usize];
+        let aborted: Vec<FbHandle> = if elapsed_s.is_none() {
+            let job_fb = a.job.take().and_then(|j| j.fb);
+            let buffered_fb = a.buffered.take().map(|(b, _)| b).filter(|&b| b != fb);
+            job_fb.into_iter().chain(buffered_fb).filter(|&b| b != fb).collect()
+        } else {
+            a.job = None;
+            Vec::new()
+        };
+        let state = a.command.state();
+        let target = command.absolute_target(state, a.last_direction);
+        let profile = Profile::to_position(state, target, 0.0, command.limits());
+        a.job = Some(Job { fb: Some(fb), command, profile, t_s: 0.0, target, generation_done: false });
+        for other in aborted {
+            self.finish(other, Finish::Aborted);
+        }
+        let slot = &mut self.fbs[fb.0 as usize];
+        slot.phase = Phase::Active;
+        slot.outputs = FbOutputs { busy: true, active: true, ..FbOutputs::default() };
+        if let Some(t) = elapsed_s {
+            let a = &mut self.axes[axis.0 as usize];
+            if let Some(job) = a.job.as_mut() {
+                job.t_s = t;
+            }
+        }
+    }
+
+    fn advance_axis(&mut self, axis: AxisHandle) {
+        let dt = self.dt_s;
+        let a = &mut self.axes[axis.0 as usize];
+        if let Some(job) = a.job.as_mut()
+            && !job.generation_done
+        {
+            job.t_s += dt;
+            if job.t_s >= job.profile.duration_s() {
+                let leftover = job.t_s - job.profile.duration_s();
+                let end = job.profile.final_state();
+                job.generation_done = true;
+                job.t_s = job.profile.duration_s();
+                if end.velocity != 0.0 {
+                    // Blend hand-over: the buffered command takes over moving.
+                    let finished = job.fb;
+                    a.command = Sample { position: end.position, velocity: end.velocity, acceleration: 0.0, jerk: 0.0 };
+                    if let Some((next_fb, next)) = a.buffered.take() {
+                        if let Some(fb) = finished {
+                            self.finish(fb, Finish::Done);
+                        }
+                        self.start(axis, next_fb, next, Some(leftover));
+                        let a = &mut self.axes[axis.0 as usize];
+                        if let Some(job) = a.job.as_mut() {
+                            a.command = job.profile.sample(job.t_s);
+                        }
+                        return self.settle(axis);
+                    }
+                }
+            }
+        }
+        let a = &mut self.axes[axis.0 as usize];
+        if let Some(job) = a.job.as_ref() {
+            a.command = job.profile.sample(job.t_s);
+        }
+        self.settle(axis);
+    }
+
+    /// Actual position, direction memory, `Done`, and buffered starts.
+    fn settle(&mut self, axis: AxisHandle) {
+        let a = &mut self.axes[axis.0 as usize];
+        if !a.fed {
+            a.actual = a.command.position;
+        }
+        if a.command.velocity != 0.0 {
+            a.last_direction = a.command.velocity.signum();
+        }
+        let Some(job) = a.job.as_ref() else { return };
+        if !job.generation_done {
+            return;
+        }
+        let in_position = !a.config.target_position_monitoring || (a.actual - job.target).abs() <= a.config.in_position_window;
+        if !in_position {
+            return;
+        }
+        let fb = job.fb;
+        a.job = None;
+        let next = a.buffered.take();
+        if let Some(fb) = fb {
+            self.finish(fb, Finish::Done);
+        }
+        if let Some((next_fb, next)) = next {
+            self.start(axis, next_fb, next, None);
+        }
+    }
+
+    /// Detaches `fb` from the command it drives, which keeps running.
+    fn detach(&mut self, fb: FbHandle) {
+        for a in &mut self.axes {
+            if let Some(job) = a.job.as_mut()
+                && job.fb == Some(fb)
+            {
+                job.fb = None;
+            }
+            if a.buffered.as_ref().is_some_and(|(b, _)| *b == fb) {
+                a.buffered = None;
+            }
+        }
+    }
+
+    fn finish(&mut self, fb: FbHandle, how: Finish) {
+        let updates = self.updates;
+        let slot = &mut self.fbs[fb.0 as usize];
+        slot.phase = Phase::Finished { at_update: updates };
+        slot.outputs = match how {
+            Finish::Done => FbOutputs { done: true, ..FbOutputs::default() },
+            Finish::Aborted => FbOutputs { command_aborted: true, ..FbOutputs::default() },
+            Finish::Error(e) => FbOutputs { error: true, error_id: e.error_id().0, ..FbOutputs::default() },
+        };
+    }
+
+    /// The absolute target of the command running on `axis`, if any.
+    pub fn active_target(&self, axis: AxisHandle) -> Option<f64> {
+        self.axes[axis.0 as usize].job.as_ref().map(|j| j.target)
+    }
+
+    /// The profile of the command running on `axis`, if any, and the time
+    /// into it (for inspection and tests).
+    pub fn active_profile(&self, axis: AxisHandle) -> Option<(&Profile, f64)> {
+        self.axes[axis.0 as usize].job.as_ref().map(|j| (&j.profile, j.t_s))
+    }
+
+    /// The state an axis would start a new command from (its command state).
+    pub fn command_state(&self, axis: AxisHandle) -> State {
+        self.axes[axis.0 as usize].command.state()
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Finish {
+    Done,
+    Aborted,
+    Error(MoveModuloError),
+}
+
+#[cfg(test)]
+mod tests;
