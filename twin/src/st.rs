@@ -209,7 +209,7 @@ pub enum ParseError {
         input: String,
     },
     /// The text ended inside the argument list.
-    #[error("unterminated call: the '(' at column {open_column} is never closed, expected {expected}")]
+    #[error("unterminated call: the '(' is never closed, expected {expected}")]
     Unterminated {
         /// 1-based column just past the end of the text.
         column: usize,
@@ -683,3 +683,185 @@ pub const PLCOPEN_ENUMERATIONS: &[&str] = &[
     "MC_Aborting", "MC_Buffered", "MC_BlendingLow", "MC_BlendingPrevious", "MC_BlendingNext",
     "MC_BlendingHigh",
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    fn ident(s: &str) -> Expr {
+        Expr::Ident(s.to_owned())
+    }
+
+    fn positional(src: &str) -> Vec<Expr> {
+        match parse_call(src).expect("parses").args {
+            Args::Positional(v) => v.into_iter().map(|a| a.value).collect(),
+            Args::Named(_) => panic!("expected positional"),
+        }
+    }
+
+    #[test]
+    fn mccm_example_from_the_manual() {
+        let src = "MCCM(myMccmCoordinateSystem, myMccmMotionControl, myMccmMoveType, myMccmPosition[0], myMccmCircleType, myMccmRadius[0], myMccmDirection, myMccmSpeed, Unitspersec, myMccmAccelRate, Unitspersec2, myMccmDecelRate, Unitspersec2, Trapezoidal, 100.0, 100.0, %ofTime, myMccmTermType, CoordinatedMotion, Programmed, 0, 0, None, 0, 0);";
+        let call = parse_call(src).expect("parses");
+        assert_eq!(call.name.value, "MCCM");
+        assert_eq!(call.name.span, Span { start: 0, end: 4 });
+        let args = positional(src);
+        assert_eq!(args.len(), 25);
+        assert_eq!(args[3], Expr::Index(Box::new(ident("myMccmPosition")), 0));
+        assert_eq!(args[10], ident("Unitspersec2"));
+        assert_eq!(args[14], Expr::Number(100.0));
+        assert_eq!(args[16], ident("%ofTime"));
+        assert_eq!(args[24], Expr::Integer(0));
+    }
+
+    #[test]
+    fn enumeration_words_are_single_identifiers() {
+        let args = positional("MCCM(CS1, MC1, 0, Pos, 1, Ctr, 0, 100, unitspersec, 50, %ofmaximum, 50, unitspersec\u{b2}, s-curve, 100, 100, unitspersec\u{b3}, 2, 0, 0, 0, 0, 0, 0, 0)");
+        assert_eq!(args.len(), 25);
+        assert_eq!(args[10], ident("%ofmaximum"));
+        assert_eq!(args[12], ident("unitspersec\u{b2}"));
+        assert_eq!(args[13], ident("s-curve"));
+        assert_eq!(args[16], ident("unitspersec\u{b3}"));
+    }
+
+    #[test]
+    fn other_manual_examples() {
+        assert_eq!(positional("MCCP(MCCP_1,Cam_1[0],30,1.0,1.0,Cam_pro1[0]);").len(), 6);
+        assert_eq!(positional("MCT (myMctSourceSystem, myMctTargetSystem, myMctMotionControl, myMctOrientation, myMctTranslation);").len(), 5);
+        let mapc = positional("MAPC (Axis0, Axis1, MAPC_1, 1, Cam_prof1[0], 1.0, 1.0, Once, Immediate, Mlckpos, Clckpos, NewCam, Actual, ForwardOnly);");
+        assert_eq!(mapc.len(), 14);
+        assert_eq!(mapc[7], ident("Once"));
+        assert_eq!(positional("MAFR(Axis1, MC1)").len(), 2);
+        assert_eq!(positional("MSO()"), Vec::<Expr>::new());
+    }
+
+    #[test]
+    fn named_function_block_call() {
+        let call = parse_call("MoveTable(Axis := Table, Execute := TRUE, Position := 90.0, Velocity := 180.0, Direction := MC_Positive_Direction, BufferMode := MC_Aborting)").expect("parses");
+        let Args::Named(inputs) = call.args else { panic!("named") };
+        let names: Vec<&str> = inputs.iter().map(|(n, _)| n.value.as_str()).collect();
+        assert_eq!(names, ["Axis", "Execute", "Position", "Velocity", "Direction", "BufferMode"]);
+        assert_eq!(inputs[1].1.value, Expr::Bool(true));
+        assert_eq!(inputs[0].1.span, Span { start: 18, end: 23 });
+        assert_eq!(inputs[4].1.value, ident("MC_Positive_Direction"));
+    }
+
+    #[test]
+    fn literals() {
+        let args = positional("X(1, -2.5, 1.0e3, 2E-2, 16#FF, -16#10, 2#1010, 1_000, true, False, +3, MC1.PC, Pos[1].Bit, A.B.C)");
+        assert_eq!(
+            args,
+            [
+                Expr::Integer(1),
+                Expr::Number(-2.5),
+                Expr::Number(1000.0),
+                Expr::Number(0.02),
+                Expr::Integer(255),
+                Expr::Integer(-16),
+                Expr::Integer(10),
+                Expr::Integer(1000),
+                Expr::Bool(true),
+                Expr::Bool(false),
+                Expr::Integer(3),
+                Expr::Member(Box::new(ident("MC1")), "PC".into()),
+                Expr::Member(Box::new(Expr::Index(Box::new(ident("Pos")), 1)), "Bit".into()),
+                Expr::Member(Box::new(Expr::Member(Box::new(ident("A")), "B".into())), "C".into()),
+            ]
+        );
+        assert_eq!(args[12].root_ident(), Some("Pos"));
+        assert_eq!(args[4].as_f64(), Some(255.0));
+    }
+
+    #[test]
+    fn conditions() {
+        let c = parse_condition(" MoveTable.Done ").expect("parses");
+        assert_eq!(c.value, Expr::Member(Box::new(ident("MoveTable")), "Done".into()));
+        assert_eq!(c.span, Span { start: 1, end: 15 });
+        assert!(parse_condition("Flags[2]").is_ok());
+        assert!(matches!(parse_condition("TRUE"), Err(ParseError::Unexpected { column: 1, expected: Expected::Reference, .. })));
+        assert!(matches!(parse_condition("A.Done B"), Err(ParseError::Unexpected { column: 8, expected: Expected::End, .. })));
+        assert!(matches!(parse_condition(""), Err(ParseError::Unexpected { column: 1, .. })));
+    }
+
+    #[test]
+    fn errors_carry_columns_and_expectations() {
+        let cases: [(&str, usize); 12] = [
+            ("MoveTable(Axis := Table, Position 90.0)", 35),
+            ("MoveTable(Axis := Table, Position = 90.0)", 35),
+            ("MAM(Axis1, MC2", 15),
+            ("MAM(Axis1 MC2)", 11),
+            ("MAM(Axis1, , MC2)", 12),
+            ("MAM Axis1", 5),
+            ("(Axis1)", 1),
+            ("MAM(Axis1, MC2.)", 16),
+            ("MAM(Pos[x])", 9),
+            ("MAM(1.2.3)", 5),
+            ("MAM(Axis1); extra", 13),
+            ("MAM(Axis1, Ax @ 1)", 15),
+        ];
+        for (src, column) in cases {
+            let e = parse_call(src).expect_err(src);
+            assert_eq!(e.column(), column, "{src}: {e}");
+        }
+        assert!(matches!(
+            parse_call("MoveTable(Axis := Table, Position 90.0)"),
+            Err(ParseError::MissingAssign { ref input, .. }) if input == "Position"
+        ));
+        assert!(matches!(parse_call("MAM(Axis1, MC2"), Err(ParseError::Unterminated { open_column: 4, expected: Expected::CloseOrComma, .. })));
+        assert!(matches!(parse_call("MAM(Axis1 MC2)"), Err(ParseError::Unexpected { expected: Expected::CloseOrComma, .. })));
+        assert!(matches!(parse_call("F(A := 1, 2)"), Err(ParseError::MixedArguments { column: 11 })));
+        assert!(matches!(parse_call("F(1, A := 2)"), Err(ParseError::MixedArguments { column: 6 })));
+        assert!(matches!(parse_call("F(A := 1, a := 2)"), Err(ParseError::DuplicateInput { column: 11, .. })));
+        assert!(matches!(parse_call("F(99999999999999999999)"), Err(ParseError::InvalidNumber { column: 3, .. })));
+        assert!(matches!(parse_call("F(A := )"), Err(ParseError::Unexpected { expected: Expected::Operand, .. })));
+    }
+
+    #[test]
+    fn columns_count_characters() {
+        let e = parse_call("F(unitspersec\u{b2} \u{b2})").expect_err("stray");
+        assert_eq!(e.column(), 16);
+    }
+
+    #[test]
+    fn display_is_one_line_without_column() {
+        let e = parse_call("MoveTable(Axis := Table, Position 90.0)").expect_err("bad");
+        assert_eq!(e.to_string(), "expected ':=' after input name 'Position'");
+        let e = parse_call("MAM(Axis1 MC2)").expect_err("bad");
+        assert_eq!(e.to_string(), "expected ')' or ',', found 'MC2'");
+    }
+
+    fn assert_column_in_range(src: &str, e: &ParseError) {
+        assert!(e.column() >= 1 && e.column() <= src.chars().count() + 1, "{src:?}: {e:?}");
+    }
+
+    #[test]
+    fn seeded_random_strings_never_panic() {
+        let alphabet: Vec<char> = "MCAxis_(),:=;.[]#-+%e0123456789 \u{b2}\u{b3}\u{e9}TRUEfalse\t\"'@".chars().collect();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(61131);
+        for _ in 0..500 {
+            let len = rng.random_range(0..40);
+            let src: String = (0..len).map(|_| alphabet[rng.random_range(0..alphabet.len())]).collect();
+            if let Err(e) = parse_call(&src) {
+                assert_column_in_range(&src, &e);
+            }
+            if let Err(e) = parse_condition(&src) {
+                assert_column_in_range(&src, &e);
+            }
+        }
+        // Mutations of a valid call exercise deeper paths.
+        let valid: Vec<char> =
+            "MoveTable(Axis := Table, Execute := TRUE, Position := -90.5e1, Pos[1].X := 16#FF);".chars().collect();
+        for _ in 0..500 {
+            let mut chars = valid.clone();
+            for _ in 0..rng.random_range(1..4) {
+                let at = rng.random_range(0..chars.len());
+                chars[at] = alphabet[rng.random_range(0..alphabet.len())];
+            }
+            let src: String = chars.into_iter().collect();
+            if let Err(e) = parse_call(&src) {
+                assert_column_in_range(&src, &e);
+            }
+        }
+    }
+}
