@@ -180,7 +180,10 @@ impl MotorGains {
 
 impl Default for MotorGains {
     fn default() -> Self {
-        Self { stiffness: Self::default_stiffness(), damping: Self::default_damping() }
+        Self {
+            stiffness: Self::default_stiffness(),
+            damping: Self::default_damping(),
+        }
     }
 }
 
@@ -402,7 +405,10 @@ impl BaseType {
         if let BaseType::FunctionBlock(fb) = self {
             return fb.name();
         }
-        Self::NAMED.iter().find(|(_, t)| *t == self).map_or("?", |(n, _)| n)
+        Self::NAMED
+            .iter()
+            .find(|(_, t)| *t == self)
+            .map_or("?", |(n, _)| n)
     }
 
     /// Parses a type name, case-insensitively.
@@ -423,7 +429,11 @@ impl BaseType {
     /// Every accepted type name, for error messages and docs.
     #[must_use]
     pub fn all_names() -> Vec<&'static str> {
-        Self::NAMED.iter().map(|(n, _)| *n).chain(FunctionBlock::ALL.iter().map(|fb| fb.name())).collect()
+        Self::NAMED
+            .iter()
+            .map(|(n, _)| *n)
+            .chain(FunctionBlock::ALL.iter().map(|fb| fb.name()))
+            .collect()
     }
 
     fn integer_range(self) -> Option<(i64, i64)> {
@@ -595,7 +605,9 @@ pub enum Problem {
         exclusive: bool,
     },
     /// The physics step does not divide the coarse update period.
-    #[error("physics_step_ms = {physics_step_ms} does not divide coarse_update_ms = {coarse_update_ms} exactly")]
+    #[error(
+        "physics_step_ms = {physics_step_ms} does not divide coarse_update_ms = {coarse_update_ms} exactly"
+    )]
     StepNotDivisor {
         /// The physics step, ms.
         physics_step_ms: f64,
@@ -614,7 +626,9 @@ pub enum Problem {
     #[error("must not be empty")]
     Empty,
     /// Not an ST identifier.
-    #[error("'{name}' is not a valid tag name (letters, digits and '_', not starting with a digit)")]
+    #[error(
+        "'{name}' is not a valid tag name (letters, digits and '_', not starting with a digit)"
+    )]
     InvalidName {
         /// The name.
         name: String,
@@ -632,13 +646,17 @@ pub enum Problem {
         name: String,
     },
     /// A positional call to something that is not a Logix motion instruction.
-    #[error("unknown instruction '{name}' (positional calls are Logix motion instructions; function-block instances take named inputs)")]
+    #[error(
+        "unknown instruction '{name}' (positional calls are Logix motion instructions; function-block instances take named inputs)"
+    )]
     UnknownInstruction {
         /// The name.
         name: String,
     },
     /// A named call on something that is not a function-block instance.
-    #[error("'{name}' is {kind}, not a function-block instance, so it cannot be called with named inputs")]
+    #[error(
+        "'{name}' is {kind}, not a function-block instance, so it cannot be called with named inputs"
+    )]
     NotCallable {
         /// The name.
         name: String,
@@ -733,7 +751,9 @@ pub enum Problem {
         kind: AxisKind,
     },
     /// `initial_position` disagrees with `robot.initial_joints`.
-    #[error("initial_position = {initial_position} {units} disagrees with robot.initial_joints.{joint} = {joint_position_si} (SI)")]
+    #[error(
+        "initial_position = {initial_position} {units} disagrees with robot.initial_joints.{joint} = {joint_position_si} (SI)"
+    )]
     InitialPositionMismatch {
         /// The axis' initial position, axis units.
         initial_position: f64,
@@ -857,7 +877,10 @@ impl SceneError {
             SceneError::Read { .. } => None,
             SceneError::Toml { line, column, .. }
             | SceneError::Syntax { line, column, .. }
-            | SceneError::Invalid { line, column, .. } => Some(Location { line: *line, column: *column }),
+            | SceneError::Invalid { line, column, .. } => Some(Location {
+                line: *line,
+                column: *column,
+            }),
         }
     }
 
@@ -884,8 +907,18 @@ impl SceneError {
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SceneError::Read { path, source } => write!(f, "{}: cannot read the scene file: {source}", path.display()),
-            SceneError::Toml { file, line, column, table, message } => {
+            SceneError::Read { path, source } => write!(
+                f,
+                "{}: cannot read the scene file: {source}",
+                path.display()
+            ),
+            SceneError::Toml {
+                file,
+                line,
+                column,
+                table,
+                message,
+            } => {
                 write!(f, "{}:{line}:{column}: ", file.display())?;
                 if let Some(table) = table {
                     write!(f, "in {table}: ")?;
@@ -893,10 +926,22 @@ impl fmt::Display for SceneError {
                 // serde quotes names with backticks; keep the message on one line.
                 f.write_str(&message.trim().replace('`', "'").replace('\n', " "))
             }
-            SceneError::Syntax { file, line, column, field, source } => {
+            SceneError::Syntax {
+                file,
+                line,
+                column,
+                field,
+                source,
+            } => {
                 write!(f, "{}:{line}:{column}: {field}: {source}", file.display())
             }
-            SceneError::Invalid { file, line, column, field, problem } => {
+            SceneError::Invalid {
+                file,
+                line,
+                column,
+                field,
+                problem,
+            } => {
                 write!(f, "{}:{line}:{column}: {field}: {problem}", file.display())
             }
         }
@@ -908,7 +953,13 @@ impl Scene {
     /// checks done after loading (e.g. against the URDF).
     #[must_use]
     pub fn invalid(&self, at: Location, field: impl Into<String>, problem: Problem) -> SceneError {
-        SceneError::Invalid { file: self.path.clone(), line: at.line, column: at.column, field: field.into(), problem }
+        SceneError::Invalid {
+            file: self.path.clone(),
+            line: at.line,
+            column: at.column,
+            field: field.into(),
+            problem,
+        }
     }
 
     /// The axis called `name` (case-insensitive).
@@ -1054,7 +1105,10 @@ struct RawSnapshots {
 /// problem found, as [`SceneError::Toml`], [`SceneError::Syntax`] or
 /// [`SceneError::Invalid`], naming the file, line, column and field.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: path.to_owned(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+        path: path.to_owned(),
+        source,
+    })?;
     parse(path, &text)
 }
 
@@ -1065,7 +1119,10 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// # Errors
 /// As [`load`], without [`SceneError::Read`].
 pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
-    let ctx = Ctx { file: path.to_owned(), text };
+    let ctx = Ctx {
+        file: path.to_owned(),
+        text,
+    };
     let raw: RawScene = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
     ctx.validate(raw, path)
 }
@@ -1089,20 +1146,39 @@ impl Ctx<'_> {
         let byte = byte.min(self.text.len());
         let before = &self.text[..byte];
         let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        Location { line: before.matches('\n').count() + 1, column: before[line_start..].chars().count() + 1 }
+        Location {
+            line: before.matches('\n').count() + 1,
+            column: before[line_start..].chars().count() + 1,
+        }
     }
 
     fn loc<T>(&self, s: &Spanned<T>) -> Location {
         self.location(s.span().start)
     }
 
-    fn invalid<T>(&self, at: &Spanned<T>, field: impl Into<String>, problem: Problem) -> SceneError {
+    fn invalid<T>(
+        &self,
+        at: &Spanned<T>,
+        field: impl Into<String>,
+        problem: Problem,
+    ) -> SceneError {
         self.invalid_at(at.span(), field, problem)
     }
 
-    fn invalid_at(&self, span: Range<usize>, field: impl Into<String>, problem: Problem) -> SceneError {
+    fn invalid_at(
+        &self,
+        span: Range<usize>,
+        field: impl Into<String>,
+        problem: Problem,
+    ) -> SceneError {
         let Location { line, column } = self.location(span.start);
-        SceneError::Invalid { file: self.file.clone(), line, column, field: field.into(), problem }
+        SceneError::Invalid {
+            file: self.file.clone(),
+            line,
+            column,
+            field: field.into(),
+            problem,
+        }
     }
 
     fn toml_error(&self, e: &toml::de::Error) -> SceneError {
@@ -1132,7 +1208,11 @@ impl Ctx<'_> {
                 *n += 1;
             } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.strip_suffix(']')) {
                 let name = name.trim();
-                if !name.is_empty() && name.chars().all(|c| c.is_alphanumeric() || "_-.\"' ".contains(c)) {
+                if !name.is_empty()
+                    && name
+                        .chars()
+                        .all(|c| c.is_alphanumeric() || "_-.\"' ".contains(c))
+                {
                     current = Some(name.to_owned());
                 }
             }
@@ -1144,7 +1224,11 @@ impl Ctx<'_> {
     fn string_location(&self, s: &Spanned<String>, column: usize) -> Location {
         let span = s.span();
         let raw = &self.text[span.clone()];
-        let (open, close) = if raw.starts_with("\"\"\"") || raw.starts_with("'''") { (3, 3) } else { (1, 1) };
+        let (open, close) = if raw.starts_with("\"\"\"") || raw.starts_with("'''") {
+            (3, 3)
+        } else {
+            (1, 1)
+        };
         let mut content_start = span.start + open.min(raw.len());
         if open == 3 {
             let rest = &self.text[content_start..];
@@ -1158,31 +1242,56 @@ impl Ctx<'_> {
         let raw_content = &self.text[content_start..content_end];
         // Without escapes the decoded value is the raw text; with them this is approximate.
         let index = column.saturating_sub(1);
-        let byte = raw_content.char_indices().nth(index).map_or(raw_content.len(), |(b, _)| b);
+        let byte = raw_content
+            .char_indices()
+            .nth(index)
+            .map_or(raw_content.len(), |(b, _)| b);
         self.location(content_start + byte)
     }
 
     fn syntax(&self, s: &Spanned<String>, field: String, source: ParseError) -> SceneError {
         let Location { line, column } = self.string_location(s, source.column());
-        SceneError::Syntax { file: self.file.clone(), line, column, field, source }
+        SceneError::Syntax {
+            file: self.file.clone(),
+            line,
+            column,
+            field,
+            source,
+        }
     }
 
     fn finite(&self, v: &Spanned<f64>, field: &str) -> Result<f64, SceneError> {
         let value = *v.get_ref();
-        if value.is_finite() { Ok(value) } else { Err(self.invalid(v, field, Problem::NotFinite { value })) }
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(self.invalid(v, field, Problem::NotFinite { value }))
+        }
     }
 
     fn positive(&self, v: &Spanned<f64>, field: &str) -> Result<f64, SceneError> {
         let value = self.finite(v, field)?;
-        if value > 0.0 { Ok(value) } else { Err(self.invalid(v, field, Problem::NotPositive { value })) }
+        if value > 0.0 {
+            Ok(value)
+        } else {
+            Err(self.invalid(v, field, Problem::NotPositive { value }))
+        }
     }
 
     fn non_negative(&self, v: &Spanned<f64>, field: &str) -> Result<f64, SceneError> {
         let value = self.finite(v, field)?;
-        if value >= 0.0 { Ok(value) } else { Err(self.invalid(v, field, Problem::Negative { value })) }
+        if value >= 0.0 {
+            Ok(value)
+        } else {
+            Err(self.invalid(v, field, Problem::Negative { value }))
+        }
     }
 
-    fn finite_array<const N: usize>(&self, v: &Spanned<[f64; N]>, field: &str) -> Result<[f64; N], SceneError> {
+    fn finite_array<const N: usize>(
+        &self,
+        v: &Spanned<[f64; N]>,
+        field: &str,
+    ) -> Result<[f64; N], SceneError> {
         match v.get_ref().iter().find(|x| !x.is_finite()) {
             Some(&value) => Err(self.invalid(v, field, Problem::NotFinite { value })),
             None => Ok(*v.get_ref()),
@@ -1197,7 +1306,12 @@ impl Ctx<'_> {
         }
     }
 
-    fn existing_file(&self, v: &Spanned<String>, field: &str, base: &Path) -> Result<PathBuf, SceneError> {
+    fn existing_file(
+        &self,
+        v: &Spanned<String>,
+        field: &str,
+        base: &Path,
+    ) -> Result<PathBuf, SceneError> {
         let path = base.join(v.get_ref());
         if v.get_ref().is_empty() || !path.is_file() {
             return Err(self.invalid(v, field, Problem::MissingFile { path }));
@@ -1215,7 +1329,10 @@ impl Ctx<'_> {
     ) -> Result<(), SceneError> {
         let key = name.get_ref().to_lowercase();
         if let Some((first_line, _)) = seen.get(&key) {
-            let problem = Problem::DuplicateName { name: name.get_ref().clone(), first_line: *first_line };
+            let problem = Problem::DuplicateName {
+                name: name.get_ref().clone(),
+                first_line: *first_line,
+            };
             return Err(self.invalid(name, field, problem));
         }
         seen.insert(key, (self.loc(name).line, value));
@@ -1225,27 +1342,43 @@ impl Ctx<'_> {
     fn identifier(&self, name: &Spanned<String>, field: &str) -> Result<String, SceneError> {
         let n = name.get_ref();
         let mut chars = n.chars();
-        let valid = chars.next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        let valid = chars
+            .next()
+            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
             && chars.all(|c| c.is_ascii_alphanumeric() || c == '_');
-        if valid { Ok(n.clone()) } else { Err(self.invalid(name, field, Problem::InvalidName { name: n.clone() })) }
+        if valid {
+            Ok(n.clone())
+        } else {
+            Err(self.invalid(name, field, Problem::InvalidName { name: n.clone() }))
+        }
     }
 
     fn validate(&self, raw: RawScene, path: &Path) -> Result<Scene, SceneError> {
         let base = path.parent().unwrap_or_else(|| Path::new(""));
         let name = match &raw.name {
             Some(n) => self.nonempty_name(n, "name")?,
-            None => path.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
+            None => path
+                .file_stem()
+                .map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
         };
         let duration_s = self.positive(&raw.duration_s, "duration_s")?;
         let coarse_update_ms = self.finite(&raw.coarse_update_ms, "coarse_update_ms")?;
         if !(1.0..=32.0).contains(&coarse_update_ms) {
-            let problem = Problem::OutOfRange { value: coarse_update_ms, min: 1.0, max: 32.0, exclusive: false };
+            let problem = Problem::OutOfRange {
+                value: coarse_update_ms,
+                min: 1.0,
+                max: 32.0,
+                exclusive: false,
+            };
             return Err(self.invalid(&raw.coarse_update_ms, "coarse_update_ms", problem));
         }
         let physics_step_ms = self.positive(&raw.physics_step_ms, "physics_step_ms")?;
         let ratio = coarse_update_ms / physics_step_ms;
         if (ratio - ratio.round()).abs() > 1e-9 || ratio.round() < 1.0 {
-            let problem = Problem::StepNotDivisor { physics_step_ms, coarse_update_ms };
+            let problem = Problem::StepNotDivisor {
+                physics_step_ms,
+                coarse_update_ms,
+            };
             return Err(self.invalid(&raw.physics_step_ms, "physics_step_ms", problem));
         }
 
@@ -1285,10 +1418,20 @@ impl Ctx<'_> {
             initial_joints.insert(joint.clone(), v);
             initial_joint_locations.insert(joint.clone(), self.loc(value));
         }
-        Ok(Robot { urdf, urdf_location: self.loc(&raw.urdf), initial_joints, initial_joint_locations })
+        Ok(Robot {
+            urdf,
+            urdf_location: self.loc(&raw.urdf),
+            initial_joints,
+            initial_joint_locations,
+        })
     }
 
-    fn axes(&self, raw: &[RawAxis], robot: &Robot, names: &mut Names) -> Result<Vec<Axis>, SceneError> {
+    fn axes(
+        &self,
+        raw: &[RawAxis],
+        robot: &Robot,
+        names: &mut Names,
+    ) -> Result<Vec<Axis>, SceneError> {
         let mut joints: HashMap<String, (usize, String)> = HashMap::new();
         let mut axes = Vec::with_capacity(raw.len());
         for (i, a) in raw.iter().enumerate() {
@@ -1297,14 +1440,21 @@ impl Ctx<'_> {
             self.unique(names, &a.name, &f("name"), NameKind::Axis)?;
             let joint = self.nonempty_name(&a.joint, &f("joint"))?;
             if let Some((_, other_axis)) = joints.get(&joint) {
-                let problem = Problem::SharedJoint { joint: joint.clone(), other_axis: other_axis.clone() };
+                let problem = Problem::SharedJoint {
+                    joint: joint.clone(),
+                    other_axis: other_axis.clone(),
+                };
                 return Err(self.invalid(&a.joint, f("joint"), problem));
             }
             joints.insert(joint.clone(), (i, name.clone()));
             let kind = *a.kind.get_ref();
             let units = *a.units.get_ref();
             if !units.fits(kind) {
-                return Err(self.invalid(&a.units, f("units"), Problem::UnitsMismatch { units, kind }));
+                return Err(self.invalid(
+                    &a.units,
+                    f("units"),
+                    Problem::UnitsMismatch { units, kind },
+                ));
             }
             let modulo_period = match &a.modulo_period {
                 Some(p) => Some(self.positive(p, &f("modulo_period"))?),
@@ -1314,7 +1464,8 @@ impl Ctx<'_> {
             let max_acceleration = self.positive(&a.max_acceleration, &f("max_acceleration"))?;
             let max_deceleration = self.positive(&a.max_deceleration, &f("max_deceleration"))?;
             let max_jerk = self.positive(&a.max_jerk, &f("max_jerk"))?;
-            let in_position_window = self.positive(&a.in_position_window, &f("in_position_window"))?;
+            let in_position_window =
+                self.positive(&a.in_position_window, &f("in_position_window"))?;
             let modulo_tolerance_window = match &a.modulo_tolerance_window {
                 Some(w) => self.non_negative(w, &f("modulo_tolerance_window"))?,
                 None => 0.0,
@@ -1322,7 +1473,9 @@ impl Ctx<'_> {
             let motor = match &a.motor {
                 Some(m) => {
                     let gains = *m.get_ref();
-                    for (value, field) in [(gains.stiffness, "stiffness"), (gains.damping, "damping")] {
+                    for (value, field) in
+                        [(gains.stiffness, "stiffness"), (gains.damping, "damping")]
+                    {
                         let spanned = Spanned::new(m.span(), value);
                         self.non_negative(&spanned, &f(&format!("motor.{field}")))?;
                     }
@@ -1387,7 +1540,12 @@ impl Ctx<'_> {
             }
             let fov_deg = self.finite(&c.fov_deg, &f("fov_deg"))?;
             if !(fov_deg > 0.0 && fov_deg < 180.0) {
-                let problem = Problem::OutOfRange { value: fov_deg, min: 0.0, max: 180.0, exclusive: true };
+                let problem = Problem::OutOfRange {
+                    value: fov_deg,
+                    min: 0.0,
+                    max: 180.0,
+                    exclusive: true,
+                };
                 return Err(self.invalid(&c.fov_deg, f("fov_deg"), problem));
             }
             for (v, field) in [(&c.width, "width"), (&c.height, "height")] {
@@ -1436,31 +1594,53 @@ impl Ctx<'_> {
                 if let Some(span) = span
                     && !needs.contains(field)
                 {
-                    let problem = Problem::ExtraShapeField { shape: shape_name, field };
+                    let problem = Problem::ExtraShapeField {
+                        shape: shape_name,
+                        field,
+                    };
                     return Err(self.invalid_at(span.clone(), f(field), problem));
                 }
             }
             let missing = |field: &'static str| {
-                self.invalid(&o.shape, f("shape"), Problem::MissingShapeField { shape: shape_name, field })
+                self.invalid(
+                    &o.shape,
+                    f("shape"),
+                    Problem::MissingShapeField {
+                        shape: shape_name,
+                        field,
+                    },
+                )
             };
-            let positive_array = |v: &Spanned<[f64; 3]>, field: &str| -> Result<[f64; 3], SceneError> {
-                let values = self.finite_array(v, field)?;
-                match values.iter().find(|x| **x <= 0.0) {
-                    Some(&value) => Err(self.invalid(v, field, Problem::NotPositive { value })),
-                    None => Ok(values),
-                }
-            };
+            let positive_array =
+                |v: &Spanned<[f64; 3]>, field: &str| -> Result<[f64; 3], SceneError> {
+                    let values = self.finite_array(v, field)?;
+                    match values.iter().find(|x| **x <= 0.0) {
+                        Some(&value) => Err(self.invalid(v, field, Problem::NotPositive { value })),
+                        None => Ok(values),
+                    }
+                };
             let shape = match kind {
                 ShapeKind::Box => {
                     let size = o.size.as_ref().ok_or_else(|| missing("size"))?;
-                    Shape::Box { size_m: positive_array(size, &f("size"))? }
+                    Shape::Box {
+                        size_m: positive_array(size, &f("size"))?,
+                    }
                 }
                 ShapeKind::Cylinder => Shape::Cylinder {
-                    radius_m: self.positive(o.radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
-                    length_m: self.positive(o.length.as_ref().ok_or_else(|| missing("length"))?, &f("length"))?,
+                    radius_m: self.positive(
+                        o.radius.as_ref().ok_or_else(|| missing("radius"))?,
+                        &f("radius"),
+                    )?,
+                    length_m: self.positive(
+                        o.length.as_ref().ok_or_else(|| missing("length"))?,
+                        &f("length"),
+                    )?,
                 },
                 ShapeKind::Sphere => Shape::Sphere {
-                    radius_m: self.positive(o.radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
+                    radius_m: self.positive(
+                        o.radius.as_ref().ok_or_else(|| missing("radius"))?,
+                        &f("radius"),
+                    )?,
                 },
                 ShapeKind::Mesh => {
                     let file = o.file.as_ref().ok_or_else(|| missing("file"))?;
@@ -1481,14 +1661,26 @@ impl Ctx<'_> {
                 Some(c) => {
                     let rgba = self.finite_array(c, &f("color"))?;
                     if let Some(&value) = rgba.iter().find(|x| !(0.0..=1.0).contains(*x)) {
-                        let problem = Problem::OutOfRange { value, min: 0.0, max: 1.0, exclusive: false };
+                        let problem = Problem::OutOfRange {
+                            value,
+                            min: 0.0,
+                            max: 1.0,
+                            exclusive: false,
+                        };
                         return Err(self.invalid(c, f("color"), problem));
                     }
                     rgba
                 }
                 None => [0.6, 0.6, 0.6, 1.0],
             };
-            obstacles.push(Obstacle { name, shape, position_m, rpy_deg, color, location: self.loc(&o.name) });
+            obstacles.push(Obstacle {
+                name,
+                shape,
+                position_m,
+                rpy_deg,
+                color,
+                location: self.loc(&o.name),
+            });
         }
         Ok(obstacles)
     }
@@ -1498,7 +1690,13 @@ impl Ctx<'_> {
         let (base_name, array_len) = match written.split_once('[') {
             Some((base, rest)) => {
                 let bad = || {
-                    self.invalid(raw, field, Problem::BadArrayLength { type_name: written.to_owned() })
+                    self.invalid(
+                        raw,
+                        field,
+                        Problem::BadArrayLength {
+                            type_name: written.to_owned(),
+                        },
+                    )
                 };
                 let len_text = rest.strip_suffix(']').ok_or_else(bad)?.trim();
                 let len: usize = len_text.parse().map_err(|_| bad())?;
@@ -1510,15 +1708,31 @@ impl Ctx<'_> {
             None => (written, None),
         };
         let Some(base) = BaseType::parse(base_name) else {
-            return Err(self.invalid(raw, field, Problem::UnknownTagType { type_name: written.to_owned() }));
+            return Err(self.invalid(
+                raw,
+                field,
+                Problem::UnknownTagType {
+                    type_name: written.to_owned(),
+                },
+            ));
         };
-        if array_len.is_some() && matches!(base, BaseType::CoordinateSystem | BaseType::FunctionBlock(_)) {
+        if array_len.is_some()
+            && matches!(
+                base,
+                BaseType::CoordinateSystem | BaseType::FunctionBlock(_)
+            )
+        {
             return Err(self.invalid(raw, field, Problem::ArrayNotAllowed { base: base.name() }));
         }
         Ok(TagType { base, array_len })
     }
 
-    fn tags(&self, raw: &[RawTag], axes: &[Axis], names: &mut Names) -> Result<Vec<Tag>, SceneError> {
+    fn tags(
+        &self,
+        raw: &[RawTag],
+        axes: &[Axis],
+        names: &mut Names,
+    ) -> Result<Vec<Tag>, SceneError> {
         let mut tags = Vec::with_capacity(raw.len());
         for (i, t) in raw.iter().enumerate() {
             let f = |field: &str| format!("tags[{i}].{field}");
@@ -1528,12 +1742,20 @@ impl Ctx<'_> {
             let value = match &t.value {
                 Some(v) => Some(self.tag_value(v, ty, axes, &f("value"))?),
                 None if ty.base == BaseType::CoordinateSystem => {
-                    let problem = Problem::ValueRequired { ty, expected: "value = [\"AxisName\", ...]" };
+                    let problem = Problem::ValueRequired {
+                        ty,
+                        expected: "value = [\"AxisName\", ...]",
+                    };
                     return Err(self.invalid(&t.ty, f("value"), problem));
                 }
                 None => None,
             };
-            tags.push(Tag { name, ty, value, location: self.loc(&t.name) });
+            tags.push(Tag {
+                name,
+                ty,
+                value,
+                location: self.loc(&t.name),
+            });
         }
         Ok(tags)
     }
@@ -1547,20 +1769,30 @@ impl Ctx<'_> {
     ) -> Result<TagValue, SceneError> {
         let mismatch = |expected| self.invalid(v, field, Problem::ValueMismatch { ty, expected });
         match (ty.base, ty.array_len) {
-            (BaseType::MotionInstruction | BaseType::CamProfile | BaseType::FunctionBlock(_), _) => {
-                Err(self.invalid(v, field, Problem::ValueNotAllowed { ty }))
-            }
+            (
+                BaseType::MotionInstruction | BaseType::CamProfile | BaseType::FunctionBlock(_),
+                _,
+            ) => Err(self.invalid(v, field, Problem::ValueNotAllowed { ty })),
             (BaseType::CoordinateSystem, _) => {
                 let expected = "an array of 1 to 6 distinct axis names";
-                let toml::Value::Array(items) = v.get_ref() else { return Err(mismatch(expected)) };
+                let toml::Value::Array(items) = v.get_ref() else {
+                    return Err(mismatch(expected));
+                };
                 if items.is_empty() || items.len() > 6 {
                     return Err(mismatch(expected));
                 }
                 let mut members: Vec<String> = Vec::new();
                 for item in items {
-                    let toml::Value::String(axis) = item else { return Err(mismatch(expected)) };
-                    let Some(found) = axes.iter().find(|a| a.name.eq_ignore_ascii_case(axis)) else {
-                        return Err(self.invalid(v, field, Problem::UnknownAxis { name: axis.clone() }));
+                    let toml::Value::String(axis) = item else {
+                        return Err(mismatch(expected));
+                    };
+                    let Some(found) = axes.iter().find(|a| a.name.eq_ignore_ascii_case(axis))
+                    else {
+                        return Err(self.invalid(
+                            v,
+                            field,
+                            Problem::UnknownAxis { name: axis.clone() },
+                        ));
                     };
                     if members.iter().any(|m| m.eq_ignore_ascii_case(axis)) {
                         return Err(mismatch(expected));
@@ -1571,13 +1803,16 @@ impl Ctx<'_> {
             }
             (BaseType::Cam, len) => {
                 let expected = "an array of { master = .., slave = .., segment_type = \"linear\" | \"cubic\" } tables";
-                let toml::Value::Array(items) = v.get_ref() else { return Err(mismatch(expected)) };
+                let toml::Value::Array(items) = v.get_ref() else {
+                    return Err(mismatch(expected));
+                };
                 if items.len() > len.unwrap_or(1) || items.is_empty() {
                     return Err(mismatch("between 1 and N cam points"));
                 }
                 let mut points: Vec<CamPoint> = Vec::with_capacity(items.len());
                 for (index, item) in items.iter().enumerate() {
-                    let point: CamPoint = item.clone().try_into().map_err(|_| mismatch(expected))?;
+                    let point: CamPoint =
+                        item.clone().try_into().map_err(|_| mismatch(expected))?;
                     if !point.master.is_finite() || !point.slave.is_finite() {
                         return Err(mismatch(expected));
                     }
@@ -1590,7 +1825,9 @@ impl Ctx<'_> {
             }
             (base, Some(len)) => {
                 let expected = "an array of exactly N elements of the element type";
-                let toml::Value::Array(items) = v.get_ref() else { return Err(mismatch(expected)) };
+                let toml::Value::Array(items) = v.get_ref() else {
+                    return Err(mismatch(expected));
+                };
                 if items.len() != len {
                     return Err(mismatch(expected));
                 }
@@ -1611,44 +1848,82 @@ impl Ctx<'_> {
         }
     }
 
-    fn program(&self, raw: &[RawStep], duration_s: f64, names: &Names) -> Result<Vec<Step>, SceneError> {
+    fn program(
+        &self,
+        raw: &[RawStep],
+        duration_s: f64,
+        names: &Names,
+    ) -> Result<Vec<Step>, SceneError> {
         let mut steps = Vec::with_capacity(raw.len());
         for (i, s) in raw.iter().enumerate() {
             let f = |field: &str| format!("program[{i}].{field}");
             let trigger = match (&s.at_s, &s.when) {
-                (Some(_), Some(when)) => return Err(self.invalid(when, f("when"), Problem::BothTriggers)),
-                (None, None) => return Err(self.invalid(&s.call, format!("program[{i}]"), Problem::NoTrigger)),
+                (Some(_), Some(when)) => {
+                    return Err(self.invalid(when, f("when"), Problem::BothTriggers));
+                }
+                (None, None) => {
+                    return Err(self.invalid(&s.call, format!("program[{i}]"), Problem::NoTrigger));
+                }
                 (Some(at), None) => {
                     if let Some(after) = &s.after_s {
                         return Err(self.invalid(after, f("after_s"), Problem::AfterWithoutWhen));
                     }
                     let time_s = self.non_negative(at, &f("at_s"))?;
                     if time_s > duration_s {
-                        return Err(self.invalid(at, f("at_s"), Problem::AfterEnd { at_s: time_s, duration_s }));
+                        return Err(self.invalid(
+                            at,
+                            f("at_s"),
+                            Problem::AfterEnd {
+                                at_s: time_s,
+                                duration_s,
+                            },
+                        ));
                     }
                     Trigger::At { time_s }
                 }
                 (None, Some(when)) => {
-                    let condition = st::parse_condition(when.get_ref()).map_err(|e| self.syntax(when, f("when"), e))?;
+                    let condition = st::parse_condition(when.get_ref())
+                        .map_err(|e| self.syntax(when, f("when"), e))?;
                     self.check_reference(when, &condition, &f("when"), names)?;
                     let delay_s = match &s.after_s {
                         Some(after) => self.non_negative(after, &f("after_s"))?,
                         None => 0.0,
                     };
-                    Trigger::When { condition: condition.value, delay_s }
+                    Trigger::When {
+                        condition: condition.value,
+                        delay_s,
+                    }
                 }
             };
-            let call = st::parse_call(s.call.get_ref()).map_err(|e| self.syntax(&s.call, f("call"), e))?;
+            let call =
+                st::parse_call(s.call.get_ref()).map_err(|e| self.syntax(&s.call, f("call"), e))?;
             self.check_call(&s.call, &call, &f("call"), names)?;
-            steps.push(Step { trigger, call, call_text: s.call.get_ref().clone(), location: self.loc(&s.call) });
+            steps.push(Step {
+                trigger,
+                call,
+                call_text: s.call.get_ref().clone(),
+                location: self.loc(&s.call),
+            });
         }
         Ok(steps)
     }
 
     /// Errors for a name inside a `call`/`when` string at `span` (characters).
-    fn invalid_in(&self, text: &Spanned<String>, span: st::Span, field: &str, problem: Problem) -> SceneError {
+    fn invalid_in(
+        &self,
+        text: &Spanned<String>,
+        span: st::Span,
+        field: &str,
+        problem: Problem,
+    ) -> SceneError {
         let Location { line, column } = self.string_location(text, span.column());
-        SceneError::Invalid { file: self.file.clone(), line, column, field: field.to_owned(), problem }
+        SceneError::Invalid {
+            file: self.file.clone(),
+            line,
+            column,
+            field: field.to_owned(),
+            problem,
+        }
     }
 
     /// Checks that a reference's root names a tag or axis, and that a direct
@@ -1660,21 +1935,46 @@ impl Ctx<'_> {
         field: &str,
         names: &Names,
     ) -> Result<(), SceneError> {
-        let Some(root) = expr.value.root_ident() else { return Ok(()) };
-        let Some((_, kind)) = names.get(&root.to_lowercase()) else {
-            return Err(self.invalid_in(text, expr.span, field, Problem::UnknownTag { name: root.to_owned() }));
+        let Some(root) = expr.value.root_ident() else {
+            return Ok(());
         };
-        if let (Expr::Index(base, index), NameKind::Tag(TagType { array_len: Some(len), .. })) = (&expr.value, kind)
+        let Some((_, kind)) = names.get(&root.to_lowercase()) else {
+            return Err(self.invalid_in(
+                text,
+                expr.span,
+                field,
+                Problem::UnknownTag {
+                    name: root.to_owned(),
+                },
+            ));
+        };
+        if let (
+            Expr::Index(base, index),
+            NameKind::Tag(TagType {
+                array_len: Some(len),
+                ..
+            }),
+        ) = (&expr.value, kind)
             && matches!(**base, Expr::Ident(_))
             && usize::try_from(*index).map_or(true, |i| i >= *len)
         {
-            let problem = Problem::IndexOutOfBounds { name: root.to_owned(), index: *index, len: *len };
+            let problem = Problem::IndexOutOfBounds {
+                name: root.to_owned(),
+                index: *index,
+                len: *len,
+            };
             return Err(self.invalid_in(text, expr.span, field, problem));
         }
         Ok(())
     }
 
-    fn check_call(&self, text: &Spanned<String>, call: &Call, field: &str, names: &Names) -> Result<(), SceneError> {
+    fn check_call(
+        &self,
+        text: &Spanned<String>,
+        call: &Call,
+        field: &str,
+        names: &Names,
+    ) -> Result<(), SceneError> {
         let name = &call.name;
         let operand = |expr: &st::Spanned<Expr>, enumerations: &[&str]| -> Result<(), SceneError> {
             if let Expr::Ident(word) = &expr.value
@@ -1698,17 +1998,28 @@ impl Ctx<'_> {
         match &call.args {
             Args::Named(inputs) => {
                 match names.get(&name.value.to_lowercase()) {
-                    Some((_, NameKind::Tag(TagType { base: BaseType::FunctionBlock(_), .. }))) => {}
+                    Some((
+                        _,
+                        NameKind::Tag(TagType {
+                            base: BaseType::FunctionBlock(_),
+                            ..
+                        }),
+                    )) => {}
                     Some((_, other)) => {
                         let kind = match other {
                             NameKind::Axis => "an axis".to_owned(),
                             NameKind::Tag(ty) => format!("a {ty} tag"),
                         };
-                        let problem = Problem::NotCallable { name: name.value.clone(), kind };
+                        let problem = Problem::NotCallable {
+                            name: name.value.clone(),
+                            kind,
+                        };
                         return Err(self.invalid_in(text, name.span, field, problem));
                     }
                     None => {
-                        let problem = Problem::UnknownTag { name: name.value.clone() };
+                        let problem = Problem::UnknownTag {
+                            name: name.value.clone(),
+                        };
                         return Err(self.invalid_in(text, name.span, field, problem));
                     }
                 }
@@ -1717,11 +2028,19 @@ impl Ctx<'_> {
                 }
             }
             Args::Positional(operands) => {
-                if !st::LOGIX_INSTRUCTIONS.iter().any(|m| m.eq_ignore_ascii_case(&name.value)) {
+                if !st::LOGIX_INSTRUCTIONS
+                    .iter()
+                    .any(|m| m.eq_ignore_ascii_case(&name.value))
+                {
                     let problem = if names.contains_key(&name.value.to_lowercase()) {
-                        Problem::NotCallable { name: name.value.clone(), kind: "called positionally".to_owned() }
+                        Problem::NotCallable {
+                            name: name.value.clone(),
+                            kind: "called positionally".to_owned(),
+                        }
                     } else {
-                        Problem::UnknownInstruction { name: name.value.clone() }
+                        Problem::UnknownInstruction {
+                            name: name.value.clone(),
+                        }
                     };
                     return Err(self.invalid_in(text, name.span, field, problem));
                 }
@@ -1740,7 +2059,9 @@ impl Ctx<'_> {
         let mut frames: Vec<u32> = Vec::with_capacity(raw.frames.get_ref().len());
         for frame in raw.frames.get_ref() {
             if frames.contains(frame.get_ref()) {
-                let problem = Problem::DuplicateFrame { frame: *frame.get_ref() };
+                let problem = Problem::DuplicateFrame {
+                    frame: *frame.get_ref(),
+                };
                 return Err(self.invalid(frame, "snapshots.frames", problem));
             }
             frames.push(*frame.get_ref());
@@ -1754,9 +2075,13 @@ impl Ctx<'_> {
 fn scalar_value(base: BaseType, value: &toml::Value) -> Option<TagValue> {
     match (base, value) {
         (BaseType::Bool, toml::Value::Boolean(b)) => Some(TagValue::Bool(*b)),
-        (BaseType::Real | BaseType::Lreal, toml::Value::Float(x)) if x.is_finite() => Some(TagValue::Real(*x)),
+        (BaseType::Real | BaseType::Lreal, toml::Value::Float(x)) if x.is_finite() => {
+            Some(TagValue::Real(*x))
+        }
         #[allow(clippy::cast_precision_loss)]
-        (BaseType::Real | BaseType::Lreal, toml::Value::Integer(i)) => Some(TagValue::Real(*i as f64)),
+        (BaseType::Real | BaseType::Lreal, toml::Value::Integer(i)) => {
+            Some(TagValue::Real(*i as f64))
+        }
         (base, toml::Value::Integer(i)) => {
             let (min, max) = base.integer_range()?;
             (min..=max).contains(i).then_some(TagValue::Integer(*i))
@@ -1782,7 +2107,11 @@ mod tests {
     /// The fixture with `from` replaced by `to` (which must occur exactly once).
     fn edited(from: &str, to: &str) -> String {
         let text = fixture_text();
-        assert_eq!(text.matches(from).count(), 1, "'{from}' must occur once in the fixture");
+        assert_eq!(
+            text.matches(from).count(),
+            1,
+            "'{from}' must occur once in the fixture"
+        );
         text.replace(from, to)
     }
 
@@ -1798,14 +2127,22 @@ mod tests {
         let byte = text.find(needle).expect("needle present");
         let before = &text[..byte];
         let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        Location { line: before.matches('\n').count() + 1, column: before[line_start..].chars().count() + 1 }
+        Location {
+            line: before.matches('\n').count() + 1,
+            column: before[line_start..].chars().count() + 1,
+        }
     }
 
     fn assert_place(e: &SceneError, at: Location, field: &str) {
         assert_eq!(e.location(), Some(at), "{e}");
         assert_eq!(e.field(), Some(field), "{e}");
         let line = e.to_string();
-        assert!(line.starts_with(&format!("{}:{}:{}: ", fixtures().join("case.toml").display(), at.line, at.column)));
+        assert!(line.starts_with(&format!(
+            "{}:{}:{}: ",
+            fixtures().join("case.toml").display(),
+            at.line,
+            at.column
+        )));
         assert!(!line.contains('\n'), "{line}");
     }
 
@@ -1813,32 +2150,70 @@ mod tests {
     fn complete_fixture_loads() {
         let scene = load(&fixtures().join("indexing_table.toml")).expect("fixture loads");
         assert_eq!(scene.name, "indexing_table");
-        assert_eq!((scene.duration_s, scene.coarse_update_ms, scene.physics_step_ms), (8.0, 4.0, 1.0));
-        assert_eq!(scene.robot.urdf, fixtures().join("robots/indexing_table.urdf"));
+        assert_eq!(
+            (
+                scene.duration_s,
+                scene.coarse_update_ms,
+                scene.physics_step_ms
+            ),
+            (8.0, 4.0, 1.0)
+        );
+        assert_eq!(
+            scene.robot.urdf,
+            fixtures().join("robots/indexing_table.urdf")
+        );
         assert_eq!(scene.axes.len(), 2);
         let table = scene.axis("table").expect("case-insensitive lookup");
         assert_eq!(table.modulo_period, Some(360.0));
         assert_eq!(table.motor, MotorGains::default());
         let slide = scene.axis("Slide").expect("Slide");
         assert_eq!((slide.kind, slide.units), (AxisKind::Linear, Units::Mm));
-        assert!((slide.initial_position - 100.0).abs() < 1e-9, "0.1 m from initial_joints is 100 mm");
+        assert!(
+            (slide.initial_position - 100.0).abs() < 1e-9,
+            "0.1 m from initial_joints is 100 mm"
+        );
         assert!(slide.target_position_monitoring);
-        assert_eq!(slide.joint_location, find(&fixture_text(), "\"slide_joint\""));
+        assert_eq!(
+            slide.joint_location,
+            find(&fixture_text(), "\"slide_joint\"")
+        );
         assert_eq!(scene.cameras[0].width, 640);
-        assert!(matches!(scene.obstacles[1].shape, Shape::Cylinder { radius_m: 0.05, length_m: 0.8 }));
-        assert!(matches!(&scene.obstacles[3].shape, Shape::Mesh { scale: [0.001, 0.001, 0.001], .. }));
+        assert!(matches!(
+            scene.obstacles[1].shape,
+            Shape::Cylinder {
+                radius_m: 0.05,
+                length_m: 0.8
+            }
+        ));
+        assert!(matches!(
+            &scene.obstacles[3].shape,
+            Shape::Mesh {
+                scale: [0.001, 0.001, 0.001],
+                ..
+            }
+        ));
         assert_eq!(scene.obstacles[2].color, [0.6, 0.6, 0.6, 1.0]);
-        assert_eq!(scene.tag("CS1").and_then(|t| t.value.clone()), Some(TagValue::Axes(vec!["Table".into(), "Slide".into()])));
+        assert_eq!(
+            scene.tag("CS1").and_then(|t| t.value.clone()),
+            Some(TagValue::Axes(vec!["Table".into(), "Slide".into()]))
+        );
         assert_eq!(
             scene.tag("Pos").and_then(|t| t.value.clone()),
-            Some(TagValue::Array(vec![TagValue::Real(90.0), TagValue::Real(100.0)]))
+            Some(TagValue::Array(vec![
+                TagValue::Real(90.0),
+                TagValue::Real(100.0)
+            ]))
         );
-        let Some(TagValue::CamPoints(cam)) = scene.tag("Cam_1").and_then(|t| t.value.clone()) else {
+        let Some(TagValue::CamPoints(cam)) = scene.tag("Cam_1").and_then(|t| t.value.clone())
+        else {
             panic!("cam points")
         };
         assert_eq!(cam[0].segment_type, SegmentType::Linear);
         assert_eq!(cam[1].segment_type, SegmentType::Cubic);
-        assert_eq!(scene.tag("MoveTable").map(|t| t.ty.base), Some(BaseType::FunctionBlock(FunctionBlock::MoveModulo)));
+        assert_eq!(
+            scene.tag("MoveTable").map(|t| t.ty.base),
+            Some(BaseType::FunctionBlock(FunctionBlock::MoveModulo))
+        );
         assert_eq!(scene.program.len(), 4);
         assert_eq!(scene.program[0].trigger, Trigger::At { time_s: 0.0 });
         assert_eq!(
@@ -1848,9 +2223,14 @@ mod tests {
                 delay_s: 0.5
             }
         );
-        let Args::Positional(operands) = &scene.program[2].call.args else { panic!("positional MCCM") };
+        let Args::Positional(operands) = &scene.program[2].call.args else {
+            panic!("positional MCCM")
+        };
         assert_eq!(operands.len(), 25);
-        assert_eq!(scene.snapshots.as_ref().map(|s| s.frames.clone()), Some(vec![0, 12, 30]));
+        assert_eq!(
+            scene.snapshots.as_ref().map(|s| s.frames.clone()),
+            Some(vec![0, 12, 30])
+        );
     }
 
     #[test]
@@ -1895,31 +2275,70 @@ mod tests {
 
     #[test]
     fn missing_assign_maps_into_the_file() {
-        let source = syntax_case("Position := 90.0", "Position 90.0", "90.0, Velocity", "program[0].call");
-        assert!(matches!(source, ParseError::MissingAssign { ref input, .. } if input == "Position"));
+        let source = syntax_case(
+            "Position := 90.0",
+            "Position 90.0",
+            "90.0, Velocity",
+            "program[0].call",
+        );
+        assert!(
+            matches!(source, ParseError::MissingAssign { ref input, .. } if input == "Position")
+        );
     }
 
     #[test]
     fn unterminated_call_points_past_the_text() {
-        let source = syntax_case("Execute := FALSE);\"", "Execute := FALSE\"", "\"\n\n[[program]]\nat_s = 2.0", "program[1].call");
+        let source = syntax_case(
+            "Execute := FALSE);\"",
+            "Execute := FALSE\"",
+            "\"\n\n[[program]]\nat_s = 2.0",
+            "program[1].call",
+        );
         assert!(matches!(source, ParseError::Unterminated { .. }));
     }
 
     #[test]
     fn missing_comma_in_positional_call() {
-        let source = syntax_case("MCCM(CS1, MC1,", "MCCM(CS1 MC1,", "MC1, 0, Pos", "program[2].call");
-        assert!(matches!(source, ParseError::Unexpected { expected: st::Expected::CloseOrComma, .. }));
+        let source = syntax_case(
+            "MCCM(CS1, MC1,",
+            "MCCM(CS1 MC1,",
+            "MC1, 0, Pos",
+            "program[2].call",
+        );
+        assert!(matches!(
+            source,
+            ParseError::Unexpected {
+                expected: st::Expected::CloseOrComma,
+                ..
+            }
+        ));
     }
 
     #[test]
     fn bad_when_condition() {
-        let source = syntax_case("when = \"MC1.PC\"", "when = \"MC1.\"", "\"\ncall = \"MCCP", "program[3].when");
-        assert!(matches!(source, ParseError::Unexpected { expected: st::Expected::MemberName, .. }));
+        let source = syntax_case(
+            "when = \"MC1.PC\"",
+            "when = \"MC1.\"",
+            "\"\ncall = \"MCCP",
+            "program[3].when",
+        );
+        assert!(matches!(
+            source,
+            ParseError::Unexpected {
+                expected: st::Expected::MemberName,
+                ..
+            }
+        ));
     }
 
     #[test]
     fn mixed_arguments() {
-        let source = syntax_case("Axis := Table, Execute := FALSE", "Table, Execute := FALSE", "Execute := FALSE", "program[1].call");
+        let source = syntax_case(
+            "Axis := Table, Execute := FALSE",
+            "Table, Execute := FALSE",
+            "Execute := FALSE",
+            "program[1].call",
+        );
         assert!(matches!(source, ParseError::MixedArguments { .. }));
     }
 
@@ -1928,7 +2347,9 @@ mod tests {
         let text = edited("robots/indexing_table.urdf", "robots/nope.urdf");
         let e = error_of(&text);
         assert_place(&e, find(&text, "\"robots/nope.urdf\""), "robot.urdf");
-        assert!(matches!(e.problem(), Some(Problem::MissingFile { path }) if path.ends_with("robots/nope.urdf")));
+        assert!(
+            matches!(e.problem(), Some(Problem::MissingFile { path }) if path.ends_with("robots/nope.urdf"))
+        );
     }
 
     #[test]
@@ -1940,7 +2361,10 @@ mod tests {
 
     #[test]
     fn unknown_tag_in_a_call_points_at_the_name() {
-        let text = edited("Axis := Table, Execute := TRUE", "Axis := Tabel, Execute := TRUE");
+        let text = edited(
+            "Axis := Table, Execute := TRUE",
+            "Axis := Tabel, Execute := TRUE",
+        );
         let e = error_of(&text);
         assert_place(&e, find(&text, "Tabel"), "program[0].call");
         assert!(matches!(e.problem(), Some(Problem::UnknownTag { name }) if name == "Tabel"));
@@ -1948,7 +2372,10 @@ mod tests {
 
     #[test]
     fn unknown_instance_and_instruction() {
-        let text = edited("call = \"MoveTable(Axis := Table, Execute := FALSE);\"", "call = \"MoveTabel(Axis := Table);\"");
+        let text = edited(
+            "call = \"MoveTable(Axis := Table, Execute := FALSE);\"",
+            "call = \"MoveTabel(Axis := Table);\"",
+        );
         let e = error_of(&text);
         assert_place(&e, find(&text, "MoveTabel"), "program[1].call");
         assert!(matches!(e.problem(), Some(Problem::UnknownTag { .. })));
@@ -1956,16 +2383,28 @@ mod tests {
         let text = edited("MCCP(MC1", "MCCX(MC1");
         let e = error_of(&text);
         assert_place(&e, find(&text, "MCCX"), "program[3].call");
-        assert!(matches!(e.problem(), Some(Problem::UnknownInstruction { .. })));
+        assert!(matches!(
+            e.problem(),
+            Some(Problem::UnknownInstruction { .. })
+        ));
 
         let text = edited("Table, Execute := FALSE", "Table, Execute := MC_Sideways");
-        assert!(matches!(error_of(&text).problem(), Some(Problem::UnknownOperand { .. })));
+        assert!(matches!(
+            error_of(&text).problem(),
+            Some(Problem::UnknownOperand { .. })
+        ));
     }
 
     #[test]
     fn calling_a_data_tag_is_an_error() {
-        let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "Count(Axis := Table, Execute := FALSE)");
-        assert!(matches!(error_of(&text).problem(), Some(Problem::NotCallable { .. })));
+        let text = edited(
+            "MoveTable(Axis := Table, Execute := FALSE)",
+            "Count(Axis := Table, Execute := FALSE)",
+        );
+        assert!(matches!(
+            error_of(&text).problem(),
+            Some(Problem::NotCallable { .. })
+        ));
     }
 
     #[test]
@@ -1974,7 +2413,14 @@ mod tests {
         let e = error_of(&text);
         assert_place(&e, find(&text, "z-curve"), "program[2].call");
         let text = edited("Pos[0], 1", "Pos[2], 1");
-        assert!(matches!(error_of(&text).problem(), Some(Problem::IndexOutOfBounds { index: 2, len: 2, .. })));
+        assert!(matches!(
+            error_of(&text).problem(),
+            Some(Problem::IndexOutOfBounds {
+                index: 2,
+                len: 2,
+                ..
+            })
+        ));
     }
 
     #[test]
@@ -1989,13 +2435,19 @@ mod tests {
         let text = edited("name = \"Slide\"", "name = \"table\"");
         let e = error_of(&text);
         assert_place(&e, find(&text, "\"table\""), "axes[1].name");
-        assert!(matches!(e.problem(), Some(Problem::DuplicateName { first_line: 12, .. })));
+        assert!(matches!(
+            e.problem(),
+            Some(Problem::DuplicateName { first_line: 12, .. })
+        ));
     }
 
     #[test]
     fn tag_clashing_with_axis() {
         let text = edited("name = \"Count\"", "name = \"Slide\"");
-        assert!(matches!(error_of(&text).problem(), Some(Problem::DuplicateName { .. })));
+        assert!(matches!(
+            error_of(&text).problem(),
+            Some(Problem::DuplicateName { .. })
+        ));
     }
 
     #[test]
@@ -2007,12 +2459,18 @@ mod tests {
         let text = edited("physics_step_ms = 1.0", "physics_step_ms = 0.5");
         assert!(parse(&fixtures().join("case.toml"), &text).is_ok());
         let text = edited("coarse_update_ms = 4.0", "coarse_update_ms = 40.0");
-        assert!(matches!(error_of(&text).problem(), Some(Problem::OutOfRange { .. })));
+        assert!(matches!(
+            error_of(&text).problem(),
+            Some(Problem::OutOfRange { .. })
+        ));
     }
 
     #[test]
     fn both_triggers() {
-        let text = edited("when = \"MoveTable.Done\"", "at_s = 1.0\nwhen = \"MoveTable.Done\"");
+        let text = edited(
+            "when = \"MoveTable.Done\"",
+            "at_s = 1.0\nwhen = \"MoveTable.Done\"",
+        );
         let e = error_of(&text);
         assert_place(&e, find(&text, "\"MoveTable.Done\""), "program[1].when");
         assert!(matches!(e.problem(), Some(Problem::BothTriggers)));
@@ -2029,24 +2487,42 @@ mod tests {
     #[test]
     fn after_s_needs_when_and_at_s_within_duration() {
         let text = edited("at_s = 2.0\n", "at_s = 2.0\nafter_s = 1.0\n");
-        assert!(matches!(error_of(&text).problem(), Some(Problem::AfterWithoutWhen)));
+        assert!(matches!(
+            error_of(&text).problem(),
+            Some(Problem::AfterWithoutWhen)
+        ));
         let text = edited("at_s = 2.0\n", "at_s = 9.0\n");
-        assert!(matches!(error_of(&text).problem(), Some(Problem::AfterEnd { .. })));
+        assert!(matches!(
+            error_of(&text).problem(),
+            Some(Problem::AfterEnd { .. })
+        ));
     }
 
     #[test]
     fn ranges_are_checked() {
         for (from, to, field) in [
             ("max_jerk = 36000.0", "max_jerk = -1.0", "axes[0].max_jerk"),
-            ("max_velocity = 500.0", "max_velocity = nan", "axes[1].max_velocity"),
+            (
+                "max_velocity = 500.0",
+                "max_velocity = nan",
+                "axes[1].max_velocity",
+            ),
             ("fps = 10.0", "fps = 0.0", "cameras[0].fps"),
             ("width = 640", "width = 0", "cameras[0].width"),
             ("fov_deg = 45.0", "fov_deg = 180.0", "cameras[0].fov_deg"),
             ("duration_s = 8.0", "duration_s = 0.0", "duration_s"),
             ("radius = 0.1", "radius = -0.1", "obstacles[2].radius"),
-            ("color = [0.8, 0.8, 0.2, 1.0]", "color = [0.8, 0.8, 0.2, 2.0]", "obstacles[0].color"),
+            (
+                "color = [0.8, 0.8, 0.2, 1.0]",
+                "color = [0.8, 0.8, 0.2, 2.0]",
+                "obstacles[0].color",
+            ),
             ("units = \"mm\"", "units = \"deg\"", "axes[1].units"),
-            ("initial_position = 0.0", "initial_position = 1.0", "axes[0].initial_position"),
+            (
+                "initial_position = 0.0",
+                "initial_position = 1.0",
+                "axes[0].initial_position",
+            ),
         ] {
             let e = error_of(&edited(from, to));
             assert!(matches!(e, SceneError::Invalid { .. }), "{to}: {e}");
@@ -2057,9 +2533,27 @@ mod tests {
     #[test]
     fn shapes_need_their_own_fields() {
         let e = error_of(&edited("radius = 0.05\n", ""));
-        assert!(matches!(e.problem(), Some(Problem::MissingShapeField { field: "radius", .. })), "{e}");
-        let e = error_of(&edited("radius = 0.1\n", "radius = 0.1\nsize = [1.0, 1.0, 1.0]\n"));
-        assert!(matches!(e.problem(), Some(Problem::ExtraShapeField { field: "size", .. })), "{e}");
+        assert!(
+            matches!(
+                e.problem(),
+                Some(Problem::MissingShapeField {
+                    field: "radius",
+                    ..
+                })
+            ),
+            "{e}"
+        );
+        let e = error_of(&edited(
+            "radius = 0.1\n",
+            "radius = 0.1\nsize = [1.0, 1.0, 1.0]\n",
+        ));
+        assert!(
+            matches!(
+                e.problem(),
+                Some(Problem::ExtraShapeField { field: "size", .. })
+            ),
+            "{e}"
+        );
     }
 
     #[test]
@@ -2067,16 +2561,30 @@ mod tests {
         let text = edited("type = \"DINT\"", "type = \"DWORD\"");
         let e = error_of(&text);
         assert_place(&e, find(&text, "\"DWORD\""), "tags[5].type");
-        assert!(matches!(e.problem(), Some(Problem::UnknownTagType { type_name }) if type_name == "DWORD"));
+        assert!(
+            matches!(e.problem(), Some(Problem::UnknownTagType { type_name }) if type_name == "DWORD")
+        );
         for (from, to) in [
-            ("type = \"REAL[2]\"\nvalue = [90.0", "type = \"REAL[0]\"\nvalue = [90.0"),
+            (
+                "type = \"REAL[2]\"\nvalue = [90.0",
+                "type = \"REAL[0]\"\nvalue = [90.0",
+            ),
             ("value = 3", "value = 3.5"),
             ("value = 3", "value = 4294967296"),
             ("value = true", "value = 1"),
             ("value = [90.0, 100]", "value = [90.0]"),
-            ("value = [\"Table\", \"Slide\"]", "value = [\"Table\", \"Spindle\"]"),
-            ("type = \"MC_MoveModulo\"", "type = \"MC_MoveModulo\"\nvalue = 1"),
-            ("{ master = 90.0, slave = 10.0 }", "{ master = 0.0, slave = 10.0 }"),
+            (
+                "value = [\"Table\", \"Slide\"]",
+                "value = [\"Table\", \"Spindle\"]",
+            ),
+            (
+                "type = \"MC_MoveModulo\"",
+                "type = \"MC_MoveModulo\"\nvalue = 1",
+            ),
+            (
+                "{ master = 90.0, slave = 10.0 }",
+                "{ master = 0.0, slave = 10.0 }",
+            ),
         ] {
             let e = error_of(&edited(from, to));
             assert!(matches!(e, SceneError::Invalid { .. }), "{to}: {e}");
@@ -2086,7 +2594,10 @@ mod tests {
     #[test]
     fn snapshots_need_distinct_frames() {
         let e = error_of(&edited("frames = [0, 12, 30]", "frames = [0, 12, 12]"));
-        assert!(matches!(e.problem(), Some(Problem::DuplicateFrame { frame: 12 })));
+        assert!(matches!(
+            e.problem(),
+            Some(Problem::DuplicateFrame { frame: 12 })
+        ));
     }
 
     #[test]
@@ -2104,7 +2615,10 @@ mod tests {
         );
         let e = error_of(&text);
         assert!(matches!(e, SceneError::Syntax { .. }), "{e}");
-        assert_eq!(e.location().map(|l| l.line), Some(find(&text, "\\u0054").line));
+        assert_eq!(
+            e.location().map(|l| l.line),
+            Some(find(&text, "\\u0054").line)
+        );
     }
 
     #[test]

@@ -273,7 +273,11 @@ impl ParseError {
 /// A [`ParseError`] with the column of the first problem.
 pub fn parse_call(src: &str) -> Result<Call, ParseError> {
     let tokens = lex(src)?;
-    let mut p = Parser { tokens, pos: 0, end: src.chars().count() };
+    let mut p = Parser {
+        tokens,
+        pos: 0,
+        end: src.chars().count(),
+    };
     let call = p.call()?;
     if p.peek_kind() == Some(&Tok::Semi) {
         p.pos += 1;
@@ -289,7 +293,11 @@ pub fn parse_call(src: &str) -> Result<Call, ParseError> {
 /// A [`ParseError`] with the column of the first problem.
 pub fn parse_condition(src: &str) -> Result<Spanned<Expr>, ParseError> {
     let tokens = lex(src)?;
-    let mut p = Parser { tokens, pos: 0, end: src.chars().count() };
+    let mut p = Parser {
+        tokens,
+        pos: 0,
+        end: src.chars().count(),
+    };
     let reference = match p.peek_kind() {
         Some(Tok::Word(w)) if bool_word(w).is_none() => p.operand()?,
         _ => return Err(p.unexpected(Expected::Reference)),
@@ -339,7 +347,14 @@ fn lex(src: &str) -> Result<Vec<Token>, ParseError> {
     while i < chars.len() {
         let c = chars[i];
         let start = i;
-        let single = |tok: Tok| Token { tok, span: Span { start, end: start + 1 }, text: c.to_string() };
+        let single = |tok: Tok| Token {
+            tok,
+            span: Span {
+                start,
+                end: start + 1,
+            },
+            text: c.to_string(),
+        };
         match c {
             c if c.is_whitespace() => {
                 i += 1;
@@ -353,13 +368,21 @@ fn lex(src: &str) -> Result<Vec<Token>, ParseError> {
             ']' => tokens.push(single(Tok::RBracket)),
             ';' => tokens.push(single(Tok::Semi)),
             ':' if chars.get(i + 1) == Some(&'=') => {
-                tokens.push(Token { tok: Tok::Assign, span: Span { start, end: start + 2 }, text: ":=".into() });
+                tokens.push(Token {
+                    tok: Tok::Assign,
+                    span: Span {
+                        start,
+                        end: start + 2,
+                    },
+                    text: ":=".into(),
+                });
                 i += 2;
                 continue;
             }
             ':' | '=' => tokens.push(single(Tok::BadAssign)),
             c if c.is_ascii_digit()
-                || ((c == '-' || c == '+') && chars.get(i + 1).is_some_and(char::is_ascii_digit)) =>
+                || ((c == '-' || c == '+')
+                    && chars.get(i + 1).is_some_and(char::is_ascii_digit)) =>
             {
                 let (token, next) = lex_number(&chars, i)?;
                 tokens.push(token);
@@ -380,11 +403,20 @@ fn lex(src: &str) -> Result<Vec<Token>, ParseError> {
                     }
                 }
                 let text: String = chars[i..j].iter().collect();
-                tokens.push(Token { tok: Tok::Word(text.clone()), span: Span { start, end: j }, text });
+                tokens.push(Token {
+                    tok: Tok::Word(text.clone()),
+                    span: Span { start, end: j },
+                    text,
+                });
                 i = j;
                 continue;
             }
-            c => return Err(ParseError::UnexpectedChar { column: start + 1, ch: c }),
+            c => {
+                return Err(ParseError::UnexpectedChar {
+                    column: start + 1,
+                    ch: c,
+                });
+            }
         }
         i += 1;
     }
@@ -411,7 +443,10 @@ fn lex_number(chars: &[char], start: usize) -> Result<(Token, usize), ParseError
         }
     }
     let text: String = chars[start..j].iter().collect();
-    let invalid = || ParseError::InvalidNumber { column: start + 1, text: text.clone() };
+    let invalid = || ParseError::InvalidNumber {
+        column: start + 1,
+        text: text.clone(),
+    };
     let (negative, body) = match text.strip_prefix('-') {
         Some(rest) => (true, rest),
         None => (false, text.strip_prefix('+').unwrap_or(&text)),
@@ -433,10 +468,16 @@ fn lex_number(chars: &[char], start: usize) -> Result<(Token, usize), ParseError
         let magnitude = i64::from_str_radix(digits, radix).map_err(|_| invalid())?;
         Tok::Int(if negative { -magnitude } else { magnitude })
     } else if cleaned.chars().all(|c| c.is_ascii_digit()) {
-        let signed = if negative { format!("-{cleaned}") } else { cleaned };
+        let signed = if negative {
+            format!("-{cleaned}")
+        } else {
+            cleaned
+        };
         Tok::Int(signed.parse().map_err(|_| invalid())?)
     } else {
-        let valid_shape = cleaned.chars().all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '-' | '+'));
+        let valid_shape = cleaned
+            .chars()
+            .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '-' | '+'));
         if !valid_shape {
             return Err(invalid());
         }
@@ -446,7 +487,14 @@ fn lex_number(chars: &[char], start: usize) -> Result<(Token, usize), ParseError
         }
         Tok::Real(if negative { -value } else { value })
     };
-    Ok((Token { tok, span: Span { start, end: j }, text }, j))
+    Ok((
+        Token {
+            tok,
+            span: Span { start, end: j },
+            text,
+        },
+        j,
+    ))
 }
 
 fn bool_word(word: &str) -> Option<bool> {
@@ -485,33 +533,54 @@ impl Parser {
         ParseError::Unexpected {
             column: self.column_here(),
             expected,
-            found: self.peek().map_or_else(|| "end of text".to_owned(), |t| format!("'{}'", t.text)),
+            found: self
+                .peek()
+                .map_or_else(|| "end of text".to_owned(), |t| format!("'{}'", t.text)),
         }
     }
 
     fn expect_end(&self) -> Result<(), ParseError> {
-        if self.peek().is_some() { Err(self.unexpected(Expected::End)) } else { Ok(()) }
+        if self.peek().is_some() {
+            Err(self.unexpected(Expected::End))
+        } else {
+            Ok(())
+        }
     }
 
     fn call(&mut self) -> Result<Call, ParseError> {
         let name = match self.peek() {
-            Some(Token { tok: Tok::Word(w), span, .. }) if bool_word(w).is_none() => {
-                Spanned { value: w.clone(), span: *span }
-            }
+            Some(Token {
+                tok: Tok::Word(w),
+                span,
+                ..
+            }) if bool_word(w).is_none() => Spanned {
+                value: w.clone(),
+                span: *span,
+            },
             _ => return Err(self.unexpected(Expected::CallName)),
         };
         self.pos += 1;
         let open = match self.peek() {
-            Some(Token { tok: Tok::LParen, span, .. }) => *span,
+            Some(Token {
+                tok: Tok::LParen,
+                span,
+                ..
+            }) => *span,
             _ => return Err(self.unexpected(Expected::OpenParen)),
         };
         self.pos += 1;
-        let unterminated =
-            |p: &Self, expected| ParseError::Unterminated { column: p.end + 1, open_column: open.column(), expected };
+        let unterminated = |p: &Self, expected| ParseError::Unterminated {
+            column: p.end + 1,
+            open_column: open.column(),
+            expected,
+        };
 
         if self.peek_kind() == Some(&Tok::RParen) {
             self.pos += 1;
-            return Ok(Call { name, args: Args::Positional(Vec::new()) });
+            return Ok(Call {
+                name,
+                args: Args::Positional(Vec::new()),
+            });
         }
         let mut positional: Vec<Spanned<Expr>> = Vec::new();
         let mut named: Vec<(Spanned<String>, Spanned<Expr>)> = Vec::new();
@@ -519,38 +588,65 @@ impl Parser {
             let Some(token) = self.peek().cloned() else {
                 return Err(unterminated(self, Expected::Operand));
             };
-            let after = self.tokens.get(self.pos + 1).map(|t| (&t.tok, t.span.column()));
+            let after = self
+                .tokens
+                .get(self.pos + 1)
+                .map(|t| (&t.tok, t.span.column()));
             let word = match &token.tok {
                 Tok::Word(w) if bool_word(w).is_none() => Some(w.clone()),
                 _ => None,
             };
             if let (Some(input), Some((Tok::BadAssign, column))) = (&word, after) {
-                return Err(ParseError::MissingAssign { column, input: input.clone() });
+                return Err(ParseError::MissingAssign {
+                    column,
+                    input: input.clone(),
+                });
             }
             let is_named = word.is_some() && matches!(after, Some((Tok::Assign, _)));
             if is_named && !positional.is_empty() {
-                return Err(ParseError::MixedArguments { column: token.span.column() });
+                return Err(ParseError::MixedArguments {
+                    column: token.span.column(),
+                });
             }
             if !is_named && !named.is_empty() {
                 // After named inputs, a bare word is most likely an input whose ':=' is missing.
                 return Err(match (word, after) {
-                    (Some(input), None) => ParseError::MissingAssign { column: self.end + 1, input },
-                    (Some(input), Some((tok, column))) if !matches!(tok, Tok::Dot | Tok::LBracket) => {
+                    (Some(input), None) => ParseError::MissingAssign {
+                        column: self.end + 1,
+                        input,
+                    },
+                    (Some(input), Some((tok, column)))
+                        if !matches!(tok, Tok::Dot | Tok::LBracket) =>
+                    {
                         ParseError::MissingAssign { column, input }
                     }
-                    _ => ParseError::MixedArguments { column: token.span.column() },
+                    _ => ParseError::MixedArguments {
+                        column: token.span.column(),
+                    },
                 });
             }
             if let (true, Some(input)) = (is_named, word) {
                 self.pos += 2; // name and ':='
-                if named.iter().any(|(n, _)| n.value.eq_ignore_ascii_case(&input)) {
-                    return Err(ParseError::DuplicateInput { column: token.span.column(), input });
+                if named
+                    .iter()
+                    .any(|(n, _)| n.value.eq_ignore_ascii_case(&input))
+                {
+                    return Err(ParseError::DuplicateInput {
+                        column: token.span.column(),
+                        input,
+                    });
                 }
                 if self.peek().is_none() {
                     return Err(unterminated(self, Expected::Operand));
                 }
                 let value = self.operand()?;
-                named.push((Spanned { value: input, span: token.span }, value));
+                named.push((
+                    Spanned {
+                        value: input,
+                        span: token.span,
+                    },
+                    value,
+                ));
             } else {
                 let value = self.operand()?;
                 positional.push(value);
@@ -565,7 +661,11 @@ impl Parser {
                 Some(_) => return Err(self.unexpected(Expected::CloseOrComma)),
             }
         }
-        let args = if named.is_empty() { Args::Positional(positional) } else { Args::Named(named) };
+        let args = if named.is_empty() {
+            Args::Positional(positional)
+        } else {
+            Args::Named(named)
+        };
         Ok(Call { name, args })
     }
 
@@ -579,16 +679,25 @@ impl Parser {
         let mut expr = match token.tok {
             Tok::Int(i) => {
                 self.pos += 1;
-                return Ok(Spanned { value: Expr::Integer(i), span: token.span });
+                return Ok(Spanned {
+                    value: Expr::Integer(i),
+                    span: token.span,
+                });
             }
             Tok::Real(x) => {
                 self.pos += 1;
-                return Ok(Spanned { value: Expr::Number(x), span: token.span });
+                return Ok(Spanned {
+                    value: Expr::Number(x),
+                    span: token.span,
+                });
             }
             Tok::Word(w) => {
                 self.pos += 1;
                 if let Some(b) = bool_word(&w) {
-                    return Ok(Spanned { value: Expr::Bool(b), span: token.span });
+                    return Ok(Spanned {
+                        value: Expr::Bool(b),
+                        span: token.span,
+                    });
                 }
                 Expr::Ident(w)
             }
@@ -599,7 +708,11 @@ impl Parser {
                 Some(Tok::Dot) => {
                     self.pos += 1;
                     match self.peek().cloned() {
-                        Some(Token { tok: Tok::Word(member), span, .. }) => {
+                        Some(Token {
+                            tok: Tok::Word(member),
+                            span,
+                            ..
+                        }) => {
                             self.pos += 1;
                             end = span.end;
                             expr = Expr::Member(Box::new(expr), member);
@@ -615,7 +728,11 @@ impl Parser {
                     };
                     self.pos += 1;
                     match self.peek() {
-                        Some(Token { tok: Tok::RBracket, span, .. }) => {
+                        Some(Token {
+                            tok: Tok::RBracket,
+                            span,
+                            ..
+                        }) => {
                             end = span.end;
                             self.pos += 1;
                         }
@@ -626,7 +743,10 @@ impl Parser {
                 _ => break,
             }
         }
-        Ok(Spanned { value: expr, span: Span { start, end } })
+        Ok(Spanned {
+            value: expr,
+            span: Span { start, end },
+        })
     }
 }
 
@@ -634,16 +754,12 @@ impl Parser {
 /// call (upper case; the scene loader compares case-insensitively).
 pub const LOGIX_INSTRUCTIONS: &[&str] = &[
     // Motion state
-    "MSO", "MSF", "MASD", "MASR", "MDO", "MDF", "MDS", "MAFR",
-    // Motion move
+    "MSO", "MSF", "MASD", "MASR", "MDO", "MDF", "MDS", "MAFR", // Motion move
     "MAS", "MAH", "MAJ", "MAM", "MAG", "MCD", "MRP", "MCCP", "MCSV", "MAPC", "MATC", "MDAC",
     // Motion group
-    "MGS", "MGSD", "MGSR", "MGSP",
-    // Motion event
-    "MAW", "MDW", "MAR", "MDR", "MAOC", "MDOC",
-    // Motion configuration
-    "MAAT", "MRAT", "MAHD", "MRHD",
-    // Multi-axis coordinated motion
+    "MGS", "MGSD", "MGSR", "MGSP", // Motion event
+    "MAW", "MDW", "MAR", "MDR", "MAOC", "MDOC", // Motion configuration
+    "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
     "MCS", "MCLM", "MCCM", "MCCD", "MCT", "MCTP", "MCTO", "MCTPO", "MCPM", "MCSD", "MCSR", "MDCC",
 ];
 
@@ -652,35 +768,86 @@ pub const LOGIX_INSTRUCTIONS: &[&str] = &[
 /// the `2`/`3` spelling the manuals' examples use (`Unitspersec2`).
 pub const LOGIX_ENUMERATIONS: &[&str] = &[
     // Speed / acceleration / jerk units
-    "unitspersec", "unitspersec²", "unitspersec2", "unitspersec³", "unitspersec3",
-    "%ofmaximum", "%oftime", "%oftimemasterdriven",
-    "unitspermasterunit", "unitspermasterunit²", "unitspermasterunit2", "unitspermasterunit³",
-    "unitspermasterunit3", "seconds", "units",
+    "unitspersec",
+    "unitspersec²",
+    "unitspersec2",
+    "unitspersec³",
+    "unitspersec3",
+    "%ofmaximum",
+    "%oftime",
+    "%oftimemasterdriven",
+    "unitspermasterunit",
+    "unitspermasterunit²",
+    "unitspermasterunit2",
+    "unitspermasterunit³",
+    "unitspermasterunit3",
+    "seconds",
+    "units",
     // Profile
-    "trapezoidal", "s-curve",
+    "trapezoidal",
+    "s-curve",
     // Merge, merge speed
-    "disabled", "coordinatedmotion", "allmotion", "programmed", "current",
+    "disabled",
+    "coordinatedmotion",
+    "allmotion",
+    "programmed",
+    "current",
     // Lock direction
-    "none", "immediateforwardonly", "immediatereverseonly", "positionforward", "positionreverse",
+    "none",
+    "immediateforwardonly",
+    "immediatereverseonly",
+    "positionforward",
+    "positionreverse",
     // MRP type and position select
-    "absolute", "relative", "actual", "command",
+    "absolute",
+    "relative",
+    "actual",
+    "command",
     // MAPC / MATC direction, modes, schedules, cam type, master reference and direction
-    "same", "opposite", "reverse", "unchanged", "once", "continuous", "persistent",
-    "immediate", "pending", "forwardonly", "reverseonly", "bidirectional",
-    "oldcam", "newcam",
+    "same",
+    "opposite",
+    "reverse",
+    "unchanged",
+    "once",
+    "continuous",
+    "persistent",
+    "immediate",
+    "pending",
+    "forwardonly",
+    "reverseonly",
+    "bidirectional",
+    "oldcam",
+    "newcam",
     // MAS stop type, MAJ/MAM direction and MAM move types
-    "all", "jog", "move", "time", "forward", "shortestpath", "positiveonly", "negativeonly",
-    "unwind", "rotaryshortest", "rotarypositive", "rotarynegative",
+    "all",
+    "jog",
+    "move",
+    "time",
+    "forward",
+    "shortestpath",
+    "positiveonly",
+    "negativeonly",
+    "unwind",
+    "rotaryshortest",
+    "rotarypositive",
+    "rotarynegative",
 ];
 
 /// PLCopen / Beckhoff Tc2_MC2 enumeration values accepted as named inputs
 /// (compare case-insensitively).
 pub const PLCOPEN_ENUMERATIONS: &[&str] = &[
     // MC_Direction
-    "MC_Positive_Direction", "MC_Shortest_Way", "MC_Negative_Direction", "MC_Current_Direction",
+    "MC_Positive_Direction",
+    "MC_Shortest_Way",
+    "MC_Negative_Direction",
+    "MC_Current_Direction",
     "MC_Undefined_Direction",
     // MC_BufferMode
-    "MC_Aborting", "MC_Buffered", "MC_BlendingLow", "MC_BlendingPrevious", "MC_BlendingNext",
+    "MC_Aborting",
+    "MC_Buffered",
+    "MC_BlendingLow",
+    "MC_BlendingPrevious",
+    "MC_BlendingNext",
     "MC_BlendingHigh",
 ];
 
@@ -717,7 +884,9 @@ mod tests {
 
     #[test]
     fn enumeration_words_are_single_identifiers() {
-        let args = positional("MCCM(CS1, MC1, 0, Pos, 1, Ctr, 0, 100, unitspersec, 50, %ofmaximum, 50, unitspersec\u{b2}, s-curve, 100, 100, unitspersec\u{b3}, 2, 0, 0, 0, 0, 0, 0, 0)");
+        let args = positional(
+            "MCCM(CS1, MC1, 0, Pos, 1, Ctr, 0, 100, unitspersec, 50, %ofmaximum, 50, unitspersec\u{b2}, s-curve, 100, 100, unitspersec\u{b3}, 2, 0, 0, 0, 0, 0, 0, 0)",
+        );
         assert_eq!(args.len(), 25);
         assert_eq!(args[10], ident("%ofmaximum"));
         assert_eq!(args[12], ident("unitspersec\u{b2}"));
@@ -727,9 +896,14 @@ mod tests {
 
     #[test]
     fn other_manual_examples() {
-        assert_eq!(positional("MCCP(MCCP_1,Cam_1[0],30,1.0,1.0,Cam_pro1[0]);").len(), 6);
+        assert_eq!(
+            positional("MCCP(MCCP_1,Cam_1[0],30,1.0,1.0,Cam_pro1[0]);").len(),
+            6
+        );
         assert_eq!(positional("MCT (myMctSourceSystem, myMctTargetSystem, myMctMotionControl, myMctOrientation, myMctTranslation);").len(), 5);
-        let mapc = positional("MAPC (Axis0, Axis1, MAPC_1, 1, Cam_prof1[0], 1.0, 1.0, Once, Immediate, Mlckpos, Clckpos, NewCam, Actual, ForwardOnly);");
+        let mapc = positional(
+            "MAPC (Axis0, Axis1, MAPC_1, 1, Cam_prof1[0], 1.0, 1.0, Once, Immediate, Mlckpos, Clckpos, NewCam, Actual, ForwardOnly);",
+        );
         assert_eq!(mapc.len(), 14);
         assert_eq!(mapc[7], ident("Once"));
         assert_eq!(positional("MAFR(Axis1, MC1)").len(), 2);
@@ -739,9 +913,21 @@ mod tests {
     #[test]
     fn named_function_block_call() {
         let call = parse_call("MoveTable(Axis := Table, Execute := TRUE, Position := 90.0, Velocity := 180.0, Direction := MC_Positive_Direction, BufferMode := MC_Aborting)").expect("parses");
-        let Args::Named(inputs) = call.args else { panic!("named") };
+        let Args::Named(inputs) = call.args else {
+            panic!("named")
+        };
         let names: Vec<&str> = inputs.iter().map(|(n, _)| n.value.as_str()).collect();
-        assert_eq!(names, ["Axis", "Execute", "Position", "Velocity", "Direction", "BufferMode"]);
+        assert_eq!(
+            names,
+            [
+                "Axis",
+                "Execute",
+                "Position",
+                "Velocity",
+                "Direction",
+                "BufferMode"
+            ]
+        );
         assert_eq!(inputs[1].1.value, Expr::Bool(true));
         assert_eq!(inputs[0].1.span, Span { start: 18, end: 23 });
         assert_eq!(inputs[4].1.value, ident("MC_Positive_Direction"));
@@ -749,7 +935,9 @@ mod tests {
 
     #[test]
     fn literals() {
-        let args = positional("X(1, -2.5, 1.0e3, 2E-2, 16#FF, -16#10, 2#1010, 1_000, true, False, +3, MC1.PC, Pos[1].Bit, A.B.C)");
+        let args = positional(
+            "X(1, -2.5, 1.0e3, 2E-2, 16#FF, -16#10, 2#1010, 1_000, true, False, +3, MC1.PC, Pos[1].Bit, A.B.C)",
+        );
         assert_eq!(
             args,
             [
@@ -765,8 +953,14 @@ mod tests {
                 Expr::Bool(false),
                 Expr::Integer(3),
                 Expr::Member(Box::new(ident("MC1")), "PC".into()),
-                Expr::Member(Box::new(Expr::Index(Box::new(ident("Pos")), 1)), "Bit".into()),
-                Expr::Member(Box::new(Expr::Member(Box::new(ident("A")), "B".into())), "C".into()),
+                Expr::Member(
+                    Box::new(Expr::Index(Box::new(ident("Pos")), 1)),
+                    "Bit".into()
+                ),
+                Expr::Member(
+                    Box::new(Expr::Member(Box::new(ident("A")), "B".into())),
+                    "C".into()
+                ),
             ]
         );
         assert_eq!(args[12].root_ident(), Some("Pos"));
@@ -776,12 +970,32 @@ mod tests {
     #[test]
     fn conditions() {
         let c = parse_condition(" MoveTable.Done ").expect("parses");
-        assert_eq!(c.value, Expr::Member(Box::new(ident("MoveTable")), "Done".into()));
+        assert_eq!(
+            c.value,
+            Expr::Member(Box::new(ident("MoveTable")), "Done".into())
+        );
         assert_eq!(c.span, Span { start: 1, end: 15 });
         assert!(parse_condition("Flags[2]").is_ok());
-        assert!(matches!(parse_condition("TRUE"), Err(ParseError::Unexpected { column: 1, expected: Expected::Reference, .. })));
-        assert!(matches!(parse_condition("A.Done B"), Err(ParseError::Unexpected { column: 8, expected: Expected::End, .. })));
-        assert!(matches!(parse_condition(""), Err(ParseError::Unexpected { column: 1, .. })));
+        assert!(matches!(
+            parse_condition("TRUE"),
+            Err(ParseError::Unexpected {
+                column: 1,
+                expected: Expected::Reference,
+                ..
+            })
+        ));
+        assert!(matches!(
+            parse_condition("A.Done B"),
+            Err(ParseError::Unexpected {
+                column: 8,
+                expected: Expected::End,
+                ..
+            })
+        ));
+        assert!(matches!(
+            parse_condition(""),
+            Err(ParseError::Unexpected { column: 1, .. })
+        ));
     }
 
     #[test]
@@ -808,13 +1022,44 @@ mod tests {
             parse_call("MoveTable(Axis := Table, Position 90.0)"),
             Err(ParseError::MissingAssign { ref input, .. }) if input == "Position"
         ));
-        assert!(matches!(parse_call("MAM(Axis1, MC2"), Err(ParseError::Unterminated { open_column: 4, expected: Expected::CloseOrComma, .. })));
-        assert!(matches!(parse_call("MAM(Axis1 MC2)"), Err(ParseError::Unexpected { expected: Expected::CloseOrComma, .. })));
-        assert!(matches!(parse_call("F(A := 1, 2)"), Err(ParseError::MixedArguments { column: 11 })));
-        assert!(matches!(parse_call("F(1, A := 2)"), Err(ParseError::MixedArguments { column: 6 })));
-        assert!(matches!(parse_call("F(A := 1, a := 2)"), Err(ParseError::DuplicateInput { column: 11, .. })));
-        assert!(matches!(parse_call("F(99999999999999999999)"), Err(ParseError::InvalidNumber { column: 3, .. })));
-        assert!(matches!(parse_call("F(A := )"), Err(ParseError::Unexpected { expected: Expected::Operand, .. })));
+        assert!(matches!(
+            parse_call("MAM(Axis1, MC2"),
+            Err(ParseError::Unterminated {
+                open_column: 4,
+                expected: Expected::CloseOrComma,
+                ..
+            })
+        ));
+        assert!(matches!(
+            parse_call("MAM(Axis1 MC2)"),
+            Err(ParseError::Unexpected {
+                expected: Expected::CloseOrComma,
+                ..
+            })
+        ));
+        assert!(matches!(
+            parse_call("F(A := 1, 2)"),
+            Err(ParseError::MixedArguments { column: 11 })
+        ));
+        assert!(matches!(
+            parse_call("F(1, A := 2)"),
+            Err(ParseError::MixedArguments { column: 6 })
+        ));
+        assert!(matches!(
+            parse_call("F(A := 1, a := 2)"),
+            Err(ParseError::DuplicateInput { column: 11, .. })
+        ));
+        assert!(matches!(
+            parse_call("F(99999999999999999999)"),
+            Err(ParseError::InvalidNumber { column: 3, .. })
+        ));
+        assert!(matches!(
+            parse_call("F(A := )"),
+            Err(ParseError::Unexpected {
+                expected: Expected::Operand,
+                ..
+            })
+        ));
     }
 
     #[test]
@@ -832,16 +1077,24 @@ mod tests {
     }
 
     fn assert_column_in_range(src: &str, e: &ParseError) {
-        assert!(e.column() >= 1 && e.column() <= src.chars().count() + 1, "{src:?}: {e:?}");
+        assert!(
+            e.column() >= 1 && e.column() <= src.chars().count() + 1,
+            "{src:?}: {e:?}"
+        );
     }
 
     #[test]
     fn seeded_random_strings_never_panic() {
-        let alphabet: Vec<char> = "MCAxis_(),:=;.[]#-+%e0123456789 \u{b2}\u{b3}\u{e9}TRUEfalse\t\"'@".chars().collect();
+        let alphabet: Vec<char> =
+            "MCAxis_(),:=;.[]#-+%e0123456789 \u{b2}\u{b3}\u{e9}TRUEfalse\t\"'@"
+                .chars()
+                .collect();
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(61131);
         for _ in 0..500 {
             let len = rng.random_range(0..40);
-            let src: String = (0..len).map(|_| alphabet[rng.random_range(0..alphabet.len())]).collect();
+            let src: String = (0..len)
+                .map(|_| alphabet[rng.random_range(0..alphabet.len())])
+                .collect();
             if let Err(e) = parse_call(&src) {
                 assert_column_in_range(&src, &e);
             }
@@ -851,7 +1104,9 @@ mod tests {
         }
         // Mutations of a valid call exercise deeper paths.
         let valid: Vec<char> =
-            "MoveTable(Axis := Table, Execute := TRUE, Position := -90.5e1, Pos[1].X := 16#FF);".chars().collect();
+            "MoveTable(Axis := Table, Execute := TRUE, Position := -90.5e1, Pos[1].X := 16#FF);"
+                .chars()
+                .collect();
         for _ in 0..500 {
             let mut chars = valid.clone();
             for _ in 0..rng.random_range(1..4) {
