@@ -2,3 +2,5 @@
 //! rendering, Rerun recordings and traces, driven by the `planner` crate.
 
 pub mod mesh;
+#[cfg(feature = "render")]
+pub mod render;
