@@ -4,3 +4,5 @@
 pub mod mesh;
 #[cfg(feature = "render")]
 pub mod render;
+#[cfg(feature = "render")]
+pub mod snapshot;
