@@ -70,10 +70,12 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const VERTEX_BYTES: u64 = 24;
 /// Bytes per instance: world_from_mesh (4 vec4), normal matrix (3 vec4), colour.
 const INSTANCE_BYTES: u64 = 128;
-/// Bytes per line vertex: position (3 f32) and colour (4 f32).
-const LINE_VERTEX_BYTES: u64 = 28;
+/// Bytes per line segment: start and end (3 f32 each) and colour (4 f32).
+const SEGMENT_BYTES: u64 = 40;
 /// Bytes of the `Globals` uniform block in `scene.wgsl`.
-const GLOBALS_BYTES: u64 = 112;
+const GLOBALS_BYTES: u64 = 128;
+/// Width of trail lines (pixels).
+pub const LINE_WIDTH_PX: f32 = 2.0;
 
 /// A pinhole camera looking from `eye_in_world` towards `target_in_world`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -226,8 +228,9 @@ pub struct DrawItem {
     pub tint_rgba: Option<[f32; 4]>,
 }
 
-/// A polyline in the world (e.g. a tool-centre trail), drawn one pixel wide
-/// and hidden behind surfaces. Fewer than two points draw nothing.
+/// A polyline in the world (e.g. a tool-centre trail), drawn
+/// [`LINE_WIDTH_PX`] wide and hidden behind surfaces. Fewer than two points
+/// draw nothing; segments reaching behind the near plane are dropped.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LineStrip {
     /// Consecutive points in the world frame (m).
@@ -593,7 +596,8 @@ impl Renderer {
             2 => Float32x4, 3 => Float32x4, 4 => Float32x4, 5 => Float32x4,
             6 => Float32x4, 7 => Float32x4, 8 => Float32x4, 9 => Float32x4
         ];
-        let line_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4];
+        let segment_attributes =
+            wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
         let builder = PipelineBuilder {
             device: &device,
             layout: &layout,
@@ -622,15 +626,15 @@ impl Renderer {
         let line_pipeline = builder.build(
             "line",
             &[Some(wgpu::VertexBufferLayout {
-                array_stride: LINE_VERTEX_BYTES,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &line_attributes,
+                array_stride: SEGMENT_BYTES,
+                step_mode: wgpu::VertexStepMode::Instance,
+                attributes: &segment_attributes,
             })],
-            wgpu::PrimitiveTopology::LineList,
+            wgpu::PrimitiveTopology::TriangleList,
             false,
         );
         let instances = GrowBuffer::new(&device, "instances", 64 * INSTANCE_BYTES);
-        let line_vertices = GrowBuffer::new(&device, "line vertices", 1024 * LINE_VERTEX_BYTES);
+        let line_vertices = GrowBuffer::new(&device, "line segments", 1024 * SEGMENT_BYTES);
 
         Ok(Renderer {
             adapter_info: adapter.get_info(),
@@ -760,7 +764,7 @@ impl Renderer {
             .write(&self.device, &self.queue, &instance_bytes);
         self.line_vertices
             .write(&self.device, &self.queue, &line_bytes);
-        let outcome = self.draw_and_read(items, line_bytes.len() as u64 / LINE_VERTEX_BYTES);
+        let outcome = self.draw_and_read(items, line_bytes.len() as u64 / SEGMENT_BYTES);
         // Pop innermost first; report the first error any scope caught.
         let mut gpu_error = None;
         for scope in scopes.into_iter().rev() {
@@ -781,7 +785,7 @@ impl Renderer {
     fn draw_and_read(
         &self,
         items: &[DrawItem],
-        line_vertex_count: u64,
+        segment_count: u64,
     ) -> Result<image::RgbaImage, RenderError> {
         let target = self.target.as_ref().ok_or(RenderError::Readback {
             stage: ReadbackStage::NotCompleted,
@@ -792,7 +796,7 @@ impl Renderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
-        self.encode_pass(&mut encoder, target, items, line_vertex_count);
+        self.encode_pass(&mut encoder, target, items, segment_count);
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &target.resolved,
@@ -989,7 +993,7 @@ impl Renderer {
         encoder: &mut wgpu::CommandEncoder,
         target: &Target,
         items: &[DrawItem],
-        line_vertex_count: u64,
+        segment_count: u64,
     ) {
         let background =
             BACKGROUND_RGBA8.map(|c| f64::from(math::srgb_to_linear(f32::from(c) / 255.0)));
@@ -1045,13 +1049,10 @@ impl Renderer {
         }
         pass.set_pipeline(&self.grid_pipeline);
         pass.draw(0..6, 0..1);
-        if line_vertex_count > 0 {
+        if segment_count > 0 {
             pass.set_pipeline(&self.line_pipeline);
             pass.set_vertex_buffer(0, self.line_vertices.buffer.slice(..));
-            pass.draw(
-                0..u32::try_from(line_vertex_count).unwrap_or(u32::MAX),
-                0..1,
-            );
+            pass.draw(0..6, 0..u32::try_from(segment_count).unwrap_or(u32::MAX));
         }
     }
 }
@@ -1129,7 +1130,7 @@ fn validate_mesh(mesh: &TriMesh, max_buffer_bytes: u64) -> Result<(), MeshProble
     Ok(())
 }
 
-/// Validates the strips and packs them as a line list (position, linear colour).
+/// Validates the strips and packs their segments (start, end, linear colour).
 fn line_bytes(lines: &[LineStrip]) -> Result<Vec<u8>, RenderError> {
     let mut bytes = Vec::new();
     for (strip, line) in lines.iter().enumerate() {
@@ -1154,10 +1155,9 @@ fn line_bytes(lines: &[LineStrip]) -> Result<Vec<u8>, RenderError> {
             c[3],
         ];
         for pair in line.points_in_world.windows(2) {
-            for p in pair {
-                push_f32s(&mut bytes, p);
-                push_f32s(&mut bytes, &color);
-            }
+            push_f32s(&mut bytes, &pair[0]);
+            push_f32s(&mut bytes, &pair[1]);
+            push_f32s(&mut bytes, &color);
         }
     }
     Ok(bytes)
@@ -1179,6 +1179,8 @@ fn globals_bytes(camera: &Camera, frame: &CameraFrame) -> Vec<u8> {
     let l = frame.to_light_in_world;
     push_f32s(&mut bytes, &[l[0], l[1], l[2], 0.0]);
     push_f32s(&mut bytes, &[fade_start, fade_end, eye[0], eye[1]]);
+    let size_px = [camera.width_px as f32, camera.height_px as f32];
+    push_f32s(&mut bytes, &[size_px[0], size_px[1], LINE_WIDTH_PX, 0.0]);
     bytes
 }
 
@@ -1666,6 +1668,17 @@ mod tests {
             renderer.render(&s.camera, &[], &[bad_line]),
             Err(RenderError::NonFiniteLine { strip: 0, point: 1 })
         ));
+
+        // A strip reaching behind the camera renders (that segment is dropped).
+        let behind: [f32; 3] =
+            std::array::from_fn(|k| 2.0 * s.camera.eye_in_world[k] - s.camera.target_in_world[k]);
+        let through_eye = LineStrip {
+            points_in_world: vec![[0.0; 3], [0.5, 0.0, 0.0], behind],
+            color_rgba: MAGENTA,
+        };
+        renderer
+            .render(&s.camera, &[], &[through_eye])
+            .expect("strip through the eye");
 
         // Empty meshes and short strips draw nothing, and the renderer still works.
         let empty = renderer.upload_mesh(&TriMesh::default());

@@ -10,6 +10,8 @@ struct Globals {
     to_light_in_world: vec4<f32>,
     // x: grid fade start (m from eye), y: fade end, z/w: grid centre x/y (m).
     grid: vec4<f32>,
+    // x/y: image size (px), z: trail line width (px).
+    viewport: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> globals: Globals;
@@ -147,9 +149,13 @@ fn fs_grid(in: GridOut) -> @location(0) vec4<f32> {
 
 // ----------------------------------------------------------------- lines
 
-struct LineIn {
-    @location(0) position: vec3<f32>,
-    @location(1) color: vec4<f32>,
+// Each segment is one instance, expanded to a screen-aligned quad of
+// constant pixel width (plain Vulkan lines are one pixel thin and faint
+// under MSAA). Segments reaching behind the near plane are dropped.
+struct SegmentIn {
+    @location(0) start: vec3<f32>,
+    @location(1) end: vec3<f32>,
+    @location(2) color: vec4<f32>,
 };
 
 struct LineOut {
@@ -158,10 +164,40 @@ struct LineOut {
 };
 
 @vertex
-fn vs_line(in: LineIn) -> LineOut {
+fn vs_line(@builtin(vertex_index) index: u32, in: SegmentIn) -> LineOut {
+    // (along, across) for two triangles.
+    var corners = array<vec2<f32>, 6>(
+        vec2<f32>(0.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
+        vec2<f32>(0.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(0.0, 1.0),
+    );
+    let corner = corners[index];
+    let a = globals.clip_from_world * vec4<f32>(in.start, 1.0);
+    let b = globals.clip_from_world * vec4<f32>(in.end, 1.0);
     var out: LineOut;
-    out.clip = globals.clip_from_world * vec4<f32>(in.position, 1.0);
     out.color = in.color;
+    if (a.w <= 0.01 || b.w <= 0.01) {
+        // Degenerate triangle: nothing is rasterised.
+        out.clip = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+        return out;
+    }
+    let half_size = 0.5 * globals.viewport.xy;
+    let pa = a.xy / a.w * half_size;
+    let pb = b.xy / b.w * half_size;
+    let d = pb - pa;
+    let len = length(d);
+    var dir = vec2<f32>(1.0, 0.0);
+    if (len > 1e-6) {
+        dir = d / len;
+    }
+    let normal = vec2<f32>(-dir.y, dir.x);
+    // Extend by half a width at both ends so consecutive segments join.
+    let half_width = 0.5 * globals.viewport.z;
+    let offset_px = normal * corner.y * half_width + dir * (corner.x * 2.0 - 1.0) * half_width;
+    var p = a;
+    if (corner.x > 0.5) {
+        p = b;
+    }
+    out.clip = vec4<f32>(p.xy + offset_px / half_size * p.w, p.z, p.w);
     return out;
 }
 
