@@ -4,3 +4,6 @@
 pub mod mesh;
 pub mod scene;
 pub mod st;
+#[cfg(feature = "render")]
+pub mod render;
+pub mod snapshot;
