@@ -1,4 +1,7 @@
 //! The motion twin: scene files, URDF robots simulated in rapier, headless
 //! rendering, Rerun recordings and traces, driven by the `planner` crate.
 
+pub mod convert;
 pub mod mesh;
+pub mod stl;
+pub mod urdf;
