@@ -77,6 +77,7 @@ pub fn isometry_to_arrays(iso: &Isometry3<f64>) -> ([f64; 3], [f64; 4]) {
 }
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)] // a failed unwrap is a failed test
 mod tests {
     use super::*;
 

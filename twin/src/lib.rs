@@ -3,5 +3,6 @@
 
 pub mod convert;
 pub mod mesh;
+pub mod physics;
 pub mod stl;
 pub mod urdf;

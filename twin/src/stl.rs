@@ -308,6 +308,7 @@ fn normalized(n: [f32; 3]) -> Option<[f32; 3]> {
 }
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)] // a failed unwrap is a failed test
 mod tests {
     use super::*;
 

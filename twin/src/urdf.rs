@@ -766,6 +766,7 @@ fn convert_joint(
 }
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)] // a failed unwrap is a failed test
 mod tests {
     use super::*;
     use std::f64::consts::FRAC_PI_2;
@@ -1018,5 +1019,54 @@ mod tests {
             other => panic!("unexpected {other:?}"),
         }
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn indexing_table_loads_with_its_mesh_and_colours() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../scenes/robots/indexing_table/indexing_table.urdf");
+        let m = RobotModel::load(&path).unwrap();
+        assert_eq!(m.name, "indexing_table");
+        assert_eq!(m.link(m.root).name, "base_link");
+        let joint = m.joint(m.joint_by_name("platter_joint").unwrap());
+        assert_eq!(joint.kind, JointKind::Continuous);
+        assert_eq!(joint.axis.into_inner(), Vector3::z());
+        let platter = m.link_by_name("platter").unwrap();
+        assert_eq!(joint.child, platter);
+        let fixtures = [
+            "fixture_vblock",
+            "fixture_clamp",
+            "fixture_pin",
+            "fixture_ball",
+        ];
+        let mut colours = Vec::new();
+        for name in fixtures {
+            let link = m.link(m.link_by_name(name).unwrap());
+            assert_eq!(
+                m.joint(link.parent_joint.unwrap()).parent,
+                platter,
+                "{name}"
+            );
+            assert!(link.inertial.is_some(), "{name}");
+            colours.push(link.visuals[0].color_rgba.unwrap());
+        }
+        colours.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        colours.dedup();
+        assert_eq!(colours.len(), 4, "fixtures must be told apart by colour");
+        let vblock = m.link(m.link_by_name("fixture_vblock").unwrap());
+        match &vblock.visuals[0].geometry {
+            Geometry::Mesh { path, mesh, .. } => {
+                assert!(path.ends_with("meshes/vblock_fixture.stl"));
+                assert_eq!(mesh.indices.len(), 28 * 3);
+                let top = mesh.positions.iter().map(|p| p[2]).fold(f32::MIN, f32::max);
+                assert!((top - 0.08).abs() < 1e-6);
+            }
+            other => panic!("{other:?}"),
+        }
+        // A quarter turn of the platter carries the V-block (at +X) to +Y.
+        let i = m.link_by_name("fixture_vblock").unwrap().0;
+        let world_from_link = m.world_from_link(&[std::f64::consts::FRAC_PI_2]);
+        let p = world_from_link[i].translation.vector;
+        assert!((p - Vector3::new(0.0, 0.22, 0.76)).norm() < 1e-9, "{p}");
     }
 }
