@@ -213,6 +213,24 @@ impl ErrorId {
     pub const BUSY: Self = Self(0x422A);
     /// 0x422B: the axis' own limits are unusable (a zero default rate).
     pub const AXIS_LIMITS: Self = Self(0x422B);
+
+    /// What the number means, in words (for logs and summaries).
+    pub fn meaning(self) -> &'static str {
+        match self {
+            Self::VELOCITY => "Velocity not allowed (must be > 0 and <= the axis maximum)",
+            Self::POSITION => "Position not allowed (must be finite and >= 0)",
+            Self::ACCELERATION => "Acceleration not allowed (must be finite and >= 0)",
+            Self::DECELERATION => "Deceleration not allowed (must be finite and >= 0)",
+            Self::JERK => "Jerk not allowed (must be finite and >= 0)",
+            Self::DIRECTION => "Direction is not an MC_Direction value",
+            Self::BUFFER_MODE => "BufferMode is not an MC_BufferMode value",
+            Self::NOT_MODULO => "the axis has no modulo period",
+            Self::BUFFER_FULL => "a command is already buffered on the axis",
+            Self::BUSY => "the block was triggered again while busy",
+            Self::AXIS_LIMITS => "the axis limits cannot form a profile",
+            _ => "unknown error",
+        }
+    }
 }
 
 /// Why an MC_MoveModulo command is refused.

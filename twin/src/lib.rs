@@ -2,11 +2,15 @@
 //! rendering, Rerun recordings and traces, driven by the `planner` crate.
 
 pub mod convert;
+pub mod frames;
 pub mod mesh;
 pub mod physics;
+pub mod recording;
 #[cfg(feature = "render")]
 pub mod render;
+pub mod run;
 pub mod scene;
+pub mod session;
 #[cfg(feature = "render")]
 pub mod snapshot;
 pub mod st;

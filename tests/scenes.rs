@@ -1,0 +1,270 @@
+//! End-to-end scenario runs of the `twin` binary and library: the indexing
+//! table scene, determinism, golden snapshots, and malformed scenes.
+
+use planner::axis::AxisConfig;
+use planner::task::MotionTask;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use twin::run::Twin;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace root").to_path_buf()
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let dir = root().join("target").join("scene-tests").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("create test output dir");
+    dir
+}
+
+fn twin_cmd() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_twin"));
+    c.current_dir(root());
+    c
+}
+
+fn run_scene(scene: &str, out: &Path) -> std::process::Output {
+    let output = twin_cmd()
+        .args(["run", scene, "--frames"])
+        .arg(out.join("frames"))
+        .arg("--save")
+        .arg(out.join("out.rrd"))
+        .arg("--trace")
+        .arg(out.join("out.csv"))
+        .arg("--summary")
+        .arg(out.join("summary.json"))
+        .output()
+        .expect("run twin");
+    assert!(
+        output.status.success(),
+        "twin run {scene} failed:\n{}\n{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output
+}
+
+/// Parses the CSV trace into a header and rows of numbers.
+fn read_trace(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).expect("trace");
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().expect("header").split(',').map(str::to_string).collect();
+    let rows = lines.map(|l| l.split(',').map(|x| x.parse::<f64>().expect("number")).collect()).collect();
+    (header, rows)
+}
+
+#[test]
+fn indexing_table_runs_end_to_end_and_reruns_identically() {
+    let a = out_dir("indexing_table_a");
+    let b = out_dir("indexing_table_b");
+    let out = run_scene("scenes/indexing_table.toml", &a);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("real-time factor"), "{stdout}");
+    run_scene("scenes/indexing_table.toml", &b);
+
+    // Byte-identical traces and frames.
+    assert_eq!(std::fs::read(a.join("out.csv")).unwrap(), std::fs::read(b.join("out.csv")).unwrap());
+    let mut frames: Vec<_> = std::fs::read_dir(a.join("frames")).map(|d| d.map(|e| e.unwrap().file_name()).collect()).unwrap_or_default();
+    frames.sort();
+    for f in &frames {
+        assert_eq!(std::fs::read(a.join("frames").join(f)).unwrap(), std::fs::read(b.join("frames").join(f)).unwrap(), "{f:?}");
+    }
+    assert!(std::fs::metadata(a.join("out.rrd")).map(|m| m.len() > 0).unwrap_or(false), "recording written");
+
+    // The trace's columns, in scene order.
+    let (header, rows) = read_trace(&a.join("out.csv"));
+    let expected: Vec<&str> = vec![
+        "time_s", "Table.cmd_pos", "Table.cmd_vel", "Table.cmd_acc", "Table.act_pos",
+        "MoveA.Done", "MoveA.Busy", "MoveA.Active", "MoveA.CommandAborted", "MoveA.Error", "MoveA.ErrorID",
+        "MoveB.Done", "MoveB.Busy", "MoveB.Active", "MoveB.CommandAborted", "MoveB.Error", "MoveB.ErrorID",
+    ];
+    assert_eq!(header, expected);
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (cmd, act) = (col("Table.cmd_pos"), col("Table.act_pos"));
+
+    // After each Done: the modulo command is the commanded target and the
+    // actual position is inside the in-position window (0.2 deg).
+    let targets = [(col("MoveA.Done"), vec![90.0, 0.0, 135.0]), (col("MoveB.Done"), vec![180.0, 300.0, 45.0])];
+    for (done_col, wanted) in targets {
+        let mut seen = Vec::new();
+        for w in rows.windows(2) {
+            if w[1][done_col] == 1.0 && w[0][done_col] == 0.0 {
+                let wrapped = w[1][cmd].rem_euclid(360.0);
+                seen.push(wrapped);
+                assert!((w[1][act] - w[1][cmd]).abs() <= 0.2, "act {} vs cmd {} at Done", w[1][act], w[1][cmd]);
+            }
+        }
+        assert_eq!(seen.len(), wanted.len(), "Done edges {seen:?}");
+        for (s, w) in seen.iter().zip(&wanted) {
+            assert!((s - w).abs() < 1e-9 || (s - w).abs() > 360.0 - 1e-9, "{s} vs {w}");
+        }
+    }
+    // MoveA was aborted by MoveB while moving, and the table never reversed then.
+    assert!(rows.iter().any(|r| r[col("MoveA.CommandAborted")] == 1.0));
+    // The extra turn from standstill: at least 450 degrees positive in one move.
+    let max = rows.iter().map(|r| r[cmd]).fold(f64::MIN, f64::max);
+    assert!(max >= 540.0 - 1e-9, "extra turn: max cmd {max}");
+    // Final command: exactly on the buffered target 135 (mod 360).
+    let last = rows.last().unwrap()[cmd].rem_euclid(360.0);
+    assert!((last - 135.0).abs() < 1e-9, "{last}");
+
+    // Summary JSON.
+    let summary = std::fs::read_to_string(a.join("summary.json")).unwrap();
+    assert!(summary.contains("\"real_time_factor\""));
+}
+
+/// The trace's command positions are exactly the planner's MC_MoveModulo
+/// setpoints: a bare planner fed the same inputs and actual positions at the
+/// same updates produces bit-identical setpoints.
+#[test]
+fn twin_setpoints_are_the_planners_setpoints() {
+    let scene = twin::scene::load(&root().join("scenes/indexing_table.toml")).expect("scene");
+    let mut twin = Twin::new(scene.clone()).expect("twin");
+    let mut replay = MotionTask::new(scene.coarse_update_ms / 1000.0).unwrap();
+    let axis = &scene.axes[0];
+    let config = AxisConfig {
+        modulo_period: axis.modulo_period,
+        max_velocity: axis.max_velocity,
+        max_acceleration: axis.max_acceleration,
+        max_deceleration: axis.max_deceleration,
+        max_jerk: axis.max_jerk,
+        in_position_window: axis.in_position_window,
+        target_position_monitoring: axis.target_position_monitoring,
+        modulo_tolerance_window: axis.modulo_tolerance_window,
+        ..AxisConfig::new(axis.name.clone(), planner::axis::AxisKind::Rotary)
+    };
+    let h = replay.add_axis(config, axis.initial_position).unwrap();
+    let fbs: Vec<_> = twin.fbs().iter().map(|f| replay.add_move_modulo(f.name.clone(), h)).collect();
+    let mut actual = None;
+    for _ in 0..twin.total_updates() {
+        twin.step();
+        for (f, r) in twin.fbs().iter().zip(&fbs) {
+            replay.set_move_modulo_inputs(*r, twin.task().move_modulo_inputs(f.handle));
+        }
+        if let Some(a) = actual {
+            replay.feed_actual_position(h, a);
+        }
+        replay.update();
+        let t = twin.task().axis_state(twin.axes()[0].handle);
+        let r = replay.axis_state(h);
+        assert_eq!(t.command_position.to_bits(), r.command_position.to_bits(), "at {}", twin.time_s());
+        assert_eq!(t.command_velocity.to_bits(), r.command_velocity.to_bits(), "at {}", twin.time_s());
+        actual = Some(t.actual_position);
+    }
+}
+
+#[test]
+fn indexing_table_frames_match_snapshots() {
+    let scene = twin::scene::load(&root().join("scenes/indexing_table.toml")).expect("scene");
+    let frames = scene.snapshots.as_ref().map(|s| s.frames.clone()).unwrap_or_default();
+    assert!(!frames.is_empty(), "indexing_table lists snapshot frames");
+    let out = out_dir("indexing_table_snapshots");
+    let output = twin_cmd()
+        .args(["run", "scenes/indexing_table.toml", "--frames"])
+        .arg(out.join("frames"))
+        .output()
+        .expect("run twin");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let camera = &scene.cameras[0].name;
+    let first = out.join("frames").join(format!("{camera}-{:05}.png", frames[0]));
+    if !first.exists() {
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(std::env::var_os("CI").is_none(), "no frames rendered in CI: {stderr}");
+        eprintln!("SKIPPED snapshot comparison: no Vulkan adapter ({stderr})");
+        return;
+    }
+    let mut failures = Vec::new();
+    for f in frames {
+        let path = out.join("frames").join(format!("{camera}-{f:05}.png"));
+        let image = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgba8();
+        let name = format!("{}-{f}", scene.name);
+        if let Err(e) = twin::snapshot::assert_matches_snapshot(&name, &image, &root().join("snapshots"), &root().join("target/snapshots")) {
+            failures.push(e.to_string());
+        }
+    }
+    assert!(failures.is_empty(), "snapshot mismatches:\n{}", failures.join("\n"));
+}
+
+fn check_fails(scene_text: &str, extra: &[(&str, &[u8])], name: &str) -> String {
+    let dir = out_dir(name);
+    let robots = root().join("scenes/robots");
+    let text = scene_text.replace("@ROBOTS@", &robots.display().to_string());
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    for (file, bytes) in extra {
+        let p = dir.join(file);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::write(p, bytes).unwrap();
+    }
+    let out = twin_cmd().arg("check").arg(&path).output().expect("run twin check");
+    assert!(!out.status.success(), "{name}: expected failure");
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{name}: one line: {stderr}");
+    assert!(stderr.contains("scene.toml") || stderr.contains(".urdf") || stderr.contains(".stl"), "{name}: names the file: {stderr}");
+    stderr
+}
+
+const GOOD: &str = r#"
+duration_s = 1.0
+coarse_update_ms = 4.0
+physics_step_ms = 2.0
+
+[robot]
+urdf = "@ROBOTS@/indexing_table/indexing_table.urdf"
+
+[[axes]]
+name = "Table"
+joint = "platter_joint"
+kind = "rotary"
+modulo_period = 360.0
+units = "deg"
+max_velocity = 360.0
+max_acceleration = 1800.0
+max_deceleration = 1800.0
+max_jerk = 18000.0
+in_position_window = 0.2
+
+[[tags]]
+name = "MoveA"
+type = "MC_MoveModulo"
+
+[[program]]
+at_s = 0.0
+call = "MoveA(Axis := Table, Execute := TRUE, Position := 90.0, Velocity := 180.0)"
+"#;
+
+#[test]
+fn the_good_scene_checks() {
+    let dir = out_dir("good");
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, GOOD.replace("@ROBOTS@", &root().join("scenes/robots").display().to_string())).unwrap();
+    let out = twin_cmd().arg("check").arg(&path).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn malformed_scenes_give_one_line_errors_naming_file_and_place() {
+    let e = check_fails(&GOOD.replace("in_position_window", "in_position_windw"), &[], "unknown_field");
+    assert!(e.contains("scene.toml:") && e.contains("in_position_windw"), "{e}");
+    let e = check_fails(&GOOD.replace("Position := 90.0", "Position = 90.0"), &[], "bad_st");
+    assert!(e.contains("scene.toml:") && e.contains(":="), "{e}");
+    let e = check_fails(&GOOD.replace("indexing_table.urdf\"", "missing.urdf\""), &[], "missing_urdf");
+    assert!(e.contains("missing.urdf") && e.contains("robot.urdf"), "{e}");
+    let e = check_fails(&GOOD.replace("joint = \"platter_joint\"", "joint = \"no_such_joint\""), &[], "missing_joint");
+    assert!(e.contains("scene.toml:") && e.contains("no_such_joint"), "{e}");
+    // A URDF whose mesh is broken (truncated binary STL).
+    let urdf = r#"<robot name="r"><link name="base"/><link name="arm"><visual><geometry><mesh filename="broken.stl"/></geometry></visual></link>
+<joint name="j" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint></robot>"#;
+    let scene = GOOD.replace("@ROBOTS@/indexing_table/indexing_table.urdf", "r.urdf").replace("platter_joint", "j");
+    let e = check_fails(&scene, &[("r.urdf", urdf.as_bytes()), ("broken.stl", &[0u8; 90])], "broken_mesh");
+    assert!(e.contains("broken.stl"), "{e}");
+}
+
+#[test]
+fn run_help_shows_examples() {
+    let out = twin_cmd().args(["run", "--help"]).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    assert!(text.contains("Examples:") && text.contains("twin run scenes/indexing_table.toml"), "{text}");
+}

@@ -1,0 +1,111 @@
+//! Scene geometry for rendering: URDF visuals and obstacles as triangle
+//! meshes with their poses, built once; the link poses change per frame.
+
+use crate::mesh::TriMesh;
+use crate::scene::{Scene, Shape};
+use crate::urdf::{Geometry, RobotModel};
+use nalgebra::{Isometry3, Matrix4, Quaternion, Translation3, UnitQuaternion};
+
+/// Default colour of a URDF visual without material (light grey).
+pub const DEFAULT_VISUAL_RGBA: [f32; 4] = [0.7, 0.7, 0.72, 1.0];
+
+/// Tessellation of cylinders and spheres.
+const SEGMENTS: u32 = 48;
+
+/// One drawable piece: a mesh, what it hangs on, its fixed offset, colour.
+#[derive(Debug, Clone)]
+pub struct Part {
+    /// The triangles (already scaled for URDF mesh scale).
+    pub mesh: TriMesh,
+    /// The link it belongs to (`None`: fixed in the world).
+    pub link: Option<usize>,
+    /// Pose of the mesh in the link frame (or the world for obstacles).
+    pub parent_from_mesh: Isometry3<f64>,
+    /// sRGB colour and alpha.
+    pub color_rgba: [f32; 4],
+    /// Name for logs (link or obstacle name).
+    pub name: String,
+}
+
+fn geometry_mesh(geometry: &Geometry) -> TriMesh {
+    match geometry {
+        Geometry::Box { size } => TriMesh::cuboid([size[0] as f32, size[1] as f32, size[2] as f32]),
+        Geometry::Cylinder { radius, length } => TriMesh::cylinder(*radius as f32, *length as f32, SEGMENTS),
+        Geometry::Sphere { radius } => TriMesh::sphere(*radius as f32, SEGMENTS / 2, SEGMENTS),
+        Geometry::Mesh { scale, mesh, .. } => {
+            let s = [scale[0] as f32, scale[1] as f32, scale[2] as f32];
+            let m = [[s[0], 0.0, 0.0, 0.0], [0.0, s[1], 0.0, 0.0], [0.0, 0.0, s[2], 0.0], [0.0, 0.0, 0.0, 1.0]];
+            mesh.transformed(&m)
+        }
+        _ => TriMesh::default(),
+    }
+}
+
+/// Every visual of the robot and every obstacle of the scene.
+///
+/// Obstacle meshes are loaded with the STL loader (the only mesh format
+/// the twin reads); a mesh that fails to load is an error naming the file.
+///
+/// # Errors
+/// A message naming the obstacle and its mesh file when the mesh cannot be loaded.
+pub fn scene_parts(model: &RobotModel, scene: &Scene) -> Result<Vec<Part>, String> {
+    let mut parts = Vec::new();
+    for (i, link) in model.links.iter().enumerate() {
+        for visual in &link.visuals {
+            parts.push(Part {
+                mesh: geometry_mesh(&visual.geometry),
+                link: Some(i),
+                parent_from_mesh: visual.link_from_visual,
+                color_rgba: visual.color_rgba.unwrap_or(DEFAULT_VISUAL_RGBA),
+                name: link.name.clone(),
+            });
+        }
+    }
+    for o in &scene.obstacles {
+        let mesh = match &o.shape {
+            Shape::Box { size_m } => TriMesh::cuboid([size_m[0] as f32, size_m[1] as f32, size_m[2] as f32]),
+            Shape::Cylinder { radius_m, length_m } => TriMesh::cylinder(*radius_m as f32, *length_m as f32, SEGMENTS),
+            Shape::Sphere { radius_m } => TriMesh::sphere(*radius_m as f32, SEGMENTS / 2, SEGMENTS),
+            Shape::Mesh { path, scale } => {
+                let mesh = crate::stl::load_stl(path)
+                    .map_err(|e| format!("{}: obstacle '{}': mesh {}: {e}", scene.path.display(), o.name, path.display()))?;
+                let s = [scale[0] as f32, scale[1] as f32, scale[2] as f32];
+                mesh.transformed(&[[s[0], 0.0, 0.0, 0.0], [0.0, s[1], 0.0, 0.0], [0.0, 0.0, s[2], 0.0], [0.0, 0.0, 0.0, 1.0]])
+            }
+        };
+        let [r, p, y] = o.rpy_deg.map(f64::to_radians);
+        let pose = Isometry3::from_parts(
+            Translation3::new(o.position_m[0], o.position_m[1], o.position_m[2]),
+            UnitQuaternion::from_euler_angles(r, p, y),
+        );
+        parts.push(Part { mesh, link: None, parent_from_mesh: pose, color_rgba: o.color.map(|c| c as f32), name: o.name.clone() });
+    }
+    Ok(parts)
+}
+
+/// `world_from_mesh` of a part, given the link poses (translation, xyzw quaternion).
+pub fn world_from_part(part: &Part, links: &[([f64; 3], [f64; 4])]) -> Isometry3<f64> {
+    match part.link.and_then(|i| links.get(i)) {
+        Some((t, q)) => {
+            let world_from_link = Isometry3::from_parts(
+                Translation3::new(t[0], t[1], t[2]),
+                UnitQuaternion::from_quaternion(Quaternion::new(q[3], q[0], q[1], q[2])),
+            );
+            world_from_link * part.parent_from_mesh
+        }
+        None => part.parent_from_mesh,
+    }
+}
+
+/// Column-major 4×4 matrix of an isometry, as the renderer takes it.
+pub fn column_major(iso: &Isometry3<f64>) -> [[f32; 4]; 4] {
+    let m: Matrix4<f64> = iso.to_homogeneous();
+    let mut out = [[0.0f32; 4]; 4];
+    for (c, col) in out.iter_mut().enumerate() {
+        for (r, v) in col.iter_mut().enumerate() {
+            *v = m[(r, c)] as f32;
+        }
+    }
+    out
+}
+

@@ -1,0 +1,555 @@
+//! A scene running: program steps → planner → joint motors → physics →
+//! actual positions back to the planner, one coarse update at a time.
+//!
+//! # Timing
+//! Update `k` advances the planner to `t_k = k · coarse_update`; the physics
+//! then runs the `coarse_update / physics_step` steps covering
+//! `(t_{k-1}, t_k]`, each given the command position interpolated linearly
+//! between the setpoints of `t_{k-1}` and `t_k` and the interpolated command
+//! velocity as feed-forward. The joint positions at `t_k` are fed back as the
+//! axes' actual positions, so `Done` (target position monitoring) sees them at
+//! the next update, as a PLC sees its inputs at the start of its cycle.
+//!
+//! # Program steps
+//! Each step fires once. A `when` step is armed once the step before it has
+//! fired (the list is a sequence, like SFC transitions) and is due `after_s`
+//! after the first update at which its bit is TRUE; an `at_s` step is due at
+//! its time. A step fires at the first coarse update that starts at or after
+//! it is due; due steps set their inputs in list order, just before the
+//! planner update. A function-block call sets the inputs it
+//! names; the others keep their last value, as PLC block inputs do.
+
+use crate::physics::{JointDrive, PhysicsError, PhysicsOptions, RobotSim};
+use crate::scene::{AxisKind, BaseType, FunctionBlock, Scene, TagValue, Trigger};
+use crate::st::{Args, Call, Expr};
+use crate::urdf::{RobotModel, UrdfError};
+use planner::axis::{AxisConfig, AxisKind as PlannerAxisKind};
+use planner::instruction::FbOutputs;
+use planner::modulo::{McBufferMode, McDirection, MoveModuloInputs};
+use planner::task::{AxisHandle, FbHandle, MotionTask, TaskError};
+use std::path::PathBuf;
+use thiserror::Error;
+
+/// Why a scene cannot run. Each variant names the scene file and the place.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum RunError {
+    /// The robot's URDF (or a mesh it references) cannot be loaded.
+    #[error("{scene}: robot.urdf: {source}")]
+    Urdf {
+        /// Scene file.
+        scene: PathBuf,
+        /// What failed.
+        #[source]
+        source: UrdfError,
+    },
+    /// An axis is mapped to a joint the URDF does not have (or cannot drive).
+    #[error("{scene}:{line}:{column}: axes.joint: {message}")]
+    Joint {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the field.
+        line: usize,
+        /// Column of the field.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The physics world cannot be built.
+    #[error("{scene}: robot: {source}")]
+    Physics {
+        /// Scene file.
+        scene: PathBuf,
+        /// What failed.
+        #[source]
+        source: PhysicsError,
+    },
+    /// The planner refuses an axis or the coarse update period.
+    #[error("{scene}: {source}")]
+    Planner {
+        /// Scene file.
+        scene: PathBuf,
+        /// What failed.
+        #[source]
+        source: TaskError,
+    },
+    /// A program step cannot be carried out.
+    #[error("{scene}:{line}:{column}: program[{index}]: {message}")]
+    Step {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the step.
+        line: usize,
+        /// Column of the step.
+        column: usize,
+        /// Step index.
+        index: usize,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// One axis of the scene bound to the planner and a joint motor.
+#[derive(Debug, Clone)]
+pub struct AxisBinding {
+    /// Axis tag name.
+    pub name: String,
+    /// Planner handle.
+    pub handle: AxisHandle,
+    /// Index of the joint drive in the physics world.
+    pub drive: usize,
+    /// SI units (rad or m) per axis unit.
+    pub si_per_unit: f64,
+    /// In-position window, axis units.
+    pub in_position_window: f64,
+}
+
+/// A function-block instance of the program.
+#[derive(Debug, Clone)]
+pub struct FbBinding {
+    /// Instance tag name.
+    pub name: String,
+    /// Planner handle.
+    pub handle: FbHandle,
+}
+
+#[derive(Debug, Clone)]
+enum StepAction {
+    MoveModulo { fb: usize, set: Vec<(Input, Value)> },
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Input {
+    Execute,
+    Position,
+    Velocity,
+    Acceleration,
+    Deceleration,
+    Jerk,
+    Direction,
+    BufferMode,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Value {
+    Number(f64),
+    Bool(bool),
+    Direction(McDirection),
+    BufferMode(McBufferMode),
+}
+
+#[derive(Debug, Clone)]
+struct CompiledStep {
+    trigger: CompiledTrigger,
+    action: StepAction,
+    fire_at_s: Option<f64>,
+    fired: bool,
+}
+
+#[derive(Debug, Clone)]
+enum CompiledTrigger {
+    At(f64),
+    When { fb: usize, output: String, delay_s: f64 },
+}
+
+/// A loaded, bound scene, ready to step.
+pub struct Twin {
+    scene: Scene,
+    model: RobotModel,
+    sim: RobotSim,
+    task: MotionTask,
+    axes: Vec<AxisBinding>,
+    fbs: Vec<FbBinding>,
+    steps: Vec<CompiledStep>,
+    substeps: usize,
+    previous_command: Vec<(f64, f64)>,
+}
+
+impl std::fmt::Debug for Twin {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Twin").field("scene", &self.scene.path).field("time_s", &self.time_s()).finish_non_exhaustive()
+    }
+}
+
+fn number(expr: &Expr, scene: &Scene) -> Option<f64> {
+    match expr {
+        Expr::Number(x) => Some(*x),
+        Expr::Integer(i) => Some(*i as f64),
+        Expr::Ident(name) => match scene.tag(name).and_then(|t| t.value.as_ref()) {
+            Some(TagValue::Real(x)) => Some(*x),
+            Some(TagValue::Integer(i)) => Some(*i as f64),
+            _ => None,
+        },
+        Expr::Index(base, i) => match base.as_ref() {
+            Expr::Ident(name) => match scene.tag(name).and_then(|t| t.value.as_ref()) {
+                Some(TagValue::Array(items)) => usize::try_from(*i).ok().and_then(|i| items.get(i)).and_then(|v| match v {
+                    TagValue::Real(x) => Some(*x),
+                    TagValue::Integer(i) => Some(*i as f64),
+                    _ => None,
+                }),
+                _ => None,
+            },
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+impl Twin {
+    /// Loads the URDF, builds the physics world and the planner, and binds
+    /// every program step.
+    ///
+    /// # Errors
+    /// [`RunError`] naming the scene file and the place that is wrong.
+    pub fn new(scene: Scene) -> Result<Twin, RunError> {
+        let path = scene.path.clone();
+        let model = RobotModel::load(&scene.robot.urdf).map_err(|source| RunError::Urdf { scene: path.clone(), source })?;
+        let mut task = MotionTask::new(scene.coarse_update_ms / 1000.0)
+            .map_err(|source| RunError::Planner { scene: path.clone(), source })?;
+        let mut drives = Vec::new();
+        let mut initial: Vec<(String, f64)> = scene.robot.initial_joints.iter().map(|(k, v)| (k.clone(), *v)).collect();
+        let mut axes = Vec::new();
+        for axis in &scene.axes {
+            let joint_error = |message: String| RunError::Joint {
+                scene: path.clone(),
+                line: axis.joint_location.line,
+                column: axis.joint_location.column,
+                message,
+            };
+            let Some(j) = model.joint_by_name(&axis.joint) else {
+                let mut names: Vec<&str> = model.joints.iter().filter(|j| j.kind.is_movable()).map(|j| j.name.as_str()).collect();
+                names.sort_unstable();
+                return Err(joint_error(format!(
+                    "axis '{}' is mapped to joint '{}', which {} does not have (movable joints: {})",
+                    axis.name,
+                    axis.joint,
+                    scene.robot.urdf.display(),
+                    names.join(", ")
+                )));
+            };
+            if !model.joint(j).kind.is_movable() {
+                return Err(joint_error(format!("joint '{}' of axis '{}' is fixed and cannot be driven", axis.joint, axis.name)));
+            }
+            let config = AxisConfig {
+                modulo_period: axis.modulo_period,
+                max_velocity: axis.max_velocity,
+                max_acceleration: axis.max_acceleration,
+                max_deceleration: axis.max_deceleration,
+                max_jerk: axis.max_jerk,
+                in_position_window: axis.in_position_window,
+                target_position_monitoring: axis.target_position_monitoring,
+                modulo_tolerance_window: axis.modulo_tolerance_window,
+                ..AxisConfig::new(
+                    axis.name.clone(),
+                    match axis.kind {
+                        AxisKind::Linear => PlannerAxisKind::Linear,
+                        AxisKind::Rotary => PlannerAxisKind::Rotary,
+                    },
+                )
+            };
+            let handle = task
+                .add_axis(config, axis.initial_position)
+                .map_err(|source| RunError::Planner { scene: path.clone(), source })?;
+            let si = axis.units.si_per_unit();
+            initial.retain(|(name, _)| name != &axis.joint);
+            initial.push((axis.joint.clone(), axis.initial_position * si));
+            drives.push(JointDrive { joint: axis.joint.clone(), stiffness: axis.motor.stiffness, damping: axis.motor.damping, max_force: None });
+            axes.push(AxisBinding {
+                name: axis.name.clone(),
+                handle,
+                drive: drives.len() - 1,
+                si_per_unit: si,
+                in_position_window: axis.in_position_window,
+            });
+        }
+        initial.sort_by(|a, b| a.0.cmp(&b.0));
+        let step_s = scene.physics_step_ms / 1000.0;
+        let substeps = (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize;
+        let options = PhysicsOptions { step_s, ..PhysicsOptions::default() };
+        let sim = RobotSim::new(&model, &drives, &initial, options).map_err(|source| RunError::Physics { scene: path.clone(), source })?;
+
+        let mut fbs: Vec<FbBinding> = Vec::new();
+        let mut fb_axis: Vec<Option<AxisHandle>> = Vec::new();
+        let mut steps = Vec::new();
+        for (index, step) in scene.program.iter().enumerate() {
+            let fail = |message: String| RunError::Step {
+                scene: path.clone(),
+                line: step.location.line,
+                column: step.location.column,
+                index,
+                message,
+            };
+            let action = compile_call(&step.call, &scene, &mut task, &mut fbs, &mut fb_axis, &axes).map_err(fail)?;
+            let trigger = match &step.trigger {
+                Trigger::At { time_s } => CompiledTrigger::At(*time_s),
+                Trigger::When { condition, delay_s } => {
+                    let (tag, output) = match condition {
+                        Expr::Member(base, output) => match base.as_ref() {
+                            Expr::Ident(tag) => (tag.clone(), output.clone()),
+                            _ => return Err(fail(format!("when = \"{condition}\": expected <instance>.<output>"))),
+                        },
+                        _ => return Err(fail(format!("when = \"{condition}\": expected <instance>.<output>, e.g. MoveTable.Done"))),
+                    };
+                    if FbOutputs::default().bit(&output).is_none() {
+                        return Err(fail(format!(
+                            "when = \"{condition}\": '{output}' is not a function-block output (Done, Busy, Active, CommandAborted, Error)"
+                        )));
+                    }
+                    let fb = fbs.iter().position(|f| f.name.eq_ignore_ascii_case(&tag)).ok_or_else(|| {
+                        fail(format!("when = \"{condition}\": '{tag}' is not called by an earlier program step"))
+                    })?;
+                    CompiledTrigger::When { fb, output, delay_s: *delay_s }
+                }
+            };
+            steps.push(CompiledStep { trigger, action, fire_at_s: None, fired: false });
+        }
+        let previous_command = axes.iter().map(|a| (task.axis_state(a.handle).command_position, 0.0)).collect();
+        Ok(Twin { scene, model, sim, task, axes, fbs, steps, substeps, previous_command })
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The robot model.
+    pub fn model(&self) -> &RobotModel {
+        &self.model
+    }
+
+    /// The planner.
+    pub fn task(&self) -> &MotionTask {
+        &self.task
+    }
+
+    /// The bound axes, in scene order.
+    pub fn axes(&self) -> &[AxisBinding] {
+        &self.axes
+    }
+
+    /// The function-block instances, in the order the program first calls them.
+    pub fn fbs(&self) -> &[FbBinding] {
+        &self.fbs
+    }
+
+    /// Simulated time of the last update, seconds.
+    pub fn time_s(&self) -> f64 {
+        self.task.time_s()
+    }
+
+    /// Number of coarse updates in the scene's duration.
+    pub fn total_updates(&self) -> u64 {
+        (self.scene.duration_s / (self.scene.coarse_update_ms / 1000.0)).round() as u64
+    }
+
+    /// World poses of every URDF link (translation m, quaternion xyzw), in
+    /// model link order.
+    pub fn world_from_link(&self) -> Vec<([f64; 3], [f64; 4])> {
+        self.sim.world_from_link()
+    }
+
+    /// One coarse update: fire due program steps, update the planner, run
+    /// the physics steps, feed back the actual positions.
+    pub fn step(&mut self) {
+        let eps = 1e-9 * self.task.dt_s();
+        let mut due = Vec::new();
+        let now_s = self.task.time_s();
+        for i in 0..self.steps.len() {
+            let armed = i == 0 || self.steps[i - 1].fired;
+            let step = &mut self.steps[i];
+            if step.fired {
+                continue;
+            }
+            match &step.trigger {
+                CompiledTrigger::At(t) => step.fire_at_s = Some(*t),
+                CompiledTrigger::When { fb, output, delay_s } => {
+                    if armed && step.fire_at_s.is_none() && self.task.outputs(self.fbs[*fb].handle).bit(output).unwrap_or(false) {
+                        step.fire_at_s = Some(now_s + delay_s);
+                    }
+                }
+            }
+            if let Some(t) = step.fire_at_s
+                && t <= now_s + eps
+            {
+                due.push(i);
+                step.fired = true;
+            }
+        }
+        for i in due {
+            let StepAction::MoveModulo { fb, set } = &self.steps[i].action;
+            let handle = self.fbs[*fb].handle;
+            let mut inputs = self.task.move_modulo_inputs(handle);
+            for (input, value) in set {
+                apply(&mut inputs, *input, *value);
+            }
+            self.task.set_move_modulo_inputs(handle, inputs);
+        }
+        self.task.update();
+
+        let n = self.substeps;
+        let now: Vec<(f64, f64)> = self
+            .axes
+            .iter()
+            .map(|a| {
+                let s = self.task.axis_state(a.handle);
+                (s.command_position, s.command_velocity)
+            })
+            .collect();
+        for j in 0..n {
+            let f = j as f64 / n as f64;
+            let fm = (j as f64 + 0.5) / n as f64;
+            for (k, axis) in self.axes.iter().enumerate() {
+                let (p0, v0) = self.previous_command[k];
+                let (p1, v1) = now[k];
+                let p = p0 + (p1 - p0) * f;
+                let v = v0 + (v1 - v0) * fm;
+                self.sim.set_setpoint(axis.drive, p * axis.si_per_unit, v * axis.si_per_unit);
+            }
+            self.sim.step();
+        }
+        self.previous_command = now;
+        for axis in &self.axes {
+            let actual = self.sim.joint_position(axis.drive) / axis.si_per_unit;
+            self.task.feed_actual_position(axis.handle, actual);
+        }
+    }
+
+    /// Trace column names: `time_s`, then per axis `<axis>.cmd_pos`,
+    /// `.cmd_vel`, `.cmd_acc`, `.act_pos`, then per instance `<fb>.Done`,
+    /// `.Busy`, `.Active`, `.CommandAborted`, `.Error`, `.ErrorID`.
+    pub fn trace_header(&self) -> Vec<String> {
+        let mut h = vec!["time_s".to_string()];
+        for a in &self.axes {
+            for c in ["cmd_pos", "cmd_vel", "cmd_acc", "act_pos"] {
+                h.push(format!("{}.{c}", a.name));
+            }
+        }
+        for fb in &self.fbs {
+            for c in ["Done", "Busy", "Active", "CommandAborted", "Error", "ErrorID"] {
+                h.push(format!("{}.{c}", fb.name));
+            }
+        }
+        h
+    }
+
+    /// The trace row for the current update, matching [`Twin::trace_header`].
+    /// Numbers use Rust's shortest round-trip formatting (deterministic).
+    pub fn trace_row(&self) -> Vec<String> {
+        let mut row = vec![format!("{}", self.time_s())];
+        for a in &self.axes {
+            let s = self.task.axis_state(a.handle);
+            for x in [s.command_position, s.command_velocity, s.command_acceleration, s.actual_position] {
+                row.push(format!("{x}"));
+            }
+        }
+        for fb in &self.fbs {
+            let o = self.task.outputs(fb.handle);
+            for b in [o.done, o.busy, o.active, o.command_aborted, o.error] {
+                row.push(if b { "1" } else { "0" }.to_string());
+            }
+            row.push(o.error_id.to_string());
+        }
+        row
+    }
+}
+
+fn apply(inputs: &mut MoveModuloInputs, input: Input, value: Value) {
+    match (input, value) {
+        (Input::Execute, Value::Bool(b)) => inputs.execute = b,
+        (Input::Position, Value::Number(x)) => inputs.position = x,
+        (Input::Velocity, Value::Number(x)) => inputs.velocity = x,
+        (Input::Acceleration, Value::Number(x)) => inputs.acceleration = x,
+        (Input::Deceleration, Value::Number(x)) => inputs.deceleration = x,
+        (Input::Jerk, Value::Number(x)) => inputs.jerk = x,
+        (Input::Direction, Value::Direction(d)) => inputs.direction = d,
+        (Input::BufferMode, Value::BufferMode(m)) => inputs.buffer_mode = m,
+        _ => {}
+    }
+}
+
+/// Binds one call to its instance (created on its first call).
+fn compile_call(
+    call: &Call,
+    scene: &Scene,
+    task: &mut MotionTask,
+    fbs: &mut Vec<FbBinding>,
+    fb_axis: &mut Vec<Option<AxisHandle>>,
+    axes: &[AxisBinding],
+) -> Result<StepAction, String> {
+    let name = &call.name.value;
+    let tag = scene.tag(name).ok_or_else(|| format!("'{name}' is not a declared tag"))?;
+    let block = match tag.ty.base {
+        BaseType::FunctionBlock(fb) => fb,
+        _ => return Err(format!("'{name}' is a {} tag, not a function block", tag.ty.base.name())),
+    };
+    if block != FunctionBlock::MoveModulo {
+        return Err(format!(
+            "'{name}' is an {} instance; this version runs MC_MoveModulo (other instructions arrive with their own issues)",
+            block.name()
+        ));
+    }
+    let Args::Named(args) = &call.args else {
+        return Err(format!("'{name}' is a function block: call it with named inputs (Input := value)"));
+    };
+    let mut axis = None;
+    let mut set = Vec::new();
+    for (input, value) in args {
+        let input_name = input.value.to_ascii_lowercase();
+        let v = &value.value;
+        let num = |what: &str| number(v, scene).map(Value::Number).ok_or_else(|| format!("{what} := {v}: expected a number or a REAL tag with a value"));
+        let entry = match input_name.as_str() {
+            "axis" => {
+                let Expr::Ident(a) = v else { return Err(format!("Axis := {v}: expected an axis name")) };
+                let binding = axes.iter().find(|b| b.name.eq_ignore_ascii_case(a)).ok_or_else(|| format!("Axis := {a}: no axis of that name in [[axes]]"))?;
+                axis = Some(binding.handle);
+                continue;
+            }
+            "execute" => match v {
+                Expr::Bool(b) => (Input::Execute, Value::Bool(*b)),
+                _ => return Err(format!("Execute := {v}: expected TRUE or FALSE")),
+            },
+            "position" => (Input::Position, num("Position")?),
+            "velocity" => (Input::Velocity, num("Velocity")?),
+            "acceleration" => (Input::Acceleration, num("Acceleration")?),
+            "deceleration" => (Input::Deceleration, num("Deceleration")?),
+            "jerk" => (Input::Jerk, num("Jerk")?),
+            "direction" => {
+                let d = match v {
+                    Expr::Ident(w) => McDirection::from_name(w),
+                    Expr::Integer(i) => McDirection::from_code(*i),
+                    _ => None,
+                };
+                (Input::Direction, Value::Direction(d.ok_or_else(|| format!("Direction := {v}: expected MC_Positive_Direction, MC_Shortest_Way, MC_Negative_Direction or MC_Current_Direction")) ?))
+            }
+            "buffermode" => {
+                let m = match v {
+                    Expr::Ident(w) => McBufferMode::from_name(w),
+                    Expr::Integer(i) => McBufferMode::from_code(*i),
+                    _ => None,
+                };
+                (Input::BufferMode, Value::BufferMode(m.ok_or_else(|| format!("BufferMode := {v}: expected MC_Aborting, MC_Buffered, MC_BlendingLow, MC_BlendingPrevious, MC_BlendingNext or MC_BlendingHigh"))?))
+            }
+            "options" => return Err("Options: ST_MoveOptions are not supported; leave the input open".to_string()),
+            other => return Err(format!("MC_MoveModulo has no input '{other}' (inputs: Axis, Execute, Position, Velocity, Acceleration, Deceleration, Jerk, Direction, BufferMode)")),
+        };
+        set.push(entry);
+    }
+    let index = match fbs.iter().position(|f| f.name.eq_ignore_ascii_case(name)) {
+        Some(i) => {
+            if let (Some(new), Some(old)) = (axis, fb_axis[i])
+                && new != old
+            {
+                return Err(format!("'{name}' was called with another axis before; an instance drives one axis"));
+            }
+            i
+        }
+        None => {
+            let axis = axis.ok_or_else(|| format!("the first call of '{name}' must name its axis (Axis := ...)"))?;
+            let handle = task.add_move_modulo(tag.name.clone(), axis);
+            fbs.push(FbBinding { name: tag.name.clone(), handle });
+            fb_axis.push(Some(axis));
+            fbs.len() - 1
+        }
+    };
+    Ok(StepAction::MoveModulo { fb: index, set })
+}

@@ -1,0 +1,388 @@
+//! What a run produces besides the trace: rendered frames, the Rerun
+//! recording, and the summary.
+
+use crate::frames::{Part, column_major, scene_parts, world_from_part};
+use crate::recording::{Recorder, RecordingError, Sink, TextLevel, urdf_entity_paths};
+use crate::run::Twin;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Why an output of a run cannot be written.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum OutputError {
+    /// A frame directory or PNG cannot be written.
+    #[error("--frames: cannot write {path}: {message}")]
+    Frame {
+        /// The file or directory.
+        path: PathBuf,
+        /// What failed.
+        message: String,
+    },
+    /// The scene's geometry cannot be prepared for rendering.
+    #[error("{0}")]
+    Geometry(String),
+    /// The Rerun recording failed.
+    #[error("rerun: {0}")]
+    Recording(#[from] RecordingError),
+}
+
+/// Renders every camera at its frame rate into a directory.
+pub struct Frames {
+    #[cfg(feature = "render")]
+    inner: Option<FramesInner>,
+    written: usize,
+}
+
+#[cfg(feature = "render")]
+struct FramesInner {
+    renderer: crate::render::Renderer,
+    parts: Vec<(Part, crate::render::MeshId)>,
+    dir: PathBuf,
+    cameras: Vec<(String, crate::render::Camera, f64, u64)>,
+}
+
+impl Frames {
+    /// Prepares rendering into `dir` (nothing when `dir` is `None` or
+    /// rendering is off). Without a Vulkan adapter the run continues
+    /// without frames, and one line on stderr says how to get them.
+    ///
+    /// # Errors
+    /// [`OutputError`] when the directory cannot be created or a mesh fails.
+    pub fn new(twin: &Twin, dir: Option<&Path>, render: bool) -> Result<Frames, OutputError> {
+        let Some(dir) = dir.filter(|_| render) else { return Ok(Frames { #[cfg(feature = "render")] inner: None, written: 0 }) };
+        #[cfg(feature = "render")]
+        {
+            let parts = scene_parts(twin.model(), twin.scene()).map_err(OutputError::Geometry)?;
+            let mut renderer = match crate::render::Renderer::new() {
+                Ok(r) => r,
+                Err(crate::render::RenderError::NoAdapter) => {
+                    eprintln!("{}", crate::render::NO_ADAPTER_HINT);
+                    return Ok(Frames { inner: None, written: 0 });
+                }
+                Err(e) => return Err(OutputError::Frame { path: dir.to_path_buf(), message: e.to_string() }),
+            };
+            std::fs::create_dir_all(dir).map_err(|e| OutputError::Frame { path: dir.to_path_buf(), message: e.to_string() })?;
+            let parts = parts.into_iter().map(|p| { let id = renderer.upload_mesh(&p.mesh); (p, id) }).collect();
+            let f32x3 = |v: [f64; 3]| v.map(|x| x as f32);
+            let cameras = twin
+                .scene()
+                .cameras
+                .iter()
+                .map(|c| {
+                    let cam = crate::render::Camera {
+                        eye_in_world: f32x3(c.position_m),
+                        target_in_world: f32x3(c.target_m),
+                        up_in_world: [0.0, 0.0, 1.0],
+                        fov_y_deg: c.fov_deg as f32,
+                        width_px: c.width,
+                        height_px: c.height,
+                    };
+                    (c.name.clone(), cam, c.fps, 0u64)
+                })
+                .collect();
+            Ok(Frames { inner: Some(FramesInner { renderer, parts, dir: dir.to_path_buf(), cameras }), written: 0 })
+        }
+        #[cfg(not(feature = "render"))]
+        {
+            let _ = (twin, dir);
+            eprintln!("twin was built without the `render` feature: frames are not rendered");
+            Ok(Frames { written: 0 })
+        }
+    }
+
+    /// Renders the cameras whose next frame time has come (frame `k` of a
+    /// camera is due at `k / fps` seconds: the first update at or after it).
+    ///
+    /// # Errors
+    /// [`OutputError::Frame`] when rendering or writing a PNG fails.
+    pub fn capture(&mut self, twin: &Twin) -> Result<(), OutputError> {
+        #[cfg(feature = "render")]
+        if let Some(inner) = self.inner.as_mut() {
+            let t = twin.time_s();
+            let eps = 1e-9;
+            let links = twin.world_from_link();
+            let items: Vec<crate::render::DrawItem> = inner
+                .parts
+                .iter()
+                .map(|(p, id)| crate::render::DrawItem {
+                    mesh: *id,
+                    world_from_mesh: column_major(&world_from_part(p, &links)),
+                    color_rgba: p.color_rgba,
+                    tint_rgba: None,
+                })
+                .collect();
+            for (name, cam, fps, next) in &mut inner.cameras {
+                if (*next as f64) / *fps > t + eps {
+                    continue;
+                }
+                let image = inner
+                    .renderer
+                    .render(cam, &items, &[])
+                    .map_err(|e| OutputError::Frame { path: inner.dir.clone(), message: e.to_string() })?;
+                let path = inner.dir.join(format!("{name}-{next:05}.png"));
+                image.save(&path).map_err(|e| OutputError::Frame { path: path.clone(), message: e.to_string() })?;
+                *next += 1;
+                self.written += 1;
+            }
+        }
+        #[cfg(not(feature = "render"))]
+        let _ = twin;
+        Ok(())
+    }
+
+    /// PNG files written so far.
+    pub fn written(&self) -> usize {
+        self.written
+    }
+}
+
+/// Streams the run to Rerun: the URDF tree (meshes static, link transforms
+/// on `sim_time`), one scalar series per axis quantity, instruction status.
+pub struct Recording {
+    recorder: Option<Recorder>,
+    link_paths: Vec<String>,
+    previous_outputs: Vec<planner::instruction::FbOutputs>,
+}
+
+impl Recording {
+    /// Opens the sinks asked for (none: a no-op recording).
+    ///
+    /// # Errors
+    /// [`OutputError::Recording`] when a sink cannot be opened.
+    pub fn new(twin: &Twin, save: Option<&Path>, connect: Option<&str>) -> Result<Recording, OutputError> {
+        let mut sinks = Vec::new();
+        if let Some(p) = save {
+            sinks.push(Sink::File(p.to_path_buf()));
+        }
+        if let Some(a) = connect {
+            sinks.push(Sink::Connect(a.to_string()));
+        }
+        let model = twin.model();
+        let names: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
+        let joints: Vec<(&str, usize, usize)> = model.joints.iter().map(|j| (j.name.as_str(), j.parent.0, j.child.0)).collect();
+        let link_paths = urdf_entity_paths(&names, &joints, model.root.0);
+        if sinks.is_empty() {
+            return Ok(Recording { recorder: None, link_paths, previous_outputs: Vec::new() });
+        }
+        let mut recorder = Recorder::new(&format!("twin_{}", twin.scene().name), &sinks)?;
+        recorder.set_time_s(0.0);
+        let parts = scene_parts(model, twin.scene()).map_err(OutputError::Geometry)?;
+        let mut count = vec![0usize; model.links.len()];
+        for part in &parts {
+            let (path, pose) = match part.link {
+                Some(i) => {
+                    count[i] += 1;
+                    (format!("{}/visual_{}", link_paths[i], count[i] - 1), part.parent_from_mesh)
+                }
+                None => (format!("obstacles/{}", part.name), part.parent_from_mesh),
+            };
+            let t = pose.translation.vector;
+            let q = pose.rotation.coords;
+            let local = ([t.x as f32, t.y as f32, t.z as f32], [q.x as f32, q.y as f32, q.z as f32, q.w as f32], [1.0, 1.0, 1.0]);
+            recorder.log_link_mesh_static(&path, &part.mesh, part.color_rgba, local)?;
+        }
+        Ok(Recording { recorder: Some(recorder), link_paths, previous_outputs: Vec::new() })
+    }
+
+    /// Logs the current update.
+    ///
+    /// # Errors
+    /// [`OutputError::Recording`] when logging fails.
+    pub fn log(&mut self, twin: &Twin) -> Result<(), OutputError> {
+        let Some(rec) = self.recorder.as_mut() else { return Ok(()) };
+        rec.set_time_s(twin.time_s());
+        // Link transforms relative to their parent link (the entity tree).
+        let model = twin.model();
+        let poses = twin.world_from_link();
+        let iso = |i: usize| {
+            let (t, q) = poses[i];
+            nalgebra::Isometry3::from_parts(
+                nalgebra::Translation3::new(t[0], t[1], t[2]),
+                nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2])),
+            )
+        };
+        for joint in &model.joints {
+            let parent_from_child = iso(joint.parent.0).inverse() * iso(joint.child.0);
+            let t = parent_from_child.translation.vector;
+            let q = parent_from_child.rotation.coords;
+            rec.log_transform(&self.link_paths[joint.child.0], [t.x, t.y, t.z], [q.x, q.y, q.z, q.w])?;
+        }
+        for a in twin.axes() {
+            let s = twin.task().axis_state(a.handle);
+            rec.log_scalar(&format!("axes/{}/cmd_pos", a.name), s.command_position)?;
+            rec.log_scalar(&format!("axes/{}/act_pos", a.name), s.actual_position)?;
+            rec.log_scalar(&format!("axes/{}/cmd_vel", a.name), s.command_velocity)?;
+        }
+        self.previous_outputs.resize(twin.fbs().len(), Default::default());
+        for (i, fb) in twin.fbs().iter().enumerate() {
+            let o = twin.task().outputs(fb.handle);
+            for (name, bit) in [("Done", o.done), ("Busy", o.busy), ("Active", o.active), ("CommandAborted", o.command_aborted), ("Error", o.error)] {
+                rec.log_scalar(&format!("instructions/{}/{name}", fb.name), f64::from(u8::from(bit)))?;
+            }
+            if o != self.previous_outputs[i] {
+                let level = if o.error { TextLevel::Error } else { TextLevel::Info };
+                rec.log_text("instructions/log", level, &format!("{}: {}", fb.name, describe(o)))?;
+            }
+            self.previous_outputs[i] = o;
+        }
+        Ok(())
+    }
+
+    /// Flushes and closes the stream (the `.rrd` gets its footer).
+    ///
+    /// # Errors
+    /// [`OutputError::Recording`] when flushing fails.
+    pub fn finish(self) -> Result<(), OutputError> {
+        if let Some(rec) = self.recorder {
+            rec.finish()?;
+        }
+        Ok(())
+    }
+}
+
+fn describe(o: planner::instruction::FbOutputs) -> String {
+    let mut s = String::new();
+    for (name, bit) in [("Done", o.done), ("Busy", o.busy), ("Active", o.active), ("CommandAborted", o.command_aborted), ("Error", o.error)] {
+        if bit {
+            let _ = write!(s, "{name} ");
+        }
+    }
+    if o.error {
+        let _ = write!(s, "ErrorID 16#{:04X} ({})", o.error_id, planner::modulo::ErrorId(o.error_id).meaning());
+    }
+    if s.is_empty() { "idle".to_string() } else { s.trim_end().to_string() }
+}
+
+/// Per-run statistics gathered each update.
+#[derive(Debug, Clone)]
+pub struct Stats {
+    max_following_error: Vec<f64>,
+    outcomes: Vec<InstructionOutcome>,
+    previous: Vec<planner::instruction::FbOutputs>,
+}
+
+/// How one instance did over the run.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct InstructionOutcome {
+    /// Instance name.
+    pub name: String,
+    /// Times `Done` rose.
+    pub done: u32,
+    /// Times `CommandAborted` rose.
+    pub aborted: u32,
+    /// Times `Error` rose.
+    pub errors: u32,
+    /// Last non-zero ErrorID, with its meaning.
+    pub last_error: Option<String>,
+    /// Outputs at the end of the run, in words.
+    pub final_outputs: String,
+}
+
+/// The run summary (`--summary` JSON and the stdout text).
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// Scene name.
+    pub scene: String,
+    /// Simulated time, s.
+    pub simulated_s: f64,
+    /// Wall time, s.
+    pub wall_s: f64,
+    /// Simulated / wall time.
+    pub real_time_factor: f64,
+    /// Coarse updates run.
+    pub updates: u64,
+    /// Per instance.
+    pub instructions: Vec<InstructionOutcome>,
+    /// Per axis: name and max |command − actual| in axis units.
+    pub max_following_error: Vec<(String, f64)>,
+    /// PNG frames written.
+    pub frames_written: usize,
+}
+
+impl Stats {
+    /// Empty statistics for `twin`'s axes and instances.
+    pub fn new(twin: &Twin) -> Stats {
+        Stats {
+            max_following_error: vec![0.0; twin.axes().len()],
+            outcomes: twin.fbs().iter().map(|f| InstructionOutcome { name: f.name.clone(), ..Default::default() }).collect(),
+            previous: vec![Default::default(); twin.fbs().len()],
+        }
+    }
+
+    /// Takes in the current update.
+    pub fn observe(&mut self, twin: &Twin) {
+        for (i, a) in twin.axes().iter().enumerate() {
+            let s = twin.task().axis_state(a.handle);
+            let e = (s.command_position - s.actual_position).abs();
+            if e > self.max_following_error[i] {
+                self.max_following_error[i] = e;
+            }
+        }
+        for (i, fb) in twin.fbs().iter().enumerate() {
+            let o = twin.task().outputs(fb.handle);
+            let p = self.previous[i];
+            let out = &mut self.outcomes[i];
+            out.done += u32::from(o.done && !p.done);
+            out.aborted += u32::from(o.command_aborted && !p.command_aborted);
+            if o.error && !p.error {
+                out.errors += 1;
+                out.last_error = Some(format!("16#{:04X}: {}", o.error_id, planner::modulo::ErrorId(o.error_id).meaning()));
+            }
+            self.previous[i] = o;
+        }
+    }
+
+    /// The summary at the end of the run.
+    pub fn summary(&self, twin: &Twin, wall_s: f64, frames_written: usize) -> Summary {
+        let mut instructions = self.outcomes.clone();
+        for (out, fb) in instructions.iter_mut().zip(twin.fbs()) {
+            out.final_outputs = describe(twin.task().outputs(fb.handle));
+        }
+        Summary {
+            scene: twin.scene().name.clone(),
+            simulated_s: twin.time_s(),
+            wall_s,
+            real_time_factor: if wall_s > 0.0 { twin.time_s() / wall_s } else { f64::INFINITY },
+            updates: twin.task().updates(),
+            instructions,
+            max_following_error: twin.axes().iter().zip(&self.max_following_error).map(|(a, e)| (a.name.clone(), *e)).collect(),
+            frames_written,
+        }
+    }
+}
+
+impl Summary {
+    /// Whether any instance reported an error during the run.
+    pub fn any_error(&self) -> bool {
+        self.instructions.iter().any(|i| i.errors > 0)
+    }
+
+    /// The summary as pretty JSON.
+    pub fn json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+        s.push('\n');
+        s
+    }
+
+    /// The summary as text for a person.
+    pub fn human(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "scene {}: {:.3} s simulated in {:.3} s wall, real-time factor {:.2} ({} updates)",
+            self.scene, self.simulated_s, self.wall_s, self.real_time_factor, self.updates);
+        for i in &self.instructions {
+            let _ = write!(s, "  {}: done {}, aborted {}, errors {}; now {}", i.name, i.done, i.aborted, i.errors, i.final_outputs);
+            if let Some(e) = &i.last_error {
+                let _ = write!(s, "; last error {e}");
+            }
+            s.push('\n');
+        }
+        for (name, e) in &self.max_following_error {
+            let _ = writeln!(s, "  axis {name}: max |cmd - act| = {e:.6}");
+        }
+        let _ = writeln!(s, "  frames written: {}", self.frames_written);
+        s
+    }
+}
