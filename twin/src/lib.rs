@@ -2,3 +2,4 @@
 //! rendering, Rerun recordings and traces, driven by the `planner` crate.
 
 pub mod mesh;
+pub mod recording;
