@@ -891,6 +891,30 @@ mod tests {
         assert!(std::fs::metadata(&path).expect("rrd exists").len() > 0);
     }
 
+    /// Manual check against a real viewer or server, e.g.
+    /// `rerun --port 19877 --save /tmp/rx.rrd &` then
+    /// `TWIN_RERUN_TEST_CONNECT=127.0.0.1:19877 cargo test -p twin -- --ignored streams_to`.
+    #[test]
+    #[ignore = "needs a running Rerun viewer at TWIN_RERUN_TEST_CONNECT"]
+    fn streams_to_a_running_viewer() {
+        let addr = std::env::var("TWIN_RERUN_TEST_CONNECT")
+            .unwrap_or_else(|_| DEFAULT_CONNECT_ADDR.to_owned());
+        let mut rec =
+            Recorder::new("twin_recording_test", &[Sink::Connect(addr)]).expect("connect");
+        rec.log_link_mesh_static(
+            "robot/base/visual_0",
+            &tetrahedron(),
+            [0.5; 4],
+            IDENTITY_LOCAL,
+        )
+        .expect("mesh");
+        for step in 0..5 {
+            rec.set_time_s(f64::from(step) * 0.1);
+            rec.log_scalar("plots/x", f64::from(step)).expect("scalar");
+        }
+        rec.finish().expect("finish");
+    }
+
     #[test]
     fn connect_with_nothing_listening_errors_without_panicking() {
         let addr = format!("127.0.0.1:{}", closed_local_port());
