@@ -1,0 +1,1138 @@
+//! Rerun recordings of a twin run: robot meshes, link transforms, scalar
+//! series, text logs and tool-centre trails, saved to an `.rrd` file and/or
+//! streamed to a live Rerun viewer over gRPC.
+//!
+//! # Layout of a recording
+//!
+//! - A URDF robot becomes an entity tree mirroring its kinematic tree:
+//!   `robot/<root_link>/<joint>/<child_link>/…` (see [`urdf_entity_paths`]).
+//!   Each link entity carries a [`Recorder::log_transform`] relative to its
+//!   parent entity (`parent_from_link`), so the viewer composes the chain.
+//! - Link meshes are logged once, as static data, on a child entity of the link
+//!   (`<link path>/visual_<i>`, see [`visual_entity_path`]) together with the
+//!   static `link_from_mesh` transform of the URDF visual origin.
+//! - `RIGHT_HAND_Z_UP` view coordinates are logged once (static) at the root
+//!   `/` and at `robot`: URDF and every [`TriMesh`] here are Z-up.
+//! - Everything that changes over time is logged on the [`SIM_TIME_TIMELINE`]
+//!   (`sim_time`), a duration timeline in seconds of simulated time, set with
+//!   [`Recorder::set_time_s`]. Rerun adds its own wall-clock `log_time` and
+//!   `log_tick` timelines as well.
+//!
+//! # Sinks
+//!
+//! A [`Recorder`] can write to several [`Sink`]s at once (for example `--save`
+//! and `--connect` together); Rerun then tees every message to each of them.
+//!
+//! Choices made here where Rerun leaves room:
+//! - [`Sink::Connect`] checks that something accepts TCP connections at the
+//!   address before the stream is created, and fails with
+//!   [`RecordingError::Connect`] if not. Rerun's own gRPC client would instead
+//!   retry in the background and buffer; once its queue is full, logging
+//!   blocks, which would stall a simulation whose viewer is not running. A
+//!   viewer that goes away *during* a run is still Rerun's business (it
+//!   retries, and [`Recorder::finish`] reports a failed flush).
+//! - An `.rrd` file only gets its footer when its sink is dropped, so
+//!   [`Recorder::finish`] must be called before the process exits.
+
+use std::collections::BTreeSet;
+use std::net::{SocketAddr, TcpStream, ToSocketAddrs as _};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use rerun::external::re_uri::ProxyUri;
+use rerun::sink::{FileSink, FileSinkError, GrpcSink, LogSink, SinkFlushError};
+use rerun::{RecordingStream, RecordingStreamBuilder, RecordingStreamError, TimeCell};
+
+use crate::mesh::TriMesh;
+
+/// Name of the timeline carrying simulated time (a duration timeline).
+pub const SIM_TIME_TIMELINE: &str = "sim_time";
+
+/// Root entity of the robot tree built by [`urdf_entity_paths`].
+pub const ROBOT_ENTITY: &str = "robot";
+
+/// Address of a Rerun viewer's gRPC proxy on this machine (`rerun` listens there by default).
+pub const DEFAULT_CONNECT_ADDR: &str = "127.0.0.1:9876";
+
+/// How long [`Recorder::new`] waits for a TCP connection to a viewer.
+const CONNECT_PROBE_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// How long [`Recorder::finish`] waits for all sinks to take the pending data.
+const FINISH_FLUSH_TIMEOUT: Duration = Duration::from_secs(20);
+
+/// Where a [`Recorder`] sends its data.
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Sink {
+    /// Write an `.rrd` file at this path (created or truncated).
+    File(PathBuf),
+    /// Stream to a running Rerun viewer over gRPC.
+    ///
+    /// Either `host:port` (default: [`DEFAULT_CONNECT_ADDR`]) or a full
+    /// `rerun+http://host:port/proxy` URL.
+    Connect(String),
+}
+
+impl Sink {
+    /// Stream to a viewer at [`DEFAULT_CONNECT_ADDR`].
+    pub fn connect_default() -> Self {
+        Self::Connect(DEFAULT_CONNECT_ADDR.to_owned())
+    }
+}
+
+/// Severity of a [`Recorder::log_text`] entry (Rerun's standard levels).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[non_exhaustive]
+pub enum TextLevel {
+    /// Fine-grained tracing.
+    Trace,
+    /// Debugging detail.
+    Debug,
+    /// Normal progress (instruction started, done).
+    Info,
+    /// Something unexpected that the run survived.
+    Warn,
+    /// A failure (an instruction error, a collision).
+    Error,
+    /// A failure that stops the run.
+    Critical,
+}
+
+impl TextLevel {
+    /// Rerun's name for this level.
+    pub fn as_str(self) -> &'static str {
+        use rerun::components::TextLogLevel;
+        match self {
+            Self::Trace => TextLogLevel::TRACE,
+            Self::Debug => TextLogLevel::DEBUG,
+            Self::Info => TextLogLevel::INFO,
+            Self::Warn => TextLogLevel::WARN,
+            Self::Error => TextLogLevel::ERROR,
+            Self::Critical => TextLogLevel::CRITICAL,
+        }
+    }
+}
+
+/// What is wrong with a mesh handed to [`Recorder::log_link_mesh_static`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum MeshDefect {
+    /// The index count is not a multiple of three.
+    PartialTriangle {
+        /// Number of indices.
+        index_count: usize,
+    },
+    /// An index points past the last vertex.
+    IndexOutOfRange {
+        /// The offending index value.
+        index: u32,
+        /// Number of vertex positions.
+        vertex_count: usize,
+    },
+    /// There are normals, but not one per position.
+    NormalCountMismatch {
+        /// Number of normals.
+        normal_count: usize,
+        /// Number of vertex positions.
+        vertex_count: usize,
+    },
+    /// A position or normal is NaN or infinite.
+    NonFiniteVertex {
+        /// Index of the vertex.
+        vertex: usize,
+    },
+}
+
+/// Which input of a log call held a NaN or infinite value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Quantity {
+    /// A translation.
+    Translation,
+    /// A rotation quaternion (also: zero length).
+    Rotation,
+    /// A scale factor (also: zero).
+    Scale,
+    /// A line-strip point.
+    Point,
+}
+
+/// Failures of [`Recorder`].
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RecordingError {
+    /// [`Recorder::new`] was given no sink.
+    #[error("no recording sink given")]
+    NoSinks,
+    /// The application id is empty.
+    #[error("invalid Rerun application id {application_id:?}")]
+    InvalidApplicationId {
+        /// The id as given.
+        application_id: String,
+    },
+    /// The same file was named twice.
+    #[error("recording file {path} given more than once")]
+    DuplicateFile {
+        /// The repeated path.
+        path: PathBuf,
+    },
+    /// The `.rrd` file could not be created.
+    #[error("cannot create recording file {path}")]
+    CreateFile {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file sink failed to start (other than creating the file).
+    #[error("cannot start writing recording file {path}")]
+    FileSink {
+        /// The file.
+        path: PathBuf,
+        /// Rerun's error.
+        #[source]
+        source: FileSinkError,
+    },
+    /// A [`Sink::Connect`] address is neither `host:port` nor a Rerun proxy URL.
+    #[error("invalid Rerun viewer address {addr:?}")]
+    InvalidAddress {
+        /// The address as given.
+        addr: String,
+    },
+    /// Nothing accepted a connection at a [`Sink::Connect`] address.
+    #[error("cannot connect to a Rerun viewer at {addr} (is `rerun` running?)")]
+    Connect {
+        /// The address as given.
+        addr: String,
+        /// The last connection error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Rerun refused to create the recording stream.
+    #[error("cannot create the Rerun recording stream")]
+    Stream {
+        /// Rerun's error.
+        #[source]
+        source: RecordingStreamError,
+    },
+    /// Rerun refused to log data at an entity.
+    #[error("cannot log to Rerun entity {entity_path}")]
+    Log {
+        /// The entity path.
+        entity_path: String,
+        /// Rerun's error.
+        #[source]
+        source: RecordingStreamError,
+    },
+    /// A value handed to a log call was NaN, infinite or degenerate.
+    #[error("invalid {quantity:?} for Rerun entity {entity_path}")]
+    InvalidValue {
+        /// The entity path.
+        entity_path: String,
+        /// Which input.
+        quantity: Quantity,
+    },
+    /// A mesh handed to [`Recorder::log_link_mesh_static`] is malformed.
+    #[error("invalid mesh for Rerun entity {entity_path}: {defect:?}")]
+    InvalidMesh {
+        /// The entity path.
+        entity_path: String,
+        /// What is wrong.
+        defect: MeshDefect,
+    },
+    /// Not all data reached the sinks when the recording was finished.
+    #[error("flushing the recording to {sinks} failed")]
+    Flush {
+        /// The sinks, as "file PATH, viewer ADDR".
+        sinks: String,
+        /// Rerun's error.
+        #[source]
+        source: SinkFlushError,
+    },
+}
+
+/// A live Rerun recording stream of one twin run.
+///
+/// Logging calls are cheap: Rerun batches and writes on background threads.
+/// Call [`Recorder::finish`] at the end of the run.
+pub struct Recorder {
+    stream: RecordingStream,
+    /// Current `sim_time` in nanoseconds; `None` before the first [`Recorder::set_time_s`].
+    sim_time_ns: Option<i64>,
+    /// Human-readable list of the sinks, for errors.
+    sink_names: String,
+}
+
+impl std::fmt::Debug for Recorder {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Recorder")
+            .field("sinks", &self.sink_names)
+            .field("sim_time_ns", &self.sim_time_ns)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Recorder {
+    /// Opens a recording that tees to every sink in `sinks`, and logs the
+    /// static Z-up view coordinates.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::NoSinks`] for an empty list,
+    /// [`RecordingError::InvalidApplicationId`] for an empty id,
+    /// [`RecordingError::DuplicateFile`], [`RecordingError::CreateFile`] (the
+    /// path is named), [`RecordingError::InvalidAddress`] and
+    /// [`RecordingError::Connect`] when no viewer listens at the address
+    /// (the address is named; nothing is buffered).
+    pub fn new(application_id: &str, sinks: &[Sink]) -> Result<Self, RecordingError> {
+        if sinks.is_empty() {
+            return Err(RecordingError::NoSinks);
+        }
+        let app_id = rerun::ApplicationId::try_new(application_id).map_err(|_| {
+            RecordingError::InvalidApplicationId {
+                application_id: application_id.to_owned(),
+            }
+        })?;
+        let mut seen_files = BTreeSet::new();
+        for sink in sinks {
+            if let Sink::File(path) = sink
+                && !seen_files.insert(path.as_path())
+            {
+                return Err(RecordingError::DuplicateFile { path: path.clone() });
+            }
+        }
+
+        // Check every viewer address before creating any file, so a failed
+        // connect leaves no empty .rrd behind.
+        let mut viewers = Vec::new();
+        for sink in sinks {
+            if let Sink::Connect(addr) = sink {
+                let (uri, socket_addrs) = parse_viewer_address(addr)?;
+                probe_viewer(addr, &socket_addrs)?;
+                viewers.push(uri);
+            }
+        }
+
+        let mut log_sinks: Vec<Box<dyn LogSink>> = Vec::with_capacity(sinks.len());
+        let mut names = Vec::with_capacity(sinks.len());
+        let mut viewers = viewers.into_iter();
+        for sink in sinks {
+            match sink {
+                Sink::File(path) => {
+                    log_sinks.push(Box::new(create_file_sink(path)?));
+                    names.push(format!("file {}", path.display()));
+                }
+                Sink::Connect(addr) => {
+                    if let Some(uri) = viewers.next() {
+                        log_sinks.push(Box::new(GrpcSink::new(uri)));
+                        names.push(format!("viewer {addr}"));
+                    }
+                }
+            }
+        }
+
+        let stream = RecordingStreamBuilder::new(app_id)
+            .set_sinks(log_sinks)
+            .map_err(|source| RecordingError::Stream { source })?;
+        let mut recorder = Self {
+            stream,
+            sim_time_ns: None,
+            sink_names: names.join(", "),
+        };
+        for entity_path in ["/", ROBOT_ENTITY] {
+            recorder.log_static(
+                entity_path,
+                &rerun::archetypes::ViewCoordinates::RIGHT_HAND_Z_UP(),
+            )?;
+        }
+        Ok(recorder)
+    }
+
+    /// Sets the `sim_time` of everything logged afterwards, in seconds of
+    /// simulated time. Negative times are allowed; a NaN or infinite time is
+    /// ignored (the previous time stays).
+    pub fn set_time_s(&mut self, sim_time_s: f64) {
+        if sim_time_s.is_finite() {
+            // `as` saturates; ±292 years of simulated time is plenty.
+            self.sim_time_ns = Some((sim_time_s * 1e9).round() as i64);
+        }
+    }
+
+    /// The current `sim_time` in seconds, if [`Self::set_time_s`] has been called.
+    pub fn time_s(&self) -> Option<f64> {
+        self.sim_time_ns.map(|ns| ns as f64 * 1e-9)
+    }
+
+    /// Logs a link's visual mesh once, as static data, at `entity_path`
+    /// (normally [`visual_entity_path`] of the link), with its fixed
+    /// `link_from_mesh` transform: translation in metres, rotation as an
+    /// `xyzw` quaternion, per-axis scale. `color_rgba` is sRGB with alpha,
+    /// each channel in `0..=1` (clamped).
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidMesh`] for malformed meshes,
+    /// [`RecordingError::InvalidValue`] for a non-finite or degenerate
+    /// transform, [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_link_mesh_static(
+        &mut self,
+        entity_path: &str,
+        mesh: &TriMesh,
+        color_rgba: [f32; 4],
+        local_from_mesh: ([f32; 3], [f32; 4], [f32; 3]),
+    ) -> Result<(), RecordingError> {
+        use rerun::archetypes::{Mesh3D, Transform3D};
+
+        check_mesh(mesh).map_err(|defect| RecordingError::InvalidMesh {
+            entity_path: entity_path.to_owned(),
+            defect,
+        })?;
+        let (translation, rotation_xyzw, scale) = local_from_mesh;
+        let invalid = |quantity| RecordingError::InvalidValue {
+            entity_path: entity_path.to_owned(),
+            quantity,
+        };
+        if !translation.iter().all(|v| v.is_finite()) {
+            return Err(invalid(Quantity::Translation));
+        }
+        if !scale.iter().all(|v| v.is_finite() && *v != 0.0) {
+            return Err(invalid(Quantity::Scale));
+        }
+        let rotation = unit_quaternion(rotation_xyzw.map(f64::from))
+            .ok_or_else(|| invalid(Quantity::Rotation))?;
+
+        let mesh_from_link = Transform3D::from_translation_rotation_scale(
+            translation,
+            rerun::datatypes::Quaternion::from_xyzw(rotation),
+            scale,
+        );
+        let mut archetype =
+            Mesh3D::new(mesh.positions.iter().copied()).with_albedo_factor(rgba32(color_rgba));
+        if !mesh.indices.is_empty() {
+            archetype = archetype.with_triangle_indices(
+                mesh.indices
+                    .chunks_exact(3)
+                    .map(|t| rerun::datatypes::UVec3D::new(t[0], t[1], t[2])),
+            );
+        }
+        if !mesh.normals.is_empty() {
+            archetype = archetype.with_vertex_normals(mesh.normals.iter().copied());
+        }
+        self.log_static(entity_path, &mesh_from_link)?;
+        self.log_static(entity_path, &archetype)
+    }
+
+    /// Logs the pose of the entity relative to its parent entity
+    /// (`parent_from_entity`): translation in metres, rotation as an `xyzw`
+    /// quaternion (normalised here), at the current `sim_time`.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidValue`] for a NaN/infinite translation or a
+    /// zero/non-finite quaternion, [`RecordingError::Log`] if Rerun refuses.
+    pub fn log_transform(
+        &mut self,
+        entity_path: &str,
+        translation_m: [f64; 3],
+        rotation_xyzw: [f64; 4],
+    ) -> Result<(), RecordingError> {
+        let invalid = |quantity| RecordingError::InvalidValue {
+            entity_path: entity_path.to_owned(),
+            quantity,
+        };
+        if !translation_m.iter().all(|v| v.is_finite()) {
+            return Err(invalid(Quantity::Translation));
+        }
+        let rotation = unit_quaternion(rotation_xyzw).ok_or_else(|| invalid(Quantity::Rotation))?;
+        let transform = rerun::archetypes::Transform3D::from_translation_rotation(
+            translation_m,
+            rerun::datatypes::Quaternion::from_xyzw(rotation),
+        );
+        self.log_timed(entity_path, &transform)
+    }
+
+    /// Logs one sample of the scalar series at `entity_path` (one series per
+    /// path) at the current `sim_time`. NaN is logged as is and shows as a gap.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_scalar(&mut self, entity_path: &str, value: f64) -> Result<(), RecordingError> {
+        self.log_timed(entity_path, &rerun::archetypes::Scalars::single(value))
+    }
+
+    /// Names and colours the series at `entity_path` (static; call once,
+    /// before or after its samples). `color_rgba` as in
+    /// [`Self::log_link_mesh_static`].
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_series_style(
+        &mut self,
+        entity_path: &str,
+        name: &str,
+        color_rgba: [f32; 4],
+    ) -> Result<(), RecordingError> {
+        let style = rerun::archetypes::SeriesLines::new()
+            .with_names([name])
+            .with_colors([rgba32(color_rgba)]);
+        self.log_static(entity_path, &style)
+    }
+
+    /// Logs a text entry at the current `sim_time`.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_text(
+        &mut self,
+        entity_path: &str,
+        level: TextLevel,
+        text: &str,
+    ) -> Result<(), RecordingError> {
+        let entry = rerun::archetypes::TextLog::new(text).with_level(level.as_str());
+        self.log_timed(entity_path, &entry)
+    }
+
+    /// Logs a polyline (metres, in the entity's frame) at the current
+    /// `sim_time`, replacing the previous one at that path; e.g. the
+    /// tool-centre trail so far. `color_rgba` as in
+    /// [`Self::log_link_mesh_static`].
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidValue`] for a NaN/infinite point,
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_line_strip(
+        &mut self,
+        entity_path: &str,
+        points_m: &[[f64; 3]],
+        color_rgba: [f32; 4],
+    ) -> Result<(), RecordingError> {
+        if !points_m.iter().flatten().all(|v| v.is_finite()) {
+            return Err(RecordingError::InvalidValue {
+                entity_path: entity_path.to_owned(),
+                quantity: Quantity::Point,
+            });
+        }
+        // Rerun stores positions as f32; millimetre-level precision within
+        // kilometres is plenty for a work cell.
+        let strip: Vec<[f32; 3]> = points_m.iter().map(|p| p.map(|v| v as f32)).collect();
+        let strips = rerun::archetypes::LineStrips3D::new([strip])
+            .with_colors([rgba32(color_rgba)])
+            .with_radii([rerun::components::Radius::new_ui_points(1.5)]);
+        self.log_timed(entity_path, &strips)
+    }
+
+    /// Flushes everything to every sink and closes the stream, which writes
+    /// the `.rrd` footer. Must be called before the process exits; dropping a
+    /// `Recorder` also closes the stream but cannot report errors.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Flush`] when not everything reached the sinks (a
+    /// viewer that went away, a full disk, or a timeout of 20 s). The stream
+    /// is closed and the file finished either way.
+    pub fn finish(self) -> Result<(), RecordingError> {
+        let Self {
+            stream, sink_names, ..
+        } = self;
+        let flushed = stream.flush_with_timeout(FINISH_FLUSH_TIMEOUT);
+        // Closes the file sinks now, which writes their footers, whatever the
+        // viewer connections are doing.
+        stream.finalize_deferred_sinks();
+        // Dropping the last handle shuts down the gRPC clients, and Rerun waits
+        // without limit for a viewer that is connected but stuck. Do it on a
+        // helper thread and stop waiting after a while: the files are complete.
+        let (done_tx, done_rx) = std::sync::mpsc::channel();
+        let dropper = std::thread::Builder::new()
+            .name("twin_recording_close".to_owned())
+            .spawn(move || {
+                drop(stream);
+                done_tx.send(()).ok();
+            });
+        let closed = match dropper {
+            Ok(_) => done_rx.recv_timeout(FINISH_FLUSH_TIMEOUT).is_ok(),
+            // No thread: the stream was dropped with the failed closure; assume closed.
+            Err(_) => true,
+        };
+        match (flushed, closed) {
+            (Ok(()), true) => Ok(()),
+            (Err(source), _) => Err(RecordingError::Flush {
+                sinks: sink_names,
+                source,
+            }),
+            (Ok(()), false) => Err(RecordingError::Flush {
+                sinks: sink_names,
+                source: SinkFlushError::Timeout,
+            }),
+        }
+    }
+
+    fn log_static(
+        &mut self,
+        entity_path: &str,
+        archetype: &impl rerun::AsComponents,
+    ) -> Result<(), RecordingError> {
+        self.stream
+            .log_static(entity_path, archetype)
+            .map_err(|source| RecordingError::Log {
+                entity_path: entity_path.to_owned(),
+                source,
+            })
+    }
+
+    fn log_timed(
+        &mut self,
+        entity_path: &str,
+        archetype: &impl rerun::AsComponents,
+    ) -> Result<(), RecordingError> {
+        // Rerun keeps the current time per thread; setting it on every call
+        // keeps `sim_time` right even when the Recorder moves between threads.
+        if let Some(ns) = self.sim_time_ns {
+            self.stream
+                .set_time(SIM_TIME_TIMELINE, TimeCell::from_duration_nanos(ns));
+        }
+        self.stream
+            .log(entity_path, archetype)
+            .map_err(|source| RecordingError::Log {
+                entity_path: entity_path.to_owned(),
+                source,
+            })
+    }
+}
+
+/// Entity paths mirroring a URDF kinematic tree, one per link, in link order:
+/// the root link is `robot/<root_link>`, and each child link is
+/// `<parent link path>/<joint>/<child link>`.
+///
+/// `joints` holds `(name, parent link index, child link index)`. Names are
+/// escaped as Rerun entity-path parts, so a `/` or space in a URDF name does
+/// not split the hierarchy. The function never fails, and is forgiving about
+/// trees a URDF loader should already have rejected: joints with an
+/// out-of-range index are skipped, a link with several parent joints keeps the
+/// first, and a link not reachable from `root` (a second root, part of a
+/// cycle, or `root` itself out of range) gets the top-level path
+/// `robot/<link>`.
+///
+/// # Examples
+///
+/// ```
+/// use twin::recording::urdf_entity_paths;
+/// let paths = urdf_entity_paths(
+///     &["base", "upper_arm", "tool"],
+///     &[("shoulder", 0, 1), ("wrist", 1, 2)],
+///     0,
+/// );
+/// assert_eq!(paths, [
+///     "robot/base",
+///     "robot/base/shoulder/upper_arm",
+///     "robot/base/shoulder/upper_arm/wrist/tool",
+/// ]);
+/// ```
+pub fn urdf_entity_paths(
+    links: &[&str],
+    joints: &[(&str, usize, usize)],
+    root: usize,
+) -> Vec<String> {
+    let part = |name: &str| rerun::EntityPathPart::new(name).escaped_string();
+
+    // The first joint naming a link as its child is that link's parent joint.
+    let mut parent_joint: Vec<Option<usize>> = vec![None; links.len()];
+    for (j, &(_, parent, child)) in joints.iter().enumerate() {
+        if parent < links.len() && child < links.len() && child != root {
+            let slot = &mut parent_joint[child];
+            if slot.is_none() {
+                *slot = Some(j);
+            }
+        }
+    }
+
+    let mut paths: Vec<Option<String>> = vec![None; links.len()];
+    if root < links.len() {
+        paths[root] = Some(format!("{ROBOT_ENTITY}/{}", part(links[root])));
+        // Breadth-first from the root over parent links, in joint order; a
+        // link is visited once, so cycles cannot loop.
+        let mut frontier = vec![root];
+        while !frontier.is_empty() {
+            let mut next = Vec::new();
+            for &parent in &frontier {
+                for (j, &(joint, p, child)) in joints.iter().enumerate() {
+                    if p == parent
+                        && child < links.len()
+                        && parent_joint[child] == Some(j)
+                        && let (None, Some(parent_path)) = (&paths[child], &paths[parent])
+                    {
+                        paths[child] = Some(format!(
+                            "{parent_path}/{}/{}",
+                            part(joint),
+                            part(links[child])
+                        ));
+                        next.push(child);
+                    }
+                }
+            }
+            frontier = next;
+        }
+    }
+
+    paths
+        .into_iter()
+        .zip(links)
+        .map(|(path, link)| path.unwrap_or_else(|| format!("{ROBOT_ENTITY}/{}", part(link))))
+        .collect()
+}
+
+/// The entity path of a link's `index`-th visual: `<link_path>/visual_<index>`.
+pub fn visual_entity_path(link_path: &str, index: usize) -> String {
+    format!("{link_path}/visual_{index}")
+}
+
+fn create_file_sink(path: &Path) -> Result<FileSink, RecordingError> {
+    FileSink::new(path).map_err(|err| match err {
+        FileSinkError::CreateFile { source, path } => RecordingError::CreateFile { path, source },
+        source => RecordingError::FileSink {
+            path: path.to_owned(),
+            source,
+        },
+    })
+}
+
+/// Turns `host:port` or a `rerun+http(s)://host:port/proxy` URL into Rerun's
+/// proxy URI and the socket addresses to probe.
+fn parse_viewer_address(addr: &str) -> Result<(ProxyUri, Vec<SocketAddr>), RecordingError> {
+    let invalid = || RecordingError::InvalidAddress {
+        addr: addr.to_owned(),
+    };
+    let trimmed = addr.trim();
+    let (url, host_port) = match trimmed.split_once("://") {
+        Some((_, rest)) => {
+            let host_port = rest.split('/').next().unwrap_or_default();
+            (trimmed.to_owned(), host_port)
+        }
+        None => (format!("rerun+http://{trimmed}/proxy"), trimmed),
+    };
+    let uri: ProxyUri = url.parse().map_err(|_| invalid())?;
+    let socket_addrs: Vec<SocketAddr> = host_port
+        .to_socket_addrs()
+        .map_err(|_| invalid())?
+        .collect();
+    if socket_addrs.is_empty() {
+        return Err(invalid());
+    }
+    Ok((uri, socket_addrs))
+}
+
+/// Fails unless something accepts a TCP connection at one of `socket_addrs`.
+fn probe_viewer(addr: &str, socket_addrs: &[SocketAddr]) -> Result<(), RecordingError> {
+    let mut last_error = None;
+    for socket_addr in socket_addrs {
+        match TcpStream::connect_timeout(socket_addr, CONNECT_PROBE_TIMEOUT) {
+            Ok(_) => return Ok(()),
+            Err(err) => last_error = Some(err),
+        }
+    }
+    Err(RecordingError::Connect {
+        addr: addr.to_owned(),
+        source: last_error.unwrap_or_else(|| std::io::ErrorKind::AddrNotAvailable.into()),
+    })
+}
+
+fn check_mesh(mesh: &TriMesh) -> Result<(), MeshDefect> {
+    let vertex_count = mesh.positions.len();
+    if !mesh.indices.len().is_multiple_of(3) {
+        return Err(MeshDefect::PartialTriangle {
+            index_count: mesh.indices.len(),
+        });
+    }
+    if let Some(&index) = mesh
+        .indices
+        .iter()
+        .find(|&&i| usize::try_from(i).map_or(true, |i| i >= vertex_count))
+    {
+        return Err(MeshDefect::IndexOutOfRange {
+            index,
+            vertex_count,
+        });
+    }
+    if !mesh.normals.is_empty() && mesh.normals.len() != vertex_count {
+        return Err(MeshDefect::NormalCountMismatch {
+            normal_count: mesh.normals.len(),
+            vertex_count,
+        });
+    }
+    let finite = |v: &[f32; 3]| v.iter().all(|c| c.is_finite());
+    let bad_position = mesh.positions.iter().position(|p| !finite(p));
+    let bad_normal = mesh.normals.iter().position(|n| !finite(n));
+    match (bad_position, bad_normal) {
+        (Some(a), Some(b)) => Err(MeshDefect::NonFiniteVertex { vertex: a.min(b) }),
+        (Some(vertex), None) | (None, Some(vertex)) => Err(MeshDefect::NonFiniteVertex { vertex }),
+        (None, None) => Ok(()),
+    }
+}
+
+/// Normalises an `xyzw` quaternion; `None` if it is zero or not finite.
+fn unit_quaternion(xyzw: [f64; 4]) -> Option<[f32; 4]> {
+    let norm = xyzw.iter().map(|c| c * c).sum::<f64>().sqrt();
+    (norm.is_finite() && norm > 1e-12).then(|| xyzw.map(|c| (c / norm) as f32))
+}
+
+/// sRGB(A) in `0..=1` to Rerun's 8-bit colour; out-of-range channels are clamped, NaN becomes 0.
+fn rgba32(color_rgba: [f32; 4]) -> rerun::datatypes::Rgba32 {
+    let [r, g, b, a] = color_rgba.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+    rerun::datatypes::Rgba32::from_unmultiplied_rgba(r, g, b, a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn test_dir() -> PathBuf {
+        // Cargo runs unit tests from the package root; the workspace target dir is one up.
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("..")
+            .join("target")
+            .join("recording-test");
+        std::fs::create_dir_all(&dir).expect("create target/recording-test");
+        dir
+    }
+
+    fn tetrahedron() -> TriMesh {
+        TriMesh {
+            positions: vec![
+                [0.0, 0.0, 0.0],
+                [0.1, 0.0, 0.0],
+                [0.0, 0.1, 0.0],
+                [0.0, 0.0, 0.1],
+            ],
+            normals: vec![
+                [-0.577, -0.577, -0.577],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ],
+            indices: vec![0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3],
+        }
+    }
+
+    const IDENTITY_LOCAL: ([f32; 3], [f32; 4], [f32; 3]) =
+        ([0.0; 3], [0.0, 0.0, 0.0, 1.0], [1.0; 3]);
+
+    /// Nothing listens on this port: bind a listener to get a free port, then close it.
+    fn closed_local_port() -> u16 {
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind a free port");
+        listener.local_addr().expect("local addr").port()
+    }
+
+    #[test]
+    fn records_a_small_sequence_to_an_rrd_file() {
+        let path = test_dir().join("test.rrd");
+        let _ = std::fs::remove_file(&path);
+
+        let links = ["base", "arm", "tool"];
+        let paths = urdf_entity_paths(&links, &[("j1", 0, 1), ("j2", 1, 2)], 0);
+        let mut rec = Recorder::new("twin_recording_test", &[Sink::File(path.clone())])
+            .expect("open recording");
+        for link_path in &paths {
+            rec.log_link_mesh_static(
+                &visual_entity_path(link_path, 0),
+                &tetrahedron(),
+                [0.8, 0.5, 0.1, 1.0],
+                ([0.0, 0.0, 0.05], [0.0, 0.0, 0.0, 1.0], [1.0, 1.0, 2.0]),
+            )
+            .expect("mesh");
+        }
+        rec.log_series_style("plots/j1_position", "j1 position", [0.2, 0.4, 1.0, 1.0])
+            .expect("series style");
+        let mut trail = Vec::new();
+        for step in 0..10 {
+            let t = f64::from(step) * 0.1;
+            rec.set_time_s(t);
+            let (s, c) = (t / 2.0).sin_cos();
+            rec.log_transform(&paths[1], [0.0, 0.0, 0.3], [0.0, 0.0, s, c])
+                .expect("transform");
+            rec.log_transform(&paths[2], [0.4, 0.0, 0.0], [0.0, s, 0.0, c])
+                .expect("transform");
+            rec.log_scalar("plots/j1_position", t).expect("scalar");
+            trail.push([0.4 * t.cos(), 0.4 * t.sin(), 0.3]);
+            rec.log_line_strip("world/tcp_trail", &trail, [1.0, 0.0, 0.0, 1.0])
+                .expect("trail");
+        }
+        rec.log_text("log", TextLevel::Info, "program done")
+            .expect("text");
+        assert_eq!(rec.time_s(), Some(0.9));
+        rec.finish().expect("finish");
+
+        let size = std::fs::metadata(&path).expect("rrd exists").len();
+        assert!(size > 0, "{} is empty", path.display());
+    }
+
+    #[test]
+    fn save_and_connect_together_reach_a_listening_viewer() {
+        // A plain TCP listener stands in for a viewer: it accepts the probe.
+        // Nothing speaks gRPC, so the flush in `finish` fails, naming the viewer;
+        // the file is still written.
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
+        let addr = listener.local_addr().expect("addr").to_string();
+        let path = test_dir().join("tee.rrd");
+        let mut rec = Recorder::new(
+            "twin_recording_test",
+            &[Sink::File(path.clone()), Sink::Connect(addr.clone())],
+        )
+        .expect("open recording");
+        rec.set_time_s(0.5);
+        rec.log_scalar("plots/x", 1.0).expect("scalar");
+        drop(listener);
+        if let Err(err) = rec.finish() {
+            assert!(matches!(err, RecordingError::Flush { .. }), "{err:?}");
+        }
+        assert!(std::fs::metadata(&path).expect("rrd exists").len() > 0);
+    }
+
+    /// Manual check against a real viewer or server, e.g.
+    /// `rerun --port 19877 --save /tmp/rx.rrd &` then
+    /// `TWIN_RERUN_TEST_CONNECT=127.0.0.1:19877 cargo test -p twin -- --ignored streams_to`.
+    #[test]
+    #[ignore = "needs a running Rerun viewer at TWIN_RERUN_TEST_CONNECT"]
+    fn streams_to_a_running_viewer() {
+        let addr = std::env::var("TWIN_RERUN_TEST_CONNECT")
+            .unwrap_or_else(|_| DEFAULT_CONNECT_ADDR.to_owned());
+        let mut rec =
+            Recorder::new("twin_recording_test", &[Sink::Connect(addr)]).expect("connect");
+        rec.log_link_mesh_static(
+            "robot/base/visual_0",
+            &tetrahedron(),
+            [0.5; 4],
+            IDENTITY_LOCAL,
+        )
+        .expect("mesh");
+        for step in 0..5 {
+            rec.set_time_s(f64::from(step) * 0.1);
+            rec.log_scalar("plots/x", f64::from(step)).expect("scalar");
+        }
+        rec.finish().expect("finish");
+    }
+
+    #[test]
+    fn connect_with_nothing_listening_errors_without_panicking() {
+        let addr = format!("127.0.0.1:{}", closed_local_port());
+        let err = Recorder::new("twin_recording_test", &[Sink::Connect(addr.clone())])
+            .expect_err("no viewer");
+        match err {
+            RecordingError::Connect { addr: named, .. } => assert_eq!(named, addr),
+            other => panic!("expected Connect, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn failed_connect_creates_no_file() {
+        let path = test_dir().join("never.rrd");
+        let _ = std::fs::remove_file(&path);
+        let addr = format!("rerun+http://127.0.0.1:{}/proxy", closed_local_port());
+        let result = Recorder::new(
+            "twin_recording_test",
+            &[Sink::File(path.clone()), Sink::Connect(addr)],
+        );
+        assert!(matches!(result, Err(RecordingError::Connect { .. })));
+        assert!(!path.exists());
+    }
+
+    #[test]
+    fn bad_addresses_and_paths_are_errors() {
+        for addr in [
+            "",
+            "no-port",
+            "127.0.0.1:notaport",
+            "ftp://127.0.0.1:9876/x",
+        ] {
+            let result = Recorder::new("t", &[Sink::Connect(addr.to_owned())]);
+            assert!(
+                matches!(result, Err(RecordingError::InvalidAddress { .. })),
+                "{addr:?}: {result:?}"
+            );
+        }
+        let missing_dir = test_dir().join("no-such-dir").join("x.rrd");
+        match Recorder::new("t", &[Sink::File(missing_dir.clone())]) {
+            Err(RecordingError::CreateFile { path, .. }) => assert_eq!(path, missing_dir),
+            other => panic!("expected CreateFile, got {other:?}"),
+        }
+        assert!(matches!(
+            Recorder::new("t", &[]),
+            Err(RecordingError::NoSinks)
+        ));
+        let twice = test_dir().join("twice.rrd");
+        assert!(matches!(
+            Recorder::new("t", &[Sink::File(twice.clone()), Sink::File(twice)]),
+            Err(RecordingError::DuplicateFile { .. })
+        ));
+    }
+
+    #[test]
+    fn invalid_values_are_rejected() {
+        let path = test_dir().join("invalid.rrd");
+        let mut rec = Recorder::new("t", &[Sink::File(path)]).expect("open");
+        rec.set_time_s(f64::NAN);
+        assert_eq!(rec.time_s(), None);
+        let bad = |r: Result<(), RecordingError>, q: Quantity| {
+            assert!(
+                matches!(r, Err(RecordingError::InvalidValue { quantity, .. }) if quantity == q)
+            );
+        };
+        bad(
+            rec.log_transform("a", [f64::NAN, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]),
+            Quantity::Translation,
+        );
+        bad(
+            rec.log_transform("a", [0.0; 3], [0.0; 4]),
+            Quantity::Rotation,
+        );
+        bad(
+            rec.log_line_strip("a", &[[0.0, f64::INFINITY, 0.0]], [1.0; 4]),
+            Quantity::Point,
+        );
+        bad(
+            rec.log_link_mesh_static(
+                "a",
+                &tetrahedron(),
+                [1.0; 4],
+                ([0.0; 3], [0.0; 4], [1.0; 3]),
+            ),
+            Quantity::Rotation,
+        );
+        bad(
+            rec.log_link_mesh_static(
+                "a",
+                &tetrahedron(),
+                [1.0; 4],
+                ([0.0; 3], [0.0, 0.0, 0.0, 1.0], [0.0; 3]),
+            ),
+            Quantity::Scale,
+        );
+        rec.finish().expect("finish");
+    }
+
+    #[test]
+    fn mesh_defects_are_named() {
+        let mut mesh = tetrahedron();
+        assert_eq!(check_mesh(&mesh), Ok(()));
+        mesh.indices.push(0);
+        assert_eq!(
+            check_mesh(&mesh),
+            Err(MeshDefect::PartialTriangle { index_count: 13 })
+        );
+        mesh.indices.extend([1, 9]);
+        assert_eq!(
+            check_mesh(&mesh),
+            Err(MeshDefect::IndexOutOfRange {
+                index: 9,
+                vertex_count: 4
+            })
+        );
+        let mut mesh = tetrahedron();
+        mesh.normals.pop();
+        assert_eq!(
+            check_mesh(&mesh),
+            Err(MeshDefect::NormalCountMismatch {
+                normal_count: 3,
+                vertex_count: 4
+            })
+        );
+        let mut mesh = tetrahedron();
+        mesh.positions[2][1] = f32::NAN;
+        assert_eq!(
+            check_mesh(&mesh),
+            Err(MeshDefect::NonFiniteVertex { vertex: 2 })
+        );
+        let mut mesh = tetrahedron();
+        mesh.normals.clear();
+        assert_eq!(check_mesh(&mesh), Ok(()), "normals are optional");
+        let path = test_dir().join("bad-mesh.rrd");
+        let mut rec = Recorder::new("t", &[Sink::File(path)]).expect("open");
+        mesh.indices.push(0);
+        assert!(matches!(
+            rec.log_link_mesh_static("m", &mesh, [1.0; 4], IDENTITY_LOCAL),
+            Err(RecordingError::InvalidMesh { .. })
+        ));
+        rec.finish().expect("finish");
+    }
+
+    #[test]
+    fn urdf_paths_follow_branches() {
+        // base ─ j_torso ─ torso ─┬─ j_left ─ left ─ j_lwrist ─ left_hand
+        //                         └─ j_right ─ right
+        // Links listed out of tree order; joints too.
+        let links = ["left_hand", "torso", "base", "right", "left"];
+        let joints = [
+            ("j_right", 1, 3),
+            ("j_lwrist", 4, 0),
+            ("j_torso", 2, 1),
+            ("j_left", 1, 4),
+        ];
+        assert_eq!(
+            urdf_entity_paths(&links, &joints, 2),
+            [
+                "robot/base/j_torso/torso/j_left/left/j_lwrist/left_hand",
+                "robot/base/j_torso/torso",
+                "robot/base",
+                "robot/base/j_torso/torso/j_right/right",
+                "robot/base/j_torso/torso/j_left/left",
+            ]
+        );
+    }
+
+    #[test]
+    fn urdf_paths_tolerate_malformed_trees() {
+        let links = ["a", "b", "c", "d"];
+        // Out-of-range joint, a cycle c <-> d unreachable from a, a joint into the root.
+        let joints = [
+            ("bad", 0, 7),
+            ("ab", 0, 1),
+            ("cd", 2, 3),
+            ("dc", 3, 2),
+            ("ba", 1, 0),
+        ];
+        assert_eq!(
+            urdf_entity_paths(&links, &joints, 0),
+            ["robot/a", "robot/a/ab/b", "robot/c", "robot/d"]
+        );
+        // Root out of range: every link is top level.
+        assert_eq!(
+            urdf_entity_paths(&links[..2], &[("ab", 0, 1)], 5),
+            ["robot/a", "robot/b"]
+        );
+        assert!(urdf_entity_paths(&[], &[], 0).is_empty());
+    }
+
+    #[test]
+    fn urdf_names_are_escaped() {
+        let paths = urdf_entity_paths(&["base link", "a/b"], &[("j 1", 0, 1)], 0);
+        assert_eq!(paths.len(), 2);
+        // Escaping keeps one entity-path part per name.
+        let parsed = rerun::EntityPath::from(paths[1].as_str());
+        assert_eq!(parsed.len(), 4, "{}", paths[1]);
+        assert_eq!(
+            parsed.iter().nth(3).map(|p| p.unescaped_str().to_owned()),
+            Some("a/b".to_owned())
+        );
+    }
+
+    #[test]
+    fn colors_are_clamped_and_rounded() {
+        assert_eq!(rgba32([0.0, 0.5, 1.0, 2.0]).to_array(), [0, 128, 255, 255]);
+        assert_eq!(
+            rgba32([f32::NAN, -1.0, 0.2, 1.0]).to_array(),
+            [0, 0, 51, 255]
+        );
+    }
+
+    #[test]
+    fn quaternions_are_normalised() {
+        assert_eq!(
+            unit_quaternion([0.0, 0.0, 0.0, 2.0]),
+            Some([0.0, 0.0, 0.0, 1.0])
+        );
+        assert_eq!(unit_quaternion([0.0, 0.0, f64::NAN, 1.0]), None);
+    }
+}
