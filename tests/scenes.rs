@@ -8,7 +8,10 @@ use std::process::Command;
 use twin::run::Twin;
 
 fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace root").to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace root")
+        .to_path_buf()
 }
 
 fn out_dir(name: &str) -> PathBuf {
@@ -50,7 +53,9 @@ fn read_trace(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(path).expect("trace");
     let mut lines = text.lines();
     let header: Vec<String> = lines.next().expect("header").split(',').map(str::to_string).collect();
-    let rows = lines.map(|l| l.split(',').map(|x| x.parse::<f64>().expect("number")).collect()).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse::<f64>().expect("number")).collect())
+        .collect();
     (header, rows)
 }
 
@@ -64,20 +69,48 @@ fn indexing_table_runs_end_to_end_and_reruns_identically() {
     run_scene("scenes/indexing_table.toml", &b);
 
     // Byte-identical traces and frames.
-    assert_eq!(std::fs::read(a.join("out.csv")).unwrap(), std::fs::read(b.join("out.csv")).unwrap());
-    let mut frames: Vec<_> = std::fs::read_dir(a.join("frames")).map(|d| d.map(|e| e.unwrap().file_name()).collect()).unwrap_or_default();
+    assert_eq!(
+        std::fs::read(a.join("out.csv")).unwrap(),
+        std::fs::read(b.join("out.csv")).unwrap()
+    );
+    let mut frames: Vec<_> = std::fs::read_dir(a.join("frames"))
+        .map(|d| d.map(|e| e.unwrap().file_name()).collect())
+        .unwrap_or_default();
     frames.sort();
     for f in &frames {
-        assert_eq!(std::fs::read(a.join("frames").join(f)).unwrap(), std::fs::read(b.join("frames").join(f)).unwrap(), "{f:?}");
+        assert_eq!(
+            std::fs::read(a.join("frames").join(f)).unwrap(),
+            std::fs::read(b.join("frames").join(f)).unwrap(),
+            "{f:?}"
+        );
     }
-    assert!(std::fs::metadata(a.join("out.rrd")).map(|m| m.len() > 0).unwrap_or(false), "recording written");
+    assert!(
+        std::fs::metadata(a.join("out.rrd"))
+            .map(|m| m.len() > 0)
+            .unwrap_or(false),
+        "recording written"
+    );
 
     // The trace's columns, in scene order.
     let (header, rows) = read_trace(&a.join("out.csv"));
     let expected: Vec<&str> = vec![
-        "time_s", "Table.cmd_pos", "Table.cmd_vel", "Table.cmd_acc", "Table.act_pos",
-        "MoveA.Done", "MoveA.Busy", "MoveA.Active", "MoveA.CommandAborted", "MoveA.Error", "MoveA.ErrorID",
-        "MoveB.Done", "MoveB.Busy", "MoveB.Active", "MoveB.CommandAborted", "MoveB.Error", "MoveB.ErrorID",
+        "time_s",
+        "Table.cmd_pos",
+        "Table.cmd_vel",
+        "Table.cmd_acc",
+        "Table.act_pos",
+        "MoveA.Done",
+        "MoveA.Busy",
+        "MoveA.Active",
+        "MoveA.CommandAborted",
+        "MoveA.Error",
+        "MoveA.ErrorID",
+        "MoveB.Done",
+        "MoveB.Busy",
+        "MoveB.Active",
+        "MoveB.CommandAborted",
+        "MoveB.Error",
+        "MoveB.ErrorID",
     ];
     assert_eq!(header, expected);
     let col = |name: &str| header.iter().position(|h| h == name).unwrap();
@@ -85,14 +118,22 @@ fn indexing_table_runs_end_to_end_and_reruns_identically() {
 
     // After each Done: the modulo command is the commanded target and the
     // actual position is inside the in-position window (0.2 deg).
-    let targets = [(col("MoveA.Done"), vec![90.0, 0.0, 135.0]), (col("MoveB.Done"), vec![180.0, 300.0, 45.0])];
+    let targets = [
+        (col("MoveA.Done"), vec![90.0, 0.0, 135.0]),
+        (col("MoveB.Done"), vec![180.0, 300.0, 45.0]),
+    ];
     for (done_col, wanted) in targets {
         let mut seen = Vec::new();
         for w in rows.windows(2) {
             if w[1][done_col] == 1.0 && w[0][done_col] == 0.0 {
                 let wrapped = w[1][cmd].rem_euclid(360.0);
                 seen.push(wrapped);
-                assert!((w[1][act] - w[1][cmd]).abs() <= 0.2, "act {} vs cmd {} at Done", w[1][act], w[1][cmd]);
+                assert!(
+                    (w[1][act] - w[1][cmd]).abs() <= 0.2,
+                    "act {} vs cmd {} at Done",
+                    w[1][act],
+                    w[1][cmd]
+                );
             }
         }
         assert_eq!(seen.len(), wanted.len(), "Done edges {seen:?}");
@@ -135,7 +176,11 @@ fn twin_setpoints_are_the_planners_setpoints() {
         ..AxisConfig::new(axis.name.clone(), planner::axis::AxisKind::Rotary)
     };
     let h = replay.add_axis(config, axis.initial_position).unwrap();
-    let fbs: Vec<_> = twin.fbs().iter().map(|f| replay.add_move_modulo(f.name.clone(), h)).collect();
+    let fbs: Vec<_> = twin
+        .fbs()
+        .iter()
+        .map(|f| replay.add_move_modulo(f.name.clone(), h))
+        .collect();
     let mut actual = None;
     for _ in 0..twin.total_updates() {
         twin.step();
@@ -148,8 +193,18 @@ fn twin_setpoints_are_the_planners_setpoints() {
         replay.update();
         let t = twin.task().axis_state(twin.axes()[0].handle);
         let r = replay.axis_state(h);
-        assert_eq!(t.command_position.to_bits(), r.command_position.to_bits(), "at {}", twin.time_s());
-        assert_eq!(t.command_velocity.to_bits(), r.command_velocity.to_bits(), "at {}", twin.time_s());
+        assert_eq!(
+            t.command_position.to_bits(),
+            r.command_position.to_bits(),
+            "at {}",
+            twin.time_s()
+        );
+        assert_eq!(
+            t.command_velocity.to_bits(),
+            r.command_velocity.to_bits(),
+            "at {}",
+            twin.time_s()
+        );
         actual = Some(t.actual_position);
     }
 }
@@ -177,9 +232,16 @@ fn indexing_table_frames_match_snapshots() {
     let mut failures = Vec::new();
     for f in frames {
         let path = out.join("frames").join(format!("{camera}-{f:05}.png"));
-        let image = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgba8();
+        let image = image::open(&path)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+            .to_rgba8();
         let name = format!("{}-{f}", scene.name);
-        if let Err(e) = twin::snapshot::assert_matches_snapshot(&name, &image, &root().join("snapshots"), &root().join("target/snapshots")) {
+        if let Err(e) = twin::snapshot::assert_matches_snapshot(
+            &name,
+            &image,
+            &root().join("snapshots"),
+            &root().join("target/snapshots"),
+        ) {
             failures.push(e.to_string());
         }
     }
@@ -201,7 +263,10 @@ fn check_fails(scene_text: &str, extra: &[(&str, &[u8])], name: &str) -> String 
     assert!(!out.status.success(), "{name}: expected failure");
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     assert_eq!(stderr.trim_end().lines().count(), 1, "{name}: one line: {stderr}");
-    assert!(stderr.contains("scene.toml") || stderr.contains(".urdf") || stderr.contains(".stl"), "{name}: names the file: {stderr}");
+    assert!(
+        stderr.contains("scene.toml") || stderr.contains(".urdf") || stderr.contains(".stl"),
+        "{name}: names the file: {stderr}"
+    );
     stderr
 }
 
@@ -238,26 +303,48 @@ call = "MoveA(Axis := Table, Execute := TRUE, Position := 90.0, Velocity := 180.
 fn the_good_scene_checks() {
     let dir = out_dir("good");
     let path = dir.join("scene.toml");
-    std::fs::write(&path, GOOD.replace("@ROBOTS@", &root().join("scenes/robots").display().to_string())).unwrap();
+    std::fs::write(
+        &path,
+        GOOD.replace("@ROBOTS@", &root().join("scenes/robots").display().to_string()),
+    )
+    .unwrap();
     let out = twin_cmd().arg("check").arg(&path).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
 #[test]
 fn malformed_scenes_give_one_line_errors_naming_file_and_place() {
-    let e = check_fails(&GOOD.replace("in_position_window", "in_position_windw"), &[], "unknown_field");
+    let e = check_fails(
+        &GOOD.replace("in_position_window", "in_position_windw"),
+        &[],
+        "unknown_field",
+    );
     assert!(e.contains("scene.toml:") && e.contains("in_position_windw"), "{e}");
     let e = check_fails(&GOOD.replace("Position := 90.0", "Position = 90.0"), &[], "bad_st");
     assert!(e.contains("scene.toml:") && e.contains(":="), "{e}");
-    let e = check_fails(&GOOD.replace("indexing_table.urdf\"", "missing.urdf\""), &[], "missing_urdf");
+    let e = check_fails(
+        &GOOD.replace("indexing_table.urdf\"", "missing.urdf\""),
+        &[],
+        "missing_urdf",
+    );
     assert!(e.contains("missing.urdf") && e.contains("robot.urdf"), "{e}");
-    let e = check_fails(&GOOD.replace("joint = \"platter_joint\"", "joint = \"no_such_joint\""), &[], "missing_joint");
+    let e = check_fails(
+        &GOOD.replace("joint = \"platter_joint\"", "joint = \"no_such_joint\""),
+        &[],
+        "missing_joint",
+    );
     assert!(e.contains("scene.toml:") && e.contains("no_such_joint"), "{e}");
     // A URDF whose mesh is broken (truncated binary STL).
     let urdf = r#"<robot name="r"><link name="base"/><link name="arm"><visual><geometry><mesh filename="broken.stl"/></geometry></visual></link>
 <joint name="j" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint></robot>"#;
-    let scene = GOOD.replace("@ROBOTS@/indexing_table/indexing_table.urdf", "r.urdf").replace("platter_joint", "j");
-    let e = check_fails(&scene, &[("r.urdf", urdf.as_bytes()), ("broken.stl", &[0u8; 90])], "broken_mesh");
+    let scene = GOOD
+        .replace("@ROBOTS@/indexing_table/indexing_table.urdf", "r.urdf")
+        .replace("platter_joint", "j");
+    let e = check_fails(
+        &scene,
+        &[("r.urdf", urdf.as_bytes()), ("broken.stl", &[0u8; 90])],
+        "broken_mesh",
+    );
     assert!(e.contains("broken.stl"), "{e}");
 }
 
@@ -266,5 +353,8 @@ fn run_help_shows_examples() {
     let out = twin_cmd().args(["run", "--help"]).output().unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success());
-    assert!(text.contains("Examples:") && text.contains("twin run scenes/indexing_table.toml"), "{text}");
+    assert!(
+        text.contains("Examples:") && text.contains("twin run scenes/indexing_table.toml"),
+        "{text}"
+    );
 }

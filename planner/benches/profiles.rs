@@ -16,7 +16,11 @@ fn planning(c: &mut Criterion) {
     c.bench_function("s_curve_plan_rest_to_rest", |b| {
         b.iter(|| Profile::to_position(black_box(State::at_rest(0.0)), black_box(123.4), 0.0, &limits))
     });
-    let moving = State { position: 10.0, velocity: 300.0, acceleration: -500.0 };
+    let moving = State {
+        position: 10.0,
+        velocity: 300.0,
+        acceleration: -500.0,
+    };
     c.bench_function("s_curve_plan_moving_start_with_blend", |b| {
         b.iter(|| Profile::to_position(black_box(moving), black_box(400.0), black_box(200.0), &limits))
     });

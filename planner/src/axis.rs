@@ -114,7 +114,10 @@ impl AxisConfig {
         if let Some(p) = self.modulo_period
             && self.modulo_tolerance_window >= p / 2.0
         {
-            return Err(AxisConfigError::ToleranceWindowTooWide { window: self.modulo_tolerance_window, period: p });
+            return Err(AxisConfigError::ToleranceWindowTooWide {
+                window: self.modulo_tolerance_window,
+                period: p,
+            });
         }
         Ok(())
     }
@@ -162,11 +165,19 @@ pub enum AxisConfigError {
 }
 
 fn positive(field: &'static str, value: f64) -> Result<f64, AxisConfigError> {
-    if value.is_finite() && value > 0.0 { Ok(value) } else { Err(AxisConfigError::NotPositive { field, value }) }
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(AxisConfigError::NotPositive { field, value })
+    }
 }
 
 fn non_negative(field: &'static str, value: f64) -> Result<f64, AxisConfigError> {
-    if value.is_finite() && value >= 0.0 { Ok(value) } else { Err(AxisConfigError::Negative { field, value }) }
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(AxisConfigError::Negative { field, value })
+    }
 }
 
 /// What an axis reports after a coarse update.
@@ -213,15 +224,33 @@ mod tests {
         let mut c = AxisConfig::new("A", AxisKind::Rotary);
         assert_eq!(c.validate(), Ok(()));
         c.max_velocity = f64::NAN;
-        assert!(matches!(c.validate(), Err(AxisConfigError::NotPositive { field: "max_velocity", .. })));
+        assert!(matches!(
+            c.validate(),
+            Err(AxisConfigError::NotPositive {
+                field: "max_velocity",
+                ..
+            })
+        ));
         c.max_velocity = 1.0;
         c.max_jerk = -1.0;
-        assert!(matches!(c.validate(), Err(AxisConfigError::Negative { field: "max_jerk", .. })));
+        assert!(matches!(
+            c.validate(),
+            Err(AxisConfigError::Negative { field: "max_jerk", .. })
+        ));
         c.max_jerk = 0.0;
         c.modulo_period = Some(0.0);
-        assert!(matches!(c.validate(), Err(AxisConfigError::NotPositive { field: "modulo_period", .. })));
+        assert!(matches!(
+            c.validate(),
+            Err(AxisConfigError::NotPositive {
+                field: "modulo_period",
+                ..
+            })
+        ));
         c.modulo_period = Some(360.0);
         c.modulo_tolerance_window = 180.0;
-        assert!(matches!(c.validate(), Err(AxisConfigError::ToleranceWindowTooWide { .. })));
+        assert!(matches!(
+            c.validate(),
+            Err(AxisConfigError::ToleranceWindowTooWide { .. })
+        ));
     }
 }

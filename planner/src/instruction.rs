@@ -130,11 +130,17 @@ mod tests {
 
     #[test]
     fn bits_by_name() {
-        let b = MotionInstructionBits { pc: true, ..Default::default() };
+        let b = MotionInstructionBits {
+            pc: true,
+            ..Default::default()
+        };
         assert_eq!(b.bit("PC"), Some(true));
         assert_eq!(b.bit("ip"), Some(false));
         assert_eq!(b.bit("XX"), None);
-        let o = FbOutputs { done: true, ..Default::default() };
+        let o = FbOutputs {
+            done: true,
+            ..Default::default()
+        };
         assert_eq!(o.bit("Done"), Some(true));
         assert_eq!(o.bit("CommandAborted"), Some(false));
         assert_eq!(o.bit("ErrorID"), None);

@@ -9,8 +9,8 @@
 //! * [`modulo`] — MC_MoveModulo.
 //! * [`task`] — the coarse-update executor that owns axes and commands.
 
-pub mod profile;
 pub mod axis;
 pub mod instruction;
 pub mod modulo;
+pub mod profile;
 pub mod task;

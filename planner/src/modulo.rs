@@ -291,8 +291,14 @@ impl MoveModuloError {
         match self {
             Self::Velocity { .. } => ErrorId::VELOCITY,
             Self::Position { .. } => ErrorId::POSITION,
-            Self::Rate { operand: "Acceleration", .. } => ErrorId::ACCELERATION,
-            Self::Rate { operand: "Deceleration", .. } => ErrorId::DECELERATION,
+            Self::Rate {
+                operand: "Acceleration",
+                ..
+            } => ErrorId::ACCELERATION,
+            Self::Rate {
+                operand: "Deceleration",
+                ..
+            } => ErrorId::DECELERATION,
             Self::Rate { .. } => ErrorId::JERK,
             Self::Direction { .. } => ErrorId::DIRECTION,
             Self::BufferMode { .. } => ErrorId::BUFFER_MODE,
@@ -332,17 +338,26 @@ impl MoveModulo {
     /// axis without modulo period.
     pub fn new(inputs: &MoveModuloInputs, axis: &AxisConfig) -> Result<Self, MoveModuloError> {
         if !(inputs.position.is_finite() && inputs.position >= 0.0) {
-            return Err(MoveModuloError::Position { position: inputs.position });
+            return Err(MoveModuloError::Position {
+                position: inputs.position,
+            });
         }
         let v = inputs.velocity;
         if !(v.is_finite() && v > 0.0 && v <= axis.max_velocity) {
-            return Err(MoveModuloError::Velocity { velocity: v, max: axis.max_velocity });
+            return Err(MoveModuloError::Velocity {
+                velocity: v,
+                max: axis.max_velocity,
+            });
         }
         let acc = rate("Acceleration", inputs.acceleration, axis.max_acceleration)?;
         let dec = rate("Deceleration", inputs.deceleration, axis.max_deceleration)?;
         let jerk = rate("Jerk", inputs.jerk, axis.max_jerk)?;
         let modulo = axis.modulo().ok_or(MoveModuloError::NotModulo)?;
-        let limits = if jerk > 0.0 { Limits::s_curve(v, acc, dec, jerk, jerk) } else { Limits::trapezoidal(v, acc, dec) };
+        let limits = if jerk > 0.0 {
+            Limits::s_curve(v, acc, dec, jerk, jerk)
+        } else {
+            Limits::trapezoidal(v, acc, dec)
+        };
         let limits = limits.map_err(|_| MoveModuloError::AxisLimits)?;
         Ok(Self {
             position: inputs.position,
@@ -380,7 +395,13 @@ impl MoveModulo {
         let here = self.modulo.wrap(start.position);
         let turns = (self.position / period).floor();
         let goal = self.modulo.wrap(self.position - turns * period);
-        let ahead = |dir: f64| if dir > 0.0 { self.modulo.wrap(goal - here) } else { self.modulo.wrap(here - goal) };
+        let ahead = |dir: f64| {
+            if dir > 0.0 {
+                self.modulo.wrap(goal - here)
+            } else {
+                self.modulo.wrap(here - goal)
+            }
+        };
 
         if start.velocity != 0.0 {
             // Never reverse; shortest path that still allows braking.
@@ -403,7 +424,13 @@ impl MoveModulo {
             let dir = match self.direction {
                 McDirection::Positive => 1.0,
                 McDirection::Negative => -1.0,
-                McDirection::ShortestWay => if shortest < 0.0 { -1.0 } else { 1.0 },
+                McDirection::ShortestWay => {
+                    if shortest < 0.0 {
+                        -1.0
+                    } else {
+                        1.0
+                    }
+                }
                 McDirection::CurrentDirection => last,
             };
             shortest + dir * extra
@@ -437,7 +464,13 @@ mod tests {
     }
 
     fn cmd(position: f64, direction: McDirection) -> MoveModulo {
-        let inputs = MoveModuloInputs { execute: true, position, velocity: 180.0, direction, ..Default::default() };
+        let inputs = MoveModuloInputs {
+            execute: true,
+            position,
+            velocity: 180.0,
+            direction,
+            ..Default::default()
+        };
         MoveModulo::new(&inputs, &axis(0.0)).unwrap()
     }
 
@@ -449,7 +482,12 @@ mod tests {
     /// and if positioning to 90 degrees is required, no movement is carried out."
     #[test]
     fn spec_at_exactly_90_asked_90_does_not_move() {
-        for dir in [McDirection::Positive, McDirection::Negative, McDirection::ShortestWay, McDirection::CurrentDirection] {
+        for dir in [
+            McDirection::Positive,
+            McDirection::Negative,
+            McDirection::ShortestWay,
+            McDirection::CurrentDirection,
+        ] {
             assert_eq!(target_from(90.0, 90.0, dir), 0.0, "{dir:?}");
         }
     }
@@ -472,10 +510,26 @@ mod tests {
         let over = target_from(90.0001, 90.0, McDirection::Positive);
         assert!((over - 359.9999).abs() < 1e-9, "{over}");
         // With a tolerance window covering the difference: the shortest way.
-        let c = MoveModulo::new(&MoveModuloInputs { position: 90.0, velocity: 180.0, ..Default::default() }, &axis(0.01)).unwrap();
+        let c = MoveModulo::new(
+            &MoveModuloInputs {
+                position: 90.0,
+                velocity: 180.0,
+                ..Default::default()
+            },
+            &axis(0.01),
+        )
+        .unwrap();
         let t = c.absolute_target(State::at_rest(90.0001), 1.0);
         assert!((t - 90.0).abs() < 1e-9, "{t}");
-        let c = MoveModulo::new(&MoveModuloInputs { position: 450.0, velocity: 180.0, ..Default::default() }, &axis(0.01)).unwrap();
+        let c = MoveModulo::new(
+            &MoveModuloInputs {
+                position: 450.0,
+                velocity: 180.0,
+                ..Default::default()
+            },
+            &axis(0.01),
+        )
+        .unwrap();
         let t = c.absolute_target(State::at_rest(90.0001), 1.0);
         assert!((t - 450.0).abs() < 1e-9, "one explicit turn from the window: {t}");
     }
@@ -507,7 +561,10 @@ mod tests {
         ];
         for (start, position, dir, want) in table {
             let got = target_from(start, position, dir);
-            assert!((got - want).abs() < 1e-9, "{start} -> {position} {dir:?}: got {got}, want {want}");
+            assert!(
+                (got - want).abs() < 1e-9,
+                "{start} -> {position} {dir:?}: got {got}, want {want}"
+            );
         }
         // Current direction after a negative motion.
         let c = cmd(200.0, CurrentDirection);
@@ -518,15 +575,27 @@ mod tests {
     fn while_moving_keeps_the_direction_and_ignores_turns() {
         let c = cmd(720.0 + 90.0, McDirection::Negative);
         // Moving positive at 180°/s, far enough to brake before 90.
-        let start = State { position: 0.0, velocity: 180.0, acceleration: 0.0 };
+        let start = State {
+            position: 0.0,
+            velocity: 180.0,
+            acceleration: 0.0,
+        };
         let t = c.absolute_target(start, 1.0);
         assert!((t - 90.0).abs() < 1e-9, "{t}");
         // Too close to brake: one more period.
-        let start = State { position: 89.0, velocity: 180.0, acceleration: 0.0 };
+        let start = State {
+            position: 89.0,
+            velocity: 180.0,
+            acceleration: 0.0,
+        };
         let t = c.absolute_target(start, 1.0);
         assert!((t - 450.0).abs() < 1e-9, "{t}");
         // Moving negative.
-        let start = State { position: 200.0, velocity: -180.0, acceleration: 0.0 };
+        let start = State {
+            position: 200.0,
+            velocity: -180.0,
+            acceleration: 0.0,
+        };
         let t = c.absolute_target(start, 1.0);
         assert!((t - 90.0).abs() < 1e-9, "{t}");
     }
@@ -545,30 +614,81 @@ mod tests {
     /// Every operand fed NaN, ±inf, negative and zero gives its ErrorID.
     #[test]
     fn bad_operands_give_their_error_id() {
-        let good = MoveModuloInputs { execute: true, position: 10.0, velocity: 10.0, ..Default::default() };
+        let good = MoveModuloInputs {
+            execute: true,
+            position: 10.0,
+            velocity: 10.0,
+            ..Default::default()
+        };
         let a = axis(0.0);
         assert!(MoveModulo::new(&good, &a).is_ok());
         let id = |i: MoveModuloInputs| MoveModulo::new(&i, &a).map(|_| ()).map_err(|e| e.error_id());
         for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0] {
-            assert_eq!(id(MoveModuloInputs { position: bad, ..good }), Err(ErrorId::POSITION), "{bad}");
-            assert_eq!(id(MoveModuloInputs { velocity: bad, ..good }), Err(ErrorId::VELOCITY), "{bad}");
-            assert_eq!(id(MoveModuloInputs { acceleration: bad, ..good }), Err(ErrorId::ACCELERATION), "{bad}");
-            assert_eq!(id(MoveModuloInputs { deceleration: bad, ..good }), Err(ErrorId::DECELERATION), "{bad}");
+            assert_eq!(
+                id(MoveModuloInputs { position: bad, ..good }),
+                Err(ErrorId::POSITION),
+                "{bad}"
+            );
+            assert_eq!(
+                id(MoveModuloInputs { velocity: bad, ..good }),
+                Err(ErrorId::VELOCITY),
+                "{bad}"
+            );
+            assert_eq!(
+                id(MoveModuloInputs {
+                    acceleration: bad,
+                    ..good
+                }),
+                Err(ErrorId::ACCELERATION),
+                "{bad}"
+            );
+            assert_eq!(
+                id(MoveModuloInputs {
+                    deceleration: bad,
+                    ..good
+                }),
+                Err(ErrorId::DECELERATION),
+                "{bad}"
+            );
             assert_eq!(id(MoveModuloInputs { jerk: bad, ..good }), Err(ErrorId::JERK), "{bad}");
         }
         // Zero: legal for Position and the rates (axis default), not Velocity.
         assert_eq!(id(MoveModuloInputs { position: 0.0, ..good }), Ok(()));
         assert_eq!(id(MoveModuloInputs { velocity: 0.0, ..good }), Err(ErrorId::VELOCITY));
-        assert_eq!(id(MoveModuloInputs { acceleration: 0.0, deceleration: 0.0, jerk: 0.0, ..good }), Ok(()));
-        assert_eq!(id(MoveModuloInputs { velocity: 721.0, ..good }), Err(ErrorId::VELOCITY));
+        assert_eq!(
+            id(MoveModuloInputs {
+                acceleration: 0.0,
+                deceleration: 0.0,
+                jerk: 0.0,
+                ..good
+            }),
+            Ok(())
+        );
+        assert_eq!(
+            id(MoveModuloInputs {
+                velocity: 721.0,
+                ..good
+            }),
+            Err(ErrorId::VELOCITY)
+        );
         let linear = AxisConfig::new("X", AxisKind::Linear);
-        assert_eq!(MoveModulo::new(&MoveModuloInputs { velocity: 0.5, ..good }, &linear).map(|_| ()).map_err(|e| e.error_id()),
-            Err(ErrorId::NOT_MODULO));
+        assert_eq!(
+            MoveModulo::new(&MoveModuloInputs { velocity: 0.5, ..good }, &linear)
+                .map(|_| ())
+                .map_err(|e| e.error_id()),
+            Err(ErrorId::NOT_MODULO)
+        );
         assert_eq!(McDirection::from_code(0), None);
         assert_eq!(McDirection::from_code(4), Some(McDirection::CurrentDirection));
         assert_eq!(McBufferMode::from_code(6), None);
-        assert_eq!(McBufferMode::from_name("MC_BlendingHigh"), Some(McBufferMode::BlendingHigh));
-        assert_eq!(McDirection::from_name("mc_shortest_way"), Some(McDirection::ShortestWay));
+        assert_eq!(
+            McBufferMode::from_name("MC_BlendingHigh"),
+            Some(McBufferMode::BlendingHigh)
+        );
+        assert_eq!(
+            McDirection::from_name("mc_shortest_way"),
+            Some(McDirection::ShortestWay)
+        );
         assert_eq!(MoveModuloError::Direction { code: 9 }.error_id(), ErrorId::DIRECTION);
         assert_eq!(MoveModuloError::BufferMode { code: 9 }.error_id(), ErrorId::BUFFER_MODE);
     }

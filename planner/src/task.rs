@@ -108,7 +108,12 @@ impl MotionTask {
         if !(dt_s.is_finite() && dt_s > 0.0 && dt_s <= 1.0) {
             return Err(TaskError::Period { dt_s });
         }
-        Ok(Self { dt_s, updates: 0, axes: Vec::new(), fbs: Vec::new() })
+        Ok(Self {
+            dt_s,
+            updates: 0,
+            axes: Vec::new(),
+            fbs: Vec::new(),
+        })
     }
 
     /// The coarse update period in seconds.
@@ -132,14 +137,22 @@ impl MotionTask {
     /// # Errors
     /// [`TaskError::Axis`] when the configuration or the position is invalid.
     pub fn add_axis(&mut self, config: AxisConfig, initial_position: f64) -> Result<AxisHandle, TaskError> {
-        let err = |source| TaskError::Axis { name: config.name.clone(), source };
+        let err = |source| TaskError::Axis {
+            name: config.name.clone(),
+            source,
+        };
         config.validate().map_err(err)?;
         if !initial_position.is_finite() {
-            return Err(err(AxisConfigError::InitialPosition { value: initial_position }));
+            return Err(err(AxisConfigError::InitialPosition {
+                value: initial_position,
+            }));
         }
         self.axes.push(AxisSlot {
             config,
-            command: Sample { position: initial_position, ..Sample::default() },
+            command: Sample {
+                position: initial_position,
+                ..Sample::default()
+            },
             actual: initial_position,
             fed: false,
             last_direction: 1.0,
@@ -227,7 +240,10 @@ impl MotionTask {
     /// aborted (`CommandAborted`).
     pub fn reset_axis(&mut self, axis: AxisHandle) {
         let a = &mut self.axes[axis.0 as usize];
-        a.command = Sample { position: a.actual, ..Sample::default() };
+        a.command = Sample {
+            position: a.actual,
+            ..Sample::default()
+        };
         let job_fb = a.job.take().and_then(|j| j.fb);
         let buffered_fb = a.buffered.take().map(|(fb, _)| fb);
         for fb in job_fb.into_iter().chain(buffered_fb) {
@@ -286,7 +302,10 @@ impl MotionTask {
                     return self.finish(fb, Finish::Error(MoveModuloError::BufferFull));
                 }
                 a.buffered = Some((fb, command));
-                let blend = a.job.as_ref().and_then(|j| mode.junction_velocity(j.command.velocity(), command.velocity()));
+                let blend = a
+                    .job
+                    .as_ref()
+                    .and_then(|j| mode.junction_velocity(j.command.velocity(), command.velocity()));
                 if let (Some(vj), Some(job)) = (blend, a.job.as_mut())
                     && !job.generation_done
                 {
@@ -317,13 +336,24 @@ impl MotionTask {
         let state = a.command.state();
         let target = command.absolute_target(state, a.last_direction);
         let profile = Profile::to_position(state, target, 0.0, command.limits());
-        a.job = Some(Job { fb: Some(fb), command, profile, t_s: 0.0, target, generation_done: false });
+        a.job = Some(Job {
+            fb: Some(fb),
+            command,
+            profile,
+            t_s: 0.0,
+            target,
+            generation_done: false,
+        });
         for other in aborted {
             self.finish(other, Finish::Aborted);
         }
         let slot = &mut self.fbs[fb.0 as usize];
         slot.phase = Phase::Active;
-        slot.outputs = FbOutputs { busy: true, active: true, ..FbOutputs::default() };
+        slot.outputs = FbOutputs {
+            busy: true,
+            active: true,
+            ..FbOutputs::default()
+        };
         if let Some(t) = elapsed_s {
             let a = &mut self.axes[axis.0 as usize];
             if let Some(job) = a.job.as_mut() {
@@ -347,7 +377,12 @@ impl MotionTask {
                 if end.velocity != 0.0 {
                     // Blend hand-over: the buffered command takes over moving.
                     let finished = job.fb;
-                    a.command = Sample { position: end.position, velocity: end.velocity, acceleration: 0.0, jerk: 0.0 };
+                    a.command = Sample {
+                        position: end.position,
+                        velocity: end.velocity,
+                        acceleration: 0.0,
+                        jerk: 0.0,
+                    };
                     if let Some((next_fb, next)) = a.buffered.take() {
                         if let Some(fb) = finished {
                             self.finish(fb, Finish::Done);
@@ -382,7 +417,8 @@ impl MotionTask {
         if !job.generation_done {
             return;
         }
-        let in_position = !a.config.target_position_monitoring || (a.actual - job.target).abs() <= a.config.in_position_window;
+        let in_position =
+            !a.config.target_position_monitoring || (a.actual - job.target).abs() <= a.config.in_position_window;
         if !in_position {
             return;
         }
@@ -416,9 +452,19 @@ impl MotionTask {
         let slot = &mut self.fbs[fb.0 as usize];
         slot.phase = Phase::Finished { at_update: updates };
         slot.outputs = match how {
-            Finish::Done => FbOutputs { done: true, ..FbOutputs::default() },
-            Finish::Aborted => FbOutputs { command_aborted: true, ..FbOutputs::default() },
-            Finish::Error(e) => FbOutputs { error: true, error_id: e.error_id().0, ..FbOutputs::default() },
+            Finish::Done => FbOutputs {
+                done: true,
+                ..FbOutputs::default()
+            },
+            Finish::Aborted => FbOutputs {
+                command_aborted: true,
+                ..FbOutputs::default()
+            },
+            Finish::Error(e) => FbOutputs {
+                error: true,
+                error_id: e.error_id().0,
+                ..FbOutputs::default()
+            },
         };
     }
 

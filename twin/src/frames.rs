@@ -34,10 +34,14 @@ fn geometry_mesh(geometry: &Geometry) -> TriMesh {
         Geometry::Sphere { radius } => TriMesh::sphere(*radius as f32, SEGMENTS / 2, SEGMENTS),
         Geometry::Mesh { scale, mesh, .. } => {
             let s = [scale[0] as f32, scale[1] as f32, scale[2] as f32];
-            let m = [[s[0], 0.0, 0.0, 0.0], [0.0, s[1], 0.0, 0.0], [0.0, 0.0, s[2], 0.0], [0.0, 0.0, 0.0, 1.0]];
+            let m = [
+                [s[0], 0.0, 0.0, 0.0],
+                [0.0, s[1], 0.0, 0.0],
+                [0.0, 0.0, s[2], 0.0],
+                [0.0, 0.0, 0.0, 1.0],
+            ];
             mesh.transformed(&m)
         }
-        _ => TriMesh::default(),
     }
 }
 
@@ -67,10 +71,21 @@ pub fn scene_parts(model: &RobotModel, scene: &Scene) -> Result<Vec<Part>, Strin
             Shape::Cylinder { radius_m, length_m } => TriMesh::cylinder(*radius_m as f32, *length_m as f32, SEGMENTS),
             Shape::Sphere { radius_m } => TriMesh::sphere(*radius_m as f32, SEGMENTS / 2, SEGMENTS),
             Shape::Mesh { path, scale } => {
-                let mesh = crate::stl::load_stl(path)
-                    .map_err(|e| format!("{}: obstacle '{}': mesh {}: {e}", scene.path.display(), o.name, path.display()))?;
+                let mesh = crate::stl::load_stl(path).map_err(|e| {
+                    format!(
+                        "{}: obstacle '{}': mesh {}: {e}",
+                        scene.path.display(),
+                        o.name,
+                        path.display()
+                    )
+                })?;
                 let s = [scale[0] as f32, scale[1] as f32, scale[2] as f32];
-                mesh.transformed(&[[s[0], 0.0, 0.0, 0.0], [0.0, s[1], 0.0, 0.0], [0.0, 0.0, s[2], 0.0], [0.0, 0.0, 0.0, 1.0]])
+                mesh.transformed(&[
+                    [s[0], 0.0, 0.0, 0.0],
+                    [0.0, s[1], 0.0, 0.0],
+                    [0.0, 0.0, s[2], 0.0],
+                    [0.0, 0.0, 0.0, 1.0],
+                ])
             }
         };
         let [r, p, y] = o.rpy_deg.map(f64::to_radians);
@@ -78,7 +93,13 @@ pub fn scene_parts(model: &RobotModel, scene: &Scene) -> Result<Vec<Part>, Strin
             Translation3::new(o.position_m[0], o.position_m[1], o.position_m[2]),
             UnitQuaternion::from_euler_angles(r, p, y),
         );
-        parts.push(Part { mesh, link: None, parent_from_mesh: pose, color_rgba: o.color.map(|c| c as f32), name: o.name.clone() });
+        parts.push(Part {
+            mesh,
+            link: None,
+            parent_from_mesh: pose,
+            color_rgba: o.color.map(|c| c as f32),
+            name: o.name.clone(),
+        });
     }
     Ok(parts)
 }
@@ -108,4 +129,3 @@ pub fn column_major(iso: &Isometry3<f64>) -> [[f32; 4]; 4] {
     }
     out
 }
-

@@ -78,9 +78,25 @@ fn main() -> ExitCode {
     }
 }
 
+/// An error and its causes on one line, skipping causes its text already
+/// contains.
+fn one_line(e: &dyn std::error::Error) -> anyhow::Error {
+    let mut text = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        let part = s.to_string();
+        if !text.contains(&part) {
+            text.push_str(": ");
+            text.push_str(&part);
+        }
+        source = s.source();
+    }
+    anyhow::anyhow!(text.replace('\n', " "))
+}
+
 fn load(path: &Path) -> Result<Twin> {
-    let scene = scene::load(path).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let twin = Twin::new(scene).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let scene = scene::load(path).map_err(|e| one_line(&e))?;
+    let twin = Twin::new(scene).map_err(|e| one_line(&e))?;
     twin::frames::scene_parts(twin.model(), twin.scene()).map_err(|e| anyhow::anyhow!("{e}"))?;
     Ok(twin)
 }
@@ -98,9 +114,26 @@ fn check(path: &Path) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Creates the folder an output file goes into.
+fn parent_dir(flag: &str, path: &Path) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        fs::create_dir_all(dir).with_context(|| format!("{flag}: cannot create folder {}", dir.display()))?;
+    }
+    Ok(())
+}
+
 fn run(args: &RunArgs) -> Result<ExitCode> {
     let wall = Instant::now();
     let mut twin = load(&args.scene)?;
+    for (flag, path) in [
+        ("--trace", &args.trace),
+        ("--summary", &args.summary),
+        ("--save", &args.save),
+    ] {
+        if let Some(p) = path {
+            parent_dir(flag, p)?;
+        }
+    }
     let mut trace = match &args.trace {
         Some(p) => {
             let f = fs::File::create(p).with_context(|| format!("--trace: cannot create {}", p.display()))?;
@@ -133,7 +166,8 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
     }
     progress.finish();
     if let Some((mut w, p)) = trace {
-        w.flush().with_context(|| format!("--trace: cannot write {}", p.display()))?;
+        w.flush()
+            .with_context(|| format!("--trace: cannot write {}", p.display()))?;
     }
     recording.finish()?;
     let summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), frames.written());
@@ -157,7 +191,11 @@ struct Progress {
 
 impl Progress {
     fn new(total: u64) -> Self {
-        Self { total: total.max(1), shown: false, last_percent: u64::MAX }
+        Self {
+            total: total.max(1),
+            shown: false,
+            last_percent: u64::MAX,
+        }
     }
 
     fn tick(&mut self, done: u64, wall: &Instant) {

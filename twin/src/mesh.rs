@@ -96,12 +96,8 @@ impl TriMesh {
                 [r * c1, r * s1, hz],
                 [r * c0, r * s0, hz],
             ]);
-            mesh.normals.extend_from_slice(&[
-                [c0, s0, 0.0],
-                [c1, s1, 0.0],
-                [c1, s1, 0.0],
-                [c0, s0, 0.0],
-            ]);
+            mesh.normals
+                .extend_from_slice(&[[c0, s0, 0.0], [c1, s1, 0.0], [c1, s1, 0.0], [c0, s0, 0.0]]);
             mesh.indices
                 .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
         }
@@ -192,9 +188,8 @@ impl TriMesh {
     #[must_use]
     pub fn transformed(&self, new_from_mesh: &[[f32; 4]; 4]) -> TriMesh {
         let m = new_from_mesh;
-        let linear = |v: [f32; 3]| -> [f32; 3] {
-            std::array::from_fn(|r| m[0][r] * v[0] + m[1][r] * v[1] + m[2][r] * v[2])
-        };
+        let linear =
+            |v: [f32; 3]| -> [f32; 3] { std::array::from_fn(|r| m[0][r] * v[0] + m[1][r] * v[1] + m[2][r] * v[2]) };
         let cof = cofactor3([
             [m[0][0], m[0][1], m[0][2]],
             [m[1][0], m[1][1], m[1][2]],
@@ -216,9 +211,8 @@ impl TriMesh {
             .map(|&n| {
                 // Cofactor matrix = det * inverse transpose; the sign of det
                 // is restored so mirrored normals still point outward.
-                let t: [f32; 3] = std::array::from_fn(|r| {
-                    sign * (cof[0][r] * n[0] + cof[1][r] * n[1] + cof[2][r] * n[2])
-                });
+                let t: [f32; 3] =
+                    std::array::from_fn(|r| sign * (cof[0][r] * n[0] + cof[1][r] * n[1] + cof[2][r] * n[2]));
                 normalized(t).unwrap_or(n)
             })
             .collect();
@@ -299,10 +293,7 @@ mod tests {
         assert_eq!(mesh.indices.len() % 3, 0);
         assert!(!mesh.indices.is_empty());
         for &i in &mesh.indices {
-            assert!(
-                (i as usize) < mesh.positions.len(),
-                "index {i} out of range"
-            );
+            assert!((i as usize) < mesh.positions.len(), "index {i} out of range");
         }
         for n in &mesh.normals {
             let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
@@ -352,10 +343,7 @@ mod tests {
             }
         }
         for (edge, balance) in edges {
-            assert_eq!(
-                balance, 0,
-                "edge {edge:?} is not shared by opposite triangles"
-            );
+            assert_eq!(balance, 0, "edge {edge:?} is not shared by opposite triangles");
         }
     }
 
@@ -381,9 +369,7 @@ mod tests {
         let (zmin, zmax) = m
             .positions
             .iter()
-            .fold((f32::MAX, f32::MIN), |(lo, hi), p| {
-                (lo.min(p[2]), hi.max(p[2]))
-            });
+            .fold((f32::MAX, f32::MIN), |(lo, hi), p| (lo.min(p[2]), hi.max(p[2])));
         assert_eq!((zmin, zmax), (-0.25, 0.25));
         // An inscribed n-gon prism has area n/2 r^2 sin(2 pi / n).
         let n = 48.0_f64;
@@ -427,14 +413,8 @@ mod tests {
 
     #[test]
     fn negative_dimensions_are_taken_as_absolute() {
-        assert_eq!(
-            TriMesh::cuboid([-1.0, 2.0, -3.0]),
-            TriMesh::cuboid([1.0, 2.0, 3.0])
-        );
-        assert_eq!(
-            TriMesh::cylinder(-1.0, -2.0, 8),
-            TriMesh::cylinder(1.0, 2.0, 8)
-        );
+        assert_eq!(TriMesh::cuboid([-1.0, 2.0, -3.0]), TriMesh::cuboid([1.0, 2.0, 3.0]));
+        assert_eq!(TriMesh::cylinder(-1.0, -2.0, 8), TriMesh::cylinder(1.0, 2.0, 8));
     }
 
     #[test]

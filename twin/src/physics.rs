@@ -34,14 +34,11 @@
 
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use rapier3d_f64::prelude::{
-    ColliderBuilder, GenericJoint, GenericJointBuilder, Group, InteractionGroups,
-    InteractionTestMode, JointAxesMask, JointAxis, MassProperties, MotorModel,
-    MultibodyJointHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
+    ColliderBuilder, GenericJoint, GenericJointBuilder, Group, InteractionGroups, InteractionTestMode, JointAxesMask,
+    JointAxis, MassProperties, MotorModel, MultibodyJointHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
 };
 
-use crate::convert::{
-    isometry_to_arrays, matrix_to_rapier, pose_from_rapier, pose_to_rapier, vector_to_rapier,
-};
+use crate::convert::{isometry_to_arrays, matrix_to_rapier, pose_from_rapier, pose_to_rapier, vector_to_rapier};
 use crate::urdf::{Geometry, Joint, JointKind, RobotModel};
 
 /// The collision group every robot link is a member of and filters out.
@@ -134,9 +131,7 @@ pub enum PhysicsError {
         joint: String,
     },
     /// A drive gain is negative or not finite, or `max_force` is not positive.
-    #[error(
-        "joint {joint}: invalid drive gains (stiffness {stiffness}, damping {damping}, max force {max_force:?})"
-    )]
+    #[error("joint {joint}: invalid drive gains (stiffness {stiffness}, damping {damping}, max force {max_force:?})")]
     InvalidDrive {
         /// The joint.
         joint: String,
@@ -235,11 +230,9 @@ impl RobotSim {
     ) -> Result<RobotSim, PhysicsError> {
         validate_options(&options)?;
         let movable_joint = |name: &str| {
-            let index = model
-                .joint_by_name(name)
-                .ok_or_else(|| PhysicsError::UnknownJoint {
-                    joint: name.to_string(),
-                })?;
+            let index = model.joint_by_name(name).ok_or_else(|| PhysicsError::UnknownJoint {
+                joint: name.to_string(),
+            })?;
             if model.joint(index).kind.is_movable() {
                 Ok(index.0)
             } else {
@@ -308,11 +301,7 @@ impl RobotSim {
                 .build();
             let handle = world.bodies.insert(body);
             for collision in &link.collisions {
-                let Some(collider) = collider_builder(
-                    &collision.geometry,
-                    &collision.link_from_collision,
-                    &link.name,
-                )?
+                let Some(collider) = collider_builder(&collision.geometry, &collision.link_from_collision, &link.name)?
                 else {
                     continue;
                 };
@@ -331,12 +320,7 @@ impl RobotSim {
             let data = rapier_joint(joint);
             let handle = world
                 .multibody_joints
-                .insert(
-                    link_bodies[joint.parent.0],
-                    link_bodies[joint.child.0],
-                    data,
-                    true,
-                )
+                .insert(link_bodies[joint.parent.0], link_bodies[joint.child.0], data, true)
                 .ok_or_else(|| PhysicsError::Multibody {
                     joint: joint.name.clone(),
                 })?;
@@ -486,9 +470,7 @@ impl RobotSim {
         self.world
             .multibody_joints
             .get(slot.handle)
-            .and_then(|(multibody, link_id)| {
-                Some(multibody.joint_velocity(multibody.link(link_id)?)[0])
-            })
+            .and_then(|(multibody, link_id)| Some(multibody.joint_velocity(multibody.link(link_id)?)[0]))
             .unwrap_or(f64::NAN)
     }
 
@@ -541,10 +523,8 @@ fn dof_axis(kind: JointKind) -> JointAxis {
 /// `parent_from_child(q) = parent_from_joint · R · motion_x(q) · R⁻¹
 /// = parent_from_joint · motion_axis(q)` with `R·x̂ = axis`.
 fn rapier_joint(joint: &Joint) -> GenericJoint {
-    let x_to_axis =
-        UnitQuaternion::rotation_between(&Vector3::x(), &joint.axis).unwrap_or_else(|| {
-            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), std::f64::consts::PI)
-        });
+    let x_to_axis = UnitQuaternion::rotation_between(&Vector3::x(), &joint.axis)
+        .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::z_axis(), std::f64::consts::PI));
     let joint_from_dof = Isometry3::from_parts(nalgebra::Translation3::identity(), x_to_axis);
     let locked = match joint.kind {
         JointKind::Revolute | JointKind::Continuous => JointAxesMask::LOCKED_REVOLUTE_AXES,
@@ -567,8 +547,7 @@ fn mass_properties(link: &crate::urdf::Link, options: &PhysicsOptions) -> MassPr
     match &link.inertial {
         Some(inertial) => {
             let rotation = inertial.link_from_inertial.rotation.to_rotation_matrix();
-            let inertia_in_link =
-                rotation.matrix() * inertial.inertia_kgm2 * rotation.matrix().transpose();
+            let inertia_in_link = rotation.matrix() * inertial.inertia_kgm2 * rotation.matrix().transpose();
             MassProperties::with_inertia_matrix(
                 vector_to_rapier(&inertial.link_from_inertial.translation.vector),
                 inertial.mass_kg,
@@ -607,8 +586,7 @@ fn collider_builder(
                 return Ok(None);
             }
             // URDF cylinders run along Z, rapier's along Y: turn Y onto Z.
-            link_from_shape *=
-                UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2);
+            link_from_shape *= UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2);
             ColliderBuilder::cylinder(length / 2.0, *radius)
         }
         Geometry::Sphere { radius } => {
@@ -629,11 +607,8 @@ fn collider_builder(
                     ))
                 })
                 .collect();
-            ColliderBuilder::convex_hull(&points).ok_or_else(|| {
-                PhysicsError::DegenerateCollisionMesh {
-                    link: link.to_string(),
-                }
-            })?
+            ColliderBuilder::convex_hull(&points)
+                .ok_or_else(|| PhysicsError::DegenerateCollisionMesh { link: link.to_string() })?
         }
         // Geometry is non_exhaustive; future shapes get no collider until handled here.
         #[allow(unreachable_patterns)]
@@ -765,16 +740,8 @@ mod tests {
         for _ in 0..200 {
             sim.step();
         }
-        assert!(
-            (sim.joint_position(0) + 0.7).abs() < 5e-3,
-            "{}",
-            sim.joint_position(0)
-        );
-        assert!(
-            (sim.joint_position(1) - 0.2).abs() < 5e-3,
-            "{}",
-            sim.joint_position(1)
-        );
+        assert!((sim.joint_position(0) + 0.7).abs() < 5e-3, "{}", sim.joint_position(0));
+        assert!((sim.joint_position(1) - 0.2).abs() < 5e-3, "{}", sim.joint_position(1));
     }
 
     #[test]
@@ -788,13 +755,7 @@ mod tests {
         )
         .unwrap_err();
         assert!(matches!(err, PhysicsError::UnknownJoint { joint } if joint == "elbow"));
-        let err = RobotSim::new(
-            &model,
-            &[],
-            &[("wrist".to_string(), 1.0)],
-            PhysicsOptions::default(),
-        )
-        .unwrap_err();
+        let err = RobotSim::new(&model, &[], &[("wrist".to_string(), 1.0)], PhysicsOptions::default()).unwrap_err();
         assert!(matches!(err, PhysicsError::UnknownJoint { joint } if joint == "wrist"));
         let err = RobotSim::new(
             &model,
@@ -826,12 +787,8 @@ mod tests {
     fn model_forward_kinematics_matches_rapier_link_poses() {
         let model = arm();
         for (shoulder, slide) in [(0.0, 0.0), (0.9, -0.3), (-2.5, 0.45), (FRAC_PI_2, 0.1)] {
-            let q0 = [
-                ("shoulder".to_string(), shoulder),
-                ("slide".to_string(), slide),
-            ];
-            let mut sim =
-                RobotSim::new(&model, &drives(10.0), &q0, PhysicsOptions::default()).unwrap();
+            let q0 = [("shoulder".to_string(), shoulder), ("slide".to_string(), slide)];
+            let mut sim = RobotSim::new(&model, &drives(10.0), &q0, PhysicsOptions::default()).unwrap();
             // At construction and again after motion, at the actual joint positions.
             for round in 0..2 {
                 let q = [sim.joint_position(0), sim.joint_position(1), 0.0];
@@ -867,10 +824,7 @@ mod tests {
                 sim.set_setpoint(0, 0.2 + (3.0 * t).sin(), 3.0 * (3.0 * t).cos());
                 sim.set_setpoint(1, 0.3 * t, 0.3);
                 sim.step();
-                trace.push((
-                    sim.joint_position(0).to_bits(),
-                    sim.joint_position(1).to_bits(),
-                ));
+                trace.push((sim.joint_position(0).to_bits(), sim.joint_position(1).to_bits()));
             }
             let poses: Vec<u64> = sim
                 .world_from_link()
@@ -904,10 +858,7 @@ mod tests {
             sim.set_setpoint(0, 3.0 + PI * t, PI);
             sim.step();
             let now = sim.joint_position(0);
-            assert!(
-                (now - previous).abs() < 0.05,
-                "jump from {previous} to {now}"
-            );
+            assert!((now - previous).abs() < 0.05, "jump from {previous} to {now}");
             previous = now;
         }
         assert!((previous - (3.0 + 2.0 * PI)).abs() < 0.01, "{previous}");
@@ -932,8 +883,7 @@ mod tests {
     }
 
     fn indexing_table() -> RobotModel {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../scenes/robots/indexing_table/indexing_table.urdf");
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/robots/indexing_table/indexing_table.urdf");
         RobotModel::load(&path).unwrap()
     }
 
@@ -958,8 +908,7 @@ mod tests {
             let velocity = index_move(sim.time_s() + sim.step_s() / 2.0, 0.5).1;
             sim.set_setpoint(0, position, velocity);
             sim.step();
-            max_error =
-                max_error.max((sim.joint_position(0) - index_move(sim.time_s(), 0.5).0).abs());
+            max_error = max_error.max((sim.joint_position(0) - index_move(sim.time_s(), 0.5).0).abs());
         }
         (max_error, (sim.joint_position(0) - FRAC_PI_2).abs())
     }
@@ -980,10 +929,7 @@ mod tests {
         let vblock = model.link_by_name("fixture_vblock").unwrap().0;
         let clamp = model.link_by_name("fixture_clamp").unwrap().0;
         let start = RobotSim::new(&model, &[], &[], PhysicsOptions::default()).unwrap();
-        let (after, before) = (
-            sim.world_from_link()[vblock].0,
-            start.world_from_link()[clamp].0,
-        );
+        let (after, before) = (sim.world_from_link()[vblock].0, start.world_from_link()[clamp].0);
         assert!(
             after.iter().zip(before).all(|(a, b)| (a - b).abs() < 1e-9),
             "{after:?} {before:?}"

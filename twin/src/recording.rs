@@ -289,11 +289,10 @@ impl Recorder {
         if sinks.is_empty() {
             return Err(RecordingError::NoSinks);
         }
-        let app_id = rerun::ApplicationId::try_new(application_id).map_err(|_| {
-            RecordingError::InvalidApplicationId {
+        let app_id =
+            rerun::ApplicationId::try_new(application_id).map_err(|_| RecordingError::InvalidApplicationId {
                 application_id: application_id.to_owned(),
-            }
-        })?;
+            })?;
         let mut seen_files = BTreeSet::new();
         for sink in sinks {
             if let Sink::File(path) = sink
@@ -341,10 +340,7 @@ impl Recorder {
             sink_names: names.join(", "),
         };
         for entity_path in ["/", ROBOT_ENTITY] {
-            recorder.log_static(
-                entity_path,
-                &rerun::archetypes::ViewCoordinates::RIGHT_HAND_Z_UP(),
-            )?;
+            recorder.log_static(entity_path, &rerun::archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         }
         Ok(recorder)
     }
@@ -399,16 +395,14 @@ impl Recorder {
         if !scale.iter().all(|v| v.is_finite() && *v != 0.0) {
             return Err(invalid(Quantity::Scale));
         }
-        let rotation = unit_quaternion(rotation_xyzw.map(f64::from))
-            .ok_or_else(|| invalid(Quantity::Rotation))?;
+        let rotation = unit_quaternion(rotation_xyzw.map(f64::from)).ok_or_else(|| invalid(Quantity::Rotation))?;
 
         let mesh_from_link = Transform3D::from_translation_rotation_scale(
             translation,
             rerun::datatypes::Quaternion::from_xyzw(rotation),
             scale,
         );
-        let mut archetype =
-            Mesh3D::new(mesh.positions.iter().copied()).with_albedo_factor(rgba32(color_rgba));
+        let mut archetype = Mesh3D::new(mesh.positions.iter().copied()).with_albedo_factor(rgba32(color_rgba));
         if !mesh.indices.is_empty() {
             archetype = archetype.with_triangle_indices(
                 mesh.indices
@@ -486,12 +480,7 @@ impl Recorder {
     /// # Errors
     ///
     /// [`RecordingError::Log`] if Rerun refuses the data.
-    pub fn log_text(
-        &mut self,
-        entity_path: &str,
-        level: TextLevel,
-        text: &str,
-    ) -> Result<(), RecordingError> {
+    pub fn log_text(&mut self, entity_path: &str, level: TextLevel, text: &str) -> Result<(), RecordingError> {
         let entry = rerun::archetypes::TextLog::new(text).with_level(level.as_str());
         self.log_timed(entity_path, &entry)
     }
@@ -536,9 +525,7 @@ impl Recorder {
     /// viewer that went away, a full disk, or a timeout of 20 s). The stream
     /// is closed and the file finished either way.
     pub fn finish(self) -> Result<(), RecordingError> {
-        let Self {
-            stream, sink_names, ..
-        } = self;
+        let Self { stream, sink_names, .. } = self;
         let flushed = stream.flush_with_timeout(FINISH_FLUSH_TIMEOUT);
         // Closes the file sinks now, which writes their footers, whatever the
         // viewer connections are doing.
@@ -571,11 +558,7 @@ impl Recorder {
         }
     }
 
-    fn log_static(
-        &mut self,
-        entity_path: &str,
-        archetype: &impl rerun::AsComponents,
-    ) -> Result<(), RecordingError> {
+    fn log_static(&mut self, entity_path: &str, archetype: &impl rerun::AsComponents) -> Result<(), RecordingError> {
         self.stream
             .log_static(entity_path, archetype)
             .map_err(|source| RecordingError::Log {
@@ -584,11 +567,7 @@ impl Recorder {
             })
     }
 
-    fn log_timed(
-        &mut self,
-        entity_path: &str,
-        archetype: &impl rerun::AsComponents,
-    ) -> Result<(), RecordingError> {
+    fn log_timed(&mut self, entity_path: &str, archetype: &impl rerun::AsComponents) -> Result<(), RecordingError> {
         // Rerun keeps the current time per thread; setting it on every call
         // keeps `sim_time` right even when the Recorder moves between threads.
         if let Some(ns) = self.sim_time_ns {
@@ -632,11 +611,7 @@ impl Recorder {
 ///     "robot/base/shoulder/upper_arm/wrist/tool",
 /// ]);
 /// ```
-pub fn urdf_entity_paths(
-    links: &[&str],
-    joints: &[(&str, usize, usize)],
-    root: usize,
-) -> Vec<String> {
+pub fn urdf_entity_paths(links: &[&str], joints: &[(&str, usize, usize)], root: usize) -> Vec<String> {
     let part = |name: &str| rerun::EntityPathPart::new(name).escaped_string();
 
     // The first joint naming a link as its child is that link's parent joint.
@@ -665,11 +640,7 @@ pub fn urdf_entity_paths(
                         && parent_joint[child] == Some(j)
                         && let (None, Some(parent_path)) = (&paths[child], &paths[parent])
                     {
-                        paths[child] = Some(format!(
-                            "{parent_path}/{}/{}",
-                            part(joint),
-                            part(links[child])
-                        ));
+                        paths[child] = Some(format!("{parent_path}/{}/{}", part(joint), part(links[child])));
                         next.push(child);
                     }
                 }
@@ -703,9 +674,7 @@ fn create_file_sink(path: &Path) -> Result<FileSink, RecordingError> {
 /// Turns `host:port` or a `rerun+http(s)://host:port/proxy` URL into Rerun's
 /// proxy URI and the socket addresses to probe.
 fn parse_viewer_address(addr: &str) -> Result<(ProxyUri, Vec<SocketAddr>), RecordingError> {
-    let invalid = || RecordingError::InvalidAddress {
-        addr: addr.to_owned(),
-    };
+    let invalid = || RecordingError::InvalidAddress { addr: addr.to_owned() };
     let trimmed = addr.trim();
     let (url, host_port) = match trimmed.split_once("://") {
         Some((_, rest)) => {
@@ -715,10 +684,7 @@ fn parse_viewer_address(addr: &str) -> Result<(ProxyUri, Vec<SocketAddr>), Recor
         None => (format!("rerun+http://{trimmed}/proxy"), trimmed),
     };
     let uri: ProxyUri = url.parse().map_err(|_| invalid())?;
-    let socket_addrs: Vec<SocketAddr> = host_port
-        .to_socket_addrs()
-        .map_err(|_| invalid())?
-        .collect();
+    let socket_addrs: Vec<SocketAddr> = host_port.to_socket_addrs().map_err(|_| invalid())?.collect();
     if socket_addrs.is_empty() {
         return Err(invalid());
     }
@@ -752,10 +718,7 @@ fn check_mesh(mesh: &TriMesh) -> Result<(), MeshDefect> {
         .iter()
         .find(|&&i| usize::try_from(i).map_or(true, |i| i >= vertex_count))
     {
-        return Err(MeshDefect::IndexOutOfRange {
-            index,
-            vertex_count,
-        });
+        return Err(MeshDefect::IndexOutOfRange { index, vertex_count });
     }
     if !mesh.normals.is_empty() && mesh.normals.len() != vertex_count {
         return Err(MeshDefect::NormalCountMismatch {
@@ -801,12 +764,7 @@ mod tests {
 
     fn tetrahedron() -> TriMesh {
         TriMesh {
-            positions: vec![
-                [0.0, 0.0, 0.0],
-                [0.1, 0.0, 0.0],
-                [0.0, 0.1, 0.0],
-                [0.0, 0.0, 0.1],
-            ],
+            positions: vec![[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 0.1]],
             normals: vec![
                 [-0.577, -0.577, -0.577],
                 [1.0, 0.0, 0.0],
@@ -817,8 +775,7 @@ mod tests {
         }
     }
 
-    const IDENTITY_LOCAL: ([f32; 3], [f32; 4], [f32; 3]) =
-        ([0.0; 3], [0.0, 0.0, 0.0, 1.0], [1.0; 3]);
+    const IDENTITY_LOCAL: ([f32; 3], [f32; 4], [f32; 3]) = ([0.0; 3], [0.0, 0.0, 0.0, 1.0], [1.0; 3]);
 
     /// Nothing listens on this port: bind a listener to get a free port, then close it.
     fn closed_local_port() -> u16 {
@@ -833,8 +790,7 @@ mod tests {
 
         let links = ["base", "arm", "tool"];
         let paths = urdf_entity_paths(&links, &[("j1", 0, 1), ("j2", 1, 2)], 0);
-        let mut rec = Recorder::new("twin_recording_test", &[Sink::File(path.clone())])
-            .expect("open recording");
+        let mut rec = Recorder::new("twin_recording_test", &[Sink::File(path.clone())]).expect("open recording");
         for link_path in &paths {
             rec.log_link_mesh_static(
                 &visual_entity_path(link_path, 0),
@@ -860,8 +816,7 @@ mod tests {
             rec.log_line_strip("world/tcp_trail", &trail, [1.0, 0.0, 0.0, 1.0])
                 .expect("trail");
         }
-        rec.log_text("log", TextLevel::Info, "program done")
-            .expect("text");
+        rec.log_text("log", TextLevel::Info, "program done").expect("text");
         assert_eq!(rec.time_s(), Some(0.9));
         rec.finish().expect("finish");
 
@@ -897,17 +852,10 @@ mod tests {
     #[test]
     #[ignore = "needs a running Rerun viewer at TWIN_RERUN_TEST_CONNECT"]
     fn streams_to_a_running_viewer() {
-        let addr = std::env::var("TWIN_RERUN_TEST_CONNECT")
-            .unwrap_or_else(|_| DEFAULT_CONNECT_ADDR.to_owned());
-        let mut rec =
-            Recorder::new("twin_recording_test", &[Sink::Connect(addr)]).expect("connect");
-        rec.log_link_mesh_static(
-            "robot/base/visual_0",
-            &tetrahedron(),
-            [0.5; 4],
-            IDENTITY_LOCAL,
-        )
-        .expect("mesh");
+        let addr = std::env::var("TWIN_RERUN_TEST_CONNECT").unwrap_or_else(|_| DEFAULT_CONNECT_ADDR.to_owned());
+        let mut rec = Recorder::new("twin_recording_test", &[Sink::Connect(addr)]).expect("connect");
+        rec.log_link_mesh_static("robot/base/visual_0", &tetrahedron(), [0.5; 4], IDENTITY_LOCAL)
+            .expect("mesh");
         for step in 0..5 {
             rec.set_time_s(f64::from(step) * 0.1);
             rec.log_scalar("plots/x", f64::from(step)).expect("scalar");
@@ -918,8 +866,7 @@ mod tests {
     #[test]
     fn connect_with_nothing_listening_errors_without_panicking() {
         let addr = format!("127.0.0.1:{}", closed_local_port());
-        let err = Recorder::new("twin_recording_test", &[Sink::Connect(addr.clone())])
-            .expect_err("no viewer");
+        let err = Recorder::new("twin_recording_test", &[Sink::Connect(addr.clone())]).expect_err("no viewer");
         match err {
             RecordingError::Connect { addr: named, .. } => assert_eq!(named, addr),
             other => panic!("expected Connect, got {other:?}"),
@@ -931,22 +878,14 @@ mod tests {
         let path = test_dir().join("never.rrd");
         let _ = std::fs::remove_file(&path);
         let addr = format!("rerun+http://127.0.0.1:{}/proxy", closed_local_port());
-        let result = Recorder::new(
-            "twin_recording_test",
-            &[Sink::File(path.clone()), Sink::Connect(addr)],
-        );
+        let result = Recorder::new("twin_recording_test", &[Sink::File(path.clone()), Sink::Connect(addr)]);
         assert!(matches!(result, Err(RecordingError::Connect { .. })));
         assert!(!path.exists());
     }
 
     #[test]
     fn bad_addresses_and_paths_are_errors() {
-        for addr in [
-            "",
-            "no-port",
-            "127.0.0.1:notaport",
-            "ftp://127.0.0.1:9876/x",
-        ] {
+        for addr in ["", "no-port", "127.0.0.1:notaport", "ftp://127.0.0.1:9876/x"] {
             let result = Recorder::new("t", &[Sink::Connect(addr.to_owned())]);
             assert!(
                 matches!(result, Err(RecordingError::InvalidAddress { .. })),
@@ -958,10 +897,7 @@ mod tests {
             Err(RecordingError::CreateFile { path, .. }) => assert_eq!(path, missing_dir),
             other => panic!("expected CreateFile, got {other:?}"),
         }
-        assert!(matches!(
-            Recorder::new("t", &[]),
-            Err(RecordingError::NoSinks)
-        ));
+        assert!(matches!(Recorder::new("t", &[]), Err(RecordingError::NoSinks)));
         let twice = test_dir().join("twice.rrd");
         assert!(matches!(
             Recorder::new("t", &[Sink::File(twice.clone()), Sink::File(twice)]),
@@ -976,29 +912,19 @@ mod tests {
         rec.set_time_s(f64::NAN);
         assert_eq!(rec.time_s(), None);
         let bad = |r: Result<(), RecordingError>, q: Quantity| {
-            assert!(
-                matches!(r, Err(RecordingError::InvalidValue { quantity, .. }) if quantity == q)
-            );
+            assert!(matches!(r, Err(RecordingError::InvalidValue { quantity, .. }) if quantity == q));
         };
         bad(
             rec.log_transform("a", [f64::NAN, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]),
             Quantity::Translation,
         );
-        bad(
-            rec.log_transform("a", [0.0; 3], [0.0; 4]),
-            Quantity::Rotation,
-        );
+        bad(rec.log_transform("a", [0.0; 3], [0.0; 4]), Quantity::Rotation);
         bad(
             rec.log_line_strip("a", &[[0.0, f64::INFINITY, 0.0]], [1.0; 4]),
             Quantity::Point,
         );
         bad(
-            rec.log_link_mesh_static(
-                "a",
-                &tetrahedron(),
-                [1.0; 4],
-                ([0.0; 3], [0.0; 4], [1.0; 3]),
-            ),
+            rec.log_link_mesh_static("a", &tetrahedron(), [1.0; 4], ([0.0; 3], [0.0; 4], [1.0; 3])),
             Quantity::Rotation,
         );
         bad(
@@ -1018,10 +944,7 @@ mod tests {
         let mut mesh = tetrahedron();
         assert_eq!(check_mesh(&mesh), Ok(()));
         mesh.indices.push(0);
-        assert_eq!(
-            check_mesh(&mesh),
-            Err(MeshDefect::PartialTriangle { index_count: 13 })
-        );
+        assert_eq!(check_mesh(&mesh), Err(MeshDefect::PartialTriangle { index_count: 13 }));
         mesh.indices.extend([1, 9]);
         assert_eq!(
             check_mesh(&mesh),
@@ -1041,10 +964,7 @@ mod tests {
         );
         let mut mesh = tetrahedron();
         mesh.positions[2][1] = f32::NAN;
-        assert_eq!(
-            check_mesh(&mesh),
-            Err(MeshDefect::NonFiniteVertex { vertex: 2 })
-        );
+        assert_eq!(check_mesh(&mesh), Err(MeshDefect::NonFiniteVertex { vertex: 2 }));
         let mut mesh = tetrahedron();
         mesh.normals.clear();
         assert_eq!(check_mesh(&mesh), Ok(()), "normals are optional");
@@ -1086,13 +1006,7 @@ mod tests {
     fn urdf_paths_tolerate_malformed_trees() {
         let links = ["a", "b", "c", "d"];
         // Out-of-range joint, a cycle c <-> d unreachable from a, a joint into the root.
-        let joints = [
-            ("bad", 0, 7),
-            ("ab", 0, 1),
-            ("cd", 2, 3),
-            ("dc", 3, 2),
-            ("ba", 1, 0),
-        ];
+        let joints = [("bad", 0, 7), ("ab", 0, 1), ("cd", 2, 3), ("dc", 3, 2), ("ba", 1, 0)];
         assert_eq!(
             urdf_entity_paths(&links, &joints, 0),
             ["robot/a", "robot/a/ab/b", "robot/c", "robot/d"]
@@ -1121,18 +1035,12 @@ mod tests {
     #[test]
     fn colors_are_clamped_and_rounded() {
         assert_eq!(rgba32([0.0, 0.5, 1.0, 2.0]).to_array(), [0, 128, 255, 255]);
-        assert_eq!(
-            rgba32([f32::NAN, -1.0, 0.2, 1.0]).to_array(),
-            [0, 0, 51, 255]
-        );
+        assert_eq!(rgba32([f32::NAN, -1.0, 0.2, 1.0]).to_array(), [0, 0, 51, 255]);
     }
 
     #[test]
     fn quaternions_are_normalised() {
-        assert_eq!(
-            unit_quaternion([0.0, 0.0, 0.0, 2.0]),
-            Some([0.0, 0.0, 0.0, 1.0])
-        );
+        assert_eq!(unit_quaternion([0.0, 0.0, 0.0, 2.0]), Some([0.0, 0.0, 0.0, 1.0]));
         assert_eq!(unit_quaternion([0.0, 0.0, f64::NAN, 1.0]), None);
     }
 }

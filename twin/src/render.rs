@@ -121,10 +121,7 @@ impl Camera {
     fn frame(&self) -> Result<CameraFrame, RenderError> {
         let (width_px, height_px) = (self.width_px, self.height_px);
         if width_px == 0 || height_px == 0 {
-            return Err(RenderError::EmptyImage {
-                width_px,
-                height_px,
-            });
+            return Err(RenderError::EmptyImage { width_px, height_px });
         }
         if !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0) {
             return Err(RenderError::FieldOfView {
@@ -148,14 +145,12 @@ impl Camera {
             problem: CameraProblem::UpAlongView,
         })?;
         let aspect = width_px as f32 / height_px as f32;
-        let proj =
-            math::perspective_reversed_infinite(self.fov_y_deg.to_radians(), aspect, NEAR_PLANE_M);
+        let proj = math::perspective_reversed_infinite(self.fov_y_deg.to_radians(), aspect, NEAR_PLANE_M);
         let right = math::normalize(math::cross(forward, up)).ok_or(RenderError::Camera {
             problem: CameraProblem::UpAlongView,
         })?;
         // Above, behind and to the left of the camera.
-        let mix: [f32; 3] =
-            std::array::from_fn(|k| 1.0 * up[k] - 0.6 * forward[k] - 0.5 * right[k]);
+        let mix: [f32; 3] = std::array::from_fn(|k| 1.0 * up[k] - 0.6 * forward[k] - 0.5 * right[k]);
         let to_light_in_world = math::normalize(mix).unwrap_or(up);
         Ok(CameraFrame {
             clip_from_world: math::mul(&proj, &view),
@@ -528,17 +523,13 @@ impl Renderer {
 
         let lost = Arc::new(AtomicBool::new(false));
         let lost_flag = Arc::clone(&lost);
-        device.set_device_lost_callback(move |_reason, _message| {
-            lost_flag.store(true, Ordering::SeqCst)
-        });
+        device.set_device_lost_callback(move |_reason, _message| lost_flag.store(true, Ordering::SeqCst));
         // wgpu panics on errors nobody captures; keep the first one for the
         // next `render` call to return instead.
         let uncaptured: Arc<Mutex<Option<wgpu::Error>>> = Arc::new(Mutex::new(None));
         let sink = Arc::clone(&uncaptured);
         device.on_uncaptured_error(Arc::new(move |error| {
-            let mut slot = sink
-                .lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            let mut slot = sink.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
             slot.get_or_insert(error);
         }));
 
@@ -596,8 +587,7 @@ impl Renderer {
             2 => Float32x4, 3 => Float32x4, 4 => Float32x4, 5 => Float32x4,
             6 => Float32x4, 7 => Float32x4, 8 => Float32x4, 9 => Float32x4
         ];
-        let segment_attributes =
-            wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
+        let segment_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
         let builder = PipelineBuilder {
             device: &device,
             layout: &layout,
@@ -621,8 +611,7 @@ impl Renderer {
             wgpu::PrimitiveTopology::TriangleList,
             true,
         );
-        let grid_pipeline =
-            builder.build("grid", &[], wgpu::PrimitiveTopology::TriangleList, false);
+        let grid_pipeline = builder.build("grid", &[], wgpu::PrimitiveTopology::TriangleList, false);
         let line_pipeline = builder.build(
             "line",
             &[Some(wgpu::VertexBufferLayout {
@@ -680,14 +669,12 @@ impl Renderer {
             Err(problem) => GpuMesh::Invalid(problem),
             Ok(()) if mesh.indices.is_empty() => GpuMesh::Empty,
             Ok(()) => {
-                let mut vertex_bytes =
-                    Vec::with_capacity(mesh.positions.len() * VERTEX_BYTES as usize);
+                let mut vertex_bytes = Vec::with_capacity(mesh.positions.len() * VERTEX_BYTES as usize);
                 for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
                     push_f32s(&mut vertex_bytes, p);
                     push_f32s(&mut vertex_bytes, n);
                 }
-                let index_bytes: Vec<u8> =
-                    mesh.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+                let index_bytes: Vec<u8> = mesh.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
                 let buffer = |label, bytes: &[u8], usage| {
                     let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
                         label: Some(label),
@@ -760,10 +747,8 @@ impl Renderer {
         ];
         self.ensure_target(width_px, height_px, padded_bytes_per_row, readback_bytes);
         self.queue.write_buffer(&self.globals, 0, &globals_bytes);
-        self.instances
-            .write(&self.device, &self.queue, &instance_bytes);
-        self.line_vertices
-            .write(&self.device, &self.queue, &line_bytes);
+        self.instances.write(&self.device, &self.queue, &instance_bytes);
+        self.line_vertices.write(&self.device, &self.queue, &line_bytes);
         let outcome = self.draw_and_read(items, line_bytes.len() as u64 / SEGMENT_BYTES);
         // Pop innermost first; report the first error any scope caught.
         let mut gpu_error = None;
@@ -782,20 +767,14 @@ impl Renderer {
     }
 
     /// Records and submits the frame, waits for it and reads the image back.
-    fn draw_and_read(
-        &self,
-        items: &[DrawItem],
-        segment_count: u64,
-    ) -> Result<image::RgbaImage, RenderError> {
+    fn draw_and_read(&self, items: &[DrawItem], segment_count: u64) -> Result<image::RgbaImage, RenderError> {
         let target = self.target.as_ref().ok_or(RenderError::Readback {
             stage: ReadbackStage::NotCompleted,
         })?;
         let (width_px, height_px) = (target.width_px, target.height_px);
         let mut encoder = self
             .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("frame"),
-            });
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         self.encode_pass(&mut encoder, target, items, segment_count);
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
@@ -820,13 +799,11 @@ impl Renderer {
         );
         let submission = self.queue.submit([encoder.finish()]);
         let (sender, receiver) = mpsc::channel();
-        target
-            .readback
-            .map_async(wgpu::MapMode::Read, .., move |result| {
-                // The receiver lives until after the wait below; a failed send
-                // only means the frame was abandoned, which needs no report.
-                let _ = sender.send(result);
-            });
+        target.readback.map_async(wgpu::MapMode::Read, .., move |result| {
+            // The receiver lives until after the wait below; a failed send
+            // only means the frame was abandoned, which needs no report.
+            let _ = sender.send(result);
+        });
         self.device
             .poll(wgpu::PollType::Wait {
                 submission_index: Some(submission),
@@ -843,12 +820,7 @@ impl Renderer {
                 stage: ReadbackStage::Map,
             }),
             Ok(Ok(())) => {
-                let image = read_image(
-                    &target.readback,
-                    width_px,
-                    height_px,
-                    target.padded_bytes_per_row,
-                );
+                let image = read_image(&target.readback, width_px, height_px, target.padded_bytes_per_row);
                 target.readback.unmap();
                 image
             }
@@ -916,13 +888,7 @@ impl Renderer {
     }
 
     /// (Re)creates render targets and the readback buffer when the size changes.
-    fn ensure_target(
-        &mut self,
-        width_px: u32,
-        height_px: u32,
-        padded_bytes_per_row: u32,
-        readback_bytes: u64,
-    ) {
+    fn ensure_target(&mut self, width_px: u32, height_px: u32, padded_bytes_per_row: u32, readback_bytes: u64) {
         if self
             .target
             .as_ref()
@@ -949,26 +915,10 @@ impl Renderer {
         };
         let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let msaa_view = (self.sample_count > 1).then(|| {
-            view(&texture(
-                "msaa colour",
-                COLOR_FORMAT,
-                self.sample_count,
-                attachment,
-            ))
-        });
-        let resolved = texture(
-            "colour",
-            COLOR_FORMAT,
-            1,
-            attachment | wgpu::TextureUsages::COPY_SRC,
-        );
-        let depth_view = view(&texture(
-            "depth",
-            DEPTH_FORMAT,
-            self.sample_count,
-            attachment,
-        ));
+        let msaa_view =
+            (self.sample_count > 1).then(|| view(&texture("msaa colour", COLOR_FORMAT, self.sample_count, attachment)));
+        let resolved = texture("colour", COLOR_FORMAT, 1, attachment | wgpu::TextureUsages::COPY_SRC);
+        let depth_view = view(&texture("depth", DEPTH_FORMAT, self.sample_count, attachment));
         let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
             size: readback_bytes,
@@ -988,15 +938,8 @@ impl Renderer {
     }
 
     /// Records the single render pass: meshes, grid, lines.
-    fn encode_pass(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        target: &Target,
-        items: &[DrawItem],
-        segment_count: u64,
-    ) {
-        let background =
-            BACKGROUND_RGBA8.map(|c| f64::from(math::srgb_to_linear(f32::from(c) / 255.0)));
+    fn encode_pass(&self, encoder: &mut wgpu::CommandEncoder, target: &Target, items: &[DrawItem], segment_count: u64) {
+        let background = BACKGROUND_RGBA8.map(|c| f64::from(math::srgb_to_linear(f32::from(c) / 255.0)));
         let (view, resolve_target) = match &target.msaa_view {
             Some(msaa) => (msaa, Some(&target.resolved_view)),
             None => (&target.resolved_view, None),
@@ -1067,17 +1010,12 @@ fn read_image(
     let copy_failed = RenderError::Readback {
         stage: ReadbackStage::Copy,
     };
-    let view = buffer
-        .get_mapped_range(..)
-        .map_err(|_| RenderError::Readback {
-            stage: ReadbackStage::Copy,
-        })?;
+    let view = buffer.get_mapped_range(..).map_err(|_| RenderError::Readback {
+        stage: ReadbackStage::Copy,
+    })?;
     let row_bytes = width_px as usize * 4;
     let mut pixels = Vec::with_capacity(row_bytes * height_px as usize);
-    for row in view
-        .chunks(padded_bytes_per_row as usize)
-        .take(height_px as usize)
-    {
+    for row in view.chunks(padded_bytes_per_row as usize).take(height_px as usize) {
         pixels.extend_from_slice(row.get(..row_bytes).ok_or(RenderError::Readback {
             stage: ReadbackStage::Copy,
         })?);
@@ -1107,20 +1045,12 @@ fn validate_mesh(mesh: &TriMesh, max_buffer_bytes: u64) -> Result<(), MeshProble
             max_bytes: max_buffer_bytes,
         });
     }
-    if let Some(vertex) = (0..vertices).find(|&v| {
-        !mesh.positions[v]
-            .iter()
-            .chain(&mesh.normals[v])
-            .all(|c| c.is_finite())
-    }) {
+    if let Some(vertex) =
+        (0..vertices).find(|&v| !mesh.positions[v].iter().chain(&mesh.normals[v]).all(|c| c.is_finite()))
+    {
         return Err(MeshProblem::NonFinite { vertex });
     }
-    if let Some((position, &index)) = mesh
-        .indices
-        .iter()
-        .enumerate()
-        .find(|(_, i)| **i as usize >= vertices)
-    {
+    if let Some((position, &index)) = mesh.indices.iter().enumerate().find(|(_, i)| **i as usize >= vertices) {
         return Err(MeshProblem::IndexOutOfRange {
             triangle: position / 3,
             index,
@@ -1209,49 +1139,48 @@ impl PipelineBuilder<'_> {
     ) -> wgpu::RenderPipeline {
         let vs = format!("vs_{name}");
         let fs = format!("fs_{name}");
-        self.device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(name),
-                layout: Some(self.layout),
-                vertex: wgpu::VertexState {
-                    module: self.module,
-                    entry_point: Some(&vs),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    buffers,
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology,
-                    front_face: wgpu::FrontFace::Ccw,
-                    // No culling: mirrored transforms and open meshes stay visible;
-                    // the shader lights whichever side faces the camera.
-                    cull_mode: None,
-                    ..wgpu::PrimitiveState::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(depth_write),
-                    depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
-                    stencil: wgpu::StencilState::default(),
-                    bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: wgpu::MultisampleState {
-                    count: self.sample_count,
-                    mask: !0,
-                    alpha_to_coverage_enabled: false,
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: self.module,
-                    entry_point: Some(&fs),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: COLOR_FORMAT,
-                        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+        self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(name),
+            layout: Some(self.layout),
+            vertex: wgpu::VertexState {
+                module: self.module,
+                entry_point: Some(&vs),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                buffers,
+            },
+            primitive: wgpu::PrimitiveState {
+                topology,
+                front_face: wgpu::FrontFace::Ccw,
+                // No culling: mirrored transforms and open meshes stay visible;
+                // the shader lights whichever side faces the camera.
+                cull_mode: None,
+                ..wgpu::PrimitiveState::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(depth_write),
+                depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: self.sample_count,
+                mask: !0,
+                alpha_to_coverage_enabled: false,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: self.module,
+                entry_point: Some(&fs),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: COLOR_FORMAT,
+                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
     }
 }
 
@@ -1265,8 +1194,8 @@ mod tests {
         match Renderer::new() {
             Ok(renderer) => Some(renderer),
             Err(RenderError::NoAdapter) => {
-                let required = std::env::var_os("CI").is_some()
-                    || std::env::var("TWIN_REQUIRE_GPU").is_ok_and(|v| v == "1");
+                let required =
+                    std::env::var_os("CI").is_some() || std::env::var("TWIN_REQUIRE_GPU").is_ok_and(|v| v == "1");
                 assert!(
                     !required,
                     "{test}: {NO_ADAPTER_HINT} (CI or TWIN_REQUIRE_GPU=1 requires one)"
@@ -1349,9 +1278,7 @@ mod tests {
     }
 
     fn pixel_at(img: &image::RgbaImage, camera: &Camera, point: [f32; 3]) -> [u8; 4] {
-        let [x, y] = camera
-            .project_to_pixel(point)
-            .expect("point in front of the camera");
+        let [x, y] = camera.project_to_pixel(point).expect("point in front of the camera");
         assert!(
             x >= 0.0 && y >= 0.0 && x < img.width() as f32 && y < img.height() as f32,
             "{point:?} off screen"
@@ -1380,15 +1307,11 @@ mod tests {
 
     #[test]
     fn scene_shows_shapes_grid_lighting_and_background() {
-        let Some(mut renderer) =
-            renderer_or_skip("scene_shows_shapes_grid_lighting_and_background")
-        else {
+        let Some(mut renderer) = renderer_or_skip("scene_shows_shapes_grid_lighting_and_background") else {
             return;
         };
         let s = scene(&mut renderer);
-        let img = renderer
-            .render(&s.camera, &s.items, &s.lines)
-            .expect("render");
+        let img = renderer.render(&s.camera, &s.items, &s.lines).expect("render");
         save(&img, "scene.png");
         assert_eq!(img.dimensions(), (320, 240));
 
@@ -1400,30 +1323,20 @@ mod tests {
             }
         }
         // Each object's colour at its projected centre.
-        assert!(
-            dominant(pixel_at(&img, &s.camera, BOX_CENTRE), 0),
-            "box is red"
-        );
+        assert!(dominant(pixel_at(&img, &s.camera, BOX_CENTRE), 0), "box is red");
         assert!(
             dominant(pixel_at(&img, &s.camera, CYLINDER_CENTRE), 2),
             "cylinder is blue"
         );
-        assert!(
-            dominant(pixel_at(&img, &s.camera, SPHERE_CENTRE), 1),
-            "sphere is green"
-        );
+        assert!(dominant(pixel_at(&img, &s.camera, SPHERE_CENTRE), 1), "sphere is green");
 
         // Faces turned towards the key light are brighter than those turned away.
         let light = s.camera.key_light_dir_in_world().expect("valid camera");
         let mut faces: Vec<(f32, f32)> = [[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]]
             .iter()
             .map(|n: &[f32; 3]| {
-                let face_centre: [f32; 3] =
-                    std::array::from_fn(|k| BOX_CENTRE[k] + 0.9 * BOX_HALF * n[k]);
-                (
-                    math::dot(*n, light),
-                    luma(pixel_at(&img, &s.camera, face_centre)),
-                )
+                let face_centre: [f32; 3] = std::array::from_fn(|k| BOX_CENTRE[k] + 0.9 * BOX_HALF * n[k]);
+                (math::dot(*n, light), luma(pixel_at(&img, &s.camera, face_centre)))
             })
             .collect();
         faces.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -1452,24 +1365,20 @@ mod tests {
             "X axis is red"
         );
         assert!(
-            near([0.0, -1.6, 0.0], &|p| i32::from(p[1])
-                > i32::from(p[0]) + 15),
+            near([0.0, -1.6, 0.0], &|p| i32::from(p[1]) > i32::from(p[0]) + 15),
             "Y axis is green"
         );
         assert!(
-            near([1.0, -1.0, 0.0], &|p| luma(p)
-                < luma(BACKGROUND_RGBA8) - 30.0),
+            near([1.0, -1.0, 0.0], &|p| luma(p) < luma(BACKGROUND_RGBA8) - 30.0),
             "major lines darken"
         );
         assert!(
-            near([1.3, -1.3, 0.0], &|p| luma(p)
-                < luma(BACKGROUND_RGBA8) - 12.0),
+            near([1.3, -1.3, 0.0], &|p| luma(p) < luma(BACKGROUND_RGBA8) - 12.0),
             "minor lines darken"
         );
         // The trail (magenta, at z = 0.05 in front of the box).
         assert!(
-            near([0.0, -0.9, 0.05], &|p| i32::from(p[0])
-                > i32::from(p[1]) + 40
+            near([0.0, -0.9, 0.05], &|p| i32::from(p[0]) > i32::from(p[1]) + 40
                 && i32::from(p[2]) > i32::from(p[1]) + 40),
             "trail drawn"
         );
@@ -1477,59 +1386,40 @@ mod tests {
 
     #[test]
     fn renders_are_byte_identical_and_survive_size_changes() {
-        let Some(mut renderer) =
-            renderer_or_skip("renders_are_byte_identical_and_survive_size_changes")
-        else {
+        let Some(mut renderer) = renderer_or_skip("renders_are_byte_identical_and_survive_size_changes") else {
             return;
         };
         let s = scene(&mut renderer);
-        let first = renderer
-            .render(&s.camera, &s.items, &s.lines)
-            .expect("render");
-        let second = renderer
-            .render(&s.camera, &s.items, &s.lines)
-            .expect("render");
+        let first = renderer.render(&s.camera, &s.items, &s.lines).expect("render");
+        let second = renderer.render(&s.camera, &s.items, &s.lines).expect("render");
         assert!(first == second, "two renders differ");
         let small = Camera {
             width_px: 97,
             height_px: 61,
             ..s.camera
         };
-        let odd = renderer
-            .render(&small, &s.items, &s.lines)
-            .expect("odd size");
+        let odd = renderer.render(&small, &s.items, &s.lines).expect("odd size");
         assert_eq!(odd.dimensions(), (97, 61));
         assert!(
             dominant(pixel_at(&odd, &small, BOX_CENTRE), 0),
             "box is red at any size"
         );
-        let third = renderer
-            .render(&s.camera, &s.items, &s.lines)
-            .expect("render");
+        let third = renderer.render(&s.camera, &s.items, &s.lines).expect("render");
         assert!(first == third, "render after a size change differs");
         // A second renderer on the same machine gives the same bytes.
         let mut other = Renderer::new().expect("second renderer");
         let s2 = scene(&mut other);
-        assert!(
-            other
-                .render(&s2.camera, &s2.items, &s2.lines)
-                .expect("render")
-                == first
-        );
+        assert!(other.render(&s2.camera, &s2.items, &s2.lines).expect("render") == first);
     }
 
     #[test]
     fn depth_test_hides_objects_behind_others_in_any_draw_order() {
-        let Some(mut renderer) =
-            renderer_or_skip("depth_test_hides_objects_behind_others_in_any_draw_order")
-        else {
+        let Some(mut renderer) = renderer_or_skip("depth_test_hides_objects_behind_others_in_any_draw_order") else {
             return;
         };
         let s = scene(&mut renderer);
         let box_item = s.items[0];
-        let alone = renderer
-            .render(&s.camera, &[s.hidden], &[])
-            .expect("render");
+        let alone = renderer.render(&s.camera, &[s.hidden], &[]).expect("render");
         assert!(
             dominant(pixel_at(&alone, &s.camera, s.hidden_centre), 0) || {
                 let p = pixel_at(&alone, &s.camera, s.hidden_centre);
@@ -1546,8 +1436,7 @@ mod tests {
 
     #[test]
     fn tint_and_mirrored_transforms_render_sensibly() {
-        let Some(mut renderer) = renderer_or_skip("tint_and_mirrored_transforms_render_sensibly")
-        else {
+        let Some(mut renderer) = renderer_or_skip("tint_and_mirrored_transforms_render_sensibly") else {
             return;
         };
         let s = scene(&mut renderer);
@@ -1560,23 +1449,13 @@ mod tests {
         );
 
         // Mirroring the box in Y must not darken its lit faces.
-        let plain = renderer
-            .render(&s.camera, &s.items[..1], &[])
-            .expect("render");
+        let plain = renderer.render(&s.camera, &s.items[..1], &[]).expect("render");
         let mut mirrored = s.items[0];
         mirrored.world_from_mesh[1][1] = -1.0;
-        let flipped = renderer
-            .render(&s.camera, &[mirrored], &[])
-            .expect("render");
+        let flipped = renderer.render(&s.camera, &[mirrored], &[]).expect("render");
         let top: [f32; 3] = [BOX_CENTRE[0], BOX_CENTRE[1], BOX_CENTRE[2] + 0.9 * BOX_HALF];
-        let (a, b) = (
-            pixel_at(&plain, &s.camera, top),
-            pixel_at(&flipped, &s.camera, top),
-        );
-        assert!(
-            (luma(a) - luma(b)).abs() < 3.0,
-            "mirrored top {b:?} vs {a:?}"
-        );
+        let (a, b) = (pixel_at(&plain, &s.camera, top), pixel_at(&flipped, &s.camera, top));
+        assert!((luma(a) - luma(b)).abs() < 3.0, "mirrored top {b:?} vs {a:?}");
     }
 
     #[test]
@@ -1649,10 +1528,7 @@ mod tests {
         unknown.mesh = MeshId(9999);
         assert!(matches!(
             renderer.render(&s.camera, &[unknown], &[]),
-            Err(RenderError::UnknownMesh {
-                item: 0,
-                mesh: 9999
-            })
+            Err(RenderError::UnknownMesh { item: 0, mesh: 9999 })
         ));
         let mut nan = s.items[0];
         nan.world_from_mesh[3][0] = f32::NAN;
@@ -1670,8 +1546,7 @@ mod tests {
         ));
 
         // A strip reaching behind the camera renders (that segment is dropped).
-        let behind: [f32; 3] =
-            std::array::from_fn(|k| 2.0 * s.camera.eye_in_world[k] - s.camera.target_in_world[k]);
+        let behind: [f32; 3] = std::array::from_fn(|k| 2.0 * s.camera.eye_in_world[k] - s.camera.target_in_world[k]);
         let through_eye = LineStrip {
             points_in_world: vec![[0.0; 3], [0.5, 0.0, 0.0], behind],
             color_rgba: MAGENTA,
@@ -1706,17 +1581,13 @@ mod tests {
             ..s.camera
         };
         save(
-            &renderer
-                .render(&camera, &s.items, &s.lines)
-                .expect("warm-up"),
+            &renderer.render(&camera, &s.items, &s.lines).expect("warm-up"),
             "scene-640x480.png",
         );
         let frames = 10;
         let start = std::time::Instant::now();
         for _ in 0..frames {
-            renderer
-                .render(&camera, &s.items, &s.lines)
-                .expect("render");
+            renderer.render(&camera, &s.items, &s.lines).expect("render");
         }
         let per_frame = start.elapsed() / frames;
         eprintln!(

@@ -39,9 +39,9 @@ pub enum RunError {
     Urdf {
         /// Scene file.
         scene: PathBuf,
-        /// What failed.
+        /// What failed (boxed: URDF errors are large).
         #[source]
-        source: UrdfError,
+        source: Box<UrdfError>,
     },
     /// An axis is mapped to a joint the URDF does not have (or cannot drive).
     #[error("{scene}:{line}:{column}: axes.joint: {message}")]
@@ -167,7 +167,10 @@ pub struct Twin {
 
 impl std::fmt::Debug for Twin {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Twin").field("scene", &self.scene.path).field("time_s", &self.time_s()).finish_non_exhaustive()
+        f.debug_struct("Twin")
+            .field("scene", &self.scene.path)
+            .field("time_s", &self.time_s())
+            .finish_non_exhaustive()
     }
 }
 
@@ -182,11 +185,16 @@ fn number(expr: &Expr, scene: &Scene) -> Option<f64> {
         },
         Expr::Index(base, i) => match base.as_ref() {
             Expr::Ident(name) => match scene.tag(name).and_then(|t| t.value.as_ref()) {
-                Some(TagValue::Array(items)) => usize::try_from(*i).ok().and_then(|i| items.get(i)).and_then(|v| match v {
-                    TagValue::Real(x) => Some(*x),
-                    TagValue::Integer(i) => Some(*i as f64),
-                    _ => None,
-                }),
+                Some(TagValue::Array(items)) => {
+                    usize::try_from(*i)
+                        .ok()
+                        .and_then(|i| items.get(i))
+                        .and_then(|v| match v {
+                            TagValue::Real(x) => Some(*x),
+                            TagValue::Integer(i) => Some(*i as f64),
+                            _ => None,
+                        })
+                }
                 _ => None,
             },
             _ => None,
@@ -203,11 +211,21 @@ impl Twin {
     /// [`RunError`] naming the scene file and the place that is wrong.
     pub fn new(scene: Scene) -> Result<Twin, RunError> {
         let path = scene.path.clone();
-        let model = RobotModel::load(&scene.robot.urdf).map_err(|source| RunError::Urdf { scene: path.clone(), source })?;
-        let mut task = MotionTask::new(scene.coarse_update_ms / 1000.0)
-            .map_err(|source| RunError::Planner { scene: path.clone(), source })?;
+        let model = RobotModel::load(&scene.robot.urdf).map_err(|source| RunError::Urdf {
+            scene: path.clone(),
+            source: Box::new(source),
+        })?;
+        let mut task = MotionTask::new(scene.coarse_update_ms / 1000.0).map_err(|source| RunError::Planner {
+            scene: path.clone(),
+            source,
+        })?;
         let mut drives = Vec::new();
-        let mut initial: Vec<(String, f64)> = scene.robot.initial_joints.iter().map(|(k, v)| (k.clone(), *v)).collect();
+        let mut initial: Vec<(String, f64)> = scene
+            .robot
+            .initial_joints
+            .iter()
+            .map(|(k, v)| (k.clone(), *v))
+            .collect();
         let mut axes = Vec::new();
         for axis in &scene.axes {
             let joint_error = |message: String| RunError::Joint {
@@ -217,7 +235,12 @@ impl Twin {
                 message,
             };
             let Some(j) = model.joint_by_name(&axis.joint) else {
-                let mut names: Vec<&str> = model.joints.iter().filter(|j| j.kind.is_movable()).map(|j| j.name.as_str()).collect();
+                let mut names: Vec<&str> = model
+                    .joints
+                    .iter()
+                    .filter(|j| j.kind.is_movable())
+                    .map(|j| j.name.as_str())
+                    .collect();
                 names.sort_unstable();
                 return Err(joint_error(format!(
                     "axis '{}' is mapped to joint '{}', which {} does not have (movable joints: {})",
@@ -228,7 +251,10 @@ impl Twin {
                 )));
             };
             if !model.joint(j).kind.is_movable() {
-                return Err(joint_error(format!("joint '{}' of axis '{}' is fixed and cannot be driven", axis.joint, axis.name)));
+                return Err(joint_error(format!(
+                    "joint '{}' of axis '{}' is fixed and cannot be driven",
+                    axis.joint, axis.name
+                )));
             }
             let config = AxisConfig {
                 modulo_period: axis.modulo_period,
@@ -249,11 +275,19 @@ impl Twin {
             };
             let handle = task
                 .add_axis(config, axis.initial_position)
-                .map_err(|source| RunError::Planner { scene: path.clone(), source })?;
+                .map_err(|source| RunError::Planner {
+                    scene: path.clone(),
+                    source,
+                })?;
             let si = axis.units.si_per_unit();
             initial.retain(|(name, _)| name != &axis.joint);
             initial.push((axis.joint.clone(), axis.initial_position * si));
-            drives.push(JointDrive { joint: axis.joint.clone(), stiffness: axis.motor.stiffness, damping: axis.motor.damping, max_force: None });
+            drives.push(JointDrive {
+                joint: axis.joint.clone(),
+                stiffness: axis.motor.stiffness,
+                damping: axis.motor.damping,
+                max_force: None,
+            });
             axes.push(AxisBinding {
                 name: axis.name.clone(),
                 handle,
@@ -265,8 +299,14 @@ impl Twin {
         initial.sort_by(|a, b| a.0.cmp(&b.0));
         let step_s = scene.physics_step_ms / 1000.0;
         let substeps = (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize;
-        let options = PhysicsOptions { step_s, ..PhysicsOptions::default() };
-        let sim = RobotSim::new(&model, &drives, &initial, options).map_err(|source| RunError::Physics { scene: path.clone(), source })?;
+        let options = PhysicsOptions {
+            step_s,
+            ..PhysicsOptions::default()
+        };
+        let sim = RobotSim::new(&model, &drives, &initial, options).map_err(|source| RunError::Physics {
+            scene: path.clone(),
+            source,
+        })?;
 
         let mut fbs: Vec<FbBinding> = Vec::new();
         let mut fb_axis: Vec<Option<AxisHandle>> = Vec::new();
@@ -288,23 +328,54 @@ impl Twin {
                             Expr::Ident(tag) => (tag.clone(), output.clone()),
                             _ => return Err(fail(format!("when = \"{condition}\": expected <instance>.<output>"))),
                         },
-                        _ => return Err(fail(format!("when = \"{condition}\": expected <instance>.<output>, e.g. MoveTable.Done"))),
+                        _ => {
+                            return Err(fail(format!(
+                                "when = \"{condition}\": expected <instance>.<output>, e.g. MoveTable.Done"
+                            )));
+                        }
                     };
                     if FbOutputs::default().bit(&output).is_none() {
                         return Err(fail(format!(
                             "when = \"{condition}\": '{output}' is not a function-block output (Done, Busy, Active, CommandAborted, Error)"
                         )));
                     }
-                    let fb = fbs.iter().position(|f| f.name.eq_ignore_ascii_case(&tag)).ok_or_else(|| {
-                        fail(format!("when = \"{condition}\": '{tag}' is not called by an earlier program step"))
-                    })?;
-                    CompiledTrigger::When { fb, output, delay_s: *delay_s }
+                    let fb = fbs
+                        .iter()
+                        .position(|f| f.name.eq_ignore_ascii_case(&tag))
+                        .ok_or_else(|| {
+                            fail(format!(
+                                "when = \"{condition}\": '{tag}' is not called by an earlier program step"
+                            ))
+                        })?;
+                    CompiledTrigger::When {
+                        fb,
+                        output,
+                        delay_s: *delay_s,
+                    }
                 }
             };
-            steps.push(CompiledStep { trigger, action, fire_at_s: None, fired: false });
+            steps.push(CompiledStep {
+                trigger,
+                action,
+                fire_at_s: None,
+                fired: false,
+            });
         }
-        let previous_command = axes.iter().map(|a| (task.axis_state(a.handle).command_position, 0.0)).collect();
-        Ok(Twin { scene, model, sim, task, axes, fbs, steps, substeps, previous_command })
+        let previous_command = axes
+            .iter()
+            .map(|a| (task.axis_state(a.handle).command_position, 0.0))
+            .collect();
+        Ok(Twin {
+            scene,
+            model,
+            sim,
+            task,
+            axes,
+            fbs,
+            steps,
+            substeps,
+            previous_command,
+        })
     }
 
     /// The scene.
@@ -363,7 +434,10 @@ impl Twin {
             match &step.trigger {
                 CompiledTrigger::At(t) => step.fire_at_s = Some(*t),
                 CompiledTrigger::When { fb, output, delay_s } => {
-                    if armed && step.fire_at_s.is_none() && self.task.outputs(self.fbs[*fb].handle).bit(output).unwrap_or(false) {
+                    if armed
+                        && step.fire_at_s.is_none()
+                        && self.task.outputs(self.fbs[*fb].handle).bit(output).unwrap_or(false)
+                    {
                         step.fire_at_s = Some(now_s + delay_s);
                     }
                 }
@@ -403,7 +477,8 @@ impl Twin {
                 let (p1, v1) = now[k];
                 let p = p0 + (p1 - p0) * f;
                 let v = v0 + (v1 - v0) * fm;
-                self.sim.set_setpoint(axis.drive, p * axis.si_per_unit, v * axis.si_per_unit);
+                self.sim
+                    .set_setpoint(axis.drive, p * axis.si_per_unit, v * axis.si_per_unit);
             }
             self.sim.step();
         }
@@ -438,7 +513,12 @@ impl Twin {
         let mut row = vec![format!("{}", self.time_s())];
         for a in &self.axes {
             let s = self.task.axis_state(a.handle);
-            for x in [s.command_position, s.command_velocity, s.command_acceleration, s.actual_position] {
+            for x in [
+                s.command_position,
+                s.command_velocity,
+                s.command_acceleration,
+                s.actual_position,
+            ] {
                 row.push(format!("{x}"));
             }
         }
@@ -477,10 +557,17 @@ fn compile_call(
     axes: &[AxisBinding],
 ) -> Result<StepAction, String> {
     let name = &call.name.value;
-    let tag = scene.tag(name).ok_or_else(|| format!("'{name}' is not a declared tag"))?;
+    let tag = scene
+        .tag(name)
+        .ok_or_else(|| format!("'{name}' is not a declared tag"))?;
     let block = match tag.ty.base {
         BaseType::FunctionBlock(fb) => fb,
-        _ => return Err(format!("'{name}' is a {} tag, not a function block", tag.ty.base.name())),
+        _ => {
+            return Err(format!(
+                "'{name}' is a {} tag, not a function block",
+                tag.ty.base.name()
+            ));
+        }
     };
     if block != FunctionBlock::MoveModulo {
         return Err(format!(
@@ -489,18 +576,29 @@ fn compile_call(
         ));
     }
     let Args::Named(args) = &call.args else {
-        return Err(format!("'{name}' is a function block: call it with named inputs (Input := value)"));
+        return Err(format!(
+            "'{name}' is a function block: call it with named inputs (Input := value)"
+        ));
     };
     let mut axis = None;
     let mut set = Vec::new();
     for (input, value) in args {
         let input_name = input.value.to_ascii_lowercase();
         let v = &value.value;
-        let num = |what: &str| number(v, scene).map(Value::Number).ok_or_else(|| format!("{what} := {v}: expected a number or a REAL tag with a value"));
+        let num = |what: &str| {
+            number(v, scene)
+                .map(Value::Number)
+                .ok_or_else(|| format!("{what} := {v}: expected a number or a REAL tag with a value"))
+        };
         let entry = match input_name.as_str() {
             "axis" => {
-                let Expr::Ident(a) = v else { return Err(format!("Axis := {v}: expected an axis name")) };
-                let binding = axes.iter().find(|b| b.name.eq_ignore_ascii_case(a)).ok_or_else(|| format!("Axis := {a}: no axis of that name in [[axes]]"))?;
+                let Expr::Ident(a) = v else {
+                    return Err(format!("Axis := {v}: expected an axis name"));
+                };
+                let binding = axes
+                    .iter()
+                    .find(|b| b.name.eq_ignore_ascii_case(a))
+                    .ok_or_else(|| format!("Axis := {a}: no axis of that name in [[axes]]"))?;
                 axis = Some(binding.handle);
                 continue;
             }
@@ -530,7 +628,11 @@ fn compile_call(
                 (Input::BufferMode, Value::BufferMode(m.ok_or_else(|| format!("BufferMode := {v}: expected MC_Aborting, MC_Buffered, MC_BlendingLow, MC_BlendingPrevious, MC_BlendingNext or MC_BlendingHigh"))?))
             }
             "options" => return Err("Options: ST_MoveOptions are not supported; leave the input open".to_string()),
-            other => return Err(format!("MC_MoveModulo has no input '{other}' (inputs: Axis, Execute, Position, Velocity, Acceleration, Deceleration, Jerk, Direction, BufferMode)")),
+            other => {
+                return Err(format!(
+                    "MC_MoveModulo has no input '{other}' (inputs: Axis, Execute, Position, Velocity, Acceleration, Deceleration, Jerk, Direction, BufferMode)"
+                ));
+            }
         };
         set.push(entry);
     }
@@ -539,14 +641,19 @@ fn compile_call(
             if let (Some(new), Some(old)) = (axis, fb_axis[i])
                 && new != old
             {
-                return Err(format!("'{name}' was called with another axis before; an instance drives one axis"));
+                return Err(format!(
+                    "'{name}' was called with another axis before; an instance drives one axis"
+                ));
             }
             i
         }
         None => {
             let axis = axis.ok_or_else(|| format!("the first call of '{name}' must name its axis (Axis := ...)"))?;
             let handle = task.add_move_modulo(tag.name.clone(), axis);
-            fbs.push(FbBinding { name: tag.name.clone(), handle });
+            fbs.push(FbBinding {
+                name: tag.name.clone(),
+                handle,
+            });
             fb_axis.push(Some(axis));
             fbs.len() - 1
         }

@@ -405,10 +405,7 @@ impl BaseType {
         if let BaseType::FunctionBlock(fb) = self {
             return fb.name();
         }
-        Self::NAMED
-            .iter()
-            .find(|(_, t)| *t == self)
-            .map_or("?", |(n, _)| n)
+        Self::NAMED.iter().find(|(_, t)| *t == self).map_or("?", |(n, _)| n)
     }
 
     /// Parses a type name, case-insensitively.
@@ -605,9 +602,7 @@ pub enum Problem {
         exclusive: bool,
     },
     /// The physics step does not divide the coarse update period.
-    #[error(
-        "physics_step_ms = {physics_step_ms} does not divide coarse_update_ms = {coarse_update_ms} exactly"
-    )]
+    #[error("physics_step_ms = {physics_step_ms} does not divide coarse_update_ms = {coarse_update_ms} exactly")]
     StepNotDivisor {
         /// The physics step, ms.
         physics_step_ms: f64,
@@ -626,9 +621,7 @@ pub enum Problem {
     #[error("must not be empty")]
     Empty,
     /// Not an ST identifier.
-    #[error(
-        "'{name}' is not a valid tag name (letters, digits and '_', not starting with a digit)"
-    )]
+    #[error("'{name}' is not a valid tag name (letters, digits and '_', not starting with a digit)")]
     InvalidName {
         /// The name.
         name: String,
@@ -654,9 +647,7 @@ pub enum Problem {
         name: String,
     },
     /// A named call on something that is not a function-block instance.
-    #[error(
-        "'{name}' is {kind}, not a function-block instance, so it cannot be called with named inputs"
-    )]
+    #[error("'{name}' is {kind}, not a function-block instance, so it cannot be called with named inputs")]
     NotCallable {
         /// The name.
         name: String,
@@ -907,11 +898,7 @@ impl SceneError {
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SceneError::Read { path, source } => write!(
-                f,
-                "{}: cannot read the scene file: {source}",
-                path.display()
-            ),
+            SceneError::Read { path, source } => write!(f, "{}: cannot read the scene file: {source}", path.display()),
             SceneError::Toml {
                 file,
                 line,
@@ -1156,21 +1143,11 @@ impl Ctx<'_> {
         self.location(s.span().start)
     }
 
-    fn invalid<T>(
-        &self,
-        at: &Spanned<T>,
-        field: impl Into<String>,
-        problem: Problem,
-    ) -> SceneError {
+    fn invalid<T>(&self, at: &Spanned<T>, field: impl Into<String>, problem: Problem) -> SceneError {
         self.invalid_at(at.span(), field, problem)
     }
 
-    fn invalid_at(
-        &self,
-        span: Range<usize>,
-        field: impl Into<String>,
-        problem: Problem,
-    ) -> SceneError {
+    fn invalid_at(&self, span: Range<usize>, field: impl Into<String>, problem: Problem) -> SceneError {
         let Location { line, column } = self.location(span.start);
         SceneError::Invalid {
             file: self.file.clone(),
@@ -1208,11 +1185,7 @@ impl Ctx<'_> {
                 *n += 1;
             } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.strip_suffix(']')) {
                 let name = name.trim();
-                if !name.is_empty()
-                    && name
-                        .chars()
-                        .all(|c| c.is_alphanumeric() || "_-.\"' ".contains(c))
-                {
+                if !name.is_empty() && name.chars().all(|c| c.is_alphanumeric() || "_-.\"' ".contains(c)) {
                     current = Some(name.to_owned());
                 }
             }
@@ -1287,11 +1260,7 @@ impl Ctx<'_> {
         }
     }
 
-    fn finite_array<const N: usize>(
-        &self,
-        v: &Spanned<[f64; N]>,
-        field: &str,
-    ) -> Result<[f64; N], SceneError> {
+    fn finite_array<const N: usize>(&self, v: &Spanned<[f64; N]>, field: &str) -> Result<[f64; N], SceneError> {
         match v.get_ref().iter().find(|x| !x.is_finite()) {
             Some(&value) => Err(self.invalid(v, field, Problem::NotFinite { value })),
             None => Ok(*v.get_ref()),
@@ -1306,12 +1275,7 @@ impl Ctx<'_> {
         }
     }
 
-    fn existing_file(
-        &self,
-        v: &Spanned<String>,
-        field: &str,
-        base: &Path,
-    ) -> Result<PathBuf, SceneError> {
+    fn existing_file(&self, v: &Spanned<String>, field: &str, base: &Path) -> Result<PathBuf, SceneError> {
         let path = base.join(v.get_ref());
         if v.get_ref().is_empty() || !path.is_file() {
             return Err(self.invalid(v, field, Problem::MissingFile { path }));
@@ -1342,9 +1306,7 @@ impl Ctx<'_> {
     fn identifier(&self, name: &Spanned<String>, field: &str) -> Result<String, SceneError> {
         let n = name.get_ref();
         let mut chars = n.chars();
-        let valid = chars
-            .next()
-            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        let valid = chars.next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
             && chars.all(|c| c.is_ascii_alphanumeric() || c == '_');
         if valid {
             Ok(n.clone())
@@ -1426,12 +1388,7 @@ impl Ctx<'_> {
         })
     }
 
-    fn axes(
-        &self,
-        raw: &[RawAxis],
-        robot: &Robot,
-        names: &mut Names,
-    ) -> Result<Vec<Axis>, SceneError> {
+    fn axes(&self, raw: &[RawAxis], robot: &Robot, names: &mut Names) -> Result<Vec<Axis>, SceneError> {
         let mut joints: HashMap<String, (usize, String)> = HashMap::new();
         let mut axes = Vec::with_capacity(raw.len());
         for (i, a) in raw.iter().enumerate() {
@@ -1450,11 +1407,7 @@ impl Ctx<'_> {
             let kind = *a.kind.get_ref();
             let units = *a.units.get_ref();
             if !units.fits(kind) {
-                return Err(self.invalid(
-                    &a.units,
-                    f("units"),
-                    Problem::UnitsMismatch { units, kind },
-                ));
+                return Err(self.invalid(&a.units, f("units"), Problem::UnitsMismatch { units, kind }));
             }
             let modulo_period = match &a.modulo_period {
                 Some(p) => Some(self.positive(p, &f("modulo_period"))?),
@@ -1464,8 +1417,7 @@ impl Ctx<'_> {
             let max_acceleration = self.positive(&a.max_acceleration, &f("max_acceleration"))?;
             let max_deceleration = self.positive(&a.max_deceleration, &f("max_deceleration"))?;
             let max_jerk = self.positive(&a.max_jerk, &f("max_jerk"))?;
-            let in_position_window =
-                self.positive(&a.in_position_window, &f("in_position_window"))?;
+            let in_position_window = self.positive(&a.in_position_window, &f("in_position_window"))?;
             let modulo_tolerance_window = match &a.modulo_tolerance_window {
                 Some(w) => self.non_negative(w, &f("modulo_tolerance_window"))?,
                 None => 0.0,
@@ -1473,9 +1425,7 @@ impl Ctx<'_> {
             let motor = match &a.motor {
                 Some(m) => {
                     let gains = *m.get_ref();
-                    for (value, field) in
-                        [(gains.stiffness, "stiffness"), (gains.damping, "damping")]
-                    {
+                    for (value, field) in [(gains.stiffness, "stiffness"), (gains.damping, "damping")] {
                         let spanned = Spanned::new(m.span(), value);
                         self.non_negative(&spanned, &f(&format!("motor.{field}")))?;
                     }
@@ -1611,14 +1561,13 @@ impl Ctx<'_> {
                     },
                 )
             };
-            let positive_array =
-                |v: &Spanned<[f64; 3]>, field: &str| -> Result<[f64; 3], SceneError> {
-                    let values = self.finite_array(v, field)?;
-                    match values.iter().find(|x| **x <= 0.0) {
-                        Some(&value) => Err(self.invalid(v, field, Problem::NotPositive { value })),
-                        None => Ok(values),
-                    }
-                };
+            let positive_array = |v: &Spanned<[f64; 3]>, field: &str| -> Result<[f64; 3], SceneError> {
+                let values = self.finite_array(v, field)?;
+                match values.iter().find(|x| **x <= 0.0) {
+                    Some(&value) => Err(self.invalid(v, field, Problem::NotPositive { value })),
+                    None => Ok(values),
+                }
+            };
             let shape = match kind {
                 ShapeKind::Box => {
                     let size = o.size.as_ref().ok_or_else(|| missing("size"))?;
@@ -1627,20 +1576,11 @@ impl Ctx<'_> {
                     }
                 }
                 ShapeKind::Cylinder => Shape::Cylinder {
-                    radius_m: self.positive(
-                        o.radius.as_ref().ok_or_else(|| missing("radius"))?,
-                        &f("radius"),
-                    )?,
-                    length_m: self.positive(
-                        o.length.as_ref().ok_or_else(|| missing("length"))?,
-                        &f("length"),
-                    )?,
+                    radius_m: self.positive(o.radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
+                    length_m: self.positive(o.length.as_ref().ok_or_else(|| missing("length"))?, &f("length"))?,
                 },
                 ShapeKind::Sphere => Shape::Sphere {
-                    radius_m: self.positive(
-                        o.radius.as_ref().ok_or_else(|| missing("radius"))?,
-                        &f("radius"),
-                    )?,
+                    radius_m: self.positive(o.radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
                 },
                 ShapeKind::Mesh => {
                     let file = o.file.as_ref().ok_or_else(|| missing("file"))?;
@@ -1716,23 +1656,13 @@ impl Ctx<'_> {
                 },
             ));
         };
-        if array_len.is_some()
-            && matches!(
-                base,
-                BaseType::CoordinateSystem | BaseType::FunctionBlock(_)
-            )
-        {
+        if array_len.is_some() && matches!(base, BaseType::CoordinateSystem | BaseType::FunctionBlock(_)) {
             return Err(self.invalid(raw, field, Problem::ArrayNotAllowed { base: base.name() }));
         }
         Ok(TagType { base, array_len })
     }
 
-    fn tags(
-        &self,
-        raw: &[RawTag],
-        axes: &[Axis],
-        names: &mut Names,
-    ) -> Result<Vec<Tag>, SceneError> {
+    fn tags(&self, raw: &[RawTag], axes: &[Axis], names: &mut Names) -> Result<Vec<Tag>, SceneError> {
         let mut tags = Vec::with_capacity(raw.len());
         for (i, t) in raw.iter().enumerate() {
             let f = |field: &str| format!("tags[{i}].{field}");
@@ -1769,10 +1699,9 @@ impl Ctx<'_> {
     ) -> Result<TagValue, SceneError> {
         let mismatch = |expected| self.invalid(v, field, Problem::ValueMismatch { ty, expected });
         match (ty.base, ty.array_len) {
-            (
-                BaseType::MotionInstruction | BaseType::CamProfile | BaseType::FunctionBlock(_),
-                _,
-            ) => Err(self.invalid(v, field, Problem::ValueNotAllowed { ty })),
+            (BaseType::MotionInstruction | BaseType::CamProfile | BaseType::FunctionBlock(_), _) => {
+                Err(self.invalid(v, field, Problem::ValueNotAllowed { ty }))
+            }
             (BaseType::CoordinateSystem, _) => {
                 let expected = "an array of 1 to 6 distinct axis names";
                 let toml::Value::Array(items) = v.get_ref() else {
@@ -1786,13 +1715,8 @@ impl Ctx<'_> {
                     let toml::Value::String(axis) = item else {
                         return Err(mismatch(expected));
                     };
-                    let Some(found) = axes.iter().find(|a| a.name.eq_ignore_ascii_case(axis))
-                    else {
-                        return Err(self.invalid(
-                            v,
-                            field,
-                            Problem::UnknownAxis { name: axis.clone() },
-                        ));
+                    let Some(found) = axes.iter().find(|a| a.name.eq_ignore_ascii_case(axis)) else {
+                        return Err(self.invalid(v, field, Problem::UnknownAxis { name: axis.clone() }));
                     };
                     if members.iter().any(|m| m.eq_ignore_ascii_case(axis)) {
                         return Err(mismatch(expected));
@@ -1811,8 +1735,7 @@ impl Ctx<'_> {
                 }
                 let mut points: Vec<CamPoint> = Vec::with_capacity(items.len());
                 for (index, item) in items.iter().enumerate() {
-                    let point: CamPoint =
-                        item.clone().try_into().map_err(|_| mismatch(expected))?;
+                    let point: CamPoint = item.clone().try_into().map_err(|_| mismatch(expected))?;
                     if !point.master.is_finite() || !point.slave.is_finite() {
                         return Err(mismatch(expected));
                     }
@@ -1848,12 +1771,7 @@ impl Ctx<'_> {
         }
     }
 
-    fn program(
-        &self,
-        raw: &[RawStep],
-        duration_s: f64,
-        names: &Names,
-    ) -> Result<Vec<Step>, SceneError> {
+    fn program(&self, raw: &[RawStep], duration_s: f64, names: &Names) -> Result<Vec<Step>, SceneError> {
         let mut steps = Vec::with_capacity(raw.len());
         for (i, s) in raw.iter().enumerate() {
             let f = |field: &str| format!("program[{i}].{field}");
@@ -1882,8 +1800,7 @@ impl Ctx<'_> {
                     Trigger::At { time_s }
                 }
                 (None, Some(when)) => {
-                    let condition = st::parse_condition(when.get_ref())
-                        .map_err(|e| self.syntax(when, f("when"), e))?;
+                    let condition = st::parse_condition(when.get_ref()).map_err(|e| self.syntax(when, f("when"), e))?;
                     self.check_reference(when, &condition, &f("when"), names)?;
                     let delay_s = match &s.after_s {
                         Some(after) => self.non_negative(after, &f("after_s"))?,
@@ -1895,8 +1812,7 @@ impl Ctx<'_> {
                     }
                 }
             };
-            let call =
-                st::parse_call(s.call.get_ref()).map_err(|e| self.syntax(&s.call, f("call"), e))?;
+            let call = st::parse_call(s.call.get_ref()).map_err(|e| self.syntax(&s.call, f("call"), e))?;
             self.check_call(&s.call, &call, &f("call"), names)?;
             steps.push(Step {
                 trigger,
@@ -1909,13 +1825,7 @@ impl Ctx<'_> {
     }
 
     /// Errors for a name inside a `call`/`when` string at `span` (characters).
-    fn invalid_in(
-        &self,
-        text: &Spanned<String>,
-        span: st::Span,
-        field: &str,
-        problem: Problem,
-    ) -> SceneError {
+    fn invalid_in(&self, text: &Spanned<String>, span: st::Span, field: &str, problem: Problem) -> SceneError {
         let Location { line, column } = self.string_location(text, span.column());
         SceneError::Invalid {
             file: self.file.clone(),
@@ -1939,20 +1849,12 @@ impl Ctx<'_> {
             return Ok(());
         };
         let Some((_, kind)) = names.get(&root.to_lowercase()) else {
-            return Err(self.invalid_in(
-                text,
-                expr.span,
-                field,
-                Problem::UnknownTag {
-                    name: root.to_owned(),
-                },
-            ));
+            return Err(self.invalid_in(text, expr.span, field, Problem::UnknownTag { name: root.to_owned() }));
         };
         if let (
             Expr::Index(base, index),
             NameKind::Tag(TagType {
-                array_len: Some(len),
-                ..
+                array_len: Some(len), ..
             }),
         ) = (&expr.value, kind)
             && matches!(**base, Expr::Ident(_))
@@ -1968,13 +1870,7 @@ impl Ctx<'_> {
         Ok(())
     }
 
-    fn check_call(
-        &self,
-        text: &Spanned<String>,
-        call: &Call,
-        field: &str,
-        names: &Names,
-    ) -> Result<(), SceneError> {
+    fn check_call(&self, text: &Spanned<String>, call: &Call, field: &str, names: &Names) -> Result<(), SceneError> {
         let name = &call.name;
         let operand = |expr: &st::Spanned<Expr>, enumerations: &[&str]| -> Result<(), SceneError> {
             if let Expr::Ident(word) = &expr.value
@@ -2075,13 +1971,9 @@ impl Ctx<'_> {
 fn scalar_value(base: BaseType, value: &toml::Value) -> Option<TagValue> {
     match (base, value) {
         (BaseType::Bool, toml::Value::Boolean(b)) => Some(TagValue::Bool(*b)),
-        (BaseType::Real | BaseType::Lreal, toml::Value::Float(x)) if x.is_finite() => {
-            Some(TagValue::Real(*x))
-        }
+        (BaseType::Real | BaseType::Lreal, toml::Value::Float(x)) if x.is_finite() => Some(TagValue::Real(*x)),
         #[allow(clippy::cast_precision_loss)]
-        (BaseType::Real | BaseType::Lreal, toml::Value::Integer(i)) => {
-            Some(TagValue::Real(*i as f64))
-        }
+        (BaseType::Real | BaseType::Lreal, toml::Value::Integer(i)) => Some(TagValue::Real(*i as f64)),
         (base, toml::Value::Integer(i)) => {
             let (min, max) = base.integer_range()?;
             (min..=max).contains(i).then_some(TagValue::Integer(*i))
@@ -2107,11 +1999,7 @@ mod tests {
     /// The fixture with `from` replaced by `to` (which must occur exactly once).
     fn edited(from: &str, to: &str) -> String {
         let text = fixture_text();
-        assert_eq!(
-            text.matches(from).count(),
-            1,
-            "'{from}' must occur once in the fixture"
-        );
+        assert_eq!(text.matches(from).count(), 1, "'{from}' must occur once in the fixture");
         text.replace(from, to)
     }
 
@@ -2151,17 +2039,10 @@ mod tests {
         let scene = load(&fixtures().join("indexing_table.toml")).expect("fixture loads");
         assert_eq!(scene.name, "indexing_table");
         assert_eq!(
-            (
-                scene.duration_s,
-                scene.coarse_update_ms,
-                scene.physics_step_ms
-            ),
+            (scene.duration_s, scene.coarse_update_ms, scene.physics_step_ms),
             (8.0, 4.0, 1.0)
         );
-        assert_eq!(
-            scene.robot.urdf,
-            fixtures().join("robots/indexing_table.urdf")
-        );
+        assert_eq!(scene.robot.urdf, fixtures().join("robots/indexing_table.urdf"));
         assert_eq!(scene.axes.len(), 2);
         let table = scene.axis("table").expect("case-insensitive lookup");
         assert_eq!(table.modulo_period, Some(360.0));
@@ -2173,10 +2054,7 @@ mod tests {
             "0.1 m from initial_joints is 100 mm"
         );
         assert!(slide.target_position_monitoring);
-        assert_eq!(
-            slide.joint_location,
-            find(&fixture_text(), "\"slide_joint\"")
-        );
+        assert_eq!(slide.joint_location, find(&fixture_text(), "\"slide_joint\""));
         assert_eq!(scene.cameras[0].width, 640);
         assert!(matches!(
             scene.obstacles[1].shape,
@@ -2199,13 +2077,9 @@ mod tests {
         );
         assert_eq!(
             scene.tag("Pos").and_then(|t| t.value.clone()),
-            Some(TagValue::Array(vec![
-                TagValue::Real(90.0),
-                TagValue::Real(100.0)
-            ]))
+            Some(TagValue::Array(vec![TagValue::Real(90.0), TagValue::Real(100.0)]))
         );
-        let Some(TagValue::CamPoints(cam)) = scene.tag("Cam_1").and_then(|t| t.value.clone())
-        else {
+        let Some(TagValue::CamPoints(cam)) = scene.tag("Cam_1").and_then(|t| t.value.clone()) else {
             panic!("cam points")
         };
         assert_eq!(cam[0].segment_type, SegmentType::Linear);
@@ -2275,15 +2149,8 @@ mod tests {
 
     #[test]
     fn missing_assign_maps_into_the_file() {
-        let source = syntax_case(
-            "Position := 90.0",
-            "Position 90.0",
-            "90.0, Velocity",
-            "program[0].call",
-        );
-        assert!(
-            matches!(source, ParseError::MissingAssign { ref input, .. } if input == "Position")
-        );
+        let source = syntax_case("Position := 90.0", "Position 90.0", "90.0, Velocity", "program[0].call");
+        assert!(matches!(source, ParseError::MissingAssign { ref input, .. } if input == "Position"));
     }
 
     #[test]
@@ -2299,12 +2166,7 @@ mod tests {
 
     #[test]
     fn missing_comma_in_positional_call() {
-        let source = syntax_case(
-            "MCCM(CS1, MC1,",
-            "MCCM(CS1 MC1,",
-            "MC1, 0, Pos",
-            "program[2].call",
-        );
+        let source = syntax_case("MCCM(CS1, MC1,", "MCCM(CS1 MC1,", "MC1, 0, Pos", "program[2].call");
         assert!(matches!(
             source,
             ParseError::Unexpected {
@@ -2347,9 +2209,7 @@ mod tests {
         let text = edited("robots/indexing_table.urdf", "robots/nope.urdf");
         let e = error_of(&text);
         assert_place(&e, find(&text, "\"robots/nope.urdf\""), "robot.urdf");
-        assert!(
-            matches!(e.problem(), Some(Problem::MissingFile { path }) if path.ends_with("robots/nope.urdf"))
-        );
+        assert!(matches!(e.problem(), Some(Problem::MissingFile { path }) if path.ends_with("robots/nope.urdf")));
     }
 
     #[test]
@@ -2361,10 +2221,7 @@ mod tests {
 
     #[test]
     fn unknown_tag_in_a_call_points_at_the_name() {
-        let text = edited(
-            "Axis := Table, Execute := TRUE",
-            "Axis := Tabel, Execute := TRUE",
-        );
+        let text = edited("Axis := Table, Execute := TRUE", "Axis := Tabel, Execute := TRUE");
         let e = error_of(&text);
         assert_place(&e, find(&text, "Tabel"), "program[0].call");
         assert!(matches!(e.problem(), Some(Problem::UnknownTag { name }) if name == "Tabel"));
@@ -2383,10 +2240,7 @@ mod tests {
         let text = edited("MCCP(MC1", "MCCX(MC1");
         let e = error_of(&text);
         assert_place(&e, find(&text, "MCCX"), "program[3].call");
-        assert!(matches!(
-            e.problem(),
-            Some(Problem::UnknownInstruction { .. })
-        ));
+        assert!(matches!(e.problem(), Some(Problem::UnknownInstruction { .. })));
 
         let text = edited("Table, Execute := FALSE", "Table, Execute := MC_Sideways");
         assert!(matches!(
@@ -2401,10 +2255,7 @@ mod tests {
             "MoveTable(Axis := Table, Execute := FALSE)",
             "Count(Axis := Table, Execute := FALSE)",
         );
-        assert!(matches!(
-            error_of(&text).problem(),
-            Some(Problem::NotCallable { .. })
-        ));
+        assert!(matches!(error_of(&text).problem(), Some(Problem::NotCallable { .. })));
     }
 
     #[test]
@@ -2415,11 +2266,7 @@ mod tests {
         let text = edited("Pos[0], 1", "Pos[2], 1");
         assert!(matches!(
             error_of(&text).problem(),
-            Some(Problem::IndexOutOfBounds {
-                index: 2,
-                len: 2,
-                ..
-            })
+            Some(Problem::IndexOutOfBounds { index: 2, len: 2, .. })
         ));
     }
 
@@ -2444,10 +2291,7 @@ mod tests {
     #[test]
     fn tag_clashing_with_axis() {
         let text = edited("name = \"Count\"", "name = \"Slide\"");
-        assert!(matches!(
-            error_of(&text).problem(),
-            Some(Problem::DuplicateName { .. })
-        ));
+        assert!(matches!(error_of(&text).problem(), Some(Problem::DuplicateName { .. })));
     }
 
     #[test]
@@ -2459,18 +2303,12 @@ mod tests {
         let text = edited("physics_step_ms = 1.0", "physics_step_ms = 0.5");
         assert!(parse(&fixtures().join("case.toml"), &text).is_ok());
         let text = edited("coarse_update_ms = 4.0", "coarse_update_ms = 40.0");
-        assert!(matches!(
-            error_of(&text).problem(),
-            Some(Problem::OutOfRange { .. })
-        ));
+        assert!(matches!(error_of(&text).problem(), Some(Problem::OutOfRange { .. })));
     }
 
     #[test]
     fn both_triggers() {
-        let text = edited(
-            "when = \"MoveTable.Done\"",
-            "at_s = 1.0\nwhen = \"MoveTable.Done\"",
-        );
+        let text = edited("when = \"MoveTable.Done\"", "at_s = 1.0\nwhen = \"MoveTable.Done\"");
         let e = error_of(&text);
         assert_place(&e, find(&text, "\"MoveTable.Done\""), "program[1].when");
         assert!(matches!(e.problem(), Some(Problem::BothTriggers)));
@@ -2487,26 +2325,16 @@ mod tests {
     #[test]
     fn after_s_needs_when_and_at_s_within_duration() {
         let text = edited("at_s = 2.0\n", "at_s = 2.0\nafter_s = 1.0\n");
-        assert!(matches!(
-            error_of(&text).problem(),
-            Some(Problem::AfterWithoutWhen)
-        ));
+        assert!(matches!(error_of(&text).problem(), Some(Problem::AfterWithoutWhen)));
         let text = edited("at_s = 2.0\n", "at_s = 9.0\n");
-        assert!(matches!(
-            error_of(&text).problem(),
-            Some(Problem::AfterEnd { .. })
-        ));
+        assert!(matches!(error_of(&text).problem(), Some(Problem::AfterEnd { .. })));
     }
 
     #[test]
     fn ranges_are_checked() {
         for (from, to, field) in [
             ("max_jerk = 36000.0", "max_jerk = -1.0", "axes[0].max_jerk"),
-            (
-                "max_velocity = 500.0",
-                "max_velocity = nan",
-                "axes[1].max_velocity",
-            ),
+            ("max_velocity = 500.0", "max_velocity = nan", "axes[1].max_velocity"),
             ("fps = 10.0", "fps = 0.0", "cameras[0].fps"),
             ("width = 640", "width = 0", "cameras[0].width"),
             ("fov_deg = 45.0", "fov_deg = 180.0", "cameras[0].fov_deg"),
@@ -2534,24 +2362,12 @@ mod tests {
     fn shapes_need_their_own_fields() {
         let e = error_of(&edited("radius = 0.05\n", ""));
         assert!(
-            matches!(
-                e.problem(),
-                Some(Problem::MissingShapeField {
-                    field: "radius",
-                    ..
-                })
-            ),
+            matches!(e.problem(), Some(Problem::MissingShapeField { field: "radius", .. })),
             "{e}"
         );
-        let e = error_of(&edited(
-            "radius = 0.1\n",
-            "radius = 0.1\nsize = [1.0, 1.0, 1.0]\n",
-        ));
+        let e = error_of(&edited("radius = 0.1\n", "radius = 0.1\nsize = [1.0, 1.0, 1.0]\n"));
         assert!(
-            matches!(
-                e.problem(),
-                Some(Problem::ExtraShapeField { field: "size", .. })
-            ),
+            matches!(e.problem(), Some(Problem::ExtraShapeField { field: "size", .. })),
             "{e}"
         );
     }
@@ -2561,30 +2377,16 @@ mod tests {
         let text = edited("type = \"DINT\"", "type = \"DWORD\"");
         let e = error_of(&text);
         assert_place(&e, find(&text, "\"DWORD\""), "tags[5].type");
-        assert!(
-            matches!(e.problem(), Some(Problem::UnknownTagType { type_name }) if type_name == "DWORD")
-        );
+        assert!(matches!(e.problem(), Some(Problem::UnknownTagType { type_name }) if type_name == "DWORD"));
         for (from, to) in [
-            (
-                "type = \"REAL[2]\"\nvalue = [90.0",
-                "type = \"REAL[0]\"\nvalue = [90.0",
-            ),
+            ("type = \"REAL[2]\"\nvalue = [90.0", "type = \"REAL[0]\"\nvalue = [90.0"),
             ("value = 3", "value = 3.5"),
             ("value = 3", "value = 4294967296"),
             ("value = true", "value = 1"),
             ("value = [90.0, 100]", "value = [90.0]"),
-            (
-                "value = [\"Table\", \"Slide\"]",
-                "value = [\"Table\", \"Spindle\"]",
-            ),
-            (
-                "type = \"MC_MoveModulo\"",
-                "type = \"MC_MoveModulo\"\nvalue = 1",
-            ),
-            (
-                "{ master = 90.0, slave = 10.0 }",
-                "{ master = 0.0, slave = 10.0 }",
-            ),
+            ("value = [\"Table\", \"Slide\"]", "value = [\"Table\", \"Spindle\"]"),
+            ("type = \"MC_MoveModulo\"", "type = \"MC_MoveModulo\"\nvalue = 1"),
+            ("{ master = 90.0, slave = 10.0 }", "{ master = 0.0, slave = 10.0 }"),
         ] {
             let e = error_of(&edited(from, to));
             assert!(matches!(e, SceneError::Invalid { .. }), "{to}: {e}");
@@ -2594,10 +2396,7 @@ mod tests {
     #[test]
     fn snapshots_need_distinct_frames() {
         let e = error_of(&edited("frames = [0, 12, 30]", "frames = [0, 12, 12]"));
-        assert!(matches!(
-            e.problem(),
-            Some(Problem::DuplicateFrame { frame: 12 })
-        ));
+        assert!(matches!(e.problem(), Some(Problem::DuplicateFrame { frame: 12 })));
     }
 
     #[test]
@@ -2615,10 +2414,7 @@ mod tests {
         );
         let e = error_of(&text);
         assert!(matches!(e, SceneError::Syntax { .. }), "{e}");
-        assert_eq!(
-            e.location().map(|l| l.line),
-            Some(find(&text, "\\u0054").line)
-        );
+        assert_eq!(e.location().map(|l| l.line), Some(find(&text, "\\u0054").line));
     }
 
     #[test]

@@ -52,7 +52,13 @@ impl Frames {
     /// # Errors
     /// [`OutputError`] when the directory cannot be created or a mesh fails.
     pub fn new(twin: &Twin, dir: Option<&Path>, render: bool) -> Result<Frames, OutputError> {
-        let Some(dir) = dir.filter(|_| render) else { return Ok(Frames { #[cfg(feature = "render")] inner: None, written: 0 }) };
+        let Some(dir) = dir.filter(|_| render) else {
+            return Ok(Frames {
+                #[cfg(feature = "render")]
+                inner: None,
+                written: 0,
+            });
+        };
         #[cfg(feature = "render")]
         {
             let parts = scene_parts(twin.model(), twin.scene()).map_err(OutputError::Geometry)?;
@@ -60,12 +66,29 @@ impl Frames {
                 Ok(r) => r,
                 Err(crate::render::RenderError::NoAdapter) => {
                     eprintln!("{}", crate::render::NO_ADAPTER_HINT);
-                    return Ok(Frames { inner: None, written: 0 });
+                    return Ok(Frames {
+                        inner: None,
+                        written: 0,
+                    });
                 }
-                Err(e) => return Err(OutputError::Frame { path: dir.to_path_buf(), message: e.to_string() }),
+                Err(e) => {
+                    return Err(OutputError::Frame {
+                        path: dir.to_path_buf(),
+                        message: e.to_string(),
+                    });
+                }
             };
-            std::fs::create_dir_all(dir).map_err(|e| OutputError::Frame { path: dir.to_path_buf(), message: e.to_string() })?;
-            let parts = parts.into_iter().map(|p| { let id = renderer.upload_mesh(&p.mesh); (p, id) }).collect();
+            std::fs::create_dir_all(dir).map_err(|e| OutputError::Frame {
+                path: dir.to_path_buf(),
+                message: e.to_string(),
+            })?;
+            let parts = parts
+                .into_iter()
+                .map(|p| {
+                    let id = renderer.upload_mesh(&p.mesh);
+                    (p, id)
+                })
+                .collect();
             let f32x3 = |v: [f64; 3]| v.map(|x| x as f32);
             let cameras = twin
                 .scene()
@@ -83,7 +106,15 @@ impl Frames {
                     (c.name.clone(), cam, c.fps, 0u64)
                 })
                 .collect();
-            Ok(Frames { inner: Some(FramesInner { renderer, parts, dir: dir.to_path_buf(), cameras }), written: 0 })
+            Ok(Frames {
+                inner: Some(FramesInner {
+                    renderer,
+                    parts,
+                    dir: dir.to_path_buf(),
+                    cameras,
+                }),
+                written: 0,
+            })
         }
         #[cfg(not(feature = "render"))]
         {
@@ -121,9 +152,15 @@ impl Frames {
                 let image = inner
                     .renderer
                     .render(cam, &items, &[])
-                    .map_err(|e| OutputError::Frame { path: inner.dir.clone(), message: e.to_string() })?;
+                    .map_err(|e| OutputError::Frame {
+                        path: inner.dir.clone(),
+                        message: e.to_string(),
+                    })?;
                 let path = inner.dir.join(format!("{name}-{next:05}.png"));
-                image.save(&path).map_err(|e| OutputError::Frame { path: path.clone(), message: e.to_string() })?;
+                image.save(&path).map_err(|e| OutputError::Frame {
+                    path: path.clone(),
+                    message: e.to_string(),
+                })?;
                 *next += 1;
                 self.written += 1;
             }
@@ -162,10 +199,18 @@ impl Recording {
         }
         let model = twin.model();
         let names: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
-        let joints: Vec<(&str, usize, usize)> = model.joints.iter().map(|j| (j.name.as_str(), j.parent.0, j.child.0)).collect();
+        let joints: Vec<(&str, usize, usize)> = model
+            .joints
+            .iter()
+            .map(|j| (j.name.as_str(), j.parent.0, j.child.0))
+            .collect();
         let link_paths = urdf_entity_paths(&names, &joints, model.root.0);
         if sinks.is_empty() {
-            return Ok(Recording { recorder: None, link_paths, previous_outputs: Vec::new() });
+            return Ok(Recording {
+                recorder: None,
+                link_paths,
+                previous_outputs: Vec::new(),
+            });
         }
         let mut recorder = Recorder::new(&format!("twin_{}", twin.scene().name), &sinks)?;
         recorder.set_time_s(0.0);
@@ -175,16 +220,27 @@ impl Recording {
             let (path, pose) = match part.link {
                 Some(i) => {
                     count[i] += 1;
-                    (format!("{}/visual_{}", link_paths[i], count[i] - 1), part.parent_from_mesh)
+                    (
+                        format!("{}/visual_{}", link_paths[i], count[i] - 1),
+                        part.parent_from_mesh,
+                    )
                 }
                 None => (format!("obstacles/{}", part.name), part.parent_from_mesh),
             };
             let t = pose.translation.vector;
             let q = pose.rotation.coords;
-            let local = ([t.x as f32, t.y as f32, t.z as f32], [q.x as f32, q.y as f32, q.z as f32, q.w as f32], [1.0, 1.0, 1.0]);
+            let local = (
+                [t.x as f32, t.y as f32, t.z as f32],
+                [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
+                [1.0, 1.0, 1.0],
+            );
             recorder.log_link_mesh_static(&path, &part.mesh, part.color_rgba, local)?;
         }
-        Ok(Recording { recorder: Some(recorder), link_paths, previous_outputs: Vec::new() })
+        Ok(Recording {
+            recorder: Some(recorder),
+            link_paths,
+            previous_outputs: Vec::new(),
+        })
     }
 
     /// Logs the current update.
@@ -192,7 +248,9 @@ impl Recording {
     /// # Errors
     /// [`OutputError::Recording`] when logging fails.
     pub fn log(&mut self, twin: &Twin) -> Result<(), OutputError> {
-        let Some(rec) = self.recorder.as_mut() else { return Ok(()) };
+        let Some(rec) = self.recorder.as_mut() else {
+            return Ok(());
+        };
         rec.set_time_s(twin.time_s());
         // Link transforms relative to their parent link (the entity tree).
         let model = twin.model();
@@ -219,7 +277,13 @@ impl Recording {
         self.previous_outputs.resize(twin.fbs().len(), Default::default());
         for (i, fb) in twin.fbs().iter().enumerate() {
             let o = twin.task().outputs(fb.handle);
-            for (name, bit) in [("Done", o.done), ("Busy", o.busy), ("Active", o.active), ("CommandAborted", o.command_aborted), ("Error", o.error)] {
+            for (name, bit) in [
+                ("Done", o.done),
+                ("Busy", o.busy),
+                ("Active", o.active),
+                ("CommandAborted", o.command_aborted),
+                ("Error", o.error),
+            ] {
                 rec.log_scalar(&format!("instructions/{}/{name}", fb.name), f64::from(u8::from(bit)))?;
             }
             if o != self.previous_outputs[i] {
@@ -245,15 +309,30 @@ impl Recording {
 
 fn describe(o: planner::instruction::FbOutputs) -> String {
     let mut s = String::new();
-    for (name, bit) in [("Done", o.done), ("Busy", o.busy), ("Active", o.active), ("CommandAborted", o.command_aborted), ("Error", o.error)] {
+    for (name, bit) in [
+        ("Done", o.done),
+        ("Busy", o.busy),
+        ("Active", o.active),
+        ("CommandAborted", o.command_aborted),
+        ("Error", o.error),
+    ] {
         if bit {
             let _ = write!(s, "{name} ");
         }
     }
     if o.error {
-        let _ = write!(s, "ErrorID 16#{:04X} ({})", o.error_id, planner::modulo::ErrorId(o.error_id).meaning());
+        let _ = write!(
+            s,
+            "ErrorID 16#{:04X} ({})",
+            o.error_id,
+            planner::modulo::ErrorId(o.error_id).meaning()
+        );
     }
-    if s.is_empty() { "idle".to_string() } else { s.trim_end().to_string() }
+    if s.is_empty() {
+        "idle".to_string()
+    } else {
+        s.trim_end().to_string()
+    }
 }
 
 /// Per-run statistics gathered each update.
@@ -307,7 +386,14 @@ impl Stats {
     pub fn new(twin: &Twin) -> Stats {
         Stats {
             max_following_error: vec![0.0; twin.axes().len()],
-            outcomes: twin.fbs().iter().map(|f| InstructionOutcome { name: f.name.clone(), ..Default::default() }).collect(),
+            outcomes: twin
+                .fbs()
+                .iter()
+                .map(|f| InstructionOutcome {
+                    name: f.name.clone(),
+                    ..Default::default()
+                })
+                .collect(),
             previous: vec![Default::default(); twin.fbs().len()],
         }
     }
@@ -329,7 +415,11 @@ impl Stats {
             out.aborted += u32::from(o.command_aborted && !p.command_aborted);
             if o.error && !p.error {
                 out.errors += 1;
-                out.last_error = Some(format!("16#{:04X}: {}", o.error_id, planner::modulo::ErrorId(o.error_id).meaning()));
+                out.last_error = Some(format!(
+                    "16#{:04X}: {}",
+                    o.error_id,
+                    planner::modulo::ErrorId(o.error_id).meaning()
+                ));
             }
             self.previous[i] = o;
         }
@@ -345,10 +435,19 @@ impl Stats {
             scene: twin.scene().name.clone(),
             simulated_s: twin.time_s(),
             wall_s,
-            real_time_factor: if wall_s > 0.0 { twin.time_s() / wall_s } else { f64::INFINITY },
+            real_time_factor: if wall_s > 0.0 {
+                twin.time_s() / wall_s
+            } else {
+                f64::INFINITY
+            },
             updates: twin.task().updates(),
             instructions,
-            max_following_error: twin.axes().iter().zip(&self.max_following_error).map(|(a, e)| (a.name.clone(), *e)).collect(),
+            max_following_error: twin
+                .axes()
+                .iter()
+                .zip(&self.max_following_error)
+                .map(|(a, e)| (a.name.clone(), *e))
+                .collect(),
             frames_written,
         }
     }
@@ -370,10 +469,17 @@ impl Summary {
     /// The summary as text for a person.
     pub fn human(&self) -> String {
         let mut s = String::new();
-        let _ = writeln!(s, "scene {}: {:.3} s simulated in {:.3} s wall, real-time factor {:.2} ({} updates)",
-            self.scene, self.simulated_s, self.wall_s, self.real_time_factor, self.updates);
+        let _ = writeln!(
+            s,
+            "scene {}: {:.3} s simulated in {:.3} s wall, real-time factor {:.2} ({} updates)",
+            self.scene, self.simulated_s, self.wall_s, self.real_time_factor, self.updates
+        );
         for i in &self.instructions {
-            let _ = write!(s, "  {}: done {}, aborted {}, errors {}; now {}", i.name, i.done, i.aborted, i.errors, i.final_outputs);
+            let _ = write!(
+                s,
+                "  {}: done {}, aborted {}, errors {}; now {}",
+                i.name, i.done, i.aborted, i.errors, i.final_outputs
+            );
             if let Some(e) = &i.last_error {
                 let _ = write!(s, "; last error {e}");
             }

@@ -77,8 +77,7 @@ impl SnapshotPolicy {
     /// anything but empty, `0` or `false`).
     #[must_use]
     pub fn from_env() -> SnapshotPolicy {
-        let ci =
-            std::env::var_os("CI").is_some_and(|v| !(v.is_empty() || v == "0" || v == "false"));
+        let ci = std::env::var_os("CI").is_some_and(|v| !(v.is_empty() || v == "0" || v == "false"));
         SnapshotPolicy {
             update: std::env::var_os("UPDATE_SNAPSHOTS").is_some_and(|v| v == "1"),
             ci,
@@ -229,9 +228,7 @@ pub fn check_snapshot(
 ) -> Result<SnapshotOutcome, SnapshotError> {
     let plain = |c: char| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-');
     if name.is_empty() || name.starts_with('.') || !name.chars().all(plain) {
-        return Err(SnapshotError::InvalidName {
-            name: name.to_owned(),
-        });
+        return Err(SnapshotError::InvalidName { name: name.to_owned() });
     }
     let reference = snapshots_dir.join(format!("{name}.png"));
     let actual_path = artifacts_dir.join(format!("{name}.actual.png"));
@@ -271,10 +268,7 @@ pub fn check_snapshot(
     let allowed = tolerance.differing_fraction * total_pixels as f64;
     if comparison.differing_pixels as f64 > allowed {
         write_png(actual, &actual_path)?;
-        write_png(
-            &diff_image(actual, &expected, tolerance.channel_delta),
-            &diff_path,
-        )?;
+        write_png(&diff_image(actual, &expected, tolerance.channel_delta), &diff_path)?;
         return Err(SnapshotError::Mismatch {
             name: name.to_owned(),
             differing_pixels: comparison.differing_pixels,
@@ -305,11 +299,7 @@ pub fn check_snapshot(
 /// Counts pixels of two equally sized images whose channels differ by more
 /// than `channel_delta`. Extra pixels of a larger image are ignored.
 #[must_use]
-pub fn compare(
-    actual: &image::RgbaImage,
-    expected: &image::RgbaImage,
-    channel_delta: u8,
-) -> Comparison {
+pub fn compare(actual: &image::RgbaImage, expected: &image::RgbaImage, channel_delta: u8) -> Comparison {
     let mut differing_pixels = 0;
     let mut max_channel_delta = 0;
     for (a, e) in actual.pixels().zip(expected.pixels()) {
@@ -331,11 +321,7 @@ fn pixel_delta(a: [u8; 4], b: [u8; 4]) -> u8 {
 
 /// The reference dimmed to grey, with differing pixels in red (brighter for
 /// larger differences) and differences within tolerance in dim yellow.
-fn diff_image(
-    actual: &image::RgbaImage,
-    expected: &image::RgbaImage,
-    channel_delta: u8,
-) -> image::RgbaImage {
+fn diff_image(actual: &image::RgbaImage, expected: &image::RgbaImage, channel_delta: u8) -> image::RgbaImage {
     let mut out = image::RgbaImage::new(actual.width(), actual.height());
     for ((o, a), e) in out.pixels_mut().zip(actual.pixels()).zip(expected.pixels()) {
         let delta = pixel_delta(a.0, e.0);
@@ -395,10 +381,7 @@ mod tests {
         update: false,
         ci: true,
     };
-    const UPDATE: SnapshotPolicy = SnapshotPolicy {
-        update: true,
-        ci: true,
-    };
+    const UPDATE: SnapshotPolicy = SnapshotPolicy { update: true, ci: true };
 
     fn check(
         name: &str,
@@ -428,9 +411,7 @@ mod tests {
                 reference: reference.clone()
             }
         );
-        let written = image::open(&reference)
-            .expect("reference readable")
-            .into_rgba8();
+        let written = image::open(&reference).expect("reference readable").into_rgba8();
         assert_eq!(written, img);
         // The second run compares against it.
         let again = check("scene-0000", &img, &dir, LOCAL).expect("matches");
@@ -447,9 +428,7 @@ mod tests {
     fn missing_reference_is_an_error_in_ci() {
         let dir = scratch("missing-ci");
         let err = check("scene-0001", &gradient(4, 4), &dir, CI).expect_err("must fail in CI");
-        assert!(
-            matches!(err, SnapshotError::MissingReference { ref name, .. } if name == "scene-0001")
-        );
+        assert!(matches!(err, SnapshotError::MissingReference { ref name, .. } if name == "scene-0001"));
         assert!(
             !dir.join("snapshots/scene-0001.png").exists(),
             "CI must not write references"
@@ -507,10 +486,7 @@ mod tests {
         };
         assert_eq!((differing_pixels, total_pixels), (100, 1200));
         assert!(max_channel_delta >= 100);
-        assert_eq!(
-            image::open(&actual).expect("actual written").into_rgba8(),
-            changed
-        );
+        assert_eq!(image::open(&actual).expect("actual written").into_rgba8(), changed);
         let diff_img = image::open(&diff).expect("diff written").into_rgba8();
         assert!(diff_img.get_pixel(15, 15).0[0] >= 128 && diff_img.get_pixel(15, 15).0[1] == 0);
         let calm = diff_img.get_pixel(2, 2).0;

@@ -42,9 +42,7 @@ pub enum StlError {
         source: std::io::Error,
     },
     /// The file ends before the data its header or syntax promises.
-    #[error(
-        "STL file {path} is truncated: expected at least {expected_bytes} bytes, found {actual_bytes}"
-    )]
+    #[error("STL file {path} is truncated: expected at least {expected_bytes} bytes, found {actual_bytes}")]
     Truncated {
         /// The file.
         path: PathBuf,
@@ -188,13 +186,7 @@ fn parse_binary(bytes: &[u8], path: &Path) -> Result<Vec<Facet>, StlError> {
     Ok(body
         .chunks_exact(BINARY_TRIANGLE_BYTES)
         .map(|record| {
-            let v = |k: usize| {
-                [
-                    f32_at(record, k),
-                    f32_at(record, k + 1),
-                    f32_at(record, k + 2),
-                ]
-            };
+            let v = |k: usize| [f32_at(record, k), f32_at(record, k + 1), f32_at(record, k + 2)];
             Facet {
                 normal: v(0),
                 vertices: [v(3), v(6), v(9)],
@@ -244,8 +236,7 @@ fn parse_ascii(bytes: &[u8], path: &Path) -> Result<Vec<Facet>, StlError> {
             "endloop" if current.is_some() => {}
             "endfacet" => {
                 let (normal, vertices) = current.take().ok_or_else(|| malformed(line_no))?;
-                let vertices: [[f32; 3]; 3] =
-                    vertices.try_into().map_err(|_| malformed(line_no))?;
+                let vertices: [[f32; 3]; 3] = vertices.try_into().map_err(|_| malformed(line_no))?;
                 facets.push(Facet { normal, vertices });
             }
             "endsolid" if current.is_none() => {
@@ -413,7 +404,8 @@ mod tests {
 
     #[test]
     fn ascii_errors_name_line_or_truncation() {
-        let two_vertices = "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid a\n";
+        let two_vertices =
+            "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid a\n";
         assert!(matches!(
             parse_stl(two_vertices.as_bytes(), Path::new(P)),
             Err(StlError::MalformedAscii { line: 7, .. })

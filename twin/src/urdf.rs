@@ -203,10 +203,9 @@ impl Joint {
     /// or translation along, [`Joint::axis`]; identity for fixed joints.
     pub fn joint_from_child(&self, q: f64) -> Isometry3<f64> {
         match self.kind {
-            JointKind::Revolute | JointKind::Continuous => Isometry3::from_parts(
-                Translation3::identity(),
-                UnitQuaternion::from_axis_angle(&self.axis, q),
-            ),
+            JointKind::Revolute | JointKind::Continuous => {
+                Isometry3::from_parts(Translation3::identity(), UnitQuaternion::from_axis_angle(&self.axis, q))
+            }
             JointKind::Prismatic => Isometry3::from_parts(
                 Translation3::from(self.axis.into_inner() * q),
                 UnitQuaternion::identity(),
@@ -262,9 +261,7 @@ pub enum UrdfError {
         source: StlError,
     },
     /// A mesh file is in a format other than STL.
-    #[error(
-        "link {link}: mesh {path} has unsupported format {extension:?} (only STL is supported)"
-    )]
+    #[error("link {link}: mesh {path} has unsupported format {extension:?} (only STL is supported)")]
     UnsupportedMeshFormat {
         /// The link whose visual or collision references the mesh.
         link: String,
@@ -386,18 +383,12 @@ impl RobotModel {
 
     /// The link called `name`, if any.
     pub fn link_by_name(&self, name: &str) -> Option<LinkIndex> {
-        self.links
-            .iter()
-            .position(|l| l.name == name)
-            .map(LinkIndex)
+        self.links.iter().position(|l| l.name == name).map(LinkIndex)
     }
 
     /// The joint called `name`, if any.
     pub fn joint_by_name(&self, name: &str) -> Option<JointIndex> {
-        self.joints
-            .iter()
-            .position(|j| j.name == name)
-            .map(JointIndex)
+        self.joints.iter().position(|j| j.name == name).map(JointIndex)
     }
 
     /// The link at `index`. Panics if the index is not from this model.
@@ -427,9 +418,8 @@ impl RobotModel {
         for &JointIndex(j) in &self.topological_joints {
             let joint = &self.joints[j];
             let qj = q.get(j).copied().unwrap_or(0.0);
-            world_from_link[joint.child.0] = world_from_link[joint.parent.0]
-                * joint.parent_from_joint
-                * joint.joint_from_child(qj);
+            world_from_link[joint.child.0] =
+                world_from_link[joint.parent.0] * joint.parent_from_joint * joint.joint_from_child(qj);
         }
         world_from_link
     }
@@ -515,9 +505,7 @@ fn build(robot: &urdf_rs::Robot, urdf_dir: &Path) -> Result<RobotModel, UrdfErro
             }
         }
     }
-    let roots: Vec<usize> = (0..links.len())
-        .filter(|&l| parents[l].is_empty())
-        .collect();
+    let roots: Vec<usize> = (0..links.len()).filter(|&l| parents[l].is_empty()).collect();
     let root = match roots.as_slice() {
         [root] => *root,
         [] => {
@@ -635,11 +623,7 @@ fn convert_link(
     })
 }
 
-fn convert_geometry(
-    geometry: &urdf_rs::Geometry,
-    link: &str,
-    urdf_dir: &Path,
-) -> Result<Geometry, UrdfError> {
+fn convert_geometry(geometry: &urdf_rs::Geometry, link: &str, urdf_dir: &Path) -> Result<Geometry, UrdfError> {
     Ok(match geometry {
         urdf_rs::Geometry::Box { size } => Geometry::Box { size: size.0 },
         urdf_rs::Geometry::Cylinder { radius, length } => Geometry::Cylinder {
@@ -714,11 +698,7 @@ fn mesh_candidates(filename: &str, urdf_dir: &Path) -> Vec<PathBuf> {
     }
 }
 
-fn convert_joint(
-    joint: &urdf_rs::Joint,
-    parent: LinkIndex,
-    child: LinkIndex,
-) -> Result<Joint, UrdfError> {
+fn convert_joint(joint: &urdf_rs::Joint, parent: LinkIndex, child: LinkIndex) -> Result<Joint, UrdfError> {
     let unsupported = |joint_type| UrdfError::UnsupportedJointType {
         joint: joint.name.clone(),
         joint_type,
@@ -821,10 +801,7 @@ mod tests {
                 length: 0.5
             }
         );
-        assert_eq!(
-            upper.collisions[0].geometry,
-            Geometry::Sphere { radius: 0.1 }
-        );
+        assert_eq!(upper.collisions[0].geometry, Geometry::Sphere { radius: 0.1 });
         let inertial = upper.inertial.as_ref().unwrap();
         assert_eq!(inertial.mass_kg, 2.0);
         assert_eq!(inertial.inertia_kgm2[(2, 2)], 0.01);
@@ -845,10 +822,7 @@ mod tests {
         // 0.2 m along its X, which the yaw of its origin turns onto the arm's +Y.
         let q = m.world_from_link(&[FRAC_PI_2, 0.2]);
         let slider = q[2].translation.vector;
-        assert!(
-            (slider - Vector3::new(0.5, 0.2, 0.1)).norm() < 1e-12,
-            "{slider}"
-        );
+        assert!((slider - Vector3::new(0.5, 0.2, 0.1)).norm() < 1e-12, "{slider}");
     }
 
     #[test]
@@ -933,9 +907,7 @@ mod tests {
             })
         ));
         let xml = ARM.replace(r#"<axis xyz="0 1 0"/>"#, r#"<axis xyz="0 0 0"/>"#);
-        assert!(
-            matches!(parse(&xml), Err(UrdfError::InvalidAxis { joint, .. }) if joint == "shoulder")
-        );
+        assert!(matches!(parse(&xml), Err(UrdfError::InvalidAxis { joint, .. }) if joint == "shoulder"));
     }
 
     fn temp_dir(name: &str) -> PathBuf {
@@ -985,11 +957,7 @@ mod tests {
         let dir = temp_dir("errors");
         let urdf = dir.join("robot.urdf");
         match RobotModel::from_urdf_str(&with_mesh("missing.stl"), &urdf) {
-            Err(UrdfError::MeshMissing {
-                link,
-                filename,
-                path,
-            }) => {
+            Err(UrdfError::MeshMissing { link, filename, path }) => {
                 assert_eq!(link, "base");
                 assert_eq!(filename, "missing.stl");
                 assert_eq!(path, dir.join("missing.stl"));
@@ -1010,9 +978,7 @@ mod tests {
         }
         std::fs::write(dir.join("part.dae"), "<COLLADA/>").unwrap();
         match RobotModel::from_urdf_str(&with_mesh("part.dae"), &urdf) {
-            Err(UrdfError::UnsupportedMeshFormat {
-                link, extension, ..
-            }) => {
+            Err(UrdfError::UnsupportedMeshFormat { link, extension, .. }) => {
                 assert_eq!(link, "base");
                 assert_eq!(extension, "dae");
             }
@@ -1023,8 +989,7 @@ mod tests {
 
     #[test]
     fn indexing_table_loads_with_its_mesh_and_colours() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../scenes/robots/indexing_table/indexing_table.urdf");
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/robots/indexing_table/indexing_table.urdf");
         let m = RobotModel::load(&path).unwrap();
         assert_eq!(m.name, "indexing_table");
         assert_eq!(m.link(m.root).name, "base_link");
@@ -1033,20 +998,11 @@ mod tests {
         assert_eq!(joint.axis.into_inner(), Vector3::z());
         let platter = m.link_by_name("platter").unwrap();
         assert_eq!(joint.child, platter);
-        let fixtures = [
-            "fixture_vblock",
-            "fixture_clamp",
-            "fixture_pin",
-            "fixture_ball",
-        ];
+        let fixtures = ["fixture_vblock", "fixture_clamp", "fixture_pin", "fixture_ball"];
         let mut colours = Vec::new();
         for name in fixtures {
             let link = m.link(m.link_by_name(name).unwrap());
-            assert_eq!(
-                m.joint(link.parent_joint.unwrap()).parent,
-                platter,
-                "{name}"
-            );
+            assert_eq!(m.joint(link.parent_joint.unwrap()).parent, platter, "{name}");
             assert!(link.inertial.is_some(), "{name}");
             colours.push(link.visuals[0].color_rgba.unwrap());
         }

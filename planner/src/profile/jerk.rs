@@ -71,7 +71,11 @@ pub enum JerkUnitsError {
 }
 
 fn reference(which: &'static str, value: f64) -> Result<f64, JerkUnitsError> {
-    if value.is_finite() && value > 0.0 { Ok(value) } else { Err(JerkUnitsError::BadReference { which, value }) }
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(JerkUnitsError::BadReference { which, value })
+    }
 }
 
 /// `j [units/s³] = a² / v · (200 / percent − 1)` for `0 < percent ≤ 100`.
@@ -81,7 +85,11 @@ fn reference(which: &'static str, value: f64) -> Result<f64, JerkUnitsError> {
 /// [`JerkUnitsError::BadReference`] for a non-positive rate.
 pub fn jerk_from_percent_of_time(percent: f64, accel: f64, speed: f64) -> Result<f64, JerkUnitsError> {
     if !(percent > 0.0 && percent <= 100.0) {
-        return Err(JerkUnitsError::OutOfRange { units: JerkUnits::PercentOfTime, value: percent, allowed: "0 < % ≤ 100" });
+        return Err(JerkUnitsError::OutOfRange {
+            units: JerkUnits::PercentOfTime,
+            value: percent,
+            allowed: "0 < % ≤ 100",
+        });
     }
     let a = reference("accel", accel)?;
     let v = reference("speed", speed)?;
@@ -95,7 +103,11 @@ pub fn jerk_from_percent_of_time(percent: f64, accel: f64, speed: f64) -> Result
 /// [`JerkUnitsError::BadReference`] for a non-positive rate.
 pub fn jerk_to_percent_of_time(jerk: f64, accel: f64, speed: f64) -> Result<f64, JerkUnitsError> {
     if !(jerk.is_finite() && jerk > 0.0) {
-        return Err(JerkUnitsError::OutOfRange { units: JerkUnits::UnitsPerSec3, value: jerk, allowed: "finite and > 0" });
+        return Err(JerkUnitsError::OutOfRange {
+            units: JerkUnits::UnitsPerSec3,
+            value: jerk,
+            allowed: "finite and > 0",
+        });
     }
     let a = reference("accel", accel)?;
     let v = reference("speed", speed)?;
@@ -112,18 +124,32 @@ pub fn jerk_to_percent_of_time(jerk: f64, accel: f64, speed: f64) -> Result<f64,
 /// [`JerkUnitsError`] when the value is out of range for its unit
 /// (units/s³: finite and > 0; % of Maximum: 0 < % ≤ 100; % of Time: 0 < % ≤ 100)
 /// or a needed reference rate is not finite and > 0.
-pub fn jerk_to_units_per_sec3(value: f64, units: JerkUnits, max_jerk: f64, accel: f64, speed: f64) -> Result<f64, JerkUnitsError> {
+pub fn jerk_to_units_per_sec3(
+    value: f64,
+    units: JerkUnits,
+    max_jerk: f64,
+    accel: f64,
+    speed: f64,
+) -> Result<f64, JerkUnitsError> {
     match units {
         JerkUnits::UnitsPerSec3 => {
             if value.is_finite() && value > 0.0 {
                 Ok(value)
             } else {
-                Err(JerkUnitsError::OutOfRange { units, value, allowed: "finite and > 0" })
+                Err(JerkUnitsError::OutOfRange {
+                    units,
+                    value,
+                    allowed: "finite and > 0",
+                })
             }
         }
         JerkUnits::PercentOfMaximum => {
             if !(value > 0.0 && value <= 100.0) {
-                return Err(JerkUnitsError::OutOfRange { units, value, allowed: "0 < % ≤ 100" });
+                return Err(JerkUnitsError::OutOfRange {
+                    units,
+                    value,
+                    allowed: "0 < % ≤ 100",
+                });
             }
             Ok(reference("maximum jerk", max_jerk)? * value / 100.0)
         }
@@ -155,7 +181,12 @@ mod tests {
     /// jerk phases: 2·(a/j) / (v/a + a/j).
     #[test]
     fn percent_of_time_is_the_jerk_share_of_the_ramp() {
-        for &(p, a, v) in &[(100.0, 10.0, 5.0), (40.0, 3.0, 7.0), (1.0, 1000.0, 0.1), (73.5, 0.2, 0.01)] {
+        for &(p, a, v) in &[
+            (100.0, 10.0, 5.0),
+            (40.0, 3.0, 7.0),
+            (1.0, 1000.0, 0.1),
+            (73.5, 0.2, 0.01),
+        ] {
             let j = jerk_from_percent_of_time(p, a, v).unwrap();
             let jerk_time = 2.0 * a / j;
             let ramp_time = v / a + a / j;
@@ -180,16 +211,28 @@ mod tests {
 
     #[test]
     fn percent_of_maximum_scales_the_configured_jerk() {
-        assert_eq!(jerk_to_units_per_sec3(25.0, JerkUnits::PercentOfMaximum, 400.0, 1.0, 1.0), Ok(100.0));
-        assert_eq!(jerk_to_units_per_sec3(7.5, JerkUnits::UnitsPerSec3, 400.0, 1.0, 1.0), Ok(7.5));
-        assert_eq!(jerk_to_units_per_sec3(100.0, JerkUnits::PercentOfTime, 0.0, 100.0, 50.0), Ok(200.0));
+        assert_eq!(
+            jerk_to_units_per_sec3(25.0, JerkUnits::PercentOfMaximum, 400.0, 1.0, 1.0),
+            Ok(100.0)
+        );
+        assert_eq!(
+            jerk_to_units_per_sec3(7.5, JerkUnits::UnitsPerSec3, 400.0, 1.0, 1.0),
+            Ok(7.5)
+        );
+        assert_eq!(
+            jerk_to_units_per_sec3(100.0, JerkUnits::PercentOfTime, 0.0, 100.0, 50.0),
+            Ok(200.0)
+        );
     }
 
     #[test]
     fn bad_values_are_errors_never_nan() {
         for bad in [0.0, -1.0, 100.5, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
             assert!(jerk_from_percent_of_time(bad, 1.0, 1.0).is_err(), "{bad}");
-            assert!(jerk_to_units_per_sec3(bad, JerkUnits::PercentOfMaximum, 1.0, 1.0, 1.0).is_err(), "{bad}");
+            assert!(
+                jerk_to_units_per_sec3(bad, JerkUnits::PercentOfMaximum, 1.0, 1.0, 1.0).is_err(),
+                "{bad}"
+            );
         }
         for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(jerk_to_percent_of_time(bad, 1.0, 1.0).is_err());

@@ -61,7 +61,11 @@ pub struct State {
 impl State {
     /// A state at rest at `position`.
     pub fn at_rest(position: f64) -> Self {
-        Self { position, velocity: 0.0, acceleration: 0.0 }
+        Self {
+            position,
+            velocity: 0.0,
+            acceleration: 0.0,
+        }
     }
 }
 
@@ -81,7 +85,11 @@ pub struct Sample {
 impl Sample {
     /// The kinematic state (drops the jerk).
     pub fn state(&self) -> State {
-        State { position: self.position, velocity: self.velocity, acceleration: self.acceleration }
+        State {
+            position: self.position,
+            velocity: self.velocity,
+            acceleration: self.acceleration,
+        }
     }
 }
 
@@ -123,7 +131,11 @@ pub enum LimitsError {
 }
 
 fn positive(which: &'static str, value: f64) -> Result<f64, LimitsError> {
-    if value.is_finite() && value > 0.0 { Ok(value) } else { Err(LimitsError::NotPositive { which, value }) }
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(LimitsError::NotPositive { which, value })
+    }
 }
 
 impl Limits {
@@ -188,7 +200,11 @@ struct Segment {
 
 impl Segment {
     fn at(&self, tau: f64) -> Sample {
-        let State { position: p, velocity: v, acceleration: a } = self.start;
+        let State {
+            position: p,
+            velocity: v,
+            acceleration: a,
+        } = self.start;
         let j = self.jerk;
         Sample {
             position: p + tau * (v + tau * (a / 2.0 + tau * j / 6.0)),
@@ -215,8 +231,16 @@ pub struct Profile {
 impl Profile {
     /// A profile that stays at `state` (with zero acceleration) forever.
     pub fn hold(state: State) -> Self {
-        let state = State { acceleration: 0.0, ..state };
-        Self { segments: Vec::new(), start: state, final_state: state, duration_s: 0.0 }
+        let state = State {
+            acceleration: 0.0,
+            ..state
+        };
+        Self {
+            segments: Vec::new(),
+            start: state,
+            final_state: state,
+            duration_s: 0.0,
+        }
     }
 
     /// Plans from `start` to `target_position`, arriving with speed
@@ -229,7 +253,11 @@ impl Profile {
     /// target gives a profile that holds the start position (callers validate
     /// operands before planning).
     pub fn to_position(start: State, target_position: f64, final_speed: f64, limits: &Limits) -> Self {
-        let requested_final_speed = if final_speed.is_finite() && final_speed > 0.0 { final_speed } else { 0.0 };
+        let requested_final_speed = if final_speed.is_finite() && final_speed > 0.0 {
+            final_speed
+        } else {
+            0.0
+        };
         let final_speed = requested_final_speed;
         if !target_position.is_finite() || !start.position.is_finite() {
             return Self::hold(start);
@@ -294,12 +322,24 @@ impl Profile {
             let rest = State::at_rest(stop.final_state.position);
             return stop.then(Self::to_position(rest, target_position, requested_final_speed, limits));
         }
-        let cruise_s = if cruise_len > 0.0 && peak > 0.0 { cruise_len / peak } else { 0.0 };
-        let mirrored_start = State { position: 0.0, velocity: v0, acceleration: a0 };
+        let cruise_s = if cruise_len > 0.0 && peak > 0.0 {
+            cruise_len / peak
+        } else {
+            0.0
+        };
+        let mirrored_start = State {
+            position: 0.0,
+            velocity: v0,
+            acceleration: a0,
+        };
         let mut profile = Self::from_ramps(mirrored_start, &[&first, &last], Some((1, cruise_s)), limits);
         profile.mirror_and_shift(dir, start.position);
         profile.start = start;
-        profile.final_state = State { position: target_position, velocity: dir * vf, acceleration: 0.0 };
+        profile.final_state = State {
+            position: target_position,
+            velocity: dir * vf,
+            acceleration: 0.0,
+        };
         profile
     }
 
@@ -310,7 +350,11 @@ impl Profile {
     /// gives the state at the end of the ramp. `target_velocity` is clamped to
     /// ±`limits.velocity()`; a non-finite one is taken as 0.
     pub fn to_velocity(start: State, target_velocity: f64, limits: &Limits) -> Self {
-        let vt = if target_velocity.is_finite() { target_velocity.clamp(-limits.velocity, limits.velocity) } else { 0.0 };
+        let vt = if target_velocity.is_finite() {
+            target_velocity.clamp(-limits.velocity, limits.velocity)
+        } else {
+            0.0
+        };
         let start = sanitize(start, limits);
         let ramp = Ramp::new(start.velocity, start.acceleration, vt, limits);
         let mut profile = Self::from_ramps(start, &[&ramp], None, limits);
@@ -332,7 +376,12 @@ impl Profile {
             if let Some(a) = phase.set_acceleration {
                 state.acceleration = a;
             }
-            let seg = Segment { t0_s: *t, duration_s: phase.duration_s, start: *state, jerk: phase.jerk };
+            let seg = Segment {
+                t0_s: *t,
+                duration_s: phase.duration_s,
+                start: *state,
+                jerk: phase.jerk,
+            };
             let end = seg.at(phase.duration_s);
             *state = end.state();
             if phase.set_acceleration.is_some() {
@@ -345,20 +394,39 @@ impl Profile {
             if let Some((at, cruise_s)) = cruise
                 && at == i
             {
-                push(Phase { duration_s: cruise_s, jerk: 0.0, set_acceleration: Some(0.0) }, &mut state, &mut t);
+                push(
+                    Phase {
+                        duration_s: cruise_s,
+                        jerk: 0.0,
+                        set_acceleration: Some(0.0),
+                    },
+                    &mut state,
+                    &mut t,
+                );
             }
             for phase in ramp.phases() {
                 push(phase, &mut state, &mut t);
             }
         }
-        let final_state = State { acceleration: 0.0, ..state };
-        Self { segments, start, final_state, duration_s: t }
+        let final_state = State {
+            acceleration: 0.0,
+            ..state
+        };
+        Self {
+            segments,
+            start,
+            final_state,
+            duration_s: t,
+        }
     }
 
     /// This profile followed by `next` (which must start where this one ends).
     fn then(mut self, next: Profile) -> Profile {
         let offset = self.duration_s;
-        self.segments.extend(next.segments.into_iter().map(|s| Segment { t0_s: s.t0_s + offset, ..s }));
+        self.segments.extend(next.segments.into_iter().map(|s| Segment {
+            t0_s: s.t0_s + offset,
+            ..s
+        }));
         self.duration_s += next.duration_s;
         self.final_state = next.final_state;
         self
@@ -394,11 +462,21 @@ impl Profile {
         if t_s >= self.duration_s || t_s.is_nan() {
             let f = self.final_state;
             let extra = if t_s.is_nan() { 0.0 } else { t_s - self.duration_s };
-            return Sample { position: f.position + f.velocity * extra, velocity: f.velocity, acceleration: 0.0, jerk: 0.0 };
+            return Sample {
+                position: f.position + f.velocity * extra,
+                velocity: f.velocity,
+                acceleration: 0.0,
+                jerk: 0.0,
+            };
         }
         if t_s <= 0.0 || self.segments.is_empty() {
             let s = self.start;
-            return Sample { position: s.position, velocity: s.velocity, acceleration: s.acceleration, jerk: 0.0 };
+            return Sample {
+                position: s.position,
+                velocity: s.velocity,
+                acceleration: s.acceleration,
+                jerk: 0.0,
+            };
         }
         let i = self.segments.partition_point(|s| s.t0_s <= t_s).saturating_sub(1);
         let seg = &self.segments[i];

@@ -44,13 +44,21 @@ pub(super) fn ramp_limits(v: f64, vt: f64, limits: &Limits) -> (f64, Option<f64>
 impl Ramp {
     pub(super) fn new(v: f64, a: f64, vt: f64, limits: &Limits) -> Self {
         let (a_max, jerk) = ramp_limits(v, vt, limits);
-        let mut ramp = Self { phases: [Phase::default(); 3], count: 0, distance: 0.0 };
+        let mut ramp = Self {
+            phases: [Phase::default(); 3],
+            count: 0,
+            distance: 0.0,
+        };
         match jerk {
             None => {
                 let dv = vt - v;
                 if dv != 0.0 {
                     let acc = a_max.copysign(dv);
-                    ramp.push(Phase { duration_s: dv.abs() / a_max, jerk: 0.0, set_acceleration: Some(acc) });
+                    ramp.push(Phase {
+                        duration_s: dv.abs() / a_max,
+                        jerk: 0.0,
+                        set_acceleration: Some(acc),
+                    });
                 }
             }
             Some(j) => ramp.s_curve(v, a, vt, a_max, j),
@@ -65,7 +73,11 @@ impl Ramp {
         let dv_total = vt - v_free;
         if dv_total == 0.0 {
             if a != 0.0 {
-                self.push(Phase { duration_s: a.abs() / j, jerk: -j.copysign(a), set_acceleration: None });
+                self.push(Phase {
+                    duration_s: a.abs() / j,
+                    jerk: -j.copysign(a),
+                    set_acceleration: None,
+                });
             }
             return;
         }
@@ -78,11 +90,27 @@ impl Ramp {
         let dv1 = 0.5 * (a + peak) * t1;
         let t3 = peak / j;
         let dv3 = 0.5 * peak * t3;
-        let t2 = if peak > 0.0 { ((vt - v - dv1 - dv3) / peak).max(0.0) } else { 0.0 };
+        let t2 = if peak > 0.0 {
+            ((vt - v - dv1 - dv3) / peak).max(0.0)
+        } else {
+            0.0
+        };
         let j1 = if peak >= a { j } else { -j };
-        self.push(Phase { duration_s: t1, jerk: s * j1, set_acceleration: None });
-        self.push(Phase { duration_s: t2, jerk: 0.0, set_acceleration: None });
-        self.push(Phase { duration_s: t3, jerk: -s * j, set_acceleration: None });
+        self.push(Phase {
+            duration_s: t1,
+            jerk: s * j1,
+            set_acceleration: None,
+        });
+        self.push(Phase {
+            duration_s: t2,
+            jerk: 0.0,
+            set_acceleration: None,
+        });
+        self.push(Phase {
+            duration_s: t3,
+            jerk: -s * j,
+            set_acceleration: None,
+        });
     }
 
     fn push(&mut self, phase: Phase) {
@@ -119,7 +147,6 @@ impl Ramp {
     pub(super) fn distance(&self) -> f64 {
         self.distance
     }
-
 }
 
 /// Velocity reached from (v, a) by bringing the acceleration to zero as fast

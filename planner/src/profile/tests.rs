@@ -97,11 +97,27 @@ fn assert_within_limits(p: &Profile, l: &Limits, ctx: &str) {
     let eps = 1e-9;
     let (ja, jd) = jerks(l).unwrap_or((0.0, 0.0));
     for (t, s) in samples(p) {
-        assert!(s.position.is_finite() && s.velocity.is_finite() && s.acceleration.is_finite(), "{ctx}: NaN at {t}");
-        assert!(s.velocity.abs() <= l.velocity() * (1.0 + eps), "{ctx}: |v| {} > {} at {t}", s.velocity, l.velocity());
-        let limit = if s.velocity * s.acceleration > 0.0 { l.acceleration() } else { l.deceleration() };
-        assert!(s.acceleration.abs() <= limit * (1.0 + eps) || s.velocity.abs() < 1e-12,
-            "{ctx}: |a| {} > {limit} at {t} (v {})", s.acceleration, s.velocity);
+        assert!(
+            s.position.is_finite() && s.velocity.is_finite() && s.acceleration.is_finite(),
+            "{ctx}: NaN at {t}"
+        );
+        assert!(
+            s.velocity.abs() <= l.velocity() * (1.0 + eps),
+            "{ctx}: |v| {} > {} at {t}",
+            s.velocity,
+            l.velocity()
+        );
+        let limit = if s.velocity * s.acceleration > 0.0 {
+            l.acceleration()
+        } else {
+            l.deceleration()
+        };
+        assert!(
+            s.acceleration.abs() <= limit * (1.0 + eps) || s.velocity.abs() < 1e-12,
+            "{ctx}: |a| {} > {limit} at {t} (v {})",
+            s.acceleration,
+            s.velocity
+        );
         assert!(s.jerk.abs() <= ja.max(jd) * (1.0 + eps), "{ctx}: |j| {} at {t}", s.jerk);
     }
 }
@@ -113,8 +129,18 @@ fn assert_continuous_end(p: &Profile, ctx: &str) {
     if let Some(seg) = p.segments.last() {
         let end = seg.at(seg.duration_s);
         let scale = 1.0 + f.position.abs() + (f.position - p.start_state().position).abs();
-        assert!((end.position - f.position).abs() <= 1e-9 * scale, "{ctx}: end {} vs {}", end.position, f.position);
-        assert!((end.velocity - f.velocity).abs() <= 1e-9 * (1.0 + f.velocity.abs()), "{ctx}: end v {} vs {}", end.velocity, f.velocity);
+        assert!(
+            (end.position - f.position).abs() <= 1e-9 * scale,
+            "{ctx}: end {} vs {}",
+            end.position,
+            f.position
+        );
+        assert!(
+            (end.velocity - f.velocity).abs() <= 1e-9 * (1.0 + f.velocity.abs()),
+            "{ctx}: end v {} vs {}",
+            end.velocity,
+            f.velocity
+        );
     }
     let s = p.sample(p.duration_s());
     assert_eq!(s.position, f.position, "{ctx}");
@@ -143,7 +169,11 @@ fn rest_to_rest_known_s_curve_has_seven_phases() {
     let p = Profile::to_position(State::at_rest(0.0), 10.0, 0.0, &l);
     assert_eq!(p.segments.len(), 7);
     assert!((p.duration_s() - (2.2 + (10.0 - 1.1))).abs() < 1e-12);
-    let jerk_pattern: Vec<f64> = p.segments.iter().map(|s| s.jerk.signum() * s.jerk.abs().min(1.0)).collect();
+    let jerk_pattern: Vec<f64> = p
+        .segments
+        .iter()
+        .map(|s| s.jerk.signum() * s.jerk.abs().min(1.0))
+        .collect();
     assert_eq!(jerk_pattern, vec![1.0, 0.0, -1.0, 0.0, -1.0, 0.0, 1.0]);
     assert_eq!(p.sample(p.duration_s()).position, 10.0);
 }
@@ -167,7 +197,11 @@ fn random_rest_to_rest_is_time_optimal_and_within_limits() {
         let p = Profile::to_position(State::at_rest(p0), p0 + dist, 0.0, &l);
         let ctx = format!("case {case}: {l:?} from {p0} by {dist}");
         let t = analytic_rest_to_rest_s(dist.abs(), &l);
-        assert!((p.duration_s() - t).abs() <= 1e-9 * t, "{ctx}: duration {} vs analytic {t}", p.duration_s());
+        assert!(
+            (p.duration_s() - t).abs() <= 1e-9 * t,
+            "{ctx}: duration {} vs analytic {t}",
+            p.duration_s()
+        );
         assert!((p.sample(p.duration_s()).position - (p0 + dist)).abs() <= 1e-9, "{ctx}");
         assert_within_limits(&p, &l, &ctx);
         assert_continuous_end(&p, &ctx);
@@ -179,18 +213,27 @@ fn random_start(rng: &mut ChaCha8Rng, l: &Limits) -> State {
     // acceleration can be brought to zero without exceeding v_max.
     let a_lim = match l.shape() {
         // Coasting the acceleration to zero must leave room under v_max.
-        Shape::SCurve { accel_jerk, decel_jerk } => {
-            l.acceleration().min(l.deceleration()).min((l.velocity() * accel_jerk.min(decel_jerk)).sqrt())
-        }
+        Shape::SCurve { accel_jerk, decel_jerk } => l
+            .acceleration()
+            .min(l.deceleration())
+            .min((l.velocity() * accel_jerk.min(decel_jerk)).sqrt()),
         Shape::Trapezoidal => 0.0,
     };
-    let a = if a_lim > 0.0 { rng.random_range(-a_lim..a_lim) } else { 0.0 };
+    let a = if a_lim > 0.0 {
+        rng.random_range(-a_lim..a_lim)
+    } else {
+        0.0
+    };
     let coast = match l.shape() {
         Shape::SCurve { accel_jerk, decel_jerk } => a * a / (2.0 * accel_jerk.min(decel_jerk)),
         Shape::Trapezoidal => 0.0,
     };
     let v_room = (l.velocity() - coast).max(0.0);
-    State { position: rng.random_range(-100.0..100.0), velocity: rng.random_range(-v_room..=v_room), acceleration: a }
+    State {
+        position: rng.random_range(-100.0..100.0),
+        velocity: rng.random_range(-v_room..=v_room),
+        acceleration: a,
+    }
 }
 
 #[test]
@@ -214,7 +257,10 @@ fn random_moving_starts_reach_target_within_limits() {
             let tol = 1e-9 * (1.0 + l.velocity());
             assert!((e.velocity - w[1].start.velocity).abs() <= tol, "{ctx}");
             if jerks(&l).is_some() {
-                assert!((e.acceleration - w[1].start.acceleration).abs() <= 1e-9 * (1.0 + l.acceleration()), "{ctx}");
+                assert!(
+                    (e.acceleration - w[1].start.acceleration).abs() <= 1e-9 * (1.0 + l.acceleration()),
+                    "{ctx}"
+                );
             }
         }
     }
@@ -232,11 +278,19 @@ fn random_blends_end_at_the_asked_speed_when_reachable() {
         let ctx = format!("case {case}: {l:?} -> {target} at {vf}");
         let f = p.final_state();
         assert_eq!(f.position, target, "{ctx}");
-        assert!(f.velocity <= vf * (1.0 + 1e-12) && f.velocity >= 0.0, "{ctx}: {}", f.velocity);
+        assert!(
+            f.velocity <= vf * (1.0 + 1e-12) && f.velocity >= 0.0,
+            "{ctx}: {}",
+            f.velocity
+        );
         // Reachable when a straight acceleration ramp to vf fits.
         let ramp = ramp::Ramp::new(0.0, 0.0, vf, &l);
         if ramp.distance() <= target * (1.0 - 1e-9) {
-            assert!((f.velocity - vf).abs() <= 1e-9 * (1.0 + vf), "{ctx}: reached {}", f.velocity);
+            assert!(
+                (f.velocity - vf).abs() <= 1e-9 * (1.0 + vf),
+                "{ctx}: reached {}",
+                f.velocity
+            );
         }
         assert_within_limits(&p, &l, &ctx);
         assert_continuous_end(&p, &ctx);
@@ -249,9 +303,16 @@ fn random_blends_end_at_the_asked_speed_when_reachable() {
 #[test]
 fn overshooting_start_brakes_and_comes_back() {
     let l = Limits::s_curve(10.0, 5.0, 5.0, 50.0, 50.0).unwrap();
-    let start = State { position: 0.0, velocity: 10.0, acceleration: 0.0 };
+    let start = State {
+        position: 0.0,
+        velocity: 10.0,
+        acceleration: 0.0,
+    };
     let p = Profile::to_position(start, 1.0, 0.0, &l);
-    let min_v = samples(&p).iter().map(|(_, s)| s.velocity).fold(f64::INFINITY, f64::min);
+    let min_v = samples(&p)
+        .iter()
+        .map(|(_, s)| s.velocity)
+        .fold(f64::INFINITY, f64::min);
     assert!(min_v < 0.0, "must reverse");
     assert!((p.sample(p.duration_s()).position - 1.0).abs() < 1e-12);
     assert_within_limits(&p, &l, "overshoot");
@@ -261,7 +322,11 @@ fn overshooting_start_brakes_and_comes_back() {
 #[test]
 fn velocity_ramp_stops_and_jogs() {
     let l = Limits::s_curve(10.0, 5.0, 4.0, 50.0, 40.0).unwrap();
-    let start = State { position: 1.0, velocity: 8.0, acceleration: 1.0 };
+    let start = State {
+        position: 1.0,
+        velocity: 8.0,
+        acceleration: 1.0,
+    };
     let stop = Profile::to_velocity(start, 0.0, &l);
     let d = stopping_distance(start, &l);
     assert!((stop.final_state().position - (1.0 + d)).abs() < 1e-12);
@@ -289,10 +354,19 @@ fn bad_limits_and_targets_never_give_nan() {
         assert!(p.sample(0.7).position.is_finite());
         let p = Profile::to_velocity(State::at_rest(2.0), bad, &l);
         assert!(p.sample(0.7).position.is_finite());
-        let s = State { velocity: bad, acceleration: bad, position: 0.0 };
+        let s = State {
+            velocity: bad,
+            acceleration: bad,
+            position: 0.0,
+        };
         assert!(Profile::to_position(s, 1.0, 0.0, &l).sample(0.3).position.is_finite());
     }
-    assert!(Profile::to_position(State::at_rest(0.0), 1.0, 0.0, &l).sample(f64::NAN).position.is_finite());
+    assert!(
+        Profile::to_position(State::at_rest(0.0), 1.0, 0.0, &l)
+            .sample(f64::NAN)
+            .position
+            .is_finite()
+    );
 }
 
 #[test]
@@ -302,7 +376,10 @@ fn replanning_mid_motion_is_seamless() {
     let mid = first.sample(0.7).state();
     let second = Profile::to_position(mid, 3.0, 0.0, &l);
     let s0 = second.sample(0.0);
-    assert_eq!((s0.position, s0.velocity, s0.acceleration), (mid.position, mid.velocity, mid.acceleration));
+    assert_eq!(
+        (s0.position, s0.velocity, s0.acceleration),
+        (mid.position, mid.velocity, mid.acceleration)
+    );
     assert!((second.sample(second.duration_s()).position - 3.0).abs() < 1e-12);
     assert_within_limits(&second, &l, "replan");
 }
@@ -310,7 +387,11 @@ fn replanning_mid_motion_is_seamless() {
 #[test]
 fn identical_inputs_give_bit_identical_profiles() {
     let l = Limits::s_curve(3.3, 7.1, 5.9, 91.0, 47.0).unwrap();
-    let start = State { position: 1.25, velocity: -0.7, acceleration: 2.0 };
+    let start = State {
+        position: 1.25,
+        velocity: -0.7,
+        acceleration: 2.0,
+    };
     let a = Profile::to_position(start, 17.0, 0.4, &l);
     let b = Profile::to_position(start, 17.0, 0.4, &l);
     for k in 0..1000 {
@@ -318,4 +399,3 @@ fn identical_inputs_give_bit_identical_profiles() {
         assert_eq!(a.sample(t).position.to_bits(), b.sample(t).position.to_bits());
     }
 }
-

@@ -30,7 +30,14 @@ fn setup(start: f64) -> (MotionTask, AxisHandle, FbHandle, FbHandle) {
 }
 
 fn go(position: f64, velocity: f64, direction: McDirection, buffer_mode: McBufferMode) -> MoveModuloInputs {
-    MoveModuloInputs { execute: true, position, velocity, direction, buffer_mode, ..Default::default() }
+    MoveModuloInputs {
+        execute: true,
+        position,
+        velocity,
+        direction,
+        buffer_mode,
+        ..Default::default()
+    }
 }
 
 fn run_until(task: &mut MotionTask, max_updates: usize, mut stop: impl FnMut(&MotionTask) -> bool) -> usize {
@@ -72,7 +79,13 @@ fn simple_move_busy_active_then_done_and_outputs_follow_execute() {
         assert!(task.outputs(a).done);
     }
     // ... and clears with its falling edge.
-    task.set_move_modulo_inputs(a, MoveModuloInputs { execute: false, ..task.move_modulo_inputs(a) });
+    task.set_move_modulo_inputs(
+        a,
+        MoveModuloInputs {
+            execute: false,
+            ..task.move_modulo_inputs(a)
+        },
+    );
     task.update();
     assert_eq!(task.outputs(a), FbOutputs::default());
 }
@@ -82,7 +95,13 @@ fn done_shows_for_one_cycle_when_execute_fell_while_busy() {
     let (mut task, _, a, _) = setup(0.0);
     task.set_move_modulo_inputs(a, go(10.0, 180.0, McDirection::Positive, McBufferMode::Aborting));
     task.update();
-    task.set_move_modulo_inputs(a, MoveModuloInputs { execute: false, ..task.move_modulo_inputs(a) });
+    task.set_move_modulo_inputs(
+        a,
+        MoveModuloInputs {
+            execute: false,
+            ..task.move_modulo_inputs(a)
+        },
+    );
     run_until(&mut task, 2000, |t| t.outputs(a).done);
     task.update();
     assert_eq!(task.outputs(a), FbOutputs::default());
@@ -97,7 +116,13 @@ fn spec_special_cases_through_the_task() {
     assert!(task.outputs(a).done);
     assert_eq!(task.axis_state(axis).command_position, 90.0);
     // 450 in the positive direction: exactly one rotation.
-    task.set_move_modulo_inputs(a, MoveModuloInputs { execute: false, ..task.move_modulo_inputs(a) });
+    task.set_move_modulo_inputs(
+        a,
+        MoveModuloInputs {
+            execute: false,
+            ..task.move_modulo_inputs(a)
+        },
+    );
     task.update();
     task.set_move_modulo_inputs(a, go(450.0, 720.0, McDirection::Positive, McBufferMode::Aborting));
     let mut max_pos = f64::MIN;
@@ -109,15 +134,26 @@ fn spec_special_cases_through_the_task() {
     assert!(max_pos <= 450.0 + 1e-9);
     // After a reset a little over 90: a complete rotation; a little under: minimal.
     for (actual, expected_move) in [(450.0001, 359.9999), (449.9999, 0.0001)] {
-        task.set_move_modulo_inputs(a, MoveModuloInputs { execute: false, ..task.move_modulo_inputs(a) });
+        task.set_move_modulo_inputs(
+            a,
+            MoveModuloInputs {
+                execute: false,
+                ..task.move_modulo_inputs(a)
+            },
+        );
         task.update();
         task.feed_actual_position(axis, actual);
         task.reset_axis(axis);
         assert_eq!(task.command_state(axis).position, actual);
         task.set_move_modulo_inputs(a, go(90.0, 720.0, McDirection::Positive, McBufferMode::Aborting));
         task.update();
-        let target = task.active_target(axis).unwrap_or(task.axis_state(axis).command_position);
-        assert!((target - actual - expected_move).abs() < 1e-9, "from {actual}: target {target}");
+        let target = task
+            .active_target(axis)
+            .unwrap_or(task.axis_state(axis).command_position);
+        assert!(
+            (target - actual - expected_move).abs() < 1e-9,
+            "from {actual}: target {target}"
+        );
         task.feed_actual_position(axis, target);
         run_until(&mut task, 5000, |t| t.outputs(a).done);
     }
@@ -147,7 +183,10 @@ fn buffered_block_becomes_active_only_when_the_first_is_done() {
     let (mut task, axis, a, b) = setup(0.0);
     task.set_move_modulo_inputs(a, go(90.0, 360.0, McDirection::Positive, McBufferMode::Aborting));
     task.update();
-    task.set_move_modulo_inputs(b, go(360.0 + 180.0, 360.0, McDirection::Positive, McBufferMode::Buffered));
+    task.set_move_modulo_inputs(
+        b,
+        go(360.0 + 180.0, 360.0, McDirection::Positive, McBufferMode::Buffered),
+    );
     task.update();
     let ob = task.outputs(b);
     assert!(ob.busy && !ob.active, "buffered, not active: {ob:?}");
@@ -173,7 +212,12 @@ fn buffered_block_becomes_active_only_when_the_first_is_done() {
 fn every_blending_mode_hands_over_at_its_junction_velocity() {
     use McBufferMode::*;
     // A at 200 deg/s, B at 400 deg/s.
-    for (mode, expected) in [(BlendingLow, 200.0), (BlendingPrevious, 200.0), (BlendingNext, 400.0), (BlendingHigh, 400.0)] {
+    for (mode, expected) in [
+        (BlendingLow, 200.0),
+        (BlendingPrevious, 200.0),
+        (BlendingNext, 400.0),
+        (BlendingHigh, 400.0),
+    ] {
         let (mut task, axis, a, b) = setup(0.0);
         task.set_move_modulo_inputs(a, go(180.0, 200.0, McDirection::Positive, Aborting));
         task.update();
@@ -194,14 +238,24 @@ fn every_blending_mode_hands_over_at_its_junction_velocity() {
         let ob = task.outputs(b);
         assert!(ob.active && ob.busy, "{mode:?}: {ob:?}");
         // Velocity just before the hand-over is within one update of the junction.
-        let j = task.axis_config(axis).max_acceleration.max(task.axis_config(axis).max_deceleration) * DT;
-        assert!((previous_velocity - expected).abs() <= j + 1e-9, "{mode:?}: {previous_velocity} vs {expected}");
+        let j = task
+            .axis_config(axis)
+            .max_acceleration
+            .max(task.axis_config(axis).max_deceleration)
+            * DT;
+        assert!(
+            (previous_velocity - expected).abs() <= j + 1e-9,
+            "{mode:?}: {previous_velocity} vs {expected}"
+        );
         // B continues the same way to 90 + 360 (never back to 90).
         run_until(&mut task, 5000, |t| {
             assert!(t.axis_state(axis).command_velocity >= 0.0);
             t.outputs(b).done
         });
-        assert!((task.axis_state(axis).command_position - 450.0).abs() < 1e-9, "{mode:?}");
+        assert!(
+            (task.axis_state(axis).command_position - 450.0).abs() < 1e-9,
+            "{mode:?}"
+        );
     }
 }
 
@@ -217,7 +271,13 @@ fn buffer_full_and_busy_retrigger_are_errors() {
     let oc = task.outputs(c);
     assert!(oc.error && oc.error_id == ErrorId::BUFFER_FULL.0 && !oc.busy, "{oc:?}");
     // Re-trigger A while it is busy.
-    task.set_move_modulo_inputs(a, MoveModuloInputs { execute: false, ..task.move_modulo_inputs(a) });
+    task.set_move_modulo_inputs(
+        a,
+        MoveModuloInputs {
+            execute: false,
+            ..task.move_modulo_inputs(a)
+        },
+    );
     task.update();
     task.set_move_modulo_inputs(a, go(45.0, 180.0, McDirection::Positive, McBufferMode::Aborting));
     task.update();
@@ -232,11 +292,23 @@ fn buffer_full_and_busy_retrigger_are_errors() {
 fn bad_operands_set_error_and_error_id_without_motion() {
     let (mut task, axis, a, _) = setup(10.0);
     for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -5.0, 0.0] {
-        task.set_move_modulo_inputs(a, MoveModuloInputs { velocity: bad, ..go(90.0, 1.0, McDirection::Positive, McBufferMode::Aborting) });
+        task.set_move_modulo_inputs(
+            a,
+            MoveModuloInputs {
+                velocity: bad,
+                ..go(90.0, 1.0, McDirection::Positive, McBufferMode::Aborting)
+            },
+        );
         task.update();
         let o = task.outputs(a);
         assert!(o.error && !o.busy && o.error_id == ErrorId::VELOCITY.0, "{bad}: {o:?}");
-        task.set_move_modulo_inputs(a, MoveModuloInputs { execute: false, ..task.move_modulo_inputs(a) });
+        task.set_move_modulo_inputs(
+            a,
+            MoveModuloInputs {
+                execute: false,
+                ..task.move_modulo_inputs(a)
+            },
+        );
         task.update();
         assert_eq!(task.outputs(a), FbOutputs::default());
         let s = task.axis_state(axis);
@@ -246,7 +318,16 @@ fn bad_operands_set_error_and_error_id_without_motion() {
     assert!(MotionTask::new(f64::NAN).is_err());
     let mut t = MotionTask::new(DT).unwrap();
     assert!(t.add_axis(table_axis(0.0), f64::NAN).is_err());
-    assert!(t.add_axis(AxisConfig { max_velocity: -1.0, ..table_axis(0.0) }, 0.0).is_err());
+    assert!(
+        t.add_axis(
+            AxisConfig {
+                max_velocity: -1.0,
+                ..table_axis(0.0)
+            },
+            0.0
+        )
+        .is_err()
+    );
 }
 
 #[test]
@@ -261,7 +342,15 @@ fn done_waits_for_the_actual_position_when_monitoring() {
     assert!(task.outputs(a).done, "inside the 0.1 window");
 
     let mut task = MotionTask::new(DT).unwrap();
-    let axis = task.add_axis(AxisConfig { target_position_monitoring: false, ..table_axis(0.0) }, 0.0).unwrap();
+    let axis = task
+        .add_axis(
+            AxisConfig {
+                target_position_monitoring: false,
+                ..table_axis(0.0)
+            },
+            0.0,
+        )
+        .unwrap();
     let a = task.add_move_modulo("M", axis);
     task.feed_actual_position(axis, -100.0);
     task.set_move_modulo_inputs(a, go(30.0, 360.0, McDirection::Positive, McBufferMode::Aborting));
@@ -282,7 +371,11 @@ fn same_calls_give_bit_identical_setpoints() {
             }
             task.update();
             let s = task.axis_state(AxisHandle(0));
-            out.push((s.command_position.to_bits(), s.command_velocity.to_bits(), s.command_acceleration.to_bits()));
+            out.push((
+                s.command_position.to_bits(),
+                s.command_velocity.to_bits(),
+                s.command_acceleration.to_bits(),
+            ));
         }
         out
     };
@@ -297,8 +390,19 @@ fn same_calls_give_bit_identical_setpoints() {
 #[test]
 fn random_retargets_never_reverse_and_end_on_the_modulo_target() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x5EED_0010);
-    let dirs = [McDirection::Positive, McDirection::Negative, McDirection::ShortestWay, McDirection::CurrentDirection];
-    let modes = [McBufferMode::Aborting, McBufferMode::BlendingLow, McBufferMode::BlendingPrevious, McBufferMode::BlendingNext, McBufferMode::BlendingHigh];
+    let dirs = [
+        McDirection::Positive,
+        McDirection::Negative,
+        McDirection::ShortestWay,
+        McDirection::CurrentDirection,
+    ];
+    let modes = [
+        McBufferMode::Aborting,
+        McBufferMode::BlendingLow,
+        McBufferMode::BlendingPrevious,
+        McBufferMode::BlendingNext,
+        McBufferMode::BlendingHigh,
+    ];
     for case in 0..10_000 {
         let jerk = if case % 2 == 0 { 0.0 } else { 36000.0 };
         let mut task = MotionTask::new(0.008).unwrap();
@@ -306,14 +410,24 @@ fn random_retargets_never_reverse_and_end_on_the_modulo_target() {
         let axis = task.add_axis(table_axis(jerk), start).unwrap();
         let a = task.add_move_modulo("A", axis);
         let b = task.add_move_modulo("B", axis);
-        let first = go(rng.random_range(0.0..1080.0), rng.random_range(100.0..720.0), dirs[rng.random_range(0..4)], McBufferMode::Aborting);
+        let first = go(
+            rng.random_range(0.0..1080.0),
+            rng.random_range(100.0..720.0),
+            dirs[rng.random_range(0..4)],
+            McBufferMode::Aborting,
+        );
         task.set_move_modulo_inputs(a, first);
         let wait = rng.random_range(1..60);
         for _ in 0..wait {
             task.update();
         }
         let mode = modes[rng.random_range(0..modes.len())];
-        let second = go(rng.random_range(0.0..1080.0), rng.random_range(100.0..720.0), dirs[rng.random_range(0..4)], mode);
+        let second = go(
+            rng.random_range(0.0..1080.0),
+            rng.random_range(100.0..720.0),
+            dirs[rng.random_range(0..4)],
+            mode,
+        );
         task.set_move_modulo_inputs(b, second);
         // The direction B must keep: the velocity its profile starts from
         // (none if the axis stood still then; a move from rest is monotone).
@@ -322,7 +436,10 @@ fn random_retargets_never_reverse_and_end_on_the_modulo_target() {
         for _ in 0..20_000 {
             task.update();
             let s = task.axis_state(axis);
-            assert!(s.command_position.is_finite() && s.command_velocity.is_finite(), "{ctx}");
+            assert!(
+                s.command_position.is_finite() && s.command_velocity.is_finite(),
+                "{ctx}"
+            );
             let b_started = task.outputs(b).active || task.outputs(b).done;
             if b_started && sign.is_none() {
                 let v0 = task.active_profile(axis).map_or(0.0, |(p, _)| p.start_state().velocity);

@@ -74,11 +74,7 @@ pub(crate) fn perspective_reversed_infinite(fov_y_rad: f32, aspect: f32, near_m:
 /// removed, so it stays defined for singular matrices.
 pub(crate) fn normal_matrix(m: &Mat4) -> ([[f32; 3]; 3], f32) {
     let col = |c: usize| [m[c][0], m[c][1], m[c][2]];
-    let cof = [
-        cross(col(1), col(2)),
-        cross(col(2), col(0)),
-        cross(col(0), col(1)),
-    ];
+    let cof = [cross(col(1), col(2)), cross(col(2), col(0)), cross(col(0), col(1))];
     let det = dot(col(0), cof[0]);
     let sign = if det < 0.0 { -1.0 } else { 1.0 };
     // Scale so the largest column has unit length: keeps tiny or huge
@@ -107,8 +103,7 @@ mod tests {
 
     #[test]
     fn look_at_maps_target_onto_negative_view_z() {
-        let view =
-            look_at([3.0, -2.0, 1.5], [0.0, 0.0, 0.5], [0.0, 0.0, 1.0]).expect("valid camera");
+        let view = look_at([3.0, -2.0, 1.5], [0.0, 0.0, 0.5], [0.0, 0.0, 1.0]).expect("valid camera");
         let t = transform_point(&view, [0.0, 0.0, 0.5]);
         let dist = length(sub([3.0, -2.0, 1.5], [0.0, 0.0, 0.5]));
         assert!(t[0].abs() < 1e-5 && t[1].abs() < 1e-5);
