@@ -558,6 +558,15 @@ mod tests {
             (0.0, 360.0 + 270.0, Negative, -450.0),
             (0.0, 2.0 * 360.0 + 270.0, ShortestWay, -810.0),
             (100.0, 200.0, CurrentDirection, 100.0),
+            // Start exactly on the target, one period away (unwrapped).
+            (450.0, 90.0, Positive, 0.0),
+            (-270.0, 90.0, Negative, 0.0),
+            (450.0, 90.0, ShortestWay, 0.0),
+            (-270.0, 450.0, Positive, 360.0),
+            (450.0, 450.0, CurrentDirection, 360.0),
+            // Start one period away from a different target.
+            (360.0, 90.0, Negative, -270.0),
+            (-360.0, 90.0, ShortestWay, 90.0),
         ];
         for (start, position, dir, want) in table {
             let got = target_from(start, position, dir);
