@@ -1,7 +1,6 @@
 //! End-to-end scenario runs of the `twin` binary and library: the indexing
 //! table scene, determinism, golden snapshots, and malformed scenes.
 
-use planner::axis::AxisConfig;
 use planner::task::MotionTask;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -164,17 +163,7 @@ fn twin_setpoints_are_the_planners_setpoints() {
     let mut twin = Twin::new(scene.clone()).expect("twin");
     let mut replay = MotionTask::new(scene.coarse_update_ms / 1000.0).unwrap();
     let axis = &scene.axes[0];
-    let config = AxisConfig {
-        modulo_period: axis.modulo_period,
-        max_velocity: axis.max_velocity,
-        max_acceleration: axis.max_acceleration,
-        max_deceleration: axis.max_deceleration,
-        max_jerk: axis.max_jerk,
-        in_position_window: axis.in_position_window,
-        target_position_monitoring: axis.target_position_monitoring,
-        modulo_tolerance_window: axis.modulo_tolerance_window,
-        ..AxisConfig::new(axis.name.clone(), planner::axis::AxisKind::Rotary)
-    };
+    let config = twin::run::axis_config(axis);
     let h = replay.add_axis(config, axis.initial_position).unwrap();
     let fbs: Vec<_> = twin
         .fbs()

@@ -92,6 +92,18 @@ pub struct FbOutputs {
 }
 
 impl FbOutputs {
+    /// The boolean outputs with their PLCopen names, in the order
+    /// `Done`, `Busy`, `Active`, `CommandAborted`, `Error`.
+    pub fn bits(&self) -> [(&'static str, bool); 5] {
+        [
+            ("Done", self.done),
+            ("Busy", self.busy),
+            ("Active", self.active),
+            ("CommandAborted", self.command_aborted),
+            ("Error", self.error),
+        ]
+    }
+
     /// An output by its PLCopen name (`"Done"`, `"Busy"`, `"Active"`,
     /// `"CommandAborted"`, `"Error"`, case-insensitive), for tag paths such
     /// as `MoveTable.Done`.

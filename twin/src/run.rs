@@ -256,23 +256,7 @@ impl Twin {
                     axis.joint, axis.name
                 )));
             }
-            let config = AxisConfig {
-                modulo_period: axis.modulo_period,
-                max_velocity: axis.max_velocity,
-                max_acceleration: axis.max_acceleration,
-                max_deceleration: axis.max_deceleration,
-                max_jerk: axis.max_jerk,
-                in_position_window: axis.in_position_window,
-                target_position_monitoring: axis.target_position_monitoring,
-                modulo_tolerance_window: axis.modulo_tolerance_window,
-                ..AxisConfig::new(
-                    axis.name.clone(),
-                    match axis.kind {
-                        AxisKind::Linear => PlannerAxisKind::Linear,
-                        AxisKind::Rotary => PlannerAxisKind::Rotary,
-                    },
-                )
-            };
+            let config = axis_config(axis);
             let handle = task
                 .add_axis(config, axis.initial_position)
                 .map_err(|source| RunError::Planner {
@@ -500,9 +484,10 @@ impl Twin {
             }
         }
         for fb in &self.fbs {
-            for c in ["Done", "Busy", "Active", "CommandAborted", "Error", "ErrorID"] {
+            for (c, _) in FbOutputs::default().bits() {
                 h.push(format!("{}.{c}", fb.name));
             }
+            h.push(format!("{}.ErrorID", fb.name));
         }
         h
     }
@@ -524,12 +509,31 @@ impl Twin {
         }
         for fb in &self.fbs {
             let o = self.task.outputs(fb.handle);
-            for b in [o.done, o.busy, o.active, o.command_aborted, o.error] {
+            for (_, b) in o.bits() {
                 row.push(if b { "1" } else { "0" }.to_string());
             }
             row.push(o.error_id.to_string());
         }
         row
+    }
+}
+
+/// The planner's configuration of a scene axis.
+pub fn axis_config(axis: &crate::scene::Axis) -> AxisConfig {
+    let kind = match axis.kind {
+        AxisKind::Linear => PlannerAxisKind::Linear,
+        AxisKind::Rotary => PlannerAxisKind::Rotary,
+    };
+    AxisConfig {
+        modulo_period: axis.modulo_period,
+        max_velocity: axis.max_velocity,
+        max_acceleration: axis.max_acceleration,
+        max_deceleration: axis.max_deceleration,
+        max_jerk: axis.max_jerk,
+        in_position_window: axis.in_position_window,
+        target_position_monitoring: axis.target_position_monitoring,
+        modulo_tolerance_window: axis.modulo_tolerance_window,
+        ..AxisConfig::new(axis.name.clone(), kind)
     }
 }
 

@@ -277,13 +277,7 @@ impl Recording {
         self.previous_outputs.resize(twin.fbs().len(), Default::default());
         for (i, fb) in twin.fbs().iter().enumerate() {
             let o = twin.task().outputs(fb.handle);
-            for (name, bit) in [
-                ("Done", o.done),
-                ("Busy", o.busy),
-                ("Active", o.active),
-                ("CommandAborted", o.command_aborted),
-                ("Error", o.error),
-            ] {
+            for (name, bit) in o.bits() {
                 rec.log_scalar(&format!("instructions/{}/{name}", fb.name), f64::from(u8::from(bit)))?;
             }
             if o != self.previous_outputs[i] {
@@ -309,13 +303,7 @@ impl Recording {
 
 fn describe(o: planner::instruction::FbOutputs) -> String {
     let mut s = String::new();
-    for (name, bit) in [
-        ("Done", o.done),
-        ("Busy", o.busy),
-        ("Active", o.active),
-        ("CommandAborted", o.command_aborted),
-        ("Error", o.error),
-    ] {
+    for (name, bit) in o.bits() {
         if bit {
             let _ = write!(s, "{name} ");
         }
