@@ -140,8 +140,38 @@ fn indexing_table_runs_end_to_end_and_reruns_identically() {
             assert!((s - w).abs() < 1e-9 || (s - w).abs() > 360.0 - 1e-9, "{s} vs {w}");
         }
     }
+    // While the axis rests after a Done (no block busy), the actual position
+    // stays inside the in-position window around the command.
+    let (busy_a, busy_b, done_a, done_b) = (
+        col("MoveA.Busy"),
+        col("MoveB.Busy"),
+        col("MoveA.Done"),
+        col("MoveB.Done"),
+    );
+    let mut resting_rows = 0;
+    for r in &rows {
+        if r[busy_a] == 0.0 && r[busy_b] == 0.0 && (r[done_a] == 1.0 || r[done_b] == 1.0) {
+            resting_rows += 1;
+            assert!(
+                (r[act] - r[cmd]).abs() <= 0.2,
+                "at {}: act {} cmd {}",
+                r[0],
+                r[act],
+                r[cmd]
+            );
+        }
+    }
+    assert!(resting_rows > 100, "{resting_rows}");
     // MoveA was aborted by MoveB while moving, and the table never reversed then.
-    assert!(rows.iter().any(|r| r[col("MoveA.CommandAborted")] == 1.0));
+    let aborted_at = rows
+        .iter()
+        .position(|r| r[col("MoveA.CommandAborted")] == 1.0)
+        .expect("MoveA aborted");
+    let vel = col("Table.cmd_vel");
+    assert!(rows[aborted_at][vel] > 0.0, "aborted while moving");
+    for r in rows[aborted_at..].iter().take_while(|r| r[done_b] == 0.0) {
+        assert!(r[vel] >= 0.0, "reversed at {}", r[0]);
+    }
     // The extra turn from standstill: at least 450 degrees positive in one move.
     let max = rows.iter().map(|r| r[cmd]).fold(f64::MIN, f64::max);
     assert!(max >= 540.0 - 1e-9, "extra turn: max cmd {max}");
