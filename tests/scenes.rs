@@ -377,3 +377,20 @@ fn run_help_shows_examples() {
         "{text}"
     );
 }
+
+#[test]
+fn an_instruction_error_fails_the_run_and_prints_its_meaning() {
+    let dir = out_dir("instruction_error");
+    let path = dir.join("scene.toml");
+    let text = GOOD
+        .replace("@ROBOTS@", &root().join("scenes/robots").display().to_string())
+        .replace("Velocity := 180.0", "Velocity := 0.0");
+    std::fs::write(&path, text).unwrap();
+    let out = twin_cmd().arg("run").arg(&path).arg("--no-render").output().unwrap();
+    assert!(!out.status.success());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("errors 1") && stdout.contains("16#4221") && stdout.contains("Velocity not allowed"),
+        "{stdout}"
+    );
+}
