@@ -240,8 +240,9 @@ fn indexing_table_frames_match_snapshots() {
         .output()
         .expect("run twin");
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let camera = &scene.cameras[0].name;
-    let first = out.join("frames").join(format!("{camera}-{:05}.png", frames[0]));
+    let first = out
+        .join("frames")
+        .join(format!("{}-{:05}.png", scene.cameras[0].name, frames[0]));
     if !first.exists() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(std::env::var_os("CI").is_none(), "no frames rendered in CI: {stderr}");
@@ -249,19 +250,24 @@ fn indexing_table_frames_match_snapshots() {
         return;
     }
     let mut failures = Vec::new();
-    for f in frames {
-        let path = out.join("frames").join(format!("{camera}-{f:05}.png"));
-        let image = image::open(&path)
-            .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-            .to_rgba8();
-        let name = format!("{}-{f}", scene.name);
-        if let Err(e) = twin::snapshot::assert_matches_snapshot(
-            &name,
-            &image,
-            &root().join("snapshots"),
-            &root().join("target/snapshots"),
-        ) {
-            failures.push(e.to_string());
+    for (i, camera) in scene.cameras.iter().enumerate() {
+        for &f in &frames {
+            let path = out.join("frames").join(format!("{}-{f:05}.png", camera.name));
+            let image = image::open(&path)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+                .to_rgba8();
+            // The first camera keeps the short name snapshots/<scene>-<frame>.png.
+            let name = if i == 0 {
+                format!("{}-{f}", scene.name)
+            } else {
+                format!("{}-{}-{f}", scene.name, camera.name)
+            };
+            let artifacts = root().join("target/snapshots");
+            if let Err(e) =
+                twin::snapshot::assert_matches_snapshot(&name, &image, &root().join("snapshots"), &artifacts)
+            {
+                failures.push(e.to_string());
+            }
         }
     }
     assert!(failures.is_empty(), "snapshot mismatches:\n{}", failures.join("\n"));
