@@ -314,10 +314,13 @@ impl Profile {
         let last = Ramp::new(peak, 0.0, vf, limits);
         let cruise_len = dist - first.distance() - last.distance();
         let tolerance = 1e-12 * (1.0 + dist.abs() + start.position.abs());
-        if cruise_len < -tolerance || (cruise_len > tolerance && peak <= 1e-9 * v_max) {
+        let at_rest = start.velocity == 0.0 && start.acceleration == 0.0;
+        if !at_rest && (cruise_len < -tolerance || (cruise_len > tolerance && peak <= 1e-9 * v_max)) {
             // The ramps do not meet (the acceleration limits switch between
             // braking and reversing, so the ramp distance jumps near zero
-            // speed): stop first, then move from rest, which always fits.
+            // speed): stop first, then move from rest, which always fits
+            // (from rest the ramp distance is continuous, so this recursion
+            // is one level deep).
             let stop = Self::to_velocity(start, 0.0, limits);
             let rest = State::at_rest(stop.final_state.position);
             return stop.then(Self::to_position(rest, target_position, requested_final_speed, limits));
