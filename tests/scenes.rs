@@ -371,6 +371,19 @@ fn malformed_scenes_give_one_line_errors_naming_file_and_place() {
         "broken_mesh",
     );
     assert!(e.contains("broken.stl"), "{e}");
+    // A broken obstacle mesh names the scene place and the file.
+    let scene = format!(
+        "{GOOD}\n[[obstacles]]\nname = \"cover\"\nshape = \"mesh\"\nfile = \"cover.stl\"\nposition = [0.0, 0.0, 0.0]\n"
+    );
+    let e = check_fails(
+        &scene,
+        &[("cover.stl", b"solid x\nfacet normal 0 0 1\n")],
+        "broken_obstacle_mesh",
+    );
+    assert!(
+        e.contains("scene.toml:") && e.contains("cover.stl") && e.contains("obstacles"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -73,10 +73,11 @@ pub fn scene_parts(model: &RobotModel, scene: &Scene) -> Result<Vec<Part>, Strin
             Shape::Mesh { path, scale } => {
                 let mesh = crate::stl::load_stl(path).map_err(|e| {
                     format!(
-                        "{}: obstacle '{}': mesh {}: {e}",
+                        "{}:{}:{}: obstacles.file: obstacle '{}': {e}",
                         scene.path.display(),
-                        o.name,
-                        path.display()
+                        o.location.line,
+                        o.location.column,
+                        o.name
                     )
                 })?;
                 let s = [scale[0] as f32, scale[1] as f32, scale[2] as f32];
