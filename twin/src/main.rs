@@ -72,31 +72,26 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            // The error and its causes on one line, each cause once.
+            let mut text = String::new();
+            for cause in e.chain() {
+                let part = cause.to_string();
+                if !text.contains(&part) {
+                    if !text.is_empty() {
+                        text.push_str(": ");
+                    }
+                    text.push_str(&part);
+                }
+            }
+            eprintln!("error: {}", text.replace('\n', " "));
             ExitCode::from(2)
         }
     }
 }
 
-/// An error and its causes on one line, skipping causes its text already
-/// contains.
-fn one_line(e: &dyn std::error::Error) -> anyhow::Error {
-    let mut text = e.to_string();
-    let mut source = e.source();
-    while let Some(s) = source {
-        let part = s.to_string();
-        if !text.contains(&part) {
-            text.push_str(": ");
-            text.push_str(&part);
-        }
-        source = s.source();
-    }
-    anyhow::anyhow!(text.replace('\n', " "))
-}
-
 fn load(path: &Path) -> Result<Twin> {
-    let scene = scene::load(path).map_err(|e| one_line(&e))?;
-    let twin = Twin::new(scene).map_err(|e| one_line(&e))?;
+    let scene = scene::load(path)?;
+    let twin = Twin::new(scene)?;
     twin::frames::scene_parts(twin.model(), twin.scene()).map_err(|e| anyhow::anyhow!("{e}"))?;
     Ok(twin)
 }
