@@ -115,27 +115,35 @@ pub struct FbBinding {
 
 #[derive(Debug, Clone)]
 enum StepAction {
-    MoveModulo { fb: usize, set: Vec<(Input, Value)> },
+    MoveModulo { fb: usize, set: Vec<Setting> },
 }
 
+/// One MC_MoveModulo input with its value, as a call names it.
 #[derive(Debug, Clone, Copy)]
-enum Input {
-    Execute,
-    Position,
-    Velocity,
-    Acceleration,
-    Deceleration,
-    Jerk,
-    Direction,
-    BufferMode,
-}
-
-#[derive(Debug, Clone, Copy)]
-enum Value {
-    Number(f64),
-    Bool(bool),
+enum Setting {
+    Execute(bool),
+    Position(f64),
+    Velocity(f64),
+    Acceleration(f64),
+    Deceleration(f64),
+    Jerk(f64),
     Direction(McDirection),
     BufferMode(McBufferMode),
+}
+
+impl Setting {
+    fn apply(self, inputs: &mut MoveModuloInputs) {
+        match self {
+            Setting::Execute(b) => inputs.execute = b,
+            Setting::Position(x) => inputs.position = x,
+            Setting::Velocity(x) => inputs.velocity = x,
+            Setting::Acceleration(x) => inputs.acceleration = x,
+            Setting::Deceleration(x) => inputs.deceleration = x,
+            Setting::Jerk(x) => inputs.jerk = x,
+            Setting::Direction(d) => inputs.direction = d,
+            Setting::BufferMode(m) => inputs.buffer_mode = m,
+        }
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -437,8 +445,8 @@ impl Twin {
             let StepAction::MoveModulo { fb, set } = &self.steps[i].action;
             let handle = self.fbs[*fb].handle;
             let mut inputs = self.task.move_modulo_inputs(handle);
-            for (input, value) in set {
-                apply(&mut inputs, *input, *value);
+            for setting in set {
+                setting.apply(&mut inputs);
             }
             self.task.set_move_modulo_inputs(handle, inputs);
         }
@@ -537,20 +545,6 @@ pub fn axis_config(axis: &crate::scene::Axis) -> AxisConfig {
     }
 }
 
-fn apply(inputs: &mut MoveModuloInputs, input: Input, value: Value) {
-    match (input, value) {
-        (Input::Execute, Value::Bool(b)) => inputs.execute = b,
-        (Input::Position, Value::Number(x)) => inputs.position = x,
-        (Input::Velocity, Value::Number(x)) => inputs.velocity = x,
-        (Input::Acceleration, Value::Number(x)) => inputs.acceleration = x,
-        (Input::Deceleration, Value::Number(x)) => inputs.deceleration = x,
-        (Input::Jerk, Value::Number(x)) => inputs.jerk = x,
-        (Input::Direction, Value::Direction(d)) => inputs.direction = d,
-        (Input::BufferMode, Value::BufferMode(m)) => inputs.buffer_mode = m,
-        _ => {}
-    }
-}
-
 /// Binds one call to its instance (created on its first call).
 fn compile_call(
     call: &Call,
@@ -590,9 +584,7 @@ fn compile_call(
         let input_name = input.value.to_ascii_lowercase();
         let v = &value.value;
         let num = |what: &str| {
-            number(v, scene)
-                .map(Value::Number)
-                .ok_or_else(|| format!("{what} := {v}: expected a number or a REAL tag with a value"))
+            number(v, scene).ok_or_else(|| format!("{what} := {v}: expected a number or a REAL tag with a value"))
         };
         let entry = match input_name.as_str() {
             "axis" => {
@@ -607,21 +599,21 @@ fn compile_call(
                 continue;
             }
             "execute" => match v {
-                Expr::Bool(b) => (Input::Execute, Value::Bool(*b)),
+                Expr::Bool(b) => Setting::Execute(*b),
                 _ => return Err(format!("Execute := {v}: expected TRUE or FALSE")),
             },
-            "position" => (Input::Position, num("Position")?),
-            "velocity" => (Input::Velocity, num("Velocity")?),
-            "acceleration" => (Input::Acceleration, num("Acceleration")?),
-            "deceleration" => (Input::Deceleration, num("Deceleration")?),
-            "jerk" => (Input::Jerk, num("Jerk")?),
+            "position" => Setting::Position(num("Position")?),
+            "velocity" => Setting::Velocity(num("Velocity")?),
+            "acceleration" => Setting::Acceleration(num("Acceleration")?),
+            "deceleration" => Setting::Deceleration(num("Deceleration")?),
+            "jerk" => Setting::Jerk(num("Jerk")?),
             "direction" => {
                 let d = match v {
                     Expr::Ident(w) => McDirection::from_name(w),
                     Expr::Integer(i) => McDirection::from_code(*i),
                     _ => None,
                 };
-                (Input::Direction, Value::Direction(d.ok_or_else(|| format!("Direction := {v}: expected MC_Positive_Direction, MC_Shortest_Way, MC_Negative_Direction or MC_Current_Direction")) ?))
+                Setting::Direction(d.ok_or_else(|| format!("Direction := {v}: expected MC_Positive_Direction, MC_Shortest_Way, MC_Negative_Direction or MC_Current_Direction"))?)
             }
             "buffermode" => {
                 let m = match v {
@@ -629,7 +621,7 @@ fn compile_call(
                     Expr::Integer(i) => McBufferMode::from_code(*i),
                     _ => None,
                 };
-                (Input::BufferMode, Value::BufferMode(m.ok_or_else(|| format!("BufferMode := {v}: expected MC_Aborting, MC_Buffered, MC_BlendingLow, MC_BlendingPrevious, MC_BlendingNext or MC_BlendingHigh"))?))
+                Setting::BufferMode(m.ok_or_else(|| format!("BufferMode := {v}: expected MC_Aborting, MC_Buffered, MC_BlendingLow, MC_BlendingPrevious, MC_BlendingNext or MC_BlendingHigh"))?)
             }
             "options" => return Err("Options: ST_MoveOptions are not supported; leave the input open".to_string()),
             other => {
