@@ -3,6 +3,7 @@
 
 use crate::mesh::TriMesh;
 use crate::scene::{Scene, Shape};
+use crate::stl::{StlError, load_stl};
 use crate::urdf::{Geometry, RobotModel};
 use nalgebra::{Isometry3, Matrix4, Quaternion, Translation3, UnitQuaternion};
 
@@ -32,27 +33,40 @@ fn geometry_mesh(geometry: &Geometry) -> TriMesh {
         Geometry::Box { size } => TriMesh::cuboid([size[0] as f32, size[1] as f32, size[2] as f32]),
         Geometry::Cylinder { radius, length } => TriMesh::cylinder(*radius as f32, *length as f32, SEGMENTS),
         Geometry::Sphere { radius } => TriMesh::sphere(*radius as f32, SEGMENTS / 2, SEGMENTS),
-        Geometry::Mesh { scale, mesh, .. } => {
-            let s = [scale[0] as f32, scale[1] as f32, scale[2] as f32];
-            let m = [
-                [s[0], 0.0, 0.0, 0.0],
-                [0.0, s[1], 0.0, 0.0],
-                [0.0, 0.0, s[2], 0.0],
-                [0.0, 0.0, 0.0, 1.0],
-            ];
-            mesh.transformed(&m)
-        }
+        Geometry::Mesh { scale, mesh, .. } => scaled(mesh, *scale),
     }
+}
+
+/// An obstacle's mesh file cannot be loaded.
+#[derive(Debug, thiserror::Error)]
+#[error("obstacle {obstacle}: {source}")]
+pub struct ObstacleMeshError {
+    /// Index of the obstacle in the scene's `[[obstacles]]`.
+    pub obstacle: usize,
+    /// Why the STL file failed (it names the file).
+    #[source]
+    pub source: StlError,
+}
+
+/// `mesh` scaled per axis (URDF mesh `scale`, obstacle `scale`).
+fn scaled(mesh: &TriMesh, scale: [f64; 3]) -> TriMesh {
+    let [x, y, z] = scale.map(|v| v as f32);
+    mesh.transformed(&[
+        [x, 0.0, 0.0, 0.0],
+        [0.0, y, 0.0, 0.0],
+        [0.0, 0.0, z, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ])
 }
 
 /// Every visual of the robot and every obstacle of the scene.
 ///
 /// Obstacle meshes are loaded with the STL loader (the only mesh format
-/// the twin reads); a mesh that fails to load is an error naming the file.
+/// the twin reads); a mesh that fails to load is an error, never dropped.
 ///
 /// # Errors
-/// A message naming the obstacle and its mesh file when the mesh cannot be loaded.
-pub fn scene_parts(model: &RobotModel, scene: &Scene) -> Result<Vec<Part>, String> {
+/// [`ObstacleMeshError`] when an obstacle's mesh cannot be loaded.
+pub fn scene_parts(model: &RobotModel, scene: &Scene) -> Result<Vec<Part>, ObstacleMeshError> {
     let mut parts = Vec::new();
     for (i, link) in model.links.iter().enumerate() {
         for visual in &link.visuals {
@@ -65,28 +79,17 @@ pub fn scene_parts(model: &RobotModel, scene: &Scene) -> Result<Vec<Part>, Strin
             });
         }
     }
-    for o in &scene.obstacles {
+    for (index, o) in scene.obstacles.iter().enumerate() {
         let mesh = match &o.shape {
             Shape::Box { size_m } => TriMesh::cuboid([size_m[0] as f32, size_m[1] as f32, size_m[2] as f32]),
             Shape::Cylinder { radius_m, length_m } => TriMesh::cylinder(*radius_m as f32, *length_m as f32, SEGMENTS),
             Shape::Sphere { radius_m } => TriMesh::sphere(*radius_m as f32, SEGMENTS / 2, SEGMENTS),
             Shape::Mesh { path, scale } => {
-                let mesh = crate::stl::load_stl(path).map_err(|e| {
-                    format!(
-                        "{}:{}:{}: obstacles.file: obstacle '{}': {e}",
-                        scene.path.display(),
-                        o.location.line,
-                        o.location.column,
-                        o.name
-                    )
+                let mesh = load_stl(path).map_err(|source| ObstacleMeshError {
+                    obstacle: index,
+                    source,
                 })?;
-                let s = [scale[0] as f32, scale[1] as f32, scale[2] as f32];
-                mesh.transformed(&[
-                    [s[0], 0.0, 0.0, 0.0],
-                    [0.0, s[1], 0.0, 0.0],
-                    [0.0, 0.0, s[2], 0.0],
-                    [0.0, 0.0, 0.0, 1.0],
-                ])
+                scaled(&mesh, *scale)
             }
         };
         let [r, p, y] = o.rpy_deg.map(f64::to_radians);

@@ -91,9 +91,7 @@ fn main() -> ExitCode {
 
 fn load(path: &Path) -> Result<Twin> {
     let scene = scene::load(path)?;
-    let twin = Twin::new(scene)?;
-    twin::frames::scene_parts(twin.model(), twin.scene()).map_err(|e| anyhow::anyhow!("{e}"))?;
-    Ok(twin)
+    Ok(Twin::new(scene)?)
 }
 
 fn check(path: &Path) -> Result<ExitCode> {

@@ -19,9 +19,11 @@
 //! planner update. A function-block call sets the inputs it
 //! names; the others keep their last value, as PLC block inputs do.
 
+use crate::frames::{Part, scene_parts};
 use crate::physics::{JointDrive, PhysicsError, PhysicsOptions, RobotSim};
 use crate::scene::{AxisKind, BaseType, FunctionBlock, Scene, TagValue, Trigger};
 use crate::st::{Args, Call, Expr};
+use crate::stl::StlError;
 use crate::urdf::{RobotModel, UrdfError};
 use planner::axis::{AxisConfig, AxisKind as PlannerAxisKind};
 use planner::instruction::FbOutputs;
@@ -72,6 +74,21 @@ pub enum RunError {
         /// What failed.
         #[source]
         source: TaskError,
+    },
+    /// An obstacle's mesh file cannot be loaded.
+    #[error("{scene}:{line}:{column}: obstacles.file: obstacle '{obstacle}': {source}")]
+    ObstacleMesh {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the obstacle.
+        line: usize,
+        /// Column of the obstacle.
+        column: usize,
+        /// Obstacle name.
+        obstacle: String,
+        /// Why the STL file failed (names the file).
+        #[source]
+        source: StlError,
     },
     /// A program step cannot be carried out.
     #[error("{scene}:{line}:{column}: program[{index}]: {message}")]
@@ -164,6 +181,7 @@ enum CompiledTrigger {
 pub struct Twin {
     scene: Scene,
     model: RobotModel,
+    parts: Vec<Part>,
     sim: RobotSim,
     task: MotionTask,
     axes: Vec<AxisBinding>,
@@ -222,6 +240,16 @@ impl Twin {
         let model = RobotModel::load(&scene.robot.urdf).map_err(|source| RunError::Urdf {
             scene: path.clone(),
             source: Box::new(source),
+        })?;
+        let parts = scene_parts(&model, &scene).map_err(|e| {
+            let o = &scene.obstacles[e.obstacle];
+            RunError::ObstacleMesh {
+                scene: path.clone(),
+                line: o.location.line,
+                column: o.location.column,
+                obstacle: o.name.clone(),
+                source: e.source,
+            }
         })?;
         let mut task = MotionTask::new(scene.coarse_update_ms / 1000.0).map_err(|source| RunError::Planner {
             scene: path.clone(),
@@ -360,6 +388,7 @@ impl Twin {
         Ok(Twin {
             scene,
             model,
+            parts,
             sim,
             task,
             axes,
@@ -378,6 +407,11 @@ impl Twin {
     /// The robot model.
     pub fn model(&self) -> &RobotModel {
         &self.model
+    }
+
+    /// Every drawable piece: URDF visuals and obstacles, meshes loaded once.
+    pub fn parts(&self) -> &[Part] {
+        &self.parts
     }
 
     /// The planner.

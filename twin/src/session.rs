@@ -1,7 +1,7 @@
 //! What a run produces besides the trace: rendered frames, the Rerun
 //! recording, and the summary.
 
-use crate::frames::{Part, column_major, scene_parts, world_from_part};
+use crate::frames::{column_major, world_from_part};
 use crate::recording::{Recorder, RecordingError, Sink, TextLevel, urdf_entity_paths};
 use crate::run::Twin;
 use serde::Serialize;
@@ -21,9 +21,6 @@ pub enum OutputError {
         /// What failed.
         message: String,
     },
-    /// The scene's geometry cannot be prepared for rendering.
-    #[error("{0}")]
-    Geometry(String),
     /// The Rerun recording failed.
     #[error("rerun: {0}")]
     Recording(#[from] RecordingError),
@@ -39,7 +36,8 @@ pub struct Frames {
 #[cfg(feature = "render")]
 struct FramesInner {
     renderer: crate::render::Renderer,
-    parts: Vec<(Part, crate::render::MeshId)>,
+    /// GPU meshes of [`Twin::parts`], in the same order.
+    meshes: Vec<crate::render::MeshId>,
     dir: PathBuf,
     cameras: Vec<(String, crate::render::Camera, f64, u64)>,
 }
@@ -50,7 +48,7 @@ impl Frames {
     /// without frames, and one line on stderr says how to get them.
     ///
     /// # Errors
-    /// [`OutputError`] when the directory cannot be created or a mesh fails.
+    /// [`OutputError`] when the directory cannot be created or the renderer fails.
     pub fn new(twin: &Twin, dir: Option<&Path>, render: bool) -> Result<Frames, OutputError> {
         let Some(dir) = dir.filter(|_| render) else {
             return Ok(Frames {
@@ -61,7 +59,6 @@ impl Frames {
         };
         #[cfg(feature = "render")]
         {
-            let parts = scene_parts(twin.model(), twin.scene()).map_err(OutputError::Geometry)?;
             let mut renderer = match crate::render::Renderer::new() {
                 Ok(r) => r,
                 Err(crate::render::RenderError::NoAdapter) => {
@@ -82,13 +79,7 @@ impl Frames {
                 path: dir.to_path_buf(),
                 message: e.to_string(),
             })?;
-            let parts = parts
-                .into_iter()
-                .map(|p| {
-                    let id = renderer.upload_mesh(&p.mesh);
-                    (p, id)
-                })
-                .collect();
+            let meshes = twin.parts().iter().map(|p| renderer.upload_mesh(&p.mesh)).collect();
             let f32x3 = |v: [f64; 3]| v.map(|x| x as f32);
             let cameras = twin
                 .scene()
@@ -109,7 +100,7 @@ impl Frames {
             Ok(Frames {
                 inner: Some(FramesInner {
                     renderer,
-                    parts,
+                    meshes,
                     dir: dir.to_path_buf(),
                     cameras,
                 }),
@@ -134,10 +125,15 @@ impl Frames {
         if let Some(inner) = self.inner.as_mut() {
             let t = twin.time_s();
             let eps = 1e-9;
+            let due = |next: u64, fps: f64| next as f64 / fps <= t + eps;
+            if !inner.cameras.iter().any(|(_, _, fps, next)| due(*next, *fps)) {
+                return Ok(());
+            }
             let links = twin.world_from_link();
-            let items: Vec<crate::render::DrawItem> = inner
-                .parts
+            let items: Vec<crate::render::DrawItem> = twin
+                .parts()
                 .iter()
+                .zip(&inner.meshes)
                 .map(|(p, id)| crate::render::DrawItem {
                     mesh: *id,
                     world_from_mesh: column_major(&world_from_part(p, &links)),
@@ -146,7 +142,7 @@ impl Frames {
                 })
                 .collect();
             for (name, cam, fps, next) in &mut inner.cameras {
-                if (*next as f64) / *fps > t + eps {
+                if !due(*next, *fps) {
                     continue;
                 }
                 let image = inner
@@ -214,9 +210,8 @@ impl Recording {
         }
         let mut recorder = Recorder::new(&format!("twin_{}", twin.scene().name), &sinks)?;
         recorder.set_time_s(0.0);
-        let parts = scene_parts(model, twin.scene()).map_err(OutputError::Geometry)?;
         let mut count = vec![0usize; model.links.len()];
-        for part in &parts {
+        for part in twin.parts() {
             let (path, pose) = match part.link {
                 Some(i) => {
                     count[i] += 1;
