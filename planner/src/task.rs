@@ -325,13 +325,12 @@ impl MotionTask {
     /// hand-over inside an update), aborting whatever runs there.
     fn start(&mut self, axis: AxisHandle, fb: FbHandle, command: MoveModulo, elapsed_s: Option<f64>) {
         let a = &mut self.axes[axis.0 as usize];
-        let aborted: Vec<FbHandle> = if elapsed_s.is_none() {
-            let job_fb = a.job.take().and_then(|j| j.fb);
-            let buffered_fb = a.buffered.take().map(|(b, _)| b).filter(|&b| b != fb);
-            job_fb.into_iter().chain(buffered_fb).filter(|&b| b != fb).collect()
-        } else {
-            a.job = None;
-            Vec::new()
+        // A blend hand-over replaces a command that has just finished (Done);
+        // any other start aborts what runs or waits on the axis.
+        let replaced = [a.job.take().and_then(|j| j.fb), a.buffered.take().map(|(b, _)| b)];
+        let aborted: Vec<FbHandle> = match elapsed_s {
+            Some(_) => Vec::new(),
+            None => replaced.into_iter().flatten().filter(|&b| b != fb).collect(),
         };
         let state = a.command.state();
         let target = command.absolute_target(state, a.last_direction);
@@ -340,7 +339,7 @@ impl MotionTask {
             fb: Some(fb),
             command,
             profile,
-            t_s: 0.0,
+            t_s: elapsed_s.unwrap_or(0.0),
             target,
             generation_done: false,
         });
@@ -354,12 +353,6 @@ impl MotionTask {
             active: true,
             ..FbOutputs::default()
         };
-        if let Some(t) = elapsed_s {
-            let a = &mut self.axes[axis.0 as usize];
-            if let Some(job) = a.job.as_mut() {
-                job.t_s = t;
-            }
-        }
     }
 
     fn advance_axis(&mut self, axis: AxisHandle) {

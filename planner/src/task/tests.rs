@@ -40,6 +40,15 @@ fn go(position: f64, velocity: f64, direction: McDirection, buffer_mode: McBuffe
     }
 }
 
+/// `Execute := FALSE`, other inputs unchanged.
+fn release(task: &mut MotionTask, fb: FbHandle) {
+    let inputs = MoveModuloInputs {
+        execute: false,
+        ..task.move_modulo_inputs(fb)
+    };
+    task.set_move_modulo_inputs(fb, inputs);
+}
+
 fn run_until(task: &mut MotionTask, max_updates: usize, mut stop: impl FnMut(&MotionTask) -> bool) -> usize {
     for n in 0..max_updates {
         task.update();
@@ -79,13 +88,7 @@ fn simple_move_busy_active_then_done_and_outputs_follow_execute() {
         assert!(task.outputs(a).done);
     }
     // ... and clears with its falling edge.
-    task.set_move_modulo_inputs(
-        a,
-        MoveModuloInputs {
-            execute: false,
-            ..task.move_modulo_inputs(a)
-        },
-    );
+    release(&mut task, a);
     task.update();
     assert_eq!(task.outputs(a), FbOutputs::default());
 }
@@ -95,13 +98,7 @@ fn done_shows_for_one_cycle_when_execute_fell_while_busy() {
     let (mut task, _, a, _) = setup(0.0);
     task.set_move_modulo_inputs(a, go(10.0, 180.0, McDirection::Positive, McBufferMode::Aborting));
     task.update();
-    task.set_move_modulo_inputs(
-        a,
-        MoveModuloInputs {
-            execute: false,
-            ..task.move_modulo_inputs(a)
-        },
-    );
+    release(&mut task, a);
     run_until(&mut task, 2000, |t| t.outputs(a).done);
     task.update();
     assert_eq!(task.outputs(a), FbOutputs::default());
@@ -116,13 +113,7 @@ fn spec_special_cases_through_the_task() {
     assert!(task.outputs(a).done);
     assert_eq!(task.axis_state(axis).command_position, 90.0);
     // 450 in the positive direction: exactly one rotation.
-    task.set_move_modulo_inputs(
-        a,
-        MoveModuloInputs {
-            execute: false,
-            ..task.move_modulo_inputs(a)
-        },
-    );
+    release(&mut task, a);
     task.update();
     task.set_move_modulo_inputs(a, go(450.0, 720.0, McDirection::Positive, McBufferMode::Aborting));
     let mut max_pos = f64::MIN;
@@ -134,13 +125,7 @@ fn spec_special_cases_through_the_task() {
     assert!(max_pos <= 450.0 + 1e-9);
     // After a reset a little over 90: a complete rotation; a little under: minimal.
     for (actual, expected_move) in [(450.0001, 359.9999), (449.9999, 0.0001)] {
-        task.set_move_modulo_inputs(
-            a,
-            MoveModuloInputs {
-                execute: false,
-                ..task.move_modulo_inputs(a)
-            },
-        );
+        release(&mut task, a);
         task.update();
         task.feed_actual_position(axis, actual);
         task.reset_axis(axis);
@@ -271,13 +256,7 @@ fn buffer_full_and_busy_retrigger_are_errors() {
     let oc = task.outputs(c);
     assert!(oc.error && oc.error_id == ErrorId::BUFFER_FULL.0 && !oc.busy, "{oc:?}");
     // Re-trigger A while it is busy.
-    task.set_move_modulo_inputs(
-        a,
-        MoveModuloInputs {
-            execute: false,
-            ..task.move_modulo_inputs(a)
-        },
-    );
+    release(&mut task, a);
     task.update();
     task.set_move_modulo_inputs(a, go(45.0, 180.0, McDirection::Positive, McBufferMode::Aborting));
     task.update();
@@ -302,13 +281,7 @@ fn bad_operands_set_error_and_error_id_without_motion() {
         task.update();
         let o = task.outputs(a);
         assert!(o.error && !o.busy && o.error_id == ErrorId::VELOCITY.0, "{bad}: {o:?}");
-        task.set_move_modulo_inputs(
-            a,
-            MoveModuloInputs {
-                execute: false,
-                ..task.move_modulo_inputs(a)
-            },
-        );
+        release(&mut task, a);
         task.update();
         assert_eq!(task.outputs(a), FbOutputs::default());
         let s = task.axis_state(axis);
