@@ -413,3 +413,33 @@ fn an_instruction_error_fails_the_run_and_prints_its_meaning() {
         "{stdout}"
     );
 }
+
+#[test]
+fn operands_can_be_real_tags_and_array_elements() {
+    let dir = out_dir("tag_operands");
+    let path = dir.join("scene.toml");
+    let text = GOOD
+        .replace("@ROBOTS@", &root().join("scenes/robots").display().to_string())
+        .replace(
+            "Position := 90.0, Velocity := 180.0",
+            "Position := Target, Velocity := Speeds[1]",
+        )
+        + "\n[[tags]]\nname = \"Target\"\ntype = \"REAL\"\nvalue = 45.0\n\n[[tags]]\nname = \"Speeds\"\ntype = \"REAL[2]\"\nvalue = [90.0, 360.0]\n";
+    std::fs::write(&path, text).unwrap();
+    let trace = dir.join("t.csv");
+    let out = twin_cmd()
+        .arg("run")
+        .arg(&path)
+        .arg("--no-render")
+        .arg("--trace")
+        .arg(&trace)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (header, rows) = read_trace(&trace);
+    let cmd = header.iter().position(|h| h == "Table.cmd_pos").unwrap();
+    let vel = header.iter().position(|h| h == "Table.cmd_vel").unwrap();
+    assert_eq!(rows.last().unwrap()[cmd], 45.0);
+    let peak = rows.iter().map(|r| r[vel]).fold(0.0, f64::max);
+    assert!(peak > 180.0 && peak <= 360.0, "Speeds[1] = 360 used: peak {peak}");
+}

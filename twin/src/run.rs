@@ -200,27 +200,22 @@ impl std::fmt::Debug for Twin {
     }
 }
 
+/// The numeric value of an operand: a literal, a REAL/DINT tag, or an
+/// element of an array tag.
 fn number(expr: &Expr, scene: &Scene) -> Option<f64> {
+    let numeric = |v: &TagValue| match v {
+        TagValue::Real(x) => Some(*x),
+        TagValue::Integer(i) => Some(*i as f64),
+        _ => None,
+    };
+    let tag_value = |name: &str| scene.tag(name).and_then(|t| t.value.as_ref());
     match expr {
         Expr::Number(x) => Some(*x),
         Expr::Integer(i) => Some(*i as f64),
-        Expr::Ident(name) => match scene.tag(name).and_then(|t| t.value.as_ref()) {
-            Some(TagValue::Real(x)) => Some(*x),
-            Some(TagValue::Integer(i)) => Some(*i as f64),
-            _ => None,
-        },
-        Expr::Index(base, i) => match base.as_ref() {
-            Expr::Ident(name) => match scene.tag(name).and_then(|t| t.value.as_ref()) {
-                Some(TagValue::Array(items)) => {
-                    usize::try_from(*i)
-                        .ok()
-                        .and_then(|i| items.get(i))
-                        .and_then(|v| match v {
-                            TagValue::Real(x) => Some(*x),
-                            TagValue::Integer(i) => Some(*i as f64),
-                            _ => None,
-                        })
-                }
+        Expr::Ident(name) => tag_value(name).and_then(numeric),
+        Expr::Index(base, i) => match (base.as_ref(), usize::try_from(*i)) {
+            (Expr::Ident(name), Ok(i)) => match tag_value(name) {
+                Some(TagValue::Array(items)) => items.get(i).and_then(numeric),
                 _ => None,
             },
             _ => None,
