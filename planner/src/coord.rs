@@ -876,6 +876,9 @@ pub(crate) fn progress_at_length(profile: &Profile, s: f64) -> f64 {
     if profile.sample(lo).position >= s {
         return 0.0;
     }
+    if s >= profile.final_state().position {
+        return hi;
+    }
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
         if mid <= lo || mid >= hi {
