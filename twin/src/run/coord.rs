@@ -428,3 +428,133 @@ impl Twin {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Problem, Scene, SceneError, parse};
+    use std::path::{Path, PathBuf};
+
+    fn path() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gantry_arcs.toml")
+    }
+
+    fn text() -> String {
+        std::fs::read_to_string(path()).expect("gantry scene")
+    }
+
+    fn scene(text: &str) -> Result<Scene, SceneError> {
+        parse(&path(), text)
+    }
+
+    const XY_TABLE: &str = "coordinate_system = { max_speed = 250.0, max_accel = 2000.0, max_decel = 2000.0, max_accel_jerk = 20000.0, max_decel_jerk = 20000.0, command_tolerance = 20.0, actual_tolerance = 0.2, tool_link = \"tool\" }";
+
+    fn with_xy_table(table: &str) -> String {
+        let t = text();
+        assert!(t.contains(XY_TABLE));
+        t.replacen(XY_TABLE, table, 1)
+    }
+
+    #[test]
+    fn coordinate_system_settings_parse_with_defaults() {
+        let s = scene(&text()).unwrap();
+        let xy = s.tag("XY").unwrap().coordinate_system.clone().unwrap();
+        assert_eq!((xy.primary_axes, xy.max_speed, xy.command_tolerance), (2, 250.0, 20.0));
+        assert_eq!(xy.tool_link.as_deref(), Some("tool"));
+        let s = scene(&with_xy_table("")).unwrap();
+        let xy = s.tag("XY").unwrap().coordinate_system.clone().unwrap();
+        assert_eq!((xy.primary_axes, xy.max_speed, xy.max_decel), (2, 1.0, 10.0));
+        assert_eq!(
+            (xy.command_tolerance, xy.actual_tolerance, xy.tool_link),
+            (0.1, 0.01, None)
+        );
+        assert!(s.tag("OnCircle").unwrap().coordinate_system.is_none());
+    }
+
+    #[test]
+    fn coordinate_system_settings_errors_name_the_field() {
+        let field = |e: SceneError| match e {
+            SceneError::Invalid { field, problem, .. } => (field, problem),
+            other => panic!("{other}"),
+        };
+        let (f, p) = field(scene(&with_xy_table("coordinate_system = { primary_axes = 3 }")).unwrap_err());
+        assert!(f.ends_with("coordinate_system.primary_axes"), "{f}");
+        assert!(matches!(p, Problem::OutOfRange { .. }));
+        let (f, p) = field(scene(&with_xy_table("coordinate_system = { max_speed = 0.0 }")).unwrap_err());
+        assert!(f.ends_with("coordinate_system.max_speed") && matches!(p, Problem::NotPositive { .. }));
+        let (f, p) = field(scene(&with_xy_table("coordinate_system = { command_tolerance = -1.0 }")).unwrap_err());
+        assert!(f.ends_with("coordinate_system.command_tolerance") && matches!(p, Problem::Negative { .. }));
+        assert!(scene(&with_xy_table("coordinate_system = { bogus = 1.0 }")).is_err());
+        let on_real = text().replacen(
+            "value = [100.0, 0.0]\n",
+            "value = [100.0, 0.0]\ncoordinate_system = { max_speed = 1.0 }\n",
+            1,
+        );
+        let (f, p) = field(scene(&on_real).unwrap_err());
+        assert!(
+            f.ends_with("coordinate_system") && matches!(p, Problem::CoordinateSystemOnly),
+            "{f}"
+        );
+    }
+
+    #[test]
+    fn calls_name_the_operand_at_fault() {
+        let err = |t: String| match Twin::new(scene(&t).unwrap()) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("compiles"),
+        };
+        let t = text().replacen("none, 0, 0)\"", "none, 0)\"", 1);
+        assert!(err(t).contains("MCLM takes 22 operands"));
+        let t = text().replacen("200, unitspersec, 1000", "200, unitspersec³, 1000", 1);
+        let e = err(t);
+        assert!(
+            e.contains("Speed Units unitspersec³: expected one of unitspersec (0)"),
+            "{e}"
+        );
+        let t = text().replacen("MCLM(XYZ, L1,", "MCLM(OnCircle, L1,", 1);
+        assert!(err(t).contains("Coordinate System OnCircle: is a REAL[2] tag"));
+        let t = with_xy_table("coordinate_system = { tool_link = \"nozzle\" }");
+        let e = err(t);
+        assert!(e.contains("tool_link 'nozzle' is not a link"), "{e}");
+    }
+
+    #[test]
+    fn out_of_range_codes_fail_at_run_time_with_err_and_exerr() {
+        // Direction 7 on the full circle: ERR 13, EXERR 6 (Direction).
+        let t = text().replacen("1, Origin[0], 3, 200", "1, Origin[0], 7, 200", 1);
+        let mut twin = Twin::new(scene(&t).unwrap()).unwrap();
+        let c1 = twin.instructions().iter().find(|b| b.name == "C1").unwrap().handle;
+        for _ in 0..1000 {
+            twin.step();
+            if twin.task().motion_bits(c1).er {
+                break;
+            }
+        }
+        let b = twin.task().motion_bits(c1);
+        assert!(b.er && !b.dn && (b.err, b.exerr) == (13, 6), "{b:?}");
+    }
+
+    #[test]
+    fn coordinate_systems_are_bound_once_and_traced_in_first_use_order() {
+        let twin = Twin::new(scene(&text()).unwrap()).unwrap();
+        let names: Vec<&str> = twin
+            .task()
+            .coord_handles()
+            .map(|h| twin.task().coord_config(h).name.as_str())
+            .collect();
+        assert_eq!(names, ["XYZ", "XY"]);
+        let header = twin.trace_header();
+        let first = header.iter().position(|h| h == "XYZ.MotionStatus").unwrap();
+        assert_eq!(header[first + 10], "XYZ.CoordMotionLockStatus");
+        assert_eq!(header[first + 11], "XYZ.tool_x");
+        assert_eq!(header[first + 14], "XY.MotionStatus");
+        assert_eq!(twin.trace_row().len(), header.len());
+        assert_eq!(twin.tool_trails().len(), 2);
+        // The tool centre at all joints 0 is 0.39 m under the rails at z = 0.6 m.
+        let p = twin.tool_trails()[0].points_in_world[0];
+        assert!(
+            (p[0]).abs() < 1e-6 && (p[1]).abs() < 1e-6 && (p[2] - 0.21).abs() < 1e-3,
+            "{p:?}"
+        );
+    }
+}
