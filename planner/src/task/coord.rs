@@ -40,6 +40,15 @@
 //!   with its programmed speed or, for merge speed *current*, the vector
 //!   speed of the system at that instant (the programmed speed when the
 //!   system stands still). Superseded instructions lose `.IP` and `.AC`.
+//! * **Systems sharing axes**: a move on a system while another system that
+//!   shares an axis with it moves (or has a move queued) is refused with
+//!   ERR 13, EXERR = the Merge operand, unless its Merge is *all motion*
+//!   (the spec: "an error is flagged if a second instruction is initiated …
+//!   in another coordinate system containing any axes in common"). Merge
+//!   all motion ends the other system's motion where its command stands
+//!   (its instructions lose `.IP`/`.AC`); the two systems' motions are not
+//!   blended, so the new move starts with the command velocity of its own
+//!   (rest) profile.
 //! * **Single-axis motion** (MC_MoveModulo) and coordinated motion never
 //!   superimpose here: a coordinated move that starts aborts the single-axis
 //!   commands on its axes (whatever the merge type; the spec's superimposed
@@ -62,6 +71,7 @@
 //!   differences of the command velocity over the coarse update.
 
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
+use crate::coord::OperandIndex;
 use crate::coord::{
     CoordConfigError, CoordMove, CoordMoveError, CoordMoveInputs, CoordStatus, CoordinateSystem,
     CoordinateSystemConfig, Driver, LockDirection, Mcs, McsInputs, Merge, MergeSpeed, MoveContext, TerminationType,
@@ -471,9 +481,12 @@ impl MotionTask {
                 self.coord.instructions[h.0 as usize].held = false;
                 self.execute_mcs(h, cs, &inputs);
             }
-            CoordCall::Mclm(inputs) => self.execute_move(h, cs, inputs.merge, |ctx| mclm(&inputs, ctx)),
+            CoordCall::Mclm(inputs) => {
+                let merge = (inputs.merge, OperandIndex::MCLM.merge);
+                self.execute_move(h, cs, merge, |ctx| mclm(&inputs, ctx));
+            }
             CoordCall::Mccm(inputs) => {
-                let merge = inputs.common.merge;
+                let merge = (inputs.common.merge, OperandIndex::MCCM.merge);
                 self.execute_move(h, cs, merge, |ctx| mccm(&inputs, ctx));
             }
         }
@@ -483,7 +496,7 @@ impl MotionTask {
         &mut self,
         h: CoordInstructionHandle,
         cs: CoordHandle,
-        merge_code: i64,
+        (merge_code, merge_exerr): (i64, i32),
         verify: impl FnOnce(&MoveContext<'_>) -> Result<CoordMove, CoordMoveError>,
     ) {
         let sys = &self.coord.systems[cs.0 as usize];
@@ -523,6 +536,21 @@ impl MotionTask {
                 return;
             }
         };
+        // Another system moving axes of this one: merge all motion ends its
+        // motion; otherwise the move is refused.
+        let others = self.busy_systems_sharing_axes(cs);
+        if !others.is_empty() {
+            if mv.merge() != Merge::AllMotion {
+                let b = self.cbits(h);
+                b.er = true;
+                b.err = 13;
+                b.exerr = merge_exerr;
+                return;
+            }
+            for other in others {
+                self.cancel_system(other);
+            }
+        }
         self.cbits(h).dn = true;
         self.coord.instructions[h.0 as usize].calculated_data = mv.calculated_data().to_vec();
         let sys = &mut self.coord.systems[cs.0 as usize];
@@ -583,6 +611,51 @@ impl MotionTask {
         sys.stop = Some(h);
         self.cbits(h).ip = true;
         self.refresh_queue_status(cs);
+    }
+
+    /// The other coordinate systems that move (or have a move queued on)
+    /// an axis of `cs`.
+    fn busy_systems_sharing_axes(&self, cs: CoordHandle) -> Vec<CoordHandle> {
+        let mine = &self.coord.systems[cs.0 as usize].axes;
+        (0..self.coord.systems.len())
+            .filter(|&j| j != cs.0 as usize)
+            .filter(|&j| {
+                let s = &self.coord.systems[j];
+                (!s.components.is_empty() || s.pending.is_some()) && s.axes.iter().any(|a| mine.contains(a))
+            })
+            .map(|j| CoordHandle(j as u32))
+            .collect()
+    }
+
+    /// Ends a system's motion where its command stands now (merge all
+    /// motion from another system): its instructions lose `.IP`/`.AC`, its
+    /// queue is cleared, and its axes keep their command positions.
+    fn cancel_system(&mut self, cs: CoordHandle) {
+        let here = self.axis_positions(cs);
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        let mut cleared: Vec<CoordInstructionHandle> = sys.components.drain(..).filter_map(|c| c.instr).collect();
+        cleared.extend(sys.pending.take().map(|(h, _)| h));
+        cleared.extend(sys.stop.take());
+        sys.base = here.clone();
+        sys.queue_end = here;
+        sys.velocity.iter_mut().for_each(|v| *v = 0.0);
+        sys.acceleration.iter_mut().for_each(|v| *v = 0.0);
+        let st = &mut sys.status;
+        st.motion = false;
+        st.accel = false;
+        st.decel = false;
+        st.move_ = false;
+        st.move_transition = false;
+        st.stopping = false;
+        st.coord_motion_lock = false;
+        self.refresh_queue_status(cs);
+        for h in cleared {
+            let b = self.cbits(h);
+            b.ip = false;
+            b.ac = false;
+            b.accel = false;
+            b.decel = false;
+        }
     }
 
     /// Where the system's axes stand now (the command positions).

@@ -748,3 +748,56 @@ fn one_shot_execution_sets_bits_at_once_and_clears_en_on_the_next_scan() {
     run_until(&mut task, 10_000, |t| t.motion_bits(c).pc);
     assert_eq!(positions(&task, &axes), vec![1.0, 1.0]);
 }
+
+#[test]
+fn a_second_system_on_shared_axes_needs_merge_all_motion() {
+    let (mut task, xy, axes) = gantry(2, 1);
+    let xyz = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: 3,
+                primary_axes: 3,
+                max_speed: 100.0,
+                max_accel: 1000.0,
+                max_decel: 1000.0,
+                ..CoordinateSystemConfig::new("XYZ")
+            },
+            &axes,
+        )
+        .unwrap();
+    let a = task.add_instruction("A");
+    task.execute_coordinated(xy, a, CoordCall::Mclm(line(&[50.0, 0.0, 0.0], 1)));
+    for _ in 0..100 {
+        task.update();
+    }
+    let here = positions(&task, &axes);
+    let b = task.add_instruction("B");
+    // Merge disabled (0) and coordinated motion (1) are refused: ERR 13, EXERR Merge.
+    for merge in [0, 1] {
+        let call = CoordCall::Mccm(MccmInputs {
+            common: CoordMoveInputs {
+                merge,
+                move_type: 1,
+                ..line(&[10.0, 10.0, 0.0], 1)
+            },
+            circle_type: 3,
+            via_center_radius: vec![0.0, 10.0, 0.0],
+            direction: 0,
+        });
+        task.execute_coordinated(xyz, b, call);
+        let bb = task.motion_bits(b);
+        assert!(bb.er && (bb.err, bb.exerr) == (13, 15), "{bb:?}");
+        assert!(task.motion_bits(a).ip);
+    }
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        merge: 2,
+        ..line(&[0.0, 0.0, 0.0], 1)
+    });
+    task.execute_coordinated(xyz, b, call);
+    let (ba, bb) = (task.motion_bits(a), task.motion_bits(b));
+    assert!(!ba.ip && !ba.ac && !ba.pc, "{ba:?}");
+    assert!(bb.dn && bb.ip && bb.ac && !task.coord_status(xy).motion);
+    assert_eq!(task.coord_active_move(xyz).unwrap().path().start(), here.as_slice());
+    run_until(&mut task, 10_000, |t| t.motion_bits(b).pc);
+    assert_eq!(positions(&task, &axes), vec![0.0, 0.0, 0.0]);
+}
