@@ -310,6 +310,18 @@ impl Recording {
             }
             self.previous_bits[i] = b;
         }
+        // Tool-centre trails of the coordinate systems, every 25th update.
+        if twin.task().updates() % 25 == 0 {
+            for t in twin.tool_trails() {
+                if t.points_in_world.len() >= 2 {
+                    rec.log_line_strip(
+                        &format!("tool_trails/{}", t.system),
+                        &t.points_in_world,
+                        [1.0, 0.45, 0.0, 1.0],
+                    )?;
+                }
+            }
+        }
         Ok(())
     }
 
