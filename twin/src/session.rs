@@ -311,7 +311,7 @@ impl Recording {
             self.previous_bits[i] = b;
         }
         // Tool-centre trails of the coordinate systems, every 25th update.
-        if twin.task().updates() % 25 == 0 {
+        if twin.task().updates().is_multiple_of(25) {
             for t in twin.tool_trails() {
                 if t.points_in_world.len() >= 2 {
                     rec.log_line_strip(
