@@ -69,6 +69,22 @@
 //!   program).
 //! * Axis command acceleration and jerk of coordinated axes are the finite
 //!   differences of the command velocity over the coarse update.
+//! * `CommandPosToleranceStatus`: the spec says both "remains set after the
+//!   instruction completes, reset when a new instruction is started" and,
+//!   for types 0, 1, 4, 5, "cleared when the first move is complete"; the
+//!   first rule is kept (it is cleared when the next move starts), and for
+//!   types 2, 3, 6 it is cleared when the blend starts.
+//!
+//! # Not modelled
+//! * Rotary axes with an unwind in a coordinate system are moved as linear
+//!   axes (no unwind error, no sign-selects-direction rule).
+//! * The run-time error for switching from time-driven to master-driven
+//!   motion while the master stands still and the path moves (the spec
+//!   gives no error code); master-driven and time-driven moves simply
+//!   blend.
+//! * MCCD (change dynamics), MCSD/MCSR and MDCC as instructions; the
+//!   master of master-driven moves is set with
+//!   [`MotionTask::set_coordinate_system_master`].
 
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
 use crate::coord::OperandIndex;

@@ -801,3 +801,36 @@ fn a_second_system_on_shared_axes_needs_merge_all_motion() {
     run_until(&mut task, 10_000, |t| t.motion_bits(b).pc);
     assert_eq!(positions(&task, &axes), vec![0.0, 0.0, 0.0]);
 }
+
+/// The same calls give bit-identical setpoints (no clock, no hash order).
+#[test]
+fn reruns_are_bit_identical() {
+    let run = || {
+        let (mut task, cs, axes) = gantry(3, 0);
+        let calls = [
+            CoordCall::Mclm(line(&[10.0, 0.0, 5.0], 3)),
+            CoordCall::Mccm(MccmInputs {
+                common: CoordMoveInputs {
+                    profile: 1,
+                    ..line(&[20.0, 10.0, 0.0], 2)
+                },
+                circle_type: 0,
+                via_center_radius: vec![18.0, 3.0, 3.0],
+                direction: 0,
+            }),
+            CoordCall::Mclm(line(&[0.0, 0.0, 0.0], 0)),
+        ];
+        let hs: Vec<_> = calls.iter().map(|_| task.add_instruction("M")).collect();
+        let mut out = Vec::new();
+        for k in 0..3000 {
+            if let Some(i) = [0, 1, 2].into_iter().find(|i| k == 10 * i) {
+                task.execute_coordinated(cs, hs[i], calls[i].clone());
+            }
+            task.update();
+            out.extend(axes.iter().map(|a| task.axis_state(*a).command_position.to_bits()));
+        }
+        assert!(task.motion_bits(hs[2]).pc);
+        out
+    };
+    assert_eq!(run(), run());
+}
