@@ -834,3 +834,86 @@ fn reruns_are_bit_identical() {
     };
     assert_eq!(run(), run());
 }
+
+#[test]
+fn mcs_stop_all_also_stops_single_axis_motion() {
+    let mut task = MotionTask::new(DT).unwrap();
+    let x = task
+        .add_axis(
+            AxisConfig {
+                modulo_period: Some(360.0),
+                max_velocity: 100.0,
+                ..AxisConfig::new("X", AxisKind::Linear)
+            },
+            0.0,
+        )
+        .unwrap();
+    let y = task.add_axis(AxisConfig::new("Y", AxisKind::Linear), 0.0).unwrap();
+    let cs = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: 2,
+                primary_axes: 2,
+                ..CoordinateSystemConfig::new("CS")
+            },
+            &[x, y],
+        )
+        .unwrap();
+    let fb = task.add_move_modulo("MoveX", x);
+    task.set_move_modulo_inputs(
+        fb,
+        MoveModuloInputs {
+            execute: true,
+            position: 300.0,
+            velocity: 50.0,
+            ..Default::default()
+        },
+    );
+    for _ in 0..100 {
+        task.update();
+    }
+    assert!(task.outputs(fb).active && task.axis_state(x).command_velocity > 0.0);
+    let stop = task.add_instruction("S");
+    let coordinated_only = McsInputs {
+        stop_type: 1,
+        ..McsInputs::default()
+    };
+    task.execute_coordinated(cs, stop, CoordCall::Mcs(coordinated_only));
+    task.update();
+    assert!(
+        task.motion_bits(stop).pc && task.outputs(fb).active,
+        "type 1 leaves MC_MoveModulo alone"
+    );
+    task.execute_coordinated(cs, stop, CoordCall::Mcs(McsInputs::default()));
+    task.update();
+    assert!(task.outputs(fb).command_aborted);
+    run_until(&mut task, 10_000, |t| t.axis_state(x).command_velocity == 0.0);
+    assert!(task.axis_state(x).command_position < 300.0);
+}
+
+#[test]
+fn merge_during_a_blend_brings_both_moves_to_rest_and_ends_exactly() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let a = task.add_instruction("A");
+    let b = task.add_instruction("B");
+    let m = task.add_instruction("M");
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[10.0, 0.0], 3)));
+    task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[10.0, 10.0], 1)));
+    run_until(&mut task, 10_000, |t| {
+        t.coord.systems[cs.0 as usize].components.len() == 2
+    });
+    let merge = CoordMoveInputs {
+        merge: 1,
+        ..line(&[-5.0, 3.0], 1)
+    };
+    task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
+    assert!(task.motion_bits(m).ac && !task.motion_bits(b).ac && !task.motion_bits(b).ip);
+    let mut speeds = Vec::new();
+    run_until(&mut task, 10_000, |t| {
+        speeds.push(speed(t, &axes, 2));
+        t.motion_bits(m).pc
+    });
+    assert!(!stops_between(&speeds));
+    assert_eq!(positions(&task, &axes), vec![-5.0, 3.0]);
+    assert!(!task.motion_bits(b).pc);
+}
