@@ -8,11 +8,17 @@
 //!   MOTION_INSTRUCTION bits and the PLCopen function-block outputs.
 //! * [`modulo`] — MC_MoveModulo.
 //! * [`mccp`] — Motion Calculate Cam Profile: CAM arrays → cam profiles.
+//! * [`mapc`] — Motion Axis Position Cam: position camming of a slave axis.
+//! * [`mrp`] — Motion Redefine Position.
+//! * [`jog`] — Motion Axis Jog / Motion Axis Stop (drives cam masters).
 //! * [`task`] — the coarse-update executor that owns axes and commands.
 
 pub mod axis;
 pub mod instruction;
+pub mod jog;
+pub mod mapc;
 pub mod mccp;
 pub mod modulo;
+pub mod mrp;
 pub mod profile;
 pub mod task;

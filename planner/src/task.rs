@@ -22,6 +22,9 @@ use crate::modulo::{McBufferMode, MoveModulo, MoveModuloError, MoveModuloInputs}
 use crate::profile::{Profile, Sample, State};
 use thiserror::Error;
 
+mod cam;
+pub use cam::{CamProfileHandle, LimitFlags, MapcCall, MiHandle};
+
 /// Handle of an axis in a [`MotionTask`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct AxisHandle(u32);
@@ -97,6 +100,7 @@ pub struct MotionTask {
     updates: u64,
     axes: Vec<AxisSlot>,
     fbs: Vec<FbSlot>,
+    cam: cam::CamState,
 }
 
 impl MotionTask {
@@ -113,6 +117,7 @@ impl MotionTask {
             updates: 0,
             axes: Vec::new(),
             fbs: Vec::new(),
+            cam: cam::CamState::default(),
         })
     }
 
@@ -228,6 +233,7 @@ impl MotionTask {
     /// Feeds the measured position of an axis (axis units, unwrapped); used
     /// from the next update on. An axis never fed follows its command.
     pub fn feed_actual_position(&mut self, axis: AxisHandle, position: f64) {
+        let position = self.redefined_feedback(axis, position);
         let a = &mut self.axes[axis.0 as usize];
         if position.is_finite() {
             a.actual = position;
@@ -239,6 +245,7 @@ impl MotionTask {
     /// motion stops at once, and the running and buffered commands are
     /// aborted (`CommandAborted`).
     pub fn reset_axis(&mut self, axis: AxisHandle) {
+        self.release_cam_and_jog(axis);
         let a = &mut self.axes[axis.0 as usize];
         a.command = Sample {
             position: a.actual,
@@ -260,6 +267,7 @@ impl MotionTask {
         for i in 0..self.axes.len() {
             self.advance_axis(AxisHandle(i as u32));
         }
+        self.advance_cams_and_jogs();
     }
 
     fn evaluate_inputs(&mut self, fb: FbHandle) {
@@ -324,6 +332,7 @@ impl MotionTask {
     /// Starts `command` on `axis` now, `elapsed_s` into its profile (a blend
     /// hand-over inside an update), aborting whatever runs there.
     fn start(&mut self, axis: AxisHandle, fb: FbHandle, command: MoveModulo, elapsed_s: Option<f64>) {
+        self.release_cam_and_jog(axis);
         let a = &mut self.axes[axis.0 as usize];
         // A blend hand-over replaces a command that has just finished (Done);
         // any other start aborts what runs or waits on the axis.
