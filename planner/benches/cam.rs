@@ -48,9 +48,9 @@ fn mapc(c: &mut Criterion) {
     let master = task.add_axis(axis("Conveyor"), 0.0).expect("valid axis");
     let slave = task.add_axis(axis("Knife"), 0.0).expect("valid axis");
     let profile = task.add_cam_profile("Knife_Profile", 1000);
-    let mi = task.add_motion_instruction("MCCP_1");
+    let mi = task.add_instruction("MCCP_1");
     task.mccp(mi, &points, 1000, 1.0, 1.0, profile).expect("valid cam");
-    let jog = task.add_motion_instruction("MAJ_1");
+    let jog = task.add_instruction("MAJ_1");
     task.maj(
         master,
         jog,
@@ -60,7 +60,7 @@ fn mapc(c: &mut Criterion) {
         },
     )
     .expect("valid jog");
-    let pc = task.add_motion_instruction("MAPC_1");
+    let pc = task.add_instruction("MAPC_1");
     task.mapc(MapcCall {
         slave,
         master,

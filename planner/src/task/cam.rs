@@ -44,7 +44,7 @@
 //! reporting in its own frame ([`MotionTask::position_offset`] tells the
 //! twin how to map command positions back to the joint).
 
-use super::{AxisHandle, Finish, MotionTask};
+use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
 use crate::instruction::MotionInstructionBits;
 use crate::jog::{Jog, JogError, MajOperands, MasOperands, Stop};
 use crate::mapc::{
@@ -54,10 +54,6 @@ use crate::mccp::{CamElement, CamProfile, CamProfileTag, MccpError};
 use crate::mrp::{Mrp, MrpError};
 use crate::profile::{Limits, Profile, Sample, State};
 use std::sync::Arc;
-
-/// Handle of a `MOTION_INSTRUCTION` tag used by MCCP, MAPC, MRP, MAJ, MAS.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct MiHandle(u32);
 
 /// Handle of a `CAM_PROFILE` tag.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -72,7 +68,7 @@ pub struct LimitFlags {
     pub acceleration: bool,
 }
 
-type Tag = (MiHandle, CamProfileHandle);
+type Tag = (InstructionHandle, CamProfileHandle);
 type MasterKey = (AxisHandle, MasterReference);
 
 #[derive(Debug, Clone)]
@@ -80,9 +76,9 @@ struct RampRun {
     profile: Profile,
     t_s: f64,
     /// The MAJ driving it (`None` for a stop ramp).
-    jog: Option<MiHandle>,
+    jog: Option<InstructionHandle>,
     /// The MAS stopping it, if any.
-    stop: Option<MiHandle>,
+    stop: Option<InstructionHandle>,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -92,14 +88,16 @@ struct CamAxis {
     cam_drove: bool,
     redefined: f64,
     limits: LimitFlags,
+    declared_slave: bool,
 }
 
 /// The task's cam-instruction state (profiles, tags, per-axis processes).
 #[derive(Debug, Clone, Default)]
 pub(super) struct CamState {
     profiles: Vec<(String, CamProfileTag)>,
-    instructions: Vec<(String, MotionInstructionBits)>,
     axes: Vec<CamAxis>,
+    /// One-shot rungs: (tag, update count when its scan ran).
+    rung_false: Vec<(InstructionHandle, u64)>,
 }
 
 /// What a MAPC call names besides its numeric operands.
@@ -110,7 +108,7 @@ pub struct MapcCall {
     /// Master axis.
     pub master: AxisHandle,
     /// Motion Control tag.
-    pub motion_control: MiHandle,
+    pub motion_control: InstructionHandle,
     /// Cam Profile tag.
     pub cam_profile: CamProfileHandle,
     /// The numeric operands.
@@ -147,51 +145,56 @@ impl MotionTask {
         self.cam.profiles[h.0 as usize].1.set_status(status);
     }
 
-    /// Adds a `MOTION_INSTRUCTION` tag.
-    pub fn add_motion_instruction(&mut self, name: impl Into<String>) -> MiHandle {
+    /// The `CAM_PROFILE` tag named `name` (case-insensitive), if added.
+    pub fn find_cam_profile(&self, name: &str) -> Option<CamProfileHandle> {
         self.cam
-            .instructions
-            .push((name.into(), MotionInstructionBits::default()));
-        MiHandle(self.cam.instructions.len() as u32 - 1)
+            .profiles
+            .iter()
+            .position(|(n, _)| n.eq_ignore_ascii_case(name))
+            .map(|i| CamProfileHandle(i as u32))
     }
 
-    /// A `MOTION_INSTRUCTION` tag's bits.
-    pub fn instruction_bits(&self, h: MiHandle) -> MotionInstructionBits {
-        self.cam.instructions[h.0 as usize].1
+    /// Declares `axis` a position cam slave (for traces that list the slave
+    /// status only for such axes).
+    pub fn declare_cam_slave(&mut self, axis: AxisHandle) {
+        self.cam_axis(axis).declared_slave = true;
     }
 
-    /// A `MOTION_INSTRUCTION` tag's name.
-    pub fn instruction_name(&self, h: MiHandle) -> &str {
-        &self.cam.instructions[h.0 as usize].0
+    /// Whether [`MotionTask::declare_cam_slave`] was called for `axis`.
+    pub fn is_cam_slave(&self, axis: AxisHandle) -> bool {
+        self.cam.axes.get(axis.0 as usize).is_some_and(|c| c.declared_slave)
     }
 
-    /// Every `MOTION_INSTRUCTION` tag, in the order added.
-    pub fn instruction_handles(&self) -> impl Iterator<Item = MiHandle> + use<> {
-        (0..self.cam.instructions.len() as u32).map(MiHandle)
+    /// A one-shot rung: the instruction just executed with `h` in this scan;
+    /// its rung is false from the next coarse update on, which clears `.EN`
+    /// there once `.DN` or `.ER` is set (see [`MotionTask::rung_false`]).
+    pub fn rung_false_next_scan(&mut self, h: InstructionHandle) {
+        let now = self.updates;
+        self.cam.rung_false.push((h, now));
     }
 
     /// The rung went false: `.EN` is cleared if `.DN` or `.ER` is set.
-    pub fn rung_false(&mut self, h: MiHandle) {
-        let b = &mut self.cam.instructions[h.0 as usize].1;
+    pub fn rung_false(&mut self, h: InstructionHandle) {
+        let b = self.motion_bits_mut(h);
         if b.dn || b.er {
             b.en = false;
         }
     }
 
-    fn bits(&mut self, h: MiHandle) -> &mut MotionInstructionBits {
-        &mut self.cam.instructions[h.0 as usize].1
+    fn bits(&mut self, h: InstructionHandle) -> &mut MotionInstructionBits {
+        self.motion_bits_mut(h)
     }
 
     /// Starts an execution: `.EN` set, `.DN .ER .PC .IP .AC` and the codes
     /// cleared.
-    fn begin(&mut self, h: MiHandle) {
+    fn begin(&mut self, h: InstructionHandle) {
         *self.bits(h) = MotionInstructionBits {
             en: true,
             ..MotionInstructionBits::default()
         };
     }
 
-    fn fail(&mut self, h: MiHandle, err: i32, exerr: i32, segment: i32) {
+    fn fail(&mut self, h: InstructionHandle, err: i32, exerr: i32, segment: i32) {
         let b = self.bits(h);
         b.er = true;
         b.err = err;
@@ -203,7 +206,7 @@ impl MotionTask {
     /// Returns the error also written into the tag.
     pub fn mccp(
         &mut self,
-        motion_control: MiHandle,
+        motion_control: InstructionHandle,
         cam: &[CamElement],
         length: usize,
         start_slope: f64,
@@ -385,7 +388,7 @@ impl MotionTask {
     pub fn mrp(
         &mut self,
         axis: AxisHandle,
-        motion_control: MiHandle,
+        motion_control: InstructionHandle,
         kind: i32,
         select: i32,
         position: f64,
@@ -425,7 +428,12 @@ impl MotionTask {
     ///
     /// # Errors
     /// ERR 13 with EXERR = the operand.
-    pub fn maj(&mut self, axis: AxisHandle, motion_control: MiHandle, operands: &MajOperands) -> Result<(), JogError> {
+    pub fn maj(
+        &mut self,
+        axis: AxisHandle,
+        motion_control: InstructionHandle,
+        operands: &MajOperands,
+    ) -> Result<(), JogError> {
         self.begin(motion_control);
         let jog = match Jog::new(operands, &self.axes[axis.0 as usize].config) {
             Ok(j) => j,
@@ -454,7 +462,12 @@ impl MotionTask {
     ///
     /// # Errors
     /// ERR 13 with EXERR = the operand.
-    pub fn mas(&mut self, axis: AxisHandle, motion_control: MiHandle, operands: &MasOperands) -> Result<(), JogError> {
+    pub fn mas(
+        &mut self,
+        axis: AxisHandle,
+        motion_control: InstructionHandle,
+        operands: &MasOperands,
+    ) -> Result<(), JogError> {
         self.begin(motion_control);
         let stop = match Stop::new(operands, &self.axes[axis.0 as usize].config) {
             Ok(s) => s,
@@ -521,6 +534,14 @@ impl MotionTask {
     /// (called by [`MotionTask::update`] after the MoveModulo commands).
     pub(super) fn advance_cams_and_jogs(&mut self) {
         let dt = self.dt_s;
+        let updates = self.updates;
+        let (due, later): (Vec<_>, Vec<_>) = std::mem::take(&mut self.cam.rung_false)
+            .into_iter()
+            .partition(|&(_, at)| updates >= at + 2);
+        self.cam.rung_false = later;
+        for (h, _) in due {
+            self.rung_false(h);
+        }
         for i in 0..self.cam.axes.len().min(self.axes.len()) {
             let axis = AxisHandle(i as u32);
             let Some(r) = self.cam.axes[i].ramp.as_mut() else {

@@ -44,13 +44,18 @@ impl Rig {
             })
             .collect();
         let h = self.task.add_cam_profile(name, 32);
-        let mi = self.task.add_motion_instruction(format!("MCCP_{name}"));
+        let mi = self.task.add_instruction(format!("MCCP_{name}"));
         self.task.mccp(mi, &cam, cam.len(), 0.0, 0.0, h).unwrap();
-        assert!(self.task.instruction_bits(mi).dn);
+        assert!(self.task.motion_bits(mi).dn);
         h
     }
 
-    fn mapc(&mut self, mi: MiHandle, profile: CamProfileHandle, operands: MapcOperands) -> Result<(), MapcError> {
+    fn mapc(
+        &mut self,
+        mi: InstructionHandle,
+        profile: CamProfileHandle,
+        operands: MapcOperands,
+    ) -> Result<(), MapcError> {
         self.task.mapc(MapcCall {
             slave: self.slave,
             master: self.master,
@@ -76,8 +81,8 @@ impl Rig {
 
     /// Asserts exactly the named bits (of EN DN ER IP AC PC) are set.
     #[track_caller]
-    fn bits(&self, mi: MiHandle, set: &str) {
-        let b = self.task.instruction_bits(mi);
+    fn bits(&self, mi: InstructionHandle, set: &str) {
+        let b = self.task.motion_bits(mi);
         let actual: Vec<&str> = [
             ("EN", b.en),
             ("DN", b.dn),
@@ -137,7 +142,7 @@ fn cam_lock_position_table_value_for_value() {
     // Cam Lock Position 0: the slave follows the table.
     let mut r = rig();
     let p = r.profile("Cam", &TABLE, 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.mapc(mi, p, ops(ONCE, IMMEDIATE)).unwrap();
     for (m, s) in TABLE {
         r.to(m);
@@ -148,7 +153,7 @@ fn cam_lock_position_table_value_for_value() {
     // (the spec prints "= 30" for the last row: a sign typo).
     let mut r = rig();
     let p = r.profile("Cam", &TABLE, 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.to(10.0);
     r.mapc(
         mi,
@@ -176,7 +181,7 @@ fn cam_lock_position_table_value_for_value() {
 fn once_completes_at_the_boundary_and_never_resumes() {
     let mut r = rig();
     let p = r.profile("Cam", &TABLE, 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.mapc(mi, p, ops(ONCE, IMMEDIATE)).unwrap();
     r.bits(mi, "EN DN IP AC");
     r.slave_bits("cam lock");
@@ -200,7 +205,7 @@ fn continuous_repeats_the_profile_both_ways() {
     let mut r = rig();
     // Net rise 10 per cycle of 20.
     let p = r.profile("Ramp", &[(0.0, 0.0), (10.0, 8.0), (20.0, 10.0)], 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.mapc(mi, p, ops(CONTINUOUS, IMMEDIATE)).unwrap();
     for (m, s) in [
         (10.0, 8.0),
@@ -221,7 +226,7 @@ fn continuous_repeats_the_profile_both_ways() {
 fn persistent_holds_outside_and_resumes_inside() {
     let mut r = rig();
     let p = r.profile("Cam", &TABLE, 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.mapc(mi, p, ops(PERSISTENT, IMMEDIATE)).unwrap();
     r.to(40.0);
     r.slave_at(0.0);
@@ -243,7 +248,7 @@ fn persistent_holds_outside_and_resumes_inside() {
 fn forward_only_schedule_locks_at_the_master_lock_position() {
     let mut r = rig();
     let p = r.profile("Slope3", &[(0.0, 0.0), (100.0, 300.0)], 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.to(0.0);
     r.mapc(
         mi,
@@ -269,7 +274,7 @@ fn forward_only_schedule_locks_at_the_master_lock_position() {
 fn reverse_only_schedule_ignores_forward_crossings() {
     let mut r = rig();
     let p = r.profile("Slope3", &[(0.0, 0.0), (100.0, 300.0)], 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.mapc(
         mi,
         p,
@@ -294,7 +299,7 @@ fn bidirectional_schedule_locks_either_way() {
     for (start, end, expected) in [(0.0, 7.0, 6.0), (10.0, 4.0, -3.0)] {
         let mut r = rig();
         let p = r.profile("Slope3", &[(0.0, 0.0), (100.0, 300.0)], 0);
-        let mi = r.task.add_motion_instruction("MAPC_1");
+        let mi = r.task.add_instruction("MAPC_1");
         r.to(start);
         r.mapc(
             mi,
@@ -319,7 +324,7 @@ fn master_offset_shifts_the_lock_position() {
     // Master Lock 50, master offset 10: the slave locks at master 40.
     let mut r = rig();
     let p = r.profile("Slope3", &[(0.0, 0.0), (100.0, 300.0)], 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.task.shift_master_offset(r.slave, 25.0);
     r.mapc(
         mi,
@@ -346,10 +351,7 @@ fn pending_cam_takes_over_at_the_end_of_the_active_cam() {
     let mut r = rig();
     let a = r.profile("Accel", &[(0.0, 0.0), (10.0, 10.0)], 0);
     let b = r.profile("Run", &[(0.0, 0.0), (10.0, 20.0)], 0);
-    let (ma, mb) = (
-        r.task.add_motion_instruction("MAPC_A"),
-        r.task.add_motion_instruction("MAPC_B"),
-    );
+    let (ma, mb) = (r.task.add_instruction("MAPC_A"), r.task.add_instruction("MAPC_B"));
     r.mapc(ma, a, ops(ONCE, IMMEDIATE)).unwrap();
     r.mapc(mb, b, ops(CONTINUOUS, PENDING)).unwrap();
     r.bits(mb, "EN DN IP");
@@ -373,10 +375,7 @@ fn pending_cam_can_be_preloaded_before_the_first_cam() {
     let mut r = rig();
     let a = r.profile("Accel", &[(0.0, 0.0), (10.0, 10.0)], 0);
     let b = r.profile("Run", &[(0.0, 0.0), (10.0, 20.0)], 0);
-    let (ma, mb) = (
-        r.task.add_motion_instruction("MAPC_A"),
-        r.task.add_motion_instruction("MAPC_B"),
-    );
+    let (ma, mb) = (r.task.add_instruction("MAPC_A"), r.task.add_instruction("MAPC_B"));
     r.mapc(mb, b, ops(ONCE, PENDING)).unwrap();
     r.bits(mb, "EN DN IP");
     r.slave_bits("pending");
@@ -400,10 +399,7 @@ fn continuous_cam_hands_over_to_a_pending_cam_at_the_end_of_its_cycle() {
     let mut r = rig();
     let a = r.profile("Run", &[(0.0, 0.0), (10.0, 10.0)], 0);
     let b = r.profile("Decel", &[(0.0, 0.0), (10.0, 5.0)], 0);
-    let (ma, mb) = (
-        r.task.add_motion_instruction("MAPC_A"),
-        r.task.add_motion_instruction("MAPC_B"),
-    );
+    let (ma, mb) = (r.task.add_instruction("MAPC_A"), r.task.add_instruction("MAPC_B"));
     r.mapc(ma, a, ops(CONTINUOUS, IMMEDIATE)).unwrap();
     r.to(13.0);
     r.slave_at(13.0);
@@ -428,9 +424,9 @@ fn replacement_cam_cancels_a_pending_cam() {
     let b = r.profile("B", &[(0.0, 0.0), (20.0, 40.0)], 0);
     let c = r.profile("C", &[(0.0, 0.0), (10.0, 5.0)], 0);
     let (ma, mb, mc) = (
-        r.task.add_motion_instruction("MAPC_A"),
-        r.task.add_motion_instruction("MAPC_B"),
-        r.task.add_motion_instruction("MAPC_C"),
+        r.task.add_instruction("MAPC_A"),
+        r.task.add_instruction("MAPC_B"),
+        r.task.add_instruction("MAPC_C"),
     );
     r.mapc(ma, a, ops(ONCE, IMMEDIATE)).unwrap();
     r.to(5.0);
@@ -468,10 +464,7 @@ fn replace_and_restart_immediate_starts_at_the_cam_lock_position_from_the_slave(
     let mut r = rig();
     let a = r.profile("A", &[(0.0, 0.0), (100.0, 100.0)], 0);
     let b = r.profile("B", &[(0.0, 0.0), (100.0, 200.0)], 0);
-    let (ma, mb) = (
-        r.task.add_motion_instruction("MAPC_A"),
-        r.task.add_motion_instruction("MAPC_B"),
-    );
+    let (ma, mb) = (r.task.add_instruction("MAPC_A"), r.task.add_instruction("MAPC_B"));
     r.mapc(ma, a, ops(ONCE, IMMEDIATE)).unwrap();
     r.to(5.0);
     r.mapc(
@@ -497,10 +490,7 @@ fn replace_and_continue_immediate_continues_from_the_active_cam_point() {
     let mut r = rig();
     let a = r.profile("A", &[(0.0, 0.0), (100.0, 100.0)], 0);
     let b = r.profile("B", &[(0.0, 0.0), (100.0, 200.0)], 0);
-    let (ma, mb) = (
-        r.task.add_motion_instruction("MAPC_A"),
-        r.task.add_motion_instruction("MAPC_B"),
-    );
+    let (ma, mb) = (r.task.add_instruction("MAPC_A"), r.task.add_instruction("MAPC_B"));
     r.mapc(ma, a, ops(ONCE, IMMEDIATE)).unwrap();
     r.to(5.0);
     r.slave_at(5.0);
@@ -529,10 +519,7 @@ fn replace_and_restart_with_the_active_cam_locked() {
     let mut r = rig();
     let a = r.profile("A", &[(0.0, 0.0), (20.0, 10.0)], 0);
     let b = r.profile("B", &[(0.0, 0.0), (20.0, 40.0)], 0);
-    let (ma, mb) = (
-        r.task.add_motion_instruction("MAPC_A"),
-        r.task.add_motion_instruction("MAPC_B"),
-    );
+    let (ma, mb) = (r.task.add_instruction("MAPC_A"), r.task.add_instruction("MAPC_B"));
     let fwd = MapcOperands {
         master_direction: 1,
         ..ops(PERSISTENT, IMMEDIATE)
@@ -579,10 +566,7 @@ fn replace_and_restart_with_the_active_cam_unlocked() {
     let mut r = rig();
     let a = r.profile("A", &[(0.0, 0.0), (20.0, 10.0)], 0);
     let b = r.profile("B", &[(0.0, 0.0), (20.0, 40.0)], 0);
-    let (ma, mb) = (
-        r.task.add_motion_instruction("MAPC_A"),
-        r.task.add_motion_instruction("MAPC_B"),
-    );
+    let (ma, mb) = (r.task.add_instruction("MAPC_A"), r.task.add_instruction("MAPC_B"));
     r.mapc(ma, a, ops(PERSISTENT, IMMEDIATE)).unwrap();
     r.to(25.0);
     r.slave_bits("cam");
@@ -613,10 +597,7 @@ fn replace_and_continue_with_the_active_cam_unlocked_by_a_master_reversal() {
     let mut r = rig();
     let a = r.profile("A", &[(0.0, 0.0), (100.0, 100.0)], 0);
     let b = r.profile("B", &[(0.0, 0.0), (100.0, 200.0)], 0);
-    let (ma, mb) = (
-        r.task.add_motion_instruction("MAPC_A"),
-        r.task.add_motion_instruction("MAPC_B"),
-    );
+    let (ma, mb) = (r.task.add_instruction("MAPC_A"), r.task.add_instruction("MAPC_B"));
     let fwd = MapcOperands {
         master_direction: 1,
         ..ops(PERSISTENT, IMMEDIATE)
@@ -666,7 +647,7 @@ fn slip_clutch_holds_the_slave_and_picks_up_where_the_master_reversed() {
     ] {
         let mut r = rig();
         let p = r.profile("Line", &[(-50.0, -50.0), (50.0, 50.0)], 0);
-        let mi = r.task.add_motion_instruction("MAPC_1");
+        let mi = r.task.add_instruction("MAPC_1");
         r.mapc(
             mi,
             p,
@@ -703,7 +684,7 @@ fn slip_clutch_holds_the_slave_and_picks_up_where_the_master_reversed() {
 fn slave_direction_same_opposite_reverse_unchanged() {
     let mut r = rig();
     let p = r.profile("Line", &[(0.0, 0.0), (100.0, 100.0)], 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     let run = |r: &mut Rig, direction: i32| {
         r.to(0.0);
         let before = r.slave_pos();
@@ -729,7 +710,7 @@ fn slave_direction_same_opposite_reverse_unchanged() {
     // First execution: Unchanged → Same.
     let mut r2 = rig();
     let p = r2.profile("Line", &[(0.0, 0.0), (100.0, 100.0)], 0);
-    let mi = r2.task.add_motion_instruction("MAPC_1");
+    let mi = r2.task.add_instruction("MAPC_1");
     r2.mapc(
         mi,
         p,
@@ -747,7 +728,7 @@ fn slave_direction_same_opposite_reverse_unchanged() {
 fn scaling_stretches_master_and_slave() {
     let mut r = rig();
     let p = r.profile("Cam", &TABLE, 1);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.mapc(
         mi,
         p,
@@ -770,7 +751,7 @@ fn master_reference_command_or_actual() {
     for (reference, expected) in [(0, 7.0), (1, 5.0)] {
         let mut r = rig();
         let p = r.profile("Line", &[(0.0, 0.0), (100.0, 100.0)], 0);
-        let mi = r.task.add_motion_instruction("MAPC_1");
+        let mi = r.task.add_instruction("MAPC_1");
         r.mapc(
             mi,
             p,
@@ -782,7 +763,7 @@ fn master_reference_command_or_actual() {
         .unwrap();
         // Command 5 through MRP-free motion: jog the master, then feed an
         // actual position 2 ahead of the command.
-        let jog = r.task.add_motion_instruction("MAJ_1");
+        let jog = r.task.add_instruction("MAJ_1");
         r.task
             .maj(
                 r.master,
@@ -819,7 +800,7 @@ fn profile_status_counts_cams_in_and_out() {
     let s1 = task.add_axis(axis("S1"), 0.0).unwrap();
     let s2 = task.add_axis(axis("S2"), 0.0).unwrap();
     let p = task.add_cam_profile("P", 8);
-    let mccp = task.add_motion_instruction("MCCP_1");
+    let mccp = task.add_instruction("MCCP_1");
     let cam = [
         CamElement {
             master: 0.0,
@@ -833,7 +814,7 @@ fn profile_status_counts_cams_in_and_out() {
         },
     ];
     task.mccp(mccp, &cam, 2, 0.0, 0.0, p).unwrap();
-    let (m1, m2) = (task.add_motion_instruction("A"), task.add_motion_instruction("B"));
+    let (m1, m2) = (task.add_instruction("A"), task.add_instruction("B"));
     for (slave, mi) in [(s1, m1), (s2, m2)] {
         task.mapc(MapcCall {
             slave,
@@ -847,9 +828,9 @@ fn profile_status_counts_cams_in_and_out() {
     assert_eq!(task.cam_profile(p).status(), 4);
     // MCCP refuses a profile in use (31).
     assert_eq!(task.mccp(mccp, &cam, 2, 0.0, 0.0, p).unwrap_err().err(), 31);
-    assert!(task.instruction_bits(mccp).er);
-    assert_eq!(task.instruction_bits(mccp).err, 31);
-    let stop = task.add_motion_instruction("MAS_1");
+    assert!(task.motion_bits(mccp).er);
+    assert_eq!(task.motion_bits(mccp).err, 31);
+    let stop = task.add_instruction("MAS_1");
     task.mas(
         s1,
         stop,
@@ -869,10 +850,10 @@ fn profile_status_counts_cams_in_and_out() {
 fn mapc_errors_not_calculated_being_calculated_and_every_operand() {
     let mut r = rig();
     let p = r.task.add_cam_profile("Empty", 8);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     assert_eq!(r.mapc(mi, p, MapcOperands::default()).unwrap_err().err(), 32);
     r.bits(mi, "EN ER");
-    assert_eq!(r.task.instruction_bits(mi).err, 32);
+    assert_eq!(r.task.motion_bits(mi).err, 32);
     let good = r.profile("Cam", &TABLE, 0);
     r.task.set_cam_profile_status(good, 1);
     assert_eq!(r.mapc(mi, good, MapcOperands::default()).unwrap_err().err(), 30);
@@ -935,7 +916,7 @@ fn mapc_errors_not_calculated_being_calculated_and_every_operand() {
     for (o, exerr) in cases {
         let e = r.mapc(mi, good, o).unwrap_err();
         assert_eq!((e.err(), e.exerr()), (13, exerr));
-        let b = r.task.instruction_bits(mi);
+        let b = r.task.motion_bits(mi);
         assert!(b.er && !b.dn && !b.ip);
         assert_eq!((b.err, b.exerr), (13, exerr));
         // A failed MAPC does not keep the profile.
@@ -959,7 +940,7 @@ fn mapc_errors_not_calculated_being_calculated_and_every_operand() {
 fn mccp_errors_reach_the_motion_instruction_tag() {
     let mut r = rig();
     let p = r.task.add_cam_profile("P", 8);
-    let mi = r.task.add_motion_instruction("MCCP_1");
+    let mi = r.task.add_instruction("MCCP_1");
     let mut cam: Vec<CamElement> = TABLE
         .iter()
         .map(|&(master, slave)| CamElement {
@@ -970,19 +951,19 @@ fn mccp_errors_reach_the_motion_instruction_tag() {
         .collect();
     cam[3].segment_type = 2;
     assert!(r.task.mccp(mi, &cam, 5, 0.0, 0.0, p).is_err());
-    let b = r.task.instruction_bits(mi);
+    let b = r.task.motion_bits(mi);
     assert!(b.en && b.er && !b.dn);
     assert_eq!((b.err, b.exerr, b.segment), (28, 0, 3));
     r.task.rung_false(mi);
-    assert!(!r.task.instruction_bits(mi).en);
+    assert!(!r.task.motion_bits(mi).en);
     assert_eq!(r.task.mccp(mi, &cam, 9, 0.0, 0.0, p).unwrap_err().err(), 26);
-    assert_eq!(r.task.instruction_bits(mi).exerr, 5);
+    assert_eq!(r.task.motion_bits(mi).exerr, 5);
 }
 
 #[test]
 fn mrp_redefines_without_motion_and_keeps_the_following_error() {
     let mut r = rig();
-    let mi = r.task.add_motion_instruction("MRP_1");
+    let mi = r.task.add_instruction("MRP_1");
     // Feed an actual 0.5 behind the command.
     r.task.feed_actual_position(r.slave, -0.5);
     r.task.mrp(r.slave, mi, 0, 1, 100.0).unwrap();
@@ -1008,8 +989,8 @@ fn mrp_redefines_without_motion_and_keeps_the_following_error() {
 #[test]
 fn relative_mrp_while_jogging_is_exact() {
     let mut r = rig();
-    let jog = r.task.add_motion_instruction("MAJ_1");
-    let mrp = r.task.add_motion_instruction("MRP_1");
+    let jog = r.task.add_instruction("MAJ_1");
+    let mrp = r.task.add_instruction("MRP_1");
     r.task
         .maj(
             r.master,
@@ -1048,8 +1029,8 @@ impl Rig {
 fn mrp_on_the_master_does_not_move_the_slave_and_on_the_slave_shifts_it() {
     let mut r = rig();
     let p = r.profile("Line", &[(0.0, 0.0), (100.0, 100.0)], 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
-    let mrp = r.task.add_motion_instruction("MRP_1");
+    let mi = r.task.add_instruction("MAPC_1");
+    let mrp = r.task.add_instruction("MRP_1");
     r.mapc(mi, p, ops(ONCE, IMMEDIATE)).unwrap();
     r.to(10.0);
     r.slave_at(10.0);
@@ -1067,8 +1048,8 @@ fn mrp_on_the_master_does_not_move_the_slave_and_on_the_slave_shifts_it() {
 #[test]
 fn jog_and_stop_bits_and_motion() {
     let mut r = rig();
-    let jog = r.task.add_motion_instruction("MAJ_1");
-    let stop = r.task.add_motion_instruction("MAS_1");
+    let jog = r.task.add_instruction("MAJ_1");
+    let stop = r.task.add_instruction("MAS_1");
     r.task
         .maj(
             r.master,
@@ -1120,8 +1101,8 @@ fn jog_and_stop_bits_and_motion() {
 fn mas_position_cam_stops_the_slave_with_a_ramp() {
     let mut r = rig();
     let p = r.profile("Line", &[(0.0, 0.0), (1000.0, 1000.0)], 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
-    let stop = r.task.add_motion_instruction("MAS_1");
+    let mi = r.task.add_instruction("MAPC_1");
+    let stop = r.task.add_instruction("MAS_1");
     r.mapc(mi, p, ops(ONCE, IMMEDIATE)).unwrap();
     for k in 1..=10 {
         r.to(f64::from(k));
@@ -1165,7 +1146,7 @@ fn one_driver_per_axis() {
     let t = r.task.add_axis(table, 0.0).unwrap();
     let mm = r.task.add_move_modulo("Move", t);
     let p = r.profile("Line", &[(0.0, 0.0), (100.0, 100.0)], 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.task.set_move_modulo_inputs(
         mm,
         MoveModuloInputs {
@@ -1194,7 +1175,7 @@ fn one_driver_per_axis() {
     r.to(2.0);
     assert!((r.task.axis_state(t).command_position - (held + 2.0)).abs() < 1e-9);
     // A jog ends the cam.
-    let jog = r.task.add_motion_instruction("MAJ_1");
+    let jog = r.task.add_instruction("MAJ_1");
     r.task
         .maj(
             t,
@@ -1230,7 +1211,7 @@ fn one_driver_per_axis() {
 fn cams_ignore_axis_limits_and_flag_them() {
     let mut r = rig();
     let p = r.profile("Steep", &[(0.0, 0.0), (1.0, 100.0)], 0);
-    let mi = r.task.add_motion_instruction("MAPC_1");
+    let mi = r.task.add_instruction("MAPC_1");
     r.mapc(mi, p, ops(ONCE, IMMEDIATE)).unwrap();
     r.to(0.05);
     r.to(0.15);
@@ -1243,4 +1224,22 @@ fn cams_ignore_axis_limits_and_flag_them() {
     assert!(f.velocity && f.acceleration);
     r.to(0.36);
     assert!(!r.task.limits_exceeded(r.slave).velocity);
+}
+
+#[test]
+fn a_one_shot_rung_clears_en_at_the_next_scan() {
+    let mut r = rig();
+    let p = r.profile("Line", &[(0.0, 0.0), (100.0, 100.0)], 0);
+    let mi = r.task.add_instruction("MAPC_1");
+    r.mapc(mi, p, ops(ONCE, IMMEDIATE)).unwrap();
+    r.task.rung_false_next_scan(mi);
+    r.task.update();
+    r.bits(mi, "EN DN IP AC");
+    r.task.update();
+    r.bits(mi, "DN IP AC");
+    assert_eq!(r.task.find_cam_profile("line"), Some(p));
+    assert_eq!(r.task.find_cam_profile("nope"), None);
+    assert!(!r.task.is_cam_slave(r.slave));
+    r.task.declare_cam_slave(r.slave);
+    assert!(r.task.is_cam_slave(r.slave) && !r.task.is_cam_slave(r.master));
 }
