@@ -443,3 +443,147 @@ fn operands_can_be_real_tags_and_array_elements() {
     let peak = rows.iter().map(|r| r[vel]).fold(0.0, f64::max);
     assert!(peak > 180.0 && peak <= 360.0, "Speeds[1] = 360 used: peak {peak}");
 }
+
+/// Renders `scene` (relative to the workspace root) and compares the frames
+/// its `[snapshots]` lists with the golden images (skipped without a Vulkan
+/// adapter outside CI).
+fn assert_scene_frames_match_snapshots(scene_path: &str, out_name: &str) {
+    let scene = twin::scene::load(&root().join(scene_path)).expect("scene");
+    let frames = scene.snapshots.as_ref().map(|s| s.frames.clone()).unwrap_or_default();
+    assert!(!frames.is_empty(), "{scene_path} lists snapshot frames");
+    let out = out_dir(out_name);
+    let output = twin_cmd()
+        .args(["run", scene_path, "--frames"])
+        .arg(out.join("frames"))
+        .output()
+        .expect("run twin");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let first = out
+        .join("frames")
+        .join(format!("{}-{:05}.png", scene.cameras[0].name, frames[0]));
+    if !first.exists() {
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(std::env::var_os("CI").is_none(), "no frames rendered in CI: {stderr}");
+        eprintln!("SKIPPED snapshot comparison: no Vulkan adapter ({stderr})");
+        return;
+    }
+    let mut failures = Vec::new();
+    for (i, camera) in scene.cameras.iter().enumerate() {
+        for &f in &frames {
+            let path = out.join("frames").join(format!("{}-{f:05}.png", camera.name));
+            let image = image::open(&path)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+                .to_rgba8();
+            let name = if i == 0 {
+                format!("{}-{f}", scene.name)
+            } else {
+                format!("{}-{}-{f}", scene.name, camera.name)
+            };
+            let artifacts = root().join("target/snapshots");
+            if let Err(e) =
+                twin::snapshot::assert_matches_snapshot(&name, &image, &root().join("snapshots"), &artifacts)
+            {
+                failures.push(e.to_string());
+            }
+        }
+    }
+    assert!(failures.is_empty(), "snapshot mismatches:\n{}", failures.join("\n"));
+}
+
+#[test]
+fn rotary_knife_frames_match_snapshots() {
+    assert_scene_frames_match_snapshots("scenes/rotary_knife.toml", "rotary_knife_snapshots");
+}
+
+/// The knife's cam, computed here from the scene's cam points with the
+/// planner's MCCP (the twin computes it at run time from the same tag).
+fn knife_cam(points: &[(f64, f64, i32)], slope: f64) -> planner::mccp::CamProfile {
+    let cam: Vec<planner::mccp::CamElement> = points
+        .iter()
+        .map(|&(master, slave, segment_type)| planner::mccp::CamElement {
+            master,
+            slave,
+            segment_type,
+        })
+        .collect();
+    planner::mccp::CamProfile::calculate(&cam, cam.len(), slope, slope).expect("valid cam")
+}
+
+/// Continuous mode: the profile unwound every master period.
+fn unwound(p: &planner::mccp::CamProfile, m: f64) -> f64 {
+    let (x0, xn) = p.master_range();
+    let (y0, yn) = p.slave_range();
+    let k = ((m - x0) / (xn - x0)).floor();
+    p.eval(m - k * (xn - x0)).slave + k * (yn - y0)
+}
+
+#[test]
+fn rotary_knife_follows_the_cam_of_the_conveyor_position() {
+    let out = out_dir("rotary_knife_trace");
+    run_scene("scenes/rotary_knife.toml", &out);
+    let (header, rows) = read_trace(&out.join("out.csv"));
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("column {name}"))
+    };
+    let (t, m, k) = (col("time_s"), col("Conveyor.cmd_pos"), col("Knife.cmd_pos"));
+    let (cam, lock, pending) = (
+        col("Knife.PositionCamStatus"),
+        col("Knife.PositionCamLockStatus"),
+        col("Knife.PositionCamPendingStatus"),
+    );
+    let (ip1, ip2, ac2) = (col("MAPC_1.IP"), col("MAPC_2.IP"), col("MAPC_2.AC"));
+    let first = knife_cam(
+        &[(0.0, 0.0, 1), (120.0, 150.0, 0), (180.0, 210.0, 1), (300.0, 360.0, 1)],
+        1.2,
+    );
+    let second = knife_cam(
+        &[(0.0, 0.0, 1), (80.0, 150.0, 0), (120.0, 210.0, 1), (200.0, 360.0, 1)],
+        1.8,
+    );
+    let mut furthest = f64::MIN;
+    let (mut on_first, mut on_second, mut held, mut waiting) = (0, 0, 0, 0);
+    let mut reversal = None;
+    for r in rows.iter().filter(|r| r[t] > 0.01) {
+        furthest = furthest.max(r[m]);
+        if r[m] < furthest && reversal.is_none() {
+            reversal = Some(furthest);
+        }
+        assert_eq!(r[cam], 1.0, "a cam is in progress at {}", r[t]);
+        if r[ip1] == 1.0 {
+            // First cam, locked at conveyor 0 with the knife at 0.
+            assert!(
+                (r[k] - unwound(&first, r[m])).abs() < 1e-6,
+                "t {}: knife {} conveyor {}",
+                r[t],
+                r[k],
+                r[m]
+            );
+            assert_eq!(r[lock], 1.0);
+            waiting += usize::from(r[pending] == 1.0);
+            on_first += 1;
+        } else {
+            // Replaced at conveyor 600 (knife 720), then driven by the furthest
+            // conveyor position reached: the slip clutch holds it meanwhile.
+            assert_eq!((r[ip2], r[ac2], r[pending]), (1.0, 1.0, 0.0));
+            let want = 720.0 + unwound(&second, furthest - 600.0);
+            assert!((r[k] - want).abs() < 1e-6, "t {}: knife {} want {want}", r[t], r[k]);
+            assert_eq!(r[lock] == 1.0, r[m] >= furthest, "lock status at {}", r[t]);
+            if r[m] < furthest {
+                held += 1;
+            } else {
+                on_second += 1;
+            }
+        }
+    }
+    assert!(
+        on_first > 500 && on_second > 500 && held > 200 && waiting > 300,
+        "{on_first} {on_second} {held} {waiting}"
+    );
+    assert!(
+        reversal.is_some_and(|x| x > 700.0),
+        "the conveyor reverses after the replacement"
+    );
+}

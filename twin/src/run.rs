@@ -36,6 +36,7 @@ use planner::task::{AxisHandle, FbHandle, InstructionHandle, MotionTask, TaskErr
 use std::path::PathBuf;
 use thiserror::Error;
 
+pub mod cam;
 pub mod logix;
 
 /// Why a scene cannot run. Each variant names the scene file and the place.
@@ -554,7 +555,11 @@ impl Twin {
             .iter()
             .map(|a| {
                 let s = self.task.axis_state(a.handle);
-                (s.command_position, s.command_velocity)
+                // MRP redefines positions, not the joint: back to the joint's frame.
+                (
+                    s.command_position - self.task.position_offset(a.handle),
+                    s.command_velocity,
+                )
             })
             .collect();
         for j in 0..n {
@@ -604,6 +609,7 @@ impl Twin {
                 h.push(format!("{}.{c}", ins.name));
             }
         }
+        h.extend(cam::trace_header(&self.task, &self.axes));
         h
     }
 
@@ -638,6 +644,7 @@ impl Twin {
                 row.push(code.to_string());
             }
         }
+        row.extend(cam::trace_row(&self.task, &self.axes));
         row
     }
 }
