@@ -281,8 +281,10 @@ impl MotionTask {
         }
     }
 
-    /// Feeds the measured position of an axis (axis units, unwrapped); used
-    /// from the next update on. An axis never fed follows its command.
+    /// Feeds the measured position of an axis (axis units, unwrapped, in the
+    /// device's own frame: the MRP redefinitions made so far are added, see
+    /// [`MotionTask::position_offset`]); used from the next update on. An axis
+    /// never fed follows its command.
     pub fn feed_actual_position(&mut self, axis: AxisHandle, position: f64) {
         let position = self.redefined_feedback(axis, position);
         let a = &mut self.axes[axis.0 as usize];

@@ -3,8 +3,10 @@
 //!
 //! Operands are the manual's, in its order:
 //! * `MCCP(MotionControl, Cam, Length, StartSlope, EndSlope, CamProfile)` —
-//!   `Cam` is a `CAM[N]` tag or element (`Cam[0]`: the points from that
-//!   index), `CamProfile` a `CAM_PROFILE[N]` tag (element `[0]` only).
+//!   `Cam` is a `CAM[N]` tag or element (`Cam[0]`: the elements from that
+//!   index; elements the scene does not list are the controller's initial
+//!   values, master 0, slave 0, linear), `CamProfile` a `CAM_PROFILE[N]` tag
+//!   (element `[0]` only).
 //! * `MAPC(SlaveAxis, MasterAxis, MotionControl, Direction, CamProfile,
 //!   SlaveScaling, MasterScaling, ExecutionMode, ExecutionSchedule,
 //!   MasterLockPosition, CamLockPosition, CamType, MasterReference,
@@ -109,16 +111,21 @@ fn cam_points(ctx: &LogixContext<'_>, operand: &Expr) -> Result<Vec<CamElement>,
         },
         _ => return Err(format!("{what} {operand}: expected a CAM tag or element, e.g. Cam[0]")),
     };
-    let Some(TagValue::CamPoints(points)) = ctx.scene.tag(name).and_then(|t| t.value.as_ref()) else {
+    let Some(tag) = ctx.scene.tag(name) else {
+        return Err(format!("{what} {operand}: '{name}' is not a declared tag"));
+    };
+    let Some(TagValue::CamPoints(points)) = tag.value.as_ref() else {
         return Err(format!("{what} {operand}: '{name}' is not a CAM tag with points"));
     };
-    if start >= points.len() {
+    // The elements the scene leaves out hold the controller's initial values
+    // (master 0, slave 0, linear), as in a CAM[N] tag on the controller.
+    let size = tag.ty.array_len.unwrap_or(1).max(points.len());
+    if start >= size {
         return Err(format!(
-            "{what} {operand}: '{name}' has {} points, none from [{start}]",
-            points.len()
+            "{what} {operand}: '{name}' has {size} elements, none from [{start}]"
         ));
     }
-    Ok(points[start..]
+    let mut elements: Vec<CamElement> = points
         .iter()
         .map(|p| CamElement {
             master: p.master,
@@ -128,7 +135,9 @@ fn cam_points(ctx: &LogixContext<'_>, operand: &Expr) -> Result<Vec<CamElement>,
                 _ => 1,
             },
         })
-        .collect())
+        .collect();
+    elements.resize(size, CamElement::default());
+    Ok(elements.split_off(start))
 }
 
 fn count(ctx: &LogixContext<'_>, what: &str, operand: &Expr) -> Result<usize, String> {
@@ -452,13 +461,24 @@ mod tests {
         .expect_err("element 1");
         assert!(e.contains("only element [0]"), "{e}");
         let e = compile_text(
-            "MCCP(MCCP_1, KnifeCam[7], 4, 0, 0, KnifeProfile)",
+            "MCCP(MCCP_1, KnifeCam[4], 4, 0, 0, KnifeProfile)",
             &scene,
             &mut task,
             &axes,
         )
-        .expect_err("no point 7");
-        assert!(e.starts_with("Cam KnifeCam[7]"), "{e}");
+        .expect_err("CAM[4] has no element 4");
+        assert!(e.starts_with("Cam KnifeCam[4]"), "{e}");
+        // Length beyond the CAM array: ERR 26 with EXERR = its element count.
+        let long = compile_text(
+            "MCCP(MCCP_2, KnifeCam[1], 4, 0, 0, KnifeProfile2)",
+            &scene,
+            &mut task,
+            &axes,
+        )
+        .expect("binds; the error is the instruction's");
+        (long.run)(&mut task);
+        let b = task.motion_bits(long.control.expect("control"));
+        assert_eq!((b.er, b.err, b.exerr), (true, 26, 3));
         let e = compile_text(
             "MAPC(Knife, Conveyor, MAPC_1, Sideways, KnifeProfile[0], 1, 1, Continuous, Immediate, 0, 0, NewCam, Command, ForwardOnly)",
             &scene,

@@ -1243,3 +1243,43 @@ fn a_one_shot_rung_clears_en_at_the_next_scan() {
     r.task.declare_cam_slave(r.slave);
     assert!(r.task.is_cam_slave(r.slave) && !r.task.is_cam_slave(r.master));
 }
+
+#[test]
+fn mrp_during_a_move_shifts_the_move_with_the_axis() {
+    let table = AxisConfig {
+        modulo_period: Some(360.0),
+        max_velocity: 720.0,
+        ..axis("Table")
+    };
+    let mut task = MotionTask::new(DT).unwrap();
+    let t = task.add_axis(table, 0.0).unwrap();
+    let mm = task.add_move_modulo("Move", t);
+    task.set_move_modulo_inputs(
+        mm,
+        MoveModuloInputs {
+            execute: true,
+            position: 270.0,
+            velocity: 180.0,
+            direction: McDirection::Positive,
+            buffer_mode: McBufferMode::Aborting,
+            ..Default::default()
+        },
+    );
+    for _ in 0..50 {
+        task.update();
+    }
+    let mut reference = task.clone();
+    let mrp = task.add_instruction("MRP_1");
+    task.mrp(t, mrp, 1, 1, -720.0).unwrap();
+    assert_eq!(task.active_target(t), reference.active_target(t).map(|x| x - 720.0));
+    for _ in 0..300 {
+        task.update();
+        reference.update();
+        let (a, b) = (task.axis_state(t), reference.axis_state(t));
+        assert!((a.command_position - (b.command_position - 720.0)).abs() < 1e-9);
+        assert_eq!(a.command_velocity, b.command_velocity);
+        assert_eq!(task.outputs(mm), reference.outputs(mm));
+    }
+    assert!(task.outputs(mm).done);
+    assert!((task.axis_state(t).command_position - (270.0 - 720.0)).abs() < 1e-9);
+}
