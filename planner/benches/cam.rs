@@ -86,6 +86,7 @@ fn mapc(c: &mut Criterion) {
         })
         .expect("valid operands"),
         profile: p,
+        master_period: None,
     };
     cam.start(req, 0.0, |_| 0.0).expect("valid cam");
     let mut m = 0.0;

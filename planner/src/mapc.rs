@@ -43,7 +43,9 @@
 //!   (the Master Axis, Master Lock Position and Master Reference operands are
 //!   ignored). A Pending cam executed with no cam active is preloaded: no
 //!   motion until a non-pending MAPC starts a cam, which it then follows.
-//! * **Master Lock Position** is compared with master position + the slave's
+//! * **Master Lock Position** on a modulo (rotary) master is independent of
+//!   the turns count: any `MasterLock + k · period` is a lock position.
+//!   It is compared with master position + the slave's
 //!   master offset ([`PositionCamAxis::shift_master_offset`], a master offset
 //!   move): with offset X the slave locks at master `MasterLock − X`. Every
 //!   non-pending MAPC resets the master offset to 0.
@@ -424,6 +426,9 @@ pub struct CamRequest<T, K> {
     pub mapc: Mapc,
     /// The profile (already counted in its Status by the caller).
     pub profile: Arc<CamProfile>,
+    /// The master's modulo period, if it is a modulo (rotary) axis: its
+    /// Master Lock Position is then independent of the turns count.
+    pub master_period: Option<f64>,
 }
 
 #[derive(Debug, Clone)]
@@ -433,6 +438,7 @@ struct Cam<T, K> {
     profile: Arc<CamProfile>,
     sign: f64,
     mapc: Mapc,
+    master_period: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -550,14 +556,24 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> Cam<T, K> {
     }
 }
 
-fn crosses(schedule: ExecutionSchedule, lock: f64, prev: f64, now: f64) -> bool {
-    let forward = now > prev && prev <= lock && lock <= now;
-    let reverse = now < prev && prev >= lock && lock >= now;
-    match schedule {
-        ExecutionSchedule::ForwardOnly => forward,
-        ExecutionSchedule::ReverseOnly => reverse,
-        ExecutionSchedule::Bidirectional => forward || reverse,
-        ExecutionSchedule::Immediate | ExecutionSchedule::Pending => false,
+/// Where the master, moving from `prev` to `now`, crossed (or reached) the
+/// lock position in the schedule's direction; on a modulo master any
+/// position `lock + k · period` counts.
+fn crossing(schedule: ExecutionSchedule, lock: f64, period: Option<f64>, prev: f64, now: f64) -> Option<f64> {
+    let (forward_ok, reverse_ok) = match schedule {
+        ExecutionSchedule::ForwardOnly => (true, false),
+        ExecutionSchedule::ReverseOnly => (false, true),
+        ExecutionSchedule::Bidirectional => (true, true),
+        ExecutionSchedule::Immediate | ExecutionSchedule::Pending => (false, false),
+    };
+    if now > prev && forward_ok {
+        let at = period.map_or(lock, |p| lock + ((prev - lock) / p).ceil() * p);
+        (prev <= at && at <= now).then_some(at)
+    } else if now < prev && reverse_ok {
+        let at = period.map_or(lock, |p| lock + ((prev - lock) / p).floor() * p);
+        (now <= at && at <= prev).then_some(at)
+    } else {
+        None
     }
 }
 
@@ -676,6 +692,7 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> PositionCamAxis<T, K> {
             profile: req.profile,
             sign,
             mapc: m,
+            master_period: req.master_period.filter(|p| p.is_finite() && *p > 0.0),
         };
         let mut events = Vec::new();
         if m.execution_schedule == ExecutionSchedule::Pending {
@@ -838,10 +855,12 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> PositionCamAxis<T, K> {
         {
             let now = mpos(cam.master);
             let lock = cam.mapc.master_lock_position;
-            let crossed = crosses(cam.mapc.execution_schedule, lock, *prev, now);
+            let crossed = crossing(cam.mapc.execution_schedule, lock, cam.master_period, *prev, now);
             *prev = now;
-            if crossed && let Some(w) = self.waiting.take() {
-                self.replace(w.cam, lock, slave, &mpos, &mut events);
+            if let Some(at) = crossed
+                && let Some(w) = self.waiting.take()
+            {
+                self.replace(w.cam, at, slave, &mpos, &mut events);
             }
         }
         let Some(active) = &mut self.active else {
@@ -852,12 +871,12 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> PositionCamAxis<T, K> {
         let mut run = match active.phase {
             Phase::Armed { prev } => {
                 let lock = cam.mapc.master_lock_position;
-                if !crosses(cam.mapc.execution_schedule, lock, prev, m) {
+                let Some(at) = crossing(cam.mapc.execution_schedule, lock, cam.master_period, prev, m) else {
                     active.phase = Phase::Armed { prev: m };
                     return (Some(slave), events);
-                }
+                };
                 events.push(CamEvent::Active(cam.tag));
-                cam.lock_at(lock, cam.mapc.cam_lock_position, slave)
+                cam.lock_at(at, cam.mapc.cam_lock_position, slave)
             }
             Phase::Running(run) => run,
         };

@@ -119,6 +119,7 @@ fn request(profile: Arc<CamProfile>, mapc: Mapc) -> CamRequest<u32, u8> {
         master: 0,
         mapc,
         profile,
+        master_period: None,
     }
 }
 

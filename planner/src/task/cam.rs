@@ -273,6 +273,7 @@ impl MotionTask {
             master: key,
             mapc,
             profile,
+            master_period: self.axes[call.master.0 as usize].config.modulo_period,
         };
         let mut engine = std::mem::take(&mut self.cam_axis(call.slave).cam);
         let r = engine.start(req, slave, |k| self.cam_master_position(k));

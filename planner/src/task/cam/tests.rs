@@ -1283,3 +1283,51 @@ fn mrp_during_a_move_shifts_the_move_with_the_axis() {
     assert!(task.outputs(mm).done);
     assert!((task.axis_state(t).command_position - (270.0 - 720.0)).abs() < 1e-9);
 }
+
+#[test]
+fn master_lock_position_on_a_modulo_master_ignores_the_turns_count() {
+    let mut task = MotionTask::new(DT).unwrap();
+    let master = task
+        .add_axis(
+            AxisConfig {
+                modulo_period: Some(360.0),
+                ..axis("Drum")
+            },
+            400.0,
+        )
+        .unwrap();
+    let slave = task.add_axis(axis("Knife"), 0.0).unwrap();
+    let p = task.add_cam_profile("Slope3", 4);
+    let mccp = task.add_instruction("MCCP_1");
+    let cam = [
+        CamElement {
+            master: 0.0,
+            slave: 0.0,
+            segment_type: 0,
+        },
+        CamElement {
+            master: 100.0,
+            slave: 300.0,
+            segment_type: 0,
+        },
+    ];
+    task.mccp(mccp, &cam, 2, 0.0, 0.0, p).unwrap();
+    let mi = task.add_instruction("MAPC_1");
+    task.mapc(MapcCall {
+        slave,
+        master,
+        motion_control: mi,
+        cam_profile: p,
+        operands: MapcOperands {
+            master_lock_position: 90.0,
+            ..ops(ONCE, FORWARD)
+        },
+    })
+    .unwrap();
+    for (m, s, ac) in [(440.0, 0.0, false), (455.0, 15.0, true), (470.0, 60.0, true)] {
+        task.feed_actual_position(master, m);
+        task.update();
+        assert!((task.axis_state(slave).command_position - s).abs() < 1e-9, "at {m}");
+        assert_eq!(task.motion_bits(mi).ac, ac);
+    }
+}
