@@ -70,7 +70,9 @@
 //!   Bidirectional: `c = m`. A replacement that takes over from a slipping cam
 //!   with the same restricted direction inherits its clutch, so it too picks
 //!   up where the master reversed (the spec's "Replace and Continue with
-//!   Active Cam Unlocked" figure).
+//!   Active Cam Unlocked" figure: `.AC` at the Master Lock Position, the slave
+//!   held where it was until the master is back at the reversal point, then
+//!   driven by the replacement).
 //!
 //! # Status bits
 //! * Position Cam Status: a cam is active (waiting for its lock or running)
@@ -451,6 +453,9 @@ struct Run {
     f_start: f64,
     u: f64,
     slipping: bool,
+    /// A Replace and Continue cam that took over from a slipping cam shows
+    /// this slave position until the master picks up.
+    hold: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -540,6 +545,7 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> Cam<T, K> {
             f_start: self.value(u0),
             u: u0,
             slipping: false,
+            hold: None,
         }
     }
 
@@ -633,6 +639,9 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> PositionCamAxis<T, K> {
         }) = &mut self.active
         {
             run.slave_start += delta;
+            if let Some(h) = run.hold.as_mut() {
+                *h += delta;
+            }
         }
     }
 
@@ -803,6 +812,7 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> PositionCamAxis<T, K> {
                     f_start: cam.value(old_run.u_start),
                     u: u_old,
                     slipping: false,
+                    hold: inherit.then_some(slave_at),
                 },
                 _ => cam.lock_at(c0, cam.mapc.cam_lock_position, slave_at),
             });
@@ -903,7 +913,13 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> PositionCamAxis<T, K> {
             run.clutch = c;
             run.u = u;
             run.slipping = slipping;
-            let s = cam.slave_at(&run, u);
+            let s = match run.hold {
+                Some(h) if slipping => h,
+                _ => {
+                    run.hold = None;
+                    cam.slave_at(&run, u)
+                }
+            };
             active.phase = Phase::Running(run);
             return (Some(s), events);
         };

@@ -247,6 +247,19 @@ impl CamProfile {
     ///
     /// # Errors
     /// 26, 28, 29, 179 and 13 as listed in the module documentation.
+    ///
+    /// # Examples
+    /// ```
+    /// use planner::mccp::{CamElement, CamProfile};
+    /// let point = |master, slave, segment_type| CamElement { master, slave, segment_type };
+    /// // A cubic segment into two linear ones.
+    /// let cam = [point(0.0, 0.0, 1), point(10.0, 30.0, 0), point(20.0, 35.0, 0)];
+    /// let profile = CamProfile::calculate(&cam, 3, 0.0, 0.0)?;
+    /// assert_eq!(profile.eval(15.0).slave, 32.5);
+    /// // The cubic run ends with the slope of the line after it.
+    /// assert!((profile.eval(10.0).slope - 0.5).abs() < 1e-12);
+    /// # Ok::<(), planner::mccp::MccpError>(())
+    /// ```
     pub fn calculate(cam: &[CamElement], length: usize, start_slope: f64, end_slope: f64) -> Result<Self, MccpError> {
         if length < 2 || length > cam.len() {
             return Err(MccpError::IllegalCamLength {

@@ -239,6 +239,35 @@ impl MotionTask {
     ///
     /// # Errors
     /// ERR 13 (operand, EXERR = number), 30 (profile Status 1), 32 (Status 0).
+    ///
+    /// # Examples
+    /// ```
+    /// use planner::axis::{AxisConfig, AxisKind};
+    /// use planner::mapc::MapcOperands;
+    /// use planner::mccp::CamElement;
+    /// use planner::task::{MapcCall, MotionTask};
+    ///
+    /// let mut task = MotionTask::new(0.004)?;
+    /// let conveyor = task.add_axis(AxisConfig::new("Conveyor", AxisKind::Linear), 0.0)?;
+    /// let knife = task.add_axis(AxisConfig::new("Knife", AxisKind::Rotary), 0.0)?;
+    /// let cam = [
+    ///     CamElement { master: 0.0, slave: 0.0, segment_type: 0 },
+    ///     CamElement { master: 300.0, slave: 360.0, segment_type: 0 },
+    /// ];
+    /// let profile = task.add_cam_profile("KnifeProfile", 2);
+    /// let mccp = task.add_instruction("MCCP_1");
+    /// task.mccp(mccp, &cam, 2, 0.0, 0.0, profile).expect("valid cam");
+    /// let mapc = task.add_instruction("MAPC_1");
+    /// let operands = MapcOperands { execution_mode: 1, ..MapcOperands::default() };
+    /// task.mapc(MapcCall { slave: knife, master: conveyor, motion_control: mapc, cam_profile: profile, operands })
+    ///     .expect("calculated profile");
+    /// assert_eq!(task.cam_profile(profile).status(), 3); // in use by one cam
+    /// // The conveyor's measured position drives the knife (Master Reference Actual).
+    /// task.feed_actual_position(conveyor, 450.0);
+    /// task.update();
+    /// assert!((task.axis_state(knife).command_position - 540.0).abs() < 1e-9);
+    /// # Ok::<(), planner::task::TaskError>(())
+    /// ```
     pub fn mapc(&mut self, call: MapcCall) -> Result<(), MapcError> {
         let mi = call.motion_control;
         self.begin(mi);

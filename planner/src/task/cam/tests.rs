@@ -624,11 +624,12 @@ fn replace_and_continue_with_the_active_cam_unlocked_by_a_master_reversal() {
     r.bits(mb, "EN DN IP AC");
     r.bits(ma, "EN DN");
     r.slave_bits("cam");
-    // The replacement defines the slave at the held point (B(20) = 40), and
-    // holds it until the master is back at the reversal point.
-    r.slave_at(40.0);
+    // The slave stays where the active cam left it until the master is back
+    // at the reversal point; then the replacement drives it.
+    r.slave_at(20.0);
     r.to(18.0);
-    r.slave_at(40.0);
+    r.slave_at(20.0);
+    r.slave_bits("cam");
     r.to(22.0);
     r.slave_bits("cam lock");
     // Continues at cam point 20 → 22 on B's profile from A's reference: 2 × 22.
