@@ -127,6 +127,31 @@ pub struct CheckResult {
     pub clearance_m: Vec<f64>,
 }
 
+/// A shape placed in the world with its bounding sphere there.
+struct Placed<'a> {
+    pose: Pose,
+    shape: &'a SharedShape,
+    center: Vector,
+    radius: f64,
+}
+
+impl<'a> Placed<'a> {
+    fn new(pose: Pose, shape: &'a SharedShape) -> Self {
+        let sphere = shape.compute_local_bounding_sphere();
+        Placed {
+            pose,
+            shape,
+            center: pose * sphere.center,
+            radius: sphere.radius,
+        }
+    }
+
+    /// A lower bound of the distance between the two shapes.
+    fn lower_bound(&self, other: &Placed<'_>) -> f64 {
+        (self.center - other.center).length() - self.radius - other.radius
+    }
+}
+
 #[derive(Debug, Clone)]
 struct RobotBody {
     name: String,
@@ -398,25 +423,34 @@ impl CollisionModel {
         &self.self_pairs
     }
 
-    fn world_shapes<'a>(
-        &'a self,
-        body: usize,
-        world_from_link: &'a [Isometry3<f64>],
-    ) -> impl Iterator<Item = (Pose, &'a SharedShape)> + 'a {
+    fn world_shapes<'a>(&'a self, body: usize, world_from_link: &[Isometry3<f64>]) -> Vec<Placed<'a>> {
         let b = &self.bodies[body];
         let world = pose_to_rapier(&world_from_link[b.link]);
-        b.shapes.iter().map(move |(local, s)| (world * *local, s))
+        b.shapes
+            .iter()
+            .map(|(local, s)| Placed::new(world * *local, s))
+            .collect()
+    }
+
+    fn placed_obstacle(&self, o: usize) -> [Placed<'_>; 1] {
+        [Placed::new(self.obstacles[o].0, &self.obstacles[o].1)]
+    }
+
+    fn placed_bodies(&self, world_from_link: &[Isometry3<f64>]) -> Vec<Vec<Placed<'_>>> {
+        (0..self.bodies.len())
+            .map(|b| self.world_shapes(b, world_from_link))
+            .collect()
     }
 
     /// Deepest contact between two shape sets, if they touch.
-    fn contact_between(
-        a: impl Iterator<Item = (Pose, impl std::ops::Deref<Target = SharedShape>)> + Clone,
-        b: &[(Pose, &SharedShape)],
-    ) -> Option<(f64, [f64; 3], [f64; 3])> {
+    fn contact_between(a: &[Placed<'_>], b: &[Placed<'_>]) -> Option<(f64, [f64; 3], [f64; 3])> {
         let mut best: Option<(f64, [f64; 3], [f64; 3])> = None;
-        for (pa, sa) in a {
-            for (pb, sb) in b {
-                let Ok(Some(c)) = query::contact(&pa, sa.as_ref(), pb, sb.as_ref(), 0.0) else {
+        for pa in a {
+            for pb in b {
+                if pa.lower_bound(pb) > 0.0 {
+                    continue;
+                }
+                let Ok(Some(c)) = query::contact(&pa.pose, pa.shape.as_ref(), &pb.pose, pb.shape.as_ref(), 0.0) else {
                     continue;
                 };
                 if c.dist > 0.0 {
@@ -432,11 +466,16 @@ impl CollisionModel {
         best
     }
 
-    fn distance_between(a: &[(Pose, &SharedShape)], b: &[(Pose, &SharedShape)]) -> f64 {
-        let mut d = f64::INFINITY;
-        for (pa, sa) in a {
-            for (pb, sb) in b {
-                if let Ok(x) = query::distance(pa, sa.as_ref(), pb, sb.as_ref()) {
+    /// The smallest distance between two shape sets, or `cutoff` when none
+    /// is below it (bounding spheres skip pairs that cannot be closer).
+    fn distance_between(a: &[Placed<'_>], b: &[Placed<'_>], cutoff: f64) -> f64 {
+        let mut d = cutoff;
+        for pa in a {
+            for pb in b {
+                if pa.lower_bound(pb) >= d {
+                    continue;
+                }
+                if let Ok(x) = query::distance(&pa.pose, pa.shape.as_ref(), &pb.pose, pb.shape.as_ref()) {
                     d = d.min(x.distance);
                 }
             }
@@ -446,18 +485,16 @@ impl CollisionModel {
 
     /// Checks one robot pose (`world_from_link` of every URDF link, in model order).
     pub fn check(&self, world_from_link: &[Isometry3<f64>]) -> CheckResult {
-        let shapes: Vec<Vec<(Pose, &SharedShape)>> = (0..self.bodies.len())
-            .map(|b| self.world_shapes(b, world_from_link).collect())
-            .collect();
+        let shapes = self.placed_bodies(world_from_link);
         let mut clearance_m = vec![f64::INFINITY; self.bodies.len()];
         let mut contacts = Vec::new();
         for &(b, o) in &self.obstacle_pairs {
-            let obstacle = [(self.obstacles[o].0, &self.obstacles[o].1)];
-            let d = Self::distance_between(&shapes[b], &obstacle);
-            clearance_m[b] = clearance_m[b].min(d);
+            let obstacle = self.placed_obstacle(o);
+            // Exact below the body's best so far; 0 means touching.
+            let d = Self::distance_between(&shapes[b], &obstacle, clearance_m[b]);
+            clearance_m[b] = d;
             if d <= 0.0
-                && let Some((depth_m, point, normal)) =
-                    Self::contact_between(shapes[b].iter().map(|(p, s)| (*p, *s)), &obstacle)
+                && let Some((depth_m, point, normal)) = Self::contact_between(&shapes[b], &obstacle)
             {
                 contacts.push(Contact {
                     a: Body::Robot(b),
@@ -469,10 +506,7 @@ impl CollisionModel {
             }
         }
         for &(a, b) in &self.self_pairs {
-            if Self::distance_between(&shapes[a], &shapes[b]) <= 0.0
-                && let Some((depth_m, point, normal)) =
-                    Self::contact_between(shapes[a].iter().map(|(p, s)| (*p, *s)), &shapes[b])
-            {
+            if let Some((depth_m, point, normal)) = Self::contact_between(&shapes[a], &shapes[b]) {
                 contacts.push(Contact {
                     a: Body::Robot(a),
                     b: Body::Robot(b),
@@ -488,16 +522,13 @@ impl CollisionModel {
     /// Per body, the smallest distance to anything it is checked against
     /// (obstacles and self pairs), m.
     fn distances(&self, world_from_link: &[Isometry3<f64>]) -> Vec<f64> {
-        let shapes: Vec<Vec<(Pose, &SharedShape)>> = (0..self.bodies.len())
-            .map(|b| self.world_shapes(b, world_from_link).collect())
-            .collect();
+        let shapes = self.placed_bodies(world_from_link);
         let mut d = vec![f64::INFINITY; self.bodies.len()];
         for &(b, o) in &self.obstacle_pairs {
-            let obstacle = [(self.obstacles[o].0, &self.obstacles[o].1)];
-            d[b] = d[b].min(Self::distance_between(&shapes[b], &obstacle));
+            d[b] = Self::distance_between(&shapes[b], &self.placed_obstacle(o), d[b]);
         }
         for &(a, b) in &self.self_pairs {
-            let x = Self::distance_between(&shapes[a], &shapes[b]);
+            let x = Self::distance_between(&shapes[a], &shapes[b], d[a].max(d[b]));
             d[a] = d[a].min(x);
             d[b] = d[b].min(x);
         }

@@ -106,6 +106,22 @@ pub struct CollisionSettings {
     pub location: Location,
 }
 
+impl Default for CollisionSettings {
+    /// The settings of an empty `[collision]` table.
+    fn default() -> Self {
+        CollisionSettings {
+            reaction: Reaction::default(),
+            meshes: MeshApproximation::default(),
+            self_collision: true,
+            allowed_pairs: Vec::new(),
+            preflight: Preflight::default(),
+            sweep_resolution_m: 0.001,
+            tool: None,
+            location: Location::default(),
+        }
+    }
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawCollision {
