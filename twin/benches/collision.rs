@@ -20,13 +20,13 @@ const LINK_M: f64 = 0.25;
 /// 0.25 m box with a sphere at its end (two collision shapes per link).
 fn urdf() -> String {
     let mut s = String::from(
-        "<robot name=\"arm6\"><link name=\"base\"><collision><origin xyz=\"0 0 0.1\"/><geometry><cylinder radius=\"0.1\" length=\"0.2\"/></geometry></collision></link>\n",
+        "<robot name=\"arm6\"><link name=\"base\"><collision><origin xyz=\"0 0 0.1\"/><geometry><cylinder radius=\"0.1\" length=\"0.2\"/></geometry></collision></link>",
     );
     for i in 1..=LINKS {
-        let _ = write!(
+        let _ = writeln!(
             s,
             "<link name=\"l{i}\"><collision><origin xyz=\"{h} 0 0\"/><geometry><box size=\"{LINK_M} 0.06 0.06\"/></geometry></collision>\
-             <collision><origin xyz=\"{LINK_M} 0 0\"/><geometry><sphere radius=\"0.04\"/></geometry></collision></link>\n",
+             <collision><origin xyz=\"{LINK_M} 0 0\"/><geometry><sphere radius=\"0.04\"/></geometry></collision></link>",
             h = LINK_M / 2.0
         );
         let parent = if i == 1 {
@@ -41,9 +41,9 @@ fn urdf() -> String {
         } else {
             ("0.25 0 0", "0 0 1")
         };
-        let _ = write!(
+        let _ = writeln!(
             s,
-            "<joint name=\"j{i}\" type=\"continuous\"><parent link=\"{parent}\"/><child link=\"l{i}\"/><origin xyz=\"{origin}\"/><axis xyz=\"{axis}\"/></joint>\n"
+            "<joint name=\"j{i}\" type=\"continuous\"><parent link=\"{parent}\"/><child link=\"l{i}\"/><origin xyz=\"{origin}\"/><axis xyz=\"{axis}\"/></joint>"
         );
     }
     s.push_str("</robot>\n");
