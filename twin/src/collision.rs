@@ -370,19 +370,8 @@ impl CollisionModel {
             for a in 0..bodies.len() {
                 for b in a + 1..bodies.len() {
                     let (la, lb) = (bodies[a].link, bodies[b].link);
-                    let tool_near = |x: &RobotBody, other: usize| {
-                        settings.tool.as_ref().is_some_and(|t| t.name == x.name)
-                            && (parent_link(other).is_some_and(|p| adjacent(p, x.link))
-                                || model.links[other]
-                                    .child_joints
-                                    .iter()
-                                    .any(|j| adjacent(model.joints[j.0].child.0, x.link)))
-                    };
-                    if adjacent(la, lb)
-                        || tool_near(&bodies[a], lb)
-                        || tool_near(&bodies[b], la)
-                        || is_allowed(Body::Robot(a), Body::Robot(b))
-                    {
+                    // The tool counts as its link: adjacent to the link and its neighbours.
+                    if adjacent(la, lb) || is_allowed(Body::Robot(a), Body::Robot(b)) {
                         continue;
                     }
                     self_pairs.push((a, b));

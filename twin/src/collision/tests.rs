@@ -208,3 +208,96 @@ fn sweep_predicts_the_first_contact_within_its_bound_and_misses_nothing() {
     let world = CollisionModel::new(&model, &far, &settings()).unwrap();
     assert!(world.sweep(&model, &Turn { end_rad: 3.0 }, 0.001).collision.is_none());
 }
+
+#[test]
+fn a_tool_is_a_body_of_its_own_adjacent_to_its_link_and_its_neighbours() {
+    let model = arm();
+    let mut s = settings();
+    s.tool = Some(crate::scene::Tool {
+        name: "gripper".into(),
+        link: "l3".into(),
+        link_location: Location::default(),
+        shape: Shape::Sphere { radius_m: 0.05 },
+        position_m: [0.45, 0.0, 0.0],
+        rpy_deg: [0.0; 3],
+    });
+    let post = [obstacle("post", Shape::Sphere { radius_m: 0.05 }, [1.35, 0.0, 0.0])];
+    let world = CollisionModel::new(&model, &post, &s).unwrap();
+    assert_eq!(world.body_names(), vec!["l1", "l2", "l3", "gripper"]);
+    // l1-l3 and l1-gripper; the gripper rides on l3 next to l2.
+    assert_eq!(world.self_pairs(), &[(0, 2), (0, 3)]);
+    // Straight arm: the tool centre sits at 1.25 m, 0.1 m from the post's.
+    let result = world.check(&model.world_from_link(&[0.0, 0.0, 0.0]));
+    assert!(result.contacts.is_empty());
+    assert!(
+        (result.clearance_m[3] - 0.0).abs() < 1e-9,
+        "touching: {:?}",
+        result.clearance_m
+    );
+    let result = world.check(
+        &model
+            .world_from_link(&[0.0, 0.0, 0.0])
+            .iter()
+            .map(|p| Isometry3::from_parts(Translation3::new(0.01, 0.0, 0.0), UnitQuaternion::identity()) * p)
+            .collect::<Vec<_>>(),
+    );
+    assert_eq!(result.contacts.len(), 1);
+    assert_eq!(world.name(result.contacts[0].a), "gripper");
+    assert!((result.contacts[0].depth_m - 0.01).abs() < 1e-9);
+    s.tool.as_mut().unwrap().link = "nope".into();
+    assert!(matches!(
+        CollisionModel::new(&model, &post, &s),
+        Err(CollisionModelError::UnknownToolLink { .. })
+    ));
+}
+
+/// A U-shaped STL (two 0.1 m prongs 0.3 m apart on a base), as ASCII text.
+fn u_shape_stl() -> String {
+    let mut mesh = crate::mesh::TriMesh::cuboid([0.5, 0.1, 0.1]);
+    for x in [-0.2f32, 0.2] {
+        let prong = crate::mesh::TriMesh::cuboid([0.1, 0.1, 0.5]).transformed(&[
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [x, 0.0, 0.3, 1.0],
+        ]);
+        mesh.append(&prong);
+    }
+    let mut text = String::from("solid u\n");
+    for t in mesh.indices.chunks_exact(3) {
+        text.push_str("facet normal 0 0 0\nouter loop\n");
+        for &i in t {
+            let [x, y, z] = mesh.positions[i as usize];
+            text.push_str(&format!("vertex {x} {y} {z}\n"));
+        }
+        text.push_str("endloop\nendfacet\n");
+    }
+    text.push_str("endsolid u\n");
+    text
+}
+
+#[test]
+fn convex_decomposition_follows_a_concave_mesh_that_a_hull_fills() {
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/collision-tests");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("u.stl");
+    std::fs::write(&path, u_shape_stl()).unwrap();
+    // The ball (radius 0.05, on the slider at x = 0) sits between the prongs.
+    let u = [obstacle("u", Shape::Mesh { path, scale: [1.0; 3] }, [0.0, 0.0, -0.4])];
+    let model = slider();
+    let hull = CollisionModel::new(&model, &u, &settings()).unwrap();
+    let pose = model.world_from_link(&[0.0]);
+    assert_eq!(hull.check(&pose).contacts.len(), 1, "the hull fills the U");
+    let mut s = settings();
+    s.meshes = MeshApproximation::ConvexDecomposition;
+    let parts = CollisionModel::new(&model, &u, &s).unwrap();
+    let result = parts.check(&pose);
+    assert!(result.contacts.is_empty(), "{:?}", result.contacts);
+    // The ball is 0.1 m from each prong's inner face (x = ±0.15) and 0.2 m
+    // above the base; VHACD's hulls may bulge a little.
+    assert!(
+        result.clearance_m[0] > 0.05 && result.clearance_m[0] < 0.11,
+        "{:?}",
+        result.clearance_m
+    );
+}

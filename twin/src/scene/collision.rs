@@ -316,3 +316,107 @@ impl Ctx<'_> {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{SceneError, parse};
+    use std::path::PathBuf;
+
+    fn fixtures() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures")
+    }
+
+    fn with_collision(table: &str) -> Result<crate::scene::Scene, SceneError> {
+        let text = std::fs::read_to_string(fixtures().join("indexing_table.toml")).unwrap();
+        parse(&fixtures().join("case.toml"), &format!("{text}\n{table}"))
+    }
+
+    #[test]
+    fn absent_table_means_no_checks_and_an_empty_one_the_defaults() {
+        assert_eq!(with_collision("").unwrap().collision, None);
+        let c = with_collision("[collision]\n").unwrap().collision.unwrap();
+        assert_eq!(
+            c,
+            CollisionSettings {
+                location: c.location,
+                ..CollisionSettings::default()
+            }
+        );
+        assert_eq!(c.reaction, Reaction::Report);
+        assert_eq!(c.preflight, Preflight::Report);
+        assert_eq!(c.meshes, MeshApproximation::ConvexHull);
+        assert!(c.self_collision);
+        assert_eq!(c.sweep_resolution_m, 0.001);
+    }
+
+    #[test]
+    fn every_field_is_read() {
+        let c = with_collision(
+            "[collision]\nreaction = \"stop\"\nmeshes = \"convex_decomposition\"\nself_collision = false\n\
+             allowed_pairs = [[\"platter\", \"guard\"]]\npreflight = \"reject\"\nsweep_resolution_m = 0.002\n\
+             [collision.tool]\nname = \"Payload\"\nlink = \"platter\"\nshape = \"box\"\nsize = [0.1, 0.2, 0.3]\n\
+             position = [0.1, 0.0, 0.05]\nrpy_deg = [0.0, 0.0, 90.0]\n",
+        )
+        .unwrap()
+        .collision
+        .unwrap();
+        assert_eq!(c.reaction, Reaction::Stop);
+        assert_eq!(c.meshes, MeshApproximation::ConvexDecomposition);
+        assert!(!c.self_collision);
+        assert_eq!(
+            (c.allowed_pairs[0].a.as_str(), c.allowed_pairs[0].b.as_str()),
+            ("platter", "guard")
+        );
+        assert_eq!(c.preflight, Preflight::Reject);
+        assert_eq!(c.sweep_resolution_m, 0.002);
+        let tool = c.tool.unwrap();
+        assert_eq!((tool.name.as_str(), tool.link.as_str()), ("Payload", "platter"));
+        assert_eq!(
+            tool.shape,
+            Shape::Box {
+                size_m: [0.1, 0.2, 0.3]
+            }
+        );
+        assert_eq!(tool.position_m, [0.1, 0.0, 0.05]);
+        assert_eq!(tool.rpy_deg, [0.0, 0.0, 90.0]);
+    }
+
+    #[test]
+    fn bad_fields_name_line_column_and_field() {
+        let base_lines = std::fs::read_to_string(fixtures().join("indexing_table.toml"))
+            .unwrap()
+            .lines()
+            .count();
+        // Unknown enumeration value (serde): points at the value's line.
+        let e = with_collision("[collision]\nreaction = \"halt\"\n").unwrap_err();
+        assert_eq!(e.location().map(|l| l.line), Some(base_lines + 3), "{e}");
+        assert!(e.to_string().contains("halt"), "{e}");
+        // Out of range.
+        let e = with_collision("[collision]\nsweep_resolution_m = 0.0\n").unwrap_err();
+        assert_eq!(e.field(), Some("collision.sweep_resolution_m"), "{e}");
+        assert_eq!(
+            e.location(),
+            Some(Location {
+                line: base_lines + 3,
+                column: 22
+            })
+        );
+        // A field of another shape.
+        let e = with_collision(
+            "[collision.tool]\nlink = \"platter\"\nshape = \"sphere\"\nradius = 0.1\nsize = [1.0, 1.0, 1.0]\n",
+        )
+        .unwrap_err();
+        assert_eq!(e.field(), Some("collision.tool.size"), "{e}");
+        // A missing shape field.
+        let e =
+            with_collision("[collision.tool]\nlink = \"platter\"\nshape = \"cylinder\"\nradius = 0.1\n").unwrap_err();
+        assert_eq!(e.field(), Some("collision.tool.shape"), "{e}");
+        // An empty pair member.
+        let e = with_collision("[collision]\nallowed_pairs = [[\"platter\", \"\"]]\n").unwrap_err();
+        assert_eq!(e.field(), Some("collision.allowed_pairs[0]"), "{e}");
+        // Unknown field.
+        let e = with_collision("[collision]\nreacton = \"stop\"\n").unwrap_err();
+        assert!(e.to_string().contains("reacton"), "{e}");
+    }
+}
