@@ -506,6 +506,8 @@ fn collision_cell_stop_brakes_within_the_deceleration_and_aborts_the_move() {
     let out = twin_cmd()
         .args(["run", "scenes/collision_cell_stop.toml", "--no-render", "--trace"])
         .arg(&trace)
+        .arg("--save")
+        .arg(dir.join("out.rrd"))
         .arg("--summary")
         .arg(dir.join("s.json"))
         .output()
@@ -513,6 +515,14 @@ fn collision_cell_stop_brakes_within_the_deceleration_and_aborts_the_move() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let (header, rows) = read_trace(&trace);
     let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let bodies: Vec<&str> = header[col("collision.count") + 1..]
+        .iter()
+        .map(String::as_str)
+        .collect();
+    assert_eq!(
+        bodies,
+        vec!["pedestal.clearance_m", "upper_arm.clearance_m", "gripper.clearance_m"]
+    );
     let (vel, acc, count, aborted) = (
         col("Arm.cmd_vel"),
         col("Arm.cmd_acc"),

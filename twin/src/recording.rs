@@ -572,13 +572,13 @@ impl Recorder {
         self.log_timed(entity_path, &archetype)
     }
 
-    /// Clears what an entity shows from the current `sim_time` on.
+    /// Clears what an entity and its children show from the current `sim_time` on.
     ///
     /// # Errors
     ///
     /// [`RecordingError::Log`] if Rerun refuses the data.
     pub fn log_clear(&mut self, entity_path: &str) -> Result<(), RecordingError> {
-        self.log_timed(entity_path, &rerun::archetypes::Clear::flat())
+        self.log_timed(entity_path, &rerun::archetypes::Clear::recursive())
     }
 
     /// Flushes everything to every sink and closes the stream, which writes
