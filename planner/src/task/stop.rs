@@ -20,10 +20,14 @@
 //!   `Error` with the given error; the axis stops along the same ramp from
 //!   where the move's first update left it.
 //!
-//! Later Logix instructions (MAM, MCCM, …) get their `.ER`/abort bits by
-//! handling the [`StopReport`] the same way.
+//! * Logix control structures (`MOTION_INSTRUCTION` tags) in process
+//!   (`.IP` set) get `.IP`, `.AC`, `.ACCEL` and `.DECEL` cleared without `.PC`,
+//!   as when an MAS/MCS stops the motion they started (Logix sets no `.ER` on
+//!   the stopped instruction); they are listed in [`StopReport`].
+//!   Instructions that keep motion state of their own (MCCM, MCLM, …) stop it
+//!   in this same function when they arrive.
 
-use super::{AxisHandle, FbHandle, Finish, Job, MotionTask};
+use super::{AxisHandle, FbHandle, Finish, InstructionHandle, Job, MotionTask};
 use crate::modulo::MoveModuloError;
 use crate::profile::{Limits, Profile};
 
@@ -34,6 +38,8 @@ pub struct StopReport {
     pub stopped_axes: Vec<AxisHandle>,
     /// Instances that got `CommandAborted`, in axis order (running, then buffered).
     pub aborted: Vec<FbHandle>,
+    /// Logix control structures that were in process (`.IP`), in the order added.
+    pub stopped_instructions: Vec<InstructionHandle>,
 }
 
 impl MotionTask {
@@ -75,6 +81,16 @@ impl MotionTask {
             for fb in running.into_iter().chain(buffered) {
                 self.finish(fb, Finish::Aborted);
                 report.aborted.push(fb);
+            }
+        }
+        for (i, slot) in self.instructions.iter_mut().enumerate() {
+            let b = &mut slot.bits;
+            if b.ip {
+                b.ip = false;
+                b.ac = false;
+                b.accel = false;
+                b.decel = false;
+                report.stopped_instructions.push(InstructionHandle(i as u32));
             }
         }
         report
@@ -235,6 +251,32 @@ mod tests {
         task.set_move_modulo_inputs(a, go(0.0, McBufferMode::Aborting));
         task.update();
         assert!(task.outputs(a).active);
+    }
+
+    #[test]
+    fn stop_clears_in_process_logix_bits_without_pc() {
+        let (mut task, _, _, _) = setup();
+        let mc1 = task.add_instruction("MC1");
+        let mc2 = task.add_instruction("MC2");
+        *task.motion_bits_mut(mc1) = crate::instruction::MotionInstructionBits {
+            en: true,
+            dn: true,
+            ip: true,
+            ac: true,
+            accel: true,
+            ..Default::default()
+        };
+        *task.motion_bits_mut(mc2) = crate::instruction::MotionInstructionBits {
+            en: true,
+            dn: true,
+            pc: true,
+            ..Default::default()
+        };
+        let report = task.stop_all_axes();
+        assert_eq!(report.stopped_instructions, vec![mc1]);
+        let b = task.motion_bits(mc1);
+        assert!(b.en && b.dn && !b.ip && !b.ac && !b.accel && !b.pc && !b.er, "{b:?}");
+        assert!(task.motion_bits(mc2).pc, "a finished instruction keeps its bits");
     }
 
     #[test]
