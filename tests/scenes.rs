@@ -668,3 +668,87 @@ fn collision_cell_frames_match_snapshots() {
         }
     }
 }
+
+/// A ball (radius 0.05 m) on a prismatic joint along x, in a scene whose
+/// MC_MoveModulo runs it into a deep box at constant speed.
+const SLIDER_URDF: &str = r#"<robot name="slider">
+  <link name="base"/>
+  <link name="ball">
+    <inertial><mass value="1.0"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+    <collision><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+  <joint name="x" type="prismatic"><parent link="base"/><child link="ball"/><axis xyz="1 0 0"/>
+    <limit lower="-2" upper="2" effort="1000" velocity="1"/></joint>
+</robot>"#;
+
+const SLIDER_SCENE: &str = r#"
+duration_s = 7.0
+coarse_update_ms = 4.0
+physics_step_ms = 2.0
+
+[robot]
+urdf = "slider.urdf"
+
+[[axes]]
+name = "X"
+joint = "x"
+kind = "linear"
+modulo_period = 10.0
+units = "m"
+max_velocity = 0.5
+max_acceleration = 1.0
+max_deceleration = 1.0
+max_jerk = 100.0
+in_position_window = 0.0001
+motor = { stiffness = 35530.6, damping = 377.0 }
+
+[[obstacles]]
+name = "block"
+shape = "box"
+size = [1.0, 1.0, 1.0]
+position = [0.95, 0.0, 0.0]
+
+[collision]
+
+[[tags]]
+name = "MoveX"
+type = "MC_MoveModulo"
+
+[[program]]
+at_s = 0.1
+call = "MoveX(Axis := X, Execute := TRUE, Position := 0.6, Velocity := 0.1, Direction := MC_Positive_Direction)"
+"#;
+
+#[test]
+fn sphere_into_box_event_starts_within_one_physics_step_of_the_analytic_time() {
+    let dir = out_dir("sphere_box");
+    std::fs::write(dir.join("slider.urdf"), SLIDER_URDF).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, SLIDER_SCENE).unwrap();
+    let scene = twin::scene::load(&path).expect("scene");
+    let step_s = scene.physics_step_ms / 1000.0;
+    let mut twin = Twin::new(scene).expect("twin");
+    for _ in 0..twin.total_updates() {
+        twin.step();
+    }
+    // S-curve from rest to v = 0.1 m/s with a = 1 m/s², j = 100 m/s³:
+    // t_acc = v/a + a/j = 0.11 s covering v·t_acc/2, so in cruise
+    // x(t) = v·(t − 0.1 − t_acc/2). The ball touches the face x = 0.45 at
+    // x = 0.40.
+    let (v, t_acc) = (0.1, 0.1 / 1.0 + 1.0 / 100.0);
+    let analytic_s = 0.1 + t_acc / 2.0 + 0.40 / v;
+    let events = twin.collision_events();
+    assert_eq!(events.len(), 1, "{events:?}");
+    let e = &events[0];
+    assert!(
+        (e.start_s - analytic_s).abs() <= step_s + 1e-9,
+        "start {} analytic {analytic_s}",
+        e.start_s
+    );
+    // At rest at 0.6 m: depth 0.6 + 0.05 − 0.45 = 0.2 m, normal −x.
+    assert!((e.max_depth_m - 0.2).abs() < 1e-3, "depth {}", e.max_depth_m);
+    let n = e.normal_in_world;
+    let angle = (-n[0]).clamp(-1.0, 1.0).acos();
+    assert!(angle < 1e-3, "normal {n:?}");
+    assert_eq!(e.end_s, None);
+}
