@@ -490,7 +490,8 @@ fn collision_cell_reports_one_event_per_pair_and_predicts_it_before_motion() {
     );
     // The predicted time matches the live event within the tracking lag of
     // the drive and one physics step (the live check sees the real arm).
-    let predicted_s = p.started_s + p.collision.time_s;
+    let predicted_s = p.predicted_at_s;
+    assert_eq!(predicted_s, p.started_s + p.collision.time_s);
     assert!(
         (predicted_s - events[0].start_s).abs() < 0.01,
         "{predicted_s} vs {}",

@@ -669,13 +669,13 @@ impl Summary {
         for p in &self.predicted_collisions {
             let _ = writeln!(
                 s,
-                "  pre-flight {} (started {:.4} s): {} <-> {} at parameter {:.4} (+{:.4} s, bound {:.2e}){}",
+                "  pre-flight {} (started {:.4} s): {} <-> {} at parameter {:.4} (at {:.4} s, bound {:.2e}){}",
                 p.instance,
                 p.started_s,
                 p.collision.a,
                 p.collision.b,
                 p.collision.parameter,
-                p.collision.time_s,
+                p.predicted_at_s,
                 p.collision.bound,
                 if p.rejected { ", rejected" } else { "" }
             );

@@ -33,8 +33,11 @@ pub struct Prediction {
     pub instance: String,
     /// Time the move started (the update it became Active), s.
     pub started_s: f64,
-    /// What the sweep found; `parameter` in axis units travelled.
+    /// What the sweep found; for MC_MoveModulo `parameter` is in axis units travelled.
     pub collision: PredictedCollision,
+    /// Simulated time at which the plan reaches the collision, s
+    /// (`started_s + collision.time_s`).
+    pub predicted_at_s: f64,
     /// Whether the move was rejected.
     pub rejected: bool,
 }
@@ -222,76 +225,100 @@ impl Twin {
         }
     }
 
-    /// Pre-flight sweep of every instance that became Active in this update.
+    /// Sweeps a planned path that starts now (at the last planner update)
+    /// against the collision model and records a predicted collision.
+    /// Returns the prediction; when its `rejected` is set (scene
+    /// `preflight = "reject"`), the caller must fail its instruction.
+    /// `None` when the scene has no `[collision]`, the sweep is off, or the
+    /// path is clear.
+    ///
+    /// MC_MoveModulo uses it when an instance becomes `Active`; coordinated
+    /// moves (MCCM, MCLM) call it with their own [`PathSampler`] when they start.
+    pub fn preflight_path(&mut self, instance: &str, path: &dyn PathSampler) -> Option<&Prediction> {
+        let c = self.collision.as_mut()?;
+        if c.settings.preflight == Preflight::Off {
+            return None;
+        }
+        let collision = c
+            .model
+            .sweep(&self.model, path, c.settings.sweep_resolution_m)
+            .collision?;
+        // The move's profile starts at the previous update's time.
+        let started_s = self.task.time_s() - self.task.dt_s();
+        c.predictions.push(Prediction {
+            instance: instance.to_string(),
+            started_s,
+            predicted_at_s: started_s + collision.time_s,
+            collision,
+            rejected: c.settings.preflight == Preflight::Reject,
+        });
+        c.predictions.last()
+    }
+
+    /// Joint positions (per URDF joint) of the command now: axes at their
+    /// command positions, undriven joints at their initial positions.
+    fn command_joints(&self) -> Vec<f64> {
+        let mut q = vec![0.0; self.model.joints.len()];
+        for (name, value) in &self.scene.robot.initial_joints {
+            if let Some(j) = self.model.joint_by_name(name) {
+                q[j.0] = *value;
+            }
+        }
+        for (a, axis) in self.axes.iter().zip(&self.scene.axes) {
+            if let Some(j) = self.model.joint_by_name(&axis.joint) {
+                q[j.0] = self.task.axis_state(a.handle).command_position * a.si_per_unit;
+            }
+        }
+        q
+    }
+
+    /// Pre-flight sweep of every MC_MoveModulo instance that became Active
+    /// in this update.
     pub(super) fn collision_after_planner_update(&mut self) {
         let Some(c) = self.collision.as_mut() else { return };
         c.previous_active.resize(self.fbs.len(), false);
-        if c.settings.preflight == Preflight::Off {
-            return;
-        }
+        let mut started = Vec::new();
         for (i, fb) in self.fbs.iter().enumerate() {
             let active = self.task.outputs(fb.handle).active;
-            let rising = active && !c.previous_active[i];
+            if active && !c.previous_active[i] {
+                started.push(i);
+            }
             c.previous_active[i] = active;
-            if !rising {
-                continue;
-            }
-            let Some(axis_handle) = self.fb_axes.get(i).copied().flatten() else {
-                continue;
-            };
-            let Some(binding) = self.axes.iter().find(|a| a.handle == axis_handle) else {
+        }
+        for i in started {
+            let Some(path) = self.move_modulo_path(i) else {
                 continue;
             };
-            let Some((profile, _)) = self.task.active_profile(axis_handle) else {
-                continue;
-            };
-            let profile = profile.clone();
-            let mut base = vec![0.0; self.model.joints.len()];
-            for (name, q) in &self.scene.robot.initial_joints {
-                if let Some(j) = self.model.joint_by_name(name) {
-                    base[j.0] = *q;
-                }
-            }
-            for (a, axis) in self.axes.iter().zip(&self.scene.axes) {
-                if let Some(j) = self.model.joint_by_name(&axis.joint) {
-                    base[j.0] = self.task.axis_state(a.handle).command_position * a.si_per_unit;
-                }
-            }
-            let Some(joint) = self
-                .scene
-                .axes
-                .iter()
-                .find(|a| a.name == binding.name)
-                .and_then(|a| self.model.joint_by_name(&a.joint))
-            else {
-                continue;
-            };
-            let start = profile.start_state().position;
-            let end = profile.final_state().position;
-            let path = AxisMovePath {
-                profile,
-                start,
-                direction: if end >= start { 1.0 } else { -1.0 },
-                joint: joint.0,
-                si_per_unit: binding.si_per_unit,
-                base,
-            };
-            let report = c.model.sweep(&self.model, &path, c.settings.sweep_resolution_m);
-            if let Some(collision) = report.collision {
-                let rejected = c.settings.preflight == Preflight::Reject;
-                // The move started at the previous update's time.
-                let started_s = self.task.time_s() - self.task.dt_s();
-                c.predictions.push(Prediction {
-                    instance: fb.name.clone(),
-                    started_s,
-                    collision,
-                    rejected,
-                });
-                if rejected {
-                    self.task.reject_move(fb.handle, MoveModuloError::PathCollision);
+            let (name, handle) = (self.fbs[i].name.clone(), self.fbs[i].handle);
+            if self.preflight_path(&name, &path).is_some_and(|p| p.rejected) {
+                self.task.reject_move(handle, MoveModuloError::PathCollision);
+                if let Some(c) = self.collision.as_mut() {
                     c.previous_active[i] = false;
                 }
             }
         }
+    }
+
+    /// The planned path of the move instance `fb` (index into `fbs`) runs.
+    fn move_modulo_path(&self, fb: usize) -> Option<AxisMovePath> {
+        let axis_handle = self.fb_axes.get(fb).copied().flatten()?;
+        let binding = self.axes.iter().find(|a| a.handle == axis_handle)?;
+        let (profile, _) = self.task.active_profile(axis_handle)?;
+        let joint = self
+            .scene
+            .axes
+            .iter()
+            .find(|a| a.name == binding.name)
+            .and_then(|a| self.model.joint_by_name(&a.joint))?;
+        let start = profile.start_state().position;
+        let end = profile.final_state().position;
+        Some(AxisMovePath {
+            profile: profile.clone(),
+            start,
+            direction: if end >= start { 1.0 } else { -1.0 },
+            joint: joint.0,
+            si_per_unit: binding.si_per_unit,
+            base: self.command_joints(),
+        })
     }
 }
