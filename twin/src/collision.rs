@@ -93,10 +93,12 @@ pub enum CollisionModelError {
         /// Link, tool or obstacle name.
         body: String,
     },
-    /// A tool mesh file cannot be loaded.
-    #[error("collision.tool.file: {source}")]
-    ToolMesh {
-        /// Why.
+    /// A tool or obstacle mesh file cannot be loaded.
+    #[error("{body}: {source}")]
+    Mesh {
+        /// Tool or obstacle name.
+        body: String,
+        /// Why (names the file).
         #[source]
         source: StlError,
     },
@@ -229,16 +231,19 @@ fn mesh_shape(
         })
         .collect();
     let degenerate = || CollisionModelError::DegenerateMesh { body: body.to_string() };
+    // A mesh without a 3-D hull has nothing to decompose either (and parry
+    // refuses an empty decomposition).
+    let hull = SharedShape::convex_hull(&points).ok_or_else(degenerate)?;
     match meshes {
         MeshApproximation::ConvexDecomposition if mesh.indices.len() >= 3 => {
             let triangles: Vec<[u32; 3]> = mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
             Ok(SharedShape::convex_decomposition(&points, &triangles))
         }
-        _ => SharedShape::convex_hull(&points).ok_or_else(degenerate),
+        _ => Ok(hull),
     }
 }
 
-fn scene_shape(shape: &Shape, meshes: MeshApproximation, body: &str) -> Result<Geometry, CollisionModelError> {
+fn scene_shape(shape: &Shape, body: &str) -> Result<Geometry, CollisionModelError> {
     Ok(match shape {
         Shape::Box { size_m } => Geometry::Box { size: *size_m },
         Shape::Cylinder { radius_m, length_m } => Geometry::Cylinder {
@@ -246,14 +251,14 @@ fn scene_shape(shape: &Shape, meshes: MeshApproximation, body: &str) -> Result<G
             length: *length_m,
         },
         Shape::Sphere { radius_m } => Geometry::Sphere { radius: *radius_m },
-        Shape::Mesh { path, scale } => {
-            let _ = (meshes, body);
-            Geometry::Mesh {
-                path: path.clone(),
-                scale: *scale,
-                mesh: load_stl(path).map_err(|source| CollisionModelError::ToolMesh { source })?,
-            }
-        }
+        Shape::Mesh { path, scale } => Geometry::Mesh {
+            path: path.clone(),
+            scale: *scale,
+            mesh: load_stl(path).map_err(|source| CollisionModelError::Mesh {
+                body: body.to_string(),
+                source,
+            })?,
+        },
         #[allow(unreachable_patterns)]
         _ => return Err(CollisionModelError::DegenerateMesh { body: body.to_string() }),
     })
@@ -302,7 +307,7 @@ impl CollisionModel {
                     line: tool.link_location.line,
                     column: tool.link_location.column,
                 })?;
-            let geometry = scene_shape(&tool.shape, settings.meshes, &tool.name)?;
+            let geometry = scene_shape(&tool.shape, &tool.name)?;
             let link_from_tool = pose_from_xyz_rpy_deg(tool.position_m, tool.rpy_deg);
             if let Some((local, shape)) = shape_of(&geometry, settings.meshes, &tool.name)? {
                 bodies.push(RobotBody {
@@ -314,14 +319,7 @@ impl CollisionModel {
         }
         let mut obstacle_shapes = Vec::new();
         for o in obstacles {
-            let geometry = match &o.shape {
-                Shape::Mesh { path, scale } => Geometry::Mesh {
-                    path: path.clone(),
-                    scale: *scale,
-                    mesh: load_stl(path).map_err(|source| CollisionModelError::ToolMesh { source })?,
-                },
-                other => scene_shape(other, settings.meshes, &o.name)?,
-            };
+            let geometry = scene_shape(&o.shape, &o.name)?;
             let world_from_obstacle = pose_from_xyz_rpy_deg(o.position_m, o.rpy_deg);
             let (local, shape) = shape_of(&geometry, settings.meshes, &o.name)?
                 .ok_or_else(|| CollisionModelError::DegenerateMesh { body: o.name.clone() })?;

@@ -172,8 +172,19 @@ impl Ctx<'_> {
             Some(t) => Some(self.tool(t, base)?),
             None => None,
         };
-        // The table's place: its first field, or line 1.
+        // The table's place: its header line, else its first field.
+        let header = self
+            .text
+            .match_indices("[collision")
+            .find(|(at, _)| {
+                self.text[..*at]
+                    .rsplit('\n')
+                    .next()
+                    .is_some_and(|l| l.trim().is_empty())
+            })
+            .map(|(at, _)| at);
         let first = [
+            header,
             raw.reaction.as_ref().map(|s| s.span().start),
             raw.meshes.as_ref().map(|s| s.span().start),
             raw.self_collision.as_ref().map(|s| s.span().start),
@@ -348,6 +359,18 @@ mod tests {
         assert_eq!(c.meshes, MeshApproximation::ConvexHull);
         assert!(c.self_collision);
         assert_eq!(c.sweep_resolution_m, 0.001);
+        // Its place is the header line.
+        let lines = std::fs::read_to_string(fixtures().join("indexing_table.toml"))
+            .unwrap()
+            .lines()
+            .count();
+        assert_eq!(
+            c.location,
+            Location {
+                line: lines + 2,
+                column: 1
+            }
+        );
     }
 
     #[test]
