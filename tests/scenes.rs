@@ -638,7 +638,11 @@ fn bad_collision_fields_name_the_place() {
 
 #[test]
 fn collision_cell_frames_match_snapshots() {
-    for scene_file in ["scenes/collision_cell.toml", "scenes/collision_cell_stop.toml"] {
+    for scene_file in [
+        "scenes/collision_cell.toml",
+        "scenes/collision_cell_stop.toml",
+        "scenes/collision_cell_near_miss.toml",
+    ] {
         let scene = twin::scene::load(&root().join(scene_file)).expect("scene");
         let frames = scene.snapshots.as_ref().map(|s| s.frames.clone()).unwrap_or_default();
         let out = out_dir(&format!("{}_snapshots", scene.name));
