@@ -9,6 +9,9 @@
 //!   the rest of the current update's physics steps keep their setpoints
 //!   (a PLC sees the stop at the start of its next cycle). `abort` ends the
 //!   run after that physics step ([`Twin::collision_abort`]).
+//! * Obstacles are not bodies of the physics world: links pass through
+//!   them (the twin reports contacts, it does not push back), so the depth
+//!   keeps growing while the plan goes on.
 //! * The sweep runs when an instance becomes `Active`, after the planner
 //!   update and before the physics steps of that update. Its path parameter
 //!   is the distance the axis travels from the move's start, in axis units;
