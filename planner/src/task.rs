@@ -68,6 +68,8 @@ struct Job {
     t_s: f64,
     target: f64,
     generation_done: bool,
+    /// A stop ramp (see `task/stop.rs`): never blended into.
+    stopping: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -369,6 +371,7 @@ impl MotionTask {
                     .and_then(|j| mode.junction_velocity(j.command.velocity(), command.velocity()));
                 if let (Some(vj), Some(job)) = (blend, a.job.as_mut())
                     && !job.generation_done
+                    && !job.stopping
                 {
                     // End the running command at its target with the junction speed.
                     let now = job.profile.sample(job.t_s).state();
@@ -404,6 +407,7 @@ impl MotionTask {
             t_s: elapsed_s.unwrap_or(0.0),
             target,
             generation_done: false,
+            stopping: false,
         });
         for other in aborted {
             self.finish(other, Finish::Aborted);
@@ -539,6 +543,9 @@ impl MotionTask {
         self.axes[axis.0 as usize].command.state()
     }
 }
+
+mod stop;
+pub use stop::StopReport;
 
 #[derive(Debug, Clone, Copy)]
 enum Finish {

@@ -560,6 +560,52 @@ impl MotionTask {
         Ok(())
     }
 
+    /// Hook for [`MotionTask::stop_all_axes`]: ends the cams and the jog on
+    /// `axis` and ramps it to rest from its command state with its configured
+    /// deceleration and jerk (as the MoveModulo commands there). Returns
+    /// whether the axis had a cam or jog to stop.
+    pub(super) fn stop_cam_and_jog(&mut self, axis: AxisHandle) -> bool {
+        let Some(c) = self.cam.axes.get(axis.0 as usize) else {
+            return false;
+        };
+        if !(c.cam.drives() || c.ramp.is_some()) {
+            return false;
+        }
+        self.end_cams(axis);
+        self.end_ramp(axis);
+        let a = &self.axes[axis.0 as usize];
+        let start = a.command.state();
+        let cfg = &a.config;
+        let vmax = cfg.max_velocity.max(start.velocity.abs());
+        let limits = Limits::s_curve(
+            vmax,
+            cfg.max_acceleration,
+            cfg.max_deceleration,
+            cfg.max_jerk,
+            cfg.max_jerk,
+        )
+        .or_else(|_| Limits::trapezoidal(vmax, cfg.max_acceleration, cfg.max_deceleration));
+        let profile = match limits {
+            Ok(limits) => Profile::to_velocity(start, 0.0, &limits),
+            Err(_) => Profile::hold(start),
+        };
+        self.cam_axis(axis).ramp = Some(RampRun {
+            profile,
+            t_s: 0.0,
+            jog: None,
+            stop: None,
+        });
+        true
+    }
+
+    /// Whether `axis` runs a stop ramp (MAS or a stop of all axes).
+    pub(super) fn is_ramping_to_rest(&self, axis: AxisHandle) -> bool {
+        self.cam
+            .axes
+            .get(axis.0 as usize)
+            .is_some_and(|c| c.ramp.as_ref().is_some_and(|r| r.jog.is_none()))
+    }
+
     /// Advances jogs, stop ramps and position cams by one coarse update
     /// (called by [`MotionTask::update`] after the MoveModulo commands).
     pub(super) fn advance_cams_and_jogs(&mut self) {

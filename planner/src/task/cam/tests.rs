@@ -1332,3 +1332,49 @@ fn master_lock_position_on_a_modulo_master_ignores_the_turns_count() {
         assert_eq!(task.motion_bits(mi).ac, ac);
     }
 }
+
+#[test]
+fn stopping_all_axes_ends_cams_and_jogs_with_a_ramp() {
+    let mut r = rig();
+    let p = r.profile("Line", &[(0.0, 0.0), (1000.0, 2000.0)], 0);
+    let mi = r.task.add_instruction("MAPC_1");
+    let jog = r.task.add_instruction("MAJ_1");
+    r.mapc(
+        mi,
+        p,
+        MapcOperands {
+            master_reference: 1,
+            ..ops(CONTINUOUS, IMMEDIATE)
+        },
+    )
+    .unwrap();
+    r.task
+        .maj(
+            r.master,
+            jog,
+            &crate::jog::MajOperands {
+                speed: 100.0,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+    for _ in 0..50 {
+        r.task.update();
+    }
+    assert!(r.task.axis_state(r.slave).command_velocity > 190.0);
+    let report = r.task.stop_all_axes();
+    assert_eq!(report.stopped_axes, vec![r.master, r.slave]);
+    assert!(report.stopped_instructions.contains(&mi) && report.stopped_instructions.contains(&jog));
+    r.bits(mi, "EN DN");
+    r.bits(jog, "EN DN");
+    r.slave_bits("");
+    assert_eq!(r.task.cam_profile(p).status(), 2);
+    assert!(r.task.is_stopping(r.slave) && r.task.is_stopping(r.master));
+    for _ in 0..200 {
+        r.task.update();
+    }
+    for axis in [r.master, r.slave] {
+        assert_eq!(r.task.axis_state(axis).command_velocity, 0.0);
+        assert!(!r.task.is_stopping(axis));
+    }
+}
