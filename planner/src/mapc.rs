@@ -83,6 +83,15 @@
 //! * Position Cam Pending Status: a Pending cam or a scheduled replacement
 //!   waits.
 //!
+//! # Errors
+//! ERR 13 (Parameter Out of Range) with EXERR = the operand's faceplate number
+//! ([`operand`]); ERR 32 (Cam Profile Not Calculated) for a profile with
+//! Status 0 and ERR 30 (Cam Profile Being Calculated) for Status 1 — the
+//! spec's "0, 1: not calculated yet". The spec's `.SEGMENT` errors 28/29/179
+//! on a cam profile cannot arise here: a [`CamProfile`] is validated when it
+//! is built (MCCP, or [`CamProfile::from_elements`] for a profile written
+//! element by element, which reports them with SEGMENT).
+//!
 //! # Choices where the spec is silent
 //! * A replacement waiting for its lock when the active Once cam completes
 //!   stays armed and starts (as a new cam, from the slave's position) when
