@@ -7,6 +7,10 @@
 //! * [`instruction`] — status shared by all instructions: the Logix
 //!   MOTION_INSTRUCTION bits and the PLCopen function-block outputs.
 //! * [`modulo`] — MC_MoveModulo.
+//! * [`mccp`] — Motion Calculate Cam Profile: CAM arrays → cam profiles.
+//! * [`mapc`] — Motion Axis Position Cam: position camming of a slave axis.
+//! * [`mrp`] — Motion Redefine Position.
+//! * [`jog`] — Motion Axis Jog / Motion Axis Stop (drives cam masters).
 //! * [`coord`] — coordinate systems, coordinated-move operands and status;
 //!   [`mclm`] linear and [`mccm`] circular coordinated moves; MCS in `coord`.
 //! * [`task`] — the coarse-update executor that owns axes and commands.
@@ -14,8 +18,12 @@
 pub mod axis;
 pub mod coord;
 pub mod instruction;
+pub mod jog;
+pub mod mapc;
 pub mod mccm;
+pub mod mccp;
 pub mod mclm;
 pub mod modulo;
+pub mod mrp;
 pub mod profile;
 pub mod task;

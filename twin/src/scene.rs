@@ -34,6 +34,9 @@ use toml::Spanned;
 
 use crate::st::{self, Args, Call, Expr, ParseError};
 
+mod collision;
+pub use collision::{AllowedPair, CollisionSettings, MeshApproximation, Preflight, Reaction, Tool};
+
 // ------------------------------------------------------------------ public model
 
 /// A 1-based line and column (in characters) in the scene file.
@@ -73,6 +76,8 @@ pub struct Scene {
     pub program: Vec<Step>,
     /// Golden-image frames, if any.
     pub snapshots: Option<Snapshots>,
+    /// Collision checking (`[collision]`); off when the table is absent.
+    pub collision: Option<CollisionSettings>,
 }
 
 /// `[robot]`.
@@ -1019,6 +1024,7 @@ struct RawScene {
     #[serde(default)]
     program: Vec<RawStep>,
     snapshots: Option<RawSnapshots>,
+    collision: Option<collision::RawCollision>,
 }
 
 #[derive(Deserialize)]
@@ -1406,7 +1412,12 @@ impl Ctx<'_> {
             Some(s) => Some(self.snapshots(s, &cameras)?),
             None => None,
         };
+        let collision = match &raw.collision {
+            Some(c) => Some(self.collision(c, base)?),
+            None => None,
+        };
         Ok(Scene {
+            collision,
             name,
             path: path.to_owned(),
             duration_s,

@@ -813,6 +813,19 @@ pub const LOGIX_ENUMERATIONS: &[&str] = &[
     "rotaryshortest",
     "rotarypositive",
     "rotarynegative",
+    // MAPC cam type (V34), MAS stop types and change decel
+    "replaceandrestart",
+    "replaceandcontinue",
+    "gear",
+    "home",
+    "tune",
+    "test",
+    "timecam",
+    "positioncam",
+    "masteroffsetmove",
+    "directcontrol",
+    "no",
+    "yes",
 ];
 
 /// PLCopen / Beckhoff Tc2_MC2 enumeration values accepted as named inputs

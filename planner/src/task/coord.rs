@@ -49,13 +49,18 @@
 //!   (its instructions lose `.IP`/`.AC`); the two systems' motions are not
 //!   blended, so the new move starts with the command velocity of its own
 //!   (rest) profile.
-//! * **Single-axis motion** (MC_MoveModulo) and coordinated motion never
-//!   superimpose here: a coordinated move that starts aborts the single-axis
-//!   commands on its axes (whatever the merge type; the spec's superimposed
-//!   motion for merge disabled is not modelled), and an MC_MoveModulo that
-//!   starts on an axis of a moving system brings that system to rest along
-//!   its path (its instructions lose `.IP`/`.AC`, the pending move is
-//!   cancelled) while the modulo command takes that axis.
+//! * **Single-axis motion** (MC_MoveModulo, MAPC cams, MAJ jogs, MAS
+//!   stops) and coordinated motion never superimpose here: a coordinated
+//!   move that starts aborts the single-axis commands on its axes and ends
+//!   their cams and jogs (whatever the merge type; the spec's superimposed
+//!   motion for merge disabled is not modelled; the move starts from rest
+//!   on its own profile), and a single-axis command that takes an axis of a
+//!   moving system (or an axis reset) brings that system to rest along its
+//!   path (its instructions lose `.IP`/`.AC`, the pending move is
+//!   cancelled) while the single-axis command alone writes that axis.
+//! * [`MotionTask::stop_all_axes`] (the twin's collision stop) brings every
+//!   moving system to rest along its path with the system's maximum
+//!   deceleration.
 //! * **MCS** brings every component to rest along its path with the stop's
 //!   deceleration (a component already braking to its end closer than that
 //!   keeps its own profile), cancels the pending move and sets
@@ -158,6 +163,8 @@ struct SystemSlot {
     queue_end: Vec<f64>,
     velocity: Vec<f64>,
     acceleration: Vec<f64>,
+    /// Axes another command took while the system brakes (not written).
+    taken: Vec<AxisHandle>,
 }
 
 #[derive(Debug, Clone)]
@@ -290,6 +297,7 @@ impl MotionTask {
             queue_end: here,
             velocity: vec![0.0; n],
             acceleration: vec![0.0; n],
+            taken: Vec::new(),
         });
         Ok(CoordHandle(self.coord.systems.len() as u32 - 1))
     }
@@ -798,11 +806,13 @@ impl MotionTask {
         b.ac = true;
     }
 
-    /// Aborts the MC_MoveModulo commands (running and buffered) on the
-    /// system's axes: a coordinated move takes them.
+    /// Aborts the MC_MoveModulo commands (running and buffered), cams, jogs
+    /// and stop ramps on the system's axes: a coordinated move takes them.
     fn abort_single_axis_motion(&mut self, cs: CoordHandle) {
         let axes = self.coord.systems[cs.0 as usize].axes.clone();
+        self.coord.systems[cs.0 as usize].taken.clear();
         for axis in axes {
+            self.release_cam_and_jog(axis);
             let a = &mut self.axes[axis.0 as usize];
             let job = a.job.take().and_then(|j| j.fb);
             let buffered = a.buffered.take().map(|(fb, _)| fb);
@@ -835,12 +845,14 @@ impl MotionTask {
         }
     }
 
-    /// Hook for single-axis starts: an MC_MoveModulo that starts on `axis`
-    /// brings the coordinated motion of the axis' systems to rest.
+    /// Hook for single-axis starts (MC_MoveModulo, MAPC, MAJ, MAS, an axis
+    /// reset): the coordinated motion of the axis' systems comes to rest
+    /// along its path, and the system no longer writes `axis`.
     pub(super) fn release_axis_from_coordinated_motion(&mut self, axis: AxisHandle) {
         for i in 0..self.coord.systems.len() {
             let sys = &self.coord.systems[i];
             if sys.axes.contains(&axis) && (!sys.components.is_empty() || sys.pending.is_some()) {
+                self.coord.systems[i].taken.push(axis);
                 self.bring_to_rest(CoordHandle(i as u32), None);
                 let st = &mut self.coord.systems[i].status;
                 st.move_ = false;
@@ -848,6 +860,31 @@ impl MotionTask {
                 self.refresh_queue_status(CoordHandle(i as u32));
             }
         }
+    }
+
+    /// Hook for [`MotionTask::stop_all_axes`]: every moving system comes to
+    /// rest along its path with the system's maximum deceleration (its
+    /// moves' own where that is 0); its MCS, if one is stopping it, no longer
+    /// completes. Returns the axes of the systems that were moving.
+    pub(super) fn stop_coordinated_motion(&mut self) -> Vec<AxisHandle> {
+        let mut stopped = Vec::new();
+        for i in 0..self.coord.systems.len() {
+            let sys = &mut self.coord.systems[i];
+            if sys.components.is_empty() && sys.pending.is_none() {
+                continue;
+            }
+            sys.stop = None;
+            let decel = sys.system.config().max_decel;
+            let limits = Limits::trapezoidal(f64::MAX / 4.0, decel, decel).ok();
+            stopped.extend(sys.axes.iter().copied());
+            let cs = CoordHandle(i as u32);
+            self.bring_to_rest(cs, limits);
+            let st = &mut self.coord.systems[i].status;
+            st.move_ = false;
+            st.move_transition = false;
+            self.refresh_queue_status(cs);
+        }
+        stopped
     }
 
     fn refresh_queue_status(&mut self, cs: CoordHandle) {
@@ -943,9 +980,10 @@ impl MotionTask {
         sys.velocity = velocity.clone();
         sys.acceleration = acceleration.clone();
         let axes = sys.axes.clone();
+        let taken = sys.taken.clone();
         for (i, axis) in axes.into_iter().enumerate() {
             let a = &mut self.axes[axis.0 as usize];
-            if a.job.is_some() {
+            if a.job.is_some() || taken.contains(&axis) {
                 continue;
             }
             a.command = Sample {

@@ -104,6 +104,9 @@ const MCS_JERK_UNITS: &[(&str, i64)] = &[
     ("%oftime", 2),
 ];
 
+/// The instructions this module compiles.
+pub const COORD_INSTRUCTIONS: &[&str] = &["MCCM", "MCLM", "MCS"];
+
 /// Compiles MCLM, MCCM and MCS calls; `None` for any other instruction.
 pub fn compile(upper: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Option<Result<LogixStep, String>> {
     let result = match upper {
@@ -453,6 +456,13 @@ mod tests {
         let t = text();
         assert!(t.contains(XY_TABLE));
         t.replacen(XY_TABLE, table, 1)
+    }
+
+    #[test]
+    fn simulated_lists_every_compiled_instruction() {
+        for name in super::super::cam::CAM_INSTRUCTIONS.iter().chain(COORD_INSTRUCTIONS) {
+            assert!(super::super::logix::SIMULATED.contains(name), "{name}");
+        }
     }
 
     #[test]

@@ -181,6 +181,9 @@ pub fn compile(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Res
     if let Some(step) = super::coord::compile(&upper, operands, ctx) {
         return step;
     }
+    if let Some(step) = super::cam::compile(&upper, operands, ctx) {
+        return step;
+    }
     #[allow(clippy::match_single_binding, reason = "one arm per instruction as they are added")]
     match upper.as_str() {
         _ => {
@@ -214,8 +217,9 @@ pub fn expect_operands(instruction: &str, operands: &[Expr], names: &[&str]) -> 
     }
 }
 
-/// The Logix instructions the twin simulates.
-pub const SIMULATED: &[&str] = &["MCCM", "MCLM", "MCS"];
+/// The Logix instructions the twin simulates: `cam::CAM_INSTRUCTIONS` and
+/// `coord::COORD_INSTRUCTIONS` (a test keeps the lists in step).
+pub const SIMULATED: &[&str] = &["MAJ", "MAPC", "MAS", "MCCM", "MCCP", "MCLM", "MCS", "MRP"];
 
 #[cfg(test)]
 mod tests {

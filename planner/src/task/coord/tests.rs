@@ -917,3 +917,52 @@ fn merge_during_a_blend_brings_both_moves_to_rest_and_ends_exactly() {
     assert_eq!(positions(&task, &axes), vec![-5.0, 3.0]);
     assert!(!task.motion_bits(b).pc);
 }
+
+#[test]
+fn stop_all_axes_brings_coordinated_motion_to_rest_along_the_path() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let a = task.add_instruction("A");
+    let b = task.add_instruction("B");
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[30.0, 40.0], 1)));
+    task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
+    for _ in 0..300 {
+        task.update();
+    }
+    let report = task.stop_all_axes();
+    assert_eq!(report.stopped_axes, axes);
+    assert!(report.stopped_instructions.contains(&a) && report.stopped_instructions.contains(&b));
+    assert!(!task.motion_bits(a).ip && !task.motion_bits(b).ip && !task.coord_status(cs).move_pending);
+    run_until(&mut task, 10_000, |t| !t.coord_status(cs).motion);
+    let end = positions(&task, &axes);
+    assert!((end[1] / end[0] - 4.0 / 3.0).abs() < 1e-9, "on the line: {end:?}");
+    assert!(!task.motion_bits(a).pc && !task.motion_bits(b).pc);
+}
+
+#[test]
+fn a_jog_takes_its_axis_from_a_coordinated_move_and_a_move_takes_it_back() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let a = task.add_instruction("A");
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[30.0, 40.0], 1)));
+    for _ in 0..300 {
+        task.update();
+    }
+    let jog = task.add_instruction("J");
+    let operands = crate::jog::MajOperands {
+        speed: 5.0,
+        ..Default::default()
+    };
+    task.maj(axes[0], jog, &operands).unwrap();
+    assert!(!task.motion_bits(a).ip && task.motion_bits(jog).ip);
+    run_until(&mut task, 10_000, |t| !t.coord_status(cs).motion);
+    // Y came to rest on the path; X jogs on at 5 units/s, written by the jog alone.
+    assert_eq!(task.axis_state(axes[1]).command_velocity, 0.0);
+    for _ in 0..200 {
+        task.update();
+    }
+    assert!((task.axis_state(axes[0]).command_velocity - 5.0).abs() < 1e-9);
+    // A new coordinated move ends the jog and drives both axes again.
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
+    assert!(!task.motion_bits(jog).ip);
+    run_until(&mut task, 20_000, |t| t.motion_bits(a).pc);
+    assert_eq!(positions(&task, &axes), vec![0.0, 0.0]);
+}
