@@ -92,12 +92,12 @@
 //!   [`MotionTask::set_coordinate_system_master`].
 
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
-use crate::coord::OperandIndex;
 use crate::coord::{
     CoordConfigError, CoordMove, CoordMoveError, CoordMoveInputs, CoordStatus, CoordinateSystem,
     CoordinateSystemConfig, Driver, LockDirection, Mcs, McsInputs, Merge, MergeSpeed, MoveContext, TerminationType,
     norm, primary_of, progress_at_length,
 };
+use crate::coord::{OperandIndex, with_velocity};
 use crate::instruction::MotionInstructionBits;
 use crate::mccm::{MccmInputs, mccm};
 use crate::mclm::mclm;
@@ -1131,15 +1131,6 @@ fn add_displacement(at: &mut [f64], c: &Component, s: f64) {
     c.mv.path().point(s, &mut p, &mut d);
     for i in 0..n {
         at[i] += p[i] - c.mv.path().start()[i];
-    }
-}
-
-fn with_velocity(l: &Limits, velocity: f64) -> Option<Limits> {
-    match l.shape() {
-        crate::profile::Shape::Trapezoidal => Limits::trapezoidal(velocity, l.acceleration(), l.deceleration()).ok(),
-        crate::profile::Shape::SCurve { accel_jerk, decel_jerk } => {
-            Limits::s_curve(velocity, l.acceleration(), l.deceleration(), accel_jerk, decel_jerk).ok()
-        }
     }
 }
 
