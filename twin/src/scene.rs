@@ -559,6 +559,9 @@ pub struct CoordinateSystemSettings {
     /// URDF link whose origin is the tool centre: its path is drawn as a
     /// trail and its world position traced (default: none).
     pub tool_link: Option<String>,
+    /// Axis whose command position drives the system's master-driven moves
+    /// (the role of an MDCC; default: none).
+    pub master_axis: Option<String>,
     /// Where the table is written (or the tag's name when absent).
     pub location: Location,
 }
@@ -1123,6 +1126,7 @@ struct RawCoordinateSystem {
     command_tolerance: Option<Spanned<f64>>,
     actual_tolerance: Option<Spanned<f64>>,
     tool_link: Option<Spanned<String>>,
+    master_axis: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -1747,7 +1751,7 @@ impl Ctx<'_> {
                     return Err(self.invalid(raw, f("coordinate_system"), Problem::CoordinateSystemOnly));
                 }
                 (raw, Some(TagValue::Axes(members))) => {
-                    Some(self.coordinate_system(raw.as_ref(), members.len(), &t.name, &f("coordinate_system"))?)
+                    Some(self.coordinate_system(raw.as_ref(), axes, members.len(), &t.name, &f("coordinate_system"))?)
                 }
                 _ => None,
             };
@@ -1765,6 +1769,7 @@ impl Ctx<'_> {
     fn coordinate_system(
         &self,
         raw: Option<&Spanned<RawCoordinateSystem>>,
+        axes: &[Axis],
         members: usize,
         name: &Spanned<String>,
         field: &str,
@@ -1782,6 +1787,7 @@ impl Ctx<'_> {
                 command_tolerance: 0.1,
                 actual_tolerance: 0.01,
                 tool_link: None,
+                master_axis: None,
                 location: self.loc(name),
             });
         };
@@ -1822,6 +1828,18 @@ impl Ctx<'_> {
             actual_tolerance: non_neg(&r.actual_tolerance, "actual_tolerance", 0.01)?,
             tool_link: match &r.tool_link {
                 Some(l) => Some(self.nonempty_name(l, &f("tool_link"))?),
+                None => None,
+            },
+            master_axis: match &r.master_axis {
+                Some(m) => match axes.iter().find(|a| a.name.eq_ignore_ascii_case(m.get_ref())) {
+                    Some(a) => Some(a.name.clone()),
+                    None => {
+                        let problem = Problem::UnknownAxis {
+                            name: m.get_ref().clone(),
+                        };
+                        return Err(self.invalid(m, f("master_axis"), problem));
+                    }
+                },
                 None => None,
             },
             location: self.loc(raw),

@@ -310,6 +310,11 @@ impl MotionTask {
         slot.master_prev = master.map(|m| self.axes[m.0 as usize].command.position);
     }
 
+    /// The master axis of a system's master-driven moves, if linked.
+    pub fn coordinate_system_master(&self, system: CoordHandle) -> Option<AxisHandle> {
+        self.coord.systems[system.0 as usize].master
+    }
+
     /// The status bits of a coordinate system after the last update.
     pub fn coord_status(&self, system: CoordHandle) -> CoordStatus {
         self.coord.systems[system.0 as usize].status

@@ -15,8 +15,10 @@
 //! * Event Distance and Calculated Data take `0` or an array tag. The
 //!   calculated data stay in the planner (scene tags do not change during a
 //!   run); [`planner::task::MotionTask::coord_calculated_data`] has them.
-//! * Master-driven moves need an MDCC, which the twin does not simulate, so
-//!   they fail at run time with ERR 13 (EXERR: speed units).
+//! * Master-driven moves (units per master unit) follow the axis the
+//!   system's `master_axis` names (the twin does not simulate MDCC, whose
+//!   link this field stands for); without one they fail at run time with
+//!   ERR 13 (EXERR: speed units).
 
 use super::logix::{LogixContext, LogixStep, expect_operands};
 use super::{RunError, Twin};
@@ -319,9 +321,15 @@ fn coordinate_system(ctx: &mut LogixContext<'_>, what: &str, operand: &Expr) -> 
         actual_tolerance: settings.actual_tolerance,
         ..CoordinateSystemConfig::new(tag.name.clone())
     };
-    ctx.task
+    let handle = ctx
+        .task
         .add_coordinate_system(config, &axes)
-        .map_err(|e| format!("{what} {name}: {e}"))
+        .map_err(|e| format!("{what} {name}: {e}"))?;
+    if let Some(master) = &settings.master_axis {
+        let master = ctx.axis(what, &Expr::Ident(master.clone()))?;
+        ctx.task.set_coordinate_system_master(handle, Some(master));
+    }
+    Ok(handle)
 }
 
 /// The tool-centre trail of one coordinate system.
@@ -526,6 +534,40 @@ mod tests {
         let t = with_xy_table("coordinate_system = { tool_link = \"nozzle\" }");
         let e = err(t);
         assert!(e.contains("tool_link 'nozzle' is not a link"), "{e}");
+    }
+
+    #[test]
+    fn a_master_axis_drives_master_driven_moves() {
+        // The full circle in units per master unit, driven by Z (which stands
+        // still once L1 is done): it starts and waits at its start point.
+        let t = with_xy_table("coordinate_system = { master_axis = \"z\" }").replacen(
+            "3, 200, unitspersec, 1000, unitspersec2, 1000, unitspersec2, s-curve, 100, 100, %oftime,",
+            "3, 2, unitspermasterunit, 10, unitspermasterunit2, 10, unitspermasterunit2, s-curve, 100, 100, %oftimemasterdriven,",
+            1,
+        );
+        assert!(t.contains("unitspermasterunit2, s-curve"));
+        let mut twin = Twin::new(scene(&t).unwrap()).unwrap();
+        let xy = twin
+            .task()
+            .coord_handles()
+            .find(|h| twin.task().coord_config(*h).name == "XY")
+            .unwrap();
+        let z = twin.axes().iter().find(|a| a.name == "Z").unwrap().handle;
+        assert_eq!(twin.task().coordinate_system_master(xy), Some(z));
+        let c1 = twin.instructions().iter().find(|b| b.name == "C1").unwrap().handle;
+        for _ in 0..1000 {
+            twin.step();
+        }
+        let b = twin.task().motion_bits(c1);
+        assert!(b.dn && b.ip && !b.pc && !b.er, "{b:?}");
+        let x = twin.axes()[0].handle;
+        assert_eq!(
+            twin.task().axis_state(x).command_position,
+            -100.0,
+            "waits for the master"
+        );
+        let bad = with_xy_table("coordinate_system = { master_axis = \"W\" }");
+        assert!(scene(&bad).is_err());
     }
 
     #[test]
