@@ -397,4 +397,4 @@ fn radius_arc(p0: V3, radius: f64, p1: V3, direction: i64) -> Result<Arc, CoordM
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

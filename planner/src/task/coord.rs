@@ -992,7 +992,8 @@ impl MotionTask {
             c.mv.path().point(s.position, &mut p, &mut d);
             let start = c.mv.path().start();
             for i in 0..n {
-                position[i] += p[i] - start[i];
+                // (position − start) + p: exactly p at the end of a lone move.
+                position[i] = (position[i] - start[i]) + p[i];
                 velocity[i] += d[i] * speed;
             }
         }
@@ -1044,8 +1045,7 @@ impl MotionTask {
         while i + 1 < sys.components.len() {
             if sys.components[i].done() {
                 let c = sys.components.remove(i);
-                let s = c.s().position;
-                add_displacement(&mut sys.base, &c, s);
+                absorb(&mut sys.base, &c, i == 0);
                 finished_ip.extend(c.instr);
             } else {
                 i += 1;
@@ -1066,8 +1066,8 @@ impl MotionTask {
                     sys.status.actual_pos_tolerance = true;
                 }
                 let c = sys.components.pop().expect("lead exists");
-                let s = c.s().position;
-                add_displacement(&mut sys.base, &c, s);
+                let oldest = sys.components.is_empty();
+                absorb(&mut sys.base, &c, oldest);
                 if let Some(h) = c.instr {
                     finished_pc.push(h);
                 }
@@ -1150,12 +1150,24 @@ fn rest_length(c: &Component, limits: Option<Limits>) -> f64 {
     }
 }
 
+/// Adds a finished component's displacement to `base`. The oldest
+/// component, ended at its end point, leaves `base` exactly there (where the
+/// next component starts), so no rounding accumulates over a sequence.
+fn absorb(base: &mut [f64], c: &Component, oldest: bool) {
+    let s = c.s().position;
+    if oldest && !c.stopping && s >= c.mv.path().length() {
+        base.copy_from_slice(c.mv.path().end());
+    } else {
+        add_displacement(base, c, s);
+    }
+}
+
 fn add_displacement(at: &mut [f64], c: &Component, s: f64) {
     let n = at.len();
     let (mut p, mut d) = (vec![0.0; n], vec![0.0; n]);
     c.mv.path().point(s, &mut p, &mut d);
     for i in 0..n {
-        at[i] += p[i] - c.mv.path().start()[i];
+        at[i] = (at[i] - c.mv.path().start()[i]) + p[i];
     }
 }
 

@@ -431,9 +431,9 @@ fn non_primary_axes_arrive_with_the_primary_axes() {
     assert!(last_change.iter().all(|k| *k == last_change[0]), "{last_change:?}");
 }
 
-/// Seeded random arcs through the task: every axis finishes in the same
-/// coarse update, exactly at the end point, and the vector speed never
-/// exceeds the programmed speed.
+/// Seeded random arcs through the task: every axis finishes (has its last
+/// non-zero command velocity) in the same coarse update, and the vector speed
+/// never exceeds the programmed speed.
 #[test]
 fn random_arcs_through_the_task_finish_together_within_speed() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x7461_736b);
@@ -464,18 +464,16 @@ fn random_arcs_through_the_task_finish_together_within_speed() {
         });
         let h = task.add_coord_instruction("M", cs, call.clone());
         fire(&mut task, h, call);
-        let mut prev = positions(&task, &axes);
         let mut last_change = [0usize; 3];
         let mut k = 0;
         run_until(&mut task, 100_000, |t| {
             k += 1;
             let p = positions(t, &axes);
             for i in 0..3 {
-                if p[i] != prev[i] {
+                if t.axis_state(axes[i]).command_velocity != 0.0 {
                     last_change[i] = k;
                 }
             }
-            prev = p.clone();
             assert!(speed(t, &axes, 3) <= programmed * (1.0 + 1e-9), "case {case}");
             let q = [p[0] - center[0], p[1] - center[1], p[2]];
             assert!(((q[0] * q[0] + q[1] * q[1]).sqrt() - radius).abs() < 1e-9);
@@ -965,4 +963,80 @@ fn a_jog_takes_its_axis_from_a_coordinated_move_and_a_move_takes_it_back() {
     assert!(!task.motion_bits(jog).ip);
     run_until(&mut task, 20_000, |t| t.motion_bits(a).pc);
     assert_eq!(positions(&task, &axes), vec![0.0, 0.0]);
+}
+
+/// Seeded random arcs of every circle type, move type and direction, 2D and
+/// 3D, through the task: every coarse update's command point is on the circle
+/// (radius within 1e-9, in its plane), the vector speed never exceeds the
+/// programmed speed, the arc ends exactly at its end point, and every axis
+/// has its last non-zero command velocity in the same coarse update.
+#[test]
+fn random_arcs_of_every_circle_type_through_the_task() {
+    use crate::coord::{CoordinateSystem, MoveContext};
+    let mut rng = ChaCha8Rng::seed_from_u64(0x6172_6373);
+    let mut per_type = [0usize; 4];
+    for case in 0..400 {
+        let mut r = crate::mccm::tests::random_arc(&mut rng);
+        let config = CoordinateSystemConfig {
+            axis_count: r.dim,
+            primary_axes: r.dim,
+            max_speed: 1000.0,
+            max_accel: 1e5,
+            max_decel: 1e5,
+            ..CoordinateSystemConfig::new("CS")
+        };
+        // Speed and rates scaled to the arc, so each takes 0.3 .. 1.5 s.
+        let system = CoordinateSystem::new(config.clone()).unwrap();
+        let ctx = MoveContext {
+            system: &system,
+            axis_max_decel: &vec![1.0; r.dim],
+            start: &r.start,
+            has_master: false,
+        };
+        let length = crate::mccm::mccm(&r.inputs, &ctx).unwrap().path().length();
+        let programmed = length / rng.random_range(0.3..1.5);
+        r.inputs.common.speed = programmed;
+        r.inputs.common.accel_rate = programmed * rng.random_range(2.0..20.0);
+        r.inputs.common.decel_rate = programmed * rng.random_range(2.0..20.0);
+        let mut task = MotionTask::new(DT).unwrap();
+        let axes: Vec<AxisHandle> = r
+            .start
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                task.add_axis(AxisConfig::new(format!("A{i}"), AxisKind::Linear), *p)
+                    .unwrap()
+            })
+            .collect();
+        let cs = task.add_coordinate_system(config, &axes).unwrap();
+        let mc = task.add_instruction("MC");
+        per_type[r.inputs.circle_type as usize] += 1;
+        task.execute_coordinated(cs, mc, CoordCall::Mccm(r.inputs.clone()));
+        assert!(task.motion_bits(mc).dn, "case {case}: {:?}", task.motion_bits(mc));
+        let arc = *task.coord_active_move(cs).unwrap().path().arc().unwrap();
+        let end = task.coord_active_move(cs).unwrap().path().end().to_vec();
+        let mut last_change = vec![0usize; r.dim];
+        let mut k = 0;
+        run_until(&mut task, 100_000, |t| {
+            k += 1;
+            let p = positions(t, &axes);
+            for i in 0..r.dim {
+                if t.axis_state(axes[i]).command_velocity != 0.0 {
+                    last_change[i] = k;
+                }
+            }
+            let q = crate::coord::sub(primary_of(&p, r.dim), r.center);
+            assert!((norm(q) - r.radius).abs() <= 1e-9, "case {case}: radius");
+            assert!(crate::coord::dot(q, arc.normal()).abs() <= 1e-9, "case {case}: plane");
+            assert!(
+                speed(t, &axes, r.dim) <= programmed * (1.0 + 1e-9),
+                "case {case}: speed"
+            );
+            t.motion_bits(mc).pc
+        });
+        assert_eq!(positions(&task, &axes), end, "case {case}: end point");
+        let moved: Vec<usize> = last_change.iter().copied().filter(|k| *k > 0).collect();
+        assert!(moved.windows(2).all(|w| w[0] == w[1]), "case {case}: {last_change:?}");
+    }
+    assert!(per_type.iter().all(|&n| n > 40), "{per_type:?}");
 }
