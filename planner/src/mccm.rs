@@ -44,6 +44,8 @@
 //!   0.001 (a circle that small has no usable plane).
 //! * A semicircle programmed with the radius (|R| = half chord) is legal.
 //! * The geometry errors come after every ERR 13 check, ERR 54 last.
+//! * Coordinates so large that the circle's radius or length overflows
+//!   are ERR 13 with the Via/Center/Radius operand's index.
 
 use crate::coord::{
     CoordMove, CoordMoveError, CoordMoveInputs, MoveContext, MoveType, OperandIndex, PathGeometry, V3, add, cross, dot,
@@ -138,6 +140,23 @@ impl Arc {
             angle_rad,
             length_per_rad,
         }
+    }
+
+    fn is_finite(&self) -> bool {
+        [self.center, self.u, self.w, self.normal]
+            .iter()
+            .flatten()
+            .chain(
+                [
+                    self.r_start,
+                    self.r_end,
+                    self.angle_rad,
+                    self.length_per_rad,
+                    self.length(),
+                ]
+                .iter(),
+            )
+            .all(|x| x.is_finite())
     }
 
     /// The center.
@@ -272,6 +291,10 @@ pub fn mccm(inputs: &MccmInputs, ctx: &MoveContext<'_>) -> Result<CoordMove, Coo
                 radius_arc(p0, vcr[0], p1, direction)?
             }
         };
+        if !arc.is_finite() {
+            // Coordinates so large that the circle overflows.
+            return Err(out_of_range(idx.via_center_radius));
+        }
         let mut end = end;
         if full {
             // A full circle ends where it started; `Position` only defined the circle.

@@ -13,6 +13,7 @@
 //! * A system of 1 to 3 primary axes can make linear moves (MCCM needs 2 or 3).
 //! * A move whose end equals its start is legal: it completes at once
 //!   (termination type 0 still waits for the actual tolerance).
+//! * Positions so large that the distance overflows are ERR 13, EXERR 3.
 
 use crate::coord::{
     CoordMove, CoordMoveError, CoordMoveInputs, MoveContext, OperandIndex, PathGeometry, finish_move,
@@ -28,7 +29,13 @@ pub fn mclm(inputs: &CoordMoveInputs, ctx: &MoveContext<'_>) -> Result<CoordMove
     let resolved = resolve_move_type_and_position(inputs, ctx, &idx)?;
     let primary = ctx.system.config().primary_axes;
     finish_move(inputs, ctx, &idx, || {
-        Ok(PathGeometry::line(resolved.start, resolved.end, primary))
+        let path = PathGeometry::line(resolved.start, resolved.end, primary);
+        if path.length().is_finite() {
+            Ok(path)
+        } else {
+            // Coordinates so large that the distance overflows.
+            Err(crate::coord::out_of_range(idx.position))
+        }
     })
 }
 

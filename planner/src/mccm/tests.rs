@@ -632,3 +632,65 @@ fn random_arcs_stay_on_the_circle_and_within_limits() {
     }
     assert!(per_type.iter().all(|&n| n > 1000), "{per_type:?}");
 }
+
+/// Arbitrary operand values (NaN, infinities, huge and tiny numbers, codes
+/// out of range) never panic: each gives an error or a move whose path and
+/// profile are finite.
+#[test]
+fn arbitrary_operands_give_an_error_or_a_finite_move() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0xf422);
+    let specials = [
+        f64::NAN,
+        f64::INFINITY,
+        -f64::INFINITY,
+        0.0,
+        -0.0,
+        1e-300,
+        -1e-300,
+        1e300,
+        -1e300,
+    ];
+    let mut pick = |rng: &mut ChaCha8Rng| {
+        if rng.random_bool(0.2) {
+            specials[rng.random_range(0..specials.len())]
+        } else {
+            rng.random_range(-10.0..10.0)
+        }
+    };
+    let (mut ok, mut err) = (0, 0);
+    for _ in 0..20_000 {
+        let dim = rng.random_range(2..4);
+        let sys = system(dim);
+        let start: Vec<f64> = (0..dim).map(|_| rng.random_range(-10.0..10.0)).collect();
+        let mut i = inputs(
+            rng.random_range(-1..3),
+            &(0..dim).map(|_| pick(&mut rng)).collect::<Vec<_>>(),
+            rng.random_range(-1..5),
+            &(0..rng.random_range(0..4)).map(|_| pick(&mut rng)).collect::<Vec<_>>(),
+            rng.random_range(-1..5),
+        );
+        i.common.speed = pick(&mut rng).abs();
+        i.common.accel_rate = pick(&mut rng).abs();
+        i.common.decel_rate = pick(&mut rng).abs();
+        i.common.profile = rng.random_range(0..2);
+        i.common.accel_jerk = pick(&mut rng);
+        i.common.decel_jerk = pick(&mut rng);
+        i.common.speed_units = [0, 1, 4][rng.random_range(0..3)];
+        match build(&sys, &start, &i) {
+            Ok(m) => {
+                ok += 1;
+                let l = m.path().length();
+                assert!(l.is_finite(), "{i:?}");
+                let (mut p, mut d) = (vec![0.0; dim], vec![0.0; dim]);
+                for k in 0..=8 {
+                    m.path().point(l * f64::from(k) / 8.0, &mut p, &mut d);
+                    assert!(p.iter().chain(&d).all(|x| x.is_finite()), "{i:?}");
+                }
+                let profile = m.rest_profile();
+                assert!(profile.duration_s().is_finite() || m.limits().is_none(), "{i:?}");
+            }
+            Err(_) => err += 1,
+        }
+    }
+    assert!(ok > 100 && err > 100, "{ok} {err}");
+}

@@ -1067,3 +1067,67 @@ fn merge_speed_current_counts_single_axis_motion() {
     run_until(&mut task, 20_000, |t| t.motion_bits(m).pc);
     assert_eq!(positions(&task, &axes)[0], 20.0);
 }
+
+/// Random sequences of MCLM, MCCM and MCS with arbitrary operands (codes out
+/// of range, NaN, infinities, huge values), merges and queueing never panic
+/// and never put a non-finite command on an axis.
+#[test]
+fn random_instruction_sequences_keep_the_commands_finite() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5e9);
+    let specials = [f64::NAN, f64::INFINITY, 0.0, 1e-300, 1e300, -1e300];
+    let mut pick = |rng: &mut ChaCha8Rng, lo: f64, hi: f64| {
+        if rng.random_bool(0.1) {
+            specials[rng.random_range(0..specials.len())]
+        } else {
+            rng.random_range(lo..hi)
+        }
+    };
+    for _ in 0..150 {
+        let (mut task, cs, axes) = gantry(2, 1);
+        let tags: Vec<_> = (0..4).map(|i| task.add_instruction(format!("M{i}"))).collect();
+        for k in 0..400 {
+            if rng.random_bool(0.05) {
+                let common = CoordMoveInputs {
+                    move_type: rng.random_range(-1..3),
+                    position: (0..3).map(|_| pick(&mut rng, -20.0, 20.0)).collect(),
+                    speed: pick(&mut rng, 0.0, 50.0),
+                    accel_rate: pick(&mut rng, 1.0, 500.0),
+                    decel_rate: pick(&mut rng, 1.0, 500.0),
+                    profile: rng.random_range(0..2),
+                    termination_type: rng.random_range(-1..8),
+                    merge: rng.random_range(0..3),
+                    merge_speed: rng.random_range(0..2),
+                    command_tolerance: pick(&mut rng, 0.0, 5.0),
+                    event_distance: vec![pick(&mut rng, 0.0, 5.0)],
+                    ..Default::default()
+                };
+                let call = match rng.random_range(0..5) {
+                    0 => CoordCall::Mcs(McsInputs {
+                        stop_type: rng.random_range(0..3),
+                        change_decel: rng.random_range(0..2),
+                        decel_rate: pick(&mut rng, 1.0, 500.0),
+                        decel_units: rng.random_range(0..2),
+                        ..McsInputs::default()
+                    }),
+                    1 | 2 => CoordCall::Mclm(common),
+                    _ => CoordCall::Mccm(MccmInputs {
+                        common,
+                        circle_type: rng.random_range(0..4),
+                        via_center_radius: (0..2).map(|_| pick(&mut rng, -20.0, 20.0)).collect(),
+                        direction: rng.random_range(0..4),
+                    }),
+                };
+                let tag = tags[rng.random_range(0..tags.len())];
+                task.execute_coordinated(cs, tag, call);
+            }
+            task.update();
+            for a in &axes {
+                let s = task.axis_state(*a);
+                assert!(
+                    s.command_position.is_finite() && s.command_velocity.is_finite(),
+                    "update {k}: {s:?}"
+                );
+            }
+        }
+    }
+}
