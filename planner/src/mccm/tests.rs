@@ -650,7 +650,7 @@ fn arbitrary_operands_give_an_error_or_a_finite_move() {
         1e300,
         -1e300,
     ];
-    let mut pick = |rng: &mut ChaCha8Rng| {
+    let pick = |rng: &mut ChaCha8Rng| {
         if rng.random_bool(0.2) {
             specials[rng.random_range(0..specials.len())]
         } else {

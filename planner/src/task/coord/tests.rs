@@ -1075,7 +1075,7 @@ fn merge_speed_current_counts_single_axis_motion() {
 fn random_instruction_sequences_keep_the_commands_finite() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x5e9);
     let specials = [f64::NAN, f64::INFINITY, 0.0, 1e-300, 1e300, -1e300];
-    let mut pick = |rng: &mut ChaCha8Rng, lo: f64, hi: f64| {
+    let pick = |rng: &mut ChaCha8Rng, lo: f64, hi: f64| {
         if rng.random_bool(0.1) {
             specials[rng.random_range(0..specials.len())]
         } else {
