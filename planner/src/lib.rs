@@ -7,10 +7,12 @@
 //! * [`instruction`] — status shared by all instructions: the Logix
 //!   MOTION_INSTRUCTION bits and the PLCopen function-block outputs.
 //! * [`modulo`] — MC_MoveModulo.
+//! * [`mct`] — MCT coordinated transforms and robot geometries.
 //! * [`task`] — the coarse-update executor that owns axes and commands.
 
 pub mod axis;
 pub mod instruction;
+pub mod mct;
 pub mod modulo;
 pub mod profile;
 pub mod task;
