@@ -48,7 +48,7 @@
 pub mod articulated;
 pub mod cartesian;
 pub mod delta;
-// pub mod instruction;
+pub mod instruction;
 pub mod orientation;
 pub mod scara;
 
