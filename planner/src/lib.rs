@@ -7,12 +7,17 @@
 //! * [`instruction`] — status shared by all instructions: the Logix
 //!   MOTION_INSTRUCTION bits and the PLCopen function-block outputs.
 //! * [`modulo`] — MC_MoveModulo.
+//! * [`coord`] — coordinate systems, coordinated-move operands and status;
+//!   [`mclm`] linear and [`mccm`] circular coordinated moves; MCS in `coord`.
 //! * [`mct`] — MCT coordinated transforms and robot geometries.
 //! * [`task`] — the coarse-update executor that owns axes and commands.
 
 pub mod axis;
+pub mod coord;
 pub mod instruction;
 pub mod mct;
+pub mod mccm;
+pub mod mclm;
 pub mod modulo;
 pub mod profile;
 pub mod task;

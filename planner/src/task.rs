@@ -22,6 +22,9 @@ use crate::modulo::{McBufferMode, MoveModulo, MoveModuloError, MoveModuloInputs}
 use crate::profile::{Profile, Sample, State};
 use thiserror::Error;
 
+mod coord;
+pub use coord::{CoordCall, CoordHandle, CoordInstructionHandle, CoordSetupError};
+
 /// Handle of an axis in a [`MotionTask`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct AxisHandle(u32);
@@ -97,6 +100,8 @@ pub struct MotionTask {
     updates: u64,
     axes: Vec<AxisSlot>,
     fbs: Vec<FbSlot>,
+    /// Coordinate systems and coordinated instructions (`task/coord.rs`).
+    coord: coord::CoordState,
 }
 
 impl MotionTask {
@@ -113,6 +118,7 @@ impl MotionTask {
             updates: 0,
             axes: Vec::new(),
             fbs: Vec::new(),
+            coord: coord::CoordState::default(),
         })
     }
 
@@ -257,9 +263,11 @@ impl MotionTask {
         for i in 0..self.fbs.len() {
             self.evaluate_inputs(FbHandle(i as u32));
         }
+        self.evaluate_coord_instructions();
         for i in 0..self.axes.len() {
             self.advance_axis(AxisHandle(i as u32));
         }
+        self.advance_coordinate_systems();
     }
 
     fn evaluate_inputs(&mut self, fb: FbHandle) {
@@ -324,6 +332,7 @@ impl MotionTask {
     /// Starts `command` on `axis` now, `elapsed_s` into its profile (a blend
     /// hand-over inside an update), aborting whatever runs there.
     fn start(&mut self, axis: AxisHandle, fb: FbHandle, command: MoveModulo, elapsed_s: Option<f64>) {
+        self.release_axis_from_coordinated_motion(axis);
         let a = &mut self.axes[axis.0 as usize];
         // A blend hand-over replaces a command that has just finished (Done);
         // any other start aborts what runs or waits on the axis.

@@ -486,6 +486,23 @@ impl Profile {
         seg.at((t_s - seg.t0_s).min(seg.duration_s))
     }
 
+    /// Start time of the final deceleration: the trailing run of segments in
+    /// which the speed only falls (the "deceleration point" where Logix's
+    /// No Decel termination starts its blend). The duration for a profile
+    /// that ends without slowing down; 0 for an empty one.
+    pub fn deceleration_start_s(&self) -> f64 {
+        let mut t = self.duration_s;
+        for seg in self.segments.iter().rev() {
+            let end = seg.at(seg.duration_s);
+            if end.velocity.abs() < seg.start.velocity.abs() {
+                t = seg.t0_s;
+            } else {
+                break;
+            }
+        }
+        t
+    }
+
     /// Whether the profile is in a phase that raises the speed at `t_s`
     /// (the Logix `.ACCEL` bit), and one that lowers it (`.DECEL`).
     pub fn accel_decel_at(&self, t_s: f64) -> (bool, bool) {

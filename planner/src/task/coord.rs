@@ -1,0 +1,966 @@
+//! Coordinated motion in the executor: coordinate systems, MCLM / MCCM / MCS
+//! instructions with their `MOTION_INSTRUCTION` bits, the one-place queue,
+//! blending, merging, master-driven moves and the status bits.
+//!
+//! # How a system moves
+//! Every started move is a *component*: its path geometry and a 1-D
+//! [`Profile`] of the path length from rest to rest, advanced by time (or by
+//! master distance). The command position of the system's axes is
+//! `base + Σ (P_i(s_i) − P_i(0))` over the running components, where `base`
+//! is the start of the oldest one (it absorbs each finished component). One
+//! component is a plain move; two overlap during a blend or a merge: the
+//! first finishes its own deceleration while the second accelerates from
+//! the end point of the first, so the corner is rounded, the path speed
+//! never drops to zero at the junction, and each component still ends
+//! exactly at its programmed point.
+//!
+//! * **Termination types 2, 3, 6** with a pending move: the pending move
+//!   starts when the active one reaches its *blend point*: type 3 its
+//!   deceleration point; types 2 and 6 the point where the command distance
+//!   to go equals the command tolerance (the system's, or the operand's for
+//!   6) — deferred to the deceleration point when the tolerance is longer
+//!   than the deceleration distance (the spec allows a deferral "for time
+//!   matching"; starting earlier would overlap the cruise of the first move
+//!   with the acceleration of the second and exceed the programmed speed on
+//!   collinear moves). A tolerance of 0 blends at the end point, at rest.
+//!   The active move's `.PC` is set at the blend point (its `.AC` clears,
+//!   the new move's `.AC` sets); its `.IP` clears when it reaches its end.
+//! * **Types 0, 1, 4, 5**, or no pending move: the move runs to its end
+//!   point at rest; `.PC` and `.IP` when interpolation is complete, for
+//!   type 0 only once the actual position (primary axes) is within the
+//!   actual tolerance. A pending move starts then.
+//! * **Queue**: one pending move. A further MCLM/MCCM with Merge disabled is
+//!   *held* (its `.EN` stays set, nothing else) and is verified and queued
+//!   as soon as the place is free: the choice a Logix program expects, which
+//!   conditions its moves on `MovePendingQueueFullStatus`.
+//! * **Merge** coordinated motion / all motion: running components are
+//!   brought to rest along their paths with their own decelerations
+//!   (superimposed, like a blend), the pending move is cancelled, and the new
+//!   move starts at once from the point where the old motion comes to rest,
+//!   with its programmed speed or, for merge speed *current*, the vector
+//!   speed of the system at that instant (the programmed speed when the
+//!   system stands still). Superseded instructions lose `.IP` and `.AC`.
+//! * **Single-axis motion** (MC_MoveModulo) and coordinated motion never
+//!   superimpose here: a coordinated move that starts aborts the single-axis
+//!   commands on its axes (whatever the merge type; the spec's superimposed
+//!   motion for merge disabled is not modelled), and an MC_MoveModulo that
+//!   starts on an axis of a moving system brings that system to rest along
+//!   its path (its instructions lose `.IP`/`.AC`, the pending move is
+//!   cancelled) while the modulo command takes that axis.
+//! * **MCS** brings every component to rest along its path with the stop's
+//!   deceleration (a component already braking to its end closer than that
+//!   keeps its own profile), cancels the pending move and sets
+//!   `StoppingStatus`; its `.IP` clears and `.PC` sets when the system is
+//!   at rest. Stop type *all* also brings the single-axis commands on the
+//!   system's axes to rest (they report `CommandAborted`).
+//! * **Master driven** (speed units per master unit): the path advances by
+//!   the master axis' command position instead of time (see
+//!   [`LockDirection`] for when it follows). The master is linked with
+//!   [`MotionTask::set_coordinate_system_master`] (the MDCC of a Logix
+//!   program).
+//! * Axis command acceleration and jerk of coordinated axes are the finite
+//!   differences of the command velocity over the coarse update.
+
+use super::{AxisHandle, Finish, MotionTask};
+use crate::coord::{
+    CoordConfigError, CoordMove, CoordMoveError, CoordMoveInputs, CoordStatus, CoordinateSystem,
+    CoordinateSystemConfig, Driver, LockDirection, Mcs, McsInputs, Merge, MergeSpeed, MoveContext, TerminationType,
+    norm, primary_of, progress_at_length,
+};
+use crate::instruction::MotionInstructionBits;
+use crate::mccm::{MccmInputs, mccm};
+use crate::mclm::mclm;
+use crate::profile::{Limits, Profile, Sample, State, stopping_distance};
+use thiserror::Error;
+
+/// Handle of a coordinate system in a [`MotionTask`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct CoordHandle(u32);
+
+/// Handle of a coordinated instruction (MCLM, MCCM, MCS) in a [`MotionTask`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct CoordInstructionHandle(u32);
+
+/// A coordinated instruction call with its operands.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CoordCall {
+    /// MCLM.
+    Mclm(CoordMoveInputs),
+    /// MCCM.
+    Mccm(MccmInputs),
+    /// MCS.
+    Mcs(McsInputs),
+}
+
+/// Why a coordinate system cannot be added.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum CoordSetupError {
+    /// The configuration is invalid.
+    #[error(transparent)]
+    Config(#[from] CoordConfigError),
+    /// The number of axes given differs from the configuration's `axis_count`,
+    /// or an axis appears twice.
+    #[error("coordinate system {name}: {given} axes given for axis_count {expected}, each once")]
+    Axes {
+        /// System name.
+        name: String,
+        /// Axes given.
+        given: usize,
+        /// `axis_count`.
+        expected: usize,
+    },
+}
+
+#[derive(Debug, Clone, Default)]
+pub(super) struct CoordState {
+    systems: Vec<SystemSlot>,
+    instructions: Vec<InstrSlot>,
+}
+
+#[derive(Debug, Clone)]
+struct SystemSlot {
+    system: CoordinateSystem,
+    axes: Vec<AxisHandle>,
+    master: Option<AxisHandle>,
+    master_prev: Option<f64>,
+    status: CoordStatus,
+    base: Vec<f64>,
+    components: Vec<Component>,
+    pending: Option<(CoordInstructionHandle, CoordMove)>,
+    stop: Option<CoordInstructionHandle>,
+    queue_end: Vec<f64>,
+    velocity: Vec<f64>,
+    acceleration: Vec<f64>,
+}
+
+#[derive(Debug, Clone)]
+struct Component {
+    instr: Option<CoordInstructionHandle>,
+    mv: CoordMove,
+    profile: Profile,
+    progress: f64,
+    last_delta: f64,
+    blend_at: Option<f64>,
+    successor_started: bool,
+    stopping: bool,
+    lock: Lock,
+}
+
+impl Component {
+    fn done(&self) -> bool {
+        if self.progress < self.profile.duration_s() {
+            return false;
+        }
+        let l = self.mv.path().length();
+        self.stopping || self.profile.final_state().position >= l - 1e-12 * (1.0 + l)
+    }
+
+    fn s(&self) -> Sample {
+        let mut s = self.profile.sample(self.progress);
+        s.position = s.position.clamp(0.0, self.mv.path().length());
+        s
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Lock {
+    direction: LockDirection,
+    position: f64,
+    engaged: bool,
+    mark: f64,
+    locked: bool,
+}
+
+impl Lock {
+    fn new(direction: LockDirection, position: f64, master_now: f64) -> Self {
+        use LockDirection as L;
+        Self {
+            direction,
+            position,
+            engaged: matches!(direction, L::None | L::ImmediateForwardOnly | L::ImmediateReverseOnly),
+            mark: master_now,
+            locked: matches!(direction, L::ImmediateForwardOnly | L::ImmediateReverseOnly),
+        }
+    }
+
+    /// Path progress (master distance) gained while the master moves from
+    /// `prev` to `now`.
+    fn advance(&mut self, prev: f64, now: f64) -> f64 {
+        use LockDirection as L;
+        let forward = match self.direction {
+            L::None => return now - prev,
+            L::ImmediateForwardOnly | L::PositionForward => true,
+            L::ImmediateReverseOnly | L::PositionReverse => false,
+        };
+        let sign = if forward { 1.0 } else { -1.0 };
+        if !self.engaged {
+            let crossed = sign * (prev - self.position) < 0.0 && sign * (now - self.position) >= 0.0;
+            if !crossed {
+                return 0.0;
+            }
+            self.engaged = true;
+            self.mark = self.position;
+        }
+        let gain = sign * (now - self.mark);
+        if gain > 0.0 {
+            self.mark = now;
+            self.locked = true;
+            gain
+        } else {
+            if sign * (now - prev) < 0.0 {
+                self.locked = false;
+            }
+            0.0
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+struct InstrSlot {
+    name: String,
+    system: CoordHandle,
+    call: CoordCall,
+    rung: bool,
+    previous_rung: bool,
+    held: bool,
+    bits: MotionInstructionBits,
+    calculated_data: Vec<f64>,
+}
+
+impl MotionTask {
+    /// Adds a coordinate system over `axes` (primary axes first, as many as
+    /// `config.axis_count`).
+    ///
+    /// # Errors
+    /// [`CoordSetupError`] for an invalid configuration or axis list.
+    pub fn add_coordinate_system(
+        &mut self,
+        config: CoordinateSystemConfig,
+        axes: &[AxisHandle],
+    ) -> Result<CoordHandle, CoordSetupError> {
+        let mut unique = axes.to_vec();
+        unique.sort();
+        unique.dedup();
+        if axes.len() != config.axis_count || unique.len() != axes.len() {
+            return Err(CoordSetupError::Axes {
+                name: config.name.clone(),
+                given: axes.len(),
+                expected: config.axis_count,
+            });
+        }
+        let system = CoordinateSystem::new(config)?;
+        let here: Vec<f64> = axes.iter().map(|a| self.axes[a.0 as usize].command.position).collect();
+        let n = axes.len();
+        self.coord.systems.push(SystemSlot {
+            system,
+            axes: axes.to_vec(),
+            master: None,
+            master_prev: None,
+            status: CoordStatus::default(),
+            base: here.clone(),
+            components: Vec::new(),
+            pending: None,
+            stop: None,
+            queue_end: here,
+            velocity: vec![0.0; n],
+            acceleration: vec![0.0; n],
+        });
+        Ok(CoordHandle(self.coord.systems.len() as u32 - 1))
+    }
+
+    /// Links (or unlinks) the master axis whose command position drives the
+    /// system's master-driven moves (the role of MDCC).
+    pub fn set_coordinate_system_master(&mut self, system: CoordHandle, master: Option<AxisHandle>) {
+        let slot = &mut self.coord.systems[system.0 as usize];
+        slot.master = master;
+        slot.master_prev = master.map(|m| self.axes[m.0 as usize].command.position);
+    }
+
+    /// The status bits of a coordinate system after the last update.
+    pub fn coord_status(&self, system: CoordHandle) -> CoordStatus {
+        self.coord.systems[system.0 as usize].status
+    }
+
+    /// A coordinate system's configuration.
+    pub fn coord_config(&self, system: CoordHandle) -> &CoordinateSystemConfig {
+        self.coord.systems[system.0 as usize].system.config()
+    }
+
+    /// The axes of a coordinate system, primary first.
+    pub fn coord_axes(&self, system: CoordHandle) -> &[AxisHandle] {
+        &self.coord.systems[system.0 as usize].axes
+    }
+
+    /// Every coordinate system, in the order added.
+    pub fn coord_handles(&self) -> impl Iterator<Item = CoordHandle> + use<> {
+        (0..self.coord.systems.len() as u32).map(CoordHandle)
+    }
+
+    /// The arc or line currently leading the system's motion, if any (for
+    /// traces and tests): the move of the newest running component.
+    pub fn coord_active_move(&self, system: CoordHandle) -> Option<&CoordMove> {
+        self.coord.systems[system.0 as usize].components.last().map(|c| &c.mv)
+    }
+
+    /// The axis bit `CoordinatedMotionStatus`: a coordinated move drives the
+    /// axis.
+    pub fn coordinated_motion_status(&self, axis: AxisHandle) -> bool {
+        self.coord
+            .systems
+            .iter()
+            .any(|s| !s.components.is_empty() && s.axes.contains(&axis))
+    }
+
+    /// Adds a coordinated instruction (its `MOTION_INSTRUCTION` tag is
+    /// `name`) on `system`, with its rung false.
+    pub fn add_coord_instruction(
+        &mut self,
+        name: impl Into<String>,
+        system: CoordHandle,
+        call: CoordCall,
+    ) -> CoordInstructionHandle {
+        self.coord.instructions.push(InstrSlot {
+            name: name.into(),
+            system,
+            call,
+            rung: false,
+            previous_rung: false,
+            held: false,
+            bits: MotionInstructionBits::default(),
+            calculated_data: Vec::new(),
+        });
+        CoordInstructionHandle(self.coord.instructions.len() as u32 - 1)
+    }
+
+    /// Sets an instruction's rung condition and operands; evaluated at the
+    /// next update (a false → true transition executes it).
+    pub fn set_coord_instruction(&mut self, instr: CoordInstructionHandle, rung: bool, call: CoordCall) {
+        let slot = &mut self.coord.instructions[instr.0 as usize];
+        slot.rung = rung;
+        slot.call = call;
+    }
+
+    /// Sets only an instruction's rung condition.
+    pub fn set_coord_rung(&mut self, instr: CoordInstructionHandle, rung: bool) {
+        self.coord.instructions[instr.0 as usize].rung = rung;
+    }
+
+    /// An instruction's `MOTION_INSTRUCTION` bits after the last update.
+    pub fn coord_bits(&self, instr: CoordInstructionHandle) -> MotionInstructionBits {
+        self.coord.instructions[instr.0 as usize].bits
+    }
+
+    /// An instruction's Calculated Data (filled when it is verified).
+    pub fn coord_calculated_data(&self, instr: CoordInstructionHandle) -> &[f64] {
+        &self.coord.instructions[instr.0 as usize].calculated_data
+    }
+
+    /// An instruction's tag name.
+    pub fn coord_instruction_name(&self, instr: CoordInstructionHandle) -> &str {
+        &self.coord.instructions[instr.0 as usize].name
+    }
+
+    /// Every coordinated instruction, in the order added.
+    pub fn coord_instruction_handles(&self) -> impl Iterator<Item = CoordInstructionHandle> + use<> {
+        (0..self.coord.instructions.len() as u32).map(CoordInstructionHandle)
+    }
+
+    /// Step 1b of an update: rung transitions of the coordinated
+    /// instructions (held ones retry first).
+    pub(super) fn evaluate_coord_instructions(&mut self) {
+        for i in 0..self.coord.instructions.len() {
+            let h = CoordInstructionHandle(i as u32);
+            if self.coord.instructions[i].held {
+                self.execute_coord(h);
+            }
+        }
+        for i in 0..self.coord.instructions.len() {
+            let h = CoordInstructionHandle(i as u32);
+            let slot = &mut self.coord.instructions[i];
+            let rising = slot.rung && !slot.previous_rung;
+            slot.previous_rung = slot.rung;
+            if !slot.rung && (slot.bits.dn || slot.bits.er) {
+                slot.bits.en = false;
+            }
+            if rising {
+                slot.bits = MotionInstructionBits {
+                    en: true,
+                    ip: slot.bits.ip,
+                    ac: slot.bits.ac,
+                    accel: slot.bits.accel,
+                    decel: slot.bits.decel,
+                    ..MotionInstructionBits::default()
+                };
+                self.execute_coord(h);
+            }
+        }
+    }
+
+    fn execute_coord(&mut self, h: CoordInstructionHandle) {
+        let slot = &self.coord.instructions[h.0 as usize];
+        let cs = slot.system;
+        match slot.call.clone() {
+            CoordCall::Mcs(inputs) => {
+                self.coord.instructions[h.0 as usize].held = false;
+                self.execute_mcs(h, cs, &inputs);
+            }
+            CoordCall::Mclm(inputs) => self.execute_move(h, cs, inputs.merge, |ctx| mclm(&inputs, ctx)),
+            CoordCall::Mccm(inputs) => {
+                let merge = inputs.common.merge;
+                self.execute_move(h, cs, merge, |ctx| mccm(&inputs, ctx));
+            }
+        }
+    }
+
+    fn execute_move(
+        &mut self,
+        h: CoordInstructionHandle,
+        cs: CoordHandle,
+        merge_code: i64,
+        verify: impl FnOnce(&MoveContext<'_>) -> Result<CoordMove, CoordMoveError>,
+    ) {
+        let sys = &self.coord.systems[cs.0 as usize];
+        let busy = !sys.components.is_empty() || sys.pending.is_some();
+        let merging = busy && (merge_code == 1 || merge_code == 2);
+        if busy && !merging && sys.pending.is_some() {
+            self.coord.instructions[h.0 as usize].held = true;
+            return;
+        }
+        self.coord.instructions[h.0 as usize].held = false;
+        let start = if merging {
+            self.rest_point(cs)
+        } else if busy {
+            sys.queue_end.clone()
+        } else {
+            self.axis_positions(cs)
+        };
+        let decels: Vec<f64> = sys
+            .axes
+            .iter()
+            .map(|a| self.axes[a.0 as usize].config.max_deceleration)
+            .collect();
+        let ctx = MoveContext {
+            system: &sys.system,
+            axis_max_decel: &decels,
+            start: &start,
+            has_master: sys.master.is_some(),
+        };
+        let result = verify(&ctx);
+        let slot = &mut self.coord.instructions[h.0 as usize];
+        let mv = match result {
+            Ok(mv) => mv,
+            Err(e) => {
+                slot.bits.er = true;
+                slot.bits.err = e.err();
+                slot.bits.exerr = e.exerr();
+                return;
+            }
+        };
+        slot.bits.dn = true;
+        slot.calculated_data = mv.calculated_data().to_vec();
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        sys.status.stopping = false;
+        if merging {
+            self.bring_to_rest(cs, None);
+            let speed = self.vector_speed(cs);
+            let mv = if mv.merge_speed() == MergeSpeed::Current && speed > 0.0 {
+                mv.with_speed(speed)
+            } else {
+                mv
+            };
+            if mv.merge() == Merge::AllMotion {
+                self.abort_single_axis_motion(cs);
+            }
+            self.start_component(cs, h, mv, 0.0);
+        } else if busy {
+            sys.queue_end = mv.path().end().to_vec();
+            sys.pending = Some((h, mv));
+            self.coord.instructions[h.0 as usize].bits.ip = true;
+        } else {
+            self.start_component(cs, h, mv, 0.0);
+        }
+        self.refresh_queue_status(cs);
+    }
+
+    fn execute_mcs(&mut self, h: CoordInstructionHandle, cs: CoordHandle, inputs: &McsInputs) {
+        let sys = &self.coord.systems[cs.0 as usize];
+        let stop = match Mcs::new(inputs, &sys.system) {
+            Ok(s) => s,
+            Err(e) => {
+                let b = &mut self.coord.instructions[h.0 as usize].bits;
+                b.er = true;
+                b.err = e.err();
+                b.exerr = e.exerr();
+                return;
+            }
+        };
+        self.coord.instructions[h.0 as usize].bits.dn = true;
+        if stop.stop_all {
+            self.stop_single_axis_motion(cs);
+        }
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        if sys.components.is_empty() && sys.pending.is_none() {
+            self.coord.instructions[h.0 as usize].bits.pc = true;
+            return;
+        }
+        let limits = match stop.decel_jerk {
+            Some(j) => Limits::s_curve(f64::MAX / 4.0, stop.decel, stop.decel, j, j),
+            None => Limits::trapezoidal(f64::MAX / 4.0, stop.decel, stop.decel),
+        }
+        .ok();
+        self.bring_to_rest(cs, limits);
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        sys.status.stopping = true;
+        sys.status.move_ = false;
+        sys.status.move_transition = false;
+        sys.stop = Some(h);
+        self.coord.instructions[h.0 as usize].bits.ip = true;
+        self.refresh_queue_status(cs);
+    }
+
+    /// Where the system's axes stand now (the command positions).
+    fn axis_positions(&self, cs: CoordHandle) -> Vec<f64> {
+        self.coord.systems[cs.0 as usize]
+            .axes
+            .iter()
+            .map(|a| self.axes[a.0 as usize].command.position)
+            .collect()
+    }
+
+    /// The primary-axis vector speed of the system now.
+    fn vector_speed(&self, cs: CoordHandle) -> f64 {
+        let sys = &self.coord.systems[cs.0 as usize];
+        norm(primary_of(&sys.velocity, sys.system.config().primary_axes))
+    }
+
+    /// Where the running motion comes to rest if every component brakes now
+    /// with its own deceleration.
+    fn rest_point(&self, cs: CoordHandle) -> Vec<f64> {
+        let sys = &self.coord.systems[cs.0 as usize];
+        let mut at = sys.base.clone();
+        for c in &sys.components {
+            let s_rest = rest_length(c, None);
+            add_displacement(&mut at, c, s_rest);
+        }
+        at
+    }
+
+    /// Replaces every component's profile by one that brings it to rest
+    /// along its path (with `limits`, or the move's own), cancels the pending
+    /// move, and clears the instructions' `.IP`/`.AC`.
+    fn bring_to_rest(&mut self, cs: CoordHandle, limits: Option<Limits>) {
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        let mut cleared = Vec::new();
+        for c in &mut sys.components {
+            let now = c.s();
+            let length = c.mv.path().length();
+            let own = c.mv.limits().copied();
+            let lim = match (limits, own) {
+                (Some(l), Some(o)) => with_velocity(&l, o.velocity().max(now.velocity.abs())),
+                (None, Some(o)) => Some(o),
+                (_, None) => None,
+            };
+            if let Some(lim) = lim {
+                let state = now.state();
+                if state.position + stopping_distance(state, &lim) < length {
+                    c.profile = Profile::to_velocity(state, 0.0, &lim);
+                    c.progress = 0.0;
+                }
+            } else {
+                c.profile = Profile::hold(State::at_rest(now.position));
+                c.progress = 0.0;
+            }
+            c.stopping = true;
+            c.blend_at = None;
+            cleared.extend(c.instr.take());
+        }
+        if let Some((h, _)) = sys.pending.take() {
+            cleared.push(h);
+        }
+        for h in cleared {
+            let b = &mut self.coord.instructions[h.0 as usize].bits;
+            b.ip = false;
+            b.ac = false;
+            b.accel = false;
+            b.decel = false;
+        }
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        sys.queue_end = {
+            let mut at = sys.base.clone();
+            for c in &sys.components {
+                add_displacement(&mut at, c, rest_length(c, None));
+            }
+            at
+        };
+    }
+
+    fn start_component(&mut self, cs: CoordHandle, h: CoordInstructionHandle, mv: CoordMove, leftover: f64) {
+        self.abort_single_axis_motion(cs);
+        let master_now = {
+            let sys = &self.coord.systems[cs.0 as usize];
+            sys.master
+                .map(|m| self.axes[m.0 as usize].command.position)
+                .unwrap_or(0.0)
+        };
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        if sys.components.is_empty() {
+            sys.base = mv.path().start().to_vec();
+        }
+        let profile = mv.rest_profile();
+        let blend_at = if mv.termination().blends() && mv.limits().is_some() {
+            let decel_point = profile.deceleration_start_s();
+            Some(match mv.termination() {
+                TerminationType::NoDecel => decel_point,
+                _ => progress_at_length(&profile, mv.path().length() - mv.command_tolerance()).max(decel_point),
+            })
+        } else {
+            None
+        };
+        let (direction, position) = mv.lock();
+        let lock = Lock::new(direction, position, master_now);
+        sys.queue_end = mv.path().end().to_vec();
+        sys.status.motion = true;
+        sys.status.move_ = true;
+        sys.status.stopping = false;
+        sys.status.actual_pos_tolerance = false;
+        sys.status.command_pos_tolerance = false;
+        sys.status.coord_motion_lock = mv.driver() == Driver::Master && lock.locked;
+        let progress = if mv.driver() == Driver::Time { leftover } else { 0.0 };
+        sys.components.push(Component {
+            instr: Some(h),
+            mv,
+            profile,
+            progress,
+            last_delta: progress,
+            blend_at,
+            successor_started: false,
+            stopping: false,
+            lock,
+        });
+        let b = &mut self.coord.instructions[h.0 as usize].bits;
+        b.ip = true;
+        b.ac = true;
+    }
+
+    /// Aborts the MC_MoveModulo commands (running and buffered) on the
+    /// system's axes: a coordinated move takes them.
+    fn abort_single_axis_motion(&mut self, cs: CoordHandle) {
+        let axes = self.coord.systems[cs.0 as usize].axes.clone();
+        for axis in axes {
+            let a = &mut self.axes[axis.0 as usize];
+            let job = a.job.take().and_then(|j| j.fb);
+            let buffered = a.buffered.take().map(|(fb, _)| fb);
+            for fb in job.into_iter().chain(buffered) {
+                self.finish(fb, Finish::Aborted);
+            }
+        }
+    }
+
+    /// MCS stop type all: single-axis commands on the system's axes brake to
+    /// rest with their own deceleration and report `CommandAborted`.
+    fn stop_single_axis_motion(&mut self, cs: CoordHandle) {
+        let axes = self.coord.systems[cs.0 as usize].axes.clone();
+        for axis in axes {
+            let a = &mut self.axes[axis.0 as usize];
+            let buffered = a.buffered.take().map(|(fb, _)| fb);
+            let mut aborted: Vec<_> = buffered.into_iter().collect();
+            if let Some(job) = a.job.as_mut()
+                && !job.generation_done
+            {
+                let state = job.profile.sample(job.t_s).state();
+                job.profile = Profile::to_velocity(state, 0.0, job.command.limits());
+                job.t_s = 0.0;
+                job.target = job.profile.final_state().position;
+                aborted.extend(job.fb.take());
+            }
+            for fb in aborted {
+                self.finish(fb, Finish::Aborted);
+            }
+        }
+    }
+
+    /// Hook for single-axis starts: an MC_MoveModulo that starts on `axis`
+    /// brings the coordinated motion of the axis' systems to rest.
+    pub(super) fn release_axis_from_coordinated_motion(&mut self, axis: AxisHandle) {
+        for i in 0..self.coord.systems.len() {
+            let sys = &self.coord.systems[i];
+            if sys.axes.contains(&axis) && (!sys.components.is_empty() || sys.pending.is_some()) {
+                self.bring_to_rest(CoordHandle(i as u32), None);
+                let st = &mut self.coord.systems[i].status;
+                st.move_ = false;
+                st.move_transition = false;
+                self.refresh_queue_status(CoordHandle(i as u32));
+            }
+        }
+    }
+
+    fn refresh_queue_status(&mut self, cs: CoordHandle) {
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        sys.status.move_pending = sys.pending.is_some();
+        sys.status.move_pending_queue_full = sys.pending.is_some();
+    }
+
+    /// Step 2b of an update: advances every coordinate system by one coarse
+    /// update and writes its axes' command positions.
+    pub(super) fn advance_coordinate_systems(&mut self) {
+        for i in 0..self.coord.systems.len() {
+            self.advance_system(CoordHandle(i as u32));
+        }
+    }
+
+    fn advance_system(&mut self, cs: CoordHandle) {
+        let dt = self.dt_s;
+        let master_now = {
+            let sys = &self.coord.systems[cs.0 as usize];
+            sys.master.map(|m| self.axes[m.0 as usize].command.position)
+        };
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        let master_prev = sys.master_prev.or(master_now).unwrap_or(0.0);
+        sys.master_prev = master_now;
+        for c in &mut sys.components {
+            let delta = match c.mv.driver() {
+                Driver::Time => dt,
+                Driver::Master => c.lock.advance(master_prev, master_now.unwrap_or(master_prev)),
+            };
+            let before = c.progress;
+            c.progress = (c.progress + delta).max(0.0);
+            c.last_delta = c.progress - before;
+        }
+        // Blends: the newest component hands over at its blend point.
+        loop {
+            let sys = &mut self.coord.systems[cs.0 as usize];
+            let Some(lead) = sys.components.last_mut() else { break };
+            let Some(at) = lead.blend_at else { break };
+            if lead.successor_started || sys.pending.is_none() || lead.progress < at {
+                break;
+            }
+            let leftover = (lead.progress - at).min(lead.last_delta.max(0.0));
+            lead.successor_started = true;
+            let finished = lead.instr;
+            let (next, mv) = sys.pending.take().expect("checked above");
+            sys.status.command_pos_tolerance = false;
+            if let Some(h) = finished {
+                let b = &mut self.coord.instructions[h.0 as usize].bits;
+                b.pc = true;
+                b.ac = false;
+                b.accel = false;
+                b.decel = false;
+            }
+            self.start_component(cs, next, mv, leftover);
+            self.refresh_queue_status(cs);
+        }
+        self.write_axes(cs);
+        self.complete_components(cs);
+    }
+
+    fn write_axes(&mut self, cs: CoordHandle) {
+        let dt = self.dt_s;
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        if sys.components.is_empty() {
+            sys.velocity.iter_mut().for_each(|v| *v = 0.0);
+            sys.acceleration.iter_mut().for_each(|v| *v = 0.0);
+            return;
+        }
+        let n = sys.axes.len();
+        let mut position = sys.base.clone();
+        let mut velocity = vec![0.0; n];
+        let (mut p, mut d) = (vec![0.0; n], vec![0.0; n]);
+        for c in &sys.components {
+            let s = c.s();
+            let speed = match c.mv.driver() {
+                Driver::Time => s.velocity,
+                Driver::Master => s.velocity * c.last_delta / dt,
+            };
+            c.mv.path().point(s.position, &mut p, &mut d);
+            let start = c.mv.path().start();
+            for i in 0..n {
+                position[i] += p[i] - start[i];
+                velocity[i] += d[i] * speed;
+            }
+        }
+        let mut acceleration = vec![0.0; n];
+        let mut jerk = vec![0.0; n];
+        for i in 0..n {
+            acceleration[i] = (velocity[i] - sys.velocity[i]) / dt;
+            jerk[i] = (acceleration[i] - sys.acceleration[i]) / dt;
+        }
+        sys.velocity = velocity.clone();
+        sys.acceleration = acceleration.clone();
+        let axes = sys.axes.clone();
+        for (i, axis) in axes.into_iter().enumerate() {
+            let a = &mut self.axes[axis.0 as usize];
+            if a.job.is_some() {
+                continue;
+            }
+            a.command = Sample {
+                position: position[i],
+                velocity: velocity[i],
+                acceleration: acceleration[i],
+                jerk: jerk[i],
+            };
+            if !a.fed {
+                a.actual = position[i];
+            }
+            if velocity[i] != 0.0 {
+                a.last_direction = velocity[i].signum();
+            }
+        }
+    }
+
+    fn complete_components(&mut self, cs: CoordHandle) {
+        let actual = {
+            let sys = &self.coord.systems[cs.0 as usize];
+            sys.axes
+                .iter()
+                .map(|a| self.axes[a.0 as usize].actual)
+                .collect::<Vec<_>>()
+        };
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        let primary = sys.system.config().primary_axes;
+        let actual_tolerance = sys.system.config().actual_tolerance;
+        let mut finished_ip = Vec::new();
+        let mut finished_pc = Vec::new();
+        // Older components end when their own profile ends.
+        let mut i = 0;
+        while i + 1 < sys.components.len() {
+            if sys.components[i].done() {
+                let c = sys.components.remove(i);
+                let s = c.s().position;
+                add_displacement(&mut sys.base, &c, s);
+                finished_ip.extend(c.instr);
+            } else {
+                i += 1;
+            }
+        }
+        let mut start_pending = false;
+        if let Some(lead) = sys.components.last()
+            && lead.done()
+        {
+            let satisfied = lead.stopping
+                || lead.mv.termination() != TerminationType::ActualTolerance
+                || norm(crate::coord::sub(
+                    primary_of(&actual, primary),
+                    primary_of(lead.mv.path().end(), primary),
+                )) <= actual_tolerance;
+            if satisfied {
+                if lead.mv.termination() == TerminationType::ActualTolerance && !lead.stopping {
+                    sys.status.actual_pos_tolerance = true;
+                }
+                let c = sys.components.pop().expect("lead exists");
+                let s = c.s().position;
+                add_displacement(&mut sys.base, &c, s);
+                if let Some(h) = c.instr {
+                    finished_pc.push(h);
+                }
+                start_pending = sys.pending.is_some();
+            }
+        }
+        // Status of what is still running.
+        let lead = sys.components.last();
+        let blending = sys.components.len() > 1;
+        let (accel, decel) = lead.map_or((false, false), |c| c.profile.accel_decel_at(c.progress));
+        sys.status.accel = !blending && accel;
+        sys.status.decel = !blending && decel;
+        if let Some(c) = lead
+            && !c.stopping
+            && c.mv.path().length() - c.s().position < c.mv.command_tolerance()
+        {
+            sys.status.command_pos_tolerance = true;
+        }
+        sys.status.move_transition = blending && !collinear_junction(&sys.components);
+        sys.status.coord_motion_lock = lead.is_some_and(|c| c.mv.driver() == Driver::Master && c.lock.locked);
+        let component_bits: Vec<(CoordInstructionHandle, bool, bool)> = sys
+            .components
+            .iter()
+            .enumerate()
+            .filter_map(|(k, c)| {
+                let (a, d) = c.profile.accel_decel_at(c.progress);
+                let is_lead = k + 1 == sys.components.len();
+                c.instr.map(|h| (h, is_lead && a, is_lead && d))
+            })
+            .collect();
+        let idle = sys.components.is_empty();
+        if idle && !start_pending {
+            sys.status.motion = false;
+            sys.status.move_ = false;
+            sys.status.move_transition = false;
+            sys.status.coord_motion_lock = false;
+        }
+        let stop = if idle { sys.stop.take() } else { None };
+        if stop.is_some() {
+            sys.status.stopping = false;
+        }
+        for (h, a, d) in component_bits {
+            let b = &mut self.coord.instructions[h.0 as usize].bits;
+            b.accel = a && b.ac;
+            b.decel = d && b.ac;
+        }
+        for h in finished_ip {
+            let b = &mut self.coord.instructions[h.0 as usize].bits;
+            b.ip = false;
+            b.accel = false;
+            b.decel = false;
+        }
+        for h in finished_pc.into_iter().chain(stop) {
+            let b = &mut self.coord.instructions[h.0 as usize].bits;
+            b.pc = true;
+            b.ip = false;
+            b.ac = false;
+            b.accel = false;
+            b.decel = false;
+        }
+        if start_pending {
+            let sys = &mut self.coord.systems[cs.0 as usize];
+            let (h, mv) = sys.pending.take().expect("checked above");
+            self.start_component(cs, h, mv, 0.0);
+            self.refresh_queue_status(cs);
+        }
+    }
+}
+
+/// Where component `c` comes to rest along its path when it brakes now.
+fn rest_length(c: &Component, limits: Option<Limits>) -> f64 {
+    let now = c.s();
+    let length = c.mv.path().length();
+    if c.stopping {
+        return c.profile.final_state().position.clamp(0.0, length);
+    }
+    match limits.or(c.mv.limits().copied()) {
+        Some(l) => (now.position + stopping_distance(now.state(), &l)).clamp(0.0, length),
+        None => now.position,
+    }
+}
+
+fn add_displacement(at: &mut [f64], c: &Component, s: f64) {
+    let n = at.len();
+    let (mut p, mut d) = (vec![0.0; n], vec![0.0; n]);
+    c.mv.path().point(s, &mut p, &mut d);
+    for i in 0..n {
+        at[i] += p[i] - c.mv.path().start()[i];
+    }
+}
+
+fn with_velocity(l: &Limits, velocity: f64) -> Option<Limits> {
+    match l.shape() {
+        crate::profile::Shape::Trapezoidal => Limits::trapezoidal(velocity, l.acceleration(), l.deceleration()).ok(),
+        crate::profile::Shape::SCurve { accel_jerk, decel_jerk } => {
+            Limits::s_curve(velocity, l.acceleration(), l.deceleration(), accel_jerk, decel_jerk).ok()
+        }
+    }
+}
+
+/// Whether the newest two components meet on one straight line (the
+/// machine stays on the path; `MoveTransitionStatus` is not set).
+fn collinear_junction(components: &[Component]) -> bool {
+    let [.., a, b] = components else { return true };
+    let ta = a.mv.path().tangent(a.mv.path().length());
+    let tb = b.mv.path().tangent(0.0);
+    a.mv.path().arc().is_none()
+        && b.mv.path().arc().is_none()
+        && norm(crate::coord::cross(ta, tb)) < 1e-9
+        && crate::coord::dot(ta, tb) > 0.0
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,711 @@
+//! Coordinated motion through the task: instruction bits, status bits,
+//! blending per termination type, the queue, merge, MCS, master-driven
+//! moves, single-axis interplay and seeded random arcs end to end.
+
+use super::*;
+use crate::axis::{AxisConfig, AxisKind};
+use crate::coord::{CoordMoveInputs, CoordinateSystemConfig, McsInputs};
+use crate::mccm::MccmInputs;
+use crate::modulo::{McBufferMode, McDirection, MoveModuloInputs};
+use crate::task::FbHandle;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+const DT: f64 = 0.004;
+
+fn gantry(primary: usize, extra: usize) -> (MotionTask, CoordHandle, Vec<AxisHandle>) {
+    let mut task = MotionTask::new(DT).unwrap();
+    let names = ["X", "Y", "Z", "A", "B"];
+    let axes: Vec<AxisHandle> = (0..primary + extra)
+        .map(|i| task.add_axis(AxisConfig::new(names[i], AxisKind::Linear), 0.0).unwrap())
+        .collect();
+    let cs = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: primary + extra,
+                primary_axes: primary,
+                max_speed: 100.0,
+                max_accel: 1000.0,
+                max_decel: 1000.0,
+                command_tolerance: 0.5,
+                actual_tolerance: 0.01,
+                ..CoordinateSystemConfig::new("CS")
+            },
+            &axes,
+        )
+        .unwrap();
+    (task, cs, axes)
+}
+
+fn line(position: &[f64], termination_type: i64) -> CoordMoveInputs {
+    CoordMoveInputs {
+        position: position.to_vec(),
+        speed: 10.0,
+        accel_rate: 50.0,
+        decel_rate: 50.0,
+        termination_type,
+        ..Default::default()
+    }
+}
+
+fn fire(task: &mut MotionTask, h: CoordInstructionHandle, call: CoordCall) {
+    task.set_coord_instruction(h, true, call);
+}
+
+fn positions(task: &MotionTask, axes: &[AxisHandle]) -> Vec<f64> {
+    axes.iter().map(|a| task.axis_state(*a).command_position).collect()
+}
+
+fn speed(task: &MotionTask, axes: &[AxisHandle], primary: usize) -> f64 {
+    axes[..primary]
+        .iter()
+        .map(|a| task.axis_state(*a).command_velocity.powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+fn run_until(task: &mut MotionTask, max: usize, mut done: impl FnMut(&MotionTask) -> bool) -> usize {
+    for k in 0..max {
+        task.update();
+        if done(task) {
+            return k + 1;
+        }
+    }
+    panic!("not done after {max} updates");
+}
+
+#[test]
+fn a_full_circle_sets_and_clears_every_bit_in_order() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let call = CoordCall::Mccm(MccmInputs {
+        common: line(&[0.0, 0.0], 1),
+        circle_type: 3,
+        via_center_radius: vec![0.0, 2.0],
+        direction: 1,
+    });
+    let mc = task.add_coord_instruction("MC1", cs, call.clone());
+    fire(&mut task, mc, call);
+    task.update();
+    let b = task.coord_bits(mc);
+    assert!(b.en && b.dn && b.ip && b.ac && !b.pc && !b.er && b.accel && !b.decel);
+    let st = task.coord_status(cs);
+    assert!(st.motion && st.move_ && st.accel && !st.decel && !st.move_pending);
+    assert!(axes.iter().all(|a| task.coordinated_motion_status(*a)));
+    let (mut saw_decel, mut saw_cruise) = (false, false);
+    let mut max_radius_error: f64 = 0.0;
+    let n = run_until(&mut task, 10_000, |t| {
+        let b = t.coord_bits(mc);
+        saw_decel |= b.decel && t.coord_status(cs).decel;
+        saw_cruise |= b.ip && !b.accel && !b.decel;
+        b.pc
+    });
+    assert!(saw_decel && saw_cruise && n > 100);
+    let b = task.coord_bits(mc);
+    assert!(b.pc && !b.ip && !b.ac && !b.accel && !b.decel && b.dn && b.en);
+    let st = task.coord_status(cs);
+    assert!(!st.motion && !st.move_ && !st.accel && !st.decel && st.command_pos_tolerance);
+    assert!(!task.coordinated_motion_status(axes[0]));
+    assert_eq!(
+        positions(&task, &axes),
+        vec![0.0, 0.0],
+        "a full circle ends at its start"
+    );
+    // Rung false clears .EN (DN is set).
+    task.set_coord_rung(mc, false);
+    task.update();
+    assert!(!task.coord_bits(mc).en && task.coord_bits(mc).pc);
+    // Every update of a second circle stays on it.
+    let mut task2 = gantry(2, 0).0;
+    let mc2 = task2.add_coord_instruction("MC2", cs, CoordCall::Mcs(McsInputs::default()));
+    let circle = CoordCall::Mccm(MccmInputs {
+        common: line(&[0.0, 0.0], 1),
+        circle_type: 3,
+        via_center_radius: vec![0.0, 2.0],
+        direction: 2,
+    });
+    fire(&mut task2, mc2, circle);
+    run_until(&mut task2, 10_000, |t| {
+        let p = positions(t, &axes);
+        max_radius_error = max_radius_error.max(((p[0]).hypot(p[1] - 2.0) - 2.0).abs());
+        t.coord_bits(mc2).pc
+    });
+    assert!(max_radius_error < 1e-9, "{max_radius_error}");
+}
+
+/// Runs line (0,0)→(10,0) with `tt`, then (10,0)→(10,10) queued behind it.
+/// Returns the path speeds per update, the distance to go and the speed of
+/// the first move at its blend point (if it blended), and the final position.
+fn two_lines(tt: i64, command_tolerance: f64) -> (Vec<f64>, Option<(f64, f64)>, Vec<f64>) {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let mut first_inputs = line(&[10.0, 0.0], tt);
+    first_inputs.command_tolerance = command_tolerance;
+    let first = CoordCall::Mclm(first_inputs);
+    let second = CoordCall::Mclm(line(&[10.0, 10.0], 1));
+    let a = task.add_coord_instruction("A", cs, first.clone());
+    let b = task.add_coord_instruction("B", cs, second.clone());
+    fire(&mut task, a, first);
+    fire(&mut task, b, second);
+    task.update();
+    assert!(task.coord_status(cs).move_pending && task.coord_status(cs).move_pending_queue_full);
+    assert!(task.coord_bits(b).dn && task.coord_bits(b).ip && !task.coord_bits(b).ac);
+    let mut speeds = vec![speed(&task, &axes, 2)];
+    let mut blend_to_go = None;
+    let mut saw_transition = false;
+    run_until(&mut task, 20_000, |t| {
+        speeds.push(speed(t, &axes, 2));
+        let sys = &t.coord.systems[cs.0 as usize];
+        if sys.components.len() == 2 && blend_to_go.is_none() {
+            let c = &sys.components[0];
+            let at = c.blend_at.unwrap();
+            let there = c.profile.sample(at);
+            blend_to_go = Some((c.mv.path().length() - there.position, there.velocity));
+            // The first move's .PC at the blend point, its .IP until it ends.
+            let ba = t.coord_bits(a);
+            assert!(ba.pc && ba.ip && !ba.ac);
+            assert!(t.coord_bits(b).ac && !t.coord_status(cs).move_pending);
+        }
+        saw_transition |= t.coord_status(cs).move_transition;
+        t.coord_bits(b).pc
+    });
+    assert!(task.coord_bits(a).pc && !task.coord_bits(a).ip);
+    assert_eq!(
+        saw_transition,
+        blend_to_go.is_some(),
+        "MoveTransitionStatus while blending a corner"
+    );
+    (speeds, blend_to_go, positions(&task, &axes))
+}
+
+fn stops_between(speeds: &[f64]) -> bool {
+    let first = speeds.iter().position(|v| *v > 1e-9).unwrap();
+    let last = speeds.iter().rposition(|v| *v > 1e-9).unwrap();
+    speeds[first..=last].iter().any(|v| *v <= 1e-9)
+}
+
+#[test]
+fn termination_0_and_1_stop_at_the_junction() {
+    for tt in [0, 1, 4, 5] {
+        let (speeds, blend, end) = two_lines(tt, 0.0);
+        assert!(blend.is_none());
+        assert!(stops_between(&speeds), "tt {tt}");
+        assert_eq!(end, vec![10.0, 10.0]);
+    }
+}
+
+#[test]
+fn termination_3_blends_from_the_deceleration_point() {
+    let (speeds, blend, end) = two_lines(3, 0.0);
+    // Decel distance at 10 units/s and 50 units/s²: v²/2d = 1.
+    assert!((blend.unwrap().0 - 1.0).abs() < 1e-9, "{blend:?}");
+    assert!(!stops_between(&speeds));
+    assert_eq!(end, vec![10.0, 10.0]);
+    // Never faster than programmed: the corner's speed is the vector sum.
+    assert!(speeds.iter().all(|v| *v <= 10.0 * (1.0 + 1e-9)));
+}
+
+#[test]
+fn termination_2_blends_at_the_systems_command_tolerance() {
+    // System tolerance 0.5 < decel distance 1: the blend starts 0.5 before the end.
+    let (speeds, blend, end) = two_lines(2, 7.0);
+    assert!((blend.unwrap().0 - 0.5).abs() < 1e-9, "{blend:?}");
+    assert!(!stops_between(&speeds));
+    assert_eq!(end, vec![10.0, 10.0]);
+}
+
+#[test]
+fn termination_6_blends_at_the_operands_command_tolerance() {
+    let (speeds, blend, _) = two_lines(6, 0.25);
+    assert!((blend.unwrap().0 - 0.25).abs() < 1e-9, "{blend:?}");
+    assert!(blend.unwrap().1 > 0.0);
+    assert!(!stops_between(&speeds));
+    // A tolerance longer than the deceleration distance defers to the decel point.
+    let (_, blend, _) = two_lines(6, 3.0);
+    assert!((blend.unwrap().0 - 1.0).abs() < 1e-9, "{blend:?}");
+    // Zero tolerance blends at the end point, where the first move is at rest.
+    let (mut task, cs, _) = gantry(2, 0);
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        command_tolerance: 0.0,
+        ..line(&[10.0, 0.0], 6)
+    });
+    let h = task.add_coord_instruction("A", cs, call.clone());
+    fire(&mut task, h, call);
+    task.update();
+    let c = &task.coord.systems[cs.0 as usize].components[0];
+    assert_eq!(c.blend_at, Some(c.profile.duration_s()));
+    assert_eq!(c.profile.sample(c.profile.duration_s()).velocity, 0.0);
+}
+
+#[test]
+fn line_arc_line_blends_with_termination_2_and_ends_exactly() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let calls = [
+        CoordCall::Mclm(line(&[10.0, 0.0], 2)),
+        CoordCall::Mccm(MccmInputs {
+            common: line(&[15.0, 5.0], 2),
+            circle_type: 2,
+            via_center_radius: vec![5.0],
+            direction: 1,
+        }),
+        CoordCall::Mclm(line(&[15.0, 15.0], 1)),
+    ];
+    let hs: Vec<_> = calls
+        .iter()
+        .enumerate()
+        .map(|(i, c)| task.add_coord_instruction(format!("M{i}"), cs, c.clone()))
+        .collect();
+    for (h, c) in hs.iter().zip(&calls) {
+        fire(&mut task, *h, c.clone());
+    }
+    task.update();
+    // The third is held: only .EN until the queue has room.
+    let b3 = task.coord_bits(hs[2]);
+    assert!(b3.en && !b3.dn && !b3.ip && !b3.er);
+    let mut speeds = Vec::new();
+    run_until(&mut task, 20_000, |t| {
+        speeds.push(speed(t, &axes, 2));
+        t.coord_bits(hs[2]).pc
+    });
+    assert!(!stops_between(&speeds));
+    assert!(hs.iter().all(|h| task.coord_bits(*h).pc && task.coord_bits(*h).dn));
+    assert_eq!(positions(&task, &axes), vec![15.0, 15.0]);
+    assert!(!task.coord_status(cs).motion);
+}
+
+#[test]
+fn termination_0_waits_for_the_actual_position() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let call = CoordCall::Mclm(line(&[1.0, 0.0], 0));
+    let h = task.add_coord_instruction("M", cs, call.clone());
+    fire(&mut task, h, call);
+    for _ in 0..2000 {
+        task.feed_actual_position(axes[0], 0.5);
+        task.feed_actual_position(axes[1], 0.0);
+        task.update();
+    }
+    assert!(!task.coord_bits(h).pc && task.coord_bits(h).ip);
+    assert!(!task.coord_status(cs).actual_pos_tolerance);
+    task.feed_actual_position(axes[0], 0.995);
+    task.update();
+    assert!(task.coord_bits(h).pc && task.coord_status(cs).actual_pos_tolerance);
+}
+
+#[test]
+fn merge_replaces_the_motion_and_cancels_the_pending_move() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let a_call = CoordCall::Mclm(line(&[100.0, 0.0], 1));
+    let b_call = CoordCall::Mclm(line(&[100.0, 100.0], 1));
+    let mut merge_inputs = line(&[0.0, 50.0], 1);
+    merge_inputs.merge = 1;
+    merge_inputs.merge_speed = 1;
+    merge_inputs.speed = 30.0;
+    let m_call = CoordCall::Mclm(merge_inputs);
+    let a = task.add_coord_instruction("A", cs, a_call.clone());
+    let b = task.add_coord_instruction("B", cs, b_call.clone());
+    let m = task.add_coord_instruction("M", cs, m_call.clone());
+    fire(&mut task, a, a_call);
+    fire(&mut task, b, b_call);
+    for _ in 0..500 {
+        task.update();
+    }
+    let v_before = speed(&task, &axes, 2);
+    assert!((v_before - 10.0).abs() < 1e-9);
+    fire(&mut task, m, m_call);
+    task.update();
+    let (ba, bb, bm) = (task.coord_bits(a), task.coord_bits(b), task.coord_bits(m));
+    assert!(!ba.ip && !ba.ac && !ba.pc, "superseded: {ba:?}");
+    assert!(!bb.ip && !bb.ac && !bb.pc && bb.dn, "cancelled: {bb:?}");
+    assert!(bm.ip && bm.ac && bm.dn);
+    assert!(!task.coord_status(cs).move_pending);
+    // Merge speed current: the new move runs at the speed the system had.
+    let v = task.coord_active_move(cs).unwrap().limits().unwrap().velocity();
+    assert!((v - v_before).abs() < 1e-9, "{v}");
+    let mut speeds = Vec::new();
+    run_until(&mut task, 20_000, |t| {
+        speeds.push(speed(t, &axes, 2));
+        t.coord_bits(m).pc
+    });
+    assert!(!stops_between(&speeds));
+    assert_eq!(positions(&task, &axes), vec![0.0, 50.0]);
+    assert!(!task.coord_bits(b).pc, "a cancelled move never completes");
+}
+
+#[test]
+fn mcs_stops_along_the_path_and_cancels_the_queue() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let a_call = CoordCall::Mclm(line(&[30.0, 40.0], 2));
+    let b_call = CoordCall::Mclm(line(&[0.0, 0.0], 1));
+    let s_call = CoordCall::Mcs(McsInputs {
+        stop_type: 1,
+        change_decel: 1,
+        decel_rate: 20.0,
+        decel_units: 0,
+        ..McsInputs::default()
+    });
+    let a = task.add_coord_instruction("A", cs, a_call.clone());
+    let b = task.add_coord_instruction("B", cs, b_call.clone());
+    let s = task.add_coord_instruction("S", cs, s_call.clone());
+    fire(&mut task, a, a_call);
+    fire(&mut task, b, b_call);
+    for _ in 0..400 {
+        task.update();
+    }
+    let at_stop = positions(&task, &axes);
+    fire(&mut task, s, s_call);
+    task.update();
+    assert!(task.coord_status(cs).stopping && !task.coord_status(cs).move_pending);
+    assert!(task.coord_bits(s).ip && task.coord_bits(s).dn && !task.coord_bits(s).pc);
+    assert!(!task.coord_bits(a).ip && !task.coord_bits(a).ac && !task.coord_bits(b).ip);
+    let n = run_until(&mut task, 10_000, |t| t.coord_bits(s).pc);
+    let end = positions(&task, &axes);
+    // 10 units/s braked at 20 units/s²: 2.5 units further along the line (3:4:5).
+    let travelled = (end[0] - at_stop[0]).hypot(end[1] - at_stop[1]);
+    assert!((travelled - 2.5).abs() < 0.05, "{travelled}");
+    assert!((end[1] / end[0] - 4.0 / 3.0).abs() < 1e-9, "on the line");
+    assert!(n as f64 * DT < 0.6);
+    assert!(!task.coord_status(cs).stopping && !task.coord_status(cs).motion);
+    assert!(!task.coord_bits(s).ip && !task.coord_bits(a).pc && !task.coord_bits(b).pc);
+    // An MCS on a system at rest completes at once.
+    task.set_coord_rung(s, false);
+    task.update();
+    task.set_coord_rung(s, true);
+    task.update();
+    assert!(task.coord_bits(s).pc && task.coord_bits(s).dn);
+}
+
+#[test]
+fn errors_set_er_with_err_and_exerr() {
+    let (mut task, cs, _) = gantry(3, 0);
+    let call = CoordCall::Mccm(MccmInputs {
+        common: line(&[1.0, 1.0, 0.0], 1),
+        circle_type: 2,
+        via_center_radius: vec![1.0],
+        direction: 0,
+    });
+    let h = task.add_coord_instruction("M", cs, call.clone());
+    fire(&mut task, h, call);
+    task.update();
+    let b = task.coord_bits(h);
+    assert!(b.er && !b.dn && !b.ip && b.en && (b.err, b.exerr) == (25, 0));
+    assert!(!task.coord_status(cs).motion);
+    let bad = CoordCall::Mclm(CoordMoveInputs {
+        speed: -1.0,
+        ..line(&[1.0, 1.0, 0.0], 1)
+    });
+    task.set_coord_instruction(h, false, bad.clone());
+    task.update();
+    assert!(!task.coord_bits(h).en);
+    fire(&mut task, h, bad);
+    task.update();
+    let b = task.coord_bits(h);
+    assert!(b.er && (b.err, b.exerr) == (13, 4));
+}
+
+#[test]
+fn non_primary_axes_arrive_with_the_primary_axes() {
+    let (mut task, cs, axes) = gantry(2, 1);
+    let call = CoordCall::Mccm(MccmInputs {
+        common: line(&[4.0, 0.0, 90.0], 1),
+        circle_type: 1,
+        via_center_radius: vec![2.0, 0.0],
+        direction: 0,
+    });
+    let h = task.add_coord_instruction("M", cs, call.clone());
+    fire(&mut task, h, call);
+    let mut last_change = vec![0usize; 3];
+    let mut prev = positions(&task, &axes);
+    let mut k = 0;
+    run_until(&mut task, 20_000, |t| {
+        k += 1;
+        let p = positions(t, &axes);
+        for i in 0..3 {
+            if p[i] != prev[i] {
+                last_change[i] = k;
+            }
+        }
+        prev = p;
+        // The vector speed counts only X and Y.
+        assert!(speed(t, &axes, 2) <= 10.0 * (1.0 + 1e-9));
+        t.coord_bits(h).pc
+    });
+    assert_eq!(positions(&task, &axes), vec![4.0, 0.0, 90.0]);
+    assert!(last_change.iter().all(|k| *k == last_change[0]), "{last_change:?}");
+}
+
+/// Seeded random arcs through the task: every axis finishes in the same
+/// coarse update, exactly at the end point, and the vector speed never
+/// exceeds the programmed speed.
+#[test]
+fn random_arcs_through_the_task_finish_together_within_speed() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x7461_736b);
+    for case in 0..200 {
+        let (mut task, cs, axes) = gantry(3, 0);
+        let center: [f64; 3] = [rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0), 0.0];
+        let radius = (center[0] * center[0] + center[1] * center[1]).sqrt();
+        if radius < 0.1 {
+            continue;
+        }
+        let theta = rng.random_range(0.3..6.0_f64);
+        let start_angle = (-center[1]).atan2(-center[0]);
+        let end = [
+            center[0] + radius * (start_angle + theta).cos(),
+            center[1] + radius * (start_angle + theta).sin(),
+            rng.random_range(-1.0..1.0) * 0.0,
+        ];
+        let programmed = rng.random_range(1.0..20.0);
+        let mut common = line(&end, 1);
+        common.speed = programmed;
+        common.profile = rng.random_range(0..2);
+        let direction = if theta <= std::f64::consts::PI { 0 } else { 1 };
+        let call = CoordCall::Mccm(MccmInputs {
+            common,
+            circle_type: 1,
+            via_center_radius: center.to_vec(),
+            direction: direction + 2 * i64::from(rng.random_bool(0.2)),
+        });
+        let h = task.add_coord_instruction("M", cs, call.clone());
+        fire(&mut task, h, call);
+        let mut prev = positions(&task, &axes);
+        let mut last_change = [0usize; 3];
+        let mut k = 0;
+        run_until(&mut task, 100_000, |t| {
+            k += 1;
+            let p = positions(t, &axes);
+            for i in 0..3 {
+                if p[i] != prev[i] {
+                    last_change[i] = k;
+                }
+            }
+            prev = p.clone();
+            assert!(speed(t, &axes, 3) <= programmed * (1.0 + 1e-9), "case {case}");
+            let q = [p[0] - center[0], p[1] - center[1], p[2]];
+            assert!(((q[0] * q[0] + q[1] * q[1]).sqrt() - radius).abs() < 1e-9);
+            t.coord_bits(h).pc
+        });
+        let moved: Vec<usize> = last_change.iter().copied().filter(|k| *k > 0).collect();
+        assert!(moved.windows(2).all(|w| w[0] == w[1]), "case {case}: {last_change:?}");
+    }
+}
+
+#[test]
+fn calculated_data_is_the_time_to_the_event_point() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let mut inputs = line(&[20.0, 0.0], 1);
+    inputs.event_distance = vec![5.0, 0.0];
+    let call = CoordCall::Mclm(inputs);
+    let h = task.add_coord_instruction("M", cs, call.clone());
+    fire(&mut task, h, call);
+    task.update();
+    let cd = task.coord_calculated_data(h).to_vec();
+    // 20 units, 10 units/s, 50 units/s²: accel 0.2 s (1 unit), cruise to 15 at 1.6 s.
+    assert!((cd[0] - 1.6).abs() < 1e-9 && (cd[1] - 2.2).abs() < 1e-9, "{cd:?}");
+    let n = run_until(&mut task, 10_000, |t| positions(t, &axes)[0] >= 15.0 - 1e-9);
+    assert!((n as f64 * DT - cd[0]).abs() <= DT);
+}
+
+fn master_setup(
+    lock_direction: i64,
+    lock_position: f64,
+) -> (
+    MotionTask,
+    CoordHandle,
+    Vec<AxisHandle>,
+    AxisHandle,
+    FbHandle,
+    CoordInstructionHandle,
+) {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let master = task
+        .add_axis(
+            AxisConfig {
+                modulo_period: Some(1000.0),
+                max_velocity: 1000.0,
+                max_acceleration: 10_000.0,
+                max_deceleration: 10_000.0,
+                ..AxisConfig::new("Master", AxisKind::Rotary)
+            },
+            0.0,
+        )
+        .unwrap();
+    task.set_coordinate_system_master(cs, Some(master));
+    let fb = task.add_move_modulo("MoveMaster", master);
+    let inputs = CoordMoveInputs {
+        position: vec![10.0, 0.0],
+        speed: 0.1,
+        speed_units: 4,
+        accel_rate: 0.01,
+        accel_units: 4,
+        decel_rate: 0.01,
+        decel_units: 4,
+        termination_type: 1,
+        lock_direction,
+        lock_position,
+        ..Default::default()
+    };
+    let h = task.add_coord_instruction("M", cs, CoordCall::Mclm(inputs.clone()));
+    fire(&mut task, h, CoordCall::Mclm(inputs));
+    (task, cs, axes, master, fb, h)
+}
+
+fn move_master(task: &mut MotionTask, fb: FbHandle, to: f64) {
+    task.set_move_modulo_inputs(
+        fb,
+        MoveModuloInputs {
+            execute: false,
+            ..Default::default()
+        },
+    );
+    task.update();
+    task.set_move_modulo_inputs(
+        fb,
+        MoveModuloInputs {
+            execute: true,
+            position: to,
+            velocity: 500.0,
+            direction: McDirection::Positive,
+            buffer_mode: McBufferMode::Aborting,
+            ..Default::default()
+        },
+    );
+    run_until(task, 10_000, |t| t.outputs(fb).done);
+}
+
+#[test]
+fn master_driven_move_advances_with_the_master_not_with_time() {
+    let (mut task, cs, axes, _master, fb, h) = master_setup(0, 0.0);
+    for _ in 0..500 {
+        task.update();
+    }
+    assert!(
+        task.coord_bits(h).ip && positions(&task, &axes)[0] == 0.0,
+        "master at rest"
+    );
+    assert!(
+        !task.coord_status(cs).coord_motion_lock,
+        "never set for lock direction none"
+    );
+    move_master(&mut task, fb, 50.0);
+    // Path position = the path profile sampled at master distance 50.
+    let mv = task.coord_active_move(cs).unwrap().clone();
+    let expected = mv.rest_profile().sample(50.0).position;
+    assert!((positions(&task, &axes)[0] - expected).abs() < 1e-9);
+    move_master(&mut task, fb, 500.0);
+    assert!(task.coord_bits(h).pc);
+    assert_eq!(positions(&task, &axes), vec![10.0, 0.0]);
+}
+
+#[test]
+fn position_forward_lock_waits_for_the_master_to_cross() {
+    let (mut task, cs, axes, _master, fb, h) = master_setup(3, 100.0);
+    move_master(&mut task, fb, 90.0);
+    assert_eq!(positions(&task, &axes)[0], 0.0);
+    assert!(!task.coord_status(cs).coord_motion_lock && task.coord_bits(h).ip);
+    move_master(&mut task, fb, 150.0);
+    assert!(task.coord_status(cs).coord_motion_lock);
+    let mv = task.coord_active_move(cs).unwrap().clone();
+    let expected = mv.rest_profile().sample(50.0).position;
+    assert!((positions(&task, &axes)[0] - expected).abs() < 1e-9);
+}
+
+#[test]
+fn lock_directions_follow_the_spec() {
+    // Immediate forward: locked at once; a reversing master is not followed.
+    let mut l = Lock::new(LockDirection::ImmediateForwardOnly, 0.0, 10.0);
+    assert!(l.locked);
+    assert_eq!(l.advance(10.0, 15.0), 5.0);
+    assert_eq!(l.advance(15.0, 12.0), 0.0);
+    assert!(!l.locked);
+    assert_eq!(l.advance(12.0, 14.0), 0.0, "not past where it reversed");
+    assert_eq!(l.advance(14.0, 17.0), 2.0);
+    assert!(l.locked, "set again when it resumes");
+    // Immediate reverse mirrors it.
+    let mut l = Lock::new(LockDirection::ImmediateReverseOnly, 0.0, 10.0);
+    assert_eq!(l.advance(10.0, 7.0), 3.0);
+    assert_eq!(l.advance(7.0, 9.0), 0.0);
+    assert!(!l.locked);
+    // Position reverse: waits for the master to cross the lock position downwards.
+    let mut l = Lock::new(LockDirection::PositionReverse, 5.0, 10.0);
+    assert!(!l.locked);
+    assert_eq!(l.advance(10.0, 6.0), 0.0);
+    assert_eq!(l.advance(6.0, 4.0), 1.0);
+    assert!(l.locked);
+    // Position forward ignores a crossing in reverse.
+    let mut l = Lock::new(LockDirection::PositionForward, 5.0, 10.0);
+    assert_eq!(l.advance(10.0, 4.0), 0.0);
+    assert_eq!(l.advance(4.0, 7.0), 2.0);
+    // None follows both ways and never locks.
+    let mut l = Lock::new(LockDirection::None, 0.0, 0.0);
+    assert_eq!(l.advance(0.0, 3.0), 3.0);
+    assert_eq!(l.advance(3.0, 1.0), -2.0);
+    assert!(!l.locked);
+}
+
+#[test]
+fn coordinated_and_single_axis_motion_abort_each_other() {
+    // X has a modulo period so MC_MoveModulo can run on it.
+    let mut task = MotionTask::new(DT).unwrap();
+    let x = task
+        .add_axis(
+            AxisConfig {
+                modulo_period: Some(360.0),
+                max_velocity: 100.0,
+                ..AxisConfig::new("X", AxisKind::Linear)
+            },
+            0.0,
+        )
+        .unwrap();
+    let y = task.add_axis(AxisConfig::new("Y", AxisKind::Linear), 0.0).unwrap();
+    let cs = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: 2,
+                primary_axes: 2,
+                max_speed: 100.0,
+                max_accel: 1000.0,
+                max_decel: 1000.0,
+                ..CoordinateSystemConfig::new("CS")
+            },
+            &[x, y],
+        )
+        .unwrap();
+    let fb = task.add_move_modulo("MoveX", x);
+    task.set_move_modulo_inputs(
+        fb,
+        MoveModuloInputs {
+            execute: true,
+            position: 300.0,
+            velocity: 10.0,
+            ..Default::default()
+        },
+    );
+    task.update();
+    assert!(task.outputs(fb).active);
+    // A coordinated move takes X: MC_MoveModulo is aborted.
+    let call = CoordCall::Mclm(line(&[50.0, 50.0], 1));
+    let h = task.add_coord_instruction("M", cs, call.clone());
+    fire(&mut task, h, call);
+    task.update();
+    assert!(task.outputs(fb).command_aborted && task.coord_bits(h).ac);
+    for _ in 0..200 {
+        task.update();
+    }
+    // A new MC_MoveModulo takes X back: the coordinated move loses .IP/.AC and
+    // Y comes to rest along the path.
+    task.set_move_modulo_inputs(fb, MoveModuloInputs::default());
+    task.update();
+    task.set_move_modulo_inputs(
+        fb,
+        MoveModuloInputs {
+            execute: true,
+            position: 100.0,
+            velocity: 10.0,
+            ..Default::default()
+        },
+    );
+    task.update();
+    let b = task.coord_bits(h);
+    assert!(!b.ip && !b.ac && !b.pc && task.outputs(fb).active);
+    run_until(&mut task, 10_000, |t| !t.coord_status(cs).motion);
+    assert!(task.axis_state(y).command_velocity == 0.0);
+    assert!(!task.coordinated_motion_status(y));
+    run_until(&mut task, 10_000, |t| t.outputs(fb).done);
+}
