@@ -51,6 +51,26 @@ impl MotionInstructionBits {
             | bit(self.accel, 1)
     }
 
+    /// The control bits with their mnemonics, in the order `EN`, `DN`,
+    /// `ER`, `IP`, `AC`, `PC`, `ACCEL`, `DECEL` (trace and log order).
+    pub fn bits(&self) -> [(&'static str, bool); 8] {
+        [
+            ("EN", self.en),
+            ("DN", self.dn),
+            ("ER", self.er),
+            ("IP", self.ip),
+            ("AC", self.ac),
+            ("PC", self.pc),
+            ("ACCEL", self.accel),
+            ("DECEL", self.decel),
+        ]
+    }
+
+    /// The error codes with their names: `ERR`, `EXERR`, `SEGMENT`.
+    pub fn codes(&self) -> [(&'static str, i32); 3] {
+        [("ERR", self.err), ("EXERR", self.exerr), ("SEGMENT", self.segment)]
+    }
+
     /// A bit by its mnemonic (`"EN"`, `"DN"`, `"ER"`, `"PC"`, `"IP"`, `"AC"`,
     /// `"ACCEL"`, `"DECEL"`, case-insensitive), for `MC1.PC`-style tag paths.
     pub fn bit(&self, mnemonic: &str) -> Option<bool> {
@@ -149,6 +169,10 @@ mod tests {
         assert_eq!(b.bit("PC"), Some(true));
         assert_eq!(b.bit("ip"), Some(false));
         assert_eq!(b.bit("XX"), None);
+        for (name, value) in b.bits() {
+            assert_eq!(b.bit(name), Some(value), "{name}");
+        }
+        assert_eq!(b.bits().iter().filter(|(_, v)| *v).count(), 1);
         let o = FbOutputs {
             done: true,
             ..Default::default()

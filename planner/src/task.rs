@@ -17,7 +17,7 @@
 //! same calls give bit-identical setpoints.
 
 use crate::axis::{AxisConfig, AxisConfigError, AxisState};
-use crate::instruction::FbOutputs;
+use crate::instruction::{FbOutputs, MotionInstructionBits};
 use crate::modulo::{McBufferMode, MoveModulo, MoveModuloError, MoveModuloInputs};
 use crate::profile::{Profile, Sample, State};
 use thiserror::Error;
@@ -32,6 +32,12 @@ pub struct AxisHandle(u32);
 /// Handle of a function-block instance in a [`MotionTask`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct FbHandle(u32);
+
+/// Handle of a Logix control structure (a `MOTION_INSTRUCTION` tag) in a
+/// [`MotionTask`]. The instruction that executes with the tag writes its
+/// bits; one tag may serve several executions over time, as on a controller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct InstructionHandle(u32);
 
 /// Why a task, axis or instance cannot be set up.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -93,6 +99,12 @@ struct FbSlot {
     phase: Phase,
 }
 
+#[derive(Debug, Clone)]
+struct InstructionSlot {
+    name: String,
+    bits: MotionInstructionBits,
+}
+
 /// A motion task: axes, instances, and the coarse update.
 #[derive(Debug, Clone)]
 pub struct MotionTask {
@@ -100,6 +112,7 @@ pub struct MotionTask {
     updates: u64,
     axes: Vec<AxisSlot>,
     fbs: Vec<FbSlot>,
+    instructions: Vec<InstructionSlot>,
     /// Coordinate systems and coordinated instructions (`task/coord.rs`).
     coord: coord::CoordState,
 }
@@ -118,6 +131,7 @@ impl MotionTask {
             updates: 0,
             axes: Vec::new(),
             fbs: Vec::new(),
+            instructions: Vec::new(),
             coord: coord::CoordState::default(),
         })
     }
@@ -205,6 +219,43 @@ impl MotionTask {
     /// Every instance, in the order added.
     pub fn fb_handles(&self) -> impl Iterator<Item = FbHandle> + use<> {
         (0..self.fbs.len() as u32).map(FbHandle)
+    }
+
+    /// Adds a Logix control structure (`MOTION_INSTRUCTION` tag) named
+    /// `name`, all bits clear.
+    pub fn add_instruction(&mut self, name: impl Into<String>) -> InstructionHandle {
+        self.instructions.push(InstructionSlot {
+            name: name.into(),
+            bits: MotionInstructionBits::default(),
+        });
+        InstructionHandle(self.instructions.len() as u32 - 1)
+    }
+
+    /// A control structure's bits and error codes after the last update (or
+    /// after the last instruction call, which sets `.EN`, `.DN`/`.ER` at once,
+    /// as a scan of the rung does).
+    pub fn motion_bits(&self, instruction: InstructionHandle) -> MotionInstructionBits {
+        self.instructions[instruction.0 as usize].bits
+    }
+
+    /// The bits of a control structure, for the instruction that executes
+    /// with it.
+    #[allow(
+        dead_code,
+        reason = "written by the Logix instructions that execute with a control structure"
+    )]
+    pub(crate) fn motion_bits_mut(&mut self, instruction: InstructionHandle) -> &mut MotionInstructionBits {
+        &mut self.instructions[instruction.0 as usize].bits
+    }
+
+    /// A control structure's tag name.
+    pub fn instruction_name(&self, instruction: InstructionHandle) -> &str {
+        &self.instructions[instruction.0 as usize].name
+    }
+
+    /// Every control structure, in the order added.
+    pub fn instruction_handles(&self) -> impl Iterator<Item = InstructionHandle> + use<> {
+        (0..self.instructions.len() as u32).map(InstructionHandle)
     }
 
     /// Every axis, in the order added.

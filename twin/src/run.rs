@@ -18,6 +18,9 @@
 //! it is due; due steps set their inputs in list order, just before the
 //! planner update. A function-block call sets the inputs it
 //! names; the others keep their last value, as PLC block inputs do.
+//! A Logix call is one scan of a rung that has just become true (see
+//! [`logix`]); `when` may name a control-structure bit (`MC1.PC`) as well as
+//! a function-block output (`MoveTable.Done`).
 
 use crate::frames::{Part, scene_parts};
 use crate::physics::{JointDrive, PhysicsError, PhysicsOptions, RobotSim};
@@ -27,10 +30,13 @@ use crate::stl::StlError;
 use crate::urdf::{RobotModel, UrdfError};
 use planner::axis::{AxisConfig, AxisKind as PlannerAxisKind};
 use planner::instruction::FbOutputs;
+use planner::instruction::MotionInstructionBits;
 use planner::modulo::{McBufferMode, McDirection, MoveModuloInputs};
-use planner::task::{AxisHandle, FbHandle, MotionTask, TaskError};
+use planner::task::{AxisHandle, FbHandle, InstructionHandle, MotionTask, TaskError};
 use std::path::PathBuf;
 use thiserror::Error;
+
+pub mod logix;
 
 /// Why a scene cannot run. Each variant names the scene file and the place.
 #[derive(Debug, Error)]
@@ -130,9 +136,19 @@ pub struct FbBinding {
     pub handle: FbHandle,
 }
 
+/// A `MOTION_INSTRUCTION` tag of the program (a Logix control structure).
+#[derive(Debug, Clone)]
+pub struct InstructionBinding {
+    /// Tag name.
+    pub name: String,
+    /// Planner handle.
+    pub handle: InstructionHandle,
+}
+
 #[derive(Debug, Clone)]
 enum StepAction {
     MoveModulo { fb: usize, set: Vec<Setting> },
+    Logix(logix::LogixStep),
 }
 
 /// One MC_MoveModulo input with its value, as a call names it.
@@ -174,7 +190,20 @@ struct CompiledStep {
 #[derive(Debug, Clone)]
 enum CompiledTrigger {
     At(f64),
-    When { fb: usize, output: String, delay_s: f64 },
+    When {
+        source: BitSource,
+        output: String,
+        delay_s: f64,
+    },
+}
+
+/// Whose bit a `when` condition reads.
+#[derive(Debug, Clone, Copy)]
+enum BitSource {
+    /// A function-block instance (index into `fbs`).
+    Fb(usize),
+    /// A control structure (index into `instructions`).
+    Instruction(usize),
 }
 
 /// A loaded, bound scene, ready to step.
@@ -186,6 +215,7 @@ pub struct Twin {
     task: MotionTask,
     axes: Vec<AxisBinding>,
     fbs: Vec<FbBinding>,
+    instructions: Vec<InstructionBinding>,
     steps: Vec<CompiledStep>,
     substeps: usize,
     previous_command: Vec<(f64, f64)>,
@@ -324,6 +354,7 @@ impl Twin {
         })?;
 
         let mut fbs: Vec<FbBinding> = Vec::new();
+        let mut instructions: Vec<InstructionBinding> = Vec::new();
         let mut fb_axis: Vec<Option<AxisHandle>> = Vec::new();
         let mut steps = Vec::new();
         for (index, step) in scene.program.iter().enumerate() {
@@ -334,7 +365,21 @@ impl Twin {
                 index,
                 message,
             };
-            let action = compile_call(&step.call, &scene, &mut task, &mut fbs, &mut fb_axis, &axes).map_err(fail)?;
+            let action = match &step.call.args {
+                Args::Positional(operands) => {
+                    let operands: Vec<Expr> = operands.iter().map(|o| o.value.clone()).collect();
+                    let mut ctx = logix::LogixContext {
+                        scene: &scene,
+                        task: &mut task,
+                        axes: &axes,
+                        instructions: &mut instructions,
+                    };
+                    StepAction::Logix(logix::compile(&step.call.name.value, &operands, &mut ctx).map_err(fail)?)
+                }
+                Args::Named(_) => {
+                    compile_call(&step.call, &scene, &mut task, &mut fbs, &mut fb_axis, &axes).map_err(fail)?
+                }
+            };
             let trigger = match &step.trigger {
                 Trigger::At { time_s } => CompiledTrigger::At(*time_s),
                 Trigger::When { condition, delay_s } => {
@@ -349,21 +394,27 @@ impl Twin {
                             )));
                         }
                     };
-                    if FbOutputs::default().bit(&output).is_none() {
+                    let source = if let Some(fb) = fbs.iter().position(|f| f.name.eq_ignore_ascii_case(&tag)) {
+                        if FbOutputs::default().bit(&output).is_none() {
+                            return Err(fail(format!(
+                                "when = \"{condition}\": '{output}' is not a function-block output (Done, Busy, Active, CommandAborted, Error)"
+                            )));
+                        }
+                        BitSource::Fb(fb)
+                    } else if let Some(i) = instructions.iter().position(|b| b.name.eq_ignore_ascii_case(&tag)) {
+                        if MotionInstructionBits::default().bit(&output).is_none() {
+                            return Err(fail(format!(
+                                "when = \"{condition}\": '{output}' is not a control-structure bit (EN, DN, ER, IP, AC, PC, ACCEL, DECEL)"
+                            )));
+                        }
+                        BitSource::Instruction(i)
+                    } else {
                         return Err(fail(format!(
-                            "when = \"{condition}\": '{output}' is not a function-block output (Done, Busy, Active, CommandAborted, Error)"
+                            "when = \"{condition}\": '{tag}' is not an instance or control structure used by an earlier program step"
                         )));
-                    }
-                    let fb = fbs
-                        .iter()
-                        .position(|f| f.name.eq_ignore_ascii_case(&tag))
-                        .ok_or_else(|| {
-                            fail(format!(
-                                "when = \"{condition}\": '{tag}' is not called by an earlier program step"
-                            ))
-                        })?;
+                    };
                     CompiledTrigger::When {
-                        fb,
+                        source,
                         output,
                         delay_s: *delay_s,
                     }
@@ -388,6 +439,7 @@ impl Twin {
             task,
             axes,
             fbs,
+            instructions,
             steps,
             substeps,
             previous_command,
@@ -424,6 +476,12 @@ impl Twin {
         &self.fbs
     }
 
+    /// The `MOTION_INSTRUCTION` tags the program executes with, in the order
+    /// the program first uses them.
+    pub fn instructions(&self) -> &[InstructionBinding] {
+        &self.instructions
+    }
+
     /// Simulated time of the last update, seconds.
     pub fn time_s(&self) -> f64 {
         self.task.time_s()
@@ -454,11 +512,16 @@ impl Twin {
             }
             match &step.trigger {
                 CompiledTrigger::At(t) => step.fire_at_s = Some(*t),
-                CompiledTrigger::When { fb, output, delay_s } => {
-                    if armed
-                        && step.fire_at_s.is_none()
-                        && self.task.outputs(self.fbs[*fb].handle).bit(output).unwrap_or(false)
-                    {
+                CompiledTrigger::When {
+                    source,
+                    output,
+                    delay_s,
+                } => {
+                    let bit = match *source {
+                        BitSource::Fb(fb) => self.task.outputs(self.fbs[fb].handle).bit(output),
+                        BitSource::Instruction(i) => self.task.motion_bits(self.instructions[i].handle).bit(output),
+                    };
+                    if armed && step.fire_at_s.is_none() && bit.unwrap_or(false) {
                         step.fire_at_s = Some(now_s + delay_s);
                     }
                 }
@@ -471,13 +534,17 @@ impl Twin {
             }
         }
         for i in due {
-            let StepAction::MoveModulo { fb, set } = &self.steps[i].action;
-            let handle = self.fbs[*fb].handle;
-            let mut inputs = self.task.move_modulo_inputs(handle);
-            for setting in set {
-                setting.apply(&mut inputs);
+            match &self.steps[i].action {
+                StepAction::MoveModulo { fb, set } => {
+                    let handle = self.fbs[*fb].handle;
+                    let mut inputs = self.task.move_modulo_inputs(handle);
+                    for setting in set {
+                        setting.apply(&mut inputs);
+                    }
+                    self.task.set_move_modulo_inputs(handle, inputs);
+                }
+                StepAction::Logix(step) => (step.run)(&mut self.task),
             }
-            self.task.set_move_modulo_inputs(handle, inputs);
         }
         self.task.update();
 
@@ -512,7 +579,9 @@ impl Twin {
 
     /// Trace column names: `time_s`, then per axis `<axis>.cmd_pos`,
     /// `.cmd_vel`, `.cmd_acc`, `.act_pos`, then per instance `<fb>.Done`,
-    /// `.Busy`, `.Active`, `.CommandAborted`, `.Error`, `.ErrorID`.
+    /// `.Busy`, `.Active`, `.CommandAborted`, `.Error`, `.ErrorID`, then per
+    /// control structure `<tag>.EN`, `.DN`, `.ER`, `.IP`, `.AC`, `.PC`,
+    /// `.ACCEL`, `.DECEL`, `.ERR`, `.EXERR`, `.SEGMENT`.
     pub fn trace_header(&self) -> Vec<String> {
         let mut h = vec!["time_s".to_string()];
         for a in &self.axes {
@@ -525,6 +594,15 @@ impl Twin {
                 h.push(format!("{}.{c}", fb.name));
             }
             h.push(format!("{}.ErrorID", fb.name));
+        }
+        let zero = MotionInstructionBits::default();
+        for ins in &self.instructions {
+            for (c, _) in zero.bits() {
+                h.push(format!("{}.{c}", ins.name));
+            }
+            for (c, _) in zero.codes() {
+                h.push(format!("{}.{c}", ins.name));
+            }
         }
         h
     }
@@ -550,6 +628,15 @@ impl Twin {
                 row.push(if b { "1" } else { "0" }.to_string());
             }
             row.push(o.error_id.to_string());
+        }
+        for ins in &self.instructions {
+            let b = self.task.motion_bits(ins.handle);
+            for (_, bit) in b.bits() {
+                row.push(if bit { "1" } else { "0" }.to_string());
+            }
+            for (_, code) in b.codes() {
+                row.push(code.to_string());
+            }
         }
         row
     }

@@ -4,6 +4,7 @@
 use crate::frames::{column_major, world_from_part};
 use crate::recording::{Recorder, RecordingError, Sink, TextLevel, urdf_entity_paths};
 use crate::run::Twin;
+use planner::instruction::MotionInstructionBits;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -178,6 +179,7 @@ pub struct Recording {
     recorder: Option<Recorder>,
     link_paths: Vec<String>,
     previous_outputs: Vec<planner::instruction::FbOutputs>,
+    previous_bits: Vec<MotionInstructionBits>,
 }
 
 impl Recording {
@@ -206,6 +208,7 @@ impl Recording {
                 recorder: None,
                 link_paths,
                 previous_outputs: Vec::new(),
+                previous_bits: Vec::new(),
             });
         }
         let mut recorder = Recorder::new(&format!("twin_{}", twin.scene().name), &sinks)?;
@@ -235,6 +238,7 @@ impl Recording {
             recorder: Some(recorder),
             link_paths,
             previous_outputs: Vec::new(),
+            previous_bits: Vec::new(),
         })
     }
 
@@ -281,6 +285,22 @@ impl Recording {
             }
             self.previous_outputs[i] = o;
         }
+        self.previous_bits.resize(twin.instructions().len(), Default::default());
+        for (i, ins) in twin.instructions().iter().enumerate() {
+            let b = twin.task().motion_bits(ins.handle);
+            for (name, bit) in b.bits() {
+                rec.log_scalar(&format!("instructions/{}/{name}", ins.name), f64::from(u8::from(bit)))?;
+            }
+            if b != self.previous_bits[i] {
+                let level = if b.er { TextLevel::Error } else { TextLevel::Info };
+                rec.log_text(
+                    "instructions/log",
+                    level,
+                    &format!("{}: {}", ins.name, describe_bits(b)),
+                )?;
+            }
+            self.previous_bits[i] = b;
+        }
         Ok(())
     }
 
@@ -318,20 +338,50 @@ fn describe(o: planner::instruction::FbOutputs) -> String {
     }
 }
 
+fn describe_bits(b: MotionInstructionBits) -> String {
+    let mut s = String::new();
+    for (name, bit) in b.bits() {
+        if bit {
+            let _ = write!(s, ".{name} ");
+        }
+    }
+    if b.er {
+        let _ = write!(s, "{}", error_codes(b));
+    }
+    if s.is_empty() {
+        "idle".to_string()
+    } else {
+        s.trim_end().to_string()
+    }
+}
+
+fn error_codes(b: MotionInstructionBits) -> String {
+    let mut s = format!("ERR {} EXERR {}", b.err, b.exerr);
+    if b.segment != 0 {
+        let _ = write!(s, " SEGMENT {}", b.segment);
+    }
+    s
+}
+
 /// Per-run statistics gathered each update.
 #[derive(Debug, Clone)]
 pub struct Stats {
     max_following_error: Vec<f64>,
     outcomes: Vec<InstructionOutcome>,
     previous: Vec<planner::instruction::FbOutputs>,
+    logix_outcomes: Vec<InstructionOutcome>,
+    previous_bits: Vec<MotionInstructionBits>,
 }
 
-/// How one instance did over the run.
+/// How one instance (or control structure) did over the run. For a Logix
+/// control structure `done` counts rises of `.PC`, `errors` rises of `.ER`,
+/// and `aborted` the times `.IP` fell without `.PC` or `.ER` (the process was
+/// stopped or replaced by another instruction).
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct InstructionOutcome {
     /// Instance name.
     pub name: String,
-    /// Times `Done` rose.
+    /// Times `Done` (`.PC`) rose.
     pub done: u32,
     /// Times `CommandAborted` rose.
     pub aborted: u32,
@@ -356,7 +406,8 @@ pub struct Summary {
     pub real_time_factor: f64,
     /// Coarse updates run.
     pub updates: u64,
-    /// Per instance.
+    /// Per function-block instance (program order), then per control
+    /// structure (program order).
     pub instructions: Vec<InstructionOutcome>,
     /// Per axis: name and max |command − actual| in axis units.
     pub max_following_error: Vec<(String, f64)>,
@@ -378,6 +429,15 @@ impl Stats {
                 })
                 .collect(),
             previous: vec![Default::default(); twin.fbs().len()],
+            logix_outcomes: twin
+                .instructions()
+                .iter()
+                .map(|b| InstructionOutcome {
+                    name: b.name.clone(),
+                    ..Default::default()
+                })
+                .collect(),
+            previous_bits: vec![Default::default(); twin.instructions().len()],
         }
     }
 
@@ -406,6 +466,18 @@ impl Stats {
             }
             self.previous[i] = o;
         }
+        for (i, ins) in twin.instructions().iter().enumerate() {
+            let b = twin.task().motion_bits(ins.handle);
+            let p = self.previous_bits[i];
+            let out = &mut self.logix_outcomes[i];
+            out.done += u32::from(b.pc && !p.pc);
+            out.aborted += u32::from(p.ip && !b.ip && !b.pc && !b.er);
+            if b.er && !p.er {
+                out.errors += 1;
+                out.last_error = Some(error_codes(b));
+            }
+            self.previous_bits[i] = b;
+        }
     }
 
     /// The summary at the end of the run.
@@ -413,6 +485,11 @@ impl Stats {
         let mut instructions = self.outcomes.clone();
         for (out, fb) in instructions.iter_mut().zip(twin.fbs()) {
             out.final_outputs = describe(twin.task().outputs(fb.handle));
+        }
+        for (out, ins) in self.logix_outcomes.iter().zip(twin.instructions()) {
+            let mut out = out.clone();
+            out.final_outputs = describe_bits(twin.task().motion_bits(ins.handle));
+            instructions.push(out);
         }
         Summary {
             scene: twin.scene().name.clone(),
