@@ -15,9 +15,9 @@
 pub mod axis;
 pub mod coord;
 pub mod instruction;
-pub mod mct;
 pub mod mccm;
 pub mod mclm;
+pub mod mct;
 pub mod modulo;
 pub mod profile;
 pub mod task;

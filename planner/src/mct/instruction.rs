@@ -377,6 +377,17 @@ impl Transform {
         self.target
     }
 
+    /// The source system's transformed axes (X1 first; the SCARA geometries'
+    /// shared third axis last).
+    pub fn source_axes(&self) -> &[AxisId] {
+        &self.source_axes
+    }
+
+    /// The target system's transformed axes (J1 first).
+    pub fn target_axes(&self) -> &[AxisId] {
+        &self.target_axes
+    }
+
     /// The last joint command (axis units).
     pub fn joint_command(&self) -> AxesCommand {
         self.joints
@@ -531,6 +542,14 @@ impl Transform {
             Driven::None
         };
         Ok(self.source_command)
+    }
+
+    /// One coarse update in which neither side moved: the transform holds,
+    /// both sides at rest, nothing driven.
+    pub fn hold(&mut self) {
+        self.joints.velocities = [0.0; 3];
+        self.source_command.velocities = [0.0; 3];
+        self.driven = Driven::None;
     }
 
     /// One coarse update of the controlled stop after a fault: each joint
@@ -882,17 +901,29 @@ impl Mct {
     /// source positions are returned (the executor sets the source axes'
     /// command positions to them); on failure `.ER` with ERR/EXERR.
     pub fn scan(&mut self, rung: bool, table: &mut TransformTable, request: &MctRequest<'_>) -> Option<Vec3> {
-        let rising = rung && !self.previous_rung;
-        self.previous_rung = rung;
         if !rung {
-            if self.bits.dn || self.bits.er {
-                self.bits.en = false;
-            }
+            self.rung_false();
             return None;
         }
-        if !rising {
+        if self.previous_rung {
             return None;
         }
+        self.execute(table, request)
+    }
+
+    /// A scan with the rung false: `.EN` clears once `.DN` or `.ER` is set.
+    pub fn rung_false(&mut self) {
+        self.previous_rung = false;
+        if self.bits.dn || self.bits.er {
+            self.bits.en = false;
+        }
+    }
+
+    /// A scan of a rung that has just become true (a one-shot rung):
+    /// executes the instruction whatever the previous rung state was. See
+    /// [`Mct::scan`].
+    pub fn execute(&mut self, table: &mut TransformTable, request: &MctRequest<'_>) -> Option<Vec3> {
+        self.previous_rung = true;
         self.bits.en = true;
         self.bits.dn = false;
         self.bits.er = false;

@@ -496,6 +496,7 @@ impl MotionTask {
             }
         };
         self.coord.instructions[h.0 as usize].bits.dn = true;
+        self.mct_on_mcs(cs, inputs.stop_type);
         if stop.stop_all {
             self.stop_single_axis_motion(cs);
         }
