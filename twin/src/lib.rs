@@ -3,6 +3,7 @@
 
 pub mod convert;
 pub mod frames;
+pub mod kinematics_check;
 pub mod mesh;
 pub mod physics;
 pub mod recording;

@@ -455,6 +455,18 @@ impl Geometry {
         )
     }
 
+    /// L2 of the parallel geometries (Delta 3D, Delta 2D, SCARA Delta): the
+    /// forearm length that closes each chain, which a tree model (URDF)
+    /// cannot express and a consistency check must measure; `None` for the
+    /// serial and Cartesian geometries.
+    pub fn parallel_forearm_length(&self) -> Option<f64> {
+        match self {
+            Self::Delta3d(d) => Some(d.l2),
+            Self::FiveBar(f) => Some(f.l2),
+            _ => None,
+        }
+    }
+
     /// Revolute or prismatic, per joint (unused joints are reported
     /// prismatic).
     pub fn joint_kinds(&self) -> [JointKind; 3] {
