@@ -36,6 +36,7 @@ use planner::task::{AxisHandle, FbHandle, InstructionHandle, MotionTask, TaskErr
 use std::path::PathBuf;
 use thiserror::Error;
 
+pub mod coord;
 pub mod logix;
 
 /// Why a scene cannot run. Each variant names the scene file and the place.
@@ -95,6 +96,18 @@ pub enum RunError {
         /// Why the STL file failed (names the file).
         #[source]
         source: StlError,
+    },
+    /// A coordinate system's `tool_link` is not a link of the URDF.
+    #[error("{scene}:{line}:{column}: tags.coordinate_system.tool_link: {message}")]
+    ToolLink {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the `coordinate_system` table.
+        line: usize,
+        /// Column of the table.
+        column: usize,
+        /// What is wrong.
+        message: String,
     },
     /// A program step cannot be carried out.
     #[error("{scene}:{line}:{column}: program[{index}]: {message}")]
@@ -219,6 +232,8 @@ pub struct Twin {
     steps: Vec<CompiledStep>,
     substeps: usize,
     previous_command: Vec<(f64, f64)>,
+    /// Tool-centre trails of the coordinate systems (`run/coord.rs`).
+    trails: Vec<coord::ToolTrail>,
 }
 
 impl std::fmt::Debug for Twin {
@@ -431,7 +446,7 @@ impl Twin {
             .iter()
             .map(|a| (task.axis_state(a.handle).command_position, 0.0))
             .collect();
-        Ok(Twin {
+        let mut twin = Twin {
             scene,
             model,
             parts,
@@ -443,7 +458,11 @@ impl Twin {
             steps,
             substeps,
             previous_command,
-        })
+            trails: Vec::new(),
+        };
+        twin.trails = coord::tool_trails(&twin)?;
+        twin.record_trails();
+        Ok(twin)
     }
 
     /// The scene.
@@ -575,6 +594,7 @@ impl Twin {
             let actual = self.sim.joint_position(axis.drive) / axis.si_per_unit;
             self.task.feed_actual_position(axis.handle, actual);
         }
+        self.record_trails();
     }
 
     /// Trace column names: `time_s`, then per axis `<axis>.cmd_pos`,
@@ -604,6 +624,7 @@ impl Twin {
                 h.push(format!("{}.{c}", ins.name));
             }
         }
+        self.coord_trace_header(&mut h);
         h
     }
 
@@ -638,6 +659,7 @@ impl Twin {
                 row.push(code.to_string());
             }
         }
+        self.coord_trace_row(&mut row);
         row
     }
 }

@@ -521,7 +521,40 @@ pub struct Tag {
     /// Initial value (required for `COORDINATE_SYSTEM`; not allowed for
     /// `MOTION_INSTRUCTION`, `CAM_PROFILE` and function blocks).
     pub value: Option<TagValue>,
+    /// `COORDINATE_SYSTEM` tags: the system's dynamics, tolerances and tool
+    /// link (`None` for other tags; the defaults when the table is absent).
+    pub coordinate_system: Option<CoordinateSystemSettings>,
     /// Where the entry's `name` is written.
+    pub location: Location,
+}
+
+/// The `coordinate_system` table of a `COORDINATE_SYSTEM` tag (its
+/// properties dialog): rates in the member axes' units.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct CoordinateSystemSettings {
+    /// Primary (Cartesian) axes: the first `primary_axes` members (default:
+    /// the member count, at most 3).
+    pub primary_axes: usize,
+    /// Maximum vector speed, units/s (default 1).
+    pub max_speed: f64,
+    /// Maximum vector acceleration, units/s² (default 10).
+    pub max_accel: f64,
+    /// Maximum vector deceleration, units/s² (default 10; 0 makes moves
+    /// fail with error 54, as on the controller).
+    pub max_decel: f64,
+    /// Maximum accel jerk, units/s³ (default 100).
+    pub max_accel_jerk: f64,
+    /// Maximum decel jerk, units/s³ (default 100).
+    pub max_decel_jerk: f64,
+    /// Command tolerance, units (default 0.1).
+    pub command_tolerance: f64,
+    /// Actual tolerance, units (default 0.01).
+    pub actual_tolerance: f64,
+    /// URDF link whose origin is the tool centre: its path is drawn as a
+    /// trail and its world position traced (default: none).
+    pub tool_link: Option<String>,
+    /// Where the table is written (or the tag's name when absent).
     pub location: Location,
 }
 
@@ -727,6 +760,9 @@ pub enum Problem {
         /// What to give.
         expected: &'static str,
     },
+    /// A `coordinate_system` table on a tag that is not a coordinate system.
+    #[error("only COORDINATE_SYSTEM tags take a coordinate_system table")]
+    CoordinateSystemOnly,
     /// A coordinate system naming an undeclared axis.
     #[error("unknown axis '{name}'")]
     UnknownAxis {
@@ -1066,6 +1102,21 @@ struct RawTag {
     #[serde(rename = "type")]
     ty: Spanned<String>,
     value: Option<Spanned<toml::Value>>,
+    coordinate_system: Option<Spanned<RawCoordinateSystem>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCoordinateSystem {
+    primary_axes: Option<Spanned<i64>>,
+    max_speed: Option<Spanned<f64>>,
+    max_accel: Option<Spanned<f64>>,
+    max_decel: Option<Spanned<f64>>,
+    max_accel_jerk: Option<Spanned<f64>>,
+    max_decel_jerk: Option<Spanned<f64>>,
+    command_tolerance: Option<Spanned<f64>>,
+    actual_tolerance: Option<Spanned<f64>>,
+    tool_link: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -1680,14 +1731,90 @@ impl Ctx<'_> {
                 }
                 None => None,
             };
+            let coordinate_system = match (&t.coordinate_system, &value) {
+                (Some(raw), _) if ty.base != BaseType::CoordinateSystem => {
+                    return Err(self.invalid(raw, f("coordinate_system"), Problem::CoordinateSystemOnly));
+                }
+                (raw, Some(TagValue::Axes(members))) => {
+                    Some(self.coordinate_system(raw.as_ref(), members.len(), &t.name, &f("coordinate_system"))?)
+                }
+                _ => None,
+            };
             tags.push(Tag {
                 name,
                 ty,
                 value,
+                coordinate_system,
                 location: self.loc(&t.name),
             });
         }
         Ok(tags)
+    }
+
+    fn coordinate_system(
+        &self,
+        raw: Option<&Spanned<RawCoordinateSystem>>,
+        members: usize,
+        name: &Spanned<String>,
+        field: &str,
+    ) -> Result<CoordinateSystemSettings, SceneError> {
+        let f = |x: &str| format!("{field}.{x}");
+        let default_primary = members.min(3);
+        let Some(raw) = raw else {
+            return Ok(CoordinateSystemSettings {
+                primary_axes: default_primary,
+                max_speed: 1.0,
+                max_accel: 10.0,
+                max_decel: 10.0,
+                max_accel_jerk: 100.0,
+                max_decel_jerk: 100.0,
+                command_tolerance: 0.1,
+                actual_tolerance: 0.01,
+                tool_link: None,
+                location: self.loc(name),
+            });
+        };
+        let r = raw.get_ref();
+        let primary_axes = match &r.primary_axes {
+            Some(p) => {
+                let max = default_primary as i64;
+                let value = *p.get_ref();
+                if !(1..=max).contains(&value) {
+                    let problem = Problem::OutOfRange {
+                        value: value as f64,
+                        min: 1.0,
+                        max: max as f64,
+                        exclusive: false,
+                    };
+                    return Err(self.invalid(p, f("primary_axes"), problem));
+                }
+                value as usize
+            }
+            None => default_primary,
+        };
+        let pos = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
+            Some(v) => self.positive(v, &f(name)),
+            None => Ok(default),
+        };
+        let non_neg = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
+            Some(v) => self.non_negative(v, &f(name)),
+            None => Ok(default),
+        };
+        Ok(CoordinateSystemSettings {
+            primary_axes,
+            max_speed: pos(&r.max_speed, "max_speed", 1.0)?,
+            max_accel: pos(&r.max_accel, "max_accel", 10.0)?,
+            max_decel: non_neg(&r.max_decel, "max_decel", 10.0)?,
+            max_accel_jerk: non_neg(&r.max_accel_jerk, "max_accel_jerk", 100.0)?,
+            max_decel_jerk: non_neg(&r.max_decel_jerk, "max_decel_jerk", 100.0)?,
+            command_tolerance: non_neg(&r.command_tolerance, "command_tolerance", 0.1)?,
+            actual_tolerance: non_neg(&r.actual_tolerance, "actual_tolerance", 0.01)?,
+            tool_link: match &r.tool_link {
+                Some(l) => Some(self.nonempty_name(l, &f("tool_link"))?),
+                None => None,
+            },
+            location: self.loc(raw),
+        })
     }
 
     fn tag_value(

@@ -142,13 +142,22 @@ impl Frames {
                     tint_rgba: None,
                 })
                 .collect();
+            // Tool-centre trails of the coordinate systems, orange.
+            let lines: Vec<crate::render::LineStrip> = twin
+                .tool_trails()
+                .iter()
+                .map(|t| crate::render::LineStrip {
+                    points_in_world: t.points_in_world.iter().map(|p| p.map(|x| x as f32)).collect(),
+                    color_rgba: [1.0, 0.45, 0.0, 1.0],
+                })
+                .collect();
             for (name, cam, fps, next) in &mut inner.cameras {
                 if !due(*next, *fps) {
                     continue;
                 }
                 let image = inner
                     .renderer
-                    .render(cam, &items, &[])
+                    .render(cam, &items, &lines)
                     .map_err(|e| OutputError::Frame {
                         path: inner.dir.clone(),
                         message: e.to_string(),

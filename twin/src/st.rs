@@ -797,6 +797,11 @@ pub const LOGIX_ENUMERATIONS: &[&str] = &[
     "newcam",
     // MAS stop type, MAJ/MAM direction and MAM move types
     "all",
+    // MCS stop type, change decel / change decel jerk
+    "coordinatedmove",
+    "coordinatedtransform",
+    "no",
+    "yes",
     "jog",
     "move",
     "time",

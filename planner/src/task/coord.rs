@@ -61,7 +61,7 @@
 //! * Axis command acceleration and jerk of coordinated axes are the finite
 //!   differences of the command velocity over the coarse update.
 
-use super::{AxisHandle, Finish, MotionTask};
+use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
 use crate::coord::{
     CoordConfigError, CoordMove, CoordMoveError, CoordMoveInputs, CoordStatus, CoordinateSystem,
     CoordinateSystemConfig, Driver, LockDirection, Mcs, McsInputs, Merge, MergeSpeed, MoveContext, TerminationType,
@@ -218,13 +218,12 @@ impl Lock {
 
 #[derive(Debug, Clone)]
 struct InstrSlot {
-    name: String,
+    control: InstructionHandle,
     system: CoordHandle,
     call: CoordCall,
     rung: bool,
     previous_rung: bool,
     held: bool,
-    bits: MotionInstructionBits,
     calculated_data: Vec<f64>,
 }
 
@@ -320,17 +319,76 @@ impl MotionTask {
         system: CoordHandle,
         call: CoordCall,
     ) -> CoordInstructionHandle {
+        let control = self.add_instruction(name);
+        self.bind_coord_instruction(control, system, call)
+    }
+
+    fn bind_coord_instruction(
+        &mut self,
+        control: InstructionHandle,
+        system: CoordHandle,
+        call: CoordCall,
+    ) -> CoordInstructionHandle {
         self.coord.instructions.push(InstrSlot {
-            name: name.into(),
+            control,
             system,
             call,
             rung: false,
             previous_rung: false,
             held: false,
-            bits: MotionInstructionBits::default(),
             calculated_data: Vec::new(),
         });
         CoordInstructionHandle(self.coord.instructions.len() as u32 - 1)
+    }
+
+    /// Executes MCLM, MCCM or MCS with the control structure `control` on
+    /// `system` now: one scan of a rung that has just become true (the
+    /// twin's one-shot rung). `.EN` and `.DN`/`.ER` are set at once; the rung
+    /// is false from the next update on, which clears `.EN` once `.DN` or
+    /// `.ER` is set (a held move keeps `.EN` until it is queued). One control
+    /// structure serves one instruction at a time, as on a controller: a
+    /// new call with the same tag replaces the operands it executes with.
+    pub fn execute_coordinated(&mut self, system: CoordHandle, control: InstructionHandle, call: CoordCall) {
+        let existing = self
+            .coord
+            .instructions
+            .iter()
+            .position(|s| s.control == control)
+            .map(|i| CoordInstructionHandle(i as u32));
+        let h = match existing {
+            Some(h) => {
+                let slot = &mut self.coord.instructions[h.0 as usize];
+                slot.system = system;
+                slot.call = call;
+                h
+            }
+            None => self.bind_coord_instruction(control, system, call),
+        };
+        let slot = &mut self.coord.instructions[h.0 as usize];
+        slot.previous_rung = false;
+        slot.rung = true;
+        self.scan_coord_instruction(h);
+        self.coord.instructions[h.0 as usize].rung = false;
+    }
+
+    /// The coordinated instruction bound to a control structure, if any.
+    pub fn coord_instruction_of(&self, control: InstructionHandle) -> Option<CoordInstructionHandle> {
+        self.coord
+            .instructions
+            .iter()
+            .position(|s| s.control == control)
+            .map(|i| CoordInstructionHandle(i as u32))
+    }
+
+    /// The control structure (`MOTION_INSTRUCTION` tag) of a coordinated
+    /// instruction.
+    pub fn coord_control(&self, instr: CoordInstructionHandle) -> InstructionHandle {
+        self.coord.instructions[instr.0 as usize].control
+    }
+
+    fn cbits(&mut self, h: CoordInstructionHandle) -> &mut MotionInstructionBits {
+        let control = self.coord.instructions[h.0 as usize].control;
+        self.motion_bits_mut(control)
     }
 
     /// Sets an instruction's rung condition and operands; evaluated at the
@@ -348,7 +406,7 @@ impl MotionTask {
 
     /// An instruction's `MOTION_INSTRUCTION` bits after the last update.
     pub fn coord_bits(&self, instr: CoordInstructionHandle) -> MotionInstructionBits {
-        self.coord.instructions[instr.0 as usize].bits
+        self.instructions[self.coord.instructions[instr.0 as usize].control.0 as usize].bits
     }
 
     /// An instruction's Calculated Data (filled when it is verified).
@@ -358,7 +416,7 @@ impl MotionTask {
 
     /// An instruction's tag name.
     pub fn coord_instruction_name(&self, instr: CoordInstructionHandle) -> &str {
-        &self.coord.instructions[instr.0 as usize].name
+        self.instruction_name(self.coord.instructions[instr.0 as usize].control)
     }
 
     /// Every coordinated instruction, in the order added.
@@ -376,24 +434,32 @@ impl MotionTask {
             }
         }
         for i in 0..self.coord.instructions.len() {
-            let h = CoordInstructionHandle(i as u32);
-            let slot = &mut self.coord.instructions[i];
-            let rising = slot.rung && !slot.previous_rung;
-            slot.previous_rung = slot.rung;
-            if !slot.rung && (slot.bits.dn || slot.bits.er) {
-                slot.bits.en = false;
-            }
-            if rising {
-                slot.bits = MotionInstructionBits {
-                    en: true,
-                    ip: slot.bits.ip,
-                    ac: slot.bits.ac,
-                    accel: slot.bits.accel,
-                    decel: slot.bits.decel,
-                    ..MotionInstructionBits::default()
-                };
-                self.execute_coord(h);
-            }
+            self.scan_coord_instruction(CoordInstructionHandle(i as u32));
+        }
+    }
+
+    /// One scan of an instruction's rung: a false rung clears `.EN` once
+    /// `.DN` or `.ER` is set; a rising rung resets `.DN`, `.ER`, `.PC` and
+    /// the error codes, sets `.EN`, and executes.
+    fn scan_coord_instruction(&mut self, h: CoordInstructionHandle) {
+        let slot = &mut self.coord.instructions[h.0 as usize];
+        let rising = slot.rung && !slot.previous_rung;
+        let rung = slot.rung;
+        slot.previous_rung = slot.rung;
+        let bits = self.cbits(h);
+        if !rung && (bits.dn || bits.er) {
+            bits.en = false;
+        }
+        if rising {
+            *bits = MotionInstructionBits {
+                en: true,
+                ip: bits.ip,
+                ac: bits.ac,
+                accel: bits.accel,
+                decel: bits.decel,
+                ..MotionInstructionBits::default()
+            };
+            self.execute_coord(h);
         }
     }
 
@@ -447,18 +513,18 @@ impl MotionTask {
             has_master: sys.master.is_some(),
         };
         let result = verify(&ctx);
-        let slot = &mut self.coord.instructions[h.0 as usize];
         let mv = match result {
             Ok(mv) => mv,
             Err(e) => {
-                slot.bits.er = true;
-                slot.bits.err = e.err();
-                slot.bits.exerr = e.exerr();
+                let b = self.cbits(h);
+                b.er = true;
+                b.err = e.err();
+                b.exerr = e.exerr();
                 return;
             }
         };
-        slot.bits.dn = true;
-        slot.calculated_data = mv.calculated_data().to_vec();
+        self.cbits(h).dn = true;
+        self.coord.instructions[h.0 as usize].calculated_data = mv.calculated_data().to_vec();
         let sys = &mut self.coord.systems[cs.0 as usize];
         sys.status.stopping = false;
         if merging {
@@ -476,7 +542,7 @@ impl MotionTask {
         } else if busy {
             sys.queue_end = mv.path().end().to_vec();
             sys.pending = Some((h, mv));
-            self.coord.instructions[h.0 as usize].bits.ip = true;
+            self.cbits(h).ip = true;
         } else {
             self.start_component(cs, h, mv, 0.0);
         }
@@ -488,21 +554,21 @@ impl MotionTask {
         let stop = match Mcs::new(inputs, &sys.system) {
             Ok(s) => s,
             Err(e) => {
-                let b = &mut self.coord.instructions[h.0 as usize].bits;
+                let b = self.cbits(h);
                 b.er = true;
                 b.err = e.err();
                 b.exerr = e.exerr();
                 return;
             }
         };
-        self.coord.instructions[h.0 as usize].bits.dn = true;
+        self.cbits(h).dn = true;
         self.mct_on_mcs(cs, inputs.stop_type);
         if stop.stop_all {
             self.stop_single_axis_motion(cs);
         }
         let sys = &mut self.coord.systems[cs.0 as usize];
         if sys.components.is_empty() && sys.pending.is_none() {
-            self.coord.instructions[h.0 as usize].bits.pc = true;
+            self.cbits(h).pc = true;
             return;
         }
         let limits = match stop.decel_jerk {
@@ -516,7 +582,7 @@ impl MotionTask {
         sys.status.move_ = false;
         sys.status.move_transition = false;
         sys.stop = Some(h);
-        self.coord.instructions[h.0 as usize].bits.ip = true;
+        self.cbits(h).ip = true;
         self.refresh_queue_status(cs);
     }
 
@@ -580,7 +646,7 @@ impl MotionTask {
             cleared.push(h);
         }
         for h in cleared {
-            let b = &mut self.coord.instructions[h.0 as usize].bits;
+            let b = self.cbits(h);
             b.ip = false;
             b.ac = false;
             b.accel = false;
@@ -639,7 +705,7 @@ impl MotionTask {
             stopping: false,
             lock,
         });
-        let b = &mut self.coord.instructions[h.0 as usize].bits;
+        let b = self.cbits(h);
         b.ip = true;
         b.ac = true;
     }
@@ -742,7 +808,7 @@ impl MotionTask {
             let (next, mv) = sys.pending.take().expect("checked above");
             sys.status.command_pos_tolerance = false;
             if let Some(h) = finished {
-                let b = &mut self.coord.instructions[h.0 as usize].bits;
+                let b = self.cbits(h);
                 b.pc = true;
                 b.ac = false;
                 b.accel = false;
@@ -893,18 +959,18 @@ impl MotionTask {
             sys.status.stopping = false;
         }
         for (h, a, d) in component_bits {
-            let b = &mut self.coord.instructions[h.0 as usize].bits;
+            let b = self.cbits(h);
             b.accel = a && b.ac;
             b.decel = d && b.ac;
         }
         for h in finished_ip {
-            let b = &mut self.coord.instructions[h.0 as usize].bits;
+            let b = self.cbits(h);
             b.ip = false;
             b.accel = false;
             b.decel = false;
         }
         for h in finished_pc.into_iter().chain(stop) {
-            let b = &mut self.coord.instructions[h.0 as usize].bits;
+            let b = self.cbits(h);
             b.pc = true;
             b.ip = false;
             b.ac = false;

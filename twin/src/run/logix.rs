@@ -178,6 +178,9 @@ impl LogixContext<'_> {
 /// not simulated.
 pub fn compile(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
     let upper = name.to_ascii_uppercase();
+    if let Some(step) = super::coord::compile(&upper, operands, ctx) {
+        return step;
+    }
     #[allow(clippy::match_single_binding, reason = "one arm per instruction as they are added")]
     match upper.as_str() {
         _ => {
@@ -212,7 +215,7 @@ pub fn expect_operands(instruction: &str, operands: &[Expr], names: &[&str]) -> 
 }
 
 /// The Logix instructions the twin simulates.
-pub const SIMULATED: &[&str] = &[];
+pub const SIMULATED: &[&str] = &["MCCM", "MCLM", "MCS"];
 
 #[cfg(test)]
 mod tests {

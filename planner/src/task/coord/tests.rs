@@ -709,3 +709,42 @@ fn coordinated_and_single_axis_motion_abort_each_other() {
     assert!(!task.coordinated_motion_status(y));
     run_until(&mut task, 10_000, |t| t.outputs(fb).done);
 }
+
+#[test]
+fn one_shot_execution_sets_bits_at_once_and_clears_en_on_the_next_scan() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let mc = task.add_instruction("MC1");
+    task.execute_coordinated(cs, mc, CoordCall::Mclm(line(&[1.0, 0.0], 1)));
+    let b = task.motion_bits(mc);
+    assert!(b.en && b.dn && b.ip && b.ac, "set by the scan itself: {b:?}");
+    task.update();
+    let b = task.motion_bits(mc);
+    assert!(!b.en && b.dn && b.ip);
+    let h = task.coord_instruction_of(mc).unwrap();
+    assert_eq!(task.coord_control(h), mc);
+    assert_eq!(task.coord_instruction_name(h), "MC1");
+    run_until(&mut task, 10_000, |t| t.motion_bits(mc).pc);
+    // The same tag executes again: DN/PC reset by the new scan, then set again.
+    task.execute_coordinated(cs, mc, CoordCall::Mclm(line(&[1.0, 1.0], 1)));
+    let b = task.motion_bits(mc);
+    assert!(b.en && b.dn && !b.pc && b.ip);
+    run_until(&mut task, 10_000, |t| t.motion_bits(mc).pc);
+    assert_eq!(positions(&task, &axes), vec![1.0, 1.0]);
+    // A held move keeps .EN until it is queued.
+    let (a, b2, c) = (
+        task.add_instruction("A"),
+        task.add_instruction("B"),
+        task.add_instruction("C"),
+    );
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[5.0, 1.0], 1)));
+    task.execute_coordinated(cs, b2, CoordCall::Mclm(line(&[5.0, 5.0], 1)));
+    task.execute_coordinated(cs, c, CoordCall::Mclm(line(&[1.0, 1.0], 1)));
+    task.update();
+    let bc = task.motion_bits(c);
+    assert!(bc.en && !bc.dn && !bc.ip);
+    // Queued at last: the rung is already false, so the same scan clears .EN.
+    run_until(&mut task, 10_000, |t| t.motion_bits(c).dn);
+    assert!(!task.motion_bits(c).en && task.motion_bits(c).ip);
+    run_until(&mut task, 10_000, |t| t.motion_bits(c).pc);
+    assert_eq!(positions(&task, &axes), vec![1.0, 1.0]);
+}
