@@ -269,7 +269,8 @@ fn pose(model: &RobotModel, r: &Resolved, config: &[f64], x: [f64; 3], tool_at_z
 }
 
 /// The URDF joint positions of a robot whose target joints are at `joints`
-/// (J1 first, rad or m): the driven joints, and for a parallel geometry the
+/// (J1 first, URDF units: rad or m; geometry lengths in coordinate units of
+/// `metres_per_unit` metres): the driven joints, and for a parallel geometry the
 /// virtual platform and forearm joints posed from the MCT forward kinematics
 /// (the twin uses this to pose the links it cannot simulate as a closed
 /// chain).
@@ -283,15 +284,23 @@ pub fn pose_parallel(
     geometry: &Geometry,
     mapping: &ChainMapping,
     joints: &[f64],
+    metres_per_unit: f64,
 ) -> Result<Vec<f64>, KinematicsCheckError> {
     let r = resolve(model, geometry, mapping)?;
     let mut q3 = [0.0; 3];
     for (q, j) in q3.iter_mut().zip(joints) {
         *q = *j;
     }
+    let kinds = geometry.joint_kinds();
+    for (i, q) in q3.iter_mut().enumerate() {
+        if kinds[i] == MctJointKind::Prismatic {
+            *q /= metres_per_unit;
+        }
+    }
     let x = geometry
         .forward(q3)
-        .map_err(|_| KinematicsCheckError::TooFewConfigurations { valid: 0 })?;
+        .map_err(|_| KinematicsCheckError::TooFewConfigurations { valid: 0 })?
+        .map(|v| v * metres_per_unit);
     let tool_at_zero = base_from(model, &r, &vec![0.0; model.joints.len()], r.tool);
     Ok(pose(
         model,
@@ -327,7 +336,8 @@ fn configurations(model: &RobotModel, joints: &[JointIndex]) -> Vec<Vec<f64>> {
 }
 
 /// Checks that `model`, mapped by `mapping`, has the kinematics of
-/// `geometry`.
+/// `geometry`, whose lengths are in coordinate units of `metres_per_unit`
+/// metres (prismatic joints move in those units too).
 ///
 /// # Errors
 /// [`KinematicsCheckError`]: an unknown link or joint, a joint of the wrong
@@ -337,8 +347,10 @@ pub fn check(
     model: &RobotModel,
     geometry: &Geometry,
     mapping: &ChainMapping,
+    metres_per_unit: f64,
 ) -> Result<CheckReport, KinematicsCheckError> {
     let r = resolve(model, geometry, mapping)?;
+    let kinds = geometry.joint_kinds();
     let compared = if geometry.dimension() == 3 || geometry.shares_third_axis() {
         3
     } else {
@@ -348,9 +360,17 @@ pub fn check(
     let mut valid = 0;
     let mut max_deviation_m: f64 = 0.0;
     for config in configurations(model, &r.joints) {
+        // URDF joint values (rad, m) → MCT joint values (rad, coordinate units).
         let mut q3 = [0.0; 3];
-        q3[..config.len()].copy_from_slice(&config);
+        for (i, &v) in config.iter().enumerate() {
+            q3[i] = if kinds[i] == MctJointKind::Prismatic {
+                v / metres_per_unit
+            } else {
+                v
+            };
+        }
         let Ok(x) = geometry.forward(q3) else { continue };
+        let x = x.map(|v| v * metres_per_unit);
         let q = pose(model, &r, &config, x, tool_at_zero);
         valid += 1;
         let mismatch = |measure, deviation_m: f64| KinematicsCheckError::Mismatch {
@@ -464,7 +484,7 @@ mod tests {
     fn the_scene_robots_match_their_mct_geometry() {
         for (name, (geometry, mapping)) in [("scara", scara()), ("articulated", articulated()), ("delta", delta())] {
             let report =
-                check(&model(name, &text(name)), &geometry, &mapping).unwrap_or_else(|e| panic!("{name}: {e}"));
+                check(&model(name, &text(name)), &geometry, &mapping, 1.0).unwrap_or_else(|e| panic!("{name}: {e}"));
             assert!(report.configurations >= MIN_CONFIGURATIONS, "{name}: {report:?}");
             assert!(report.max_deviation_m < 1e-9, "{name}: {report:?}");
         }
@@ -486,7 +506,7 @@ mod tests {
             r#"<origin xyz="0.35 0 0.05"/>"#,
             r#"<origin xyz="0.36 0 0.05"/>"#,
         );
-        match check(&bad, &g, &m) {
+        match check(&bad, &g, &m, 1.0) {
             Err(KinematicsCheckError::Mismatch {
                 measure: Measure::Tool,
                 deviation_m,
@@ -501,7 +521,7 @@ mod tests {
             r#"<origin xyz="0.4 0 0"/>"#,
             r#"<origin xyz="0.38 0 0"/>"#,
         );
-        match check(&bad, &g, &m) {
+        match check(&bad, &g, &m, 1.0) {
             Err(e @ KinematicsCheckError::Mismatch { deviation_m, .. }) => {
                 assert!((deviation_m - 0.02).abs() < 1e-9, "{e}");
             }
@@ -518,7 +538,7 @@ mod tests {
             at..at + r#"<origin xyz="0.3 0 0"/>"#.len(),
             r#"<origin xyz="0.31 0 0"/>"#,
         );
-        match check(&model("delta", &bad), &g, &m) {
+        match check(&model("delta", &bad), &g, &m, 1.0) {
             Err(KinematicsCheckError::Mismatch {
                 measure: Measure::Forearm { arm: 2 },
                 deviation_m,
@@ -528,7 +548,7 @@ mod tests {
         }
         let long = xml.replace(r#"<origin xyz="0.8 0 0"/>"#, r#"<origin xyz="0.81 0 0"/>"#);
         assert_eq!(long.matches(r#"<origin xyz="0.81 0 0"/>"#).count(), 3);
-        match check(&model("delta", &long), &g, &m) {
+        match check(&model("delta", &long), &g, &m, 1.0) {
             Err(KinematicsCheckError::Mismatch {
                 measure: Measure::Forearm { arm: 1 },
                 deviation_m,
@@ -545,7 +565,7 @@ mod tests {
         };
         let g = Geometry::new(GeometryKind::Delta3d, &params, 3).unwrap();
         assert!(matches!(
-            check(&model("delta", &xml), &g, &m),
+            check(&model("delta", &xml), &g, &m, 1.0),
             Err(KinematicsCheckError::Mismatch { .. })
         ));
     }
@@ -561,7 +581,7 @@ mod tests {
         };
         let g = Geometry::new(GeometryKind::ArticulatedIndependent, &params, 3).unwrap();
         assert!(matches!(
-            check(&model("articulated", &text("articulated")), &g, &m),
+            check(&model("articulated", &text("articulated")), &g, &m, 1.0),
             Err(KinematicsCheckError::Mismatch {
                 measure: Measure::Tool,
                 ..
@@ -576,7 +596,7 @@ mod tests {
         };
         let g = Geometry::new(GeometryKind::Delta3d, &params, 3).unwrap();
         assert!(matches!(
-            check(&model("delta", &text("delta")), &g, &m),
+            check(&model("delta", &text("delta")), &g, &m, 1.0),
             Err(KinematicsCheckError::Mismatch { .. })
         ));
     }
@@ -587,18 +607,18 @@ mod tests {
         let robot = model("scara", &text("scara"));
         m.tool_link = "gripper".into();
         assert_eq!(
-            check(&robot, &g, &m),
+            check(&robot, &g, &m, 1.0),
             Err(KinematicsCheckError::UnknownLink { name: "gripper".into() })
         );
         let (g, mut m) = scara();
         m.joints = strings(&["j1", "j3", "j2"]);
         assert!(matches!(
-            check(&robot, &g, &m),
+            check(&robot, &g, &m, 1.0),
             Err(KinematicsCheckError::JointKind { axis: 2, .. })
         ));
         m.joints = strings(&["j1", "j2"]);
         assert!(matches!(
-            check(&robot, &g, &m),
+            check(&robot, &g, &m, 1.0),
             Err(KinematicsCheckError::Count {
                 what: "joints",
                 given: 2,

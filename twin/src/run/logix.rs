@@ -181,6 +181,9 @@ pub fn compile(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Res
     if let Some(step) = super::coord::compile(&upper, operands, ctx) {
         return step;
     }
+    if let Some(step) = super::mct::compile(&upper, operands, ctx) {
+        return step;
+    }
     #[allow(clippy::match_single_binding, reason = "one arm per instruction as they are added")]
     match upper.as_str() {
         _ => {
@@ -215,7 +218,7 @@ pub fn expect_operands(instruction: &str, operands: &[Expr], names: &[&str]) -> 
 }
 
 /// The Logix instructions the twin simulates.
-pub const SIMULATED: &[&str] = &["MCCM", "MCLM", "MCS"];
+pub const SIMULATED: &[&str] = &["MCCM", "MCLM", "MCS", "MCT"];
 
 #[cfg(test)]
 mod tests {
@@ -247,7 +250,7 @@ mod tests {
         let axes = vec![AxisBinding {
             name: "Table".to_string(),
             handle: table,
-            drive: 0,
+            drive: Some(0),
             si_per_unit: 1.0,
             in_position_window: 0.1,
         }];
