@@ -619,3 +619,86 @@ fn gantry_arcs_tool_stays_on_the_programmed_circles() {
     }
     assert_eq!([last[xc], last[yc], last[zc]], [0.0, 0.0, 0.0]);
 }
+
+#[test]
+fn scara_pick_frames_match_snapshots() {
+    coord_scene_frames_match_snapshots("scenes/scara_pick.toml", "scara_pick_snapshots");
+}
+
+/// SCARA under MCT: during the MCCM half circle the Cartesian command, and
+/// the tool point computed by forward kinematics from the joint commands,
+/// lie on the programmed circle within 1e-9 m; the simulated tool (the URDF
+/// tool link, physics actuals) within 2 mm; the elbow never changes side.
+#[test]
+fn scara_pick_tool_follows_the_programmed_arc_under_mct() {
+    let out = out_dir("scara_pick_trace");
+    let output = twin_cmd()
+        .args(["run", "scenes/scara_pick.toml", "--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .output()
+        .expect("run twin");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let (header, rows) = read_trace(&out.join("t.csv"));
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("column {name}"))
+    };
+    let (l1, l2) = (0.35, 0.25);
+    let fk = |j1_deg: f64, j2_deg: f64| {
+        let (a, b) = (j1_deg.to_radians(), (j1_deg + j2_deg).to_radians());
+        (l1 * a.cos() + l2 * b.cos(), l1 * a.sin() + l2 * b.sin())
+    };
+    let (centre, radius) = ((0.25, 0.05), 0.25);
+    let on_circle = |x: f64, y: f64| ((x - centre.0).hypot(y - centre.1) - radius).abs();
+    let ac = col("C1.AC");
+    let arc: Vec<&Vec<f64>> = rows.iter().filter(|r| r[ac] == 1.0).collect();
+    assert!(arc.len() > 100, "arc active for {} updates", arc.len());
+    let (mut command, mut joints, mut actual): (f64, f64, f64) = (0.0, 0.0, 0.0);
+    for r in &arc {
+        command = command.max(on_circle(r[col("X.cmd_pos")], r[col("Y.cmd_pos")]));
+        let (x, y) = fk(r[col("J1.cmd_pos")], r[col("J2.cmd_pos")]);
+        joints = joints.max(on_circle(x, y));
+        actual = actual.max(on_circle(r[col("Cart.tool_x")], r[col("Cart.tool_y")]));
+    }
+    assert!(command < 1e-9, "command off the circle by {command} m");
+    assert!(joints < 1e-9, "joint commands put the tool {joints} m off the circle");
+    assert!(actual < 2e-3, "simulated tool off the circle by {actual} m");
+    // The right arm it started in (J2 > 0) is kept for every Cartesian move.
+    let ip = col("T1.IP");
+    assert!(rows.iter().filter(|r| r[ip] == 1.0).all(|r| r[col("J2.cmd_pos")] > 0.0));
+    assert!(rows.last().is_some_and(|r| r[ip] == 1.0), "the transform keeps running");
+}
+
+/// A scene whose URDF does not have its transform's geometry is refused at
+/// load, at the geometry table's line.
+#[test]
+fn a_scara_scene_with_a_wrong_link_length_is_refused() {
+    let path = root().join("scenes/scara_pick.toml");
+    let text = std::fs::read_to_string(&path).expect("scene");
+    let bad = text.replace("link_lengths = [0.35, 0.25]", "link_lengths = [0.36, 0.25]");
+    assert_ne!(bad, text);
+    let dir = out_dir("scara_wrong_link");
+    let copy = dir.join("scara_pick.toml");
+    std::fs::write(
+        &copy,
+        bad.replace(
+            "robots/scara/",
+            &format!("{}/", root().join("scenes/robots/scara").display()),
+        ),
+    )
+    .expect("write scene");
+    let scene = twin::scene::load(&copy).expect("the scene itself is valid");
+    let line = bad[..bad.find("geometry = { type = \"scara_independent\"").expect("table")]
+        .matches('\n')
+        .count()
+        + 1;
+    match Twin::new(scene) {
+        Err(twin::run::RunError::Kinematics { line: l, .. }) => assert_eq!(l, line),
+        Err(other) => panic!("{other}"),
+        Ok(_) => panic!("a wrong link length must be refused"),
+    }
+    // The untouched scene loads.
+    Twin::new(twin::scene::load(&path).expect("scene")).expect("scara_pick binds");
+}

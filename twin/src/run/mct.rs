@@ -134,10 +134,15 @@ pub(super) fn check_transforms(scene: &Scene, model: &RobotModel, axes: &[AxisBi
             };
             joints.push(joint.clone());
         }
+        let (Some(base_link), Some(tool_link)) = (&settings.base_link, &settings.tool_link) else {
+            return Err(fail(
+                "a transform's target geometry needs base_link and tool_link to be checked against the URDF".into(),
+            ));
+        };
         let mapping = ChainMapping {
             joints,
-            base_link: settings.base_link.clone(),
-            tool_link: settings.tool_link.clone(),
+            base_link: base_link.clone(),
+            tool_link: tool_link.clone(),
             platform_joints: settings.platform_joints.clone(),
             forearm_joints: settings.forearm_joints.clone(),
             forearm_tip_links: settings.forearm_tip_links.clone(),

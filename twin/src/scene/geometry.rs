@@ -30,8 +30,8 @@ pub(super) struct RawGeometry {
     base_offsets: Option<Spanned<[f64; 3]>>,
     end_effector_offsets: Option<Spanned<[f64; 3]>>,
     zero_angles_deg: Option<Spanned<[f64; 3]>>,
-    base_link: Spanned<String>,
-    tool_link: Spanned<String>,
+    base_link: Option<Spanned<String>>,
+    tool_link: Option<Spanned<String>>,
     platform_joints: Option<Vec<Spanned<String>>>,
     forearm_joints: Option<Vec<[Spanned<String>; 2]>>,
     forearm_tip_links: Option<Vec<Spanned<String>>>,
@@ -51,10 +51,12 @@ pub struct GeometrySettings {
     /// `link_lengths` (L1, L2), `base_offsets`, `end_effector_offsets`
     /// (coordinate units) and `zero_angles_deg` (default: 0).
     pub params: GeometryParams,
-    /// `base_link`: the URDF link whose frame is the MCT robot frame.
-    pub base_link: String,
-    /// `tool_link`: the URDF link whose origin is the tool point.
-    pub tool_link: String,
+    /// `base_link`: the URDF link whose frame is the MCT robot frame
+    /// (required for a transform's target; default: none).
+    pub base_link: Option<String>,
+    /// `tool_link`: the URDF link whose origin is the tool point (required
+    /// for a transform's target; default: none).
+    pub tool_link: Option<String>,
     /// `platform_joints` (parallel geometries; default: none).
     pub platform_joints: Vec<String>,
     /// `forearm_joints`: `[yaw, pitch]` per arm (parallel geometries;
@@ -135,8 +137,16 @@ impl Ctx<'_> {
                 end_effector_offsets: three(&r.end_effector_offsets, "end_effector_offsets")?,
                 zero_angles_deg: three(&r.zero_angles_deg, "zero_angles_deg")?,
             },
-            base_link: self.nonempty_name(&r.base_link, &f("base_link"))?,
-            tool_link: self.nonempty_name(&r.tool_link, &f("tool_link"))?,
+            base_link: r
+                .base_link
+                .as_ref()
+                .map(|l| self.nonempty_name(l, &f("base_link")))
+                .transpose()?,
+            tool_link: r
+                .tool_link
+                .as_ref()
+                .map(|l| self.nonempty_name(l, &f("tool_link")))
+                .transpose()?,
             platform_joints: names(&r.platform_joints, "platform_joints")?,
             forearm_joints: r
                 .forearm_joints
