@@ -793,3 +793,79 @@ fn articulated_arc_tool_follows_the_3d_arc_under_orientation_and_translation() {
     // Elbow up (J3 < 0) throughout: the configuration MCT started with.
     assert!(rows.iter().all(|r| r[col("J3.cmd_pos")] < 0.0));
 }
+
+#[test]
+fn delta_pick_frames_match_snapshots() {
+    coord_scene_frames_match_snapshots("scenes/delta_pick.toml", "delta_pick_snapshots");
+}
+
+/// Delta 3D under MCT: during the MCCM half circle the Cartesian command and
+/// the MCT forward kinematics of the joint commands lie on the programmed
+/// circle within 1e-9 m, and the simulated tool (the URDF tool link on the
+/// platform the twin poses from the simulated arms) within 2 mm.
+#[test]
+fn delta_pick_tool_follows_the_programmed_arc_under_mct() {
+    use planner::mct::{Geometry, GeometryKind, GeometryParams};
+    let out = out_dir("delta_pick_trace");
+    let output = twin_cmd()
+        .args(["run", "scenes/delta_pick.toml", "--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .output()
+        .expect("run twin");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let (header, rows) = read_trace(&out.join("t.csv"));
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("column {name}"))
+    };
+    let params = GeometryParams {
+        link_lengths: [0.3, 0.8, 0.0],
+        base_offsets: [0.2, 0.0, 0.0],
+        end_effector_offsets: [0.05, 0.0, -0.05],
+        ..Default::default()
+    };
+    let delta = Geometry::new(GeometryKind::Delta3d, &params, 3).expect("geometry");
+    // Horizontal circle of radius 0.15 m about (0, 0, -0.9) (robot frame,
+    // 1.2 m above the floor).
+    let off = |p: [f64; 3]| (p[0].hypot(p[1]) - 0.15).abs().max((p[2] + 0.9).abs());
+    let ac = col("C1.AC");
+    let arc: Vec<&Vec<f64>> = rows.iter().filter(|r| r[ac] == 1.0).collect();
+    assert!(arc.len() > 50, "arc active for {} updates", arc.len());
+    let (mut command, mut joints, mut actual): (f64, f64, f64) = (0.0, 0.0, 0.0);
+    for r in &arc {
+        command = command.max(off([r[col("X.cmd_pos")], r[col("Y.cmd_pos")], r[col("Z.cmd_pos")]]));
+        let q = ["J1", "J2", "J3"].map(|j| r[col(&format!("{j}.cmd_pos"))].to_radians());
+        joints = joints.max(off(delta.forward(q).expect("reachable")));
+        actual = actual.max(off([
+            r[col("Cart.tool_x")],
+            r[col("Cart.tool_y")],
+            r[col("Cart.tool_z")] - 1.2,
+        ]));
+    }
+    assert!(command < 1e-9, "command off the circle by {command} m");
+    assert!(joints < 1e-9, "joint commands put the tool {joints} m off the circle");
+    assert!(actual < 2e-3, "simulated tool off the circle by {actual} m");
+}
+
+/// The Delta's forearm length in the scene differs from the URDF's: refused.
+#[test]
+fn a_delta_scene_with_a_wrong_forearm_length_is_refused() {
+    let path = root().join("scenes/delta_pick.toml");
+    let text = std::fs::read_to_string(&path).expect("scene");
+    let bad = text.replace("link_lengths = [0.3, 0.8]", "link_lengths = [0.3, 0.81]");
+    assert_ne!(bad, text);
+    let dir = out_dir("delta_wrong_link");
+    let copy = dir.join("delta_pick.toml");
+    std::fs::write(
+        &copy,
+        bad.replace(
+            "robots/delta/",
+            &format!("{}/", root().join("scenes/robots/delta").display()),
+        ),
+    )
+    .expect("write scene");
+    let scene = twin::scene::load(&copy).expect("the scene itself is valid");
+    assert!(matches!(Twin::new(scene), Err(twin::run::RunError::Kinematics { .. })));
+}

@@ -262,8 +262,15 @@ fn pose(model: &RobotModel, r: &Resolved, config: &[f64], x: [f64; 3], tool_at_z
         let joint = model.joint(yaw);
         let elbow = world[joint.parent.0] * joint.parent_from_joint;
         let d: Vector3<f64> = elbow.inverse() * world[ball.0] * Point3::origin() - Point3::origin();
-        q[yaw.0] = d.y.atan2(d.x);
-        q[pitch.0] = (-d.z).atan2(d.x.hypot(d.y));
+        // Yaw within ±90° (a forearm reaching inward pitches past 90°
+        // instead), so the virtual joints never wrap at ±180° while the
+        // forearm swings through the vertical plane of its arm.
+        let (mut horizontal, mut yaw_x, mut yaw_y) = (d.x.hypot(d.y), d.x, d.y);
+        if d.x < 0.0 {
+            (horizontal, yaw_x, yaw_y) = (-horizontal, -d.x, -d.y);
+        }
+        q[yaw.0] = yaw_y.atan2(yaw_x);
+        q[pitch.0] = (-d.z).atan2(horizontal);
     }
     q
 }

@@ -249,6 +249,10 @@ pub struct Twin {
     previous_command: Vec<(f64, f64)>,
     /// Tool-centre trails of the coordinate systems (`run/coord.rs`).
     trails: Vec<coord::ToolTrail>,
+    /// Parallel robots' virtual joints posed from MCT kinematics
+    /// (`run/mct.rs`).
+    rigs: Vec<mct::ParallelRig>,
+    step_s: f64,
 }
 
 impl std::fmt::Debug for Twin {
@@ -382,6 +386,9 @@ impl Twin {
                 in_position_window: axis.in_position_window,
             });
         }
+        mct::check_transforms(&scene, &model)?;
+        let axis_drives: Vec<Option<usize>> = axes.iter().map(|a: &AxisBinding| a.drive).collect();
+        let rigs = mct::parallel_rigs(&scene, &model, &axis_drives, &mut drives, &mut initial)?;
         initial.sort_by(|a, b| a.0.cmp(&b.0));
         let step_s = scene.physics_step_ms / 1000.0;
         let substeps = (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize;
@@ -485,8 +492,9 @@ impl Twin {
             substeps,
             previous_command,
             trails: Vec::new(),
+            rigs,
+            step_s,
         };
-        mct::check_transforms(&twin.scene, &twin.model, &twin.axes)?;
         twin.trails = coord::tool_trails(&twin)?;
         twin.record_trails();
         Ok(twin)
@@ -606,6 +614,7 @@ impl Twin {
         for j in 0..n {
             let f = j as f64 / n as f64;
             let fm = (j as f64 + 0.5) / n as f64;
+            let mut setpoints = Vec::with_capacity(self.axes.len());
             for (k, axis) in self.axes.iter().enumerate() {
                 let Some(drive) = axis.drive else { continue };
                 let (p0, v0) = self.previous_command[k];
@@ -613,6 +622,11 @@ impl Twin {
                 let p = p0 + (p1 - p0) * f;
                 let v = v0 + (v1 - v0) * fm;
                 self.sim.set_setpoint(drive, p * axis.si_per_unit, v * axis.si_per_unit);
+                setpoints.push((drive, p * axis.si_per_unit));
+            }
+            for rig in &mut self.rigs {
+                let setpoint = |d: usize| setpoints.iter().find(|(x, _)| *x == d).map(|(_, p)| *p);
+                rig.drive(&self.model, &mut self.sim, self.step_s, setpoint);
             }
             self.sim.step();
         }

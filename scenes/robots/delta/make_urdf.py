@@ -79,7 +79,12 @@ for i in range(3):
     <axis xyz="0 1 0"/>
     <limit lower="-0.6" upper="1.5" effort="150" velocity="8"/>
   </joint>
-  <link name="forearm_{i+1}_knuckle"/>
+  <link name="forearm_{i+1}_knuckle">
+    <inertial>
+      <mass value="0.05"/>
+      <inertia ixx="0.00001" ixy="0" ixz="0" iyy="0.00001" iyz="0" izz="0.00001"/>
+    </inertial>
+  </link>
   <joint name="forearm_{i+1}_yaw" type="continuous">
     <parent link="upper_arm_{i+1}"/>
     <child link="forearm_{i+1}_knuckle"/>
@@ -111,14 +116,24 @@ for i in range(3):
   </joint>
 ''')
 out.append('''
-  <link name="platform_x"/>
+  <link name="platform_x">
+    <inertial>
+      <mass value="0.05"/>
+      <inertia ixx="0.00001" ixy="0" ixz="0" iyy="0.00001" iyz="0" izz="0.00001"/>
+    </inertial>
+  </link>
   <joint name="platform_x" type="prismatic">
     <parent link="delta_base"/>
     <child link="platform_x"/>
     <axis xyz="1 0 0"/>
     <limit lower="-1" upper="1" effort="0" velocity="10"/>
   </joint>
-  <link name="platform_y"/>
+  <link name="platform_y">
+    <inertial>
+      <mass value="0.05"/>
+      <inertia ixx="0.00001" ixy="0" ixz="0" iyy="0.00001" iyz="0" izz="0.00001"/>
+    </inertial>
+  </link>
   <joint name="platform_y" type="prismatic">
     <parent link="platform_x"/>
     <child link="platform_y"/>
