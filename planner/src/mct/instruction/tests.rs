@@ -566,3 +566,115 @@ fn revolute_joints_are_unwrapped_to_the_nearest_turn() {
     let cmd = tr.follow_source([start[0], start[1] + 0.001, 0.0], DT).unwrap();
     assert!((cmd.positions[0] - 719.0).abs() < 1.0, "{cmd:?}");
 }
+
+#[test]
+fn random_straight_moves_never_command_a_joint_above_its_speed_or_nan() {
+    // Seeded random straight Cartesian moves at random speeds from random
+    // start poses, many of them through or beyond a singularity or out of
+    // reach: every joint command is finite and within its axis' speed, and
+    // a fault always ends in a controlled stop that reaches rest.
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(77);
+    let cart3 = cartesian(1, &[1, 2, 3], 3);
+    let articulated = system(
+        2,
+        &[11, 12, 13],
+        3,
+        GeometryKind::ArticulatedIndependent,
+        GeometryParams {
+            link_lengths: [0.4, 0.35, 0.0],
+            base_offsets: [0.05, 0.0, 0.4],
+            ..Default::default()
+        },
+    );
+    let delta = system(
+        2,
+        &[11, 12, 13],
+        3,
+        GeometryKind::Delta3d,
+        GeometryParams {
+            link_lengths: [0.3, 0.8, 0.0],
+            base_offsets: [0.2, 0.0, 0.0],
+            end_effector_offsets: [0.05, 0.0, -0.05],
+            ..Default::default()
+        },
+    );
+    let (scara_source, scara_target) = scara_pair();
+    let j = joints3();
+    let (mut faults, mut completed) = (0, 0);
+    for case in 0..600 {
+        let (source, target, start): (&TransformSystem, &TransformSystem, Vec3) = match case % 3 {
+            0 => (
+                &scara_source,
+                &scara_target,
+                [rng.random_range(-150.0..150.0), rng.random_range(10.0..170.0), 0.0],
+            ),
+            1 => (
+                &cart3,
+                &articulated,
+                [
+                    rng.random_range(-90.0..90.0),
+                    rng.random_range(-20.0..80.0),
+                    rng.random_range(-150.0..-10.0),
+                ],
+            ),
+            _ => (&cart3, &delta, [0; 3].map(|_| rng.random_range(10.0..60.0))),
+        };
+        let mut t = TransformTable::new();
+        let Ok((id, from)) = t.execute(&request(source, target, &j, start), None) else {
+            continue;
+        };
+        let tr = t.get_mut(id).unwrap();
+        let to: Vec3 = [0; 3].map(|_| rng.random_range(-0.8..0.8));
+        let to = [
+            to[0],
+            to[1],
+            if target.geometry == GeometryKind::ScaraIndependent {
+                0.0
+            } else {
+                to[2]
+            },
+        ];
+        let speed = rng.random_range(0.05..2.0);
+        let length = (0..3).map(|i| (to[i] - from[i]).powi(2)).sum::<f64>().sqrt();
+        let steps = ((length / speed / DT).ceil() as usize).max(1);
+        let mut fault = None;
+        for k in 1..=steps {
+            let s = k as f64 / steps as f64;
+            let x = [0, 1, 2].map(|i| from[i] + (to[i] - from[i]) * s);
+            match tr.follow_source(x, DT) {
+                Ok(cmd) => {
+                    for i in 0..3 {
+                        let v = cmd.velocities[i];
+                        assert!(v.is_finite() && v.abs() <= j[i].max_speed, "case {case}: {cmd:?}");
+                        assert!(cmd.positions[i].is_finite());
+                    }
+                }
+                Err(e) => {
+                    fault = Some(e);
+                    break;
+                }
+            }
+        }
+        match fault {
+            None => completed += 1,
+            Some(_) => {
+                faults += 1;
+                let mut n = 0;
+                loop {
+                    let (cmd, at_rest) = tr.stop_step(DT);
+                    assert!(cmd.velocities.iter().zip(&j).all(|(v, a)| v.abs() <= a.max_speed));
+                    n += 1;
+                    if at_rest {
+                        break;
+                    }
+                    assert!(n < 10_000, "case {case}: the stop never ends");
+                }
+            }
+        }
+    }
+    assert!(
+        faults > 50 && completed > 50,
+        "{faults} faults, {completed} completed moves"
+    );
+}
