@@ -644,10 +644,9 @@ fn random_straight_moves_never_command_a_joint_above_its_speed_or_nan() {
             let x = [0, 1, 2].map(|i| from[i] + (to[i] - from[i]) * s);
             match tr.follow_source(x, DT) {
                 Ok(cmd) => {
-                    for i in 0..3 {
-                        let v = cmd.velocities[i];
-                        assert!(v.is_finite() && v.abs() <= j[i].max_speed, "case {case}: {cmd:?}");
-                        assert!(cmd.positions[i].is_finite());
+                    for ((v, p), axis) in cmd.velocities.iter().zip(cmd.positions).zip(&j) {
+                        assert!(v.is_finite() && v.abs() <= axis.max_speed, "case {case}: {cmd:?}");
+                        assert!(p.is_finite());
                     }
                 }
                 Err(e) => {
