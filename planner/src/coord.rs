@@ -852,7 +852,7 @@ impl CoordMove {
     pub(crate) fn with_speed(&self, speed: f64) -> Self {
         let mut m = self.clone();
         if let Some(l) = &self.limits
-            && let Some(new) = rebuild_limits(l, speed)
+            && let Some(new) = with_velocity(l, speed)
         {
             m.limits = Some(new);
         }
@@ -860,7 +860,8 @@ impl CoordMove {
     }
 }
 
-fn rebuild_limits(l: &Limits, speed: f64) -> Option<Limits> {
+/// `l` with another maximum speed (same rates, jerks and shape).
+pub(crate) fn with_velocity(l: &Limits, speed: f64) -> Option<Limits> {
     match l.shape() {
         crate::profile::Shape::Trapezoidal => Limits::trapezoidal(speed, l.acceleration(), l.deceleration()).ok(),
         crate::profile::Shape::SCurve { accel_jerk, decel_jerk } => {
@@ -1021,17 +1022,18 @@ pub(crate) fn finish_move(
     }
     let limits = if speed > 0.0 {
         let limits = if s_curve {
-            let jerk = |value: f64, max: f64, rate: f64| -> Result<f64, CoordMoveError> {
-                let units = match (inputs.jerk_units, driver) {
-                    (0, Driver::Time) | (4, Driver::Master) => JerkUnits::UnitsPerSec3,
-                    (1, _) => JerkUnits::PercentOfMaximum,
-                    (2, Driver::Time) | (6, Driver::Master) => JerkUnits::PercentOfTime,
-                    _ => return Err(out_of_range(idx.jerk_units)),
-                };
-                jerk_to_units_per_sec3(value, units, max, rate, speed).map_err(|_| out_of_range(-1))
+            let units = match (inputs.jerk_units, driver) {
+                (0, Driver::Time) | (4, Driver::Master) => JerkUnits::UnitsPerSec3,
+                (1, _) => JerkUnits::PercentOfMaximum,
+                (2, Driver::Time) | (6, Driver::Master) => JerkUnits::PercentOfTime,
+                _ => return Err(out_of_range(idx.jerk_units)),
             };
-            let aj = jerk(inputs.accel_jerk, sys.max_accel_jerk, accel).map_err(|e| fix(e, idx.accel_jerk))?;
-            let dj = jerk(inputs.decel_jerk, sys.max_decel_jerk, decel).map_err(|e| fix(e, idx.decel_jerk))?;
+            // % of time refers to the move's speed and its accel (decel) rate.
+            let jerk = |value: f64, max: f64, rate: f64, exerr: i32| {
+                jerk_to_units_per_sec3(value, units, max, rate, speed).map_err(|_| out_of_range(exerr))
+            };
+            let aj = jerk(inputs.accel_jerk, sys.max_accel_jerk, accel, idx.accel_jerk)?;
+            let dj = jerk(inputs.decel_jerk, sys.max_decel_jerk, decel, idx.decel_jerk)?;
             Limits::s_curve(speed, accel, decel, aj, dj)
         } else {
             Limits::trapezoidal(speed, accel, decel)
@@ -1076,14 +1078,6 @@ pub(crate) fn finish_move(
         })
         .collect();
     Ok(m)
-}
-
-/// A jerk error carries −1 as a placeholder for "the jerk value itself".
-fn fix(e: CoordMoveError, jerk_idx: i32) -> CoordMoveError {
-    match e {
-        CoordMoveError::ParameterOutOfRange { exerr: -1 } => out_of_range(jerk_idx),
-        other => other,
-    }
 }
 
 /// MCS operands (Motion Coordinated Stop).

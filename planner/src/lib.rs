@@ -7,6 +7,10 @@
 //! * [`instruction`] — status shared by all instructions: the Logix
 //!   MOTION_INSTRUCTION bits and the PLCopen function-block outputs.
 //! * [`modulo`] — MC_MoveModulo.
+//! * [`mccp`] — Motion Calculate Cam Profile: CAM arrays → cam profiles.
+//! * [`mapc`] — Motion Axis Position Cam: position camming of a slave axis.
+//! * [`mrp`] — Motion Redefine Position.
+//! * [`jog`] — Motion Axis Jog / Motion Axis Stop (drives cam masters).
 //! * [`coord`] — coordinate systems, coordinated-move operands and status;
 //!   [`mclm`] linear and [`mccm`] circular coordinated moves; MCS in `coord`.
 //! * [`mct`] — MCT coordinated transforms and robot geometries.
@@ -15,9 +19,13 @@
 pub mod axis;
 pub mod coord;
 pub mod instruction;
+pub mod jog;
+pub mod mapc;
 pub mod mccm;
+pub mod mccp;
 pub mod mclm;
 pub mod mct;
 pub mod modulo;
+pub mod mrp;
 pub mod profile;
 pub mod task;

@@ -195,6 +195,40 @@ impl Arc {
 /// # Errors
 /// [`CoordMoveError`] with the spec's ERR/EXERR: 13 (operand index, see
 /// [`OperandIndex::MCCM`]), 25, 44, 45, 46, 49, 54.
+///
+/// # Examples
+/// A 2D half circle through a via point, then the same points on a 3D
+/// system with the radius circle type, which is 2D only (ERR 25):
+/// ```
+/// use planner::coord::{CoordMoveInputs, CoordinateSystem, CoordinateSystemConfig, MoveContext};
+/// use planner::mccm::{MccmInputs, mccm};
+/// let xy = CoordinateSystem::new(CoordinateSystemConfig {
+///     axis_count: 2,
+///     primary_axes: 2,
+///     ..CoordinateSystemConfig::new("XY")
+/// })
+/// .unwrap();
+/// let ctx = MoveContext { system: &xy, axis_max_decel: &[10.0, 10.0], start: &[1.0, 0.0], has_master: false };
+/// let inputs = MccmInputs {
+///     common: CoordMoveInputs { position: vec![-1.0, 0.0], ..Default::default() },
+///     circle_type: 0,
+///     via_center_radius: vec![0.0, 1.0],
+///     direction: 0,
+/// };
+/// let arc = mccm(&inputs, &ctx).unwrap();
+/// assert!((arc.path().length() - std::f64::consts::PI).abs() < 1e-12);
+///
+/// let xyz = CoordinateSystem::new(CoordinateSystemConfig::new("XYZ")).unwrap();
+/// let ctx = MoveContext { system: &xyz, axis_max_decel: &[10.0; 3], start: &[1.0, 0.0, 0.0], has_master: false };
+/// let radius = MccmInputs {
+///     common: CoordMoveInputs { position: vec![-1.0, 0.0, 0.0], ..Default::default() },
+///     circle_type: 2,
+///     via_center_radius: vec![1.0],
+///     direction: 0,
+/// };
+/// let e = mccm(&radius, &ctx).unwrap_err();
+/// assert_eq!((e.err(), e.exerr()), (25, 0));
+/// ```
 pub fn mccm(inputs: &MccmInputs, ctx: &MoveContext<'_>) -> Result<CoordMove, CoordMoveError> {
     let idx = OperandIndex::MCCM;
     let sys = ctx.system.config();
@@ -363,4 +397,4 @@ fn radius_arc(p0: V3, radius: f64, p1: V3, direction: i64) -> Result<Arc, CoordM
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -213,6 +213,10 @@ impl ErrorId {
     pub const BUSY: Self = Self(0x422A);
     /// 0x422B: the axis' own limits are unusable (a zero default rate).
     pub const AXIS_LIMITS: Self = Self(0x422B);
+    /// 0x422C: the twin's pre-flight sweep predicts a collision on the
+    /// planned path and the scene rejects such moves (the axis is stopped
+    /// with its configured deceleration).
+    pub const PATH_COLLISION: Self = Self(0x422C);
 
     /// What the number means, in words (for logs and summaries).
     pub fn meaning(self) -> &'static str {
@@ -228,6 +232,7 @@ impl ErrorId {
             Self::BUFFER_FULL => "a command is already buffered on the axis",
             Self::BUSY => "the block was triggered again while busy",
             Self::AXIS_LIMITS => "the axis limits cannot form a profile",
+            Self::PATH_COLLISION => "the planned path collides (pre-flight sweep); the move was rejected",
             _ => "unknown error",
         }
     }
@@ -283,6 +288,9 @@ pub enum MoveModuloError {
     /// See [`ErrorId::AXIS_LIMITS`].
     #[error("the axis limits cannot form a profile")]
     AxisLimits,
+    /// See [`ErrorId::PATH_COLLISION`].
+    #[error("the pre-flight sweep predicts a collision on the planned path")]
+    PathCollision,
 }
 
 impl MoveModuloError {
@@ -306,6 +314,7 @@ impl MoveModuloError {
             Self::BufferFull => ErrorId::BUFFER_FULL,
             Self::Busy => ErrorId::BUSY,
             Self::AxisLimits => ErrorId::AXIS_LIMITS,
+            Self::PathCollision => ErrorId::PATH_COLLISION,
         }
     }
 }

@@ -24,6 +24,9 @@ use crate::modulo::{McBufferMode, MoveModulo, MoveModuloError, MoveModuloInputs}
 use crate::profile::{Profile, Sample, State};
 use thiserror::Error;
 
+mod cam;
+pub use cam::{CamProfileHandle, LimitFlags, MapcCall};
+
 mod coord;
 pub use coord::{CoordCall, CoordHandle, CoordInstructionHandle, CoordSetupError};
 mod mct;
@@ -72,6 +75,8 @@ struct Job {
     t_s: f64,
     target: f64,
     generation_done: bool,
+    /// A stop ramp (see `task/stop.rs`): never blended into.
+    stopping: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -119,6 +124,7 @@ pub struct MotionTask {
     instructions: Vec<InstructionSlot>,
     /// Coordinate systems and coordinated instructions (`task/coord.rs`).
     coord: coord::CoordState,
+    cam: cam::CamState,
     /// MCT transforms (`task/mct.rs`).
     mct: mct::MctState,
 }
@@ -139,6 +145,7 @@ impl MotionTask {
             fbs: Vec::new(),
             instructions: Vec::new(),
             coord: coord::CoordState::default(),
+            cam: cam::CamState::default(),
             mct: mct::MctState::default(),
         })
     }
@@ -289,9 +296,12 @@ impl MotionTask {
         }
     }
 
-    /// Feeds the measured position of an axis (axis units, unwrapped); used
-    /// from the next update on. An axis never fed follows its command.
+    /// Feeds the measured position of an axis (axis units, unwrapped, in the
+    /// device's own frame: the MRP redefinitions made so far are added, see
+    /// [`MotionTask::position_offset`]); used from the next update on. An axis
+    /// never fed follows its command.
     pub fn feed_actual_position(&mut self, axis: AxisHandle, position: f64) {
+        let position = self.redefined_feedback(axis, position);
         let a = &mut self.axes[axis.0 as usize];
         if position.is_finite() {
             a.actual = position;
@@ -303,6 +313,8 @@ impl MotionTask {
     /// motion stops at once, and the running and buffered commands are
     /// aborted (`CommandAborted`).
     pub fn reset_axis(&mut self, axis: AxisHandle) {
+        self.release_cam_and_jog(axis);
+        self.release_axis_from_coordinated_motion(axis);
         let a = &mut self.axes[axis.0 as usize];
         a.command = Sample {
             position: a.actual,
@@ -327,6 +339,7 @@ impl MotionTask {
             self.advance_axis(AxisHandle(i as u32));
         }
         self.advance_coordinate_systems();
+        self.advance_cams_and_jogs();
         self.advance_transforms();
     }
 
@@ -376,6 +389,7 @@ impl MotionTask {
                     .and_then(|j| mode.junction_velocity(j.command.velocity(), command.velocity()));
                 if let (Some(vj), Some(job)) = (blend, a.job.as_mut())
                     && !job.generation_done
+                    && !job.stopping
                 {
                     // End the running command at its target with the junction speed.
                     let now = job.profile.sample(job.t_s).state();
@@ -392,6 +406,7 @@ impl MotionTask {
     /// Starts `command` on `axis` now, `elapsed_s` into its profile (a blend
     /// hand-over inside an update), aborting whatever runs there.
     fn start(&mut self, axis: AxisHandle, fb: FbHandle, command: MoveModulo, elapsed_s: Option<f64>) {
+        self.release_cam_and_jog(axis);
         self.release_axis_from_coordinated_motion(axis);
         let a = &mut self.axes[axis.0 as usize];
         // A blend hand-over replaces a command that has just finished (Done);
@@ -411,6 +426,7 @@ impl MotionTask {
             t_s: elapsed_s.unwrap_or(0.0),
             target,
             generation_done: false,
+            stopping: false,
         });
         for other in aborted {
             self.finish(other, Finish::Aborted);
@@ -546,6 +562,9 @@ impl MotionTask {
         self.axes[axis.0 as usize].command.state()
     }
 }
+
+mod stop;
+pub use stop::StopReport;
 
 #[derive(Debug, Clone, Copy)]
 enum Finish {

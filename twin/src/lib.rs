@@ -1,6 +1,7 @@
 //! The motion twin: scene files, URDF robots simulated in rapier, headless
 //! rendering, Rerun recordings and traces, driven by the `planner` crate.
 
+pub mod collision;
 pub mod convert;
 pub mod frames;
 pub mod kinematics_check;

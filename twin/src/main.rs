@@ -156,6 +156,9 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
             writeln!(w, "{}", twin.trace_row().join(","))?;
         }
         progress.tick(twin.task().updates(), &wall);
+        if twin.collision_abort() {
+            break;
+        }
     }
     progress.finish();
     if let Some((mut w, p)) = trace {
@@ -167,6 +170,10 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
     print!("{}", summary.human());
     if let Some(p) = &args.summary {
         fs::write(p, summary.json()).with_context(|| format!("--summary: cannot write {}", p.display()))?;
+    }
+    if summary.collision_abort {
+        eprintln!("error: the run was aborted by a collision (collision.reaction = \"abort\")");
+        return Ok(ExitCode::from(3));
     }
     if summary.any_error() {
         bail!("an instruction reported an error (see the summary above)");

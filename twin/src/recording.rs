@@ -515,6 +515,72 @@ impl Recorder {
         self.log_timed(entity_path, &strips)
     }
 
+    /// Logs arrows (e.g. contact normals) at the current `sim_time`,
+    /// replacing the previous ones at that path: `origins_m` in the entity's
+    /// frame, `vectors_m` from each origin. Empty slices clear the arrows.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidValue`] for a NaN/infinite value,
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_arrows(
+        &mut self,
+        entity_path: &str,
+        origins_m: &[[f64; 3]],
+        vectors_m: &[[f64; 3]],
+        color_rgba: [f32; 4],
+    ) -> Result<(), RecordingError> {
+        if !origins_m.iter().chain(vectors_m).flatten().all(|v| v.is_finite()) {
+            return Err(RecordingError::InvalidValue {
+                entity_path: entity_path.to_owned(),
+                quantity: Quantity::Point,
+            });
+        }
+        let f32s = |v: &[[f64; 3]]| -> Vec<[f32; 3]> { v.iter().map(|p| p.map(|x| x as f32)).collect() };
+        let arrows = rerun::archetypes::Arrows3D::from_vectors(f32s(vectors_m))
+            .with_origins(f32s(origins_m))
+            .with_colors([rgba32(color_rgba)]);
+        self.log_timed(entity_path, &arrows)
+    }
+
+    /// Logs a mesh at the current `sim_time` (e.g. a highlight over a
+    /// colliding link), in the entity's frame, with one colour.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidMesh`] for a malformed mesh,
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_mesh_timed(
+        &mut self,
+        entity_path: &str,
+        mesh: &TriMesh,
+        color_rgba: [f32; 4],
+    ) -> Result<(), RecordingError> {
+        check_mesh(mesh).map_err(|defect| RecordingError::InvalidMesh {
+            entity_path: entity_path.to_owned(),
+            defect,
+        })?;
+        let mut archetype =
+            rerun::archetypes::Mesh3D::new(mesh.positions.iter().copied()).with_albedo_factor(rgba32(color_rgba));
+        if !mesh.indices.is_empty() {
+            archetype = archetype.with_triangle_indices(
+                mesh.indices
+                    .chunks_exact(3)
+                    .map(|t| rerun::datatypes::UVec3D::new(t[0], t[1], t[2])),
+            );
+        }
+        self.log_timed(entity_path, &archetype)
+    }
+
+    /// Clears what an entity and its children show from the current `sim_time` on.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_clear(&mut self, entity_path: &str) -> Result<(), RecordingError> {
+        self.log_timed(entity_path, &rerun::archetypes::Clear::recursive())
+    }
+
     /// Flushes everything to every sink and closes the stream, which writes
     /// the `.rrd` footer. Must be called before the process exits; dropping a
     /// `Recorder` also closes the stream but cannot report errors.

@@ -36,7 +36,10 @@ use planner::task::{AxisHandle, FbHandle, InstructionHandle, MotionTask, TaskErr
 use std::path::PathBuf;
 use thiserror::Error;
 
+pub mod cam;
+mod collide;
 pub mod coord;
+pub use collide::Prediction;
 pub mod logix;
 pub mod mct;
 
@@ -122,6 +125,20 @@ pub enum RunError {
         column: usize,
         /// What is wrong.
         message: String,
+    },
+    /// The `[collision]` table names something the robot or scene lacks, or
+    /// a collision shape cannot be built.
+    #[error("{scene}:{line}:{column}: {source}")]
+    Collision {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the field (or of the `[collision]` table).
+        line: usize,
+        /// Column of the field.
+        column: usize,
+        /// What is wrong.
+        #[source]
+        source: crate::collision::CollisionModelError,
     },
     /// A program step cannot be carried out.
     #[error("{scene}:{line}:{column}: program[{index}]: {message}")]
@@ -247,6 +264,9 @@ pub struct Twin {
     steps: Vec<CompiledStep>,
     substeps: usize,
     previous_command: Vec<(f64, f64)>,
+    /// Axis of each instance in `fbs` (collision pre-flight).
+    fb_axes: Vec<Option<AxisHandle>>,
+    collision: Option<collide::CollideState>,
     /// Tool-centre trails of the coordinate systems (`run/coord.rs`).
     trails: Vec<coord::ToolTrail>,
     /// Parallel robots' virtual joints posed from MCT kinematics
@@ -475,6 +495,22 @@ impl Twin {
                 fired: false,
             });
         }
+        let collision = collide::CollideState::new(&model, &scene)
+            .transpose()
+            .map_err(|source| {
+                let at = scene.collision.as_ref().map(|c| c.location).unwrap_or_default();
+                let (line, column) = match &source {
+                    crate::collision::CollisionModelError::UnknownToolLink { line, column, .. }
+                    | crate::collision::CollisionModelError::UnknownPairBody { line, column, .. } => (*line, *column),
+                    _ => (at.line, at.column),
+                };
+                RunError::Collision {
+                    scene: path.clone(),
+                    line,
+                    column,
+                    source,
+                }
+            })?;
         let previous_command = axes
             .iter()
             .map(|a| (task.axis_state(a.handle).command_position, 0.0))
@@ -491,6 +527,8 @@ impl Twin {
             steps,
             substeps,
             previous_command,
+            fb_axes: fb_axis,
+            collision,
             trails: Vec::new(),
             rigs,
             step_s,
@@ -601,6 +639,8 @@ impl Twin {
             }
         }
         self.task.update();
+        self.collision_after_planner_update();
+        self.collision_begin_update();
 
         let n = self.substeps;
         let now: Vec<(f64, f64)> = self
@@ -608,7 +648,11 @@ impl Twin {
             .iter()
             .map(|a| {
                 let s = self.task.axis_state(a.handle);
-                (s.command_position, s.command_velocity)
+                // MRP redefines positions, not the joint: back to the joint's frame.
+                (
+                    s.command_position - self.task.position_offset(a.handle),
+                    s.command_velocity,
+                )
             })
             .collect();
         for j in 0..n {
@@ -629,6 +673,10 @@ impl Twin {
                 rig.drive(&self.model, &mut self.sim, self.step_s, setpoint);
             }
             self.sim.step();
+            self.collision_after_physics_step();
+            if self.collision_abort() {
+                break;
+            }
         }
         self.previous_command = now;
         for axis in &self.axes {
@@ -666,6 +714,11 @@ impl Twin {
                 h.push(format!("{}.{c}", ins.name));
             }
         }
+        if self.collision_enabled() {
+            h.push("collision.count".to_string());
+            h.extend(self.collision_bodies().iter().map(|b| format!("{b}.clearance_m")));
+        }
+        h.extend(cam::trace_header(&self.task, &self.axes));
         self.coord_trace_header(&mut h);
         h
     }
@@ -701,6 +754,11 @@ impl Twin {
                 row.push(code.to_string());
             }
         }
+        if self.collision_enabled() {
+            row.push(self.collision_events().len().to_string());
+            row.extend(self.clearance_m().iter().map(|d| format!("{d}")));
+        }
+        row.extend(cam::trace_row(&self.task, &self.axes));
         self.coord_trace_row(&mut row);
         row
     }

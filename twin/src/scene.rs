@@ -37,6 +37,9 @@ pub use geometry::{GEOMETRY_TYPES, GeometrySettings};
 
 use crate::st::{self, Args, Call, Expr, ParseError};
 
+mod collision;
+pub use collision::{AllowedPair, CollisionSettings, MeshApproximation, Preflight, Reaction, Tool};
+
 // ------------------------------------------------------------------ public model
 
 /// A 1-based line and column (in characters) in the scene file.
@@ -76,6 +79,8 @@ pub struct Scene {
     pub program: Vec<Step>,
     /// Golden-image frames, if any.
     pub snapshots: Option<Snapshots>,
+    /// Collision checking (`[collision]`); off when the table is absent.
+    pub collision: Option<CollisionSettings>,
 }
 
 /// `[robot]`.
@@ -562,6 +567,9 @@ pub struct CoordinateSystemSettings {
     /// URDF link whose origin is the tool centre: its path is drawn as a
     /// trail and its world position traced (default: none).
     pub tool_link: Option<String>,
+    /// Axis whose command position drives the system's master-driven moves
+    /// (the role of an MDCC; default: none).
+    pub master_axis: Option<String>,
     /// Where the table is written (or the tag's name when absent).
     pub location: Location,
 }
@@ -1036,6 +1044,7 @@ struct RawScene {
     #[serde(default)]
     program: Vec<RawStep>,
     snapshots: Option<RawSnapshots>,
+    collision: Option<collision::RawCollision>,
 }
 
 #[derive(Deserialize)]
@@ -1135,6 +1144,7 @@ struct RawCoordinateSystem {
     command_tolerance: Option<Spanned<f64>>,
     actual_tolerance: Option<Spanned<f64>>,
     tool_link: Option<Spanned<String>>,
+    master_axis: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -1424,7 +1434,12 @@ impl Ctx<'_> {
             Some(s) => Some(self.snapshots(s, &cameras)?),
             None => None,
         };
+        let collision = match &raw.collision {
+            Some(c) => Some(self.collision(c, base)?),
+            None => None,
+        };
         Ok(Scene {
+            collision,
             name,
             path: path.to_owned(),
             duration_s,
@@ -1760,7 +1775,7 @@ impl Ctx<'_> {
                     return Err(self.invalid(raw, f("coordinate_system"), Problem::CoordinateSystemOnly));
                 }
                 (raw, Some(TagValue::Axes(members))) => {
-                    Some(self.coordinate_system(raw.as_ref(), members.len(), &t.name, &f("coordinate_system"))?)
+                    Some(self.coordinate_system(raw.as_ref(), axes, members.len(), &t.name, &f("coordinate_system"))?)
                 }
                 _ => None,
             };
@@ -1788,6 +1803,7 @@ impl Ctx<'_> {
     fn coordinate_system(
         &self,
         raw: Option<&Spanned<RawCoordinateSystem>>,
+        axes: &[Axis],
         members: usize,
         name: &Spanned<String>,
         field: &str,
@@ -1805,6 +1821,7 @@ impl Ctx<'_> {
                 command_tolerance: 0.1,
                 actual_tolerance: 0.01,
                 tool_link: None,
+                master_axis: None,
                 location: self.loc(name),
             });
         };
@@ -1845,6 +1862,18 @@ impl Ctx<'_> {
             actual_tolerance: non_neg(&r.actual_tolerance, "actual_tolerance", 0.01)?,
             tool_link: match &r.tool_link {
                 Some(l) => Some(self.nonempty_name(l, &f("tool_link"))?),
+                None => None,
+            },
+            master_axis: match &r.master_axis {
+                Some(m) => match axes.iter().find(|a| a.name.eq_ignore_ascii_case(m.get_ref())) {
+                    Some(a) => Some(a.name.clone()),
+                    None => {
+                        let problem = Problem::UnknownAxis {
+                            name: m.get_ref().clone(),
+                        };
+                        return Err(self.invalid(m, f("master_axis"), problem));
+                    }
+                },
                 None => None,
             },
             location: self.loc(raw),

@@ -27,6 +27,9 @@ pub enum OutputError {
     Recording(#[from] RecordingError),
 }
 
+/// Tint of a link in collision, in frames and the Rerun highlight (red).
+pub const COLLISION_TINT_RGBA: [f32; 4] = [1.0, 0.05, 0.05, 0.8];
+
 /// Renders every camera at its frame rate into a directory.
 pub struct Frames {
     #[cfg(feature = "render")]
@@ -131,6 +134,7 @@ impl Frames {
                 return Ok(());
             }
             let links = twin.world_from_link();
+            let colliding = twin.colliding_links();
             let items: Vec<crate::render::DrawItem> = twin
                 .parts()
                 .iter()
@@ -139,7 +143,7 @@ impl Frames {
                     mesh: *id,
                     world_from_mesh: column_major(&world_from_part(p, &links)),
                     color_rgba: p.color_rgba,
-                    tint_rgba: None,
+                    tint_rgba: p.link.filter(|l| colliding.contains(l)).map(|_| COLLISION_TINT_RGBA),
                 })
                 .collect();
             // Tool-centre trails of the coordinate systems, orange.
@@ -189,6 +193,9 @@ pub struct Recording {
     link_paths: Vec<String>,
     previous_outputs: Vec<planner::instruction::FbOutputs>,
     previous_bits: Vec<MotionInstructionBits>,
+    logged_events: usize,
+    logged_predictions: usize,
+    highlighted: Vec<usize>,
 }
 
 impl Recording {
@@ -218,6 +225,9 @@ impl Recording {
                 link_paths,
                 previous_outputs: Vec::new(),
                 previous_bits: Vec::new(),
+                logged_events: 0,
+                logged_predictions: 0,
+                highlighted: Vec::new(),
             });
         }
         let mut recorder = Recorder::new(&format!("twin_{}", twin.scene().name), &sinks)?;
@@ -248,6 +258,9 @@ impl Recording {
             link_paths,
             previous_outputs: Vec::new(),
             previous_bits: Vec::new(),
+            logged_events: 0,
+            logged_predictions: 0,
+            highlighted: Vec::new(),
         })
     }
 
@@ -309,6 +322,87 @@ impl Recording {
                 )?;
             }
             self.previous_bits[i] = b;
+        }
+        // Tool-centre trails of the coordinate systems, every 25th update.
+        if twin.task().updates().is_multiple_of(25) {
+            for t in twin.tool_trails() {
+                if t.points_in_world.len() >= 2 {
+                    rec.log_line_strip(
+                        &format!("tool_trails/{}", t.system),
+                        &t.points_in_world,
+                        [1.0, 0.45, 0.0, 1.0],
+                    )?;
+                }
+            }
+        }
+        if twin.collision_enabled() {
+            self.log_collisions(twin)?;
+        }
+        Ok(())
+    }
+
+    /// Clearance series, contact arrows, event text log, red highlights.
+    fn log_collisions(&mut self, twin: &Twin) -> Result<(), OutputError> {
+        let Some(rec) = self.recorder.as_mut() else {
+            return Ok(());
+        };
+        for (body, d) in twin.collision_bodies().iter().zip(twin.clearance_m()) {
+            if d.is_finite() {
+                rec.log_scalar(&format!("collisions/clearance/{body}"), d)?;
+            }
+        }
+        let contacts = twin.contacts();
+        let origins: Vec<[f64; 3]> = contacts.iter().map(|c| c.point_in_world).collect();
+        // Arrow length: the depth, at least 5 cm so that a touch is visible.
+        let vectors: Vec<[f64; 3]> = contacts
+            .iter()
+            .map(|c| c.normal_in_world.map(|n| n * c.depth_m.max(0.05)))
+            .collect();
+        rec.log_arrows("collisions/contacts", &origins, &vectors, COLLISION_TINT_RGBA)?;
+        for e in &twin.collision_events()[self.logged_events..] {
+            let text = format!(
+                "collision {} <-> {} at {:.4} s, depth {:.4} m, point {:?}, normal {:?}",
+                e.a, e.b, e.start_s, e.max_depth_m, e.point_in_world, e.normal_in_world
+            );
+            rec.log_text("collisions/log", TextLevel::Warn, &text)?;
+        }
+        self.logged_events = twin.collision_events().len();
+        for p in &twin.predicted_collisions()[self.logged_predictions..] {
+            let text = format!(
+                "pre-flight: {} predicts {} <-> {} at parameter {:.4} (t +{:.4} s){}",
+                p.instance,
+                p.collision.a,
+                p.collision.b,
+                p.collision.parameter,
+                p.collision.time_s,
+                if p.rejected { ", move rejected" } else { "" }
+            );
+            rec.log_text("collisions/log", TextLevel::Warn, &text)?;
+        }
+        self.logged_predictions = twin.predicted_collisions().len();
+        let colliding = twin.colliding_links();
+        if colliding != self.highlighted {
+            for &l in &self.highlighted {
+                if !colliding.contains(&l) {
+                    rec.log_clear(&format!("{}/collision_highlight", self.link_paths[l]))?;
+                }
+            }
+            for &l in &colliding {
+                if self.highlighted.contains(&l) {
+                    continue;
+                }
+                for (k, part) in twin.parts().iter().filter(|p| p.link == Some(l)).enumerate() {
+                    let mesh = part
+                        .mesh
+                        .transformed(&crate::frames::column_major(&part.parent_from_mesh));
+                    rec.log_mesh_timed(
+                        &format!("{}/collision_highlight/{k}", self.link_paths[l]),
+                        &mesh,
+                        COLLISION_TINT_RGBA,
+                    )?;
+                }
+            }
+            self.highlighted = colliding;
         }
         Ok(())
     }
@@ -422,6 +516,14 @@ pub struct Summary {
     pub max_following_error: Vec<(String, f64)>,
     /// PNG frames written.
     pub frames_written: usize,
+    /// Collision events (scenes with `[collision]`), in start order.
+    pub collisions: Vec<crate::collision::CollisionEvent>,
+    /// Collisions predicted by the pre-flight sweep.
+    pub predicted_collisions: Vec<crate::run::Prediction>,
+    /// Per collision body: the smallest clearance over the run, m (null: no obstacle).
+    pub min_clearance_m: Vec<(String, Option<f64>)>,
+    /// Whether an `abort` collision reaction ended the run early.
+    pub collision_abort: bool,
 }
 
 impl Stats {
@@ -518,6 +620,15 @@ impl Stats {
                 .map(|(a, e)| (a.name.clone(), *e))
                 .collect(),
             frames_written,
+            collisions: twin.collision_events().to_vec(),
+            predicted_collisions: twin.predicted_collisions().to_vec(),
+            min_clearance_m: twin
+                .collision_bodies()
+                .into_iter()
+                .zip(twin.min_clearance_m())
+                .map(|(b, d)| (b, d.is_finite().then_some(d)))
+                .collect(),
+            collision_abort: twin.collision_abort(),
         }
     }
 }
@@ -556,6 +667,47 @@ impl Summary {
         }
         for (name, e) in &self.max_following_error {
             let _ = writeln!(s, "  axis {name}: max |cmd - act| = {e:.6}");
+        }
+        for e in &self.collisions {
+            let end = e
+                .end_s
+                .map_or_else(|| "end of run".to_string(), |t| format!("{t:.4} s"));
+            let _ = writeln!(
+                s,
+                "  collision {} <-> {}: {:.4} s .. {end}, max depth {:.4} m at [{:.4}, {:.4}, {:.4}], normal [{:.3}, {:.3}, {:.3}]",
+                e.a,
+                e.b,
+                e.start_s,
+                e.max_depth_m,
+                e.point_in_world[0],
+                e.point_in_world[1],
+                e.point_in_world[2],
+                e.normal_in_world[0],
+                e.normal_in_world[1],
+                e.normal_in_world[2]
+            );
+        }
+        for p in &self.predicted_collisions {
+            let _ = writeln!(
+                s,
+                "  pre-flight {} (started {:.4} s): {} <-> {} at parameter {:.4} (at {:.4} s, bound {:.2e}){}",
+                p.instance,
+                p.started_s,
+                p.collision.a,
+                p.collision.b,
+                p.collision.parameter,
+                p.predicted_at_s,
+                p.collision.bound,
+                if p.rejected { ", rejected" } else { "" }
+            );
+        }
+        for (b, d) in &self.min_clearance_m {
+            if let Some(d) = d {
+                let _ = writeln!(s, "  {b}: min clearance {d:.5} m");
+            }
+        }
+        if self.collision_abort {
+            let _ = writeln!(s, "  run aborted by a collision");
         }
         let _ = writeln!(s, "  frames written: {}", self.frames_written);
         s

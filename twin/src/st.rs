@@ -797,11 +797,6 @@ pub const LOGIX_ENUMERATIONS: &[&str] = &[
     "newcam",
     // MAS stop type, MAJ/MAM direction and MAM move types
     "all",
-    // MCS stop type, change decel / change decel jerk
-    "coordinatedmove",
-    "coordinatedtransform",
-    "no",
-    "yes",
     "jog",
     "move",
     "time",
@@ -813,6 +808,22 @@ pub const LOGIX_ENUMERATIONS: &[&str] = &[
     "rotaryshortest",
     "rotarypositive",
     "rotarynegative",
+    // MCS stop type (its change decel words `no`/`yes` are listed below)
+    "coordinatedmove",
+    "coordinatedtransform",
+    // MAPC cam type (V34), MAS stop types and change decel
+    "replaceandrestart",
+    "replaceandcontinue",
+    "gear",
+    "home",
+    "tune",
+    "test",
+    "timecam",
+    "positioncam",
+    "masteroffsetmove",
+    "directcontrol",
+    "no",
+    "yes",
 ];
 
 /// PLCopen / Beckhoff Tc2_MC2 enumeration values accepted as named inputs

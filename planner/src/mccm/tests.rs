@@ -465,17 +465,17 @@ fn percent_of_time_jerk_follows_the_spec_formula() {
 
 // --- Seeded random arcs ---
 
-struct RandomArc {
-    inputs: MccmInputs,
-    start: Vec<f64>,
-    center: V3,
-    radius: f64,
-    dim: usize,
+pub(crate) struct RandomArc {
+    pub(crate) inputs: MccmInputs,
+    pub(crate) start: Vec<f64>,
+    pub(crate) center: V3,
+    pub(crate) radius: f64,
+    pub(crate) dim: usize,
 }
 
 /// A random circle (2D or 3D), start on it, and operands for a random circle
 /// type, move type and direction that program an arc of that circle.
-fn random_arc(rng: &mut ChaCha8Rng) -> RandomArc {
+pub(crate) fn random_arc(rng: &mut ChaCha8Rng) -> RandomArc {
     let dim = if rng.random_bool(0.5) { 2 } else { 3 };
     let radius = 10f64.powf(rng.random_range(-1.5..2.0));
     let mut center = [0.0; 3];

@@ -444,6 +444,16 @@ impl Profile {
         }
     }
 
+    /// Moves the whole profile by `delta` along the position axis (a position
+    /// redefinition, MRP): velocities and timing are unchanged.
+    pub fn shift_position(&mut self, delta: f64) {
+        for seg in &mut self.segments {
+            seg.start.position += delta;
+        }
+        self.start.position += delta;
+        self.final_state.position += delta;
+    }
+
     /// Duration in seconds until the final state is reached.
     pub fn duration_s(&self) -> f64 {
         self.duration_s

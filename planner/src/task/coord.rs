@@ -40,13 +40,27 @@
 //!   with its programmed speed or, for merge speed *current*, the vector
 //!   speed of the system at that instant (the programmed speed when the
 //!   system stands still). Superseded instructions lose `.IP` and `.AC`.
-//! * **Single-axis motion** (MC_MoveModulo) and coordinated motion never
-//!   superimpose here: a coordinated move that starts aborts the single-axis
-//!   commands on its axes (whatever the merge type; the spec's superimposed
-//!   motion for merge disabled is not modelled), and an MC_MoveModulo that
-//!   starts on an axis of a moving system brings that system to rest along
-//!   its path (its instructions lose `.IP`/`.AC`, the pending move is
-//!   cancelled) while the modulo command takes that axis.
+//! * **Systems sharing axes**: a move on a system while another system that
+//!   shares an axis with it moves (or has a move queued) is refused with
+//!   ERR 13, EXERR = the Merge operand, unless its Merge is *all motion*
+//!   (the spec: "an error is flagged if a second instruction is initiated …
+//!   in another coordinate system containing any axes in common"). Merge
+//!   all motion ends the other system's motion where its command stands
+//!   (its instructions lose `.IP`/`.AC`); the two systems' motions are not
+//!   blended, so the new move starts with the command velocity of its own
+//!   (rest) profile.
+//! * **Single-axis motion** (MC_MoveModulo, MAPC cams, MAJ jogs, MAS
+//!   stops) and coordinated motion never superimpose here: a coordinated
+//!   move that starts aborts the single-axis commands on its axes and ends
+//!   their cams and jogs (whatever the merge type; the spec's superimposed
+//!   motion for merge disabled is not modelled; the move starts from rest
+//!   on its own profile), and a single-axis command that takes an axis of a
+//!   moving system (or an axis reset) brings that system to rest along its
+//!   path (its instructions lose `.IP`/`.AC`, the pending move is
+//!   cancelled) while the single-axis command alone writes that axis.
+//! * [`MotionTask::stop_all_axes`] (the twin's collision stop) brings every
+//!   moving system to rest along its path with the system's maximum
+//!   deceleration.
 //! * **MCS** brings every component to rest along its path with the stop's
 //!   deceleration (a component already braking to its end closer than that
 //!   keeps its own profile), cancels the pending move and sets
@@ -60,6 +74,22 @@
 //!   program).
 //! * Axis command acceleration and jerk of coordinated axes are the finite
 //!   differences of the command velocity over the coarse update.
+//! * `CommandPosToleranceStatus`: the spec says both "remains set after the
+//!   instruction completes, reset when a new instruction is started" and,
+//!   for types 0, 1, 4, 5, "cleared when the first move is complete"; the
+//!   first rule is kept (it is cleared when the next move starts), and for
+//!   types 2, 3, 6 it is cleared when the blend starts.
+//!
+//! # Not modelled
+//! * Rotary axes with an unwind in a coordinate system are moved as linear
+//!   axes (no unwind error, no sign-selects-direction rule).
+//! * The run-time error for switching from time-driven to master-driven
+//!   motion while the master stands still and the path moves (the spec
+//!   gives no error code); master-driven and time-driven moves simply
+//!   blend.
+//! * MCCD (change dynamics), MCSD/MCSR and MDCC as instructions; the
+//!   master of master-driven moves is set with
+//!   [`MotionTask::set_coordinate_system_master`].
 
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
 use crate::coord::{
@@ -67,6 +97,7 @@ use crate::coord::{
     CoordinateSystemConfig, Driver, LockDirection, Mcs, McsInputs, Merge, MergeSpeed, MoveContext, TerminationType,
     norm, primary_of, progress_at_length,
 };
+use crate::coord::{OperandIndex, with_velocity};
 use crate::instruction::MotionInstructionBits;
 use crate::mccm::{MccmInputs, mccm};
 use crate::mclm::mclm;
@@ -132,6 +163,8 @@ struct SystemSlot {
     queue_end: Vec<f64>,
     velocity: Vec<f64>,
     acceleration: Vec<f64>,
+    /// Axes another command took while the system brakes (not written).
+    taken: Vec<AxisHandle>,
 }
 
 #[derive(Debug, Clone)]
@@ -264,6 +297,7 @@ impl MotionTask {
             queue_end: here,
             velocity: vec![0.0; n],
             acceleration: vec![0.0; n],
+            taken: Vec::new(),
         });
         Ok(CoordHandle(self.coord.systems.len() as u32 - 1))
     }
@@ -274,6 +308,11 @@ impl MotionTask {
         let slot = &mut self.coord.systems[system.0 as usize];
         slot.master = master;
         slot.master_prev = master.map(|m| self.axes[m.0 as usize].command.position);
+    }
+
+    /// The master axis of a system's master-driven moves, if linked.
+    pub fn coordinate_system_master(&self, system: CoordHandle) -> Option<AxisHandle> {
+        self.coord.systems[system.0 as usize].master
     }
 
     /// The status bits of a coordinate system after the last update.
@@ -348,6 +387,26 @@ impl MotionTask {
     /// `.ER` is set (a held move keeps `.EN` until it is queued). One control
     /// structure serves one instruction at a time, as on a controller: a
     /// new call with the same tag replaces the operands it executes with.
+    ///
+    /// # Examples
+    /// ```
+    /// use planner::axis::{AxisConfig, AxisKind};
+    /// use planner::coord::{CoordMoveInputs, CoordinateSystemConfig};
+    /// use planner::task::{CoordCall, MotionTask};
+    /// let mut task = MotionTask::new(0.004).unwrap();
+    /// let x = task.add_axis(AxisConfig::new("X", AxisKind::Linear), 0.0).unwrap();
+    /// let y = task.add_axis(AxisConfig::new("Y", AxisKind::Linear), 0.0).unwrap();
+    /// let config = CoordinateSystemConfig { axis_count: 2, primary_axes: 2, ..CoordinateSystemConfig::new("CS") };
+    /// let cs = task.add_coordinate_system(config, &[x, y]).unwrap();
+    /// let mc = task.add_instruction("MC1");
+    /// let line = CoordMoveInputs { position: vec![0.3, 0.4], ..Default::default() };
+    /// task.execute_coordinated(cs, mc, CoordCall::Mclm(line));
+    /// assert!(task.motion_bits(mc).dn && task.motion_bits(mc).ip);
+    /// while !task.motion_bits(mc).pc {
+    ///     task.update();
+    /// }
+    /// assert_eq!(task.axis_state(y).command_position, 0.4);
+    /// ```
     pub fn execute_coordinated(&mut self, system: CoordHandle, control: InstructionHandle, call: CoordCall) {
         let existing = self
             .coord
@@ -471,9 +530,12 @@ impl MotionTask {
                 self.coord.instructions[h.0 as usize].held = false;
                 self.execute_mcs(h, cs, &inputs);
             }
-            CoordCall::Mclm(inputs) => self.execute_move(h, cs, inputs.merge, |ctx| mclm(&inputs, ctx)),
+            CoordCall::Mclm(inputs) => {
+                let merge = (inputs.merge, OperandIndex::MCLM.merge);
+                self.execute_move(h, cs, merge, |ctx| mclm(&inputs, ctx));
+            }
             CoordCall::Mccm(inputs) => {
-                let merge = inputs.common.merge;
+                let merge = (inputs.common.merge, OperandIndex::MCCM.merge);
                 self.execute_move(h, cs, merge, |ctx| mccm(&inputs, ctx));
             }
         }
@@ -483,7 +545,7 @@ impl MotionTask {
         &mut self,
         h: CoordInstructionHandle,
         cs: CoordHandle,
-        merge_code: i64,
+        (merge_code, merge_exerr): (i64, i32),
         verify: impl FnOnce(&MoveContext<'_>) -> Result<CoordMove, CoordMoveError>,
     ) {
         let sys = &self.coord.systems[cs.0 as usize];
@@ -523,6 +585,21 @@ impl MotionTask {
                 return;
             }
         };
+        // Another system moving axes of this one: merge all motion ends its
+        // motion; otherwise the move is refused.
+        let others = self.busy_systems_sharing_axes(cs);
+        if !others.is_empty() {
+            if mv.merge() != Merge::AllMotion {
+                let b = self.cbits(h);
+                b.er = true;
+                b.err = 13;
+                b.exerr = merge_exerr;
+                return;
+            }
+            for other in others {
+                self.cancel_system(other);
+            }
+        }
         self.cbits(h).dn = true;
         self.coord.instructions[h.0 as usize].calculated_data = mv.calculated_data().to_vec();
         let sys = &mut self.coord.systems[cs.0 as usize];
@@ -584,6 +661,51 @@ impl MotionTask {
         sys.stop = Some(h);
         self.cbits(h).ip = true;
         self.refresh_queue_status(cs);
+    }
+
+    /// The other coordinate systems that move (or have a move queued on)
+    /// an axis of `cs`.
+    fn busy_systems_sharing_axes(&self, cs: CoordHandle) -> Vec<CoordHandle> {
+        let mine = &self.coord.systems[cs.0 as usize].axes;
+        (0..self.coord.systems.len())
+            .filter(|&j| j != cs.0 as usize)
+            .filter(|&j| {
+                let s = &self.coord.systems[j];
+                (!s.components.is_empty() || s.pending.is_some()) && s.axes.iter().any(|a| mine.contains(a))
+            })
+            .map(|j| CoordHandle(j as u32))
+            .collect()
+    }
+
+    /// Ends a system's motion where its command stands now (merge all
+    /// motion from another system): its instructions lose `.IP`/`.AC`, its
+    /// queue is cleared, and its axes keep their command positions.
+    fn cancel_system(&mut self, cs: CoordHandle) {
+        let here = self.axis_positions(cs);
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        let mut cleared: Vec<CoordInstructionHandle> = sys.components.drain(..).filter_map(|c| c.instr).collect();
+        cleared.extend(sys.pending.take().map(|(h, _)| h));
+        cleared.extend(sys.stop.take());
+        sys.base = here.clone();
+        sys.queue_end = here;
+        sys.velocity.iter_mut().for_each(|v| *v = 0.0);
+        sys.acceleration.iter_mut().for_each(|v| *v = 0.0);
+        let st = &mut sys.status;
+        st.motion = false;
+        st.accel = false;
+        st.decel = false;
+        st.move_ = false;
+        st.move_transition = false;
+        st.stopping = false;
+        st.coord_motion_lock = false;
+        self.refresh_queue_status(cs);
+        for h in cleared {
+            let b = self.cbits(h);
+            b.ip = false;
+            b.ac = false;
+            b.accel = false;
+            b.decel = false;
+        }
     }
 
     /// Where the system's axes stand now (the command positions).
@@ -710,11 +832,13 @@ impl MotionTask {
         b.ac = true;
     }
 
-    /// Aborts the MC_MoveModulo commands (running and buffered) on the
-    /// system's axes: a coordinated move takes them.
+    /// Aborts the MC_MoveModulo commands (running and buffered), cams, jogs
+    /// and stop ramps on the system's axes: a coordinated move takes them.
     fn abort_single_axis_motion(&mut self, cs: CoordHandle) {
         let axes = self.coord.systems[cs.0 as usize].axes.clone();
+        self.coord.systems[cs.0 as usize].taken.clear();
         for axis in axes {
+            self.release_cam_and_jog(axis);
             let a = &mut self.axes[axis.0 as usize];
             let job = a.job.take().and_then(|j| j.fb);
             let buffered = a.buffered.take().map(|(fb, _)| fb);
@@ -747,12 +871,14 @@ impl MotionTask {
         }
     }
 
-    /// Hook for single-axis starts: an MC_MoveModulo that starts on `axis`
-    /// brings the coordinated motion of the axis' systems to rest.
+    /// Hook for single-axis starts (MC_MoveModulo, MAPC, MAJ, MAS, an axis
+    /// reset): the coordinated motion of the axis' systems comes to rest
+    /// along its path, and the system no longer writes `axis`.
     pub(super) fn release_axis_from_coordinated_motion(&mut self, axis: AxisHandle) {
         for i in 0..self.coord.systems.len() {
             let sys = &self.coord.systems[i];
             if sys.axes.contains(&axis) && (!sys.components.is_empty() || sys.pending.is_some()) {
+                self.coord.systems[i].taken.push(axis);
                 self.bring_to_rest(CoordHandle(i as u32), None);
                 let st = &mut self.coord.systems[i].status;
                 st.move_ = false;
@@ -760,6 +886,31 @@ impl MotionTask {
                 self.refresh_queue_status(CoordHandle(i as u32));
             }
         }
+    }
+
+    /// Hook for [`MotionTask::stop_all_axes`]: every moving system comes to
+    /// rest along its path with the system's maximum deceleration (its
+    /// moves' own where that is 0); its MCS, if one is stopping it, no longer
+    /// completes. Returns the axes of the systems that were moving.
+    pub(super) fn stop_coordinated_motion(&mut self) -> Vec<AxisHandle> {
+        let mut stopped = Vec::new();
+        for i in 0..self.coord.systems.len() {
+            let sys = &mut self.coord.systems[i];
+            if sys.components.is_empty() && sys.pending.is_none() {
+                continue;
+            }
+            sys.stop = None;
+            let decel = sys.system.config().max_decel;
+            let limits = Limits::trapezoidal(f64::MAX / 4.0, decel, decel).ok();
+            stopped.extend(sys.axes.iter().copied());
+            let cs = CoordHandle(i as u32);
+            self.bring_to_rest(cs, limits);
+            let st = &mut self.coord.systems[i].status;
+            st.move_ = false;
+            st.move_transition = false;
+            self.refresh_queue_status(cs);
+        }
+        stopped
     }
 
     fn refresh_queue_status(&mut self, cs: CoordHandle) {
@@ -842,7 +993,8 @@ impl MotionTask {
             c.mv.path().point(s.position, &mut p, &mut d);
             let start = c.mv.path().start();
             for i in 0..n {
-                position[i] += p[i] - start[i];
+                // (position − start) + p: exactly p at the end of a lone move.
+                position[i] = (position[i] - start[i]) + p[i];
                 velocity[i] += d[i] * speed;
             }
         }
@@ -855,9 +1007,10 @@ impl MotionTask {
         sys.velocity = velocity.clone();
         sys.acceleration = acceleration.clone();
         let axes = sys.axes.clone();
+        let taken = sys.taken.clone();
         for (i, axis) in axes.into_iter().enumerate() {
             let a = &mut self.axes[axis.0 as usize];
-            if a.job.is_some() {
+            if a.job.is_some() || taken.contains(&axis) {
                 continue;
             }
             a.command = Sample {
@@ -893,8 +1046,7 @@ impl MotionTask {
         while i + 1 < sys.components.len() {
             if sys.components[i].done() {
                 let c = sys.components.remove(i);
-                let s = c.s().position;
-                add_displacement(&mut sys.base, &c, s);
+                absorb(&mut sys.base, &c, i == 0);
                 finished_ip.extend(c.instr);
             } else {
                 i += 1;
@@ -915,8 +1067,8 @@ impl MotionTask {
                     sys.status.actual_pos_tolerance = true;
                 }
                 let c = sys.components.pop().expect("lead exists");
-                let s = c.s().position;
-                add_displacement(&mut sys.base, &c, s);
+                let oldest = sys.components.is_empty();
+                absorb(&mut sys.base, &c, oldest);
                 if let Some(h) = c.instr {
                     finished_pc.push(h);
                 }
@@ -999,21 +1151,24 @@ fn rest_length(c: &Component, limits: Option<Limits>) -> f64 {
     }
 }
 
+/// Adds a finished component's displacement to `base`. The oldest
+/// component, ended at its end point, leaves `base` exactly there (where the
+/// next component starts), so no rounding accumulates over a sequence.
+fn absorb(base: &mut [f64], c: &Component, oldest: bool) {
+    let s = c.s().position;
+    if oldest && !c.stopping && s >= c.mv.path().length() {
+        base.copy_from_slice(c.mv.path().end());
+    } else {
+        add_displacement(base, c, s);
+    }
+}
+
 fn add_displacement(at: &mut [f64], c: &Component, s: f64) {
     let n = at.len();
     let (mut p, mut d) = (vec![0.0; n], vec![0.0; n]);
     c.mv.path().point(s, &mut p, &mut d);
     for i in 0..n {
-        at[i] += p[i] - c.mv.path().start()[i];
-    }
-}
-
-fn with_velocity(l: &Limits, velocity: f64) -> Option<Limits> {
-    match l.shape() {
-        crate::profile::Shape::Trapezoidal => Limits::trapezoidal(velocity, l.acceleration(), l.deceleration()).ok(),
-        crate::profile::Shape::SCurve { accel_jerk, decel_jerk } => {
-            Limits::s_curve(velocity, l.acceleration(), l.deceleration(), accel_jerk, decel_jerk).ok()
-        }
+        at[i] = (at[i] - c.mv.path().start()[i]) + p[i];
     }
 }
 

@@ -15,8 +15,10 @@
 //! * Event Distance and Calculated Data take `0` or an array tag. The
 //!   calculated data stay in the planner (scene tags do not change during a
 //!   run); [`planner::task::MotionTask::coord_calculated_data`] has them.
-//! * Master-driven moves need an MDCC, which the twin does not simulate, so
-//!   they fail at run time with ERR 13 (EXERR: speed units).
+//! * Master-driven moves (units per master unit) follow the axis the
+//!   system's `master_axis` names (the twin does not simulate MDCC, whose
+//!   link this field stands for); without one they fail at run time with
+//!   ERR 13 (EXERR: speed units).
 
 use super::logix::{LogixContext, LogixStep, expect_operands};
 use super::{RunError, Twin};
@@ -103,6 +105,9 @@ const MCS_JERK_UNITS: &[(&str, i64)] = &[
     ("%ofmaximum", 1),
     ("%oftime", 2),
 ];
+
+/// The instructions this module compiles.
+pub const COORD_INSTRUCTIONS: &[&str] = &["MCCM", "MCLM", "MCS"];
 
 /// Compiles MCLM, MCCM and MCS calls; `None` for any other instruction.
 pub fn compile(upper: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Option<Result<LogixStep, String>> {
@@ -316,9 +321,15 @@ pub(super) fn coordinate_system(ctx: &mut LogixContext<'_>, what: &str, operand:
         actual_tolerance: settings.actual_tolerance,
         ..CoordinateSystemConfig::new(tag.name.clone())
     };
-    ctx.task
+    let handle = ctx
+        .task
         .add_coordinate_system(config, &axes)
-        .map_err(|e| format!("{what} {name}: {e}"))
+        .map_err(|e| format!("{what} {name}: {e}"))?;
+    if let Some(master) = &settings.master_axis {
+        let master = ctx.axis(what, &Expr::Ident(master.clone()))?;
+        ctx.task.set_coordinate_system_master(handle, Some(master));
+    }
+    Ok(handle)
 }
 
 /// The tool-centre trail of one coordinate system.
@@ -426,5 +437,176 @@ impl Twin {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Problem, Scene, SceneError, parse};
+    use std::path::{Path, PathBuf};
+
+    fn path() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gantry_arcs.toml")
+    }
+
+    fn text() -> String {
+        std::fs::read_to_string(path()).expect("gantry scene")
+    }
+
+    fn scene(text: &str) -> Result<Scene, SceneError> {
+        parse(&path(), text)
+    }
+
+    const XY_TABLE: &str = "coordinate_system = { max_speed = 250.0, max_accel = 2000.0, max_decel = 2000.0, max_accel_jerk = 20000.0, max_decel_jerk = 20000.0, command_tolerance = 20.0, actual_tolerance = 0.2, tool_link = \"tool\" }";
+
+    fn with_xy_table(table: &str) -> String {
+        let t = text();
+        assert!(t.contains(XY_TABLE));
+        t.replacen(XY_TABLE, table, 1)
+    }
+
+    #[test]
+    fn simulated_lists_every_compiled_instruction() {
+        for name in super::super::cam::CAM_INSTRUCTIONS.iter().chain(COORD_INSTRUCTIONS) {
+            assert!(super::super::logix::SIMULATED.contains(name), "{name}");
+        }
+    }
+
+    #[test]
+    fn coordinate_system_settings_parse_with_defaults() {
+        let s = scene(&text()).unwrap();
+        let xy = s.tag("XY").unwrap().coordinate_system.clone().unwrap();
+        assert_eq!((xy.primary_axes, xy.max_speed, xy.command_tolerance), (2, 250.0, 20.0));
+        assert_eq!(xy.tool_link.as_deref(), Some("tool"));
+        let s = scene(&with_xy_table("")).unwrap();
+        let xy = s.tag("XY").unwrap().coordinate_system.clone().unwrap();
+        assert_eq!((xy.primary_axes, xy.max_speed, xy.max_decel), (2, 1.0, 10.0));
+        assert_eq!(
+            (xy.command_tolerance, xy.actual_tolerance, xy.tool_link),
+            (0.1, 0.01, None)
+        );
+        assert!(s.tag("OnCircle").unwrap().coordinate_system.is_none());
+    }
+
+    #[test]
+    fn coordinate_system_settings_errors_name_the_field() {
+        let field = |e: SceneError| match e {
+            SceneError::Invalid { field, problem, .. } => (field, problem),
+            other => panic!("{other}"),
+        };
+        let (f, p) = field(scene(&with_xy_table("coordinate_system = { primary_axes = 3 }")).unwrap_err());
+        assert!(f.ends_with("coordinate_system.primary_axes"), "{f}");
+        assert!(matches!(p, Problem::OutOfRange { .. }));
+        let (f, p) = field(scene(&with_xy_table("coordinate_system = { max_speed = 0.0 }")).unwrap_err());
+        assert!(f.ends_with("coordinate_system.max_speed") && matches!(p, Problem::NotPositive { .. }));
+        let (f, p) = field(scene(&with_xy_table("coordinate_system = { command_tolerance = -1.0 }")).unwrap_err());
+        assert!(f.ends_with("coordinate_system.command_tolerance") && matches!(p, Problem::Negative { .. }));
+        assert!(scene(&with_xy_table("coordinate_system = { bogus = 1.0 }")).is_err());
+        let on_real = text().replacen(
+            "value = [100.0, 0.0]\n",
+            "value = [100.0, 0.0]\ncoordinate_system = { max_speed = 1.0 }\n",
+            1,
+        );
+        let (f, p) = field(scene(&on_real).unwrap_err());
+        assert!(
+            f.ends_with("coordinate_system") && matches!(p, Problem::CoordinateSystemOnly),
+            "{f}"
+        );
+    }
+
+    #[test]
+    fn calls_name_the_operand_at_fault() {
+        let err = |t: String| match Twin::new(scene(&t).unwrap()) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("compiles"),
+        };
+        let t = text().replacen("none, 0, 0)\"", "none, 0)\"", 1);
+        assert!(err(t).contains("MCLM takes 22 operands"));
+        let t = text().replacen("200, unitspersec, 1000", "200, unitspersec³, 1000", 1);
+        let e = err(t);
+        assert!(
+            e.contains("Speed Units unitspersec³: expected one of unitspersec (0)"),
+            "{e}"
+        );
+        let t = text().replacen("MCLM(XYZ, L1,", "MCLM(OnCircle, L1,", 1);
+        assert!(err(t).contains("Coordinate System OnCircle: is a REAL[2] tag"));
+        let t = with_xy_table("coordinate_system = { tool_link = \"nozzle\" }");
+        let e = err(t);
+        assert!(e.contains("tool_link 'nozzle' is not a link"), "{e}");
+    }
+
+    #[test]
+    fn a_master_axis_drives_master_driven_moves() {
+        // The full circle in units per master unit, driven by Z (which stands
+        // still once L1 is done): it starts and waits at its start point.
+        let t = with_xy_table("coordinate_system = { master_axis = \"z\" }").replacen(
+            "3, 200, unitspersec, 1000, unitspersec2, 1000, unitspersec2, s-curve, 100, 100, %oftime,",
+            "3, 2, unitspermasterunit, 10, unitspermasterunit2, 10, unitspermasterunit2, s-curve, 100, 100, %oftimemasterdriven,",
+            1,
+        );
+        assert!(t.contains("unitspermasterunit2, s-curve"));
+        let mut twin = Twin::new(scene(&t).unwrap()).unwrap();
+        let xy = twin
+            .task()
+            .coord_handles()
+            .find(|h| twin.task().coord_config(*h).name == "XY")
+            .unwrap();
+        let z = twin.axes().iter().find(|a| a.name == "Z").unwrap().handle;
+        assert_eq!(twin.task().coordinate_system_master(xy), Some(z));
+        let c1 = twin.instructions().iter().find(|b| b.name == "C1").unwrap().handle;
+        for _ in 0..1000 {
+            twin.step();
+        }
+        let b = twin.task().motion_bits(c1);
+        assert!(b.dn && b.ip && !b.pc && !b.er, "{b:?}");
+        let x = twin.axes()[0].handle;
+        assert_eq!(
+            twin.task().axis_state(x).command_position,
+            -100.0,
+            "waits for the master"
+        );
+        let bad = with_xy_table("coordinate_system = { master_axis = \"W\" }");
+        assert!(scene(&bad).is_err());
+    }
+
+    #[test]
+    fn out_of_range_codes_fail_at_run_time_with_err_and_exerr() {
+        // Direction 7 on the full circle: ERR 13, EXERR 6 (Direction).
+        let t = text().replacen("1, Origin[0], 3, 200", "1, Origin[0], 7, 200", 1);
+        let mut twin = Twin::new(scene(&t).unwrap()).unwrap();
+        let c1 = twin.instructions().iter().find(|b| b.name == "C1").unwrap().handle;
+        for _ in 0..1000 {
+            twin.step();
+            if twin.task().motion_bits(c1).er {
+                break;
+            }
+        }
+        let b = twin.task().motion_bits(c1);
+        assert!(b.er && !b.dn && (b.err, b.exerr) == (13, 6), "{b:?}");
+    }
+
+    #[test]
+    fn coordinate_systems_are_bound_once_and_traced_in_first_use_order() {
+        let twin = Twin::new(scene(&text()).unwrap()).unwrap();
+        let names: Vec<&str> = twin
+            .task()
+            .coord_handles()
+            .map(|h| twin.task().coord_config(h).name.as_str())
+            .collect();
+        assert_eq!(names, ["XYZ", "XY"]);
+        let header = twin.trace_header();
+        let first = header.iter().position(|h| h == "XYZ.MotionStatus").unwrap();
+        assert_eq!(header[first + 10], "XYZ.CoordMotionLockStatus");
+        assert_eq!(header[first + 11], "XYZ.tool_x");
+        assert_eq!(header[first + 14], "XY.MotionStatus");
+        assert_eq!(twin.trace_row().len(), header.len());
+        assert_eq!(twin.tool_trails().len(), 2);
+        // The tool centre at all joints 0 is 0.39 m under the rails at z = 0.6 m.
+        let p = twin.tool_trails()[0].points_in_world[0];
+        assert!(
+            (p[0]).abs() < 1e-6 && (p[1]).abs() < 1e-6 && (p[2] - 0.21).abs() < 1e-3,
+            "{p:?}"
+        );
     }
 }

@@ -181,6 +181,9 @@ pub fn compile(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Res
     if let Some(step) = super::coord::compile(&upper, operands, ctx) {
         return step;
     }
+    if let Some(step) = super::cam::compile(&upper, operands, ctx) {
+        return step;
+    }
     if let Some(step) = super::mct::compile(&upper, operands, ctx) {
         return step;
     }
@@ -217,8 +220,9 @@ pub fn expect_operands(instruction: &str, operands: &[Expr], names: &[&str]) -> 
     }
 }
 
-/// The Logix instructions the twin simulates.
-pub const SIMULATED: &[&str] = &["MCCM", "MCLM", "MCS", "MCT"];
+/// The Logix instructions the twin simulates: `cam::CAM_INSTRUCTIONS` and
+/// `coord::COORD_INSTRUCTIONS` (a test keeps the lists in step).
+pub const SIMULATED: &[&str] = &["MAJ", "MAPC", "MAS", "MCCM", "MCCP", "MCLM", "MCS", "MCT", "MRP"];
 
 #[cfg(test)]
 mod tests {

@@ -431,9 +431,9 @@ fn non_primary_axes_arrive_with_the_primary_axes() {
     assert!(last_change.iter().all(|k| *k == last_change[0]), "{last_change:?}");
 }
 
-/// Seeded random arcs through the task: every axis finishes in the same
-/// coarse update, exactly at the end point, and the vector speed never
-/// exceeds the programmed speed.
+/// Seeded random arcs through the task: every axis finishes (has its last
+/// non-zero command velocity) in the same coarse update, and the vector speed
+/// never exceeds the programmed speed.
 #[test]
 fn random_arcs_through_the_task_finish_together_within_speed() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x7461_736b);
@@ -464,18 +464,16 @@ fn random_arcs_through_the_task_finish_together_within_speed() {
         });
         let h = task.add_coord_instruction("M", cs, call.clone());
         fire(&mut task, h, call);
-        let mut prev = positions(&task, &axes);
         let mut last_change = [0usize; 3];
         let mut k = 0;
         run_until(&mut task, 100_000, |t| {
             k += 1;
             let p = positions(t, &axes);
             for i in 0..3 {
-                if p[i] != prev[i] {
+                if t.axis_state(axes[i]).command_velocity != 0.0 {
                     last_change[i] = k;
                 }
             }
-            prev = p.clone();
             assert!(speed(t, &axes, 3) <= programmed * (1.0 + 1e-9), "case {case}");
             let q = [p[0] - center[0], p[1] - center[1], p[2]];
             assert!(((q[0] * q[0] + q[1] * q[1]).sqrt() - radius).abs() < 1e-9);
@@ -747,4 +745,298 @@ fn one_shot_execution_sets_bits_at_once_and_clears_en_on_the_next_scan() {
     assert!(!task.motion_bits(c).en && task.motion_bits(c).ip);
     run_until(&mut task, 10_000, |t| t.motion_bits(c).pc);
     assert_eq!(positions(&task, &axes), vec![1.0, 1.0]);
+}
+
+#[test]
+fn a_second_system_on_shared_axes_needs_merge_all_motion() {
+    let (mut task, xy, axes) = gantry(2, 1);
+    let xyz = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: 3,
+                primary_axes: 3,
+                max_speed: 100.0,
+                max_accel: 1000.0,
+                max_decel: 1000.0,
+                ..CoordinateSystemConfig::new("XYZ")
+            },
+            &axes,
+        )
+        .unwrap();
+    let a = task.add_instruction("A");
+    task.execute_coordinated(xy, a, CoordCall::Mclm(line(&[50.0, 0.0, 0.0], 1)));
+    for _ in 0..100 {
+        task.update();
+    }
+    let here = positions(&task, &axes);
+    let b = task.add_instruction("B");
+    // Merge disabled (0) and coordinated motion (1) are refused: ERR 13, EXERR Merge.
+    for merge in [0, 1] {
+        let call = CoordCall::Mccm(MccmInputs {
+            common: CoordMoveInputs {
+                merge,
+                move_type: 1,
+                ..line(&[10.0, 10.0, 0.0], 1)
+            },
+            circle_type: 3,
+            via_center_radius: vec![0.0, 10.0, 0.0],
+            direction: 0,
+        });
+        task.execute_coordinated(xyz, b, call);
+        let bb = task.motion_bits(b);
+        assert!(bb.er && (bb.err, bb.exerr) == (13, 15), "{bb:?}");
+        assert!(task.motion_bits(a).ip);
+    }
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        merge: 2,
+        ..line(&[0.0, 0.0, 0.0], 1)
+    });
+    task.execute_coordinated(xyz, b, call);
+    let (ba, bb) = (task.motion_bits(a), task.motion_bits(b));
+    assert!(!ba.ip && !ba.ac && !ba.pc, "{ba:?}");
+    assert!(bb.dn && bb.ip && bb.ac && !task.coord_status(xy).motion);
+    assert_eq!(task.coord_active_move(xyz).unwrap().path().start(), here.as_slice());
+    run_until(&mut task, 10_000, |t| t.motion_bits(b).pc);
+    assert_eq!(positions(&task, &axes), vec![0.0, 0.0, 0.0]);
+}
+
+/// The same calls give bit-identical setpoints (no clock, no hash order).
+#[test]
+fn reruns_are_bit_identical() {
+    let run = || {
+        let (mut task, cs, axes) = gantry(3, 0);
+        let calls = [
+            CoordCall::Mclm(line(&[10.0, 0.0, 5.0], 3)),
+            CoordCall::Mccm(MccmInputs {
+                common: CoordMoveInputs {
+                    profile: 1,
+                    ..line(&[20.0, 10.0, 0.0], 2)
+                },
+                circle_type: 0,
+                via_center_radius: vec![18.0, 3.0, 3.0],
+                direction: 0,
+            }),
+            CoordCall::Mclm(line(&[0.0, 0.0, 0.0], 0)),
+        ];
+        let hs: Vec<_> = calls.iter().map(|_| task.add_instruction("M")).collect();
+        let mut out = Vec::new();
+        for k in 0..3000 {
+            if let Some(i) = [0, 1, 2].into_iter().find(|i| k == 10 * i) {
+                task.execute_coordinated(cs, hs[i], calls[i].clone());
+            }
+            task.update();
+            out.extend(axes.iter().map(|a| task.axis_state(*a).command_position.to_bits()));
+        }
+        assert!(task.motion_bits(hs[2]).pc);
+        out
+    };
+    assert_eq!(run(), run());
+}
+
+#[test]
+fn mcs_stop_all_also_stops_single_axis_motion() {
+    let mut task = MotionTask::new(DT).unwrap();
+    let x = task
+        .add_axis(
+            AxisConfig {
+                modulo_period: Some(360.0),
+                max_velocity: 100.0,
+                ..AxisConfig::new("X", AxisKind::Linear)
+            },
+            0.0,
+        )
+        .unwrap();
+    let y = task.add_axis(AxisConfig::new("Y", AxisKind::Linear), 0.0).unwrap();
+    let cs = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: 2,
+                primary_axes: 2,
+                ..CoordinateSystemConfig::new("CS")
+            },
+            &[x, y],
+        )
+        .unwrap();
+    let fb = task.add_move_modulo("MoveX", x);
+    task.set_move_modulo_inputs(
+        fb,
+        MoveModuloInputs {
+            execute: true,
+            position: 300.0,
+            velocity: 50.0,
+            ..Default::default()
+        },
+    );
+    for _ in 0..100 {
+        task.update();
+    }
+    assert!(task.outputs(fb).active && task.axis_state(x).command_velocity > 0.0);
+    let stop = task.add_instruction("S");
+    let coordinated_only = McsInputs {
+        stop_type: 1,
+        ..McsInputs::default()
+    };
+    task.execute_coordinated(cs, stop, CoordCall::Mcs(coordinated_only));
+    task.update();
+    assert!(
+        task.motion_bits(stop).pc && task.outputs(fb).active,
+        "type 1 leaves MC_MoveModulo alone"
+    );
+    task.execute_coordinated(cs, stop, CoordCall::Mcs(McsInputs::default()));
+    task.update();
+    assert!(task.outputs(fb).command_aborted);
+    run_until(&mut task, 10_000, |t| t.axis_state(x).command_velocity == 0.0);
+    assert!(task.axis_state(x).command_position < 300.0);
+}
+
+#[test]
+fn merge_during_a_blend_brings_both_moves_to_rest_and_ends_exactly() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let a = task.add_instruction("A");
+    let b = task.add_instruction("B");
+    let m = task.add_instruction("M");
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[10.0, 0.0], 3)));
+    task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[10.0, 10.0], 1)));
+    run_until(&mut task, 10_000, |t| {
+        t.coord.systems[cs.0 as usize].components.len() == 2
+    });
+    let merge = CoordMoveInputs {
+        merge: 1,
+        ..line(&[-5.0, 3.0], 1)
+    };
+    task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
+    assert!(task.motion_bits(m).ac && !task.motion_bits(b).ac && !task.motion_bits(b).ip);
+    let mut speeds = Vec::new();
+    run_until(&mut task, 10_000, |t| {
+        speeds.push(speed(t, &axes, 2));
+        t.motion_bits(m).pc
+    });
+    assert!(!stops_between(&speeds));
+    assert_eq!(positions(&task, &axes), vec![-5.0, 3.0]);
+    assert!(!task.motion_bits(b).pc);
+}
+
+#[test]
+fn stop_all_axes_brings_coordinated_motion_to_rest_along_the_path() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let a = task.add_instruction("A");
+    let b = task.add_instruction("B");
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[30.0, 40.0], 1)));
+    task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
+    for _ in 0..300 {
+        task.update();
+    }
+    let report = task.stop_all_axes();
+    assert_eq!(report.stopped_axes, axes);
+    assert!(report.stopped_instructions.contains(&a) && report.stopped_instructions.contains(&b));
+    assert!(!task.motion_bits(a).ip && !task.motion_bits(b).ip && !task.coord_status(cs).move_pending);
+    run_until(&mut task, 10_000, |t| !t.coord_status(cs).motion);
+    let end = positions(&task, &axes);
+    assert!((end[1] / end[0] - 4.0 / 3.0).abs() < 1e-9, "on the line: {end:?}");
+    assert!(!task.motion_bits(a).pc && !task.motion_bits(b).pc);
+}
+
+#[test]
+fn a_jog_takes_its_axis_from_a_coordinated_move_and_a_move_takes_it_back() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let a = task.add_instruction("A");
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[30.0, 40.0], 1)));
+    for _ in 0..300 {
+        task.update();
+    }
+    let jog = task.add_instruction("J");
+    let operands = crate::jog::MajOperands {
+        speed: 5.0,
+        ..Default::default()
+    };
+    task.maj(axes[0], jog, &operands).unwrap();
+    assert!(!task.motion_bits(a).ip && task.motion_bits(jog).ip);
+    run_until(&mut task, 10_000, |t| !t.coord_status(cs).motion);
+    // Y came to rest on the path; X jogs on at 5 units/s, written by the jog alone.
+    assert_eq!(task.axis_state(axes[1]).command_velocity, 0.0);
+    for _ in 0..200 {
+        task.update();
+    }
+    assert!((task.axis_state(axes[0]).command_velocity - 5.0).abs() < 1e-9);
+    // A new coordinated move ends the jog and drives both axes again.
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
+    assert!(!task.motion_bits(jog).ip);
+    run_until(&mut task, 20_000, |t| t.motion_bits(a).pc);
+    assert_eq!(positions(&task, &axes), vec![0.0, 0.0]);
+}
+
+/// Seeded random arcs of every circle type, move type and direction, 2D and
+/// 3D, through the task: every coarse update's command point is on the circle
+/// (radius within 1e-9, in its plane), the vector speed never exceeds the
+/// programmed speed, the arc ends exactly at its end point, and every axis
+/// has its last non-zero command velocity in the same coarse update.
+#[test]
+fn random_arcs_of_every_circle_type_through_the_task() {
+    use crate::coord::{CoordinateSystem, MoveContext};
+    let mut rng = ChaCha8Rng::seed_from_u64(0x6172_6373);
+    let mut per_type = [0usize; 4];
+    for case in 0..400 {
+        let mut r = crate::mccm::tests::random_arc(&mut rng);
+        let config = CoordinateSystemConfig {
+            axis_count: r.dim,
+            primary_axes: r.dim,
+            max_speed: 1000.0,
+            max_accel: 1e5,
+            max_decel: 1e5,
+            ..CoordinateSystemConfig::new("CS")
+        };
+        // Speed and rates scaled to the arc, so each takes 0.3 .. 1.5 s.
+        let system = CoordinateSystem::new(config.clone()).unwrap();
+        let ctx = MoveContext {
+            system: &system,
+            axis_max_decel: &vec![1.0; r.dim],
+            start: &r.start,
+            has_master: false,
+        };
+        let length = crate::mccm::mccm(&r.inputs, &ctx).unwrap().path().length();
+        let programmed = length / rng.random_range(0.3..1.5);
+        r.inputs.common.speed = programmed;
+        r.inputs.common.accel_rate = programmed * rng.random_range(2.0..20.0);
+        r.inputs.common.decel_rate = programmed * rng.random_range(2.0..20.0);
+        let mut task = MotionTask::new(DT).unwrap();
+        let axes: Vec<AxisHandle> = r
+            .start
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                task.add_axis(AxisConfig::new(format!("A{i}"), AxisKind::Linear), *p)
+                    .unwrap()
+            })
+            .collect();
+        let cs = task.add_coordinate_system(config, &axes).unwrap();
+        let mc = task.add_instruction("MC");
+        per_type[r.inputs.circle_type as usize] += 1;
+        task.execute_coordinated(cs, mc, CoordCall::Mccm(r.inputs.clone()));
+        assert!(task.motion_bits(mc).dn, "case {case}: {:?}", task.motion_bits(mc));
+        let arc = *task.coord_active_move(cs).unwrap().path().arc().unwrap();
+        let end = task.coord_active_move(cs).unwrap().path().end().to_vec();
+        let mut last_change = vec![0usize; r.dim];
+        let mut k = 0;
+        run_until(&mut task, 100_000, |t| {
+            k += 1;
+            let p = positions(t, &axes);
+            for i in 0..r.dim {
+                if t.axis_state(axes[i]).command_velocity != 0.0 {
+                    last_change[i] = k;
+                }
+            }
+            let q = crate::coord::sub(primary_of(&p, r.dim), r.center);
+            assert!((norm(q) - r.radius).abs() <= 1e-9, "case {case}: radius");
+            assert!(crate::coord::dot(q, arc.normal()).abs() <= 1e-9, "case {case}: plane");
+            assert!(
+                speed(t, &axes, r.dim) <= programmed * (1.0 + 1e-9),
+                "case {case}: speed"
+            );
+            t.motion_bits(mc).pc
+        });
+        assert_eq!(positions(&task, &axes), end, "case {case}: end point");
+        let moved: Vec<usize> = last_change.iter().copied().filter(|k| *k > 0).collect();
+        assert!(moved.windows(2).all(|w| w[0] == w[1]), "case {case}: {last_change:?}");
+    }
+    assert!(per_type.iter().all(|&n| n > 40), "{per_type:?}");
 }

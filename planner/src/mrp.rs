@@ -1,0 +1,133 @@
+//! Motion Redefine Position (MRP): gives an axis a new position without
+//! moving it.
+//!
+//! `MRP(Axis, MotionControl, Type, PositionSelect, Position)`:
+//! * Type 0 **absolute**: the selected position becomes `Position`;
+//!   1 **relative**: `Position` is added to it.
+//! * Position Select 0 **actual**, 1 **command**: the position the new value
+//!   is applied to. The other one is shifted by the same amount, so the
+//!   following error (command − actual) is preserved and no motion results.
+//! * Usable while moving: the [`crate::task::MotionTask`] shifts the running
+//!   move, jog or cam with the axis, so the motion in progress continues
+//!   undisturbed; cams mastered to the axis see no master motion from it.
+//!   A relative redefinition is exact at any speed. An absolute one takes the
+//!   position of the coarse update in which it executes (the spec's "position
+//!   error equal to the motion of the axis during the time it takes to
+//!   execute" is at most one coarse update of travel).
+//! * ERR 13 with EXERR 2 (Type), 3 (Position Select) or 4 (Position not
+//!   finite).
+//!
+//! Choice: the redefinition completes inside the call (`.DN` at once; the
+//! spec allows several coarse updates).
+
+use thiserror::Error;
+
+/// Absolute or relative.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RedefineType {
+    /// 0: the position becomes the value.
+    Absolute,
+    /// 1: the value is added to the position.
+    Relative,
+}
+
+/// Actual or command position.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PositionSelect {
+    /// 0: the actual position.
+    Actual,
+    /// 1: the command position.
+    Command,
+}
+
+/// A validated MRP.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mrp {
+    /// Absolute or relative.
+    pub kind: RedefineType,
+    /// Which position the value applies to.
+    pub select: PositionSelect,
+    /// The value, axis units.
+    pub position: f64,
+}
+
+/// Why an MRP failed.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum MrpError {
+    /// ERR 13: operand out of range (EXERR = faceplate number).
+    #[error("parameter out of range: operand {operand} = {value} (ERR 13)")]
+    ParameterOutOfRange {
+        /// Operand number.
+        operand: i32,
+        /// Its value.
+        value: f64,
+    },
+}
+
+impl MrpError {
+    /// The `ERR` code.
+    pub fn err(&self) -> i32 {
+        13
+    }
+    /// The `EXERR` code.
+    pub fn exerr(&self) -> i32 {
+        match self {
+            Self::ParameterOutOfRange { operand, .. } => *operand,
+        }
+    }
+}
+
+impl Mrp {
+    /// Validates the operands (Type, Position Select as DINTs).
+    ///
+    /// # Errors
+    /// [`MrpError::ParameterOutOfRange`] naming the operand.
+    pub fn new(kind: i32, select: i32, position: f64) -> Result<Self, MrpError> {
+        let bad = |operand: i32, value: f64| MrpError::ParameterOutOfRange { operand, value };
+        let kind = match kind {
+            0 => RedefineType::Absolute,
+            1 => RedefineType::Relative,
+            k => return Err(bad(2, f64::from(k))),
+        };
+        let select = match select {
+            0 => PositionSelect::Actual,
+            1 => PositionSelect::Command,
+            s => return Err(bad(3, f64::from(s))),
+        };
+        if !position.is_finite() {
+            return Err(bad(4, position));
+        }
+        Ok(Self { kind, select, position })
+    }
+
+    /// The shift to apply to both command and actual position, given them.
+    pub fn delta(&self, command: f64, actual: f64) -> f64 {
+        let current = match self.select {
+            PositionSelect::Actual => actual,
+            PositionSelect::Command => command,
+        };
+        match self.kind {
+            RedefineType::Absolute => self.position - current,
+            RedefineType::Relative => self.position,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn delta_preserves_following_error_and_operands_are_checked() {
+        // Command 10, actual 9.5 (following error 0.5).
+        let abs_actual = Mrp::new(0, 0, 100.0).unwrap().delta(10.0, 9.5);
+        assert_eq!((10.0 + abs_actual, 9.5 + abs_actual), (100.5, 100.0));
+        let abs_command = Mrp::new(0, 1, 100.0).unwrap().delta(10.0, 9.5);
+        assert_eq!((10.0 + abs_command, 9.5 + abs_command), (100.0, 99.5));
+        assert_eq!(Mrp::new(1, 0, -3.0).unwrap().delta(10.0, 9.5), -3.0);
+        assert_eq!(Mrp::new(2, 0, 0.0).unwrap_err().exerr(), 2);
+        assert_eq!(Mrp::new(0, 2, 0.0).unwrap_err().exerr(), 3);
+        assert_eq!(Mrp::new(0, 0, f64::NAN).unwrap_err().exerr(), 4);
+    }
+}

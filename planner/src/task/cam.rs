@@ -1,0 +1,698 @@
+//! Logix cam instructions in the motion task: MCCP, MAPC, MRP, and the MAJ
+//! jog / MAS stop that drive masters.
+//!
+//! Each instruction executes inside its call (the rung's false-to-true
+//! transition, as in one scan): MCCP calculates, MAPC starts or schedules,
+//! MRP redefines, MAJ/MAS start their ramps. Motion happens in
+//! [`MotionTask::update`]: after the MC_MoveModulo commands have advanced,
+//! jogs and stop ramps advance (axis order), then position cams (axis order;
+//! a slave mastered to another cam's slave sees its master's new position
+//! when the master was added first).
+//!
+//! # One driver per axis
+//! An axis is driven by one thing at a time: an MC_MoveModulo command, a jog
+//! (or MAS stop ramp), or a position cam (active, waiting for its lock, or a
+//! scheduled replacement). Starting one ends the others on that axis:
+//! * a MoveModulo start ends the cam process (every cam's `.IP` reset, not
+//!   complete) and the jog (its `.IP` reset);
+//! * MAJ aborts the MoveModulo command (`CommandAborted`) and ends the cams,
+//!   then ramps from the axis' current state (a running jog is merged:
+//!   re-planned to the new speed);
+//! * MAPC (non-pending) aborts the MoveModulo command and the jog; the cam
+//!   starts from the slave's current command position. (Logix superimposes
+//!   moves and jogs on a cam; this planner does not.)
+//! * MAS stops what its Stop Type names and ramps the axis to rest from its
+//!   current velocity with the stop deceleration.
+//! * [`MotionTask::reset_axis`] ends cams and jogs as well.
+//!
+//! # Trace helpers
+//! [`MotionTask::slave_cam_status`] gives the slave's Position Cam Status,
+//! Lock Status and Pending Status; [`MotionTask::limits_exceeded`] says
+//! whether the last update's command velocity or acceleration exceeded the
+//! axis' configured maxima (camming ignores them, as the spec warns; the flag
+//! makes it visible). Cam velocities and accelerations are finite differences
+//! of the command positions over the coarse update.
+//!
+//! # MRP and masters
+//! MRP shifts an axis' command and actual positions by the same amount and
+//! moves its running command, jog or cam with it. Cams see their masters'
+//! positions *without* MRP shifts (the redefinitions are summed per axis and
+//! taken out), so redefining a master's position never moves its slaves; a
+//! Master Lock Position is taken in the master's positions of the moment the
+//! MAPC executes. The shift is also applied to positions fed with
+//! [`MotionTask::feed_actual_position`] afterwards, since the device keeps
+//! reporting in its own frame ([`MotionTask::position_offset`] tells the
+//! twin how to map command positions back to the joint).
+
+use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
+use crate::instruction::MotionInstructionBits;
+use crate::jog::{Jog, JogError, MajOperands, MasOperands, Stop};
+use crate::mapc::{
+    CamEvent, CamRequest, Mapc, MapcError, MapcOperands, MasterReference, PositionCamAxis, SlaveCamStatus,
+};
+use crate::mccp::{CamElement, CamProfile, CamProfileTag, MccpError};
+use crate::mrp::{Mrp, MrpError};
+use crate::profile::{Limits, Profile, Sample, State};
+use std::sync::Arc;
+
+/// Handle of a `CAM_PROFILE` tag.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct CamProfileHandle(u32);
+
+/// Whether an axis' last command exceeded its configured limits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LimitFlags {
+    /// |command velocity| > `max_velocity`.
+    pub velocity: bool,
+    /// |command acceleration| > max(`max_acceleration`, `max_deceleration`).
+    pub acceleration: bool,
+}
+
+type Tag = (InstructionHandle, CamProfileHandle);
+type MasterKey = (AxisHandle, MasterReference);
+
+#[derive(Debug, Clone)]
+struct RampRun {
+    profile: Profile,
+    t_s: f64,
+    /// The MAJ driving it (`None` for a stop ramp).
+    jog: Option<InstructionHandle>,
+    /// The MAS stopping it, if any.
+    stop: Option<InstructionHandle>,
+}
+
+#[derive(Debug, Clone, Default)]
+struct CamAxis {
+    cam: PositionCamAxis<Tag, MasterKey>,
+    ramp: Option<RampRun>,
+    cam_drove: bool,
+    redefined: f64,
+    limits: LimitFlags,
+    declared_slave: bool,
+}
+
+/// The task's cam-instruction state (profiles, tags, per-axis processes).
+#[derive(Debug, Clone, Default)]
+pub(super) struct CamState {
+    profiles: Vec<(String, CamProfileTag)>,
+    axes: Vec<CamAxis>,
+    /// One-shot rungs: (tag, update count when its scan ran).
+    rung_false: Vec<(InstructionHandle, u64)>,
+}
+
+/// What a MAPC call names besides its numeric operands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapcCall {
+    /// Slave axis.
+    pub slave: AxisHandle,
+    /// Master axis.
+    pub master: AxisHandle,
+    /// Motion Control tag.
+    pub motion_control: InstructionHandle,
+    /// Cam Profile tag.
+    pub cam_profile: CamProfileHandle,
+    /// The numeric operands.
+    pub operands: MapcOperands,
+}
+
+impl MotionTask {
+    fn cam_axis(&mut self, axis: AxisHandle) -> &mut CamAxis {
+        let i = axis.0 as usize;
+        if self.cam.axes.len() <= i {
+            self.cam.axes.resize_with(i + 1, CamAxis::default);
+        }
+        &mut self.cam.axes[i]
+    }
+
+    /// Adds a `CAM_PROFILE` tag of `capacity` elements (Status 0).
+    pub fn add_cam_profile(&mut self, name: impl Into<String>, capacity: usize) -> CamProfileHandle {
+        self.cam.profiles.push((name.into(), CamProfileTag::new(capacity)));
+        CamProfileHandle(self.cam.profiles.len() as u32 - 1)
+    }
+
+    /// A `CAM_PROFILE` tag.
+    pub fn cam_profile(&self, h: CamProfileHandle) -> &CamProfileTag {
+        &self.cam.profiles[h.0 as usize].1
+    }
+
+    /// A `CAM_PROFILE` tag's name.
+    pub fn cam_profile_name(&self, h: CamProfileHandle) -> &str {
+        &self.cam.profiles[h.0 as usize].0
+    }
+
+    /// Writes a profile's Status (a program writing `Profile[0].Status`).
+    pub fn set_cam_profile_status(&mut self, h: CamProfileHandle, status: u32) {
+        self.cam.profiles[h.0 as usize].1.set_status(status);
+    }
+
+    /// The `CAM_PROFILE` tag named `name` (case-insensitive), if added.
+    pub fn find_cam_profile(&self, name: &str) -> Option<CamProfileHandle> {
+        self.cam
+            .profiles
+            .iter()
+            .position(|(n, _)| n.eq_ignore_ascii_case(name))
+            .map(|i| CamProfileHandle(i as u32))
+    }
+
+    /// Declares `axis` a position cam slave (for traces that list the slave
+    /// status only for such axes).
+    pub fn declare_cam_slave(&mut self, axis: AxisHandle) {
+        self.cam_axis(axis).declared_slave = true;
+    }
+
+    /// Whether [`MotionTask::declare_cam_slave`] was called for `axis`.
+    pub fn is_cam_slave(&self, axis: AxisHandle) -> bool {
+        self.cam.axes.get(axis.0 as usize).is_some_and(|c| c.declared_slave)
+    }
+
+    /// A one-shot rung: the instruction just executed with `h` in this scan;
+    /// its rung is false from the next coarse update on, which clears `.EN`
+    /// there once `.DN` or `.ER` is set (see [`MotionTask::rung_false`]).
+    pub fn rung_false_next_scan(&mut self, h: InstructionHandle) {
+        let now = self.updates;
+        self.cam.rung_false.push((h, now));
+    }
+
+    /// The rung went false: `.EN` is cleared if `.DN` or `.ER` is set.
+    pub fn rung_false(&mut self, h: InstructionHandle) {
+        let b = self.motion_bits_mut(h);
+        if b.dn || b.er {
+            b.en = false;
+        }
+    }
+
+    fn bits(&mut self, h: InstructionHandle) -> &mut MotionInstructionBits {
+        self.motion_bits_mut(h)
+    }
+
+    /// Starts an execution: `.EN` set, `.DN .ER .PC .IP .AC` and the codes
+    /// cleared.
+    fn begin(&mut self, h: InstructionHandle) {
+        *self.bits(h) = MotionInstructionBits {
+            en: true,
+            ..MotionInstructionBits::default()
+        };
+    }
+
+    fn fail(&mut self, h: InstructionHandle, err: i32, exerr: i32, segment: i32) {
+        let b = self.bits(h);
+        b.er = true;
+        b.err = err;
+        b.exerr = exerr;
+        b.segment = segment;
+    }
+
+    /// MCCP: calculates `profile` from the first `length` elements of `cam`.
+    /// Returns the error also written into the tag.
+    pub fn mccp(
+        &mut self,
+        motion_control: InstructionHandle,
+        cam: &[CamElement],
+        length: usize,
+        start_slope: f64,
+        end_slope: f64,
+        profile: CamProfileHandle,
+    ) -> Result<(), MccpError> {
+        self.begin(motion_control);
+        let r = self.cam.profiles[profile.0 as usize]
+            .1
+            .calculate(cam, length, start_slope, end_slope);
+        match &r {
+            Ok(()) => self.bits(motion_control).dn = true,
+            Err(e) => e.write_to(self.bits(motion_control)),
+        }
+        r
+    }
+
+    /// The master position a cam sees (without MRP shifts).
+    fn cam_master_position(&self, key: MasterKey) -> f64 {
+        let (axis, reference) = key;
+        let a = &self.axes[axis.0 as usize];
+        let p = match reference {
+            MasterReference::Actual => a.actual,
+            MasterReference::Command => a.command.position,
+        };
+        p - self.cam.axes.get(axis.0 as usize).map_or(0.0, |c| c.redefined)
+    }
+
+    /// MAPC: starts, schedules or preloads a position cam on `call.slave`.
+    ///
+    /// # Errors
+    /// ERR 13 (operand, EXERR = number), 30 (profile Status 1), 32 (Status 0).
+    ///
+    /// # Examples
+    /// ```
+    /// use planner::axis::{AxisConfig, AxisKind};
+    /// use planner::mapc::MapcOperands;
+    /// use planner::mccp::CamElement;
+    /// use planner::task::{MapcCall, MotionTask};
+    ///
+    /// let mut task = MotionTask::new(0.004)?;
+    /// let conveyor = task.add_axis(AxisConfig::new("Conveyor", AxisKind::Linear), 0.0)?;
+    /// let knife = task.add_axis(AxisConfig::new("Knife", AxisKind::Rotary), 0.0)?;
+    /// let cam = [
+    ///     CamElement { master: 0.0, slave: 0.0, segment_type: 0 },
+    ///     CamElement { master: 300.0, slave: 360.0, segment_type: 0 },
+    /// ];
+    /// let profile = task.add_cam_profile("KnifeProfile", 2);
+    /// let mccp = task.add_instruction("MCCP_1");
+    /// task.mccp(mccp, &cam, 2, 0.0, 0.0, profile).expect("valid cam");
+    /// let mapc = task.add_instruction("MAPC_1");
+    /// let operands = MapcOperands { execution_mode: 1, ..MapcOperands::default() };
+    /// task.mapc(MapcCall { slave: knife, master: conveyor, motion_control: mapc, cam_profile: profile, operands })
+    ///     .expect("calculated profile");
+    /// assert_eq!(task.cam_profile(profile).status(), 3); // in use by one cam
+    /// // The conveyor's measured position drives the knife (Master Reference Actual).
+    /// task.feed_actual_position(conveyor, 450.0);
+    /// task.update();
+    /// assert!((task.axis_state(knife).command_position - 540.0).abs() < 1e-9);
+    /// # Ok::<(), planner::task::TaskError>(())
+    /// ```
+    pub fn mapc(&mut self, call: MapcCall) -> Result<(), MapcError> {
+        let mi = call.motion_control;
+        self.begin(mi);
+        let r = self.mapc_inner(call);
+        match &r {
+            Ok(()) => {
+                let b = self.bits(mi);
+                b.dn = true;
+                b.ip = true;
+            }
+            Err(e) => self.fail(mi, e.err(), e.exerr(), 0),
+        }
+        r
+    }
+
+    fn mapc_inner(&mut self, call: MapcCall) -> Result<(), MapcError> {
+        let mut mapc = Mapc::new(&call.operands)?;
+        if call.slave == call.master {
+            return Err(MapcError::ParameterOutOfRange {
+                operand: crate::mapc::operand::MASTER,
+                value: f64::from(call.master.0),
+            });
+        }
+        // Lock positions are compared with MRP-free master positions.
+        mapc.master_lock_position -= self.cam.axes.get(call.master.0 as usize).map_or(0.0, |c| c.redefined);
+        let tag = &mut self.cam.profiles[call.cam_profile.0 as usize].1;
+        let profile: Arc<CamProfile> = tag.acquire().map_err(MapcError::from_status)?;
+        let key = (call.master, mapc.master_reference);
+        let slave = self.axes[call.slave.0 as usize].command.position;
+        let req = CamRequest {
+            tag: (call.motion_control, call.cam_profile),
+            master: key,
+            mapc,
+            profile,
+            master_period: self.axes[call.master.0 as usize].config.modulo_period,
+        };
+        let mut engine = std::mem::take(&mut self.cam_axis(call.slave).cam);
+        let r = engine.start(req, slave, |k| self.cam_master_position(k));
+        self.cam_axis(call.slave).cam = engine;
+        let events = match r {
+            Ok(ev) => ev,
+            Err(e) => {
+                self.cam.profiles[call.cam_profile.0 as usize].1.release();
+                return Err(e);
+            }
+        };
+        if mapc.execution_schedule != crate::mapc::ExecutionSchedule::Pending {
+            self.take_axis_for_cam(call.slave);
+        }
+        self.apply_cam_events(&events);
+        Ok(())
+    }
+
+    fn apply_cam_events(&mut self, events: &[CamEvent<Tag>]) {
+        for ev in events {
+            match *ev {
+                CamEvent::Active((mi, _)) => self.bits(mi).ac = true,
+                CamEvent::Ended {
+                    tag: (mi, profile),
+                    complete,
+                } => {
+                    let b = self.bits(mi);
+                    b.ip = false;
+                    b.ac = false;
+                    b.pc = complete;
+                    self.cam.profiles[profile.0 as usize].1.release();
+                }
+            }
+        }
+    }
+
+    /// A cam takes `axis`: its MoveModulo command is aborted and its jog ends.
+    fn take_axis_for_cam(&mut self, axis: AxisHandle) {
+        self.abort_move(axis);
+        self.end_ramp(axis);
+    }
+
+    fn abort_move(&mut self, axis: AxisHandle) {
+        // Coordinated motion on the axis comes to rest too (task/coord.rs).
+        self.release_axis_from_coordinated_motion(axis);
+        let a = &mut self.axes[axis.0 as usize];
+        let job_fb = a.job.take().and_then(|j| j.fb);
+        let buffered_fb = a.buffered.take().map(|(fb, _)| fb);
+        for fb in job_fb.into_iter().chain(buffered_fb) {
+            self.finish(fb, Finish::Aborted);
+        }
+    }
+
+    fn end_ramp(&mut self, axis: AxisHandle) {
+        if let Some(r) = self.cam_axis(axis).ramp.take() {
+            for mi in r.jog.into_iter().chain(r.stop) {
+                self.bits(mi).ip = false;
+            }
+        }
+    }
+
+    fn end_cams(&mut self, axis: AxisHandle) {
+        let c = self.cam_axis(axis);
+        c.cam_drove = false;
+        let events = c.cam.stop();
+        self.apply_cam_events(&events);
+    }
+
+    /// Hook for MoveModulo starts and axis resets: cams and jogs on `axis`
+    /// end.
+    pub(super) fn release_cam_and_jog(&mut self, axis: AxisHandle) {
+        if (axis.0 as usize) < self.cam.axes.len() {
+            self.end_cams(axis);
+            self.end_ramp(axis);
+            let c = self.cam_axis(axis);
+            c.limits = LimitFlags::default();
+        }
+    }
+
+    /// The slave's Position Cam Status, Lock Status and Pending Status.
+    pub fn slave_cam_status(&self, axis: AxisHandle) -> SlaveCamStatus {
+        self.cam
+            .axes
+            .get(axis.0 as usize)
+            .map(|c| c.cam.status())
+            .unwrap_or_default()
+    }
+
+    /// Whether the last update's command exceeded the axis' limits.
+    pub fn limits_exceeded(&self, axis: AxisHandle) -> LimitFlags {
+        self.cam.axes.get(axis.0 as usize).map(|c| c.limits).unwrap_or_default()
+    }
+
+    /// The sum of MRP redefinitions on `axis`: command positions are the
+    /// device's (joint's) positions plus this.
+    pub fn position_offset(&self, axis: AxisHandle) -> f64 {
+        self.cam.axes.get(axis.0 as usize).map_or(0.0, |c| c.redefined)
+    }
+
+    /// A master offset move on the slave `axis`: its cams see their master
+    /// `delta` further (the profile shifts by −`delta` along the master).
+    pub fn shift_master_offset(&mut self, axis: AxisHandle, delta: f64) {
+        self.cam_axis(axis).cam.shift_master_offset(delta);
+    }
+
+    /// The cam coordinate of the running cam on `axis` (cam master units).
+    pub fn cam_coordinate(&self, axis: AxisHandle) -> Option<f64> {
+        self.cam.axes.get(axis.0 as usize).and_then(|c| c.cam.cam_coordinate())
+    }
+
+    /// MRP on `axis` (Type and Position Select as DINTs).
+    ///
+    /// # Errors
+    /// ERR 13 with EXERR 2, 3 or 4.
+    pub fn mrp(
+        &mut self,
+        axis: AxisHandle,
+        motion_control: InstructionHandle,
+        kind: i32,
+        select: i32,
+        position: f64,
+    ) -> Result<(), MrpError> {
+        self.begin(motion_control);
+        let mrp = match Mrp::new(kind, select, position) {
+            Ok(m) => m,
+            Err(e) => {
+                self.fail(motion_control, e.err(), e.exerr(), 0);
+                return Err(e);
+            }
+        };
+        let a = &mut self.axes[axis.0 as usize];
+        let delta = mrp.delta(a.command.position, a.actual);
+        a.command.position += delta;
+        a.actual += delta;
+        if let Some(job) = a.job.as_mut() {
+            job.profile.shift_position(delta);
+            job.target += delta;
+        }
+        let c = self.cam_axis(axis);
+        c.redefined += delta;
+        if let Some(r) = c.ramp.as_mut() {
+            r.profile.shift_position(delta);
+        }
+        c.cam.redefine_slave(delta);
+        self.bits(motion_control).dn = true;
+        Ok(())
+    }
+
+    /// The device's position fed back, in the axis' (redefined) positions.
+    pub(super) fn redefined_feedback(&self, axis: AxisHandle, position: f64) -> f64 {
+        position + self.position_offset(axis)
+    }
+
+    /// MAJ: jogs `axis` at the operands' speed, from its current state.
+    ///
+    /// # Errors
+    /// ERR 13 with EXERR = the operand.
+    pub fn maj(
+        &mut self,
+        axis: AxisHandle,
+        motion_control: InstructionHandle,
+        operands: &MajOperands,
+    ) -> Result<(), JogError> {
+        self.begin(motion_control);
+        let jog = match Jog::new(operands, &self.axes[axis.0 as usize].config) {
+            Ok(j) => j,
+            Err(e) => {
+                self.fail(motion_control, e.err(), e.exerr(), 0);
+                return Err(e);
+            }
+        };
+        self.abort_move(axis);
+        self.end_cams(axis);
+        self.end_ramp(axis);
+        let state = self.axes[axis.0 as usize].command.state();
+        self.cam_axis(axis).ramp = Some(RampRun {
+            profile: Profile::to_velocity(state, jog.velocity, &jog.limits),
+            t_s: 0.0,
+            jog: Some(motion_control),
+            stop: None,
+        });
+        let b = self.bits(motion_control);
+        b.dn = true;
+        b.ip = true;
+        Ok(())
+    }
+
+    /// MAS: stops what the Stop Type names on `axis` and ramps it to rest.
+    ///
+    /// # Errors
+    /// ERR 13 with EXERR = the operand.
+    pub fn mas(
+        &mut self,
+        axis: AxisHandle,
+        motion_control: InstructionHandle,
+        operands: &MasOperands,
+    ) -> Result<(), JogError> {
+        self.begin(motion_control);
+        let stop = match Stop::new(operands, &self.axes[axis.0 as usize].config) {
+            Ok(s) => s,
+            Err(e) => {
+                self.fail(motion_control, e.err(), e.exerr(), 0);
+                return Err(e);
+            }
+        };
+        let cam_running = self.cam.axes.get(axis.0 as usize).is_some_and(|c| c.cam.drives());
+        let jogging = self
+            .cam
+            .axes
+            .get(axis.0 as usize)
+            .is_some_and(|c| c.ramp.as_ref().is_some_and(|r| r.jog.is_some()));
+        let moving = self.axes[axis.0 as usize].job.is_some();
+        let mut stops = false;
+        if stop.scope.position_cam && cam_running {
+            self.end_cams(axis);
+            stops = true;
+        }
+        if stop.scope.jog && jogging {
+            self.end_ramp(axis);
+            stops = true;
+        }
+        if stop.scope.moves && moving {
+            self.abort_move(axis);
+            stops = true;
+        }
+        self.bits(motion_control).dn = true;
+        let state = self.axes[axis.0 as usize].command.state();
+        if !stops || state.velocity == 0.0 {
+            if stops {
+                self.axes[axis.0 as usize].command = Sample {
+                    position: state.position,
+                    ..Sample::default()
+                };
+            }
+            self.bits(motion_control).pc = true;
+            return Ok(());
+        }
+        let vmax = self.axes[axis.0 as usize].config.max_velocity.max(state.velocity.abs());
+        let limits = Limits::trapezoidal(vmax, stop.deceleration, stop.deceleration).map_err(|_| {
+            JogError::ParameterOutOfRange {
+                operand: 4,
+                value: stop.deceleration,
+            }
+        })?;
+        let state = State {
+            acceleration: 0.0,
+            ..state
+        };
+        self.end_ramp(axis);
+        self.cam_axis(axis).ramp = Some(RampRun {
+            profile: Profile::to_velocity(state, 0.0, &limits),
+            t_s: 0.0,
+            jog: None,
+            stop: Some(motion_control),
+        });
+        self.bits(motion_control).ip = true;
+        Ok(())
+    }
+
+    /// Hook for [`MotionTask::stop_all_axes`]: ends the cams and the jog on
+    /// `axis` and ramps it to rest from its command state with its configured
+    /// deceleration and jerk (as the MoveModulo commands there). Returns
+    /// whether the axis had a cam or jog to stop.
+    pub(super) fn stop_cam_and_jog(&mut self, axis: AxisHandle) -> bool {
+        let Some(c) = self.cam.axes.get(axis.0 as usize) else {
+            return false;
+        };
+        if !(c.cam.drives() || c.ramp.is_some()) {
+            return false;
+        }
+        self.end_cams(axis);
+        self.end_ramp(axis);
+        let a = &self.axes[axis.0 as usize];
+        let start = a.command.state();
+        let cfg = &a.config;
+        let vmax = cfg.max_velocity.max(start.velocity.abs());
+        let limits = Limits::s_curve(
+            vmax,
+            cfg.max_acceleration,
+            cfg.max_deceleration,
+            cfg.max_jerk,
+            cfg.max_jerk,
+        )
+        .or_else(|_| Limits::trapezoidal(vmax, cfg.max_acceleration, cfg.max_deceleration));
+        let profile = match limits {
+            Ok(limits) => Profile::to_velocity(start, 0.0, &limits),
+            Err(_) => Profile::hold(start),
+        };
+        self.cam_axis(axis).ramp = Some(RampRun {
+            profile,
+            t_s: 0.0,
+            jog: None,
+            stop: None,
+        });
+        true
+    }
+
+    /// Whether `axis` runs a stop ramp (MAS or a stop of all axes).
+    pub(super) fn is_ramping_to_rest(&self, axis: AxisHandle) -> bool {
+        self.cam
+            .axes
+            .get(axis.0 as usize)
+            .is_some_and(|c| c.ramp.as_ref().is_some_and(|r| r.jog.is_none()))
+    }
+
+    /// Advances jogs, stop ramps and position cams by one coarse update
+    /// (called by [`MotionTask::update`] after the MoveModulo commands).
+    pub(super) fn advance_cams_and_jogs(&mut self) {
+        let dt = self.dt_s;
+        let updates = self.updates;
+        let (due, later): (Vec<_>, Vec<_>) = std::mem::take(&mut self.cam.rung_false)
+            .into_iter()
+            .partition(|&(_, at)| updates >= at + 2);
+        self.cam.rung_false = later;
+        for (h, _) in due {
+            self.rung_false(h);
+        }
+        for i in 0..self.cam.axes.len().min(self.axes.len()) {
+            let axis = AxisHandle(i as u32);
+            let Some(r) = self.cam.axes[i].ramp.as_mut() else {
+                continue;
+            };
+            r.t_s += dt;
+            let sample = r.profile.sample(r.t_s);
+            let stopped = r.jog.is_none() && r.t_s >= r.profile.duration_s();
+            let stop_mi = r.stop;
+            self.set_command(axis, sample);
+            if stopped {
+                self.cam.axes[i].ramp = None;
+                self.axes[i].command.velocity = 0.0;
+                if let Some(mi) = stop_mi {
+                    let b = self.bits(mi);
+                    b.ip = false;
+                    b.pc = true;
+                }
+            }
+        }
+        for i in 0..self.cam.axes.len().min(self.axes.len()) {
+            let axis = AxisHandle(i as u32);
+            if !self.cam.axes[i].cam.drives() && !self.cam.axes[i].cam_drove {
+                continue;
+            }
+            let old = self.axes[i].command;
+            let mut engine = std::mem::take(&mut self.cam.axes[i].cam);
+            let (position, events) = engine.update(old.position, |k| self.cam_master_position(k));
+            self.cam.axes[i].cam = engine;
+            self.apply_cam_events(&events);
+            self.cam.axes[i].cam_drove = position.is_some();
+            match position {
+                Some(p) => {
+                    let v = (p - old.position) / dt;
+                    let acc = (v - old.velocity) / dt;
+                    self.set_command(
+                        axis,
+                        Sample {
+                            position: p,
+                            velocity: v,
+                            acceleration: acc,
+                            jerk: 0.0,
+                        },
+                    );
+                }
+                None => self.set_command(
+                    axis,
+                    Sample {
+                        position: old.position,
+                        ..Sample::default()
+                    },
+                ),
+            }
+        }
+    }
+
+    fn set_command(&mut self, axis: AxisHandle, sample: Sample) {
+        let a = &mut self.axes[axis.0 as usize];
+        a.command = sample;
+        if !a.fed {
+            a.actual = sample.position;
+        }
+        if sample.velocity != 0.0 {
+            a.last_direction = sample.velocity.signum();
+        }
+        let flags = LimitFlags {
+            velocity: sample.velocity.abs() > a.config.max_velocity * (1.0 + 1e-9),
+            acceleration: sample.acceleration.abs()
+                > a.config.max_acceleration.max(a.config.max_deceleration) * (1.0 + 1e-9),
+        };
+        self.cam_axis(axis).limits = flags;
+    }
+}
+
+#[cfg(test)]
+mod tests;

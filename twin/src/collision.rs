@@ -1,0 +1,756 @@
+//! Collision checking with parry: the robot's collision bodies (URDF
+//! `<collision>` shapes per link, plus an optional tool shape), the scene's
+//! obstacles, live checks of one robot pose, collision events over time,
+//! and the pre-flight sweep of a planned path.
+//!
+//! # Bodies
+//! A robot *body* is a URDF link with at least one `<collision>` element
+//! (box, cylinder, sphere, or an STL mesh approximated as set by
+//! `collision.meshes`: one convex hull by default, or a convex
+//! decomposition), or the scene's tool shape (named `collision.tool.name`,
+//! carried by a link). Obstacles are the scene's `[[obstacles]]`.
+//!
+//! # Checks ([`CollisionModel::check`])
+//! * Every robot body against every obstacle: the distance (clearance) and,
+//!   when they touch or overlap, a contact.
+//! * With `self_collision`, every pair of robot bodies that are not
+//!   *adjacent* (the same link, or links joined by one joint; a tool is
+//!   adjacent to its link's neighbours too).
+//! * Pairs in `allowed_pairs` are never reported (nor used for clearance).
+//!
+//! A contact carries the penetration depth (≥ 0), the contact point — the
+//! midpoint of the two shapes' deepest points — and the normal, a unit
+//! vector in the world frame pointing from the second body into the first
+//! (the direction that separates the first body, a robot link, from the
+//! obstacle: the obstacle's outward surface normal).
+//!
+//! # Events ([`Monitor`])
+//! An event opens at the first check where a pair touches and closes at the
+//! first check where it no longer does (`end_s` is that check's time). It
+//! keeps the maximum depth and the point and normal at that depth.
+//!
+//! # Pre-flight sweep ([`CollisionModel::sweep`])
+//! Conservative advancement along a [`PathSampler`]: each body's points move
+//! at most `L_b · Δs` for a parameter step `Δs`, where `L_b = Σ_j
+//! |dq_j/ds|max · R_jb` sums over the joints above the body (`R_jb`: an upper
+//! bound of the distance from joint `j`'s origin to any point of the body in
+//! any configuration, for revolute joints; 1 for prismatic ones). At a
+//! sample with clearance `d_b` no contact can happen within `d_b / L_b`, so
+//! the sweep steps by `max(min_b d_b / L_b, h)` with
+//! `h = sweep_resolution_m / max_b L_b`. **Bound**: a contact of the planned
+//! path that lasts at least `h` of the parameter is found, and the reported
+//! parameter `s_p` lies in `[s_c, s_c + h]` where `s_c` is the first contact
+//! (never early; late by at most one minimum step). Grazes shorter than `h`
+//! (depth below about `sweep_resolution_m`) may be missed.
+
+use crate::convert::pose_to_rapier;
+use crate::scene::{CollisionSettings, MeshApproximation, Obstacle, Shape};
+use crate::stl::{StlError, load_stl};
+use crate::urdf::{Geometry, JointKind, RobotModel};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use rapier3d_f64::math::{Pose, Vector};
+use rapier3d_f64::parry::query;
+use rapier3d_f64::parry::shape::SharedShape;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// One side of a checked pair.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Body {
+    /// A robot body, index into [`CollisionModel::body_names`].
+    Robot(usize),
+    /// An obstacle, index into the scene's `[[obstacles]]`.
+    Obstacle(usize),
+}
+
+/// Why the collision model cannot be built.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CollisionModelError {
+    /// `collision.tool.link` names no URDF link.
+    #[error("collision.tool.link: the URDF has no link '{link}'")]
+    UnknownToolLink {
+        /// The name.
+        link: String,
+        /// Line of the field.
+        line: usize,
+        /// Column of the field.
+        column: usize,
+    },
+    /// An `allowed_pairs` entry names no body.
+    #[error("collision.allowed_pairs: '{name}' is no collision body (links with <collision>, the tool, obstacles)")]
+    UnknownPairBody {
+        /// The name.
+        name: String,
+        /// Line of the entry.
+        line: usize,
+        /// Column of the entry.
+        column: usize,
+    },
+    /// A mesh has no 3-D convex hull.
+    #[error("{body}: collision mesh has no 3-D convex hull")]
+    DegenerateMesh {
+        /// Link, tool or obstacle name.
+        body: String,
+    },
+    /// A tool or obstacle mesh file cannot be loaded.
+    #[error("{body}: {source}")]
+    Mesh {
+        /// Tool or obstacle name.
+        body: String,
+        /// Why (names the file).
+        #[source]
+        source: StlError,
+    },
+}
+
+/// A contact between two bodies at one pose.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contact {
+    /// First body (always a robot body).
+    pub a: Body,
+    /// Second body (an obstacle or another robot body).
+    pub b: Body,
+    /// Penetration depth, m (0 when just touching).
+    pub depth_m: f64,
+    /// Contact point in the world, m.
+    pub point_in_world: [f64; 3],
+    /// Unit normal in the world, from `b` into `a`.
+    pub normal_in_world: [f64; 3],
+}
+
+/// The result of one check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckResult {
+    /// Contacts, in pair order (robot bodies, then obstacles, then self pairs).
+    pub contacts: Vec<Contact>,
+    /// Per robot body: the smallest distance to any obstacle, m (0 when
+    /// touching; infinite without obstacles).
+    pub clearance_m: Vec<f64>,
+}
+
+/// A shape placed in the world with its bounding sphere there.
+struct Placed<'a> {
+    pose: Pose,
+    shape: &'a SharedShape,
+    center: Vector,
+    radius: f64,
+}
+
+impl<'a> Placed<'a> {
+    fn new(pose: Pose, shape: &'a SharedShape) -> Self {
+        let sphere = shape.compute_local_bounding_sphere();
+        Placed {
+            pose,
+            shape,
+            center: pose * sphere.center,
+            radius: sphere.radius,
+        }
+    }
+
+    /// A lower bound of the distance between the two shapes.
+    fn lower_bound(&self, other: &Placed<'_>) -> f64 {
+        (self.center - other.center).length() - self.radius - other.radius
+    }
+}
+
+#[derive(Debug, Clone)]
+struct RobotBody {
+    name: String,
+    link: usize,
+    shapes: Vec<(Pose, SharedShape)>,
+}
+
+/// The collision world of a scene.
+#[derive(Clone)]
+pub struct CollisionModel {
+    bodies: Vec<RobotBody>,
+    obstacle_names: Vec<String>,
+    obstacles: Vec<(Pose, SharedShape)>,
+    /// Obstacle pairs to check: (body, obstacle).
+    obstacle_pairs: Vec<(usize, usize)>,
+    /// Robot body pairs to check.
+    self_pairs: Vec<(usize, usize)>,
+    /// Per body, per model joint: R_jb (0 where joint j does not move the body).
+    reach: Vec<Vec<f64>>,
+}
+
+impl std::fmt::Debug for CollisionModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CollisionModel")
+            .field("bodies", &self.body_names())
+            .field("obstacles", &self.obstacle_names)
+            .field("self_pairs", &self.self_pairs)
+            .finish_non_exhaustive()
+    }
+}
+
+fn vec3(v: Vector) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+fn shape_of(
+    geometry: &Geometry,
+    meshes: MeshApproximation,
+    body: &str,
+) -> Result<Option<(Isometry3<f64>, SharedShape)>, CollisionModelError> {
+    let id = Isometry3::identity();
+    Ok(match geometry {
+        Geometry::Box { size } => (size.iter().all(|s| *s > 0.0))
+            .then(|| (id, SharedShape::cuboid(size[0] / 2.0, size[1] / 2.0, size[2] / 2.0))),
+        Geometry::Cylinder { radius, length } => (*radius > 0.0 && *length > 0.0).then(|| {
+            // URDF cylinders run along Z, parry's along Y: turn Y onto Z.
+            let turn = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2);
+            (
+                Isometry3::from_parts(Translation3::identity(), turn),
+                SharedShape::cylinder(length / 2.0, *radius),
+            )
+        }),
+        Geometry::Sphere { radius } => (*radius > 0.0).then(|| (id, SharedShape::ball(*radius))),
+        Geometry::Mesh { scale, mesh, .. } => Some((id, mesh_shape(mesh, *scale, meshes, body)?)),
+        #[allow(unreachable_patterns)]
+        _ => None,
+    })
+}
+
+fn mesh_shape(
+    mesh: &crate::mesh::TriMesh,
+    scale: [f64; 3],
+    meshes: MeshApproximation,
+    body: &str,
+) -> Result<SharedShape, CollisionModelError> {
+    let points: Vec<Vector> = mesh
+        .positions
+        .iter()
+        .map(|p| {
+            Vector::new(
+                f64::from(p[0]) * scale[0],
+                f64::from(p[1]) * scale[1],
+                f64::from(p[2]) * scale[2],
+            )
+        })
+        .collect();
+    let degenerate = || CollisionModelError::DegenerateMesh { body: body.to_string() };
+    // A mesh without a 3-D hull has nothing to decompose either (and parry
+    // refuses an empty decomposition).
+    let hull = SharedShape::convex_hull(&points).ok_or_else(degenerate)?;
+    match meshes {
+        MeshApproximation::ConvexDecomposition if mesh.indices.len() >= 3 => {
+            let triangles: Vec<[u32; 3]> = mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+            Ok(SharedShape::convex_decomposition(&points, &triangles))
+        }
+        _ => Ok(hull),
+    }
+}
+
+fn scene_shape(shape: &Shape, body: &str) -> Result<Geometry, CollisionModelError> {
+    Ok(match shape {
+        Shape::Box { size_m } => Geometry::Box { size: *size_m },
+        Shape::Cylinder { radius_m, length_m } => Geometry::Cylinder {
+            radius: *radius_m,
+            length: *length_m,
+        },
+        Shape::Sphere { radius_m } => Geometry::Sphere { radius: *radius_m },
+        Shape::Mesh { path, scale } => Geometry::Mesh {
+            path: path.clone(),
+            scale: *scale,
+            mesh: load_stl(path).map_err(|source| CollisionModelError::Mesh {
+                body: body.to_string(),
+                source,
+            })?,
+        },
+        #[allow(unreachable_patterns)]
+        _ => return Err(CollisionModelError::DegenerateMesh { body: body.to_string() }),
+    })
+}
+
+fn pose_from_xyz_rpy_deg(position_m: [f64; 3], rpy_deg: [f64; 3]) -> Isometry3<f64> {
+    let [r, p, y] = rpy_deg.map(f64::to_radians);
+    Isometry3::from_parts(
+        Translation3::new(position_m[0], position_m[1], position_m[2]),
+        UnitQuaternion::from_euler_angles(r, p, y),
+    )
+}
+
+impl CollisionModel {
+    /// Builds the bodies, obstacles and checked pairs of a scene.
+    ///
+    /// # Errors
+    /// [`CollisionModelError`] for an unknown tool link or allowed-pair
+    /// name, a degenerate mesh, or a tool mesh that cannot be loaded.
+    pub fn new(
+        model: &RobotModel,
+        obstacles: &[Obstacle],
+        settings: &CollisionSettings,
+    ) -> Result<CollisionModel, CollisionModelError> {
+        let mut bodies = Vec::new();
+        for (l, link) in model.links.iter().enumerate() {
+            let mut shapes = Vec::new();
+            for c in &link.collisions {
+                if let Some((local, shape)) = shape_of(&c.geometry, settings.meshes, &link.name)? {
+                    shapes.push((pose_to_rapier(&(c.link_from_collision * local)), shape));
+                }
+            }
+            if !shapes.is_empty() {
+                bodies.push(RobotBody {
+                    name: link.name.clone(),
+                    link: l,
+                    shapes,
+                });
+            }
+        }
+        if let Some(tool) = &settings.tool {
+            let link = model
+                .link_by_name(&tool.link)
+                .ok_or_else(|| CollisionModelError::UnknownToolLink {
+                    link: tool.link.clone(),
+                    line: tool.link_location.line,
+                    column: tool.link_location.column,
+                })?;
+            let geometry = scene_shape(&tool.shape, &tool.name)?;
+            let link_from_tool = pose_from_xyz_rpy_deg(tool.position_m, tool.rpy_deg);
+            if let Some((local, shape)) = shape_of(&geometry, settings.meshes, &tool.name)? {
+                bodies.push(RobotBody {
+                    name: tool.name.clone(),
+                    link: link.0,
+                    shapes: vec![(pose_to_rapier(&(link_from_tool * local)), shape)],
+                });
+            }
+        }
+        let mut obstacle_shapes = Vec::new();
+        for o in obstacles {
+            let geometry = scene_shape(&o.shape, &o.name)?;
+            let world_from_obstacle = pose_from_xyz_rpy_deg(o.position_m, o.rpy_deg);
+            let (local, shape) = shape_of(&geometry, settings.meshes, &o.name)?
+                .ok_or_else(|| CollisionModelError::DegenerateMesh { body: o.name.clone() })?;
+            obstacle_shapes.push((pose_to_rapier(&(world_from_obstacle * local)), shape));
+        }
+        let obstacle_names: Vec<String> = obstacles.iter().map(|o| o.name.clone()).collect();
+
+        // Allowed pairs by name.
+        let find = |name: &str| -> Option<Body> {
+            bodies
+                .iter()
+                .position(|b| b.name == name)
+                .map(Body::Robot)
+                .or_else(|| obstacle_names.iter().position(|o| o == name).map(Body::Obstacle))
+        };
+        let mut allowed = Vec::new();
+        for p in &settings.allowed_pairs {
+            let mut pair = [Body::Robot(0); 2];
+            for (slot, name) in pair.iter_mut().zip([&p.a, &p.b]) {
+                *slot = find(name).ok_or_else(|| CollisionModelError::UnknownPairBody {
+                    name: name.clone(),
+                    line: p.location.line,
+                    column: p.location.column,
+                })?;
+            }
+            pair.sort();
+            allowed.push(pair);
+        }
+        let is_allowed = |a: Body, b: Body| {
+            let mut pair = [a, b];
+            pair.sort();
+            allowed.contains(&pair)
+        };
+        let mut obstacle_pairs = Vec::new();
+        for b in 0..bodies.len() {
+            for o in 0..obstacle_shapes.len() {
+                if !is_allowed(Body::Robot(b), Body::Obstacle(o)) {
+                    obstacle_pairs.push((b, o));
+                }
+            }
+        }
+        let parent_link = |l: usize| model.links[l].parent_joint.map(|j| model.joints[j.0].parent.0);
+        let adjacent = |a: usize, b: usize| a == b || parent_link(a) == Some(b) || parent_link(b) == Some(a);
+        let mut self_pairs = Vec::new();
+        if settings.self_collision {
+            for a in 0..bodies.len() {
+                for b in a + 1..bodies.len() {
+                    let (la, lb) = (bodies[a].link, bodies[b].link);
+                    // The tool counts as its link: adjacent to the link and its neighbours.
+                    if adjacent(la, lb) || is_allowed(Body::Robot(a), Body::Robot(b)) {
+                        continue;
+                    }
+                    self_pairs.push((a, b));
+                }
+            }
+        }
+        let reach = bodies.iter().map(|b| reach_of(model, b)).collect();
+        Ok(CollisionModel {
+            bodies,
+            obstacle_names,
+            obstacles: obstacle_shapes,
+            obstacle_pairs,
+            self_pairs,
+            reach,
+        })
+    }
+
+    /// Robot body names (links with collision shapes in URDF order, then the tool).
+    pub fn body_names(&self) -> Vec<&str> {
+        self.bodies.iter().map(|b| b.name.as_str()).collect()
+    }
+
+    /// The URDF link index carrying each robot body.
+    pub fn body_links(&self) -> Vec<usize> {
+        self.bodies.iter().map(|b| b.link).collect()
+    }
+
+    /// A body's name.
+    pub fn name(&self, body: Body) -> &str {
+        match body {
+            Body::Robot(i) => &self.bodies[i].name,
+            Body::Obstacle(i) => &self.obstacle_names[i],
+        }
+    }
+
+    /// Robot body pairs checked for self-collision (indices into [`Self::body_names`]).
+    pub fn self_pairs(&self) -> &[(usize, usize)] {
+        &self.self_pairs
+    }
+
+    fn world_shapes<'a>(&'a self, body: usize, world_from_link: &[Isometry3<f64>]) -> Vec<Placed<'a>> {
+        let b = &self.bodies[body];
+        let world = pose_to_rapier(&world_from_link[b.link]);
+        b.shapes
+            .iter()
+            .map(|(local, s)| Placed::new(world * *local, s))
+            .collect()
+    }
+
+    fn placed_obstacle(&self, o: usize) -> [Placed<'_>; 1] {
+        [Placed::new(self.obstacles[o].0, &self.obstacles[o].1)]
+    }
+
+    fn placed_bodies(&self, world_from_link: &[Isometry3<f64>]) -> Vec<Vec<Placed<'_>>> {
+        (0..self.bodies.len())
+            .map(|b| self.world_shapes(b, world_from_link))
+            .collect()
+    }
+
+    /// Deepest contact between two shape sets, if they touch.
+    fn contact_between(a: &[Placed<'_>], b: &[Placed<'_>]) -> Option<(f64, [f64; 3], [f64; 3])> {
+        let mut best: Option<(f64, [f64; 3], [f64; 3])> = None;
+        for pa in a {
+            for pb in b {
+                if pa.lower_bound(pb) > 0.0 {
+                    continue;
+                }
+                let Ok(Some(c)) = query::contact(&pa.pose, pa.shape.as_ref(), &pb.pose, pb.shape.as_ref(), 0.0) else {
+                    continue;
+                };
+                if c.dist > 0.0 {
+                    continue;
+                }
+                let depth = -c.dist;
+                if best.is_none_or(|(d, _, _)| depth > d) {
+                    let mid = (c.point1 + c.point2) * 0.5;
+                    best = Some((depth, vec3(mid), vec3(c.normal2)));
+                }
+            }
+        }
+        best
+    }
+
+    /// The smallest distance between two shape sets, or `cutoff` when none
+    /// is below it (bounding spheres skip pairs that cannot be closer).
+    fn distance_between(a: &[Placed<'_>], b: &[Placed<'_>], cutoff: f64) -> f64 {
+        let mut d = cutoff;
+        for pa in a {
+            for pb in b {
+                if pa.lower_bound(pb) >= d {
+                    continue;
+                }
+                if let Ok(x) = query::distance(&pa.pose, pa.shape.as_ref(), &pb.pose, pb.shape.as_ref()) {
+                    d = d.min(x.distance);
+                }
+            }
+        }
+        d
+    }
+
+    /// Checks one robot pose (`world_from_link` of every URDF link, in model order).
+    pub fn check(&self, world_from_link: &[Isometry3<f64>]) -> CheckResult {
+        let shapes = self.placed_bodies(world_from_link);
+        let mut clearance_m = vec![f64::INFINITY; self.bodies.len()];
+        let mut contacts = Vec::new();
+        for &(b, o) in &self.obstacle_pairs {
+            let obstacle = self.placed_obstacle(o);
+            // Exact below the body's best so far; 0 means touching.
+            let d = Self::distance_between(&shapes[b], &obstacle, clearance_m[b]);
+            clearance_m[b] = d;
+            if d <= 0.0
+                && let Some((depth_m, point, normal)) = Self::contact_between(&shapes[b], &obstacle)
+            {
+                contacts.push(Contact {
+                    a: Body::Robot(b),
+                    b: Body::Obstacle(o),
+                    depth_m,
+                    point_in_world: point,
+                    normal_in_world: normal,
+                });
+            }
+        }
+        for &(a, b) in &self.self_pairs {
+            if let Some((depth_m, point, normal)) = Self::contact_between(&shapes[a], &shapes[b]) {
+                contacts.push(Contact {
+                    a: Body::Robot(a),
+                    b: Body::Robot(b),
+                    depth_m,
+                    point_in_world: point,
+                    normal_in_world: normal,
+                });
+            }
+        }
+        CheckResult { contacts, clearance_m }
+    }
+
+    /// Per body, the smallest distance to anything it is checked against
+    /// (obstacles and self pairs), m.
+    fn distances(&self, world_from_link: &[Isometry3<f64>]) -> Vec<f64> {
+        let shapes = self.placed_bodies(world_from_link);
+        let mut d = vec![f64::INFINITY; self.bodies.len()];
+        for &(b, o) in &self.obstacle_pairs {
+            d[b] = Self::distance_between(&shapes[b], &self.placed_obstacle(o), d[b]);
+        }
+        for &(a, b) in &self.self_pairs {
+            let x = Self::distance_between(&shapes[a], &shapes[b], d[a].max(d[b]));
+            d[a] = d[a].min(x);
+            d[b] = d[b].min(x);
+        }
+        d
+    }
+
+    /// Sweeps `path` (see the module docs for the bound): the first sample
+    /// where a checked pair touches, if any.
+    pub fn sweep(&self, model: &RobotModel, path: &dyn PathSampler, resolution_m: f64) -> SweepReport {
+        let rates = path.joint_rate_bounds();
+        let lipschitz: Vec<f64> = self
+            .reach
+            .iter()
+            .map(|r| r.iter().zip(&rates).map(|(r, q)| r * q.abs()).sum())
+            .collect();
+        // A self pair's relative motion is bounded by the sum of both bodies'.
+        let mut pair_rate = lipschitz.clone();
+        for &(a, b) in &self.self_pairs {
+            let both = lipschitz[a] + lipschitz[b];
+            pair_rate[a] = pair_rate[a].max(both);
+            pair_rate[b] = pair_rate[b].max(both);
+        }
+        let max_rate = pair_rate.iter().copied().fold(0.0, f64::max);
+        let length = path.length();
+        let min_step = if max_rate > 0.0 {
+            resolution_m / max_rate
+        } else {
+            f64::INFINITY
+        };
+        let mut report = SweepReport {
+            collision: None,
+            samples: 0,
+            step_bound: min_step.min(length.max(0.0)),
+            length,
+        };
+        let mut s = 0.0;
+        loop {
+            let q = path.joint_positions(s);
+            let poses = model.world_from_link(&q);
+            report.samples += 1;
+            let d = self.distances(&poses);
+            if d.iter().any(|x| *x <= 0.0) {
+                let check = self.check(&poses);
+                if let Some(c) = check.contacts.iter().max_by(|x, y| x.depth_m.total_cmp(&y.depth_m)) {
+                    report.collision = Some(PredictedCollision {
+                        parameter: s,
+                        time_s: path.time_s(s),
+                        a: self.name(c.a).to_string(),
+                        b: self.name(c.b).to_string(),
+                        depth_m: c.depth_m,
+                        bound: report.step_bound,
+                    });
+                    return report;
+                }
+            }
+            if s >= length {
+                return report;
+            }
+            let safe = d
+                .iter()
+                .zip(&pair_rate)
+                .filter(|(_, r)| **r > 0.0)
+                .map(|(d, r)| d / r)
+                .fold(f64::INFINITY, f64::min);
+            let step = safe.max(min_step);
+            s = if step.is_finite() {
+                (s + step).min(length)
+            } else {
+                length
+            };
+        }
+    }
+}
+
+/// Upper bound of the distance from each joint's origin to any point of
+/// `body` in any configuration (0 for joints not above the body; 1 for
+/// prismatic joints, whose motion moves every point by exactly |Δq|).
+fn reach_of(model: &RobotModel, body: &RobotBody) -> Vec<f64> {
+    let radius = body
+        .shapes
+        .iter()
+        .map(|(p, s)| {
+            let sphere = s.compute_local_bounding_sphere();
+            (*p * sphere.center).length() + sphere.radius
+        })
+        .fold(0.0, f64::max);
+    let mut reach = vec![0.0; model.joints.len()];
+    // Walk up from the body's link: `below` bounds the distance from the
+    // current joint's origin to the body's points.
+    let mut below = radius;
+    let mut link = body.link;
+    while let Some(j) = model.links[link].parent_joint {
+        let joint = &model.joints[j.0];
+        reach[j.0] = match joint.kind {
+            JointKind::Prismatic => 1.0,
+            JointKind::Fixed => 0.0,
+            _ => below,
+        };
+        let travel = match (joint.kind, joint.limits) {
+            (JointKind::Prismatic, Some(l)) => l.lower.abs().max(l.upper.abs()),
+            _ => 0.0,
+        };
+        below += joint.parent_from_joint.translation.vector.norm() + travel;
+        link = joint.parent.0;
+    }
+    reach
+}
+
+/// A planned path in joint space, by a path parameter `s` in `[0, length]`.
+///
+/// An MC_MoveModulo move samples its axis profile ([`crate::run`]);
+/// coordinated moves (MCCM, MCLM) plug in their path the same way.
+pub trait PathSampler {
+    /// End of the parameter range (the start is 0).
+    fn length(&self) -> f64;
+    /// Joint positions (rad or m, per URDF joint in model order) at `s`.
+    fn joint_positions(&self, s: f64) -> Vec<f64>;
+    /// Per URDF joint, an upper bound of `|dq_j/ds|` over the path.
+    fn joint_rate_bounds(&self) -> Vec<f64>;
+    /// Time from the move's start at which the plan reaches `s`, s.
+    fn time_s(&self, s: f64) -> f64;
+}
+
+/// A collision the sweep predicts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PredictedCollision {
+    /// Path parameter of the first colliding sample.
+    pub parameter: f64,
+    /// Time from the move's start at that sample, s.
+    pub time_s: f64,
+    /// First body.
+    pub a: String,
+    /// Second body.
+    pub b: String,
+    /// Penetration depth at the sample, m.
+    pub depth_m: f64,
+    /// The sweep's bound `h` (parameter units): the first contact of the
+    /// planned path lies in `[parameter - bound, parameter]`.
+    pub bound: f64,
+}
+
+/// What a sweep did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SweepReport {
+    /// The first predicted collision, if any.
+    pub collision: Option<PredictedCollision>,
+    /// Poses checked.
+    pub samples: usize,
+    /// The bound `h` in parameter units (see the module docs).
+    pub step_bound: f64,
+    /// The path's parameter length.
+    pub length: f64,
+}
+
+/// A collision event: one pair in contact over a time interval.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CollisionEvent {
+    /// Time of the first check with contact, s.
+    pub start_s: f64,
+    /// Time of the first check without contact afterwards, s (`None`: still in contact at the end).
+    pub end_s: Option<f64>,
+    /// First body (a robot body).
+    pub a: String,
+    /// Second body (an obstacle or robot body).
+    pub b: String,
+    /// Largest penetration depth seen, m.
+    pub max_depth_m: f64,
+    /// Contact point at the largest depth, world, m.
+    pub point_in_world: [f64; 3],
+    /// Normal at the largest depth, world, unit (from `b` into `a`).
+    pub normal_in_world: [f64; 3],
+}
+
+/// Tracks contacts over checks and turns them into events.
+#[derive(Debug, Clone, Default)]
+pub struct Monitor {
+    open: BTreeMap<(Body, Body), usize>,
+    events: Vec<CollisionEvent>,
+}
+
+impl Monitor {
+    /// Takes in one check at `time_s`; returns the indices of the events
+    /// that started at this check.
+    pub fn observe(&mut self, model: &CollisionModel, time_s: f64, result: &CheckResult) -> Vec<usize> {
+        let mut started = Vec::new();
+        let mut seen: Vec<(Body, Body)> = Vec::new();
+        for c in &result.contacts {
+            let key = (c.a, c.b);
+            seen.push(key);
+            match self.open.get(&key) {
+                Some(&i) => {
+                    let e = &mut self.events[i];
+                    if c.depth_m > e.max_depth_m {
+                        e.max_depth_m = c.depth_m;
+                        e.point_in_world = c.point_in_world;
+                        e.normal_in_world = c.normal_in_world;
+                    }
+                }
+                None => {
+                    self.events.push(CollisionEvent {
+                        start_s: time_s,
+                        end_s: None,
+                        a: model.name(c.a).to_string(),
+                        b: model.name(c.b).to_string(),
+                        max_depth_m: c.depth_m,
+                        point_in_world: c.point_in_world,
+                        normal_in_world: c.normal_in_world,
+                    });
+                    self.open.insert(key, self.events.len() - 1);
+                    started.push(self.events.len() - 1);
+                }
+            }
+        }
+        let ended: Vec<(Body, Body)> = self.open.keys().filter(|k| !seen.contains(k)).copied().collect();
+        for key in ended {
+            if let Some(i) = self.open.remove(&key) {
+                self.events[i].end_s = Some(time_s);
+            }
+        }
+        started
+    }
+
+    /// Every event so far, in start order (ties in pair order).
+    pub fn events(&self) -> &[CollisionEvent] {
+        &self.events
+    }
+
+    /// Robot bodies in an open event now.
+    pub fn colliding(&self) -> Vec<Body> {
+        let mut v: Vec<Body> = self.open.keys().flat_map(|(a, b)| [*a, *b]).collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests;

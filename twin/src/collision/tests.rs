@@ -1,0 +1,303 @@
+//! Collision model, events and sweep against analytic geometry.
+
+use super::*;
+use crate::scene::{AllowedPair, Location, Obstacle, Preflight, Reaction};
+use std::path::Path;
+
+fn settings() -> CollisionSettings {
+    CollisionSettings {
+        reaction: Reaction::Report,
+        meshes: MeshApproximation::ConvexHull,
+        self_collision: true,
+        allowed_pairs: Vec::new(),
+        preflight: Preflight::Report,
+        sweep_resolution_m: 0.001,
+        tool: None,
+        location: Location::default(),
+    }
+}
+
+fn obstacle(name: &str, shape: Shape, position_m: [f64; 3]) -> Obstacle {
+    Obstacle {
+        name: name.to_string(),
+        shape,
+        position_m,
+        rpy_deg: [0.0; 3],
+        color: [0.5; 4],
+        location: Location::default(),
+    }
+}
+
+/// A ball of radius 0.05 m on a prismatic joint along world x.
+fn slider() -> RobotModel {
+    let urdf = r#"<robot name="slider">
+      <link name="base"/>
+      <link name="ball"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+      <joint name="x" type="prismatic"><parent link="base"/><child link="ball"/><axis xyz="1 0 0"/>
+        <limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+    </robot>"#;
+    RobotModel::from_urdf_str(urdf, Path::new("slider.urdf")).unwrap()
+}
+
+/// Three 0.4 m boxes in a row on revolute joints about z; neighbours overlap
+/// at the joints.
+fn arm() -> RobotModel {
+    let link = |name: &str| {
+        format!(
+            r#"<link name="{name}"><collision><origin xyz="0.2 0 0"/><geometry><box size="0.44 0.05 0.05"/></geometry></collision></link>"#
+        )
+    };
+    let urdf = format!(
+        r#"<robot name="arm"><link name="base"/>{}{}{}
+        <joint name="j1" type="continuous"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/></joint>
+        <joint name="j2" type="continuous"><parent link="l1"/><child link="l2"/><origin xyz="0.4 0 0"/><axis xyz="0 0 1"/></joint>
+        <joint name="j3" type="continuous"><parent link="l2"/><child link="l3"/><origin xyz="0.4 0 0"/><axis xyz="0 0 1"/></joint>
+        </robot>"#,
+        link("l1"),
+        link("l2"),
+        link("l3")
+    );
+    RobotModel::from_urdf_str(&urdf, Path::new("arm.urdf")).unwrap()
+}
+
+#[test]
+fn sphere_meets_box_at_the_analytic_time_depth_and_normal() {
+    let model = slider();
+    // Box face at x = 0.45; the ball touches it when its centre is at 0.40.
+    let boxes = [obstacle(
+        "fixture",
+        Shape::Box {
+            size_m: [0.1, 0.4, 0.4],
+        },
+        [0.5, 0.0, 0.0],
+    )];
+    let world = CollisionModel::new(&model, &boxes, &settings()).unwrap();
+    let (speed_mps, dt, rest_m) = (0.1, 0.002, 0.41);
+    let mut monitor = Monitor::default();
+    for k in 0..=6000 {
+        let t = k as f64 * dt;
+        let x = (speed_mps * t).min(rest_m);
+        let poses = model.world_from_link(&[x]);
+        let result = world.check(&poses);
+        monitor.observe(&world, t, &result);
+        let expected = (0.45 - 0.05 - x).max(0.0);
+        assert!((result.clearance_m[0] - expected).abs() < 1e-9, "clearance at {t}");
+    }
+    let events = monitor.events();
+    assert_eq!(events.len(), 1, "{events:?}");
+    let e = &events[0];
+    let analytic_s = 0.40 / speed_mps;
+    assert!((e.start_s - analytic_s).abs() <= dt + 1e-12, "start {}", e.start_s);
+    assert_eq!(e.end_s, None);
+    assert_eq!((e.a.as_str(), e.b.as_str()), ("ball", "fixture"));
+    assert!((e.max_depth_m - 0.01).abs() < 1e-3, "depth {}", e.max_depth_m);
+    let n = Vector3::from(e.normal_in_world);
+    let angle = n.angle(&-Vector3::x());
+    assert!(angle < 1e-3, "normal {n:?}");
+    // The point lies between the face and the ball's deepest point.
+    assert!((e.point_in_world[0] - 0.455).abs() < 1e-3, "{:?}", e.point_in_world);
+}
+
+#[test]
+fn the_event_ends_when_the_pair_separates() {
+    let model = slider();
+    let boxes = [obstacle("ball_stop", Shape::Sphere { radius_m: 0.05 }, [0.3, 0.0, 0.0])];
+    let world = CollisionModel::new(&model, &boxes, &settings()).unwrap();
+    let mut monitor = Monitor::default();
+    for (t, x) in [(0.0, 0.0), (1.0, 0.25), (2.0, 0.29), (3.0, 0.1)] {
+        monitor.observe(&world, t, &world.check(&model.world_from_link(&[x])));
+    }
+    let e = &monitor.events()[0];
+    assert_eq!((e.start_s, e.end_s), (1.0, Some(3.0)));
+    assert!((e.max_depth_m - 0.09).abs() < 1e-9);
+    assert!(monitor.colliding().is_empty());
+}
+
+#[test]
+fn adjacent_links_and_allowed_pairs_never_report() {
+    let model = arm();
+    let mut s = settings();
+    let world = CollisionModel::new(&model, &[], &s).unwrap();
+    // Only l1-l3 is checked (l1-l2 and l2-l3 are adjacent and overlap at the joints).
+    assert_eq!(world.self_pairs(), &[(0, 2)]);
+    let straight = model.world_from_link(&[0.0, 0.0, 0.0]);
+    assert!(world.check(&straight).contacts.is_empty());
+    // Folded back: l3 lies on l1.
+    let pi = std::f64::consts::PI;
+    let folded = model.world_from_link(&[0.0, pi, pi]);
+    let contacts = world.check(&folded).contacts;
+    assert_eq!(contacts.len(), 1, "{contacts:?}");
+    assert_eq!((world.name(contacts[0].a), world.name(contacts[0].b)), ("l1", "l3"));
+    s.allowed_pairs.push(AllowedPair {
+        a: "l3".into(),
+        b: "l1".into(),
+        location: Location::default(),
+    });
+    let world = CollisionModel::new(&model, &[], &s).unwrap();
+    assert!(world.check(&folded).contacts.is_empty());
+    s.allowed_pairs[0].a = "nope".into();
+    assert!(matches!(
+        CollisionModel::new(&model, &[], &s),
+        Err(CollisionModelError::UnknownPairBody { .. })
+    ));
+}
+
+/// l1 alone turning about z: the sweep parameter is the joint angle.
+struct Turn {
+    end_rad: f64,
+}
+
+impl PathSampler for Turn {
+    fn length(&self) -> f64 {
+        self.end_rad
+    }
+    fn joint_positions(&self, s: f64) -> Vec<f64> {
+        vec![s, 0.0, 0.0]
+    }
+    fn joint_rate_bounds(&self) -> Vec<f64> {
+        vec![1.0, 0.0, 0.0]
+    }
+    fn time_s(&self, s: f64) -> f64 {
+        s
+    }
+}
+
+#[test]
+fn sweep_predicts_the_first_contact_within_its_bound_and_misses_nothing() {
+    let model = arm();
+    // A thin post on the +y axis (x in ±0.01, y in 0.55..0.65): the straight
+    // arm turning from +x towards +y first touches the post's corner
+    // (0.01, 0.55) with its leading face (offset 0.025 m from its axis).
+    let post = [obstacle(
+        "post",
+        Shape::Box {
+            size_m: [0.02, 0.1, 0.5],
+        },
+        [0.0, 0.6, 0.0],
+    )];
+    let world = CollisionModel::new(&model, &post, &settings()).unwrap();
+    let report = world.sweep(&model, &Turn { end_rad: 3.0 }, 0.001);
+    let c = report.collision.clone().expect("predicted");
+    // Analytic first contact: the corner c = (0.01, 0.55) reaches the
+    // leading face, c · (−sin θ, cos θ) = 0.025.
+    let analytic = {
+        let (mut lo, mut hi) = (0.0_f64, std::f64::consts::FRAC_PI_2);
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if 0.55 * mid.cos() - 0.01 * mid.sin() > 0.025 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    };
+    assert!(
+        c.parameter >= analytic - 1e-6 && c.parameter <= analytic + report.step_bound + 1e-9,
+        "predicted {} analytic {analytic} bound {}",
+        c.parameter,
+        report.step_bound
+    );
+    assert_eq!(
+        (c.a.as_str(), c.b.as_str()),
+        ("l2", "post"),
+        "the post at radius 0.55..0.65 is on l2"
+    );
+    // A post out of reach: nothing.
+    let far = [obstacle("far", Shape::Sphere { radius_m: 0.1 }, [0.0, 2.0, 0.0])];
+    let world = CollisionModel::new(&model, &far, &settings()).unwrap();
+    assert!(world.sweep(&model, &Turn { end_rad: 3.0 }, 0.001).collision.is_none());
+}
+
+#[test]
+fn a_tool_is_a_body_of_its_own_adjacent_to_its_link_and_its_neighbours() {
+    let model = arm();
+    let mut s = settings();
+    s.tool = Some(crate::scene::Tool {
+        name: "gripper".into(),
+        link: "l3".into(),
+        link_location: Location::default(),
+        shape: Shape::Sphere { radius_m: 0.05 },
+        position_m: [0.45, 0.0, 0.0],
+        rpy_deg: [0.0; 3],
+    });
+    let post = [obstacle("post", Shape::Sphere { radius_m: 0.05 }, [1.35, 0.0, 0.0])];
+    let world = CollisionModel::new(&model, &post, &s).unwrap();
+    assert_eq!(world.body_names(), vec!["l1", "l2", "l3", "gripper"]);
+    // l1-l3 and l1-gripper; the gripper rides on l3 next to l2.
+    assert_eq!(world.self_pairs(), &[(0, 2), (0, 3)]);
+    // Straight arm: the tool centre sits at 1.25 m, 0.1 m from the post's.
+    let result = world.check(&model.world_from_link(&[0.0, 0.0, 0.0]));
+    assert!(result.contacts.is_empty());
+    assert!(
+        (result.clearance_m[3] - 0.0).abs() < 1e-9,
+        "touching: {:?}",
+        result.clearance_m
+    );
+    let result = world.check(
+        &model
+            .world_from_link(&[0.0, 0.0, 0.0])
+            .iter()
+            .map(|p| Isometry3::from_parts(Translation3::new(0.01, 0.0, 0.0), UnitQuaternion::identity()) * p)
+            .collect::<Vec<_>>(),
+    );
+    assert_eq!(result.contacts.len(), 1);
+    assert_eq!(world.name(result.contacts[0].a), "gripper");
+    assert!((result.contacts[0].depth_m - 0.01).abs() < 1e-9);
+    s.tool.as_mut().unwrap().link = "nope".into();
+    assert!(matches!(
+        CollisionModel::new(&model, &post, &s),
+        Err(CollisionModelError::UnknownToolLink { .. })
+    ));
+}
+
+/// A U-shaped STL (two 0.1 m prongs 0.3 m apart on a base), as ASCII text.
+fn u_shape_stl() -> String {
+    let mut mesh = crate::mesh::TriMesh::cuboid([0.5, 0.1, 0.1]);
+    for x in [-0.2f32, 0.2] {
+        let prong = crate::mesh::TriMesh::cuboid([0.1, 0.1, 0.5]).transformed(&[
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [x, 0.0, 0.3, 1.0],
+        ]);
+        mesh.append(&prong);
+    }
+    let mut text = String::from("solid u\n");
+    for t in mesh.indices.chunks_exact(3) {
+        text.push_str("facet normal 0 0 0\nouter loop\n");
+        for &i in t {
+            let [x, y, z] = mesh.positions[i as usize];
+            text.push_str(&format!("vertex {x} {y} {z}\n"));
+        }
+        text.push_str("endloop\nendfacet\n");
+    }
+    text.push_str("endsolid u\n");
+    text
+}
+
+#[test]
+fn convex_decomposition_follows_a_concave_mesh_that_a_hull_fills() {
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/collision-tests");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("u.stl");
+    std::fs::write(&path, u_shape_stl()).unwrap();
+    // The ball (radius 0.05, on the slider at x = 0) sits between the prongs.
+    let u = [obstacle("u", Shape::Mesh { path, scale: [1.0; 3] }, [0.0, 0.0, -0.4])];
+    let model = slider();
+    let hull = CollisionModel::new(&model, &u, &settings()).unwrap();
+    let pose = model.world_from_link(&[0.0]);
+    assert_eq!(hull.check(&pose).contacts.len(), 1, "the hull fills the U");
+    let mut s = settings();
+    s.meshes = MeshApproximation::ConvexDecomposition;
+    let parts = CollisionModel::new(&model, &u, &s).unwrap();
+    let result = parts.check(&pose);
+    assert!(result.contacts.is_empty(), "{:?}", result.contacts);
+    // The ball is 0.1 m from each prong's inner face (x = ±0.15) and 0.2 m
+    // above the base; VHACD's hulls may bulge a little.
+    assert!(
+        result.clearance_m[0] > 0.05 && result.clearance_m[0] < 0.11,
+        "{:?}",
+        result.clearance_m
+    );
+}

@@ -1,0 +1,445 @@
+//! The scene's `[collision]` table: what the twin checks for collisions,
+//! how it reacts, and the pre-flight sweep of planned moves. Documented
+//! field by field in `scenes/README.md`; names of links are checked against
+//! the URDF by [`crate::collision`].
+
+use super::{Ctx, Location, Problem, SceneError, Shape, ShapeKind};
+use serde::Deserialize;
+use std::path::Path;
+use toml::Spanned;
+
+/// What the twin does when a live check finds a contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum Reaction {
+    /// Record the event and keep going (default).
+    #[default]
+    Report,
+    /// Coordinated stop of every axis with its configured deceleration;
+    /// the instances in process get `CommandAborted`.
+    Stop,
+    /// End the run after the physics step of the contact; the `twin`
+    /// binary exits with code 3.
+    Abort,
+}
+
+/// How a mesh collision shape is approximated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum MeshApproximation {
+    /// One convex hull per mesh (default): fast, conservative (never misses
+    /// a contact the mesh has, may report one in a concavity).
+    #[default]
+    ConvexHull,
+    /// A convex decomposition (parry's VHACD with default parameters): follows
+    /// concave meshes, slower to build and to query.
+    ConvexDecomposition,
+}
+
+/// What the pre-flight sweep does with a predicted collision.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum Preflight {
+    /// No sweep.
+    Off,
+    /// Sweep every started move and report a predicted collision (default).
+    #[default]
+    Report,
+    /// As `report`, and reject the move: the instance gets `Error` with
+    /// ErrorID 16#422C and the axis stops.
+    Reject,
+}
+
+/// A tool or payload shape carried by a link.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Tool {
+    /// Body name in events and trace columns (default: `tool`).
+    pub name: String,
+    /// The URDF link carrying it.
+    pub link: String,
+    /// Where `link` is written.
+    pub link_location: Location,
+    /// The geometry.
+    pub shape: Shape,
+    /// Position in the link frame, metres (default: zeros).
+    pub position_m: [f64; 3],
+    /// Roll, pitch, yaw in the link frame, degrees (default: zeros).
+    pub rpy_deg: [f64; 3],
+}
+
+/// Two bodies allowed to touch (never reported).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AllowedPair {
+    /// First body (link or obstacle or tool name).
+    pub a: String,
+    /// Second body.
+    pub b: String,
+    /// Where the pair is written.
+    pub location: Location,
+}
+
+/// `[collision]`: collision checking is on when the table is present.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct CollisionSettings {
+    /// Reaction to a live contact (default: report).
+    pub reaction: Reaction,
+    /// Mesh approximation for URDF and obstacle meshes (default: convex hull).
+    pub meshes: MeshApproximation,
+    /// Check robot bodies against each other, except adjacent links and
+    /// allowed pairs (default: true).
+    pub self_collision: bool,
+    /// Pairs never reported.
+    pub allowed_pairs: Vec<AllowedPair>,
+    /// Pre-flight sweep of started moves (default: report).
+    pub preflight: Preflight,
+    /// Sweep resolution: the largest distance any point of the robot moves
+    /// between two samples once it is near an obstacle, metres (default 0.001).
+    pub sweep_resolution_m: f64,
+    /// Optional tool/payload shape.
+    pub tool: Option<Tool>,
+    /// Where the `[collision]` table is written.
+    pub location: Location,
+}
+
+impl Default for CollisionSettings {
+    /// The settings of an empty `[collision]` table.
+    fn default() -> Self {
+        CollisionSettings {
+            reaction: Reaction::default(),
+            meshes: MeshApproximation::default(),
+            self_collision: true,
+            allowed_pairs: Vec::new(),
+            preflight: Preflight::default(),
+            sweep_resolution_m: 0.001,
+            tool: None,
+            location: Location::default(),
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawCollision {
+    reaction: Option<Spanned<Reaction>>,
+    meshes: Option<Spanned<MeshApproximation>>,
+    self_collision: Option<Spanned<bool>>,
+    #[serde(default)]
+    allowed_pairs: Vec<Spanned<[String; 2]>>,
+    preflight: Option<Spanned<Preflight>>,
+    sweep_resolution_m: Option<Spanned<f64>>,
+    tool: Option<RawTool>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTool {
+    name: Option<Spanned<String>>,
+    link: Spanned<String>,
+    shape: Spanned<ShapeKind>,
+    size: Option<Spanned<[f64; 3]>>,
+    radius: Option<Spanned<f64>>,
+    length: Option<Spanned<f64>>,
+    file: Option<Spanned<String>>,
+    scale: Option<Spanned<[f64; 3]>>,
+    position: Option<Spanned<[f64; 3]>>,
+    rpy_deg: Option<Spanned<[f64; 3]>>,
+}
+
+impl Ctx<'_> {
+    pub(super) fn collision(&self, raw: &RawCollision, base: &Path) -> Result<CollisionSettings, SceneError> {
+        let sweep_resolution_m = match &raw.sweep_resolution_m {
+            Some(v) => self.positive(v, "collision.sweep_resolution_m")?,
+            None => 0.001,
+        };
+        let mut allowed_pairs = Vec::new();
+        for (i, p) in raw.allowed_pairs.iter().enumerate() {
+            let [a, b] = p.get_ref().clone();
+            if a.trim().is_empty() || b.trim().is_empty() {
+                return Err(self.invalid(p, format!("collision.allowed_pairs[{i}]"), Problem::Empty));
+            }
+            allowed_pairs.push(AllowedPair {
+                a,
+                b,
+                location: self.loc(p),
+            });
+        }
+        let tool = match &raw.tool {
+            Some(t) => Some(self.tool(t, base)?),
+            None => None,
+        };
+        // The table's place: its header line, else its first field.
+        let header = self
+            .text
+            .match_indices("[collision")
+            .find(|(at, _)| {
+                self.text[..*at]
+                    .rsplit('\n')
+                    .next()
+                    .is_some_and(|l| l.trim().is_empty())
+            })
+            .map(|(at, _)| at);
+        let first = [
+            header,
+            raw.reaction.as_ref().map(|s| s.span().start),
+            raw.meshes.as_ref().map(|s| s.span().start),
+            raw.self_collision.as_ref().map(|s| s.span().start),
+            raw.preflight.as_ref().map(|s| s.span().start),
+            raw.sweep_resolution_m.as_ref().map(|s| s.span().start),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+        .unwrap_or(0);
+        Ok(CollisionSettings {
+            reaction: raw.reaction.as_ref().map_or_else(Reaction::default, |r| *r.get_ref()),
+            meshes: raw
+                .meshes
+                .as_ref()
+                .map_or_else(MeshApproximation::default, |m| *m.get_ref()),
+            self_collision: raw.self_collision.as_ref().is_none_or(|s| *s.get_ref()),
+            allowed_pairs,
+            preflight: raw.preflight.as_ref().map_or_else(Preflight::default, |p| *p.get_ref()),
+            sweep_resolution_m,
+            tool,
+            location: self.location(first),
+        })
+    }
+
+    fn tool(&self, t: &RawTool, base: &Path) -> Result<Tool, SceneError> {
+        let f = |field: &str| format!("collision.tool.{field}");
+        let name = match &t.name {
+            Some(n) => self.identifier(n, &f("name"))?,
+            None => "tool".to_string(),
+        };
+        let link = self.nonempty_name(&t.link, &f("link"))?;
+        let shape = self.shape(
+            *t.shape.get_ref(),
+            &t.shape,
+            [&t.size, &None],
+            [&t.radius, &t.length],
+            &t.file,
+            &t.scale,
+            base,
+            &f,
+        )?;
+        let position_m = match &t.position {
+            Some(p) => self.finite_array(p, &f("position"))?,
+            None => [0.0; 3],
+        };
+        let rpy_deg = match &t.rpy_deg {
+            Some(r) => self.finite_array(r, &f("rpy_deg"))?,
+            None => [0.0; 3],
+        };
+        Ok(Tool {
+            name,
+            link,
+            link_location: self.loc(&t.link),
+            shape,
+            position_m,
+            rpy_deg,
+        })
+    }
+
+    /// A shape from its kind and fields (the rules of `[[obstacles]]`).
+    #[allow(clippy::too_many_arguments)]
+    fn shape(
+        &self,
+        kind: ShapeKind,
+        kind_at: &Spanned<ShapeKind>,
+        [size, _]: [&Option<Spanned<[f64; 3]>>; 2],
+        [radius, length]: [&Option<Spanned<f64>>; 2],
+        file: &Option<Spanned<String>>,
+        scale: &Option<Spanned<[f64; 3]>>,
+        base: &Path,
+        f: &dyn Fn(&str) -> String,
+    ) -> Result<Shape, SceneError> {
+        let shape_name = kind.name();
+        let needs: &[&'static str] = match kind {
+            ShapeKind::Box => &["size"],
+            ShapeKind::Cylinder => &["radius", "length"],
+            ShapeKind::Sphere => &["radius"],
+            ShapeKind::Mesh => &["file", "scale"],
+        };
+        let given = [
+            ("size", size.as_ref().map(Spanned::span)),
+            ("radius", radius.as_ref().map(Spanned::span)),
+            ("length", length.as_ref().map(Spanned::span)),
+            ("file", file.as_ref().map(Spanned::span)),
+            ("scale", scale.as_ref().map(Spanned::span)),
+        ];
+        for (field, span) in given {
+            if let Some(span) = span
+                && !needs.contains(&field)
+            {
+                return Err(self.invalid_at(
+                    span,
+                    f(field),
+                    Problem::ExtraShapeField {
+                        shape: shape_name,
+                        field,
+                    },
+                ));
+            }
+        }
+        let missing = |field: &'static str| {
+            self.invalid(
+                kind_at,
+                f("shape"),
+                Problem::MissingShapeField {
+                    shape: shape_name,
+                    field,
+                },
+            )
+        };
+        let positive_array = |v: &Spanned<[f64; 3]>, field: &str| -> Result<[f64; 3], SceneError> {
+            let values = self.finite_array(v, field)?;
+            match values.iter().find(|x| **x <= 0.0) {
+                Some(&value) => Err(self.invalid(v, field, Problem::NotPositive { value })),
+                None => Ok(values),
+            }
+        };
+        Ok(match kind {
+            ShapeKind::Box => Shape::Box {
+                size_m: positive_array(size.as_ref().ok_or_else(|| missing("size"))?, &f("size"))?,
+            },
+            ShapeKind::Cylinder => Shape::Cylinder {
+                radius_m: self.positive(radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
+                length_m: self.positive(length.as_ref().ok_or_else(|| missing("length"))?, &f("length"))?,
+            },
+            ShapeKind::Sphere => Shape::Sphere {
+                radius_m: self.positive(radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
+            },
+            ShapeKind::Mesh => {
+                let file = file.as_ref().ok_or_else(|| missing("file"))?;
+                Shape::Mesh {
+                    path: self.existing_file(file, &f("file"), base)?,
+                    scale: match scale {
+                        Some(s) => positive_array(s, &f("scale"))?,
+                        None => [1.0; 3],
+                    },
+                }
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{SceneError, parse};
+    use std::path::PathBuf;
+
+    fn fixtures() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures")
+    }
+
+    fn with_collision(table: &str) -> Result<crate::scene::Scene, SceneError> {
+        let text = std::fs::read_to_string(fixtures().join("indexing_table.toml")).unwrap();
+        parse(&fixtures().join("case.toml"), &format!("{text}\n{table}"))
+    }
+
+    #[test]
+    fn absent_table_means_no_checks_and_an_empty_one_the_defaults() {
+        assert_eq!(with_collision("").unwrap().collision, None);
+        let c = with_collision("[collision]\n").unwrap().collision.unwrap();
+        assert_eq!(
+            c,
+            CollisionSettings {
+                location: c.location,
+                ..CollisionSettings::default()
+            }
+        );
+        assert_eq!(c.reaction, Reaction::Report);
+        assert_eq!(c.preflight, Preflight::Report);
+        assert_eq!(c.meshes, MeshApproximation::ConvexHull);
+        assert!(c.self_collision);
+        assert_eq!(c.sweep_resolution_m, 0.001);
+        // Its place is the header line.
+        let lines = std::fs::read_to_string(fixtures().join("indexing_table.toml"))
+            .unwrap()
+            .lines()
+            .count();
+        assert_eq!(
+            c.location,
+            Location {
+                line: lines + 2,
+                column: 1
+            }
+        );
+    }
+
+    #[test]
+    fn every_field_is_read() {
+        let c = with_collision(
+            "[collision]\nreaction = \"stop\"\nmeshes = \"convex_decomposition\"\nself_collision = false\n\
+             allowed_pairs = [[\"platter\", \"guard\"]]\npreflight = \"reject\"\nsweep_resolution_m = 0.002\n\
+             [collision.tool]\nname = \"Payload\"\nlink = \"platter\"\nshape = \"box\"\nsize = [0.1, 0.2, 0.3]\n\
+             position = [0.1, 0.0, 0.05]\nrpy_deg = [0.0, 0.0, 90.0]\n",
+        )
+        .unwrap()
+        .collision
+        .unwrap();
+        assert_eq!(c.reaction, Reaction::Stop);
+        assert_eq!(c.meshes, MeshApproximation::ConvexDecomposition);
+        assert!(!c.self_collision);
+        assert_eq!(
+            (c.allowed_pairs[0].a.as_str(), c.allowed_pairs[0].b.as_str()),
+            ("platter", "guard")
+        );
+        assert_eq!(c.preflight, Preflight::Reject);
+        assert_eq!(c.sweep_resolution_m, 0.002);
+        let tool = c.tool.unwrap();
+        assert_eq!((tool.name.as_str(), tool.link.as_str()), ("Payload", "platter"));
+        assert_eq!(
+            tool.shape,
+            Shape::Box {
+                size_m: [0.1, 0.2, 0.3]
+            }
+        );
+        assert_eq!(tool.position_m, [0.1, 0.0, 0.05]);
+        assert_eq!(tool.rpy_deg, [0.0, 0.0, 90.0]);
+    }
+
+    #[test]
+    fn bad_fields_name_line_column_and_field() {
+        let base_lines = std::fs::read_to_string(fixtures().join("indexing_table.toml"))
+            .unwrap()
+            .lines()
+            .count();
+        // Unknown enumeration value (serde): points at the value's line.
+        let e = with_collision("[collision]\nreaction = \"halt\"\n").unwrap_err();
+        assert_eq!(e.location().map(|l| l.line), Some(base_lines + 3), "{e}");
+        assert!(e.to_string().contains("halt"), "{e}");
+        // Out of range.
+        let e = with_collision("[collision]\nsweep_resolution_m = 0.0\n").unwrap_err();
+        assert_eq!(e.field(), Some("collision.sweep_resolution_m"), "{e}");
+        assert_eq!(
+            e.location(),
+            Some(Location {
+                line: base_lines + 3,
+                column: 22
+            })
+        );
+        // A field of another shape.
+        let e = with_collision(
+            "[collision.tool]\nlink = \"platter\"\nshape = \"sphere\"\nradius = 0.1\nsize = [1.0, 1.0, 1.0]\n",
+        )
+        .unwrap_err();
+        assert_eq!(e.field(), Some("collision.tool.size"), "{e}");
+        // A missing shape field.
+        let e =
+            with_collision("[collision.tool]\nlink = \"platter\"\nshape = \"cylinder\"\nradius = 0.1\n").unwrap_err();
+        assert_eq!(e.field(), Some("collision.tool.shape"), "{e}");
+        // An empty pair member.
+        let e = with_collision("[collision]\nallowed_pairs = [[\"platter\", \"\"]]\n").unwrap_err();
+        assert_eq!(e.field(), Some("collision.allowed_pairs[0]"), "{e}");
+        // Unknown field.
+        let e = with_collision("[collision]\nreacton = \"stop\"\n").unwrap_err();
+        assert!(e.to_string().contains("reacton"), "{e}");
+    }
+}
