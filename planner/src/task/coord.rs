@@ -38,8 +38,10 @@
 //!   (superimposed, like a blend), the pending move is cancelled, and the new
 //!   move starts at once from the point where the old motion comes to rest,
 //!   with its programmed speed or, for merge speed *current*, the vector
-//!   speed of the system at that instant (the programmed speed when the
-//!   system stands still). Superseded instructions lose `.IP` and `.AC`.
+//!   speed of all motion on the system's primary axes at that instant (from
+//!   the axes' command velocities: coordinated motion, moves, jogs, cams;
+//!   the programmed speed when they stand still; Calculated Data are
+//!   computed with the programmed speed). Superseded instructions lose `.IP` and `.AC`.
 //! * **Systems sharing axes**: a move on a system while another system that
 //!   shares an axis with it moves (or has a move queued) is refused with
 //!   ERR 13, EXERR = the Merge operand, unless its Merge is *all motion*
@@ -602,16 +604,17 @@ impl MotionTask {
         }
         self.cbits(h).dn = true;
         self.coord.instructions[h.0 as usize].calculated_data = mv.calculated_data().to_vec();
+        // Merge speed current: the speed of all motion on the axes now.
+        let speed_now = self.vector_speed(cs);
+        let mv = if mv.merge() != Merge::Disabled && mv.merge_speed() == MergeSpeed::Current && speed_now > 0.0 {
+            mv.with_speed(speed_now)
+        } else {
+            mv
+        };
         let sys = &mut self.coord.systems[cs.0 as usize];
         sys.status.stopping = false;
         if merging {
             self.bring_to_rest(cs, None);
-            let speed = self.vector_speed(cs);
-            let mv = if mv.merge_speed() == MergeSpeed::Current && speed > 0.0 {
-                mv.with_speed(speed)
-            } else {
-                mv
-            };
             if mv.merge() == Merge::AllMotion {
                 self.abort_single_axis_motion(cs);
             }
@@ -717,10 +720,17 @@ impl MotionTask {
             .collect()
     }
 
-    /// The primary-axis vector speed of the system now.
+    /// The primary-axis vector speed of the system now: the vector sum of
+    /// all motion on its primary axes (coordinated, jogs, moves, cams), from
+    /// the axes' command velocities.
     fn vector_speed(&self, cs: CoordHandle) -> f64 {
         let sys = &self.coord.systems[cs.0 as usize];
-        norm(primary_of(&sys.velocity, sys.system.config().primary_axes))
+        let v: Vec<f64> = sys
+            .axes
+            .iter()
+            .map(|a| self.axes[a.0 as usize].command.velocity)
+            .collect();
+        norm(primary_of(&v, sys.system.config().primary_axes))
     }
 
     /// Where the running motion comes to rest if every component brakes now

@@ -458,7 +458,7 @@ mod tests {
         parse(&path(), text)
     }
 
-    const XY_TABLE: &str = "coordinate_system = { max_speed = 250.0, max_accel = 2000.0, max_decel = 2000.0, max_accel_jerk = 20000.0, max_decel_jerk = 20000.0, command_tolerance = 20.0, actual_tolerance = 0.2, tool_link = \"tool\" }";
+    const XY_TABLE: &str = "coordinate_system = { max_speed = 250.0, max_accel = 2000.0, max_decel = 2000.0, max_accel_jerk = 20000.0, max_decel_jerk = 20000.0, command_tolerance = 25.0, actual_tolerance = 0.2, tool_link = \"tool\" }";
 
     fn with_xy_table(table: &str) -> String {
         let t = text();
@@ -477,7 +477,7 @@ mod tests {
     fn coordinate_system_settings_parse_with_defaults() {
         let s = scene(&text()).unwrap();
         let xy = s.tag("XY").unwrap().coordinate_system.clone().unwrap();
-        assert_eq!((xy.primary_axes, xy.max_speed, xy.command_tolerance), (2, 250.0, 20.0));
+        assert_eq!((xy.primary_axes, xy.max_speed, xy.command_tolerance), (2, 250.0, 25.0));
         assert_eq!(xy.tool_link.as_deref(), Some("tool"));
         let s = scene(&with_xy_table("")).unwrap();
         let xy = s.tag("XY").unwrap().coordinate_system.clone().unwrap();

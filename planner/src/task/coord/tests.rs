@@ -1040,3 +1040,30 @@ fn random_arcs_of_every_circle_type_through_the_task() {
     }
     assert!(per_type.iter().all(|&n| n > 40), "{per_type:?}");
 }
+
+#[test]
+fn merge_speed_current_counts_single_axis_motion() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let jog = task.add_instruction("J");
+    let operands = crate::jog::MajOperands {
+        speed: 7.0,
+        ..Default::default()
+    };
+    task.maj(axes[1], jog, &operands).unwrap();
+    for _ in 0..200 {
+        task.update();
+    }
+    assert!((task.axis_state(axes[1]).command_velocity - 7.0).abs() < 1e-9);
+    let m = task.add_instruction("M");
+    let merge = CoordMoveInputs {
+        merge: 2,
+        merge_speed: 1,
+        ..line(&[20.0, 0.0], 1)
+    };
+    task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
+    assert!(!task.motion_bits(jog).ip, "all motion: the jog ends");
+    let v = task.coord_active_move(cs).unwrap().limits().unwrap().velocity();
+    assert!((v - 7.0).abs() < 1e-9, "{v}");
+    run_until(&mut task, 20_000, |t| t.motion_bits(m).pc);
+    assert_eq!(positions(&task, &axes)[0], 20.0);
+}
