@@ -1078,6 +1078,21 @@ fn scara_pick_tool_follows_the_programmed_arc_under_mct() {
     assert!(command < 1e-9, "command off the circle by {command} m");
     assert!(joints < 1e-9, "joint commands put the tool {joints} m off the circle");
     assert!(actual < 2e-3, "simulated tool off the circle by {actual} m");
+    // MCT status bits: Cart is the source, Joints the target, every axis of
+    // both is in the transform, and the joints move because of it on the arc.
+    let after_start: Vec<&Vec<f64>> = rows.iter().filter(|r| r[col("T1.IP")] == 1.0).collect();
+    assert!(!after_start.is_empty());
+    for r in &after_start {
+        assert_eq!(r[col("Cart.TransformSourceStatus")], 1.0);
+        assert_eq!(r[col("Joints.TransformTargetStatus")], 1.0);
+        assert_eq!(r[col("Cart.TransformTargetStatus")], 0.0);
+        for axis in ["X", "Y", "Z", "J1", "J2"] {
+            assert_eq!(r[col(&format!("{axis}.TransformStateStatus"))], 1.0, "{axis}");
+        }
+    }
+    assert!(arc.iter().all(|r| r[col("J1.ControlledByTransformStatus")] == 1.0));
+    assert!(arc.iter().all(|r| r[col("X.ControlledByTransformStatus")] == 0.0));
+    assert_eq!(rows[0][col("Cart.TransformSourceStatus")], 0.0, "before MCT");
     // The right arm it started in (J2 > 0) is kept for every Cartesian move.
     let ip = col("T1.IP");
     assert!(rows.iter().filter(|r| r[ip] == 1.0).all(|r| r[col("J2.cmd_pos")] > 0.0));

@@ -720,6 +720,7 @@ impl Twin {
         }
         h.extend(cam::trace_header(&self.task, &self.axes));
         self.coord_trace_header(&mut h);
+        h.extend(mct::trace_header(&self.scene, &self.task, &self.axes));
         h
     }
 
@@ -760,6 +761,7 @@ impl Twin {
         }
         row.extend(cam::trace_row(&self.task, &self.axes));
         self.coord_trace_row(&mut row);
+        row.extend(mct::trace_row(&self.scene, &self.task, &self.axes));
         row
     }
 }

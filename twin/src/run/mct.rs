@@ -344,3 +344,50 @@ impl ParallelRig {
         }
     }
 }
+
+/// Whether the program calls MCT.
+fn uses_mct(scene: &Scene) -> bool {
+    scene
+        .program
+        .iter()
+        .any(|s| s.call.name.value.eq_ignore_ascii_case("MCT"))
+}
+
+/// The transforms' trace columns, present when the program calls MCT: per
+/// coordinate system (in the order the program first uses them)
+/// `<cs>.TransformSourceStatus`, `<cs>.TransformTargetStatus`, then per axis
+/// `<axis>.TransformStateStatus`, `<axis>.ControlledByTransformStatus`.
+pub(super) fn trace_header(scene: &Scene, task: &MotionTask, axes: &[super::AxisBinding]) -> Vec<String> {
+    if !uses_mct(scene) {
+        return Vec::new();
+    }
+    let mut h = Vec::new();
+    for cs in task.coord_handles() {
+        let name = &task.coord_config(cs).name;
+        h.push(format!("{name}.TransformSourceStatus"));
+        h.push(format!("{name}.TransformTargetStatus"));
+    }
+    for a in axes {
+        h.push(format!("{}.TransformStateStatus", a.name));
+        h.push(format!("{}.ControlledByTransformStatus", a.name));
+    }
+    h
+}
+
+/// The values of [`trace_header`]'s columns (0 or 1).
+pub(super) fn trace_row(scene: &Scene, task: &MotionTask, axes: &[super::AxisBinding]) -> Vec<String> {
+    if !uses_mct(scene) {
+        return Vec::new();
+    }
+    let bit = |b: bool| if b { "1" } else { "0" }.to_string();
+    let mut row = Vec::new();
+    for cs in task.coord_handles() {
+        row.push(bit(task.transform_source_status(cs)));
+        row.push(bit(task.transform_target_status(cs)));
+    }
+    for a in axes {
+        row.push(bit(task.transform_state_status(a.handle)));
+        row.push(bit(task.controlled_by_transform_status(a.handle)));
+    }
+    row
+}
