@@ -3,7 +3,7 @@
 //! Cartesian *source* coordinate system to a joint *target* coordinate system
 //! in both directions.
 //!
-//! * [`orientation`] — the `Orientation` REAL[3] and `Translation` REAL[3]
+//! * [`orientation`] — the `Orientation` `REAL[3]` and `Translation` `REAL[3]`
 //!   operands ([`Placement`]), reproducing the spec's rotation table.
 //! * One module per geometry family, each with forward and inverse kinematics:
 //!   [`cartesian`] (gantry, H-bot), [`articulated`] (independent 2D/3D,

@@ -1,5 +1,5 @@
-//! The MCT `Orientation` (REAL[3], degrees about X1, X2, X3) and `Translation`
-//! (REAL[3], coordinate units) operands.
+//! The MCT `Orientation` (`REAL[3]`, degrees about X1, X2, X3) and `Translation`
+//! (`REAL[3]`, coordinate units) operands.
 //!
 //! # Conventions (reproducing the spec's rotation table)
 //! With `Orientation = [a, b, c]` and `R = Rz(c)·Ry(b)·Rx(a)` (the table's
@@ -16,7 +16,7 @@
 //! `[1, 2, 3]` to `[1, 3, −2]` — and for several angles the point is turned
 //! about X, then Y, then Z in the table's sense, which as point rotations is
 //! `Rx(−a)·Ry(−b)·Rz(−c)` applied right to left. Every row of the table is a
-//! test ([`tests::spec_rotation_table_value_for_value`]). The translation is
+//! test (`tests::spec_rotation_table_value_for_value`). The translation is
 //! added after the rotation ("offset the target position along X1, X2,
 //! X3"), so it is expressed in the robot frame. The source position of a
 //! target position is the exact inverse, `source = R · (target − Translation)`.

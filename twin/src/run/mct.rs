@@ -3,7 +3,7 @@
 //! that each transform's target robot (its URDF chain) has the kinematics of
 //! the target system's `geometry` table.
 //!
-//! * Orientation and Translation are REAL[3] operands (`Orient[0]` or a
+//! * Orientation and Translation are `REAL[3]` operands (`Orient[0]` or a
 //!   whole array tag, three elements from there).
 //! * The `geometry` tables of the source and target `COORDINATE_SYSTEM`
 //!   tags give the planner each system's geometry and transform dimension
@@ -11,7 +11,7 @@
 //! * MCT takes revolute joint axes in degrees (as Logix), so a target axis
 //!   on a revolute URDF joint must have `units = "deg"`; the geometry's
 //!   lengths are in the source system's coordinate units.
-//! * [`check_transforms`] runs [`crate::kinematics_check::check`] for every
+//! * `check_transforms` runs [`crate::kinematics_check::check`] for every
 //!   MCT call of the program and refuses the scene on a mismatch, naming the
 //!   `geometry` table's line and the distance. A geometry the planner
 //!   refuses (a zero link length, …) is not checked here: the MCT reports it
