@@ -321,6 +321,22 @@ pub enum Geometry {
 impl Geometry {
     /// A geometry of `kind` with `params` and transform dimension `dimension`.
     ///
+    /// # Examples
+    /// A SCARA with 0.35 m and 0.25 m links: forward, then inverse on the arm
+    /// solution the joints are in.
+    /// ```
+    /// use planner::mct::{Geometry, GeometryKind, GeometryParams};
+    /// let params = GeometryParams { link_lengths: [0.35, 0.25, 0.0], ..Default::default() };
+    /// let scara = Geometry::new(GeometryKind::ScaraIndependent, &params, 2).unwrap();
+    /// let q = [0.3, 1.2, 0.1];
+    /// let x = scara.forward(q).unwrap();
+    /// let back = scara.inverse(x, scara.solution(q).unwrap()).unwrap();
+    /// assert!(q.iter().zip(back).all(|(a, b)| (a - b).abs() < 1e-12));
+    /// // A zero link length is Logix EXERR 12.
+    /// let bad = GeometryParams { link_lengths: [0.35, 0.0, 0.0], ..params };
+    /// assert_eq!(Geometry::new(GeometryKind::ScaraIndependent, &bad, 2).unwrap_err().exerr(), 12);
+    /// ```
+    ///
     /// # Errors
     /// [`GeometryError`]: a dimension the geometry cannot have (EXERR 4 / 16),
     /// a zero, negative or non-finite link length (EXERR 12), Delta offsets

@@ -70,6 +70,14 @@ impl Placement {
     /// A placement from the operands: angles in degrees about X1, X2, X3 and
     /// offsets in coordinate units.
     ///
+    /// # Examples
+    /// The spec's "90 (cw) around X, then 90 (cw) around Y":
+    /// ```
+    /// use planner::mct::Placement;
+    /// let p = Placement::new([90.0, 90.0, 0.0], [0.0; 3]).unwrap();
+    /// assert_eq!(p.target_from_source([1.0, 2.0, 3.0]), [-3.0, 1.0, -2.0]);
+    /// ```
+    ///
     /// # Errors
     /// [`PlacementError`] naming the first non-finite element.
     pub fn new(orientation_deg: Vec3, translation: Vec3) -> Result<Self, PlacementError> {
