@@ -305,7 +305,7 @@ fn the_same_calls_give_bit_identical_joint_commands() {
         let start = [pos(&r.task, r.xyz[0]), pos(&r.task, r.xyz[1])];
         let call = CoordCall::Mccm(MccmInputs {
             common: CoordMoveInputs {
-                position: vec![start[0] + 0.02, start[1] + 0.03, 0.1],
+                position: vec![start[0] - 0.03, start[1] + 0.03, 0.1],
                 speed: 0.2,
                 accel_rate: 2.0,
                 decel_rate: 2.0,
@@ -313,11 +313,13 @@ fn the_same_calls_give_bit_identical_joint_commands() {
                 ..Default::default()
             },
             circle_type: 3,
-            via_center_radius: vec![-0.03, 0.02],
-            direction: 0,
+            via_center_radius: vec![-0.03, 0.0],
+            direction: 1,
         });
         let mc = r.task.add_coord_instruction("MC1", r.cart, call.clone());
         r.task.set_coord_instruction(mc, true, call);
+        r.task.update();
+        assert!(r.task.coord_bits(mc).ip && r.task.motion_bits(r.mct).ip);
         let mut bits = Vec::new();
         for _ in 0..400 {
             r.task.update();
