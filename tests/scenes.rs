@@ -1032,3 +1032,268 @@ fn gantry_arcs_tool_stays_on_the_programmed_circles() {
     }
     assert_eq!([last[xc], last[yc], last[zc]], [0.0, 0.0, 0.0]);
 }
+
+#[test]
+fn scara_pick_frames_match_snapshots() {
+    assert_scene_frames_match_snapshots("scenes/scara_pick.toml", "scara_pick_snapshots");
+}
+
+/// SCARA under MCT: during the MCCM half circle the Cartesian command, and
+/// the tool point computed by forward kinematics from the joint commands,
+/// lie on the programmed circle within 1e-9 m; the simulated tool (the URDF
+/// tool link, physics actuals) within 2 mm; the elbow never changes side.
+#[test]
+fn scara_pick_tool_follows_the_programmed_arc_under_mct() {
+    let out = out_dir("scara_pick_trace");
+    let output = twin_cmd()
+        .args(["run", "scenes/scara_pick.toml", "--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .output()
+        .expect("run twin");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let (header, rows) = read_trace(&out.join("t.csv"));
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("column {name}"))
+    };
+    let (l1, l2) = (0.35, 0.25);
+    let fk = |j1_deg: f64, j2_deg: f64| {
+        let (a, b) = (j1_deg.to_radians(), (j1_deg + j2_deg).to_radians());
+        (l1 * a.cos() + l2 * b.cos(), l1 * a.sin() + l2 * b.sin())
+    };
+    let (centre, radius) = ((0.25, 0.05), 0.25);
+    let on_circle = |x: f64, y: f64| ((x - centre.0).hypot(y - centre.1) - radius).abs();
+    let ac = col("C1.AC");
+    let arc: Vec<&Vec<f64>> = rows.iter().filter(|r| r[ac] == 1.0).collect();
+    assert!(arc.len() > 100, "arc active for {} updates", arc.len());
+    let (mut command, mut joints, mut actual): (f64, f64, f64) = (0.0, 0.0, 0.0);
+    for r in &arc {
+        command = command.max(on_circle(r[col("X.cmd_pos")], r[col("Y.cmd_pos")]));
+        let (x, y) = fk(r[col("J1.cmd_pos")], r[col("J2.cmd_pos")]);
+        joints = joints.max(on_circle(x, y));
+        actual = actual.max(on_circle(r[col("Cart.tool_x")], r[col("Cart.tool_y")]));
+    }
+    assert!(command < 1e-9, "command off the circle by {command} m");
+    assert!(joints < 1e-9, "joint commands put the tool {joints} m off the circle");
+    assert!(actual < 2e-3, "simulated tool off the circle by {actual} m");
+    // MCT status bits: Cart is the source, Joints the target, every axis of
+    // both is in the transform, and the joints move because of it on the arc.
+    let after_start: Vec<&Vec<f64>> = rows.iter().filter(|r| r[col("T1.IP")] == 1.0).collect();
+    assert!(!after_start.is_empty());
+    for r in &after_start {
+        assert_eq!(r[col("Cart.TransformSourceStatus")], 1.0);
+        assert_eq!(r[col("Joints.TransformTargetStatus")], 1.0);
+        assert_eq!(r[col("Cart.TransformTargetStatus")], 0.0);
+        for axis in ["X", "Y", "Z", "J1", "J2"] {
+            assert_eq!(r[col(&format!("{axis}.TransformStateStatus"))], 1.0, "{axis}");
+        }
+    }
+    assert!(arc.iter().all(|r| r[col("J1.ControlledByTransformStatus")] == 1.0));
+    assert!(arc.iter().all(|r| r[col("X.ControlledByTransformStatus")] == 0.0));
+    assert_eq!(rows[0][col("Cart.TransformSourceStatus")], 0.0, "before MCT");
+    // The right arm it started in (J2 > 0) is kept for every Cartesian move.
+    let ip = col("T1.IP");
+    assert!(rows.iter().filter(|r| r[ip] == 1.0).all(|r| r[col("J2.cmd_pos")] > 0.0));
+    assert!(rows.last().is_some_and(|r| r[ip] == 1.0), "the transform keeps running");
+}
+
+/// A scene whose URDF does not have its transform's geometry is refused at
+/// load, at the geometry table's line.
+#[test]
+fn a_scara_scene_with_a_wrong_link_length_is_refused() {
+    let path = root().join("scenes/scara_pick.toml");
+    let text = std::fs::read_to_string(&path).expect("scene");
+    let bad = text.replace("link_lengths = [0.35, 0.25]", "link_lengths = [0.36, 0.25]");
+    assert_ne!(bad, text);
+    let dir = out_dir("scara_wrong_link");
+    let copy = dir.join("scara_pick.toml");
+    std::fs::write(
+        &copy,
+        bad.replace(
+            "robots/scara/",
+            &format!("{}/", root().join("scenes/robots/scara").display()),
+        ),
+    )
+    .expect("write scene");
+    let scene = twin::scene::load(&copy).expect("the scene itself is valid");
+    let line = bad[..bad.find("geometry = { type = \"scara_independent\"").expect("table")]
+        .matches('\n')
+        .count()
+        + 1;
+    match Twin::new(scene) {
+        Err(twin::run::RunError::Kinematics { line: l, .. }) => assert_eq!(l, line),
+        Err(other) => panic!("{other}"),
+        Ok(_) => panic!("a wrong link length must be refused"),
+    }
+    // The untouched scene loads.
+    Twin::new(twin::scene::load(&path).expect("scene")).expect("scara_pick binds");
+}
+
+#[test]
+fn articulated_arc_frames_match_snapshots() {
+    assert_scene_frames_match_snapshots("scenes/articulated_arc.toml", "articulated_arc_snapshots");
+}
+
+/// Articulated robot under MCT with Orientation [0, 0, -30] and Translation
+/// [0.45, 0, 0.25]: during the 3D via-point arc the work-frame command, and
+/// the tool from forward kinematics of the joint commands taken back into
+/// the work frame, lie on the programmed circle (through start, via and end)
+/// within 1e-9 m; the simulated tool within 3 mm.
+#[test]
+fn articulated_arc_tool_follows_the_3d_arc_under_orientation_and_translation() {
+    let out = out_dir("articulated_arc_trace");
+    let output = twin_cmd()
+        .args(["run", "scenes/articulated_arc.toml", "--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .output()
+        .expect("run twin");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let (header, rows) = read_trace(&out.join("t.csv"));
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("column {name}"))
+    };
+    type V = [f64; 3];
+    let sub = |a: V, b: V| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: V, b: V| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let cross = |a: V, b: V| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    // The circle through start, via and end (work frame).
+    let (p1, p2, p3): (V, V, V) = ([-0.1, 0.0, 0.0], [0.0, 0.1, 0.1], [0.1, 0.0, 0.0]);
+    let (a, b) = (sub(p1, p3), sub(p2, p3));
+    let axb = cross(a, b);
+    let k = cross(
+        sub(
+            [dot(a, a) * b[0], dot(a, a) * b[1], dot(a, a) * b[2]],
+            [dot(b, b) * a[0], dot(b, b) * a[1], dot(b, b) * a[2]],
+        ),
+        axb,
+    );
+    let n2 = dot(axb, axb);
+    let centre = [
+        p3[0] + k[0] / (2.0 * n2),
+        p3[1] + k[1] / (2.0 * n2),
+        p3[2] + k[2] / (2.0 * n2),
+    ];
+    let radius = dot(sub(p1, centre), sub(p1, centre)).sqrt();
+    let normal = axb.map(|x| x / n2.sqrt());
+    let off = |p: V| {
+        let d = sub(p, centre);
+        (dot(d, d).sqrt() - radius).abs().max(dot(d, normal).abs())
+    };
+    // Robot frame → work frame: work = Rz(-30°)·(robot − Translation).
+    let to_work = |p: V| {
+        let v = sub(p, [0.45, 0.0, 0.25]);
+        let (s, c) = (-30f64).to_radians().sin_cos();
+        [v[0] * c - v[1] * s, v[0] * s + v[1] * c, v[2]]
+    };
+    let fk = |j1: f64, j2: f64, j3: f64| {
+        let (t1, t2, t23) = (j1.to_radians(), j2.to_radians(), (j2 + j3).to_radians());
+        let r = 0.05 + 0.4 * t2.cos() + 0.35 * t23.cos();
+        [r * t1.cos(), r * t1.sin(), 0.4 + 0.4 * t2.sin() + 0.35 * t23.sin()]
+    };
+    let ac = col("C1.AC");
+    let arc: Vec<&Vec<f64>> = rows.iter().filter(|r| r[ac] == 1.0).collect();
+    assert!(arc.len() > 100, "arc active for {} updates", arc.len());
+    let (mut command, mut joints, mut actual): (f64, f64, f64) = (0.0, 0.0, 0.0);
+    for r in &arc {
+        command = command.max(off([r[col("X.cmd_pos")], r[col("Y.cmd_pos")], r[col("Z.cmd_pos")]]));
+        let tool = fk(r[col("J1.cmd_pos")], r[col("J2.cmd_pos")], r[col("J3.cmd_pos")]);
+        joints = joints.max(off(to_work(tool)));
+        actual = actual.max(off(to_work([
+            r[col("Work.tool_x")],
+            r[col("Work.tool_y")],
+            r[col("Work.tool_z")],
+        ])));
+    }
+    assert!(command < 1e-9, "command off the circle by {command} m");
+    assert!(joints < 1e-9, "joint commands put the tool {joints} m off the circle");
+    assert!(actual < 3e-3, "simulated tool off the circle by {actual} m");
+    // Elbow up (J3 < 0) throughout: the configuration MCT started with.
+    assert!(rows.iter().all(|r| r[col("J3.cmd_pos")] < 0.0));
+}
+
+#[test]
+fn delta_pick_frames_match_snapshots() {
+    assert_scene_frames_match_snapshots("scenes/delta_pick.toml", "delta_pick_snapshots");
+}
+
+/// Delta 3D under MCT: during the MCCM half circle the Cartesian command and
+/// the MCT forward kinematics of the joint commands lie on the programmed
+/// circle within 1e-9 m, and the simulated tool (the URDF tool link on the
+/// platform the twin poses from the simulated arms) within 2 mm.
+#[test]
+fn delta_pick_tool_follows_the_programmed_arc_under_mct() {
+    use planner::mct::{Geometry, GeometryKind, GeometryParams};
+    let out = out_dir("delta_pick_trace");
+    let output = twin_cmd()
+        .args(["run", "scenes/delta_pick.toml", "--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .output()
+        .expect("run twin");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let (header, rows) = read_trace(&out.join("t.csv"));
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("column {name}"))
+    };
+    let params = GeometryParams {
+        link_lengths: [0.3, 0.8, 0.0],
+        base_offsets: [0.2, 0.0, 0.0],
+        end_effector_offsets: [0.05, 0.0, -0.05],
+        ..Default::default()
+    };
+    let delta = Geometry::new(GeometryKind::Delta3d, &params, 3).expect("geometry");
+    // Horizontal circle of radius 0.15 m about (0, 0, -0.9) (robot frame,
+    // 1.2 m above the floor).
+    let off = |p: [f64; 3]| (p[0].hypot(p[1]) - 0.15).abs().max((p[2] + 0.9).abs());
+    let ac = col("C1.AC");
+    let arc: Vec<&Vec<f64>> = rows.iter().filter(|r| r[ac] == 1.0).collect();
+    assert!(arc.len() > 50, "arc active for {} updates", arc.len());
+    let (mut command, mut joints, mut actual): (f64, f64, f64) = (0.0, 0.0, 0.0);
+    for r in &arc {
+        command = command.max(off([r[col("X.cmd_pos")], r[col("Y.cmd_pos")], r[col("Z.cmd_pos")]]));
+        let q = ["J1", "J2", "J3"].map(|j| r[col(&format!("{j}.cmd_pos"))].to_radians());
+        joints = joints.max(off(delta.forward(q).expect("reachable")));
+        actual = actual.max(off([
+            r[col("Cart.tool_x")],
+            r[col("Cart.tool_y")],
+            r[col("Cart.tool_z")] - 1.2,
+        ]));
+    }
+    assert!(command < 1e-9, "command off the circle by {command} m");
+    assert!(joints < 1e-9, "joint commands put the tool {joints} m off the circle");
+    assert!(actual < 2e-3, "simulated tool off the circle by {actual} m");
+}
+
+/// The Delta's forearm length in the scene differs from the URDF's: refused.
+#[test]
+fn a_delta_scene_with_a_wrong_forearm_length_is_refused() {
+    let path = root().join("scenes/delta_pick.toml");
+    let text = std::fs::read_to_string(&path).expect("scene");
+    let bad = text.replace("link_lengths = [0.3, 0.8]", "link_lengths = [0.3, 0.81]");
+    assert_ne!(bad, text);
+    let dir = out_dir("delta_wrong_link");
+    let copy = dir.join("delta_pick.toml");
+    std::fs::write(
+        &copy,
+        bad.replace(
+            "robots/delta/",
+            &format!("{}/", root().join("scenes/robots/delta").display()),
+        ),
+    )
+    .expect("write scene");
+    let scene = twin::scene::load(&copy).expect("the scene itself is valid");
+    assert!(matches!(Twin::new(scene), Err(twin::run::RunError::Kinematics { .. })));
+}

@@ -13,6 +13,7 @@
 //! * [`jog`] — Motion Axis Jog / Motion Axis Stop (drives cam masters).
 //! * [`coord`] — coordinate systems, coordinated-move operands and status;
 //!   [`mclm`] linear and [`mccm`] circular coordinated moves; MCS in `coord`.
+//! * [`mct`] — MCT coordinated transforms and robot geometries.
 //! * [`task`] — the coarse-update executor that owns axes and commands.
 
 pub mod axis;
@@ -23,6 +24,7 @@ pub mod mapc;
 pub mod mccm;
 pub mod mccp;
 pub mod mclm;
+pub mod mct;
 pub mod modulo;
 pub mod mrp;
 pub mod profile;

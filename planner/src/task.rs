@@ -11,7 +11,9 @@
 //! 3. takes the actual position — the last one fed with
 //!    [`MotionTask::feed_actual_position`], or the new command position for an
 //!    axis never fed (an ideal drive) — and updates `Done` (target position
-//!    monitoring), starting a buffered command when its predecessor is done.
+//!    monitoring), starting a buffered command when its predecessor is done;
+//! 4. (MCT, `task/mct.rs`) after the coordinate systems have moved, every
+//!    active transform moves the side that did not move.
 //!
 //! Nothing here reads a clock: time advances only through `update`, so the
 //! same calls give bit-identical setpoints.
@@ -27,6 +29,8 @@ pub use cam::{CamProfileHandle, LimitFlags, MapcCall};
 
 mod coord;
 pub use coord::{CoordCall, CoordHandle, CoordInstructionHandle, CoordSetupError};
+mod mct;
+pub use mct::TransformGeometry;
 
 /// Handle of an axis in a [`MotionTask`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -117,10 +121,12 @@ pub struct MotionTask {
     updates: u64,
     axes: Vec<AxisSlot>,
     fbs: Vec<FbSlot>,
+    instructions: Vec<InstructionSlot>,
     /// Coordinate systems and coordinated instructions (`task/coord.rs`).
     coord: coord::CoordState,
-    instructions: Vec<InstructionSlot>,
     cam: cam::CamState,
+    /// MCT transforms (`task/mct.rs`).
+    mct: mct::MctState,
 }
 
 impl MotionTask {
@@ -137,9 +143,10 @@ impl MotionTask {
             updates: 0,
             axes: Vec::new(),
             fbs: Vec::new(),
-            coord: coord::CoordState::default(),
             instructions: Vec::new(),
+            coord: coord::CoordState::default(),
             cam: cam::CamState::default(),
+            mct: mct::MctState::default(),
         })
     }
 
@@ -327,11 +334,13 @@ impl MotionTask {
             self.evaluate_inputs(FbHandle(i as u32));
         }
         self.evaluate_coord_instructions();
+        self.evaluate_mct_instructions();
         for i in 0..self.axes.len() {
             self.advance_axis(AxisHandle(i as u32));
         }
         self.advance_coordinate_systems();
         self.advance_cams_and_jogs();
+        self.advance_transforms();
     }
 
     fn evaluate_inputs(&mut self, fb: FbHandle) {

@@ -4,6 +4,7 @@
 pub mod collision;
 pub mod convert;
 pub mod frames;
+pub mod kinematics_check;
 pub mod mesh;
 pub mod physics;
 pub mod recording;

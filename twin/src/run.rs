@@ -41,6 +41,7 @@ mod collide;
 pub mod coord;
 pub use collide::Prediction;
 pub mod logix;
+pub mod mct;
 
 /// Why a scene cannot run. Each variant names the scene file and the place.
 #[derive(Debug, Error)]
@@ -100,6 +101,19 @@ pub enum RunError {
         #[source]
         source: StlError,
     },
+    /// A transform's target robot (URDF) does not have the kinematics of its
+    /// `geometry` table.
+    #[error("{scene}:{line}:{column}: tags.geometry: {message}")]
+    Kinematics {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the `geometry` table.
+        line: usize,
+        /// Column of the `geometry` table.
+        column: usize,
+        /// What disagrees, and by how much.
+        message: String,
+    },
     /// A coordinate system's `tool_link` is not a link of the URDF.
     #[error("{scene}:{line}:{column}: tags.coordinate_system.tool_link: {message}")]
     ToolLink {
@@ -149,8 +163,9 @@ pub struct AxisBinding {
     pub name: String,
     /// Planner handle.
     pub handle: AxisHandle,
-    /// Index of the joint drive in the physics world.
-    pub drive: usize,
+    /// Index of the joint drive in the physics world; `None` for a virtual
+    /// axis.
+    pub drive: Option<usize>,
     /// SI units (rad or m) per axis unit.
     pub si_per_unit: f64,
     /// In-position window, axis units.
@@ -254,6 +269,10 @@ pub struct Twin {
     collision: Option<collide::CollideState>,
     /// Tool-centre trails of the coordinate systems (`run/coord.rs`).
     trails: Vec<coord::ToolTrail>,
+    /// Parallel robots' virtual joints posed from MCT kinematics
+    /// (`run/mct.rs`).
+    rigs: Vec<mct::ParallelRig>,
+    step_s: f64,
 }
 
 impl std::fmt::Debug for Twin {
@@ -330,7 +349,26 @@ impl Twin {
                 column: axis.joint_location.column,
                 message,
             };
-            let Some(j) = model.joint_by_name(&axis.joint) else {
+            let config = axis_config(axis);
+            let handle = task
+                .add_axis(config, axis.initial_position)
+                .map_err(|source| RunError::Planner {
+                    scene: path.clone(),
+                    source,
+                })?;
+            let si = axis.units.si_per_unit();
+            let Some(joint) = &axis.joint else {
+                // A virtual axis: no joint, never fed (actual = command).
+                axes.push(AxisBinding {
+                    name: axis.name.clone(),
+                    handle,
+                    drive: None,
+                    si_per_unit: si,
+                    in_position_window: axis.in_position_window,
+                });
+                continue;
+            };
+            let Some(j) = model.joint_by_name(joint) else {
                 let mut names: Vec<&str> = model
                     .joints
                     .iter()
@@ -341,7 +379,7 @@ impl Twin {
                 return Err(joint_error(format!(
                     "axis '{}' is mapped to joint '{}', which {} does not have (movable joints: {})",
                     axis.name,
-                    axis.joint,
+                    joint,
                     scene.robot.urdf.display(),
                     names.join(", ")
                 )));
@@ -349,21 +387,13 @@ impl Twin {
             if !model.joint(j).kind.is_movable() {
                 return Err(joint_error(format!(
                     "joint '{}' of axis '{}' is fixed and cannot be driven",
-                    axis.joint, axis.name
+                    joint, axis.name
                 )));
             }
-            let config = axis_config(axis);
-            let handle = task
-                .add_axis(config, axis.initial_position)
-                .map_err(|source| RunError::Planner {
-                    scene: path.clone(),
-                    source,
-                })?;
-            let si = axis.units.si_per_unit();
-            initial.retain(|(name, _)| name != &axis.joint);
-            initial.push((axis.joint.clone(), axis.initial_position * si));
+            initial.retain(|(name, _)| name != joint);
+            initial.push((joint.clone(), axis.initial_position * si));
             drives.push(JointDrive {
-                joint: axis.joint.clone(),
+                joint: joint.clone(),
                 stiffness: axis.motor.stiffness,
                 damping: axis.motor.damping,
                 max_force: None,
@@ -371,11 +401,14 @@ impl Twin {
             axes.push(AxisBinding {
                 name: axis.name.clone(),
                 handle,
-                drive: drives.len() - 1,
+                drive: Some(drives.len() - 1),
                 si_per_unit: si,
                 in_position_window: axis.in_position_window,
             });
         }
+        mct::check_transforms(&scene, &model)?;
+        let axis_drives: Vec<Option<usize>> = axes.iter().map(|a: &AxisBinding| a.drive).collect();
+        let rigs = mct::parallel_rigs(&scene, &model, &axis_drives, &mut drives, &mut initial)?;
         initial.sort_by(|a, b| a.0.cmp(&b.0));
         let step_s = scene.physics_step_ms / 1000.0;
         let substeps = (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize;
@@ -497,6 +530,8 @@ impl Twin {
             fb_axes: fb_axis,
             collision,
             trails: Vec::new(),
+            rigs,
+            step_s,
         };
         twin.trails = coord::tool_trails(&twin)?;
         twin.record_trails();
@@ -623,13 +658,19 @@ impl Twin {
         for j in 0..n {
             let f = j as f64 / n as f64;
             let fm = (j as f64 + 0.5) / n as f64;
+            let mut setpoints = Vec::with_capacity(self.axes.len());
             for (k, axis) in self.axes.iter().enumerate() {
+                let Some(drive) = axis.drive else { continue };
                 let (p0, v0) = self.previous_command[k];
                 let (p1, v1) = now[k];
                 let p = p0 + (p1 - p0) * f;
                 let v = v0 + (v1 - v0) * fm;
-                self.sim
-                    .set_setpoint(axis.drive, p * axis.si_per_unit, v * axis.si_per_unit);
+                self.sim.set_setpoint(drive, p * axis.si_per_unit, v * axis.si_per_unit);
+                setpoints.push((drive, p * axis.si_per_unit));
+            }
+            for rig in &mut self.rigs {
+                let setpoint = |d: usize| setpoints.iter().find(|(x, _)| *x == d).map(|(_, p)| *p);
+                rig.drive(&self.model, &mut self.sim, self.step_s, setpoint);
             }
             self.sim.step();
             self.collision_after_physics_step();
@@ -639,7 +680,8 @@ impl Twin {
         }
         self.previous_command = now;
         for axis in &self.axes {
-            let actual = self.sim.joint_position(axis.drive) / axis.si_per_unit;
+            let Some(drive) = axis.drive else { continue };
+            let actual = self.sim.joint_position(drive) / axis.si_per_unit;
             self.task.feed_actual_position(axis.handle, actual);
         }
         self.record_trails();
@@ -678,6 +720,7 @@ impl Twin {
         }
         h.extend(cam::trace_header(&self.task, &self.axes));
         self.coord_trace_header(&mut h);
+        h.extend(mct::trace_header(&self.scene, &self.task, &self.axes));
         h
     }
 
@@ -718,6 +761,7 @@ impl Twin {
         }
         row.extend(cam::trace_row(&self.task, &self.axes));
         self.coord_trace_row(&mut row);
+        row.extend(mct::trace_row(&self.scene, &self.task, &self.axes));
         row
     }
 }

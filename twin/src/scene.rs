@@ -32,6 +32,9 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 use toml::Spanned;
 
+mod geometry;
+pub use geometry::{GEOMETRY_TYPES, GeometrySettings};
+
 use crate::st::{self, Args, Call, Expr, ParseError};
 
 mod collision;
@@ -192,15 +195,17 @@ impl Default for MotorGains {
     }
 }
 
-/// `[[axes]]`: one axis of the motion program, driving one URDF joint.
+/// `[[axes]]`: one axis of the motion program, driving one URDF joint, or a
+/// virtual axis (no `joint`) whose actual position is its command position.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct Axis {
     /// Axis tag name used in the program.
     pub name: String,
-    /// The URDF joint it drives.
-    pub joint: String,
-    /// Where `joint` is written.
+    /// The URDF joint it drives; `None` for a virtual axis (the Logix
+    /// virtual axes of a Cartesian coordinate system under MCT).
+    pub joint: Option<String>,
+    /// Where `joint` is written (the axis' `name` for a virtual axis).
     pub joint_location: Location,
     /// Linear or rotary.
     pub kind: AxisKind,
@@ -529,6 +534,9 @@ pub struct Tag {
     /// `COORDINATE_SYSTEM` tags: the system's dynamics, tolerances and tool
     /// link (`None` for other tags; the defaults when the table is absent).
     pub coordinate_system: Option<CoordinateSystemSettings>,
+    /// `COORDINATE_SYSTEM` tags: the MCT geometry of a robot's joint system
+    /// and its URDF mapping (`None` when the `geometry` table is absent).
+    pub geometry: Option<GeometrySettings>,
     /// Where the entry's `name` is written.
     pub location: Location,
 }
@@ -768,9 +776,18 @@ pub enum Problem {
         /// What to give.
         expected: &'static str,
     },
-    /// A `coordinate_system` table on a tag that is not a coordinate system.
-    #[error("only COORDINATE_SYSTEM tags take a coordinate_system table")]
+    /// A `coordinate_system` or `geometry` table on a tag that is not a
+    /// coordinate system.
+    #[error("only COORDINATE_SYSTEM tags take coordinate_system and geometry tables")]
     CoordinateSystemOnly,
+    /// An unknown MCT geometry type.
+    #[error("unknown geometry '{name}', expected one of {expected}")]
+    UnknownGeometry {
+        /// The name given.
+        name: String,
+        /// The accepted names.
+        expected: String,
+    },
     /// A coordinate system naming an undeclared axis.
     #[error("unknown axis '{name}'")]
     UnknownAxis {
@@ -1042,7 +1059,7 @@ struct RawRobot {
 #[serde(deny_unknown_fields)]
 struct RawAxis {
     name: Spanned<String>,
-    joint: Spanned<String>,
+    joint: Option<Spanned<String>>,
     kind: Spanned<AxisKind>,
     modulo_period: Option<Spanned<f64>>,
     units: Spanned<Units>,
@@ -1112,6 +1129,7 @@ struct RawTag {
     ty: Spanned<String>,
     value: Option<Spanned<toml::Value>>,
     coordinate_system: Option<Spanned<RawCoordinateSystem>>,
+    geometry: Option<Spanned<geometry::RawGeometry>>,
 }
 
 #[derive(Deserialize)]
@@ -1461,15 +1479,21 @@ impl Ctx<'_> {
             let f = |field: &str| format!("axes[{i}].{field}");
             let name = self.identifier(&a.name, &f("name"))?;
             self.unique(names, &a.name, &f("name"), NameKind::Axis)?;
-            let joint = self.nonempty_name(&a.joint, &f("joint"))?;
-            if let Some((_, other_axis)) = joints.get(&joint) {
-                let problem = Problem::SharedJoint {
-                    joint: joint.clone(),
-                    other_axis: other_axis.clone(),
-                };
-                return Err(self.invalid(&a.joint, f("joint"), problem));
-            }
-            joints.insert(joint.clone(), (i, name.clone()));
+            let joint = match &a.joint {
+                Some(spanned) => {
+                    let joint = self.nonempty_name(spanned, &f("joint"))?;
+                    if let Some((_, other_axis)) = joints.get(&joint) {
+                        let problem = Problem::SharedJoint {
+                            joint: joint.clone(),
+                            other_axis: other_axis.clone(),
+                        };
+                        return Err(self.invalid(spanned, f("joint"), problem));
+                    }
+                    joints.insert(joint.clone(), (i, name.clone()));
+                    Some(joint)
+                }
+                None => None,
+            };
             let kind = *a.kind.get_ref();
             let units = *a.units.get_ref();
             if !units.fits(kind) {
@@ -1499,7 +1523,7 @@ impl Ctx<'_> {
                 }
                 None => MotorGains::default(),
             };
-            let joint_si = robot.initial_joints.get(&joint).copied();
+            let joint_si = joint.as_ref().and_then(|j| robot.initial_joints.get(j)).copied();
             let initial_position = match (&a.initial_position, joint_si) {
                 (Some(p), joint_si) => {
                     let value = self.finite(p, &f("initial_position"))?;
@@ -1509,7 +1533,7 @@ impl Ctx<'_> {
                             let problem = Problem::InitialPositionMismatch {
                                 initial_position: value,
                                 units,
-                                joint: joint.clone(),
+                                joint: joint.clone().unwrap_or_default(),
                                 joint_position_si: si,
                             };
                             return Err(self.invalid(p, f("initial_position"), problem));
@@ -1523,7 +1547,7 @@ impl Ctx<'_> {
             axes.push(Axis {
                 name,
                 joint,
-                joint_location: self.loc(&a.joint),
+                joint_location: a.joint.as_ref().map_or_else(|| self.loc(&a.name), |j| self.loc(j)),
                 kind,
                 modulo_period,
                 units,
@@ -1755,11 +1779,21 @@ impl Ctx<'_> {
                 }
                 _ => None,
             };
+            let geometry = match (&t.geometry, &value) {
+                (Some(raw), _) if ty.base != BaseType::CoordinateSystem => {
+                    return Err(self.invalid(raw, f("geometry"), Problem::CoordinateSystemOnly));
+                }
+                (Some(raw), Some(TagValue::Axes(members))) => {
+                    Some(self.geometry(raw, members.len(), &f("geometry"))?)
+                }
+                _ => None,
+            };
             tags.push(Tag {
                 name,
                 ty,
                 value,
                 coordinate_system,
+                geometry,
                 location: self.loc(&t.name),
             });
         }
@@ -2289,7 +2323,8 @@ mod tests {
 
     #[test]
     fn missing_required_field_is_an_error() {
-        let text = edited("joint = \"slide_joint\"\n", "");
+        // (`joint` is optional: an axis without one is virtual.)
+        let text = edited("kind = \"linear\"\n", "");
         assert!(matches!(error_of(&text), SceneError::Toml { .. }));
     }
 

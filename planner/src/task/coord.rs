@@ -642,6 +642,7 @@ impl MotionTask {
             }
         };
         self.cbits(h).dn = true;
+        self.mct_on_mcs(cs, inputs.stop_type);
         if stop.stop_all {
             self.stop_single_axis_motion(cs);
         }

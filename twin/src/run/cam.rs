@@ -434,7 +434,7 @@ mod tests {
         let binding = |name: &str, handle| AxisBinding {
             name: name.to_string(),
             handle,
-            drive: 0,
+            drive: Some(0),
             si_per_unit: 1.0,
             in_position_window: 0.1,
         };

@@ -268,7 +268,7 @@ impl Twin {
             }
         }
         for (a, axis) in self.axes.iter().zip(&self.scene.axes) {
-            if let Some(j) = self.model.joint_by_name(&axis.joint) {
+            if let Some(j) = axis.joint.as_deref().and_then(|name| self.model.joint_by_name(name)) {
                 q[j.0] = self.task.axis_state(a.handle).command_position * a.si_per_unit;
             }
         }
@@ -312,7 +312,8 @@ impl Twin {
             .axes
             .iter()
             .find(|a| a.name == binding.name)
-            .and_then(|a| self.model.joint_by_name(&a.joint))?;
+            .and_then(|a| a.joint.as_deref())
+            .and_then(|name| self.model.joint_by_name(name))?;
         let start = profile.start_state().position;
         let end = profile.final_state().position;
         Some(AxisMovePath {

@@ -282,7 +282,7 @@ fn optional_array(ctx: &LogixContext<'_>, what: &str, operand: &Expr) -> Result<
 }
 
 /// The coordinate system named by `operand`, created on its first use.
-fn coordinate_system(ctx: &mut LogixContext<'_>, what: &str, operand: &Expr) -> Result<CoordHandle, String> {
+pub(super) fn coordinate_system(ctx: &mut LogixContext<'_>, what: &str, operand: &Expr) -> Result<CoordHandle, String> {
     let Expr::Ident(name) = operand else {
         return Err(format!("{what} {operand}: expected a COORDINATE_SYSTEM tag"));
     };

@@ -184,6 +184,9 @@ pub fn compile(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Res
     if let Some(step) = super::cam::compile(&upper, operands, ctx) {
         return step;
     }
+    if let Some(step) = super::mct::compile(&upper, operands, ctx) {
+        return step;
+    }
     #[allow(clippy::match_single_binding, reason = "one arm per instruction as they are added")]
     match upper.as_str() {
         _ => {
@@ -219,7 +222,7 @@ pub fn expect_operands(instruction: &str, operands: &[Expr], names: &[&str]) -> 
 
 /// The Logix instructions the twin simulates: `cam::CAM_INSTRUCTIONS` and
 /// `coord::COORD_INSTRUCTIONS` (a test keeps the lists in step).
-pub const SIMULATED: &[&str] = &["MAJ", "MAPC", "MAS", "MCCM", "MCCP", "MCLM", "MCS", "MRP"];
+pub const SIMULATED: &[&str] = &["MAJ", "MAPC", "MAS", "MCCM", "MCCP", "MCLM", "MCS", "MCT", "MRP"];
 
 #[cfg(test)]
 mod tests {
@@ -251,7 +254,7 @@ mod tests {
         let axes = vec![AxisBinding {
             name: "Table".to_string(),
             handle: table,
-            drive: 0,
+            drive: Some(0),
             si_per_unit: 1.0,
             in_position_window: 0.1,
         }];

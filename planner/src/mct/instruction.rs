@@ -1,0 +1,970 @@
+//! The MCT instruction: `MCT(Source System, Target System, Motion Control,
+//! Orientation, Translation)`.
+//!
+//! * [`TransformSystem`] — what MCT reads from a coordinate system tag: its
+//!   motion group, axes, transform dimension and (target) geometry.
+//! * [`TransformTable`] — the controller's active transforms: it owns each
+//!   running [`Transform`] and answers the status bits
+//!   `TransformSourceStatus`, `TransformTargetStatus` (coordinate systems),
+//!   `TransformStateStatus`, `ControlledByTransformStatus` (axes).
+//! * [`Transform`] — one running transform, the coarse-update executor's
+//!   interface: [`Transform::follow_source`] turns this update's source
+//!   (Cartesian) command into joint commands, [`Transform::follow_joints`]
+//!   turns joint positions into source positions, [`Transform::stop_step`]
+//!   brings the joints to a controlled stop after a fault.
+//! * [`Mct`] — the instruction's `MOTION_INSTRUCTION` tag and scan logic.
+//!
+//! # What the spec says, and how it is implemented
+//! * Transitional: a false → true rung starts (or restarts) the transform,
+//!   sets `.EN`, and on success `.DN` and `.IP`; the transform keeps running
+//!   after `.DN` and while the rung is false. Prescan clears `.EN .DN .ER
+//!   .IP`; a false rung clears `.EN` once `.DN` or `.ER` is set.
+//! * At start the source positions become the forward kinematics of the
+//!   target's current joint positions (through orientation and translation);
+//!   afterwards moving either side moves the other.
+//! * An MCS (or shutdown, or fault action) cancels the transform:
+//!   [`Mct::cancel`] clears `.IP` and the status bits.
+//! * Executing again while active re-reads orientation, translation and
+//!   geometry; the source positions jump to the forward kinematics of the
+//!   joints under the new values (the joints do not move).
+//! * The arm solution the joints are in at start is kept for every Cartesian
+//!   move; a move of the joints themselves re-reads it (only joint moves can
+//!   flip it).
+//! * Errors at execution: ERR 61 with EXERR 1–17 ([`MctError::exerr`]), ERR 13
+//!   (operand out of range, EXERR = operand number counted from 0) for a
+//!   non-finite Orientation (3) or Translation (4) element, ERR 67 when the
+//!   joints' current position has no valid transform position.
+//!
+//! # Choices where the spec is silent
+//! * **Check order**: operands (ERR 13); EXERR 1, 2, 3, 4, 16, 17, the
+//!   geometry (4, 12, 15), 5, 6, 7, 8, 9, 13, 14, 10, 11; then the start
+//!   position (ERR 67).
+//! * **EXERR 7** ("an axis in one source system and/or target system"): an
+//!   axis may be a source axis of one transform and a target axis of another
+//!   (a chain of transforms), but not a source axis twice or a target axis
+//!   twice. **EXERR 9** concerns the transformed axes; the SCARA geometries'
+//!   third axis is shared by design (EXERR 16 requires it).
+//! * **EXERR 11**: the table holds [`MAX_ACTIVE_TRANSFORMS`] transforms.
+//! * **Orientation and translation of a transform of dimension < 3**: only
+//!   what keeps the transformed plane (line) is accepted — for dimension 2
+//!   the rotation about X3 and the X1, X2 translation, for dimension 1 the X1
+//!   translation. Anything else would be lost and is refused with ERR 13
+//!   (EXERR 3 for Orientation, 4 for Translation).
+//! * **Runtime errors**: a source command with no valid joint position, a
+//!   joint beyond its limit, or a joint that would have to move faster than
+//!   its axis' maximum speed (close to a singularity) ends the transform with
+//!   `.ER`, ERR 67 (`.DN` stays, `.IP` clears): [`Mct::fault`]. The joints
+//!   are then stopped in joint space, each at its axis' maximum
+//!   deceleration, from the last valid command ([`Transform::stop_step`]), so
+//!   no command ever exceeds an axis' maximum speed.
+//! * Joint command velocities are the position increment of the update
+//!   divided by the update period, so positions and velocities agree.
+//! * Re-execution needs the same two systems (else ERR 61/EXERR 5 or 6 as for
+//!   any other transform using them) and, like a start, no motion process on
+//!   their axes (EXERR 10).
+
+use super::{
+    ArmSolution, Geometry, GeometryError, GeometryKind, GeometryParams, JointKind, Placement, PositionError, Vec3,
+    orientation::PlacementError,
+};
+use crate::instruction::MotionInstructionBits;
+use thiserror::Error;
+
+/// How many transforms may be active at once (EXERR 11 beyond).
+pub const MAX_ACTIVE_TRANSFORMS: usize = 8;
+
+/// A coordinate system, as known to the executor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct SystemId(pub u32);
+
+/// An axis, as known to the executor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct AxisId(pub u32);
+
+/// A transform in a [`TransformTable`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct TransformId(u32);
+
+/// What MCT reads from a coordinate system tag.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TransformSystem {
+    /// The system.
+    pub id: SystemId,
+    /// Whether it is assigned to the motion group (EXERR 1 if not).
+    pub in_motion_group: bool,
+    /// Its axes, X1 (J1) first.
+    pub axes: Vec<AxisId>,
+    /// Transform dimension: how many of its axes the transform uses.
+    pub transform_dimension: usize,
+    /// Coordinate system type / geometry (used for the target).
+    pub geometry: GeometryKind,
+    /// Geometry and Offsets tabs (used for the target).
+    pub params: GeometryParams,
+}
+
+/// The state of an axis that MCT checks at execution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AxisCondition {
+    /// The axis is shut down (EXERR 13).
+    pub shutdown: bool,
+    /// The axis is inhibited (EXERR 14).
+    pub inhibited: bool,
+    /// A motion process (jog, move, gear, a coordinated move, …) controls the
+    /// axis (EXERR 10).
+    pub motion_process: bool,
+}
+
+/// Limits of a target (joint) axis, in axis units (degrees for a revolute
+/// joint, coordinate units for a prismatic one).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointAxis {
+    /// Maximum speed, units/s: no joint command is faster.
+    pub max_speed: f64,
+    /// Deceleration of the controlled stop after a fault, units/s².
+    pub max_deceleration: f64,
+    /// Soft travel limits `(min, max)` (default: none).
+    pub limits: Option<(f64, f64)>,
+}
+
+/// An MCT execution error, with its Logix ERR/EXERR.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum MctError {
+    /// EXERR 1: a system is not in the motion group.
+    #[error("coordinate system {system:?} is not assigned to the motion group")]
+    NotInMotionGroup {
+        /// The system.
+        system: SystemId,
+    },
+    /// EXERR 2: source and target are the same system.
+    #[error("source and target are the same coordinate system {system:?}")]
+    SameSystem {
+        /// The system.
+        system: SystemId,
+    },
+    /// EXERR 3: the source transform dimension is not 1–3 or exceeds its axes.
+    #[error("source transform dimension {dimension} must be 1 to 3 and at most its {axes} axes")]
+    SourceDimension {
+        /// The dimension.
+        dimension: usize,
+        /// Number of axes.
+        axes: usize,
+    },
+    /// EXERR 4: the target transform dimension is not 1–3 or exceeds its axes.
+    #[error("target transform dimension {dimension} must be 1 to 3 and at most its {axes} axes")]
+    TargetDimension {
+        /// The dimension.
+        dimension: usize,
+        /// Number of axes.
+        axes: usize,
+    },
+    /// EXERR 5: the source is already the source of an active transform.
+    #[error("coordinate system {system:?} is already the source of an active transform")]
+    SourceInUse {
+        /// The system.
+        system: SystemId,
+    },
+    /// EXERR 6: the target is already the target of an active transform.
+    #[error("coordinate system {system:?} is already the target of an active transform")]
+    TargetInUse {
+        /// The system.
+        system: SystemId,
+    },
+    /// EXERR 7: an axis is already used on the same side of another transform.
+    #[error("axis {axis:?} is already used in another active transform")]
+    AxisInUse {
+        /// The axis.
+        axis: AxisId,
+    },
+    /// EXERR 8: the transform would close a circular chain.
+    #[error("the target leads back to the source through active transforms")]
+    CircularChain,
+    /// EXERR 9: an axis is in both the source and the target.
+    #[error("axis {axis:?} is in both the source and the target system")]
+    SharedAxis {
+        /// The axis.
+        axis: AxisId,
+    },
+    /// EXERR 10: a motion process controls a source or target axis.
+    #[error("a motion process controls axis {axis:?}")]
+    MotionInProcess {
+        /// The axis.
+        axis: AxisId,
+    },
+    /// EXERR 11: no room for another active transform.
+    #[error("no resources for another transform ({capacity} active)")]
+    NoResources {
+        /// The table's capacity.
+        capacity: usize,
+    },
+    /// EXERR 13: an axis is shut down.
+    #[error("axis {axis:?} is in the shutdown state")]
+    AxisShutdown {
+        /// The axis.
+        axis: AxisId,
+    },
+    /// EXERR 14: an axis is inhibited.
+    #[error("axis {axis:?} is inhibited")]
+    AxisInhibited {
+        /// The axis.
+        axis: AxisId,
+    },
+    /// EXERR 16: a SCARA geometry needs source dimension 2 and the same third
+    /// axis in both systems.
+    #[error(
+        "SCARA geometry needs source transform dimension 2 (got {source_dimension}) and the same third axis in both systems"
+    )]
+    ScaraAxes {
+        /// The source dimension.
+        source_dimension: usize,
+    },
+    /// EXERR 17: the source and target transform dimensions differ.
+    #[error("source transform dimension {source_dimension} differs from target transform dimension {target_dimension}")]
+    DimensionMismatch {
+        /// Source dimension.
+        source_dimension: usize,
+        /// Target dimension.
+        target_dimension: usize,
+    },
+    /// EXERR 4, 12, 15 or 16 from the target's geometry.
+    #[error("target geometry: {0}")]
+    Geometry(#[from] GeometryError),
+    /// ERR 13: a non-finite Orientation (EXERR 3) or Translation (EXERR 4)
+    /// element.
+    #[error("operand: {0}")]
+    Operand(#[from] PlacementError),
+    /// ERR 13: an Orientation (`operand` 3) or Translation (`operand` 4)
+    /// element that a transform of this dimension cannot apply.
+    #[error("operand {operand} element {index} = {value} cannot apply to a transform of dimension {dimension}")]
+    OutOfPlane {
+        /// 3 (Orientation) or 4 (Translation).
+        operand: i32,
+        /// Element index.
+        index: u8,
+        /// Its value.
+        value: f64,
+        /// The transform dimension.
+        dimension: usize,
+    },
+    /// ERR 67: the joints' position has no valid transform position.
+    #[error("invalid transform position: {0}")]
+    Position(#[from] PositionError),
+}
+
+impl MctError {
+    /// The Logix ERR code.
+    pub fn err(&self) -> i32 {
+        match self {
+            Self::Operand(_) | Self::OutOfPlane { .. } => 13,
+            Self::Position(e) => e.err(),
+            _ => 61,
+        }
+    }
+
+    /// The Logix EXERR code.
+    pub fn exerr(&self) -> i32 {
+        match self {
+            Self::NotInMotionGroup { .. } => 1,
+            Self::SameSystem { .. } => 2,
+            Self::SourceDimension { .. } => 3,
+            Self::TargetDimension { .. } => 4,
+            Self::SourceInUse { .. } => 5,
+            Self::TargetInUse { .. } => 6,
+            Self::AxisInUse { .. } => 7,
+            Self::CircularChain => 8,
+            Self::SharedAxis { .. } => 9,
+            Self::MotionInProcess { .. } => 10,
+            Self::NoResources { .. } => 11,
+            Self::AxisShutdown { .. } => 13,
+            Self::AxisInhibited { .. } => 14,
+            Self::ScaraAxes { .. } => 16,
+            Self::DimensionMismatch { .. } => 17,
+            Self::Geometry(e) => e.exerr(),
+            Self::Operand(PlacementError::Orientation { .. }) => 3,
+            Self::Operand(_) => 4,
+            Self::OutOfPlane { operand, .. } => *operand,
+            Self::Position(_) => 0,
+        }
+    }
+}
+
+/// Why a running transform stopped following (ERR 67); the executor brings
+/// the joints to a controlled stop with [`Transform::stop_step`].
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[non_exhaustive]
+pub enum TransformFault {
+    /// The source position has no valid joint position.
+    #[error("invalid transform position: {0}")]
+    Position(#[from] PositionError),
+    /// A joint would have to move faster than its axis allows.
+    #[error("joint {joint} would need {required} units/s, its axis allows {max}")]
+    JointSpeed {
+        /// The joint (0-based).
+        joint: u8,
+        /// The speed the source command would need.
+        required: f64,
+        /// The axis' maximum speed.
+        max: f64,
+    },
+}
+
+impl TransformFault {
+    /// The Logix ERR code: 67.
+    pub fn err(&self) -> i32 {
+        super::ERR_INVALID_TRANSFORM_POSITION
+    }
+}
+
+/// Positions and velocities of the transformed axes of one side, in axis
+/// units (and units/s); elements beyond the dimension are 0.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AxesCommand {
+    /// Command positions.
+    pub positions: Vec3,
+    /// Command velocities.
+    pub velocities: Vec3,
+}
+
+/// Which side moved the other in the last update.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Driven {
+    None,
+    Target,
+    Source,
+}
+
+/// A running transform.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Transform {
+    source: SystemId,
+    target: SystemId,
+    source_axes: Vec<AxisId>,
+    target_axes: Vec<AxisId>,
+    geometry: Geometry,
+    placement: Placement,
+    solution: ArmSolution,
+    joint_axes: Vec<JointAxis>,
+    /// Axis units per kinematic unit (180/π for revolute joints).
+    scale: Vec3,
+    joints: AxesCommand,
+    source_command: AxesCommand,
+    driven: Driven,
+}
+
+impl Transform {
+    /// The geometry.
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+
+    /// Orientation and translation.
+    pub fn placement(&self) -> &Placement {
+        &self.placement
+    }
+
+    /// The arm solution kept for Cartesian moves.
+    pub fn solution(&self) -> ArmSolution {
+        self.solution
+    }
+
+    /// The source system.
+    pub fn source(&self) -> SystemId {
+        self.source
+    }
+
+    /// The target system.
+    pub fn target(&self) -> SystemId {
+        self.target
+    }
+
+    /// The source system's transformed axes (X1 first; the SCARA geometries'
+    /// shared third axis last).
+    pub fn source_axes(&self) -> &[AxisId] {
+        &self.source_axes
+    }
+
+    /// The target system's transformed axes (J1 first).
+    pub fn target_axes(&self) -> &[AxisId] {
+        &self.target_axes
+    }
+
+    /// The last joint command (axis units).
+    pub fn joint_command(&self) -> AxesCommand {
+        self.joints
+    }
+
+    /// The last source command (coordinate units).
+    pub fn source_command(&self) -> AxesCommand {
+        self.source_command
+    }
+
+    fn dimension(&self) -> usize {
+        self.geometry.dimension()
+    }
+
+    /// Joint axis units → kinematic units.
+    fn to_kinematic(&self, joints: Vec3) -> Vec3 {
+        [0, 1, 2].map(|i| joints[i] / self.scale[i])
+    }
+
+    /// The source position of joint positions (axis units).
+    ///
+    /// # Errors
+    /// [`PositionError`] from the forward kinematics.
+    pub fn source_of(&self, joints: Vec3) -> Result<Vec3, PositionError> {
+        let x = self.geometry.forward(self.to_kinematic(joints))?;
+        let mut s = self.placement.source_from_target(x);
+        self.trim(&mut s);
+        if self.geometry.shares_third_axis() {
+            s[2] = joints[2];
+        }
+        Ok(s)
+    }
+
+    /// Zeroes the elements beyond the dimension (rounding of the rotation).
+    fn trim(&self, v: &mut Vec3) {
+        for e in v.iter_mut().skip(self.dimension()) {
+            *e = 0.0;
+        }
+    }
+
+    /// The joint positions (axis units) for source position `source` on the
+    /// kept arm solution, revolute joints unwrapped to the turn nearest the
+    /// last command, limits checked.
+    ///
+    /// # Errors
+    /// [`PositionError`]: out of reach, singular, other assembly, or beyond a
+    /// joint limit.
+    pub fn joints_of(&self, source: Vec3) -> Result<Vec3, PositionError> {
+        let mut target = self.placement.target_from_source(source);
+        self.trim(&mut target);
+        if self.geometry.shares_third_axis() {
+            target[2] = source[2];
+        }
+        let q = self.geometry.inverse(target, self.solution)?;
+        let kinds = self.geometry.joint_kinds();
+        let mut joints = [0.0; 3];
+        for i in 0..3 {
+            let j = q[i] * self.scale[i];
+            joints[i] = if kinds[i] == JointKind::Revolute {
+                let prev = self.joints.positions[i];
+                j + 360.0 * ((prev - j) / 360.0).round()
+            } else {
+                j
+            };
+        }
+        self.check_limits(joints)?;
+        Ok(joints)
+    }
+
+    fn check_limits(&self, joints: Vec3) -> Result<(), PositionError> {
+        for (i, axis) in self.joint_axes.iter().enumerate() {
+            if let Some((min, max)) = axis.limits
+                && !(min..=max).contains(&joints[i])
+            {
+                return Err(PositionError::BeyondJointLimit {
+                    joint: i as u8,
+                    position: joints[i],
+                    min,
+                    max,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// One coarse update driven by the source: the joint commands that put
+    /// the tool at `source` (coordinate units) `dt_s` after the last command.
+    ///
+    /// Velocities are `(new − last) / dt_s`. Nothing is changed on error.
+    ///
+    /// # Errors
+    /// [`TransformFault::Position`] when `source` has no valid joint position;
+    /// [`TransformFault::JointSpeed`] when a joint would move faster than its
+    /// axis' maximum speed. The executor then calls [`Transform::stop_step`]
+    /// each update until it reports the joints at rest, and stops the source.
+    pub fn follow_source(&mut self, source: Vec3, dt_s: f64) -> Result<AxesCommand, TransformFault> {
+        let joints = self.joints_of(source)?;
+        let mut velocities = [0.0; 3];
+        for (i, axis) in self.joint_axes.iter().enumerate() {
+            let v = (joints[i] - self.joints.positions[i]) / dt_s;
+            if v.is_nan() || v.abs() > axis.max_speed {
+                return Err(TransformFault::JointSpeed {
+                    joint: i as u8,
+                    required: v.abs(),
+                    max: axis.max_speed,
+                });
+            }
+            velocities[i] = v;
+        }
+        let mut s = source;
+        self.trim(&mut s);
+        self.source_command = AxesCommand {
+            velocities: [0, 1, 2].map(|i| (s[i] - self.source_command.positions[i]) / dt_s),
+            positions: s,
+        };
+        self.joints = AxesCommand {
+            positions: joints,
+            velocities,
+        };
+        self.driven = if velocities.iter().any(|&v| v != 0.0) {
+            Driven::Target
+        } else {
+            Driven::None
+        };
+        Ok(self.joints)
+    }
+
+    /// One coarse update driven by the joints (a joint move while the
+    /// transform is active): the source command for joint positions `joints`
+    /// (axis units). The arm solution is re-read from the joints, so a joint
+    /// move may flip it.
+    ///
+    /// # Errors
+    /// [`TransformFault::Position`] when the joints have no valid transform
+    /// position (a Delta whose forearms cannot meet, a joint beyond a limit).
+    pub fn follow_joints(&mut self, joints: Vec3, dt_s: f64) -> Result<AxesCommand, TransformFault> {
+        self.check_limits(joints)?;
+        let source = self.source_of(joints)?;
+        self.solution = self.geometry.solution(self.to_kinematic(joints))?;
+        let velocities = [0, 1, 2].map(|i| (source[i] - self.source_command.positions[i]) / dt_s);
+        self.joints = AxesCommand {
+            velocities: [0, 1, 2].map(|i| (joints[i] - self.joints.positions[i]) / dt_s),
+            positions: joints,
+        };
+        self.source_command = AxesCommand {
+            positions: source,
+            velocities,
+        };
+        self.driven = if velocities.iter().any(|&v| v != 0.0) {
+            Driven::Source
+        } else {
+            Driven::None
+        };
+        Ok(self.source_command)
+    }
+
+    /// One coarse update in which neither side moved: the transform holds,
+    /// both sides at rest, nothing driven.
+    pub fn hold(&mut self) {
+        self.joints.velocities = [0.0; 3];
+        self.source_command.velocities = [0.0; 3];
+        self.driven = Driven::None;
+    }
+
+    /// One coarse update of the controlled stop after a fault: each joint
+    /// slows from its last command velocity at its axis' maximum
+    /// deceleration. Returns the joint commands and whether every joint is at
+    /// rest. Speeds only fall, so none exceeds the axis maximum.
+    pub fn stop_step(&mut self, dt_s: f64) -> (AxesCommand, bool) {
+        let mut at_rest = true;
+        for (i, axis) in self.joint_axes.iter().enumerate() {
+            let v0 = self.joints.velocities[i];
+            let dv = axis.max_deceleration * dt_s;
+            let v1 = if v0.abs() <= dv { 0.0 } else { v0 - dv * v0.signum() };
+            self.joints.positions[i] += 0.5 * (v0 + v1) * dt_s;
+            self.joints.velocities[i] = v1;
+            at_rest &= v1 == 0.0;
+        }
+        self.driven = Driven::None;
+        (self.joints, at_rest)
+    }
+}
+
+/// The active transforms of a controller.
+#[derive(Debug, Clone, Default)]
+pub struct TransformTable {
+    slots: Vec<Option<Transform>>,
+}
+
+impl TransformTable {
+    /// An empty table.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// A running transform.
+    pub fn get(&self, id: TransformId) -> Option<&Transform> {
+        self.slots.get(id.0 as usize).and_then(Option::as_ref)
+    }
+
+    /// A running transform, mutable (for the executor's updates).
+    pub fn get_mut(&mut self, id: TransformId) -> Option<&mut Transform> {
+        self.slots.get_mut(id.0 as usize).and_then(Option::as_mut)
+    }
+
+    fn active(&self) -> impl Iterator<Item = (TransformId, &Transform)> {
+        self.slots
+            .iter()
+            .enumerate()
+            .filter_map(|(i, t)| t.as_ref().map(|t| (TransformId(i as u32), t)))
+    }
+
+    /// Number of active transforms.
+    pub fn len(&self) -> usize {
+        self.active().count()
+    }
+
+    /// Whether no transform is active.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// `TransformSourceStatus` of a coordinate system.
+    pub fn transform_source_status(&self, system: SystemId) -> bool {
+        self.active().any(|(_, t)| t.source == system)
+    }
+
+    /// `TransformTargetStatus` of a coordinate system.
+    pub fn transform_target_status(&self, system: SystemId) -> bool {
+        self.active().any(|(_, t)| t.target == system)
+    }
+
+    /// `TransformStateStatus` of an axis: part of an active transform.
+    pub fn transform_state_status(&self, axis: AxisId) -> bool {
+        self.active()
+            .any(|(_, t)| t.source_axes.contains(&axis) || t.target_axes.contains(&axis))
+    }
+
+    /// `ControlledByTransformStatus` of an axis: moved by a transform in the
+    /// last update (a joint while the source moved, or a source axis while
+    /// the joints moved).
+    pub fn controlled_by_transform_status(&self, axis: AxisId) -> bool {
+        self.active().any(|(_, t)| match t.driven {
+            Driven::Target => t.target_axes.contains(&axis),
+            Driven::Source => t.source_axes.contains(&axis),
+            Driven::None => false,
+        })
+    }
+
+    /// Removes a transform (MCS, shutdown, fault). Unknown ids are ignored.
+    pub fn cancel(&mut self, id: TransformId) {
+        if let Some(slot) = self.slots.get_mut(id.0 as usize) {
+            *slot = None;
+        }
+    }
+
+    /// Checks an MCT execution and starts (or, with `restart`, restarts) the
+    /// transform: the source positions it returns are the forward kinematics
+    /// of `joints` (target axis positions, axis units).
+    ///
+    /// # Errors
+    /// [`MctError`] — see the module doc for the check order.
+    pub fn execute(
+        &mut self,
+        request: &MctRequest<'_>,
+        restart: Option<TransformId>,
+    ) -> Result<(TransformId, Vec3), MctError> {
+        let restart = restart.filter(|id| self.get(*id).is_some());
+        let (geometry, placement) = self.check(request, restart)?;
+        let (source, target) = (request.source, request.target);
+        let dim = geometry.dimension();
+        let mut source_axes = source.axes[..dim].to_vec();
+        let target_axes = target.axes[..dim].to_vec();
+        if geometry.shares_third_axis() {
+            source_axes.push(source.axes[2]);
+        }
+        let kinds = geometry.joint_kinds();
+        let scale = [0, 1, 2].map(|i| {
+            if kinds[i] == JointKind::Revolute {
+                180.0 / std::f64::consts::PI
+            } else {
+                1.0
+            }
+        });
+        let joint_axes = request.joint_axes.iter().take(dim).copied().collect();
+        let mut t = Transform {
+            source: source.id,
+            target: target.id,
+            source_axes,
+            target_axes,
+            geometry,
+            placement,
+            solution: ArmSolution::default(),
+            joint_axes,
+            scale,
+            joints: AxesCommand {
+                positions: request.joints,
+                velocities: [0.0; 3],
+            },
+            source_command: AxesCommand::default(),
+            driven: Driven::None,
+        };
+        t.check_limits(request.joints)?;
+        let position = t.source_of(request.joints)?;
+        t.solution = geometry.solution(t.to_kinematic(request.joints))?;
+        t.source_command.positions = position;
+        let id = match restart {
+            Some(id) => {
+                self.slots[id.0 as usize] = Some(t);
+                id
+            }
+            None => match self.slots.iter().position(Option::is_none) {
+                Some(i) => {
+                    self.slots[i] = Some(t);
+                    TransformId(i as u32)
+                }
+                None => {
+                    self.slots.push(Some(t));
+                    TransformId(self.slots.len() as u32 - 1)
+                }
+            },
+        };
+        Ok((id, position))
+    }
+
+    fn check(&self, r: &MctRequest<'_>, restart: Option<TransformId>) -> Result<(Geometry, Placement), MctError> {
+        let (source, target) = (r.source, r.target);
+        let placement = Placement::new(r.orientation_deg, r.translation)?;
+        for system in [source, target] {
+            if !system.in_motion_group {
+                return Err(MctError::NotInMotionGroup { system: system.id });
+            }
+        }
+        if source.id == target.id {
+            return Err(MctError::SameSystem { system: source.id });
+        }
+        let (sd, td) = (source.transform_dimension, target.transform_dimension);
+        if !(1..=3).contains(&sd) || sd > source.axes.len() {
+            return Err(MctError::SourceDimension {
+                dimension: sd,
+                axes: source.axes.len(),
+            });
+        }
+        if !(1..=3).contains(&td) || td > target.axes.len() {
+            return Err(MctError::TargetDimension {
+                dimension: td,
+                axes: target.axes.len(),
+            });
+        }
+        if matches!(
+            target.geometry,
+            GeometryKind::ScaraIndependent | GeometryKind::ScaraDelta
+        ) && (sd != 2 || source.axes.get(2).is_none() || source.axes.get(2) != target.axes.get(2))
+        {
+            return Err(MctError::ScaraAxes { source_dimension: sd });
+        }
+        if sd != td {
+            return Err(MctError::DimensionMismatch {
+                source_dimension: sd,
+                target_dimension: td,
+            });
+        }
+        let geometry = Geometry::new(target.geometry, &target.params, td)?;
+        check_in_plane(r.orientation_deg, r.translation, td)?;
+        let others = || self.active().filter(|(id, _)| Some(*id) != restart).map(|(_, t)| t);
+        if others().any(|t| t.source == source.id) {
+            return Err(MctError::SourceInUse { system: source.id });
+        }
+        if others().any(|t| t.target == target.id) {
+            return Err(MctError::TargetInUse { system: target.id });
+        }
+        let mut source_axes = source.axes[..sd].to_vec();
+        if geometry.shares_third_axis() {
+            source_axes.push(source.axes[2]);
+        }
+        let target_axes = &target.axes[..td];
+        for &axis in &source_axes {
+            if others().any(|t| t.source_axes.contains(&axis)) {
+                return Err(MctError::AxisInUse { axis });
+            }
+        }
+        for &axis in target_axes {
+            if others().any(|t| t.target_axes.contains(&axis)) {
+                return Err(MctError::AxisInUse { axis });
+            }
+        }
+        // A path target → … → source through active transforms closes a loop.
+        let mut at = target.id;
+        for _ in 0..=self.slots.len() {
+            if at == source.id {
+                return Err(MctError::CircularChain);
+            }
+            match others().find(|t| t.source == at) {
+                Some(t) => at = t.target,
+                None => break,
+            }
+        }
+        if let Some(&axis) = source.axes[..sd].iter().find(|a| target_axes.contains(a)) {
+            return Err(MctError::SharedAxis { axis });
+        }
+        let all: Vec<AxisId> = source_axes.iter().chain(target_axes).copied().collect();
+        for &axis in &all {
+            if (r.condition)(axis).shutdown {
+                return Err(MctError::AxisShutdown { axis });
+            }
+        }
+        for &axis in &all {
+            if (r.condition)(axis).inhibited {
+                return Err(MctError::AxisInhibited { axis });
+            }
+        }
+        for &axis in &all {
+            if (r.condition)(axis).motion_process {
+                return Err(MctError::MotionInProcess { axis });
+            }
+        }
+        if restart.is_none() && self.len() >= MAX_ACTIVE_TRANSFORMS {
+            return Err(MctError::NoResources {
+                capacity: MAX_ACTIVE_TRANSFORMS,
+            });
+        }
+        if r.joint_axes.len() < td {
+            return Err(MctError::TargetDimension {
+                dimension: td,
+                axes: r.joint_axes.len(),
+            });
+        }
+        Ok((geometry, placement))
+    }
+}
+
+fn check_in_plane(orientation_deg: Vec3, translation: Vec3, dimension: usize) -> Result<(), MctError> {
+    let out = |operand, index: usize, value: f64| MctError::OutOfPlane {
+        operand,
+        index: index as u8,
+        value,
+        dimension,
+    };
+    let keep_rotation: &[usize] = match dimension {
+        1 => &[],
+        2 => &[2],
+        _ => &[0, 1, 2],
+    };
+    for (i, &v) in orientation_deg.iter().enumerate() {
+        if v != 0.0 && !keep_rotation.contains(&i) {
+            return Err(out(3, i, v));
+        }
+    }
+    for (i, &v) in translation.iter().enumerate().skip(dimension) {
+        if v != 0.0 {
+            return Err(out(4, i, v));
+        }
+    }
+    Ok(())
+}
+
+/// The operands and context of one MCT execution.
+pub struct MctRequest<'a> {
+    /// Source System.
+    pub source: &'a TransformSystem,
+    /// Target System.
+    pub target: &'a TransformSystem,
+    /// Orientation, degrees about X1, X2, X3.
+    pub orientation_deg: Vec3,
+    /// Translation, coordinate units.
+    pub translation: Vec3,
+    /// The target's joint axes' limits, J1 first (at least its transform
+    /// dimension).
+    pub joint_axes: &'a [JointAxis],
+    /// The target's current joint positions, axis units.
+    pub joints: Vec3,
+    /// Shutdown / inhibit / motion state of an axis.
+    pub condition: &'a dyn Fn(AxisId) -> AxisCondition,
+}
+
+/// The MCT instruction's `MOTION_INSTRUCTION` tag and scan state.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Mct {
+    bits: MotionInstructionBits,
+    previous_rung: bool,
+    transform: Option<TransformId>,
+}
+
+impl Mct {
+    /// A tag at its initial state.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The `MOTION_INSTRUCTION` bits.
+    pub fn bits(&self) -> MotionInstructionBits {
+        self.bits
+    }
+
+    /// The transform this instruction started, while `.IP`.
+    pub fn transform(&self) -> Option<TransformId> {
+        self.transform.filter(|_| self.bits.ip)
+    }
+
+    /// Prescan: `.EN .DN .ER .IP` cleared.
+    pub fn prescan(&mut self) {
+        self.bits.en = false;
+        self.bits.dn = false;
+        self.bits.er = false;
+        self.bits.ip = false;
+        self.previous_rung = false;
+    }
+
+    /// One scan with rung-condition-in `rung`. On a false → true transition the
+    /// instruction executes: on success `.DN` and `.IP` are set and the new
+    /// source positions are returned (the executor sets the source axes'
+    /// command positions to them); on failure `.ER` with ERR/EXERR.
+    pub fn scan(&mut self, rung: bool, table: &mut TransformTable, request: &MctRequest<'_>) -> Option<Vec3> {
+        if !rung {
+            self.rung_false();
+            return None;
+        }
+        if self.previous_rung {
+            return None;
+        }
+        self.execute(table, request)
+    }
+
+    /// A scan with the rung false: `.EN` clears once `.DN` or `.ER` is set.
+    pub fn rung_false(&mut self) {
+        self.previous_rung = false;
+        if self.bits.dn || self.bits.er {
+            self.bits.en = false;
+        }
+    }
+
+    /// A scan of a rung that has just become true (a one-shot rung):
+    /// executes the instruction whatever the previous rung state was. See
+    /// [`Mct::scan`].
+    pub fn execute(&mut self, table: &mut TransformTable, request: &MctRequest<'_>) -> Option<Vec3> {
+        self.previous_rung = true;
+        self.bits.en = true;
+        self.bits.dn = false;
+        self.bits.er = false;
+        self.bits.err = 0;
+        self.bits.exerr = 0;
+        match table.execute(request, self.transform()) {
+            Ok((id, position)) => {
+                self.transform = Some(id);
+                self.bits.dn = true;
+                self.bits.ip = true;
+                Some(position)
+            }
+            Err(e) => {
+                self.bits.er = true;
+                self.bits.err = e.err();
+                self.bits.exerr = e.exerr();
+                None
+            }
+        }
+    }
+
+    /// MCS (or shutdown, or a fault action): cancels the transform, clears
+    /// `.IP`.
+    pub fn cancel(&mut self, table: &mut TransformTable) {
+        if let Some(id) = self.transform.take() {
+            table.cancel(id);
+        }
+        self.bits.ip = false;
+    }
+
+    /// A runtime fault ended the transform: `.IP` cleared, `.ER` set with
+    /// ERR 67 (`.DN` stays). The transform stays in the table until the
+    /// executor's controlled stop has brought the joints to rest and it calls
+    /// [`TransformTable::cancel`].
+    pub fn fault(&mut self, fault: &TransformFault) {
+        self.bits.ip = false;
+        self.bits.er = true;
+        self.bits.err = fault.err();
+        self.bits.exerr = 0;
+    }
+}
+
+#[cfg(test)]
+mod tests;

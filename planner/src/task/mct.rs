@@ -1,0 +1,410 @@
+//! MCT in the executor: transforms between coordinate systems of the task.
+//!
+//! * [`MotionTask::set_transform_geometry`] gives a coordinate system its
+//!   geometry (the Geometry/Offsets tabs) and transform dimension; a system
+//!   without one is a Cartesian gantry with no offsets whose transform
+//!   dimension is its number of primary axes.
+//! * [`MotionTask::execute_mct`] executes MCT with a control structure (a
+//!   one-shot rung, like [`MotionTask::execute_coordinated`]): `.EN` and
+//!   `.DN`/`.ER` at once, `.IP` while the transform runs; the source axes'
+//!   command positions jump to the forward kinematics of the joints.
+//! * Each update, after the coordinate systems have moved
+//!   ([`MotionTask::update`] step 4): if a source axis' command moved, the
+//!   joints follow it ([`Transform::follow_source`]); otherwise, if a joint's
+//!   command moved (a joint move, which may flip the arm solution), the
+//!   source axes follow the joints. When both sides were moved in the same
+//!   update the source wins and the joint commands are overwritten.
+//! * A fault (ERR 67: out of reach, singular, a joint speed above its axis'
+//!   maximum) ends the transform: `.ER`, `.IP` off; the source system's
+//!   coordinated motion is brought to rest along its path, and the joints are
+//!   stopped in joint space at their axes' maximum deceleration from their
+//!   last valid command. The transform leaves the table when the joints are
+//!   at rest; the source axes are no longer linked (a new MCT re-links them
+//!   from the joints).
+//! * MCS with stop type *all* (0) or *coordinated transform* (2) on the source
+//!   or the target system cancels the transform (`.IP` off); stop type
+//!   *coordinated move* (1) leaves it running.
+//! * The task has one motion group and no axis shutdown or inhibit, so
+//!   EXERR 1, 13 and 14 cannot arise here (they are tested on
+//!   [`crate::mct::instruction`]). EXERR 10 is any single-axis command or
+//!   coordinated move on an axis of either system.
+//! * Joint axes: maximum speed and deceleration from their
+//!   [`crate::axis::AxisConfig`]; no soft travel limits (the axis
+//!   configuration has none).
+
+use super::{AxisHandle, CoordHandle, InstructionHandle, MotionTask};
+use crate::mct::instruction::{
+    AxesCommand, AxisCondition, AxisId, JointAxis, Mct, MctRequest, SystemId, Transform, TransformFault, TransformId,
+    TransformSystem, TransformTable,
+};
+use crate::mct::{GeometryKind, GeometryParams, Vec3};
+use crate::profile::Sample;
+
+/// The transform-related configuration of a coordinate system.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TransformGeometry {
+    /// Coordinate system type / geometry (default: Cartesian gantry).
+    pub kind: GeometryKind,
+    /// Link lengths, offsets, zero angles (default: all 0).
+    pub params: GeometryParams,
+    /// Transform dimension (default: the number of primary axes).
+    pub transform_dimension: usize,
+}
+
+#[derive(Debug, Clone, Default)]
+pub(super) struct MctState {
+    table: TransformTable,
+    geometries: Vec<(CoordHandle, TransformGeometry)>,
+    instructions: Vec<MctSlot>,
+}
+
+#[derive(Debug, Clone)]
+struct MctSlot {
+    control: InstructionHandle,
+    mct: Mct,
+    source: CoordHandle,
+    /// A transform that faulted and whose joints are still stopping.
+    stopping: Option<TransformId>,
+    /// The rung goes false at the next update (one-shot).
+    release: bool,
+    /// Last joint velocities and accelerations written (for finite
+    /// differences).
+    joint_motion: [(f64, f64); 3],
+}
+
+fn axis_id(a: AxisHandle) -> AxisId {
+    AxisId(a.0)
+}
+
+fn handle(a: AxisId) -> AxisHandle {
+    AxisHandle(a.0)
+}
+
+impl MotionTask {
+    /// Sets a coordinate system's geometry and transform dimension, used when
+    /// it is the target of an MCT (and for its transform dimension as a
+    /// source). Takes effect at the next MCT execution.
+    pub fn set_transform_geometry(&mut self, system: CoordHandle, geometry: TransformGeometry) {
+        let list = &mut self.mct.geometries;
+        match list.iter_mut().find(|(s, _)| *s == system) {
+            Some(slot) => slot.1 = geometry,
+            None => list.push((system, geometry)),
+        }
+    }
+
+    /// The transform table's id of a coordinate system: its index in the task.
+    fn system_id(&self, system: CoordHandle) -> SystemId {
+        SystemId(self.coord_handles().position(|h| h == system).unwrap_or(usize::MAX) as u32)
+    }
+
+    fn transform_system(&self, system: CoordHandle) -> TransformSystem {
+        let geometry = self
+            .mct
+            .geometries
+            .iter()
+            .find(|(s, _)| *s == system)
+            .map(|(_, g)| *g)
+            .unwrap_or(TransformGeometry {
+                kind: GeometryKind::CartesianGantry,
+                params: GeometryParams::default(),
+                transform_dimension: self.coord_config(system).primary_axes,
+            });
+        TransformSystem {
+            id: self.system_id(system),
+            in_motion_group: true,
+            axes: self.coord_axes(system).iter().copied().map(axis_id).collect(),
+            transform_dimension: geometry.transform_dimension,
+            geometry: geometry.kind,
+            params: geometry.params,
+        }
+    }
+
+    /// Executes `MCT(source, target, control, orientation, translation)` now:
+    /// one scan of a rung that has just become true. Executing again with the
+    /// same control structure while its transform runs restarts it with the
+    /// new orientation, translation and geometry.
+    pub fn execute_mct(
+        &mut self,
+        control: InstructionHandle,
+        source: CoordHandle,
+        target: CoordHandle,
+        orientation_deg: Vec3,
+        translation: Vec3,
+    ) {
+        let index = match self.mct.instructions.iter().position(|s| s.control == control) {
+            Some(i) => i,
+            None => {
+                self.mct.instructions.push(MctSlot {
+                    control,
+                    mct: Mct::new(),
+                    source,
+                    stopping: None,
+                    release: false,
+                    joint_motion: [(0.0, 0.0); 3],
+                });
+                self.mct.instructions.len() - 1
+            }
+        };
+        let source_system = self.transform_system(source);
+        let target_system = self.transform_system(target);
+        let target_axes: Vec<AxisHandle> = self.coord_axes(target).to_vec();
+        let joint_axes: Vec<JointAxis> = target_axes
+            .iter()
+            .map(|a| {
+                let c = &self.axes[a.0 as usize].config;
+                JointAxis {
+                    max_speed: c.max_velocity,
+                    max_deceleration: c.max_deceleration,
+                    limits: None,
+                }
+            })
+            .collect();
+        let mut joints = [0.0; 3];
+        for (j, a) in joints.iter_mut().zip(&target_axes) {
+            *j = self.axes[a.0 as usize].command.position;
+        }
+        let conditions: Vec<(AxisId, AxisCondition)> = source_system
+            .axes
+            .iter()
+            .chain(&target_system.axes)
+            .map(|&id| {
+                let a = &self.axes[id.0 as usize];
+                let single = a.job.as_ref().is_some_and(|j| !j.generation_done) || a.buffered.is_some();
+                let coordinated = self.coordinated_motion_status(handle(id));
+                (
+                    id,
+                    AxisCondition {
+                        motion_process: single || coordinated,
+                        ..AxisCondition::default()
+                    },
+                )
+            })
+            .collect();
+        let condition = move |axis: AxisId| {
+            conditions
+                .iter()
+                .find(|(id, _)| *id == axis)
+                .map(|(_, c)| *c)
+                .unwrap_or_default()
+        };
+        let request = MctRequest {
+            source: &source_system,
+            target: &target_system,
+            orientation_deg,
+            translation,
+            joint_axes: &joint_axes,
+            joints,
+            condition: &condition,
+        };
+        let slot = &mut self.mct.instructions[index];
+        slot.source = source;
+        slot.release = true;
+        slot.joint_motion = [(0.0, 0.0); 3];
+        let started = slot.mct.execute(&mut self.mct.table, &request);
+        let bits = slot.mct.bits();
+        *self.motion_bits_mut(control) = bits;
+        if let (Some(position), Some(id)) = (started, self.mct.instructions[index].mct.transform()) {
+            let axes: Vec<AxisId> = self
+                .mct
+                .table
+                .get(id)
+                .map(|t| t.source_axes().to_vec())
+                .unwrap_or_default();
+            for (i, axis) in axes.into_iter().enumerate() {
+                let a = &mut self.axes[axis.0 as usize];
+                a.command = Sample {
+                    position: position[i],
+                    ..Sample::default()
+                };
+                if !a.fed {
+                    a.actual = position[i];
+                }
+            }
+        }
+    }
+
+    /// The transform an MCT control structure runs, while its `.IP` is set.
+    pub fn mct_transform(&self, control: InstructionHandle) -> Option<&Transform> {
+        let slot = self.mct.instructions.iter().find(|s| s.control == control)?;
+        self.mct.table.get(slot.mct.transform()?)
+    }
+
+    /// `TransformSourceStatus` of a coordinate system.
+    pub fn transform_source_status(&self, system: CoordHandle) -> bool {
+        self.mct.table.transform_source_status(self.system_id(system))
+    }
+
+    /// `TransformTargetStatus` of a coordinate system.
+    pub fn transform_target_status(&self, system: CoordHandle) -> bool {
+        self.mct.table.transform_target_status(self.system_id(system))
+    }
+
+    /// `TransformStateStatus` of an axis.
+    pub fn transform_state_status(&self, axis: AxisHandle) -> bool {
+        self.mct.table.transform_state_status(axis_id(axis))
+    }
+
+    /// `ControlledByTransformStatus` of an axis.
+    pub fn controlled_by_transform_status(&self, axis: AxisHandle) -> bool {
+        self.mct.table.controlled_by_transform_status(axis_id(axis))
+    }
+
+    /// Step 1 of an update for MCT: one-shot rungs go false.
+    pub(super) fn evaluate_mct_instructions(&mut self) {
+        for i in 0..self.mct.instructions.len() {
+            let slot = &mut self.mct.instructions[i];
+            if std::mem::take(&mut slot.release) {
+                slot.mct.rung_false();
+                let (control, bits) = (slot.control, slot.mct.bits());
+                *self.motion_bits_mut(control) = bits;
+            }
+        }
+    }
+
+    /// Hook for MCS on `system` with `stop_type` (0 all, 1 coordinated move,
+    /// 2 coordinated transform): types 0 and 2 cancel the transforms the
+    /// system is the source or target of.
+    pub(super) fn mct_on_mcs(&mut self, system: CoordHandle, stop_type: i64) {
+        if stop_type == 1 {
+            return;
+        }
+        let id = self.system_id(system);
+        for i in 0..self.mct.instructions.len() {
+            let slot = &mut self.mct.instructions[i];
+            let Some(t) = slot.mct.transform() else { continue };
+            let involved = self
+                .mct
+                .table
+                .get(t)
+                .is_some_and(|tr| tr.source() == id || tr.target() == id);
+            if involved {
+                slot.mct.cancel(&mut self.mct.table);
+                let (control, bits) = (slot.control, slot.mct.bits());
+                *self.motion_bits_mut(control) = bits;
+            }
+        }
+    }
+
+    /// Step 4 of an update: every transform follows the side that moved.
+    pub(super) fn advance_transforms(&mut self) {
+        let dt = self.dt_s;
+        for i in 0..self.mct.instructions.len() {
+            if let Some(id) = self.mct.instructions[i].stopping {
+                let Some(t) = self.mct.table.get_mut(id) else {
+                    self.mct.instructions[i].stopping = None;
+                    continue;
+                };
+                let (cmd, at_rest) = t.stop_step(dt);
+                let axes = t.target_axes().to_vec();
+                self.write_joints(i, &axes, cmd);
+                if at_rest {
+                    self.mct.table.cancel(id);
+                    self.mct.instructions[i].stopping = None;
+                }
+                continue;
+            }
+            let Some(id) = self.mct.instructions[i].mct.transform() else {
+                continue;
+            };
+            let Some(t) = self.mct.table.get(id) else { continue };
+            let source_axes = t.source_axes().to_vec();
+            let target_axes = t.target_axes().to_vec();
+            let read = |axes: &[AxisId]| {
+                let mut v = [0.0; 3];
+                for (x, a) in v.iter_mut().zip(axes) {
+                    *x = self.axes[a.0 as usize].command.position;
+                }
+                v
+            };
+            let source_now = read(&source_axes);
+            let mut joints_now = read(&target_axes);
+            if source_axes.len() > target_axes.len() {
+                // The SCARA geometries' shared third axis is the third joint.
+                joints_now[2] = source_now[2];
+            }
+            let source_moved = source_now != t.source_command().positions;
+            let joints_moved = joints_now != t.joint_command().positions;
+            let t = self.mct.table.get_mut(id).expect("checked above");
+            if source_moved {
+                match t.follow_source(source_now, dt) {
+                    Ok(cmd) => self.write_joints(i, &target_axes, cmd),
+                    Err(fault) => self.fault(i, id, &fault),
+                }
+            } else if joints_moved {
+                match t.follow_joints(joints_now, dt) {
+                    Ok(cmd) => {
+                        for (k, axis) in source_axes.iter().enumerate().take(target_axes.len()) {
+                            let a = &mut self.axes[axis.0 as usize];
+                            a.command = Sample {
+                                position: cmd.positions[k],
+                                velocity: cmd.velocities[k],
+                                ..Sample::default()
+                            };
+                            if !a.fed {
+                                a.actual = cmd.positions[k];
+                            }
+                        }
+                    }
+                    Err(fault) => {
+                        // The joints move under their own commands: only the
+                        // link ends.
+                        let slot = &mut self.mct.instructions[i];
+                        slot.mct.fault(&fault);
+                        slot.mct.cancel(&mut self.mct.table);
+                        let (control, bits) = (slot.control, slot.mct.bits());
+                        *self.motion_bits_mut(control) = bits;
+                    }
+                }
+            } else {
+                t.hold();
+            }
+        }
+    }
+
+    fn fault(&mut self, i: usize, id: TransformId, fault: &TransformFault) {
+        let slot = &mut self.mct.instructions[i];
+        slot.mct.fault(fault);
+        slot.stopping = Some(id);
+        let (control, bits, source) = (slot.control, slot.mct.bits(), slot.source);
+        *self.motion_bits_mut(control) = bits;
+        if let Some(&axis) = self.coord_axes(source).first() {
+            self.release_axis_from_coordinated_motion(axis);
+        }
+        let dt = self.dt_s;
+        if let Some(t) = self.mct.table.get_mut(id) {
+            let (cmd, at_rest) = t.stop_step(dt);
+            let axes = t.target_axes().to_vec();
+            self.write_joints(i, &axes, cmd);
+            if at_rest {
+                self.mct.table.cancel(id);
+                self.mct.instructions[i].stopping = None;
+            }
+        }
+    }
+
+    fn write_joints(&mut self, i: usize, axes: &[AxisId], cmd: AxesCommand) {
+        let dt = self.dt_s;
+        for (k, axis) in axes.iter().enumerate() {
+            let (v_prev, a_prev) = self.mct.instructions[i].joint_motion[k];
+            let v = cmd.velocities[k];
+            let acc = (v - v_prev) / dt;
+            self.mct.instructions[i].joint_motion[k] = (v, acc);
+            let a = &mut self.axes[axis.0 as usize];
+            a.command = Sample {
+                position: cmd.positions[k],
+                velocity: v,
+                acceleration: acc,
+                jerk: (acc - a_prev) / dt,
+            };
+            if !a.fed {
+                a.actual = cmd.positions[k];
+            }
+            if v != 0.0 {
+                a.last_direction = v.signum();
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

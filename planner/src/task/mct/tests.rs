@@ -1,0 +1,336 @@
+//! MCT through the task: an MCCM circle in the Cartesian system drives the
+//! SCARA joints on the circle, joint moves drive the Cartesian axes, MCS
+//! cancels, a move out of reach faults and stops the joints within their
+//! speed limits.
+
+use super::*;
+use crate::axis::{AxisConfig, AxisKind};
+use crate::coord::{CoordMoveInputs, CoordinateSystemConfig, McsInputs};
+use crate::mccm::MccmInputs;
+use crate::mct::Geometry;
+use crate::mct::Placement;
+use crate::task::CoordCall;
+
+const DT: f64 = 0.004;
+
+struct Robot {
+    task: MotionTask,
+    cart: CoordHandle,
+    joints: CoordHandle,
+    xyz: [AxisHandle; 3],
+    j: [AxisHandle; 2],
+    mct: InstructionHandle,
+}
+
+fn params() -> GeometryParams {
+    GeometryParams {
+        link_lengths: [0.4, 0.3, 0.0],
+        base_offsets: [0.02, -0.01, 0.0],
+        end_effector_offsets: [0.0, 0.0, 0.0],
+        zero_angles_deg: [0.0, 0.0, 0.0],
+    }
+}
+
+/// Cartesian X, Y, Z → SCARA J1, J2 with the shared Z, joints at `q_deg`.
+fn scara(q_deg: [f64; 2]) -> Robot {
+    let mut task = MotionTask::new(DT).unwrap();
+    let lin = |n: &str| AxisConfig {
+        max_velocity: 2.0,
+        ..AxisConfig::new(n, AxisKind::Linear)
+    };
+    let rot = |n: &str| AxisConfig {
+        max_velocity: 360.0,
+        max_acceleration: 3600.0,
+        max_deceleration: 3600.0,
+        ..AxisConfig::new(n, AxisKind::Rotary)
+    };
+    let x = task.add_axis(lin("X"), 0.0).unwrap();
+    let y = task.add_axis(lin("Y"), 0.0).unwrap();
+    let z = task.add_axis(lin("Z"), 0.1).unwrap();
+    let j1 = task.add_axis(rot("J1"), q_deg[0]).unwrap();
+    let j2 = task.add_axis(rot("J2"), q_deg[1]).unwrap();
+    let system = |name: &str, primary| CoordinateSystemConfig {
+        axis_count: 3,
+        primary_axes: primary,
+        max_speed: 1000.0,
+        max_accel: 10_000.0,
+        max_decel: 10_000.0,
+        ..CoordinateSystemConfig::new(name)
+    };
+    let cart = task.add_coordinate_system(system("Cart", 2), &[x, y, z]).unwrap();
+    let joints = task.add_coordinate_system(system("Joints", 2), &[j1, j2, z]).unwrap();
+    task.set_transform_geometry(
+        joints,
+        TransformGeometry {
+            kind: GeometryKind::ScaraIndependent,
+            params: params(),
+            transform_dimension: 2,
+        },
+    );
+    let mct = task.add_instruction("MCT1");
+    Robot {
+        task,
+        cart,
+        joints,
+        xyz: [x, y, z],
+        j: [j1, j2],
+        mct,
+    }
+}
+
+fn geometry() -> Geometry {
+    Geometry::new(GeometryKind::ScaraIndependent, &params(), 2).unwrap()
+}
+
+fn pos(task: &MotionTask, a: AxisHandle) -> f64 {
+    task.axis_state(a).command_position
+}
+
+/// The tool by forward kinematics of the joint command positions.
+fn tool(r: &Robot) -> Vec3 {
+    let q = [
+        pos(&r.task, r.j[0]).to_radians(),
+        pos(&r.task, r.j[1]).to_radians(),
+        0.0,
+    ];
+    geometry().forward(q).unwrap()
+}
+
+#[test]
+fn an_mccm_circle_under_mct_keeps_the_tool_on_the_circle() {
+    let mut r = scara([20.0, 70.0]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let b = r.task.motion_bits(r.mct);
+    assert!(b.en && b.dn && b.ip && !b.er, "{b:?}");
+    assert!(r.task.transform_source_status(r.cart) && r.task.transform_target_status(r.joints));
+    assert!(!r.task.transform_source_status(r.joints));
+    for a in [r.xyz[0], r.xyz[1], r.xyz[2], r.j[0], r.j[1]] {
+        assert!(r.task.transform_state_status(a));
+    }
+    // The source took the forward kinematics of the joints.
+    let start = tool(&r);
+    assert_eq!([pos(&r.task, r.xyz[0]), pos(&r.task, r.xyz[1])], [start[0], start[1]]);
+    assert_eq!(pos(&r.task, r.xyz[2]), 0.1);
+    // A full circle of radius 5 cm about a centre 5 cm to −X1.
+    let centre = [start[0] - 0.05, start[1]];
+    let call = CoordCall::Mccm(MccmInputs {
+        common: CoordMoveInputs {
+            position: vec![start[0], start[1], 0.1],
+            speed: 0.2,
+            accel_rate: 2.0,
+            decel_rate: 2.0,
+            termination_type: 1,
+            ..Default::default()
+        },
+        circle_type: 3,
+        via_center_radius: vec![-0.05, 0.0],
+        direction: 3,
+    });
+    let mc = r.task.add_coord_instruction("MC1", r.cart, call.clone());
+    r.task.set_coord_instruction(mc, true, call);
+    let mut worst: f64 = 0.0;
+    let mut controlled = false;
+    let mut turned = 0.0_f64;
+    for _ in 0..5000 {
+        r.task.update();
+        let t = tool(&r);
+        let radius = (t[0] - centre[0]).hypot(t[1] - centre[1]);
+        worst = worst.max((radius - 0.05).abs());
+        // The joints follow the Cartesian command exactly.
+        assert!((t[0] - pos(&r.task, r.xyz[0])).abs() < 1e-9 && (t[1] - pos(&r.task, r.xyz[1])).abs() < 1e-9);
+        controlled |= r.task.controlled_by_transform_status(r.j[0]);
+        turned = turned.max((t[1] - centre[1]).atan2(t[0] - centre[0]).abs());
+        for j in r.j {
+            assert!(r.task.axis_state(j).command_velocity.abs() <= 360.0);
+        }
+        if r.task.coord_bits(mc).pc {
+            break;
+        }
+    }
+    assert!(r.task.coord_bits(mc).pc, "the circle completes");
+    assert!(worst < 1e-9, "tool off the circle by {worst}");
+    assert!(controlled && turned > 3.0, "the joints moved round the circle");
+    assert!(!r.task.controlled_by_transform_status(r.xyz[0]));
+    // The transform keeps running after the move.
+    assert!(r.task.motion_bits(r.mct).ip);
+    r.task.update();
+    assert!(!r.task.motion_bits(r.mct).en, "the one-shot rung went false");
+    assert!(!r.task.controlled_by_transform_status(r.j[0]), "nothing moves");
+}
+
+#[test]
+fn a_joint_move_drives_the_cartesian_axes_and_mcs_cancels() {
+    let mut r = scara([10.0, 60.0]);
+    r.task
+        .execute_mct(r.mct, r.cart, r.joints, [0.0, 0.0, 30.0], [0.1, 0.0, 0.0]);
+    assert!(r.task.motion_bits(r.mct).ip);
+    // MCLM in the joint system: J2 from 60° to 90°.
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![10.0, 90.0, 0.1],
+        speed: 90.0,
+        accel_rate: 900.0,
+        decel_rate: 900.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.joints, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    let placement = Placement::new([0.0, 0.0, 30.0], [0.1, 0.0, 0.0]).unwrap();
+    let mut controlled = false;
+    for _ in 0..2000 {
+        r.task.update();
+        let expected = placement.source_from_target(tool(&r));
+        assert!((pos(&r.task, r.xyz[0]) - expected[0]).abs() < 1e-12);
+        assert!((pos(&r.task, r.xyz[1]) - expected[1]).abs() < 1e-12);
+        controlled |= r.task.controlled_by_transform_status(r.xyz[0]);
+        if r.task.coord_bits(ml).pc {
+            break;
+        }
+    }
+    assert!(r.task.coord_bits(ml).pc && controlled);
+    assert_eq!(pos(&r.task, r.j[1]), 90.0);
+    // MCS stop type "coordinated move" leaves the transform; "transform" cancels it.
+    let stop = |t: i64| {
+        CoordCall::Mcs(McsInputs {
+            stop_type: t,
+            ..McsInputs::default()
+        })
+    };
+    let ms = r.task.add_coord_instruction("MS1", r.cart, stop(1));
+    r.task.set_coord_instruction(ms, true, stop(1));
+    r.task.update();
+    assert!(r.task.coord_bits(ms).dn && r.task.motion_bits(r.mct).ip);
+    r.task.set_coord_instruction(ms, false, stop(2));
+    r.task.update();
+    r.task.set_coord_instruction(ms, true, stop(2));
+    r.task.update();
+    let b = r.task.motion_bits(r.mct);
+    assert!(!b.ip && b.dn && !b.er, "{b:?}");
+    assert!(!r.task.transform_source_status(r.cart) && !r.task.transform_state_status(r.j[0]));
+}
+
+#[test]
+fn a_move_out_of_reach_faults_and_stops_the_joints_within_their_limits() {
+    let mut r = scara([0.0, 60.0]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let start = tool(&r);
+    // Straight out along the arm's direction, to 1 m from the base: through
+    // full stretch (0.7 m).
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![
+            1.0 * start[0] / start[0].hypot(start[1]),
+            1.0 * start[1] / start[0].hypot(start[1]),
+            0.1,
+        ],
+        speed: 0.5,
+        accel_rate: 5.0,
+        decel_rate: 5.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    let mut faulted_at = None;
+    for k in 0..3000 {
+        r.task.update();
+        for j in r.j {
+            let v = r.task.axis_state(j).command_velocity;
+            assert!(v.is_finite() && v.abs() <= 360.0, "{k}: {v}");
+        }
+        if faulted_at.is_none() && r.task.motion_bits(r.mct).er {
+            faulted_at = Some(k);
+        }
+        if faulted_at.is_some() && !r.task.transform_state_status(r.j[0]) {
+            break;
+        }
+    }
+    let b = r.task.motion_bits(r.mct);
+    assert!(faulted_at.is_some() && b.er && b.err == 67 && !b.ip && b.dn, "{b:?}");
+    // The joints came to rest and the transform left the table.
+    assert!(!r.task.transform_state_status(r.j[0]));
+    for j in r.j {
+        assert_eq!(r.task.axis_state(j).command_velocity, 0.0);
+    }
+    // The source system's move was brought to rest.
+    for _ in 0..500 {
+        r.task.update();
+    }
+    assert!(!r.task.coordinated_motion_status(r.xyz[0]));
+}
+
+#[test]
+fn mct_refuses_to_start_while_an_axis_moves_and_restarts_with_new_operands() {
+    let mut r = scara([10.0, 60.0]);
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![0.3, 0.3, 0.1],
+        speed: 0.1,
+        accel_rate: 1.0,
+        decel_rate: 1.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    r.task.update();
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let b = r.task.motion_bits(r.mct);
+    assert!(b.er && (b.err, b.exerr) == (61, 10), "{b:?}");
+    let ms = r
+        .task
+        .add_coord_instruction("MS1", r.cart, CoordCall::Mcs(McsInputs::default()));
+    r.task
+        .set_coord_instruction(ms, true, CoordCall::Mcs(McsInputs::default()));
+    for _ in 0..500 {
+        r.task.update();
+    }
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    assert!(r.task.motion_bits(r.mct).ip);
+    let first = [pos(&r.task, r.xyz[0]), pos(&r.task, r.xyz[1])];
+    r.task.update();
+    r.task
+        .execute_mct(r.mct, r.cart, r.joints, [0.0, 0.0, 0.0], [0.5, 0.25, 0.0]);
+    let b = r.task.motion_bits(r.mct);
+    assert!(b.ip && b.dn && b.en, "{b:?}");
+    let second = [pos(&r.task, r.xyz[0]), pos(&r.task, r.xyz[1])];
+    assert!((second[0] - (first[0] - 0.5)).abs() < 1e-12 && (second[1] - (first[1] - 0.25)).abs() < 1e-12);
+    assert!(r.task.mct_transform(r.mct).is_some());
+}
+
+#[test]
+fn the_same_calls_give_bit_identical_joint_commands() {
+    let run = || {
+        let mut r = scara([20.0, 70.0]);
+        r.task
+            .execute_mct(r.mct, r.cart, r.joints, [0.0, 0.0, 15.0], [0.01, 0.02, 0.0]);
+        let start = [pos(&r.task, r.xyz[0]), pos(&r.task, r.xyz[1])];
+        let call = CoordCall::Mccm(MccmInputs {
+            common: CoordMoveInputs {
+                position: vec![start[0] - 0.03, start[1] + 0.03, 0.1],
+                speed: 0.2,
+                accel_rate: 2.0,
+                decel_rate: 2.0,
+                termination_type: 1,
+                ..Default::default()
+            },
+            circle_type: 3,
+            via_center_radius: vec![-0.03, 0.0],
+            direction: 1,
+        });
+        let mc = r.task.add_coord_instruction("MC1", r.cart, call.clone());
+        r.task.set_coord_instruction(mc, true, call);
+        r.task.update();
+        assert!(r.task.coord_bits(mc).ip && r.task.motion_bits(r.mct).ip);
+        let mut bits = Vec::new();
+        for _ in 0..400 {
+            r.task.update();
+            for a in [r.j[0], r.j[1], r.xyz[0], r.xyz[1]] {
+                let s = r.task.axis_state(a);
+                bits.push((s.command_position.to_bits(), s.command_velocity.to_bits()));
+            }
+        }
+        bits
+    };
+    let (a, b) = (run(), run());
+    assert_ne!(a[0].0, a[a.len() - 4].0, "J1 moved");
+    assert_eq!(a, b);
+}

@@ -1,0 +1,393 @@
+//! MCT in the twin: the positional `MCT(Source System, Target System,
+//! Motion Control, Orientation, Translation)` call and the load-time check
+//! that each transform's target robot (its URDF chain) has the kinematics of
+//! the target system's `geometry` table.
+//!
+//! * Orientation and Translation are `REAL[3]` operands (`Orient[0]` or a
+//!   whole array tag, three elements from there).
+//! * The `geometry` tables of the source and target `COORDINATE_SYSTEM`
+//!   tags give the planner each system's geometry and transform dimension
+//!   (a system without one is a Cartesian gantry of its primary axes).
+//! * MCT takes revolute joint axes in degrees (as Logix), so a target axis
+//!   on a revolute URDF joint must have `units = "deg"`; the geometry's
+//!   lengths are in the source system's coordinate units.
+//! * `check_transforms` runs [`crate::kinematics_check::check`] for every
+//!   MCT call of the program and refuses the scene on a mismatch, naming the
+//!   `geometry` table's line and the distance. A geometry the planner
+//!   refuses (a zero link length, …) is not checked here: the MCT reports it
+//!   at run time with its ERR/EXERR, as on the controller.
+
+use super::RunError;
+use super::logix::{LogixContext, LogixStep, expect_operands};
+use crate::kinematics_check::{ChainMapping, check, pose_parallel};
+use crate::physics::{JointDrive, RobotSim};
+use crate::scene::{Scene, TagValue};
+use crate::st::{Args, Expr};
+use crate::urdf::RobotModel;
+use planner::mct::{Geometry, JointKind};
+use planner::task::{MotionTask, TransformGeometry};
+use std::f64::consts::{PI, TAU};
+use std::sync::Arc;
+
+const MCT_OPERANDS: &[&str] = &[
+    "Source System",
+    "Target System",
+    "Motion Control",
+    "Orientation",
+    "Translation",
+];
+
+/// Compiles an MCT call; `None` for any other instruction.
+pub fn compile(upper: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Option<Result<LogixStep, String>> {
+    (upper == "MCT").then(|| compile_mct(operands, ctx))
+}
+
+fn compile_mct(operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
+    expect_operands("MCT", operands, MCT_OPERANDS)?;
+    let n = |i: usize| MCT_OPERANDS[i];
+    let source = super::coord::coordinate_system(ctx, n(0), &operands[0])?;
+    let target = super::coord::coordinate_system(ctx, n(1), &operands[1])?;
+    let control = ctx.instruction(n(2), &operands[2])?;
+    let three = |i: usize| -> Result<[f64; 3], String> {
+        let v = ctx.numbers(n(i), &operands[i], 3)?;
+        Ok([v[0], v[1], v[2]])
+    };
+    let orientation = three(3)?;
+    let translation = three(4)?;
+    for (system, operand) in [(source, &operands[0]), (target, &operands[1])] {
+        let Expr::Ident(name) = operand else { continue };
+        if let Some(g) = ctx.scene.tag(name).and_then(|t| t.geometry.as_ref()) {
+            ctx.task.set_transform_geometry(
+                system,
+                TransformGeometry {
+                    kind: g.kind,
+                    params: g.params,
+                    transform_dimension: g.transform_dimension,
+                },
+            );
+        }
+    }
+    Ok(LogixStep {
+        instruction: "MCT",
+        control: Some(control),
+        run: Arc::new(move |task: &mut MotionTask| task.execute_mct(control, source, target, orientation, translation)),
+    })
+}
+
+/// Checks every transform of the program: the target system's URDF chain
+/// against its MCT geometry.
+///
+/// # Errors
+/// [`RunError::Kinematics`] naming the `geometry` table's line, with the
+/// mismatch (what, by how much, at which joint configuration), a mapping
+/// error, or a revolute joint axis not in degrees.
+/// Every MCT call of the program whose target has a `geometry` table:
+/// `(source tag, target tag)`.
+fn transforms(scene: &Scene) -> Vec<(&crate::scene::Tag, &crate::scene::Tag)> {
+    let mut found = Vec::new();
+    for step in &scene.program {
+        let Args::Positional(operands) = &step.call.args else {
+            continue;
+        };
+        if !step.call.name.value.eq_ignore_ascii_case("MCT") || operands.len() != MCT_OPERANDS.len() {
+            continue;
+        }
+        let (Expr::Ident(source), Expr::Ident(target)) = (&operands[0].value, &operands[1].value) else {
+            continue;
+        };
+        if let (Some(source), Some(target)) = (scene.tag(source), scene.tag(target))
+            && target.geometry.is_some()
+        {
+            found.push((source, target));
+        }
+    }
+    found
+}
+
+/// A transform's target robot as the kinematics check sees it.
+struct Chain {
+    geometry: Geometry,
+    mapping: ChainMapping,
+    metres_per_unit: f64,
+    /// The target's joint axes, J1 first: (scene axis index, SI per unit).
+    axes: Vec<(usize, f64)>,
+}
+
+fn chain(scene: &Scene, source: &crate::scene::Tag, target: &crate::scene::Tag) -> Result<Option<Chain>, RunError> {
+    let Some(settings) = &target.geometry else {
+        return Ok(None);
+    };
+    let fail = |message: String| RunError::Kinematics {
+        scene: scene.path.clone(),
+        line: settings.location.line,
+        column: settings.location.column,
+        message: format!("coordinate system '{}': {message}", target.name),
+    };
+    let Ok(geometry) = Geometry::new(settings.kind, &settings.params, settings.transform_dimension) else {
+        return Ok(None);
+    };
+    let members = |tag: &crate::scene::Tag| match &tag.value {
+        Some(TagValue::Axes(m)) => m.clone(),
+        _ => Vec::new(),
+    };
+    let axis_index = |name: &String| scene.axes.iter().position(|a| a.name.eq_ignore_ascii_case(name));
+    let metres_per_unit = members(source)
+        .first()
+        .and_then(axis_index)
+        .map_or(1.0, |i| scene.axes[i].units.si_per_unit());
+    let needed = geometry.dimension() + usize::from(geometry.shares_third_axis());
+    let kinds = geometry.joint_kinds();
+    let mut joints = Vec::new();
+    let mut axes = Vec::new();
+    for (i, member) in members(target).iter().take(needed).enumerate() {
+        let index = axis_index(member).ok_or_else(|| fail(format!("member '{member}' is not an axis")))?;
+        let axis = &scene.axes[index];
+        let si = axis.units.si_per_unit();
+        if kinds[i] == JointKind::Revolute && (si - 1f64.to_radians()).abs() > 1e-15 {
+            return Err(fail(format!(
+                "J{} axis '{member}' is on a revolute joint: MCT needs its units in deg",
+                i + 1
+            )));
+        }
+        let Some(joint) = &axis.joint else {
+            return Err(fail(format!(
+                "J{} axis '{member}' is virtual: a transform's target axes drive joints",
+                i + 1
+            )));
+        };
+        joints.push(joint.clone());
+        axes.push((index, si));
+    }
+    let (Some(base_link), Some(tool_link)) = (&settings.base_link, &settings.tool_link) else {
+        return Err(fail(
+            "a transform's target geometry needs base_link and tool_link to be checked against the URDF".into(),
+        ));
+    };
+    Ok(Some(Chain {
+        geometry,
+        mapping: ChainMapping {
+            joints,
+            base_link: base_link.clone(),
+            tool_link: tool_link.clone(),
+            platform_joints: settings.platform_joints.clone(),
+            forearm_joints: settings.forearm_joints.clone(),
+            forearm_tip_links: settings.forearm_tip_links.clone(),
+            ball_links: settings.ball_links.clone(),
+        },
+        metres_per_unit,
+        axes,
+    }))
+}
+
+/// Checks every transform of the program: the target system's URDF chain
+/// against its MCT geometry.
+///
+/// # Errors
+/// [`RunError::Kinematics`] naming the `geometry` table's line, with the
+/// mismatch (what, by how much, at which joint configuration), a mapping
+/// error, or a revolute joint axis not in degrees.
+pub(super) fn check_transforms(scene: &Scene, model: &RobotModel) -> Result<(), RunError> {
+    for (source, target) in transforms(scene) {
+        let Some(c) = chain(scene, source, target)? else {
+            continue;
+        };
+        let location = target.geometry.as_ref().map(|g| g.location).unwrap_or(target.location);
+        check(model, &c.geometry, &c.mapping, c.metres_per_unit).map_err(|e| RunError::Kinematics {
+            scene: scene.path.clone(),
+            line: location.line,
+            column: location.column,
+            message: format!("coordinate system '{}': {e}", target.name),
+        })?;
+    }
+    Ok(())
+}
+
+/// Position gain (1/s²) and velocity gain (1/s) of the motors that hold a
+/// parallel robot's virtual joints on their kinematic pose: critically
+/// damped at 60 Hz.
+const VIRTUAL_GAINS: (f64, f64) = (142_122.3, 754.0);
+
+/// A parallel robot's virtual joints (platform, forearms), which a URDF
+/// tree cannot close: each physics step they are driven to the pose the MCT
+/// forward kinematics gives for the upper-arm joints' setpoints
+/// ([`crate::kinematics_check::pose_parallel`]); poses from the setpoints
+/// rather than the simulated arms, so the virtual joints add no feedback
+/// loop to the arms' motors.
+pub(super) struct ParallelRig {
+    geometry: Geometry,
+    mapping: ChainMapping,
+    metres_per_unit: f64,
+    /// Drive index of each target axis, J1 first.
+    arm_drives: Vec<usize>,
+    /// (URDF joint index, drive index) of each virtual joint.
+    virtual_drives: Vec<(usize, usize)>,
+    previous: Vec<f64>,
+}
+
+/// Adds a drive (and its initial position) for every virtual joint of each
+/// parallel robot of the program; `axis_drives[i]` is scene axis `i`'s
+/// drive.
+///
+/// # Errors
+/// [`RunError::Kinematics`] when a virtual joint is not in the URDF or the
+/// initial joints have no position.
+pub(super) fn parallel_rigs(
+    scene: &Scene,
+    model: &RobotModel,
+    axis_drives: &[Option<usize>],
+    drives: &mut Vec<JointDrive>,
+    initial: &mut Vec<(String, f64)>,
+) -> Result<Vec<ParallelRig>, RunError> {
+    let mut rigs = Vec::new();
+    for (source, target) in transforms(scene) {
+        let Some(c) = chain(scene, source, target)? else {
+            continue;
+        };
+        if c.geometry.parallel_forearm_length().is_none() {
+            continue;
+        }
+        let location = target.geometry.as_ref().map(|g| g.location).unwrap_or(target.location);
+        let fail = |message: String| RunError::Kinematics {
+            scene: scene.path.clone(),
+            line: location.line,
+            column: location.column,
+            message: format!("coordinate system '{}': {message}", target.name),
+        };
+        let start: Vec<f64> = c
+            .axes
+            .iter()
+            .map(|&(i, si)| scene.axes[i].initial_position * si)
+            .collect();
+        let pose = pose_parallel(model, &c.geometry, &c.mapping, &start, c.metres_per_unit)
+            .map_err(|e| fail(format!("initial joints: {e}")))?;
+        let names = c
+            .mapping
+            .platform_joints
+            .iter()
+            .chain(c.mapping.forearm_joints.iter().flatten());
+        let mut virtual_drives = Vec::new();
+        for name in names {
+            let joint = model
+                .joint_by_name(name)
+                .ok_or_else(|| fail(format!("virtual joint '{name}' is not in the URDF")))?;
+            drives.push(JointDrive {
+                joint: name.clone(),
+                stiffness: VIRTUAL_GAINS.0,
+                damping: VIRTUAL_GAINS.1,
+                max_force: None,
+            });
+            initial.retain(|(n, _)| n != name);
+            initial.push((name.clone(), pose[joint.0]));
+            virtual_drives.push((joint.0, drives.len() - 1));
+        }
+        let arm_drives = c
+            .axes
+            .iter()
+            .map(|&(i, _)| axis_drives[i].ok_or_else(|| fail("a target axis has no joint".into())))
+            .collect::<Result<_, _>>()?;
+        rigs.push(ParallelRig {
+            previous: virtual_drives.iter().map(|&(j, _)| pose[j]).collect(),
+            geometry: c.geometry,
+            mapping: c.mapping,
+            metres_per_unit: c.metres_per_unit,
+            arm_drives,
+            virtual_drives,
+        });
+    }
+    Ok(rigs)
+}
+
+impl ParallelRig {
+    /// Sets the virtual joints' setpoints from the arm joints' setpoints
+    /// (`setpoint(drive)`, URDF units; velocity: the change since the last
+    /// call over `step_s`). Joints with no valid pose keep their setpoints.
+    pub(super) fn drive(
+        &mut self,
+        model: &RobotModel,
+        sim: &mut RobotSim,
+        step_s: f64,
+        setpoint: impl Fn(usize) -> Option<f64>,
+    ) {
+        let Some(arms) = self
+            .arm_drives
+            .iter()
+            .map(|&d| setpoint(d))
+            .collect::<Option<Vec<f64>>>()
+        else {
+            return;
+        };
+        let Ok(mut pose) = pose_parallel(model, &self.geometry, &self.mapping, &arms, self.metres_per_unit) else {
+            return;
+        };
+        // A forearm direction has two (yaw, pitch) pairs, (y, p) and
+        // (y + π, π − p): keep the one continuous with the last setpoints,
+        // unwrapped, so no virtual joint ever jumps.
+        let wrap = |a: f64| a - TAU * (a / TAU).round();
+        let platform = self.mapping.platform_joints.len();
+        for k in (platform..self.virtual_drives.len()).step_by(2) {
+            let (yaw, pitch) = (self.virtual_drives[k].0, self.virtual_drives[k + 1].0);
+            let (last_yaw, last_pitch) = (self.previous[k], self.previous[k + 1]);
+            let distance = |y: f64, p: f64| wrap(y - last_yaw).abs() + wrap(p - last_pitch).abs();
+            let (y, p) = (pose[yaw], pose[pitch]);
+            let (y, p) = if distance(y + PI, PI - p) < distance(y, p) {
+                (y + PI, PI - p)
+            } else {
+                (y, p)
+            };
+            pose[yaw] = last_yaw + wrap(y - last_yaw);
+            pose[pitch] = last_pitch + wrap(p - last_pitch);
+        }
+        for (k, &(joint, drive)) in self.virtual_drives.iter().enumerate() {
+            let q = pose[joint];
+            sim.set_setpoint(drive, q, (q - self.previous[k]) / step_s);
+            self.previous[k] = q;
+        }
+    }
+}
+
+/// Whether the program calls MCT.
+fn uses_mct(scene: &Scene) -> bool {
+    scene
+        .program
+        .iter()
+        .any(|s| s.call.name.value.eq_ignore_ascii_case("MCT"))
+}
+
+/// The transforms' trace columns, present when the program calls MCT: per
+/// coordinate system (in the order the program first uses them)
+/// `<cs>.TransformSourceStatus`, `<cs>.TransformTargetStatus`, then per axis
+/// `<axis>.TransformStateStatus`, `<axis>.ControlledByTransformStatus`.
+pub(super) fn trace_header(scene: &Scene, task: &MotionTask, axes: &[super::AxisBinding]) -> Vec<String> {
+    if !uses_mct(scene) {
+        return Vec::new();
+    }
+    let mut h = Vec::new();
+    for cs in task.coord_handles() {
+        let name = &task.coord_config(cs).name;
+        h.push(format!("{name}.TransformSourceStatus"));
+        h.push(format!("{name}.TransformTargetStatus"));
+    }
+    for a in axes {
+        h.push(format!("{}.TransformStateStatus", a.name));
+        h.push(format!("{}.ControlledByTransformStatus", a.name));
+    }
+    h
+}
+
+/// The values of [`trace_header`]'s columns (0 or 1).
+pub(super) fn trace_row(scene: &Scene, task: &MotionTask, axes: &[super::AxisBinding]) -> Vec<String> {
+    if !uses_mct(scene) {
+        return Vec::new();
+    }
+    let bit = |b: bool| if b { "1" } else { "0" }.to_string();
+    let mut row = Vec::new();
+    for cs in task.coord_handles() {
+        row.push(bit(task.transform_source_status(cs)));
+        row.push(bit(task.transform_target_status(cs)));
+    }
+    for a in axes {
+        row.push(bit(task.transform_state_status(a.handle)));
+        row.push(bit(task.controlled_by_transform_status(a.handle)));
+    }
+    row
+}
