@@ -385,9 +385,7 @@ impl MotionTask {
         slot.stopping = Some(id);
         let (control, bits, source) = (slot.control, slot.mct.bits(), slot.source);
         *self.motion_bits_mut(control) = bits;
-        if let Some(&axis) = self.coord_axes(source).first() {
-            self.release_axis_from_coordinated_motion(axis);
-        }
+        self.bring_system_to_rest(source);
         let dt = self.dt_s;
         if let Some(t) = self.mct.table.get_mut(id) {
             let (cmd, at_rest) = t.stop_step(dt);

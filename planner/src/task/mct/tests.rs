@@ -325,6 +325,10 @@ fn a_cartesian_move_across_a_joint_limit_faults_and_stops_the_joint_short_of_it(
         r.task.update();
     }
     assert!(!r.task.coordinated_motion_status(r.xyz[0]));
+    // Every source axis came to rest with the system (none left behind).
+    for a in r.xyz {
+        assert_eq!(r.task.axis_state(a).command_velocity, 0.0, "{a:?}");
+    }
     assert!(r.task.axis_state(r.j[0]).command_position <= max);
 }
 
