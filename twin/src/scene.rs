@@ -2693,4 +2693,48 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn soft_travel_limits_are_checked_at_the_field() {
+        // Slide starts at robot.initial_joints.slide_joint = 0.1 m = 100 mm.
+        let ok = edited(
+            "in_position_window = 0.05\n",
+            "in_position_window = 0.05\nsoft_travel_limits = [0.0, 300.0]\n",
+        );
+        let scene = parse(&fixtures().join("case.toml"), &ok).expect("limits around 100 mm");
+        assert_eq!(scene.axes[1].soft_travel_limits, Some((0.0, 300.0)));
+        assert_eq!(scene.axes[0].soft_travel_limits, None);
+        for (limits, problem) in [
+            ("[300.0, 0.0]", "order"),
+            ("[0.0, 0.0]", "order"),
+            ("[nan, 300.0]", "finite"),
+            ("[0.0, 50.0]", "outside"),
+        ] {
+            let text = edited(
+                "in_position_window = 0.05\n",
+                &format!("in_position_window = 0.05\nsoft_travel_limits = {limits}\n"),
+            );
+            let e = error_of(&text);
+            assert_place(&e, find(&text, limits), "axes[1].soft_travel_limits");
+            let expected = match problem {
+                "order" => matches!(e.problem(), Some(Problem::SoftTravelLimitsOrder { .. })),
+                "finite" => matches!(e.problem(), Some(Problem::NotFinite { .. })),
+                _ => matches!(
+                    e.problem(),
+                    Some(Problem::OutsideSoftTravelLimits { position, .. }) if (*position - 100.0).abs() < 1e-9
+                ),
+            };
+            assert!(expected, "{limits}: {e}");
+        }
+        let modulo = edited(
+            "modulo_tolerance_window = 0.0\n",
+            "modulo_tolerance_window = 0.0\nsoft_travel_limits = [-90.0, 90.0]\n",
+        );
+        let e = error_of(&modulo);
+        assert_place(&e, find(&modulo, "[-90.0, 90.0]"), "axes[0].soft_travel_limits");
+        assert!(matches!(
+            e.problem(),
+            Some(Problem::SoftTravelLimitsOnModulo { period }) if *period == 360.0
+        ));
+    }
 }
