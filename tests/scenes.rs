@@ -1131,6 +1131,109 @@ fn a_scara_scene_with_a_wrong_link_length_is_refused() {
     Twin::new(twin::scene::load(&path).expect("scene")).expect("scara_pick binds");
 }
 
+/// scara_pick with J1 limited to [-60, -20] deg: the MCCM half circle would
+/// turn J1 up to about +1 deg, so the transform faults with ERR 67 on T1
+/// before J1 reaches -20; J1's command never passes the limit, and every
+/// joint ends at rest.
+#[test]
+fn a_scara_arc_across_a_joint_soft_limit_faults_with_err_67_and_stops_short_of_it() {
+    let text = std::fs::read_to_string(root().join("scenes/scara_pick.toml")).expect("scene");
+    let limited = text.replace(
+        "initial_position = -30.0\n",
+        "initial_position = -30.0\nsoft_travel_limits = [-60.0, -20.0]\n",
+    );
+    assert_ne!(limited, text);
+    let dir = out_dir("scara_soft_limit");
+    let scene = dir.join("scara_soft_limit.toml");
+    let robots = root().join("scenes/robots/scara");
+    std::fs::write(
+        &scene,
+        limited.replace("robots/scara/", &format!("{}/", robots.display())),
+    )
+    .expect("write");
+    let output = twin_cmd()
+        .arg("run")
+        .arg(&scene)
+        .arg("--no-render")
+        .arg("--trace")
+        .arg(dir.join("t.csv"))
+        .output()
+        .expect("run twin");
+    // An instruction error fails the run (exit code 2), outputs written.
+    assert_eq!(
+        output.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let (header, rows) = read_trace(&dir.join("t.csv"));
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("column {name}"))
+    };
+    let (j1, er) = (col("J1.cmd_pos"), col("T1.ER"));
+    let faulted = rows.iter().position(|r| r[er] == 1.0).expect("T1 faults");
+    assert!(
+        rows[..faulted].iter().any(|r| r[col("C1.AC")] == 1.0),
+        "the fault comes during the arc"
+    );
+    let j1_max = rows.iter().map(|r| r[j1]).fold(f64::NEG_INFINITY, f64::max);
+    let j1_min = rows.iter().map(|r| r[j1]).fold(f64::INFINITY, f64::min);
+    assert!(
+        (-60.0..=-20.0).contains(&j1_min) && j1_max <= -20.0,
+        "J1 in [{j1_min}, {j1_max}]"
+    );
+    assert!(j1_max > -25.0, "J1 was driven close to its limit: {j1_max}");
+    let last = rows.last().expect("rows");
+    assert_eq!(last[er], 1.0);
+    assert_eq!(last[col("T1.ERR")], 67.0);
+    assert_eq!(last[col("T1.IP")], 0.0);
+    for axis in ["J1", "J2", "X", "Y"] {
+        assert_eq!(last[col(&format!("{axis}.cmd_vel"))], 0.0, "{axis} at rest");
+    }
+    // The controlled stop decelerates J1 within its maximum (3600 deg/s²).
+    for r in &rows[faulted..] {
+        assert!(
+            r[col("J1.cmd_acc")].abs() <= 3600.0 * (1.0 + 1e-9),
+            "{}",
+            r[col("J1.cmd_acc")]
+        );
+    }
+    assert_eq!(last[col("Joints.TransformTargetStatus")], 0.0);
+}
+
+/// An initial position outside the soft travel limits, the scene's own or
+/// the URDF joint's, is refused by `twin check` with the file, line and
+/// column of the field.
+#[test]
+fn an_initial_position_outside_the_soft_travel_limits_is_refused() {
+    let text = std::fs::read_to_string(root().join("scenes/scara_pick.toml"))
+        .expect("scene")
+        .replace("robots/scara/", "@ROBOTS@/scara/");
+    let line_of = |text: &str, needle: &str| text[..text.find(needle).expect(needle)].matches('\n').count() + 1;
+    let own = text.replace(
+        "initial_position = -30.0\n",
+        "initial_position = -30.0\nsoft_travel_limits = [-20.0, 20.0]\n",
+    );
+    let err = check_fails(&own, &[], "soft_limit_own");
+    let at = format!("scene.toml:{}:", line_of(&own, "initial_position = -30.0"));
+    assert!(err.contains(&at) && err.contains("axes[2].initial_position"), "{err}");
+    let unordered = text.replace(
+        "initial_position = -30.0\n",
+        "initial_position = -30.0\nsoft_travel_limits = [20.0, -20.0]\n",
+    );
+    let err = check_fails(&unordered, &[], "soft_limit_unordered");
+    let at = format!("scene.toml:{}:", line_of(&unordered, "soft_travel_limits"));
+    assert!(err.contains(&at) && err.contains("axes[2].soft_travel_limits"), "{err}");
+    // j1's URDF limit is ±2.6 rad (±148.97 deg).
+    let urdf = text.replace("initial_position = -30.0\n", "initial_position = -150.0\n");
+    let err = check_fails(&urdf, &[], "soft_limit_urdf");
+    let at = format!("scene.toml:{}:", line_of(&urdf, "joint = \"j1\""));
+    assert!(err.contains(&at) && err.contains("j1"), "{err}");
+}
+
 #[test]
 fn articulated_arc_frames_match_snapshots() {
     assert_scene_frames_match_snapshots("scenes/articulated_arc.toml", "articulated_arc_snapshots");

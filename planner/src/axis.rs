@@ -78,6 +78,13 @@ pub struct AxisConfig {
     /// standstill whose start is at most this far from its modulo target takes
     /// the shortest way to it, whatever the direction asked.
     pub modulo_tolerance_window: f64,
+    /// Soft travel limits `(min, max)`, axis units (Logix
+    /// `SoftTravelLimitNegative`, `SoftTravelLimitPositive` with soft
+    /// overtravel checking on) (default: none). Finite, `min < max`, not on a
+    /// modulo axis; the initial position must lie inside
+    /// ([`crate::task::MotionTask::add_axis`]). Which commands respect them:
+    /// see [`crate::task`] module `mct`.
+    pub soft_travel_limits: Option<(f64, f64)>,
 }
 
 impl AxisConfig {
@@ -94,6 +101,7 @@ impl AxisConfig {
             in_position_window: 0.01,
             target_position_monitoring: true,
             modulo_tolerance_window: 0.0,
+            soft_travel_limits: None,
         }
     }
 
@@ -119,7 +127,29 @@ impl AxisConfig {
                 period: p,
             });
         }
+        if let Some((min, max)) = self.soft_travel_limits {
+            if !(min.is_finite() && max.is_finite() && min < max) {
+                return Err(AxisConfigError::SoftTravelLimits { min, max });
+            }
+            if let Some(period) = self.modulo_period {
+                return Err(AxisConfigError::SoftTravelLimitsOnModulo { period });
+            }
+        }
         Ok(())
+    }
+
+    /// Checks that `position` (axis units) lies within the soft travel
+    /// limits, bounds included (always true without limits).
+    ///
+    /// # Errors
+    /// [`AxisConfigError::OutsideSoftTravelLimits`].
+    pub fn check_soft_travel_limits(&self, position: f64) -> Result<(), AxisConfigError> {
+        match self.soft_travel_limits {
+            Some((min, max)) if !(min..=max).contains(&position) => {
+                Err(AxisConfigError::OutsideSoftTravelLimits { position, min, max })
+            }
+            _ => Ok(()),
+        }
     }
 
     /// The modulo period, if the axis is modulo.
@@ -155,6 +185,31 @@ pub enum AxisConfigError {
         window: f64,
         /// The period.
         period: f64,
+    },
+    /// Soft travel limits that are not finite or not `min < max`.
+    #[error("soft_travel_limits [{min}, {max}] must be finite with min < max")]
+    SoftTravelLimits {
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
+    },
+    /// Soft travel limits on a modulo axis (its position wraps; Logix checks
+    /// soft overtravel only on linear positioning).
+    #[error("soft_travel_limits are not allowed on a modulo axis (period {period})")]
+    SoftTravelLimitsOnModulo {
+        /// The modulo period.
+        period: f64,
+    },
+    /// A position (the initial position) outside the soft travel limits.
+    #[error("position {position} is outside the soft travel limits [{min}, {max}]")]
+    OutsideSoftTravelLimits {
+        /// The position.
+        position: f64,
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
     },
     /// The initial position is not finite.
     #[error("axis initial position must be finite, got {value}")]
@@ -252,5 +307,36 @@ mod tests {
             c.validate(),
             Err(AxisConfigError::ToleranceWindowTooWide { .. })
         ));
+    }
+
+    #[test]
+    fn soft_travel_limits_must_be_finite_ordered_and_not_modulo() {
+        let mut c = AxisConfig::new("J1", AxisKind::Rotary);
+        for bad in [(10.0, 10.0), (10.0, -10.0), (f64::NAN, 1.0), (-1.0, f64::INFINITY)] {
+            c.soft_travel_limits = Some(bad);
+            assert!(
+                matches!(c.validate(), Err(AxisConfigError::SoftTravelLimits { .. })),
+                "{bad:?}"
+            );
+        }
+        c.soft_travel_limits = Some((-90.0, 90.0));
+        assert_eq!(c.validate(), Ok(()));
+        assert_eq!(c.check_soft_travel_limits(90.0), Ok(()));
+        assert_eq!(c.check_soft_travel_limits(-90.0), Ok(()));
+        assert_eq!(
+            c.check_soft_travel_limits(90.5),
+            Err(AxisConfigError::OutsideSoftTravelLimits {
+                position: 90.5,
+                min: -90.0,
+                max: 90.0
+            })
+        );
+        c.modulo_period = Some(360.0);
+        assert_eq!(
+            c.validate(),
+            Err(AxisConfigError::SoftTravelLimitsOnModulo { period: 360.0 })
+        );
+        c.soft_travel_limits = None;
+        assert_eq!(c.check_soft_travel_limits(1e9), Ok(()));
     }
 }

@@ -169,7 +169,8 @@ impl MotionTask {
     /// Adds an axis at rest at `initial_position` (axis units).
     ///
     /// # Errors
-    /// [`TaskError::Axis`] when the configuration or the position is invalid.
+    /// [`TaskError::Axis`] when the configuration or the position is invalid
+    /// (not finite, or outside the axis' soft travel limits).
     pub fn add_axis(&mut self, config: AxisConfig, initial_position: f64) -> Result<AxisHandle, TaskError> {
         let err = |source| TaskError::Axis {
             name: config.name.clone(),
@@ -181,6 +182,7 @@ impl MotionTask {
                 value: initial_position,
             }));
         }
+        config.check_soft_travel_limits(initial_position).map_err(err)?;
         self.axes.push(AxisSlot {
             config,
             command: Sample {

@@ -40,6 +40,7 @@ pub mod cam;
 mod collide;
 pub mod coord;
 pub use collide::Prediction;
+pub mod limits;
 pub mod logix;
 pub mod mct;
 
@@ -349,7 +350,7 @@ impl Twin {
                 column: axis.joint_location.column,
                 message,
             };
-            let config = axis_config(axis);
+            let config = limits::with_urdf_limits(axis_config(axis), axis, &model).map_err(joint_error)?;
             let handle = task
                 .add_axis(config, axis.initial_position)
                 .map_err(|source| RunError::Planner {
@@ -781,6 +782,7 @@ pub fn axis_config(axis: &crate::scene::Axis) -> AxisConfig {
         in_position_window: axis.in_position_window,
         target_position_monitoring: axis.target_position_monitoring,
         modulo_tolerance_window: axis.modulo_tolerance_window,
+        soft_travel_limits: axis.soft_travel_limits,
         ..AxisConfig::new(axis.name.clone(), kind)
     }
 }

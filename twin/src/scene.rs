@@ -229,6 +229,9 @@ pub struct Axis {
     pub modulo_tolerance_window: f64,
     /// Initial position, axis units (default: 0, or from `robot.initial_joints`).
     pub initial_position: f64,
+    /// Soft travel limits `(min, max)`, axis units (default: none here; the
+    /// run then takes the joint's URDF `<limit>` — see `run::limits`).
+    pub soft_travel_limits: Option<(f64, f64)>,
     /// Joint motor gains.
     pub motor: MotorGains,
     /// Where the `[[axes]]` entry's `name` is written.
@@ -816,6 +819,30 @@ pub enum Problem {
         /// The joint's initial position, rad or m.
         joint_position_si: f64,
     },
+    /// `soft_travel_limits` not ordered `[min, max]` with min < max.
+    #[error("soft_travel_limits = [{min}, {max}] must have min < max")]
+    SoftTravelLimitsOrder {
+        /// The first element.
+        min: f64,
+        /// The second element.
+        max: f64,
+    },
+    /// `soft_travel_limits` on a modulo axis.
+    #[error("soft_travel_limits are not allowed on a modulo axis (modulo_period = {period})")]
+    SoftTravelLimitsOnModulo {
+        /// The modulo period.
+        period: f64,
+    },
+    /// The initial position outside the soft travel limits.
+    #[error("initial position {position} is outside soft_travel_limits = [{min}, {max}]")]
+    OutsideSoftTravelLimits {
+        /// The initial position, axis units.
+        position: f64,
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
+    },
     /// Two axes driving one joint.
     #[error("joint '{joint}' is already driven by axis '{other_axis}'")]
     SharedJoint {
@@ -1071,6 +1098,7 @@ struct RawAxis {
     target_position_monitoring: Option<bool>,
     modulo_tolerance_window: Option<Spanned<f64>>,
     initial_position: Option<Spanned<f64>>,
+    soft_travel_limits: Option<Spanned<[f64; 2]>>,
     motor: Option<Spanned<MotorGains>>,
 }
 
@@ -1544,6 +1572,38 @@ impl Ctx<'_> {
                 (None, Some(si)) => si / units.si_per_unit(),
                 (None, None) => 0.0,
             };
+            let soft_travel_limits = match &a.soft_travel_limits {
+                Some(l) => {
+                    let [min, max] = self.finite_array(l, &f("soft_travel_limits"))?;
+                    if min >= max {
+                        return Err(self.invalid(
+                            l,
+                            f("soft_travel_limits"),
+                            Problem::SoftTravelLimitsOrder { min, max },
+                        ));
+                    }
+                    if let Some(period) = modulo_period {
+                        return Err(self.invalid(
+                            l,
+                            f("soft_travel_limits"),
+                            Problem::SoftTravelLimitsOnModulo { period },
+                        ));
+                    }
+                    if !(min..=max).contains(&initial_position) {
+                        let problem = Problem::OutsideSoftTravelLimits {
+                            position: initial_position,
+                            min,
+                            max,
+                        };
+                        return Err(match &a.initial_position {
+                            Some(p) => self.invalid(p, f("initial_position"), problem),
+                            None => self.invalid(l, f("soft_travel_limits"), problem),
+                        });
+                    }
+                    Some((min, max))
+                }
+                None => None,
+            };
             axes.push(Axis {
                 name,
                 joint,
@@ -1559,6 +1619,7 @@ impl Ctx<'_> {
                 target_position_monitoring: a.target_position_monitoring.unwrap_or(true),
                 modulo_tolerance_window,
                 initial_position,
+                soft_travel_limits,
                 motor,
                 location: self.loc(&a.name),
             });
@@ -2631,5 +2692,49 @@ mod tests {
                 assert!(!line.is_empty() && !line.contains('\n'), "{line:?}");
             }
         }
+    }
+
+    #[test]
+    fn soft_travel_limits_are_checked_at_the_field() {
+        // Slide starts at robot.initial_joints.slide_joint = 0.1 m = 100 mm.
+        let ok = edited(
+            "in_position_window = 0.05\n",
+            "in_position_window = 0.05\nsoft_travel_limits = [0.0, 300.0]\n",
+        );
+        let scene = parse(&fixtures().join("case.toml"), &ok).expect("limits around 100 mm");
+        assert_eq!(scene.axes[1].soft_travel_limits, Some((0.0, 300.0)));
+        assert_eq!(scene.axes[0].soft_travel_limits, None);
+        for (limits, problem) in [
+            ("[300.0, 0.0]", "order"),
+            ("[0.0, 0.0]", "order"),
+            ("[nan, 300.0]", "finite"),
+            ("[0.0, 50.0]", "outside"),
+        ] {
+            let text = edited(
+                "in_position_window = 0.05\n",
+                &format!("in_position_window = 0.05\nsoft_travel_limits = {limits}\n"),
+            );
+            let e = error_of(&text);
+            assert_place(&e, find(&text, limits), "axes[1].soft_travel_limits");
+            let expected = match problem {
+                "order" => matches!(e.problem(), Some(Problem::SoftTravelLimitsOrder { .. })),
+                "finite" => matches!(e.problem(), Some(Problem::NotFinite { .. })),
+                _ => matches!(
+                    e.problem(),
+                    Some(Problem::OutsideSoftTravelLimits { position, .. }) if (*position - 100.0).abs() < 1e-9
+                ),
+            };
+            assert!(expected, "{limits}: {e}");
+        }
+        let modulo = edited(
+            "modulo_tolerance_window = 0.0\n",
+            "modulo_tolerance_window = 0.0\nsoft_travel_limits = [-90.0, 90.0]\n",
+        );
+        let e = error_of(&modulo);
+        assert_place(&e, find(&modulo, "[-90.0, 90.0]"), "axes[0].soft_travel_limits");
+        assert!(matches!(
+            e.problem(),
+            Some(Problem::SoftTravelLimitsOnModulo { period }) if *period == 360.0
+        ));
     }
 }

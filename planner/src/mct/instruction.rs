@@ -57,6 +57,12 @@
 //!   are then stopped in joint space, each at its axis' maximum
 //!   deceleration, from the last valid command ([`Transform::stop_step`]), so
 //!   no command ever exceeds an axis' maximum speed.
+//! * **Soft travel limits** ([`JointAxis::limits`]): a joint position beyond
+//!   them is ERR 67 at execution and a fault while running. A running
+//!   transform also faults (ERR 67, [`TransformFault::StoppingBeyondLimit`])
+//!   as soon as a joint could no longer stop inside its limits at its axis'
+//!   maximum deceleration, so the controlled stop that follows never commands
+//!   a joint beyond a limit: the joint comes to rest short of it.
 //! * Joint command velocities are the position increment of the update
 //!   divided by the update period, so positions and velocities agree.
 //! * Re-execution needs the same two systems (else ERR 61/EXERR 5 or 6 as for
@@ -296,6 +302,25 @@ pub enum TransformFault {
     /// The source position has no valid joint position.
     #[error("invalid transform position: {0}")]
     Position(#[from] PositionError),
+    /// A joint's new command is within its soft travel limits, but stopping
+    /// it from there at its axis' maximum deceleration would carry it past a
+    /// limit: the transform faults one update earlier, from a command whose
+    /// controlled stop stays inside.
+    #[error(
+        "joint {joint} at {position} could not stop before its soft travel limit [{min}, {max}] (it would stop at {stop_position})"
+    )]
+    StoppingBeyondLimit {
+        /// The joint (0-based).
+        joint: u8,
+        /// The joint command the source command would need, axis units.
+        position: f64,
+        /// Where the controlled stop from that command would end.
+        stop_position: f64,
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
+    },
     /// A joint would have to move faster than its axis allows.
     #[error("joint {joint} would need {required} units/s, its axis allows {max}")]
     JointSpeed {
@@ -479,9 +504,12 @@ impl Transform {
     /// Velocities are `(new − last) / dt_s`. Nothing is changed on error.
     ///
     /// # Errors
-    /// [`TransformFault::Position`] when `source` has no valid joint position;
+    /// [`TransformFault::Position`] when `source` has no valid joint position
+    /// (including a joint beyond its soft travel limits);
     /// [`TransformFault::JointSpeed`] when a joint would move faster than its
-    /// axis' maximum speed. The executor then calls [`Transform::stop_step`]
+    /// axis' maximum speed; [`TransformFault::StoppingBeyondLimit`] when a
+    /// joint's controlled stop ([`Transform::stop_step`]) from its new command
+    /// would end beyond a soft travel limit. The executor then calls [`Transform::stop_step`]
     /// each update until it reports the joints at rest, and stops the source.
     pub fn follow_source(&mut self, source: Vec3, dt_s: f64) -> Result<AxesCommand, TransformFault> {
         let joints = self.joints_of(source)?;
@@ -496,6 +524,19 @@ impl Transform {
                 });
             }
             velocities[i] = v;
+            if let Some((min, max)) = axis.limits {
+                let d = stop_travel(v, axis.max_deceleration * dt_s, dt_s);
+                let stop_position = joints[i] + d.copysign(v);
+                if !(min..=max).contains(&stop_position) {
+                    return Err(TransformFault::StoppingBeyondLimit {
+                        joint: i as u8,
+                        position: joints[i],
+                        stop_position,
+                        min,
+                        max,
+                    });
+                }
+            }
         }
         let mut s = source;
         self.trim(&mut s);
@@ -555,14 +596,24 @@ impl Transform {
     /// One coarse update of the controlled stop after a fault: each joint
     /// slows from its last command velocity at its axis' maximum
     /// deceleration. Returns the joint commands and whether every joint is at
-    /// rest. Speeds only fall, so none exceeds the axis maximum.
+    /// rest. Speeds only fall, so none exceeds the axis maximum; every
+    /// command [`Transform::follow_source`] accepted can stop inside the soft
+    /// travel limits, so none is passed (a position is also clamped to its
+    /// limits, which absorbs rounding of the last ulp).
     pub fn stop_step(&mut self, dt_s: f64) -> (AxesCommand, bool) {
         let mut at_rest = true;
         for (i, axis) in self.joint_axes.iter().enumerate() {
             let v0 = self.joints.velocities[i];
             let dv = axis.max_deceleration * dt_s;
-            let v1 = if v0.abs() <= dv { 0.0 } else { v0 - dv * v0.signum() };
-            self.joints.positions[i] += 0.5 * (v0 + v1) * dt_s;
+            let mut v1 = if v0.abs() <= dv { 0.0 } else { v0 - dv * v0.signum() };
+            let mut p = self.joints.positions[i] + 0.5 * (v0 + v1) * dt_s;
+            if let Some((min, max)) = axis.limits
+                && !(min..=max).contains(&p)
+            {
+                p = p.clamp(min, max);
+                v1 = 0.0;
+            }
+            self.joints.positions[i] = p;
             self.joints.velocities[i] = v1;
             at_rest &= v1 == 0.0;
         }
@@ -817,6 +868,24 @@ impl TransformTable {
         }
         Ok((geometry, placement))
     }
+}
+
+/// The distance [`Transform::stop_step`] travels from speed `v` with speed
+/// steps `dv` per update of `dt_s`: `n` full steps down to the remainder `r`,
+/// then one update from `r` to rest, each update at its mean speed.
+fn stop_travel(v: f64, dv: f64, dt_s: f64) -> f64 {
+    let v = v.abs();
+    if v <= dv {
+        return 0.5 * v * dt_s;
+    }
+    let mut n = (v / dv).floor();
+    let mut r = v - n * dv;
+    if r <= 0.0 {
+        // v is a whole number of steps: the last full step ends at rest.
+        n -= 1.0;
+        r = dv;
+    }
+    (n * v - 0.5 * dv * n * n + 0.5 * r) * dt_s
 }
 
 fn check_in_plane(orientation_deg: Vec3, translation: Vec3, dimension: usize) -> Result<(), MctError> {

@@ -898,6 +898,21 @@ impl MotionTask {
         }
     }
 
+    /// Hook for an MCT fault: `cs`'s coordinated motion comes to rest along
+    /// its path with its moves' own deceleration, every axis kept on the
+    /// path (nothing is taken from the system).
+    pub(super) fn bring_system_to_rest(&mut self, cs: CoordHandle) {
+        let sys = &self.coord.systems[cs.0 as usize];
+        if sys.components.is_empty() && sys.pending.is_none() {
+            return;
+        }
+        self.bring_to_rest(cs, None);
+        let st = &mut self.coord.systems[cs.0 as usize].status;
+        st.move_ = false;
+        st.move_transition = false;
+        self.refresh_queue_status(cs);
+    }
+
     /// Hook for [`MotionTask::stop_all_axes`]: every moving system comes to
     /// rest along its path with the system's maximum deceleration (its
     /// moves' own where that is 0); its MCS, if one is stopping it, no longer

@@ -28,9 +28,27 @@
 //!   EXERR 1, 13 and 14 cannot arise here (they are tested on
 //!   [`crate::mct::instruction`]). EXERR 10 is any single-axis command or
 //!   coordinated move on an axis of either system.
-//! * Joint axes: maximum speed and deceleration from their
-//!   [`crate::axis::AxisConfig`]; no soft travel limits (the axis
-//!   configuration has none).
+//! * Joint axes: maximum speed, deceleration and soft travel limits from
+//!   their [`crate::axis::AxisConfig`]. A Cartesian command that would put a
+//!   joint beyond its limit — or so close to it, that fast, that the joint
+//!   could not stop before it — faults the transform with ERR 67 on the MCT
+//!   control structure, exactly like a position out of reach: the source
+//!   system's move is brought to rest along its path and the joints stop at
+//!   their maximum deceleration, short of the limit. No joint command
+//!   produced by a transform is ever beyond a soft travel limit.
+//!
+//! # Soft travel limits and the other commands (a choice)
+//! Soft travel limits guard what a *transform* commands: a joint position is
+//! a consequence of a Cartesian command there, invisible to the program, so
+//! the executor checks it. Every other command names its axis positions
+//! directly and is **not** checked against the limits: single-axis moves
+//! (MC_MoveModulo, which needs a modulo axis, where limits are refused
+//! anyway), jogs (MAJ), cams (MAPC), MRP and coordinated moves (MCLM/MCCM)
+//! on a joint system without a running transform. Logix reports a soft
+//! overtravel as an axis fault (with its fault action) rather than as an
+//! instruction error, and this task models no axis faults. While a transform
+//! runs, a joint move that ends beyond a limit ends the link (ERR 67 on the
+//! MCT structure) but not the joint move itself.
 
 use super::{AxisHandle, CoordHandle, InstructionHandle, MotionTask};
 use crate::mct::instruction::{
@@ -155,7 +173,7 @@ impl MotionTask {
                 JointAxis {
                     max_speed: c.max_velocity,
                     max_deceleration: c.max_deceleration,
-                    limits: None,
+                    limits: c.soft_travel_limits,
                 }
             })
             .collect();
@@ -367,9 +385,7 @@ impl MotionTask {
         slot.stopping = Some(id);
         let (control, bits, source) = (slot.control, slot.mct.bits(), slot.source);
         *self.motion_bits_mut(control) = bits;
-        if let Some(&axis) = self.coord_axes(source).first() {
-            self.release_axis_from_coordinated_motion(axis);
-        }
+        self.bring_system_to_rest(source);
         let dt = self.dt_s;
         if let Some(t) = self.mct.table.get_mut(id) {
             let (cmd, at_rest) = t.stop_step(dt);

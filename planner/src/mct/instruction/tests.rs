@@ -677,3 +677,30 @@ fn random_straight_moves_never_command_a_joint_above_its_speed_or_nan() {
         "{faults} faults, {completed} completed moves"
     );
 }
+
+#[test]
+fn the_predicted_stopping_travel_is_what_the_controlled_stop_travels() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(67);
+    for case in 0..2000 {
+        let dt = rng.random_range(0.0005..0.02);
+        let dv = rng.random_range(0.01..100.0) * dt;
+        // Whole multiples of the step are the edge case of the formula.
+        let v = if case % 4 == 0 {
+            dv * f64::from(rng.random_range(0..50))
+        } else {
+            rng.random_range(-500.0..500.0)
+        };
+        let (mut p, mut u) = (0.0, v);
+        while u != 0.0 {
+            let u1 = if u.abs() <= dv { 0.0 } else { u - dv * u.signum() };
+            p += 0.5 * (u + u1) * dt;
+            u = u1;
+        }
+        let predicted = stop_travel(v, dv, dt).copysign(v);
+        assert!(
+            (p - predicted).abs() <= 1e-9 * (1.0 + p.abs()),
+            "v {v} dv {dv} dt {dt}: {p} vs {predicted}"
+        );
+    }
+}

@@ -9,7 +9,7 @@ use crate::coord::{CoordMoveInputs, CoordinateSystemConfig, McsInputs};
 use crate::mccm::MccmInputs;
 use crate::mct::Geometry;
 use crate::mct::Placement;
-use crate::task::CoordCall;
+use crate::task::{CoordCall, TaskError};
 
 const DT: f64 = 0.004;
 
@@ -33,12 +33,18 @@ fn params() -> GeometryParams {
 
 /// Cartesian X, Y, Z → SCARA J1, J2 with the shared Z, joints at `q_deg`.
 fn scara(q_deg: [f64; 2]) -> Robot {
+    scara_limited(q_deg, [None, None])
+}
+
+/// As [`scara`], with soft travel limits on J1, J2 (degrees).
+fn scara_limited(q_deg: [f64; 2], limits: [Option<(f64, f64)>; 2]) -> Robot {
     let mut task = MotionTask::new(DT).unwrap();
     let lin = |n: &str| AxisConfig {
         max_velocity: 2.0,
         ..AxisConfig::new(n, AxisKind::Linear)
     };
-    let rot = |n: &str| AxisConfig {
+    let rot = |n: &str, soft_travel_limits| AxisConfig {
+        soft_travel_limits,
         max_velocity: 360.0,
         max_acceleration: 3600.0,
         max_deceleration: 3600.0,
@@ -47,8 +53,8 @@ fn scara(q_deg: [f64; 2]) -> Robot {
     let x = task.add_axis(lin("X"), 0.0).unwrap();
     let y = task.add_axis(lin("Y"), 0.0).unwrap();
     let z = task.add_axis(lin("Z"), 0.1).unwrap();
-    let j1 = task.add_axis(rot("J1"), q_deg[0]).unwrap();
-    let j2 = task.add_axis(rot("J2"), q_deg[1]).unwrap();
+    let j1 = task.add_axis(rot("J1", limits[0]), q_deg[0]).unwrap();
+    let j2 = task.add_axis(rot("J2", limits[1]), q_deg[1]).unwrap();
     let system = |name: &str, primary| CoordinateSystemConfig {
         axis_count: 3,
         primary_axes: primary,
@@ -256,6 +262,99 @@ fn a_move_out_of_reach_faults_and_stops_the_joints_within_their_limits() {
         r.task.update();
     }
     assert!(!r.task.coordinated_motion_status(r.xyz[0]));
+}
+
+#[test]
+fn a_cartesian_move_across_a_joint_limit_faults_and_stops_the_joint_short_of_it() {
+    let (min, max) = (-20.0, 25.0);
+    let mut r = scara_limited([0.0, 60.0], [Some((min, max)), None]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    assert!(r.task.motion_bits(r.mct).ip);
+    // A straight line to where J1 would be at 70°: J1 turns through 25°.
+    let end = geometry()
+        .forward([70f64.to_radians(), 60f64.to_radians(), 0.0])
+        .unwrap();
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![end[0], end[1], 0.1],
+        speed: 0.5,
+        accel_rate: 5.0,
+        decel_rate: 5.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    let mut faulted_at = None;
+    let mut j1_max = f64::NEG_INFINITY;
+    for k in 0..3000 {
+        r.task.update();
+        if faulted_at.is_none() && r.task.motion_bits(r.mct).er {
+            faulted_at = Some(k);
+        }
+        let j1 = r.task.axis_state(r.j[0]);
+        j1_max = j1_max.max(j1.command_position);
+        assert!(
+            (min..=max).contains(&j1.command_position),
+            "{k}: J1 command {} beyond its limits",
+            j1.command_position
+        );
+        for j in r.j {
+            let s = r.task.axis_state(j);
+            assert!(
+                s.command_velocity.is_finite() && s.command_velocity.abs() <= 360.0,
+                "{k}: {s:?}"
+            );
+            if faulted_at.is_some() {
+                // The controlled stop decelerates within the axis maximum.
+                assert!(s.command_acceleration.abs() <= 3600.0 * (1.0 + 1e-9), "{k}: {s:?}");
+            }
+        }
+        if faulted_at.is_some() && !r.task.transform_state_status(r.j[0]) {
+            break;
+        }
+    }
+    let b = r.task.motion_bits(r.mct);
+    assert!(faulted_at.is_some() && b.er && b.err == 67 && !b.ip && b.dn, "{b:?}");
+    // The transform drove J1 most of the way to its limit before it faulted.
+    assert!(j1_max > 20.0 && j1_max <= max, "{j1_max}");
+    assert!(!r.task.transform_state_status(r.j[0]));
+    for j in r.j {
+        assert_eq!(r.task.axis_state(j).command_velocity, 0.0);
+    }
+    for _ in 0..500 {
+        r.task.update();
+    }
+    assert!(!r.task.coordinated_motion_status(r.xyz[0]));
+    // Every source axis came to rest with the system (none left behind).
+    for a in r.xyz {
+        assert_eq!(r.task.axis_state(a).command_velocity, 0.0, "{a:?}");
+    }
+    assert!(r.task.axis_state(r.j[0]).command_position <= max);
+}
+
+#[test]
+fn an_axis_cannot_start_beyond_its_limit_and_mct_refuses_a_joint_redefined_beyond_it() {
+    let mut task = MotionTask::new(DT).unwrap();
+    let limited = AxisConfig {
+        soft_travel_limits: Some((-10.0, 10.0)),
+        ..AxisConfig::new("J", AxisKind::Rotary)
+    };
+    assert!(matches!(
+        task.add_axis(limited.clone(), 11.0),
+        Err(TaskError::Axis {
+            source: crate::axis::AxisConfigError::OutsideSoftTravelLimits { .. },
+            ..
+        })
+    ));
+    assert!(task.add_axis(limited, 10.0).is_ok());
+    // MRP is not checked (module doc); MCT then refuses the joint: ERR 67.
+    let mut r = scara_limited([0.0, 60.0], [None, Some((-150.0, 150.0))]);
+    let mrp = r.task.add_instruction("MRP1");
+    r.task.mrp(r.j[1], mrp, 0, 1, 151.0).unwrap();
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let b = r.task.motion_bits(r.mct);
+    assert!(b.er && b.err == 67 && !b.ip && !b.dn, "{b:?}");
+    assert!(!r.task.transform_state_status(r.j[1]));
 }
 
 #[test]
