@@ -436,6 +436,7 @@ impl MotionTask {
         slot.rung = true;
         self.scan_coord_instruction(h);
         self.coord.instructions[h.0 as usize].rung = false;
+        self.started_before_update(h);
     }
 
     /// The coordinated instruction bound to a control structure, if any.

@@ -43,6 +43,9 @@ pub const ERR_PATH_COLLISION: i32 = 200;
 /// When a component started, and the state to restore if it is undone.
 #[derive(Debug, Clone)]
 pub(super) struct Start {
+    /// The update that first advances it: the current one when it starts
+    /// inside [`MotionTask::update`], the next one when it starts in
+    /// [`MotionTask::execute_coordinated`] between updates.
     update: u64,
     /// The system was idle: its axes' commands and direction memories, and
     /// the system's velocity and acceleration memories, before the start.
@@ -102,8 +105,22 @@ impl MotionTask {
         }
     }
 
+    /// Hook for [`MotionTask::execute_coordinated`]: a move it started
+    /// between two updates is first advanced by the next one.
+    pub(super) fn started_before_update(&mut self, h: CoordInstructionHandle) {
+        let updates = self.updates;
+        for sys in &mut self.coord.systems {
+            for c in &mut sys.components {
+                if c.instr == Some(h) && c.start.update == updates {
+                    c.start.update = updates + 1;
+                }
+            }
+        }
+    }
+
     /// The coordinated moves that started in the last [`MotionTask::update`]
-    /// (or [`MotionTask::execute_coordinated`] since), in system order.
+    /// (a move executed with [`MotionTask::execute_coordinated`] between two
+    /// updates counts as started in the second), in system order.
     pub fn coord_moves_started(&self) -> Vec<StartedCoordMove<'_>> {
         let mut v = Vec::new();
         for (i, sys) in self.coord.systems.iter().enumerate() {
@@ -164,7 +181,7 @@ impl MotionTask {
             };
             cancelled.extend(sys.pending.take().map(|(h, _)| h));
             let c = &sys.components[k];
-            let undo = c.start.update == updates
+            let undo = c.start.update >= updates
                 && sys.components.len() == 1
                 && c.start.idle.as_ref().is_some_and(IdleState::at_rest);
             if undo {

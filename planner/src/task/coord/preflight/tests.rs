@@ -229,3 +229,33 @@ fn a_move_rejected_after_its_first_update_brakes_within_its_deceleration() {
     assert!(y > y0 && y < 5.0, "braked along the path: {y}");
     assert_eq!(v_prev, 0.0);
 }
+
+#[test]
+fn a_move_executed_between_updates_is_reported_and_undone_after_the_next_update() {
+    let (mut task, cs, axes) = xy([0.0, 0.0]);
+    task.update();
+    let before = bits(&task, &axes);
+    let mc = task.add_instruction("MC1");
+    task.execute_coordinated(cs, mc, arc([0.0, 0.0], 0));
+    assert!(task.coord_moves_started().is_empty(), "not advanced yet");
+    task.update();
+    let h = task.coord_instruction_of(mc).unwrap();
+    let started = task.coord_moves_started();
+    assert_eq!((started.len(), started[0].instruction, started[0].progress), (1, h, DT));
+    task.update();
+    assert!(task.coord_moves_started().is_empty(), "reported once");
+    // Rejected after its second update it brakes; after its first it is undone.
+    assert!(task.reject_coord_move(h));
+    task.update();
+    assert_ne!(bits(&task, &axes), before);
+    let (mut fresh, cs2, axes2) = xy([0.0, 0.0]);
+    fresh.update();
+    let mc2 = fresh.add_instruction("MC1");
+    fresh.execute_coordinated(cs2, mc2, arc([0.0, 0.0], 0));
+    fresh.update();
+    assert!(fresh.reject_coord_move(fresh.coord_instruction_of(mc2).unwrap()));
+    for _ in 0..50 {
+        fresh.update();
+        assert_eq!(bits(&fresh, &axes2), before);
+    }
+}
