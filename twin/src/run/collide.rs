@@ -54,10 +54,10 @@ use crate::collision::{
     PredictedCollision,
 };
 use crate::scene::{CollisionSettings, Preflight, Reaction};
-use planner::coord::{Driver, PathGeometry};
+use planner::coord::{CoordMove, Driver, PathGeometry};
 use planner::modulo::MoveModuloError;
 use planner::profile::Profile;
-use planner::task::{CoordHandle, StartedCoordMove};
+use planner::task::CoordHandle;
 use serde::Serialize;
 
 /// A pre-flight sweep that predicted a collision.
@@ -179,8 +179,8 @@ struct CoordMovePath {
 }
 
 impl CoordMovePath {
-    fn new(mv: &StartedCoordMove<'_>, primary: usize, axes: Vec<Option<AxisJoint>>, base: Vec<f64>) -> Self {
-        let path = mv.mv.path().clone();
+    fn new(mv: &CoordMove, profile: &Profile, primary: usize, axes: Vec<Option<AxisJoint>>, base: Vec<f64>) -> Self {
+        let path = mv.path().clone();
         let length = path.length();
         let is_arc = path.arc().is_some();
         let mut rates = vec![0.0; base.len()];
@@ -197,7 +197,7 @@ impl CoordMovePath {
         }
         Self {
             path,
-            profile: mv.profile.clone(),
+            profile: profile.clone(),
             axes,
             base,
             rates,
@@ -450,7 +450,13 @@ impl Twin {
                 continue;
             }
             let primary = self.task.coord_config(mv.system).primary_axes;
-            let path = CoordMovePath::new(&mv, primary, self.coord_axis_joints(mv.system), base.clone());
+            let path = CoordMovePath::new(
+                mv.mv,
+                mv.profile,
+                primary,
+                self.coord_axis_joints(mv.system),
+                base.clone(),
+            );
             let name = self.task.coord_instruction_name(mv.instruction).to_string();
             swept.push((mv.instruction, name, path, now_s - mv.progress));
         }
@@ -505,5 +511,105 @@ impl Twin {
             base: self.command_joints(),
         };
         Some((path, elapsed_s))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use planner::coord::{CoordMoveInputs, CoordinateSystem, CoordinateSystemConfig, MoveContext};
+    use planner::mccm::{MccmInputs, mccm};
+    use planner::mclm::mclm;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Random lines and 3D arcs (three primary axes and one non-primary)
+    /// mapped onto joints with random scales and offsets: the joint motion
+    /// between two nearby path parameters never exceeds the rate bound, and
+    /// the time of a parameter is nondecreasing up to the profile's end.
+    #[test]
+    fn coordinated_joint_rate_bounds_hold_on_random_lines_and_arcs() {
+        let system = CoordinateSystem::new(CoordinateSystemConfig {
+            axis_count: 4,
+            primary_axes: 3,
+            ..CoordinateSystemConfig::new("XYZA")
+        })
+        .unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let point = |rng: &mut ChaCha8Rng| (0..4).map(|_| rng.random_range(-200.0..200.0)).collect::<Vec<f64>>();
+        let (mut arcs, mut lines) = (0, 0);
+        // `base` has 6 joints; axis 2 has no joint.
+        let joints = [Some(4), Some(0), None, Some(2)];
+        for k in 0..400 {
+            let start = point(&mut rng);
+            let common = CoordMoveInputs {
+                position: point(&mut rng),
+                speed: 100.0,
+                accel_rate: 500.0,
+                decel_rate: 500.0,
+                ..Default::default()
+            };
+            let ctx = MoveContext {
+                system: &system,
+                axis_max_decel: &[1000.0; 4],
+                start: &start,
+                has_master: false,
+            };
+            let mv = if k % 2 == 0 {
+                let inputs = MccmInputs {
+                    common,
+                    circle_type: 0,
+                    via_center_radius: point(&mut rng),
+                    direction: 0,
+                };
+                match mccm(&inputs, &ctx) {
+                    Ok(mv) => mv,
+                    Err(_) => continue,
+                }
+            } else {
+                mclm(&common, &ctx).unwrap()
+            };
+            if mv.path().arc().is_some() {
+                arcs += 1;
+            } else {
+                lines += 1;
+            }
+            let profile = mv.rest_profile();
+            let axes: Vec<Option<AxisJoint>> = joints
+                .iter()
+                .map(|j| {
+                    j.map(|joint| AxisJoint {
+                        joint,
+                        si_per_unit: rng.random_range(-0.01..0.01),
+                        offset: rng.random_range(-5.0..5.0),
+                    })
+                })
+                .collect();
+            let base: Vec<f64> = (0..6).map(|_| rng.random_range(-1.0..1.0)).collect();
+            let path = CoordMovePath::new(&mv, &profile, 3, axes, base.clone());
+            let rates = path.joint_rate_bounds();
+            let length = path.length();
+            let mut previous_t = 0.0;
+            for i in 0..=200 {
+                let s1 = length * i as f64 / 200.0;
+                let s2 = (s1 + rng.random_range(0.0..0.05) * length).min(length);
+                let (q1, q2) = (path.joint_positions(s1), path.joint_positions(s2));
+                for j in 0..6 {
+                    let moved = (q2[j] - q1[j]).abs();
+                    assert!(
+                        moved <= rates[j] * (s2 - s1) + 1e-12,
+                        "joint {j}: {moved} over {}",
+                        s2 - s1
+                    );
+                    if ![4, 0, 2].contains(&j) {
+                        assert_eq!(q1[j], base[j], "joint {j} is not driven");
+                    }
+                }
+                let t = path.time_s(s1);
+                assert!(t >= previous_t && t <= profile.duration_s(), "{t}");
+                previous_t = t;
+            }
+        }
+        assert!(arcs > 100 && lines > 100, "{arcs} {lines}");
     }
 }
