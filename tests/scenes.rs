@@ -719,7 +719,11 @@ fn collision_cell_near_miss_reports_nothing_at_the_analytic_clearance() {
 
 #[test]
 fn collision_events_are_identical_on_rerun() {
-    for scene in ["scenes/collision_cell.toml", "scenes/collision_cell_stop.toml"] {
+    for scene in [
+        "scenes/collision_cell.toml",
+        "scenes/collision_cell_stop.toml",
+        "scenes/gantry_collision.toml",
+    ] {
         let a = run_twin(scene);
         let b = run_twin(scene);
         assert_eq!(a.collision_events(), b.collision_events(), "{scene}");
@@ -817,18 +821,27 @@ fn gantry_collision_predicts_the_arc_before_it_moves_and_not_the_line_beneath_th
     let mut twin = Twin::new(scene).unwrap();
     let (c1, l2) = (instruction(&twin, "C1"), instruction(&twin, "L2"));
     let tip = twin.collision_bodies().iter().position(|b| b == "tip").unwrap();
-    let mut predicted_while_at_rest = false;
+    let tool = twin.model().links.iter().position(|l| l.name == "tool").unwrap();
+    let tool_start = twin.world_from_link()[tool].0;
+    let mut tool_before_prediction = None;
     let mut line_clearance = f64::INFINITY;
     for _ in 0..twin.total_updates() {
+        let tool_before = twin.world_from_link()[tool].0;
         twin.step();
-        if !twin.predicted_collisions().is_empty() && twin.collision_events().is_empty() {
-            predicted_while_at_rest |= twin.task().motion_bits(c1).ip && twin.time_s() < 0.03;
+        if !twin.predicted_collisions().is_empty() && tool_before_prediction.is_none() {
+            // The sweep ran in the arc's first update, before its physics.
+            assert!(twin.task().motion_bits(c1).ip, "at {}", twin.time_s());
+            tool_before_prediction = Some(tool_before);
         }
         if twin.task().motion_bits(l2).ip {
             line_clearance = line_clearance.min(twin.clearance_m()[tip]);
         }
     }
-    assert!(predicted_while_at_rest, "the sweep ran when the arc started");
+    let before = tool_before_prediction.expect("a prediction");
+    assert!(
+        (before[0] - tool_start[0]).abs() < 1e-9 && (before[1] - tool_start[1]).abs() < 1e-9,
+        "predicted before the tool moved: {before:?} vs {tool_start:?}"
+    );
     assert!(twin.task().motion_bits(l2).pc, "the program ran to its end");
     let events = twin.collision_events();
     assert_eq!(events.len(), 1, "{events:?}");
