@@ -719,7 +719,11 @@ fn collision_cell_near_miss_reports_nothing_at_the_analytic_clearance() {
 
 #[test]
 fn collision_events_are_identical_on_rerun() {
-    for scene in ["scenes/collision_cell.toml", "scenes/collision_cell_stop.toml"] {
+    for scene in [
+        "scenes/collision_cell.toml",
+        "scenes/collision_cell_stop.toml",
+        "scenes/gantry_collision.toml",
+    ] {
         let a = run_twin(scene);
         let b = run_twin(scene);
         assert_eq!(a.collision_events(), b.collision_events(), "{scene}");
@@ -744,6 +748,179 @@ fn a_rejecting_preflight_fails_the_move_before_it_moves() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("16#422C") && stdout.contains("rejected"), "{stdout}");
     assert!(!stdout.contains("collision gripper"), "no live contact: {stdout}");
+    // Rejected in the update it became Active: the arm's command never
+    // leaves its start, bit for bit, and no stop ramp runs.
+    let mut twin = Twin::new(twin::scene::load(&path).unwrap()).unwrap();
+    let arm = twin.axes()[0].handle;
+    let start = twin.task().axis_state(arm);
+    let fb = twin.fbs()[0].handle;
+    for _ in 0..twin.total_updates() {
+        twin.step();
+        let s = twin.task().axis_state(arm);
+        assert_eq!(
+            s.command_position.to_bits(),
+            start.command_position.to_bits(),
+            "at {}",
+            twin.time_s()
+        );
+        assert_eq!((s.command_velocity, s.command_acceleration), (0.0, 0.0));
+        assert!(!twin.task().is_stopping(arm));
+    }
+    let o = twin.task().outputs(fb);
+    assert!(o.error && !o.busy && !o.active && !o.done, "{o:?}");
+    assert_eq!(o.error_id, 0x422C);
+    assert!(twin.collision_events().is_empty());
+}
+
+/// gantry_collision with `preflight = "reject"`, written under `target/`.
+fn gantry_collision_reject_scene() -> PathBuf {
+    let dir = out_dir("gantry_collision_reject");
+    let text = std::fs::read_to_string(root().join("scenes/gantry_collision.toml"))
+        .unwrap()
+        .replace("preflight = \"report\"", "preflight = \"reject\"")
+        .replace(
+            "robots/gantry",
+            &root().join("scenes/robots/gantry").display().to_string(),
+        );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn instruction(twin: &Twin, name: &str) -> planner::task::InstructionHandle {
+    twin.instructions().iter().find(|i| i.name == name).unwrap().handle
+}
+
+/// First contact of gantry_collision's arc, as path length (mm): the tool
+/// centre runs on the circle of radius 0.1 m about (0.1, 0) from angle π
+/// down to 0; the 0.01 m sphere touches the cube x 0.08..0.12,
+/// y 0.095..0.135 (bisection on the point-box distance, to 1e-12 rad).
+fn gantry_collision_contact_mm() -> f64 {
+    let clearance = |a: f64| {
+        let (x, y) = (0.1 + 0.1 * a.cos(), 0.1 * a.sin());
+        let dx = (0.08 - x).max(x - 0.12).max(0.0);
+        let dy = (0.095 - y).max(y - 0.135).max(0.0);
+        dx.hypot(dy) - 0.01
+    };
+    let (mut lo, mut hi) = (std::f64::consts::FRAC_PI_2, std::f64::consts::PI);
+    assert!(clearance(lo) < 0.0 && clearance(hi) > 0.0);
+    while hi - lo > 1e-12 {
+        let mid = 0.5 * (lo + hi);
+        if clearance(mid) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    (std::f64::consts::PI - hi) * 100.0
+}
+
+#[test]
+fn gantry_collision_predicts_the_arc_before_it_moves_and_not_the_line_beneath_the_cube() {
+    let scene = twin::scene::load(&root().join("scenes/gantry_collision.toml")).unwrap();
+    let mut twin = Twin::new(scene).unwrap();
+    let (c1, l2) = (instruction(&twin, "C1"), instruction(&twin, "L2"));
+    let tip = twin.collision_bodies().iter().position(|b| b == "tip").unwrap();
+    let tool = twin.model().links.iter().position(|l| l.name == "tool").unwrap();
+    let tool_start = twin.world_from_link()[tool].0;
+    let mut tool_before_prediction = None;
+    let mut line_clearance = f64::INFINITY;
+    for _ in 0..twin.total_updates() {
+        let tool_before = twin.world_from_link()[tool].0;
+        twin.step();
+        if !twin.predicted_collisions().is_empty() && tool_before_prediction.is_none() {
+            // The sweep ran in the arc's first update, before its physics.
+            assert!(twin.task().motion_bits(c1).ip, "at {}", twin.time_s());
+            tool_before_prediction = Some(tool_before);
+        }
+        if twin.task().motion_bits(l2).ip {
+            line_clearance = line_clearance.min(twin.clearance_m()[tip]);
+        }
+    }
+    let before = tool_before_prediction.expect("a prediction");
+    assert!(
+        (before[0] - tool_start[0]).abs() < 1e-9 && (before[1] - tool_start[1]).abs() < 1e-9,
+        "predicted before the tool moved: {before:?} vs {tool_start:?}"
+    );
+    assert!(twin.task().motion_bits(l2).pc, "the program ran to its end");
+    let events = twin.collision_events();
+    assert_eq!(events.len(), 1, "{events:?}");
+    assert_eq!((events[0].a.as_str(), events[0].b.as_str()), ("tip", "fixture"));
+    // One prediction: the arc; the lines are clear.
+    let predictions = twin.predicted_collisions();
+    assert_eq!(predictions.len(), 1, "{predictions:?}");
+    let p = &predictions[0];
+    assert_eq!(p.instance, "C1");
+    assert_eq!((p.collision.a.as_str(), p.collision.b.as_str()), ("tip", "fixture"));
+    assert!(!p.rejected);
+    assert!(p.started_s < events[0].start_s);
+    // Within the sweep's bound after the analytic first contact (path
+    // length, mm), never before it.
+    let contact = gantry_collision_contact_mm();
+    assert!(
+        p.collision.parameter >= contact - 1e-9 && p.collision.parameter <= contact + p.collision.bound + 1e-9,
+        "predicted {} analytic {contact} bound {}",
+        p.collision.parameter,
+        p.collision.bound
+    );
+    // Bound: 1 mm resolution over an XY arc (rate ≤ 1 per primary axis).
+    assert!((p.collision.bound - 0.5).abs() < 1e-6, "{}", p.collision.bound);
+    // The live event starts when the plan says, within the drives' tracking
+    // lag and one physics step.
+    assert_eq!(p.predicted_at_s, p.started_s + p.collision.time_s);
+    assert!(
+        (p.predicted_at_s - events[0].start_s).abs() < 0.01,
+        "{} vs {}",
+        p.predicted_at_s,
+        events[0].start_s
+    );
+    // The line under the cube: 5 mm between the sphere and the cube's face.
+    assert!((line_clearance - 0.005).abs() < 1e-3, "{line_clearance}");
+}
+
+#[test]
+fn gantry_collision_reject_fails_the_arc_with_err_200_and_nothing_moves() {
+    let path = gantry_collision_reject_scene();
+    let mut twin = Twin::new(twin::scene::load(&path).unwrap()).unwrap();
+    let handles: Vec<_> = twin.axes().iter().map(|a| a.handle).collect();
+    let start: Vec<u64> = handles
+        .iter()
+        .map(|h| twin.task().axis_state(*h).command_position.to_bits())
+        .collect();
+    let tool = twin.model().links.iter().position(|l| l.name == "tool").unwrap();
+    let tool_start = twin.world_from_link()[tool].0;
+    let c1 = instruction(&twin, "C1");
+    for _ in 0..twin.total_updates() {
+        twin.step();
+        for (h, s) in handles.iter().zip(&start) {
+            let a = twin.task().axis_state(*h);
+            assert_eq!(a.command_position.to_bits(), *s, "at {}", twin.time_s());
+            assert_eq!((a.command_velocity, a.command_acceleration), (0.0, 0.0));
+        }
+        let tool_now = twin.world_from_link()[tool].0;
+        assert!(
+            (tool_now[0] - tool_start[0]).abs() < 1e-9 && (tool_now[1] - tool_start[1]).abs() < 1e-9,
+            "{tool_now:?}"
+        );
+    }
+    let b = twin.task().motion_bits(c1);
+    assert!(b.er && !b.dn && !b.ip && !b.ac && !b.pc, "{b:?}");
+    assert_eq!((b.err, b.exerr), (planner::task::ERR_PATH_COLLISION, 0));
+    assert_eq!(b.err, 200);
+    assert!(
+        !twin.task().motion_bits(instruction(&twin, "L1")).en,
+        "the lines never ran"
+    );
+    assert!(twin.collision_events().is_empty());
+    let p = twin.predicted_collisions();
+    assert!(p.len() == 1 && p[0].rejected && p[0].instance == "C1", "{p:?}");
+    let status = twin.task().coord_status(twin.task().coord_handles().next().unwrap());
+    assert!(!status.motion && !status.move_, "{status:?}");
+    // The CLI reports the error (exit code 2) and the rejection.
+    let out = twin_cmd().arg("run").arg(&path).arg("--no-render").output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("C1") && stdout.contains("rejected"), "{stdout}");
 }
 
 #[test]

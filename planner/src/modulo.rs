@@ -214,8 +214,9 @@ impl ErrorId {
     /// 0x422B: the axis' own limits are unusable (a zero default rate).
     pub const AXIS_LIMITS: Self = Self(0x422B);
     /// 0x422C: the twin's pre-flight sweep predicts a collision on the
-    /// planned path and the scene rejects such moves (the axis is stopped
-    /// with its configured deceleration).
+    /// planned path and the scene rejects such moves (rejected in the
+    /// update it became Active, as the twin does, the move is undone and an
+    /// axis at rest does not move; see `MotionTask::reject_move`).
     pub const PATH_COLLISION: Self = Self(0x422C);
 
     /// What the number means, in words (for logs and summaries).

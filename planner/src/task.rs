@@ -28,7 +28,9 @@ mod cam;
 pub use cam::{CamProfileHandle, LimitFlags, MapcCall};
 
 mod coord;
-pub use coord::{CoordCall, CoordHandle, CoordInstructionHandle, CoordSetupError};
+pub use coord::{
+    CoordCall, CoordHandle, CoordInstructionHandle, CoordSetupError, ERR_PATH_COLLISION, StartedCoordMove,
+};
 mod mct;
 pub use mct::TransformGeometry;
 
@@ -77,6 +79,9 @@ struct Job {
     generation_done: bool,
     /// A stop ramp (see `task/stop.rs`): never blended into.
     stopping: bool,
+    /// Where a command started from rest or an abort (not a blend
+    /// hand-over) came from, for [`MotionTask::reject_move`].
+    origin: Option<stop::Origin>,
 }
 
 #[derive(Debug, Clone)]
@@ -418,6 +423,11 @@ impl MotionTask {
             Some(_) => Vec::new(),
             None => replaced.into_iter().flatten().filter(|&b| b != fb).collect(),
         };
+        let origin = elapsed_s.is_none().then_some(stop::Origin {
+            update: self.updates,
+            command: a.command,
+            last_direction: a.last_direction,
+        });
         let state = a.command.state();
         let target = command.absolute_target(state, a.last_direction);
         let profile = Profile::to_position(state, target, 0.0, command.limits());
@@ -429,6 +439,7 @@ impl MotionTask {
             target,
             generation_done: false,
             stopping: false,
+            origin,
         });
         for other in aborted {
             self.finish(other, Finish::Aborted);

@@ -626,8 +626,9 @@ fn reach_of(model: &RobotModel, body: &RobotBody) -> Vec<f64> {
 
 /// A planned path in joint space, by a path parameter `s` in `[0, length]`.
 ///
-/// An MC_MoveModulo move samples its axis profile ([`crate::run`]);
-/// coordinated moves (MCCM, MCLM) plug in their path the same way.
+/// An MC_MoveModulo move samples its axis profile, an MCLM/MCCM move its
+/// path by path length (`run/collide.rs`). The sweep's bound holds only if
+/// [`PathSampler::joint_rate_bounds`] are true upper bounds.
 pub trait PathSampler {
     /// End of the parameter range (the start is 0).
     fn length(&self) -> f64;

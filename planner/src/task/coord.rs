@@ -74,6 +74,10 @@
 //!   [`LockDirection`] for when it follows). The master is linked with
 //!   [`MotionTask::set_coordinate_system_master`] (the MDCC of a Logix
 //!   program).
+//! * The twin's pre-flight sweep sees each move when it starts
+//!   ([`MotionTask::coord_moves_started`]) and may reject it
+//!   ([`MotionTask::reject_coord_move`], `.ER` with ERR
+//!   [`ERR_PATH_COLLISION`]; see `task/coord/preflight.rs`).
 //! * Axis command acceleration and jerk of coordinated axes are the finite
 //!   differences of the command velocity over the coarse update.
 //! * `CommandPosToleranceStatus`: the spec says both "remains set after the
@@ -180,6 +184,8 @@ struct Component {
     successor_started: bool,
     stopping: bool,
     lock: Lock,
+    /// When and from what it started (`task/coord/preflight.rs`).
+    start: preflight::Start,
 }
 
 impl Component {
@@ -430,6 +436,7 @@ impl MotionTask {
         slot.rung = true;
         self.scan_coord_instruction(h);
         self.coord.instructions[h.0 as usize].rung = false;
+        self.started_before_update(h);
     }
 
     /// The coordinated instruction bound to a control structure, if any.
@@ -795,6 +802,7 @@ impl MotionTask {
     }
 
     fn start_component(&mut self, cs: CoordHandle, h: CoordInstructionHandle, mv: CoordMove, leftover: f64) {
+        let start = self.record_start(cs);
         self.abort_single_axis_motion(cs);
         let master_now = {
             let sys = &self.coord.systems[cs.0 as usize];
@@ -836,6 +844,7 @@ impl MotionTask {
             successor_started: false,
             stopping: false,
             lock,
+            start,
         });
         let b = self.cbits(h);
         b.ip = true;
@@ -1208,6 +1217,9 @@ fn collinear_junction(components: &[Component]) -> bool {
         && norm(crate::coord::cross(ta, tb)) < 1e-9
         && crate::coord::dot(ta, tb) > 0.0
 }
+
+mod preflight;
+pub use preflight::{ERR_PATH_COLLISION, StartedCoordMove};
 
 #[cfg(test)]
 mod tests;

@@ -17,8 +17,16 @@
 //!   position) runs normally, as after an MC_Stop whose `Execute` has fallen.
 //!   A buffered or blending command never blends into a stop ramp.
 //! * A rejected move ([`MotionTask::reject_move`]) sets the instance's
-//!   `Error` with the given error; the axis stops along the same ramp from
-//!   where the move's first update left it.
+//!   `Error` with the given error. Rejected in the update it started in
+//!   (the twin's pre-flight sweep runs right after that update, before the
+//!   physics has applied any of it), the move leaves no trace: the axis'
+//!   command state (position, velocity, acceleration, jerk), its direction
+//!   memory and, when not fed back, its actual position are restored to
+//!   the state the move started from; an axis that was at rest then stays
+//!   exactly there (no stop ramp), one that was moving (the move aborted a
+//!   running command) ramps to rest from that state. A move rejected in a
+//!   later update, or one that took over in a blend hand-over, stops along
+//!   the stop ramp from where its last update left it.
 //!
 //! * Logix control structures (`MOTION_INSTRUCTION` tags) in process
 //!   (`.IP` set) get `.IP`, `.AC`, `.ACCEL` and `.DECEL` cleared without `.PC`,
@@ -29,7 +37,18 @@
 
 use super::{AxisHandle, FbHandle, Finish, InstructionHandle, Job, MotionTask};
 use crate::modulo::MoveModuloError;
-use crate::profile::{Limits, Profile};
+use crate::profile::{Limits, Profile, Sample};
+
+/// The axis state a command started from (not for blend hand-overs).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Origin {
+    /// [`MotionTask::updates`] of the update the command started in.
+    pub(super) update: u64,
+    /// The axis' command before the command started.
+    pub(super) command: Sample,
+    /// The axis' direction memory before the command started.
+    pub(super) last_direction: f64,
+}
 
 /// What [`MotionTask::stop_all_axes`] did.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -110,9 +129,13 @@ impl MotionTask {
     }
 
     /// Rejects the move `fb` runs or waits with: the instance gets `Error`
-    /// with `error`'s ErrorID and its axis ramps to rest. Returns whether
-    /// `fb` had a command (running or buffered) to reject.
+    /// with `error`'s ErrorID. A move rejected in the update it started in
+    /// is undone (the axis' command goes back to the state it started from
+    /// and, from rest, stays there); otherwise its axis ramps to rest (see
+    /// the module docs). Returns whether `fb` had a command (running or
+    /// buffered) to reject.
     pub fn reject_move(&mut self, fb: FbHandle, error: MoveModuloError) -> bool {
+        let updates = self.updates;
         let mut found = false;
         for i in 0..self.axes.len() {
             let a = &mut self.axes[i];
@@ -120,10 +143,22 @@ impl MotionTask {
                 a.buffered = None;
                 found = true;
             }
-            if a.job.as_ref().is_some_and(|j| j.fb == Some(fb)) {
-                self.ramp_to_rest(AxisHandle(i as u32));
-                found = true;
+            let Some(job) = a.job.as_ref().filter(|j| j.fb == Some(fb)) else {
+                continue;
+            };
+            found = true;
+            if let Some(o) = job.origin.filter(|o| o.update == updates) {
+                a.command = o.command;
+                a.last_direction = o.last_direction;
+                if !a.fed {
+                    a.actual = o.command.position;
+                }
+                if o.command.velocity == 0.0 && o.command.acceleration == 0.0 {
+                    a.job = None;
+                    continue;
+                }
             }
+            self.ramp_to_rest(AxisHandle(i as u32));
         }
         if found {
             self.finish(fb, Finish::Error(error));
@@ -172,6 +207,7 @@ impl MotionTask {
             target,
             generation_done: false,
             stopping: true,
+            origin: None,
         });
         true
     }
@@ -303,26 +339,94 @@ mod tests {
         assert_eq!(task.axis_state(axis).command_position, 0.0);
     }
 
+    fn state_bits(task: &MotionTask, axis: AxisHandle) -> [u64; 4] {
+        let s = task.axis_state(axis);
+        [
+            s.command_position,
+            s.command_velocity,
+            s.command_acceleration,
+            s.actual_position,
+        ]
+        .map(f64::to_bits)
+    }
+
     #[test]
-    fn rejected_move_shows_error_and_the_axis_barely_moves() {
+    fn a_move_rejected_in_its_first_update_leaves_the_axis_exactly_where_it_was() {
         let (mut task, axis, a, _) = setup();
+        task.update();
+        let before = state_bits(&task, axis);
         task.set_move_modulo_inputs(a, go(90.0, McBufferMode::Aborting));
         task.update();
         assert!(task.outputs(a).active);
+        assert_ne!(state_bits(&task, axis), before, "the first setpoint was written");
         assert!(task.reject_move(a, MoveModuloError::PathCollision));
+        assert_eq!(state_bits(&task, axis), before, "undone at once");
         let o = task.outputs(a);
-        assert!(o.error && !o.busy && !o.active && !o.command_aborted, "{o:?}");
+        assert!(
+            o.error && !o.busy && !o.active && !o.command_aborted && !o.done,
+            "{o:?}"
+        );
         assert_eq!(o.error_id, ErrorId::PATH_COLLISION.0);
+        assert!(!task.is_stopping(axis), "no stop ramp");
         for _ in 0..100 {
             task.update();
+            assert_eq!(state_bits(&task, axis), before);
         }
-        let s = task.axis_state(axis);
-        assert_eq!(s.command_velocity, 0.0);
-        // One update of the move plus its stop ramp: a few millidegrees.
-        assert!(s.command_position.abs() < 0.01, "{s:?}");
+        assert!(task.outputs(a).error, "Error stays while Execute stays TRUE");
         assert!(
             !task.reject_move(a, MoveModuloError::PathCollision),
             "nothing left to reject"
         );
+    }
+
+    #[test]
+    fn a_move_rejected_later_ramps_to_rest_from_where_it_is() {
+        let (mut task, axis, a, _) = setup();
+        task.set_move_modulo_inputs(a, go(90.0, McBufferMode::Aborting));
+        for _ in 0..20 {
+            task.update();
+        }
+        let p0 = task.axis_state(axis).command_position;
+        assert!(task.reject_move(a, MoveModuloError::PathCollision));
+        assert!(task.outputs(a).error && task.is_stopping(axis));
+        for _ in 0..200 {
+            task.update();
+        }
+        let s = task.axis_state(axis);
+        assert_eq!(s.command_velocity, 0.0);
+        assert!(s.command_position > p0 && s.command_position < 90.0, "{s:?}");
+    }
+
+    #[test]
+    fn a_move_aborting_a_moving_one_rejected_in_its_first_update_ramps_from_the_old_state() {
+        let (mut task, axis, a, b) = setup();
+        task.set_move_modulo_inputs(a, go(270.0, McBufferMode::Aborting));
+        for _ in 0..100 {
+            task.update();
+        }
+        let moving = task.axis_state(axis);
+        assert!(
+            moving.command_velocity > 100.0 && moving.command_acceleration == 0.0,
+            "cruising: {moving:?}"
+        );
+        task.set_move_modulo_inputs(b, go(10.0, McBufferMode::Aborting));
+        task.update();
+        assert!(task.outputs(a).command_aborted && task.outputs(b).active);
+        assert!(task.reject_move(b, MoveModuloError::PathCollision));
+        let s = task.axis_state(axis);
+        assert_eq!(
+            (s.command_position, s.command_velocity),
+            (moving.command_position, moving.command_velocity),
+            "back to the state B started from"
+        );
+        assert!(task.is_stopping(axis));
+        let mut v = s.command_velocity;
+        for _ in 0..300 {
+            task.update();
+            let now = task.axis_state(axis).command_velocity;
+            assert!(now >= 0.0 && now <= v + 1e-9 && (v - now) / DT <= DECEL * (1.0 + 1e-9));
+            v = now;
+        }
+        assert_eq!(v, 0.0);
     }
 }

@@ -1,6 +1,6 @@
 //! Collision checking in the run loop (issue #7): live checks after every
 //! physics step, the scene's reaction, and the pre-flight sweep of every
-//! MC_MoveModulo that becomes `Active`.
+//! move that starts (MC_MoveModulo, MCLM, MCCM).
 //!
 //! * Live checks run on the simulated link poses after each physics step;
 //!   events are stamped with that step's time. A `stop` reaction asks the
@@ -12,12 +12,41 @@
 //! * Obstacles are not bodies of the physics world: links pass through
 //!   them (the twin reports contacts, it does not push back), so the depth
 //!   keeps growing while the plan goes on.
-//! * The sweep runs when an instance becomes `Active`, after the planner
-//!   update and before the physics steps of that update. Its path parameter
-//!   is the distance the axis travels from the move's start, in axis units;
-//!   undriven joints keep their initial positions and the other axes their
-//!   command positions (a single-axis move). With `preflight = "reject"` a
-//!   predicted collision rejects the move ([`planner::task::MotionTask::reject_move`]).
+//! * The sweep runs when a move *starts*, after the planner update and
+//!   before the physics steps of that update: an MC_MoveModulo when its
+//!   instance becomes `Active`, an MCLM/MCCM when it becomes a running
+//!   move of its coordinate system ([`planner::task::MotionTask::coord_moves_started`]:
+//!   at once from rest or on a merge, at the blend point of the move before
+//!   it, or when that move has ended; a queued move is swept when it starts,
+//!   not while it waits, so the sweep starts where the motion really is).
+//!   Undriven joints keep their initial positions, axes outside the move
+//!   their command positions.
+//! * MC_MoveModulo path parameter: the distance the axis travels from the
+//!   move's start, in axis units.
+//! * MCLM/MCCM path parameter: the path length along the move from its
+//!   programmed start point, in coordinate units (the planner's path
+//!   length, [`planner::coord::PathGeometry::point`]). The system's axes map
+//!   to their URDF joints in one function (`joints_from_coordinates`: axis
+//!   units × SI per unit, less an MRP offset); a coordinate transform (MCT)
+//!   plugs in there. Joint-rate bound per axis (proven, so the sweep's step
+//!   bound holds): a line moves every axis linearly, `|Δ_i| / L`; an arc's
+//!   primary axes move with `‖dP/ds‖ ≤ 1` (the planner's arc length per
+//!   radian is `√(r_max² + (dr/dφ)²)`, at least the speed of any point), so
+//!   `1`; non-primary axes `|Δ_i| / L`; times `1 + 1e-9` for rounding. A
+//!   move that starts in a blend is swept along its own programmed path;
+//!   the rounding of the corner by the blend (within the command tolerance
+//!   of the corner) is not part of the sweep. Master-driven moves are not
+//!   swept (their timing is the master's).
+//! * With `preflight = "reject"` a predicted collision rejects the move
+//!   before the physics has applied any of it: an MC_MoveModulo gets
+//!   `Error` with ErrorID 16#422C ([`planner::task::MotionTask::reject_move`]),
+//!   an MCLM/MCCM `.ER` with ERR 200, EXERR 0
+//!   ([`planner::task::ERR_PATH_COLLISION`]; Logix has no code for this, 200
+//!   is outside its range; [`planner::task::MotionTask::reject_coord_move`]).
+//!   Rejected in the update it started in, a move from rest leaves its axes
+//!   exactly where they were: its first setpoint is withdrawn (command state
+//!   restored), no stop ramp, no motion at all. A move that started while
+//!   its axes were moving (an abort, a blend, a merge) ramps to rest instead.
 
 use super::Twin;
 use crate::collision::{
@@ -25,18 +54,22 @@ use crate::collision::{
     PredictedCollision,
 };
 use crate::scene::{CollisionSettings, Preflight, Reaction};
+use planner::coord::{CoordMove, Driver, PathGeometry};
 use planner::modulo::MoveModuloError;
 use planner::profile::Profile;
+use planner::task::CoordHandle;
 use serde::Serialize;
 
 /// A pre-flight sweep that predicted a collision.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Prediction {
-    /// The instance whose move was swept.
+    /// The instance (MC_MoveModulo) or `MOTION_INSTRUCTION` tag (MCLM,
+    /// MCCM) whose move was swept.
     pub instance: String,
     /// Time the move started (the update it became Active), s.
     pub started_s: f64,
-    /// What the sweep found; for MC_MoveModulo `parameter` is in axis units travelled.
+    /// What the sweep found; `parameter` is in axis units travelled
+    /// (MC_MoveModulo) or coordinate units of path length (MCLM, MCCM).
     pub collision: PredictedCollision,
     /// Simulated time at which the plan reaches the collision, s
     /// (`started_s + collision.time_s`).
@@ -95,18 +128,98 @@ struct AxisMovePath {
     base: Vec<f64>,
 }
 
-impl AxisMovePath {
-    fn time_of(&self, s: f64) -> f64 {
-        let (mut lo, mut hi) = (0.0, self.profile.duration_s());
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if (self.profile.sample(mid).position - self.start) * self.direction < s {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
+/// The time at which a nondecreasing path profile reaches `s` (bisection).
+fn profile_time_of(profile: &Profile, start: f64, direction: f64, s: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, profile.duration_s());
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if (profile.sample(mid).position - start) * direction < s {
+            lo = mid;
+        } else {
+            hi = mid;
         }
-        hi
+    }
+    hi
+}
+
+/// Where one axis of a coordinate system drives the robot.
+#[derive(Debug, Clone, Copy)]
+struct AxisJoint {
+    /// URDF joint index.
+    joint: usize,
+    /// SI units per axis unit.
+    si_per_unit: f64,
+    /// MRP offset: command position − joint position, axis units.
+    offset: f64,
+}
+
+/// Joint positions of the robot with a coordinate system's axes at
+/// `coordinates` (one per axis of the system, coordinate units): each axis
+/// drives its joint (`None`: an axis without a joint), every other joint
+/// keeps its value in `base`. The one place where coordinates become joint
+/// positions: a coordinate transform (MCT) replaces this mapping.
+fn joints_from_coordinates(axes: &[Option<AxisJoint>], coordinates: &[f64], base: &[f64]) -> Vec<f64> {
+    let mut q = base.to_vec();
+    for (a, c) in axes.iter().zip(coordinates) {
+        if let Some(a) = a {
+            q[a.joint] = (c - a.offset) * a.si_per_unit;
+        }
+    }
+    q
+}
+
+/// An MCLM line or MCCM arc as a path: `s` = path length along the move
+/// from its programmed start point, coordinate units.
+struct CoordMovePath {
+    path: PathGeometry,
+    profile: Profile,
+    axes: Vec<Option<AxisJoint>>,
+    base: Vec<f64>,
+    rates: Vec<f64>,
+}
+
+impl CoordMovePath {
+    fn new(mv: &CoordMove, profile: &Profile, primary: usize, axes: Vec<Option<AxisJoint>>, base: Vec<f64>) -> Self {
+        let path = mv.path().clone();
+        let length = path.length();
+        let is_arc = path.arc().is_some();
+        let mut rates = vec![0.0; base.len()];
+        for (i, a) in axes.iter().enumerate() {
+            let Some(a) = a else { continue };
+            let per_s = if is_arc && i < primary {
+                1.0
+            } else if length > 0.0 {
+                (path.end()[i] - path.start()[i]).abs() / length
+            } else {
+                0.0
+            };
+            rates[a.joint] += per_s * a.si_per_unit.abs() * (1.0 + 1e-9);
+        }
+        Self {
+            path,
+            profile: profile.clone(),
+            axes,
+            base,
+            rates,
+        }
+    }
+}
+
+impl PathSampler for CoordMovePath {
+    fn length(&self) -> f64 {
+        self.path.length()
+    }
+    fn joint_positions(&self, s: f64) -> Vec<f64> {
+        let n = self.path.start().len();
+        let (mut p, mut d) = (vec![0.0; n], vec![0.0; n]);
+        self.path.point(s, &mut p, &mut d);
+        joints_from_coordinates(&self.axes, &p, &self.base)
+    }
+    fn joint_rate_bounds(&self) -> Vec<f64> {
+        self.rates.clone()
+    }
+    fn time_s(&self, s: f64) -> f64 {
+        profile_time_of(&self.profile, 0.0, 1.0, s)
     }
 }
 
@@ -125,7 +238,7 @@ impl PathSampler for AxisMovePath {
         r
     }
     fn time_s(&self, s: f64) -> f64 {
-        self.time_of(s)
+        profile_time_of(&self.profile, self.start, self.direction, s)
     }
 }
 
@@ -235,9 +348,17 @@ impl Twin {
     /// `None` when the scene has no `[collision]`, the sweep is off, or the
     /// path is clear.
     ///
-    /// MC_MoveModulo uses it when an instance becomes `Active`; coordinated
-    /// moves (MCCM, MCLM) call it with their own [`PathSampler`] when they start.
+    /// The run loop sweeps every MC_MoveModulo and MCLM/MCCM move this way
+    /// when it starts (with the move's own start time); a caller may sweep
+    /// any other path with its own [`PathSampler`].
     pub fn preflight_path(&mut self, instance: &str, path: &dyn PathSampler) -> Option<&Prediction> {
+        // The move's profile starts at the previous update's time.
+        let started_s = self.task.time_s() - self.task.dt_s();
+        self.preflight_path_from(instance, path, started_s)
+    }
+
+    /// [`Twin::preflight_path`] for a move whose profile starts at `started_s`.
+    fn preflight_path_from(&mut self, instance: &str, path: &dyn PathSampler, started_s: f64) -> Option<&Prediction> {
         let c = self.collision.as_mut()?;
         if c.settings.preflight == Preflight::Off {
             return None;
@@ -246,8 +367,6 @@ impl Twin {
             .model
             .sweep(&self.model, path, c.settings.sweep_resolution_m)
             .collision?;
-        // The move's profile starts at the previous update's time.
-        let started_s = self.task.time_s() - self.task.dt_s();
         c.predictions.push(Prediction {
             instance: instance.to_string(),
             started_s,
@@ -269,15 +388,22 @@ impl Twin {
         }
         for (a, axis) in self.axes.iter().zip(&self.scene.axes) {
             if let Some(j) = axis.joint.as_deref().and_then(|name| self.model.joint_by_name(name)) {
-                q[j.0] = self.task.axis_state(a.handle).command_position * a.si_per_unit;
+                let joint_position =
+                    self.task.axis_state(a.handle).command_position - self.task.position_offset(a.handle);
+                q[j.0] = joint_position * a.si_per_unit;
             }
         }
         q
     }
 
     /// Pre-flight sweep of every MC_MoveModulo instance that became Active
-    /// in this update.
+    /// and every coordinated move that started in this update.
     pub(super) fn collision_after_planner_update(&mut self) {
+        self.preflight_move_modulo();
+        self.preflight_coordinated();
+    }
+
+    fn preflight_move_modulo(&mut self) {
         let Some(c) = self.collision.as_mut() else { return };
         c.previous_active.resize(self.fbs.len(), false);
         let mut started = Vec::new();
@@ -289,11 +415,15 @@ impl Twin {
             c.previous_active[i] = active;
         }
         for i in started {
-            let Some(path) = self.move_modulo_path(i) else {
+            let Some((path, elapsed_s)) = self.move_modulo_path(i) else {
                 continue;
             };
             let (name, handle) = (self.fbs[i].name.clone(), self.fbs[i].handle);
-            if self.preflight_path(&name, &path).is_some_and(|p| p.rejected) {
+            let started_s = self.task.time_s() - elapsed_s;
+            if self
+                .preflight_path_from(&name, &path, started_s)
+                .is_some_and(|p| p.rejected)
+            {
                 self.task.reject_move(handle, MoveModuloError::PathCollision);
                 if let Some(c) = self.collision.as_mut() {
                     c.previous_active[i] = false;
@@ -302,11 +432,68 @@ impl Twin {
         }
     }
 
-    /// The planned path of the move instance `fb` (index into `fbs`) runs.
-    fn move_modulo_path(&self, fb: usize) -> Option<AxisMovePath> {
+    /// Sweeps every time-driven MCLM/MCCM that started in this update and
+    /// rejects it when the scene says so.
+    fn preflight_coordinated(&mut self) {
+        if self
+            .collision
+            .as_ref()
+            .is_none_or(|c| c.settings.preflight == Preflight::Off)
+        {
+            return;
+        }
+        let base = self.command_joints();
+        let now_s = self.task.time_s();
+        let mut swept = Vec::new();
+        for mv in self.task.coord_moves_started() {
+            if mv.mv.driver() == Driver::Master {
+                continue;
+            }
+            let primary = self.task.coord_config(mv.system).primary_axes;
+            let path = CoordMovePath::new(
+                mv.mv,
+                mv.profile,
+                primary,
+                self.coord_axis_joints(mv.system),
+                base.clone(),
+            );
+            let name = self.task.coord_instruction_name(mv.instruction).to_string();
+            swept.push((mv.instruction, name, path, now_s - mv.progress));
+        }
+        for (instruction, name, path, started_s) in swept {
+            if self
+                .preflight_path_from(&name, &path, started_s)
+                .is_some_and(|p| p.rejected)
+            {
+                self.task.reject_coord_move(instruction);
+            }
+        }
+    }
+
+    /// The joint each axis of coordinate system `cs` drives, in system order.
+    fn coord_axis_joints(&self, cs: CoordHandle) -> Vec<Option<AxisJoint>> {
+        self.task
+            .coord_axes(cs)
+            .iter()
+            .map(|&h| {
+                let binding = self.axes.iter().find(|a| a.handle == h)?;
+                let axis = self.scene.axes.iter().find(|a| a.name == binding.name)?;
+                let joint = self.model.joint_by_name(axis.joint.as_deref()?)?;
+                Some(AxisJoint {
+                    joint: joint.0,
+                    si_per_unit: binding.si_per_unit,
+                    offset: self.task.position_offset(h),
+                })
+            })
+            .collect()
+    }
+
+    /// The planned path of the move instance `fb` (index into `fbs`) runs,
+    /// and how far into its profile the last update took it, s.
+    fn move_modulo_path(&self, fb: usize) -> Option<(AxisMovePath, f64)> {
         let axis_handle = self.fb_axes.get(fb).copied().flatten()?;
         let binding = self.axes.iter().find(|a| a.handle == axis_handle)?;
-        let (profile, _) = self.task.active_profile(axis_handle)?;
+        let (profile, elapsed_s) = self.task.active_profile(axis_handle)?;
         let joint = self
             .scene
             .axes
@@ -316,13 +503,114 @@ impl Twin {
             .and_then(|name| self.model.joint_by_name(name))?;
         let start = profile.start_state().position;
         let end = profile.final_state().position;
-        Some(AxisMovePath {
+        let path = AxisMovePath {
             profile: profile.clone(),
             start,
             direction: if end >= start { 1.0 } else { -1.0 },
             joint: joint.0,
             si_per_unit: binding.si_per_unit,
             base: self.command_joints(),
+        };
+        Some((path, elapsed_s))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use planner::coord::{CoordMoveInputs, CoordinateSystem, CoordinateSystemConfig, MoveContext};
+    use planner::mccm::{MccmInputs, mccm};
+    use planner::mclm::mclm;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Random lines and 3D arcs (three primary axes and one non-primary)
+    /// mapped onto joints with random scales and offsets: the joint motion
+    /// between two nearby path parameters never exceeds the rate bound, and
+    /// the time of a parameter is nondecreasing up to the profile's end.
+    #[test]
+    fn coordinated_joint_rate_bounds_hold_on_random_lines_and_arcs() {
+        let system = CoordinateSystem::new(CoordinateSystemConfig {
+            axis_count: 4,
+            primary_axes: 3,
+            ..CoordinateSystemConfig::new("XYZA")
         })
+        .unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let point = |rng: &mut ChaCha8Rng| (0..4).map(|_| rng.random_range(-200.0..200.0)).collect::<Vec<f64>>();
+        let (mut arcs, mut lines) = (0, 0);
+        // `base` has 6 joints; axis 2 has no joint.
+        let joints = [Some(4), Some(0), None, Some(2)];
+        for k in 0..400 {
+            let start = point(&mut rng);
+            let common = CoordMoveInputs {
+                position: point(&mut rng),
+                speed: 100.0,
+                accel_rate: 500.0,
+                decel_rate: 500.0,
+                ..Default::default()
+            };
+            let ctx = MoveContext {
+                system: &system,
+                axis_max_decel: &[1000.0; 4],
+                start: &start,
+                has_master: false,
+            };
+            let mv = if k % 2 == 0 {
+                let inputs = MccmInputs {
+                    common,
+                    circle_type: 0,
+                    via_center_radius: point(&mut rng),
+                    direction: 0,
+                };
+                match mccm(&inputs, &ctx) {
+                    Ok(mv) => mv,
+                    Err(_) => continue,
+                }
+            } else {
+                mclm(&common, &ctx).unwrap()
+            };
+            if mv.path().arc().is_some() {
+                arcs += 1;
+            } else {
+                lines += 1;
+            }
+            let profile = mv.rest_profile();
+            let axes: Vec<Option<AxisJoint>> = joints
+                .iter()
+                .map(|j| {
+                    j.map(|joint| AxisJoint {
+                        joint,
+                        si_per_unit: rng.random_range(-0.01..0.01),
+                        offset: rng.random_range(-5.0..5.0),
+                    })
+                })
+                .collect();
+            let base: Vec<f64> = (0..6).map(|_| rng.random_range(-1.0..1.0)).collect();
+            let path = CoordMovePath::new(&mv, &profile, 3, axes, base.clone());
+            let rates = path.joint_rate_bounds();
+            let length = path.length();
+            let mut previous_t = 0.0;
+            for i in 0..=200 {
+                let s1 = length * i as f64 / 200.0;
+                let s2 = (s1 + rng.random_range(0.0..0.05) * length).min(length);
+                let (q1, q2) = (path.joint_positions(s1), path.joint_positions(s2));
+                for j in 0..6 {
+                    let moved = (q2[j] - q1[j]).abs();
+                    assert!(
+                        moved <= rates[j] * (s2 - s1) + 1e-12,
+                        "joint {j}: {moved} over {}",
+                        s2 - s1
+                    );
+                    if ![4, 0, 2].contains(&j) {
+                        assert_eq!(q1[j], base[j], "joint {j} is not driven");
+                    }
+                }
+                let t = path.time_s(s1);
+                assert!(t >= previous_t && t <= profile.duration_s(), "{t}");
+                previous_t = t;
+            }
+        }
+        assert!(arcs > 100 && lines > 100, "{arcs} {lines}");
     }
 }

@@ -48,8 +48,10 @@ pub enum Preflight {
     /// Sweep every started move and report a predicted collision (default).
     #[default]
     Report,
-    /// As `report`, and reject the move: the instance gets `Error` with
-    /// ErrorID 16#422C and the axis stops.
+    /// As `report`, and reject the move before the physics runs any of it:
+    /// an MC_MoveModulo instance gets `Error` with ErrorID 16#422C, an
+    /// MCLM/MCCM `.ER` with ERR 200; axes at rest do not move at all
+    /// (`run/collide.rs`).
     Reject,
 }
 
