@@ -230,47 +230,7 @@ fn twin_setpoints_are_the_planners_setpoints() {
 
 #[test]
 fn indexing_table_frames_match_snapshots() {
-    let scene = twin::scene::load(&root().join("scenes/indexing_table.toml")).expect("scene");
-    let frames = scene.snapshots.as_ref().map(|s| s.frames.clone()).unwrap_or_default();
-    assert!(!frames.is_empty(), "indexing_table lists snapshot frames");
-    let out = out_dir("indexing_table_snapshots");
-    let output = twin_cmd()
-        .args(["run", "scenes/indexing_table.toml", "--frames"])
-        .arg(out.join("frames"))
-        .output()
-        .expect("run twin");
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let first = out
-        .join("frames")
-        .join(format!("{}-{:05}.png", scene.cameras[0].name, frames[0]));
-    if !first.exists() {
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert!(std::env::var_os("CI").is_none(), "no frames rendered in CI: {stderr}");
-        eprintln!("SKIPPED snapshot comparison: no Vulkan adapter ({stderr})");
-        return;
-    }
-    let mut failures = Vec::new();
-    for (i, camera) in scene.cameras.iter().enumerate() {
-        for &f in &frames {
-            let path = out.join("frames").join(format!("{}-{f:05}.png", camera.name));
-            let image = image::open(&path)
-                .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-                .to_rgba8();
-            // The first camera keeps the short name snapshots/<scene>-<frame>.png.
-            let name = if i == 0 {
-                format!("{}-{f}", scene.name)
-            } else {
-                format!("{}-{}-{f}", scene.name, camera.name)
-            };
-            let artifacts = root().join("target/snapshots");
-            if let Err(e) =
-                twin::snapshot::assert_matches_snapshot(&name, &image, &root().join("snapshots"), &artifacts)
-            {
-                failures.push(e.to_string());
-            }
-        }
-    }
-    assert!(failures.is_empty(), "snapshot mismatches:\n{}", failures.join("\n"));
+    assert_scene_frames_match_snapshots("scenes/indexing_table.toml", "indexing_table_snapshots");
 }
 
 fn check_fails(scene_text: &str, extra: &[(&str, &[u8])], name: &str) -> String {

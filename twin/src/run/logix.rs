@@ -14,9 +14,12 @@
 //! profile from MCCP, say) keep it in the planner.
 //!
 //! # Adding an instruction
-//! Add an arm to [`compile`] that checks the operand count, resolves each
-//! operand with the [`LogixContext`] helpers (errors name the operand by its
-//! manual name) and returns a [`LogixStep`] whose closure calls the planner.
+//! Each instruction family has a `compile` in its own module (`run/coord.rs`,
+//! `run/cam.rs`, `run/mct.rs`) that answers `None` for names it does not
+//! own; [`compile`] asks each in turn. A family's `compile` checks the operand
+//! count, resolves each operand with the [`LogixContext`] helpers (errors
+//! name the operand by its manual name) and returns a [`LogixStep`] whose
+//! closure calls the planner; add the mnemonic to [`SIMULATED`].
 
 use super::{AxisBinding, InstructionBinding, number};
 use crate::scene::{BaseType, Scene, TagValue};
@@ -187,20 +190,10 @@ pub fn compile(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Res
     if let Some(step) = super::mct::compile(&upper, operands, ctx) {
         return step;
     }
-    #[allow(clippy::match_single_binding, reason = "one arm per instruction as they are added")]
-    match upper.as_str() {
-        _ => {
-            let _ = (operands, ctx);
-            let simulated = if SIMULATED.is_empty() {
-                "none yet; MC_MoveModulo instances run".to_string()
-            } else {
-                SIMULATED.join(", ")
-            };
-            Err(format!(
-                "{upper} is a Logix motion instruction the twin does not simulate (it simulates: {simulated})"
-            ))
-        }
-    }
+    Err(format!(
+        "{upper} is a Logix motion instruction the twin does not simulate (it simulates: {})",
+        SIMULATED.join(", ")
+    ))
 }
 
 /// Checks that a call has exactly the manual's operand count.
