@@ -508,7 +508,12 @@ impl MotionTask {
                 return Err(e);
             }
         };
-        let cam_running = self.cam.axes.get(axis.0 as usize).is_some_and(|c| c.cam.drives());
+        // A preloaded Pending cam (no cam active) is part of the position
+        // cam process too: the stop resets its Pending Status.
+        let cam_running = self.cam.axes.get(axis.0 as usize).is_some_and(|c| {
+            let s = c.cam.status();
+            s.position_cam || s.pending
+        });
         let jogging = self
             .cam
             .axes
@@ -571,6 +576,10 @@ impl MotionTask {
             return false;
         };
         if !(c.cam.drives() || c.ramp.is_some()) {
+            // A preloaded Pending cam moves nothing but ends as well.
+            if c.cam.status().pending {
+                self.end_cams(axis);
+            }
             return false;
         }
         self.end_cams(axis);

@@ -1378,3 +1378,40 @@ fn stopping_all_axes_ends_cams_and_jogs_with_a_ramp() {
         assert!(!r.task.is_stopping(axis));
     }
 }
+
+/// A preloaded Pending cam (no cam active) used to survive MAS Position Cam
+/// and a stop of all axes: its Pending Status, `.IP` and profile Status stayed.
+#[test]
+fn stops_end_a_preloaded_pending_cam() {
+    for stop_all in [false, true] {
+        let mut r = rig();
+        let p = r.profile("Run", &[(0.0, 0.0), (10.0, 20.0)], 0);
+        let mi = r.task.add_instruction("MAPC_P");
+        r.mapc(mi, p, ops(ONCE, PENDING)).unwrap();
+        r.bits(mi, "EN DN IP");
+        r.slave_bits("pending");
+        assert_eq!(r.task.cam_profile(p).status(), 3);
+        if stop_all {
+            let report = r.task.stop_all_axes();
+            assert!(report.stopped_instructions.contains(&mi), "{report:?}");
+        } else {
+            let stop = r.task.add_instruction("MAS_1");
+            let mas = crate::jog::MasOperands {
+                stop_type: 8,
+                ..Default::default()
+            };
+            r.task.mas(r.slave, stop, &mas).unwrap();
+            r.bits(stop, "EN DN PC");
+        }
+        r.bits(mi, "EN DN");
+        r.slave_bits("");
+        assert_eq!(r.task.cam_profile(p).status(), 2);
+        // A cam started afterwards finds no pending cam to hand over to.
+        let a = r.task.add_instruction("MAPC_A");
+        r.mapc(a, p, ops(ONCE, IMMEDIATE)).unwrap();
+        r.to(12.0);
+        r.bits(a, "EN DN PC");
+        r.bits(mi, "EN DN");
+        r.slave_bits("");
+    }
+}
