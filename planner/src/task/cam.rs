@@ -51,7 +51,7 @@ use crate::mapc::{
     CamEvent, CamRequest, Mapc, MapcError, MapcOperands, MasterReference, PositionCamAxis, SlaveCamStatus,
 };
 use crate::mccp::{CamElement, CamProfile, CamProfileTag, MccpError};
-use crate::mrp::{Mrp, MrpError};
+use crate::mrp::{Mrp, MrpError, PositionSelect};
 use crate::profile::{Limits, Profile, Sample, State};
 use std::sync::Arc;
 
@@ -416,7 +416,9 @@ impl MotionTask {
     /// MRP on `axis` (Type and Position Select as DINTs).
     ///
     /// # Errors
-    /// ERR 13 with EXERR 2, 3 or 4.
+    /// ERR 13 with EXERR 2, 3 or 4; EXERR 4 also when the redefined position
+    /// would lie outside the axis' soft travel limits (see [`crate::mrp`]).
+    /// A failed MRP redefines nothing.
     pub fn mrp(
         &mut self,
         axis: AxisHandle,
@@ -435,6 +437,18 @@ impl MotionTask {
         };
         let a = &mut self.axes[axis.0 as usize];
         let delta = mrp.delta(a.command.position, a.actual);
+        let selected = match mrp.select {
+            PositionSelect::Actual => a.actual,
+            PositionSelect::Command => a.command.position,
+        } + delta;
+        if a.config.check_soft_travel_limits(selected).is_err() {
+            let e = MrpError::ParameterOutOfRange {
+                operand: 4,
+                value: mrp.position,
+            };
+            self.fail(motion_control, e.err(), e.exerr(), 0);
+            return Err(e);
+        }
         a.command.position += delta;
         a.actual += delta;
         if let Some(job) = a.job.as_mut() {

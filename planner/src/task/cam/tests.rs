@@ -1415,3 +1415,46 @@ fn stops_end_a_preloaded_pending_cam() {
         r.slave_bits("");
     }
 }
+
+/// MRP used to redefine an axis to a position outside its soft travel
+/// limits without any error (the spec: a software overtravel fault).
+#[test]
+fn mrp_outside_the_soft_travel_limits_is_refused() {
+    let mut task = MotionTask::new(DT).unwrap();
+    let cfg = AxisConfig {
+        soft_travel_limits: Some((-100.0, 100.0)),
+        ..axis("Lift")
+    };
+    let lift = task.add_axis(cfg, 10.0).unwrap();
+    let mi = task.add_instruction("MRP_1");
+    // Command 10, actual 9.5: the following error is kept by a redefinition.
+    task.feed_actual_position(lift, 9.5);
+    let before = task.axis_state(lift);
+    // (Type, Position Select, Position): each lands outside [−100, 100].
+    for (kind, select, position) in [
+        (0, 0, 100.5),
+        (0, 1, -100.5),
+        (1, 0, 90.6),
+        (1, 1, -110.5),
+        (0, 0, 1e300),
+    ] {
+        let e = task.mrp(lift, mi, kind, select, position).unwrap_err();
+        assert_eq!((e.err(), e.exerr()), (13, 4), "{kind} {select} {position}");
+        let b = task.motion_bits(mi);
+        assert!(b.en && b.er && !b.dn && b.err == 13 && b.exerr == 4);
+        let s = task.axis_state(lift);
+        assert_eq!(
+            (s.command_position, s.actual_position),
+            (before.command_position, before.actual_position)
+        );
+        assert_eq!(task.position_offset(lift), 0.0);
+    }
+    // The bounds themselves are inside.
+    task.mrp(lift, mi, 0, 0, 100.0).unwrap();
+    let s = task.axis_state(lift);
+    assert_eq!((s.command_position, s.actual_position), (100.5, 100.0));
+    task.mrp(lift, mi, 1, 1, -200.5).unwrap();
+    let s = task.axis_state(lift);
+    assert_eq!((s.command_position, s.actual_position), (-100.0, -100.5));
+    assert!(task.motion_bits(mi).dn);
+}
