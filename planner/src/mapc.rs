@@ -913,8 +913,10 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> PositionCamAxis<T, K> {
             ExecutionMode::Once => (!(x0..=xn).contains(&u)).then(|| u.clamp(x0, xn)),
             ExecutionMode::Persistent if pending => (!(x0..=xn).contains(&u)).then(|| u.clamp(x0, xn)),
             ExecutionMode::Continuous if pending => {
+                // The end of the cycle `u` was in: its end going forward,
+                // its start going back (however far the master went).
                 let (k0, k1) = (cycle(&cam.profile, run.u), cycle(&cam.profile, u));
-                (k1 != k0).then(|| x0 + (xn - x0) * k0.max(k1))
+                (k1 != k0).then_some(x0 + (xn - x0) * if k1 > k0 { k0 + 1.0 } else { k0 })
             }
             _ => None,
         };

@@ -1458,3 +1458,32 @@ fn mrp_outside_the_soft_travel_limits_is_refused() {
     assert_eq!((s.command_position, s.actual_position), (-100.0, -100.5));
     assert!(task.motion_bits(mi).dn);
 }
+
+/// A master that moved more than one cycle of a Continuous cam in one coarse
+/// update used to hand over to the Pending cam at the end of the *last*
+/// cycle it entered, not at the end of the cycle it was in.
+#[test]
+fn pending_cam_takes_over_at_the_end_of_the_current_cycle_even_after_a_long_step() {
+    for (path, handover, expected) in [
+        // Forward: cycle [0, 10) ends at 10; B (slope 2) runs from there.
+        ([3.0, 25.0], 10.0, 10.0 + 2.0 * 15.0),
+        // Reverse: cycle [0, 10) ends (backwards) at 0.
+        ([3.0, -25.0], 0.0, 2.0 * -25.0),
+    ] {
+        let mut r = rig();
+        let a = r.profile("Run", &[(0.0, 0.0), (10.0, 10.0)], 0);
+        let b = r.profile("Fast", &[(0.0, 0.0), (10.0, 20.0)], 0);
+        let (ma, mb) = (r.task.add_instruction("MAPC_A"), r.task.add_instruction("MAPC_B"));
+        r.mapc(ma, a, ops(CONTINUOUS, IMMEDIATE)).unwrap();
+        r.to(path[0]);
+        r.slave_at(path[0]);
+        r.mapc(mb, b, ops(CONTINUOUS, PENDING)).unwrap();
+        r.to(path[1]);
+        r.bits(ma, "EN DN");
+        r.bits(mb, "EN DN IP AC");
+        r.slave_bits("cam lock");
+        // A's slave at the hand-over is the master position there (slope 1).
+        assert_eq!(handover + 2.0 * (path[1] - handover), expected);
+        r.slave_at(expected);
+    }
+}
