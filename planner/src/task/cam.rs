@@ -325,6 +325,7 @@ impl MotionTask {
         for ev in events {
             match *ev {
                 CamEvent::Active((mi, _)) => self.bits(mi).ac = true,
+                CamEvent::Overflow((mi, _)) => self.fail(mi, 179, 0, 0),
                 CamEvent::Ended {
                     tag: (mi, profile),
                     complete,

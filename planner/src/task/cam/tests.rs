@@ -1487,3 +1487,37 @@ fn pending_cam_takes_over_at_the_end_of_the_current_cycle_even_after_a_long_step
         r.slave_at(expected);
     }
 }
+
+/// A tiny Master Scaling and a long master travel overflowed the cam
+/// coordinate and the slave was commanded to NaN.
+#[test]
+fn an_overflowing_cam_ends_with_err_179_and_the_slave_holds() {
+    for (master_scaling, slave_scaling, mode) in [(1e-300, 1.0, CONTINUOUS), (1.0, 1e308, ONCE)] {
+        let mut r = rig();
+        let p = r.profile("Line", &[(0.0, 0.0), (10.0, 10.0)], 0);
+        let mi = r.task.add_instruction("MAPC_1");
+        r.mapc(
+            mi,
+            p,
+            MapcOperands {
+                master_scaling,
+                slave_scaling,
+                ..ops(mode, IMMEDIATE)
+            },
+        )
+        .unwrap();
+        r.to(1e-300);
+        let held = r.slave_pos();
+        assert!(held.is_finite());
+        r.to(1e9);
+        r.slave_at(held);
+        let b = r.task.motion_bits(mi);
+        assert_eq!((b.err, b.exerr, b.segment), (179, 0, 0));
+        r.bits(mi, "EN DN ER");
+        r.slave_bits("");
+        assert_eq!(r.task.cam_profile(p).status(), 2);
+        r.to(2e9);
+        r.slave_at(held);
+        assert_eq!(r.task.axis_state(r.slave).command_velocity, 0.0);
+    }
+}
