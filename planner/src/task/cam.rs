@@ -51,7 +51,7 @@ use crate::mapc::{
     CamEvent, CamRequest, Mapc, MapcError, MapcOperands, MasterReference, PositionCamAxis, SlaveCamStatus,
 };
 use crate::mccp::{CamElement, CamProfile, CamProfileTag, MccpError};
-use crate::mrp::{Mrp, MrpError, PositionSelect};
+use crate::mrp::{Mrp, MrpError};
 use crate::profile::{Limits, Profile, Sample, State};
 use std::sync::Arc;
 
@@ -438,11 +438,8 @@ impl MotionTask {
         };
         let a = &mut self.axes[axis.0 as usize];
         let delta = mrp.delta(a.command.position, a.actual);
-        let selected = match mrp.select {
-            PositionSelect::Actual => a.actual,
-            PositionSelect::Command => a.command.position,
-        } + delta;
-        if a.config.check_soft_travel_limits(selected).is_err() {
+        // Soft overtravel is checked on the actual position, as Logix does.
+        if a.config.check_soft_travel_limits(a.actual + delta).is_err() {
             let e = MrpError::ParameterOutOfRange {
                 operand: 4,
                 value: mrp.position,

@@ -1430,12 +1430,13 @@ fn mrp_outside_the_soft_travel_limits_is_refused() {
     // Command 10, actual 9.5: the following error is kept by a redefinition.
     task.feed_actual_position(lift, 9.5);
     let before = task.axis_state(lift);
-    // (Type, Position Select, Position): each lands outside [−100, 100].
+    // (Type, Position Select, Position): each takes the actual position
+    // outside [−100, 100].
     for (kind, select, position) in [
         (0, 0, 100.5),
-        (0, 1, -100.5),
+        (0, 1, -99.6),
         (1, 0, 90.6),
-        (1, 1, -110.5),
+        (1, 1, -109.6),
         (0, 0, 1e300),
     ] {
         let e = task.mrp(lift, mi, kind, select, position).unwrap_err();
@@ -1453,9 +1454,9 @@ fn mrp_outside_the_soft_travel_limits_is_refused() {
     task.mrp(lift, mi, 0, 0, 100.0).unwrap();
     let s = task.axis_state(lift);
     assert_eq!((s.command_position, s.actual_position), (100.5, 100.0));
-    task.mrp(lift, mi, 1, 1, -200.5).unwrap();
+    task.mrp(lift, mi, 1, 1, -200.0).unwrap();
     let s = task.axis_state(lift);
-    assert_eq!((s.command_position, s.actual_position), (-100.0, -100.5));
+    assert_eq!((s.command_position, s.actual_position), (-99.5, -100.0));
     assert!(task.motion_bits(mi).dn);
 }
 
