@@ -91,6 +91,10 @@
 //! on a cam profile cannot arise here: a [`CamProfile`] is validated when it
 //! is built (MCCP, or [`CamProfile::from_elements`] for a profile written
 //! element by element, which reports them with SEGMENT).
+//! One case of 179 remains at run time (a choice): a running cam whose slave
+//! position is no longer a finite number (Slave/Master Scaling and master
+//! travel so extreme that `f64` overflows) ends, the slave holds its last
+//! position, and the MAPC gets `.ER` with ERR 179 (SEGMENT 0).
 //!
 //! # Choices where the spec is silent
 //! * A replacement waiting for its lock when the active Once cam completes
@@ -424,6 +428,11 @@ pub enum CamEvent<T> {
         /// cancelled or stopped.
         complete: bool,
     },
+    /// The cam's slave position overflowed (not a finite number): the cam
+    /// ended (an [`CamEvent::Ended`] comes before this) and the instruction
+    /// gets `.ER` with ERR 179 (Invalid Cam Profile Element: "overflow or not
+    /// a number").
+    Overflow(T),
 }
 
 /// An MAPC to start on a [`PositionCamAxis`].
@@ -862,7 +871,34 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> PositionCamAxis<T, K> {
     /// One coarse update: `slave` is the slave's command position before it,
     /// `master(key)` the masters' positions now. Returns the slave's new
     /// command position (`None` when no cam commands it) and the events.
+    ///
+    /// A slave position that is not a finite number (extreme scalings or
+    /// master travel overflowing `f64`) ends the active cam with
+    /// [`CamEvent::Overflow`]; the slave holds where it was.
     pub fn update(&mut self, slave: f64, master: impl Fn(K) -> f64) -> (Option<f64>, Vec<CamEvent<T>>) {
+        let (position, mut events) = self.advance(slave, master);
+        if position.is_some_and(|p| !p.is_finite()) {
+            if let Some(a) = self.active.take() {
+                events.push(CamEvent::Ended {
+                    tag: a.cam.tag,
+                    complete: false,
+                });
+                events.push(CamEvent::Overflow(a.cam.tag));
+            } else if let Some(CamEvent::Ended { tag, complete }) =
+                events.iter_mut().rev().find(|e| matches!(e, CamEvent::Ended { .. }))
+            {
+                // A Once cam that ended at its boundary with an overflowing
+                // end position: it did not complete.
+                *complete = false;
+                let tag = *tag;
+                events.push(CamEvent::Overflow(tag));
+            }
+            return (Some(slave), events);
+        }
+        (position, events)
+    }
+
+    fn advance(&mut self, slave: f64, master: impl Fn(K) -> f64) -> (Option<f64>, Vec<CamEvent<T>>) {
         let mut events = Vec::new();
         let offset = self.master_offset;
         let mpos = |k: K| master(k) + offset;
@@ -913,8 +949,10 @@ impl<T: Copy + PartialEq, K: Copy + PartialEq> PositionCamAxis<T, K> {
             ExecutionMode::Once => (!(x0..=xn).contains(&u)).then(|| u.clamp(x0, xn)),
             ExecutionMode::Persistent if pending => (!(x0..=xn).contains(&u)).then(|| u.clamp(x0, xn)),
             ExecutionMode::Continuous if pending => {
+                // The end of the cycle `u` was in: its end going forward,
+                // its start going back (however far the master went).
                 let (k0, k1) = (cycle(&cam.profile, run.u), cycle(&cam.profile, u));
-                (k1 != k0).then(|| x0 + (xn - x0) * k0.max(k1))
+                (k1 != k0).then_some(x0 + (xn - x0) * if k1 > k0 { k0 + 1.0 } else { k0 })
             }
             _ => None,
         };

@@ -39,9 +39,10 @@
 //! # Choices where the spec is silent
 //! * Length < 2 or Length > the CAM array's size is error 26 (one point
 //!   makes no profile).
-//! * A failed calculation leaves the profile **not calculated** (Status 0, no
-//!   profile): its old contents were already being overwritten. Errors 30 and
-//!   31 leave the profile untouched.
+//! * An element error (28, 29, 179) leaves the profile **not calculated**
+//!   (Status 0, no profile): its old contents were already being
+//!   overwritten. Operand errors (26, 27, 13: checked before the calculation
+//!   starts) and errors 30 and 31 leave the profile untouched.
 //! * The calculation completes inside the call (the spec: "in a single
 //!   scan"), so Status 1 is only seen when a program writes it into the tag
 //!   ([`CamProfileTag::set_status`]).
@@ -261,17 +262,7 @@ impl CamProfile {
     /// # Ok::<(), planner::mccp::MccpError>(())
     /// ```
     pub fn calculate(cam: &[CamElement], length: usize, start_slope: f64, end_slope: f64) -> Result<Self, MccpError> {
-        if length < 2 || length > cam.len() {
-            return Err(MccpError::IllegalCamLength {
-                length,
-                elements: cam.len(),
-            });
-        }
-        for (operand, value) in [(3, start_slope), (4, end_slope)] {
-            if !value.is_finite() {
-                return Err(MccpError::ParameterOutOfRange { operand, value });
-            }
-        }
+        check_operands(cam.len(), length, start_slope, end_slope)?;
         let cam = &cam[..length];
         let mut types = Vec::with_capacity(length);
         for (i, e) in cam.iter().enumerate() {
@@ -384,6 +375,20 @@ impl CamProfile {
             curvature: 2.0 * e.c2 + 6.0 * e.c3 * d,
         }
     }
+}
+
+/// The operand checks made before any element is read: Length (26) and the
+/// slopes (13).
+fn check_operands(elements: usize, length: usize, start_slope: f64, end_slope: f64) -> Result<(), MccpError> {
+    if length < 2 || length > elements {
+        return Err(MccpError::IllegalCamLength { length, elements });
+    }
+    for (operand, value) in [(3, start_slope), (4, end_slope)] {
+        if !value.is_finite() {
+            return Err(MccpError::ParameterOutOfRange { operand, value });
+        }
+    }
+    Ok(())
 }
 
 /// Slopes at every knot: exact for linear segments' ends, from a clamped
@@ -526,17 +531,18 @@ impl CamProfileTag {
             }
             _ => {}
         }
-        self.status = 1;
-        self.profile = None;
-        let result = if length > self.capacity && length >= 2 && length <= cam.len() {
-            Err(MccpError::IllegalCamProfileLength {
+        // Operand errors (26, 27, 13) leave the tag as it was: nothing has
+        // been written yet.
+        check_operands(cam.len(), length, start_slope, end_slope)?;
+        if length > self.capacity {
+            return Err(MccpError::IllegalCamProfileLength {
                 length,
                 capacity: self.capacity,
-            })
-        } else {
-            CamProfile::calculate(cam, length, start_slope, end_slope)
-        };
-        match result {
+            });
+        }
+        self.status = 1;
+        self.profile = None;
+        match CamProfile::calculate(cam, length, start_slope, end_slope) {
             Ok(p) => {
                 self.profile = Some(Arc::new(p));
                 self.status = 2;

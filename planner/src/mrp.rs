@@ -16,6 +16,14 @@
 //!   execute" is at most one coarse update of travel).
 //! * ERR 13 with EXERR 2 (Type), 3 (Position Select) or 4 (Position not
 //!   finite).
+//! * **Soft travel limits** (`AxisConfig::soft_travel_limits`, the spec's
+//!   Max Positive / Max Negative Travel): the redefined *actual* position
+//!   (the one soft overtravel checking watches; absolute or relative, either
+//!   Position Select) must lie within them, bounds included. Logix redefines
+//!   and then raises a software overtravel *axis* fault; this task models no
+//!   axis faults, so (a choice) the MRP is refused instead: ERR 13, EXERR 4
+//!   (the Position operand), `.ER`, and the axis' positions are left as they
+//!   were, so no MRP takes an axis' actual position beyond its limits.
 //!
 //! Choice: the redefinition completes inside the call (`.DN` at once; the
 //! spec allows several coarse updates).

@@ -222,3 +222,78 @@ fn reruns_are_bit_identical() {
     };
     assert_eq!(run(), run());
 }
+
+/// Once and Persistent under random master walks: the slave follows the
+/// clamped profile, Lock Status is "following and inside the range", a Once
+/// cam completes exactly when the coordinate leaves the range (slave at the
+/// boundary value, never moving again) and a Persistent cam never ends.
+#[test]
+fn random_master_walks_once_and_persistent() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x0ce);
+    for case in 0..400 {
+        let profile = random_profile(&mut rng);
+        let (x0, xn) = profile.master_range();
+        let ms = rng.random_range(0.2..3.0) * if rng.random_bool(0.2) { -1.0 } else { 1.0 };
+        let ss = rng.random_range(-3.0..3.0);
+        let once = case % 2 == 0;
+        let master_direction = [
+            MasterDirection::Bidirectional,
+            MasterDirection::ForwardOnly,
+            MasterDirection::ReverseOnly,
+        ][(case / 2) % 3];
+        let cam_lock = rng.random_range(x0..=xn);
+        let mapc = Mapc {
+            slave_scaling: ss,
+            master_scaling: ms,
+            execution_mode: if once {
+                ExecutionMode::Once
+            } else {
+                ExecutionMode::Persistent
+            },
+            cam_lock_position: cam_lock,
+            master_direction,
+            ..Mapc::new(&MapcOperands::default()).unwrap()
+        };
+        let mut cam: PositionCamAxis<u32, u8> = PositionCamAxis::default();
+        let m0 = rng.random_range(-50.0..50.0);
+        let s0 = rng.random_range(-50.0..50.0);
+        cam.start(request(profile.clone(), mapc), s0, |_| m0).unwrap();
+        let f = |u: f64| profile.eval(u).slave;
+        let (mut m, mut clutch, mut slave) = (m0, m0, s0);
+        let mut ended_at: Option<f64> = None;
+        for _ in 0..200 {
+            m += rng.random_range(-5.0..5.0);
+            clutch = match master_direction {
+                MasterDirection::Bidirectional => m,
+                MasterDirection::ForwardOnly => clutch.max(m),
+                MasterDirection::ReverseOnly => clutch.min(m),
+            };
+            let (s, ev) = cam.update(slave, |_| m);
+            let u = cam_lock + (clutch - m0) / ms;
+            let inside = (x0..=xn).contains(&u);
+            if let Some(end) = ended_at {
+                // A completed Once cam never moves the slave again.
+                assert!(ev.is_empty() && s.is_none(), "case {case}");
+                assert_eq!(slave, end);
+                assert_eq!(cam.status(), SlaveCamStatus::default());
+                continue;
+            }
+            slave = s.unwrap();
+            let want = s0 + ss * (f(u.clamp(x0, xn)) - f(cam_lock));
+            assert!(
+                (slave - want).abs() < 1e-8 * (1.0 + want.abs()),
+                "case {case}: {slave} vs {want}"
+            );
+            if once && !inside {
+                assert_eq!(ev, vec![CamEvent::Ended { tag: 1, complete: true }], "case {case}");
+                ended_at = Some(slave);
+                assert_eq!(cam.status(), SlaveCamStatus::default());
+                continue;
+            }
+            assert!(ev.is_empty(), "case {case}");
+            let status = cam.status();
+            assert!(status.position_cam && !status.pending);
+            assert_eq!(status.lock, clutch == m && inside, "case {case}");
+        }
+    }
+}

@@ -272,3 +272,27 @@ fn edited_profiles_are_validated() {
         MccpError::IllegalCamOrder { segment: 2 }
     );
 }
+
+/// An MCCP refused for its operands (Length, profile size, slopes) used to
+/// wipe the profile already calculated in the tag (Status 0).
+#[test]
+fn operand_errors_leave_a_calculated_profile_untouched() {
+    let cam = cubic(&[(0.0, 0.0), (1.0, 1.0), (2.0, 0.0)]);
+    let mut tag = CamProfileTag::new(2);
+    tag.calculate(&cam, 2, 0.0, 0.0).unwrap();
+    let before = tag.clone();
+    for (length, start, end, err) in [
+        (1, 0.0, 0.0, 26),
+        (4, 0.0, 0.0, 26),
+        (3, 0.0, 0.0, 27),
+        (2, f64::NAN, 0.0, 13),
+        (2, 0.0, f64::INFINITY, 13),
+    ] {
+        assert_eq!(tag.calculate(&cam, length, start, end).unwrap_err().err(), err);
+        assert_eq!(tag, before, "ERR {err}");
+    }
+    // An element error happens while the profile is being written.
+    let bad = cubic(&[(0.0, 0.0), (0.0, 1.0)]);
+    assert_eq!(tag.calculate(&bad, 2, 0.0, 0.0).unwrap_err().err(), 29);
+    assert_eq!((tag.status(), tag.profile().is_none()), (0, true));
+}

@@ -325,6 +325,7 @@ impl MotionTask {
         for ev in events {
             match *ev {
                 CamEvent::Active((mi, _)) => self.bits(mi).ac = true,
+                CamEvent::Overflow((mi, _)) => self.fail(mi, 179, 0, 0),
                 CamEvent::Ended {
                     tag: (mi, profile),
                     complete,
@@ -416,7 +417,9 @@ impl MotionTask {
     /// MRP on `axis` (Type and Position Select as DINTs).
     ///
     /// # Errors
-    /// ERR 13 with EXERR 2, 3 or 4.
+    /// ERR 13 with EXERR 2, 3 or 4; EXERR 4 also when the redefined position
+    /// would lie outside the axis' soft travel limits (see [`crate::mrp`]).
+    /// A failed MRP redefines nothing.
     pub fn mrp(
         &mut self,
         axis: AxisHandle,
@@ -435,6 +438,15 @@ impl MotionTask {
         };
         let a = &mut self.axes[axis.0 as usize];
         let delta = mrp.delta(a.command.position, a.actual);
+        // Soft overtravel is checked on the actual position, as Logix does.
+        if a.config.check_soft_travel_limits(a.actual + delta).is_err() {
+            let e = MrpError::ParameterOutOfRange {
+                operand: 4,
+                value: mrp.position,
+            };
+            self.fail(motion_control, e.err(), e.exerr(), 0);
+            return Err(e);
+        }
         a.command.position += delta;
         a.actual += delta;
         if let Some(job) = a.job.as_mut() {
@@ -508,7 +520,12 @@ impl MotionTask {
                 return Err(e);
             }
         };
-        let cam_running = self.cam.axes.get(axis.0 as usize).is_some_and(|c| c.cam.drives());
+        // A preloaded Pending cam (no cam active) is part of the position
+        // cam process too: the stop resets its Pending Status.
+        let cam_running = self.cam.axes.get(axis.0 as usize).is_some_and(|c| {
+            let s = c.cam.status();
+            s.position_cam || s.pending
+        });
         let jogging = self
             .cam
             .axes
@@ -571,6 +588,10 @@ impl MotionTask {
             return false;
         };
         if !(c.cam.drives() || c.ramp.is_some()) {
+            // A preloaded Pending cam moves nothing but ends as well.
+            if c.cam.status().pending {
+                self.end_cams(axis);
+            }
             return false;
         }
         self.end_cams(axis);

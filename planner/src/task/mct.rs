@@ -43,12 +43,13 @@
 //! the executor checks it. Every other command names its axis positions
 //! directly and is **not** checked against the limits: single-axis moves
 //! (MC_MoveModulo, which needs a modulo axis, where limits are refused
-//! anyway), jogs (MAJ), cams (MAPC), MRP and coordinated moves (MCLM/MCCM)
+//! anyway), jogs (MAJ), cams (MAPC) and coordinated moves (MCLM/MCCM)
 //! on a joint system without a running transform. Logix reports a soft
 //! overtravel as an axis fault (with its fault action) rather than as an
 //! instruction error, and this task models no axis faults. While a transform
 //! runs, a joint move that ends beyond a limit ends the link (ERR 67 on the
-//! MCT structure) but not the joint move itself.
+//! MCT structure) but not the joint move itself. (MRP refuses to redefine a
+//! position outside the limits: see [`crate::mrp`].)
 
 use super::{AxisHandle, CoordHandle, InstructionHandle, MotionTask};
 use crate::mct::instruction::{

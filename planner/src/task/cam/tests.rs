@@ -1378,3 +1378,147 @@ fn stopping_all_axes_ends_cams_and_jogs_with_a_ramp() {
         assert!(!r.task.is_stopping(axis));
     }
 }
+
+/// A preloaded Pending cam (no cam active) used to survive MAS Position Cam
+/// and a stop of all axes: its Pending Status, `.IP` and profile Status stayed.
+#[test]
+fn stops_end_a_preloaded_pending_cam() {
+    for stop_all in [false, true] {
+        let mut r = rig();
+        let p = r.profile("Run", &[(0.0, 0.0), (10.0, 20.0)], 0);
+        let mi = r.task.add_instruction("MAPC_P");
+        r.mapc(mi, p, ops(ONCE, PENDING)).unwrap();
+        r.bits(mi, "EN DN IP");
+        r.slave_bits("pending");
+        assert_eq!(r.task.cam_profile(p).status(), 3);
+        if stop_all {
+            let report = r.task.stop_all_axes();
+            assert!(report.stopped_instructions.contains(&mi), "{report:?}");
+        } else {
+            let stop = r.task.add_instruction("MAS_1");
+            let mas = crate::jog::MasOperands {
+                stop_type: 8,
+                ..Default::default()
+            };
+            r.task.mas(r.slave, stop, &mas).unwrap();
+            r.bits(stop, "EN DN PC");
+        }
+        r.bits(mi, "EN DN");
+        r.slave_bits("");
+        assert_eq!(r.task.cam_profile(p).status(), 2);
+        // A cam started afterwards finds no pending cam to hand over to.
+        let a = r.task.add_instruction("MAPC_A");
+        r.mapc(a, p, ops(ONCE, IMMEDIATE)).unwrap();
+        r.to(12.0);
+        r.bits(a, "EN DN PC");
+        r.bits(mi, "EN DN");
+        r.slave_bits("");
+    }
+}
+
+/// MRP used to redefine an axis to a position outside its soft travel
+/// limits without any error (the spec: a software overtravel fault).
+#[test]
+fn mrp_outside_the_soft_travel_limits_is_refused() {
+    let mut task = MotionTask::new(DT).unwrap();
+    let cfg = AxisConfig {
+        soft_travel_limits: Some((-100.0, 100.0)),
+        ..axis("Lift")
+    };
+    let lift = task.add_axis(cfg, 10.0).unwrap();
+    let mi = task.add_instruction("MRP_1");
+    // Command 10, actual 9.5: the following error is kept by a redefinition.
+    task.feed_actual_position(lift, 9.5);
+    let before = task.axis_state(lift);
+    // (Type, Position Select, Position): each takes the actual position
+    // outside [−100, 100].
+    for (kind, select, position) in [
+        (0, 0, 100.5),
+        (0, 1, -99.6),
+        (1, 0, 90.6),
+        (1, 1, -109.6),
+        (0, 0, 1e300),
+    ] {
+        let e = task.mrp(lift, mi, kind, select, position).unwrap_err();
+        assert_eq!((e.err(), e.exerr()), (13, 4), "{kind} {select} {position}");
+        let b = task.motion_bits(mi);
+        assert!(b.en && b.er && !b.dn && b.err == 13 && b.exerr == 4);
+        let s = task.axis_state(lift);
+        assert_eq!(
+            (s.command_position, s.actual_position),
+            (before.command_position, before.actual_position)
+        );
+        assert_eq!(task.position_offset(lift), 0.0);
+    }
+    // The bounds themselves are inside.
+    task.mrp(lift, mi, 0, 0, 100.0).unwrap();
+    let s = task.axis_state(lift);
+    assert_eq!((s.command_position, s.actual_position), (100.5, 100.0));
+    task.mrp(lift, mi, 1, 1, -200.0).unwrap();
+    let s = task.axis_state(lift);
+    assert_eq!((s.command_position, s.actual_position), (-99.5, -100.0));
+    assert!(task.motion_bits(mi).dn);
+}
+
+/// A master that moved more than one cycle of a Continuous cam in one coarse
+/// update used to hand over to the Pending cam at the end of the *last*
+/// cycle it entered, not at the end of the cycle it was in.
+#[test]
+fn pending_cam_takes_over_at_the_end_of_the_current_cycle_even_after_a_long_step() {
+    for (path, handover, expected) in [
+        // Forward: cycle [0, 10) ends at 10; B (slope 2) runs from there.
+        ([3.0, 25.0], 10.0, 10.0 + 2.0 * 15.0),
+        // Reverse: cycle [0, 10) ends (backwards) at 0.
+        ([3.0, -25.0], 0.0, 2.0 * -25.0),
+    ] {
+        let mut r = rig();
+        let a = r.profile("Run", &[(0.0, 0.0), (10.0, 10.0)], 0);
+        let b = r.profile("Fast", &[(0.0, 0.0), (10.0, 20.0)], 0);
+        let (ma, mb) = (r.task.add_instruction("MAPC_A"), r.task.add_instruction("MAPC_B"));
+        r.mapc(ma, a, ops(CONTINUOUS, IMMEDIATE)).unwrap();
+        r.to(path[0]);
+        r.slave_at(path[0]);
+        r.mapc(mb, b, ops(CONTINUOUS, PENDING)).unwrap();
+        r.to(path[1]);
+        r.bits(ma, "EN DN");
+        r.bits(mb, "EN DN IP AC");
+        r.slave_bits("cam lock");
+        // A's slave at the hand-over is the master position there (slope 1).
+        assert_eq!(handover + 2.0 * (path[1] - handover), expected);
+        r.slave_at(expected);
+    }
+}
+
+/// A tiny Master Scaling and a long master travel overflowed the cam
+/// coordinate and the slave was commanded to NaN.
+#[test]
+fn an_overflowing_cam_ends_with_err_179_and_the_slave_holds() {
+    for (master_scaling, slave_scaling, mode) in [(1e-300, 1.0, CONTINUOUS), (1.0, 1e308, ONCE)] {
+        let mut r = rig();
+        let p = r.profile("Line", &[(0.0, 0.0), (10.0, 10.0)], 0);
+        let mi = r.task.add_instruction("MAPC_1");
+        r.mapc(
+            mi,
+            p,
+            MapcOperands {
+                master_scaling,
+                slave_scaling,
+                ..ops(mode, IMMEDIATE)
+            },
+        )
+        .unwrap();
+        r.to(1e-300);
+        let held = r.slave_pos();
+        assert!(held.is_finite());
+        r.to(1e9);
+        r.slave_at(held);
+        let b = r.task.motion_bits(mi);
+        assert_eq!((b.err, b.exerr, b.segment), (179, 0, 0));
+        r.bits(mi, "EN DN ER");
+        r.slave_bits("");
+        assert_eq!(r.task.cam_profile(p).status(), 2);
+        r.to(2e9);
+        r.slave_at(held);
+        assert_eq!(r.task.axis_state(r.slave).command_velocity, 0.0);
+    }
+}
