@@ -65,6 +65,12 @@
 //!   a joint beyond a limit: the joint comes to rest short of it.
 //! * Joint command velocities are the position increment of the update
 //!   divided by the update period, so positions and velocities agree.
+//! * **A faulted transform** is no longer active as soon as `.IP` clears:
+//!   `TransformSourceStatus`, `TransformTargetStatus` and
+//!   `TransformStateStatus` go off with it, although the executor keeps it
+//!   in the table while [`Transform::stop_step`] brings its joints to rest.
+//!   An MCT on one of its axes meanwhile is EXERR 10 (the controlled stop is
+//!   a motion process on that axis).
 //! * Re-execution needs the same two systems (else ERR 61/EXERR 5 or 6 as for
 //!   any other transform using them) and, like a start, no motion process on
 //!   their axes (EXERR 10).
@@ -374,6 +380,10 @@ pub struct Transform {
     joints: AxesCommand,
     source_command: AxesCommand,
     driven: Driven,
+    /// A fault ended the transform and [`Transform::stop_step`] is bringing
+    /// the joints to rest: no longer active (status bits off), but its axes
+    /// are still in motion.
+    stopping: bool,
 }
 
 impl Transform {
@@ -618,6 +628,7 @@ impl Transform {
             at_rest &= v1 == 0.0;
         }
         self.driven = Driven::None;
+        self.stopping = true;
         (self.joints, at_rest)
     }
 }
@@ -651,7 +662,13 @@ impl TransformTable {
             .filter_map(|(i, t)| t.as_ref().map(|t| (TransformId(i as u32), t)))
     }
 
-    /// Number of active transforms.
+    /// The transforms that are active: in the table and not stopping after a
+    /// fault.
+    fn running(&self) -> impl Iterator<Item = (TransformId, &Transform)> {
+        self.active().filter(|(_, t)| !t.stopping)
+    }
+
+    /// Number of transforms in the table (active, or stopping after a fault).
     pub fn len(&self) -> usize {
         self.active().count()
     }
@@ -663,17 +680,17 @@ impl TransformTable {
 
     /// `TransformSourceStatus` of a coordinate system.
     pub fn transform_source_status(&self, system: SystemId) -> bool {
-        self.active().any(|(_, t)| t.source == system)
+        self.running().any(|(_, t)| t.source == system)
     }
 
     /// `TransformTargetStatus` of a coordinate system.
     pub fn transform_target_status(&self, system: SystemId) -> bool {
-        self.active().any(|(_, t)| t.target == system)
+        self.running().any(|(_, t)| t.target == system)
     }
 
     /// `TransformStateStatus` of an axis: part of an active transform.
     pub fn transform_state_status(&self, axis: AxisId) -> bool {
-        self.active()
+        self.running()
             .any(|(_, t)| t.source_axes.contains(&axis) || t.target_axes.contains(&axis))
     }
 
@@ -681,7 +698,7 @@ impl TransformTable {
     /// last update (a joint while the source moved, or a source axis while
     /// the joints moved).
     pub fn controlled_by_transform_status(&self, axis: AxisId) -> bool {
-        self.active().any(|(_, t)| match t.driven {
+        self.running().any(|(_, t)| match t.driven {
             Driven::Target => t.target_axes.contains(&axis),
             Driven::Source => t.source_axes.contains(&axis),
             Driven::None => false,
@@ -740,6 +757,7 @@ impl TransformTable {
             },
             source_command: AxesCommand::default(),
             driven: Driven::None,
+            stopping: false,
         };
         t.check_limits(request.joints)?;
         let position = t.source_of(request.joints)?;
@@ -803,7 +821,12 @@ impl TransformTable {
         }
         let geometry = Geometry::new(target.geometry, &target.params, td)?;
         check_in_plane(r.orientation_deg, r.translation, td)?;
-        let others = || self.active().filter(|(id, _)| Some(*id) != restart).map(|(_, t)| t);
+        let others = || self.running().filter(|(id, _)| Some(*id) != restart).map(|(_, t)| t);
+        // Axes a faulted transform is still stopping: in motion (EXERR 10).
+        let stopping = |axis: &AxisId| {
+            self.active()
+                .any(|(_, t)| t.stopping && (t.source_axes.contains(axis) || t.target_axes.contains(axis)))
+        };
         if others().any(|t| t.source == source.id) {
             return Err(MctError::SourceInUse { system: source.id });
         }
@@ -851,7 +874,7 @@ impl TransformTable {
             }
         }
         for &axis in &all {
-            if (r.condition)(axis).motion_process {
+            if (r.condition)(axis).motion_process || stopping(&axis) {
                 return Err(MctError::MotionInProcess { axis });
             }
         }

@@ -246,7 +246,7 @@ fn a_move_out_of_reach_faults_and_stops_the_joints_within_their_limits() {
         if faulted_at.is_none() && r.task.motion_bits(r.mct).er {
             faulted_at = Some(k);
         }
-        if faulted_at.is_some() && !r.task.transform_state_status(r.j[0]) {
+        if faulted_at.is_some() && r.j.iter().all(|&j| r.task.axis_state(j).command_velocity == 0.0) {
             break;
         }
     }
@@ -262,6 +262,64 @@ fn a_move_out_of_reach_faults_and_stops_the_joints_within_their_limits() {
         r.task.update();
     }
     assert!(!r.task.coordinated_motion_status(r.xyz[0]));
+}
+
+/// A fault ended the transform (`.IP` off) but its status bits stayed on
+/// for the whole controlled stop of the joints.
+#[test]
+fn the_transform_status_bits_go_off_with_ip_when_a_fault_stops_the_joints() {
+    let mut r = scara([0.0, 60.0]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let start = tool(&r);
+    let out = 1.0 / start[0].hypot(start[1]);
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![start[0] * out, start[1] * out, 0.1],
+        speed: 0.5,
+        accel_rate: 5.0,
+        decel_rate: 5.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    let mut stopping_updates = 0;
+    for _ in 0..3000 {
+        r.task.update();
+        if !r.task.motion_bits(r.mct).er {
+            assert!(r.task.transform_source_status(r.cart) && r.task.transform_target_status(r.joints));
+            continue;
+        }
+        let moving = r.j.iter().any(|&j| r.task.axis_state(j).command_velocity != 0.0);
+        assert!(!r.task.transform_source_status(r.cart), "source status after the fault");
+        assert!(
+            !r.task.transform_target_status(r.joints),
+            "target status after the fault"
+        );
+        for a in [r.xyz[0], r.xyz[1], r.j[0], r.j[1]] {
+            assert!(!r.task.transform_state_status(a), "{a:?}");
+            assert!(!r.task.controlled_by_transform_status(a), "{a:?}");
+        }
+        if !moving {
+            break;
+        }
+        stopping_updates += 1;
+        // An MCT on the joints while they are still stopping: a motion
+        // process controls them (EXERR 10).
+        let again = r.task.add_instruction("MCT2");
+        r.task.execute_mct(again, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+        let b = r.task.motion_bits(again);
+        assert!(b.er && (b.err, b.exerr) == (61, 10), "{b:?}");
+    }
+    assert!(stopping_updates > 3, "the stop took {stopping_updates} updates");
+    // At rest, a new MCT links the systems again.
+    for _ in 0..500 {
+        r.task.update();
+    }
+    let again = r.task.add_instruction("MCT3");
+    r.task.execute_mct(again, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let b = r.task.motion_bits(again);
+    assert!(b.ip && !b.er, "{b:?}");
+    assert!(r.task.transform_source_status(r.cart));
 }
 
 #[test]
@@ -309,7 +367,7 @@ fn a_cartesian_move_across_a_joint_limit_faults_and_stops_the_joint_short_of_it(
                 assert!(s.command_acceleration.abs() <= 3600.0 * (1.0 + 1e-9), "{k}: {s:?}");
             }
         }
-        if faulted_at.is_some() && !r.task.transform_state_status(r.j[0]) {
+        if faulted_at.is_some() && r.j.iter().all(|&j| r.task.axis_state(j).command_velocity == 0.0) {
             break;
         }
     }
