@@ -1046,6 +1046,16 @@ impl Mct {
         self.bits.ip = false;
     }
 
+    /// MCS (or shutdown, or a fault action) ends the transform while the
+    /// executor still has to bring its joints to rest: clears `.IP` and
+    /// returns the transform, which stays in the table (no longer active, see
+    /// [`Transform::stop_step`]) until the executor removes it with
+    /// [`TransformTable::cancel`]. `None` when none was running.
+    pub fn stop(&mut self) -> Option<TransformId> {
+        self.bits.ip = false;
+        self.transform.take()
+    }
+
     /// A runtime fault ended the transform: `.IP` cleared, `.ER` set with
     /// ERR 67 (`.DN` stays). The transform stays in the table until the
     /// executor's controlled stop has brought the joints to rest and it calls

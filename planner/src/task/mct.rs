@@ -22,8 +22,12 @@
 //!   at rest; the source axes are no longer linked (a new MCT re-links them
 //!   from the joints).
 //! * MCS with stop type *all* (0) or *coordinated transform* (2) on the source
-//!   or the target system cancels the transform (`.IP` off); stop type
-//!   *coordinated move* (1) leaves it running.
+//!   or the target system cancels the transform (`.IP` off and the status
+//!   bits with it); stop type *coordinated move* (1) leaves it running. The
+//!   joints of a cancelled transform are not frozen where they are: they
+//!   stop in joint space at their axes' maximum deceleration, as after a
+//!   fault, and the transform leaves the table when they are at rest (an MCT
+//!   on their axes meanwhile is EXERR 10).
 //! * The task has one motion group and no axis shutdown or inhibit, so
 //!   EXERR 1, 13 and 14 cannot arise here (they are tested on
 //!   [`crate::mct::instruction`]). EXERR 10 is any single-axis command or
@@ -296,9 +300,13 @@ impl MotionTask {
                 .get(t)
                 .is_some_and(|tr| tr.source() == id || tr.target() == id);
             if involved {
-                slot.mct.cancel(&mut self.mct.table);
+                // The joints may be turning: they stop at their axes'
+                // deceleration, as after a fault, not at once.
+                let id = slot.mct.stop();
                 let (control, bits) = (slot.control, slot.mct.bits());
                 *self.motion_bits_mut(control) = bits;
+                // Step 4 of this update takes the stop's first step.
+                self.mct.instructions[i].stopping = id;
             }
         }
     }
@@ -386,6 +394,15 @@ impl MotionTask {
         let (control, bits, source) = (slot.control, slot.mct.bits(), slot.source);
         *self.motion_bits_mut(control) = bits;
         self.bring_system_to_rest(source);
+        self.stop_joints(i, id);
+    }
+
+    /// Starts the controlled stop of transform `id`'s joints (instruction
+    /// slot `i`): its first update now, the rest in
+    /// [`MotionTask::advance_transforms`]; the transform leaves the table when
+    /// the joints are at rest.
+    fn stop_joints(&mut self, i: usize, id: TransformId) {
+        self.mct.instructions[i].stopping = Some(id);
         let dt = self.dt_s;
         if let Some(t) = self.mct.table.get_mut(id) {
             let (cmd, at_rest) = t.stop_step(dt);

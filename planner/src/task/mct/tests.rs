@@ -264,6 +264,74 @@ fn a_move_out_of_reach_faults_and_stops_the_joints_within_their_limits() {
     assert!(!r.task.coordinated_motion_status(r.xyz[0]));
 }
 
+/// MCS (stop type all or coordinated transform) on the Cartesian system in
+/// the middle of a move under MCT froze the joints at once: their command
+/// speed fell from its full value to zero in one update.
+#[test]
+fn mcs_in_the_middle_of_a_cartesian_move_stops_the_joints_within_their_deceleration() {
+    for (stop_type, system) in [(0, "Cart"), (2, "Cart"), (0, "Joints"), (2, "Joints")] {
+        let mut r = scara([20.0, 70.0]);
+        r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+        let start = tool(&r);
+        let call = CoordCall::Mclm(CoordMoveInputs {
+            position: vec![start[0] - 0.3, start[1] + 0.1, 0.1],
+            speed: 0.5,
+            accel_rate: 5.0,
+            decel_rate: 5.0,
+            termination_type: 1,
+            ..Default::default()
+        });
+        let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
+        r.task.set_coord_instruction(ml, true, call);
+        // Mid-move, the joints turning.
+        for _ in 0..100 {
+            r.task.update();
+        }
+        let speed = |r: &Robot| r.j.map(|j| r.task.axis_state(j).command_velocity);
+        assert!(speed(&r).iter().any(|v| v.abs() > 5.0), "{:?}", speed(&r));
+        let stop = CoordCall::Mcs(McsInputs {
+            stop_type,
+            ..McsInputs::default()
+        });
+        let cs = if system == "Cart" { r.cart } else { r.joints };
+        let ms = r.task.add_coord_instruction("MS1", cs, stop.clone());
+        r.task.set_coord_instruction(ms, true, stop);
+        let dv = 3600.0 * DT * (1.0 + 1e-9);
+        let mut last = speed(&r);
+        let mut last_at = r.j.map(|j| pos(&r.task, j));
+        for k in 0..1000 {
+            r.task.update();
+            let now = speed(&r);
+            let at = r.j.map(|j| pos(&r.task, j));
+            for i in 0..2 {
+                // The positions move as the speeds say (not frozen under a
+                // stale speed).
+                let moved = at[i] - last_at[i];
+                assert!(
+                    (moved - 0.5 * (now[i] + last[i]) * DT).abs() < 1e-9,
+                    "MCS {stop_type} on {system}, update {k}: J{} moved {moved} at {} -> {} deg/s",
+                    i + 1,
+                    last[i],
+                    now[i]
+                );
+                assert!(
+                    (now[i] - last[i]).abs() <= dv,
+                    "MCS {stop_type} on {system}, update {k}: J{} {} -> {} deg/s",
+                    i + 1,
+                    last[i],
+                    now[i]
+                );
+            }
+            last = now;
+            last_at = at;
+        }
+        let b = r.task.motion_bits(r.mct);
+        assert!(!b.ip && !b.er, "{b:?}");
+        assert_eq!(last, [0.0; 2], "MCS {stop_type} on {system}");
+        assert!(!r.task.transform_source_status(r.cart) && !r.task.transform_state_status(r.j[0]));
+    }
+}
+
 /// A fault ended the transform (`.IP` off) but its status bits stayed on
 /// for the whole controlled stop of the joints.
 #[test]
