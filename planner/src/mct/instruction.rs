@@ -71,9 +71,14 @@
 //!   in the table while [`Transform::stop_step`] brings its joints to rest.
 //!   An MCT on one of its axes meanwhile is EXERR 10 (the controlled stop is
 //!   a motion process on that axis).
-//! * Re-execution needs the same two systems (else ERR 61/EXERR 5 or 6 as for
-//!   any other transform using them) and, like a start, no motion process on
-//!   their axes (EXERR 10).
+//! * Re-execution of a control structure whose transform runs replaces that
+//!   transform (the table keeps one transform per control structure, the
+//!   spec's "use a motion control tag only once"): with the same two systems
+//!   it is the restart above; with other systems the old link ends and the
+//!   new one starts, checked against every *other* transform (EXERR 5–9).
+//!   Like a start, it needs no motion process on the new systems' axes
+//!   (EXERR 10). A re-execution that fails leaves the running transform as
+//!   it was (`.ER` set, `.IP` still set).
 
 use super::{
     ArmSolution, Geometry, GeometryError, GeometryKind, GeometryParams, JointKind, Placement, PositionError, Vec3,
