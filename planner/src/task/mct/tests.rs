@@ -164,6 +164,42 @@ fn an_mccm_circle_under_mct_keeps_the_tool_on_the_circle() {
     assert!(!r.task.controlled_by_transform_status(r.j[0]), "nothing moves");
 }
 
+/// After a Cartesian move under MCT ended, the joints kept the command speed
+/// of the move's last update (positions still, speeds not zero).
+#[test]
+fn joints_at_rest_after_a_cartesian_move_have_zero_command_speed() {
+    let mut r = scara([20.0, 70.0]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let start = tool(&r);
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![start[0] - 0.1, start[1] + 0.05, 0.1],
+        speed: 0.3,
+        accel_rate: 3.0,
+        decel_rate: 3.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    for _ in 0..2000 {
+        r.task.update();
+        if r.task.coord_bits(ml).pc {
+            break;
+        }
+    }
+    assert!(r.task.coord_bits(ml).pc);
+    let at = r.j.map(|j| pos(&r.task, j));
+    for _ in 0..3 {
+        r.task.update();
+    }
+    for (k, j) in r.j.into_iter().enumerate() {
+        let s = r.task.axis_state(j);
+        assert_eq!(s.command_position, at[k]);
+        assert_eq!(s.command_velocity, 0.0, "J{}: {s:?}", k + 1);
+        assert_eq!(s.command_acceleration, 0.0, "J{}: {s:?}", k + 1);
+    }
+}
+
 #[test]
 fn a_joint_move_drives_the_cartesian_axes_and_mcs_cancels() {
     let mut r = scara([10.0, 60.0]);
