@@ -164,8 +164,8 @@ fn an_mccm_circle_under_mct_keeps_the_tool_on_the_circle() {
     assert!(!r.task.controlled_by_transform_status(r.j[0]), "nothing moves");
 }
 
-/// After a Cartesian move under MCT ended, the joints kept the command speed
-/// of the move's last update (positions still, speeds not zero).
+/// After a Cartesian move under MCT has ended, the joints hold still with
+/// zero command speed and acceleration (no stale speed of the last update).
 #[test]
 fn joints_at_rest_after_a_cartesian_move_have_zero_command_speed() {
     let mut r = scara([20.0, 70.0]);
