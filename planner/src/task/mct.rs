@@ -373,7 +373,16 @@ impl MotionTask {
                     }
                     Err(fault) => {
                         // The joints move under their own commands: only the
-                        // link ends.
+                        // link ends. The source axes, which only followed,
+                        // hold where the link last put them (not the
+                        // SCARA geometries' shared third axis: a joint).
+                        for axis in source_axes.iter().take(target_axes.len()) {
+                            let a = &mut self.axes[axis.0 as usize];
+                            a.command = Sample {
+                                position: a.command.position,
+                                ..Sample::default()
+                            };
+                        }
                         let slot = &mut self.mct.instructions[i];
                         slot.mct.fault(&fault);
                         slot.mct.cancel(&mut self.mct.table);

@@ -368,6 +368,46 @@ fn mcs_in_the_middle_of_a_cartesian_move_stops_the_joints_within_their_decelerat
     }
 }
 
+/// A joint move that left a joint's soft travel limit ended the link, but
+/// the Cartesian axes kept the command speed of the link's last update.
+#[test]
+fn a_joint_move_beyond_a_limit_ends_the_link_and_leaves_the_cartesian_axes_at_rest() {
+    let mut r = scara_limited([0.0, 60.0], [Some((-20.0, 25.0)), None]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![40.0, 60.0, 0.1],
+        speed: 90.0,
+        accel_rate: 900.0,
+        decel_rate: 900.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.joints, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    let mut ended = None;
+    for k in 0..2000 {
+        r.task.update();
+        if r.task.motion_bits(r.mct).er {
+            ended = Some(k);
+            break;
+        }
+        assert!(r.task.axis_state(r.xyz[0]).command_velocity != 0.0 || k == 0);
+    }
+    let b = r.task.motion_bits(r.mct);
+    assert!(ended.is_some() && b.err == 67 && !b.ip, "{b:?}");
+    let at = r.xyz.map(|a| pos(&r.task, a));
+    for _ in 0..3 {
+        r.task.update();
+    }
+    for (k, a) in r.xyz.into_iter().enumerate() {
+        let s = r.task.axis_state(a);
+        assert_eq!(s.command_position, at[k], "{a:?}");
+        assert_eq!(s.command_velocity, 0.0, "{a:?}: {s:?}");
+    }
+    // The joint move itself goes on (the link ended, not the move).
+    assert!(pos(&r.task, r.j[0]) > 25.0);
+}
+
 /// A fault ended the transform (`.IP` off) but its status bits stayed on
 /// for the whole controlled stop of the joints.
 #[test]
