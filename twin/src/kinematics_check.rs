@@ -733,6 +733,71 @@ mod tests {
         }
     }
 
+    /// A Delta 2D in the base X-Y plane (X2 = the URDF's Y): upper arms at
+    /// (±X1b, X2b) pointing ±X at zero and turning down (−Y) for positive
+    /// angles, forearms on virtual yaw/pitch joints, the platform on virtual
+    /// X and Y slides, balls at ±X1e, the tool X2e above the platform centre.
+    fn delta_2d_urdf(forearm_m: f64) -> RobotModel {
+        let (l1, x1b, x2b, x1e, x2e) = (0.3, 0.2, 0.1, 0.05, -0.05);
+        let limit = r#"<limit lower="-0.3" upper="1.2" effort="1" velocity="1"/>"#;
+        let free = r#"<limit lower="-10" upper="10" effort="1" velocity="1"/>"#;
+        let mut xml = String::from(
+            r#"<robot name="d2"><link name="base"/><link name="platform"/><link name="px"/><link name="tool"/>"#,
+        );
+        xml += &format!(
+            r#"<joint name="platform_x" type="prismatic"><parent link="base"/><child link="px"/><axis xyz="1 0 0"/>{free}</joint>
+<joint name="platform_y" type="prismatic"><parent link="px"/><child link="platform"/><axis xyz="0 1 0"/>{free}</joint>
+<joint name="tool_mount" type="fixed"><parent link="platform"/><child link="tool"/><origin xyz="0 {x2e} 0"/></joint>"#
+        );
+        for (i, sign, yaw, axis) in [(1, 1.0, 0.0, "0 0 -1"), (2, -1.0, std::f64::consts::PI, "0 0 1")] {
+            xml += &format!(
+                r#"<link name="arm_{i}"/><link name="fa_{i}_y"/><link name="fa_{i}"/><link name="forearm_{i}_tip"/><link name="ball_{i}"/>
+<joint name="j{i}" type="revolute"><parent link="base"/><child link="arm_{i}"/><origin xyz="{x} {x2b} 0" rpy="0 0 {yaw}"/><axis xyz="{axis}"/>{limit}</joint>
+<joint name="forearm_{i}_yaw" type="revolute"><parent link="arm_{i}"/><child link="fa_{i}_y"/><origin xyz="{l1} 0 0"/><axis xyz="0 0 1"/>{free}</joint>
+<joint name="forearm_{i}_pitch" type="revolute"><parent link="fa_{i}_y"/><child link="fa_{i}"/><axis xyz="0 1 0"/>{free}</joint>
+<joint name="forearm_{i}_end" type="fixed"><parent link="fa_{i}"/><child link="forearm_{i}_tip"/><origin xyz="{forearm_m} 0 0"/></joint>
+<joint name="ball_{i}_mount" type="fixed"><parent link="platform"/><child link="ball_{i}"/><origin xyz="{b} 0 0"/></joint>"#,
+                x = sign * x1b,
+                b = sign * x1e,
+            );
+        }
+        xml += "</robot>";
+        RobotModel::from_urdf_str(&xml, Path::new("delta_2d.urdf")).expect("URDF loads")
+    }
+
+    #[test]
+    fn a_delta_2d_is_checked_with_its_virtual_joints_and_a_long_forearm_is_refused() {
+        let params = GeometryParams {
+            link_lengths: [0.3, 0.8, 0.0],
+            base_offsets: [0.2, 0.1, 0.0],
+            end_effector_offsets: [0.05, -0.05, 0.0],
+            ..Default::default()
+        };
+        let g = Geometry::new(GeometryKind::Delta2d, &params, 2).unwrap();
+        let m = ChainMapping {
+            joints: strings(&["j1", "j2"]),
+            base_link: "base".into(),
+            tool_link: "tool".into(),
+            platform_joints: strings(&["platform_x", "platform_y"]),
+            forearm_joints: (1..=2)
+                .map(|i| [format!("forearm_{i}_yaw"), format!("forearm_{i}_pitch")])
+                .collect(),
+            forearm_tip_links: strings(&["forearm_1_tip", "forearm_2_tip"]),
+            ball_links: strings(&["ball_1", "ball_2"]),
+        };
+        let report = check(&delta_2d_urdf(0.8), &g, &m, 1.0).unwrap();
+        assert!(report.configurations >= MIN_CONFIGURATIONS, "{report:?}");
+        assert!(report.max_deviation_m < 1e-9, "{report:?}");
+        match check(&delta_2d_urdf(0.81), &g, &m, 1.0) {
+            Err(KinematicsCheckError::Mismatch {
+                measure: Measure::Forearm { arm: 1 },
+                deviation_m,
+                ..
+            }) => assert!((deviation_m - 0.01).abs() < 1e-9, "{deviation_m}"),
+            other => panic!("{other:?}"),
+        }
+    }
+
     /// An articulated dependent robot or an H-bot was reported as a
     /// geometry mismatch (wrong link lengths?) although a URDF tree cannot
     /// express its axes at all.
