@@ -737,7 +737,9 @@ mod tests {
     /// (±X1b, X2b) pointing ±X at zero and turning down (−Y) for positive
     /// angles, forearms on virtual yaw/pitch joints, the platform on virtual
     /// X and Y slides, balls at ±X1e, the tool X2e above the platform centre.
-    fn delta_2d_urdf(forearm_m: f64) -> RobotModel {
+    /// With `scara`, a SCARA Delta: the arms turn towards +Y (its work space)
+    /// and the tool hangs on the shared third axis, a quill `j3` along Z.
+    fn delta_2d_urdf(forearm_m: f64, scara: bool) -> RobotModel {
         let (l1, x1b, x2b, x1e, x2e) = (0.3, 0.2, 0.1, 0.05, -0.05);
         let limit = r#"<limit lower="-0.3" upper="1.2" effort="1" velocity="1"/>"#;
         let free = r#"<limit lower="-10" upper="10" effort="1" velocity="1"/>"#;
@@ -747,9 +749,16 @@ mod tests {
         xml += &format!(
             r#"<joint name="platform_x" type="prismatic"><parent link="base"/><child link="px"/><axis xyz="1 0 0"/>{free}</joint>
 <joint name="platform_y" type="prismatic"><parent link="px"/><child link="platform"/><axis xyz="0 1 0"/>{free}</joint>
-<joint name="tool_mount" type="fixed"><parent link="platform"/><child link="tool"/><origin xyz="0 {x2e} 0"/></joint>"#
+<joint name="{tool_joint}" type="{tool_kind}"><parent link="platform"/><child link="tool"/><origin xyz="0 {x2e} 0"/><axis xyz="0 0 1"/>{free}</joint>"#,
+            tool_joint = if scara { "j3" } else { "tool_mount" },
+            tool_kind = if scara { "prismatic" } else { "fixed" },
         );
-        for (i, sign, yaw, axis) in [(1, 1.0, 0.0, "0 0 -1"), (2, -1.0, std::f64::consts::PI, "0 0 1")] {
+        let (down, up) = if scara {
+            ("0 0 1", "0 0 -1")
+        } else {
+            ("0 0 -1", "0 0 1")
+        };
+        for (i, sign, yaw, axis) in [(1, 1.0, 0.0, down), (2, -1.0, std::f64::consts::PI, up)] {
             xml += &format!(
                 r#"<link name="arm_{i}"/><link name="fa_{i}_y"/><link name="fa_{i}"/><link name="forearm_{i}_tip"/><link name="ball_{i}"/>
 <joint name="j{i}" type="revolute"><parent link="base"/><child link="arm_{i}"/><origin xyz="{x} {x2b} 0" rpy="0 0 {yaw}"/><axis xyz="{axis}"/>{limit}</joint>
@@ -766,16 +775,15 @@ mod tests {
     }
 
     #[test]
-    fn a_delta_2d_is_checked_with_its_virtual_joints_and_a_long_forearm_is_refused() {
+    fn delta_2d_and_scara_delta_are_checked_with_their_virtual_joints_and_a_long_forearm_is_refused() {
         let params = GeometryParams {
             link_lengths: [0.3, 0.8, 0.0],
             base_offsets: [0.2, 0.1, 0.0],
             end_effector_offsets: [0.05, -0.05, 0.0],
             ..Default::default()
         };
-        let g = Geometry::new(GeometryKind::Delta2d, &params, 2).unwrap();
-        let m = ChainMapping {
-            joints: strings(&["j1", "j2"]),
+        let mapping = |scara: bool| ChainMapping {
+            joints: strings(if scara { &["j1", "j2", "j3"] } else { &["j1", "j2"] }),
             base_link: "base".into(),
             tool_link: "tool".into(),
             platform_joints: strings(&["platform_x", "platform_y"]),
@@ -785,17 +793,28 @@ mod tests {
             forearm_tip_links: strings(&["forearm_1_tip", "forearm_2_tip"]),
             ball_links: strings(&["ball_1", "ball_2"]),
         };
-        let report = check(&delta_2d_urdf(0.8), &g, &m, 1.0).unwrap();
-        assert!(report.configurations >= MIN_CONFIGURATIONS, "{report:?}");
-        assert!(report.max_deviation_m < 1e-9, "{report:?}");
-        match check(&delta_2d_urdf(0.81), &g, &m, 1.0) {
-            Err(KinematicsCheckError::Mismatch {
-                measure: Measure::Forearm { arm: 1 },
-                deviation_m,
-                ..
-            }) => assert!((deviation_m - 0.01).abs() < 1e-9, "{deviation_m}"),
-            other => panic!("{other:?}"),
+        for (kind, scara) in [(GeometryKind::Delta2d, false), (GeometryKind::ScaraDelta, true)] {
+            let g = Geometry::new(kind, &params, 2).unwrap();
+            let m = mapping(scara);
+            let report = check(&delta_2d_urdf(0.8, scara), &g, &m, 1.0).unwrap_or_else(|e| panic!("{kind:?}: {e}"));
+            assert!(report.configurations >= MIN_CONFIGURATIONS, "{kind:?}: {report:?}");
+            assert!(report.max_deviation_m < 1e-9, "{kind:?}: {report:?}");
+            match check(&delta_2d_urdf(0.81, scara), &g, &m, 1.0) {
+                Err(KinematicsCheckError::Mismatch {
+                    measure: Measure::Forearm { arm: 1 },
+                    deviation_m,
+                    ..
+                }) => assert!((deviation_m - 0.01).abs() < 1e-9, "{kind:?}: {deviation_m}"),
+                other => panic!("{kind:?}: {other:?}"),
+            }
         }
+        // Upper arms turning towards +Y (the SCARA Delta's URDF) under the
+        // Delta 2D geometry, whose work space is −Y: refused.
+        let g = Geometry::new(GeometryKind::Delta2d, &params, 2).unwrap();
+        assert!(matches!(
+            check(&delta_2d_urdf(0.8, true), &g, &mapping(false), 1.0),
+            Err(KinematicsCheckError::Mismatch { .. })
+        ));
     }
 
     /// An articulated dependent robot or an H-bot was reported as a
