@@ -65,6 +65,12 @@
 //!   a joint beyond a limit: the joint comes to rest short of it.
 //! * Joint command velocities are the position increment of the update
 //!   divided by the update period, so positions and velocities agree.
+//! * **Joint accelerations are not limited** while the transform follows the
+//!   source (as in Logix, which leaves it to the program to keep the robot
+//!   away from singularities): close to — but outside the margin of — a
+//!   singularity, a joint's speed may change by up to its axis' maximum
+//!   speed in one update. Only the speed is guarded (a fault above it), and
+//!   the controlled stop after a fault decelerates at the axis' maximum.
 //! * **A faulted transform** is no longer active as soon as `.IP` clears:
 //!   `TransformSourceStatus`, `TransformTargetStatus` and
 //!   `TransformStateStatus` go off with it, although the executor keeps it
