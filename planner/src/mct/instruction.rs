@@ -68,8 +68,9 @@
 //! * **Joint accelerations are not limited** while the transform follows the
 //!   source (as in Logix, which leaves it to the program to keep the robot
 //!   away from singularities): close to — but outside the margin of — a
-//!   singularity, a joint's speed may change by up to its axis' maximum
-//!   speed in one update. Only the speed is guarded (a fault above it), and
+//!   singularity, a joint's speed may change abruptly from one update to the
+//!   next (never beyond its axis' maximum speed). Only the speed is guarded
+//!   (a fault above it), and
 //!   the controlled stop after a fault decelerates at the axis' maximum.
 //! * **A faulted transform** is no longer active as soon as `.IP` clears:
 //!   `TransformSourceStatus`, `TransformTargetStatus` and
