@@ -23,11 +23,12 @@
 //!   from the joints).
 //! * MCS with stop type *all* (0) or *coordinated transform* (2) on the source
 //!   or the target system cancels the transform (`.IP` off and the status
-//!   bits with it); stop type *coordinated move* (1) leaves it running. The
-//!   joints of a cancelled transform are not frozen where they are: they
-//!   stop in joint space at their axes' maximum deceleration, as after a
-//!   fault, and the transform leaves the table when they are at rest (an MCT
-//!   on their axes meanwhile is EXERR 10).
+//!   bits with it); stop type *coordinated move* (1) leaves it running.
+//!   Joints that were following the source are not frozen where they are:
+//!   they stop in joint space at their axes' maximum deceleration, as after
+//!   a fault, and the transform leaves the table when they are at rest (an
+//!   MCT on their axes meanwhile is EXERR 10). Joints moving under their own
+//!   commands (a joint move the source was following) go on.
 //! * The task has one motion group and no axis shutdown or inhibit, so
 //!   EXERR 1, 13 and 14 cannot arise here (they are tested on
 //!   [`crate::mct::instruction`]). EXERR 10 is any single-axis command or
@@ -299,15 +300,28 @@ impl MotionTask {
                 .table
                 .get(t)
                 .is_some_and(|tr| tr.source() == id || tr.target() == id);
-            if involved {
-                // The joints may be turning: they stop at their axes'
-                // deceleration, as after a fault, not at once.
-                let id = slot.mct.stop();
-                let (control, bits) = (slot.control, slot.mct.bits());
-                *self.motion_bits_mut(control) = bits;
-                // Step 4 of this update takes the stop's first step.
-                self.mct.instructions[i].stopping = id;
+            if !involved {
+                continue;
             }
+            // Joints that follow the source may be turning: they stop at
+            // their axes' deceleration, as after a fault, not at once. Joints
+            // that move under their own commands (the source follows them)
+            // go on; only the link ends.
+            let table = &self.mct.table;
+            let joints_follow = table.get(t).is_some_and(|tr| {
+                tr.target_axes()
+                    .iter()
+                    .any(|&a| table.controlled_by_transform_status(a))
+            });
+            if joints_follow {
+                let id = slot.mct.stop();
+                // Step 4 of this update takes the stop's first step.
+                slot.stopping = id;
+            } else {
+                slot.mct.cancel(&mut self.mct.table);
+            }
+            let (control, bits) = (slot.control, slot.mct.bits());
+            *self.motion_bits_mut(control) = bits;
         }
     }
 

@@ -408,6 +408,50 @@ fn a_joint_move_beyond_a_limit_ends_the_link_and_leaves_the_cartesian_axes_at_re
     assert!(pos(&r.task, r.j[0]) > 25.0);
 }
 
+#[test]
+fn mcs_on_the_source_during_a_joint_move_ends_the_link_and_the_joint_move_goes_on() {
+    let mut r = scara([10.0, 60.0]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![10.0, 90.0, 0.1],
+        speed: 30.0,
+        accel_rate: 300.0,
+        decel_rate: 300.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.joints, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    for _ in 0..50 {
+        r.task.update();
+    }
+    assert!(r.task.controlled_by_transform_status(r.xyz[0]));
+    let stop = CoordCall::Mcs(McsInputs {
+        stop_type: 2,
+        ..McsInputs::default()
+    });
+    let ms = r.task.add_coord_instruction("MS1", r.cart, stop.clone());
+    r.task.set_coord_instruction(ms, true, stop);
+    let mut last = pos(&r.task, r.j[1]);
+    for k in 0..2000 {
+        r.task.update();
+        // J2 keeps its own move's profile: forward, at most 30°/s.
+        let now = pos(&r.task, r.j[1]);
+        assert!(
+            now >= last && now - last <= 30.0 * DT * (1.0 + 1e-9),
+            "{k}: J2 {last} -> {now}"
+        );
+        last = now;
+        if r.task.coord_bits(ml).pc {
+            break;
+        }
+    }
+    let b = r.task.motion_bits(r.mct);
+    assert!(!b.ip && !b.er, "{b:?}");
+    assert!(r.task.coord_bits(ml).pc, "the joint move completes");
+    assert_eq!(pos(&r.task, r.j[1]), 90.0);
+}
+
 /// A fault ended the transform (`.IP` off) but its status bits stayed on
 /// for the whole controlled stop of the joints.
 #[test]
