@@ -32,7 +32,7 @@
 //! offsets describe where that pose sits in the kinematic equations.
 
 use nalgebra::{Point3, Vector3};
-use planner::mct::{Geometry, JointKind as MctJointKind};
+use planner::mct::{Geometry, GeometryKind, JointKind as MctJointKind};
 
 use crate::urdf::{JointIndex, JointKind, LinkIndex, RobotModel};
 
@@ -144,6 +144,18 @@ pub enum KinematicsCheckError {
         /// The joint configuration, J1 first (rad or m).
         configuration: Vec<f64>,
     },
+    /// The geometry's axes are not URDF joint positions: an articulated
+    /// dependent robot measures its elbow from the horizontal (a URDF joint
+    /// turns relative to its parent link), an H-bot's two motors share one
+    /// belt (a URDF has an X and a Y slide). Such a robot would be simulated
+    /// wrongly, so it is refused rather than reported as a mismatch.
+    #[error("an MCT {kind:?} target cannot drive URDF joints one axis per joint: {reason}")]
+    Unsupported {
+        /// The geometry.
+        kind: GeometryKind,
+        /// Why.
+        reason: &'static str,
+    },
     /// Too few configurations could be posed (a parallel robot whose
     /// forearms cannot meet within the URDF joint limits).
     #[error(
@@ -185,6 +197,19 @@ fn resolve(model: &RobotModel, geometry: &Geometry, m: &ChainMapping) -> Result<
             .joint_by_name(name)
             .ok_or_else(|| KinematicsCheckError::UnknownJoint { name: name.clone() })
     };
+    let reason = match geometry.kind() {
+        GeometryKind::ArticulatedDependent => {
+            Some("its last joint's angle is measured from the horizontal, a URDF joint's from its parent link")
+        }
+        GeometryKind::CartesianHBot => Some("its two motors drive X1 and X2 together through one belt"),
+        _ => None,
+    };
+    if let Some(reason) = reason {
+        return Err(KinematicsCheckError::Unsupported {
+            kind: geometry.kind(),
+            reason,
+        });
+    }
     let needed = geometry.dimension() + usize::from(geometry.shares_third_axis());
     let count = |what, given: usize, needed: usize| {
         if given == needed {
@@ -347,8 +372,9 @@ fn configurations(model: &RobotModel, joints: &[JointIndex]) -> Vec<Vec<f64>> {
 /// metres (prismatic joints move in those units too).
 ///
 /// # Errors
-/// [`KinematicsCheckError`]: an unknown link or joint, a joint of the wrong
-/// type, a wrong count, too few valid configurations, or a mismatch above
+/// [`KinematicsCheckError`]: a geometry whose axes are not URDF joint
+/// positions (articulated dependent, H-bot), an unknown link or joint, a
+/// joint of the wrong type, a wrong count, too few valid configurations, or a mismatch above
 /// [`TOLERANCE_M`] (the first configuration where one occurs).
 pub fn check(
     model: &RobotModel,
@@ -605,6 +631,225 @@ mod tests {
         assert!(matches!(
             check(&model("delta", &text("delta")), &g, &m, 1.0),
             Err(KinematicsCheckError::Mismatch { .. })
+        ));
+    }
+
+    /// A URDF written in the test: `joints` are `(name, type, origin xyz,
+    /// axis xyz)` chained from `base` to `tool`.
+    fn chain_urdf(joints: &[(&str, &str, &str, &str)]) -> RobotModel {
+        let mut xml = String::from(r#"<robot name="t"><link name="base"/>"#);
+        let mut parent = "base".to_string();
+        for (i, (name, kind, xyz, axis)) in joints.iter().enumerate() {
+            let child = if i + 1 == joints.len() {
+                "tool".to_string()
+            } else {
+                format!("link{i}")
+            };
+            xml += &format!(
+                r#"<link name="{child}"/><joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/><origin xyz="{xyz}"/><axis xyz="{axis}"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>"#
+            );
+            parent = child;
+        }
+        xml += "</robot>";
+        RobotModel::from_urdf_str(&xml, Path::new("in_memory.urdf")).expect("URDF loads")
+    }
+
+    fn chain_mapping(joints: &[&str]) -> ChainMapping {
+        ChainMapping {
+            joints: strings(joints),
+            base_link: "base".into(),
+            tool_link: "tool".into(),
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn a_gantry_and_a_planar_articulated_arm_are_checked_and_a_wrong_offset_is_refused() {
+        // Gantry: X, Y, Z slides; base offsets (0.1, 0.2, 0.3) and tool 0.05 below.
+        let gantry = |tool_z: &str| {
+            chain_urdf(&[
+                ("x", "prismatic", "0.1 0.2 0.3", "1 0 0"),
+                ("y", "prismatic", "0 0 0", "0 1 0"),
+                ("z", "prismatic", &format!("0 0 {tool_z}"), "0 0 1"),
+            ])
+        };
+        let params = GeometryParams {
+            base_offsets: [0.1, 0.2, 0.3],
+            end_effector_offsets: [0.0, 0.0, -0.05],
+            ..Default::default()
+        };
+        let g = Geometry::new(GeometryKind::CartesianGantry, &params, 3).unwrap();
+        let m = chain_mapping(&["x", "y", "z"]);
+        let report = check(&gantry("-0.05"), &g, &m, 1.0).unwrap();
+        assert_eq!(report.configurations, CONFIGURATIONS);
+        assert!(report.max_deviation_m < 1e-12, "{report:?}");
+        match check(&gantry("-0.06"), &g, &m, 1.0) {
+            Err(KinematicsCheckError::Mismatch { deviation_m, .. }) => {
+                assert!((deviation_m - 0.01).abs() < 1e-12, "{deviation_m}")
+            }
+            other => panic!("{other:?}"),
+        }
+        // The same gantry in millimetre coordinate units.
+        let mm = GeometryParams {
+            base_offsets: [100.0, 200.0, 300.0],
+            end_effector_offsets: [0.0, 0.0, -50.0],
+            ..Default::default()
+        };
+        let g_mm = Geometry::new(GeometryKind::CartesianGantry, &mm, 3).unwrap();
+        assert!(check(&gantry("-0.05"), &g_mm, &m, 1e-3).is_ok());
+        // Articulated independent 2D in the base X-Y plane: L1 0.4, L2 0.3,
+        // zero angles (10°, -20°) in the URDF's joint origins.
+        let planar = |l2: f64| {
+            let (z1, z2) = (10f64.to_radians(), (-20f64).to_radians());
+            let mut xml = String::from(
+                r#"<robot name="p"><link name="base"/><link name="a"/><link name="b"/><link name="tool"/>"#,
+            );
+            xml += &format!(
+                r#"<joint name="j1" type="revolute"><parent link="base"/><child link="a"/><origin xyz="0.05 0.02 0" rpy="0 0 {z1}"/><axis xyz="0 0 1"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>"#
+            );
+            xml += &format!(
+                r#"<joint name="j2" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0.4 0 0" rpy="0 0 {z2}"/><axis xyz="0 0 1"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>"#
+            );
+            xml += &format!(
+                r#"<joint name="t" type="fixed"><parent link="b"/><child link="tool"/><origin xyz="{l2} 0 0"/></joint></robot>"#
+            );
+            RobotModel::from_urdf_str(&xml, Path::new("planar.urdf")).expect("URDF loads")
+        };
+        let params = GeometryParams {
+            link_lengths: [0.4, 0.3, 0.0],
+            base_offsets: [0.05, 0.02, 0.0],
+            zero_angles_deg: [10.0, -20.0, 0.0],
+            ..Default::default()
+        };
+        let g = Geometry::new(GeometryKind::ArticulatedIndependent, &params, 2).unwrap();
+        let m = chain_mapping(&["j1", "j2"]);
+        let report = check(&planar(0.3), &g, &m, 1.0).unwrap();
+        assert!(report.max_deviation_m < 1e-12, "{report:?}");
+        match check(&planar(0.31), &g, &m, 1.0) {
+            Err(KinematicsCheckError::Mismatch { deviation_m, .. }) => {
+                assert!((deviation_m - 0.01).abs() < 1e-12, "{deviation_m}")
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// A Delta 2D in the base X-Y plane (X2 = the URDF's Y): upper arms at
+    /// (±X1b, X2b) pointing ±X at zero and turning down (−Y) for positive
+    /// angles, forearms on virtual yaw/pitch joints, the platform on virtual
+    /// X and Y slides, balls at ±X1e, the tool X2e above the platform centre.
+    /// With `scara`, a SCARA Delta: the arms turn towards +Y (its work space)
+    /// and the tool hangs on the shared third axis, a quill `j3` along Z.
+    fn delta_2d_urdf(forearm_m: f64, scara: bool) -> RobotModel {
+        let (l1, x1b, x2b, x1e, x2e) = (0.3, 0.2, 0.1, 0.05, -0.05);
+        let limit = r#"<limit lower="-0.3" upper="1.2" effort="1" velocity="1"/>"#;
+        let free = r#"<limit lower="-10" upper="10" effort="1" velocity="1"/>"#;
+        let mut xml = String::from(
+            r#"<robot name="d2"><link name="base"/><link name="platform"/><link name="px"/><link name="tool"/>"#,
+        );
+        xml += &format!(
+            r#"<joint name="platform_x" type="prismatic"><parent link="base"/><child link="px"/><axis xyz="1 0 0"/>{free}</joint>
+<joint name="platform_y" type="prismatic"><parent link="px"/><child link="platform"/><axis xyz="0 1 0"/>{free}</joint>
+<joint name="{tool_joint}" type="{tool_kind}"><parent link="platform"/><child link="tool"/><origin xyz="0 {x2e} 0"/><axis xyz="0 0 1"/>{free}</joint>"#,
+            tool_joint = if scara { "j3" } else { "tool_mount" },
+            tool_kind = if scara { "prismatic" } else { "fixed" },
+        );
+        let (down, up) = if scara {
+            ("0 0 1", "0 0 -1")
+        } else {
+            ("0 0 -1", "0 0 1")
+        };
+        for (i, sign, yaw, axis) in [(1, 1.0, 0.0, down), (2, -1.0, std::f64::consts::PI, up)] {
+            xml += &format!(
+                r#"<link name="arm_{i}"/><link name="fa_{i}_y"/><link name="fa_{i}"/><link name="forearm_{i}_tip"/><link name="ball_{i}"/>
+<joint name="j{i}" type="revolute"><parent link="base"/><child link="arm_{i}"/><origin xyz="{x} {x2b} 0" rpy="0 0 {yaw}"/><axis xyz="{axis}"/>{limit}</joint>
+<joint name="forearm_{i}_yaw" type="revolute"><parent link="arm_{i}"/><child link="fa_{i}_y"/><origin xyz="{l1} 0 0"/><axis xyz="0 0 1"/>{free}</joint>
+<joint name="forearm_{i}_pitch" type="revolute"><parent link="fa_{i}_y"/><child link="fa_{i}"/><axis xyz="0 1 0"/>{free}</joint>
+<joint name="forearm_{i}_end" type="fixed"><parent link="fa_{i}"/><child link="forearm_{i}_tip"/><origin xyz="{forearm_m} 0 0"/></joint>
+<joint name="ball_{i}_mount" type="fixed"><parent link="platform"/><child link="ball_{i}"/><origin xyz="{b} 0 0"/></joint>"#,
+                x = sign * x1b,
+                b = sign * x1e,
+            );
+        }
+        xml += "</robot>";
+        RobotModel::from_urdf_str(&xml, Path::new("delta_2d.urdf")).expect("URDF loads")
+    }
+
+    #[test]
+    fn delta_2d_and_scara_delta_are_checked_with_their_virtual_joints_and_a_long_forearm_is_refused() {
+        let params = GeometryParams {
+            link_lengths: [0.3, 0.8, 0.0],
+            base_offsets: [0.2, 0.1, 0.0],
+            end_effector_offsets: [0.05, -0.05, 0.0],
+            ..Default::default()
+        };
+        let mapping = |scara: bool| ChainMapping {
+            joints: strings(if scara { &["j1", "j2", "j3"] } else { &["j1", "j2"] }),
+            base_link: "base".into(),
+            tool_link: "tool".into(),
+            platform_joints: strings(&["platform_x", "platform_y"]),
+            forearm_joints: (1..=2)
+                .map(|i| [format!("forearm_{i}_yaw"), format!("forearm_{i}_pitch")])
+                .collect(),
+            forearm_tip_links: strings(&["forearm_1_tip", "forearm_2_tip"]),
+            ball_links: strings(&["ball_1", "ball_2"]),
+        };
+        for (kind, scara) in [(GeometryKind::Delta2d, false), (GeometryKind::ScaraDelta, true)] {
+            let g = Geometry::new(kind, &params, 2).unwrap();
+            let m = mapping(scara);
+            let report = check(&delta_2d_urdf(0.8, scara), &g, &m, 1.0).unwrap_or_else(|e| panic!("{kind:?}: {e}"));
+            assert!(report.configurations >= MIN_CONFIGURATIONS, "{kind:?}: {report:?}");
+            assert!(report.max_deviation_m < 1e-9, "{kind:?}: {report:?}");
+            match check(&delta_2d_urdf(0.81, scara), &g, &m, 1.0) {
+                Err(KinematicsCheckError::Mismatch {
+                    measure: Measure::Forearm { arm: 1 },
+                    deviation_m,
+                    ..
+                }) => assert!((deviation_m - 0.01).abs() < 1e-9, "{kind:?}: {deviation_m}"),
+                other => panic!("{kind:?}: {other:?}"),
+            }
+        }
+        // Upper arms turning towards +Y (the SCARA Delta's URDF) under the
+        // Delta 2D geometry, whose work space is −Y: refused.
+        let g = Geometry::new(GeometryKind::Delta2d, &params, 2).unwrap();
+        assert!(matches!(
+            check(&delta_2d_urdf(0.8, true), &g, &mapping(false), 1.0),
+            Err(KinematicsCheckError::Mismatch { .. })
+        ));
+    }
+
+    /// An articulated dependent robot or an H-bot was reported as a
+    /// geometry mismatch (wrong link lengths?) although a URDF tree cannot
+    /// express its axes at all.
+    #[test]
+    fn articulated_dependent_and_hbot_targets_are_refused_as_unsupported() {
+        let arm = chain_urdf(&[
+            ("j1", "revolute", "0 0 0", "0 0 1"),
+            ("j2", "revolute", "0 0 0.4", "0 -1 0"),
+            ("j3", "revolute", "0.4 0 0", "0 -1 0"),
+        ]);
+        let params = GeometryParams {
+            link_lengths: [0.4, 0.35, 0.0],
+            ..Default::default()
+        };
+        let g = Geometry::new(GeometryKind::ArticulatedDependent, &params, 3).unwrap();
+        assert!(matches!(
+            check(&arm, &g, &chain_mapping(&["j1", "j2", "j3"]), 1.0),
+            Err(KinematicsCheckError::Unsupported {
+                kind: GeometryKind::ArticulatedDependent,
+                ..
+            })
+        ));
+        let slides = chain_urdf(&[
+            ("x", "prismatic", "0 0 0", "1 0 0"),
+            ("y", "prismatic", "0 0 0", "0 1 0"),
+        ]);
+        let g = Geometry::new(GeometryKind::CartesianHBot, &GeometryParams::default(), 2).unwrap();
+        assert!(matches!(
+            check(&slides, &g, &chain_mapping(&["x", "y"]), 1.0),
+            Err(KinematicsCheckError::Unsupported {
+                kind: GeometryKind::CartesianHBot,
+                ..
+            })
         ));
     }
 

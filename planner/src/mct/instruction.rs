@@ -65,9 +65,27 @@
 //!   a joint beyond a limit: the joint comes to rest short of it.
 //! * Joint command velocities are the position increment of the update
 //!   divided by the update period, so positions and velocities agree.
-//! * Re-execution needs the same two systems (else ERR 61/EXERR 5 or 6 as for
-//!   any other transform using them) and, like a start, no motion process on
-//!   their axes (EXERR 10).
+//! * **Joint accelerations are not limited** while the transform follows the
+//!   source (as in Logix, which leaves it to the program to keep the robot
+//!   away from singularities): close to — but outside the margin of — a
+//!   singularity, a joint's speed may change abruptly from one update to the
+//!   next (never beyond its axis' maximum speed). Only the speed is guarded
+//!   (a fault above it), and
+//!   the controlled stop after a fault decelerates at the axis' maximum.
+//! * **A faulted transform** is no longer active as soon as `.IP` clears:
+//!   `TransformSourceStatus`, `TransformTargetStatus` and
+//!   `TransformStateStatus` go off with it, although the executor keeps it
+//!   in the table while [`Transform::stop_step`] brings its joints to rest.
+//!   An MCT on one of its axes meanwhile is EXERR 10 (the controlled stop is
+//!   a motion process on that axis).
+//! * Re-execution of a control structure whose transform runs replaces that
+//!   transform (the table keeps one transform per control structure, the
+//!   spec's "use a motion control tag only once"): with the same two systems
+//!   it is the restart above; with other systems the old link ends and the
+//!   new one starts, checked against every *other* transform (EXERR 5–9).
+//!   Like a start, it needs no motion process on the new systems' axes
+//!   (EXERR 10). A re-execution that fails leaves the running transform as
+//!   it was (`.ER` set, `.IP` still set).
 
 use super::{
     ArmSolution, Geometry, GeometryError, GeometryKind, GeometryParams, JointKind, Placement, PositionError, Vec3,
@@ -374,6 +392,10 @@ pub struct Transform {
     joints: AxesCommand,
     source_command: AxesCommand,
     driven: Driven,
+    /// A fault ended the transform and [`Transform::stop_step`] is bringing
+    /// the joints to rest: no longer active (status bits off), but its axes
+    /// are still in motion.
+    stopping: bool,
 }
 
 impl Transform {
@@ -618,6 +640,7 @@ impl Transform {
             at_rest &= v1 == 0.0;
         }
         self.driven = Driven::None;
+        self.stopping = true;
         (self.joints, at_rest)
     }
 }
@@ -651,7 +674,13 @@ impl TransformTable {
             .filter_map(|(i, t)| t.as_ref().map(|t| (TransformId(i as u32), t)))
     }
 
-    /// Number of active transforms.
+    /// The transforms that are active: in the table and not stopping after a
+    /// fault.
+    fn running(&self) -> impl Iterator<Item = (TransformId, &Transform)> {
+        self.active().filter(|(_, t)| !t.stopping)
+    }
+
+    /// Number of transforms in the table (active, or stopping after a fault).
     pub fn len(&self) -> usize {
         self.active().count()
     }
@@ -663,17 +692,17 @@ impl TransformTable {
 
     /// `TransformSourceStatus` of a coordinate system.
     pub fn transform_source_status(&self, system: SystemId) -> bool {
-        self.active().any(|(_, t)| t.source == system)
+        self.running().any(|(_, t)| t.source == system)
     }
 
     /// `TransformTargetStatus` of a coordinate system.
     pub fn transform_target_status(&self, system: SystemId) -> bool {
-        self.active().any(|(_, t)| t.target == system)
+        self.running().any(|(_, t)| t.target == system)
     }
 
     /// `TransformStateStatus` of an axis: part of an active transform.
     pub fn transform_state_status(&self, axis: AxisId) -> bool {
-        self.active()
+        self.running()
             .any(|(_, t)| t.source_axes.contains(&axis) || t.target_axes.contains(&axis))
     }
 
@@ -681,7 +710,7 @@ impl TransformTable {
     /// last update (a joint while the source moved, or a source axis while
     /// the joints moved).
     pub fn controlled_by_transform_status(&self, axis: AxisId) -> bool {
-        self.active().any(|(_, t)| match t.driven {
+        self.running().any(|(_, t)| match t.driven {
             Driven::Target => t.target_axes.contains(&axis),
             Driven::Source => t.source_axes.contains(&axis),
             Driven::None => false,
@@ -740,6 +769,7 @@ impl TransformTable {
             },
             source_command: AxesCommand::default(),
             driven: Driven::None,
+            stopping: false,
         };
         t.check_limits(request.joints)?;
         let position = t.source_of(request.joints)?;
@@ -803,7 +833,12 @@ impl TransformTable {
         }
         let geometry = Geometry::new(target.geometry, &target.params, td)?;
         check_in_plane(r.orientation_deg, r.translation, td)?;
-        let others = || self.active().filter(|(id, _)| Some(*id) != restart).map(|(_, t)| t);
+        let others = || self.running().filter(|(id, _)| Some(*id) != restart).map(|(_, t)| t);
+        // Axes a faulted transform is still stopping: in motion (EXERR 10).
+        let stopping = |axis: &AxisId| {
+            self.active()
+                .any(|(_, t)| t.stopping && (t.source_axes.contains(axis) || t.target_axes.contains(axis)))
+        };
         if others().any(|t| t.source == source.id) {
             return Err(MctError::SourceInUse { system: source.id });
         }
@@ -851,7 +886,7 @@ impl TransformTable {
             }
         }
         for &axis in &all {
-            if (r.condition)(axis).motion_process {
+            if (r.condition)(axis).motion_process || stopping(&axis) {
                 return Err(MctError::MotionInProcess { axis });
             }
         }
@@ -1021,6 +1056,16 @@ impl Mct {
             table.cancel(id);
         }
         self.bits.ip = false;
+    }
+
+    /// MCS (or shutdown, or a fault action) ends the transform while the
+    /// executor still has to bring its joints to rest: clears `.IP` and
+    /// returns the transform, which stays in the table (no longer active, see
+    /// [`Transform::stop_step`]) until the executor removes it with
+    /// [`TransformTable::cancel`]. `None` when none was running.
+    pub fn stop(&mut self) -> Option<TransformId> {
+        self.bits.ip = false;
+        self.transform.take()
     }
 
     /// A runtime fault ended the transform: `.IP` cleared, `.ER` set with

@@ -113,7 +113,24 @@ fn random_round_trips_on_the_same_and_the_other_arm_solutions() {
         let mut rng = ChaCha8Rng::seed_from_u64(1000 + seed as u64);
         let z = zero_rad(&g);
         let (mut checked, mut refused, mut unreachable, mut other_solutions) = (0, 0, 0, 0);
-        for _ in 0..SAMPLES {
+        // Round trips inverse(forward(q)) = q on q's own solution, per value
+        // of solution bit 0 (right arm / left arm, or Delta knee 1 outward /
+        // inward): each value gets at least SAMPLES.
+        let mut per_bit0 = [0usize; 2];
+        let wanted = |per: &[usize; 2]| {
+            if branches(&g) == 0 {
+                per[0] >= SAMPLES
+            } else {
+                per[0] >= SAMPLES && per[1] >= SAMPLES
+            }
+        };
+        let mut drawn = 0;
+        while !wanted(&per_bit0) {
+            drawn += 1;
+            assert!(
+                drawn < 40 * SAMPLES,
+                "{name}: only {per_bit0:?} round trips per arm solution"
+            );
             let mut q = [0.0; 3];
             for i in 0..3 {
                 let (lo, hi) = range[i];
@@ -148,6 +165,7 @@ fn random_round_trips_on_the_same_and_the_other_arm_solutions() {
                     assert!(distance(again, x) < TOL, "{name}: {x:?} -> {again:?}");
                     assert_eq!(g.solution(back).unwrap(), s, "{name}: {q:?}");
                     checked += 1;
+                    per_bit0[usize::from(s.flipped(0))] += 1;
                 }
                 Err(PositionError::Singularity { angle_rad, .. }) => {
                     assert!(
@@ -171,15 +189,27 @@ fn random_round_trips_on_the_same_and_the_other_arm_solutions() {
                         joint_distance(&g, q2, q) > 1e-6,
                         "{name}: other solution equals the first"
                     );
+                    // And q2 is itself a configuration whose round trip on
+                    // its own solution gives it back (this is how the
+                    // solutions that joint sampling rarely meets, such as a
+                    // Delta knee turned inward, get their round trips).
+                    let back2 = g.inverse(x2, other).unwrap();
+                    assert!(
+                        joint_distance(&g, back2, q2) < TOL,
+                        "{name}: q2 {q2:?} -> x {x2:?} -> {back2:?}"
+                    );
+                    if chain == 0 {
+                        per_bit0[usize::from(other.flipped(0))] += 1;
+                    }
                     other_solutions += 1;
                 }
             }
         }
         assert!(
-            checked > SAMPLES * 8 / 10,
-            "{name}: only {checked} round trips ({refused} singular, {unreachable} unreachable)"
+            checked > drawn * 8 / 10,
+            "{name}: only {checked} round trips of {drawn} ({refused} singular, {unreachable} unreachable)"
         );
-        assert!(refused < SAMPLES / 100, "{name}: {refused} singular refusals");
+        assert!(refused < drawn / 100, "{name}: {refused} singular refusals");
         if branches(&g) > 0 {
             assert!(
                 other_solutions > checked / 2,

@@ -22,8 +22,13 @@
 //!   at rest; the source axes are no longer linked (a new MCT re-links them
 //!   from the joints).
 //! * MCS with stop type *all* (0) or *coordinated transform* (2) on the source
-//!   or the target system cancels the transform (`.IP` off); stop type
-//!   *coordinated move* (1) leaves it running.
+//!   or the target system cancels the transform (`.IP` off and the status
+//!   bits with it); stop type *coordinated move* (1) leaves it running.
+//!   Joints that were following the source are not frozen where they are:
+//!   they stop in joint space at their axes' maximum deceleration, as after
+//!   a fault, and the transform leaves the table when they are at rest (an
+//!   MCT on their axes meanwhile is EXERR 10). Joints moving under their own
+//!   commands (a joint move the source was following) go on.
 //! * The task has one motion group and no axis shutdown or inhibit, so
 //!   EXERR 1, 13 and 14 cannot arise here (they are tested on
 //!   [`crate::mct::instruction`]). EXERR 10 is any single-axis command or
@@ -296,11 +301,28 @@ impl MotionTask {
                 .table
                 .get(t)
                 .is_some_and(|tr| tr.source() == id || tr.target() == id);
-            if involved {
-                slot.mct.cancel(&mut self.mct.table);
-                let (control, bits) = (slot.control, slot.mct.bits());
-                *self.motion_bits_mut(control) = bits;
+            if !involved {
+                continue;
             }
+            // Joints that follow the source may be turning: they stop at
+            // their axes' deceleration, as after a fault, not at once. Joints
+            // that move under their own commands (the source follows them)
+            // go on; only the link ends.
+            let table = &self.mct.table;
+            let joints_follow = table.get(t).is_some_and(|tr| {
+                tr.target_axes()
+                    .iter()
+                    .any(|&a| table.controlled_by_transform_status(a))
+            });
+            if joints_follow {
+                let id = slot.mct.stop();
+                // Step 4 of this update takes the stop's first step.
+                slot.stopping = id;
+            } else {
+                slot.mct.cancel(&mut self.mct.table);
+            }
+            let (control, bits) = (slot.control, slot.mct.bits());
+            *self.motion_bits_mut(control) = bits;
         }
     }
 
@@ -366,7 +388,16 @@ impl MotionTask {
                     }
                     Err(fault) => {
                         // The joints move under their own commands: only the
-                        // link ends.
+                        // link ends. The source axes, which only followed,
+                        // hold where the link last put them (not the
+                        // SCARA geometries' shared third axis: a joint).
+                        for axis in source_axes.iter().take(target_axes.len()) {
+                            let a = &mut self.axes[axis.0 as usize];
+                            a.command = Sample {
+                                position: a.command.position,
+                                ..Sample::default()
+                            };
+                        }
                         let slot = &mut self.mct.instructions[i];
                         slot.mct.fault(&fault);
                         slot.mct.cancel(&mut self.mct.table);
@@ -387,6 +418,15 @@ impl MotionTask {
         let (control, bits, source) = (slot.control, slot.mct.bits(), slot.source);
         *self.motion_bits_mut(control) = bits;
         self.bring_system_to_rest(source);
+        self.stop_joints(i, id);
+    }
+
+    /// Starts the controlled stop of transform `id`'s joints (instruction
+    /// slot `i`): its first update now, the rest in
+    /// [`MotionTask::advance_transforms`]; the transform leaves the table when
+    /// the joints are at rest.
+    fn stop_joints(&mut self, i: usize, id: TransformId) {
+        self.mct.instructions[i].stopping = Some(id);
         let dt = self.dt_s;
         if let Some(t) = self.mct.table.get_mut(id) {
             let (cmd, at_rest) = t.stop_step(dt);

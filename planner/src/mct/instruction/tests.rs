@@ -454,6 +454,32 @@ fn re_execution_picks_up_orientation_translation_and_geometry() {
 }
 
 #[test]
+fn re_execution_on_other_systems_replaces_the_link_and_a_failed_one_keeps_it() {
+    let j = joints3();
+    let (s, g) = scara_pair();
+    let (a, b) = (cartesian(5, &[51, 52, 53], 3), cartesian(6, &[61, 62, 63], 3));
+    let mut t = TransformTable::new();
+    let mut mct = Mct::new();
+    mct.scan(true, &mut t, &request(&s, &g, &j, [30.0, 45.0, 0.1])).unwrap();
+    mct.scan(false, &mut t, &request(&s, &g, &j, [30.0, 45.0, 0.1]));
+    // A failing re-execution (EXERR 1): the running transform stays.
+    let ungrouped = TransformSystem {
+        in_motion_group: false,
+        ..b.clone()
+    };
+    assert!(mct.scan(true, &mut t, &request(&a, &ungrouped, &j, [0.0; 3])).is_none());
+    let bits = mct.bits();
+    assert!(bits.er && bits.ip && (bits.err, bits.exerr) == (61, 1), "{bits:?}");
+    assert!(t.transform_source_status(SystemId(1)) && mct.transform().is_some());
+    mct.scan(false, &mut t, &request(&a, &b, &j, [0.0; 3]));
+    // Other systems: the old link ends, the new one runs.
+    mct.scan(true, &mut t, &request(&a, &b, &j, [0.0; 3])).unwrap();
+    assert_eq!(t.len(), 1);
+    assert!(!t.transform_source_status(SystemId(1)) && !t.transform_state_status(AxisId(11)));
+    assert!(t.transform_source_status(SystemId(5)) && t.transform_target_status(SystemId(6)));
+}
+
+#[test]
 fn a_circle_under_mct_stays_on_the_circle_through_the_joint_commands() {
     // The tool point computed by forward kinematics from the joint command
     // positions lies on the programmed circle.

@@ -164,6 +164,42 @@ fn an_mccm_circle_under_mct_keeps_the_tool_on_the_circle() {
     assert!(!r.task.controlled_by_transform_status(r.j[0]), "nothing moves");
 }
 
+/// After a Cartesian move under MCT has ended, the joints hold still with
+/// zero command speed and acceleration (no stale speed of the last update).
+#[test]
+fn joints_at_rest_after_a_cartesian_move_have_zero_command_speed() {
+    let mut r = scara([20.0, 70.0]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let start = tool(&r);
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![start[0] - 0.1, start[1] + 0.05, 0.1],
+        speed: 0.3,
+        accel_rate: 3.0,
+        decel_rate: 3.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    for _ in 0..2000 {
+        r.task.update();
+        if r.task.coord_bits(ml).pc {
+            break;
+        }
+    }
+    assert!(r.task.coord_bits(ml).pc);
+    let at = r.j.map(|j| pos(&r.task, j));
+    for _ in 0..3 {
+        r.task.update();
+    }
+    for (k, j) in r.j.into_iter().enumerate() {
+        let s = r.task.axis_state(j);
+        assert_eq!(s.command_position, at[k]);
+        assert_eq!(s.command_velocity, 0.0, "J{}: {s:?}", k + 1);
+        assert_eq!(s.command_acceleration, 0.0, "J{}: {s:?}", k + 1);
+    }
+}
+
 #[test]
 fn a_joint_move_drives_the_cartesian_axes_and_mcs_cancels() {
     let mut r = scara([10.0, 60.0]);
@@ -246,7 +282,7 @@ fn a_move_out_of_reach_faults_and_stops_the_joints_within_their_limits() {
         if faulted_at.is_none() && r.task.motion_bits(r.mct).er {
             faulted_at = Some(k);
         }
-        if faulted_at.is_some() && !r.task.transform_state_status(r.j[0]) {
+        if faulted_at.is_some() && r.j.iter().all(|&j| r.task.axis_state(j).command_velocity == 0.0) {
             break;
         }
     }
@@ -262,6 +298,216 @@ fn a_move_out_of_reach_faults_and_stops_the_joints_within_their_limits() {
         r.task.update();
     }
     assert!(!r.task.coordinated_motion_status(r.xyz[0]));
+}
+
+/// MCS (stop type all or coordinated transform) on the Cartesian system in
+/// the middle of a move under MCT froze the joints at once: their command
+/// speed fell from its full value to zero in one update.
+#[test]
+fn mcs_in_the_middle_of_a_cartesian_move_stops_the_joints_within_their_deceleration() {
+    for (stop_type, system) in [(0, "Cart"), (2, "Cart"), (0, "Joints"), (2, "Joints")] {
+        let mut r = scara([20.0, 70.0]);
+        r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+        let start = tool(&r);
+        let call = CoordCall::Mclm(CoordMoveInputs {
+            position: vec![start[0] - 0.3, start[1] + 0.1, 0.1],
+            speed: 0.5,
+            accel_rate: 5.0,
+            decel_rate: 5.0,
+            termination_type: 1,
+            ..Default::default()
+        });
+        let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
+        r.task.set_coord_instruction(ml, true, call);
+        // Mid-move, the joints turning.
+        for _ in 0..100 {
+            r.task.update();
+        }
+        let speed = |r: &Robot| r.j.map(|j| r.task.axis_state(j).command_velocity);
+        assert!(speed(&r).iter().any(|v| v.abs() > 5.0), "{:?}", speed(&r));
+        let stop = CoordCall::Mcs(McsInputs {
+            stop_type,
+            ..McsInputs::default()
+        });
+        let cs = if system == "Cart" { r.cart } else { r.joints };
+        let ms = r.task.add_coord_instruction("MS1", cs, stop.clone());
+        r.task.set_coord_instruction(ms, true, stop);
+        let dv = 3600.0 * DT * (1.0 + 1e-9);
+        let mut last = speed(&r);
+        let mut last_at = r.j.map(|j| pos(&r.task, j));
+        for k in 0..1000 {
+            r.task.update();
+            let now = speed(&r);
+            let at = r.j.map(|j| pos(&r.task, j));
+            for i in 0..2 {
+                // The positions move as the speeds say (not frozen under a
+                // stale speed).
+                let moved = at[i] - last_at[i];
+                assert!(
+                    (moved - 0.5 * (now[i] + last[i]) * DT).abs() < 1e-9,
+                    "MCS {stop_type} on {system}, update {k}: J{} moved {moved} at {} -> {} deg/s",
+                    i + 1,
+                    last[i],
+                    now[i]
+                );
+                assert!(
+                    (now[i] - last[i]).abs() <= dv,
+                    "MCS {stop_type} on {system}, update {k}: J{} {} -> {} deg/s",
+                    i + 1,
+                    last[i],
+                    now[i]
+                );
+            }
+            last = now;
+            last_at = at;
+        }
+        let b = r.task.motion_bits(r.mct);
+        assert!(!b.ip && !b.er, "{b:?}");
+        assert_eq!(last, [0.0; 2], "MCS {stop_type} on {system}");
+        assert!(!r.task.transform_source_status(r.cart) && !r.task.transform_state_status(r.j[0]));
+    }
+}
+
+/// A joint move that left a joint's soft travel limit ended the link, but
+/// the Cartesian axes kept the command speed of the link's last update.
+#[test]
+fn a_joint_move_beyond_a_limit_ends_the_link_and_leaves_the_cartesian_axes_at_rest() {
+    let mut r = scara_limited([0.0, 60.0], [Some((-20.0, 25.0)), None]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![40.0, 60.0, 0.1],
+        speed: 90.0,
+        accel_rate: 900.0,
+        decel_rate: 900.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.joints, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    let mut ended = None;
+    for k in 0..2000 {
+        r.task.update();
+        if r.task.motion_bits(r.mct).er {
+            ended = Some(k);
+            break;
+        }
+        assert!(r.task.axis_state(r.xyz[0]).command_velocity != 0.0 || k == 0);
+    }
+    let b = r.task.motion_bits(r.mct);
+    assert!(ended.is_some() && b.err == 67 && !b.ip, "{b:?}");
+    let at = r.xyz.map(|a| pos(&r.task, a));
+    for _ in 0..3 {
+        r.task.update();
+    }
+    for (k, a) in r.xyz.into_iter().enumerate() {
+        let s = r.task.axis_state(a);
+        assert_eq!(s.command_position, at[k], "{a:?}");
+        assert_eq!(s.command_velocity, 0.0, "{a:?}: {s:?}");
+    }
+    // The joint move itself goes on (the link ended, not the move).
+    assert!(pos(&r.task, r.j[0]) > 25.0);
+}
+
+#[test]
+fn mcs_on_the_source_during_a_joint_move_ends_the_link_and_the_joint_move_goes_on() {
+    let mut r = scara([10.0, 60.0]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![10.0, 90.0, 0.1],
+        speed: 30.0,
+        accel_rate: 300.0,
+        decel_rate: 300.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.joints, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    for _ in 0..50 {
+        r.task.update();
+    }
+    assert!(r.task.controlled_by_transform_status(r.xyz[0]));
+    let stop = CoordCall::Mcs(McsInputs {
+        stop_type: 2,
+        ..McsInputs::default()
+    });
+    let ms = r.task.add_coord_instruction("MS1", r.cart, stop.clone());
+    r.task.set_coord_instruction(ms, true, stop);
+    let mut last = pos(&r.task, r.j[1]);
+    for k in 0..2000 {
+        r.task.update();
+        // J2 keeps its own move's profile: forward, at most 30°/s.
+        let now = pos(&r.task, r.j[1]);
+        assert!(
+            now >= last && now - last <= 30.0 * DT * (1.0 + 1e-9),
+            "{k}: J2 {last} -> {now}"
+        );
+        last = now;
+        if r.task.coord_bits(ml).pc {
+            break;
+        }
+    }
+    let b = r.task.motion_bits(r.mct);
+    assert!(!b.ip && !b.er, "{b:?}");
+    assert!(r.task.coord_bits(ml).pc, "the joint move completes");
+    assert_eq!(pos(&r.task, r.j[1]), 90.0);
+}
+
+/// A fault ended the transform (`.IP` off) but its status bits stayed on
+/// for the whole controlled stop of the joints.
+#[test]
+fn the_transform_status_bits_go_off_with_ip_when_a_fault_stops_the_joints() {
+    let mut r = scara([0.0, 60.0]);
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let start = tool(&r);
+    let out = 1.0 / start[0].hypot(start[1]);
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![start[0] * out, start[1] * out, 0.1],
+        speed: 0.5,
+        accel_rate: 5.0,
+        decel_rate: 5.0,
+        termination_type: 1,
+        ..Default::default()
+    });
+    let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
+    r.task.set_coord_instruction(ml, true, call);
+    let mut stopping_updates = 0;
+    for _ in 0..3000 {
+        r.task.update();
+        if !r.task.motion_bits(r.mct).er {
+            assert!(r.task.transform_source_status(r.cart) && r.task.transform_target_status(r.joints));
+            continue;
+        }
+        let moving = r.j.iter().any(|&j| r.task.axis_state(j).command_velocity != 0.0);
+        assert!(!r.task.transform_source_status(r.cart), "source status after the fault");
+        assert!(
+            !r.task.transform_target_status(r.joints),
+            "target status after the fault"
+        );
+        for a in [r.xyz[0], r.xyz[1], r.j[0], r.j[1]] {
+            assert!(!r.task.transform_state_status(a), "{a:?}");
+            assert!(!r.task.controlled_by_transform_status(a), "{a:?}");
+        }
+        if !moving {
+            break;
+        }
+        stopping_updates += 1;
+        // An MCT on the joints while they are still stopping: a motion
+        // process controls them (EXERR 10).
+        let again = r.task.add_instruction("MCT2");
+        r.task.execute_mct(again, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+        let b = r.task.motion_bits(again);
+        assert!(b.er && (b.err, b.exerr) == (61, 10), "{b:?}");
+    }
+    assert!(stopping_updates > 3, "the stop took {stopping_updates} updates");
+    // At rest, a new MCT links the systems again.
+    for _ in 0..500 {
+        r.task.update();
+    }
+    let again = r.task.add_instruction("MCT3");
+    r.task.execute_mct(again, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let b = r.task.motion_bits(again);
+    assert!(b.ip && !b.er, "{b:?}");
+    assert!(r.task.transform_source_status(r.cart));
 }
 
 #[test]
@@ -309,7 +555,7 @@ fn a_cartesian_move_across_a_joint_limit_faults_and_stops_the_joint_short_of_it(
                 assert!(s.command_acceleration.abs() <= 3600.0 * (1.0 + 1e-9), "{k}: {s:?}");
             }
         }
-        if faulted_at.is_some() && !r.task.transform_state_status(r.j[0]) {
+        if faulted_at.is_some() && r.j.iter().all(|&j| r.task.axis_state(j).command_velocity == 0.0) {
             break;
         }
     }
