@@ -1765,3 +1765,40 @@ fn an_mct_source_arc_that_leaves_the_workspace_is_predicted_out_of_reach() {
     assert_eq!(twin.task().motion_bits(t1).err, 67);
     assert!(!twin.task().motion_bits(c1).pc);
 }
+
+#[test]
+fn a_collision_stop_under_mct_brings_the_tool_to_rest_on_its_path_and_keeps_the_transform() {
+    let path = scara_arc_collision_scene("report");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("reaction = \"report\"", "reaction = \"stop\"");
+    std::fs::write(&path, text).unwrap();
+    let mut twin = Twin::new(twin::scene::load(&path).unwrap()).unwrap();
+    let (c1, t1) = (instruction(&twin, "C1"), instruction(&twin, "T1"));
+    let cart = twin
+        .task()
+        .coord_handles()
+        .find(|h| twin.task().coord_config(*h).name == "Cart")
+        .unwrap();
+    let axes: Vec<_> = twin.axes().iter().map(|a| a.handle).collect();
+    for _ in 0..twin.total_updates() {
+        twin.step();
+    }
+    let events = twin.collision_events();
+    assert_eq!(events.len(), 1, "{events:?}");
+    // C1 lost .IP without .PC; the transform still runs (T1.IP, source
+    // status), every axis at rest.
+    let b = twin.task().motion_bits(c1);
+    assert!(!b.ip && !b.pc && !b.er, "{b:?}");
+    assert!(twin.task().motion_bits(t1).ip && !twin.task().motion_bits(t1).er);
+    assert!(twin.task().transform_source_status(cart));
+    for h in axes {
+        assert_eq!(twin.task().axis_state(h).command_velocity, 0.0);
+    }
+    // The tool stopped on the programmed circle (radius 0.25 m about
+    // (0.25, 0.05)), past the contact.
+    let tool = twin.model().links.iter().position(|l| l.name == "tool").unwrap();
+    let p = twin.world_from_link()[tool].0;
+    let r = (p[0] - 0.25).hypot(p[1] - 0.05);
+    assert!((r - 0.25).abs() < 1e-3, "{p:?} r {r}");
+}

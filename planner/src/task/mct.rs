@@ -277,6 +277,16 @@ impl MotionTask {
         (handles(transform.source_axes()), handles(transform.target_axes()))
     }
 
+    /// The MCT control structures whose transform runs (`.IP`).
+    pub(super) fn running_mct_controls(&self) -> Vec<InstructionHandle> {
+        self.mct
+            .instructions
+            .iter()
+            .filter(|s| s.mct.transform().is_some())
+            .map(|s| s.control)
+            .collect()
+    }
+
     /// `TransformSourceStatus` of a coordinate system.
     pub fn transform_source_status(&self, system: CoordHandle) -> bool {
         self.mct.table.transform_source_status(self.system_id(system))
