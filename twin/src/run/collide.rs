@@ -996,6 +996,23 @@ mod tests {
                     twin.transform_mapping(cs),
                 );
                 let t = path.transform.as_ref().unwrap();
+                // At its start (where the tool is) the path gives the
+                // joints the transform commands now, and a parallel
+                // robot's virtual joints where the run put them.
+                assert_eq!(t.mapping.rig.is_some(), scene == "delta_pick.toml");
+                let q0 = path.joint_positions(0.0);
+                for a in t.mapping.target.iter().flatten() {
+                    assert!(
+                        (q0[a.joint] - path.base[a.joint]).abs() < 1e-9,
+                        "{scene}: joint {}",
+                        a.joint
+                    );
+                }
+                if let Some((rig, _)) = &t.mapping.rig {
+                    for (&j, v) in rig.virtual_joints().iter().zip(rig.previous()) {
+                        assert!((q0[j] - v).abs() < 1e-6, "{scene}: virtual joint {j}: {} vs {v}", q0[j]);
+                    }
+                }
                 let reach = path.length();
                 assert!(reach <= mv.path().length() && reach >= 0.0);
                 if let Some((s_u, _)) = &t.unreachable {
