@@ -729,6 +729,17 @@ fn collision_events_are_identical_on_rerun() {
         assert_eq!(a.collision_events(), b.collision_events(), "{scene}");
         assert_eq!(a.predicted_collisions(), b.predicted_collisions(), "{scene}");
     }
+    // Through an MCT: the sweep's sampled transform path too.
+    let scene = scara_arc_collision_scene("report_rerun");
+    let text = std::fs::read_to_string(&scene)
+        .unwrap()
+        .replace("preflight = \"report_rerun\"", "preflight = \"report\"");
+    std::fs::write(&scene, text).unwrap();
+    let scene = scene.display().to_string();
+    let (a, b) = (run_twin(&scene), run_twin(&scene));
+    assert!(!a.predicted_collisions().is_empty() && !a.collision_events().is_empty());
+    assert_eq!(a.collision_events(), b.collision_events());
+    assert_eq!(a.predicted_collisions(), b.predicted_collisions());
 }
 
 #[test]
