@@ -689,6 +689,17 @@ fn collision_events_are_identical_on_rerun() {
         assert_eq!(a.collision_events(), b.collision_events(), "{scene}");
         assert_eq!(a.predicted_collisions(), b.predicted_collisions(), "{scene}");
     }
+    // Through an MCT: the sweep's sampled transform path too.
+    let scene = scara_arc_collision_scene("report_rerun");
+    let text = std::fs::read_to_string(&scene)
+        .unwrap()
+        .replace("preflight = \"report_rerun\"", "preflight = \"report\"");
+    std::fs::write(&scene, text).unwrap();
+    let scene = scene.display().to_string();
+    let (a, b) = (run_twin(&scene), run_twin(&scene));
+    assert!(!a.predicted_collisions().is_empty() && !a.collision_events().is_empty());
+    assert_eq!(a.collision_events(), b.collision_events());
+    assert_eq!(a.predicted_collisions(), b.predicted_collisions());
 }
 
 #[test]
@@ -1536,4 +1547,229 @@ fn a_delta_scene_with_a_wrong_forearm_length_is_refused() {
     .expect("write scene");
     let scene = twin::scene::load(&copy).expect("the scene itself is valid");
     assert!(matches!(Twin::new(scene), Err(twin::run::RunError::Kinematics { .. })));
+}
+
+/// scara_pick with a tool sphere (0.01 m) on link `tool` and a 0.02 m ball
+/// on the half circle's apex, written under `target/`: the Cartesian
+/// system is the source of the MCT, its X and Y have no joint.
+fn scara_arc_collision_scene(preflight: &str) -> PathBuf {
+    let dir = out_dir(&format!("scara_arc_collision_{preflight}"));
+    let text = std::fs::read_to_string(root().join("scenes/scara_pick.toml"))
+        .unwrap()
+        .replace(
+            "robots/scara",
+            &root().join("scenes/robots/scara").display().to_string(),
+        )
+        .replace(
+            "[[tags]]\nname = \"Cart\"",
+            &format!(
+                "[collision]\nreaction = \"report\"\npreflight = \"{preflight}\"\n\n\
+                 [collision.tool]\nname = \"tip\"\nlink = \"tool\"\nshape = \"sphere\"\nradius = 0.01\n\n\
+                 [[obstacles]]\nname = \"post\"\nshape = \"sphere\"\nradius = 0.02\nposition = [0.50, 0.05, 0.50]\n\n\
+                 [[tags]]\nname = \"Cart\""
+            ),
+        );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// First contact of the SCARA arc, as path length (m): the tool centre runs
+/// on the circle of radius 0.25 m about (0.25, 0.05) at z 0.50 from angle
+/// −atan2(0.2, 0.15) to +atan2(0.2, 0.15); it is 0.03 m from the ball's
+/// centre (on the circle at angle 0) at angle −2·asin(0.03 / 0.5).
+fn scara_arc_contact_m() -> f64 {
+    0.25 * (0.2f64.atan2(0.15) - 2.0 * (0.03f64 / 0.5).asin())
+}
+
+#[test]
+fn an_mct_source_arc_is_swept_through_the_transform_before_it_moves() {
+    let scene = twin::scene::load(&scara_arc_collision_scene("report")).unwrap();
+    let mut twin = Twin::new(scene).unwrap();
+    let c1 = instruction(&twin, "C1");
+    let tool = twin.model().links.iter().position(|l| l.name == "tool").unwrap();
+    let mut predicted_with_tool_at = None;
+    for _ in 0..twin.total_updates() {
+        let tool_before = twin.world_from_link()[tool].0;
+        twin.step();
+        if !twin.predicted_collisions().is_empty() && predicted_with_tool_at.is_none() {
+            assert!(twin.task().motion_bits(c1).ip, "at {}", twin.time_s());
+            predicted_with_tool_at = Some(tool_before);
+        }
+    }
+    // Predicted in C1's first update, with the tool still above the pick
+    // point (within the drives' settling), before the arc moved it.
+    let before = predicted_with_tool_at.expect("a prediction");
+    assert!(
+        (before[0] - 0.40).abs() < 2e-3 && (before[1] + 0.15).abs() < 2e-3,
+        "{before:?}"
+    );
+    let predictions = twin.predicted_collisions();
+    assert_eq!(predictions.len(), 1, "only the arc: {predictions:?}");
+    let p = &predictions[0];
+    assert_eq!(p.instance, "C1");
+    assert_eq!((p.collision.a.as_str(), p.collision.b.as_str()), ("tip", "post"));
+    assert_eq!(p.out_of_reach, None);
+    let contact = scara_arc_contact_m();
+    assert!(
+        p.collision.parameter >= contact - 1e-9 && p.collision.parameter <= contact + p.collision.bound + 1e-9,
+        "predicted {} analytic {contact} bound {}",
+        p.collision.parameter,
+        p.collision.bound
+    );
+    // 1 mm resolution: the bound is below 1 mm of path.
+    assert!(
+        p.collision.bound > 0.0 && p.collision.bound < 1e-3,
+        "{}",
+        p.collision.bound
+    );
+    let events = twin.collision_events();
+    assert_eq!(events.len(), 1, "{events:?}");
+    assert_eq!((events[0].a.as_str(), events[0].b.as_str()), ("tip", "post"));
+    assert!(p.started_s < events[0].start_s);
+    // The live contact comes when the plan says, within the joints'
+    // tracking lag (30 Hz drives at 0.6 m/s).
+    assert!(
+        (p.predicted_at_s - events[0].start_s).abs() < 0.02,
+        "{} vs {}",
+        p.predicted_at_s,
+        events[0].start_s
+    );
+}
+
+#[test]
+fn an_mct_source_arc_rejected_by_the_sweep_never_moves_the_joints() {
+    let path = scara_arc_collision_scene("reject");
+    let mut twin = Twin::new(twin::scene::load(&path).unwrap()).unwrap();
+    let c1 = instruction(&twin, "C1");
+    let joints: Vec<_> = twin
+        .axes()
+        .iter()
+        .filter(|a| a.name.starts_with('J'))
+        .map(|a| a.handle)
+        .collect();
+    let commands = |twin: &Twin| -> Vec<(u64, u64)> {
+        joints
+            .iter()
+            .map(|h| {
+                let s = twin.task().axis_state(*h);
+                (s.command_position.to_bits(), s.command_velocity.to_bits())
+            })
+            .collect()
+    };
+    let mut held = None;
+    for _ in 0..twin.total_updates() {
+        let before = commands(&twin);
+        twin.step();
+        if twin.task().motion_bits(c1).er && held.is_none() {
+            // Rejected in the update it started in: the transform's joints
+            // keep their commands, bit for bit, at rest.
+            assert_eq!(commands(&twin), before, "at {}", twin.time_s());
+            held = Some(before);
+        }
+        if let Some(held) = &held {
+            assert_eq!(&commands(&twin), held, "at {}", twin.time_s());
+        }
+    }
+    assert!(held.is_some());
+    let bits = twin.task().motion_bits(c1);
+    assert!(bits.er && !bits.ip && !bits.pc, "{bits:?}");
+    assert_eq!(bits.err, planner::task::ERR_PATH_COLLISION);
+    assert!(twin.collision_events().is_empty(), "{:?}", twin.collision_events());
+    assert!(twin.predicted_collisions()[0].rejected);
+}
+
+#[test]
+fn an_mct_source_arc_that_leaves_the_workspace_is_predicted_out_of_reach() {
+    let path = scara_arc_collision_scene("report_out_of_reach");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("preflight = \"report_out_of_reach\"", "preflight = \"report\"")
+        .replace("value = [0.50, 0.05, -0.05]", "value = [0.62, 0.05, -0.05]");
+    std::fs::write(&path, text).unwrap();
+    let mut twin = Twin::new(twin::scene::load(&path).unwrap()).unwrap();
+    let (c1, t1) = (instruction(&twin, "C1"), instruction(&twin, "T1"));
+    let mut faulted_s = None;
+    for _ in 0..twin.total_updates() {
+        twin.step();
+        if twin.task().motion_bits(t1).er && faulted_s.is_none() {
+            faulted_s = Some(twin.time_s());
+        }
+    }
+    // The arc through (0.40, −0.15), (0.62, 0.05), (0.40, 0.25): centre
+    // (c, 0.05), c = 0.1844 / 0.44; it first leaves the SCARA's reach
+    // (0.35 + 0.25 m about the base) where |p| = 0.6 (bisection on the
+    // angle, counterclockwise from the start).
+    let c = 0.1844 / 0.44;
+    let r = ((0.40 - c) * (0.40 - c) + 0.04f64).sqrt();
+    let start = (-0.2f64).atan2(0.40 - c);
+    let radius = |a: f64| (c + r * a.cos()).hypot(0.05 + r * a.sin());
+    let (mut lo, mut hi) = (start, 0.0);
+    assert!(radius(lo) < 0.6 && radius(hi) > 0.6);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if radius(mid) < 0.6 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let analytic = r * (hi - start);
+    let predictions = twin.predicted_collisions();
+    assert_eq!(predictions.len(), 1, "{predictions:?}");
+    let p = &predictions[0];
+    assert_eq!(p.instance, "C1");
+    assert!(p.out_of_reach.is_some() && !p.rejected, "{p:?}");
+    assert_eq!((p.collision.a.as_str(), p.collision.b.as_str()), ("Joints", "Cart"));
+    assert!(
+        (p.collision.parameter - analytic).abs() < 1e-6,
+        "predicted {} analytic {analytic}",
+        p.collision.parameter
+    );
+    // The controller's transform faults (ERR 67) on its way there, after
+    // the prediction; no contact.
+    let faulted_s = faulted_s.expect("MCT faults");
+    assert!(
+        p.started_s < faulted_s && faulted_s <= p.predicted_at_s + 1e-9,
+        "{faulted_s} {p:?}"
+    );
+    assert_eq!(twin.task().motion_bits(t1).err, 67);
+    assert!(!twin.task().motion_bits(c1).pc);
+}
+
+#[test]
+fn a_collision_stop_under_mct_brings_the_tool_to_rest_on_its_path_and_keeps_the_transform() {
+    let path = scara_arc_collision_scene("report");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("reaction = \"report\"", "reaction = \"stop\"");
+    std::fs::write(&path, text).unwrap();
+    let mut twin = Twin::new(twin::scene::load(&path).unwrap()).unwrap();
+    let (c1, t1) = (instruction(&twin, "C1"), instruction(&twin, "T1"));
+    let cart = twin
+        .task()
+        .coord_handles()
+        .find(|h| twin.task().coord_config(*h).name == "Cart")
+        .unwrap();
+    let axes: Vec<_> = twin.axes().iter().map(|a| a.handle).collect();
+    for _ in 0..twin.total_updates() {
+        twin.step();
+    }
+    let events = twin.collision_events();
+    assert_eq!(events.len(), 1, "{events:?}");
+    // C1 lost .IP without .PC; the transform still runs (T1.IP, source
+    // status), every axis at rest.
+    let b = twin.task().motion_bits(c1);
+    assert!(!b.ip && !b.pc && !b.er, "{b:?}");
+    assert!(twin.task().motion_bits(t1).ip && !twin.task().motion_bits(t1).er);
+    assert!(twin.task().transform_source_status(cart));
+    for h in axes {
+        assert_eq!(twin.task().axis_state(h).command_velocity, 0.0);
+    }
+    // The tool stopped on the programmed circle (radius 0.25 m about
+    // (0.25, 0.05)), past the contact.
+    let tool = twin.model().links.iter().position(|l| l.name == "tool").unwrap();
+    let p = twin.world_from_link()[tool].0;
+    let r = (p[0] - 0.25).hypot(p[1] - 0.05);
+    assert!((r - 0.25).abs() < 1e-3, "{p:?} r {r}");
 }

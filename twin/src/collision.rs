@@ -14,8 +14,13 @@
 //! * Every robot body against every obstacle: the distance (clearance) and,
 //!   when they touch or overlap, a contact.
 //! * With `self_collision`, every pair of robot bodies that are not
-//!   *adjacent* (the same link, or links joined by one joint; a tool is
-//!   adjacent to its link's neighbours too).
+//!   *adjacent*. Links joined through a chain of fixed joints form one
+//!   rigid group (they never move relative to each other, so a mounting
+//!   plate, flange or sensor link fixed to a link counts as that link);
+//!   two bodies are adjacent when their links are in the same rigid group
+//!   or in two groups joined by one movable joint (any link of one group
+//!   the parent, any link of the other the child). A tool is adjacent to
+//!   its link's group and that group's neighbours too.
 //! * Pairs in `allowed_pairs` are never reported (nor used for clearance).
 //!
 //! A contact carries the penetration depth (≥ 0), the contact point — the
@@ -361,8 +366,15 @@ impl CollisionModel {
                 }
             }
         }
-        let parent_link = |l: usize| model.links[l].parent_joint.map(|j| model.joints[j.0].parent.0);
-        let adjacent = |a: usize, b: usize| a == b || parent_link(a) == Some(b) || parent_link(b) == Some(a);
+        let group = rigid_groups(model);
+        let adjacent = |a: usize, b: usize| {
+            let (ga, gb) = (group[a], group[b]);
+            ga == gb
+                || model.joints.iter().any(|j| {
+                    let (gp, gc) = (group[j.parent.0], group[j.child.0]);
+                    (gp, gc) == (ga, gb) || (gp, gc) == (gb, ga)
+                })
+        };
         let mut self_pairs = Vec::new();
         if settings.self_collision {
             for a in 0..bodies.len() {
@@ -588,6 +600,29 @@ impl CollisionModel {
             };
         }
     }
+}
+
+/// Per URDF link, the index of its *rigid group*: the lowest link index
+/// among the links joined to it through fixed joints only (a link with no
+/// fixed joint is a group of its own). Links of one group never move
+/// relative to each other.
+fn rigid_groups(model: &RobotModel) -> Vec<usize> {
+    let mut group: Vec<usize> = (0..model.links.len()).collect();
+    fn root(group: &mut [usize], mut l: usize) -> usize {
+        while group[l] != l {
+            group[l] = group[group[l]];
+            l = group[l];
+        }
+        l
+    }
+    for j in &model.joints {
+        if j.kind == JointKind::Fixed {
+            let (a, b) = (root(&mut group, j.parent.0), root(&mut group, j.child.0));
+            let (lo, hi) = (a.min(b), a.max(b));
+            group[hi] = lo;
+        }
+    }
+    (0..group.len()).map(|l| root(&mut group, l)).collect()
 }
 
 /// Upper bound of the distance from each joint's origin to any point of

@@ -377,6 +377,13 @@ impl Recording {
                 p.collision.time_s,
                 if p.rejected { ", move rejected" } else { "" }
             );
+            let text = match &p.out_of_reach {
+                Some(why) => format!(
+                    "pre-flight: {} leaves the workspace of {} at parameter {:.4} (t +{:.4} s): {why}",
+                    p.instance, p.collision.a, p.collision.parameter, p.collision.time_s
+                ),
+                None => text,
+            };
             rec.log_text("collisions/log", TextLevel::Warn, &text)?;
         }
         self.logged_predictions = twin.predicted_collisions().len();
@@ -700,6 +707,9 @@ impl Summary {
                 p.collision.bound,
                 if p.rejected { ", rejected" } else { "" }
             );
+            if let Some(why) = &p.out_of_reach {
+                let _ = writeln!(s, "    out of reach of the transform: {why}");
+            }
         }
         for (b, d) in &self.min_clearance_m {
             if let Some(d) = d {

@@ -483,6 +483,17 @@ impl Transform {
     /// [`PositionError`]: out of reach, singular, other assembly, or beyond a
     /// joint limit.
     pub fn joints_of(&self, source: Vec3) -> Result<Vec3, PositionError> {
+        self.joints_near(source, self.joints.positions)
+    }
+
+    /// [`Transform::joints_of`] with revolute joints unwrapped to the turn
+    /// nearest `near` (axis units) instead of the last command: follows a
+    /// planned path point by point (the pre-flight sweep).
+    ///
+    /// # Errors
+    /// [`PositionError`]: out of reach, singular, other assembly, or beyond a
+    /// joint limit.
+    pub fn joints_near(&self, source: Vec3, near: Vec3) -> Result<Vec3, PositionError> {
         let mut target = self.placement.target_from_source(source);
         self.trim(&mut target);
         if self.geometry.shares_third_axis() {
@@ -494,7 +505,7 @@ impl Transform {
         for i in 0..3 {
             let j = q[i] * self.scale[i];
             joints[i] = if kinds[i] == JointKind::Revolute {
-                let prev = self.joints.positions[i];
+                let prev = near[i];
                 j + 360.0 * ((prev - j) / 360.0).round()
             } else {
                 j

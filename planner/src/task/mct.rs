@@ -94,6 +94,18 @@ struct MctSlot {
     /// Last joint velocities and accelerations written (for finite
     /// differences).
     joint_motion: [(f64, f64); 3],
+    /// The transform and its joint axes' commands as they were before this
+    /// update's [`MotionTask::advance_transforms`] step (see
+    /// [`MotionTask::mct_undo_update`]).
+    before_update: Option<Box<BeforeUpdate>>,
+}
+
+#[derive(Debug, Clone)]
+struct BeforeUpdate {
+    transform: Transform,
+    joint_motion: [(f64, f64); 3],
+    /// Per target axis: command, actual, last direction.
+    axes: Vec<(AxisHandle, Sample, f64, f64)>,
 }
 
 fn axis_id(a: AxisHandle) -> AxisId {
@@ -165,6 +177,7 @@ impl MotionTask {
                     stopping: None,
                     release: false,
                     joint_motion: [(0.0, 0.0); 3],
+                    before_update: None,
                 });
                 self.mct.instructions.len() - 1
             }
@@ -251,6 +264,33 @@ impl MotionTask {
     pub fn mct_transform(&self, control: InstructionHandle) -> Option<&Transform> {
         let slot = self.mct.instructions.iter().find(|s| s.control == control)?;
         self.mct.table.get(slot.mct.transform()?)
+    }
+
+    /// The running transform (`.IP` set) whose source is `system`, if any.
+    pub fn transform_of_source(&self, system: CoordHandle) -> Option<&Transform> {
+        let id = self.system_id(system);
+        self.mct
+            .instructions
+            .iter()
+            .filter_map(|s| self.mct.table.get(s.mct.transform()?))
+            .find(|t| t.source() == id)
+    }
+
+    /// A transform's source axes (X1 first; the SCARA geometries' shared
+    /// third axis last) and target axes (J1 first) as task handles.
+    pub fn transform_axes(&self, transform: &Transform) -> (Vec<AxisHandle>, Vec<AxisHandle>) {
+        let handles = |axes: &[AxisId]| axes.iter().copied().map(handle).collect();
+        (handles(transform.source_axes()), handles(transform.target_axes()))
+    }
+
+    /// The MCT control structures whose transform runs (`.IP`).
+    pub(super) fn running_mct_controls(&self) -> Vec<InstructionHandle> {
+        self.mct
+            .instructions
+            .iter()
+            .filter(|s| s.mct.transform().is_some())
+            .map(|s| s.control)
+            .collect()
     }
 
     /// `TransformSourceStatus` of a coordinate system.
@@ -348,6 +388,19 @@ impl MotionTask {
                 continue;
             };
             let Some(t) = self.mct.table.get(id) else { continue };
+            let before = BeforeUpdate {
+                transform: t.clone(),
+                joint_motion: self.mct.instructions[i].joint_motion,
+                axes: t
+                    .target_axes()
+                    .iter()
+                    .map(|&a| {
+                        let x = &self.axes[a.0 as usize];
+                        (handle(a), x.command, x.actual, x.last_direction)
+                    })
+                    .collect(),
+            };
+            self.mct.instructions[i].before_update = Some(Box::new(before));
             let source_axes = t.source_axes().to_vec();
             let target_axes = t.target_axes().to_vec();
             let read = |axes: &[AxisId]| {
@@ -407,6 +460,37 @@ impl MotionTask {
                 }
             } else {
                 t.hold();
+            }
+        }
+    }
+
+    /// Undoes this update's [`MotionTask::advance_transforms`] step of the
+    /// running transforms whose source is `system`: the transform and its
+    /// joint axes' commands are restored as they were before it (used when
+    /// the source system's move is withdrawn in the update it started in,
+    /// so its joints do not move either).
+    pub(super) fn mct_undo_update(&mut self, system: CoordHandle) {
+        let id = self.system_id(system);
+        for i in 0..self.mct.instructions.len() {
+            let slot = &mut self.mct.instructions[i];
+            let Some(t) = slot.mct.transform() else { continue };
+            let Some(before) = slot.before_update.take() else {
+                continue;
+            };
+            let Some(transform) = self.mct.table.get_mut(t) else {
+                continue;
+            };
+            if transform.source() != id {
+                slot.before_update = Some(before);
+                continue;
+            }
+            *transform = before.transform;
+            slot.joint_motion = before.joint_motion;
+            for (a, command, actual, last_direction) in before.axes {
+                let x = &mut self.axes[a.0 as usize];
+                x.command = command;
+                x.actual = actual;
+                x.last_direction = last_direction;
             }
         }
     }

@@ -34,6 +34,12 @@
 //!   the stopped instruction); they are listed in [`StopReport`].
 //!   Instructions that keep motion state of their own (MCCM, MCLM, …) stop it
 //!   in this same function when they arrive.
+//! * A running MCT transform is not cancelled and its control structure
+//!   keeps `.IP`: its source system's coordinated motion comes to rest
+//!   along its path, and the target joints follow it through the
+//!   transform (like an MCS of type *coordinated move* on the source), so
+//!   the tool stops on its programmed Cartesian path rather than the joints
+//!   ramping each on its own.
 
 use super::{AxisHandle, FbHandle, Finish, InstructionHandle, Job, MotionTask};
 use crate::modulo::MoveModuloError;
@@ -102,9 +108,10 @@ impl MotionTask {
                 report.aborted.push(fb);
             }
         }
+        let transforms = self.running_mct_controls();
         for (i, slot) in self.instructions.iter_mut().enumerate() {
             let b = &mut slot.bits;
-            if b.ip {
+            if b.ip && !transforms.contains(&InstructionHandle(i as u32)) {
                 b.ip = false;
                 b.ac = false;
                 b.accel = false;

@@ -301,3 +301,63 @@ fn convex_decomposition_follows_a_concave_mesh_that_a_hull_fills() {
         result.clearance_m
     );
 }
+
+/// l1 carries a plate and a flange through two fixed joints; l2 turns on
+/// the flange, l3 on l2. Every link's box reaches over its neighbours.
+fn arm_with_fixed_chain() -> RobotModel {
+    let link = |name: &str, length: f64| {
+        format!(
+            r#"<link name="{name}"><collision><origin xyz="{} 0 0"/><geometry><box size="{} 0.05 0.05"/></geometry></collision></link>"#,
+            length / 2.0,
+            length + 0.04
+        )
+    };
+    let urdf = format!(
+        r#"<robot name="fixed_chain"><link name="base"/>{}{}{}{}{}
+        <joint name="j1" type="continuous"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/></joint>
+        <joint name="plate_mount" type="fixed"><parent link="l1"/><child link="plate"/><origin xyz="0.4 0 0"/></joint>
+        <joint name="flange_mount" type="fixed"><parent link="plate"/><child link="flange"/><origin xyz="0.02 0 0"/></joint>
+        <joint name="j2" type="continuous"><parent link="flange"/><child link="l2"/><origin xyz="0.02 0 0"/><axis xyz="0 0 1"/></joint>
+        <joint name="j3" type="continuous"><parent link="l2"/><child link="l3"/><origin xyz="0.4 0 0"/><axis xyz="0 0 1"/></joint>
+        </robot>"#,
+        link("l1", 0.4),
+        link("plate", 0.02),
+        link("flange", 0.02),
+        link("l2", 0.4),
+        link("l3", 0.44),
+    );
+    RobotModel::from_urdf_str(&urdf, Path::new("fixed_chain.urdf")).unwrap()
+}
+
+#[test]
+fn links_joined_by_fixed_joints_are_one_rigid_group_for_adjacency() {
+    let model = arm_with_fixed_chain();
+    let world = CollisionModel::new(&model, &[], &settings()).unwrap();
+    assert_eq!(world.body_names(), vec!["l1", "plate", "flange", "l2", "l3"]);
+    // {l1, plate, flange} is one group, adjacent to l2 across j2; l3 is
+    // adjacent to l2 only.
+    assert_eq!(world.self_pairs(), &[(0, 4), (1, 4), (2, 4)]);
+    // Straight: every box overlaps its neighbours, none reports.
+    let straight = world.check(&model.world_from_link(&[0.0; 5]));
+    assert!(straight.contacts.is_empty(), "{:?}", straight.contacts);
+    // l2 folded back over the group (j2 = π) is adjacent and still silent;
+    // l3 folded back onto l2 lies along the group's links (l1 and the
+    // plate and flange at the elbow) and reports.
+    let pi = std::f64::consts::PI;
+    let q: Vec<f64> = model
+        .joints
+        .iter()
+        .map(|j| match j.name.as_str() {
+            "j3" => pi,
+            _ => 0.0,
+        })
+        .collect();
+    let folded = world.check(&model.world_from_link(&q));
+    let names: Vec<(&str, &str)> = folded
+        .contacts
+        .iter()
+        .map(|c| (world.name(c.a), world.name(c.b)))
+        .collect();
+    assert!(names.contains(&("l1", "l3")), "{names:?}");
+    assert!(names.iter().all(|(_, b)| *b == "l3"), "{names:?}");
+}

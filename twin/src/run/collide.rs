@@ -27,8 +27,7 @@
 //!   programmed start point, in coordinate units (the planner's path
 //!   length, [`planner::coord::PathGeometry::point`]). The system's axes map
 //!   to their URDF joints in one function (`joints_from_coordinates`: axis
-//!   units × SI per unit, less an MRP offset); a coordinate transform (MCT)
-//!   plugs in there. Joint-rate bound per axis (proven, so the sweep's step
+//!   units × SI per unit, less an MRP offset). Joint-rate bound per axis (proven, so the sweep's step
 //!   bound holds): a line moves every axis linearly, `|Δ_i| / L`; an arc's
 //!   primary axes move with `‖dP/ds‖ ≤ 1` (the planner's arc length per
 //!   radian is `√(r_max² + (dr/dφ)²)`, at least the speed of any point), so
@@ -37,6 +36,34 @@
 //!   the rounding of the corner by the blend (within the command tolerance
 //!   of the corner) is not part of the sweep. Master-driven moves are not
 //!   swept (their timing is the master's).
+//! * A coordinate system that is the source of a running MCT has virtual
+//!   axes: its path's coordinates go through the transform's inverse
+//!   kinematics ([`planner::mct::instruction::Transform::joints_near`]: its
+//!   orientation, translation, the arm solution it runs with, its joint
+//!   limits) to the target system's joints; its other axes (the SCARA's
+//!   shared Z) keep their own joints; a parallel robot's virtual platform
+//!   and forearm joints are posed from the target joints as in the run.
+//!   Revolute joints unwrap point to point from the transform's last
+//!   command. The path is sampled on a grid of `TRANSFORM_GRID` (1024)
+//!   equal steps; the joint-rate bound per joint is **estimated**, not
+//!   proven: twice the largest finite difference between neighbouring
+//!   grid points (and at least the direct axes' proven bound). It holds
+//!   where the joints' rate varies by less than a factor of two within one
+//!   grid step, which fails only close to a singularity (a stretched
+//!   elbow); a seeded random test checks it on lines and arcs of the SCARA,
+//!   articulated and Delta scenes. The sweep's bound (module
+//!   [`crate::collision`]) holds as far as this estimate does.
+//! * A point of such a path that the transform cannot reach (out of
+//!   reach, singular, beyond a joint's soft travel limit) is itself a
+//!   finding: the sweep stops at the last reachable grid point before it,
+//!   and when it found no collision there, records a [`Prediction`] with
+//!   `out_of_reach` (why), the first unreachable path length (bisection to
+//!   the rounding of the path length) and its time, `collision.a`/`b` the
+//!   target and source systems, `collision.bound` the grid step (an
+//!   unreachable stretch shorter than one step between two reachable grid
+//!   points can be missed). It never rejects the move: the
+//!   controller's own MCT faults it with ERR 67 and a controlled stop on
+//!   its way there, which the twin runs as on the controller.
 //! * With `preflight = "reject"` a predicted collision rejects the move
 //!   before the physics has applied any of it: an MC_MoveModulo gets
 //!   `Error` with ErrorID 16#422C ([`planner::task::MotionTask::reject_move`]),
@@ -47,14 +74,22 @@
 //!   exactly where they were: its first setpoint is withdrawn (command state
 //!   restored), no stop ramp, no motion at all. A move that started while
 //!   its axes were moving (an abort, a blend, a merge) ramps to rest instead.
+//!   (An axis whose command velocity is 0 is at rest, whatever the
+//!   rounding of the previous move's last acceleration sample.) The
+//!   joints a transform drives from the rejected system are restored with
+//!   it: they do not move either.
 
 use super::Twin;
+use super::mct::ParallelRig;
 use crate::collision::{
     Body, CheckResult, CollisionEvent, CollisionModel, CollisionModelError, Contact, Monitor, PathSampler,
     PredictedCollision,
 };
 use crate::scene::{CollisionSettings, Preflight, Reaction};
+use crate::urdf::RobotModel;
 use planner::coord::{CoordMove, Driver, PathGeometry};
+use planner::mct::instruction::Transform;
+use planner::mct::{PositionError, Vec3};
 use planner::modulo::MoveModuloError;
 use planner::profile::Profile;
 use planner::task::CoordHandle;
@@ -76,6 +111,13 @@ pub struct Prediction {
     pub predicted_at_s: f64,
     /// Whether the move was rejected.
     pub rejected: bool,
+    /// Set when the finding is not a collision but a point of the path
+    /// that the coordinate transform (MCT) cannot reach (out of reach,
+    /// singular, beyond a joint's soft travel limit): why. `collision.a` is
+    /// then the transform's target system, `collision.b` its source,
+    /// `collision.parameter` the first unreachable path length and
+    /// `depth_m` 0.
+    pub out_of_reach: Option<String>,
 }
 
 pub(super) struct CollideState {
@@ -176,10 +218,89 @@ struct CoordMovePath {
     axes: Vec<Option<AxisJoint>>,
     base: Vec<f64>,
     rates: Vec<f64>,
+    /// The transform the system is the source of, with its sampled path.
+    transform: Option<TransformPath>,
+}
+
+/// Grid points per path for the transform's rate estimate
+/// ([`TransformPath`]).
+const TRANSFORM_GRID: usize = 1024;
+
+/// Safety factor of the transform's joint-rate estimate over the largest
+/// finite difference on the grid.
+const TRANSFORM_RATE_MARGIN: f64 = 2.0;
+
+/// How an MCT source system's coordinates become joint positions.
+#[derive(Clone)]
+struct TransformMapping {
+    transform: Transform,
+    /// Per transform source axis, its index in the system's coordinates.
+    source_index: Vec<usize>,
+    /// Per transform target axis, its joint.
+    target: Vec<Option<AxisJoint>>,
+    /// A parallel robot's virtual joints, posed from the target joints.
+    rig: Option<(ParallelRig, RobotModel)>,
+}
+
+/// A move of an MCT source system, sampled on a grid of
+/// [`TRANSFORM_GRID`] steps: the joints at each grid point (revolute
+/// joints unwrapped point to point from the transform's last command, on
+/// its arm solution) are the references the sweep's samples unwrap to.
+struct TransformPath {
+    mapping: TransformMapping,
+    step: f64,
+    /// Per grid point: target joints (axis units), virtual joints.
+    references: Vec<(Vec3, Vec<f64>)>,
+    /// The path length up to which every grid point is reachable.
+    reach: f64,
+    /// First point the transform cannot reach: path length, why.
+    unreachable: Option<(f64, PositionError)>,
+}
+
+impl TransformMapping {
+    /// Joint positions at coordinates `p` (the system's axes), with the
+    /// target joints and virtual joints unwrapped near `near`.
+    fn joints(
+        &self,
+        axes: &[Option<AxisJoint>],
+        p: &[f64],
+        base: &[f64],
+        near: &(Vec3, Vec<f64>),
+    ) -> Result<(Vec<f64>, Vec3, Vec<f64>), PositionError> {
+        let mut q = joints_from_coordinates(axes, p, base);
+        let mut source = [0.0; 3];
+        for (x, &i) in source.iter_mut().zip(&self.source_index) {
+            *x = p[i];
+        }
+        let j = self.transform.joints_near(source, near.0)?;
+        for (k, a) in self.target.iter().enumerate() {
+            if let Some(a) = a {
+                q[a.joint] = (j[k] - a.offset) * a.si_per_unit;
+            }
+        }
+        let mut virtual_q = Vec::new();
+        if let Some((rig, model)) = &self.rig {
+            let arms: Vec<f64> = self.target.iter().map(|a| a.map_or(0.0, |a| q[a.joint])).collect();
+            virtual_q = rig
+                .virtual_pose(model, &arms, &near.1)
+                .ok_or(PositionError::NotFinite)?;
+            for (&joint, v) in rig.virtual_joints().iter().zip(&virtual_q) {
+                q[joint] = *v;
+            }
+        }
+        Ok((q, j, virtual_q))
+    }
 }
 
 impl CoordMovePath {
-    fn new(mv: &CoordMove, profile: &Profile, primary: usize, axes: Vec<Option<AxisJoint>>, base: Vec<f64>) -> Self {
+    fn new(
+        mv: &CoordMove,
+        profile: &Profile,
+        primary: usize,
+        axes: Vec<Option<AxisJoint>>,
+        base: Vec<f64>,
+        transform: Option<TransformMapping>,
+    ) -> Self {
         let path = mv.path().clone();
         let length = path.length();
         let is_arc = path.arc().is_some();
@@ -195,25 +316,119 @@ impl CoordMovePath {
             };
             rates[a.joint] += per_s * a.si_per_unit.abs() * (1.0 + 1e-9);
         }
+        let transform = transform.map(|mapping| {
+            let n = path.start().len();
+            let step = length / TRANSFORM_GRID as f64;
+            let (mut p, mut d) = (vec![0.0; n], vec![0.0; n]);
+            let mut at = |s: f64, near: &(Vec3, Vec<f64>)| {
+                path.point(s, &mut p, &mut d);
+                mapping.joints(&axes, &p, &base, near)
+            };
+            let start_near = (
+                mapping.transform.joint_command().positions,
+                mapping
+                    .rig
+                    .as_ref()
+                    .map(|(r, _)| r.previous().to_vec())
+                    .unwrap_or_default(),
+            );
+            let mut references = Vec::with_capacity(TRANSFORM_GRID + 1);
+            let mut estimate = vec![0.0_f64; base.len()];
+            let mut previous: Option<Vec<f64>> = None;
+            let mut unreachable = None;
+            for i in 0..=TRANSFORM_GRID {
+                let s = if i == TRANSFORM_GRID { length } else { i as f64 * step };
+                let near = references.last().cloned().unwrap_or_else(|| start_near.clone());
+                match at(s, &near) {
+                    Ok((q, j, v)) => {
+                        if let Some(prev) = &previous {
+                            for (e, (a, b)) in estimate.iter_mut().zip(q.iter().zip(prev)) {
+                                *e = e.max((a - b).abs() / step);
+                            }
+                        }
+                        previous = Some(q);
+                        references.push((j, v));
+                    }
+                    Err(e) => {
+                        // The first unreachable point: bisection between
+                        // the last reachable grid point and this one.
+                        let (mut lo, mut hi, mut why) = (s - step, s, e);
+                        if i > 0 {
+                            for _ in 0..60 {
+                                let mid = 0.5 * (lo + hi);
+                                match at(mid, &near) {
+                                    Ok(_) => lo = mid,
+                                    Err(e) => (hi, why) = (mid, e),
+                                }
+                            }
+                        } else {
+                            hi = 0.0;
+                        }
+                        unreachable = Some((hi, why));
+                        break;
+                    }
+                }
+            }
+            for (r, e) in rates.iter_mut().zip(&estimate) {
+                *r = r.max(TRANSFORM_RATE_MARGIN * e);
+            }
+            let reach = unreachable.as_ref().map_or(length, |(s, _)| {
+                // The last reachable grid point.
+                (s / step).floor().min(references.len().saturating_sub(1) as f64) * step
+            });
+            TransformPath {
+                mapping,
+                step,
+                references,
+                reach,
+                unreachable,
+            }
+        });
         Self {
             path,
             profile: profile.clone(),
             axes,
             base,
             rates,
+            transform,
         }
     }
 }
 
 impl PathSampler for CoordMovePath {
     fn length(&self) -> f64 {
-        self.path.length()
+        self.transform.as_ref().map_or(self.path.length(), |t| t.reach)
     }
     fn joint_positions(&self, s: f64) -> Vec<f64> {
         let n = self.path.start().len();
         let (mut p, mut d) = (vec![0.0; n], vec![0.0; n]);
         self.path.point(s, &mut p, &mut d);
-        joints_from_coordinates(&self.axes, &p, &self.base)
+        match &self.transform {
+            None => joints_from_coordinates(&self.axes, &p, &self.base),
+            Some(t) => {
+                let k = if t.step > 0.0 {
+                    ((s / t.step).floor().max(0.0) as usize).min(t.references.len().saturating_sub(1))
+                } else {
+                    0
+                };
+                let Some(near) = t.references.get(k) else {
+                    return joints_from_coordinates(&self.axes, &p, &self.base);
+                };
+                // Between two reachable grid points a point that is not
+                // reachable keeps the grid point's joints.
+                t.mapping
+                    .joints(&self.axes, &p, &self.base, near)
+                    .map(|(q, _, _)| q)
+                    .unwrap_or_else(|_| {
+                        let mut p0 = vec![0.0; n];
+                        self.path.point(k as f64 * t.step, &mut p0, &mut d);
+                        t.mapping
+                            .joints(&self.axes, &p0, &self.base, near)
+                            .map(|(q, _, _)| q)
+                            .unwrap_or_else(|_| self.base.clone())
+                    })
+            }
+        }
     }
     fn joint_rate_bounds(&self) -> Vec<f64> {
         self.rates.clone()
@@ -373,6 +588,7 @@ impl Twin {
             predicted_at_s: started_s + collision.time_s,
             collision,
             rejected: c.settings.preflight == Preflight::Reject,
+            out_of_reach: None,
         });
         c.predictions.last()
     }
@@ -456,18 +672,98 @@ impl Twin {
                 primary,
                 self.coord_axis_joints(mv.system),
                 base.clone(),
+                self.transform_mapping(mv.system),
             );
             let name = self.task.coord_instruction_name(mv.instruction).to_string();
-            swept.push((mv.instruction, name, path, now_s - mv.progress));
+            let systems = self
+                .task
+                .transform_of_source(mv.system)
+                .and_then(|t| {
+                    let name_of = |id: planner::mct::instruction::SystemId| {
+                        self.task
+                            .coord_handles()
+                            .nth(id.0 as usize)
+                            .map(|h| self.task.coord_config(h).name.clone())
+                    };
+                    Some((name_of(t.target())?, name_of(t.source())?))
+                })
+                .unwrap_or_default();
+            swept.push((mv.instruction, name, path, now_s - mv.progress, systems));
         }
-        for (instruction, name, path, started_s) in swept {
-            if self
-                .preflight_path_from(&name, &path, started_s)
-                .is_some_and(|p| p.rejected)
-            {
-                self.task.reject_coord_move(instruction);
+        for (instruction, name, path, started_s, (target, source)) in swept {
+            match self.preflight_path_from(&name, &path, started_s) {
+                Some(p) => {
+                    if p.rejected {
+                        self.task.reject_coord_move(instruction);
+                    }
+                }
+                None => {
+                    let Some((s, why)) = path.transform.as_ref().and_then(|t| t.unreachable.as_ref()) else {
+                        continue;
+                    };
+                    let Some(c) = self.collision.as_mut() else { continue };
+                    let time_s = path.time_s(*s);
+                    c.predictions.push(Prediction {
+                        instance: name,
+                        started_s,
+                        predicted_at_s: started_s + time_s,
+                        collision: PredictedCollision {
+                            parameter: *s,
+                            time_s,
+                            a: target,
+                            b: source,
+                            depth_m: 0.0,
+                            bound: path.transform.as_ref().map_or(0.0, |t| t.step),
+                        },
+                        rejected: false,
+                        out_of_reach: Some(why.to_string()),
+                    });
+                }
             }
         }
+    }
+
+    /// The transform coordinate system `cs` is the running source of, as
+    /// the sweep maps it (`None`: no transform).
+    fn transform_mapping(&self, cs: CoordHandle) -> Option<TransformMapping> {
+        let transform = self.task.transform_of_source(cs)?;
+        let system_axes = self.task.coord_axes(cs);
+        let (source_axes, target_axes) = self.task.transform_axes(transform);
+        let source_index = source_axes
+            .iter()
+            .map(|a| system_axes.iter().position(|h| h == a))
+            .collect::<Option<Vec<usize>>>()?;
+        let target: Vec<Option<AxisJoint>> = target_axes
+            .iter()
+            .map(|a| {
+                let binding = self.axes.iter().find(|b| b.handle == *a)?;
+                let axis = self.scene.axes.iter().find(|x| x.name == binding.name)?;
+                let joint = self.model.joint_by_name(axis.joint.as_deref()?)?;
+                Some(AxisJoint {
+                    joint: joint.0,
+                    si_per_unit: binding.si_per_unit,
+                    offset: self.task.position_offset(binding.handle),
+                })
+            })
+            .collect();
+        let arm_axes: Vec<usize> = target_axes
+            .iter()
+            .filter_map(|a| {
+                let binding = self.axes.iter().find(|b| b.handle == *a)?;
+                self.scene.axes.iter().position(|x| x.name == binding.name)
+            })
+            .collect();
+        let rig = self
+            .rigs
+            .iter()
+            .find(|r| r.arm_axes() == arm_axes.as_slice())
+            .map(|r| (r.clone(), self.model.clone()));
+        Some(TransformMapping {
+            transform: transform.clone(),
+            source_index,
+            target,
+            rig,
+        })
     }
 
     /// The joint each axis of coordinate system `cs` drives, in system order.
@@ -587,7 +883,7 @@ mod tests {
                 })
                 .collect();
             let base: Vec<f64> = (0..6).map(|_| rng.random_range(-1.0..1.0)).collect();
-            let path = CoordMovePath::new(&mv, &profile, 3, axes, base.clone());
+            let path = CoordMovePath::new(&mv, &profile, 3, axes, base.clone(), None);
             let rates = path.joint_rate_bounds();
             let length = path.length();
             let mut previous_t = 0.0;
@@ -612,5 +908,143 @@ mod tests {
             }
         }
         assert!(arcs > 100 && lines > 100, "{arcs} {lines}");
+    }
+
+    /// A scene run until its transform runs: the twin and the source system.
+    fn twin_with_transform(scene: &str, source: &str) -> (Twin, CoordHandle) {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../scenes")
+            .join(scene);
+        let mut twin = Twin::new(crate::scene::load(&path).unwrap()).unwrap();
+        let cs = twin
+            .task
+            .coord_handles()
+            .find(|h| twin.task.coord_config(*h).name == source)
+            .unwrap();
+        while twin.task.transform_of_source(cs).is_none() {
+            twin.step();
+        }
+        (twin, cs)
+    }
+
+    /// Seeded random lines and arcs of an MCT source system (SCARA,
+    /// articulated arm, Delta with its virtual joints) from where the tool
+    /// is, some leaving the workspace: between any two nearby path lengths
+    /// up to the reachable end, every joint moves no more than its rate
+    /// bound allows; where the path leaves the workspace the transform
+    /// cannot reach the reported point, and can reach every grid point
+    /// before it.
+    #[test]
+    fn transform_joint_rate_estimates_hold_on_random_mct_paths() {
+        let mut rng = ChaCha8Rng::seed_from_u64(77);
+        for (scene, source) in [
+            ("scara_pick.toml", "Cart"),
+            ("articulated_arc.toml", "Work"),
+            ("delta_pick.toml", "Cart"),
+        ] {
+            let (twin, cs) = twin_with_transform(scene, source);
+            let config = twin.task.coord_config(cs).clone();
+            let n = config.axis_count;
+            let system = CoordinateSystem::new(config.clone()).unwrap();
+            let start: Vec<f64> = twin
+                .task
+                .coord_axes(cs)
+                .iter()
+                .map(|h| twin.task.axis_state(*h).command_position)
+                .collect();
+            let (mut checked, mut unreachable) = (0, 0);
+            for k in 0..24 {
+                let mut point = || {
+                    start
+                        .iter()
+                        .map(|x| x + rng.random_range(-0.3..0.3))
+                        .collect::<Vec<f64>>()
+                };
+                let common = CoordMoveInputs {
+                    position: point(),
+                    speed: 0.5,
+                    accel_rate: 2.0,
+                    decel_rate: 2.0,
+                    ..Default::default()
+                };
+                let ctx = MoveContext {
+                    system: &system,
+                    axis_max_decel: &vec![1000.0; n],
+                    start: &start,
+                    has_master: false,
+                };
+                let mv = if k % 2 == 0 {
+                    let inputs = MccmInputs {
+                        common,
+                        circle_type: 0,
+                        via_center_radius: point(),
+                        direction: 0,
+                    };
+                    match mccm(&inputs, &ctx) {
+                        Ok(mv) => mv,
+                        Err(_) => continue,
+                    }
+                } else {
+                    mclm(&common, &ctx).unwrap()
+                };
+                let path = CoordMovePath::new(
+                    &mv,
+                    &mv.rest_profile(),
+                    config.primary_axes,
+                    twin.coord_axis_joints(cs),
+                    twin.command_joints(),
+                    twin.transform_mapping(cs),
+                );
+                let t = path.transform.as_ref().unwrap();
+                // At its start (where the tool is) the path gives the
+                // joints the transform commands now, and a parallel
+                // robot's virtual joints where the run put them.
+                assert_eq!(t.mapping.rig.is_some(), scene == "delta_pick.toml");
+                let q0 = path.joint_positions(0.0);
+                for a in t.mapping.target.iter().flatten() {
+                    assert!(
+                        (q0[a.joint] - path.base[a.joint]).abs() < 1e-9,
+                        "{scene}: joint {}",
+                        a.joint
+                    );
+                }
+                if let Some((rig, _)) = &t.mapping.rig {
+                    for (&j, v) in rig.virtual_joints().iter().zip(rig.previous()) {
+                        assert!((q0[j] - v).abs() < 1e-6, "{scene}: virtual joint {j}: {} vs {v}", q0[j]);
+                    }
+                }
+                let reach = path.length();
+                assert!(reach <= mv.path().length() && reach >= 0.0);
+                if let Some((s_u, _)) = &t.unreachable {
+                    unreachable += 1;
+                    assert!(reach <= *s_u);
+                    let mut p = vec![0.0; n];
+                    mv.path().point(*s_u, &mut p, &mut vec![0.0; n]);
+                    let near = t.references.last().cloned().unwrap();
+                    assert!(
+                        t.mapping.joints(&path.axes, &p, &path.base, &near).is_err(),
+                        "{scene}: {s_u} is reachable"
+                    );
+                }
+                let rates = path.joint_rate_bounds();
+                for _ in 0..300 {
+                    let s1 = rng.random_range(0.0..=reach);
+                    let s2 = (s1 + rng.random_range(0.0..4.0) * t.step).min(reach);
+                    let (q1, q2) = (path.joint_positions(s1), path.joint_positions(s2));
+                    for j in 0..q1.len() {
+                        let moved = (q2[j] - q1[j]).abs();
+                        assert!(
+                            moved <= rates[j] * (s2 - s1) + 1e-12,
+                            "{scene} joint {j}: {moved} over {} (bound {})",
+                            s2 - s1,
+                            rates[j]
+                        );
+                    }
+                    checked += 1;
+                }
+            }
+            assert!(checked >= 3000, "{scene}: {checked}");
+            assert!(unreachable >= 1, "{scene}: {unreachable} paths leave the workspace");
+        }
     }
 }

@@ -213,7 +213,10 @@ const VIRTUAL_GAINS: (f64, f64) = (142_122.3, 754.0);
 /// ([`crate::kinematics_check::pose_parallel`]); poses from the setpoints
 /// rather than the simulated arms, so the virtual joints add no feedback
 /// loop to the arms' motors.
+#[derive(Clone)]
 pub(super) struct ParallelRig {
+    /// Scene axis index of each target axis, J1 first.
+    arm_axes: Vec<usize>,
     geometry: Geometry,
     mapping: ChainMapping,
     metres_per_unit: f64,
@@ -286,6 +289,7 @@ pub(super) fn parallel_rigs(
             .map(|&(i, _)| axis_drives[i].ok_or_else(|| fail("a target axis has no joint".into())))
             .collect::<Result<_, _>>()?;
         rigs.push(ParallelRig {
+            arm_axes: c.axes.iter().map(|&(i, _)| i).collect(),
             previous: virtual_drives.iter().map(|&(j, _)| pose[j]).collect(),
             geometry: c.geometry,
             mapping: c.mapping,
@@ -316,17 +320,44 @@ impl ParallelRig {
         else {
             return;
         };
-        let Ok(mut pose) = pose_parallel(model, &self.geometry, &self.mapping, &arms, self.metres_per_unit) else {
+        let Some(pose) = self.virtual_pose(model, &arms, &self.previous) else {
             return;
         };
+        for (k, &(_, drive)) in self.virtual_drives.iter().enumerate() {
+            let q = pose[k];
+            sim.set_setpoint(drive, q, (q - self.previous[k]) / step_s);
+            self.previous[k] = q;
+        }
+    }
+
+    /// Scene axis index of each target axis, J1 first.
+    pub(super) fn arm_axes(&self) -> &[usize] {
+        &self.arm_axes
+    }
+
+    /// URDF joint index of each virtual joint.
+    pub(super) fn virtual_joints(&self) -> Vec<usize> {
+        self.virtual_drives.iter().map(|&(j, _)| j).collect()
+    }
+
+    /// The virtual joints' last setpoints (in [`Self::virtual_joints`] order).
+    pub(super) fn previous(&self) -> &[f64] {
+        &self.previous
+    }
+
+    /// The virtual joints' positions (in [`Self::virtual_joints`] order)
+    /// for arm joints at `arms` (URDF units, J1 first), continuous with
+    /// `near`; `None` where the arms have no pose.
+    pub(super) fn virtual_pose(&self, model: &RobotModel, arms: &[f64], near: &[f64]) -> Option<Vec<f64>> {
+        let mut pose = pose_parallel(model, &self.geometry, &self.mapping, arms, self.metres_per_unit).ok()?;
         // A forearm direction has two (yaw, pitch) pairs, (y, p) and
-        // (y + π, π − p): keep the one continuous with the last setpoints,
-        // unwrapped, so no virtual joint ever jumps.
+        // (y + π, π − p): keep the one continuous with `near`, unwrapped,
+        // so no virtual joint ever jumps.
         let wrap = |a: f64| a - TAU * (a / TAU).round();
         let platform = self.mapping.platform_joints.len();
         for k in (platform..self.virtual_drives.len()).step_by(2) {
             let (yaw, pitch) = (self.virtual_drives[k].0, self.virtual_drives[k + 1].0);
-            let (last_yaw, last_pitch) = (self.previous[k], self.previous[k + 1]);
+            let (last_yaw, last_pitch) = (near[k], near[k + 1]);
             let distance = |y: f64, p: f64| wrap(y - last_yaw).abs() + wrap(p - last_pitch).abs();
             let (y, p) = (pose[yaw], pose[pitch]);
             let (y, p) = if distance(y + PI, PI - p) < distance(y, p) {
@@ -337,11 +368,7 @@ impl ParallelRig {
             pose[yaw] = last_yaw + wrap(y - last_yaw);
             pose[pitch] = last_pitch + wrap(p - last_pitch);
         }
-        for (k, &(joint, drive)) in self.virtual_drives.iter().enumerate() {
-            let q = pose[joint];
-            sim.set_setpoint(drive, q, (q - self.previous[k]) / step_s);
-            self.previous[k] = q;
-        }
+        Some(self.virtual_drives.iter().map(|&(j, _)| pose[j]).collect())
     }
 }
 

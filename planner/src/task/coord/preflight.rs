@@ -61,8 +61,12 @@ struct IdleState {
 }
 
 impl IdleState {
+    /// Every axis' command velocity is 0. The acceleration of the last
+    /// sample is not looked at: a move that ended in this update leaves
+    /// the rounding of its profile's last jerk phase there (its velocity is
+    /// exactly 0), and a move started from there starts from rest.
     fn at_rest(&self) -> bool {
-        self.commands.iter().all(|c| c.velocity == 0.0 && c.acceleration == 0.0)
+        self.commands.iter().all(|c| c.velocity == 0.0)
     }
 }
 
@@ -210,6 +214,9 @@ impl MotionTask {
                         a.actual = idle.commands[i].position;
                     }
                 }
+                // The joints of a transform this system drives were moved
+                // by its first step too: undo that step.
+                self.mct_undo_update(cs);
             } else {
                 let c = &mut sys.components[k];
                 let now = c.s();
