@@ -796,6 +796,8 @@ pub struct CoordMove {
     pub(crate) merge_speed: MergeSpeed,
     pub(crate) lock_position: f64,
     pub(crate) lock_direction: LockDirection,
+    /// The Event Distance operand (validated finite and ≥ 0).
+    pub(crate) event_distance: Vec<f64>,
     pub(crate) calculated_data: Vec<f64>,
 }
 
@@ -848,15 +850,35 @@ impl CoordMove {
         }
     }
 
-    /// Same move with another maximum path speed (merge at current speed).
+    /// Same move with another maximum path speed (merge at current speed);
+    /// its Calculated Data are those of the new speed.
     pub(crate) fn with_speed(&self, speed: f64) -> Self {
         let mut m = self.clone();
         if let Some(l) = &self.limits
             && let Some(new) = with_velocity(l, speed)
         {
             m.limits = Some(new);
+            m.fill_calculated_data();
         }
         m
+    }
+
+    /// Calculated Data from the event distances on the move's rest profile.
+    fn fill_calculated_data(&mut self) {
+        let profile = self.rest_profile();
+        let length = self.path.length;
+        let moving = self.limits.is_some();
+        self.calculated_data = self
+            .event_distance
+            .iter()
+            .map(|d| {
+                if moving {
+                    progress_at_length(&profile, (length - d).max(0.0))
+                } else {
+                    0.0
+                }
+            })
+            .collect();
     }
 }
 
@@ -1062,21 +1084,10 @@ pub(crate) fn finish_move(
         merge_speed,
         lock_position: inputs.lock_position,
         lock_direction,
+        event_distance: inputs.event_distance.clone(),
         calculated_data: Vec::new(),
     };
-    let profile = m.rest_profile();
-    let length = m.path.length;
-    m.calculated_data = inputs
-        .event_distance
-        .iter()
-        .map(|d| {
-            if m.limits.is_none() {
-                0.0
-            } else {
-                progress_at_length(&profile, (length - d).max(0.0))
-            }
-        })
-        .collect();
+    m.fill_calculated_data();
     Ok(m)
 }
 

@@ -41,7 +41,7 @@
 //!   speed of all motion on the system's primary axes at that instant (from
 //!   the axes' command velocities: coordinated motion, moves, jogs, cams;
 //!   the programmed speed when they stand still; Calculated Data are
-//!   computed with the programmed speed). Superseded instructions lose `.IP` and `.AC`.
+//!   computed with the speed the move runs at). Superseded instructions lose `.IP` and `.AC`.
 //! * **Systems sharing axes**: a move on a system while another system that
 //!   shares an axis with it moves (or has a move queued) is refused with
 //!   ERR 13, EXERR = the Merge operand, unless its Merge is *all motion*
@@ -610,7 +610,6 @@ impl MotionTask {
             }
         }
         self.cbits(h).dn = true;
-        self.coord.instructions[h.0 as usize].calculated_data = mv.calculated_data().to_vec();
         // Merge speed current: the speed of all motion on the axes now.
         let speed_now = self.vector_speed(cs);
         let mv = if mv.merge() != Merge::Disabled && mv.merge_speed() == MergeSpeed::Current && speed_now > 0.0 {
@@ -618,6 +617,8 @@ impl MotionTask {
         } else {
             mv
         };
+        // Calculated Data with the speed the move runs at.
+        self.coord.instructions[h.0 as usize].calculated_data = mv.calculated_data().to_vec();
         let sys = &mut self.coord.systems[cs.0 as usize];
         sys.status.stopping = false;
         if merging {

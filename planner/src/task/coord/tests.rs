@@ -1131,3 +1131,30 @@ fn random_instruction_sequences_keep_the_commands_finite() {
         }
     }
 }
+
+#[test]
+fn calculated_data_uses_the_current_speed_of_a_merge_at_current_speed() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let a = task.add_instruction("A");
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[100.0, 0.0], 1)));
+    for _ in 0..500 {
+        task.update();
+    }
+    assert!((speed(&task, &axes, 2) - 10.0).abs() < 1e-9);
+    // Merge at current speed (10, programmed 30): the old move comes to rest
+    // at x = 20 (10²/(2·50) = 1 past x = 19); the new one runs 20 → 60 at 10.
+    let m = task.add_instruction("M");
+    let merge = CoordMoveInputs {
+        merge: 1,
+        merge_speed: 1,
+        speed: 30.0,
+        event_distance: vec![5.0],
+        ..line(&[60.0, 0.0], 1)
+    };
+    task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
+    let h = task.coord_instruction_of(m).unwrap();
+    // Accel 0.2 s (1 unit), then 34 units at 10 units/s to x = 55: 3.6 s
+    // (at the programmed 30 it would be 0.6 s + 26/30 s).
+    let cd = task.coord_calculated_data(h).to_vec();
+    assert!((cd[0] - 3.6).abs() < 1e-9, "{cd:?}");
+}
