@@ -86,13 +86,24 @@
 //!   first rule is kept (it is cleared when the next move starts), and for
 //!   types 2, 3, 6 it is cleared when the blend starts.
 //!
+//! * **Time driven → master driven** with the master at rest: the spec's
+//!   run-time error ("you cannot switch from Time Driven Mode to Master
+//!   Driven Mode if the master speed is zero unless the slave speed is zero
+//!   too"; Rockwell names it MDSC_IDLE_MASTER_AND_SLAVE_MOVING). A
+//!   master-driven move that would take over from time-driven motion (or
+//!   from single-axis motion) while the system's primary axes move and the
+//!   master's command velocity is 0 is not started: `.ER` with ERR
+//!   [`ERR_IDLE_MASTER_SLAVE_MOVING`] (the spec gives no number; this one is
+//!   the project's, next to [`ERR_PATH_COLLISION`]), EXERR 0. Executed
+//!   directly or as a merge, it has no `.DN` and the running motion goes on;
+//!   when it comes out of the queue at a blend point it keeps its `.DN`
+//!   (the spec: "set with the Done bit when a queued instruction encounters
+//!   a runtime error"), leaves the queue, and the running move ends at its
+//!   end point.
+//!
 //! # Not modelled
 //! * Rotary axes with an unwind in a coordinate system are moved as linear
 //!   axes (no unwind error, no sign-selects-direction rule).
-//! * The run-time error for switching from time-driven to master-driven
-//!   motion while the master stands still and the path moves (the spec
-//!   gives no error code); master-driven and time-driven moves simply
-//!   blend.
 //! * MCCD (change dynamics), MCSD/MCSR and MDCC as instructions; the
 //!   master of master-driven moves is set with
 //!   [`MotionTask::set_coordinate_system_master`].
@@ -109,6 +120,11 @@ use crate::mccm::{MccmInputs, mccm};
 use crate::mclm::mclm;
 use crate::profile::{Limits, Profile, Sample, State, stopping_distance};
 use thiserror::Error;
+
+/// ERR of a master-driven coordinated move that would take over from
+/// time-driven motion while the master stands still and the system moves
+/// (Rockwell's MDSC_IDLE_MASTER_AND_SLAVE_MOVING; EXERR 0).
+pub const ERR_IDLE_MASTER_SLAVE_MOVING: i32 = 201;
 
 /// Handle of a coordinate system in a [`MotionTask`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -609,6 +625,13 @@ impl MotionTask {
                 self.cancel_system(other);
             }
         }
+        if (merging || !busy) && self.idle_master_with_moving_slave(cs, &mv) {
+            let b = self.cbits(h);
+            b.er = true;
+            b.err = ERR_IDLE_MASTER_SLAVE_MOVING;
+            b.exerr = 0;
+            return;
+        }
         self.cbits(h).dn = true;
         // Merge speed current: the speed of all motion on the axes now.
         let speed_now = self.vector_speed(cs);
@@ -802,6 +825,41 @@ impl MotionTask {
         };
     }
 
+    /// Whether master-driven `mv` would take over from time-driven (or
+    /// single-axis) motion while the master stands still and the system's
+    /// primary axes move: the spec's run-time error.
+    fn idle_master_with_moving_slave(&self, cs: CoordHandle, mv: &CoordMove) -> bool {
+        let sys = &self.coord.systems[cs.0 as usize];
+        if mv.driver() != Driver::Master {
+            return false;
+        }
+        let from_time_driven =
+            sys.components.is_empty() || sys.components.iter().any(|c| c.mv.driver() == Driver::Time);
+        let master_idle = sys
+            .master
+            .is_none_or(|m| self.axes[m.0 as usize].command.velocity == 0.0);
+        from_time_driven && master_idle && self.vector_speed(cs) > 0.0
+    }
+
+    /// Fails a move that comes out of the queue with
+    /// [`ERR_IDLE_MASTER_SLAVE_MOVING`] when it would start now (it keeps
+    /// `.DN`, loses `.IP`); the queue then ends where the running move ends.
+    fn fail_idle_master_switch(&mut self, cs: CoordHandle, h: CoordInstructionHandle, mv: &CoordMove) -> bool {
+        if !self.idle_master_with_moving_slave(cs, mv) {
+            return false;
+        }
+        let b = self.cbits(h);
+        b.er = true;
+        b.ip = false;
+        b.err = ERR_IDLE_MASTER_SLAVE_MOVING;
+        b.exerr = 0;
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        if let Some(c) = sys.components.last() {
+            sys.queue_end = c.mv.path().end().to_vec();
+        }
+        true
+    }
+
     fn start_component(&mut self, cs: CoordHandle, h: CoordInstructionHandle, mv: CoordMove, leftover: f64) {
         let start = self.record_start(cs);
         self.abort_single_axis_motion(cs);
@@ -989,9 +1047,16 @@ impl MotionTask {
                 break;
             }
             let leftover = (lead.progress - at).min(lead.last_delta.max(0.0));
+            let (next, mv) = sys.pending.take().expect("checked above");
+            if self.fail_idle_master_switch(cs, next, &mv) {
+                // The lead runs on to its end point, as if nothing was queued.
+                self.refresh_queue_status(cs);
+                break;
+            }
+            let sys = &mut self.coord.systems[cs.0 as usize];
+            let lead = sys.components.last_mut().expect("checked above");
             lead.successor_started = true;
             let finished = lead.instr;
-            let (next, mv) = sys.pending.take().expect("checked above");
             sys.status.command_pos_tolerance = false;
             if let Some(h) = finished {
                 let b = self.cbits(h);
@@ -1167,7 +1232,9 @@ impl MotionTask {
         if start_pending {
             let sys = &mut self.coord.systems[cs.0 as usize];
             let (h, mv) = sys.pending.take().expect("checked above");
-            self.start_component(cs, h, mv, 0.0);
+            if !self.fail_idle_master_switch(cs, h, &mv) {
+                self.start_component(cs, h, mv, 0.0);
+            }
             self.refresh_queue_status(cs);
         }
     }

@@ -1158,3 +1158,64 @@ fn calculated_data_uses_the_current_speed_of_a_merge_at_current_speed() {
     let cd = task.coord_calculated_data(h).to_vec();
     assert!((cd[0] - 3.6).abs() < 1e-9, "{cd:?}");
 }
+
+#[test]
+fn a_master_driven_move_cannot_take_over_from_moving_time_driven_motion_while_the_master_stands_still() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let master = task.add_axis(AxisConfig::new("Master", AxisKind::Linear), 0.0).unwrap();
+    task.set_coordinate_system_master(cs, Some(master));
+    let master_driven = CoordMoveInputs {
+        position: vec![10.0, 10.0],
+        speed: 0.1,
+        speed_units: 4,
+        accel_rate: 0.01,
+        accel_units: 4,
+        decel_rate: 0.01,
+        decel_units: 4,
+        termination_type: 1,
+        ..Default::default()
+    };
+    // Queued behind a blending time-driven move: it fails when it would
+    // start (at the blend point), keeps .DN, and the first move ends at rest.
+    let a = task.add_instruction("A");
+    let b = task.add_instruction("B");
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[10.0, 0.0], 2)));
+    task.execute_coordinated(cs, b, CoordCall::Mclm(master_driven.clone()));
+    let bits = task.motion_bits(b);
+    assert!(bits.dn && bits.ip && !bits.er, "{bits:?}");
+    run_until(&mut task, 10_000, |t| t.motion_bits(b).er);
+    assert!(speed(&task, &axes, 2) > 0.0);
+    let bits = task.motion_bits(b);
+    assert!(bits.dn && !bits.ip && !bits.ac, "{bits:?}");
+    assert_eq!((bits.err, bits.exerr), (ERR_IDLE_MASTER_SLAVE_MOVING, 0));
+    assert!(!task.coord_status(cs).move_pending);
+    run_until(&mut task, 10_000, |t| t.motion_bits(a).pc);
+    assert_eq!(positions(&task, &axes), vec![10.0, 0.0]);
+    assert!(!task.coord_status(cs).motion);
+    // Executed as a merge while the system moves: refused at once, no .DN,
+    // the running move goes on.
+    let c = task.add_instruction("C");
+    let m = task.add_instruction("M");
+    task.execute_coordinated(cs, c, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
+    for _ in 0..100 {
+        task.update();
+    }
+    task.execute_coordinated(
+        cs,
+        m,
+        CoordCall::Mclm(CoordMoveInputs {
+            merge: 1,
+            ..master_driven.clone()
+        }),
+    );
+    let bits = task.motion_bits(m);
+    assert!(bits.er && !bits.dn && !bits.ip, "{bits:?}");
+    assert_eq!(bits.err, ERR_IDLE_MASTER_SLAVE_MOVING);
+    assert!(task.motion_bits(c).ac);
+    run_until(&mut task, 10_000, |t| t.motion_bits(c).pc);
+    assert_eq!(positions(&task, &axes), vec![0.0, 0.0]);
+    // Master and slave both at rest: the switch is allowed.
+    task.execute_coordinated(cs, m, CoordCall::Mclm(master_driven));
+    let bits = task.motion_bits(m);
+    assert!(bits.dn && bits.ip && !bits.er, "{bits:?}");
+}
