@@ -154,6 +154,10 @@ fn two_lines(tt: i64, command_tolerance: f64) -> (Vec<f64>, Option<(f64, f64)>, 
     run_until(&mut task, 20_000, |t| {
         speeds.push(speed(t, &axes, 2));
         let sys = &t.coord.systems[cs.0 as usize];
+        if sys.components.len() == 2 {
+            // AccelStatus and DecelStatus clear while a blend is in process.
+            assert!(!t.coord_status(cs).accel && !t.coord_status(cs).decel);
+        }
         if sys.components.len() == 2 && blend_to_go.is_none() {
             let c = &sys.components[0];
             let at = c.blend_at.unwrap();
