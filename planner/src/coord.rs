@@ -36,8 +36,9 @@
 //!   without 4–6 ([`OperandIndex::MCLM`]).
 //! * **Termination type** range: the spec's table says "greater than 3" is an
 //!   error, but its own enumeration lists 0–6; 0–6 are accepted. Types 4 and
-//!   5 (follow contour) are for contour paths; here they end like type 1 (no
-//!   settle) and never blend.
+//!   5 (follow contour) pass through the end point into a pending move
+//!   without stopping (see `task/coord.rs`); without one they end like
+//!   type 1.
 //! * **Circle type** range: the table says "greater than 4"; the enumeration
 //!   has 0–3, so 4 is an error too.
 //! * **Speed 0** is legal (only < 0 is an error): the move is verified and
@@ -317,9 +318,11 @@ pub enum TerminationType {
     CommandTolerance,
     /// `3` — blend into the pending move from the deceleration point.
     NoDecel,
-    /// `4` — follow contour, velocity constrained (ends like type 1 here).
+    /// `4` — follow contour, velocity constrained: through the end point
+    /// without stopping, at the lower of the two programmed speeds, into a
+    /// pending move (at rest without one).
     FollowContourConstrained,
-    /// `5` — follow contour, velocity unconstrained (ends like type 1 here).
+    /// `5` — follow contour, velocity unconstrained (planned like 4).
     FollowContourUnconstrained,
     /// `6` — like 2 with the instruction's own command tolerance.
     CommandToleranceProgrammed,

@@ -25,7 +25,18 @@
 //!   collinear moves). A tolerance of 0 blends at the end point, at rest.
 //!   The active move's `.PC` is set at the blend point (its `.AC` clears,
 //!   the new move's `.AC` sets); its `.IP` clears when it reaches its end.
-//! * **Types 0, 1, 4, 5**, or no pending move: the move runs to its end
+//! * **Types 4, 5** (follow contour) with a pending move of the same
+//!   driver: the move passes exactly through its end point without
+//!   stopping, at the junction speed: the lower of the two programmed
+//!   speeds, limited to what the pending move can stop from within its
+//!   length (see `plan_contour_junction`); the pending move starts there at
+//!   that speed. The path is not rounded, so the corner should be tangent
+//!   (as the spec's follow-contour types assume); a corner that is not
+//!   changes the axes' velocities in one coarse update. Type 5
+//!   (unconstrained) is planned like type 4: the move never runs faster
+//!   than its own programmed speed to meet a faster next move. `.PC` sets
+//!   at the end point, `MoveTransitionStatus` stays clear (on path).
+//! * **Types 0, 1**, types 4, 5 without a pending move, or no pending move: the move runs to its end
 //!   point at rest; `.PC` and `.IP` when interpolation is complete, for
 //!   type 0 only once the actual position (primary axes) is within the
 //!   actual tolerance. A pending move starts then.
@@ -198,6 +209,9 @@ struct Component {
     last_delta: f64,
     blend_at: Option<f64>,
     successor_started: bool,
+    /// Follow contour (types 4, 5): the profile was replanned to reach the
+    /// end point at the junction speed of the pending move.
+    contour: bool,
     stopping: bool,
     lock: Lock,
     /// When and from what it started (`task/coord/preflight.rs`).
@@ -216,6 +230,13 @@ impl Component {
     fn s(&self) -> Sample {
         let mut s = self.profile.sample(self.progress);
         s.position = s.position.clamp(0.0, self.mv.path().length());
+        if self.progress >= self.profile.duration_s() {
+            // Past its end: a follow-contour move that ended at its junction
+            // speed hands that speed to its successor.
+            s.velocity = 0.0;
+            s.acceleration = 0.0;
+            s.jerk = 0.0;
+        }
         s
     }
 }
@@ -861,6 +882,19 @@ impl MotionTask {
     }
 
     fn start_component(&mut self, cs: CoordHandle, h: CoordInstructionHandle, mv: CoordMove, leftover: f64) {
+        self.start_component_from(cs, h, mv, leftover, State::at_rest(0.0));
+    }
+
+    /// Starts a component whose path profile begins in `initial` (at rest,
+    /// or at the junction speed of a follow-contour predecessor).
+    fn start_component_from(
+        &mut self,
+        cs: CoordHandle,
+        h: CoordInstructionHandle,
+        mv: CoordMove,
+        leftover: f64,
+        initial: State,
+    ) {
         let start = self.record_start(cs);
         self.abort_single_axis_motion(cs);
         let master_now = {
@@ -873,7 +907,10 @@ impl MotionTask {
         if sys.components.is_empty() {
             sys.base = mv.path().start().to_vec();
         }
-        let profile = mv.rest_profile();
+        let profile = match mv.limits() {
+            Some(l) if initial.velocity > 0.0 => Profile::to_position(initial, mv.path().length(), 0.0, l),
+            _ => mv.rest_profile(),
+        };
         let blend_at = if mv.termination().blends() && mv.limits().is_some() {
             let decel_point = profile.deceleration_start_s();
             Some(match mv.termination() {
@@ -901,6 +938,7 @@ impl MotionTask {
             last_delta: progress,
             blend_at,
             successor_started: false,
+            contour: false,
             stopping: false,
             lock,
             start,
@@ -1038,6 +1076,7 @@ impl MotionTask {
             c.progress = (c.progress + delta).max(0.0);
             c.last_delta = c.progress - before;
         }
+        self.plan_contour_junction(cs);
         // Blends: the newest component hands over at its blend point.
         loop {
             let sys = &mut self.coord.systems[cs.0 as usize];
@@ -1057,6 +1096,16 @@ impl MotionTask {
             let lead = sys.components.last_mut().expect("checked above");
             lead.successor_started = true;
             let finished = lead.instr;
+            let initial = if lead.contour {
+                let end = lead.profile.final_state();
+                State {
+                    position: 0.0,
+                    velocity: end.velocity,
+                    acceleration: end.acceleration,
+                }
+            } else {
+                State::at_rest(0.0)
+            };
             sys.status.command_pos_tolerance = false;
             if let Some(h) = finished {
                 let b = self.cbits(h);
@@ -1065,11 +1114,73 @@ impl MotionTask {
                 b.accel = false;
                 b.decel = false;
             }
-            self.start_component(cs, next, mv, leftover);
+            self.start_component_from(cs, next, mv, leftover, initial);
             self.refresh_queue_status(cs);
         }
         self.write_axes(cs);
         self.complete_components(cs);
+    }
+
+    /// Follow contour (termination types 4 and 5): while a move of either
+    /// type leads and a move of the same driver is pending, its remaining
+    /// profile is replanned from its current state to reach its end point
+    /// at the junction speed, the lower of the two programmed speeds,
+    /// limited to what the pending move can still stop from within its own
+    /// length; the pending move then starts at that speed when the lead
+    /// reaches its end point. Without a pending move (or when it leaves the
+    /// queue again) the lead ends at rest.
+    fn plan_contour_junction(&mut self, cs: CoordHandle) {
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        let pending = sys.pending.as_ref().map(|(_, mv)| mv);
+        let Some(lead) = sys.components.last_mut() else { return };
+        let contour_type = matches!(
+            lead.mv.termination(),
+            TerminationType::FollowContourConstrained | TerminationType::FollowContourUnconstrained
+        );
+        if !contour_type || lead.successor_started || lead.stopping || lead.progress >= lead.profile.duration_s() {
+            return;
+        }
+        let Some(limits) = lead.mv.limits().copied() else {
+            return;
+        };
+        let next = pending.filter(|mv| mv.driver() == lead.mv.driver() && mv.limits().is_some());
+        let junction = match next {
+            Some(mv) if !lead.contour => {
+                let next_limits = *mv.limits().expect("filtered");
+                let mut v = limits.velocity().min(next_limits.velocity());
+                let fits = |v: f64| {
+                    stopping_distance(
+                        State {
+                            position: 0.0,
+                            velocity: v,
+                            acceleration: 0.0,
+                        },
+                        &next_limits,
+                    ) <= mv.path().length()
+                };
+                if !fits(v) {
+                    let (mut lo, mut hi) = (0.0, v);
+                    for _ in 0..60 {
+                        let mid = 0.5 * (lo + hi);
+                        if fits(mid) { lo = mid } else { hi = mid }
+                    }
+                    v = lo;
+                }
+                v
+            }
+            None if lead.contour => 0.0,
+            _ => return,
+        };
+        let now = lead.profile.sample(lead.progress);
+        let from = State {
+            position: now.position,
+            velocity: now.velocity,
+            acceleration: now.acceleration,
+        };
+        lead.profile = Profile::to_position(from, lead.mv.path().length(), junction, &limits);
+        lead.progress = 0.0;
+        lead.contour = junction > 0.0;
+        lead.blend_at = lead.contour.then(|| lead.profile.duration_s());
     }
 
     fn write_axes(&mut self, cs: CoordHandle) {

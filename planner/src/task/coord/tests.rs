@@ -188,7 +188,7 @@ fn stops_between(speeds: &[f64]) -> bool {
 
 #[test]
 fn termination_0_and_1_stop_at_the_junction() {
-    for tt in [0, 1, 4, 5] {
+    for tt in [0, 1] {
         let (speeds, blend, end) = two_lines(tt, 0.0);
         assert!(blend.is_none());
         assert!(stops_between(&speeds), "tt {tt}");
@@ -1245,4 +1245,81 @@ fn a_master_driven_move_cannot_take_over_from_moving_time_driven_motion_while_th
     task.execute_coordinated(cs, m, CoordCall::Mclm(master_driven));
     let bits = task.motion_bits(m);
     assert!(bits.dn && bits.ip && !bits.er, "{bits:?}");
+}
+
+#[test]
+fn termination_4_and_5_follow_the_contour_through_the_end_point_without_stopping() {
+    for tt in [4, 5] {
+        // Collinear lines: to x = 10 at 10 units/s, then to x = 20 at 5 units/s.
+        let (mut task, cs, axes) = gantry(2, 0);
+        let (a, b) = (task.add_instruction("A"), task.add_instruction("B"));
+        task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[10.0, 0.0], tt)));
+        let slow = CoordMoveInputs {
+            speed: 5.0,
+            ..line(&[20.0, 0.0], 1)
+        };
+        task.execute_coordinated(cs, b, CoordCall::Mclm(slow));
+        let mut speeds = vec![0.0];
+        let mut at_pc = None;
+        run_until(&mut task, 20_000, |t| {
+            let v = speed(t, &axes, 2);
+            let dv = v - speeds[speeds.len() - 1];
+            assert!(dv.abs() <= 50.0 * DT * (1.0 + 1e-9), "tt {tt}: accel {}", dv / DT);
+            assert!(v <= 10.0 * (1.0 + 1e-9));
+            speeds.push(v);
+            if at_pc.is_none() && t.motion_bits(a).pc {
+                at_pc = Some((positions(t, &axes), v, t.coord_status(cs).move_transition));
+                assert!(t.motion_bits(b).ac && !t.motion_bits(a).ip, "tt {tt}");
+            }
+            t.motion_bits(b).pc
+        });
+        assert!(!stops_between(&speeds), "tt {tt}");
+        // The first move completes at its end point, where the second starts
+        // at the junction speed 5 (the lower of 10 and 5), on path.
+        let (p, v, transition) = at_pc.unwrap();
+        assert!(
+            p[0] >= 10.0 && p[0] <= 10.0 + 5.0 * DT + 1e-9 && p[1] == 0.0,
+            "tt {tt}: {p:?}"
+        );
+        assert!((v - 5.0).abs() < 1e-9, "tt {tt}: {v}");
+        assert!(!transition);
+        assert_eq!(positions(&task, &axes), vec![20.0, 0.0]);
+    }
+    // A tangent line–arc–line contour never stops and ends exactly.
+    let (mut task, cs, axes) = gantry(2, 0);
+    let calls = [
+        CoordCall::Mclm(line(&[10.0, 0.0], 4)),
+        CoordCall::Mccm(MccmInputs {
+            common: line(&[15.0, 5.0], 4),
+            circle_type: 1,
+            via_center_radius: vec![10.0, 5.0],
+            direction: 1,
+        }),
+        CoordCall::Mclm(line(&[15.0, 15.0], 1)),
+    ];
+    let hs: Vec<_> = (0..3).map(|i| task.add_instruction(format!("M{i}"))).collect();
+    let mut speeds = Vec::new();
+    let mut next = 0;
+    for _ in 0..20_000 {
+        // Each move is executed as soon as the queue has room.
+        if next < 3 && !task.coord_status(cs).move_pending_queue_full {
+            task.execute_coordinated(cs, hs[next], calls[next].clone());
+            next += 1;
+        }
+        task.update();
+        speeds.push(speed(&task, &axes, 2));
+        if task.motion_bits(hs[2]).pc {
+            break;
+        }
+    }
+    assert!(task.motion_bits(hs[2]).pc);
+    assert!(!stops_between(&speeds));
+    assert_eq!(positions(&task, &axes), vec![15.0, 15.0]);
+    // Without a pending move a type 4 move ends at rest at its end point.
+    let (mut task, cs, axes) = gantry(2, 0);
+    let h = task.add_instruction("A");
+    task.execute_coordinated(cs, h, CoordCall::Mclm(line(&[3.0, 4.0], 4)));
+    run_until(&mut task, 20_000, |t| t.motion_bits(h).pc);
+    assert_eq!(positions(&task, &axes), vec![3.0, 4.0]);
+    assert_eq!(speed(&task, &axes, 2), 0.0);
 }
