@@ -62,7 +62,9 @@
 //! * **Event distance** < 0 or not finite is ERR 13, EXERR 23 (MCCM) / 20
 //!   (MCLM); a distance longer than the move gives 0 (the start).
 
-use crate::profile::{JerkUnits, Limits, LimitsError, Profile, State, jerk_to_units_per_sec3};
+use crate::profile::{
+    JerkUnits, Limits, LimitsError, Profile, State, jerk_from_percent_of_time, jerk_to_units_per_sec3,
+};
 use thiserror::Error;
 
 /// Three-component vector helpers (primary axes, zero-padded).
@@ -801,6 +803,9 @@ pub struct CoordMove {
     pub(crate) lock_direction: LockDirection,
     /// The Event Distance operand (validated finite and ≥ 0).
     pub(crate) event_distance: Vec<f64>,
+    /// Accel and decel jerk in % of time (S-curve with jerk units 2 or 6):
+    /// the jerks follow the speed when a merge at current speed changes it.
+    pub(crate) jerk_percent_of_time: Option<(f64, f64)>,
     pub(crate) calculated_data: Vec<f64>,
 }
 
@@ -857,9 +862,19 @@ impl CoordMove {
     /// its Calculated Data are those of the new speed.
     pub(crate) fn with_speed(&self, speed: f64) -> Self {
         let mut m = self.clone();
-        if let Some(l) = &self.limits
-            && let Some(new) = with_velocity(l, speed)
-        {
+        let new = match (&self.limits, self.jerk_percent_of_time) {
+            (Some(l), Some((pa, pd))) => {
+                let aj = jerk_from_percent_of_time(pa, l.acceleration(), speed);
+                let dj = jerk_from_percent_of_time(pd, l.deceleration(), speed);
+                match (aj, dj) {
+                    (Ok(aj), Ok(dj)) => Limits::s_curve(speed, l.acceleration(), l.deceleration(), aj, dj).ok(),
+                    _ => None,
+                }
+            }
+            (Some(l), None) => with_velocity(l, speed),
+            (None, _) => None,
+        };
+        if let Some(new) = new {
             m.limits = Some(new);
             m.fill_calculated_data();
         }
@@ -1088,6 +1103,10 @@ pub(crate) fn finish_move(
         lock_position: inputs.lock_position,
         lock_direction,
         event_distance: inputs.event_distance.clone(),
+        jerk_percent_of_time: (s_curve
+            && limits.is_some()
+            && matches!((inputs.jerk_units, driver), (2, Driver::Time) | (6, Driver::Master)))
+        .then_some((inputs.accel_jerk, inputs.decel_jerk)),
         calculated_data: Vec::new(),
     };
     m.fill_calculated_data();

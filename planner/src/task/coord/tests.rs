@@ -1323,3 +1323,37 @@ fn termination_4_and_5_follow_the_contour_through_the_end_point_without_stopping
     assert_eq!(positions(&task, &axes), vec![3.0, 4.0]);
     assert_eq!(speed(&task, &axes, 2), 0.0);
 }
+
+#[test]
+fn a_merge_at_current_speed_recomputes_percent_of_time_jerks_for_that_speed() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let a = task.add_instruction("A");
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[100.0, 0.0], 1)));
+    for _ in 0..500 {
+        task.update();
+    }
+    assert!((speed(&task, &axes, 2) - 10.0).abs() < 1e-9);
+    let m = task.add_instruction("M");
+    let merge = CoordMoveInputs {
+        merge: 1,
+        merge_speed: 1,
+        speed: 30.0,
+        profile: 1,
+        accel_jerk: 100.0,
+        decel_jerk: 50.0,
+        jerk_units: 2,
+        ..line(&[60.0, 0.0], 1)
+    };
+    task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
+    let limits = *task.coord_active_move(cs).unwrap().limits().unwrap();
+    let crate::profile::Shape::SCurve { accel_jerk, decel_jerk } = limits.shape() else {
+        panic!("an S-curve")
+    };
+    // j = a²/v · (200/% − 1) with the current speed 10 (not the programmed 30):
+    // 50²/10 · 1 = 250 and 50²/10 · 3 = 750.
+    assert!((limits.velocity() - 10.0).abs() < 1e-9);
+    assert!(
+        (accel_jerk - 250.0).abs() < 1e-9 && (decel_jerk - 750.0).abs() < 1e-9,
+        "{limits:?}"
+    );
+}
