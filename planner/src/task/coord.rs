@@ -112,14 +112,22 @@
 //!   a runtime error"), leaves the queue, and the running move ends at its
 //!   end point.
 //!
+//! * **Rotary axes with an unwind** (`AxisKind::Rotary` with a modulo
+//!   period `U`) in an absolute MCLM/MCCM: the spec's rule — the sign of
+//!   the Position element selects the direction (0 and −0 forward; −U
+//!   reaches the unwind position backward), the axis turns by less than one
+//!   unwind to `|p|` modulo `U`, and `|p| > U` is an error (ERR 13, EXERR =
+//!   the Position operand; the spec gives no number). Incremental moves
+//!   turn by the increment. The via/center operands of an arc are not
+//!   unwound (a rotary primary axis in an arc uses its unwrapped position).
+//!
 //! # Not modelled
-//! * Rotary axes with an unwind in a coordinate system are moved as linear
-//!   axes (no unwind error, no sign-selects-direction rule).
 //! * MCCD (change dynamics), MCSD/MCSR and MDCC as instructions; the
 //!   master of master-driven moves is set with
 //!   [`MotionTask::set_coordinate_system_master`].
 
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
+use crate::axis::AxisKind;
 use crate::coord::{
     CoordConfigError, CoordMove, CoordMoveError, CoordMoveInputs, CoordStatus, CoordinateSystem,
     CoordinateSystemConfig, Driver, LockDirection, Mcs, McsInputs, Merge, MergeSpeed, MoveContext, TerminationType,
@@ -576,13 +584,33 @@ impl MotionTask {
                 self.coord.instructions[h.0 as usize].held = false;
                 self.execute_mcs(h, cs, &inputs);
             }
-            CoordCall::Mclm(inputs) => {
+            CoordCall::Mclm(mut inputs) => {
                 let merge = (inputs.merge, OperandIndex::MCLM.merge);
-                self.execute_move(h, cs, merge, |ctx| mclm(&inputs, ctx));
+                self.execute_move(h, cs, merge, |ctx, unwinds| {
+                    let c = &mut inputs;
+                    unwind_rotary_targets(
+                        unwinds,
+                        ctx.start,
+                        c.move_type,
+                        &mut c.position,
+                        OperandIndex::MCLM.position,
+                    )?;
+                    mclm(&inputs, ctx)
+                });
             }
-            CoordCall::Mccm(inputs) => {
+            CoordCall::Mccm(mut inputs) => {
                 let merge = (inputs.common.merge, OperandIndex::MCCM.merge);
-                self.execute_move(h, cs, merge, |ctx| mccm(&inputs, ctx));
+                self.execute_move(h, cs, merge, |ctx, unwinds| {
+                    let c = &mut inputs.common;
+                    unwind_rotary_targets(
+                        unwinds,
+                        ctx.start,
+                        c.move_type,
+                        &mut c.position,
+                        OperandIndex::MCCM.position,
+                    )?;
+                    mccm(&inputs, ctx)
+                });
             }
         }
     }
@@ -592,7 +620,7 @@ impl MotionTask {
         h: CoordInstructionHandle,
         cs: CoordHandle,
         (merge_code, merge_exerr): (i64, i32),
-        verify: impl FnOnce(&MoveContext<'_>) -> Result<CoordMove, CoordMoveError>,
+        verify: impl FnOnce(&MoveContext<'_>, &[Option<f64>]) -> Result<CoordMove, CoordMoveError>,
     ) {
         let sys = &self.coord.systems[cs.0 as usize];
         let busy = !sys.components.is_empty() || sys.pending.is_some();
@@ -620,7 +648,18 @@ impl MotionTask {
             start: &start,
             has_master: sys.master.is_some(),
         };
-        let result = verify(&ctx);
+        // The unwind of each rotary axis with a modulo period.
+        let unwinds: Vec<Option<f64>> = sys
+            .axes
+            .iter()
+            .map(|a| {
+                let config = &self.axes[a.0 as usize].config;
+                (config.kind == AxisKind::Rotary)
+                    .then(|| config.modulo().map(|m| m.period()))
+                    .flatten()
+            })
+            .collect();
+        let result = verify(&ctx, &unwinds);
         let mv = match result {
             Ok(mv) => mv,
             Err(e) => {
@@ -1349,6 +1388,42 @@ impl MotionTask {
             self.refresh_queue_status(cs);
         }
     }
+}
+
+/// Absolute `Position` elements of rotary axes with an unwind `U` (see the
+/// module doc): `|p| > U` is ERR 13 with the Position operand's index; else
+/// `p ≥ 0` (and −0) turns the axis forward and `p < 0` backward, by less
+/// than one unwind, to `|p|` modulo `U`; the element becomes that unwrapped
+/// target. Incremental moves, short arrays and non-finite values are left
+/// to the operand checks.
+fn unwind_rotary_targets(
+    unwinds: &[Option<f64>],
+    start: &[f64],
+    move_type: i64,
+    position: &mut [f64],
+    position_exerr: i32,
+) -> Result<(), CoordMoveError> {
+    if move_type != 0 || position.len() < unwinds.len() {
+        return Ok(());
+    }
+    for (i, unwind) in unwinds.iter().enumerate() {
+        let (Some(u), p) = (*unwind, position[i]) else { continue };
+        if !p.is_finite() {
+            continue;
+        }
+        if p.abs() > u {
+            return Err(crate::coord::out_of_range(position_exerr));
+        }
+        let w = crate::axis::Modulo::new(u).map_or(0.0, |m| m.wrap(start[i]));
+        let turn = |d: f64| if d >= u { 0.0 } else { d };
+        let delta = if p >= 0.0 {
+            turn((p - w).rem_euclid(u))
+        } else {
+            -turn((w + p).rem_euclid(u))
+        };
+        position[i] = start[i] + delta;
+    }
+    Ok(())
 }
 
 /// Where component `c` comes to rest along its path when it brakes now.

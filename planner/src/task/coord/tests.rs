@@ -1357,3 +1357,64 @@ fn a_merge_at_current_speed_recomputes_percent_of_time_jerks_for_that_speed() {
         "{limits:?}"
     );
 }
+
+#[test]
+fn absolute_positions_of_a_rotary_axis_with_an_unwind_take_the_sign_as_direction() {
+    let mut task = MotionTask::new(DT).unwrap();
+    let x = task.add_axis(AxisConfig::new("X", AxisKind::Linear), 0.0).unwrap();
+    let c = task
+        .add_axis(
+            AxisConfig {
+                modulo_period: Some(360.0),
+                ..AxisConfig::new("C", AxisKind::Rotary)
+            },
+            0.0,
+        )
+        .unwrap();
+    let cs = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: 2,
+                primary_axes: 1,
+                max_speed: 1000.0,
+                max_accel: 10_000.0,
+                max_decel: 10_000.0,
+                ..CoordinateSystemConfig::new("XC")
+            },
+            &[x, c],
+        )
+        .unwrap();
+    let h = task.add_instruction("M");
+    // (absolute C operand, unwrapped C after the move, direction of travel)
+    for (target, expected, direction) in [
+        (270.0, 270.0, 1.0),   // forward from 0
+        (90.0, 450.0, 1.0),    // forward through the unwind, not back 180°
+        (-0.0, 720.0, 1.0),    // −0 is 0: forward
+        (-270.0, 630.0, -1.0), // negative: backward to 270
+        (-360.0, 360.0, -1.0), // −unwind: backward to the unwind position
+    ] {
+        task.execute_coordinated(cs, h, CoordCall::Mclm(line(&[1.0, target], 1)));
+        assert!(task.motion_bits(h).dn, "{target}: {:?}", task.motion_bits(h));
+        run_until(&mut task, 20_000, |t| {
+            let v = t.axis_state(c).command_velocity;
+            assert!(v * direction >= 0.0, "{target}: C turns the wrong way ({v})");
+            t.motion_bits(h).pc
+        });
+        let at = task.axis_state(c).command_position;
+        assert!((at - expected).abs() < 1e-9, "{target}: C at {at}, expected {expected}");
+        task.update();
+    }
+    // Beyond the unwind: ERR 13 on the Position operand (MCLM 3, MCCM 3).
+    task.execute_coordinated(cs, h, CoordCall::Mclm(line(&[1.0, 400.0], 1)));
+    let b = task.motion_bits(h);
+    assert!(b.er && !b.dn && (b.err, b.exerr) == (13, 3), "{b:?}");
+    // Incremental moves turn by the increment.
+    task.update();
+    let inc = CoordMoveInputs {
+        move_type: 1,
+        ..line(&[0.0, -100.0], 1)
+    };
+    task.execute_coordinated(cs, h, CoordCall::Mclm(inc));
+    run_until(&mut task, 20_000, |t| t.motion_bits(h).pc);
+    assert!((task.axis_state(c).command_position - 260.0).abs() < 1e-9);
+}
