@@ -1418,3 +1418,28 @@ fn absolute_positions_of_a_rotary_axis_with_an_unwind_take_the_sign_as_direction
     run_until(&mut task, 20_000, |t| t.motion_bits(h).pc);
     assert!((task.axis_state(c).command_position - 260.0).abs() < 1e-9);
 }
+
+#[test]
+fn a_collinear_blend_never_sets_move_transition_status() {
+    for tt in [2, 3, 6] {
+        let (mut task, cs, axes) = gantry(2, 0);
+        let (a, b) = (task.add_instruction("A"), task.add_instruction("B"));
+        let first = CoordMoveInputs {
+            command_tolerance: 0.5,
+            ..line(&[10.0, 0.0], tt)
+        };
+        task.execute_coordinated(cs, a, CoordCall::Mclm(first));
+        task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[20.0, 0.0], 1)));
+        let (mut blended, mut speeds) = (false, Vec::new());
+        run_until(&mut task, 20_000, |t| {
+            blended |= t.coord.systems[cs.0 as usize].components.len() == 2;
+            assert!(!t.coord_status(cs).move_transition, "tt {tt}: on path");
+            speeds.push(speed(t, &axes, 2));
+            t.motion_bits(b).pc
+        });
+        assert!(blended && !stops_between(&speeds), "tt {tt}");
+        // Collinear moves at the same speed blend into one cruise: never faster.
+        assert!(speeds.iter().all(|v| *v <= 10.0 * (1.0 + 1e-9)), "tt {tt}");
+        assert_eq!(positions(&task, &axes), vec![20.0, 0.0]);
+    }
+}
