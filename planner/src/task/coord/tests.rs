@@ -1249,13 +1249,18 @@ fn a_master_driven_move_cannot_take_over_from_moving_time_driven_motion_while_th
 
 #[test]
 fn termination_4_and_5_follow_the_contour_through_the_end_point_without_stopping() {
-    for tt in [4, 5] {
+    for (tt, profile) in [(4, 0), (5, 0), (4, 1), (5, 1)] {
         // Collinear lines: to x = 10 at 10 units/s, then to x = 20 at 5 units/s.
         let (mut task, cs, axes) = gantry(2, 0);
         let (a, b) = (task.add_instruction("A"), task.add_instruction("B"));
-        task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[10.0, 0.0], tt)));
+        let fast = CoordMoveInputs {
+            profile,
+            ..line(&[10.0, 0.0], tt)
+        };
+        task.execute_coordinated(cs, a, CoordCall::Mclm(fast));
         let slow = CoordMoveInputs {
             speed: 5.0,
+            profile,
             ..line(&[20.0, 0.0], 1)
         };
         task.execute_coordinated(cs, b, CoordCall::Mclm(slow));
