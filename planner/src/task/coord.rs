@@ -36,8 +36,9 @@
 //!   (unconstrained) is planned like type 4: the move never runs faster
 //!   than its own programmed speed to meet a faster next move. `.PC` sets
 //!   at the end point, `MoveTransitionStatus` stays clear (on path).
-//! * **Types 0, 1**, types 4, 5 without a pending move, or no pending move: the move runs to its end
-//!   point at rest; `.PC` and `.IP` when interpolation is complete, for
+//! * **Types 0, 1**, types 4, 5 without a pending move (of the same
+//!   driver), or no pending move: the move runs to its end point at rest;
+//!   `.PC` and `.IP` when interpolation is complete, for
 //!   type 0 only once the actual position (primary axes) is within the
 //!   actual tolerance. A pending move starts then.
 //! * **Queue**: one pending move. A further MCLM/MCCM with Merge disabled is
