@@ -23,6 +23,12 @@
 //!   matching"; starting earlier would overlap the cruise of the first move
 //!   with the acceleration of the second and exceed the programmed speed on
 //!   collinear moves). A tolerance of 0 blends at the end point, at rest.
+//!   The blend is also deferred "for time matching": the pending move
+//!   starts no sooner than its acceleration time before the active move's
+//!   end, so its acceleration never ends before the active move's
+//!   deceleration does and the two speeds never add up to more than the
+//!   faster programmed speed (a quickly accelerating second move would
+//!   otherwise overshoot on collinear moves).
 //!   The active move's `.PC` is set at the blend point (its `.AC` clears,
 //!   the new move's `.AC` sets); its `.IP` clears when it reaches its end.
 //! * **Types 4, 5** (follow contour) with a pending move of the same
@@ -1122,7 +1128,19 @@ impl MotionTask {
             let sys = &mut self.coord.systems[cs.0 as usize];
             let Some(lead) = sys.components.last_mut() else { break };
             let Some(at) = lead.blend_at else { break };
-            if lead.successor_started || sys.pending.is_none() || lead.progress < at {
+            if lead.successor_started || lead.progress < at {
+                break;
+            }
+            let Some((_, pending)) = &sys.pending else { break };
+            // Time matching: the pending move's acceleration ends no sooner
+            // than the lead's motion, so the two never add up to more than
+            // the faster programmed speed.
+            let at = if pending.driver() == lead.mv.driver() {
+                at.max(lead.profile.duration_s() - acceleration_time(pending))
+            } else {
+                at
+            };
+            if lead.progress < at {
                 break;
             }
             let leftover = (lead.progress - at).min(lead.last_delta.max(0.0));
@@ -1425,6 +1443,15 @@ fn unwind_rotary_targets(
         position[i] = start[i] + delta;
     }
     Ok(())
+}
+
+/// How long `mv` accelerates from rest to its peak path speed (time, or
+/// master distance).
+fn acceleration_time(mv: &CoordMove) -> f64 {
+    let Some(limits) = mv.limits() else { return 0.0 };
+    let profile = mv.rest_profile();
+    let peak = profile.sample(profile.deceleration_start_s()).velocity;
+    Profile::to_velocity(State::at_rest(0.0), peak, limits).duration_s()
 }
 
 /// Where component `c` comes to rest along its path when it brakes now.

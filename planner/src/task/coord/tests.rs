@@ -1448,3 +1448,34 @@ fn a_collinear_blend_never_sets_move_transition_status() {
         assert_eq!(positions(&task, &axes), vec![20.0, 0.0]);
     }
 }
+
+#[test]
+fn a_blend_into_a_quickly_accelerating_move_is_deferred_so_the_speeds_never_add_up() {
+    // First decelerates at 50 units/s² (0.2 s from 10), the second accelerates
+    // at 500 (0.02 s to 10): started at the deceleration point, the collinear
+    // speeds would add up to 19 units/s, and to 13.5 round a square corner.
+    for (end, tt) in [([20.0, 0.0], 3), ([10.0, 10.0], 3), ([20.0, 0.0], 2), ([10.0, 10.0], 6)] {
+        let (mut task, cs, axes) = gantry(2, 0);
+        let (a, b) = (task.add_instruction("A"), task.add_instruction("B"));
+        let first = CoordMoveInputs {
+            command_tolerance: 0.9,
+            ..line(&[10.0, 0.0], tt)
+        };
+        task.execute_coordinated(cs, a, CoordCall::Mclm(first));
+        let quick = CoordMoveInputs {
+            accel_rate: 500.0,
+            ..line(&end, 1)
+        };
+        task.execute_coordinated(cs, b, CoordCall::Mclm(quick));
+        let (mut blended, mut speeds) = (false, Vec::new());
+        run_until(&mut task, 20_000, |t| {
+            blended |= t.coord.systems[cs.0 as usize].components.len() == 2;
+            speeds.push(speed(t, &axes, 2));
+            t.motion_bits(b).pc
+        });
+        let fastest = speeds.iter().copied().fold(0.0, f64::max);
+        assert!(fastest <= 10.0 * (1.0 + 1e-9), "{end:?} tt {tt}: {fastest}");
+        assert!(blended && !stops_between(&speeds), "{end:?} tt {tt}");
+        assert_eq!(positions(&task, &axes), end.to_vec());
+    }
+}
