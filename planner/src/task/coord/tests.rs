@@ -1479,3 +1479,33 @@ fn a_blend_into_a_quickly_accelerating_move_is_deferred_so_the_speeds_never_add_
         assert_eq!(positions(&task, &axes), end.to_vec());
     }
 }
+
+#[test]
+fn a_move_executed_while_an_mcs_stops_clears_stopping_status_and_starts_where_the_stop_ends() {
+    let (mut task, cs, axes) = gantry(2, 0);
+    let (a, s, b) = (
+        task.add_instruction("A"),
+        task.add_instruction("S"),
+        task.add_instruction("B"),
+    );
+    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[100.0, 0.0], 1)));
+    for _ in 0..200 {
+        task.update();
+    }
+    task.execute_coordinated(cs, s, CoordCall::Mcs(McsInputs::default()));
+    task.update();
+    assert!(task.coord_status(cs).stopping);
+    // "The Stopping Status bit is cleared when the MCCM instruction executes."
+    task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[0.0, 10.0], 1)));
+    assert!(!task.coord_status(cs).stopping && task.motion_bits(b).dn);
+    let mut previous = positions(&task, &axes);
+    run_until(&mut task, 20_000, |t| {
+        let p = positions(t, &axes);
+        // No jump: the new move starts where the stop brings the system to rest.
+        assert!((p[0] - previous[0]).hypot(p[1] - previous[1]) <= 10.0 * DT * (1.0 + 1e-9));
+        previous = p;
+        t.motion_bits(b).pc
+    });
+    assert!(task.motion_bits(s).pc);
+    assert_eq!(positions(&task, &axes), vec![0.0, 10.0]);
+}
