@@ -1454,16 +1454,34 @@ fn a_blend_into_a_quickly_accelerating_move_is_deferred_so_the_speeds_never_add_
     // First decelerates at 50 units/s² (0.2 s from 10), the second accelerates
     // at 500 (0.02 s to 10): started at the deceleration point, the collinear
     // speeds would add up to 19 units/s, and to 13.5 round a square corner.
-    for (end, tt) in [([20.0, 0.0], 3), ([10.0, 10.0], 3), ([20.0, 0.0], 2), ([10.0, 10.0], 6)] {
+    // Trapezoidal, then S-curves with different jerks (% of time) on each side.
+    let cases = [
+        ([20.0, 0.0], 3, 0, 100.0, 100.0),
+        ([10.0, 10.0], 3, 0, 100.0, 100.0),
+        ([20.0, 0.0], 2, 0, 100.0, 100.0),
+        ([10.0, 10.0], 6, 0, 100.0, 100.0),
+        ([20.0, 0.0], 3, 1, 10.0, 100.0),
+        ([20.0, 0.0], 3, 1, 100.0, 10.0),
+        ([10.0, 10.0], 2, 1, 30.0, 100.0),
+    ];
+    for (end, tt, profile, first_jerk, second_jerk) in cases {
         let (mut task, cs, axes) = gantry(2, 0);
         let (a, b) = (task.add_instruction("A"), task.add_instruction("B"));
         let first = CoordMoveInputs {
             command_tolerance: 0.9,
+            profile,
+            accel_jerk: first_jerk,
+            decel_jerk: first_jerk,
+            jerk_units: 2,
             ..line(&[10.0, 0.0], tt)
         };
         task.execute_coordinated(cs, a, CoordCall::Mclm(first));
         let quick = CoordMoveInputs {
             accel_rate: 500.0,
+            profile,
+            accel_jerk: second_jerk,
+            decel_jerk: second_jerk,
+            jerk_units: 2,
             ..line(&end, 1)
         };
         task.execute_coordinated(cs, b, CoordCall::Mclm(quick));
