@@ -36,8 +36,9 @@
 //!   without 4–6 ([`OperandIndex::MCLM`]).
 //! * **Termination type** range: the spec's table says "greater than 3" is an
 //!   error, but its own enumeration lists 0–6; 0–6 are accepted. Types 4 and
-//!   5 (follow contour) are for contour paths; here they end like type 1 (no
-//!   settle) and never blend.
+//!   5 (follow contour) pass through the end point into a pending move
+//!   without stopping (see `task/coord.rs`); without one they end like
+//!   type 1.
 //! * **Circle type** range: the table says "greater than 4"; the enumeration
 //!   has 0–3, so 4 is an error too.
 //! * **Speed 0** is legal (only < 0 is an error): the move is verified and
@@ -61,7 +62,9 @@
 //! * **Event distance** < 0 or not finite is ERR 13, EXERR 23 (MCCM) / 20
 //!   (MCLM); a distance longer than the move gives 0 (the start).
 
-use crate::profile::{JerkUnits, Limits, LimitsError, Profile, State, jerk_to_units_per_sec3};
+use crate::profile::{
+    JerkUnits, Limits, LimitsError, Profile, State, jerk_from_percent_of_time, jerk_to_units_per_sec3,
+};
 use thiserror::Error;
 
 /// Three-component vector helpers (primary axes, zero-padded).
@@ -317,9 +320,11 @@ pub enum TerminationType {
     CommandTolerance,
     /// `3` — blend into the pending move from the deceleration point.
     NoDecel,
-    /// `4` — follow contour, velocity constrained (ends like type 1 here).
+    /// `4` — follow contour, velocity constrained: through the end point
+    /// without stopping, at the lower of the two programmed speeds, into a
+    /// pending move (at rest without one).
     FollowContourConstrained,
-    /// `5` — follow contour, velocity unconstrained (ends like type 1 here).
+    /// `5` — follow contour, velocity unconstrained (planned like 4).
     FollowContourUnconstrained,
     /// `6` — like 2 with the instruction's own command tolerance.
     CommandToleranceProgrammed,
@@ -796,6 +801,11 @@ pub struct CoordMove {
     pub(crate) merge_speed: MergeSpeed,
     pub(crate) lock_position: f64,
     pub(crate) lock_direction: LockDirection,
+    /// The Event Distance operand (validated finite and ≥ 0).
+    pub(crate) event_distance: Vec<f64>,
+    /// Accel and decel jerk in % of time (S-curve with jerk units 2 or 6):
+    /// the jerks follow the speed when a merge at current speed changes it.
+    pub(crate) jerk_percent_of_time: Option<(f64, f64)>,
     pub(crate) calculated_data: Vec<f64>,
 }
 
@@ -848,15 +858,45 @@ impl CoordMove {
         }
     }
 
-    /// Same move with another maximum path speed (merge at current speed).
+    /// Same move with another maximum path speed (merge at current speed);
+    /// its Calculated Data are those of the new speed.
     pub(crate) fn with_speed(&self, speed: f64) -> Self {
         let mut m = self.clone();
-        if let Some(l) = &self.limits
-            && let Some(new) = with_velocity(l, speed)
-        {
+        let new = match (&self.limits, self.jerk_percent_of_time) {
+            (Some(l), Some((pa, pd))) => {
+                let aj = jerk_from_percent_of_time(pa, l.acceleration(), speed);
+                let dj = jerk_from_percent_of_time(pd, l.deceleration(), speed);
+                match (aj, dj) {
+                    (Ok(aj), Ok(dj)) => Limits::s_curve(speed, l.acceleration(), l.deceleration(), aj, dj).ok(),
+                    _ => None,
+                }
+            }
+            (Some(l), None) => with_velocity(l, speed),
+            (None, _) => None,
+        };
+        if let Some(new) = new {
             m.limits = Some(new);
+            m.fill_calculated_data();
         }
         m
+    }
+
+    /// Calculated Data from the event distances on the move's rest profile.
+    fn fill_calculated_data(&mut self) {
+        let profile = self.rest_profile();
+        let length = self.path.length;
+        let moving = self.limits.is_some();
+        self.calculated_data = self
+            .event_distance
+            .iter()
+            .map(|d| {
+                if moving {
+                    progress_at_length(&profile, (length - d).max(0.0))
+                } else {
+                    0.0
+                }
+            })
+            .collect();
     }
 }
 
@@ -1062,21 +1102,14 @@ pub(crate) fn finish_move(
         merge_speed,
         lock_position: inputs.lock_position,
         lock_direction,
+        event_distance: inputs.event_distance.clone(),
+        jerk_percent_of_time: (s_curve
+            && limits.is_some()
+            && matches!((inputs.jerk_units, driver), (2, Driver::Time) | (6, Driver::Master)))
+        .then_some((inputs.accel_jerk, inputs.decel_jerk)),
         calculated_data: Vec::new(),
     };
-    let profile = m.rest_profile();
-    let length = m.path.length;
-    m.calculated_data = inputs
-        .event_distance
-        .iter()
-        .map(|d| {
-            if m.limits.is_none() {
-                0.0
-            } else {
-                progress_at_length(&profile, (length - d).max(0.0))
-            }
-        })
-        .collect();
+    m.fill_calculated_data();
     Ok(m)
 }
 

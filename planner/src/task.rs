@@ -29,7 +29,8 @@ pub use cam::{CamProfileHandle, LimitFlags, MapcCall};
 
 mod coord;
 pub use coord::{
-    CoordCall, CoordHandle, CoordInstructionHandle, CoordSetupError, ERR_PATH_COLLISION, StartedCoordMove,
+    CoordCall, CoordHandle, CoordInstructionHandle, CoordSetupError, ERR_IDLE_MASTER_SLAVE_MOVING, ERR_PATH_COLLISION,
+    StartedCoordMove,
 };
 mod mct;
 pub use mct::TransformGeometry;

@@ -23,10 +23,28 @@
 //!   matching"; starting earlier would overlap the cruise of the first move
 //!   with the acceleration of the second and exceed the programmed speed on
 //!   collinear moves). A tolerance of 0 blends at the end point, at rest.
+//!   The blend is also deferred "for time matching": the pending move
+//!   starts no sooner than its acceleration time before the active move's
+//!   end, so its acceleration never ends before the active move's
+//!   deceleration does and the two speeds never add up to more than the
+//!   faster programmed speed (a quickly accelerating second move would
+//!   otherwise overshoot on collinear moves).
 //!   The active move's `.PC` is set at the blend point (its `.AC` clears,
 //!   the new move's `.AC` sets); its `.IP` clears when it reaches its end.
-//! * **Types 0, 1, 4, 5**, or no pending move: the move runs to its end
-//!   point at rest; `.PC` and `.IP` when interpolation is complete, for
+//! * **Types 4, 5** (follow contour) with a pending move of the same
+//!   driver: the move passes exactly through its end point without
+//!   stopping, at the junction speed: the lower of the two programmed
+//!   speeds, limited to what the pending move can stop from within its
+//!   length (see `plan_contour_junction`); the pending move starts there at
+//!   that speed. The path is not rounded, so the corner should be tangent
+//!   (as the spec's follow-contour types assume); a corner that is not
+//!   changes the axes' velocities in one coarse update. Type 5
+//!   (unconstrained) is planned like type 4: the move never runs faster
+//!   than its own programmed speed to meet a faster next move. `.PC` sets
+//!   at the end point, `MoveTransitionStatus` stays clear (on path).
+//! * **Types 0, 1**, types 4, 5 without a pending move (of the same
+//!   driver), or no pending move: the move runs to its end point at rest;
+//!   `.PC` and `.IP` when interpolation is complete, for
 //!   type 0 only once the actual position (primary axes) is within the
 //!   actual tolerance. A pending move starts then.
 //! * **Queue**: one pending move. A further MCLM/MCCM with Merge disabled is
@@ -41,7 +59,7 @@
 //!   speed of all motion on the system's primary axes at that instant (from
 //!   the axes' command velocities: coordinated motion, moves, jogs, cams;
 //!   the programmed speed when they stand still; Calculated Data are
-//!   computed with the programmed speed). Superseded instructions lose `.IP` and `.AC`.
+//!   computed with the speed the move runs at). Superseded instructions lose `.IP` and `.AC`.
 //! * **Systems sharing axes**: a move on a system while another system that
 //!   shares an axis with it moves (or has a move queued) is refused with
 //!   ERR 13, EXERR = the Merge operand, unless its Merge is *all motion*
@@ -86,18 +104,37 @@
 //!   first rule is kept (it is cleared when the next move starts), and for
 //!   types 2, 3, 6 it is cleared when the blend starts.
 //!
+//! * **Time driven → master driven** with the master at rest: the spec's
+//!   run-time error ("you cannot switch from Time Driven Mode to Master
+//!   Driven Mode if the master speed is zero unless the slave speed is zero
+//!   too"; Rockwell names it MDSC_IDLE_MASTER_AND_SLAVE_MOVING). A
+//!   master-driven move that would take over from time-driven motion (or
+//!   from single-axis motion) while the system's primary axes move and the
+//!   master's command velocity is 0 is not started: `.ER` with ERR
+//!   [`ERR_IDLE_MASTER_SLAVE_MOVING`] (the spec gives no number; this one is
+//!   the project's, next to [`ERR_PATH_COLLISION`]), EXERR 0. Executed
+//!   directly or as a merge, it has no `.DN` and the running motion goes on;
+//!   when it comes out of the queue at a blend point it keeps its `.DN`
+//!   (the spec: "set with the Done bit when a queued instruction encounters
+//!   a runtime error"), leaves the queue, and the running move ends at its
+//!   end point.
+//!
+//! * **Rotary axes with an unwind** (`AxisKind::Rotary` with a modulo
+//!   period `U`) in an absolute MCLM/MCCM: the spec's rule — the sign of
+//!   the Position element selects the direction (0 and −0 forward; −U
+//!   reaches the unwind position backward), the axis turns by less than one
+//!   unwind to `|p|` modulo `U`, and `|p| > U` is an error (ERR 13, EXERR =
+//!   the Position operand; the spec gives no number). Incremental moves
+//!   turn by the increment. The via/center operands of an arc are not
+//!   unwound (a rotary primary axis in an arc uses its unwrapped position).
+//!
 //! # Not modelled
-//! * Rotary axes with an unwind in a coordinate system are moved as linear
-//!   axes (no unwind error, no sign-selects-direction rule).
-//! * The run-time error for switching from time-driven to master-driven
-//!   motion while the master stands still and the path moves (the spec
-//!   gives no error code); master-driven and time-driven moves simply
-//!   blend.
 //! * MCCD (change dynamics), MCSD/MCSR and MDCC as instructions; the
 //!   master of master-driven moves is set with
 //!   [`MotionTask::set_coordinate_system_master`].
 
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
+use crate::axis::AxisKind;
 use crate::coord::{
     CoordConfigError, CoordMove, CoordMoveError, CoordMoveInputs, CoordStatus, CoordinateSystem,
     CoordinateSystemConfig, Driver, LockDirection, Mcs, McsInputs, Merge, MergeSpeed, MoveContext, TerminationType,
@@ -109,6 +146,11 @@ use crate::mccm::{MccmInputs, mccm};
 use crate::mclm::mclm;
 use crate::profile::{Limits, Profile, Sample, State, stopping_distance};
 use thiserror::Error;
+
+/// ERR of a master-driven coordinated move that would take over from
+/// time-driven motion while the master stands still and the system moves
+/// (Rockwell's MDSC_IDLE_MASTER_AND_SLAVE_MOVING; EXERR 0).
+pub const ERR_IDLE_MASTER_SLAVE_MOVING: i32 = 201;
 
 /// Handle of a coordinate system in a [`MotionTask`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -182,6 +224,9 @@ struct Component {
     last_delta: f64,
     blend_at: Option<f64>,
     successor_started: bool,
+    /// Follow contour (types 4, 5): the profile was replanned to reach the
+    /// end point at the junction speed of the pending move.
+    contour: bool,
     stopping: bool,
     lock: Lock,
     /// When and from what it started (`task/coord/preflight.rs`).
@@ -200,6 +245,13 @@ impl Component {
     fn s(&self) -> Sample {
         let mut s = self.profile.sample(self.progress);
         s.position = s.position.clamp(0.0, self.mv.path().length());
+        if self.progress >= self.profile.duration_s() {
+            // Past its end: a follow-contour move that ended at its junction
+            // speed hands that speed to its successor.
+            s.velocity = 0.0;
+            s.acceleration = 0.0;
+            s.jerk = 0.0;
+        }
         s
     }
 }
@@ -539,13 +591,33 @@ impl MotionTask {
                 self.coord.instructions[h.0 as usize].held = false;
                 self.execute_mcs(h, cs, &inputs);
             }
-            CoordCall::Mclm(inputs) => {
+            CoordCall::Mclm(mut inputs) => {
                 let merge = (inputs.merge, OperandIndex::MCLM.merge);
-                self.execute_move(h, cs, merge, |ctx| mclm(&inputs, ctx));
+                self.execute_move(h, cs, merge, |ctx, unwinds| {
+                    let c = &mut inputs;
+                    unwind_rotary_targets(
+                        unwinds,
+                        ctx.start,
+                        c.move_type,
+                        &mut c.position,
+                        OperandIndex::MCLM.position,
+                    )?;
+                    mclm(&inputs, ctx)
+                });
             }
-            CoordCall::Mccm(inputs) => {
+            CoordCall::Mccm(mut inputs) => {
                 let merge = (inputs.common.merge, OperandIndex::MCCM.merge);
-                self.execute_move(h, cs, merge, |ctx| mccm(&inputs, ctx));
+                self.execute_move(h, cs, merge, |ctx, unwinds| {
+                    let c = &mut inputs.common;
+                    unwind_rotary_targets(
+                        unwinds,
+                        ctx.start,
+                        c.move_type,
+                        &mut c.position,
+                        OperandIndex::MCCM.position,
+                    )?;
+                    mccm(&inputs, ctx)
+                });
             }
         }
     }
@@ -555,7 +627,7 @@ impl MotionTask {
         h: CoordInstructionHandle,
         cs: CoordHandle,
         (merge_code, merge_exerr): (i64, i32),
-        verify: impl FnOnce(&MoveContext<'_>) -> Result<CoordMove, CoordMoveError>,
+        verify: impl FnOnce(&MoveContext<'_>, &[Option<f64>]) -> Result<CoordMove, CoordMoveError>,
     ) {
         let sys = &self.coord.systems[cs.0 as usize];
         let busy = !sys.components.is_empty() || sys.pending.is_some();
@@ -583,7 +655,18 @@ impl MotionTask {
             start: &start,
             has_master: sys.master.is_some(),
         };
-        let result = verify(&ctx);
+        // The unwind of each rotary axis with a modulo period.
+        let unwinds: Vec<Option<f64>> = sys
+            .axes
+            .iter()
+            .map(|a| {
+                let config = &self.axes[a.0 as usize].config;
+                (config.kind == AxisKind::Rotary)
+                    .then(|| config.modulo().map(|m| m.period()))
+                    .flatten()
+            })
+            .collect();
+        let result = verify(&ctx, &unwinds);
         let mv = match result {
             Ok(mv) => mv,
             Err(e) => {
@@ -609,8 +692,14 @@ impl MotionTask {
                 self.cancel_system(other);
             }
         }
+        if (merging || !busy) && self.idle_master_with_moving_slave(cs, &mv) {
+            let b = self.cbits(h);
+            b.er = true;
+            b.err = ERR_IDLE_MASTER_SLAVE_MOVING;
+            b.exerr = 0;
+            return;
+        }
         self.cbits(h).dn = true;
-        self.coord.instructions[h.0 as usize].calculated_data = mv.calculated_data().to_vec();
         // Merge speed current: the speed of all motion on the axes now.
         let speed_now = self.vector_speed(cs);
         let mv = if mv.merge() != Merge::Disabled && mv.merge_speed() == MergeSpeed::Current && speed_now > 0.0 {
@@ -618,6 +707,8 @@ impl MotionTask {
         } else {
             mv
         };
+        // Calculated Data with the speed the move runs at.
+        self.coord.instructions[h.0 as usize].calculated_data = mv.calculated_data().to_vec();
         let sys = &mut self.coord.systems[cs.0 as usize];
         sys.status.stopping = false;
         if merging {
@@ -801,7 +892,55 @@ impl MotionTask {
         };
     }
 
+    /// Whether master-driven `mv` would take over from time-driven (or
+    /// single-axis) motion while the master stands still and the system's
+    /// primary axes move: the spec's run-time error.
+    fn idle_master_with_moving_slave(&self, cs: CoordHandle, mv: &CoordMove) -> bool {
+        let sys = &self.coord.systems[cs.0 as usize];
+        if mv.driver() != Driver::Master {
+            return false;
+        }
+        let from_time_driven =
+            sys.components.is_empty() || sys.components.iter().any(|c| c.mv.driver() == Driver::Time);
+        let master_idle = sys
+            .master
+            .is_none_or(|m| self.axes[m.0 as usize].command.velocity == 0.0);
+        from_time_driven && master_idle && self.vector_speed(cs) > 0.0
+    }
+
+    /// Fails a move that comes out of the queue with
+    /// [`ERR_IDLE_MASTER_SLAVE_MOVING`] when it would start now (it keeps
+    /// `.DN`, loses `.IP`); the queue then ends where the running move ends.
+    fn fail_idle_master_switch(&mut self, cs: CoordHandle, h: CoordInstructionHandle, mv: &CoordMove) -> bool {
+        if !self.idle_master_with_moving_slave(cs, mv) {
+            return false;
+        }
+        let b = self.cbits(h);
+        b.er = true;
+        b.ip = false;
+        b.err = ERR_IDLE_MASTER_SLAVE_MOVING;
+        b.exerr = 0;
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        if let Some(c) = sys.components.last() {
+            sys.queue_end = c.mv.path().end().to_vec();
+        }
+        true
+    }
+
     fn start_component(&mut self, cs: CoordHandle, h: CoordInstructionHandle, mv: CoordMove, leftover: f64) {
+        self.start_component_from(cs, h, mv, leftover, State::at_rest(0.0));
+    }
+
+    /// Starts a component whose path profile begins in `initial` (at rest,
+    /// or at the junction speed of a follow-contour predecessor).
+    fn start_component_from(
+        &mut self,
+        cs: CoordHandle,
+        h: CoordInstructionHandle,
+        mv: CoordMove,
+        leftover: f64,
+        initial: State,
+    ) {
         let start = self.record_start(cs);
         self.abort_single_axis_motion(cs);
         let master_now = {
@@ -814,7 +953,10 @@ impl MotionTask {
         if sys.components.is_empty() {
             sys.base = mv.path().start().to_vec();
         }
-        let profile = mv.rest_profile();
+        let profile = match mv.limits() {
+            Some(l) if initial.velocity > 0.0 => Profile::to_position(initial, mv.path().length(), 0.0, l),
+            _ => mv.rest_profile(),
+        };
         let blend_at = if mv.termination().blends() && mv.limits().is_some() {
             let decel_point = profile.deceleration_start_s();
             Some(match mv.termination() {
@@ -842,6 +984,7 @@ impl MotionTask {
             last_delta: progress,
             blend_at,
             successor_started: false,
+            contour: false,
             stopping: false,
             lock,
             start,
@@ -979,18 +1122,48 @@ impl MotionTask {
             c.progress = (c.progress + delta).max(0.0);
             c.last_delta = c.progress - before;
         }
+        self.plan_contour_junction(cs);
         // Blends: the newest component hands over at its blend point.
         loop {
             let sys = &mut self.coord.systems[cs.0 as usize];
             let Some(lead) = sys.components.last_mut() else { break };
             let Some(at) = lead.blend_at else { break };
-            if lead.successor_started || sys.pending.is_none() || lead.progress < at {
+            if lead.successor_started || lead.progress < at {
+                break;
+            }
+            let Some((_, pending)) = &sys.pending else { break };
+            // Time matching: the pending move's acceleration ends no sooner
+            // than the lead's motion, so the two never add up to more than
+            // the faster programmed speed.
+            let at = if pending.driver() == lead.mv.driver() {
+                at.max(lead.profile.duration_s() - acceleration_time(pending))
+            } else {
+                at
+            };
+            if lead.progress < at {
                 break;
             }
             let leftover = (lead.progress - at).min(lead.last_delta.max(0.0));
+            let (next, mv) = sys.pending.take().expect("checked above");
+            if self.fail_idle_master_switch(cs, next, &mv) {
+                // The lead runs on to its end point, as if nothing was queued.
+                self.refresh_queue_status(cs);
+                break;
+            }
+            let sys = &mut self.coord.systems[cs.0 as usize];
+            let lead = sys.components.last_mut().expect("checked above");
             lead.successor_started = true;
             let finished = lead.instr;
-            let (next, mv) = sys.pending.take().expect("checked above");
+            let initial = if lead.contour {
+                let end = lead.profile.final_state();
+                State {
+                    position: 0.0,
+                    velocity: end.velocity,
+                    acceleration: end.acceleration,
+                }
+            } else {
+                State::at_rest(0.0)
+            };
             sys.status.command_pos_tolerance = false;
             if let Some(h) = finished {
                 let b = self.cbits(h);
@@ -999,11 +1172,73 @@ impl MotionTask {
                 b.accel = false;
                 b.decel = false;
             }
-            self.start_component(cs, next, mv, leftover);
+            self.start_component_from(cs, next, mv, leftover, initial);
             self.refresh_queue_status(cs);
         }
         self.write_axes(cs);
         self.complete_components(cs);
+    }
+
+    /// Follow contour (termination types 4 and 5): while a move of either
+    /// type leads and a move of the same driver is pending, its remaining
+    /// profile is replanned from its current state to reach its end point
+    /// at the junction speed, the lower of the two programmed speeds,
+    /// limited to what the pending move can still stop from within its own
+    /// length; the pending move then starts at that speed when the lead
+    /// reaches its end point. Without a pending move (or when it leaves the
+    /// queue again) the lead ends at rest.
+    fn plan_contour_junction(&mut self, cs: CoordHandle) {
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        let pending = sys.pending.as_ref().map(|(_, mv)| mv);
+        let Some(lead) = sys.components.last_mut() else { return };
+        let contour_type = matches!(
+            lead.mv.termination(),
+            TerminationType::FollowContourConstrained | TerminationType::FollowContourUnconstrained
+        );
+        if !contour_type || lead.successor_started || lead.stopping || lead.progress >= lead.profile.duration_s() {
+            return;
+        }
+        let Some(limits) = lead.mv.limits().copied() else {
+            return;
+        };
+        let next = pending.filter(|mv| mv.driver() == lead.mv.driver() && mv.limits().is_some());
+        let junction = match next {
+            Some(mv) if !lead.contour => {
+                let next_limits = *mv.limits().expect("filtered");
+                let mut v = limits.velocity().min(next_limits.velocity());
+                let fits = |v: f64| {
+                    stopping_distance(
+                        State {
+                            position: 0.0,
+                            velocity: v,
+                            acceleration: 0.0,
+                        },
+                        &next_limits,
+                    ) <= mv.path().length()
+                };
+                if !fits(v) {
+                    let (mut lo, mut hi) = (0.0, v);
+                    for _ in 0..60 {
+                        let mid = 0.5 * (lo + hi);
+                        if fits(mid) { lo = mid } else { hi = mid }
+                    }
+                    v = lo;
+                }
+                v
+            }
+            None if lead.contour => 0.0,
+            _ => return,
+        };
+        let now = lead.profile.sample(lead.progress);
+        let from = State {
+            position: now.position,
+            velocity: now.velocity,
+            acceleration: now.acceleration,
+        };
+        lead.profile = Profile::to_position(from, lead.mv.path().length(), junction, &limits);
+        lead.progress = 0.0;
+        lead.contour = junction > 0.0;
+        lead.blend_at = lead.contour.then(|| lead.profile.duration_s());
     }
 
     fn write_axes(&mut self, cs: CoordHandle) {
@@ -1166,10 +1401,57 @@ impl MotionTask {
         if start_pending {
             let sys = &mut self.coord.systems[cs.0 as usize];
             let (h, mv) = sys.pending.take().expect("checked above");
-            self.start_component(cs, h, mv, 0.0);
+            if !self.fail_idle_master_switch(cs, h, &mv) {
+                self.start_component(cs, h, mv, 0.0);
+            }
             self.refresh_queue_status(cs);
         }
     }
+}
+
+/// Absolute `Position` elements of rotary axes with an unwind `U` (see the
+/// module doc): `|p| > U` is ERR 13 with the Position operand's index; else
+/// `p ≥ 0` (and −0) turns the axis forward and `p < 0` backward, by less
+/// than one unwind, to `|p|` modulo `U`; the element becomes that unwrapped
+/// target. Incremental moves, short arrays and non-finite values are left
+/// to the operand checks.
+fn unwind_rotary_targets(
+    unwinds: &[Option<f64>],
+    start: &[f64],
+    move_type: i64,
+    position: &mut [f64],
+    position_exerr: i32,
+) -> Result<(), CoordMoveError> {
+    if move_type != 0 || position.len() < unwinds.len() {
+        return Ok(());
+    }
+    for (i, unwind) in unwinds.iter().enumerate() {
+        let (Some(u), p) = (*unwind, position[i]) else { continue };
+        if !p.is_finite() {
+            continue;
+        }
+        if p.abs() > u {
+            return Err(crate::coord::out_of_range(position_exerr));
+        }
+        let w = crate::axis::Modulo::new(u).map_or(0.0, |m| m.wrap(start[i]));
+        let turn = |d: f64| if d >= u { 0.0 } else { d };
+        let delta = if p >= 0.0 {
+            turn((p - w).rem_euclid(u))
+        } else {
+            -turn((w + p).rem_euclid(u))
+        };
+        position[i] = start[i] + delta;
+    }
+    Ok(())
+}
+
+/// How long `mv` accelerates from rest to its peak path speed (time, or
+/// master distance).
+fn acceleration_time(mv: &CoordMove) -> f64 {
+    let Some(limits) = mv.limits() else { return 0.0 };
+    let profile = mv.rest_profile();
+    let peak = profile.sample(profile.deceleration_start_s()).velocity;
+    Profile::to_velocity(State::at_rest(0.0), peak, limits).duration_s()
 }
 
 /// Where component `c` comes to rest along its path when it brakes now.
