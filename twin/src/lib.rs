@@ -3,6 +3,7 @@
 
 pub mod collision;
 pub mod convert;
+pub mod dae;
 pub mod frames;
 pub mod kinematics_check;
 pub mod mesh;

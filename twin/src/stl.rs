@@ -283,7 +283,7 @@ fn to_trimesh(facets: &[Facet]) -> TriMesh {
     mesh
 }
 
-fn winding_normal([a, b, c]: &[[f32; 3]; 3]) -> Option<[f32; 3]> {
+pub(crate) fn winding_normal([a, b, c]: &[[f32; 3]; 3]) -> Option<[f32; 3]> {
     let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
     normalized([

@@ -3,7 +3,7 @@
 //!
 //! Parsing is urdf-rs 0.9's; this module validates the tree (every joint's
 //! links exist, one root, no cycles, no link with two parents), resolves mesh
-//! file names, loads the meshes (STL only) and turns `<origin>` elements into
+//! file names, loads the meshes (STL, and COLLADA `.dae` via [`crate::dae`]) and turns `<origin>` elements into
 //! nalgebra isometries via [`crate::convert`].
 //!
 //! Frames: each link's frame is the URDF link frame; `parent_from_joint` is
@@ -30,6 +30,7 @@ use std::path::{Component, Path, PathBuf};
 use nalgebra::{Isometry3, Matrix3, Translation3, Unit, UnitQuaternion, Vector3};
 
 use crate::convert::isometry_from_urdf_pose;
+use crate::dae::{DaeError, load_dae};
 use crate::mesh::TriMesh;
 use crate::stl::{StlError, load_stl};
 
@@ -139,7 +140,8 @@ pub enum Geometry {
         path: PathBuf,
         /// Per-axis scale to apply to `mesh` (URDF `scale`, default `[1, 1, 1]`).
         scale: [f64; 3],
-        /// The mesh in file units, *not yet scaled*.
+        /// The mesh in file units (STL) or in metres, Z up (COLLADA, see
+        /// [`crate::dae`]), *not yet scaled* by `scale`.
         mesh: TriMesh,
     },
 }
@@ -260,8 +262,19 @@ pub enum UrdfError {
         #[source]
         source: StlError,
     },
-    /// A mesh file is in a format other than STL.
-    #[error("link {link}: mesh {path} has unsupported format {extension:?} (only STL is supported)")]
+    /// A COLLADA (`.dae`) mesh file exists but could not be loaded.
+    #[error("link {link}: cannot load mesh {path}")]
+    ColladaMesh {
+        /// The link whose visual or collision references the mesh.
+        link: String,
+        /// The resolved mesh file.
+        path: PathBuf,
+        /// What is wrong with the file.
+        #[source]
+        source: DaeError,
+    },
+    /// A mesh file is in a format other than STL or COLLADA.
+    #[error("link {link}: mesh {path} has unsupported format {extension:?} (only STL and COLLADA .dae are supported)")]
     UnsupportedMeshFormat {
         /// The link whose visual or collision references the mesh.
         link: String,
@@ -650,18 +663,25 @@ fn convert_geometry(geometry: &urdf_rs::Geometry, link: &str, urdf_dir: &Path) -
                 .extension()
                 .map(|e| e.to_string_lossy().to_ascii_lowercase())
                 .unwrap_or_default();
-            if extension != "stl" {
-                return Err(UrdfError::UnsupportedMeshFormat {
+            let mesh = match extension.as_str() {
+                "stl" => load_stl(&path).map_err(|source| UrdfError::Mesh {
                     link: link.to_string(),
-                    path,
-                    extension,
-                });
-            }
-            let mesh = load_stl(&path).map_err(|source| UrdfError::Mesh {
-                link: link.to_string(),
-                path: path.clone(),
-                source,
-            })?;
+                    path: path.clone(),
+                    source,
+                })?,
+                "dae" => load_dae(&path).map_err(|source| UrdfError::ColladaMesh {
+                    link: link.to_string(),
+                    path: path.clone(),
+                    source,
+                })?,
+                _ => {
+                    return Err(UrdfError::UnsupportedMeshFormat {
+                        link: link.to_string(),
+                        path,
+                        extension,
+                    });
+                }
+            };
             Geometry::Mesh {
                 path,
                 scale: scale.as_ref().map_or([1.0; 3], |s| s.0),
@@ -953,6 +973,29 @@ mod tests {
     }
 
     #[test]
+    fn dae_meshes_load_in_metres_with_the_urdf_scale_kept_aside() {
+        let dir = temp_dir("dae");
+        let cube = TriMesh::cuboid([100.0; 3]);
+        let doc = crate::dae::test_docs::collada(
+            r#"<unit meter="0.01"/><up_axis>Z_UP</up_axis>"#,
+            &[(&cube, [0.0; 3])],
+            true,
+        );
+        std::fs::write(dir.join("CUBE.DAE"), doc).unwrap();
+        let m = RobotModel::from_urdf_str(&with_mesh("CUBE.DAE"), &dir.join("robot.urdf")).unwrap();
+        match &m.links[0].visuals[0].geometry {
+            Geometry::Mesh { path, scale, mesh } => {
+                assert_eq!(*path, dir.join("CUBE.DAE"));
+                assert_eq!(*scale, [2.0; 3]);
+                assert_eq!(mesh.indices.len(), cube.indices.len());
+                assert!((mesh.signed_volume() - 1.0).abs() < 1e-6, "{}", mesh.signed_volume());
+            }
+            other => panic!("{other:?}"),
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
     fn mesh_errors_name_link_and_file() {
         let dir = temp_dir("errors");
         let urdf = dir.join("robot.urdf");
@@ -978,9 +1021,26 @@ mod tests {
         }
         std::fs::write(dir.join("part.dae"), "<COLLADA/>").unwrap();
         match RobotModel::from_urdf_str(&with_mesh("part.dae"), &urdf) {
+            Err(
+                e @ UrdfError::ColladaMesh {
+                    source: DaeError::Malformed { .. },
+                    ..
+                },
+            ) => {
+                let UrdfError::ColladaMesh { link, path, source } = &e else {
+                    unreachable!()
+                };
+                assert_eq!(link, "base");
+                assert_eq!(*path, dir.join("part.dae"));
+                assert!(source.to_string().contains("part.dae"), "{source}");
+            }
+            other => panic!("unexpected {other:?}"),
+        }
+        std::fs::write(dir.join("part.obj"), "v 0 0 0\n").unwrap();
+        match RobotModel::from_urdf_str(&with_mesh("part.obj"), &urdf) {
             Err(UrdfError::UnsupportedMeshFormat { link, extension, .. }) => {
                 assert_eq!(link, "base");
-                assert_eq!(extension, "dae");
+                assert_eq!(extension, "obj");
             }
             other => panic!("unexpected {other:?}"),
         }

@@ -361,3 +361,61 @@ fn links_joined_by_fixed_joints_are_one_rigid_group_for_adjacency() {
     assert!(names.contains(&("l1", "l3")), "{names:?}");
     assert!(names.iter().all(|(_, b)| *b == "l3"), "{names:?}");
 }
+
+/// A robot whose one link collides through `<mesh filename="{file}"/>`.
+fn mesh_robot(file: &str, urdf_dir: &Path) -> RobotModel {
+    let urdf = format!(
+        r#"<robot name="m"><link name="base"><collision><geometry><mesh filename="{file}" scale="1 2 1"/></geometry></collision></link></robot>"#
+    );
+    RobotModel::from_urdf_str(&urdf, &urdf_dir.join("robot.urdf")).unwrap()
+}
+
+#[test]
+fn a_dae_collision_mesh_gets_the_same_convex_hull_as_the_equivalent_stl() {
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/collision-tests-dae");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("u.stl"), u_shape_stl()).unwrap();
+    // The same U, in millimetres, Y up: the loader must bring it back to
+    // metres and Z up for the hulls to agree.
+    let mut u = crate::mesh::TriMesh::cuboid([0.5, 0.1, 0.1]);
+    for x in [-0.2f32, 0.2] {
+        u.append(&crate::mesh::TriMesh::cuboid([0.1, 0.1, 0.5]).transformed(&[
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [x, 0.0, 0.3, 1.0],
+        ]));
+    }
+    // Z-up metres → Y-up millimetres: (x, y, z) → 1000 · (x, z, −y).
+    let u_mm_y_up = u.transformed(&[
+        [1000.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, -1000.0, 0.0],
+        [0.0, 1000.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]);
+    let doc = crate::dae::test_docs::collada(
+        r#"<unit meter="0.001"/><up_axis>Y_UP</up_axis>"#,
+        &[(&u_mm_y_up, [0.0; 3])],
+        true,
+    );
+    std::fs::write(dir.join("u.dae"), doc).unwrap();
+    let hull_points = |file: &str| {
+        let model = mesh_robot(file, &dir);
+        let collision = CollisionModel::new(&model, &[], &settings()).unwrap();
+        let shapes = &collision.bodies[0].shapes;
+        assert_eq!(shapes.len(), 1);
+        let hull = shapes[0].1.as_convex_polyhedron().expect("a convex hull");
+        let mut points: Vec<[f64; 3]> = hull.points().iter().map(|p| [p.x, p.y, p.z]).collect();
+        points.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        points
+    };
+    let from_stl = hull_points("u.stl");
+    let from_dae = hull_points("u.dae");
+    assert_eq!(from_stl.len(), 8, "{from_stl:?}");
+    assert_eq!(from_stl.len(), from_dae.len());
+    for (s, d) in from_stl.iter().zip(&from_dae) {
+        assert!(s.iter().zip(d).all(|(a, b)| (a - b).abs() < 1e-6), "{s:?} vs {d:?}");
+    }
+    // The URDF scale (y doubled) reaches both.
+    assert!(from_dae.iter().any(|p| (p[1] - 0.1).abs() < 1e-6));
+}
