@@ -48,6 +48,27 @@ fn run_scene(scene: &str, out: &Path) -> std::process::Output {
 }
 
 /// Parses the CSV trace into a header and rows of numbers.
+/// Index of a trace column, naming it when it is missing.
+fn column(header: &[String], name: &str) -> usize {
+    header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("trace has no column {name}"))
+}
+
+/// Runs a scene without frames, writing its trace under
+/// `target/scene-tests/<out_name>/t.csv`, and reads the trace back.
+fn run_trace(scene_path: &str, out_name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
+    let out = out_dir(out_name);
+    let output = twin_cmd()
+        .args(["run", scene_path, "--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .output()
+        .expect("run twin");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    read_trace(&out.join("t.csv"))
+}
+
 fn read_trace(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(path).expect("trace");
     let mut lines = text.lines();
@@ -112,7 +133,7 @@ fn indexing_table_runs_end_to_end_and_reruns_identically() {
         "MoveB.ErrorID",
     ];
     assert_eq!(header, expected);
-    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let col = |name: &str| column(&header, name);
     let (cmd, act) = (col("Table.cmd_pos"), col("Table.act_pos"));
 
     // After each Done: the modulo command is the commanded target and the
@@ -482,12 +503,7 @@ fn rotary_knife_follows_the_cam_of_the_conveyor_position() {
     let out = out_dir("rotary_knife_trace");
     run_scene("scenes/rotary_knife.toml", &out);
     let (header, rows) = read_trace(&out.join("out.csv"));
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h == name)
-            .unwrap_or_else(|| panic!("column {name}"))
-    };
+    let col = |name: &str| column(&header, name);
     let (t, m, k) = (col("time_s"), col("Conveyor.cmd_pos"), col("Knife.cmd_pos"));
     let (cam, lock, pending) = (
         col("Knife.PositionCamStatus"),
@@ -619,7 +635,7 @@ fn collision_cell_stop_brakes_within_the_deceleration_and_aborts_the_move() {
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let (header, rows) = read_trace(&trace);
-    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let col = |name: &str| column(&header, name);
     let bodies: Vec<&str> = header[col("collision.count") + 1..]
         .iter()
         .map(String::as_str)
@@ -1062,20 +1078,8 @@ fn gantry_arcs_frames_match_snapshots() {
 /// sequence never stops between its moves.
 #[test]
 fn gantry_arcs_tool_stays_on_the_programmed_circles() {
-    let out = out_dir("gantry_arcs_trace");
-    let output = twin_cmd()
-        .args(["run", "scenes/gantry_arcs.toml", "--no-render", "--trace"])
-        .arg(out.join("t.csv"))
-        .output()
-        .expect("run twin");
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let (header, rows) = read_trace(&out.join("t.csv"));
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h == name)
-            .unwrap_or_else(|| panic!("column {name}"))
-    };
+    let (header, rows) = run_trace("scenes/gantry_arcs.toml", "gantry_arcs_trace");
+    let col = |name: &str| column(&header, name);
     for bit in [
         "MotionStatus",
         "AccelStatus",
@@ -1192,20 +1196,8 @@ fn scara_pick_frames_match_snapshots() {
 /// tool link, physics actuals) within 2 mm; the elbow never changes side.
 #[test]
 fn scara_pick_tool_follows_the_programmed_arc_under_mct() {
-    let out = out_dir("scara_pick_trace");
-    let output = twin_cmd()
-        .args(["run", "scenes/scara_pick.toml", "--no-render", "--trace"])
-        .arg(out.join("t.csv"))
-        .output()
-        .expect("run twin");
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let (header, rows) = read_trace(&out.join("t.csv"));
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h == name)
-            .unwrap_or_else(|| panic!("column {name}"))
-    };
+    let (header, rows) = run_trace("scenes/scara_pick.toml", "scara_pick_trace");
+    let col = |name: &str| column(&header, name);
     let (l1, l2) = (0.35, 0.25);
     let fk = |j1_deg: f64, j2_deg: f64| {
         let (a, b) = (j1_deg.to_radians(), (j1_deg + j2_deg).to_radians());
@@ -1315,12 +1307,7 @@ fn a_scara_arc_across_a_joint_soft_limit_faults_with_err_67_and_stops_short_of_i
         String::from_utf8_lossy(&output.stderr)
     );
     let (header, rows) = read_trace(&dir.join("t.csv"));
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h == name)
-            .unwrap_or_else(|| panic!("column {name}"))
-    };
+    let col = |name: &str| column(&header, name);
     let (j1, er) = (col("J1.cmd_pos"), col("T1.ER"));
     let faulted = rows.iter().position(|r| r[er] == 1.0).expect("T1 faults");
     assert!(
@@ -1394,20 +1381,8 @@ fn articulated_arc_frames_match_snapshots() {
 /// within 1e-9 m; the simulated tool within 3 mm.
 #[test]
 fn articulated_arc_tool_follows_the_3d_arc_under_orientation_and_translation() {
-    let out = out_dir("articulated_arc_trace");
-    let output = twin_cmd()
-        .args(["run", "scenes/articulated_arc.toml", "--no-render", "--trace"])
-        .arg(out.join("t.csv"))
-        .output()
-        .expect("run twin");
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let (header, rows) = read_trace(&out.join("t.csv"));
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h == name)
-            .unwrap_or_else(|| panic!("column {name}"))
-    };
+    let (header, rows) = run_trace("scenes/articulated_arc.toml", "articulated_arc_trace");
+    let col = |name: &str| column(&header, name);
     type V = [f64; 3];
     let sub = |a: V, b: V| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
     let dot = |a: V, b: V| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -1485,20 +1460,8 @@ fn delta_pick_frames_match_snapshots() {
 #[test]
 fn delta_pick_tool_follows_the_programmed_arc_under_mct() {
     use planner::mct::{Geometry, GeometryKind, GeometryParams};
-    let out = out_dir("delta_pick_trace");
-    let output = twin_cmd()
-        .args(["run", "scenes/delta_pick.toml", "--no-render", "--trace"])
-        .arg(out.join("t.csv"))
-        .output()
-        .expect("run twin");
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let (header, rows) = read_trace(&out.join("t.csv"));
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h == name)
-            .unwrap_or_else(|| panic!("column {name}"))
-    };
+    let (header, rows) = run_trace("scenes/delta_pick.toml", "delta_pick_trace");
+    let col = |name: &str| column(&header, name);
     let params = GeometryParams {
         link_lengths: [0.3, 0.8, 0.0],
         base_offsets: [0.2, 0.0, 0.0],
