@@ -290,6 +290,20 @@ impl CoordStatus {
         ]
     }
 
+    /// Clears the bits of motion in process (`MotionStatus`, `AccelStatus`,
+    /// `DecelStatus`, `StoppingStatus`, `MoveStatus`, `MoveTransitionStatus`,
+    /// `CoordMotionLockStatus`): the system is at rest. The tolerance and
+    /// queue bits are left to their own rules.
+    pub(crate) fn clear_motion(&mut self) {
+        self.motion = false;
+        self.accel = false;
+        self.decel = false;
+        self.stopping = false;
+        self.move_ = false;
+        self.move_transition = false;
+        self.coord_motion_lock = false;
+    }
+
     /// A bit by its Logix member name (case-insensitive).
     pub fn bit(&self, name: &str) -> Option<bool> {
         self.bits()

@@ -791,14 +791,7 @@ impl MotionTask {
         sys.queue_end = here;
         sys.velocity.iter_mut().for_each(|v| *v = 0.0);
         sys.acceleration.iter_mut().for_each(|v| *v = 0.0);
-        let st = &mut sys.status;
-        st.motion = false;
-        st.accel = false;
-        st.decel = false;
-        st.move_ = false;
-        st.move_transition = false;
-        st.stopping = false;
-        st.coord_motion_lock = false;
+        sys.status.clear_motion();
         self.refresh_queue_status(cs);
         for h in cleared {
             let b = self.cbits(h);

@@ -194,14 +194,7 @@ impl MotionTask {
                 sys.base = c.mv.path().start().to_vec();
                 sys.velocity = idle.velocity;
                 sys.acceleration = idle.acceleration;
-                let st = &mut sys.status;
-                st.motion = false;
-                st.accel = false;
-                st.decel = false;
-                st.move_ = false;
-                st.move_transition = false;
-                st.stopping = false;
-                st.coord_motion_lock = false;
+                sys.status.clear_motion();
                 let (axes, taken) = (sys.axes.clone(), sys.taken.clone());
                 for (i, axis) in axes.into_iter().enumerate() {
                     let a = &mut self.axes[axis.0 as usize];
