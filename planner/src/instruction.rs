@@ -51,6 +51,16 @@ impl MotionInstructionBits {
             | bit(self.accel, 1)
     }
 
+    /// Records a failure: sets `.ER` and the `ERR`, `EXERR` and `SEGMENT`
+    /// codes (0 where the error has none). The other bits are left to the
+    /// failing instruction's own rules.
+    pub fn set_error(&mut self, err: i32, exerr: i32, segment: i32) {
+        self.er = true;
+        self.err = err;
+        self.exerr = exerr;
+        self.segment = segment;
+    }
+
     /// The control bits with their mnemonics, in the order `EN`, `DN`,
     /// `ER`, `IP`, `AC`, `PC`, `ACCEL`, `DECEL` (trace and log order).
     pub fn bits(&self) -> [(&'static str, bool); 8] {

@@ -230,10 +230,7 @@ impl MccpError {
 
     /// Writes `.ER`, `ERR`, `EXERR` and `SEGMENT` into a MOTION_INSTRUCTION tag.
     pub fn write_to(&self, bits: &mut MotionInstructionBits) {
-        bits.er = true;
-        bits.err = self.err();
-        bits.exerr = self.exerr();
-        bits.segment = self.segment();
+        bits.set_error(self.err(), self.exerr(), self.segment());
     }
 }
 

@@ -1052,9 +1052,7 @@ impl Mct {
                 Some(position)
             }
             Err(e) => {
-                self.bits.er = true;
-                self.bits.err = e.err();
-                self.bits.exerr = e.exerr();
+                self.bits.set_error(e.err(), e.exerr(), 0);
                 None
             }
         }
@@ -1085,9 +1083,7 @@ impl Mct {
     /// [`TransformTable::cancel`].
     pub fn fault(&mut self, fault: &TransformFault) {
         self.bits.ip = false;
-        self.bits.er = true;
-        self.bits.err = fault.err();
-        self.bits.exerr = 0;
+        self.bits.set_error(fault.err(), 0, 0);
     }
 }
 

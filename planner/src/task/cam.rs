@@ -195,11 +195,7 @@ impl MotionTask {
     }
 
     fn fail(&mut self, h: InstructionHandle, err: i32, exerr: i32, segment: i32) {
-        let b = self.bits(h);
-        b.er = true;
-        b.err = err;
-        b.exerr = exerr;
-        b.segment = segment;
+        self.bits(h).set_error(err, exerr, segment);
     }
 
     /// MCCP: calculates `profile` from the first `length` elements of `cam`.

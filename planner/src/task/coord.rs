@@ -670,10 +670,7 @@ impl MotionTask {
         let mv = match result {
             Ok(mv) => mv,
             Err(e) => {
-                let b = self.cbits(h);
-                b.er = true;
-                b.err = e.err();
-                b.exerr = e.exerr();
+                self.cbits(h).set_error(e.err(), e.exerr(), 0);
                 return;
             }
         };
@@ -682,10 +679,7 @@ impl MotionTask {
         let others = self.busy_systems_sharing_axes(cs);
         if !others.is_empty() {
             if mv.merge() != Merge::AllMotion {
-                let b = self.cbits(h);
-                b.er = true;
-                b.err = 13;
-                b.exerr = merge_exerr;
+                self.cbits(h).set_error(13, merge_exerr, 0);
                 return;
             }
             for other in others {
@@ -693,10 +687,7 @@ impl MotionTask {
             }
         }
         if (merging || !busy) && self.idle_master_with_moving_slave(cs, &mv) {
-            let b = self.cbits(h);
-            b.er = true;
-            b.err = ERR_IDLE_MASTER_SLAVE_MOVING;
-            b.exerr = 0;
+            self.cbits(h).set_error(ERR_IDLE_MASTER_SLAVE_MOVING, 0, 0);
             return;
         }
         self.cbits(h).dn = true;
@@ -732,10 +723,7 @@ impl MotionTask {
         let stop = match Mcs::new(inputs, &sys.system) {
             Ok(s) => s,
             Err(e) => {
-                let b = self.cbits(h);
-                b.er = true;
-                b.err = e.err();
-                b.exerr = e.exerr();
+                self.cbits(h).set_error(e.err(), e.exerr(), 0);
                 return;
             }
         };
@@ -909,10 +897,8 @@ impl MotionTask {
             return false;
         }
         let b = self.cbits(h);
-        b.er = true;
+        b.set_error(ERR_IDLE_MASTER_SLAVE_MOVING, 0, 0);
         b.ip = false;
-        b.err = ERR_IDLE_MASTER_SLAVE_MOVING;
-        b.exerr = 0;
         let sys = &mut self.coord.systems[cs.0 as usize];
         if let Some(c) = sys.components.last() {
             sys.queue_end = c.mv.path().end().to_vec();

@@ -253,9 +253,7 @@ impl MotionTask {
             b.decel = false;
         }
         let b = self.cbits(instr);
-        b.er = true;
-        b.err = ERR_PATH_COLLISION;
-        b.exerr = 0;
+        b.set_error(ERR_PATH_COLLISION, 0, 0);
         b.dn = false;
         b.ip = false;
         b.ac = false;
