@@ -69,6 +69,23 @@ fn run_trace(scene_path: &str, out_name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
     read_trace(&out.join("t.csv"))
 }
 
+/// A copy of `scenes/<scene>.toml` with each `(from, to)` edit applied (each
+/// must change the text), written as `target/scene-tests/<out_name>/<scene>.toml`
+/// with its URDF path made absolute so the copy loads from there.
+fn edited_scene(scene: &str, out_name: &str, edits: &[(&str, &str)]) -> PathBuf {
+    let mut text = std::fs::read_to_string(root().join(format!("scenes/{scene}.toml"))).expect("scene");
+    for (from, to) in edits {
+        let edited = text.replace(from, to);
+        assert_ne!(edited, text, "'{from}' is not in scenes/{scene}.toml");
+        text = edited;
+    }
+    let robots = root().join("scenes/robots");
+    let text = text.replace("urdf = \"robots/", &format!("urdf = \"{}/", robots.display()));
+    let path = out_dir(out_name).join(format!("{scene}.toml"));
+    std::fs::write(&path, text).expect("write scene");
+    path
+}
+
 fn read_trace(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(path).expect("trace");
     let mut lines = text.lines();
@@ -720,16 +737,11 @@ fn collision_events_are_identical_on_rerun() {
 
 #[test]
 fn a_rejecting_preflight_fails_the_move_before_it_moves() {
-    let dir = out_dir("collision_reject");
-    let text = std::fs::read_to_string(root().join("scenes/collision_cell.toml"))
-        .unwrap()
-        .replace("preflight = \"report\"", "preflight = \"reject\"")
-        .replace(
-            "robots/cell_arm",
-            &root().join("scenes/robots/cell_arm").display().to_string(),
-        );
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
+    let path = edited_scene(
+        "collision_cell",
+        "collision_reject",
+        &[("preflight = \"report\"", "preflight = \"reject\"")],
+    );
     let out = twin_cmd().arg("run").arg(&path).arg("--no-render").output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -761,17 +773,11 @@ fn a_rejecting_preflight_fails_the_move_before_it_moves() {
 
 /// gantry_collision with `preflight = "reject"`, written under `target/`.
 fn gantry_collision_reject_scene() -> PathBuf {
-    let dir = out_dir("gantry_collision_reject");
-    let text = std::fs::read_to_string(root().join("scenes/gantry_collision.toml"))
-        .unwrap()
-        .replace("preflight = \"report\"", "preflight = \"reject\"")
-        .replace(
-            "robots/gantry",
-            &root().join("scenes/robots/gantry").display().to_string(),
-        );
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    path
+    edited_scene(
+        "gantry_collision",
+        "gantry_collision_reject",
+        &[("preflight = \"report\"", "preflight = \"reject\"")],
+    )
 }
 
 fn instruction(twin: &Twin, name: &str) -> planner::task::InstructionHandle {
@@ -912,16 +918,11 @@ fn gantry_collision_reject_fails_the_arc_with_err_200_and_nothing_moves() {
 
 #[test]
 fn an_abort_reaction_ends_the_run_with_exit_code_3() {
-    let dir = out_dir("collision_abort");
-    let text = std::fs::read_to_string(root().join("scenes/collision_cell.toml"))
-        .unwrap()
-        .replace("reaction = \"report\"", "reaction = \"abort\"")
-        .replace(
-            "robots/cell_arm",
-            &root().join("scenes/robots/cell_arm").display().to_string(),
-        );
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
+    let path = edited_scene(
+        "collision_cell",
+        "collision_abort",
+        &[("reaction = \"report\"", "reaction = \"abort\"")],
+    );
     let out = twin_cmd().arg("run").arg(&path).arg("--no-render").output().unwrap();
     assert_eq!(out.status.code(), Some(3), "{}", String::from_utf8_lossy(&out.stderr));
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -1244,19 +1245,12 @@ fn scara_pick_tool_follows_the_programmed_arc_under_mct() {
 #[test]
 fn a_scara_scene_with_a_wrong_link_length_is_refused() {
     let path = root().join("scenes/scara_pick.toml");
-    let text = std::fs::read_to_string(&path).expect("scene");
-    let bad = text.replace("link_lengths = [0.35, 0.25]", "link_lengths = [0.36, 0.25]");
-    assert_ne!(bad, text);
-    let dir = out_dir("scara_wrong_link");
-    let copy = dir.join("scara_pick.toml");
-    std::fs::write(
-        &copy,
-        bad.replace(
-            "robots/scara/",
-            &format!("{}/", root().join("scenes/robots/scara").display()),
-        ),
-    )
-    .expect("write scene");
+    let copy = edited_scene(
+        "scara_pick",
+        "scara_wrong_link",
+        &[("link_lengths = [0.35, 0.25]", "link_lengths = [0.36, 0.25]")],
+    );
+    let bad = std::fs::read_to_string(&copy).expect("copy");
     let scene = twin::scene::load(&copy).expect("the scene itself is valid");
     let line = bad[..bad.find("geometry = { type = \"scara_independent\"").expect("table")]
         .matches('\n')
@@ -1277,20 +1271,15 @@ fn a_scara_scene_with_a_wrong_link_length_is_refused() {
 /// joint ends at rest.
 #[test]
 fn a_scara_arc_across_a_joint_soft_limit_faults_with_err_67_and_stops_short_of_it() {
-    let text = std::fs::read_to_string(root().join("scenes/scara_pick.toml")).expect("scene");
-    let limited = text.replace(
-        "initial_position = -30.0\n",
-        "initial_position = -30.0\nsoft_travel_limits = [-60.0, -20.0]\n",
+    let scene = edited_scene(
+        "scara_pick",
+        "scara_soft_limit",
+        &[(
+            "initial_position = -30.0\n",
+            "initial_position = -30.0\nsoft_travel_limits = [-60.0, -20.0]\n",
+        )],
     );
-    assert_ne!(limited, text);
-    let dir = out_dir("scara_soft_limit");
-    let scene = dir.join("scara_soft_limit.toml");
-    let robots = root().join("scenes/robots/scara");
-    std::fs::write(
-        &scene,
-        limited.replace("robots/scara/", &format!("{}/", robots.display())),
-    )
-    .expect("write");
+    let dir = scene.parent().expect("out dir").to_path_buf();
     let output = twin_cmd()
         .arg("run")
         .arg(&scene)
@@ -1494,20 +1483,11 @@ fn delta_pick_tool_follows_the_programmed_arc_under_mct() {
 /// The Delta's forearm length in the scene differs from the URDF's: refused.
 #[test]
 fn a_delta_scene_with_a_wrong_forearm_length_is_refused() {
-    let path = root().join("scenes/delta_pick.toml");
-    let text = std::fs::read_to_string(&path).expect("scene");
-    let bad = text.replace("link_lengths = [0.3, 0.8]", "link_lengths = [0.3, 0.81]");
-    assert_ne!(bad, text);
-    let dir = out_dir("delta_wrong_link");
-    let copy = dir.join("delta_pick.toml");
-    std::fs::write(
-        &copy,
-        bad.replace(
-            "robots/delta/",
-            &format!("{}/", root().join("scenes/robots/delta").display()),
-        ),
-    )
-    .expect("write scene");
+    let copy = edited_scene(
+        "delta_pick",
+        "delta_wrong_link",
+        &[("link_lengths = [0.3, 0.8]", "link_lengths = [0.3, 0.81]")],
+    );
     let scene = twin::scene::load(&copy).expect("the scene itself is valid");
     assert!(matches!(Twin::new(scene), Err(twin::run::RunError::Kinematics { .. })));
 }
@@ -1516,25 +1496,17 @@ fn a_delta_scene_with_a_wrong_forearm_length_is_refused() {
 /// on the half circle's apex, written under `target/`: the Cartesian
 /// system is the source of the MCT, its X and Y have no joint.
 fn scara_arc_collision_scene(preflight: &str) -> PathBuf {
-    let dir = out_dir(&format!("scara_arc_collision_{preflight}"));
-    let text = std::fs::read_to_string(root().join("scenes/scara_pick.toml"))
-        .unwrap()
-        .replace(
-            "robots/scara",
-            &root().join("scenes/robots/scara").display().to_string(),
-        )
-        .replace(
-            "[[tags]]\nname = \"Cart\"",
-            &format!(
-                "[collision]\nreaction = \"report\"\npreflight = \"{preflight}\"\n\n\
-                 [collision.tool]\nname = \"tip\"\nlink = \"tool\"\nshape = \"sphere\"\nradius = 0.01\n\n\
-                 [[obstacles]]\nname = \"post\"\nshape = \"sphere\"\nradius = 0.02\nposition = [0.50, 0.05, 0.50]\n\n\
-                 [[tags]]\nname = \"Cart\""
-            ),
-        );
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    path
+    let collision = format!(
+        "[collision]\nreaction = \"report\"\npreflight = \"{preflight}\"\n\n\
+         [collision.tool]\nname = \"tip\"\nlink = \"tool\"\nshape = \"sphere\"\nradius = 0.01\n\n\
+         [[obstacles]]\nname = \"post\"\nshape = \"sphere\"\nradius = 0.02\nposition = [0.50, 0.05, 0.50]\n\n\
+         [[tags]]\nname = \"Cart\""
+    );
+    edited_scene(
+        "scara_pick",
+        &format!("scara_arc_collision_{preflight}"),
+        &[("[[tags]]\nname = \"Cart\"", &collision)],
+    )
 }
 
 /// First contact of the SCARA arc, as path length (m): the tool centre runs
