@@ -503,6 +503,16 @@ pub struct InstructionOutcome {
     pub final_outputs: String,
 }
 
+impl InstructionOutcome {
+    /// No outcome yet for the instance or control structure `name`.
+    fn named(name: &str) -> InstructionOutcome {
+        InstructionOutcome {
+            name: name.to_string(),
+            ..InstructionOutcome::default()
+        }
+    }
+}
+
 /// The run summary (`--summary` JSON and the stdout text).
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
@@ -538,22 +548,12 @@ impl Stats {
     pub fn new(twin: &Twin) -> Stats {
         Stats {
             max_following_error: vec![0.0; twin.axes().len()],
-            outcomes: twin
-                .fbs()
-                .iter()
-                .map(|f| InstructionOutcome {
-                    name: f.name.clone(),
-                    ..Default::default()
-                })
-                .collect(),
+            outcomes: twin.fbs().iter().map(|f| InstructionOutcome::named(&f.name)).collect(),
             previous: vec![Default::default(); twin.fbs().len()],
             logix_outcomes: twin
                 .instructions()
                 .iter()
-                .map(|b| InstructionOutcome {
-                    name: b.name.clone(),
-                    ..Default::default()
-                })
+                .map(|b| InstructionOutcome::named(&b.name))
                 .collect(),
             previous_bits: vec![Default::default(); twin.instructions().len()],
         }
