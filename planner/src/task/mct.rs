@@ -371,15 +371,7 @@ impl MotionTask {
         let dt = self.dt_s;
         for i in 0..self.mct.instructions.len() {
             if let Some(id) = self.mct.instructions[i].stopping {
-                let Some(t) = self.mct.table.get_mut(id) else {
-                    self.mct.instructions[i].stopping = None;
-                    continue;
-                };
-                let (cmd, at_rest) = t.stop_step(dt);
-                let axes = t.target_axes().to_vec();
-                self.write_joints(i, &axes, cmd);
-                if at_rest {
-                    self.mct.table.cancel(id);
+                if !self.stop_step(i, id) {
                     self.mct.instructions[i].stopping = None;
                 }
                 continue;
@@ -511,16 +503,26 @@ impl MotionTask {
     /// the joints are at rest.
     fn stop_joints(&mut self, i: usize, id: TransformId) {
         self.mct.instructions[i].stopping = Some(id);
+        self.stop_step(i, id);
+    }
+
+    /// One coarse update of the controlled stop of transform `id` (of
+    /// instruction `i`): writes the joint commands and, once the joints are
+    /// at rest, takes the transform out of the table. Returns false when the
+    /// transform is no longer in the table.
+    fn stop_step(&mut self, i: usize, id: TransformId) -> bool {
         let dt = self.dt_s;
-        if let Some(t) = self.mct.table.get_mut(id) {
-            let (cmd, at_rest) = t.stop_step(dt);
-            let axes = t.target_axes().to_vec();
-            self.write_joints(i, &axes, cmd);
-            if at_rest {
-                self.mct.table.cancel(id);
-                self.mct.instructions[i].stopping = None;
-            }
+        let Some(t) = self.mct.table.get_mut(id) else {
+            return false;
+        };
+        let (cmd, at_rest) = t.stop_step(dt);
+        let axes = t.target_axes().to_vec();
+        self.write_joints(i, &axes, cmd);
+        if at_rest {
+            self.mct.table.cancel(id);
+            self.mct.instructions[i].stopping = None;
         }
+        true
     }
 
     fn write_joints(&mut self, i: usize, axes: &[AxisId], cmd: AxesCommand) {
