@@ -17,6 +17,7 @@
 //! * [`task`] — the coarse-update executor that owns axes and commands.
 
 pub mod axis;
+pub mod catalogue;
 pub mod coord;
 pub mod instruction;
 pub mod jog;

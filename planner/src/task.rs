@@ -217,6 +217,11 @@ impl MotionTask {
         FbHandle(self.fbs.len() as u32 - 1)
     }
 
+    /// The axis an MC_MoveModulo instance acts on.
+    pub fn fb_axis(&self, fb: FbHandle) -> AxisHandle {
+        self.fbs[fb.0 as usize].axis
+    }
+
     /// Sets an instance's inputs (a call of the block); they are evaluated at
     /// the next [`MotionTask::update`] and stay until set again.
     pub fn set_move_modulo_inputs(&mut self, fb: FbHandle, inputs: MoveModuloInputs) {

@@ -10,8 +10,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use std::fmt::Write as _;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
-use twin::collision::{CollisionModel, PathSampler};
-use twin::urdf::RobotModel;
+use twin::plant::collision::{CollisionModel, PathSampler};
+use twin::plant::urdf::RobotModel;
 
 const LINKS: usize = 6;
 const LINK_M: f64 = 0.25;

@@ -1,21 +1,22 @@
 //! The motion twin: scene files, URDF robots simulated in rapier, headless
 //! rendering, Rerun recordings and traces, driven by the `planner` crate.
+//!
+//! The stages follow the data, and each imports only the ones before it:
+//!
+//! * [`st`] — the Structured Text call syntax;
+//! * [`scene`] — a scene file loaded and validated into a [`scene::Scene`];
+//! * [`program`] — the scene's program bound to the planner, scanned each
+//!   coarse update;
+//! * [`plant`] — the robot (URDF → rapier), the axes bound to its joints,
+//!   collision checks;
+//! * [`run`] — [`run::Twin`], which puts program, planner and plant in order;
+//! * [`output`] — trace, summary, frames and recording, read from the twin.
+//!
+//! `ARCHITECTURE.md` at the repository root draws the whole picture.
 
-pub mod collision;
-pub mod convert;
-pub mod dae;
-pub mod frames;
-pub mod kinematics_check;
-pub mod mesh;
-pub mod physics;
-pub mod recording;
-#[cfg(feature = "render")]
-pub mod render;
+pub mod output;
+pub mod plant;
+pub mod program;
 pub mod run;
 pub mod scene;
-pub mod session;
-#[cfg(feature = "render")]
-pub mod snapshot;
 pub mod st;
-pub mod stl;
-pub mod urdf;

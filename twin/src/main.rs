@@ -99,7 +99,7 @@ fn check(path: &Path) -> Result<ExitCode> {
     println!(
         "{}: ok ({} axes, {} program steps, {} cameras, {:.3} s)",
         path.display(),
-        twin.axes().len(),
+        twin.plant().axes().len(),
         twin.scene().program.len(),
         twin.scene().cameras.len(),
         twin.scene().duration_s
@@ -131,21 +131,21 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
         Some(p) => {
             let f = fs::File::create(p).with_context(|| format!("--trace: cannot create {}", p.display()))?;
             let mut w = std::io::BufWriter::new(f);
-            writeln!(w, "{}", twin.trace_header().join(","))?;
+            writeln!(w, "{}", twin::output::trace::header(&twin).join(","))?;
             Some((w, p.clone()))
         }
         None => None,
     };
-    let mut frames = twin::session::Frames::new(&twin, args.frames.as_deref(), !args.no_render)?;
-    let mut recording = twin::session::Recording::new(&twin, args.save.as_deref(), args.connect.as_deref())?;
-    let mut stats = twin::session::Stats::new(&twin);
+    let mut frames = twin::output::session::Frames::new(&twin, args.frames.as_deref(), !args.no_render)?;
+    let mut recording = twin::output::session::Recording::new(&twin, args.save.as_deref(), args.connect.as_deref())?;
+    let mut stats = twin::output::session::Stats::new(&twin);
 
     let total = twin.total_updates();
     let mut progress = Progress::new(total);
     frames.capture(&twin)?;
     recording.log(&twin)?;
     if let Some((w, _)) = trace.as_mut() {
-        writeln!(w, "{}", twin.trace_row().join(","))?;
+        writeln!(w, "{}", twin::output::trace::row(&twin).join(","))?;
     }
     for _ in 0..total {
         twin.step();
@@ -153,10 +153,10 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
         frames.capture(&twin)?;
         recording.log(&twin)?;
         if let Some((w, _)) = trace.as_mut() {
-            writeln!(w, "{}", twin.trace_row().join(","))?;
+            writeln!(w, "{}", twin::output::trace::row(&twin).join(","))?;
         }
         progress.tick(twin.task().updates(), &wall);
-        if twin.collision_abort() {
+        if twin.plant().collision_abort() {
             break;
         }
     }

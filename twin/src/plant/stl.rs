@@ -21,7 +21,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::mesh::TriMesh;
+use crate::plant::mesh::TriMesh;
 
 /// Bytes in a binary STL header: 80 free bytes plus the `u32` triangle count.
 const BINARY_HEADER_BYTES: usize = 84;

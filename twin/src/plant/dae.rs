@@ -23,7 +23,7 @@
 //!   default (assimp, behind RViz, reads it the same way).
 //! - **URDF `<mesh scale="…">`**: *not* applied here; like the STL loader this
 //!   returns the mesh before that scale, which the URDF model keeps beside it
-//!   ([`crate::urdf::Geometry::Mesh`]) and the renderer and collision model
+//!   ([`crate::plant::urdf::Geometry::Mesh`]) and the renderer and collision model
 //!   apply.
 //!
 //! Other choices:
@@ -44,8 +44,8 @@ use std::collections::HashSet;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 
-use crate::mesh::TriMesh;
-use crate::stl::winding_normal;
+use crate::plant::mesh::TriMesh;
+use crate::plant::stl::winding_normal;
 
 /// Why a COLLADA file could not be loaded. Every variant names the file.
 #[derive(Debug, thiserror::Error)]
@@ -264,7 +264,7 @@ fn is(node: &roxmltree::Node<'_, '_>, name: &str) -> bool {
 /// COLLADA documents for tests (here and in the URDF and collision tests).
 #[cfg(test)]
 pub(crate) mod test_docs {
-    use crate::mesh::TriMesh;
+    use crate::plant::mesh::TriMesh;
     use std::fmt::Write;
 
     /// One geometry per `(mesh, translation)`, each instanced in the visual

@@ -1,8 +1,8 @@
 //! What a run produces besides the trace: rendered frames, the Rerun
 //! recording, and the summary.
 
-use crate::frames::{column_major, world_from_part};
-use crate::recording::{Recorder, RecordingError, Sink, TextLevel, urdf_entity_paths};
+use crate::plant::parts::{column_major, world_from_part};
+use crate::output::recording::{Recorder, RecordingError, Sink, TextLevel, urdf_entity_paths};
 use crate::run::Twin;
 use planner::instruction::MotionInstructionBits;
 use serde::Serialize;
@@ -39,11 +39,11 @@ pub struct Frames {
 
 #[cfg(feature = "render")]
 struct FramesInner {
-    renderer: crate::render::Renderer,
+    renderer: crate::output::render::Renderer,
     /// GPU meshes of [`Twin::parts`], in the same order.
-    meshes: Vec<crate::render::MeshId>,
+    meshes: Vec<crate::output::render::MeshId>,
     dir: PathBuf,
-    cameras: Vec<(String, crate::render::Camera, f64, u64)>,
+    cameras: Vec<(String, crate::output::render::Camera, f64, u64)>,
 }
 
 impl Frames {
@@ -63,10 +63,10 @@ impl Frames {
         };
         #[cfg(feature = "render")]
         {
-            let mut renderer = match crate::render::Renderer::new() {
+            let mut renderer = match crate::output::render::Renderer::new() {
                 Ok(r) => r,
-                Err(crate::render::RenderError::NoAdapter) => {
-                    eprintln!("{}", crate::render::NO_ADAPTER_HINT);
+                Err(crate::output::render::RenderError::NoAdapter) => {
+                    eprintln!("{}", crate::output::render::NO_ADAPTER_HINT);
                     return Ok(Frames {
                         inner: None,
                         written: 0,
@@ -83,14 +83,14 @@ impl Frames {
                 path: dir.to_path_buf(),
                 message: e.to_string(),
             })?;
-            let meshes = twin.parts().iter().map(|p| renderer.upload_mesh(&p.mesh)).collect();
+            let meshes = twin.plant().parts().iter().map(|p| renderer.upload_mesh(&p.mesh)).collect();
             let f32x3 = |v: [f64; 3]| v.map(|x| x as f32);
             let cameras = twin
                 .scene()
                 .cameras
                 .iter()
                 .map(|c| {
-                    let cam = crate::render::Camera {
+                    let cam = crate::output::render::Camera {
                         eye_in_world: f32x3(c.position_m),
                         target_in_world: f32x3(c.target_m),
                         up_in_world: [0.0, 0.0, 1.0],
@@ -133,13 +133,13 @@ impl Frames {
             if !inner.cameras.iter().any(|(_, _, fps, next)| due(*next, *fps)) {
                 return Ok(());
             }
-            let links = twin.world_from_link();
-            let colliding = twin.colliding_links();
-            let items: Vec<crate::render::DrawItem> = twin
+            let links = twin.plant().world_from_link();
+            let colliding = twin.plant().colliding_links();
+            let items: Vec<crate::output::render::DrawItem> = twin
                 .parts()
                 .iter()
                 .zip(&inner.meshes)
-                .map(|(p, id)| crate::render::DrawItem {
+                .map(|(p, id)| crate::output::render::DrawItem {
                     mesh: *id,
                     world_from_mesh: column_major(&world_from_part(p, &links)),
                     color_rgba: p.color_rgba,
@@ -147,10 +147,10 @@ impl Frames {
                 })
                 .collect();
             // Tool-centre trails of the coordinate systems, orange.
-            let lines: Vec<crate::render::LineStrip> = twin
+            let lines: Vec<crate::output::render::LineStrip> = twin
                 .tool_trails()
                 .iter()
-                .map(|t| crate::render::LineStrip {
+                .map(|t| crate::output::render::LineStrip {
                     points_in_world: t.points_in_world.iter().map(|p| p.map(|x| x as f32)).collect(),
                     color_rgba: [1.0, 0.45, 0.0, 1.0],
                 })
@@ -211,7 +211,7 @@ impl Recording {
         if let Some(a) = connect {
             sinks.push(Sink::Connect(a.to_string()));
         }
-        let model = twin.model();
+        let model = twin.plant().model();
         let names: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
         let joints: Vec<(&str, usize, usize)> = model
             .joints
@@ -233,7 +233,7 @@ impl Recording {
         let mut recorder = Recorder::new(&format!("twin_{}", twin.scene().name), &sinks)?;
         recorder.set_time_s(0.0);
         let mut count = vec![0usize; model.links.len()];
-        for part in twin.parts() {
+        for part in twin.plant().parts() {
             let (path, pose) = match part.link {
                 Some(i) => {
                     count[i] += 1;
@@ -274,8 +274,8 @@ impl Recording {
         };
         rec.set_time_s(twin.time_s());
         // Link transforms relative to their parent link (the entity tree).
-        let model = twin.model();
-        let poses = twin.world_from_link();
+        let model = twin.plant().model();
+        let poses = twin.plant().world_from_link();
         let iso = |i: usize| {
             let (t, q) = poses[i];
             nalgebra::Isometry3::from_parts(
@@ -289,14 +289,14 @@ impl Recording {
             let q = parent_from_child.rotation.coords;
             rec.log_transform(&self.link_paths[joint.child.0], [t.x, t.y, t.z], [q.x, q.y, q.z, q.w])?;
         }
-        for a in twin.axes() {
+        for a in twin.plant().axes() {
             let s = twin.task().axis_state(a.handle);
             rec.log_scalar(&format!("axes/{}/cmd_pos", a.name), s.command_position)?;
             rec.log_scalar(&format!("axes/{}/act_pos", a.name), s.actual_position)?;
             rec.log_scalar(&format!("axes/{}/cmd_vel", a.name), s.command_velocity)?;
         }
-        self.previous_outputs.resize(twin.fbs().len(), Default::default());
-        for (i, fb) in twin.fbs().iter().enumerate() {
+        self.previous_outputs.resize(twin.program().fbs().len(), Default::default());
+        for (i, fb) in twin.program().fbs().iter().enumerate() {
             let o = twin.task().outputs(fb.handle);
             for (name, bit) in o.bits() {
                 rec.log_scalar(&format!("instructions/{}/{name}", fb.name), f64::from(u8::from(bit)))?;
@@ -307,8 +307,8 @@ impl Recording {
             }
             self.previous_outputs[i] = o;
         }
-        self.previous_bits.resize(twin.instructions().len(), Default::default());
-        for (i, ins) in twin.instructions().iter().enumerate() {
+        self.previous_bits.resize(twin.program().instructions().len(), Default::default());
+        for (i, ins) in twin.program().instructions().iter().enumerate() {
             let b = twin.task().motion_bits(ins.handle);
             for (name, bit) in b.bits() {
                 rec.log_scalar(&format!("instructions/{}/{name}", ins.name), f64::from(u8::from(bit)))?;
@@ -325,7 +325,7 @@ impl Recording {
         }
         // Tool-centre trails of the coordinate systems, every 25th update.
         if twin.task().updates().is_multiple_of(25) {
-            for t in twin.tool_trails() {
+            for t in twin.plant().tool_trails() {
                 if t.points_in_world.len() >= 2 {
                     rec.log_line_strip(
                         &format!("tool_trails/{}", t.system),
@@ -335,7 +335,7 @@ impl Recording {
                 }
             }
         }
-        if twin.collision_enabled() {
+        if twin.plant().collision_enabled() {
             self.log_collisions(twin)?;
         }
         Ok(())
@@ -346,12 +346,12 @@ impl Recording {
         let Some(rec) = self.recorder.as_mut() else {
             return Ok(());
         };
-        for (body, d) in twin.collision_bodies().iter().zip(twin.clearance_m()) {
+        for (body, d) in twin.plant().collision_bodies().iter().zip(twin.plant().clearance_m()) {
             if d.is_finite() {
                 rec.log_scalar(&format!("collisions/clearance/{body}"), d)?;
             }
         }
-        let contacts = twin.contacts();
+        let contacts = twin.plant().contacts();
         let origins: Vec<[f64; 3]> = contacts.iter().map(|c| c.point_in_world).collect();
         // Arrow length: the depth, at least 5 cm so that a touch is visible.
         let vectors: Vec<[f64; 3]> = contacts
@@ -359,15 +359,15 @@ impl Recording {
             .map(|c| c.normal_in_world.map(|n| n * c.depth_m.max(0.05)))
             .collect();
         rec.log_arrows("collisions/contacts", &origins, &vectors, COLLISION_TINT_RGBA)?;
-        for e in &twin.collision_events()[self.logged_events..] {
+        for e in &twin.plant().collision_events()[self.logged_events..] {
             let text = format!(
                 "collision {} <-> {} at {:.4} s, depth {:.4} m, point {:?}, normal {:?}",
                 e.a, e.b, e.start_s, e.max_depth_m, e.point_in_world, e.normal_in_world
             );
             rec.log_text("collisions/log", TextLevel::Warn, &text)?;
         }
-        self.logged_events = twin.collision_events().len();
-        for p in &twin.predicted_collisions()[self.logged_predictions..] {
+        self.logged_events = twin.plant().collision_events().len();
+        for p in &twin.plant().predicted_collisions()[self.logged_predictions..] {
             let text = format!(
                 "pre-flight: {} predicts {} <-> {} at parameter {:.4} (t +{:.4} s){}",
                 p.instance,
@@ -386,8 +386,8 @@ impl Recording {
             };
             rec.log_text("collisions/log", TextLevel::Warn, &text)?;
         }
-        self.logged_predictions = twin.predicted_collisions().len();
-        let colliding = twin.colliding_links();
+        self.logged_predictions = twin.plant().predicted_collisions().len();
+        let colliding = twin.plant().colliding_links();
         if colliding != self.highlighted {
             for &l in &self.highlighted {
                 if !colliding.contains(&l) {
@@ -398,10 +398,10 @@ impl Recording {
                 if self.highlighted.contains(&l) {
                     continue;
                 }
-                for (k, part) in twin.parts().iter().filter(|p| p.link == Some(l)).enumerate() {
+                for (k, part) in twin.plant().parts().iter().filter(|p| p.link == Some(l)).enumerate() {
                     let mesh = part
                         .mesh
-                        .transformed(&crate::frames::column_major(&part.parent_from_mesh));
+                        .transformed(&crate::plant::parts::column_major(&part.parent_from_mesh));
                     rec.log_mesh_timed(
                         &format!("{}/collision_highlight/{k}", self.link_paths[l]),
                         &mesh,
@@ -534,9 +534,9 @@ pub struct Summary {
     /// PNG frames written.
     pub frames_written: usize,
     /// Collision events (scenes with `[collision]`), in start order.
-    pub collisions: Vec<crate::collision::CollisionEvent>,
+    pub collisions: Vec<crate::plant::collision::CollisionEvent>,
     /// Collisions predicted by the pre-flight sweep.
-    pub predicted_collisions: Vec<crate::run::Prediction>,
+    pub predicted_collisions: Vec<crate::plant::collide::Prediction>,
     /// Per collision body: the smallest clearance over the run, m (null: no obstacle).
     pub min_clearance_m: Vec<(String, Option<f64>)>,
     /// Whether an `abort` collision reaction ended the run early.
@@ -547,28 +547,28 @@ impl Stats {
     /// Empty statistics for `twin`'s axes and instances.
     pub fn new(twin: &Twin) -> Stats {
         Stats {
-            max_following_error: vec![0.0; twin.axes().len()],
-            outcomes: twin.fbs().iter().map(|f| InstructionOutcome::named(&f.name)).collect(),
-            previous: vec![Default::default(); twin.fbs().len()],
+            max_following_error: vec![0.0; twin.plant().axes().len()],
+            outcomes: twin.program().fbs().iter().map(|f| InstructionOutcome::named(&f.name)).collect(),
+            previous: vec![Default::default(); twin.program().fbs().len()],
             logix_outcomes: twin
                 .instructions()
                 .iter()
                 .map(|b| InstructionOutcome::named(&b.name))
                 .collect(),
-            previous_bits: vec![Default::default(); twin.instructions().len()],
+            previous_bits: vec![Default::default(); twin.program().instructions().len()],
         }
     }
 
     /// Takes in the current update.
     pub fn observe(&mut self, twin: &Twin) {
-        for (i, a) in twin.axes().iter().enumerate() {
+        for (i, a) in twin.plant().axes().iter().enumerate() {
             let s = twin.task().axis_state(a.handle);
             let e = (s.command_position - s.actual_position).abs();
             if e > self.max_following_error[i] {
                 self.max_following_error[i] = e;
             }
         }
-        for (i, fb) in twin.fbs().iter().enumerate() {
+        for (i, fb) in twin.program().fbs().iter().enumerate() {
             let o = twin.task().outputs(fb.handle);
             let p = self.previous[i];
             let out = &mut self.outcomes[i];
@@ -584,7 +584,7 @@ impl Stats {
             }
             self.previous[i] = o;
         }
-        for (i, ins) in twin.instructions().iter().enumerate() {
+        for (i, ins) in twin.program().instructions().iter().enumerate() {
             let b = twin.task().motion_bits(ins.handle);
             let p = self.previous_bits[i];
             let out = &mut self.logix_outcomes[i];
@@ -601,10 +601,10 @@ impl Stats {
     /// The summary at the end of the run.
     pub fn summary(&self, twin: &Twin, wall_s: f64, frames_written: usize) -> Summary {
         let mut instructions = self.outcomes.clone();
-        for (out, fb) in instructions.iter_mut().zip(twin.fbs()) {
+        for (out, fb) in instructions.iter_mut().zip(twin.program().fbs()) {
             out.final_outputs = describe(twin.task().outputs(fb.handle));
         }
-        for (out, ins) in self.logix_outcomes.iter().zip(twin.instructions()) {
+        for (out, ins) in self.logix_outcomes.iter().zip(twin.program().instructions()) {
             let mut out = out.clone();
             out.final_outputs = describe_bits(twin.task().motion_bits(ins.handle));
             instructions.push(out);
@@ -627,15 +627,15 @@ impl Stats {
                 .map(|(a, e)| (a.name.clone(), *e))
                 .collect(),
             frames_written,
-            collisions: twin.collision_events().to_vec(),
-            predicted_collisions: twin.predicted_collisions().to_vec(),
+            collisions: twin.plant().collision_events().to_vec(),
+            predicted_collisions: twin.plant().predicted_collisions().to_vec(),
             min_clearance_m: twin
                 .collision_bodies()
                 .into_iter()
-                .zip(twin.min_clearance_m())
+                .zip(twin.plant().min_clearance_m())
                 .map(|(b, d)| (b, d.is_finite().then_some(d)))
                 .collect(),
-            collision_abort: twin.collision_abort(),
+            collision_abort: twin.plant().collision_abort(),
         }
     }
 }

@@ -3,8 +3,8 @@
 //!
 //! Parsing is urdf-rs 0.9's; this module validates the tree (every joint's
 //! links exist, one root, no cycles, no link with two parents), resolves mesh
-//! file names, loads the meshes (STL, and COLLADA `.dae` via [`crate::dae`]) and turns `<origin>` elements into
-//! nalgebra isometries via [`crate::convert`].
+//! file names, loads the meshes (STL, and COLLADA `.dae` via [`crate::plant::dae`]) and turns `<origin>` elements into
+//! nalgebra isometries via [`crate::plant::convert`].
 //!
 //! Frames: each link's frame is the URDF link frame; `parent_from_joint` is
 //! the joint's `<origin>` in its parent link frame, and the child link frame
@@ -29,10 +29,10 @@ use std::path::{Component, Path, PathBuf};
 
 use nalgebra::{Isometry3, Matrix3, Translation3, Unit, UnitQuaternion, Vector3};
 
-use crate::convert::isometry_from_urdf_pose;
-use crate::dae::{DaeError, load_dae};
-use crate::mesh::TriMesh;
-use crate::stl::{StlError, load_stl};
+use crate::plant::convert::isometry_from_urdf_pose;
+use crate::plant::dae::{DaeError, load_dae};
+use crate::plant::mesh::TriMesh;
+use crate::plant::stl::{StlError, load_stl};
 
 /// Index of a link in [`RobotModel::links`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -141,7 +141,7 @@ pub enum Geometry {
         /// Per-axis scale to apply to `mesh` (URDF `scale`, default `[1, 1, 1]`).
         scale: [f64; 3],
         /// The mesh in file units (STL) or in metres, Z up (COLLADA, see
-        /// [`crate::dae`]), *not yet scaled* by `scale`.
+        /// [`crate::plant::dae`]), *not yet scaled* by `scale`.
         mesh: TriMesh,
     },
 }
@@ -976,7 +976,7 @@ mod tests {
     fn dae_meshes_load_in_metres_with_the_urdf_scale_kept_aside() {
         let dir = temp_dir("dae");
         let cube = TriMesh::cuboid([100.0; 3]);
-        let doc = crate::dae::test_docs::collada(
+        let doc = crate::plant::dae::test_docs::collada(
             r#"<unit meter="0.01"/><up_axis>Z_UP</up_axis>"#,
             &[(&cube, [0.0; 3])],
             true,

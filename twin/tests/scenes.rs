@@ -231,7 +231,7 @@ fn twin_setpoints_are_the_planners_setpoints() {
     let mut twin = Twin::new(scene.clone()).expect("twin");
     let mut replay = MotionTask::new(scene.coarse_update_ms / 1000.0).unwrap();
     let axis = &scene.axes[0];
-    let config = twin::run::axis_config(axis);
+    let config = twin::plant::axes::axis_config(axis);
     let h = replay.add_axis(config, axis.initial_position).unwrap();
     let fbs: Vec<_> = twin
         .fbs()
@@ -241,14 +241,14 @@ fn twin_setpoints_are_the_planners_setpoints() {
     let mut actual = None;
     for _ in 0..twin.total_updates() {
         twin.step();
-        for (f, r) in twin.fbs().iter().zip(&fbs) {
+        for (f, r) in twin.program().fbs().iter().zip(&fbs) {
             replay.set_move_modulo_inputs(*r, twin.task().move_modulo_inputs(f.handle));
         }
         if let Some(a) = actual {
             replay.feed_actual_position(h, a);
         }
         replay.update();
-        let t = twin.task().axis_state(twin.axes()[0].handle);
+        let t = twin.task().axis_state(twin.plant().axes()[0].handle);
         let r = replay.axis_state(h);
         assert_eq!(
             t.command_position.to_bits(),
@@ -479,7 +479,7 @@ fn assert_scene_frames_match_snapshots(scene_path: &str, out_name: &str) {
             };
             let artifacts = root().join("target/snapshots");
             if let Err(e) =
-                twin::snapshot::assert_matches_snapshot(&name, &image, &root().join("snapshots"), &artifacts)
+                twin::output::snapshot::assert_matches_snapshot(&name, &image, &root().join("snapshots"), &artifacts)
             {
                 failures.push(e.to_string());
             }
@@ -589,7 +589,7 @@ fn run_twin(scene: &str) -> Twin {
     let mut twin = Twin::new(scene).expect("twin");
     for _ in 0..twin.total_updates() {
         twin.step();
-        if twin.collision_abort() {
+        if twin.plant().collision_abort() {
             break;
         }
     }
@@ -605,7 +605,7 @@ fn collision_cell_contact_deg() -> f64 {
 #[test]
 fn collision_cell_reports_one_event_per_pair_and_predicts_it_before_motion() {
     let twin = run_twin("scenes/collision_cell.toml");
-    let events = twin.collision_events();
+    let events = twin.plant().collision_events();
     let pairs: Vec<(&str, &str)> = events.iter().map(|e| (e.a.as_str(), e.b.as_str())).collect();
     assert_eq!(
         pairs,
@@ -615,7 +615,7 @@ fn collision_cell_reports_one_event_per_pair_and_predicts_it_before_motion() {
     assert!(events.iter().all(|e| e.end_s.is_some()), "the arc leaves the box");
     // The pre-flight sweep predicted it when the move started (0.1 s), long
     // before the contact, within its bound of the analytic contact angle.
-    let p = &twin.predicted_collisions()[0];
+    let p = &twin.plant().predicted_collisions()[0];
     assert_eq!((p.collision.a.as_str(), p.collision.b.as_str()), ("gripper", "fixture"));
     assert!(p.started_s < events[0].start_s);
     let analytic = collision_cell_contact_deg();
@@ -689,24 +689,24 @@ fn collision_cell_stop_brakes_within_the_deceleration_and_aborts_the_move() {
     assert!(rows[first + 1..].iter().all(|r| r[aborted] == 1.0));
     // Each pair reported exactly once, still in contact at the end.
     let twin = run_twin("scenes/collision_cell_stop.toml");
-    let events = twin.collision_events();
+    let events = twin.plant().collision_events();
     assert_eq!(events.len(), 2, "{events:?}");
     assert!(events.iter().all(|e| e.end_s.is_none()));
     assert_eq!(rows.last().unwrap()[count], 2.0);
     // The actual arm rests too.
-    let s = twin.task().axis_state(twin.axes()[0].handle);
+    let s = twin.task().axis_state(twin.plant().axes()[0].handle);
     assert!((s.actual_position - s.command_position).abs() < 0.2, "{s:?}");
 }
 
 #[test]
 fn collision_cell_near_miss_reports_nothing_at_the_analytic_clearance() {
     let twin = run_twin("scenes/collision_cell_near_miss.toml");
-    assert!(twin.collision_events().is_empty(), "{:?}", twin.collision_events());
-    assert!(twin.predicted_collisions().is_empty());
-    let bodies = twin.collision_bodies();
+    assert!(twin.plant().collision_events().is_empty(), "{:?}", twin.plant().collision_events());
+    assert!(twin.plant().predicted_collisions().is_empty());
+    let bodies = twin.plant().collision_bodies();
     let gripper = bodies.iter().position(|b| b == "gripper").unwrap();
     // Fixture face at y = 0.57; the gripper's surface reaches 0.55.
-    let min = twin.min_clearance_m()[gripper];
+    let min = twin.plant().min_clearance_m()[gripper];
     assert!((min - 0.02).abs() < 1e-3, "{min}");
 }
 
@@ -750,9 +750,9 @@ fn a_rejecting_preflight_fails_the_move_before_it_moves() {
     // Rejected in the update it became Active: the arm's command never
     // leaves its start, bit for bit, and no stop ramp runs.
     let mut twin = Twin::new(twin::scene::load(&path).unwrap()).unwrap();
-    let arm = twin.axes()[0].handle;
+    let arm = twin.plant().axes()[0].handle;
     let start = twin.task().axis_state(arm);
-    let fb = twin.fbs()[0].handle;
+    let fb = twin.program().fbs()[0].handle;
     for _ in 0..twin.total_updates() {
         twin.step();
         let s = twin.task().axis_state(arm);
@@ -768,7 +768,7 @@ fn a_rejecting_preflight_fails_the_move_before_it_moves() {
     let o = twin.task().outputs(fb);
     assert!(o.error && !o.busy && !o.active && !o.done, "{o:?}");
     assert_eq!(o.error_id, 0x422C);
-    assert!(twin.collision_events().is_empty());
+    assert!(twin.plant().collision_events().is_empty());
 }
 
 /// gantry_collision with `preflight = "reject"`, written under `target/`.
@@ -781,7 +781,7 @@ fn gantry_collision_reject_scene() -> PathBuf {
 }
 
 fn instruction(twin: &Twin, name: &str) -> planner::task::InstructionHandle {
-    twin.instructions().iter().find(|i| i.name == name).unwrap().handle
+    twin.program().instructions().iter().find(|i| i.name == name).unwrap().handle
 }
 
 /// First contact of gantry_collision's arc, as path length (mm): the tool
@@ -813,21 +813,21 @@ fn gantry_collision_predicts_the_arc_before_it_moves_and_not_the_line_beneath_th
     let scene = twin::scene::load(&root().join("scenes/gantry_collision.toml")).unwrap();
     let mut twin = Twin::new(scene).unwrap();
     let (c1, l2) = (instruction(&twin, "C1"), instruction(&twin, "L2"));
-    let tip = twin.collision_bodies().iter().position(|b| b == "tip").unwrap();
-    let tool = twin.model().links.iter().position(|l| l.name == "tool").unwrap();
-    let tool_start = twin.world_from_link()[tool].0;
+    let tip = twin.plant().collision_bodies().iter().position(|b| b == "tip").unwrap();
+    let tool = twin.plant().model().links.iter().position(|l| l.name == "tool").unwrap();
+    let tool_start = twin.plant().world_from_link()[tool].0;
     let mut tool_before_prediction = None;
     let mut line_clearance = f64::INFINITY;
     for _ in 0..twin.total_updates() {
-        let tool_before = twin.world_from_link()[tool].0;
+        let tool_before = twin.plant().world_from_link()[tool].0;
         twin.step();
-        if !twin.predicted_collisions().is_empty() && tool_before_prediction.is_none() {
+        if !twin.plant().predicted_collisions().is_empty() && tool_before_prediction.is_none() {
             // The sweep ran in the arc's first update, before its physics.
             assert!(twin.task().motion_bits(c1).ip, "at {}", twin.time_s());
             tool_before_prediction = Some(tool_before);
         }
         if twin.task().motion_bits(l2).ip {
-            line_clearance = line_clearance.min(twin.clearance_m()[tip]);
+            line_clearance = line_clearance.min(twin.plant().clearance_m()[tip]);
         }
     }
     let before = tool_before_prediction.expect("a prediction");
@@ -836,11 +836,11 @@ fn gantry_collision_predicts_the_arc_before_it_moves_and_not_the_line_beneath_th
         "predicted before the tool moved: {before:?} vs {tool_start:?}"
     );
     assert!(twin.task().motion_bits(l2).pc, "the program ran to its end");
-    let events = twin.collision_events();
+    let events = twin.plant().collision_events();
     assert_eq!(events.len(), 1, "{events:?}");
     assert_eq!((events[0].a.as_str(), events[0].b.as_str()), ("tip", "fixture"));
     // One prediction: the arc; the lines are clear.
-    let predictions = twin.predicted_collisions();
+    let predictions = twin.plant().predicted_collisions();
     assert_eq!(predictions.len(), 1, "{predictions:?}");
     let p = &predictions[0];
     assert_eq!(p.instance, "C1");
@@ -875,13 +875,13 @@ fn gantry_collision_predicts_the_arc_before_it_moves_and_not_the_line_beneath_th
 fn gantry_collision_reject_fails_the_arc_with_err_200_and_nothing_moves() {
     let path = gantry_collision_reject_scene();
     let mut twin = Twin::new(twin::scene::load(&path).unwrap()).unwrap();
-    let handles: Vec<_> = twin.axes().iter().map(|a| a.handle).collect();
+    let handles: Vec<_> = twin.plant().axes().iter().map(|a| a.handle).collect();
     let start: Vec<u64> = handles
         .iter()
         .map(|h| twin.task().axis_state(*h).command_position.to_bits())
         .collect();
-    let tool = twin.model().links.iter().position(|l| l.name == "tool").unwrap();
-    let tool_start = twin.world_from_link()[tool].0;
+    let tool = twin.plant().model().links.iter().position(|l| l.name == "tool").unwrap();
+    let tool_start = twin.plant().world_from_link()[tool].0;
     let c1 = instruction(&twin, "C1");
     for _ in 0..twin.total_updates() {
         twin.step();
@@ -890,7 +890,7 @@ fn gantry_collision_reject_fails_the_arc_with_err_200_and_nothing_moves() {
             assert_eq!(a.command_position.to_bits(), *s, "at {}", twin.time_s());
             assert_eq!((a.command_velocity, a.command_acceleration), (0.0, 0.0));
         }
-        let tool_now = twin.world_from_link()[tool].0;
+        let tool_now = twin.plant().world_from_link()[tool].0;
         assert!(
             (tool_now[0] - tool_start[0]).abs() < 1e-9 && (tool_now[1] - tool_start[1]).abs() < 1e-9,
             "{tool_now:?}"
@@ -904,8 +904,8 @@ fn gantry_collision_reject_fails_the_arc_with_err_200_and_nothing_moves() {
         !twin.task().motion_bits(instruction(&twin, "L1")).en,
         "the lines never ran"
     );
-    assert!(twin.collision_events().is_empty());
-    let p = twin.predicted_collisions();
+    assert!(twin.plant().collision_events().is_empty());
+    let p = twin.plant().predicted_collisions();
     assert!(p.len() == 1 && p[0].rejected && p[0].instance == "C1", "{p:?}");
     let status = twin.task().coord_status(twin.task().coord_handles().next().unwrap());
     assert!(!status.motion && !status.move_, "{status:?}");
@@ -972,7 +972,7 @@ fn collision_cell_frames_match_snapshots() {
         for &f in &frames {
             let path = out.join("frames").join(format!("{}-{f:05}.png", scene.cameras[0].name));
             let image = image::open(&path).unwrap().to_rgba8();
-            twin::snapshot::assert_matches_snapshot(
+            twin::output::snapshot::assert_matches_snapshot(
                 &format!("{}-{f}", scene.name),
                 &image,
                 &root().join("snapshots"),
@@ -1051,7 +1051,7 @@ fn sphere_into_box_event_starts_within_one_physics_step_of_the_analytic_time() {
     // x = 0.40.
     let (v, t_acc) = (0.1, 0.1 / 1.0 + 1.0 / 100.0);
     let analytic_s = 0.1 + t_acc / 2.0 + 0.40 / v;
-    let events = twin.collision_events();
+    let events = twin.plant().collision_events();
     assert_eq!(events.len(), 1, "{events:?}");
     let e = &events[0];
     assert!(
@@ -1257,7 +1257,7 @@ fn a_scara_scene_with_a_wrong_link_length_is_refused() {
         .count()
         + 1;
     match Twin::new(scene) {
-        Err(twin::run::RunError::Kinematics { line: l, .. }) => assert_eq!(l, line),
+        Err(twin::run::RunError::Plant(twin::plant::PlantError::Kinematics { line: l, .. })) => assert_eq!(l, line),
         Err(other) => panic!("{other}"),
         Ok(_) => panic!("a wrong link length must be refused"),
     }
@@ -1489,7 +1489,7 @@ fn a_delta_scene_with_a_wrong_forearm_length_is_refused() {
         &[("link_lengths = [0.3, 0.8]", "link_lengths = [0.3, 0.81]")],
     );
     let scene = twin::scene::load(&copy).expect("the scene itself is valid");
-    assert!(matches!(Twin::new(scene), Err(twin::run::RunError::Kinematics { .. })));
+    assert!(matches!(Twin::new(scene), Err(twin::run::RunError::Plant(twin::plant::PlantError::Kinematics { .. }))));
 }
 
 /// scara_pick with a tool sphere (0.01 m) on link `tool` and a 0.02 m ball
@@ -1522,12 +1522,12 @@ fn an_mct_source_arc_is_swept_through_the_transform_before_it_moves() {
     let scene = twin::scene::load(&scara_arc_collision_scene("report")).unwrap();
     let mut twin = Twin::new(scene).unwrap();
     let c1 = instruction(&twin, "C1");
-    let tool = twin.model().links.iter().position(|l| l.name == "tool").unwrap();
+    let tool = twin.plant().model().links.iter().position(|l| l.name == "tool").unwrap();
     let mut predicted_with_tool_at = None;
     for _ in 0..twin.total_updates() {
-        let tool_before = twin.world_from_link()[tool].0;
+        let tool_before = twin.plant().world_from_link()[tool].0;
         twin.step();
-        if !twin.predicted_collisions().is_empty() && predicted_with_tool_at.is_none() {
+        if !twin.plant().predicted_collisions().is_empty() && predicted_with_tool_at.is_none() {
             assert!(twin.task().motion_bits(c1).ip, "at {}", twin.time_s());
             predicted_with_tool_at = Some(tool_before);
         }
@@ -1539,7 +1539,7 @@ fn an_mct_source_arc_is_swept_through_the_transform_before_it_moves() {
         (before[0] - 0.40).abs() < 2e-3 && (before[1] + 0.15).abs() < 2e-3,
         "{before:?}"
     );
-    let predictions = twin.predicted_collisions();
+    let predictions = twin.plant().predicted_collisions();
     assert_eq!(predictions.len(), 1, "only the arc: {predictions:?}");
     let p = &predictions[0];
     assert_eq!(p.instance, "C1");
@@ -1558,7 +1558,7 @@ fn an_mct_source_arc_is_swept_through_the_transform_before_it_moves() {
         "{}",
         p.collision.bound
     );
-    let events = twin.collision_events();
+    let events = twin.plant().collision_events();
     assert_eq!(events.len(), 1, "{events:?}");
     assert_eq!((events[0].a.as_str(), events[0].b.as_str()), ("tip", "post"));
     assert!(p.started_s < events[0].start_s);
@@ -1610,8 +1610,8 @@ fn an_mct_source_arc_rejected_by_the_sweep_never_moves_the_joints() {
     let bits = twin.task().motion_bits(c1);
     assert!(bits.er && !bits.ip && !bits.pc, "{bits:?}");
     assert_eq!(bits.err, planner::task::ERR_PATH_COLLISION);
-    assert!(twin.collision_events().is_empty(), "{:?}", twin.collision_events());
-    assert!(twin.predicted_collisions()[0].rejected);
+    assert!(twin.plant().collision_events().is_empty(), "{:?}", twin.plant().collision_events());
+    assert!(twin.plant().predicted_collisions()[0].rejected);
 }
 
 #[test]
@@ -1650,7 +1650,7 @@ fn an_mct_source_arc_that_leaves_the_workspace_is_predicted_out_of_reach() {
         }
     }
     let analytic = r * (hi - start);
-    let predictions = twin.predicted_collisions();
+    let predictions = twin.plant().predicted_collisions();
     assert_eq!(predictions.len(), 1, "{predictions:?}");
     let p = &predictions[0];
     assert_eq!(p.instance, "C1");
@@ -1686,11 +1686,11 @@ fn a_collision_stop_under_mct_brings_the_tool_to_rest_on_its_path_and_keeps_the_
         .coord_handles()
         .find(|h| twin.task().coord_config(*h).name == "Cart")
         .unwrap();
-    let axes: Vec<_> = twin.axes().iter().map(|a| a.handle).collect();
+    let axes: Vec<_> = twin.plant().axes().iter().map(|a| a.handle).collect();
     for _ in 0..twin.total_updates() {
         twin.step();
     }
-    let events = twin.collision_events();
+    let events = twin.plant().collision_events();
     assert_eq!(events.len(), 1, "{events:?}");
     // C1 lost .IP without .PC; the transform still runs (T1.IP, source
     // status), every axis at rest.
@@ -1703,8 +1703,34 @@ fn a_collision_stop_under_mct_brings_the_tool_to_rest_on_its_path_and_keeps_the_
     }
     // The tool stopped on the programmed circle (radius 0.25 m about
     // (0.25, 0.05)), past the contact.
-    let tool = twin.model().links.iter().position(|l| l.name == "tool").unwrap();
-    let p = twin.world_from_link()[tool].0;
+    let tool = twin.plant().model().links.iter().position(|l| l.name == "tool").unwrap();
+    let p = twin.plant().world_from_link()[tool].0;
     let r = (p[0] - 0.25).hypot(p[1] - 0.05);
     assert!((r - 0.25).abs() < 1e-3, "{p:?} r {r}");
+}
+
+/// The operand lists in `scenes/README.md` are the instruction catalogue's,
+/// word for word (`UPDATE_DOCS=1 cargo test` rewrites them).
+#[test]
+fn scenes_readme_operand_lists_equal_the_catalogue() {
+    let path = root().join("scenes/README.md");
+    let text = std::fs::read_to_string(&path).expect("scenes/README.md");
+    let (begin, end) = ("<!-- catalogue:begin -->\n", "<!-- catalogue:end -->");
+    let start = text.find(begin).expect("begin marker") + begin.len();
+    let stop = text.find(end).expect("end marker");
+    let expected = planner::catalogue::markdown();
+    if std::env::var_os("UPDATE_DOCS").is_some() && std::env::var_os("CI").is_none() {
+        let updated = format!("{}{expected}{}", &text[..start], &text[stop..]);
+        std::fs::write(&path, updated).expect("rewrite scenes/README.md");
+        return;
+    }
+    assert!(
+        text[start..stop] == expected,
+        "scenes/README.md's instruction list differs from planner::catalogue; run UPDATE_DOCS=1 cargo test -p twin --test scenes scenes_readme"
+    );
+    // Every catalogued mnemonic is also in the README's table of calls.
+    let readme = std::fs::read_to_string(root().join("README.md")).expect("README.md");
+    for ins in planner::catalogue::INSTRUCTIONS {
+        assert!(readme.contains(&format!("`{}`", ins.mnemonic)), "README.md lacks {}", ins.mnemonic);
+    }
 }

@@ -34,7 +34,7 @@
 use nalgebra::{Point3, Vector3};
 use planner::mct::{Geometry, GeometryKind, JointKind as MctJointKind};
 
-use crate::urdf::{JointIndex, JointKind, LinkIndex, RobotModel};
+use crate::plant::urdf::{JointIndex, JointKind, LinkIndex, RobotModel};
 
 /// Largest accepted difference, metres.
 pub const TOLERANCE_M: f64 = 1e-6;

@@ -14,7 +14,7 @@
 //! (see `planner::task` module `mct`).
 
 use crate::scene::Axis;
-use crate::urdf::{JointKind, RobotModel};
+use crate::plant::urdf::{JointKind, RobotModel};
 use planner::axis::AxisConfig;
 
 /// `config` with the soft travel limits of `axis`: its own, or else its
@@ -56,7 +56,7 @@ pub fn with_urdf_limits(mut config: AxisConfig, axis: &Axis, model: &RobotModel)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::run::axis_config;
+    use crate::plant::axes::axis_config;
     use std::path::Path;
 
     fn scara() -> (crate::scene::Scene, RobotModel) {

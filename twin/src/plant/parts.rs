@@ -1,10 +1,10 @@
 //! Scene geometry for rendering: URDF visuals and obstacles as triangle
 //! meshes with their poses, built once; the link poses change per frame.
 
-use crate::mesh::TriMesh;
+use crate::plant::mesh::TriMesh;
 use crate::scene::{Scene, Shape};
-use crate::stl::{StlError, load_stl};
-use crate::urdf::{Geometry, RobotModel};
+use crate::plant::stl::{StlError, load_stl};
+use crate::plant::urdf::{Geometry, RobotModel};
 use nalgebra::{Isometry3, Matrix4, Quaternion, Translation3, UnitQuaternion};
 
 /// Default colour of a URDF visual without material (light grey).

@@ -43,7 +43,7 @@ use rerun::external::re_uri::ProxyUri;
 use rerun::sink::{FileSink, FileSinkError, GrpcSink, LogSink, SinkFlushError};
 use rerun::{RecordingStream, RecordingStreamBuilder, RecordingStreamError, TimeCell};
 
-use crate::mesh::TriMesh;
+use crate::plant::mesh::TriMesh;
 
 /// Name of the timeline carrying simulated time (a duration timeline).
 pub const SIM_TIME_TIMELINE: &str = "sim_time";

@@ -30,7 +30,7 @@
 //! Nothing depends on time, thread scheduling or hash-map order: the same
 //! inputs give byte-identical images on the same machine and driver. Items are
 //! drawn in the order given. Different drivers or GPUs may differ by rounding
-//! (see the snapshot tolerance in [`crate::snapshot`]).
+//! (see the snapshot tolerance in [`crate::output::snapshot`]).
 //!
 //! # No adapter
 //! [`Renderer::new`] returns [`RenderError::NoAdapter`] when the machine has
@@ -48,7 +48,7 @@ mod math;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, mpsc};
 
-use crate::mesh::TriMesh;
+use crate::plant::mesh::TriMesh;
 use math::Mat4;
 
 /// The line a caller prints when [`Renderer::new`] finds no Vulkan adapter.

@@ -1,5 +1,5 @@
 //! Logix cam calls: MCCP, MAPC, MRP, and the MAJ jog / MAS stop that drive
-//! cam masters, compiled to planner calls (see [`super::logix`]).
+//! cam masters, bound to planner calls (see [`super::bind`]).
 //!
 //! Operands are the manual's, in its order:
 //! * `MCCP(MotionControl, Cam, Length, StartSlope, EndSlope, CamProfile)` —
@@ -31,33 +31,32 @@
 //! Each call is one scan of a one-shot rung: the planner executes it, and
 //! `.EN` clears at the next coarse update once `.DN` or `.ER` is set.
 
-use super::logix::{LogixContext, LogixStep, expect_operands};
+use super::bind::{Bind, LogixContext, LogixStep};
 use crate::scene::{BaseType, SegmentType, TagValue};
 use crate::st::Expr;
 use planner::jog::{MajOperands, MasOperands};
 use planner::mapc::MapcOperands;
 use planner::mccp::CamElement;
-use planner::task::{CamProfileHandle, MapcCall, MotionTask};
+use planner::task::{CamProfileHandle, InstructionHandle, MapcCall, MotionTask};
 use std::sync::Arc;
 
-/// The instructions of this module.
-pub const CAM_INSTRUCTIONS: &[&str] = &["MAJ", "MAPC", "MAS", "MCCP", "MRP"];
-
-/// Compiles one of [`CAM_INSTRUCTIONS`]; `None` for any other name.
-pub fn compile(upper: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Option<Result<LogixStep, String>> {
-    Some(match upper {
-        "MCCP" => mccp(operands, ctx),
-        "MAPC" => mapc(operands, ctx),
-        "MRP" => mrp(operands, ctx),
-        "MAJ" => maj(operands, ctx),
-        "MAS" => mas(operands, ctx),
-        _ => return None,
-    })
+/// Binds an MCCP, MAPC, MRP, MAJ or MAS call.
+///
+/// # Errors
+/// A message naming the operand at fault.
+pub fn bind(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
+    match b.instruction.mnemonic {
+        "MCCP" => mccp(b),
+        "MAPC" => mapc(b),
+        "MRP" => mrp(b),
+        "MAJ" => maj(b),
+        _ => mas(b),
+    }
 }
 
 fn step(
     instruction: &'static str,
-    control: planner::task::InstructionHandle,
+    control: InstructionHandle,
     run: impl Fn(&mut MotionTask) + Send + Sync + 'static,
 ) -> LogixStep {
     LogixStep {
@@ -140,108 +139,55 @@ fn cam_points(ctx: &LogixContext<'_>, operand: &Expr) -> Result<Vec<CamElement>,
     Ok(elements.split_off(start))
 }
 
-fn count(ctx: &LogixContext<'_>, what: &str, operand: &Expr) -> Result<usize, String> {
-    let x = ctx.number(what, operand)?;
+fn count(b: &Bind<'_, '_>, name: &str) -> Result<usize, String> {
+    let x = b.number(name)?;
     if x >= 0.0 && x.fract() == 0.0 && x <= f64::from(u16::MAX) {
         Ok(x as usize)
     } else {
-        Err(format!("{what} {operand}: expected a UINT (0..=65535)"))
+        let (spec, e) = b.operand(name);
+        Err(format!("{} {e}: expected a UINT (0..=65535)", spec.name))
     }
 }
 
-fn choice_i32(ctx: &LogixContext<'_>, what: &str, operand: &Expr, words: &[&str]) -> Result<i32, String> {
-    ctx.choice(what, operand, words).map(|i| i as i32)
+impl Bind<'_, '_> {
+    fn cam_profile(&mut self, name: &str) -> Result<CamProfileHandle, String> {
+        let (_, e) = self.operand(name);
+        cam_profile(self.ctx, e)
+    }
 }
 
-fn mccp(operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
-    expect_operands(
-        "MCCP",
-        operands,
-        &[
-            "Motion Control",
-            "Cam",
-            "Length",
-            "Start Slope",
-            "End Slope",
-            "Cam Profile",
-        ],
-    )?;
-    let control = ctx.instruction("Motion Control", &operands[0])?;
-    let cam = cam_points(ctx, &operands[1])?;
-    let length = count(ctx, "Length", &operands[2])?;
-    let start_slope = ctx.number("Start Slope", &operands[3])?;
-    let end_slope = ctx.number("End Slope", &operands[4])?;
-    let profile = cam_profile(ctx, &operands[5])?;
+fn mccp(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
+    let control = b.motion_control()?;
+    let cam = cam_points(b.ctx, b.operand("Cam").1)?;
+    let length = count(b, "Length")?;
+    let start_slope = b.number("Start Slope")?;
+    let end_slope = b.number("End Slope")?;
+    let profile = b.cam_profile("Cam Profile")?;
     Ok(step("MCCP", control, move |task| {
         // The outcome is in the control structure (.DN or .ER/ERR/EXERR/SEGMENT).
         let _ = task.mccp(control, &cam, length, start_slope, end_slope, profile);
     }))
 }
 
-fn mapc(operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
-    expect_operands(
-        "MAPC",
-        operands,
-        &[
-            "Slave Axis",
-            "Master Axis",
-            "Motion Control",
-            "Direction",
-            "Cam Profile",
-            "Slave Scaling",
-            "Master Scaling",
-            "Execution Mode",
-            "Execution Schedule",
-            "Master Lock Position",
-            "Cam Lock Position",
-            "Cam Type",
-            "Master Reference",
-            "Master Direction",
-        ],
-    )?;
-    let slave = ctx.axis("Slave Axis", &operands[0])?;
-    let master = ctx.axis("Master Axis", &operands[1])?;
-    let control = ctx.instruction("Motion Control", &operands[2])?;
-    let direction = choice_i32(
-        ctx,
-        "Direction",
-        &operands[3],
-        &["Same", "Opposite", "Reverse", "Unchanged"],
-    )?;
-    let profile = cam_profile(ctx, &operands[4])?;
+fn mapc(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
+    let slave = b.axis("Slave Axis")?;
+    let master = b.axis("Master Axis")?;
+    let control = b.motion_control()?;
+    let direction = b.code_i32("Direction")?;
+    let profile = b.cam_profile("Cam Profile")?;
     let o = MapcOperands {
         direction,
-        slave_scaling: ctx.number("Slave Scaling", &operands[5])?,
-        master_scaling: ctx.number("Master Scaling", &operands[6])?,
-        execution_mode: choice_i32(
-            ctx,
-            "Execution Mode",
-            &operands[7],
-            &["Once", "Continuous", "Persistent"],
-        )?,
-        execution_schedule: choice_i32(
-            ctx,
-            "Execution Schedule",
-            &operands[8],
-            &["Immediate", "Pending", "ForwardOnly", "ReverseOnly", "Bidirectional"],
-        )?,
-        master_lock_position: ctx.number("Master Lock Position", &operands[9])?,
-        cam_lock_position: ctx.number("Cam Lock Position", &operands[10])?,
-        cam_type: choice_i32(
-            ctx,
-            "Cam Type",
-            &operands[11],
-            &["NewCam", "ReplaceAndRestart", "ReplaceAndContinue"],
-        )?,
-        master_reference: choice_i32(ctx, "Master Reference", &operands[12], &["Actual", "Command"])?,
-        master_direction: choice_i32(
-            ctx,
-            "Master Direction",
-            &operands[13],
-            &["Bidirectional", "ForwardOnly", "ReverseOnly"],
-        )?,
+        slave_scaling: b.number("Slave Scaling")?,
+        master_scaling: b.number("Master Scaling")?,
+        execution_mode: b.code_i32("Execution Mode")?,
+        execution_schedule: b.code_i32("Execution Schedule")?,
+        master_lock_position: b.number("Master Lock Position")?,
+        cam_lock_position: b.number("Cam Lock Position")?,
+        cam_type: b.code_i32("Cam Type")?,
+        master_reference: b.code_i32("Master Reference")?,
+        master_direction: b.code_i32("Master Direction")?,
     };
-    ctx.task.declare_cam_slave(slave);
+    b.ctx.task.declare_cam_slave(slave);
     let call = MapcCall {
         slave,
         master,
@@ -254,142 +200,53 @@ fn mapc(operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, Stri
     }))
 }
 
-fn mrp(operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
-    expect_operands(
-        "MRP",
-        operands,
-        &["Axis", "Motion Control", "Type", "Position Select", "Position"],
-    )?;
-    let axis = ctx.axis("Axis", &operands[0])?;
-    let control = ctx.instruction("Motion Control", &operands[1])?;
-    let kind = choice_i32(ctx, "Type", &operands[2], &["Absolute", "Relative"])?;
-    let select = choice_i32(ctx, "Position Select", &operands[3], &["Actual", "Command"])?;
-    let position = ctx.number("Position", &operands[4])?;
+fn mrp(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
+    let axis = b.axis("Axis")?;
+    let control = b.motion_control()?;
+    let kind = b.code_i32("Type")?;
+    let select = b.code_i32("Position Select")?;
+    let position = b.number("Position")?;
     Ok(step("MRP", control, move |task| {
         let _ = task.mrp(axis, control, kind, select, position);
     }))
 }
 
-const RATE_UNITS: [&str; 2] = ["UnitsPerSec", "%ofMaximum"];
-const ACCEL_UNITS: [&str; 2] = ["UnitsPerSec2", "%ofMaximum"];
-
-fn maj(operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
-    expect_operands(
-        "MAJ",
-        operands,
-        &[
-            "Axis",
-            "Motion Control",
-            "Direction",
-            "Speed",
-            "Speed Units",
-            "Accel Rate",
-            "Accel Units",
-            "Decel Rate",
-            "Decel Units",
-            "Profile",
-        ],
-    )?;
-    let axis = ctx.axis("Axis", &operands[0])?;
-    let control = ctx.instruction("Motion Control", &operands[1])?;
+fn maj(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
+    let axis = b.axis("Axis")?;
+    let control = b.motion_control()?;
     let o = MajOperands {
-        direction: choice_i32(ctx, "Direction", &operands[2], &["Forward", "Reverse"])?,
-        speed: ctx.number("Speed", &operands[3])?,
-        speed_units: choice_i32(ctx, "Speed Units", &operands[4], &RATE_UNITS)?,
-        accel_rate: ctx.number("Accel Rate", &operands[5])?,
-        accel_units: choice_i32(ctx, "Accel Units", &operands[6], &ACCEL_UNITS)?,
-        decel_rate: ctx.number("Decel Rate", &operands[7])?,
-        decel_units: choice_i32(ctx, "Decel Units", &operands[8], &ACCEL_UNITS)?,
-        profile: choice_i32(ctx, "Profile", &operands[9], &["Trapezoidal", "S-Curve"])?,
+        direction: b.code_i32("Direction")?,
+        speed: b.number("Speed")?,
+        speed_units: b.code_i32("Speed Units")?,
+        accel_rate: b.number("Accel Rate")?,
+        accel_units: b.code_i32("Accel Units")?,
+        decel_rate: b.number("Decel Rate")?,
+        decel_units: b.code_i32("Decel Units")?,
+        profile: b.code_i32("Profile")?,
     };
     Ok(step("MAJ", control, move |task| {
         let _ = task.maj(axis, control, &o);
     }))
 }
 
-fn mas(operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
-    expect_operands(
-        "MAS",
-        operands,
-        &[
-            "Axis",
-            "Motion Control",
-            "Stop Type",
-            "Change Decel",
-            "Decel Rate",
-            "Decel Units",
-        ],
-    )?;
-    let axis = ctx.axis("Axis", &operands[0])?;
-    let control = ctx.instruction("Motion Control", &operands[1])?;
+fn mas(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
+    let axis = b.axis("Axis")?;
+    let control = b.motion_control()?;
     let o = MasOperands {
-        stop_type: choice_i32(
-            ctx,
-            "Stop Type",
-            &operands[2],
-            &[
-                "All",
-                "Jog",
-                "Move",
-                "Gear",
-                "Home",
-                "Tune",
-                "Test",
-                "TimeCam",
-                "PositionCam",
-                "MasterOffsetMove",
-                "DirectControl",
-            ],
-        )?,
-        change_decel: choice_i32(ctx, "Change Decel", &operands[3], &["No", "Yes"])?,
-        decel_rate: ctx.number("Decel Rate", &operands[4])?,
-        decel_units: choice_i32(ctx, "Decel Units", &operands[5], &ACCEL_UNITS)?,
+        stop_type: b.code_i32("Stop Type")?,
+        change_decel: b.code_i32("Change Decel")?,
+        decel_rate: b.number("Decel Rate")?,
+        decel_units: b.code_i32("Decel Units")?,
     };
     Ok(step("MAS", control, move |task| {
         let _ = task.mas(axis, control, &o);
     }))
 }
 
-/// Trace columns for the cam slaves (axes some MAPC names as its slave), in
-/// axis order: `<axis>.PositionCamStatus`, `.PositionCamLockStatus`,
-/// `.PositionCamPendingStatus` (0/1), `.VelocityLimitExceeded`,
-/// `.AccelLimitExceeded` (0/1: the command exceeded the axis' configured
-/// maximum, which camming ignores).
-pub fn trace_header(task: &MotionTask, axes: &[super::AxisBinding]) -> Vec<String> {
-    let mut h = Vec::new();
-    for a in axes.iter().filter(|a| task.is_cam_slave(a.handle)) {
-        for c in COLUMNS {
-            h.push(format!("{}.{c}", a.name));
-        }
-    }
-    h
-}
-
-const COLUMNS: [&str; 5] = [
-    "PositionCamStatus",
-    "PositionCamLockStatus",
-    "PositionCamPendingStatus",
-    "VelocityLimitExceeded",
-    "AccelLimitExceeded",
-];
-
-/// The values of [`trace_header`]'s columns now.
-pub fn trace_row(task: &MotionTask, axes: &[super::AxisBinding]) -> Vec<String> {
-    let mut row = Vec::new();
-    for a in axes.iter().filter(|a| task.is_cam_slave(a.handle)) {
-        let s = task.slave_cam_status(a.handle);
-        let l = task.limits_exceeded(a.handle);
-        for b in [s.position_cam, s.lock, s.pending, l.velocity, l.acceleration] {
-            row.push(if b { "1" } else { "0" }.to_string());
-        }
-    }
-    row
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::run::{AxisBinding, InstructionBinding};
+    use crate::program::InstructionBinding;
     use crate::scene::{Scene, load};
     use crate::st::parse_call;
     use planner::axis::{AxisConfig, AxisKind};
@@ -404,7 +261,6 @@ mod tests {
         text: &str,
         scene: &Scene,
         task: &mut MotionTask,
-        axes: &[AxisBinding],
     ) -> Result<LogixStep, String> {
         let call = parse_call(text).expect("parses");
         let crate::st::Args::Positional(ops) = &call.args else {
@@ -415,10 +271,9 @@ mod tests {
         let mut ctx = LogixContext {
             scene,
             task,
-            axes,
             instructions: &mut instructions,
         };
-        super::super::logix::compile(&call.name.value, &operands, &mut ctx)
+        super::super::bind::compile(&call.name.value, &operands, &mut ctx)
     }
 
     #[test]
@@ -431,20 +286,12 @@ mod tests {
         let knife = task
             .add_axis(AxisConfig::new("Knife", AxisKind::Rotary), 0.0)
             .expect("axis");
-        let binding = |name: &str, handle| AxisBinding {
-            name: name.to_string(),
-            handle,
-            drive: Some(0),
-            si_per_unit: 1.0,
-            in_position_window: 0.1,
-        };
-        let axes = vec![binding("Conveyor", conveyor), binding("Knife", knife)];
+        let _ = (conveyor, knife);
 
         let mccp = compile_text(
             "MCCP(MCCP_1, KnifeCam[0], 4, 1.2, 1.2, KnifeProfile[0])",
             &scene,
             &mut task,
-            &axes,
         )
         .expect("MCCP binds");
         (mccp.run)(&mut task);
@@ -456,7 +303,6 @@ mod tests {
             "MCCP(MCCP_1, KnifeCam[0], 4, 1.2, 1.2, KnifeProfile[1])",
             &scene,
             &mut task,
-            &axes,
         )
         .expect_err("element 1");
         assert!(e.contains("only element [0]"), "{e}");
@@ -464,7 +310,6 @@ mod tests {
             "MCCP(MCCP_1, KnifeCam[4], 4, 0, 0, KnifeProfile)",
             &scene,
             &mut task,
-            &axes,
         )
         .expect_err("CAM[4] has no element 4");
         assert!(e.starts_with("Cam KnifeCam[4]"), "{e}");
@@ -473,7 +318,6 @@ mod tests {
             "MCCP(MCCP_2, KnifeCam[1], 4, 0, 0, KnifeProfile2)",
             &scene,
             &mut task,
-            &axes,
         )
         .expect("binds; the error is the instruction's");
         (long.run)(&mut task);
@@ -483,11 +327,10 @@ mod tests {
             "MAPC(Knife, Conveyor, MAPC_1, Sideways, KnifeProfile[0], 1, 1, Continuous, Immediate, 0, 0, NewCam, Command, ForwardOnly)",
             &scene,
             &mut task,
-            &axes,
         )
         .expect_err("bad word");
         assert!(e.starts_with("Direction Sideways"), "{e}");
-        let e = compile_text("MAS(Conveyor, Stop, All, Yes, 100)", &scene, &mut task, &axes).expect_err("5 operands");
+        let e = compile_text("MAS(Conveyor, Stop, All, Yes, 100)", &scene, &mut task).expect_err("5 operands");
         assert!(e.starts_with("MAS takes 6 operands"), "{e}");
 
         assert!(!task.is_cam_slave(knife));
@@ -495,7 +338,6 @@ mod tests {
             "MAPC(Knife, Conveyor, MAPC_1, Same, KnifeProfile[0], 1, 1, Continuous, Immediate, 0, 0, NewCam, Command, ForwardOnly)",
             &scene,
             &mut task,
-            &axes,
         )
         .expect("MAPC binds");
         assert!(task.is_cam_slave(knife) && !task.is_cam_slave(conveyor));

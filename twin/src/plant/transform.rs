@@ -1,86 +1,27 @@
-//! MCT in the twin: the positional `MCT(Source System, Target System,
-//! Motion Control, Orientation, Translation)` call and the load-time check
-//! that each transform's target robot (its URDF chain) has the kinematics of
-//! the target system's `geometry` table.
+//! The plant side of coordinate transforms (MCT): the load-time check that
+//! each transform's target robot (its URDF chain) has the kinematics of the
+//! target system's `geometry` table, and the parallel robots' virtual
+//! joints, posed from the MCT kinematics every physics step.
 //!
-//! * Orientation and Translation are `REAL[3]` operands (`Orient[0]` or a
-//!   whole array tag, three elements from there).
-//! * The `geometry` tables of the source and target `COORDINATE_SYSTEM`
-//!   tags give the planner each system's geometry and transform dimension
-//!   (a system without one is a Cartesian gantry of its primary axes).
+//! * `check_transforms` runs [`crate::plant::kinematics_check::check`] for
+//!   every MCT call of the program and refuses the scene on a mismatch,
+//!   naming the `geometry` table's line and the distance. A geometry the
+//!   planner refuses (a zero link length, …) is not checked here: the MCT
+//!   reports it at run time with its ERR/EXERR, as on the controller.
 //! * MCT takes revolute joint axes in degrees (as Logix), so a target axis
 //!   on a revolute URDF joint must have `units = "deg"`; the geometry's
 //!   lengths are in the source system's coordinate units.
-//! * `check_transforms` runs [`crate::kinematics_check::check`] for every
-//!   MCT call of the program and refuses the scene on a mismatch, naming the
-//!   `geometry` table's line and the distance. A geometry the planner
-//!   refuses (a zero link length, …) is not checked here: the MCT reports it
-//!   at run time with its ERR/EXERR, as on the controller.
 
-use super::RunError;
-use super::logix::{LogixContext, LogixStep, expect_operands};
-use crate::kinematics_check::{ChainMapping, check, pose_parallel};
-use crate::physics::{JointDrive, RobotSim};
+use super::PlantError;
+use super::kinematics_check::{ChainMapping, check, pose_parallel};
+use super::physics::{JointDrive, RobotSim};
+use super::urdf::RobotModel;
 use crate::scene::{Scene, TagValue};
 use crate::st::{Args, Expr};
-use crate::urdf::RobotModel;
+use planner::catalogue;
 use planner::mct::{Geometry, JointKind};
-use planner::task::{MotionTask, TransformGeometry};
 use std::f64::consts::{PI, TAU};
-use std::sync::Arc;
 
-const MCT_OPERANDS: &[&str] = &[
-    "Source System",
-    "Target System",
-    "Motion Control",
-    "Orientation",
-    "Translation",
-];
-
-/// Compiles an MCT call; `None` for any other instruction.
-pub fn compile(upper: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Option<Result<LogixStep, String>> {
-    (upper == "MCT").then(|| compile_mct(operands, ctx))
-}
-
-fn compile_mct(operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
-    expect_operands("MCT", operands, MCT_OPERANDS)?;
-    let n = |i: usize| MCT_OPERANDS[i];
-    let source = super::coord::coordinate_system(ctx, n(0), &operands[0])?;
-    let target = super::coord::coordinate_system(ctx, n(1), &operands[1])?;
-    let control = ctx.instruction(n(2), &operands[2])?;
-    let three = |i: usize| -> Result<[f64; 3], String> {
-        let v = ctx.numbers(n(i), &operands[i], 3)?;
-        Ok([v[0], v[1], v[2]])
-    };
-    let orientation = three(3)?;
-    let translation = three(4)?;
-    for (system, operand) in [(source, &operands[0]), (target, &operands[1])] {
-        let Expr::Ident(name) = operand else { continue };
-        if let Some(g) = ctx.scene.tag(name).and_then(|t| t.geometry.as_ref()) {
-            ctx.task.set_transform_geometry(
-                system,
-                TransformGeometry {
-                    kind: g.kind,
-                    params: g.params,
-                    transform_dimension: g.transform_dimension,
-                },
-            );
-        }
-    }
-    Ok(LogixStep {
-        instruction: "MCT",
-        control: Some(control),
-        run: Arc::new(move |task: &mut MotionTask| task.execute_mct(control, source, target, orientation, translation)),
-    })
-}
-
-/// Checks every transform of the program: the target system's URDF chain
-/// against its MCT geometry.
-///
-/// # Errors
-/// [`RunError::Kinematics`] naming the `geometry` table's line, with the
-/// mismatch (what, by how much, at which joint configuration), a mapping
-/// error, or a revolute joint axis not in degrees.
 /// Every MCT call of the program whose target has a `geometry` table:
 /// `(source tag, target tag)`.
 fn transforms(scene: &Scene) -> Vec<(&crate::scene::Tag, &crate::scene::Tag)> {
@@ -89,7 +30,7 @@ fn transforms(scene: &Scene) -> Vec<(&crate::scene::Tag, &crate::scene::Tag)> {
         let Args::Positional(operands) = &step.call.args else {
             continue;
         };
-        if !step.call.name.value.eq_ignore_ascii_case("MCT") || operands.len() != MCT_OPERANDS.len() {
+        if !step.call.name.value.eq_ignore_ascii_case("MCT") || operands.len() != catalogue::MCT.operands.len() {
             continue;
         }
         let (Expr::Ident(source), Expr::Ident(target)) = (&operands[0].value, &operands[1].value) else {
@@ -113,11 +54,11 @@ struct Chain {
     axes: Vec<(usize, f64)>,
 }
 
-fn chain(scene: &Scene, source: &crate::scene::Tag, target: &crate::scene::Tag) -> Result<Option<Chain>, RunError> {
+fn chain(scene: &Scene, source: &crate::scene::Tag, target: &crate::scene::Tag) -> Result<Option<Chain>, PlantError> {
     let Some(settings) = &target.geometry else {
         return Ok(None);
     };
-    let fail = |message: String| RunError::Kinematics {
+    let fail = |message: String| PlantError::Kinematics {
         scene: scene.path.clone(),
         line: settings.location.line,
         column: settings.location.column,
@@ -183,16 +124,16 @@ fn chain(scene: &Scene, source: &crate::scene::Tag, target: &crate::scene::Tag) 
 /// against its MCT geometry.
 ///
 /// # Errors
-/// [`RunError::Kinematics`] naming the `geometry` table's line, with the
+/// [`PlantError::Kinematics`] naming the `geometry` table's line, with the
 /// mismatch (what, by how much, at which joint configuration), a mapping
 /// error, or a revolute joint axis not in degrees.
-pub(super) fn check_transforms(scene: &Scene, model: &RobotModel) -> Result<(), RunError> {
+pub(crate) fn check_transforms(scene: &Scene, model: &RobotModel) -> Result<(), PlantError> {
     for (source, target) in transforms(scene) {
         let Some(c) = chain(scene, source, target)? else {
             continue;
         };
         let location = target.geometry.as_ref().map(|g| g.location).unwrap_or(target.location);
-        check(model, &c.geometry, &c.mapping, c.metres_per_unit).map_err(|e| RunError::Kinematics {
+        check(model, &c.geometry, &c.mapping, c.metres_per_unit).map_err(|e| PlantError::Kinematics {
             scene: scene.path.clone(),
             line: location.line,
             column: location.column,
@@ -210,11 +151,11 @@ const VIRTUAL_GAINS: (f64, f64) = (142_122.3, 754.0);
 /// A parallel robot's virtual joints (platform, forearms), which a URDF
 /// tree cannot close: each physics step they are driven to the pose the MCT
 /// forward kinematics gives for the upper-arm joints' setpoints
-/// ([`crate::kinematics_check::pose_parallel`]); poses from the setpoints
+/// ([`crate::plant::kinematics_check::pose_parallel`]); poses from the setpoints
 /// rather than the simulated arms, so the virtual joints add no feedback
 /// loop to the arms' motors.
 #[derive(Clone)]
-pub(super) struct ParallelRig {
+pub(crate) struct ParallelRig {
     /// Scene axis index of each target axis, J1 first.
     arm_axes: Vec<usize>,
     geometry: Geometry,
@@ -232,15 +173,15 @@ pub(super) struct ParallelRig {
 /// drive.
 ///
 /// # Errors
-/// [`RunError::Kinematics`] when a virtual joint is not in the URDF or the
+/// [`PlantError::Kinematics`] when a virtual joint is not in the URDF or the
 /// initial joints have no position.
-pub(super) fn parallel_rigs(
+pub(crate) fn parallel_rigs(
     scene: &Scene,
     model: &RobotModel,
     axis_drives: &[Option<usize>],
     drives: &mut Vec<JointDrive>,
     initial: &mut Vec<(String, f64)>,
-) -> Result<Vec<ParallelRig>, RunError> {
+) -> Result<Vec<ParallelRig>, PlantError> {
     let mut rigs = Vec::new();
     for (source, target) in transforms(scene) {
         let Some(c) = chain(scene, source, target)? else {
@@ -250,7 +191,7 @@ pub(super) fn parallel_rigs(
             continue;
         }
         let location = target.geometry.as_ref().map(|g| g.location).unwrap_or(target.location);
-        let fail = |message: String| RunError::Kinematics {
+        let fail = |message: String| PlantError::Kinematics {
             scene: scene.path.clone(),
             line: location.line,
             column: location.column,
@@ -305,7 +246,7 @@ impl ParallelRig {
     /// Sets the virtual joints' setpoints from the arm joints' setpoints
     /// (`setpoint(drive)`, URDF units; velocity: the change since the last
     /// call over `step_s`). Joints with no valid pose keep their setpoints.
-    pub(super) fn drive(
+    pub(crate) fn drive(
         &mut self,
         model: &RobotModel,
         sim: &mut RobotSim,
@@ -331,24 +272,24 @@ impl ParallelRig {
     }
 
     /// Scene axis index of each target axis, J1 first.
-    pub(super) fn arm_axes(&self) -> &[usize] {
+    pub(crate) fn arm_axes(&self) -> &[usize] {
         &self.arm_axes
     }
 
     /// URDF joint index of each virtual joint.
-    pub(super) fn virtual_joints(&self) -> Vec<usize> {
+    pub(crate) fn virtual_joints(&self) -> Vec<usize> {
         self.virtual_drives.iter().map(|&(j, _)| j).collect()
     }
 
     /// The virtual joints' last setpoints (in [`Self::virtual_joints`] order).
-    pub(super) fn previous(&self) -> &[f64] {
+    pub(crate) fn previous(&self) -> &[f64] {
         &self.previous
     }
 
     /// The virtual joints' positions (in [`Self::virtual_joints`] order)
     /// for arm joints at `arms` (URDF units, J1 first), continuous with
     /// `near`; `None` where the arms have no pose.
-    pub(super) fn virtual_pose(&self, model: &RobotModel, arms: &[f64], near: &[f64]) -> Option<Vec<f64>> {
+    pub(crate) fn virtual_pose(&self, model: &RobotModel, arms: &[f64], near: &[f64]) -> Option<Vec<f64>> {
         let mut pose = pose_parallel(model, &self.geometry, &self.mapping, arms, self.metres_per_unit).ok()?;
         // A forearm direction has two (yaw, pitch) pairs, (y, p) and
         // (y + π, π − p): keep the one continuous with `near`, unwrapped,
@@ -372,49 +313,3 @@ impl ParallelRig {
     }
 }
 
-/// Whether the program calls MCT.
-fn uses_mct(scene: &Scene) -> bool {
-    scene
-        .program
-        .iter()
-        .any(|s| s.call.name.value.eq_ignore_ascii_case("MCT"))
-}
-
-/// The transforms' trace columns, present when the program calls MCT: per
-/// coordinate system (in the order the program first uses them)
-/// `<cs>.TransformSourceStatus`, `<cs>.TransformTargetStatus`, then per axis
-/// `<axis>.TransformStateStatus`, `<axis>.ControlledByTransformStatus`.
-pub(super) fn trace_header(scene: &Scene, task: &MotionTask, axes: &[super::AxisBinding]) -> Vec<String> {
-    if !uses_mct(scene) {
-        return Vec::new();
-    }
-    let mut h = Vec::new();
-    for cs in task.coord_handles() {
-        let name = &task.coord_config(cs).name;
-        h.push(format!("{name}.TransformSourceStatus"));
-        h.push(format!("{name}.TransformTargetStatus"));
-    }
-    for a in axes {
-        h.push(format!("{}.TransformStateStatus", a.name));
-        h.push(format!("{}.ControlledByTransformStatus", a.name));
-    }
-    h
-}
-
-/// The values of [`trace_header`]'s columns (0 or 1).
-pub(super) fn trace_row(scene: &Scene, task: &MotionTask, axes: &[super::AxisBinding]) -> Vec<String> {
-    if !uses_mct(scene) {
-        return Vec::new();
-    }
-    let bit = |b: bool| if b { "1" } else { "0" }.to_string();
-    let mut row = Vec::new();
-    for cs in task.coord_handles() {
-        row.push(bit(task.transform_source_status(cs)));
-        row.push(bit(task.transform_target_status(cs)));
-    }
-    for a in axes {
-        row.push(bit(task.transform_state_status(a.handle)));
-        row.push(bit(task.controlled_by_transform_status(a.handle)));
-    }
-    row
-}

@@ -1,4 +1,4 @@
-//! Collision checking in the run loop (issue #7): live checks after every
+//! Collision checking in the run loop: live checks after every
 //! physics step, the scene's reaction, and the pre-flight sweep of every
 //! move that starts (MC_MoveModulo, MCLM, MCCM).
 //!
@@ -8,7 +8,7 @@
 //!   at the step of the contact; the ramp starts at the next coarse update,
 //!   the rest of the current update's physics steps keep their setpoints
 //!   (a PLC sees the stop at the start of its next cycle). `abort` ends the
-//!   run after that physics step ([`Twin::collision_abort`]).
+//!   run after that physics step ([`Plant::collision_abort`]).
 //! * Obstacles are not bodies of the physics world: links pass through
 //!   them (the twin reports contacts, it does not push back), so the depth
 //!   keeps growing while the plan goes on.
@@ -52,7 +52,7 @@
 //!   grid step, which fails only close to a singularity (a stretched
 //!   elbow); a seeded random test checks it on lines and arcs of the SCARA,
 //!   articulated and Delta scenes. The sweep's bound (module
-//!   [`crate::collision`]) holds as far as this estimate does.
+//!   [`super::collision`]) holds as far as this estimate does.
 //! * A point of such a path that the transform cannot reach (out of
 //!   reach, singular, beyond a joint's soft travel limit) is itself a
 //!   finding: the sweep stops at the last reachable grid point before it,
@@ -79,20 +79,21 @@
 //!   joints a transform drives from the rejected system are restored with
 //!   it: they do not move either.
 
-use super::Twin;
-use super::mct::ParallelRig;
-use crate::collision::{
+use super::Plant;
+use super::axes::AxisJoint;
+use super::transform::ParallelRig;
+use super::urdf::RobotModel;
+use super::collision::{
     Body, CheckResult, CollisionEvent, CollisionModel, CollisionModelError, Contact, Monitor, PathSampler,
     PredictedCollision,
 };
 use crate::scene::{CollisionSettings, Preflight, Reaction};
-use crate::urdf::RobotModel;
 use planner::coord::{CoordMove, Driver, PathGeometry};
 use planner::mct::instruction::Transform;
 use planner::mct::{PositionError, Vec3};
 use planner::modulo::MoveModuloError;
 use planner::profile::Profile;
-use planner::task::CoordHandle;
+use planner::task::{AxisHandle, CoordHandle, FbHandle, MotionTask};
 use serde::Serialize;
 
 /// A pre-flight sweep that predicted a collision.
@@ -120,7 +121,7 @@ pub struct Prediction {
     pub out_of_reach: Option<String>,
 }
 
-pub(super) struct CollideState {
+pub(crate) struct CollideState {
     settings: CollisionSettings,
     model: CollisionModel,
     monitor: Monitor,
@@ -133,8 +134,8 @@ pub(super) struct CollideState {
 }
 
 impl CollideState {
-    pub(super) fn new(
-        twin_model: &crate::urdf::RobotModel,
+    pub(crate) fn new(
+        twin_model: &RobotModel,
         scene: &crate::scene::Scene,
     ) -> Option<Result<Self, CollisionModelError>> {
         let settings = scene.collision.clone()?;
@@ -165,8 +166,7 @@ struct AxisMovePath {
     profile: Profile,
     start: f64,
     direction: f64,
-    joint: usize,
-    si_per_unit: f64,
+    axis: AxisJoint,
     base: Vec<f64>,
 }
 
@@ -184,16 +184,6 @@ fn profile_time_of(profile: &Profile, start: f64, direction: f64, s: f64) -> f64
     hi
 }
 
-/// Where one axis of a coordinate system drives the robot.
-#[derive(Debug, Clone, Copy)]
-struct AxisJoint {
-    /// URDF joint index.
-    joint: usize,
-    /// SI units per axis unit.
-    si_per_unit: f64,
-    /// MRP offset: command position − joint position, axis units.
-    offset: f64,
-}
 
 /// Joint positions of the robot with a coordinate system's axes at
 /// `coordinates` (one per axis of the system, coordinate units): each axis
@@ -204,7 +194,7 @@ fn joints_from_coordinates(axes: &[Option<AxisJoint>], coordinates: &[f64], base
     let mut q = base.to_vec();
     for (a, c) in axes.iter().zip(coordinates) {
         if let Some(a) = a {
-            q[a.joint] = (c - a.offset) * a.si_per_unit;
+            q[a.joint] = a.joint_position(*c);
         }
     }
     q
@@ -275,7 +265,7 @@ impl TransformMapping {
         let j = self.transform.joints_near(source, near.0)?;
         for (k, a) in self.target.iter().enumerate() {
             if let Some(a) = a {
-                q[a.joint] = (j[k] - a.offset) * a.si_per_unit;
+                q[a.joint] = a.joint_position(j[k]);
             }
         }
         let mut virtual_q = Vec::new();
@@ -444,12 +434,12 @@ impl PathSampler for AxisMovePath {
     }
     fn joint_positions(&self, s: f64) -> Vec<f64> {
         let mut q = self.base.clone();
-        q[self.joint] = (self.start + self.direction * s) * self.si_per_unit;
+        q[self.axis.joint] = self.axis.joint_position(self.start + self.direction * s);
         q
     }
     fn joint_rate_bounds(&self) -> Vec<f64> {
         let mut r = vec![0.0; self.base.len()];
-        r[self.joint] = self.si_per_unit.abs();
+        r[self.axis.joint] = self.axis.si_per_unit.abs();
         r
     }
     fn time_s(&self, s: f64) -> f64 {
@@ -457,7 +447,7 @@ impl PathSampler for AxisMovePath {
     }
 }
 
-impl Twin {
+impl Plant {
     /// Whether the scene checks collisions (it has a `[collision]` table).
     pub fn collision_enabled(&self) -> bool {
         self.collision.is_some()
@@ -534,7 +524,7 @@ impl Twin {
     }
 
     /// Live check after one physics step.
-    pub(super) fn collision_after_physics_step(&mut self) {
+    pub(super) fn collision_after_physics_step(&mut self, task: &mut MotionTask) {
         let Some(c) = self.collision.as_mut() else { return };
         let poses = self.sim.world_from_link_isometries();
         let result = c.model.check(&poses);
@@ -548,7 +538,7 @@ impl Twin {
         if !started.is_empty() {
             match c.settings.reaction {
                 Reaction::Stop => {
-                    self.task.stop_all_axes();
+                    task.stop_all_axes();
                 }
                 Reaction::Abort => c.abort = true,
                 _ => {}
@@ -566,13 +556,13 @@ impl Twin {
     /// The run loop sweeps every MC_MoveModulo and MCLM/MCCM move this way
     /// when it starts (with the move's own start time); a caller may sweep
     /// any other path with its own [`PathSampler`].
-    pub fn preflight_path(&mut self, instance: &str, path: &dyn PathSampler) -> Option<&Prediction> {
+    pub fn preflight_path(&mut self, task: &MotionTask, instance: &str, path: &dyn PathSampler) -> Option<&Prediction> {
         // The move's profile starts at the previous update's time.
-        let started_s = self.task.time_s() - self.task.dt_s();
+        let started_s = task.time_s() - task.dt_s();
         self.preflight_path_from(instance, path, started_s)
     }
 
-    /// [`Twin::preflight_path`] for a move whose profile starts at `started_s`.
+    /// [`Plant::preflight_path`] for a move whose profile starts at `started_s`.
     fn preflight_path_from(&mut self, instance: &str, path: &dyn PathSampler, started_s: f64) -> Option<&Prediction> {
         let c = self.collision.as_mut()?;
         if c.settings.preflight == Preflight::Off {
@@ -595,18 +585,11 @@ impl Twin {
 
     /// Joint positions (per URDF joint) of the command now: axes at their
     /// command positions, undriven joints at their initial positions.
-    fn command_joints(&self) -> Vec<f64> {
-        let mut q = vec![0.0; self.model.joints.len()];
-        for (name, value) in &self.scene.robot.initial_joints {
-            if let Some(j) = self.model.joint_by_name(name) {
-                q[j.0] = *value;
-            }
-        }
-        for (a, axis) in self.axes.iter().zip(&self.scene.axes) {
-            if let Some(j) = axis.joint.as_deref().and_then(|name| self.model.joint_by_name(name)) {
-                let joint_position =
-                    self.task.axis_state(a.handle).command_position - self.task.position_offset(a.handle);
-                q[j.0] = joint_position * a.si_per_unit;
+    fn command_joints(&self, task: &MotionTask) -> Vec<f64> {
+        let mut q = self.rest_joints.clone();
+        for a in &self.axes {
+            if let Some(j) = a.axis_joint(task) {
+                q[j.joint] = j.joint_position(task.axis_state(a.handle).command_position);
             }
         }
         q
@@ -614,33 +597,34 @@ impl Twin {
 
     /// Pre-flight sweep of every MC_MoveModulo instance that became Active
     /// and every coordinated move that started in this update.
-    pub(super) fn collision_after_planner_update(&mut self) {
-        self.preflight_move_modulo();
-        self.preflight_coordinated();
+    pub fn after_planner_update(&mut self, task: &mut MotionTask) {
+        self.preflight_move_modulo(task);
+        self.preflight_coordinated(task);
     }
 
-    fn preflight_move_modulo(&mut self) {
+    fn preflight_move_modulo(&mut self, task: &mut MotionTask) {
         let Some(c) = self.collision.as_mut() else { return };
-        c.previous_active.resize(self.fbs.len(), false);
+        let fbs: Vec<FbHandle> = task.fb_handles().collect();
+        c.previous_active.resize(fbs.len(), false);
         let mut started = Vec::new();
-        for (i, fb) in self.fbs.iter().enumerate() {
-            let active = self.task.outputs(fb.handle).active;
+        for (i, &fb) in fbs.iter().enumerate() {
+            let active = task.outputs(fb).active;
             if active && !c.previous_active[i] {
                 started.push(i);
             }
             c.previous_active[i] = active;
         }
         for i in started {
-            let Some((path, elapsed_s)) = self.move_modulo_path(i) else {
+            let Some((path, elapsed_s)) = self.move_modulo_path(task, fbs[i]) else {
                 continue;
             };
-            let (name, handle) = (self.fbs[i].name.clone(), self.fbs[i].handle);
-            let started_s = self.task.time_s() - elapsed_s;
+            let name = task.fb_name(fbs[i]).to_string();
+            let started_s = task.time_s() - elapsed_s;
             if self
                 .preflight_path_from(&name, &path, started_s)
                 .is_some_and(|p| p.rejected)
             {
-                self.task.reject_move(handle, MoveModuloError::PathCollision);
+                task.reject_move(fbs[i], MoveModuloError::PathCollision);
                 if let Some(c) = self.collision.as_mut() {
                     c.previous_active[i] = false;
                 }
@@ -650,7 +634,7 @@ impl Twin {
 
     /// Sweeps every time-driven MCLM/MCCM that started in this update and
     /// rejects it when the scene says so.
-    fn preflight_coordinated(&mut self) {
+    fn preflight_coordinated(&mut self, task: &mut MotionTask) {
         if self
             .collision
             .as_ref()
@@ -658,100 +642,75 @@ impl Twin {
         {
             return;
         }
-        let base = self.command_joints();
-        let now_s = self.task.time_s();
+        let base = self.command_joints(task);
+        let now_s = task.time_s();
         let mut swept = Vec::new();
-        for mv in self.task.coord_moves_started() {
+        for mv in task.coord_moves_started() {
             if mv.mv.driver() == Driver::Master {
                 continue;
             }
-            let primary = self.task.coord_config(mv.system).primary_axes;
+            let primary = task.coord_config(mv.system).primary_axes;
             let path = CoordMovePath::new(
                 mv.mv,
                 mv.profile,
                 primary,
-                self.coord_axis_joints(mv.system),
+                self.coord_axis_joints(task, mv.system),
                 base.clone(),
-                self.transform_mapping(mv.system),
+                self.transform_mapping(task, mv.system),
             );
-            let name = self.task.coord_instruction_name(mv.instruction).to_string();
-            let systems = self
-                .task
-                .transform_of_source(mv.system)
-                .and_then(|t| {
-                    let name_of = |id: planner::mct::instruction::SystemId| {
-                        self.task
-                            .coord_handles()
-                            .nth(id.0 as usize)
-                            .map(|h| self.task.coord_config(h).name.clone())
-                    };
-                    Some((name_of(t.target())?, name_of(t.source())?))
-                })
-                .unwrap_or_default();
-            swept.push((mv.instruction, name, path, now_s - mv.progress, systems));
+            let name = task.coord_instruction_name(mv.instruction).to_string();
+            swept.push((mv.instruction, name, path, now_s - mv.progress, transform_systems(task, mv.system)));
         }
-        for (instruction, name, path, started_s, (target, source)) in swept {
+        for (instruction, name, path, started_s, systems) in swept {
             match self.preflight_path_from(&name, &path, started_s) {
                 Some(p) => {
                     if p.rejected {
-                        self.task.reject_coord_move(instruction);
+                        task.reject_coord_move(instruction);
                     }
                 }
-                None => {
-                    let Some((s, why)) = path.transform.as_ref().and_then(|t| t.unreachable.as_ref()) else {
-                        continue;
-                    };
-                    let Some(c) = self.collision.as_mut() else { continue };
-                    let time_s = path.time_s(*s);
-                    c.predictions.push(Prediction {
-                        instance: name,
-                        started_s,
-                        predicted_at_s: started_s + time_s,
-                        collision: PredictedCollision {
-                            parameter: *s,
-                            time_s,
-                            a: target,
-                            b: source,
-                            depth_m: 0.0,
-                            bound: path.transform.as_ref().map_or(0.0, |t| t.step),
-                        },
-                        rejected: false,
-                        out_of_reach: Some(why.to_string()),
-                    });
-                }
+                None => self.record_unreachable(name, &path, started_s, systems),
             }
         }
     }
 
+    /// Records the first point of a transform path the MCT cannot reach.
+    fn record_unreachable(&mut self, name: String, path: &CoordMovePath, started_s: f64, (target, source): (String, String)) {
+        let Some((s, why)) = path.transform.as_ref().and_then(|t| t.unreachable.as_ref()) else {
+            return;
+        };
+        let Some(c) = self.collision.as_mut() else { return };
+        let time_s = path.time_s(*s);
+        c.predictions.push(Prediction {
+            instance: name,
+            started_s,
+            predicted_at_s: started_s + time_s,
+            collision: PredictedCollision {
+                parameter: *s,
+                time_s,
+                a: target,
+                b: source,
+                depth_m: 0.0,
+                bound: path.transform.as_ref().map_or(0.0, |t| t.step),
+            },
+            rejected: false,
+            out_of_reach: Some(why.to_string()),
+        });
+    }
+
     /// The transform coordinate system `cs` is the running source of, as
     /// the sweep maps it (`None`: no transform).
-    fn transform_mapping(&self, cs: CoordHandle) -> Option<TransformMapping> {
-        let transform = self.task.transform_of_source(cs)?;
-        let system_axes = self.task.coord_axes(cs);
-        let (source_axes, target_axes) = self.task.transform_axes(transform);
+    fn transform_mapping(&self, task: &MotionTask, cs: CoordHandle) -> Option<TransformMapping> {
+        let transform = task.transform_of_source(cs)?;
+        let system_axes = task.coord_axes(cs);
+        let (source_axes, target_axes) = task.transform_axes(transform);
         let source_index = source_axes
             .iter()
             .map(|a| system_axes.iter().position(|h| h == a))
             .collect::<Option<Vec<usize>>>()?;
-        let target: Vec<Option<AxisJoint>> = target_axes
-            .iter()
-            .map(|a| {
-                let binding = self.axes.iter().find(|b| b.handle == *a)?;
-                let axis = self.scene.axes.iter().find(|x| x.name == binding.name)?;
-                let joint = self.model.joint_by_name(axis.joint.as_deref()?)?;
-                Some(AxisJoint {
-                    joint: joint.0,
-                    si_per_unit: binding.si_per_unit,
-                    offset: self.task.position_offset(binding.handle),
-                })
-            })
-            .collect();
+        let target: Vec<Option<AxisJoint>> = target_axes.iter().map(|a| self.axis_joint(task, *a)).collect();
         let arm_axes: Vec<usize> = target_axes
             .iter()
-            .filter_map(|a| {
-                let binding = self.axes.iter().find(|b| b.handle == *a)?;
-                self.scene.axes.iter().position(|x| x.name == binding.name)
-            })
+            .filter_map(|a| self.axes.iter().position(|b| b.handle == *a))
             .collect();
         let rig = self
             .rigs
@@ -766,54 +725,54 @@ impl Twin {
         })
     }
 
-    /// The joint each axis of coordinate system `cs` drives, in system order.
-    fn coord_axis_joints(&self, cs: CoordHandle) -> Vec<Option<AxisJoint>> {
-        self.task
-            .coord_axes(cs)
-            .iter()
-            .map(|&h| {
-                let binding = self.axes.iter().find(|a| a.handle == h)?;
-                let axis = self.scene.axes.iter().find(|a| a.name == binding.name)?;
-                let joint = self.model.joint_by_name(axis.joint.as_deref()?)?;
-                Some(AxisJoint {
-                    joint: joint.0,
-                    si_per_unit: binding.si_per_unit,
-                    offset: self.task.position_offset(h),
-                })
-            })
-            .collect()
+    /// Where the axis `handle` drives the robot now (`None`: no joint).
+    fn axis_joint(&self, task: &MotionTask, handle: AxisHandle) -> Option<AxisJoint> {
+        self.axes.iter().find(|b| b.handle == handle)?.axis_joint(task)
     }
 
-    /// The planned path of the move instance `fb` (index into `fbs`) runs,
-    /// and how far into its profile the last update took it, s.
-    fn move_modulo_path(&self, fb: usize) -> Option<(AxisMovePath, f64)> {
-        let axis_handle = self.fb_axes.get(fb).copied().flatten()?;
-        let binding = self.axes.iter().find(|a| a.handle == axis_handle)?;
-        let (profile, elapsed_s) = self.task.active_profile(axis_handle)?;
-        let joint = self
-            .scene
-            .axes
-            .iter()
-            .find(|a| a.name == binding.name)
-            .and_then(|a| a.joint.as_deref())
-            .and_then(|name| self.model.joint_by_name(name))?;
+    /// The joint each axis of coordinate system `cs` drives, in system order.
+    fn coord_axis_joints(&self, task: &MotionTask, cs: CoordHandle) -> Vec<Option<AxisJoint>> {
+        task.coord_axes(cs).iter().map(|&h| self.axis_joint(task, h)).collect()
+    }
+
+    /// The planned path the move instance `fb` runs, and how far into its
+    /// profile the last update took it, s.
+    fn move_modulo_path(&self, task: &MotionTask, fb: FbHandle) -> Option<(AxisMovePath, f64)> {
+        let axis = task.fb_axis(fb);
+        let joint = self.axis_joint(task, axis)?;
+        let (profile, elapsed_s) = task.active_profile(axis)?;
         let start = profile.start_state().position;
         let end = profile.final_state().position;
         let path = AxisMovePath {
             profile: profile.clone(),
             start,
             direction: if end >= start { 1.0 } else { -1.0 },
-            joint: joint.0,
-            si_per_unit: binding.si_per_unit,
-            base: self.command_joints(),
+            axis: joint,
+            base: self.command_joints(task),
         };
         Some((path, elapsed_s))
     }
 }
 
+/// The (target, source) system names of the transform `cs` is the source
+/// of; empty names without one.
+fn transform_systems(task: &MotionTask, cs: CoordHandle) -> (String, String) {
+    task.transform_of_source(cs)
+        .and_then(|t| {
+            let name_of = |id: planner::mct::instruction::SystemId| {
+                task.coord_handles()
+                    .nth(id.0 as usize)
+                    .map(|h| task.coord_config(h).name.clone())
+            };
+            Some((name_of(t.target())?, name_of(t.source())?))
+        })
+        .unwrap_or_default()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::run::Twin;
     use planner::coord::{CoordMoveInputs, CoordinateSystem, CoordinateSystemConfig, MoveContext};
     use planner::mccm::{MccmInputs, mccm};
     use planner::mclm::mclm;
@@ -917,11 +876,11 @@ mod tests {
             .join(scene);
         let mut twin = Twin::new(crate::scene::load(&path).unwrap()).unwrap();
         let cs = twin
-            .task
+            .task()
             .coord_handles()
-            .find(|h| twin.task.coord_config(*h).name == source)
+            .find(|h| twin.task().coord_config(*h).name == source)
             .unwrap();
-        while twin.task.transform_of_source(cs).is_none() {
+        while twin.task().transform_of_source(cs).is_none() {
             twin.step();
         }
         (twin, cs)
@@ -943,14 +902,14 @@ mod tests {
             ("delta_pick.toml", "Cart"),
         ] {
             let (twin, cs) = twin_with_transform(scene, source);
-            let config = twin.task.coord_config(cs).clone();
+            let config = twin.task().coord_config(cs).clone();
             let n = config.axis_count;
             let system = CoordinateSystem::new(config.clone()).unwrap();
             let start: Vec<f64> = twin
-                .task
+                .task()
                 .coord_axes(cs)
                 .iter()
-                .map(|h| twin.task.axis_state(*h).command_position)
+                .map(|h| twin.task().axis_state(*h).command_position)
                 .collect();
             let (mut checked, mut unreachable) = (0, 0);
             for k in 0..24 {
@@ -991,9 +950,9 @@ mod tests {
                     &mv,
                     &mv.rest_profile(),
                     config.primary_axes,
-                    twin.coord_axis_joints(cs),
-                    twin.command_joints(),
-                    twin.transform_mapping(cs),
+                    twin.plant().coord_axis_joints(twin.task(), cs),
+                    twin.plant().command_joints(twin.task()),
+                    twin.plant().transform_mapping(twin.task(), cs),
                 );
                 let t = path.transform.as_ref().unwrap();
                 // At its start (where the tool is) the path gives the

@@ -38,8 +38,8 @@ use rapier3d_f64::prelude::{
     JointAxis, MassProperties, MotorModel, MultibodyJointHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
 };
 
-use crate::convert::{isometry_to_arrays, matrix_to_rapier, pose_from_rapier, pose_to_rapier, vector_to_rapier};
-use crate::urdf::{Geometry, Joint, JointKind, RobotModel};
+use crate::plant::convert::{isometry_to_arrays, matrix_to_rapier, pose_from_rapier, pose_to_rapier, vector_to_rapier};
+use crate::plant::urdf::{Geometry, Joint, JointKind, RobotModel};
 
 /// The collision group every robot link is a member of and filters out.
 const ROBOT_GROUP: Group = Group::GROUP_32;
@@ -543,7 +543,7 @@ fn rapier_joint(joint: &Joint) -> GenericJoint {
     data
 }
 
-fn mass_properties(link: &crate::urdf::Link, options: &PhysicsOptions) -> MassProperties {
+fn mass_properties(link: &crate::plant::urdf::Link, options: &PhysicsOptions) -> MassProperties {
     match &link.inertial {
         Some(inertial) => {
             let rotation = inertial.link_from_inertial.rotation.to_rotation_matrix();

@@ -48,10 +48,10 @@
 //! (never early; late by at most one minimum step). Grazes shorter than `h`
 //! (depth below about `sweep_resolution_m`) may be missed.
 
-use crate::convert::pose_to_rapier;
+use crate::plant::convert::pose_to_rapier;
 use crate::scene::{CollisionSettings, MeshApproximation, Obstacle, Shape};
-use crate::stl::{StlError, load_stl};
-use crate::urdf::{Geometry, JointKind, RobotModel};
+use crate::plant::stl::{StlError, load_stl};
+use crate::plant::urdf::{Geometry, JointKind, RobotModel};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use rapier3d_f64::math::{Pose, Vector};
 use rapier3d_f64::parry::query;
@@ -219,7 +219,7 @@ fn shape_of(
 }
 
 fn mesh_shape(
-    mesh: &crate::mesh::TriMesh,
+    mesh: &crate::plant::mesh::TriMesh,
     scale: [f64; 3],
     meshes: MeshApproximation,
     body: &str,

@@ -253,9 +253,9 @@ fn a_tool_is_a_body_of_its_own_adjacent_to_its_link_and_its_neighbours() {
 
 /// A U-shaped STL (two 0.1 m prongs 0.3 m apart on a base), as ASCII text.
 fn u_shape_stl() -> String {
-    let mut mesh = crate::mesh::TriMesh::cuboid([0.5, 0.1, 0.1]);
+    let mut mesh = crate::plant::mesh::TriMesh::cuboid([0.5, 0.1, 0.1]);
     for x in [-0.2f32, 0.2] {
-        let prong = crate::mesh::TriMesh::cuboid([0.1, 0.1, 0.5]).transformed(&[
+        let prong = crate::plant::mesh::TriMesh::cuboid([0.1, 0.1, 0.5]).transformed(&[
             [1.0, 0.0, 0.0, 0.0],
             [0.0, 1.0, 0.0, 0.0],
             [0.0, 0.0, 1.0, 0.0],
@@ -377,9 +377,9 @@ fn a_dae_collision_mesh_gets_the_same_convex_hull_as_the_equivalent_stl() {
     std::fs::write(dir.join("u.stl"), u_shape_stl()).unwrap();
     // The same U, in millimetres, Y up: the loader must bring it back to
     // metres and Z up for the hulls to agree.
-    let mut u = crate::mesh::TriMesh::cuboid([0.5, 0.1, 0.1]);
+    let mut u = crate::plant::mesh::TriMesh::cuboid([0.5, 0.1, 0.1]);
     for x in [-0.2f32, 0.2] {
-        u.append(&crate::mesh::TriMesh::cuboid([0.1, 0.1, 0.5]).transformed(&[
+        u.append(&crate::plant::mesh::TriMesh::cuboid([0.1, 0.1, 0.5]).transformed(&[
             [1.0, 0.0, 0.0, 0.0],
             [0.0, 1.0, 0.0, 0.0],
             [0.0, 0.0, 1.0, 0.0],
@@ -393,7 +393,7 @@ fn a_dae_collision_mesh_gets_the_same_convex_hull_as_the_equivalent_stl() {
         [0.0, 1000.0, 0.0, 0.0],
         [0.0, 0.0, 0.0, 1.0],
     ]);
-    let doc = crate::dae::test_docs::collada(
+    let doc = crate::plant::dae::test_docs::collada(
         r#"<unit meter="0.001"/><up_axis>Y_UP</up_axis>"#,
         &[(&u_mm_y_up, [0.0; 3])],
         true,

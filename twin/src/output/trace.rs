@@ -1,0 +1,169 @@
+//! The trace: one CSV row per coarse update, columns in this order (groups
+//! absent when the scene has nothing of that kind):
+//!
+//! * `time_s`;
+//! * per axis `<axis>.cmd_pos`, `.cmd_vel`, `.cmd_acc`, `.act_pos`;
+//! * per function-block instance `<fb>.Done`, `.Busy`, `.Active`,
+//!   `.CommandAborted`, `.Error`, `.ErrorID`;
+//! * per control structure `<tag>.EN`, `.DN`, `.ER`, `.IP`, `.AC`, `.PC`,
+//!   `.ACCEL`, `.DECEL`, `.ERR`, `.EXERR`, `.SEGMENT`;
+//! * with `[collision]`: `collision.count`, `<body>.clearance_m`;
+//! * per cam slave `<axis>.PositionCamStatus`, `.PositionCamLockStatus`,
+//!   `.PositionCamPendingStatus`, `.VelocityLimitExceeded`,
+//!   `.AccelLimitExceeded` (the command exceeded the axis' configured
+//!   maximum, which camming ignores);
+//! * per coordinate system its status bits and, with a `tool_link`,
+//!   `<cs>.tool_x`, `.tool_y`, `.tool_z`;
+//! * when the program calls MCT: per coordinate system
+//!   `<cs>.TransformSourceStatus`, `.TransformTargetStatus`, then per axis
+//!   `<axis>.TransformStateStatus`, `.ControlledByTransformStatus`.
+//!
+//! Numbers use Rust's shortest round-trip formatting (deterministic).
+
+use crate::run::Twin;
+use planner::coord::CoordStatus;
+use planner::instruction::{FbOutputs, MotionInstructionBits};
+
+/// The trace's column names (module doc).
+pub fn header(twin: &Twin) -> Vec<String> {
+    let (task, program, plant) = (twin.task(), twin.program(), twin.plant());
+    let mut h = vec!["time_s".to_string()];
+    for a in plant.axes() {
+        for c in ["cmd_pos", "cmd_vel", "cmd_acc", "act_pos"] {
+            h.push(format!("{}.{c}", a.name));
+        }
+    }
+    for fb in program.fbs() {
+        for (c, _) in FbOutputs::default().bits() {
+            h.push(format!("{}.{c}", fb.name));
+        }
+        h.push(format!("{}.ErrorID", fb.name));
+    }
+    let zero = MotionInstructionBits::default();
+    for ins in program.instructions() {
+        for (c, _) in zero.bits() {
+            h.push(format!("{}.{c}", ins.name));
+        }
+        for (c, _) in zero.codes() {
+            h.push(format!("{}.{c}", ins.name));
+        }
+    }
+    if plant.collision_enabled() {
+        h.push("collision.count".to_string());
+        h.extend(plant.collision_bodies().iter().map(|b| format!("{b}.clearance_m")));
+    }
+    for a in plant.axes().iter().filter(|a| task.is_cam_slave(a.handle)) {
+        for c in CAM_COLUMNS {
+            h.push(format!("{}.{c}", a.name));
+        }
+    }
+    for cs in task.coord_handles() {
+        let name = &task.coord_config(cs).name;
+        for (bit, _) in CoordStatus::default().bits() {
+            h.push(format!("{name}.{bit}"));
+        }
+        if plant.tool_trails().iter().any(|t| &t.system == name) {
+            for c in ["tool_x", "tool_y", "tool_z"] {
+                h.push(format!("{name}.{c}"));
+            }
+        }
+    }
+    if uses_mct(twin) {
+        for cs in task.coord_handles() {
+            let name = &task.coord_config(cs).name;
+            h.push(format!("{name}.TransformSourceStatus"));
+            h.push(format!("{name}.TransformTargetStatus"));
+        }
+        for a in plant.axes() {
+            h.push(format!("{}.TransformStateStatus", a.name));
+            h.push(format!("{}.ControlledByTransformStatus", a.name));
+        }
+    }
+    h
+}
+
+const CAM_COLUMNS: [&str; 5] = [
+    "PositionCamStatus",
+    "PositionCamLockStatus",
+    "PositionCamPendingStatus",
+    "VelocityLimitExceeded",
+    "AccelLimitExceeded",
+];
+
+fn bit(b: bool) -> String {
+    if b { "1" } else { "0" }.to_string()
+}
+
+/// The row for the current update, matching [`header`].
+pub fn row(twin: &Twin) -> Vec<String> {
+    let (task, program, plant) = (twin.task(), twin.program(), twin.plant());
+    let mut row = vec![format!("{}", twin.time_s())];
+    for a in plant.axes() {
+        let s = task.axis_state(a.handle);
+        for x in [
+            s.command_position,
+            s.command_velocity,
+            s.command_acceleration,
+            s.actual_position,
+        ] {
+            row.push(format!("{x}"));
+        }
+    }
+    for fb in program.fbs() {
+        let o = task.outputs(fb.handle);
+        row.extend(o.bits().into_iter().map(|(_, b)| bit(b)));
+        row.push(o.error_id.to_string());
+    }
+    for ins in program.instructions() {
+        let b = task.motion_bits(ins.handle);
+        row.extend(b.bits().into_iter().map(|(_, x)| bit(x)));
+        row.extend(b.codes().into_iter().map(|(_, code)| code.to_string()));
+    }
+    if plant.collision_enabled() {
+        row.push(plant.collision_events().len().to_string());
+        row.extend(plant.clearance_m().iter().map(|d| format!("{d}")));
+    }
+    for a in plant.axes().iter().filter(|a| task.is_cam_slave(a.handle)) {
+        let s = task.slave_cam_status(a.handle);
+        let l = task.limits_exceeded(a.handle);
+        row.extend([s.position_cam, s.lock, s.pending, l.velocity, l.acceleration].map(bit));
+    }
+    coord_row(twin, &mut row);
+    if uses_mct(twin) {
+        for cs in task.coord_handles() {
+            row.push(bit(task.transform_source_status(cs)));
+            row.push(bit(task.transform_target_status(cs)));
+        }
+        for a in plant.axes() {
+            row.push(bit(task.transform_state_status(a.handle)));
+            row.push(bit(task.controlled_by_transform_status(a.handle)));
+        }
+    }
+    row
+}
+
+fn coord_row(twin: &Twin, row: &mut Vec<String>) {
+    let (task, plant) = (twin.task(), twin.plant());
+    let links = if plant.tool_trails().is_empty() {
+        Vec::new()
+    } else {
+        plant.world_from_link()
+    };
+    for cs in task.coord_handles() {
+        let name = &task.coord_config(cs).name;
+        row.extend(task.coord_status(cs).bits().into_iter().map(|(_, b)| bit(b)));
+        if let Some(t) = plant.tool_trails().iter().find(|t| &t.system == name) {
+            for x in links[t.link].0 {
+                row.push(format!("{x}"));
+            }
+        }
+    }
+}
+
+/// Whether the program calls MCT.
+fn uses_mct(twin: &Twin) -> bool {
+    twin.scene()
+        .program
+        .iter()
+        .any(|s| s.call.name.value.eq_ignore_ascii_case("MCT"))
+}

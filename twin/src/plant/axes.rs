@@ -1,0 +1,192 @@
+//! The scene's axes bound to the planner and to the robot's joints: the one
+//! place where axis units, MRP position offsets and joint SI units meet.
+//!
+//! An axis position in the planner is in axis units (`deg`, `mm`, …) and
+//! includes the offset an MRP redefined; the joint it drives is in rad or m
+//! and knows nothing of MRP. [`AxisJoint::joint_position`] and
+//! [`AxisBinding::axis_position`] convert between the two; nothing else in
+//! the twin scales by `si_per_unit` or subtracts an offset.
+
+use super::PlantError;
+use super::limits;
+use super::physics::JointDrive;
+use super::urdf::RobotModel;
+use crate::scene::{Axis, AxisKind, Scene};
+use planner::axis::{AxisConfig, AxisKind as PlannerAxisKind};
+use planner::task::{AxisHandle, MotionTask};
+
+/// One axis of the scene bound to the planner and a joint motor.
+#[derive(Debug, Clone)]
+pub struct AxisBinding {
+    /// Axis tag name.
+    pub name: String,
+    /// Planner handle.
+    pub handle: AxisHandle,
+    /// Index of the joint drive in the physics world; `None` for a virtual
+    /// axis.
+    pub drive: Option<usize>,
+    /// URDF joint index of the driven joint; `None` for a virtual axis.
+    pub joint: Option<usize>,
+    /// SI units (rad or m) per axis unit.
+    pub si_per_unit: f64,
+    /// In-position window, axis units.
+    pub in_position_window: f64,
+}
+
+/// How an axis position becomes its joint's position right now.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisJoint {
+    /// URDF joint index.
+    pub joint: usize,
+    /// SI units per axis unit.
+    pub si_per_unit: f64,
+    /// The MRP position offset of the axis, axis units.
+    pub offset: f64,
+}
+
+impl AxisJoint {
+    /// The joint position (rad or m) of an axis position (axis units).
+    pub fn joint_position(&self, axis_position: f64) -> f64 {
+        (axis_position - self.offset) * self.si_per_unit
+    }
+}
+
+impl AxisBinding {
+    /// The joint mapping of a driven axis now (`None` for a virtual axis).
+    pub fn axis_joint(&self, task: &MotionTask) -> Option<AxisJoint> {
+        Some(AxisJoint {
+            joint: self.joint?,
+            si_per_unit: self.si_per_unit,
+            offset: task.position_offset(self.handle),
+        })
+    }
+
+    /// The command position and velocity in the joint's frame (MRP offset
+    /// removed), axis units: what the drive interpolates between updates.
+    pub fn drive_command(&self, task: &MotionTask) -> (f64, f64) {
+        let s = task.axis_state(self.handle);
+        (s.command_position - task.position_offset(self.handle), s.command_velocity)
+    }
+
+    /// An axis-unit quantity in the joint's frame as SI (rad, m, rad/s …).
+    pub fn to_si(&self, x: f64) -> f64 {
+        x * self.si_per_unit
+    }
+
+    /// The axis position (joint frame, axis units) of a joint position
+    /// (rad or m); the planner adds the MRP offset back.
+    pub fn axis_position(&self, joint_position: f64) -> f64 {
+        joint_position / self.si_per_unit
+    }
+}
+
+/// The planner's configuration of a scene axis.
+pub fn axis_config(axis: &Axis) -> AxisConfig {
+    let kind = match axis.kind {
+        AxisKind::Linear => PlannerAxisKind::Linear,
+        AxisKind::Rotary => PlannerAxisKind::Rotary,
+    };
+    AxisConfig {
+        modulo_period: axis.modulo_period,
+        max_velocity: axis.max_velocity,
+        max_acceleration: axis.max_acceleration,
+        max_deceleration: axis.max_deceleration,
+        max_jerk: axis.max_jerk,
+        in_position_window: axis.in_position_window,
+        target_position_monitoring: axis.target_position_monitoring,
+        modulo_tolerance_window: axis.modulo_tolerance_window,
+        soft_travel_limits: axis.soft_travel_limits,
+        ..AxisConfig::new(axis.name.clone(), kind)
+    }
+}
+
+/// The scene's axes added to the planner, with the joint drives they need
+/// and the joints' initial positions (`initial`, URDF units).
+pub(crate) struct BoundAxes {
+    pub axes: Vec<AxisBinding>,
+    pub drives: Vec<JointDrive>,
+}
+
+/// Adds every scene axis to the planner and binds it to its joint.
+///
+/// # Errors
+/// [`PlantError::Joint`] naming the axis' `joint` field when the joint is
+/// missing or fixed or the initial position is outside its limits;
+/// [`PlantError::Planner`] when the planner refuses the axis.
+pub(crate) fn bind_axes(
+    scene: &Scene,
+    model: &RobotModel,
+    task: &mut MotionTask,
+    initial: &mut Vec<(String, f64)>,
+) -> Result<BoundAxes, PlantError> {
+    let mut bound = BoundAxes {
+        axes: Vec::new(),
+        drives: Vec::new(),
+    };
+    for axis in &scene.axes {
+        let joint_error = |message: String| PlantError::Joint {
+            scene: scene.path.clone(),
+            line: axis.joint_location.line,
+            column: axis.joint_location.column,
+            message,
+        };
+        let config = limits::with_urdf_limits(axis_config(axis), axis, model).map_err(joint_error)?;
+        let handle = task
+            .add_axis(config, axis.initial_position)
+            .map_err(|source| PlantError::Planner {
+                scene: scene.path.clone(),
+                source,
+            })?;
+        let mut binding = AxisBinding {
+            name: axis.name.clone(),
+            handle,
+            drive: None,
+            joint: None,
+            si_per_unit: axis.units.si_per_unit(),
+            in_position_window: axis.in_position_window,
+        };
+        // A virtual axis has no joint and is never fed (actual = command).
+        if let Some(joint) = &axis.joint {
+            let index = driven_joint(scene, model, axis, joint).map_err(joint_error)?;
+            initial.retain(|(name, _)| name != joint);
+            initial.push((joint.clone(), binding.to_si(axis.initial_position)));
+            bound.drives.push(JointDrive {
+                joint: joint.clone(),
+                stiffness: axis.motor.stiffness,
+                damping: axis.motor.damping,
+                max_force: None,
+            });
+            binding.drive = Some(bound.drives.len() - 1);
+            binding.joint = Some(index);
+        }
+        bound.axes.push(binding);
+    }
+    Ok(bound)
+}
+
+/// The URDF joint index an axis drives.
+fn driven_joint(scene: &Scene, model: &RobotModel, axis: &Axis, joint: &str) -> Result<usize, String> {
+    let Some(j) = model.joint_by_name(joint) else {
+        let mut names: Vec<&str> = model
+            .joints
+            .iter()
+            .filter(|j| j.kind.is_movable())
+            .map(|j| j.name.as_str())
+            .collect();
+        names.sort_unstable();
+        return Err(format!(
+            "axis '{}' is mapped to joint '{}', which {} does not have (movable joints: {})",
+            axis.name,
+            joint,
+            scene.robot.urdf.display(),
+            names.join(", ")
+        ));
+    };
+    if !model.joint(j).kind.is_movable() {
+        return Err(format!(
+            "joint '{}' of axis '{}' is fixed and cannot be driven",
+            joint, axis.name
+        ));
+    }
+    Ok(j.0)
+}

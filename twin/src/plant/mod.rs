@@ -1,0 +1,351 @@
+//! The plant: the simulated machine the program drives.
+//!
+//! **In:** the scene (robot URDF, axes, obstacles, `[collision]`) when it is
+//! built; every coarse update, the planner's command positions and
+//! velocities. **Out:** the joints' actual positions, fed back to the
+//! planner as the axes' actual positions; link poses, contacts, clearances,
+//! predicted collisions and tool trails for the outputs.
+//!
+//! * [`axes`] binds the scene's axes to the planner and to the joints: the
+//!   one place where axis units, MRP offsets and joint SI meet; [`limits`]
+//!   gives them the URDF's soft travel limits.
+//! * [`urdf`] (with [`stl`], [`dae`], [`mesh`]) loads the robot, [`physics`]
+//!   builds the rapier multibody with a joint motor per drive
+//!   ([`convert`]: nalgebra ↔ rapier), [`transform`] checks an MCT target
+//!   robot against its geometry ([`kinematics_check`]) and poses the
+//!   virtual joints of parallel robots.
+//! * [`collision`] is the parry collision model; [`collide`] runs its live
+//!   checks after every physics step and the pre-flight sweep of every move
+//!   that starts.
+//! * [`parts`] are the drawable pieces (URDF visuals and obstacles),
+//!   [`trails`] the tool-centre trails.
+//!
+//! # Timing
+//! Update `k` advances the planner to `t_k = k · coarse_update`; the physics
+//! then runs the `coarse_update / physics_step` steps covering
+//! `(t_{k-1}, t_k]`, each given the command position interpolated linearly
+//! between the setpoints of `t_{k-1}` and `t_k` and the interpolated command
+//! velocity as feed-forward. The joint positions at `t_k` are fed back as the
+//! axes' actual positions, so `Done` (target position monitoring) sees them at
+//! the next update, as a PLC sees its inputs at the start of its cycle.
+
+pub mod axes;
+pub mod collide;
+pub mod collision;
+pub mod convert;
+pub mod dae;
+pub mod kinematics_check;
+pub mod limits;
+pub mod mesh;
+pub mod parts;
+pub mod physics;
+pub mod stl;
+pub mod trails;
+pub mod transform;
+pub mod urdf;
+
+use axes::{AxisBinding, BoundAxes};
+use collision::CollisionModelError;
+use parts::{Part, scene_parts};
+use physics::{PhysicsError, PhysicsOptions, RobotSim};
+use planner::task::{MotionTask, TaskError};
+use std::path::PathBuf;
+use stl::StlError;
+use thiserror::Error;
+use trails::ToolTrail;
+use transform::ParallelRig;
+use urdf::{RobotModel, UrdfError};
+
+/// Why the plant of a scene cannot be built. Each variant names the scene
+/// file and the place.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum PlantError {
+    /// The robot's URDF (or a mesh it references) cannot be loaded.
+    #[error("{scene}: robot.urdf: {source}")]
+    Urdf {
+        /// Scene file.
+        scene: PathBuf,
+        /// What failed (boxed: URDF errors are large).
+        #[source]
+        source: Box<UrdfError>,
+    },
+    /// An axis is mapped to a joint the URDF does not have (or cannot drive).
+    #[error("{scene}:{line}:{column}: axes.joint: {message}")]
+    Joint {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the field.
+        line: usize,
+        /// Column of the field.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The physics world cannot be built.
+    #[error("{scene}: robot: {source}")]
+    Physics {
+        /// Scene file.
+        scene: PathBuf,
+        /// What failed.
+        #[source]
+        source: PhysicsError,
+    },
+    /// The planner refuses an axis.
+    #[error("{scene}: {source}")]
+    Planner {
+        /// Scene file.
+        scene: PathBuf,
+        /// What failed.
+        #[source]
+        source: TaskError,
+    },
+    /// An obstacle's mesh file cannot be loaded.
+    #[error("{scene}:{line}:{column}: obstacles.file: obstacle '{obstacle}': {source}")]
+    ObstacleMesh {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the obstacle.
+        line: usize,
+        /// Column of the obstacle.
+        column: usize,
+        /// Obstacle name.
+        obstacle: String,
+        /// Why the STL file failed (names the file).
+        #[source]
+        source: StlError,
+    },
+    /// A transform's target robot (URDF) does not have the kinematics of its
+    /// `geometry` table.
+    #[error("{scene}:{line}:{column}: tags.geometry: {message}")]
+    Kinematics {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the `geometry` table.
+        line: usize,
+        /// Column of the `geometry` table.
+        column: usize,
+        /// What disagrees, and by how much.
+        message: String,
+    },
+    /// A coordinate system's `tool_link` is not a link of the URDF.
+    #[error("{scene}:{line}:{column}: tags.coordinate_system.tool_link: {message}")]
+    ToolLink {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the `coordinate_system` table.
+        line: usize,
+        /// Column of the table.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The `[collision]` table names something the robot or scene lacks, or
+    /// a collision shape cannot be built.
+    #[error("{scene}:{line}:{column}: {source}")]
+    Collision {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the field (or of the `[collision]` table).
+        line: usize,
+        /// Column of the field.
+        column: usize,
+        /// What is wrong.
+        #[source]
+        source: CollisionModelError,
+    },
+}
+
+/// The simulated machine: robot model, physics, axes bound to joints,
+/// collision checks and tool trails.
+pub struct Plant {
+    model: RobotModel,
+    parts: Vec<Part>,
+    sim: RobotSim,
+    axes: Vec<AxisBinding>,
+    /// Parallel robots' virtual joints posed from MCT kinematics.
+    rigs: Vec<ParallelRig>,
+    /// Per URDF joint, its initial position (0 where the scene gives none).
+    rest_joints: Vec<f64>,
+    substeps: usize,
+    step_s: f64,
+    /// Per axis, the last update's drive command (joint frame, axis units).
+    previous_command: Vec<(f64, f64)>,
+    collision: Option<collide::CollideState>,
+    trails: Vec<ToolTrail>,
+}
+
+impl Plant {
+    /// Loads the URDF, adds the scene's axes to the planner, checks the
+    /// transforms' target robots and builds the physics world.
+    ///
+    /// # Errors
+    /// [`PlantError`] naming the scene file and the place that is wrong.
+    pub fn new(scene: &crate::scene::Scene, task: &mut MotionTask) -> Result<Plant, PlantError> {
+        let path = scene.path.clone();
+        let model = RobotModel::load(&scene.robot.urdf).map_err(|source| PlantError::Urdf {
+            scene: path.clone(),
+            source: Box::new(source),
+        })?;
+        let parts = scene_parts(&model, scene).map_err(|e| {
+            let o = &scene.obstacles[e.obstacle];
+            PlantError::ObstacleMesh {
+                scene: path.clone(),
+                line: o.location.line,
+                column: o.location.column,
+                obstacle: o.name.clone(),
+                source: e.source,
+            }
+        })?;
+        let mut initial: Vec<(String, f64)> = scene.robot.initial_joints.clone().into_iter().collect();
+        let rest_joints = rest_joints(&model, &initial);
+        let BoundAxes { axes, mut drives } = axes::bind_axes(scene, &model, task, &mut initial)?;
+        transform::check_transforms(scene, &model)?;
+        let axis_drives: Vec<Option<usize>> = axes.iter().map(|a| a.drive).collect();
+        let rigs = transform::parallel_rigs(scene, &model, &axis_drives, &mut drives, &mut initial)?;
+        initial.sort_by(|a, b| a.0.cmp(&b.0));
+        let step_s = scene.physics_step_ms / 1000.0;
+        let options = PhysicsOptions {
+            step_s,
+            ..PhysicsOptions::default()
+        };
+        let sim = RobotSim::new(&model, &drives, &initial, options).map_err(|source| PlantError::Physics {
+            scene: path.clone(),
+            source,
+        })?;
+        let collision = collide::CollideState::new(&model, scene)
+            .transpose()
+            .map_err(|source| collision_error(scene, source))?;
+        let previous_command = axes
+            .iter()
+            .map(|a| (task.axis_state(a.handle).command_position, 0.0))
+            .collect();
+        Ok(Plant {
+            substeps: (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize,
+            model,
+            parts,
+            sim,
+            axes,
+            rigs,
+            rest_joints,
+            step_s,
+            previous_command,
+            collision,
+            trails: Vec::new(),
+        })
+    }
+
+    /// Binds the tool trails of the coordinate systems the program uses
+    /// (once the program is bound) and records their first points.
+    ///
+    /// # Errors
+    /// [`PlantError::ToolLink`] when a `tool_link` is not a URDF link.
+    pub fn bind_tool_trails(&mut self, scene: &crate::scene::Scene, task: &MotionTask) -> Result<(), PlantError> {
+        self.trails = trails::tool_trails(scene, &self.model, task)?;
+        self.record_trails();
+        Ok(())
+    }
+
+    /// The physics steps of one coarse update: the drives follow the
+    /// planner's new setpoints, the live collision checks run after every
+    /// step, and the joints' positions are fed back as actual positions.
+    pub fn advance(&mut self, task: &mut MotionTask) {
+        self.collision_begin_update();
+        let now: Vec<(f64, f64)> = self.axes.iter().map(|a| a.drive_command(task)).collect();
+        let n = self.substeps;
+        for j in 0..n {
+            self.set_setpoints(&now, j as f64 / n as f64, (j as f64 + 0.5) / n as f64);
+            self.sim.step();
+            self.collision_after_physics_step(task);
+            if self.collision_abort() {
+                break;
+            }
+        }
+        self.previous_command = now;
+        for axis in &self.axes {
+            let Some(drive) = axis.drive else { continue };
+            task.feed_actual_position(axis.handle, axis.axis_position(self.sim.joint_position(drive)));
+        }
+        self.record_trails();
+    }
+
+    /// Drive setpoints at fraction `f` of the update (velocity at `fm`),
+    /// interpolated from the previous update's commands to `now`.
+    fn set_setpoints(&mut self, now: &[(f64, f64)], f: f64, fm: f64) {
+        let mut setpoints = Vec::with_capacity(self.axes.len());
+        for (k, axis) in self.axes.iter().enumerate() {
+            let Some(drive) = axis.drive else { continue };
+            let (p0, v0) = self.previous_command[k];
+            let (p1, v1) = now[k];
+            let p = p0 + (p1 - p0) * f;
+            let v = v0 + (v1 - v0) * fm;
+            self.sim.set_setpoint(drive, axis.to_si(p), axis.to_si(v));
+            setpoints.push((drive, axis.to_si(p)));
+        }
+        for rig in &mut self.rigs {
+            let setpoint = |d: usize| setpoints.iter().find(|(x, _)| *x == d).map(|(_, p)| *p);
+            rig.drive(&self.model, &mut self.sim, self.step_s, setpoint);
+        }
+    }
+
+    fn record_trails(&mut self) {
+        if self.trails.is_empty() {
+            return;
+        }
+        trails::record(&mut self.trails, &self.sim.world_from_link());
+    }
+
+    /// The robot model.
+    pub fn model(&self) -> &RobotModel {
+        &self.model
+    }
+
+    /// Every drawable piece: URDF visuals and obstacles, meshes loaded once.
+    pub fn parts(&self) -> &[Part] {
+        &self.parts
+    }
+
+    /// The bound axes, in scene order.
+    pub fn axes(&self) -> &[AxisBinding] {
+        &self.axes
+    }
+
+    /// World poses of every URDF link (translation m, quaternion xyzw), in
+    /// model link order.
+    pub fn world_from_link(&self) -> Vec<([f64; 3], [f64; 4])> {
+        self.sim.world_from_link()
+    }
+
+    /// The tool-centre trails of the coordinate systems that name a
+    /// `tool_link`, in the order the program first uses the systems.
+    pub fn tool_trails(&self) -> &[ToolTrail] {
+        &self.trails
+    }
+}
+
+/// Per URDF joint, the scene's initial position (0 where it gives none).
+fn rest_joints(model: &RobotModel, initial: &[(String, f64)]) -> Vec<f64> {
+    let mut q = vec![0.0; model.joints.len()];
+    for (name, value) in initial {
+        if let Some(j) = model.joint_by_name(name) {
+            q[j.0] = *value;
+        }
+    }
+    q
+}
+
+/// A collision-model error placed at its field, or at the `[collision]` table.
+fn collision_error(scene: &crate::scene::Scene, source: CollisionModelError) -> PlantError {
+    let at = scene.collision.as_ref().map(|c| c.location).unwrap_or_default();
+    let (line, column) = match &source {
+        CollisionModelError::UnknownToolLink { line, column, .. }
+        | CollisionModelError::UnknownPairBody { line, column, .. } => (*line, *column),
+        _ => (at.line, at.column),
+    };
+    PlantError::Collision {
+        scene: scene.path.clone(),
+        line,
+        column,
+        source,
+    }
+}

@@ -1,0 +1,154 @@
+//! The program: what the PLC side executes each coarse update.
+//!
+//! **In:** the scene's `[[program]]` steps (validated calls and triggers)
+//! and the planner its axes were added to. **Out:** instruction calls into
+//! the planner ([`planner::task::MotionTask`]), each at the update its
+//! trigger makes it due.
+//!
+//! * [`bind`] reads a positional Logix call's operands through the
+//!   instruction catalogue ([`planner::catalogue`]); one file per
+//!   instruction family binds them to the planner: [`coord`] (MCLM, MCCM,
+//!   MCS), [`mct`] (MCT), [`cam`] (MCCP, MAPC, MRP, MAJ, MAS), [`modulo`]
+//!   (the PLCopen block MC_MoveModulo, named inputs).
+//! * [`steps`] holds the triggers: when each step fires.
+//!
+//! # Program steps
+//! Each step fires once. A `when` step is armed once the step before it has
+//! fired (the list is a sequence, like SFC transitions) and is due `after_s`
+//! after the first update at which its bit is TRUE; an `at_s` step is due at
+//! its time. A step fires at the first coarse update that starts at or after
+//! it is due; due steps set their inputs in list order, just before the
+//! planner update. A function-block call sets the inputs it
+//! names; the others keep their last value, as PLC block inputs do.
+//! A Logix call is one scan of a rung that has just become true (see
+//! [`bind`]); `when` may name a control-structure bit (`MC1.PC`) as well as
+//! a function-block output (`MoveTable.Done`).
+
+pub mod bind;
+pub mod cam;
+pub mod coord;
+pub mod mct;
+pub mod modulo;
+pub mod steps;
+
+use crate::scene::Scene;
+use crate::st::{Args, Expr};
+use planner::task::{FbHandle, InstructionHandle, MotionTask};
+use std::path::PathBuf;
+use steps::{CompiledStep, StepAction};
+use thiserror::Error;
+
+/// Why a program step cannot be bound.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum ProgramError {
+    /// A program step cannot be carried out.
+    #[error("{scene}:{line}:{column}: program[{index}]: {message}")]
+    Step {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the step.
+        line: usize,
+        /// Column of the step.
+        column: usize,
+        /// Step index.
+        index: usize,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// A function-block instance of the program.
+#[derive(Debug, Clone)]
+pub struct FbBinding {
+    /// Instance tag name.
+    pub name: String,
+    /// Planner handle.
+    pub handle: FbHandle,
+}
+
+/// A `MOTION_INSTRUCTION` tag of the program (a Logix control structure).
+#[derive(Debug, Clone)]
+pub struct InstructionBinding {
+    /// Tag name.
+    pub name: String,
+    /// Planner handle.
+    pub handle: InstructionHandle,
+}
+
+/// The scene's program bound to the planner.
+#[derive(Debug)]
+pub struct Program {
+    fbs: Vec<FbBinding>,
+    instructions: Vec<InstructionBinding>,
+    steps: Vec<CompiledStep>,
+}
+
+impl Program {
+    /// Binds every program step: its call to the planner (creating
+    /// instances, control structures and coordinate systems on first use)
+    /// and its trigger.
+    ///
+    /// # Errors
+    /// [`ProgramError::Step`] naming the step and what is wrong.
+    pub fn bind(scene: &Scene, task: &mut MotionTask) -> Result<Program, ProgramError> {
+        let mut program = Program {
+            fbs: Vec::new(),
+            instructions: Vec::new(),
+            steps: Vec::new(),
+        };
+        for (index, step) in scene.program.iter().enumerate() {
+            let fail = |message: String| ProgramError::Step {
+                scene: scene.path.clone(),
+                line: step.location.line,
+                column: step.location.column,
+                index,
+                message,
+            };
+            let action = program.bind_call(scene, task, &step.call).map_err(fail)?;
+            let trigger = steps::trigger(&step.trigger, &program.fbs, &program.instructions).map_err(fail)?;
+            program.steps.push(CompiledStep::new(trigger, action));
+        }
+        Ok(program)
+    }
+
+    fn bind_call(&mut self, scene: &Scene, task: &mut MotionTask, call: &crate::st::Call) -> Result<StepAction, String> {
+        match &call.args {
+            Args::Positional(operands) => {
+                let operands: Vec<Expr> = operands.iter().map(|o| o.value.clone()).collect();
+                let mut ctx = bind::LogixContext {
+                    scene,
+                    task,
+                    instructions: &mut self.instructions,
+                };
+                Ok(StepAction::Logix(bind::compile(&call.name.value, &operands, &mut ctx)?))
+            }
+            Args::Named(_) => {
+                let bound = modulo::bind(call, scene, task, &mut self.fbs)?;
+                Ok(StepAction::MoveModulo {
+                    fb: self.fbs[bound.fb].handle,
+                    set: bound.set,
+                })
+            }
+        }
+    }
+
+    /// One scan: fires the steps due at the planner's current time, in list
+    /// order (their calls take effect at the next planner update).
+    pub fn scan(&mut self, task: &mut MotionTask) {
+        for i in steps::due(&mut self.steps, task, &self.fbs, &self.instructions) {
+            self.steps[i].action.execute(task);
+        }
+    }
+
+    /// The function-block instances, in the order the program first calls them.
+    pub fn fbs(&self) -> &[FbBinding] {
+        &self.fbs
+    }
+
+    /// The `MOTION_INSTRUCTION` tags the program executes with, in the order
+    /// the program first uses them.
+    pub fn instructions(&self) -> &[InstructionBinding] {
+        &self.instructions
+    }
+}
