@@ -234,6 +234,7 @@ fn twin_setpoints_are_the_planners_setpoints() {
     let config = twin::plant::axes::axis_config(axis);
     let h = replay.add_axis(config, axis.initial_position).unwrap();
     let fbs: Vec<_> = twin
+        .program()
         .fbs()
         .iter()
         .map(|f| replay.add_move_modulo(f.name.clone(), h))
@@ -719,8 +720,8 @@ fn collision_events_are_identical_on_rerun() {
     ] {
         let a = run_twin(scene);
         let b = run_twin(scene);
-        assert_eq!(a.collision_events(), b.collision_events(), "{scene}");
-        assert_eq!(a.predicted_collisions(), b.predicted_collisions(), "{scene}");
+        assert_eq!(a.plant().collision_events(), b.plant().collision_events(), "{scene}");
+        assert_eq!(a.plant().predicted_collisions(), b.plant().predicted_collisions(), "{scene}");
     }
     // Through an MCT: the sweep's sampled transform path too.
     let scene = scara_arc_collision_scene("report_rerun");
@@ -730,9 +731,9 @@ fn collision_events_are_identical_on_rerun() {
     std::fs::write(&scene, text).unwrap();
     let scene = scene.display().to_string();
     let (a, b) = (run_twin(&scene), run_twin(&scene));
-    assert!(!a.predicted_collisions().is_empty() && !a.collision_events().is_empty());
-    assert_eq!(a.collision_events(), b.collision_events());
-    assert_eq!(a.predicted_collisions(), b.predicted_collisions());
+    assert!(!a.plant().predicted_collisions().is_empty() && !a.plant().collision_events().is_empty());
+    assert_eq!(a.plant().collision_events(), b.plant().collision_events());
+    assert_eq!(a.plant().predicted_collisions(), b.plant().predicted_collisions());
 }
 
 #[test]
@@ -1578,6 +1579,7 @@ fn an_mct_source_arc_rejected_by_the_sweep_never_moves_the_joints() {
     let mut twin = Twin::new(twin::scene::load(&path).unwrap()).unwrap();
     let c1 = instruction(&twin, "C1");
     let joints: Vec<_> = twin
+        .plant()
         .axes()
         .iter()
         .filter(|a| a.name.starts_with('J'))

@@ -136,6 +136,7 @@ impl Frames {
             let links = twin.plant().world_from_link();
             let colliding = twin.plant().colliding_links();
             let items: Vec<crate::output::render::DrawItem> = twin
+                .plant()
                 .parts()
                 .iter()
                 .zip(&inner.meshes)
@@ -148,6 +149,7 @@ impl Frames {
                 .collect();
             // Tool-centre trails of the coordinate systems, orange.
             let lines: Vec<crate::output::render::LineStrip> = twin
+                .plant()
                 .tool_trails()
                 .iter()
                 .map(|t| crate::output::render::LineStrip {
@@ -551,6 +553,7 @@ impl Stats {
             outcomes: twin.program().fbs().iter().map(|f| InstructionOutcome::named(&f.name)).collect(),
             previous: vec![Default::default(); twin.program().fbs().len()],
             logix_outcomes: twin
+                .program()
                 .instructions()
                 .iter()
                 .map(|b| InstructionOutcome::named(&b.name))
@@ -621,6 +624,7 @@ impl Stats {
             updates: twin.task().updates(),
             instructions,
             max_following_error: twin
+                .plant()
                 .axes()
                 .iter()
                 .zip(&self.max_following_error)
@@ -630,6 +634,7 @@ impl Stats {
             collisions: twin.plant().collision_events().to_vec(),
             predicted_collisions: twin.plant().predicted_collisions().to_vec(),
             min_clearance_m: twin
+                .plant()
                 .collision_bodies()
                 .into_iter()
                 .zip(twin.plant().min_clearance_m())

@@ -154,7 +154,7 @@ pub(super) fn coordinate_system(
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::run::Twin;
     use crate::scene::{Problem, Scene, SceneError, parse};
     use std::path::{Path, PathBuf};
 
@@ -257,15 +257,15 @@ mod tests {
             .coord_handles()
             .find(|h| twin.task().coord_config(*h).name == "XY")
             .unwrap();
-        let z = twin.axes().iter().find(|a| a.name == "Z").unwrap().handle;
+        let z = twin.plant().axes().iter().find(|a| a.name == "Z").unwrap().handle;
         assert_eq!(twin.task().coordinate_system_master(xy), Some(z));
-        let c1 = twin.instructions().iter().find(|b| b.name == "C1").unwrap().handle;
+        let c1 = twin.program().instructions().iter().find(|b| b.name == "C1").unwrap().handle;
         for _ in 0..1000 {
             twin.step();
         }
         let b = twin.task().motion_bits(c1);
         assert!(b.dn && b.ip && !b.pc && !b.er, "{b:?}");
-        let x = twin.axes()[0].handle;
+        let x = twin.plant().axes()[0].handle;
         assert_eq!(
             twin.task().axis_state(x).command_position,
             -100.0,
@@ -280,7 +280,7 @@ mod tests {
         // Direction 7 on the full circle: ERR 13, EXERR 6 (Direction).
         let t = text().replacen("1, Origin[0], 3, 200", "1, Origin[0], 7, 200", 1);
         let mut twin = Twin::new(scene(&t).unwrap()).unwrap();
-        let c1 = twin.instructions().iter().find(|b| b.name == "C1").unwrap().handle;
+        let c1 = twin.program().instructions().iter().find(|b| b.name == "C1").unwrap().handle;
         for _ in 0..1000 {
             twin.step();
             if twin.task().motion_bits(c1).er {
@@ -300,15 +300,15 @@ mod tests {
             .map(|h| twin.task().coord_config(h).name.as_str())
             .collect();
         assert_eq!(names, ["XYZ", "XY"]);
-        let header = twin.trace_header();
+        let header = crate::output::trace::header(&twin);
         let first = header.iter().position(|h| h == "XYZ.MotionStatus").unwrap();
         assert_eq!(header[first + 10], "XYZ.CoordMotionLockStatus");
         assert_eq!(header[first + 11], "XYZ.tool_x");
         assert_eq!(header[first + 14], "XY.MotionStatus");
-        assert_eq!(twin.trace_row().len(), header.len());
-        assert_eq!(twin.tool_trails().len(), 2);
+        assert_eq!(crate::output::trace::row(&twin).len(), header.len());
+        assert_eq!(twin.plant().tool_trails().len(), 2);
         // The tool centre at all joints 0 is 0.39 m under the rails at z = 0.6 m.
-        let p = twin.tool_trails()[0].points_in_world[0];
+        let p = twin.plant().tool_trails()[0].points_in_world[0];
         assert!(
             (p[0]).abs() < 1e-6 && (p[1]).abs() < 1e-6 && (p[2] - 0.21).abs() < 1e-3,
             "{p:?}"

@@ -51,7 +51,7 @@ pub enum Preflight {
     /// As `report`, and reject the move before the physics runs any of it:
     /// an MC_MoveModulo instance gets `Error` with ErrorID 16#422C, an
     /// MCLM/MCCM `.ER` with ERR 200; axes at rest do not move at all
-    /// (`run/collide.rs`).
+    /// (`plant/collide.rs`).
     Reject,
 }
 

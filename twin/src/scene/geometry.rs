@@ -1,7 +1,7 @@
 //! The `geometry` table of a `COORDINATE_SYSTEM` tag: the MCT geometry of a
 //! robot's joint coordinate system (its Logix Geometry and Offsets tabs) and
 //! how its chain maps onto the URDF, for the load-time kinematics check
-//! ([`crate::kinematics_check`]).
+//! ([`crate::plant::kinematics_check`]).
 
 use super::{Ctx, Location, Problem, SceneError};
 use planner::mct::{GeometryKind, GeometryParams};
