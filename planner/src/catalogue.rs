@@ -255,7 +255,18 @@ const fn str_eq(a: &str, b: &str) -> bool {
 }
 
 /// Every instruction the product accepts, in the order the docs list them.
-pub const INSTRUCTIONS: &[&Instruction] = &[&MCLM, &MCCM, &MCS, &MCT, &MCCP, &MAPC, &MRP, &MAJ, &MAS, &MC_MOVE_MODULO];
+pub const INSTRUCTIONS: &[&Instruction] = &[
+    &MCLM,
+    &MCCM,
+    &MCS,
+    &MCT,
+    &MCCP,
+    &MAPC,
+    &MRP,
+    &MAJ,
+    &MAS,
+    &MC_MOVE_MODULO,
+];
 
 /// The instruction called `name` (case-insensitive).
 pub fn find(name: &str) -> Option<&'static Instruction> {
@@ -309,7 +320,12 @@ pub fn markdown() -> String {
             } else {
                 o.faceplate.to_string()
             };
-            let words: Vec<String> = o.kind.words().iter().map(|w| format!("`{}` ({})", w.word, w.code)).collect();
+            let words: Vec<String> = o
+                .kind
+                .words()
+                .iter()
+                .map(|w| format!("`{}` ({})", w.word, w.code))
+                .collect();
             out.push_str(&format!(
                 "| {i} | {} | {} | {} | {exerr} | {} |\n",
                 o.name,
@@ -451,7 +467,13 @@ const MCCM_OPERANDS: &[Operand] = &[
     op("Merge Speed", INTEGER, Immediate, Kind::Enumeration(MERGE_SPEED), 16),
     op("Command Tolerance", "REAL", ImmediateOrTag, Kind::Number, 20),
     op("Lock Position", "REAL", ImmediateOrTag, Kind::Number, 21),
-    op("Lock Direction", "UINT32", ImmediateOrTag, Kind::Enumeration(LOCK_DIRECTION), 22),
+    op(
+        "Lock Direction",
+        "UINT32",
+        ImmediateOrTag,
+        Kind::Enumeration(LOCK_DIRECTION),
+        22,
+    ),
     op("Event Distance", "REAL ARRAY or 0", Array, Kind::OptionalArray, 23),
     op("Calculated Data", "REAL ARRAY or 0", Array, Kind::OptionalArray, 24),
 ];
@@ -491,7 +513,13 @@ pub const MCLM: Instruction = Instruction {
         op("Merge Speed", INTEGER, Immediate, Kind::Enumeration(MERGE_SPEED), 13),
         op("Command Tolerance", "REAL", ImmediateOrTag, Kind::Number, 17),
         op("Lock Position", "REAL", ImmediateOrTag, Kind::Number, 18),
-        op("Lock Direction", "UINT32", ImmediateOrTag, Kind::Enumeration(LOCK_DIRECTION), 19),
+        op(
+            "Lock Direction",
+            "UINT32",
+            ImmediateOrTag,
+            Kind::Enumeration(LOCK_DIRECTION),
+            19,
+        ),
         op("Event Distance", "REAL ARRAY or 0", Array, Kind::OptionalArray, 20),
         op("Calculated Data", "REAL ARRAY or 0", Array, Kind::OptionalArray, 21),
     ],
@@ -561,13 +589,37 @@ pub const MAPC: Instruction = Instruction {
         op("Cam Profile", "CAM_PROFILE", Array, Kind::CamProfile, 4),
         op("Slave Scaling", "REAL", ImmediateOrTag, Kind::Number, 5),
         op("Master Scaling", "REAL", ImmediateOrTag, Kind::Number, 6),
-        op("Execution Mode", "DINT", Immediate, Kind::Enumeration(EXECUTION_MODE), 7),
-        op("Execution Schedule", "DINT", Immediate, Kind::Enumeration(EXECUTION_SCHEDULE), 8),
+        op(
+            "Execution Mode",
+            "DINT",
+            Immediate,
+            Kind::Enumeration(EXECUTION_MODE),
+            7,
+        ),
+        op(
+            "Execution Schedule",
+            "DINT",
+            Immediate,
+            Kind::Enumeration(EXECUTION_SCHEDULE),
+            8,
+        ),
         op("Master Lock Position", "REAL", ImmediateOrTag, Kind::Number, 9),
         op("Cam Lock Position", "REAL", ImmediateOrTag, Kind::Number, 10),
         op("Cam Type", "DINT", Immediate, Kind::Enumeration(CAM_TYPE), 11),
-        op("Master Reference", "DINT", Immediate, Kind::Enumeration(ACTUAL_COMMAND), 12),
-        op("Master Direction", "DINT", Immediate, Kind::Enumeration(MASTER_DIRECTION), 13),
+        op(
+            "Master Reference",
+            "DINT",
+            Immediate,
+            Kind::Enumeration(ACTUAL_COMMAND),
+            12,
+        ),
+        op(
+            "Master Direction",
+            "DINT",
+            Immediate,
+            Kind::Enumeration(MASTER_DIRECTION),
+            13,
+        ),
     ],
 };
 
@@ -581,7 +633,13 @@ pub const MRP: Instruction = Instruction {
         op("Axis", "AXIS", Tag, Kind::Axis, 0),
         op("Motion Control", "MOTION_INSTRUCTION", Tag, Kind::MotionControl, 1),
         op("Type", "BOOLEAN", Immediate, Kind::Enumeration(MRP_TYPE), 2),
-        op("Position Select", "BOOLEAN", Immediate, Kind::Enumeration(ACTUAL_COMMAND), 3),
+        op(
+            "Position Select",
+            "BOOLEAN",
+            Immediate,
+            Kind::Enumeration(ACTUAL_COMMAND),
+            3,
+        ),
         op("Position", "REAL", ImmediateOrTag, Kind::Number, 4),
     ],
 };
@@ -638,7 +696,13 @@ pub const MC_MOVE_MODULO: Instruction = Instruction {
         op("Deceleration", "LREAL", Input, Kind::Number, -1),
         op("Jerk", "LREAL", Input, Kind::Number, -1),
         op("Direction", "MC_Direction", Input, Kind::Enumeration(MC_DIRECTION), -1),
-        op("BufferMode", "MC_BufferMode", Input, Kind::Enumeration(MC_BUFFER_MODE), -1),
+        op(
+            "BufferMode",
+            "MC_BufferMode",
+            Input,
+            Kind::Enumeration(MC_BUFFER_MODE),
+            -1,
+        ),
         op("Options", "ST_MoveOptions", Input, Kind::Number, -1),
     ],
 };

@@ -702,7 +702,11 @@ fn collision_cell_stop_brakes_within_the_deceleration_and_aborts_the_move() {
 #[test]
 fn collision_cell_near_miss_reports_nothing_at_the_analytic_clearance() {
     let twin = run_twin("scenes/collision_cell_near_miss.toml");
-    assert!(twin.plant().collision_events().is_empty(), "{:?}", twin.plant().collision_events());
+    assert!(
+        twin.plant().collision_events().is_empty(),
+        "{:?}",
+        twin.plant().collision_events()
+    );
     assert!(twin.plant().predicted_collisions().is_empty());
     let bodies = twin.plant().collision_bodies();
     let gripper = bodies.iter().position(|b| b == "gripper").unwrap();
@@ -721,7 +725,11 @@ fn collision_events_are_identical_on_rerun() {
         let a = run_twin(scene);
         let b = run_twin(scene);
         assert_eq!(a.plant().collision_events(), b.plant().collision_events(), "{scene}");
-        assert_eq!(a.plant().predicted_collisions(), b.plant().predicted_collisions(), "{scene}");
+        assert_eq!(
+            a.plant().predicted_collisions(),
+            b.plant().predicted_collisions(),
+            "{scene}"
+        );
     }
     // Through an MCT: the sweep's sampled transform path too.
     let scene = scara_arc_collision_scene("report_rerun");
@@ -782,7 +790,12 @@ fn gantry_collision_reject_scene() -> PathBuf {
 }
 
 fn instruction(twin: &Twin, name: &str) -> planner::task::InstructionHandle {
-    twin.program().instructions().iter().find(|i| i.name == name).unwrap().handle
+    twin.program()
+        .instructions()
+        .iter()
+        .find(|i| i.name == name)
+        .unwrap()
+        .handle
 }
 
 /// First contact of gantry_collision's arc, as path length (mm): the tool
@@ -815,7 +828,13 @@ fn gantry_collision_predicts_the_arc_before_it_moves_and_not_the_line_beneath_th
     let mut twin = Twin::new(scene).unwrap();
     let (c1, l2) = (instruction(&twin, "C1"), instruction(&twin, "L2"));
     let tip = twin.plant().collision_bodies().iter().position(|b| b == "tip").unwrap();
-    let tool = twin.plant().model().links.iter().position(|l| l.name == "tool").unwrap();
+    let tool = twin
+        .plant()
+        .model()
+        .links
+        .iter()
+        .position(|l| l.name == "tool")
+        .unwrap();
     let tool_start = twin.plant().world_from_link()[tool].0;
     let mut tool_before_prediction = None;
     let mut line_clearance = f64::INFINITY;
@@ -881,7 +900,13 @@ fn gantry_collision_reject_fails_the_arc_with_err_200_and_nothing_moves() {
         .iter()
         .map(|h| twin.task().axis_state(*h).command_position.to_bits())
         .collect();
-    let tool = twin.plant().model().links.iter().position(|l| l.name == "tool").unwrap();
+    let tool = twin
+        .plant()
+        .model()
+        .links
+        .iter()
+        .position(|l| l.name == "tool")
+        .unwrap();
     let tool_start = twin.plant().world_from_link()[tool].0;
     let c1 = instruction(&twin, "C1");
     for _ in 0..twin.total_updates() {
@@ -1490,7 +1515,10 @@ fn a_delta_scene_with_a_wrong_forearm_length_is_refused() {
         &[("link_lengths = [0.3, 0.8]", "link_lengths = [0.3, 0.81]")],
     );
     let scene = twin::scene::load(&copy).expect("the scene itself is valid");
-    assert!(matches!(Twin::new(scene), Err(twin::run::RunError::Plant(twin::plant::PlantError::Kinematics { .. }))));
+    assert!(matches!(
+        Twin::new(scene),
+        Err(twin::run::RunError::Plant(twin::plant::PlantError::Kinematics { .. }))
+    ));
 }
 
 /// scara_pick with a tool sphere (0.01 m) on link `tool` and a 0.02 m ball
@@ -1523,7 +1551,13 @@ fn an_mct_source_arc_is_swept_through_the_transform_before_it_moves() {
     let scene = twin::scene::load(&scara_arc_collision_scene("report")).unwrap();
     let mut twin = Twin::new(scene).unwrap();
     let c1 = instruction(&twin, "C1");
-    let tool = twin.plant().model().links.iter().position(|l| l.name == "tool").unwrap();
+    let tool = twin
+        .plant()
+        .model()
+        .links
+        .iter()
+        .position(|l| l.name == "tool")
+        .unwrap();
     let mut predicted_with_tool_at = None;
     for _ in 0..twin.total_updates() {
         let tool_before = twin.plant().world_from_link()[tool].0;
@@ -1612,7 +1646,11 @@ fn an_mct_source_arc_rejected_by_the_sweep_never_moves_the_joints() {
     let bits = twin.task().motion_bits(c1);
     assert!(bits.er && !bits.ip && !bits.pc, "{bits:?}");
     assert_eq!(bits.err, planner::task::ERR_PATH_COLLISION);
-    assert!(twin.plant().collision_events().is_empty(), "{:?}", twin.plant().collision_events());
+    assert!(
+        twin.plant().collision_events().is_empty(),
+        "{:?}",
+        twin.plant().collision_events()
+    );
     assert!(twin.plant().predicted_collisions()[0].rejected);
 }
 
@@ -1705,7 +1743,13 @@ fn a_collision_stop_under_mct_brings_the_tool_to_rest_on_its_path_and_keeps_the_
     }
     // The tool stopped on the programmed circle (radius 0.25 m about
     // (0.25, 0.05)), past the contact.
-    let tool = twin.plant().model().links.iter().position(|l| l.name == "tool").unwrap();
+    let tool = twin
+        .plant()
+        .model()
+        .links
+        .iter()
+        .position(|l| l.name == "tool")
+        .unwrap();
     let p = twin.plant().world_from_link()[tool].0;
     let r = (p[0] - 0.25).hypot(p[1] - 0.05);
     assert!((r - 0.25).abs() < 1e-3, "{p:?} r {r}");
@@ -1733,6 +1777,10 @@ fn scenes_readme_operand_lists_equal_the_catalogue() {
     // Every catalogued mnemonic is also in the README's table of calls.
     let readme = std::fs::read_to_string(root().join("README.md")).expect("README.md");
     for ins in planner::catalogue::INSTRUCTIONS {
-        assert!(readme.contains(&format!("`{}`", ins.mnemonic)), "README.md lacks {}", ins.mnemonic);
+        assert!(
+            readme.contains(&format!("`{}`", ins.mnemonic)),
+            "README.md lacks {}",
+            ins.mnemonic
+        );
     }
 }

@@ -665,7 +665,7 @@ impl Recorder {
 /// # Examples
 ///
 /// ```
-/// use twin::recording::urdf_entity_paths;
+/// use twin::output::recording::urdf_entity_paths;
 /// let paths = urdf_entity_paths(
 ///     &["base", "upper_arm", "tool"],
 ///     &[("shoulder", 0, 1), ("wrist", 1, 2)],

@@ -1,8 +1,8 @@
 //! What a run produces besides the trace: rendered frames, the Rerun
 //! recording, and the summary.
 
-use crate::plant::parts::{column_major, world_from_part};
 use crate::output::recording::{Recorder, RecordingError, Sink, TextLevel, urdf_entity_paths};
+use crate::plant::parts::{column_major, world_from_part};
 use crate::run::Twin;
 use planner::instruction::MotionInstructionBits;
 use serde::Serialize;
@@ -83,7 +83,12 @@ impl Frames {
                 path: dir.to_path_buf(),
                 message: e.to_string(),
             })?;
-            let meshes = twin.plant().parts().iter().map(|p| renderer.upload_mesh(&p.mesh)).collect();
+            let meshes = twin
+                .plant()
+                .parts()
+                .iter()
+                .map(|p| renderer.upload_mesh(&p.mesh))
+                .collect();
             let f32x3 = |v: [f64; 3]| v.map(|x| x as f32);
             let cameras = twin
                 .scene()
@@ -297,7 +302,8 @@ impl Recording {
             rec.log_scalar(&format!("axes/{}/act_pos", a.name), s.actual_position)?;
             rec.log_scalar(&format!("axes/{}/cmd_vel", a.name), s.command_velocity)?;
         }
-        self.previous_outputs.resize(twin.program().fbs().len(), Default::default());
+        self.previous_outputs
+            .resize(twin.program().fbs().len(), Default::default());
         for (i, fb) in twin.program().fbs().iter().enumerate() {
             let o = twin.task().outputs(fb.handle);
             for (name, bit) in o.bits() {
@@ -309,7 +315,8 @@ impl Recording {
             }
             self.previous_outputs[i] = o;
         }
-        self.previous_bits.resize(twin.program().instructions().len(), Default::default());
+        self.previous_bits
+            .resize(twin.program().instructions().len(), Default::default());
         for (i, ins) in twin.program().instructions().iter().enumerate() {
             let b = twin.task().motion_bits(ins.handle);
             for (name, bit) in b.bits() {
@@ -550,7 +557,12 @@ impl Stats {
     pub fn new(twin: &Twin) -> Stats {
         Stats {
             max_following_error: vec![0.0; twin.plant().axes().len()],
-            outcomes: twin.program().fbs().iter().map(|f| InstructionOutcome::named(&f.name)).collect(),
+            outcomes: twin
+                .program()
+                .fbs()
+                .iter()
+                .map(|f| InstructionOutcome::named(&f.name))
+                .collect(),
             previous: vec![Default::default(); twin.program().fbs().len()],
             logix_outcomes: twin
                 .program()

@@ -17,13 +17,13 @@
 //! ```no_run
 //! use std::path::Path;
 //! # let frame = image::RgbaImage::new(4, 4);
-//! let outcome = twin::snapshot::assert_matches_snapshot(
+//! let outcome = twin::output::snapshot::assert_matches_snapshot(
 //!     "home-0000",
 //!     &frame,
 //!     Path::new("snapshots"),
 //!     Path::new("target/snapshot-artifacts"),
 //! )?;
-//! # Ok::<(), twin::snapshot::SnapshotError>(())
+//! # Ok::<(), twin::output::snapshot::SnapshotError>(())
 //! ```
 
 use std::path::{Path, PathBuf};

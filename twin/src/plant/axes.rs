@@ -65,7 +65,10 @@ impl AxisBinding {
     /// removed), axis units: what the drive interpolates between updates.
     pub fn drive_command(&self, task: &MotionTask) -> (f64, f64) {
         let s = task.axis_state(self.handle);
-        (s.command_position - task.position_offset(self.handle), s.command_velocity)
+        (
+            s.command_position - task.position_offset(self.handle),
+            s.command_velocity,
+        )
     }
 
     /// An axis-unit quantity in the joint's frame as SI (rad, m, rad/s …).

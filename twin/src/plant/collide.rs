@@ -81,12 +81,12 @@
 
 use super::Plant;
 use super::axes::AxisJoint;
-use super::transform::ParallelRig;
-use super::urdf::RobotModel;
 use super::collision::{
     Body, CheckResult, CollisionEvent, CollisionModel, CollisionModelError, Contact, Monitor, PathSampler,
     PredictedCollision,
 };
+use super::transform::ParallelRig;
+use super::urdf::RobotModel;
 use crate::scene::{CollisionSettings, Preflight, Reaction};
 use planner::coord::{CoordMove, Driver, PathGeometry};
 use planner::mct::instruction::Transform;
@@ -183,7 +183,6 @@ fn profile_time_of(profile: &Profile, start: f64, direction: f64, s: f64) -> f64
     }
     hi
 }
-
 
 /// Joint positions of the robot with a coordinate system's axes at
 /// `coordinates` (one per axis of the system, coordinate units): each axis
@@ -659,7 +658,13 @@ impl Plant {
                 self.transform_mapping(task, mv.system),
             );
             let name = task.coord_instruction_name(mv.instruction).to_string();
-            swept.push((mv.instruction, name, path, now_s - mv.progress, transform_systems(task, mv.system)));
+            swept.push((
+                mv.instruction,
+                name,
+                path,
+                now_s - mv.progress,
+                transform_systems(task, mv.system),
+            ));
         }
         for (instruction, name, path, started_s, systems) in swept {
             match self.preflight_path_from(&name, &path, started_s) {
@@ -674,7 +679,13 @@ impl Plant {
     }
 
     /// Records the first point of a transform path the MCT cannot reach.
-    fn record_unreachable(&mut self, name: String, path: &CoordMovePath, started_s: f64, (target, source): (String, String)) {
+    fn record_unreachable(
+        &mut self,
+        name: String,
+        path: &CoordMovePath,
+        started_s: f64,
+        (target, source): (String, String),
+    ) {
         let Some((s, why)) = path.transform.as_ref().and_then(|t| t.unreachable.as_ref()) else {
             return;
         };

@@ -49,9 +49,9 @@
 //! (depth below about `sweep_resolution_m`) may be missed.
 
 use crate::plant::convert::pose_to_rapier;
-use crate::scene::{CollisionSettings, MeshApproximation, Obstacle, Shape};
 use crate::plant::stl::{StlError, load_stl};
 use crate::plant::urdf::{Geometry, JointKind, RobotModel};
+use crate::scene::{CollisionSettings, MeshApproximation, Obstacle, Shape};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use rapier3d_f64::math::{Pose, Vector};
 use rapier3d_f64::parry::query;

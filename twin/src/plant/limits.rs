@@ -13,8 +13,8 @@
 //! The planner checks the limits where a transform (MCT) commands the joints
 //! (see `planner::task` module `mct`).
 
-use crate::scene::Axis;
 use crate::plant::urdf::{JointKind, RobotModel};
+use crate::scene::Axis;
 use planner::axis::AxisConfig;
 
 /// `config` with the soft travel limits of `axis`: its own, or else its

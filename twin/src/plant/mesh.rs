@@ -29,7 +29,7 @@ impl TriMesh {
     ///
     /// # Examples
     /// ```
-    /// let cube = twin::mesh::TriMesh::cuboid([1.0, 2.0, 3.0]);
+    /// let cube = twin::plant::mesh::TriMesh::cuboid([1.0, 2.0, 3.0]);
     /// assert_eq!(cube.indices.len(), 36);
     /// assert!((cube.signed_volume() - 6.0).abs() < 1e-9);
     /// ```
@@ -70,7 +70,7 @@ impl TriMesh {
     ///
     /// # Examples
     /// ```
-    /// let c = twin::mesh::TriMesh::cylinder(0.5, 2.0, 64);
+    /// let c = twin::plant::mesh::TriMesh::cylinder(0.5, 2.0, 64);
     /// let exact = std::f64::consts::PI * 0.25 * 2.0;
     /// assert!((c.signed_volume() - exact).abs() < 0.01 * exact);
     /// ```
@@ -132,7 +132,7 @@ impl TriMesh {
     ///
     /// # Examples
     /// ```
-    /// let s = twin::mesh::TriMesh::sphere(1.0, 48, 96);
+    /// let s = twin::plant::mesh::TriMesh::sphere(1.0, 48, 96);
     /// let exact = 4.0 / 3.0 * std::f64::consts::PI;
     /// assert!((s.signed_volume() - exact).abs() < 0.01 * exact);
     /// ```

@@ -2,9 +2,9 @@
 //! meshes with their poses, built once; the link poses change per frame.
 
 use crate::plant::mesh::TriMesh;
-use crate::scene::{Scene, Shape};
 use crate::plant::stl::{StlError, load_stl};
 use crate::plant::urdf::{Geometry, RobotModel};
+use crate::scene::{Scene, Shape};
 use nalgebra::{Isometry3, Matrix4, Quaternion, Translation3, UnitQuaternion};
 
 /// Default colour of a URDF visual without material (light grey).

@@ -66,7 +66,7 @@ impl JointDrive {
     ///
     /// # Examples
     /// ```
-    /// let drive = twin::physics::JointDrive::critically_damped("platter_joint", 10.0);
+    /// let drive = twin::plant::physics::JointDrive::critically_damped("platter_joint", 10.0);
     /// assert!((drive.damping - 4.0 * std::f64::consts::PI * 10.0).abs() < 1e-12);
     /// ```
     pub fn critically_damped(joint: &str, natural_frequency_hz: f64) -> JointDrive {

@@ -109,7 +109,7 @@ pub fn load_stl(path: &Path) -> Result<TriMesh, StlError> {
 /// # Examples
 /// ```
 /// let ascii = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
-/// let mesh = twin::stl::parse_stl(ascii.as_bytes(), std::path::Path::new("t.stl")).unwrap();
+/// let mesh = twin::plant::stl::parse_stl(ascii.as_bytes(), std::path::Path::new("t.stl")).unwrap();
 /// assert_eq!(mesh.indices, vec![0, 1, 2]);
 /// assert_eq!(mesh.normals[0], [0.0, 0.0, 1.0]);
 /// ```

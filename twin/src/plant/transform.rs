@@ -312,4 +312,3 @@ impl ParallelRig {
         Some(self.virtual_drives.iter().map(|&(j, _)| pose[j]).collect())
     }
 }
-

@@ -380,7 +380,7 @@ impl RobotModel {
     ///   <joint name="j" type="continuous"><parent link="base"/><child link="arm"/>
     ///     <origin xyz="0 0 1"/><axis xyz="0 0 1"/></joint>
     /// </robot>"#;
-    /// let model = twin::urdf::RobotModel::from_urdf_str(xml, std::path::Path::new("r.urdf")).unwrap();
+    /// let model = twin::plant::urdf::RobotModel::from_urdf_str(xml, std::path::Path::new("r.urdf")).unwrap();
     /// let world_from_link = model.world_from_link(&[0.5]);
     /// assert_eq!(world_from_link[1].translation.z, 1.0);
     /// ```

@@ -360,7 +360,8 @@ impl<'b, 'a> Bind<'b, 'a> {
     pub fn code_i32(&self, name: &str) -> Result<i32, String> {
         // Codes of Immediate operands are the catalogue's small numbers; an
         // Immediate or Tag integer out of i32 saturates, still out of range.
-        self.code(name).map(|c| c.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
+        self.code(name)
+            .map(|c| c.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
     }
 
     /// An array operand (or a radius).
@@ -499,7 +500,10 @@ mod tests {
         assert_eq!(ctx.code(profile, &Expr::Integer(0)), Ok(0));
         assert!(ctx.code(profile, &Expr::Integer(2)).is_err());
         assert!(ctx.code(profile, &ident("linear")).is_err());
-        assert!(ctx.code(profile, &ident("Count")).is_err(), "a tag for an Immediate operand");
+        assert!(
+            ctx.code(profile, &ident("Count")).is_err(),
+            "a tag for an Immediate operand"
+        );
         // Jerk Units is Immediate or Tag: any integer reaches the instruction.
         let jerk = catalogue::MCLM.operand("Jerk Units").expect("operand").1;
         assert_eq!(ctx.code(jerk, &ident("%OFTIME")), Ok(2));

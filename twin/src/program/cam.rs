@@ -257,11 +257,7 @@ mod tests {
         load(&path).expect("scene loads")
     }
 
-    fn compile_text(
-        text: &str,
-        scene: &Scene,
-        task: &mut MotionTask,
-    ) -> Result<LogixStep, String> {
+    fn compile_text(text: &str, scene: &Scene, task: &mut MotionTask) -> Result<LogixStep, String> {
         let call = parse_call(text).expect("parses");
         let crate::st::Args::Positional(ops) = &call.args else {
             panic!("positional")
@@ -306,20 +302,12 @@ mod tests {
         )
         .expect_err("element 1");
         assert!(e.contains("only element [0]"), "{e}");
-        let e = compile_text(
-            "MCCP(MCCP_1, KnifeCam[4], 4, 0, 0, KnifeProfile)",
-            &scene,
-            &mut task,
-        )
-        .expect_err("CAM[4] has no element 4");
+        let e = compile_text("MCCP(MCCP_1, KnifeCam[4], 4, 0, 0, KnifeProfile)", &scene, &mut task)
+            .expect_err("CAM[4] has no element 4");
         assert!(e.starts_with("Cam KnifeCam[4]"), "{e}");
         // Length beyond the CAM array: ERR 26 with EXERR = its element count.
-        let long = compile_text(
-            "MCCP(MCCP_2, KnifeCam[1], 4, 0, 0, KnifeProfile2)",
-            &scene,
-            &mut task,
-        )
-        .expect("binds; the error is the instruction's");
+        let long = compile_text("MCCP(MCCP_2, KnifeCam[1], 4, 0, 0, KnifeProfile2)", &scene, &mut task)
+            .expect("binds; the error is the instruction's");
         (long.run)(&mut task);
         let b = task.motion_bits(long.control.expect("control"));
         assert_eq!((b.er, b.err, b.exerr), (true, 26, 3));

@@ -17,8 +17,8 @@
 //!   ERR 13 (EXERR: speed units).
 
 use super::bind::{Bind, LogixContext, LogixStep};
-use crate::st::Expr;
 use crate::scene::{BaseType, TagValue};
+use crate::st::Expr;
 use planner::coord::{CoordMoveInputs, CoordinateSystemConfig, McsInputs};
 use planner::mccm::MccmInputs;
 use planner::task::{CoordCall, CoordHandle, InstructionHandle, MotionTask};
@@ -101,8 +101,7 @@ impl Bind<'_, '_> {
 }
 
 /// The coordinate system named by `operand`, created on its first use.
-pub(super) fn coordinate_system(
-    ctx: &mut LogixContext<'_>, what: &str, operand: &Expr) -> Result<CoordHandle, String> {
+pub(super) fn coordinate_system(ctx: &mut LogixContext<'_>, what: &str, operand: &Expr) -> Result<CoordHandle, String> {
     let Expr::Ident(name) = operand else {
         return Err(format!("{what} {operand}: expected a COORDINATE_SYSTEM tag"));
     };
@@ -259,7 +258,13 @@ mod tests {
             .unwrap();
         let z = twin.plant().axes().iter().find(|a| a.name == "Z").unwrap().handle;
         assert_eq!(twin.task().coordinate_system_master(xy), Some(z));
-        let c1 = twin.program().instructions().iter().find(|b| b.name == "C1").unwrap().handle;
+        let c1 = twin
+            .program()
+            .instructions()
+            .iter()
+            .find(|b| b.name == "C1")
+            .unwrap()
+            .handle;
         for _ in 0..1000 {
             twin.step();
         }
@@ -280,7 +285,13 @@ mod tests {
         // Direction 7 on the full circle: ERR 13, EXERR 6 (Direction).
         let t = text().replacen("1, Origin[0], 3, 200", "1, Origin[0], 7, 200", 1);
         let mut twin = Twin::new(scene(&t).unwrap()).unwrap();
-        let c1 = twin.program().instructions().iter().find(|b| b.name == "C1").unwrap().handle;
+        let c1 = twin
+            .program()
+            .instructions()
+            .iter()
+            .find(|b| b.name == "C1")
+            .unwrap()
+            .handle;
         for _ in 0..1000 {
             twin.step();
             if twin.task().motion_bits(c1).er {

@@ -112,7 +112,12 @@ impl Program {
         Ok(program)
     }
 
-    fn bind_call(&mut self, scene: &Scene, task: &mut MotionTask, call: &crate::st::Call) -> Result<StepAction, String> {
+    fn bind_call(
+        &mut self,
+        scene: &Scene,
+        task: &mut MotionTask,
+        call: &crate::st::Call,
+    ) -> Result<StepAction, String> {
         match &call.args {
             Args::Positional(operands) => {
                 let operands: Vec<Expr> = operands.iter().map(|o| o.value.clone()).collect();

@@ -63,7 +63,12 @@ pub(super) struct BoundCall {
 ///
 /// # Errors
 /// A message naming the input at fault.
-pub(super) fn bind(call: &Call, scene: &Scene, task: &mut MotionTask, fbs: &mut Vec<FbBinding>) -> Result<BoundCall, String> {
+pub(super) fn bind(
+    call: &Call,
+    scene: &Scene,
+    task: &mut MotionTask,
+    fbs: &mut Vec<FbBinding>,
+) -> Result<BoundCall, String> {
     let name = &call.name.value;
     let tag = scene
         .tag(name)
@@ -142,10 +147,12 @@ fn setting(spec: &Operand, v: &Expr, scene: &Scene, task: &MotionTask) -> Result
         ("Acceleration", _) => Setting::Acceleration(num()?),
         ("Deceleration", _) => Setting::Deceleration(num()?),
         ("Jerk", _) => Setting::Jerk(num()?),
-        ("Direction", Kind::Enumeration(_)) => {
-            Setting::Direction(McDirection::from_code(word()?).ok_or_else(|| format!("Direction := {v}: not simulated"))?)
-        }
-        _ => Setting::BufferMode(McBufferMode::from_code(word()?).ok_or_else(|| format!("BufferMode := {v}: not simulated"))?),
+        ("Direction", Kind::Enumeration(_)) => Setting::Direction(
+            McDirection::from_code(word()?).ok_or_else(|| format!("Direction := {v}: not simulated"))?,
+        ),
+        _ => Setting::BufferMode(
+            McBufferMode::from_code(word()?).ok_or_else(|| format!("BufferMode := {v}: not simulated"))?,
+        ),
     }))
 }
 
