@@ -19,7 +19,7 @@
 use super::bind::{Bind, LogixContext, LogixStep};
 use crate::scene::{BaseType, TagValue};
 use crate::st::Expr;
-use planner::coord::{CoordMoveInputs, CoordinateSystemConfig, McsInputs};
+use planner::coord::{CoordMoveInputs, McsInputs};
 use planner::mccm::MccmInputs;
 use planner::task::{CoordCall, CoordHandle, InstructionHandle, MotionTask};
 use std::sync::Arc;
@@ -128,21 +128,9 @@ pub(super) fn coordinate_system(ctx: &mut LogixContext<'_>, what: &str, operand:
         .iter()
         .map(|m| ctx.axis(what, &Expr::Ident(m.clone())))
         .collect::<Result<Vec<_>, _>>()?;
-    let config = CoordinateSystemConfig {
-        axis_count: axes.len(),
-        primary_axes: settings.primary_axes,
-        max_speed: settings.max_speed,
-        max_accel: settings.max_accel,
-        max_decel: settings.max_decel,
-        max_accel_jerk: settings.max_accel_jerk,
-        max_decel_jerk: settings.max_decel_jerk,
-        command_tolerance: settings.command_tolerance,
-        actual_tolerance: settings.actual_tolerance,
-        ..CoordinateSystemConfig::new(tag.name.clone())
-    };
     let handle = ctx
         .task
-        .add_coordinate_system(config, &axes)
+        .add_coordinate_system(settings.system.clone(), &axes)
         .map_err(|e| format!("{what} {name}: {e}"))?;
     if let Some(master) = &settings.master_axis {
         let master = ctx.axis(what, &Expr::Ident(master.clone()))?;
@@ -181,15 +169,16 @@ mod tests {
     fn coordinate_system_settings_parse_with_defaults() {
         let s = scene(&text()).unwrap();
         let xy = s.tag("XY").unwrap().coordinate_system.clone().unwrap();
-        assert_eq!((xy.primary_axes, xy.max_speed, xy.command_tolerance), (2, 250.0, 25.0));
+        let c = &xy.system;
+        assert_eq!((c.primary_axes, c.max_speed, c.command_tolerance), (2, 250.0, 25.0));
+        assert_eq!((c.name.as_str(), c.axis_count), ("XY", 2));
         assert_eq!(xy.tool_link.as_deref(), Some("tool"));
         let s = scene(&with_xy_table("")).unwrap();
         let xy = s.tag("XY").unwrap().coordinate_system.clone().unwrap();
-        assert_eq!((xy.primary_axes, xy.max_speed, xy.max_decel), (2, 1.0, 10.0));
-        assert_eq!(
-            (xy.command_tolerance, xy.actual_tolerance, xy.tool_link),
-            (0.1, 0.01, None)
-        );
+        let c = &xy.system;
+        assert_eq!((c.primary_axes, c.max_speed, c.max_decel), (2, 1.0, 10.0));
+        assert_eq!((c.command_tolerance, c.actual_tolerance), (0.1, 0.01));
+        assert_eq!(xy.tool_link, None);
         assert!(s.tag("OnCircle").unwrap().coordinate_system.is_none());
     }
 
@@ -227,12 +216,16 @@ mod tests {
         };
         let t = text().replacen("none, 0, 0)\"", "none, 0)\"", 1);
         assert!(err(t).contains("MCLM takes 22 operands"));
+        // A word of another operand is refused when the scene loads.
         let t = text().replacen("200, unitspersec, 1000", "200, unitspersec³, 1000", 1);
-        let e = err(t);
+        let e = scene(&t).unwrap_err().to_string();
         assert!(
-            e.contains("Speed Units unitspersec³: expected one of unitspersec (0)"),
+            e.contains("'unitspersec³' for Speed Units (its words: unitspersec (0)"),
             "{e}"
         );
+        let t = text().replacen("200, unitspersec, 1000", "200, 3, 1000", 1);
+        let e = err(t);
+        assert!(e.contains("Speed Units 3: expected one of unitspersec (0)"), "{e}");
         let t = text().replacen("MCLM(XYZ, L1,", "MCLM(OnCircle, L1,", 1);
         assert!(err(t).contains("Coordinate System OnCircle: is a REAL[2] tag"));
         let t = with_xy_table("coordinate_system = { tool_link = \"nozzle\" }");

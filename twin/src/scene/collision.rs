@@ -3,6 +3,7 @@
 //! field by field in `scenes/README.md`; names of links are checked against
 //! the URDF by [`crate::collision`].
 
+use super::validate::ShapeFields;
 use super::{Ctx, Location, Problem, SceneError, Shape, ShapeKind};
 use serde::Deserialize;
 use std::path::Path;
@@ -219,16 +220,15 @@ impl Ctx<'_> {
             None => "tool".to_string(),
         };
         let link = self.nonempty_name(&t.link, &f("link"))?;
-        let shape = self.shape(
-            *t.shape.get_ref(),
-            &t.shape,
-            [&t.size, &None],
-            [&t.radius, &t.length],
-            &t.file,
-            &t.scale,
-            base,
-            &f,
-        )?;
+        let fields = ShapeFields {
+            kind: &t.shape,
+            size: &t.size,
+            radius: &t.radius,
+            length: &t.length,
+            file: &t.file,
+            scale: &t.scale,
+        };
+        let shape = self.shape(&fields, base, &f)?;
         let position_m = match &t.position {
             Some(p) => self.finite_array(p, &f("position"))?,
             None => [0.0; 3],
@@ -244,88 +244,6 @@ impl Ctx<'_> {
             shape,
             position_m,
             rpy_deg,
-        })
-    }
-
-    /// A shape from its kind and fields (the rules of `[[obstacles]]`).
-    #[allow(clippy::too_many_arguments)]
-    fn shape(
-        &self,
-        kind: ShapeKind,
-        kind_at: &Spanned<ShapeKind>,
-        [size, _]: [&Option<Spanned<[f64; 3]>>; 2],
-        [radius, length]: [&Option<Spanned<f64>>; 2],
-        file: &Option<Spanned<String>>,
-        scale: &Option<Spanned<[f64; 3]>>,
-        base: &Path,
-        f: &dyn Fn(&str) -> String,
-    ) -> Result<Shape, SceneError> {
-        let shape_name = kind.name();
-        let needs: &[&'static str] = match kind {
-            ShapeKind::Box => &["size"],
-            ShapeKind::Cylinder => &["radius", "length"],
-            ShapeKind::Sphere => &["radius"],
-            ShapeKind::Mesh => &["file", "scale"],
-        };
-        let given = [
-            ("size", size.as_ref().map(Spanned::span)),
-            ("radius", radius.as_ref().map(Spanned::span)),
-            ("length", length.as_ref().map(Spanned::span)),
-            ("file", file.as_ref().map(Spanned::span)),
-            ("scale", scale.as_ref().map(Spanned::span)),
-        ];
-        for (field, span) in given {
-            if let Some(span) = span
-                && !needs.contains(&field)
-            {
-                return Err(self.invalid_at(
-                    span,
-                    f(field),
-                    Problem::ExtraShapeField {
-                        shape: shape_name,
-                        field,
-                    },
-                ));
-            }
-        }
-        let missing = |field: &'static str| {
-            self.invalid(
-                kind_at,
-                f("shape"),
-                Problem::MissingShapeField {
-                    shape: shape_name,
-                    field,
-                },
-            )
-        };
-        let positive_array = |v: &Spanned<[f64; 3]>, field: &str| -> Result<[f64; 3], SceneError> {
-            let values = self.finite_array(v, field)?;
-            match values.iter().find(|x| **x <= 0.0) {
-                Some(&value) => Err(self.invalid(v, field, Problem::NotPositive { value })),
-                None => Ok(values),
-            }
-        };
-        Ok(match kind {
-            ShapeKind::Box => Shape::Box {
-                size_m: positive_array(size.as_ref().ok_or_else(|| missing("size"))?, &f("size"))?,
-            },
-            ShapeKind::Cylinder => Shape::Cylinder {
-                radius_m: self.positive(radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
-                length_m: self.positive(length.as_ref().ok_or_else(|| missing("length"))?, &f("length"))?,
-            },
-            ShapeKind::Sphere => Shape::Sphere {
-                radius_m: self.positive(radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
-            },
-            ShapeKind::Mesh => {
-                let file = file.as_ref().ok_or_else(|| missing("file"))?;
-                Shape::Mesh {
-                    path: self.existing_file(file, &f("file"), base)?,
-                    scale: match scale {
-                        Some(s) => positive_array(s, &f("scale"))?,
-                        None => [1.0; 3],
-                    },
-                }
-            }
         })
     }
 }

@@ -1,0 +1,239 @@
+//! The validation context: the scene file's text, and the helpers that turn a
+//! span into a file:line:column error and check a single value.
+
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use toml::Spanned;
+
+use crate::st::ParseError;
+
+use super::{Location, Problem, SceneError, TagType};
+
+pub(super) struct Ctx<'a> {
+    pub(super) file: PathBuf,
+    pub(super) text: &'a str,
+}
+
+/// A name's first declaration: (lower-case name) -> (line, what it is).
+pub(super) type Names = HashMap<String, (usize, NameKind)>;
+
+#[derive(Clone, Copy)]
+pub(super) enum NameKind {
+    Axis,
+    Tag(TagType),
+}
+
+impl Ctx<'_> {
+    pub(super) fn location(&self, byte: usize) -> Location {
+        let byte = byte.min(self.text.len());
+        let before = &self.text[..byte];
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        Location {
+            line: before.matches('\n').count() + 1,
+            column: before[line_start..].chars().count() + 1,
+        }
+    }
+
+    pub(super) fn loc<T>(&self, s: &Spanned<T>) -> Location {
+        self.location(s.span().start)
+    }
+
+    pub(super) fn invalid<T>(&self, at: &Spanned<T>, field: impl Into<String>, problem: Problem) -> SceneError {
+        self.invalid_at(at.span(), field, problem)
+    }
+
+    pub(super) fn invalid_at(&self, span: Range<usize>, field: impl Into<String>, problem: Problem) -> SceneError {
+        let Location { line, column } = self.location(span.start);
+        SceneError::Invalid {
+            file: self.file.clone(),
+            line,
+            column,
+            field: field.into(),
+            problem,
+        }
+    }
+
+    pub(super) fn toml_error(&self, e: &toml::de::Error) -> SceneError {
+        let start = e.span().map_or(0, |s| s.start);
+        let Location { line, column } = self.location(start);
+        SceneError::Toml {
+            file: self.file.clone(),
+            line,
+            column,
+            table: e.span().and_then(|_| self.table_at(line)),
+            message: e.message().to_owned(),
+        }
+    }
+
+    /// The table (`axes[1]`, `robot`) whose body contains `line`, from the
+    /// nearest header above it.
+    pub(super) fn table_at(&self, line: usize) -> Option<String> {
+        let mut current = None;
+        let mut counts: HashMap<String, usize> = HashMap::new();
+        for text in self.text.lines().take(line) {
+            let t = text.trim();
+            let t = t.split_once('#').map_or(t, |(head, _)| head).trim();
+            if let Some(name) = t.strip_prefix("[[").and_then(|r| r.strip_suffix("]]")) {
+                let name = name.trim().to_owned();
+                let n = counts.entry(name.clone()).or_default();
+                current = Some(format!("{name}[{n}]"));
+                *n += 1;
+            } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.strip_suffix(']')) {
+                let name = name.trim();
+                if !name.is_empty() && name.chars().all(|c| c.is_alphanumeric() || "_-.\"' ".contains(c)) {
+                    current = Some(name.to_owned());
+                }
+            }
+        }
+        current
+    }
+
+    /// Maps a 1-based character column inside a string value to the file.
+    pub(super) fn string_location(&self, s: &Spanned<String>, column: usize) -> Location {
+        let span = s.span();
+        let raw = &self.text[span.clone()];
+        let (open, close) = if raw.starts_with("\"\"\"") || raw.starts_with("'''") {
+            (3, 3)
+        } else {
+            (1, 1)
+        };
+        let mut content_start = span.start + open.min(raw.len());
+        if open == 3 {
+            let rest = &self.text[content_start..];
+            if rest.starts_with("\r\n") {
+                content_start += 2;
+            } else if rest.starts_with('\n') {
+                content_start += 1;
+            }
+        }
+        let content_end = span.end.saturating_sub(close).max(content_start);
+        let raw_content = &self.text[content_start..content_end];
+        // Without escapes the decoded value is the raw text; with them this is approximate.
+        let index = column.saturating_sub(1);
+        let byte = raw_content
+            .char_indices()
+            .nth(index)
+            .map_or(raw_content.len(), |(b, _)| b);
+        self.location(content_start + byte)
+    }
+
+    pub(super) fn syntax(&self, s: &Spanned<String>, field: String, source: ParseError) -> SceneError {
+        let Location { line, column } = self.string_location(s, source.column());
+        SceneError::Syntax {
+            file: self.file.clone(),
+            line,
+            column,
+            field,
+            source,
+        }
+    }
+
+    pub(super) fn finite(&self, v: &Spanned<f64>, field: &str) -> Result<f64, SceneError> {
+        let value = *v.get_ref();
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(self.invalid(v, field, Problem::NotFinite { value }))
+        }
+    }
+
+    pub(super) fn positive(&self, v: &Spanned<f64>, field: &str) -> Result<f64, SceneError> {
+        let value = self.finite(v, field)?;
+        if value > 0.0 {
+            Ok(value)
+        } else {
+            Err(self.invalid(v, field, Problem::NotPositive { value }))
+        }
+    }
+
+    pub(super) fn non_negative(&self, v: &Spanned<f64>, field: &str) -> Result<f64, SceneError> {
+        let value = self.finite(v, field)?;
+        if value >= 0.0 {
+            Ok(value)
+        } else {
+            Err(self.invalid(v, field, Problem::Negative { value }))
+        }
+    }
+
+    pub(super) fn finite_array<const N: usize>(
+        &self,
+        v: &Spanned<[f64; N]>,
+        field: &str,
+    ) -> Result<[f64; N], SceneError> {
+        match v.get_ref().iter().find(|x| !x.is_finite()) {
+            Some(&value) => Err(self.invalid(v, field, Problem::NotFinite { value })),
+            None => Ok(*v.get_ref()),
+        }
+    }
+
+    /// Three finite values, each > 0.
+    pub(super) fn positive_array(&self, v: &Spanned<[f64; 3]>, field: &str) -> Result<[f64; 3], SceneError> {
+        let values = self.finite_array(v, field)?;
+        match values.iter().find(|x| **x <= 0.0) {
+            Some(&value) => Err(self.invalid(v, field, Problem::NotPositive { value })),
+            None => Ok(values),
+        }
+    }
+
+    /// A shape is missing a field its kind needs.
+    pub(super) fn missing_shape_field<T>(
+        &self,
+        shape_at: &Spanned<T>,
+        field: String,
+        shape: &'static str,
+        missing: &'static str,
+    ) -> SceneError {
+        let problem = Problem::MissingShapeField { shape, field: missing };
+        self.invalid(shape_at, field, problem)
+    }
+
+    pub(super) fn nonempty_name(&self, v: &Spanned<String>, field: &str) -> Result<String, SceneError> {
+        if v.get_ref().trim().is_empty() {
+            Err(self.invalid(v, field, Problem::Empty))
+        } else {
+            Ok(v.get_ref().clone())
+        }
+    }
+
+    pub(super) fn existing_file(&self, v: &Spanned<String>, field: &str, base: &Path) -> Result<PathBuf, SceneError> {
+        let path = base.join(v.get_ref());
+        if v.get_ref().is_empty() || !path.is_file() {
+            return Err(self.invalid(v, field, Problem::MissingFile { path }));
+        }
+        Ok(path)
+    }
+
+    /// Registers a name, failing on a duplicate (case-insensitive).
+    pub(super) fn unique<V>(
+        &self,
+        seen: &mut HashMap<String, (usize, V)>,
+        name: &Spanned<String>,
+        field: &str,
+        value: V,
+    ) -> Result<(), SceneError> {
+        let key = name.get_ref().to_lowercase();
+        if let Some((first_line, _)) = seen.get(&key) {
+            let problem = Problem::DuplicateName {
+                name: name.get_ref().clone(),
+                first_line: *first_line,
+            };
+            return Err(self.invalid(name, field, problem));
+        }
+        seen.insert(key, (self.loc(name).line, value));
+        Ok(())
+    }
+
+    pub(super) fn identifier(&self, name: &Spanned<String>, field: &str) -> Result<String, SceneError> {
+        let n = name.get_ref();
+        let mut chars = n.chars();
+        let valid = chars.next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && chars.all(|c| c.is_ascii_alphanumeric() || c == '_');
+        if valid {
+            Ok(n.clone())
+        } else {
+            Err(self.invalid(name, field, Problem::InvalidName { name: n.clone() }))
+        }
+    }
+}

@@ -1,0 +1,437 @@
+//! Scene errors: one [`SceneError`] per file problem, displayed as
+//! `FILE:LINE:COLUMN: FIELD: what is wrong`, and the [`Problem`] it names.
+
+use planner::catalogue::Word;
+use std::fmt;
+use std::path::PathBuf;
+
+use crate::st::ParseError;
+
+use super::{AxisKind, BaseType, Location, TagType, Units};
+
+/// What is wrong with a field's value.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Problem {
+    /// NaN or infinite.
+    #[error("must be a finite number, got {value}")]
+    NotFinite {
+        /// The value.
+        value: f64,
+    },
+    /// Zero or negative where a positive value is needed.
+    #[error("must be greater than 0, got {value}")]
+    NotPositive {
+        /// The value.
+        value: f64,
+    },
+    /// Negative where zero or more is needed.
+    #[error("must not be negative, got {value}")]
+    Negative {
+        /// The value.
+        value: f64,
+    },
+    /// Outside an inclusive (or, when `exclusive`, open) range.
+    #[error("must be between {min} and {max}{}, got {value}", if *exclusive { " (exclusive)" } else { "" })]
+    OutOfRange {
+        /// The value.
+        value: f64,
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+        /// Whether the bounds themselves are excluded.
+        exclusive: bool,
+    },
+    /// The physics step does not divide the coarse update period.
+    #[error("physics_step_ms = {physics_step_ms} does not divide coarse_update_ms = {coarse_update_ms} exactly")]
+    StepNotDivisor {
+        /// The physics step, ms.
+        physics_step_ms: f64,
+        /// The coarse update period, ms.
+        coarse_update_ms: f64,
+    },
+    /// A name used twice.
+    #[error("duplicate name '{name}' (first declared on line {first_line})")]
+    DuplicateName {
+        /// The name.
+        name: String,
+        /// Line of the first declaration.
+        first_line: usize,
+    },
+    /// An empty name.
+    #[error("must not be empty")]
+    Empty,
+    /// Not an ST identifier.
+    #[error("'{name}' is not a valid tag name (letters, digits and '_', not starting with a digit)")]
+    InvalidName {
+        /// The name.
+        name: String,
+    },
+    /// A tag reference that names no tag or axis.
+    #[error("unknown tag '{name}': not declared in [[tags]] or [[axes]]")]
+    UnknownTag {
+        /// The name.
+        name: String,
+    },
+    /// A bare word that is neither a tag/axis nor one of its operand's
+    /// enumeration words.
+    #[error("unknown tag or enumeration word '{name}' for {operand}{}", word_hint(.words))]
+    UnknownOperand {
+        /// The word.
+        name: String,
+        /// The operand it was given for, as the catalogue names it
+        /// (`Speed Units`).
+        operand: &'static str,
+        /// The operand's enumeration words, empty when it takes none.
+        words: &'static [Word],
+    },
+    /// A Logix motion instruction the twin does not simulate.
+    #[error("{name} is a Logix motion instruction the twin does not simulate (it simulates: {simulated})")]
+    NotSimulated {
+        /// The mnemonic as written.
+        name: String,
+        /// The positional instructions it does simulate.
+        simulated: String,
+    },
+    /// A positional call to something that is not a Logix motion instruction.
+    #[error(
+        "unknown instruction '{name}' (positional calls are Logix motion instructions; function-block instances take named inputs)"
+    )]
+    UnknownInstruction {
+        /// The name.
+        name: String,
+    },
+    /// A named call on something that is not a function-block instance.
+    #[error("'{name}' is {kind}, not a function-block instance, so it cannot be called with named inputs")]
+    NotCallable {
+        /// The name.
+        name: String,
+        /// What it is (`a REAL tag`, `an axis`).
+        kind: String,
+    },
+    /// An index outside an array tag.
+    #[error("index {index} is outside '{name}' (valid: 0..{len})")]
+    IndexOutOfBounds {
+        /// The array tag.
+        name: String,
+        /// The index used.
+        index: i64,
+        /// The array length.
+        len: usize,
+    },
+    /// A referenced file that does not exist.
+    #[error("file '{}' does not exist", path.display())]
+    MissingFile {
+        /// The resolved path.
+        path: PathBuf,
+    },
+    /// A program step with both `at_s` and `when`.
+    #[error("has both 'at_s' and 'when'; give exactly one")]
+    BothTriggers,
+    /// A program step with neither `at_s` nor `when`.
+    #[error("has neither 'at_s' nor 'when'; give exactly one")]
+    NoTrigger,
+    /// `after_s` on a step that is not triggered by `when`.
+    #[error("'after_s' applies only to steps triggered by 'when'")]
+    AfterWithoutWhen,
+    /// `at_s` past the end of the run.
+    #[error("at_s = {at_s} is after the end of the run (duration_s = {duration_s})")]
+    AfterEnd {
+        /// The step time, s.
+        at_s: f64,
+        /// The run duration, s.
+        duration_s: f64,
+    },
+    /// A tag type not in the known list.
+    #[error("unknown tag type '{type_name}', expected one of {}, optionally as an array TYPE[N]", BaseType::all_names().join(", "))]
+    UnknownTagType {
+        /// The type as written.
+        type_name: String,
+    },
+    /// `TYPE[0]` or a malformed array length.
+    #[error("array length in '{type_name}' must be a whole number of at least 1")]
+    BadArrayLength {
+        /// The type as written.
+        type_name: String,
+    },
+    /// An array of a type that cannot be an array here.
+    #[error("{base} cannot be declared as an array")]
+    ArrayNotAllowed {
+        /// The element type name.
+        base: &'static str,
+    },
+    /// An initial value that does not fit the tag type.
+    #[error("value does not fit type {ty}: expected {expected}")]
+    ValueMismatch {
+        /// The tag type.
+        ty: TagType,
+        /// What would fit.
+        expected: &'static str,
+    },
+    /// An initial value on a type that takes none.
+    #[error("{ty} tags take no initial value")]
+    ValueNotAllowed {
+        /// The tag type.
+        ty: TagType,
+    },
+    /// A type that needs an initial value.
+    #[error("{ty} tags need a value ({expected})")]
+    ValueRequired {
+        /// The tag type.
+        ty: TagType,
+        /// What to give.
+        expected: &'static str,
+    },
+    /// A `coordinate_system` or `geometry` table on a tag that is not a
+    /// coordinate system.
+    #[error("only COORDINATE_SYSTEM tags take coordinate_system and geometry tables")]
+    CoordinateSystemOnly,
+    /// An unknown MCT geometry type.
+    #[error("unknown geometry '{name}', expected one of {expected}")]
+    UnknownGeometry {
+        /// The name given.
+        name: String,
+        /// The accepted names.
+        expected: String,
+    },
+    /// A coordinate system naming an undeclared axis.
+    #[error("unknown axis '{name}'")]
+    UnknownAxis {
+        /// The name.
+        name: String,
+    },
+    /// Axis units that do not fit its kind.
+    #[error("units '{units}' do not fit a {kind} axis (rotary: deg or rad; linear: m or mm)")]
+    UnitsMismatch {
+        /// The units.
+        units: Units,
+        /// The axis kind.
+        kind: AxisKind,
+    },
+    /// `initial_position` disagrees with `robot.initial_joints`.
+    #[error(
+        "initial_position = {initial_position} {units} disagrees with robot.initial_joints.{joint} = {joint_position_si} (SI)"
+    )]
+    InitialPositionMismatch {
+        /// The axis' initial position, axis units.
+        initial_position: f64,
+        /// The axis units.
+        units: Units,
+        /// The joint.
+        joint: String,
+        /// The joint's initial position, rad or m.
+        joint_position_si: f64,
+    },
+    /// `soft_travel_limits` not ordered `[min, max]` with min < max.
+    #[error("soft_travel_limits = [{min}, {max}] must have min < max")]
+    SoftTravelLimitsOrder {
+        /// The first element.
+        min: f64,
+        /// The second element.
+        max: f64,
+    },
+    /// `soft_travel_limits` on a modulo axis.
+    #[error("soft_travel_limits are not allowed on a modulo axis (modulo_period = {period})")]
+    SoftTravelLimitsOnModulo {
+        /// The modulo period.
+        period: f64,
+    },
+    /// The initial position outside the soft travel limits.
+    #[error("initial position {position} is outside soft_travel_limits = [{min}, {max}]")]
+    OutsideSoftTravelLimits {
+        /// The initial position, axis units.
+        position: f64,
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
+    },
+    /// Two axes driving one joint.
+    #[error("joint '{joint}' is already driven by axis '{other_axis}'")]
+    SharedJoint {
+        /// The joint.
+        joint: String,
+        /// The first axis driving it.
+        other_axis: String,
+    },
+    /// A shape without one of its parameters.
+    #[error("shape '{shape}' needs field '{field}'")]
+    MissingShapeField {
+        /// The shape kind.
+        shape: &'static str,
+        /// The missing field.
+        field: &'static str,
+    },
+    /// A parameter of another shape.
+    #[error("field '{field}' does not apply to shape '{shape}'")]
+    ExtraShapeField {
+        /// The shape kind.
+        shape: &'static str,
+        /// The extra field.
+        field: &'static str,
+    },
+    /// A camera looking at its own position.
+    #[error("camera target must differ from its position")]
+    DegenerateCamera,
+    /// Cam points whose master positions do not increase.
+    #[error("cam master positions must increase strictly (point {index})")]
+    CamNotIncreasing {
+        /// Index of the first offending point.
+        index: usize,
+    },
+    /// Snapshots without any camera.
+    #[error("snapshots need at least one [[cameras]] entry")]
+    NoCamera,
+    /// A snapshot frame listed twice.
+    #[error("frame {frame} is listed twice")]
+    DuplicateFrame {
+        /// The frame.
+        frame: u32,
+    },
+    /// A URDF joint that does not exist (for the integrator's checks).
+    #[error("the URDF has no joint '{joint}'")]
+    UnknownJoint {
+        /// The joint.
+        joint: String,
+    },
+}
+
+/// An error loading a scene. `Display` is one line:
+/// `FILE:LINE:COLUMN: FIELD: what is wrong`.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SceneError {
+    /// The file could not be read.
+    Read {
+        /// The scene file.
+        path: PathBuf,
+        /// The I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// TOML syntax, an unknown or missing field, or a value of the wrong type.
+    Toml {
+        /// The scene file.
+        file: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The table the error is in (`axes[1]`, `robot`), if any.
+        table: Option<String>,
+        /// The TOML/serde message.
+        message: String,
+    },
+    /// A `call` or `when` string that is not valid Structured Text.
+    Syntax {
+        /// The scene file.
+        file: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column (of the offending character, inside the string).
+        column: usize,
+        /// The field, e.g. `program[3].call`.
+        field: String,
+        /// The parse error.
+        #[source]
+        source: ParseError,
+    },
+    /// A value that parses but is not allowed.
+    Invalid {
+        /// The scene file.
+        file: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The field, e.g. `axes[0].max_velocity`.
+        field: String,
+        /// What is wrong.
+        problem: Problem,
+    },
+}
+
+impl SceneError {
+    /// The 1-based line and column, when the error has a place in the file.
+    #[must_use]
+    pub fn location(&self) -> Option<Location> {
+        match self {
+            SceneError::Read { .. } => None,
+            SceneError::Toml { line, column, .. }
+            | SceneError::Syntax { line, column, .. }
+            | SceneError::Invalid { line, column, .. } => Some(Location {
+                line: *line,
+                column: *column,
+            }),
+        }
+    }
+
+    /// The field path, for syntax and validation errors.
+    #[must_use]
+    pub fn field(&self) -> Option<&str> {
+        match self {
+            SceneError::Syntax { field, .. } | SceneError::Invalid { field, .. } => Some(field),
+            SceneError::Toml { table, .. } => table.as_deref(),
+            SceneError::Read { .. } => None,
+        }
+    }
+
+    /// The validation problem, for [`SceneError::Invalid`].
+    #[must_use]
+    pub fn problem(&self) -> Option<&Problem> {
+        match self {
+            SceneError::Invalid { problem, .. } => Some(problem),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SceneError::Read { path, source } => write!(f, "{}: cannot read the scene file: {source}", path.display()),
+            SceneError::Toml {
+                file,
+                line,
+                column,
+                table,
+                message,
+            } => {
+                write!(f, "{}:{line}:{column}: ", file.display())?;
+                if let Some(table) = table {
+                    write!(f, "in {table}: ")?;
+                }
+                // serde quotes names with backticks; keep the message on one line.
+                f.write_str(&message.trim().replace('`', "'").replace('\n', " "))
+            }
+            SceneError::Syntax {
+                file,
+                line,
+                column,
+                field,
+                source,
+            } => {
+                write!(f, "{}:{line}:{column}: {field}: {source}", file.display())
+            }
+            SceneError::Invalid {
+                file,
+                line,
+                column,
+                field,
+                problem,
+            } => {
+                write!(f, "{}:{line}:{column}: {field}: {problem}", file.display())
+            }
+        }
+    }
+}
+
+/// The end of an [`Problem::UnknownOperand`] message: the operand's words.
+fn word_hint(words: &[Word]) -> String {
+    if words.is_empty() {
+        return " (a tag or a value: it takes no enumeration words)".to_owned();
+    }
+    let list: Vec<String> = words.iter().map(|w| format!("{} ({})", w.word, w.code)).collect();
+    format!(" (its words: {})", list.join(", "))
+}

@@ -1,0 +1,116 @@
+//! Scene files: the TOML description of one twin run (robot, axes, cameras,
+//! obstacles, tags and the timed program of instruction calls).
+//!
+//! [`load`] reads a file, deserializes it (unknown fields are errors),
+//! parses every `call` and `when` with [`crate::st`], and checks everything
+//! that does not need the URDF: numeric ranges, unique names, that every
+//! tag a call refers to is declared, that the URDF and mesh files exist.
+//! Checks against the URDF (joint names and types) are the integrator's;
+//! [`Scene::invalid`] builds errors for them with the same file:line:column
+//! shape.
+//!
+//! Every [`SceneError`] displays as one line
+//! `FILE:LINE:COLUMN: FIELD: what is wrong`, with 1-based line and column
+//! (in characters) pointing into the scene file, also inside `call` strings.
+//! The format is documented field by field in `scenes/README.md`.
+//!
+//! Choices the specs leave open:
+//! * Names of axes and tags share one namespace and are compared
+//!   case-insensitively, as Logix and IEC 61131-3 do.
+//! * A positional call's name must be a Logix motion instruction the
+//!   twin simulates ([`planner::catalogue`]); another Logix motion
+//!   instruction is refused as not simulated. Its bare-word operands must
+//!   be a declared tag/axis or one of *that operand's* enumeration words.
+//! * A named call's name must be a tag of a function-block type; its
+//!   bare-word inputs must be a tag/axis or an enumeration value of that
+//!   input.
+//!
+//! The stage is split the way the data goes through it: `raw` (serde,
+//! with spans) → `context` (file:line:column errors and single-value
+//! checks) → `validate`, `tags`, `program`, `geometry`, `collision` (one
+//! part of the file each) → `model` (the validated [`Scene`]).
+
+use std::path::Path;
+
+mod context;
+mod error;
+mod model;
+mod raw;
+
+mod collision;
+mod geometry;
+mod program;
+mod tags;
+mod validate;
+
+pub use collision::{AllowedPair, CollisionSettings, MeshApproximation, Preflight, Reaction, Tool};
+pub use error::{Problem, SceneError};
+pub use geometry::{GEOMETRY_TYPES, GeometrySettings};
+pub use model::{
+    Axis, AxisKind, BaseType, CamPoint, Camera, CoordinateSystemSettings, FunctionBlock, Location, MotorGains,
+    Obstacle, Robot, Scene, SegmentType, Shape, Snapshots, Step, Tag, TagType, TagValue, Trigger, Units,
+};
+
+use context::{Ctx, NameKind, Names};
+use raw::{
+    RawAxis, RawCamera, RawCoordinateSystem, RawObstacle, RawRobot, RawScene, RawSnapshots, RawStep, RawTag, ShapeKind,
+};
+
+impl Scene {
+    /// Builds a [`SceneError::Invalid`] pointing into this scene's file, for
+    /// checks done after loading (e.g. against the URDF).
+    #[must_use]
+    pub fn invalid(&self, at: Location, field: impl Into<String>, problem: Problem) -> SceneError {
+        SceneError::Invalid {
+            file: self.path.clone(),
+            line: at.line,
+            column: at.column,
+            field: field.into(),
+            problem,
+        }
+    }
+
+    /// The axis called `name` (case-insensitive).
+    #[must_use]
+    pub fn axis(&self, name: &str) -> Option<&Axis> {
+        self.axes.iter().find(|a| a.name.eq_ignore_ascii_case(name))
+    }
+
+    /// The tag called `name` (case-insensitive).
+    #[must_use]
+    pub fn tag(&self, name: &str) -> Option<&Tag> {
+        self.tags.iter().find(|t| t.name.eq_ignore_ascii_case(name))
+    }
+}
+
+/// Reads, parses and validates a scene file.
+///
+/// # Errors
+/// [`SceneError::Read`] if the file cannot be read; otherwise the first
+/// problem found, as [`SceneError::Toml`], [`SceneError::Syntax`] or
+/// [`SceneError::Invalid`], naming the file, line, column and field.
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+        path: path.to_owned(),
+        source,
+    })?;
+    parse(path, &text)
+}
+
+/// Parses and validates scene text as if read from `path` (which names the
+/// file in errors and anchors relative paths; the URDF and mesh files must
+/// exist relative to it).
+///
+/// # Errors
+/// As [`load`], without [`SceneError::Read`].
+pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
+    let ctx = Ctx {
+        file: path.to_owned(),
+        text,
+    };
+    let raw: RawScene = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
+    ctx.validate(raw, path)
+}
+
+#[cfg(test)]
+mod tests;

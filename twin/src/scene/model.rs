@@ -1,0 +1,575 @@
+//! The validated scene: what the program, plant and output stages read.
+//! Every value here has passed [`super::load`]'s checks.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::PathBuf;
+
+use serde::Deserialize;
+
+use crate::st::{Call, Expr};
+use planner::coord::CoordinateSystemConfig;
+
+use super::{CollisionSettings, GeometrySettings};
+
+/// A 1-based line and column (in characters) in the scene file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Location {
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column, counted in characters.
+    pub column: usize,
+}
+
+/// A validated scene.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Scene {
+    /// Scene name (default: the file stem).
+    pub name: String,
+    /// The scene file as given to [`load`].
+    pub path: PathBuf,
+    /// Simulated run time, seconds (> 0).
+    pub duration_s: f64,
+    /// Planner coarse update period, milliseconds (1..=32).
+    pub coarse_update_ms: f64,
+    /// Physics step, milliseconds; divides `coarse_update_ms` exactly.
+    pub physics_step_ms: f64,
+    /// The robot model.
+    pub robot: Robot,
+    /// Axes, in file order.
+    pub axes: Vec<Axis>,
+    /// Cameras, in file order.
+    pub cameras: Vec<Camera>,
+    /// Static obstacles, in file order.
+    pub obstacles: Vec<Obstacle>,
+    /// Declared tags, in file order.
+    pub tags: Vec<Tag>,
+    /// Program steps, in file order.
+    pub program: Vec<Step>,
+    /// Golden-image frames, if any.
+    pub snapshots: Option<Snapshots>,
+    /// Collision checking (`[collision]`); off when the table is absent.
+    pub collision: Option<CollisionSettings>,
+}
+
+/// `[robot]`.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Robot {
+    /// The URDF file, resolved relative to the scene file's folder.
+    pub urdf: PathBuf,
+    /// Where `robot.urdf` is written.
+    pub urdf_location: Location,
+    /// Initial joint positions, joint name -> SI position (rad or m).
+    pub initial_joints: BTreeMap<String, f64>,
+    /// Where each `initial_joints` entry's value is written.
+    pub initial_joint_locations: BTreeMap<String, Location>,
+}
+
+/// Whether an axis turns or slides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum AxisKind {
+    /// A prismatic joint; units `m` or `mm`.
+    Linear,
+    /// A revolute or continuous joint; units `deg` or `rad`.
+    Rotary,
+}
+
+impl fmt::Display for AxisKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            AxisKind::Linear => "linear",
+            AxisKind::Rotary => "rotary",
+        })
+    }
+}
+
+/// Axis position units (the program's "axis units").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum Units {
+    /// Degrees (rotary).
+    Deg,
+    /// Radians (rotary).
+    Rad,
+    /// Metres (linear).
+    M,
+    /// Millimetres (linear).
+    Mm,
+}
+
+impl Units {
+    /// SI units (rad or m) per axis unit.
+    #[must_use]
+    pub fn si_per_unit(self) -> f64 {
+        match self {
+            Units::Deg => std::f64::consts::PI / 180.0,
+            Units::Rad | Units::M => 1.0,
+            Units::Mm => 1.0e-3,
+        }
+    }
+
+    /// Whether these units fit an axis of `kind`.
+    #[must_use]
+    pub fn fits(self, kind: AxisKind) -> bool {
+        matches!(
+            (self, kind),
+            (Units::Deg | Units::Rad, AxisKind::Rotary) | (Units::M | Units::Mm, AxisKind::Linear)
+        )
+    }
+}
+
+impl fmt::Display for Units {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Units::Deg => "deg",
+            Units::Rad => "rad",
+            Units::M => "m",
+            Units::Mm => "mm",
+        })
+    }
+}
+
+/// Position-motor gains of the joint an axis drives (rapier's
+/// `motor_position(target, stiffness, damping)`).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotorGains {
+    /// Stiffness, N·m/rad (rotary) or N/m (linear) (default: 1.0e4).
+    #[serde(default = "MotorGains::default_stiffness")]
+    pub stiffness: f64,
+    /// Damping, N·m·s/rad (rotary) or N·s/m (linear) (default: 2.0e2).
+    #[serde(default = "MotorGains::default_damping")]
+    pub damping: f64,
+}
+
+impl MotorGains {
+    pub(super) fn default_stiffness() -> f64 {
+        1.0e4
+    }
+    pub(super) fn default_damping() -> f64 {
+        2.0e2
+    }
+}
+
+impl Default for MotorGains {
+    fn default() -> Self {
+        Self {
+            stiffness: Self::default_stiffness(),
+            damping: Self::default_damping(),
+        }
+    }
+}
+
+/// `[[axes]]`: one axis of the motion program, driving one URDF joint, or a
+/// virtual axis (no `joint`) whose actual position is its command position.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Axis {
+    /// Axis tag name used in the program.
+    pub name: String,
+    /// The URDF joint it drives; `None` for a virtual axis (the Logix
+    /// virtual axes of a Cartesian coordinate system under MCT).
+    pub joint: Option<String>,
+    /// Where `joint` is written (the axis' `name` for a virtual axis).
+    pub joint_location: Location,
+    /// Linear or rotary.
+    pub kind: AxisKind,
+    /// Modulo period in axis units, for modulo axes.
+    pub modulo_period: Option<f64>,
+    /// Axis position units.
+    pub units: Units,
+    /// Axis units / s (> 0).
+    pub max_velocity: f64,
+    /// Axis units / s² (> 0).
+    pub max_acceleration: f64,
+    /// Axis units / s² (> 0).
+    pub max_deceleration: f64,
+    /// Axis units / s³ (> 0).
+    pub max_jerk: f64,
+    /// Axis units (> 0).
+    pub in_position_window: f64,
+    /// PLCopen "Target Position Monitoring" (default: true).
+    pub target_position_monitoring: bool,
+    /// Axis units (≥ 0, default: 0).
+    pub modulo_tolerance_window: f64,
+    /// Initial position, axis units (default: 0, or from `robot.initial_joints`).
+    pub initial_position: f64,
+    /// Soft travel limits `(min, max)`, axis units (default: none here; the
+    /// run then takes the joint's URDF `<limit>` — see `run::limits`).
+    pub soft_travel_limits: Option<(f64, f64)>,
+    /// Joint motor gains.
+    pub motor: MotorGains,
+    /// Where the `[[axes]]` entry's `name` is written.
+    pub location: Location,
+}
+
+/// `[[cameras]]`: a pinhole camera in the world frame (Z up).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Camera {
+    /// Camera name (used in snapshot file names).
+    pub name: String,
+    /// Eye position in the world, metres.
+    pub position_m: [f64; 3],
+    /// Look-at point in the world, metres.
+    pub target_m: [f64; 3],
+    /// Vertical field of view, degrees (0 < fov < 180).
+    pub fov_deg: f64,
+    /// Image width, pixels (> 0).
+    pub width: u32,
+    /// Image height, pixels (> 0).
+    pub height: u32,
+    /// Frames per simulated second (> 0).
+    pub fps: f64,
+    /// Where the entry's `name` is written.
+    pub location: Location,
+}
+
+/// The geometry of an obstacle, metres.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Shape {
+    /// Axis-aligned box (in the obstacle frame) with full edge lengths.
+    Box {
+        /// Full size along x, y, z, metres.
+        size_m: [f64; 3],
+    },
+    /// Cylinder along the obstacle frame's z axis.
+    Cylinder {
+        /// Radius, metres.
+        radius_m: f64,
+        /// Full length, metres.
+        length_m: f64,
+    },
+    /// Sphere.
+    Sphere {
+        /// Radius, metres.
+        radius_m: f64,
+    },
+    /// A mesh file (resolved relative to the scene file), scaled per axis.
+    Mesh {
+        /// The mesh file.
+        path: PathBuf,
+        /// Scale factors along x, y, z.
+        scale: [f64; 3],
+    },
+}
+
+/// `[[obstacles]]`: a fixed body in the world.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Obstacle {
+    /// Obstacle name.
+    pub name: String,
+    /// Geometry.
+    pub shape: Shape,
+    /// Position of the obstacle frame in the world, metres.
+    pub position_m: [f64; 3],
+    /// Roll, pitch, yaw of the obstacle frame, degrees (default: zeros).
+    pub rpy_deg: [f64; 3],
+    /// RGBA colour, each in 0..=1 (default: [0.6, 0.6, 0.6, 1.0]).
+    pub color: [f64; 4],
+    /// Where the entry's `name` is written.
+    pub location: Location,
+}
+
+/// PLCopen (Tc2_MC2) function blocks a tag can be an instance of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum FunctionBlock {
+    /// `MC_Power`.
+    Power,
+    /// `MC_Reset`.
+    Reset,
+    /// `MC_Home`.
+    Home,
+    /// `MC_Stop`.
+    Stop,
+    /// `MC_Halt`.
+    Halt,
+    /// `MC_MoveAbsolute`.
+    MoveAbsolute,
+    /// `MC_MoveRelative`.
+    MoveRelative,
+    /// `MC_MoveAdditive`.
+    MoveAdditive,
+    /// `MC_MoveModulo`.
+    MoveModulo,
+    /// `MC_MoveVelocity`.
+    MoveVelocity,
+}
+
+impl FunctionBlock {
+    /// All function blocks.
+    pub const ALL: [FunctionBlock; 10] = [
+        FunctionBlock::Power,
+        FunctionBlock::Reset,
+        FunctionBlock::Home,
+        FunctionBlock::Stop,
+        FunctionBlock::Halt,
+        FunctionBlock::MoveAbsolute,
+        FunctionBlock::MoveRelative,
+        FunctionBlock::MoveAdditive,
+        FunctionBlock::MoveModulo,
+        FunctionBlock::MoveVelocity,
+    ];
+
+    /// The block's name as written in a scene (`MC_MoveModulo`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            FunctionBlock::Power => "MC_Power",
+            FunctionBlock::Reset => "MC_Reset",
+            FunctionBlock::Home => "MC_Home",
+            FunctionBlock::Stop => "MC_Stop",
+            FunctionBlock::Halt => "MC_Halt",
+            FunctionBlock::MoveAbsolute => "MC_MoveAbsolute",
+            FunctionBlock::MoveRelative => "MC_MoveRelative",
+            FunctionBlock::MoveAdditive => "MC_MoveAdditive",
+            FunctionBlock::MoveModulo => "MC_MoveModulo",
+            FunctionBlock::MoveVelocity => "MC_MoveVelocity",
+        }
+    }
+}
+
+/// The element type of a tag.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum BaseType {
+    /// `BOOL`.
+    Bool,
+    /// `SINT` (8-bit).
+    Sint,
+    /// `INT` (16-bit).
+    Int,
+    /// `DINT` (32-bit).
+    Dint,
+    /// `UDINT` (unsigned 32-bit).
+    Udint,
+    /// `REAL`.
+    Real,
+    /// `LREAL`.
+    Lreal,
+    /// `MOTION_INSTRUCTION` (Logix control structure: .EN, .DN, .ER, .IP, .PC ...).
+    MotionInstruction,
+    /// `COORDINATE_SYSTEM`; its value lists the member axes.
+    CoordinateSystem,
+    /// `CAM` (one cam point: master, slave, segment type).
+    Cam,
+    /// `CAM_PROFILE` (filled by MCCP).
+    CamProfile,
+    /// A PLCopen function-block instance.
+    FunctionBlock(FunctionBlock),
+}
+
+impl BaseType {
+    const NAMED: [(&'static str, BaseType); 11] = [
+        ("BOOL", BaseType::Bool),
+        ("SINT", BaseType::Sint),
+        ("INT", BaseType::Int),
+        ("DINT", BaseType::Dint),
+        ("UDINT", BaseType::Udint),
+        ("REAL", BaseType::Real),
+        ("LREAL", BaseType::Lreal),
+        ("MOTION_INSTRUCTION", BaseType::MotionInstruction),
+        ("COORDINATE_SYSTEM", BaseType::CoordinateSystem),
+        ("CAM", BaseType::Cam),
+        ("CAM_PROFILE", BaseType::CamProfile),
+    ];
+
+    /// The type name as written in a scene.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        if let BaseType::FunctionBlock(fb) = self {
+            return fb.name();
+        }
+        Self::NAMED.iter().find(|(_, t)| *t == self).map_or("?", |(n, _)| n)
+    }
+
+    /// Parses a type name, case-insensitively.
+    #[must_use]
+    pub fn parse(name: &str) -> Option<BaseType> {
+        Self::NAMED
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
+            .map(|(_, t)| *t)
+            .or_else(|| {
+                FunctionBlock::ALL
+                    .into_iter()
+                    .find(|fb| fb.name().eq_ignore_ascii_case(name))
+                    .map(BaseType::FunctionBlock)
+            })
+    }
+
+    /// Every accepted type name, for error messages and docs.
+    #[must_use]
+    pub fn all_names() -> Vec<&'static str> {
+        Self::NAMED
+            .iter()
+            .map(|(n, _)| *n)
+            .chain(FunctionBlock::ALL.iter().map(|fb| fb.name()))
+            .collect()
+    }
+
+    pub(super) fn integer_range(self) -> Option<(i64, i64)> {
+        match self {
+            BaseType::Sint => Some((i8::MIN.into(), i8::MAX.into())),
+            BaseType::Int => Some((i16::MIN.into(), i16::MAX.into())),
+            BaseType::Dint => Some((i32::MIN.into(), i32::MAX.into())),
+            BaseType::Udint => Some((0, u32::MAX.into())),
+            _ => None,
+        }
+    }
+}
+
+/// A tag's type: an element type, optionally an array `TYPE[N]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct TagType {
+    /// Element type.
+    pub base: BaseType,
+    /// `Some(N)` for arrays of N (> 0) elements.
+    pub array_len: Option<usize>,
+}
+
+impl fmt::Display for TagType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.array_len {
+            Some(n) => write!(f, "{}[{n}]", self.base.name()),
+            None => f.write_str(self.base.name()),
+        }
+    }
+}
+
+/// Cam segment interpolation (Logix `CAM.SegmentType`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum SegmentType {
+    /// 0 = linear.
+    Linear,
+    /// 1 = cubic.
+    Cubic,
+}
+
+/// One cam point (Logix `CAM` element).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CamPoint {
+    /// Master position, master axis units.
+    pub master: f64,
+    /// Slave position, slave axis units.
+    pub slave: f64,
+    /// Interpolation of the segment that starts here (default: cubic).
+    #[serde(default = "CamPoint::default_segment")]
+    pub segment_type: SegmentType,
+}
+
+impl CamPoint {
+    pub(super) fn default_segment() -> SegmentType {
+        SegmentType::Cubic
+    }
+}
+
+/// A tag's initial value, already checked against its type.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum TagValue {
+    /// `BOOL`.
+    Bool(bool),
+    /// `SINT`, `INT`, `DINT`, `UDINT` (within the type's range).
+    Integer(i64),
+    /// `REAL`, `LREAL`.
+    Real(f64),
+    /// Arrays of the above, exactly N elements.
+    Array(Vec<TagValue>),
+    /// `CAM[N]`: up to N points with strictly increasing master positions.
+    CamPoints(Vec<CamPoint>),
+    /// `COORDINATE_SYSTEM`: the member axis names (1 to 6, declared, distinct).
+    Axes(Vec<String>),
+}
+
+/// `[[tags]]`: a tag the program refers to.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Tag {
+    /// Tag name.
+    pub name: String,
+    /// Tag type.
+    pub ty: TagType,
+    /// Initial value (required for `COORDINATE_SYSTEM`; not allowed for
+    /// `MOTION_INSTRUCTION`, `CAM_PROFILE` and function blocks).
+    pub value: Option<TagValue>,
+    /// `COORDINATE_SYSTEM` tags: the system's dynamics, tolerances and tool
+    /// link (`None` for other tags; the defaults when the table is absent).
+    pub coordinate_system: Option<CoordinateSystemSettings>,
+    /// `COORDINATE_SYSTEM` tags: the MCT geometry of a robot's joint system
+    /// and its URDF mapping (`None` when the `geometry` table is absent).
+    pub geometry: Option<GeometrySettings>,
+    /// Where the entry's `name` is written.
+    pub location: Location,
+}
+
+/// The `coordinate_system` table of a `COORDINATE_SYSTEM` tag (its
+/// properties dialog): rates in the member axes' units.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct CoordinateSystemSettings {
+    /// The system's properties as the planner takes them: named after the
+    /// tag, one axis per member, primary axes the first `primary_axes`
+    /// members (default: the member count, at most 3), the rates and
+    /// tolerances in the members' units with the planner's defaults.
+    pub system: CoordinateSystemConfig,
+    /// URDF link whose origin is the tool centre: its path is drawn as a
+    /// trail and its world position traced (default: none).
+    pub tool_link: Option<String>,
+    /// Axis whose command position drives the system's master-driven moves
+    /// (the role of an MDCC; default: none).
+    pub master_axis: Option<String>,
+    /// Where the table is written (or the tag's name when absent).
+    pub location: Location,
+}
+
+/// What fires a program step.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Trigger {
+    /// At a simulated time.
+    At {
+        /// Seconds since the start (0 ≤ time ≤ duration).
+        time_s: f64,
+    },
+    /// On the rising edge of a BOOL tag or bit, plus a delay.
+    When {
+        /// The reference, e.g. `MoveTable.Done`.
+        condition: Expr,
+        /// Delay after the edge, seconds (≥ 0, default: 0).
+        delay_s: f64,
+    },
+}
+
+/// `[[program]]`: one instruction call and when it fires.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Step {
+    /// When the call fires.
+    pub trigger: Trigger,
+    /// The parsed call.
+    pub call: Call,
+    /// The call as written.
+    pub call_text: String,
+    /// Where the `call` string is written.
+    pub location: Location,
+}
+
+/// `[snapshots]`: frames compared with golden images.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Snapshots {
+    /// Frame indices, sorted, distinct.
+    pub frames: Vec<u32>,
+}

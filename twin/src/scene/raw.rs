@@ -1,0 +1,147 @@
+//! The raw (serde) layer: the TOML as written, with spans, before any check.
+//! Unknown fields are errors (`deny_unknown_fields`).
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::{AxisKind, MotorGains, Units};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawScene {
+    pub(super) name: Option<Spanned<String>>,
+    pub(super) duration_s: Spanned<f64>,
+    pub(super) coarse_update_ms: Spanned<f64>,
+    pub(super) physics_step_ms: Spanned<f64>,
+    pub(super) robot: RawRobot,
+    #[serde(default)]
+    pub(super) axes: Vec<RawAxis>,
+    #[serde(default)]
+    pub(super) cameras: Vec<RawCamera>,
+    #[serde(default)]
+    pub(super) obstacles: Vec<RawObstacle>,
+    #[serde(default)]
+    pub(super) tags: Vec<RawTag>,
+    #[serde(default)]
+    pub(super) program: Vec<RawStep>,
+    pub(super) snapshots: Option<RawSnapshots>,
+    pub(super) collision: Option<super::collision::RawCollision>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawRobot {
+    pub(super) urdf: Spanned<String>,
+    #[serde(default)]
+    pub(super) initial_joints: BTreeMap<String, Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawAxis {
+    pub(super) name: Spanned<String>,
+    pub(super) joint: Option<Spanned<String>>,
+    pub(super) kind: Spanned<AxisKind>,
+    pub(super) modulo_period: Option<Spanned<f64>>,
+    pub(super) units: Spanned<Units>,
+    pub(super) max_velocity: Spanned<f64>,
+    pub(super) max_acceleration: Spanned<f64>,
+    pub(super) max_deceleration: Spanned<f64>,
+    pub(super) max_jerk: Spanned<f64>,
+    pub(super) in_position_window: Spanned<f64>,
+    pub(super) target_position_monitoring: Option<bool>,
+    pub(super) modulo_tolerance_window: Option<Spanned<f64>>,
+    pub(super) initial_position: Option<Spanned<f64>>,
+    pub(super) soft_travel_limits: Option<Spanned<[f64; 2]>>,
+    pub(super) motor: Option<Spanned<MotorGains>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawCamera {
+    pub(super) name: Spanned<String>,
+    pub(super) position: Spanned<[f64; 3]>,
+    pub(super) target: Spanned<[f64; 3]>,
+    pub(super) fov_deg: Spanned<f64>,
+    pub(super) width: Spanned<u32>,
+    pub(super) height: Spanned<u32>,
+    pub(super) fps: Spanned<f64>,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum ShapeKind {
+    Box,
+    Cylinder,
+    Sphere,
+    Mesh,
+}
+
+impl ShapeKind {
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            ShapeKind::Box => "box",
+            ShapeKind::Cylinder => "cylinder",
+            ShapeKind::Sphere => "sphere",
+            ShapeKind::Mesh => "mesh",
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawObstacle {
+    pub(super) name: Spanned<String>,
+    pub(super) shape: Spanned<ShapeKind>,
+    pub(super) size: Option<Spanned<[f64; 3]>>,
+    pub(super) radius: Option<Spanned<f64>>,
+    pub(super) length: Option<Spanned<f64>>,
+    pub(super) file: Option<Spanned<String>>,
+    pub(super) scale: Option<Spanned<[f64; 3]>>,
+    pub(super) position: Spanned<[f64; 3]>,
+    pub(super) rpy_deg: Option<Spanned<[f64; 3]>>,
+    pub(super) color: Option<Spanned<[f64; 4]>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawTag {
+    pub(super) name: Spanned<String>,
+    #[serde(rename = "type")]
+    pub(super) ty: Spanned<String>,
+    pub(super) value: Option<Spanned<toml::Value>>,
+    pub(super) coordinate_system: Option<Spanned<RawCoordinateSystem>>,
+    pub(super) geometry: Option<Spanned<super::geometry::RawGeometry>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawCoordinateSystem {
+    pub(super) primary_axes: Option<Spanned<i64>>,
+    pub(super) max_speed: Option<Spanned<f64>>,
+    pub(super) max_accel: Option<Spanned<f64>>,
+    pub(super) max_decel: Option<Spanned<f64>>,
+    pub(super) max_accel_jerk: Option<Spanned<f64>>,
+    pub(super) max_decel_jerk: Option<Spanned<f64>>,
+    pub(super) command_tolerance: Option<Spanned<f64>>,
+    pub(super) actual_tolerance: Option<Spanned<f64>>,
+    pub(super) tool_link: Option<Spanned<String>>,
+    pub(super) master_axis: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawStep {
+    pub(super) at_s: Option<Spanned<f64>>,
+    pub(super) when: Option<Spanned<String>>,
+    pub(super) after_s: Option<Spanned<f64>>,
+    pub(super) call: Spanned<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawSnapshots {
+    pub(super) frames: Spanned<Vec<Spanned<u32>>>,
+}

@@ -1,0 +1,276 @@
+//! Validation of tags: data types (Logix base types, arrays, cam points,
+//! function blocks), initial values and coordinate-system settings.
+
+use toml::Spanned;
+
+use planner::coord::CoordinateSystemConfig;
+
+use super::{
+    Axis, BaseType, CamPoint, CoordinateSystemSettings, Ctx, NameKind, Names, Problem, RawCoordinateSystem, RawTag,
+    SceneError, Tag, TagType, TagValue,
+};
+
+impl Ctx<'_> {
+    pub(super) fn tag_type(&self, raw: &Spanned<String>, field: &str) -> Result<TagType, SceneError> {
+        let written = raw.get_ref().trim();
+        let (base_name, array_len) = match written.split_once('[') {
+            Some((base, rest)) => {
+                let bad = || {
+                    self.invalid(
+                        raw,
+                        field,
+                        Problem::BadArrayLength {
+                            type_name: written.to_owned(),
+                        },
+                    )
+                };
+                let len_text = rest.strip_suffix(']').ok_or_else(bad)?.trim();
+                let len: usize = len_text.parse().map_err(|_| bad())?;
+                if len == 0 {
+                    return Err(bad());
+                }
+                (base.trim(), Some(len))
+            }
+            None => (written, None),
+        };
+        let Some(base) = BaseType::parse(base_name) else {
+            return Err(self.invalid(
+                raw,
+                field,
+                Problem::UnknownTagType {
+                    type_name: written.to_owned(),
+                },
+            ));
+        };
+        if array_len.is_some() && matches!(base, BaseType::CoordinateSystem | BaseType::FunctionBlock(_)) {
+            return Err(self.invalid(raw, field, Problem::ArrayNotAllowed { base: base.name() }));
+        }
+        Ok(TagType { base, array_len })
+    }
+
+    pub(super) fn tags(&self, raw: &[RawTag], axes: &[Axis], names: &mut Names) -> Result<Vec<Tag>, SceneError> {
+        let mut tags = Vec::with_capacity(raw.len());
+        for (i, t) in raw.iter().enumerate() {
+            let f = |field: &str| format!("tags[{i}].{field}");
+            let name = self.identifier(&t.name, &f("name"))?;
+            let ty = self.tag_type(&t.ty, &f("type"))?;
+            self.unique(names, &t.name, &f("name"), NameKind::Tag(ty))?;
+            let value = match &t.value {
+                Some(v) => Some(self.tag_value(v, ty, axes, &f("value"))?),
+                None if ty.base == BaseType::CoordinateSystem => {
+                    let problem = Problem::ValueRequired {
+                        ty,
+                        expected: "value = [\"AxisName\", ...]",
+                    };
+                    return Err(self.invalid(&t.ty, f("value"), problem));
+                }
+                None => None,
+            };
+            let coordinate_system = match (&t.coordinate_system, &value) {
+                (Some(raw), _) if ty.base != BaseType::CoordinateSystem => {
+                    return Err(self.invalid(raw, f("coordinate_system"), Problem::CoordinateSystemOnly));
+                }
+                (raw, Some(TagValue::Axes(members))) => {
+                    Some(self.coordinate_system(raw.as_ref(), axes, members.len(), &t.name, &f("coordinate_system"))?)
+                }
+                _ => None,
+            };
+            let geometry = match (&t.geometry, &value) {
+                (Some(raw), _) if ty.base != BaseType::CoordinateSystem => {
+                    return Err(self.invalid(raw, f("geometry"), Problem::CoordinateSystemOnly));
+                }
+                (Some(raw), Some(TagValue::Axes(members))) => {
+                    Some(self.geometry(raw, members.len(), &f("geometry"))?)
+                }
+                _ => None,
+            };
+            tags.push(Tag {
+                name,
+                ty,
+                value,
+                coordinate_system,
+                geometry,
+                location: self.loc(&t.name),
+            });
+        }
+        Ok(tags)
+    }
+
+    pub(super) fn coordinate_system(
+        &self,
+        raw: Option<&Spanned<RawCoordinateSystem>>,
+        axes: &[Axis],
+        members: usize,
+        name: &Spanned<String>,
+        field: &str,
+    ) -> Result<CoordinateSystemSettings, SceneError> {
+        let f = |x: &str| format!("{field}.{x}");
+        let default_primary = members.min(3);
+        let defaults = CoordinateSystemConfig {
+            axis_count: members,
+            primary_axes: default_primary,
+            ..CoordinateSystemConfig::new(name.get_ref().clone())
+        };
+        let Some(raw) = raw else {
+            return Ok(CoordinateSystemSettings {
+                system: defaults,
+                tool_link: None,
+                master_axis: None,
+                location: self.loc(name),
+            });
+        };
+        let r = raw.get_ref();
+        let primary_axes = match &r.primary_axes {
+            Some(p) => {
+                let max = default_primary as i64;
+                let value = *p.get_ref();
+                if !(1..=max).contains(&value) {
+                    let problem = Problem::OutOfRange {
+                        value: value as f64,
+                        min: 1.0,
+                        max: max as f64,
+                        exclusive: false,
+                    };
+                    return Err(self.invalid(p, f("primary_axes"), problem));
+                }
+                value as usize
+            }
+            None => default_primary,
+        };
+        let pos = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
+            Some(v) => self.positive(v, &f(name)),
+            None => Ok(default),
+        };
+        let non_neg = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
+            Some(v) => self.non_negative(v, &f(name)),
+            None => Ok(default),
+        };
+        let system = CoordinateSystemConfig {
+            primary_axes,
+            max_speed: pos(&r.max_speed, "max_speed", defaults.max_speed)?,
+            max_accel: pos(&r.max_accel, "max_accel", defaults.max_accel)?,
+            max_decel: non_neg(&r.max_decel, "max_decel", defaults.max_decel)?,
+            max_accel_jerk: non_neg(&r.max_accel_jerk, "max_accel_jerk", defaults.max_accel_jerk)?,
+            max_decel_jerk: non_neg(&r.max_decel_jerk, "max_decel_jerk", defaults.max_decel_jerk)?,
+            command_tolerance: non_neg(&r.command_tolerance, "command_tolerance", defaults.command_tolerance)?,
+            actual_tolerance: non_neg(&r.actual_tolerance, "actual_tolerance", defaults.actual_tolerance)?,
+            ..defaults
+        };
+        Ok(CoordinateSystemSettings {
+            system,
+            tool_link: match &r.tool_link {
+                Some(l) => Some(self.nonempty_name(l, &f("tool_link"))?),
+                None => None,
+            },
+            master_axis: match &r.master_axis {
+                Some(m) => match axes.iter().find(|a| a.name.eq_ignore_ascii_case(m.get_ref())) {
+                    Some(a) => Some(a.name.clone()),
+                    None => {
+                        let problem = Problem::UnknownAxis {
+                            name: m.get_ref().clone(),
+                        };
+                        return Err(self.invalid(m, f("master_axis"), problem));
+                    }
+                },
+                None => None,
+            },
+            location: self.loc(raw),
+        })
+    }
+
+    pub(super) fn tag_value(
+        &self,
+        v: &Spanned<toml::Value>,
+        ty: TagType,
+        axes: &[Axis],
+        field: &str,
+    ) -> Result<TagValue, SceneError> {
+        let mismatch = |expected| self.invalid(v, field, Problem::ValueMismatch { ty, expected });
+        match (ty.base, ty.array_len) {
+            (BaseType::MotionInstruction | BaseType::CamProfile | BaseType::FunctionBlock(_), _) => {
+                Err(self.invalid(v, field, Problem::ValueNotAllowed { ty }))
+            }
+            (BaseType::CoordinateSystem, _) => {
+                let expected = "an array of 1 to 6 distinct axis names";
+                let toml::Value::Array(items) = v.get_ref() else {
+                    return Err(mismatch(expected));
+                };
+                if items.is_empty() || items.len() > 6 {
+                    return Err(mismatch(expected));
+                }
+                let mut members: Vec<String> = Vec::new();
+                for item in items {
+                    let toml::Value::String(axis) = item else {
+                        return Err(mismatch(expected));
+                    };
+                    let Some(found) = axes.iter().find(|a| a.name.eq_ignore_ascii_case(axis)) else {
+                        return Err(self.invalid(v, field, Problem::UnknownAxis { name: axis.clone() }));
+                    };
+                    if members.iter().any(|m| m.eq_ignore_ascii_case(axis)) {
+                        return Err(mismatch(expected));
+                    }
+                    members.push(found.name.clone());
+                }
+                Ok(TagValue::Axes(members))
+            }
+            (BaseType::Cam, len) => {
+                let expected = "an array of { master = .., slave = .., segment_type = \"linear\" | \"cubic\" } tables";
+                let toml::Value::Array(items) = v.get_ref() else {
+                    return Err(mismatch(expected));
+                };
+                if items.len() > len.unwrap_or(1) || items.is_empty() {
+                    return Err(mismatch("between 1 and N cam points"));
+                }
+                let mut points: Vec<CamPoint> = Vec::with_capacity(items.len());
+                for (index, item) in items.iter().enumerate() {
+                    let point: CamPoint = item.clone().try_into().map_err(|_| mismatch(expected))?;
+                    if !point.master.is_finite() || !point.slave.is_finite() {
+                        return Err(mismatch(expected));
+                    }
+                    if points.last().is_some_and(|p| p.master >= point.master) {
+                        return Err(self.invalid(v, field, Problem::CamNotIncreasing { index }));
+                    }
+                    points.push(point);
+                }
+                Ok(TagValue::CamPoints(points))
+            }
+            (base, Some(len)) => {
+                let expected = "an array of exactly N elements of the element type";
+                let toml::Value::Array(items) = v.get_ref() else {
+                    return Err(mismatch(expected));
+                };
+                if items.len() != len {
+                    return Err(mismatch(expected));
+                }
+                items
+                    .iter()
+                    .map(|item| scalar_value(base, item).ok_or_else(|| mismatch(expected)))
+                    .collect::<Result<_, _>>()
+                    .map(TagValue::Array)
+            }
+            (base, None) => {
+                let expected = match base {
+                    BaseType::Bool => "true or false",
+                    BaseType::Real | BaseType::Lreal => "a finite number",
+                    _ => "an integer within the type's range",
+                };
+                scalar_value(base, v.get_ref()).ok_or_else(|| mismatch(expected))
+            }
+        }
+    }
+}
+
+/// A scalar initial value of `base`, if `value` fits it.
+pub(super) fn scalar_value(base: BaseType, value: &toml::Value) -> Option<TagValue> {
+    match (base, value) {
+        (BaseType::Bool, toml::Value::Boolean(b)) => Some(TagValue::Bool(*b)),
+        (BaseType::Real | BaseType::Lreal, toml::Value::Float(x)) if x.is_finite() => Some(TagValue::Real(*x)),
+        #[allow(clippy::cast_precision_loss)]
+        (BaseType::Real | BaseType::Lreal, toml::Value::Integer(i)) => Some(TagValue::Real(*i as f64)),
+        (base, toml::Value::Integer(i)) => {
+            let (min, max) = base.integer_range()?;
+            (min..=max).contains(i).then_some(TagValue::Integer(*i))
+        }
+        _ => None,
+    }
+}

@@ -1,0 +1,529 @@
+use super::*;
+use crate::st::ParseError;
+use crate::st::{self, Args, Expr};
+use rand::{Rng, SeedableRng};
+use std::path::PathBuf;
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures")
+}
+
+fn fixture_text() -> String {
+    std::fs::read_to_string(fixtures().join("indexing_table.toml")).expect("fixture readable")
+}
+
+/// The fixture with `from` replaced by `to` (which must occur exactly once).
+fn edited(from: &str, to: &str) -> String {
+    let text = fixture_text();
+    assert_eq!(text.matches(from).count(), 1, "'{from}' must occur once in the fixture");
+    text.replace(from, to)
+}
+
+fn error_of(text: &str) -> SceneError {
+    match parse(&fixtures().join("case.toml"), text) {
+        Ok(_) => panic!("scene should not load"),
+        Err(e) => e,
+    }
+}
+
+/// 1-based line and column of the first occurrence of `needle`.
+fn find(text: &str, needle: &str) -> Location {
+    let byte = text.find(needle).expect("needle present");
+    let before = &text[..byte];
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    Location {
+        line: before.matches('\n').count() + 1,
+        column: before[line_start..].chars().count() + 1,
+    }
+}
+
+fn assert_place(e: &SceneError, at: Location, field: &str) {
+    assert_eq!(e.location(), Some(at), "{e}");
+    assert_eq!(e.field(), Some(field), "{e}");
+    let line = e.to_string();
+    assert!(line.starts_with(&format!(
+        "{}:{}:{}: ",
+        fixtures().join("case.toml").display(),
+        at.line,
+        at.column
+    )));
+    assert!(!line.contains('\n'), "{line}");
+}
+
+#[test]
+fn complete_fixture_loads() {
+    let scene = load(&fixtures().join("indexing_table.toml")).expect("fixture loads");
+    assert_eq!(scene.name, "indexing_table");
+    assert_eq!(
+        (scene.duration_s, scene.coarse_update_ms, scene.physics_step_ms),
+        (8.0, 4.0, 1.0)
+    );
+    assert_eq!(scene.robot.urdf, fixtures().join("robots/indexing_table.urdf"));
+    assert_eq!(scene.axes.len(), 2);
+    let table = scene.axis("table").expect("case-insensitive lookup");
+    assert_eq!(table.modulo_period, Some(360.0));
+    assert_eq!(table.motor, MotorGains::default());
+    let slide = scene.axis("Slide").expect("Slide");
+    assert_eq!((slide.kind, slide.units), (AxisKind::Linear, Units::Mm));
+    assert!(
+        (slide.initial_position - 100.0).abs() < 1e-9,
+        "0.1 m from initial_joints is 100 mm"
+    );
+    assert!(slide.target_position_monitoring);
+    assert_eq!(slide.joint_location, find(&fixture_text(), "\"slide_joint\""));
+    assert_eq!(scene.cameras[0].width, 640);
+    assert!(matches!(
+        scene.obstacles[1].shape,
+        Shape::Cylinder {
+            radius_m: 0.05,
+            length_m: 0.8
+        }
+    ));
+    assert!(matches!(
+        &scene.obstacles[3].shape,
+        Shape::Mesh {
+            scale: [0.001, 0.001, 0.001],
+            ..
+        }
+    ));
+    assert_eq!(scene.obstacles[2].color, [0.6, 0.6, 0.6, 1.0]);
+    assert_eq!(
+        scene.tag("CS1").and_then(|t| t.value.clone()),
+        Some(TagValue::Axes(vec!["Table".into(), "Slide".into()]))
+    );
+    assert_eq!(
+        scene.tag("Pos").and_then(|t| t.value.clone()),
+        Some(TagValue::Array(vec![TagValue::Real(90.0), TagValue::Real(100.0)]))
+    );
+    let Some(TagValue::CamPoints(cam)) = scene.tag("Cam_1").and_then(|t| t.value.clone()) else {
+        panic!("cam points")
+    };
+    assert_eq!(cam[0].segment_type, SegmentType::Linear);
+    assert_eq!(cam[1].segment_type, SegmentType::Cubic);
+    assert_eq!(
+        scene.tag("MoveTable").map(|t| t.ty.base),
+        Some(BaseType::FunctionBlock(FunctionBlock::MoveModulo))
+    );
+    assert_eq!(scene.program.len(), 4);
+    assert_eq!(scene.program[0].trigger, Trigger::At { time_s: 0.0 });
+    assert_eq!(
+        scene.program[1].trigger,
+        Trigger::When {
+            condition: Expr::Member(Box::new(Expr::Ident("MoveTable".into())), "Done".into()),
+            delay_s: 0.5
+        }
+    );
+    let Args::Positional(operands) = &scene.program[2].call.args else {
+        panic!("positional MCCM")
+    };
+    assert_eq!(operands.len(), 25);
+    assert_eq!(
+        scene.snapshots.as_ref().map(|s| s.frames.clone()),
+        Some(vec![0, 12, 30])
+    );
+}
+
+#[test]
+fn name_defaults_to_file_stem() {
+    let text = edited("name = \"indexing_table\"\n", "");
+    let scene = parse(&fixtures().join("stem_name.toml"), &text).expect("loads");
+    assert_eq!(scene.name, "stem_name");
+}
+
+#[test]
+fn unknown_field_names_table_line_and_column() {
+    let text = edited("max_velocity = 720.0", "max_speed = 720.0");
+    let e = error_of(&text);
+    assert!(matches!(&e, SceneError::Toml { .. }), "{e}");
+    assert_place(&e, find(&text, "max_speed"), "axes[0]");
+    assert!(e.to_string().contains("'max_speed'"), "{e}");
+}
+
+#[test]
+fn wrong_type_points_at_the_value() {
+    let text = edited("fps = 10.0", "fps = \"fast\"");
+    let e = error_of(&text);
+    assert!(matches!(&e, SceneError::Toml { .. }), "{e}");
+    assert_place(&e, find(&text, "\"fast\""), "cameras[0]");
+}
+
+#[test]
+fn missing_required_field_is_an_error() {
+    // (`joint` is optional: an axis without one is virtual.)
+    let text = edited("kind = \"linear\"\n", "");
+    assert!(matches!(error_of(&text), SceneError::Toml { .. }));
+}
+
+fn syntax_case(from: &str, to: &str, points_at: &str, field: &str) -> ParseError {
+    let text = edited(from, to);
+    let e = error_of(&text);
+    assert_place(&e, find(&text, points_at), field);
+    match e {
+        SceneError::Syntax { source, .. } => source,
+        other => panic!("expected a syntax error, got {other}"),
+    }
+}
+
+#[test]
+fn missing_assign_maps_into_the_file() {
+    let source = syntax_case("Position := 90.0", "Position 90.0", "90.0, Velocity", "program[0].call");
+    assert!(matches!(source, ParseError::MissingAssign { ref input, .. } if input == "Position"));
+}
+
+#[test]
+fn unterminated_call_points_past_the_text() {
+    let source = syntax_case(
+        "Execute := FALSE);\"",
+        "Execute := FALSE\"",
+        "\"\n\n[[program]]\nat_s = 2.0",
+        "program[1].call",
+    );
+    assert!(matches!(source, ParseError::Unterminated { .. }));
+}
+
+#[test]
+fn missing_comma_in_positional_call() {
+    let source = syntax_case("MCCM(CS1, MC1,", "MCCM(CS1 MC1,", "MC1, 0, Pos", "program[2].call");
+    assert!(matches!(
+        source,
+        ParseError::Unexpected {
+            expected: st::Expected::CloseOrComma,
+            ..
+        }
+    ));
+}
+
+#[test]
+fn bad_when_condition() {
+    let source = syntax_case(
+        "when = \"MC1.PC\"",
+        "when = \"MC1.\"",
+        "\"\ncall = \"MCCP",
+        "program[3].when",
+    );
+    assert!(matches!(
+        source,
+        ParseError::Unexpected {
+            expected: st::Expected::MemberName,
+            ..
+        }
+    ));
+}
+
+#[test]
+fn mixed_arguments() {
+    let source = syntax_case(
+        "Axis := Table, Execute := FALSE",
+        "Table, Execute := FALSE",
+        "Execute := FALSE",
+        "program[1].call",
+    );
+    assert!(matches!(source, ParseError::MixedArguments { .. }));
+}
+
+#[test]
+fn missing_urdf_names_path_and_field() {
+    let text = edited("robots/indexing_table.urdf", "robots/nope.urdf");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "\"robots/nope.urdf\""), "robot.urdf");
+    assert!(matches!(e.problem(), Some(Problem::MissingFile { path }) if path.ends_with("robots/nope.urdf")));
+}
+
+#[test]
+fn missing_mesh_file() {
+    let text = edited("meshes/guard.obj", "meshes/none.obj");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "\"meshes/none.obj\""), "obstacles[3].file");
+}
+
+#[test]
+fn unknown_tag_in_a_call_points_at_the_name() {
+    let text = edited("Axis := Table, Execute := TRUE", "Axis := Tabel, Execute := TRUE");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "Tabel"), "program[0].call");
+    assert!(matches!(e.problem(), Some(Problem::UnknownTag { name }) if name == "Tabel"));
+}
+
+#[test]
+fn unknown_instance_and_instruction() {
+    let text = edited(
+        "call = \"MoveTable(Axis := Table, Execute := FALSE);\"",
+        "call = \"MoveTabel(Axis := Table);\"",
+    );
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "MoveTabel"), "program[1].call");
+    assert!(matches!(e.problem(), Some(Problem::UnknownTag { .. })));
+
+    let text = edited("MCCP(MC1", "MCCX(MC1");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "MCCX"), "program[3].call");
+    assert!(matches!(e.problem(), Some(Problem::UnknownInstruction { .. })));
+
+    let text = edited("Table, Execute := FALSE", "Table, Execute := MC_Sideways");
+    assert!(matches!(
+        error_of(&text).problem(),
+        Some(Problem::UnknownOperand { .. })
+    ));
+}
+
+#[test]
+fn calling_a_data_tag_is_an_error() {
+    let text = edited(
+        "MoveTable(Axis := Table, Execute := FALSE)",
+        "Count(Axis := Table, Execute := FALSE)",
+    );
+    assert!(matches!(error_of(&text).problem(), Some(Problem::NotCallable { .. })));
+}
+
+#[test]
+fn unknown_enumeration_word_and_bad_index() {
+    let text = edited("s-curve", "z-curve");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "z-curve"), "program[2].call");
+    let text = edited("Pos[0], 1", "Pos[2], 1");
+    assert!(matches!(
+        error_of(&text).problem(),
+        Some(Problem::IndexOutOfBounds { index: 2, len: 2, .. })
+    ));
+}
+
+#[test]
+fn enumeration_words_belong_to_their_operand() {
+    // `%oftime` is a Jerk Units word only; in Accel Units it is unknown.
+    let text = edited("50, %ofmaximum, 50", "50, %oftime, 50");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "%oftime, 50"), "program[2].call");
+    match e.problem() {
+        Some(Problem::UnknownOperand { name, operand, words }) => {
+            assert_eq!((name.as_str(), *operand), ("%oftime", "Accel Units"));
+            assert!(words.iter().any(|w| (w.word, w.code) == ("%ofmaximum", 1)), "{words:?}");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(e.to_string().contains("for Accel Units (its words: "), "{e}");
+}
+
+#[test]
+fn instructions_outside_the_catalogue_are_refused_at_load() {
+    let text = edited("MCCP(MC1", "MDCC(MC1");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "MDCC"), "program[3].call");
+    assert!(matches!(e.problem(), Some(Problem::NotSimulated { .. })), "{e}");
+    assert!(e.to_string().contains("MCLM, MCCM"), "{e}");
+}
+
+#[test]
+fn unknown_tag_in_when() {
+    let text = edited("when = \"MoveTable.Done\"", "when = \"Moved.Done\"");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "Moved.Done"), "program[1].when");
+}
+
+#[test]
+fn duplicate_axis_name() {
+    let text = edited("name = \"Slide\"", "name = \"table\"");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "\"table\""), "axes[1].name");
+    assert!(matches!(
+        e.problem(),
+        Some(Problem::DuplicateName { first_line: 12, .. })
+    ));
+}
+
+#[test]
+fn tag_clashing_with_axis() {
+    let text = edited("name = \"Count\"", "name = \"Slide\"");
+    assert!(matches!(error_of(&text).problem(), Some(Problem::DuplicateName { .. })));
+}
+
+#[test]
+fn physics_step_must_divide_coarse_update() {
+    let text = edited("physics_step_ms = 1.0", "physics_step_ms = 3.0");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "3.0"), "physics_step_ms");
+    assert!(matches!(e.problem(), Some(Problem::StepNotDivisor { .. })));
+    let text = edited("physics_step_ms = 1.0", "physics_step_ms = 0.5");
+    assert!(parse(&fixtures().join("case.toml"), &text).is_ok());
+    let text = edited("coarse_update_ms = 4.0", "coarse_update_ms = 40.0");
+    assert!(matches!(error_of(&text).problem(), Some(Problem::OutOfRange { .. })));
+}
+
+#[test]
+fn both_triggers() {
+    let text = edited("when = \"MoveTable.Done\"", "at_s = 1.0\nwhen = \"MoveTable.Done\"");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "\"MoveTable.Done\""), "program[1].when");
+    assert!(matches!(e.problem(), Some(Problem::BothTriggers)));
+}
+
+#[test]
+fn neither_trigger() {
+    let text = edited("at_s = 2.0\n", "");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "\"MCCM("), "program[2]");
+    assert!(matches!(e.problem(), Some(Problem::NoTrigger)));
+}
+
+#[test]
+fn after_s_needs_when_and_at_s_within_duration() {
+    let text = edited("at_s = 2.0\n", "at_s = 2.0\nafter_s = 1.0\n");
+    assert!(matches!(error_of(&text).problem(), Some(Problem::AfterWithoutWhen)));
+    let text = edited("at_s = 2.0\n", "at_s = 9.0\n");
+    assert!(matches!(error_of(&text).problem(), Some(Problem::AfterEnd { .. })));
+}
+
+#[test]
+fn ranges_are_checked() {
+    for (from, to, field) in [
+        ("max_jerk = 36000.0", "max_jerk = -1.0", "axes[0].max_jerk"),
+        ("max_velocity = 500.0", "max_velocity = nan", "axes[1].max_velocity"),
+        ("fps = 10.0", "fps = 0.0", "cameras[0].fps"),
+        ("width = 640", "width = 0", "cameras[0].width"),
+        ("fov_deg = 45.0", "fov_deg = 180.0", "cameras[0].fov_deg"),
+        ("duration_s = 8.0", "duration_s = 0.0", "duration_s"),
+        ("radius = 0.1", "radius = -0.1", "obstacles[2].radius"),
+        (
+            "color = [0.8, 0.8, 0.2, 1.0]",
+            "color = [0.8, 0.8, 0.2, 2.0]",
+            "obstacles[0].color",
+        ),
+        ("units = \"mm\"", "units = \"deg\"", "axes[1].units"),
+        (
+            "initial_position = 0.0",
+            "initial_position = 1.0",
+            "axes[0].initial_position",
+        ),
+    ] {
+        let e = error_of(&edited(from, to));
+        assert!(matches!(e, SceneError::Invalid { .. }), "{to}: {e}");
+        assert_eq!(e.field(), Some(field), "{to}: {e}");
+    }
+}
+
+#[test]
+fn shapes_need_their_own_fields() {
+    let e = error_of(&edited("radius = 0.05\n", ""));
+    assert!(
+        matches!(e.problem(), Some(Problem::MissingShapeField { field: "radius", .. })),
+        "{e}"
+    );
+    let e = error_of(&edited("radius = 0.1\n", "radius = 0.1\nsize = [1.0, 1.0, 1.0]\n"));
+    assert!(
+        matches!(e.problem(), Some(Problem::ExtraShapeField { field: "size", .. })),
+        "{e}"
+    );
+}
+
+#[test]
+fn tag_types_and_values_are_checked() {
+    let text = edited("type = \"DINT\"", "type = \"DWORD\"");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "\"DWORD\""), "tags[5].type");
+    assert!(matches!(e.problem(), Some(Problem::UnknownTagType { type_name }) if type_name == "DWORD"));
+    for (from, to) in [
+        ("type = \"REAL[2]\"\nvalue = [90.0", "type = \"REAL[0]\"\nvalue = [90.0"),
+        ("value = 3", "value = 3.5"),
+        ("value = 3", "value = 4294967296"),
+        ("value = true", "value = 1"),
+        ("value = [90.0, 100]", "value = [90.0]"),
+        ("value = [\"Table\", \"Slide\"]", "value = [\"Table\", \"Spindle\"]"),
+        ("type = \"MC_MoveModulo\"", "type = \"MC_MoveModulo\"\nvalue = 1"),
+        ("{ master = 90.0, slave = 10.0 }", "{ master = 0.0, slave = 10.0 }"),
+    ] {
+        let e = error_of(&edited(from, to));
+        assert!(matches!(e, SceneError::Invalid { .. }), "{to}: {e}");
+    }
+}
+
+#[test]
+fn snapshots_need_distinct_frames() {
+    let e = error_of(&edited("frames = [0, 12, 30]", "frames = [0, 12, 12]"));
+    assert!(matches!(e.problem(), Some(Problem::DuplicateFrame { frame: 12 })));
+}
+
+#[test]
+fn unreadable_file() {
+    let e = load(&fixtures().join("does_not_exist.toml")).expect_err("no file");
+    assert!(matches!(e, SceneError::Read { .. }));
+    assert_eq!(e.location(), None);
+}
+
+#[test]
+fn escaped_call_string_still_reports_a_place() {
+    let text = edited(
+        "call = \"MoveTable(Axis := Table, Execute := FALSE);\"",
+        "call = \"MoveTable(Axis := \\u0054able, Execute := FALSE\"",
+    );
+    let e = error_of(&text);
+    assert!(matches!(e, SceneError::Syntax { .. }), "{e}");
+    assert_eq!(e.location().map(|l| l.line), Some(find(&text, "\\u0054").line));
+}
+
+#[test]
+fn random_edits_never_panic() {
+    let original = fixture_text();
+    let alphabet: Vec<char> = "()[],.:=;\"'#\n -%²éabzTRUE0123456789{}".chars().collect();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x5ce9e);
+    for _ in 0..300 {
+        let mut chars: Vec<char> = original.chars().collect();
+        for _ in 0..rng.random_range(1..6) {
+            let at = rng.random_range(0..chars.len());
+            match rng.random_range(0..3) {
+                0 => {
+                    chars.remove(at);
+                }
+                1 => chars.insert(at, alphabet[rng.random_range(0..alphabet.len())]),
+                _ => chars[at] = alphabet[rng.random_range(0..alphabet.len())],
+            }
+        }
+        let text: String = chars.into_iter().collect();
+        if let Err(e) = parse(&fixtures().join("case.toml"), &text) {
+            let line = e.to_string();
+            assert!(!line.is_empty() && !line.contains('\n'), "{line:?}");
+        }
+    }
+}
+
+#[test]
+fn soft_travel_limits_are_checked_at_the_field() {
+    // Slide starts at robot.initial_joints.slide_joint = 0.1 m = 100 mm.
+    let ok = edited(
+        "in_position_window = 0.05\n",
+        "in_position_window = 0.05\nsoft_travel_limits = [0.0, 300.0]\n",
+    );
+    let scene = parse(&fixtures().join("case.toml"), &ok).expect("limits around 100 mm");
+    assert_eq!(scene.axes[1].soft_travel_limits, Some((0.0, 300.0)));
+    assert_eq!(scene.axes[0].soft_travel_limits, None);
+    for (limits, problem) in [
+        ("[300.0, 0.0]", "order"),
+        ("[0.0, 0.0]", "order"),
+        ("[nan, 300.0]", "finite"),
+        ("[0.0, 50.0]", "outside"),
+    ] {
+        let text = edited(
+            "in_position_window = 0.05\n",
+            &format!("in_position_window = 0.05\nsoft_travel_limits = {limits}\n"),
+        );
+        let e = error_of(&text);
+        assert_place(&e, find(&text, limits), "axes[1].soft_travel_limits");
+        let expected = match problem {
+            "order" => matches!(e.problem(), Some(Problem::SoftTravelLimitsOrder { .. })),
+            "finite" => matches!(e.problem(), Some(Problem::NotFinite { .. })),
+            _ => matches!(
+                e.problem(),
+                Some(Problem::OutsideSoftTravelLimits { position, .. }) if (*position - 100.0).abs() < 1e-9
+            ),
+        };
+        assert!(expected, "{limits}: {e}");
+    }
+    let modulo = edited(
+        "modulo_tolerance_window = 0.0\n",
+        "modulo_tolerance_window = 0.0\nsoft_travel_limits = [-90.0, 90.0]\n",
+    );
+    let e = error_of(&modulo);
+    assert_place(&e, find(&modulo, "[-90.0, 90.0]"), "axes[0].soft_travel_limits");
+    assert!(matches!(
+        e.problem(),
+        Some(Problem::SoftTravelLimitsOnModulo { period }) if *period == 360.0
+    ));
+}

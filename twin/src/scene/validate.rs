@@ -1,0 +1,406 @@
+//! Validation of the scene's top level: settings, robot, axes, cameras,
+//! obstacles and snapshots (tags and the program have files of their own).
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+use toml::Spanned;
+
+use super::{
+    Axis, Camera, Ctx, MotorGains, NameKind, Names, Obstacle, Problem, RawAxis, RawCamera, RawObstacle, RawRobot,
+    RawScene, RawSnapshots, Robot, Scene, SceneError, Shape, ShapeKind, Snapshots,
+};
+
+impl Ctx<'_> {
+    pub(super) fn validate(&self, raw: RawScene, path: &Path) -> Result<Scene, SceneError> {
+        let base = path.parent().unwrap_or_else(|| Path::new(""));
+        let name = match &raw.name {
+            Some(n) => self.nonempty_name(n, "name")?,
+            None => path
+                .file_stem()
+                .map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
+        };
+        let duration_s = self.positive(&raw.duration_s, "duration_s")?;
+        let coarse_update_ms = self.finite(&raw.coarse_update_ms, "coarse_update_ms")?;
+        if !(1.0..=32.0).contains(&coarse_update_ms) {
+            let problem = Problem::OutOfRange {
+                value: coarse_update_ms,
+                min: 1.0,
+                max: 32.0,
+                exclusive: false,
+            };
+            return Err(self.invalid(&raw.coarse_update_ms, "coarse_update_ms", problem));
+        }
+        let physics_step_ms = self.positive(&raw.physics_step_ms, "physics_step_ms")?;
+        let ratio = coarse_update_ms / physics_step_ms;
+        if (ratio - ratio.round()).abs() > 1e-9 || ratio.round() < 1.0 {
+            let problem = Problem::StepNotDivisor {
+                physics_step_ms,
+                coarse_update_ms,
+            };
+            return Err(self.invalid(&raw.physics_step_ms, "physics_step_ms", problem));
+        }
+
+        let robot = self.robot(&raw.robot, base)?;
+        let mut names: Names = HashMap::new();
+        let axes = self.axes(&raw.axes, &robot, &mut names)?;
+        let cameras = self.cameras(&raw.cameras)?;
+        let obstacles = self.obstacles(&raw.obstacles, base)?;
+        let tags = self.tags(&raw.tags, &axes, &mut names)?;
+        let program = self.program(&raw.program, duration_s, &names)?;
+        let snapshots = match &raw.snapshots {
+            Some(s) => Some(self.snapshots(s, &cameras)?),
+            None => None,
+        };
+        let collision = match &raw.collision {
+            Some(c) => Some(self.collision(c, base)?),
+            None => None,
+        };
+        Ok(Scene {
+            collision,
+            name,
+            path: path.to_owned(),
+            duration_s,
+            coarse_update_ms,
+            physics_step_ms,
+            robot,
+            axes,
+            cameras,
+            obstacles,
+            tags,
+            program,
+            snapshots,
+        })
+    }
+
+    pub(super) fn robot(&self, raw: &RawRobot, base: &Path) -> Result<Robot, SceneError> {
+        let urdf = self.existing_file(&raw.urdf, "robot.urdf", base)?;
+        let mut initial_joints = BTreeMap::new();
+        let mut initial_joint_locations = BTreeMap::new();
+        for (joint, value) in &raw.initial_joints {
+            let v = self.finite(value, &format!("robot.initial_joints.{joint}"))?;
+            initial_joints.insert(joint.clone(), v);
+            initial_joint_locations.insert(joint.clone(), self.loc(value));
+        }
+        Ok(Robot {
+            urdf,
+            urdf_location: self.loc(&raw.urdf),
+            initial_joints,
+            initial_joint_locations,
+        })
+    }
+
+    pub(super) fn axes(&self, raw: &[RawAxis], robot: &Robot, names: &mut Names) -> Result<Vec<Axis>, SceneError> {
+        let mut joints: HashMap<String, (usize, String)> = HashMap::new();
+        let mut axes = Vec::with_capacity(raw.len());
+        for (i, a) in raw.iter().enumerate() {
+            let f = |field: &str| format!("axes[{i}].{field}");
+            let name = self.identifier(&a.name, &f("name"))?;
+            self.unique(names, &a.name, &f("name"), NameKind::Axis)?;
+            let joint = match &a.joint {
+                Some(spanned) => {
+                    let joint = self.nonempty_name(spanned, &f("joint"))?;
+                    if let Some((_, other_axis)) = joints.get(&joint) {
+                        let problem = Problem::SharedJoint {
+                            joint: joint.clone(),
+                            other_axis: other_axis.clone(),
+                        };
+                        return Err(self.invalid(spanned, f("joint"), problem));
+                    }
+                    joints.insert(joint.clone(), (i, name.clone()));
+                    Some(joint)
+                }
+                None => None,
+            };
+            let kind = *a.kind.get_ref();
+            let units = *a.units.get_ref();
+            if !units.fits(kind) {
+                return Err(self.invalid(&a.units, f("units"), Problem::UnitsMismatch { units, kind }));
+            }
+            let modulo_period = match &a.modulo_period {
+                Some(p) => Some(self.positive(p, &f("modulo_period"))?),
+                None => None,
+            };
+            let max_velocity = self.positive(&a.max_velocity, &f("max_velocity"))?;
+            let max_acceleration = self.positive(&a.max_acceleration, &f("max_acceleration"))?;
+            let max_deceleration = self.positive(&a.max_deceleration, &f("max_deceleration"))?;
+            let max_jerk = self.positive(&a.max_jerk, &f("max_jerk"))?;
+            let in_position_window = self.positive(&a.in_position_window, &f("in_position_window"))?;
+            let modulo_tolerance_window = match &a.modulo_tolerance_window {
+                Some(w) => self.non_negative(w, &f("modulo_tolerance_window"))?,
+                None => 0.0,
+            };
+            let motor = match &a.motor {
+                Some(m) => {
+                    let gains = *m.get_ref();
+                    for (value, field) in [(gains.stiffness, "stiffness"), (gains.damping, "damping")] {
+                        let spanned = Spanned::new(m.span(), value);
+                        self.non_negative(&spanned, &f(&format!("motor.{field}")))?;
+                    }
+                    gains
+                }
+                None => MotorGains::default(),
+            };
+            let joint_si = joint.as_ref().and_then(|j| robot.initial_joints.get(j)).copied();
+            let initial_position = match (&a.initial_position, joint_si) {
+                (Some(p), joint_si) => {
+                    let value = self.finite(p, &f("initial_position"))?;
+                    if let Some(si) = joint_si {
+                        let as_si = value * units.si_per_unit();
+                        if (as_si - si).abs() > 1e-9 * (1.0 + si.abs()) {
+                            let problem = Problem::InitialPositionMismatch {
+                                initial_position: value,
+                                units,
+                                joint: joint.clone().unwrap_or_default(),
+                                joint_position_si: si,
+                            };
+                            return Err(self.invalid(p, f("initial_position"), problem));
+                        }
+                    }
+                    value
+                }
+                (None, Some(si)) => si / units.si_per_unit(),
+                (None, None) => 0.0,
+            };
+            let soft_travel_limits = match &a.soft_travel_limits {
+                Some(l) => {
+                    let [min, max] = self.finite_array(l, &f("soft_travel_limits"))?;
+                    if min >= max {
+                        return Err(self.invalid(
+                            l,
+                            f("soft_travel_limits"),
+                            Problem::SoftTravelLimitsOrder { min, max },
+                        ));
+                    }
+                    if let Some(period) = modulo_period {
+                        return Err(self.invalid(
+                            l,
+                            f("soft_travel_limits"),
+                            Problem::SoftTravelLimitsOnModulo { period },
+                        ));
+                    }
+                    if !(min..=max).contains(&initial_position) {
+                        let problem = Problem::OutsideSoftTravelLimits {
+                            position: initial_position,
+                            min,
+                            max,
+                        };
+                        return Err(match &a.initial_position {
+                            Some(p) => self.invalid(p, f("initial_position"), problem),
+                            None => self.invalid(l, f("soft_travel_limits"), problem),
+                        });
+                    }
+                    Some((min, max))
+                }
+                None => None,
+            };
+            axes.push(Axis {
+                name,
+                joint,
+                joint_location: a.joint.as_ref().map_or_else(|| self.loc(&a.name), |j| self.loc(j)),
+                kind,
+                modulo_period,
+                units,
+                max_velocity,
+                max_acceleration,
+                max_deceleration,
+                max_jerk,
+                in_position_window,
+                target_position_monitoring: a.target_position_monitoring.unwrap_or(true),
+                modulo_tolerance_window,
+                initial_position,
+                soft_travel_limits,
+                motor,
+                location: self.loc(&a.name),
+            });
+        }
+        Ok(axes)
+    }
+
+    pub(super) fn cameras(&self, raw: &[RawCamera]) -> Result<Vec<Camera>, SceneError> {
+        let mut seen: HashMap<String, (usize, ())> = HashMap::new();
+        let mut cameras = Vec::with_capacity(raw.len());
+        for (i, c) in raw.iter().enumerate() {
+            let f = |field: &str| format!("cameras[{i}].{field}");
+            let name = self.nonempty_name(&c.name, &f("name"))?;
+            self.unique(&mut seen, &c.name, &f("name"), ())?;
+            let position_m = self.finite_array(&c.position, &f("position"))?;
+            let target_m = self.finite_array(&c.target, &f("target"))?;
+            if position_m == target_m {
+                return Err(self.invalid(&c.target, f("target"), Problem::DegenerateCamera));
+            }
+            let fov_deg = self.finite(&c.fov_deg, &f("fov_deg"))?;
+            if !(fov_deg > 0.0 && fov_deg < 180.0) {
+                let problem = Problem::OutOfRange {
+                    value: fov_deg,
+                    min: 0.0,
+                    max: 180.0,
+                    exclusive: true,
+                };
+                return Err(self.invalid(&c.fov_deg, f("fov_deg"), problem));
+            }
+            for (v, field) in [(&c.width, "width"), (&c.height, "height")] {
+                if *v.get_ref() == 0 {
+                    return Err(self.invalid(v, f(field), Problem::NotPositive { value: 0.0 }));
+                }
+            }
+            let fps = self.positive(&c.fps, &f("fps"))?;
+            cameras.push(Camera {
+                name,
+                position_m,
+                target_m,
+                fov_deg,
+                width: *c.width.get_ref(),
+                height: *c.height.get_ref(),
+                fps,
+                location: self.loc(&c.name),
+            });
+        }
+        Ok(cameras)
+    }
+
+    pub(super) fn obstacles(&self, raw: &[RawObstacle], base: &Path) -> Result<Vec<Obstacle>, SceneError> {
+        let mut seen: HashMap<String, (usize, ())> = HashMap::new();
+        let mut obstacles = Vec::with_capacity(raw.len());
+        for (i, o) in raw.iter().enumerate() {
+            let f = |field: &str| format!("obstacles[{i}].{field}");
+            let name = self.nonempty_name(&o.name, &f("name"))?;
+            self.unique(&mut seen, &o.name, &f("name"), ())?;
+            let fields = ShapeFields {
+                kind: &o.shape,
+                size: &o.size,
+                radius: &o.radius,
+                length: &o.length,
+                file: &o.file,
+                scale: &o.scale,
+            };
+            let shape = self.shape(&fields, base, &f)?;
+            let position_m = self.finite_array(&o.position, &f("position"))?;
+            let rpy_deg = match &o.rpy_deg {
+                Some(r) => self.finite_array(r, &f("rpy_deg"))?,
+                None => [0.0; 3],
+            };
+            let color = match &o.color {
+                Some(c) => {
+                    let rgba = self.finite_array(c, &f("color"))?;
+                    if let Some(&value) = rgba.iter().find(|x| !(0.0..=1.0).contains(*x)) {
+                        let problem = Problem::OutOfRange {
+                            value,
+                            min: 0.0,
+                            max: 1.0,
+                            exclusive: false,
+                        };
+                        return Err(self.invalid(c, f("color"), problem));
+                    }
+                    rgba
+                }
+                None => [0.6, 0.6, 0.6, 1.0],
+            };
+            obstacles.push(Obstacle {
+                name,
+                shape,
+                position_m,
+                rpy_deg,
+                color,
+                location: self.loc(&o.name),
+            });
+        }
+        Ok(obstacles)
+    }
+
+    /// A shape from its kind and fields: each kind takes its own fields
+    /// and no other (the rules of `[[obstacles]]`, also used for the tool).
+    pub(super) fn shape(
+        &self,
+        fields: &ShapeFields<'_>,
+        base: &Path,
+        f: &dyn Fn(&str) -> String,
+    ) -> Result<Shape, SceneError> {
+        let ShapeFields {
+            kind: kind_at,
+            size,
+            radius,
+            length,
+            file,
+            scale,
+        } = *fields;
+        let kind = *kind_at.get_ref();
+        let shape_name = kind.name();
+        let needs: &[&'static str] = match kind {
+            ShapeKind::Box => &["size"],
+            ShapeKind::Cylinder => &["radius", "length"],
+            ShapeKind::Sphere => &["radius"],
+            ShapeKind::Mesh => &["file", "scale"],
+        };
+        let given = [
+            ("size", size.as_ref().map(Spanned::span)),
+            ("radius", radius.as_ref().map(Spanned::span)),
+            ("length", length.as_ref().map(Spanned::span)),
+            ("file", file.as_ref().map(Spanned::span)),
+            ("scale", scale.as_ref().map(Spanned::span)),
+        ];
+        for (field, span) in given {
+            if let Some(span) = span
+                && !needs.contains(&field)
+            {
+                let problem = Problem::ExtraShapeField {
+                    shape: shape_name,
+                    field,
+                };
+                return Err(self.invalid_at(span, f(field), problem));
+            }
+        }
+        let missing = |field: &'static str| self.missing_shape_field(kind_at, f("shape"), shape_name, field);
+        Ok(match kind {
+            ShapeKind::Box => Shape::Box {
+                size_m: self.positive_array(size.as_ref().ok_or_else(|| missing("size"))?, &f("size"))?,
+            },
+            ShapeKind::Cylinder => Shape::Cylinder {
+                radius_m: self.positive(radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
+                length_m: self.positive(length.as_ref().ok_or_else(|| missing("length"))?, &f("length"))?,
+            },
+            ShapeKind::Sphere => Shape::Sphere {
+                radius_m: self.positive(radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
+            },
+            ShapeKind::Mesh => {
+                let file = file.as_ref().ok_or_else(|| missing("file"))?;
+                Shape::Mesh {
+                    path: self.existing_file(file, &f("file"), base)?,
+                    scale: match scale {
+                        Some(s) => self.positive_array(s, &f("scale"))?,
+                        None => [1.0; 3],
+                    },
+                }
+            }
+        })
+    }
+
+    pub(super) fn snapshots(&self, raw: &RawSnapshots, cameras: &[Camera]) -> Result<Snapshots, SceneError> {
+        if cameras.is_empty() {
+            return Err(self.invalid(&raw.frames, "snapshots.frames", Problem::NoCamera));
+        }
+        let mut frames: Vec<u32> = Vec::with_capacity(raw.frames.get_ref().len());
+        for frame in raw.frames.get_ref() {
+            if frames.contains(frame.get_ref()) {
+                let problem = Problem::DuplicateFrame {
+                    frame: *frame.get_ref(),
+                };
+                return Err(self.invalid(frame, "snapshots.frames", problem));
+            }
+            frames.push(*frame.get_ref());
+        }
+        frames.sort_unstable();
+        Ok(Snapshots { frames })
+    }
+}
+
+/// The shape fields of an obstacle or the tool, as written.
+#[derive(Clone, Copy)]
+pub(super) struct ShapeFields<'a> {
+    pub(super) kind: &'a Spanned<ShapeKind>,
+    pub(super) size: &'a Option<Spanned<[f64; 3]>>,
+    pub(super) radius: &'a Option<Spanned<f64>>,
+    pub(super) length: &'a Option<Spanned<f64>>,
+    pub(super) file: &'a Option<Spanned<String>>,
+    pub(super) scale: &'a Option<Spanned<[f64; 3]>>,
+}
