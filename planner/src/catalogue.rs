@@ -222,14 +222,23 @@ impl Instruction {
     /// it is used in a constant; a name the instruction lacks fails the
     /// build there.
     pub const fn exerr(&self, name: &str) -> i32 {
+        match self.faceplate_of(name) {
+            Some(index) => index,
+            None => panic!("the instruction has no operand of that name"),
+        }
+    }
+
+    /// The faceplate index of the operand called `name` (exact spelling),
+    /// `None` when the instruction has no such operand.
+    pub const fn faceplate_of(&self, name: &str) -> Option<i32> {
         let mut i = 0;
         while i < self.operands.len() {
             if str_eq(self.operands[i].name, name) {
-                return self.operands[i].faceplate;
+                return Some(self.operands[i].faceplate);
             }
             i += 1;
         }
-        panic!("the instruction has no operand of that name");
+        None
     }
 
     /// The operand names in call order, comma separated.
@@ -487,42 +496,37 @@ pub const MCCM: Instruction = Instruction {
     operands: MCCM_OPERANDS,
 };
 
+/// The MCCM operands MCLM lacks (their faceplate slots 4–6).
+const CIRCLE_OPERANDS: usize = 3;
+
+/// MCLM's operands: MCCM's without Circle Type, Via/Center/Radius and
+/// Direction; the faceplate indices after them move down by three.
+const MCLM_OPERANDS: [Operand; MCCM_OPERANDS.len() - CIRCLE_OPERANDS] = {
+    let first_circle = 4;
+    let mut out = [MCCM_OPERANDS[0]; MCCM_OPERANDS.len() - CIRCLE_OPERANDS];
+    let (mut from, mut to) = (0, 0);
+    while from < MCCM_OPERANDS.len() {
+        let mut operand = MCCM_OPERANDS[from];
+        from += 1;
+        if operand.faceplate >= first_circle && operand.faceplate < first_circle + CIRCLE_OPERANDS as i32 {
+            continue;
+        }
+        if operand.faceplate >= first_circle {
+            operand.faceplate -= CIRCLE_OPERANDS as i32;
+        }
+        out[to] = operand;
+        to += 1;
+    }
+    out
+};
+
 /// Motion Coordinated Linear Move.
 pub const MCLM: Instruction = Instruction {
     mnemonic: "MCLM",
     title: "Motion Coordinated Linear Move",
     style: CallStyle::Positional,
     family: Family::Coordinated,
-    operands: &[
-        op("Coordinate System", "COORDINATE_SYSTEM", Tag, Kind::CoordinateSystem, 0),
-        op("Motion Control", "MOTION_INSTRUCTION", Tag, Kind::MotionControl, 1),
-        op("Move Type", INTEGER, ImmediateOrTag, Kind::Integer, 2),
-        op("Position", "REAL array", Array, Kind::Values, 3),
-        op("Speed", NUMERIC, ImmediateOrTag, Kind::Number, 4),
-        op("Speed Units", INTEGER, Immediate, Kind::Enumeration(SPEED_UNITS), 5),
-        op("Accel Rate", NUMERIC, ImmediateOrTag, Kind::Number, 6),
-        op("Accel Units", INTEGER, Immediate, Kind::Enumeration(ACCEL_UNITS), 7),
-        op("Decel Rate", NUMERIC, ImmediateOrTag, Kind::Number, 8),
-        op("Decel Units", INTEGER, Immediate, Kind::Enumeration(ACCEL_UNITS), 9),
-        op("Profile", INTEGER, Immediate, Kind::Enumeration(PROFILE), 10),
-        op("Accel Jerk", NUMERIC, ImmediateOrTag, Kind::Number, 14),
-        op("Decel Jerk", NUMERIC, ImmediateOrTag, Kind::Number, 15),
-        op("Jerk Units", INTEGER, ImmediateOrTag, Kind::Enumeration(JERK_UNITS), 16),
-        op("Termination Type", INTEGER, ImmediateOrTag, Kind::Integer, 11),
-        op("Merge", INTEGER, Immediate, Kind::Enumeration(MERGE), 12),
-        op("Merge Speed", INTEGER, Immediate, Kind::Enumeration(MERGE_SPEED), 13),
-        op("Command Tolerance", "REAL", ImmediateOrTag, Kind::Number, 17),
-        op("Lock Position", "REAL", ImmediateOrTag, Kind::Number, 18),
-        op(
-            "Lock Direction",
-            "UINT32",
-            ImmediateOrTag,
-            Kind::Enumeration(LOCK_DIRECTION),
-            19,
-        ),
-        op("Event Distance", "REAL ARRAY or 0", Array, Kind::OptionalArray, 20),
-        op("Calculated Data", "REAL ARRAY or 0", Array, Kind::OptionalArray, 21),
-    ],
+    operands: &MCLM_OPERANDS,
 };
 
 /// Motion Coordinated Stop.
@@ -758,6 +762,20 @@ mod tests {
             .map(|o| (o.name, o.data_type, o.format, o.kind))
             .collect();
         assert_eq!(mclm, from_mccm);
+        // MCLM's faceplate: MCCM's without slots 4–6.
+        for (name, exerr) in [
+            ("Move Type", 2),
+            ("Position", 3),
+            ("Speed", 4),
+            ("Profile", 10),
+            ("Termination Type", 11),
+            ("Accel Jerk", 14),
+            ("Jerk Units", 16),
+            ("Event Distance", 20),
+            ("Calculated Data", 21),
+        ] {
+            assert_eq!(MCLM.exerr(name), exerr, "{name}");
+        }
     }
 
     #[test]

@@ -61,6 +61,16 @@ impl MotionInstructionBits {
         self.segment = segment;
     }
 
+    /// The motion the instruction started is over (done, stopped or
+    /// cancelled): `.IP`, `.AC`, `.ACCEL` and `.DECEL` clear; `.PC` and the
+    /// error bits are left to the caller.
+    pub fn end_motion(&mut self) {
+        self.ip = false;
+        self.ac = false;
+        self.accel = false;
+        self.decel = false;
+    }
+
     /// The control bits with their mnemonics, in the order `EN`, `DN`,
     /// `ER`, `IP`, `AC`, `PC`, `ACCEL`, `DECEL` (trace and log order).
     pub fn bits(&self) -> [(&'static str, bool); 8] {

@@ -109,6 +109,24 @@ impl JogError {
     }
 }
 
+/// Faceplate indices (ERR 13's EXERR), read from the catalogue.
+mod exerr {
+    use crate::catalogue::{MAJ, MAS};
+
+    pub(super) const DIRECTION: i32 = MAJ.exerr("Direction");
+    pub(super) const SPEED: i32 = MAJ.exerr("Speed");
+    pub(super) const SPEED_UNITS: i32 = MAJ.exerr("Speed Units");
+    pub(super) const ACCEL_RATE: i32 = MAJ.exerr("Accel Rate");
+    pub(super) const ACCEL_UNITS: i32 = MAJ.exerr("Accel Units");
+    pub(super) const DECEL_RATE: i32 = MAJ.exerr("Decel Rate");
+    pub(super) const DECEL_UNITS: i32 = MAJ.exerr("Decel Units");
+    pub(super) const PROFILE: i32 = MAJ.exerr("Profile");
+    pub(super) const STOP_TYPE: i32 = MAS.exerr("Stop Type");
+    pub(super) const CHANGE_DECEL: i32 = MAS.exerr("Change Decel");
+    pub(super) const STOP_DECEL_RATE: i32 = MAS.exerr("Decel Rate");
+    pub(super) const STOP_DECEL_UNITS: i32 = MAS.exerr("Decel Units");
+}
+
 /// A validated jog: signed velocity and the limits to reach it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Jog {
@@ -155,20 +173,38 @@ impl Jog {
             1 => -1.0,
             d => {
                 return Err(JogError::ParameterOutOfRange {
-                    operand: 2,
+                    operand: exerr::DIRECTION,
                     value: f64::from(d),
                 });
             }
         };
-        let speed = rate(3, o.speed, o.speed_units, 4, axis.max_velocity)?;
+        let speed = rate(
+            exerr::SPEED,
+            o.speed,
+            o.speed_units,
+            exerr::SPEED_UNITS,
+            axis.max_velocity,
+        )?;
         let accel = positive(
-            5,
-            rate(5, o.accel_rate, o.accel_units, 6, axis.max_acceleration)?,
+            exerr::ACCEL_RATE,
+            rate(
+                exerr::ACCEL_RATE,
+                o.accel_rate,
+                o.accel_units,
+                exerr::ACCEL_UNITS,
+                axis.max_acceleration,
+            )?,
             o.accel_rate,
         )?;
         let decel = positive(
-            7,
-            rate(7, o.decel_rate, o.decel_units, 8, axis.max_deceleration)?,
+            exerr::DECEL_RATE,
+            rate(
+                exerr::DECEL_RATE,
+                o.decel_rate,
+                o.decel_units,
+                exerr::DECEL_UNITS,
+                axis.max_deceleration,
+            )?,
             o.decel_rate,
         )?;
         let vmax = speed.max(axis.max_velocity);
@@ -177,13 +213,13 @@ impl Jog {
             1 if axis.max_jerk > 0.0 => Limits::s_curve(vmax, accel, decel, axis.max_jerk, axis.max_jerk),
             p => {
                 return Err(JogError::ParameterOutOfRange {
-                    operand: 9,
+                    operand: exerr::PROFILE,
                     value: f64::from(p),
                 });
             }
         }
         .map_err(|_: LimitsError| JogError::ParameterOutOfRange {
-            operand: 3,
+            operand: exerr::SPEED,
             value: o.speed,
         })?;
         Ok(Self {
@@ -246,16 +282,22 @@ impl Stop {
                 moves: false,
                 position_cam: false,
             },
-            t => return Err(bad(2, f64::from(t))),
+            t => return Err(bad(exerr::STOP_TYPE, f64::from(t))),
         };
         let deceleration = match o.change_decel {
             0 => axis.max_deceleration,
             1 => positive(
-                4,
-                rate(4, o.decel_rate, o.decel_units, 5, axis.max_deceleration)?,
+                exerr::STOP_DECEL_RATE,
+                rate(
+                    exerr::STOP_DECEL_RATE,
+                    o.decel_rate,
+                    o.decel_units,
+                    exerr::STOP_DECEL_UNITS,
+                    axis.max_deceleration,
+                )?,
                 o.decel_rate,
             )?,
-            c => return Err(bad(3, f64::from(c))),
+            c => return Err(bad(exerr::CHANGE_DECEL, f64::from(c))),
         };
         Ok(Self { scope, deceleration })
     }

@@ -30,3 +30,4 @@ pub mod modulo;
 pub mod mrp;
 pub mod profile;
 pub mod task;
+mod vector;

@@ -48,10 +48,14 @@
 //!   are ERR 13 with the Via/Center/Radius operand's index.
 
 use crate::coord::{
-    CoordMove, CoordMoveError, CoordMoveInputs, MoveContext, MoveType, OperandIndex, PathGeometry, V3, add, cross, dot,
-    finish_move, norm, out_of_range, primary_of, resolve_move_type_and_position, same_point, scale, sub,
+    CoordMove, CoordMoveError, CoordMoveInputs, MoveContext, MoveType, OperandIndex, PathGeometry, finish_move,
+    out_of_range, primary_of, resolve_move_type_and_position, same_point,
 };
+use crate::vector::{V3, add, cross, dot, norm, scale, sub};
 use std::f64::consts::{PI, TAU};
+
+/// The arc an MCCM path follows (it lives with the path geometry).
+pub use crate::coord::Arc;
 
 /// The smallest radius a circle may have (ERR 49 below), coordinate units.
 pub const MIN_RADIUS: f64 = 0.001;
@@ -94,118 +98,6 @@ pub struct MccmInputs {
     pub via_center_radius: Vec<f64>,
     /// Direction (0–3, see the module doc).
     pub direction: i64,
-}
-
-/// A planar circular arc (or spiral, for a center circle whose end radius
-/// differs from its start radius by at most 15 %), in the primary axes
-/// padded to 3 components.
-///
-/// `point(φ) = center + r(φ) · (cos φ · u + sin φ · w)`, `w = normal × u`,
-/// `r(φ) = r_start + (r_end − r_start) · φ / angle`, φ from 0 to `angle`:
-/// the motion turns positively about `normal`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Arc {
-    center: V3,
-    u: V3,
-    w: V3,
-    normal: V3,
-    r_start: f64,
-    r_end: f64,
-    angle_rad: f64,
-    length_per_rad: f64,
-}
-
-impl Arc {
-    fn new(start: V3, end_radius: f64, center: V3, normal: V3, angle_rad: f64) -> Self {
-        let radial = sub(start, center);
-        let r_start = norm(radial);
-        let u = scale(radial, 1.0 / r_start);
-        let nl = norm(normal);
-        let normal = scale(normal, 1.0 / nl);
-        // Re-orthogonalise: u ⟂ normal exactly up to rounding.
-        let u = {
-            let v = sub(u, scale(normal, dot(u, normal)));
-            scale(v, 1.0 / norm(v))
-        };
-        let w = cross(normal, u);
-        let dr = (end_radius - r_start) / angle_rad;
-        let length_per_rad = (r_start.max(end_radius).powi(2) + dr * dr).sqrt();
-        Self {
-            center,
-            u,
-            w,
-            normal,
-            r_start,
-            r_end: end_radius,
-            angle_rad,
-            length_per_rad,
-        }
-    }
-
-    fn is_finite(&self) -> bool {
-        [self.center, self.u, self.w, self.normal]
-            .iter()
-            .flatten()
-            .chain(
-                [
-                    self.r_start,
-                    self.r_end,
-                    self.angle_rad,
-                    self.length_per_rad,
-                    self.length(),
-                ]
-                .iter(),
-            )
-            .all(|x| x.is_finite())
-    }
-
-    /// The center.
-    pub fn center(&self) -> V3 {
-        self.center
-    }
-    /// Unit normal; the motion turns positively about it.
-    pub fn normal(&self) -> V3 {
-        self.normal
-    }
-    /// Radius at the start.
-    pub fn radius_start(&self) -> f64 {
-        self.r_start
-    }
-    /// Radius at the end (equal to the start radius except for center
-    /// circles with a mismatch within 15 %).
-    pub fn radius_end(&self) -> f64 {
-        self.r_end
-    }
-    /// Swept angle in radians (2π for a full circle).
-    pub fn angle_rad(&self) -> f64 {
-        self.angle_rad
-    }
-    /// Path length (exact for a circle: radius × angle).
-    pub fn length(&self) -> f64 {
-        self.length_per_rad * self.angle_rad
-    }
-    /// The point at angle `phi_rad` from the start.
-    pub fn point(&self, phi_rad: f64) -> V3 {
-        self.point_and_derivative(phi_rad).0
-    }
-
-    fn point_and_derivative(&self, phi: f64) -> (V3, V3) {
-        let dr = (self.r_end - self.r_start) / self.angle_rad;
-        let r = self.r_start + dr * phi;
-        let (s, c) = phi.sin_cos();
-        let radial = add(scale(self.u, c), scale(self.w, s));
-        let tangential = add(scale(self.u, -s), scale(self.w, c));
-        (
-            add(self.center, scale(radial, r)),
-            add(scale(radial, dr), scale(tangential, r)),
-        )
-    }
-
-    /// Point and d(point)/ds at path length `s`.
-    pub(crate) fn point_at_length(&self, s: f64) -> (V3, V3) {
-        let (p, d) = self.point_and_derivative(s / self.length_per_rad);
-        (p, scale(d, 1.0 / self.length_per_rad))
-    }
 }
 
 /// MCCM: verifies the operands against the system and start point and

@@ -50,6 +50,7 @@
 //!   (179) is reported before a bad type (28), before a non-ascending master
 //!   (29).
 
+use crate::catalogue::MCCP;
 use crate::instruction::MotionInstructionBits;
 use std::sync::Arc;
 use thiserror::Error;
@@ -380,7 +381,10 @@ fn check_operands(elements: usize, length: usize, start_slope: f64, end_slope: f
     if length < 2 || length > elements {
         return Err(MccpError::IllegalCamLength { length, elements });
     }
-    for (operand, value) in [(3, start_slope), (4, end_slope)] {
+    for (operand, value) in [
+        (MCCP.exerr("Start Slope"), start_slope),
+        (MCCP.exerr("End Slope"), end_slope),
+    ] {
         if !value.is_finite() {
             return Err(MccpError::ParameterOutOfRange { operand, value });
         }

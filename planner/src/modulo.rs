@@ -93,16 +93,16 @@ impl McDirection {
         })
     }
 
-    /// The enumeration for its ST name (`MC_Positive_Direction`, …), case-insensitive.
+    /// The enumeration for its ST name (`MC_Positive_Direction`, …),
+    /// case-insensitive, as the catalogue lists the Direction input's words.
     pub fn from_name(name: &str) -> Option<Self> {
-        Some(match name.to_ascii_lowercase().as_str() {
-            "mc_positive_direction" => Self::Positive,
-            "mc_shortest_way" => Self::ShortestWay,
-            "mc_negative_direction" => Self::Negative,
-            "mc_current_direction" => Self::CurrentDirection,
-            _ => return None,
-        })
+        Self::from_code(input_code("Direction", name)?)
     }
+}
+
+/// The code of enumeration word `word` in MC_MoveModulo's input `input`.
+fn input_code(input: &str, word: &str) -> Option<i64> {
+    crate::catalogue::MC_MOVE_MODULO.operand(input)?.1.code_of(word)
 }
 
 /// PLCopen `MC_BufferMode`: what happens when the axis is already executing
@@ -138,17 +138,10 @@ impl McBufferMode {
         })
     }
 
-    /// The enumeration for its ST name (`MC_Aborting`, …), case-insensitive.
+    /// The enumeration for its ST name (`MC_Aborting`, …), case-insensitive,
+    /// as the catalogue lists the BufferMode input's words.
     pub fn from_name(name: &str) -> Option<Self> {
-        Some(match name.to_ascii_lowercase().as_str() {
-            "mc_aborting" => Self::Aborting,
-            "mc_buffered" => Self::Buffered,
-            "mc_blendinglow" => Self::BlendingLow,
-            "mc_blendingprevious" => Self::BlendingPrevious,
-            "mc_blendingnext" => Self::BlendingNext,
-            "mc_blendinghigh" => Self::BlendingHigh,
-            _ => return None,
-        })
+        Self::from_code(input_code("BufferMode", name)?)
     }
 
     /// The junction velocity (magnitude) between a running command of

@@ -28,6 +28,7 @@
 //! Choice: the redefinition completes inside the call (`.DN` at once; the
 //! spec allows several coarse updates).
 
+use crate::catalogue::MRP;
 use thiserror::Error;
 
 /// Absolute or relative.
@@ -96,15 +97,15 @@ impl Mrp {
         let kind = match kind {
             0 => RedefineType::Absolute,
             1 => RedefineType::Relative,
-            k => return Err(bad(2, f64::from(k))),
+            k => return Err(bad(MRP.exerr("Type"), f64::from(k))),
         };
         let select = match select {
             0 => PositionSelect::Actual,
             1 => PositionSelect::Command,
-            s => return Err(bad(3, f64::from(s))),
+            s => return Err(bad(MRP.exerr("Position Select"), f64::from(s))),
         };
         if !position.is_finite() {
-            return Err(bad(4, position));
+            return Err(bad(MRP.exerr("Position"), position));
         }
         Ok(Self { kind, select, position })
     }

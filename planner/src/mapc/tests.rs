@@ -2,9 +2,11 @@
 //! numbers, and seeded random master walks against the position law.
 
 use super::*;
-use crate::mccp::CamElement;
+use crate::mccp::{CamElement, CamProfile};
+use axis::cam_value;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::sync::Arc;
 
 #[test]
 fn operand_numbers_map_to_the_spec_enumerations() {

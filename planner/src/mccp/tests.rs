@@ -273,8 +273,8 @@ fn edited_profiles_are_validated() {
     );
 }
 
-/// An MCCP refused for its operands (Length, profile size, slopes) used to
-/// wipe the profile already calculated in the tag (Status 0).
+/// Guards against an MCCP refused for its operands (Length, profile size,
+/// slopes) wiping the profile already calculated in the tag (Status 0).
 #[test]
 fn operand_errors_leave_a_calculated_profile_untouched() {
     let cam = cubic(&[(0.0, 0.0), (1.0, 1.0), (2.0, 0.0)]);

@@ -53,6 +53,7 @@
 //! within [`super::SINGULARITY_MARGIN_RAD`] of 0 or π are refused.
 
 use super::{ArmSolution, PositionError, Vec3, check_branch, wrap_pi};
+use crate::vector::{cross, dot, norm, scale, sub};
 use std::f64::consts::PI;
 
 /// Delta 3D (validated by [`super::Geometry::new`]).
@@ -130,8 +131,8 @@ impl Delta3d {
 
     fn platform(&self, q: Vec3) -> Result<Vec3, PositionError> {
         let c = [0, 1, 2].map(|i| self.centre(i, q[i] + self.zero_rad[i]));
-        let d21 = sub3(c[1], c[0]);
-        let d31 = sub3(c[2], c[0]);
+        let d21 = sub(c[1], c[0]);
+        let d31 = sub(c[2], c[0]);
         let d = norm(d21);
         if d < 1e-12 * self.l2 {
             return Err(PositionError::Singularity {
@@ -142,7 +143,7 @@ impl Delta3d {
         }
         let ex = scale(d21, 1.0 / d);
         let i = dot(ex, d31);
-        let ey_raw = sub3(d31, scale(ex, i));
+        let ey_raw = sub(d31, scale(ex, i));
         let j = norm(ey_raw);
         if j < 1e-12 * self.l2 {
             return Err(PositionError::Singularity {
@@ -195,10 +196,10 @@ impl Delta3d {
             *qi = wrap_pi(theta - self.zero_rad[i]);
         }
         let c = [0, 1, 2].map(|i| self.centre(i, q[i] + self.zero_rad[i]));
-        let n = cross(sub3(c[1], c[0]), sub3(c[2], c[0]));
+        let n = cross(sub(c[1], c[0]), sub(c[2], c[0]));
         let len = norm(n);
         let down = if n[2] > 0.0 { -1.0 / len } else { 1.0 / len };
-        assembly(dot(sub3(p, c[0]), n) * down, self.l2)?;
+        assembly(dot(sub(p, c[0]), n) * down, self.l2)?;
         Ok(q)
     }
 
@@ -312,30 +313,6 @@ impl FiveBar {
         }
         Ok(s)
     }
-}
-
-fn sub3(a: Vec3, b: Vec3) -> Vec3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: Vec3, b: Vec3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn norm(a: Vec3) -> f64 {
-    dot(a, a).sqrt()
-}
-
-fn scale(a: Vec3, k: f64) -> Vec3 {
-    [a[0] * k, a[1] * k, a[2] * k]
-}
-
-fn cross(a: Vec3, b: Vec3) -> Vec3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 #[cfg(test)]

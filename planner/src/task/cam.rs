@@ -437,7 +437,7 @@ impl MotionTask {
         // Soft overtravel is checked on the actual position, as Logix does.
         if a.config.check_soft_travel_limits(a.actual + delta).is_err() {
             let e = MrpError::ParameterOutOfRange {
-                operand: 4,
+                operand: crate::catalogue::MRP.exerr("Position"),
                 value: mrp.position,
             };
             self.fail(motion_control, e.err(), e.exerr(), 0);
@@ -556,7 +556,7 @@ impl MotionTask {
         let vmax = self.axes[axis.0 as usize].config.max_velocity.max(state.velocity.abs());
         let limits = Limits::trapezoidal(vmax, stop.deceleration, stop.deceleration).map_err(|_| {
             JogError::ParameterOutOfRange {
-                operand: 4,
+                operand: crate::catalogue::MAS.exerr("Decel Rate"),
                 value: stop.deceleration,
             }
         })?;

@@ -2,7 +2,7 @@
 //! kept arm solution, re-execution, status bits, and the singularity guard.
 
 use super::*;
-use crate::mct::SINGULARITY_MARGIN_RAD;
+use crate::mct::{PositionError, SINGULARITY_MARGIN_RAD};
 
 const DT: f64 = 0.004;
 

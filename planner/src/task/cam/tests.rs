@@ -1379,8 +1379,9 @@ fn stopping_all_axes_ends_cams_and_jogs_with_a_ramp() {
     }
 }
 
-/// A preloaded Pending cam (no cam active) used to survive MAS Position Cam
-/// and a stop of all axes: its Pending Status, `.IP` and profile Status stayed.
+/// Guards against a preloaded Pending cam (no cam active) surviving MAS
+/// Position Cam and a stop of all axes with its Pending Status, `.IP` and
+/// profile Status set.
 #[test]
 fn stops_end_a_preloaded_pending_cam() {
     for stop_all in [false, true] {
@@ -1416,8 +1417,8 @@ fn stops_end_a_preloaded_pending_cam() {
     }
 }
 
-/// MRP used to redefine an axis to a position outside its soft travel
-/// limits without any error (the spec: a software overtravel fault).
+/// Guards against MRP redefining an axis to a position outside its soft
+/// travel limits without an error (the spec: a software overtravel fault).
 #[test]
 fn mrp_outside_the_soft_travel_limits_is_refused() {
     let mut task = MotionTask::new(DT).unwrap();
@@ -1460,9 +1461,9 @@ fn mrp_outside_the_soft_travel_limits_is_refused() {
     assert!(task.motion_bits(mi).dn);
 }
 
-/// A master that moved more than one cycle of a Continuous cam in one coarse
-/// update used to hand over to the Pending cam at the end of the *last*
-/// cycle it entered, not at the end of the cycle it was in.
+/// Guards against a master that moves more than one cycle of a Continuous
+/// cam in one coarse update handing over to the Pending cam at the end of
+/// the *last* cycle it entered instead of the cycle it was in.
 #[test]
 fn pending_cam_takes_over_at_the_end_of_the_current_cycle_even_after_a_long_step() {
     for (path, handover, expected) in [

@@ -1,4 +1,4 @@
-//! Pre-flight hooks of coordinated motion (issue #7): which MCLM/MCCM moves
+//! Pre-flight hooks of coordinated motion: which MCLM/MCCM moves
 //! started in the last update, so that the twin can sweep their paths
 //! before the physics runs them, and the rejection of such a move.
 //!
@@ -246,20 +246,13 @@ impl MotionTask {
         sys.queue_end = end;
         self.refresh_queue_status(cs);
         for h in cancelled {
-            let b = self.cbits(h);
-            b.ip = false;
-            b.ac = false;
-            b.accel = false;
-            b.decel = false;
+            self.cbits(h).end_motion();
         }
         let b = self.cbits(instr);
         b.set_error(ERR_PATH_COLLISION, 0, 0);
         b.dn = false;
-        b.ip = false;
-        b.ac = false;
         b.pc = false;
-        b.accel = false;
-        b.decel = false;
+        b.end_motion();
         true
     }
 }

@@ -4,10 +4,11 @@
 
 use super::*;
 use crate::axis::{AxisConfig, AxisKind};
-use crate::coord::{CoordMoveInputs, CoordinateSystemConfig, McsInputs};
+use crate::coord::{CoordMoveInputs, CoordinateSystemConfig, McsInputs, primary_of};
 use crate::mccm::MccmInputs;
 use crate::modulo::{McBufferMode, McDirection, MoveModuloInputs};
 use crate::task::FbHandle;
+use crate::vector::norm;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -1052,9 +1053,9 @@ fn random_arcs_of_every_circle_type_through_the_task() {
                     last_change[i] = k;
                 }
             }
-            let q = crate::coord::sub(primary_of(&p, r.dim), r.center);
+            let q = crate::vector::sub(primary_of(&p, r.dim), r.center);
             assert!((norm(q) - r.radius).abs() <= 1e-9, "case {case}: radius");
-            assert!(crate::coord::dot(q, arc.normal()).abs() <= 1e-9, "case {case}: plane");
+            assert!(crate::vector::dot(q, arc.normal()).abs() <= 1e-9, "case {case}: plane");
             assert!(
                 speed(t, &axes, r.dim) <= programmed * (1.0 + 1e-9),
                 "case {case}: speed"
