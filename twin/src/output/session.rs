@@ -304,33 +304,17 @@ impl Recording {
         }
         self.previous_outputs
             .resize(twin.program().fbs().len(), Default::default());
-        for (i, fb) in twin.program().fbs().iter().enumerate() {
+        for (fb, previous) in twin.program().fbs().iter().zip(&mut self.previous_outputs) {
             let o = twin.task().outputs(fb.handle);
-            for (name, bit) in o.bits() {
-                rec.log_scalar(&format!("instructions/{}/{name}", fb.name), f64::from(u8::from(bit)))?;
-            }
-            if o != self.previous_outputs[i] {
-                let level = if o.error { TextLevel::Error } else { TextLevel::Info };
-                rec.log_text("instructions/log", level, &format!("{}: {}", fb.name, describe(o)))?;
-            }
-            self.previous_outputs[i] = o;
+            let changed = std::mem::replace(previous, o) != o;
+            log_instruction(rec, &fb.name, o.bits(), changed.then(|| (o.error, describe(o))))?;
         }
         self.previous_bits
             .resize(twin.program().instructions().len(), Default::default());
-        for (i, ins) in twin.program().instructions().iter().enumerate() {
+        for (ins, previous) in twin.program().instructions().iter().zip(&mut self.previous_bits) {
             let b = twin.task().motion_bits(ins.handle);
-            for (name, bit) in b.bits() {
-                rec.log_scalar(&format!("instructions/{}/{name}", ins.name), f64::from(u8::from(bit)))?;
-            }
-            if b != self.previous_bits[i] {
-                let level = if b.er { TextLevel::Error } else { TextLevel::Info };
-                rec.log_text(
-                    "instructions/log",
-                    level,
-                    &format!("{}: {}", ins.name, describe_bits(b)),
-                )?;
-            }
-            self.previous_bits[i] = b;
+            let changed = std::mem::replace(previous, b) != b;
+            log_instruction(rec, &ins.name, b.bits(), changed.then(|| (b.er, describe_bits(b))))?;
         }
         // Tool-centre trails of the coordinate systems, every 25th update.
         if twin.task().updates().is_multiple_of(25) {
@@ -513,6 +497,17 @@ pub struct InstructionOutcome {
 }
 
 impl InstructionOutcome {
+    /// Counts one update's rising edges: `done`, `aborted`, and an error
+    /// (with its description) when one rose.
+    fn count(&mut self, done: bool, aborted: bool, error: Option<String>) {
+        self.done += u32::from(done);
+        self.aborted += u32::from(aborted);
+        if let Some(error) = error {
+            self.errors += 1;
+            self.last_error = Some(error);
+        }
+    }
+
     /// No outcome yet for the instance or control structure `name`.
     fn named(name: &str) -> InstructionOutcome {
         InstructionOutcome {
@@ -585,31 +580,21 @@ impl Stats {
         }
         for (i, fb) in twin.program().fbs().iter().enumerate() {
             let o = twin.task().outputs(fb.handle);
-            let p = self.previous[i];
-            let out = &mut self.outcomes[i];
-            out.done += u32::from(o.done && !p.done);
-            out.aborted += u32::from(o.command_aborted && !p.command_aborted);
-            if o.error && !p.error {
-                out.errors += 1;
-                out.last_error = Some(format!(
+            let p = std::mem::replace(&mut self.previous[i], o);
+            let error = (o.error && !p.error).then(|| {
+                format!(
                     "16#{:04X}: {}",
                     o.error_id,
                     planner::modulo::ErrorId(o.error_id).meaning()
-                ));
-            }
-            self.previous[i] = o;
+                )
+            });
+            self.outcomes[i].count(o.done && !p.done, o.command_aborted && !p.command_aborted, error);
         }
         for (i, ins) in twin.program().instructions().iter().enumerate() {
             let b = twin.task().motion_bits(ins.handle);
-            let p = self.previous_bits[i];
-            let out = &mut self.logix_outcomes[i];
-            out.done += u32::from(b.pc && !p.pc);
-            out.aborted += u32::from(p.ip && !b.ip && !b.pc && !b.er);
-            if b.er && !p.er {
-                out.errors += 1;
-                out.last_error = Some(error_codes(b));
-            }
-            self.previous_bits[i] = b;
+            let p = std::mem::replace(&mut self.previous_bits[i], b);
+            let error = (b.er && !p.er).then(|| error_codes(b));
+            self.logix_outcomes[i].count(b.pc && !p.pc, p.ip && !b.ip && !b.pc && !b.er, error);
         }
     }
 
@@ -739,4 +724,23 @@ impl Summary {
         let _ = writeln!(s, "  frames written: {}", self.frames_written);
         s
     }
+}
+
+/// Logs one instruction's (or function block's) bits as scalars under
+/// `instructions/<name>/`, and `change` — whether it is an error, and its
+/// description — as a line of the instruction log.
+fn log_instruction<const N: usize>(
+    rec: &mut Recorder,
+    name: &str,
+    bits: [(&'static str, bool); N],
+    change: Option<(bool, String)>,
+) -> Result<(), RecordingError> {
+    for (bit, value) in bits {
+        rec.log_scalar(&format!("instructions/{name}/{bit}"), f64::from(u8::from(value)))?;
+    }
+    if let Some((error, description)) = change {
+        let level = if error { TextLevel::Error } else { TextLevel::Info };
+        rec.log_text("instructions/log", level, &format!("{name}: {description}"))?;
+    }
+    Ok(())
 }

@@ -281,6 +281,86 @@ impl TransformMapping {
     }
 }
 
+impl TransformPath {
+    /// Samples the transform along `path` on the grid, raising `rates` to
+    /// the joint speeds the grid shows (with a margin).
+    fn sample(
+        mapping: TransformMapping,
+        path: &PathGeometry,
+        axes: &[Option<AxisJoint>],
+        base: &[f64],
+        rates: &mut [f64],
+    ) -> Self {
+        let length = path.length();
+        let n = path.start().len();
+        let step = length / TRANSFORM_GRID as f64;
+        let (mut p, mut d) = (vec![0.0; n], vec![0.0; n]);
+        let mut at = |s: f64, near: &(Vec3, Vec<f64>)| {
+            path.point(s, &mut p, &mut d);
+            mapping.joints(axes, &p, base, near)
+        };
+        let start_near = (
+            mapping.transform.joint_command().positions,
+            mapping
+                .rig
+                .as_ref()
+                .map(|(r, _)| r.previous().to_vec())
+                .unwrap_or_default(),
+        );
+        let mut references = Vec::with_capacity(TRANSFORM_GRID + 1);
+        let mut estimate = vec![0.0_f64; base.len()];
+        let mut previous: Option<Vec<f64>> = None;
+        let mut unreachable = None;
+        for i in 0..=TRANSFORM_GRID {
+            let s = if i == TRANSFORM_GRID { length } else { i as f64 * step };
+            let near = references.last().cloned().unwrap_or_else(|| start_near.clone());
+            match at(s, &near) {
+                Ok((q, j, v)) => {
+                    if let Some(prev) = &previous {
+                        for (e, (a, b)) in estimate.iter_mut().zip(q.iter().zip(prev)) {
+                            *e = e.max((a - b).abs() / step);
+                        }
+                    }
+                    previous = Some(q);
+                    references.push((j, v));
+                }
+                Err(e) => {
+                    // The first unreachable point: bisection between
+                    // the last reachable grid point and this one.
+                    let (mut lo, mut hi, mut why) = (s - step, s, e);
+                    if i > 0 {
+                        for _ in 0..60 {
+                            let mid = 0.5 * (lo + hi);
+                            match at(mid, &near) {
+                                Ok(_) => lo = mid,
+                                Err(e) => (hi, why) = (mid, e),
+                            }
+                        }
+                    } else {
+                        hi = 0.0;
+                    }
+                    unreachable = Some((hi, why));
+                    break;
+                }
+            }
+        }
+        for (r, e) in rates.iter_mut().zip(&estimate) {
+            *r = r.max(TRANSFORM_RATE_MARGIN * e);
+        }
+        let reach = unreachable.as_ref().map_or(length, |(s, _)| {
+            // The last reachable grid point.
+            (s / step).floor().min(references.len().saturating_sub(1) as f64) * step
+        });
+        TransformPath {
+            mapping,
+            step,
+            references,
+            reach,
+            unreachable,
+        }
+    }
+}
+
 impl CoordMovePath {
     fn new(
         mv: &CoordMove,
@@ -305,74 +385,7 @@ impl CoordMovePath {
             };
             rates[a.joint] += per_s * a.si_per_unit.abs() * (1.0 + 1e-9);
         }
-        let transform = transform.map(|mapping| {
-            let n = path.start().len();
-            let step = length / TRANSFORM_GRID as f64;
-            let (mut p, mut d) = (vec![0.0; n], vec![0.0; n]);
-            let mut at = |s: f64, near: &(Vec3, Vec<f64>)| {
-                path.point(s, &mut p, &mut d);
-                mapping.joints(&axes, &p, &base, near)
-            };
-            let start_near = (
-                mapping.transform.joint_command().positions,
-                mapping
-                    .rig
-                    .as_ref()
-                    .map(|(r, _)| r.previous().to_vec())
-                    .unwrap_or_default(),
-            );
-            let mut references = Vec::with_capacity(TRANSFORM_GRID + 1);
-            let mut estimate = vec![0.0_f64; base.len()];
-            let mut previous: Option<Vec<f64>> = None;
-            let mut unreachable = None;
-            for i in 0..=TRANSFORM_GRID {
-                let s = if i == TRANSFORM_GRID { length } else { i as f64 * step };
-                let near = references.last().cloned().unwrap_or_else(|| start_near.clone());
-                match at(s, &near) {
-                    Ok((q, j, v)) => {
-                        if let Some(prev) = &previous {
-                            for (e, (a, b)) in estimate.iter_mut().zip(q.iter().zip(prev)) {
-                                *e = e.max((a - b).abs() / step);
-                            }
-                        }
-                        previous = Some(q);
-                        references.push((j, v));
-                    }
-                    Err(e) => {
-                        // The first unreachable point: bisection between
-                        // the last reachable grid point and this one.
-                        let (mut lo, mut hi, mut why) = (s - step, s, e);
-                        if i > 0 {
-                            for _ in 0..60 {
-                                let mid = 0.5 * (lo + hi);
-                                match at(mid, &near) {
-                                    Ok(_) => lo = mid,
-                                    Err(e) => (hi, why) = (mid, e),
-                                }
-                            }
-                        } else {
-                            hi = 0.0;
-                        }
-                        unreachable = Some((hi, why));
-                        break;
-                    }
-                }
-            }
-            for (r, e) in rates.iter_mut().zip(&estimate) {
-                *r = r.max(TRANSFORM_RATE_MARGIN * e);
-            }
-            let reach = unreachable.as_ref().map_or(length, |(s, _)| {
-                // The last reachable grid point.
-                (s / step).floor().min(references.len().saturating_sub(1) as f64) * step
-            });
-            TransformPath {
-                mapping,
-                step,
-                references,
-                reach,
-                unreachable,
-            }
-        });
+        let transform = transform.map(|mapping| TransformPath::sample(mapping, &path, &axes, &base, &mut rates));
         Self {
             path,
             profile: profile.clone(),

@@ -277,6 +277,104 @@ fn pose_from_xyz_rpy_deg(position_m: [f64; 3], rpy_deg: [f64; 3]) -> Isometry3<f
     )
 }
 
+/// The robot's bodies: every link with collision shapes, in URDF order,
+/// then the tool on its link.
+fn robot_bodies(model: &RobotModel, settings: &CollisionSettings) -> Result<Vec<RobotBody>, CollisionModelError> {
+    let mut bodies = Vec::new();
+    for (l, link) in model.links.iter().enumerate() {
+        let mut shapes = Vec::new();
+        for c in &link.collisions {
+            if let Some((local, shape)) = shape_of(&c.geometry, settings.meshes, &link.name)? {
+                shapes.push((pose_to_rapier(&(c.link_from_collision * local)), shape));
+            }
+        }
+        if !shapes.is_empty() {
+            bodies.push(RobotBody {
+                name: link.name.clone(),
+                link: l,
+                shapes,
+            });
+        }
+    }
+    if let Some(tool) = &settings.tool {
+        let link = model
+            .link_by_name(&tool.link)
+            .ok_or_else(|| CollisionModelError::UnknownToolLink {
+                link: tool.link.clone(),
+                line: tool.link_location.line,
+                column: tool.link_location.column,
+            })?;
+        let geometry = scene_shape(&tool.shape, &tool.name)?;
+        let link_from_tool = pose_from_xyz_rpy_deg(tool.position_m, tool.rpy_deg);
+        if let Some((local, shape)) = shape_of(&geometry, settings.meshes, &tool.name)? {
+            bodies.push(RobotBody {
+                name: tool.name.clone(),
+                link: link.0,
+                shapes: vec![(pose_to_rapier(&(link_from_tool * local)), shape)],
+            });
+        }
+    }
+    Ok(bodies)
+}
+
+/// The scene's allowed pairs as sorted body pairs, found by name.
+fn allowed_pairs(
+    bodies: &[RobotBody],
+    obstacle_names: &[String],
+    settings: &CollisionSettings,
+) -> Result<Vec<[Body; 2]>, CollisionModelError> {
+    let find = |name: &str| -> Option<Body> {
+        bodies
+            .iter()
+            .position(|b| b.name == name)
+            .map(Body::Robot)
+            .or_else(|| obstacle_names.iter().position(|o| o == name).map(Body::Obstacle))
+    };
+    let mut allowed = Vec::new();
+    for p in &settings.allowed_pairs {
+        let mut pair = [Body::Robot(0); 2];
+        for (slot, name) in pair.iter_mut().zip([&p.a, &p.b]) {
+            *slot = find(name).ok_or_else(|| CollisionModelError::UnknownPairBody {
+                name: name.clone(),
+                line: p.location.line,
+                column: p.location.column,
+            })?;
+        }
+        pair.sort();
+        allowed.push(pair);
+    }
+    Ok(allowed)
+}
+
+/// The robot body pairs checked against each other: not on the same or
+/// adjacent rigid groups (the tool counts as its link) and not allowed.
+fn self_pairs(
+    model: &RobotModel,
+    bodies: &[RobotBody],
+    is_allowed: impl Fn(Body, Body) -> bool,
+) -> Vec<(usize, usize)> {
+    let group = rigid_groups(model);
+    let adjacent = |a: usize, b: usize| {
+        let (ga, gb) = (group[a], group[b]);
+        ga == gb
+            || model.joints.iter().any(|j| {
+                let (gp, gc) = (group[j.parent.0], group[j.child.0]);
+                (gp, gc) == (ga, gb) || (gp, gc) == (gb, ga)
+            })
+    };
+    let mut pairs = Vec::new();
+    for a in 0..bodies.len() {
+        for b in a + 1..bodies.len() {
+            let (la, lb) = (bodies[a].link, bodies[b].link);
+            if adjacent(la, lb) || is_allowed(Body::Robot(a), Body::Robot(b)) {
+                continue;
+            }
+            pairs.push((a, b));
+        }
+    }
+    pairs
+}
+
 impl CollisionModel {
     /// Builds the bodies, obstacles and checked pairs of a scene.
     ///
@@ -288,40 +386,7 @@ impl CollisionModel {
         obstacles: &[Obstacle],
         settings: &CollisionSettings,
     ) -> Result<CollisionModel, CollisionModelError> {
-        let mut bodies = Vec::new();
-        for (l, link) in model.links.iter().enumerate() {
-            let mut shapes = Vec::new();
-            for c in &link.collisions {
-                if let Some((local, shape)) = shape_of(&c.geometry, settings.meshes, &link.name)? {
-                    shapes.push((pose_to_rapier(&(c.link_from_collision * local)), shape));
-                }
-            }
-            if !shapes.is_empty() {
-                bodies.push(RobotBody {
-                    name: link.name.clone(),
-                    link: l,
-                    shapes,
-                });
-            }
-        }
-        if let Some(tool) = &settings.tool {
-            let link = model
-                .link_by_name(&tool.link)
-                .ok_or_else(|| CollisionModelError::UnknownToolLink {
-                    link: tool.link.clone(),
-                    line: tool.link_location.line,
-                    column: tool.link_location.column,
-                })?;
-            let geometry = scene_shape(&tool.shape, &tool.name)?;
-            let link_from_tool = pose_from_xyz_rpy_deg(tool.position_m, tool.rpy_deg);
-            if let Some((local, shape)) = shape_of(&geometry, settings.meshes, &tool.name)? {
-                bodies.push(RobotBody {
-                    name: tool.name.clone(),
-                    link: link.0,
-                    shapes: vec![(pose_to_rapier(&(link_from_tool * local)), shape)],
-                });
-            }
-        }
+        let bodies = robot_bodies(model, settings)?;
         let mut obstacle_shapes = Vec::new();
         for o in obstacles {
             let geometry = scene_shape(&o.shape, &o.name)?;
@@ -331,28 +396,7 @@ impl CollisionModel {
             obstacle_shapes.push((pose_to_rapier(&(world_from_obstacle * local)), shape));
         }
         let obstacle_names: Vec<String> = obstacles.iter().map(|o| o.name.clone()).collect();
-
-        // Allowed pairs by name.
-        let find = |name: &str| -> Option<Body> {
-            bodies
-                .iter()
-                .position(|b| b.name == name)
-                .map(Body::Robot)
-                .or_else(|| obstacle_names.iter().position(|o| o == name).map(Body::Obstacle))
-        };
-        let mut allowed = Vec::new();
-        for p in &settings.allowed_pairs {
-            let mut pair = [Body::Robot(0); 2];
-            for (slot, name) in pair.iter_mut().zip([&p.a, &p.b]) {
-                *slot = find(name).ok_or_else(|| CollisionModelError::UnknownPairBody {
-                    name: name.clone(),
-                    line: p.location.line,
-                    column: p.location.column,
-                })?;
-            }
-            pair.sort();
-            allowed.push(pair);
-        }
+        let allowed = allowed_pairs(&bodies, &obstacle_names, settings)?;
         let is_allowed = |a: Body, b: Body| {
             let mut pair = [a, b];
             pair.sort();
@@ -366,28 +410,11 @@ impl CollisionModel {
                 }
             }
         }
-        let group = rigid_groups(model);
-        let adjacent = |a: usize, b: usize| {
-            let (ga, gb) = (group[a], group[b]);
-            ga == gb
-                || model.joints.iter().any(|j| {
-                    let (gp, gc) = (group[j.parent.0], group[j.child.0]);
-                    (gp, gc) == (ga, gb) || (gp, gc) == (gb, ga)
-                })
+        let self_pairs = if settings.self_collision {
+            self_pairs(model, &bodies, is_allowed)
+        } else {
+            Vec::new()
         };
-        let mut self_pairs = Vec::new();
-        if settings.self_collision {
-            for a in 0..bodies.len() {
-                for b in a + 1..bodies.len() {
-                    let (la, lb) = (bodies[a].link, bodies[b].link);
-                    // The tool counts as its link: adjacent to the link and its neighbours.
-                    if adjacent(la, lb) || is_allowed(Body::Robot(a), Body::Robot(b)) {
-                        continue;
-                    }
-                    self_pairs.push((a, b));
-                }
-            }
-        }
         let reach = bodies.iter().map(|b| reach_of(model, b)).collect();
         Ok(CollisionModel {
             bodies,

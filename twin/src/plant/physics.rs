@@ -229,107 +229,19 @@ impl RobotSim {
         options: PhysicsOptions,
     ) -> Result<RobotSim, PhysicsError> {
         validate_options(&options)?;
-        let movable_joint = |name: &str| {
-            let index = model.joint_by_name(name).ok_or_else(|| PhysicsError::UnknownJoint {
-                joint: name.to_string(),
-            })?;
-            if model.joint(index).kind.is_movable() {
-                Ok(index.0)
-            } else {
-                Err(PhysicsError::FixedJoint {
-                    joint: name.to_string(),
-                })
-            }
-        };
-
-        let mut q0 = vec![0.0; model.joints.len()];
-        for (name, position) in initial_joint_positions {
-            let j = movable_joint(name)?;
-            if !position.is_finite() {
-                return Err(PhysicsError::InvalidInitialPosition {
-                    joint: name.clone(),
-                    position: *position,
-                });
-            }
-            q0[j] = *position;
-        }
-        let mut driven = vec![None; model.joints.len()];
-        for (d, drive) in drives.iter().enumerate() {
-            let j = movable_joint(&drive.joint)?;
-            let gains_ok = drive.stiffness.is_finite()
-                && drive.stiffness >= 0.0
-                && drive.damping.is_finite()
-                && drive.damping >= 0.0
-                && drive.max_force.is_none_or(|f| f > 0.0);
-            if !gains_ok {
-                return Err(PhysicsError::InvalidDrive {
-                    joint: drive.joint.clone(),
-                    stiffness: drive.stiffness,
-                    damping: drive.damping,
-                    max_force: drive.max_force,
-                });
-            }
-            if driven[j].replace(d).is_some() {
-                return Err(PhysicsError::DuplicateDrive {
-                    joint: drive.joint.clone(),
-                });
-            }
-        }
+        let q0 = initial_positions(model, initial_joint_positions)?;
+        let driven = driven_joints(model, drives)?;
 
         let mut world = PhysicsWorld::new();
         world.gravity = vector_to_rapier(&Vector3::from(options.gravity_mps2));
         world.integration_parameters.dt = options.step_s / options.substeps as f64;
         world.integration_parameters.num_solver_iterations = 1;
-
-        let world_from_link = model.world_from_link(&q0);
-        let groups = InteractionGroups::new(
-            ROBOT_GROUP,
-            Group::ALL.difference(ROBOT_GROUP),
-            InteractionTestMode::And,
-        );
-        let mut link_bodies = Vec::with_capacity(model.links.len());
-        for (l, link) in model.links.iter().enumerate() {
-            let builder = if l == model.root.0 {
-                RigidBodyBuilder::fixed()
-            } else {
-                RigidBodyBuilder::dynamic()
-            };
-            let body = builder
-                .pose(pose_to_rapier(&world_from_link[l]))
-                .additional_mass_properties(mass_properties(link, &options))
-                .can_sleep(false)
-                .build();
-            let handle = world.bodies.insert(body);
-            for collision in &link.collisions {
-                let Some(collider) = collider_builder(&collision.geometry, &collision.link_from_collision, &link.name)?
-                else {
-                    continue;
-                };
-                world.colliders.insert_with_parent(
-                    collider.density(0.0).collision_groups(groups).build(),
-                    handle,
-                    &mut world.bodies,
-                );
-            }
-            link_bodies.push(handle);
-        }
-
-        let mut joint_handles = vec![None; model.joints.len()];
-        for &index in model.topological_joints() {
-            let joint = model.joint(index);
-            let data = rapier_joint(joint);
-            let handle = world
-                .multibody_joints
-                .insert(link_bodies[joint.parent.0], link_bodies[joint.child.0], data, true)
-                .ok_or_else(|| PhysicsError::Multibody {
-                    joint: joint.name.clone(),
-                })?;
-            joint_handles[index.0] = Some(handle);
-        }
+        let link_bodies = insert_links(&mut world, model, &q0, &options)?;
+        let joint_handles = insert_joints(&mut world, model, &link_bodies)?;
 
         let mut slots = Vec::with_capacity(drives.len());
         for drive in drives {
-            let j = movable_joint(&drive.joint)?;
+            let j = movable_joint(model, &drive.joint)?;
             let handle = joint_handles[j].ok_or_else(|| PhysicsError::Multibody {
                 joint: drive.joint.clone(),
             })?;
@@ -351,12 +263,26 @@ impl RobotSim {
             substeps: options.substeps,
             steps: 0,
         };
+        sim.place_at_rest(model, drives, &driven, &joint_handles, &q0);
+        Ok(sim)
+    }
+
+    /// Displaces every joint to its initial coordinate, sets each driven
+    /// joint's motor to hold it, and places the links there.
+    fn place_at_rest(
+        &mut self,
+        model: &RobotModel,
+        drives: &[JointDrive],
+        driven: &[Option<usize>],
+        joint_handles: &[Option<MultibodyJointHandle>],
+        q0: &[f64],
+    ) {
         for (j, joint) in model.joints.iter().enumerate() {
             let Some(handle) = joint_handles[j] else {
                 continue;
             };
             let axis = dof_axis(joint.kind);
-            if let Some((multibody, link_id)) = sim.world.multibody_joints.get_mut(handle)
+            if let Some((multibody, link_id)) = self.world.multibody_joints.get_mut(handle)
                 && let Some(link) = multibody.link_mut(link_id)
             {
                 if joint.kind.is_movable() && q0[j] != 0.0 {
@@ -373,12 +299,11 @@ impl RobotSim {
         }
         // Place every link at the initial coordinates (the whole tree is one multibody).
         if let Some(handle) = joint_handles.iter().flatten().next()
-            && let Some((multibody, _)) = sim.world.multibody_joints.get_mut(*handle)
+            && let Some((multibody, _)) = self.world.multibody_joints.get_mut(*handle)
         {
-            multibody.forward_kinematics(&sim.world.bodies, false);
-            multibody.update_rigid_bodies(&mut sim.world.bodies, false);
+            multibody.forward_kinematics(&self.world.bodies, false);
+            multibody.update_rigid_bodies(&mut self.world.bodies, false);
         }
-        Ok(sim)
     }
 
     /// Number of drives (the valid `drive_index` range is `0..drive_count()`).
@@ -490,6 +415,133 @@ impl RobotSim {
             .map(|&h| pose_from_rapier(self.world.bodies[h].position()))
             .collect()
     }
+}
+
+/// The index of the movable joint called `name`.
+fn movable_joint(model: &RobotModel, name: &str) -> Result<usize, PhysicsError> {
+    let index = model.joint_by_name(name).ok_or_else(|| PhysicsError::UnknownJoint {
+        joint: name.to_string(),
+    })?;
+    if model.joint(index).kind.is_movable() {
+        Ok(index.0)
+    } else {
+        Err(PhysicsError::FixedJoint {
+            joint: name.to_string(),
+        })
+    }
+}
+
+/// Every joint's initial coordinate (0 where none is given).
+fn initial_positions(model: &RobotModel, initial: &[(String, f64)]) -> Result<Vec<f64>, PhysicsError> {
+    let mut q0 = vec![0.0; model.joints.len()];
+    for (name, position) in initial {
+        let j = movable_joint(model, name)?;
+        if !position.is_finite() {
+            return Err(PhysicsError::InvalidInitialPosition {
+                joint: name.clone(),
+                position: *position,
+            });
+        }
+        q0[j] = *position;
+    }
+    Ok(q0)
+}
+
+/// Per joint, the index of the drive that drives it, after checking each
+/// drive's gains and that no joint has two.
+fn driven_joints(model: &RobotModel, drives: &[JointDrive]) -> Result<Vec<Option<usize>>, PhysicsError> {
+    let mut driven = vec![None; model.joints.len()];
+    for (d, drive) in drives.iter().enumerate() {
+        let j = movable_joint(model, &drive.joint)?;
+        let gains_ok = drive.stiffness.is_finite()
+            && drive.stiffness >= 0.0
+            && drive.damping.is_finite()
+            && drive.damping >= 0.0
+            && drive.max_force.is_none_or(|f| f > 0.0);
+        if !gains_ok {
+            return Err(PhysicsError::InvalidDrive {
+                joint: drive.joint.clone(),
+                stiffness: drive.stiffness,
+                damping: drive.damping,
+                max_force: drive.max_force,
+            });
+        }
+        if driven[j].replace(d).is_some() {
+            return Err(PhysicsError::DuplicateDrive {
+                joint: drive.joint.clone(),
+            });
+        }
+    }
+    Ok(driven)
+}
+
+/// One rigid body per link (the root fixed) at its initial pose, with its
+/// colliders; returns the bodies in link order.
+fn insert_links(
+    world: &mut PhysicsWorld,
+    model: &RobotModel,
+    q0: &[f64],
+    options: &PhysicsOptions,
+) -> Result<Vec<RigidBodyHandle>, PhysicsError> {
+    let world_from_link = model.world_from_link(q0);
+    let groups = InteractionGroups::new(
+        ROBOT_GROUP,
+        Group::ALL.difference(ROBOT_GROUP),
+        InteractionTestMode::And,
+    );
+    let mut link_bodies = Vec::with_capacity(model.links.len());
+    for (l, link) in model.links.iter().enumerate() {
+        let builder = if l == model.root.0 {
+            RigidBodyBuilder::fixed()
+        } else {
+            RigidBodyBuilder::dynamic()
+        };
+        let body = builder
+            .pose(pose_to_rapier(&world_from_link[l]))
+            .additional_mass_properties(mass_properties(link, options))
+            .can_sleep(false)
+            .build();
+        let handle = world.bodies.insert(body);
+        for collision in &link.collisions {
+            let Some(collider) = collider_builder(&collision.geometry, &collision.link_from_collision, &link.name)?
+            else {
+                continue;
+            };
+            world.colliders.insert_with_parent(
+                collider.density(0.0).collision_groups(groups).build(),
+                handle,
+                &mut world.bodies,
+            );
+        }
+        link_bodies.push(handle);
+    }
+    Ok(link_bodies)
+}
+
+/// The URDF tree as one multibody, joints inserted parent first; returns
+/// each joint's handle by joint index.
+fn insert_joints(
+    world: &mut PhysicsWorld,
+    model: &RobotModel,
+    link_bodies: &[RigidBodyHandle],
+) -> Result<Vec<Option<MultibodyJointHandle>>, PhysicsError> {
+    let mut joint_handles = vec![None; model.joints.len()];
+    for &index in model.topological_joints() {
+        let joint = model.joint(index);
+        let handle = world
+            .multibody_joints
+            .insert(
+                link_bodies[joint.parent.0],
+                link_bodies[joint.child.0],
+                rapier_joint(joint),
+                true,
+            )
+            .ok_or_else(|| PhysicsError::Multibody {
+                joint: joint.name.clone(),
+            })?;
+        joint_handles[index.0] = Some(handle);
+    }
+    Ok(joint_handles)
 }
 
 fn validate_options(options: &PhysicsOptions) -> Result<(), PhysicsError> {

@@ -501,7 +501,21 @@ fn build(robot: &urdf_rs::Robot, urdf_dir: &Path) -> Result<RobotModel, UrdfErro
         joints.push(converted);
     }
 
-    // Parents: exactly one per non-root link.
+    let root = link_parents(&mut links, &joints)?;
+    let topological_joints = topological_order(&links, &joints, root)?;
+
+    Ok(RobotModel {
+        name: robot.name.clone(),
+        links,
+        joints,
+        root: LinkIndex(root),
+        topological_joints,
+    })
+}
+
+/// Sets each link's parent joint (exactly one per non-root link) and
+/// returns the one root.
+fn link_parents(links: &mut [Link], joints: &[Joint]) -> Result<usize, UrdfError> {
     let mut parents: Vec<Vec<usize>> = vec![Vec::new(); links.len()];
     for (j, joint) in joints.iter().enumerate() {
         parents[joint.child.0].push(j);
@@ -532,8 +546,12 @@ fn build(robot: &urdf_rs::Robot, urdf_dir: &Path) -> Result<RobotModel, UrdfErro
             });
         }
     };
+    Ok(root)
+}
 
-    // Breadth-first from the root; anything not reached hangs on a cycle.
+/// The joints breadth-first from the root; a link not reached hangs on a
+/// cycle.
+fn topological_order(links: &[Link], joints: &[Joint], root: usize) -> Result<Vec<JointIndex>, UrdfError> {
     let mut reached = vec![false; links.len()];
     reached[root] = true;
     let mut topological_joints = Vec::with_capacity(joints.len());
@@ -558,14 +576,7 @@ fn build(robot: &urdf_rs::Robot, urdf_dir: &Path) -> Result<RobotModel, UrdfErro
                 .collect(),
         });
     }
-
-    Ok(RobotModel {
-        name: robot.name.clone(),
-        links,
-        joints,
-        root: LinkIndex(root),
-        topological_joints,
-    })
+    Ok(topological_joints)
 }
 
 fn rgba(color: &urdf_rs::Color) -> [f32; 4] {

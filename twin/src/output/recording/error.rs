@@ -1,0 +1,145 @@
+//! Why a recording cannot be made or a value cannot be logged.
+
+use std::path::PathBuf;
+
+use rerun::RecordingStreamError;
+use rerun::sink::{FileSinkError, SinkFlushError};
+
+/// What is wrong with a mesh handed to [`Recorder::log_link_mesh_static`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum MeshDefect {
+    /// The index count is not a multiple of three.
+    PartialTriangle {
+        /// Number of indices.
+        index_count: usize,
+    },
+    /// An index points past the last vertex.
+    IndexOutOfRange {
+        /// The offending index value.
+        index: u32,
+        /// Number of vertex positions.
+        vertex_count: usize,
+    },
+    /// There are normals, but not one per position.
+    NormalCountMismatch {
+        /// Number of normals.
+        normal_count: usize,
+        /// Number of vertex positions.
+        vertex_count: usize,
+    },
+    /// A position or normal is NaN or infinite.
+    NonFiniteVertex {
+        /// Index of the vertex.
+        vertex: usize,
+    },
+}
+
+/// Which input of a log call held a NaN or infinite value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Quantity {
+    /// A translation.
+    Translation,
+    /// A rotation quaternion (also: zero length).
+    Rotation,
+    /// A scale factor (also: zero).
+    Scale,
+    /// A line-strip point.
+    Point,
+}
+
+/// Failures of [`Recorder`].
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RecordingError {
+    /// [`Recorder::new`] was given no sink.
+    #[error("no recording sink given")]
+    NoSinks,
+    /// The application id is empty.
+    #[error("invalid Rerun application id {application_id:?}")]
+    InvalidApplicationId {
+        /// The id as given.
+        application_id: String,
+    },
+    /// The same file was named twice.
+    #[error("recording file {path} given more than once")]
+    DuplicateFile {
+        /// The repeated path.
+        path: PathBuf,
+    },
+    /// The `.rrd` file could not be created.
+    #[error("cannot create recording file {path}")]
+    CreateFile {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file sink failed to start (other than creating the file).
+    #[error("cannot start writing recording file {path}")]
+    FileSink {
+        /// The file.
+        path: PathBuf,
+        /// Rerun's error.
+        #[source]
+        source: FileSinkError,
+    },
+    /// A [`Sink::Connect`] address is neither `host:port` nor a Rerun proxy URL.
+    #[error("invalid Rerun viewer address {addr:?}")]
+    InvalidAddress {
+        /// The address as given.
+        addr: String,
+    },
+    /// Nothing accepted a connection at a [`Sink::Connect`] address.
+    #[error("cannot connect to a Rerun viewer at {addr} (is `rerun` running?)")]
+    Connect {
+        /// The address as given.
+        addr: String,
+        /// The last connection error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Rerun refused to create the recording stream.
+    #[error("cannot create the Rerun recording stream")]
+    Stream {
+        /// Rerun's error.
+        #[source]
+        source: RecordingStreamError,
+    },
+    /// Rerun refused to log data at an entity.
+    #[error("cannot log to Rerun entity {entity_path}")]
+    Log {
+        /// The entity path.
+        entity_path: String,
+        /// Rerun's error.
+        #[source]
+        source: RecordingStreamError,
+    },
+    /// A value handed to a log call was NaN, infinite or degenerate.
+    #[error("invalid {quantity:?} for Rerun entity {entity_path}")]
+    InvalidValue {
+        /// The entity path.
+        entity_path: String,
+        /// Which input.
+        quantity: Quantity,
+    },
+    /// A mesh handed to [`Recorder::log_link_mesh_static`] is malformed.
+    #[error("invalid mesh for Rerun entity {entity_path}: {defect:?}")]
+    InvalidMesh {
+        /// The entity path.
+        entity_path: String,
+        /// What is wrong.
+        defect: MeshDefect,
+    },
+    /// Not all data reached the sinks when the recording was finished.
+    #[error("flushing the recording to {sinks} failed")]
+    Flush {
+        /// The sinks, as "file PATH, viewer ADDR".
+        sinks: String,
+        /// Rerun's error.
+        #[source]
+        source: SinkFlushError,
+    },
+}
