@@ -582,7 +582,7 @@ fn rotary_knife_follows_the_cam_of_the_conveyor_position() {
     );
 }
 
-// ------------------------------------------------------------------ collisions (issue #7)
+// ------------------------------------------------------------------ collisions
 
 /// Runs a collision scene to the end through the library; returns the twin.
 fn run_twin(scene: &str) -> Twin {
