@@ -231,7 +231,7 @@ fn twin_setpoints_are_the_planners_setpoints() {
     let mut twin = Twin::new(scene.clone()).expect("twin");
     let mut replay = MotionTask::new(scene.coarse_update_ms / 1000.0).unwrap();
     let axis = &scene.axes[0];
-    let config = twin::plant::axes::axis_config(axis);
+    let config = axis.config.clone();
     let h = replay.add_axis(config, axis.initial_position).unwrap();
     let fbs: Vec<_> = twin
         .program()

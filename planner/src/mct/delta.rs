@@ -59,13 +59,20 @@ use std::f64::consts::PI;
 /// Delta 3D (validated by [`super::Geometry::new`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Delta3d {
+    /// Its arms (heights along X3).
+    pub(crate) arms: DeltaArms,
+}
+
+/// The dimensions every delta robot has: arm lengths `L1` and `L2`, the
+/// offset X1b − X1e, the base and effector heights along the axis the arms
+/// turn in (X3 for Delta 3D, X2 for Delta 2D and SCARA Delta) and the
+/// joints' zero angles.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DeltaArms {
     pub(crate) l1: f64,
     pub(crate) l2: f64,
-    /// X1b − X1e.
     pub(crate) offset: f64,
-    /// X3b.
     pub(crate) base_height: f64,
-    /// X3e.
     pub(crate) effector_height: f64,
     pub(crate) zero_rad: Vec3,
 }
@@ -124,17 +131,17 @@ impl Delta3d {
     /// Elbow `i` shifted inward by X1e: the centre of forearm sphere `i`.
     fn centre(&self, i: usize, theta: f64) -> Vec3 {
         let (s, c) = theta.sin_cos();
-        let radial = self.offset + self.l1 * c;
+        let radial = self.arms.offset + self.arms.l1 * c;
         let (sp, cp) = AZIMUTH_RAD[i].sin_cos();
-        [radial * cp, radial * sp, self.base_height - self.l1 * s]
+        [radial * cp, radial * sp, self.arms.base_height - self.arms.l1 * s]
     }
 
     fn platform(&self, q: Vec3) -> Result<Vec3, PositionError> {
-        let c = [0, 1, 2].map(|i| self.centre(i, q[i] + self.zero_rad[i]));
+        let c = [0, 1, 2].map(|i| self.centre(i, q[i] + self.arms.zero_rad[i]));
         let d21 = sub(c[1], c[0]);
         let d31 = sub(c[2], c[0]);
         let d = norm(d21);
-        if d < 1e-12 * self.l2 {
+        if d < 1e-12 * self.arms.l2 {
             return Err(PositionError::Singularity {
                 chain: 1,
                 angle_rad: 0.0,
@@ -145,7 +152,7 @@ impl Delta3d {
         let i = dot(ex, d31);
         let ey_raw = sub(d31, scale(ex, i));
         let j = norm(ey_raw);
-        if j < 1e-12 * self.l2 {
+        if j < 1e-12 * self.arms.l2 {
             return Err(PositionError::Singularity {
                 chain: 2,
                 angle_rad: 0.0,
@@ -157,13 +164,13 @@ impl Delta3d {
         let x = d / 2.0;
         let y = (i * i + j * j - 2.0 * i * x) / (2.0 * j);
         let in_plane = x.hypot(y);
-        if in_plane > self.l2 {
+        if in_plane > self.arms.l2 {
             return Err(PositionError::OutOfReach {
                 chain: 0,
-                excess: in_plane - self.l2,
+                excess: in_plane - self.arms.l2,
             });
         }
-        let z = ((self.l2 - in_plane) * (self.l2 + in_plane)).sqrt();
+        let z = ((self.arms.l2 - in_plane) * (self.arms.l2 + in_plane)).sqrt();
         let z = if ez[2] > 0.0 { -z } else { z };
         Ok([
             c[0][0] + x * ex[0] + y * ey[0] + z * ez[0],
@@ -176,37 +183,37 @@ impl Delta3d {
     fn arm_frame(&self, i: usize, p: Vec3) -> (f64, f64, f64) {
         let (sp, cp) = AZIMUTH_RAD[i].sin_cos();
         (
-            p[0] * cp + p[1] * sp - self.offset,
+            p[0] * cp + p[1] * sp - self.arms.offset,
             -p[0] * sp + p[1] * cp,
-            p[2] - self.base_height,
+            p[2] - self.arms.base_height,
         )
     }
 
     pub(crate) fn forward(&self, q: Vec3) -> Result<Vec3, PositionError> {
         let p = self.platform(q)?;
-        Ok([p[0], p[1], p[2] + self.effector_height])
+        Ok([p[0], p[1], p[2] + self.arms.effector_height])
     }
 
     pub(crate) fn inverse(&self, x: Vec3, solution: ArmSolution) -> Result<Vec3, PositionError> {
-        let p = [x[0], x[1], x[2] - self.effector_height];
+        let p = [x[0], x[1], x[2] - self.arms.effector_height];
         let mut q = [0.0; 3];
         for (i, qi) in q.iter_mut().enumerate() {
             let (u, v, w) = self.arm_frame(i, p);
-            let theta = arm_angle(self.l1, self.l2, u, v, w, solution.flipped(i), i as u8)?;
-            *qi = wrap_pi(theta - self.zero_rad[i]);
+            let theta = arm_angle(self.arms.l1, self.arms.l2, u, v, w, solution.flipped(i), i as u8)?;
+            *qi = wrap_pi(theta - self.arms.zero_rad[i]);
         }
-        let c = [0, 1, 2].map(|i| self.centre(i, q[i] + self.zero_rad[i]));
+        let c = [0, 1, 2].map(|i| self.centre(i, q[i] + self.arms.zero_rad[i]));
         let n = cross(sub(c[1], c[0]), sub(c[2], c[0]));
         let len = norm(n);
         let down = if n[2] > 0.0 { -1.0 / len } else { 1.0 / len };
-        assembly(dot(sub(p, c[0]), n) * down, self.l2)?;
+        assembly(dot(sub(p, c[0]), n) * down, self.arms.l2)?;
         Ok(q)
     }
 
     pub(crate) fn solution(&self, q: Vec3) -> Result<ArmSolution, PositionError> {
         let p = self.platform(q)?;
         let mut s = ArmSolution::default();
-        for (i, (qi, zi)) in q.iter().zip(self.zero_rad).enumerate() {
+        for (i, (qi, zi)) in q.iter().zip(self.arms.zero_rad).enumerate() {
             let (u, _, w) = self.arm_frame(i, p);
             s = s.with(i, arm_flipped(qi + zi, u, w));
         }
@@ -220,15 +227,8 @@ pub struct FiveBar {
     /// SCARA Delta (horizontal, work space +X2, shared third axis) rather
     /// than Delta 2D (vertical, work space −X2).
     pub(crate) scara: bool,
-    pub(crate) l1: f64,
-    pub(crate) l2: f64,
-    /// X1b − X1e.
-    pub(crate) offset: f64,
-    /// X2b.
-    pub(crate) base_height: f64,
-    /// X2e.
-    pub(crate) effector_height: f64,
-    pub(crate) zero_rad: Vec3,
+    /// Its arms (heights along X2).
+    pub(crate) arms: DeltaArms,
 }
 
 impl FiveBar {
@@ -241,16 +241,16 @@ impl FiveBar {
     /// below).
     fn centre(&self, i: usize, theta: f64) -> (f64, f64) {
         let (s, c) = theta.sin_cos();
-        let radial = self.offset + self.l1 * c;
-        (if i == 0 { radial } else { -radial }, -self.l1 * s)
+        let radial = self.arms.offset + self.arms.l1 * c;
+        (if i == 0 { radial } else { -radial }, -self.arms.l1 * s)
     }
 
     fn platform(&self, q: Vec3) -> Result<(f64, f64), PositionError> {
-        let (u1, w1) = self.centre(0, q[0] + self.zero_rad[0]);
-        let (u2, w2) = self.centre(1, q[1] + self.zero_rad[1]);
+        let (u1, w1) = self.centre(0, q[0] + self.arms.zero_rad[0]);
+        let (u2, w2) = self.centre(1, q[1] + self.arms.zero_rad[1]);
         let (du, dw) = (u2 - u1, w2 - w1);
         let d = du.hypot(dw);
-        if d < 1e-12 * self.l2 {
+        if d < 1e-12 * self.arms.l2 {
             return Err(PositionError::Singularity {
                 chain: 1,
                 angle_rad: 0.0,
@@ -258,13 +258,13 @@ impl FiveBar {
             });
         }
         let half = d / 2.0;
-        if half > self.l2 {
+        if half > self.arms.l2 {
             return Err(PositionError::OutOfReach {
                 chain: 0,
-                excess: half - self.l2,
+                excess: half - self.arms.l2,
             });
         }
-        let h = ((self.l2 - half) * (self.l2 + half)).sqrt();
+        let h = ((self.arms.l2 - half) * (self.arms.l2 + half)).sqrt();
         // Unit normal to the centre line, pointing down (w < 0) when it can.
         let (mut nu, mut nw) = (-dw / d, du / d);
         if nw > 0.0 {
@@ -274,30 +274,37 @@ impl FiveBar {
     }
 
     fn arm_frame(&self, i: usize, (u, w): (f64, f64)) -> (f64, f64) {
-        (if i == 0 { u } else { -u } - self.offset, w)
+        (if i == 0 { u } else { -u } - self.arms.offset, w)
     }
 
     pub(crate) fn forward(&self, q: Vec3) -> Result<Vec3, PositionError> {
         let (u, w) = self.platform(q)?;
         let third = if self.scara { q[2] } else { 0.0 };
-        Ok([u, self.base_height + self.sign() * w + self.effector_height, third])
+        Ok([
+            u,
+            self.arms.base_height + self.sign() * w + self.arms.effector_height,
+            third,
+        ])
     }
 
     pub(crate) fn inverse(&self, x: Vec3, solution: ArmSolution) -> Result<Vec3, PositionError> {
-        let p = (x[0], self.sign() * (x[1] - self.effector_height - self.base_height));
+        let p = (
+            x[0],
+            self.sign() * (x[1] - self.arms.effector_height - self.arms.base_height),
+        );
         let mut q = [0.0; 3];
         for (i, qi) in q.iter_mut().enumerate().take(2) {
             let (u, w) = self.arm_frame(i, p);
-            let theta = arm_angle(self.l1, self.l2, u, 0.0, w, solution.flipped(i), i as u8)?;
-            *qi = wrap_pi(theta - self.zero_rad[i]);
+            let theta = arm_angle(self.arms.l1, self.arms.l2, u, 0.0, w, solution.flipped(i), i as u8)?;
+            *qi = wrap_pi(theta - self.arms.zero_rad[i]);
         }
-        let (u1, w1) = self.centre(0, q[0] + self.zero_rad[0]);
-        let (u2, w2) = self.centre(1, q[1] + self.zero_rad[1]);
+        let (u1, w1) = self.centre(0, q[0] + self.arms.zero_rad[0]);
+        let (u2, w2) = self.centre(1, q[1] + self.arms.zero_rad[1]);
         let (du, dw) = (u2 - u1, w2 - w1);
         let len = du.hypot(dw);
         // Normal (−dw, du) turned to point down.
         let down = if du > 0.0 { -1.0 / len } else { 1.0 / len };
-        assembly(((p.0 - u1) * -dw + (p.1 - w1) * du) * down, self.l2)?;
+        assembly(((p.0 - u1) * -dw + (p.1 - w1) * du) * down, self.arms.l2)?;
         if self.scara {
             q[2] = x[2];
         }
@@ -307,7 +314,7 @@ impl FiveBar {
     pub(crate) fn solution(&self, q: Vec3) -> Result<ArmSolution, PositionError> {
         let p = self.platform(q)?;
         let mut s = ArmSolution::default();
-        for (i, (qi, zi)) in q.iter().zip(self.zero_rad).enumerate().take(2) {
+        for (i, (qi, zi)) in q.iter().zip(self.arms.zero_rad).enumerate().take(2) {
             let (u, w) = self.arm_frame(i, p);
             s = s.with(i, arm_flipped(qi + zi, u, w));
         }

@@ -414,23 +414,21 @@ impl Geometry {
                 if kind != GeometryKind::ScaraDelta && l1 + offset > l2 {
                     return Err(GeometryError::DeltaReach { l1, offset, l2 });
                 }
+                // Delta 3D's arms turn about X3; Delta 2D and SCARA Delta's about X2.
+                let up = if kind == GeometryKind::Delta3d { 2 } else { 1 };
+                let arms = delta::DeltaArms {
+                    l1,
+                    l2,
+                    offset,
+                    base_height: base[up],
+                    effector_height: effector[up],
+                    zero_rad,
+                };
                 match kind {
-                    GeometryKind::Delta3d => Self::Delta3d(delta::Delta3d {
-                        l1,
-                        l2,
-                        offset,
-                        base_height: base[2],
-                        effector_height: effector[2],
-                        zero_rad,
-                    }),
+                    GeometryKind::Delta3d => Self::Delta3d(delta::Delta3d { arms }),
                     _ => Self::FiveBar(delta::FiveBar {
                         scara: kind == GeometryKind::ScaraDelta,
-                        l1,
-                        l2,
-                        offset,
-                        base_height: base[1],
-                        effector_height: effector[1],
-                        zero_rad,
+                        arms,
                     }),
                 }
             }
@@ -477,8 +475,8 @@ impl Geometry {
     /// serial and Cartesian geometries.
     pub fn parallel_forearm_length(&self) -> Option<f64> {
         match self {
-            Self::Delta3d(d) => Some(d.l2),
-            Self::FiveBar(f) => Some(f.l2),
+            Self::Delta3d(d) => Some(d.arms.l2),
+            Self::FiveBar(f) => Some(f.arms.l2),
             _ => None,
         }
     }

@@ -77,8 +77,8 @@ fn zero_rad(g: &Geometry) -> Vec3 {
     match g {
         Geometry::Articulated(a) => a.zero_rad,
         Geometry::ScaraIndependent(s) => s.zero_rad,
-        Geometry::Delta3d(d) => d.zero_rad,
-        Geometry::FiveBar(f) => f.zero_rad,
+        Geometry::Delta3d(d) => d.arms.zero_rad,
+        Geometry::FiveBar(f) => f.arms.zero_rad,
         Geometry::CartesianGantry(_) | Geometry::CartesianHBot(_) => [0.0; 3],
     }
 }

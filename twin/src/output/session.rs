@@ -225,17 +225,17 @@ impl Recording {
             .iter()
             .map(|j| (j.name.as_str(), j.parent.0, j.child.0))
             .collect();
-        let link_paths = urdf_entity_paths(&names, &joints, model.root.0);
+        let idle = Recording {
+            recorder: None,
+            link_paths: urdf_entity_paths(&names, &joints, model.root.0),
+            previous_outputs: Vec::new(),
+            previous_bits: Vec::new(),
+            logged_events: 0,
+            logged_predictions: 0,
+            highlighted: Vec::new(),
+        };
         if sinks.is_empty() {
-            return Ok(Recording {
-                recorder: None,
-                link_paths,
-                previous_outputs: Vec::new(),
-                previous_bits: Vec::new(),
-                logged_events: 0,
-                logged_predictions: 0,
-                highlighted: Vec::new(),
-            });
+            return Ok(idle);
         }
         let mut recorder = Recorder::new(&format!("twin_{}", twin.scene().name), &sinks)?;
         recorder.set_time_s(0.0);
@@ -245,7 +245,7 @@ impl Recording {
                 Some(i) => {
                     count[i] += 1;
                     (
-                        format!("{}/visual_{}", link_paths[i], count[i] - 1),
+                        format!("{}/visual_{}", idle.link_paths[i], count[i] - 1),
                         part.parent_from_mesh,
                     )
                 }
@@ -262,12 +262,7 @@ impl Recording {
         }
         Ok(Recording {
             recorder: Some(recorder),
-            link_paths,
-            previous_outputs: Vec::new(),
-            previous_bits: Vec::new(),
-            logged_events: 0,
-            logged_predictions: 0,
-            highlighted: Vec::new(),
+            ..idle
         })
     }
 

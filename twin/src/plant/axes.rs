@@ -11,8 +11,7 @@ use super::PlantError;
 use super::limits;
 use super::physics::JointDrive;
 use super::urdf::RobotModel;
-use crate::scene::{Axis, AxisKind, Scene};
-use planner::axis::{AxisConfig, AxisKind as PlannerAxisKind};
+use crate::scene::{Axis, Scene};
 use planner::task::{AxisHandle, MotionTask};
 
 /// One axis of the scene bound to the planner and a joint motor.
@@ -83,26 +82,6 @@ impl AxisBinding {
     }
 }
 
-/// The planner's configuration of a scene axis.
-pub fn axis_config(axis: &Axis) -> AxisConfig {
-    let kind = match axis.kind {
-        AxisKind::Linear => PlannerAxisKind::Linear,
-        AxisKind::Rotary => PlannerAxisKind::Rotary,
-    };
-    AxisConfig {
-        modulo_period: axis.modulo_period,
-        max_velocity: axis.max_velocity,
-        max_acceleration: axis.max_acceleration,
-        max_deceleration: axis.max_deceleration,
-        max_jerk: axis.max_jerk,
-        in_position_window: axis.in_position_window,
-        target_position_monitoring: axis.target_position_monitoring,
-        modulo_tolerance_window: axis.modulo_tolerance_window,
-        soft_travel_limits: axis.soft_travel_limits,
-        ..AxisConfig::new(axis.name.clone(), kind)
-    }
-}
-
 /// The scene's axes added to the planner, with the joint drives they need
 /// and the joints' initial positions (`initial`, URDF units).
 pub(crate) struct BoundAxes {
@@ -133,7 +112,7 @@ pub(crate) fn bind_axes(
             column: axis.joint_location.column,
             message,
         };
-        let config = limits::with_urdf_limits(axis_config(axis), axis, model).map_err(joint_error)?;
+        let config = limits::with_urdf_limits(axis, model).map_err(joint_error)?;
         let handle = task
             .add_axis(config, axis.initial_position)
             .map_err(|source| PlantError::Planner {
@@ -146,7 +125,7 @@ pub(crate) fn bind_axes(
             drive: None,
             joint: None,
             si_per_unit: axis.units.si_per_unit(),
-            in_position_window: axis.in_position_window,
+            in_position_window: axis.config.in_position_window,
         };
         // A virtual axis has no joint and is never fed (actual = command).
         if let Some(joint) = &axis.joint {

@@ -17,13 +17,14 @@ use crate::plant::urdf::{JointKind, RobotModel};
 use crate::scene::Axis;
 use planner::axis::AxisConfig;
 
-/// `config` with the soft travel limits of `axis`: its own, or else its
-/// URDF joint's (module doc).
+/// The planner's configuration of `axis` with its soft travel limits: its
+/// own, or else its URDF joint's (module doc).
 ///
 /// # Errors
 /// A message (for the axis' `joint` field) when the initial position is
 /// outside the URDF limits.
-pub fn with_urdf_limits(mut config: AxisConfig, axis: &Axis, model: &RobotModel) -> Result<AxisConfig, String> {
+pub fn with_urdf_limits(axis: &Axis, model: &RobotModel) -> Result<AxisConfig, String> {
+    let mut config = axis.config.clone();
     if config.soft_travel_limits.is_some() || config.modulo_period.is_some() {
         return Ok(config);
     }
@@ -56,7 +57,6 @@ pub fn with_urdf_limits(mut config: AxisConfig, axis: &Axis, model: &RobotModel)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plant::axes::axis_config;
     use std::path::Path;
 
     fn scara() -> (crate::scene::Scene, RobotModel) {
@@ -71,9 +71,7 @@ mod tests {
         let (scene, model) = scara();
         let limits = |name: &str| {
             let axis = scene.axes.iter().find(|a| a.name == name).expect(name);
-            with_urdf_limits(axis_config(axis), axis, &model)
-                .expect("inside")
-                .soft_travel_limits
+            with_urdf_limits(axis, &model).expect("inside").soft_travel_limits
         };
         // scara.urdf: j1 ±2.6 rad, j2 ±2.5 rad, j3 [-0.3, 0] m.
         let (min, max) = limits("J1").expect("j1 is revolute");
@@ -86,18 +84,15 @@ mod tests {
     fn scene_limits_win_and_a_start_outside_the_urdf_limits_is_refused() {
         let (scene, model) = scara();
         let mut axis = scene.axes.iter().find(|a| a.name == "J2").expect("J2").clone();
-        axis.soft_travel_limits = Some((-10.0, 100.0));
-        let config = with_urdf_limits(axis_config(&axis), &axis, &model).expect("inside");
+        axis.config.soft_travel_limits = Some((-10.0, 100.0));
+        let config = with_urdf_limits(&axis, &model).expect("inside");
         assert_eq!(config.soft_travel_limits, Some((-10.0, 100.0)));
-        axis.soft_travel_limits = None;
+        axis.config.soft_travel_limits = None;
         axis.initial_position = 150.0;
-        assert!(
-            with_urdf_limits(axis_config(&axis), &axis, &model).is_err(),
-            "outside ±143 deg"
-        );
+        assert!(with_urdf_limits(&axis, &model).is_err(), "outside ±143 deg");
         // A modulo axis takes no URDF limits.
-        axis.modulo_period = Some(360.0);
-        let config = with_urdf_limits(axis_config(&axis), &axis, &model).expect("modulo");
+        axis.config.modulo_period = Some(360.0);
+        let config = with_urdf_limits(&axis, &model).expect("modulo");
         assert_eq!(config.soft_travel_limits, None);
     }
 }

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use serde::Deserialize;
 
 use crate::st::{Call, Expr};
+use planner::axis::AxisConfig;
 use planner::coord::CoordinateSystemConfig;
 
 use super::{CollisionSettings, GeometrySettings};
@@ -76,6 +77,17 @@ pub enum AxisKind {
     Linear,
     /// A revolute or continuous joint; units `deg` or `rad`.
     Rotary,
+}
+
+impl AxisKind {
+    /// The planner's axis kind.
+    #[must_use]
+    pub fn planner_kind(self) -> planner::axis::AxisKind {
+        match self {
+            AxisKind::Linear => planner::axis::AxisKind::Linear,
+            AxisKind::Rotary => planner::axis::AxisKind::Rotary,
+        }
+    }
 }
 
 impl fmt::Display for AxisKind {
@@ -179,29 +191,16 @@ pub struct Axis {
     pub joint_location: Location,
     /// Linear or rotary.
     pub kind: AxisKind,
-    /// Modulo period in axis units, for modulo axes.
-    pub modulo_period: Option<f64>,
     /// Axis position units.
     pub units: Units,
-    /// Axis units / s (> 0).
-    pub max_velocity: f64,
-    /// Axis units / s² (> 0).
-    pub max_acceleration: f64,
-    /// Axis units / s² (> 0).
-    pub max_deceleration: f64,
-    /// Axis units / s³ (> 0).
-    pub max_jerk: f64,
-    /// Axis units (> 0).
-    pub in_position_window: f64,
-    /// PLCopen "Target Position Monitoring" (default: true).
-    pub target_position_monitoring: bool,
-    /// Axis units (≥ 0, default: 0).
-    pub modulo_tolerance_window: f64,
+    /// The axis as the planner takes it (its name and kind as above):
+    /// modulo period, maximum rates (axis units, > 0), in-position window,
+    /// target position monitoring (default true), modulo tolerance window
+    /// (default 0) and soft travel limits (default none here; the plant
+    /// then takes the joint's URDF `<limit>`).
+    pub config: AxisConfig,
     /// Initial position, axis units (default: 0, or from `robot.initial_joints`).
     pub initial_position: f64,
-    /// Soft travel limits `(min, max)`, axis units (default: none here; the
-    /// run then takes the joint's URDF `<limit>` — see `run::limits`).
-    pub soft_travel_limits: Option<(f64, f64)>,
     /// Joint motor gains.
     pub motor: MotorGains,
     /// Where the `[[axes]]` entry's `name` is written.

@@ -61,7 +61,7 @@ fn complete_fixture_loads() {
     assert_eq!(scene.robot.urdf, fixtures().join("robots/indexing_table.urdf"));
     assert_eq!(scene.axes.len(), 2);
     let table = scene.axis("table").expect("case-insensitive lookup");
-    assert_eq!(table.modulo_period, Some(360.0));
+    assert_eq!(table.config.modulo_period, Some(360.0));
     assert_eq!(table.motor, MotorGains::default());
     let slide = scene.axis("Slide").expect("Slide");
     assert_eq!((slide.kind, slide.units), (AxisKind::Linear, Units::Mm));
@@ -69,7 +69,7 @@ fn complete_fixture_loads() {
         (slide.initial_position - 100.0).abs() < 1e-9,
         "0.1 m from initial_joints is 100 mm"
     );
-    assert!(slide.target_position_monitoring);
+    assert!(slide.config.target_position_monitoring);
     assert_eq!(slide.joint_location, find(&fixture_text(), "\"slide_joint\""));
     assert_eq!(scene.cameras[0].width, 640);
     assert!(matches!(
@@ -492,8 +492,8 @@ fn soft_travel_limits_are_checked_at_the_field() {
         "in_position_window = 0.05\nsoft_travel_limits = [0.0, 300.0]\n",
     );
     let scene = parse(&fixtures().join("case.toml"), &ok).expect("limits around 100 mm");
-    assert_eq!(scene.axes[1].soft_travel_limits, Some((0.0, 300.0)));
-    assert_eq!(scene.axes[0].soft_travel_limits, None);
+    assert_eq!(scene.axes[1].config.soft_travel_limits, Some((0.0, 300.0)));
+    assert_eq!(scene.axes[0].config.soft_travel_limits, None);
     for (limits, problem) in [
         ("[300.0, 0.0]", "order"),
         ("[0.0, 0.0]", "order"),

@@ -6,6 +6,8 @@ use std::path::Path;
 
 use toml::Spanned;
 
+use planner::axis::AxisConfig;
+
 use super::{
     Axis, Camera, Ctx, MotorGains, NameKind, Names, Obstacle, Problem, RawAxis, RawCamera, RawObstacle, RawRobot,
     RawScene, RawSnapshots, Robot, Scene, SceneError, Shape, ShapeKind, Snapshots,
@@ -195,21 +197,24 @@ impl Ctx<'_> {
                 None => None,
             };
             axes.push(Axis {
-                name,
+                name: name.clone(),
                 joint,
                 joint_location: a.joint.as_ref().map_or_else(|| self.loc(&a.name), |j| self.loc(j)),
                 kind,
-                modulo_period,
                 units,
-                max_velocity,
-                max_acceleration,
-                max_deceleration,
-                max_jerk,
-                in_position_window,
-                target_position_monitoring: a.target_position_monitoring.unwrap_or(true),
-                modulo_tolerance_window,
+                config: AxisConfig {
+                    modulo_period,
+                    max_velocity,
+                    max_acceleration,
+                    max_deceleration,
+                    max_jerk,
+                    in_position_window,
+                    target_position_monitoring: a.target_position_monitoring.unwrap_or(true),
+                    modulo_tolerance_window,
+                    soft_travel_limits,
+                    ..AxisConfig::new(name, kind.planner_kind())
+                },
                 initial_position,
-                soft_travel_limits,
                 motor,
                 location: self.loc(&a.name),
             });
