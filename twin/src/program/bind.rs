@@ -32,7 +32,7 @@
 use super::InstructionBinding;
 use crate::scene::{BaseType, Scene, TagValue};
 use crate::st::Expr;
-use planner::catalogue::{self, CallStyle, Family, Format, Instruction, Operand};
+use planner::catalogue::{Format, Instruction, Operand};
 use planner::task::{AxisHandle, InstructionHandle, MotionTask};
 use std::fmt;
 use std::sync::Arc;
@@ -411,36 +411,12 @@ impl<'b, 'a> Bind<'b, 'a> {
     }
 }
 
-/// Binds one positional call to the planner.
-///
-/// # Errors
-/// A message naming the operand at fault, or saying that the instruction is
-/// not simulated.
-pub fn compile(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
-    let Some(instruction) = catalogue::find(name).filter(|i| i.style == CallStyle::Positional) else {
-        return Err(format!(
-            "{} is a Logix motion instruction the twin does not simulate (it simulates: {})",
-            name.to_ascii_uppercase(),
-            catalogue::positional_mnemonics()
-        ));
-    };
-    let mut bind = Bind::new(instruction, operands, ctx)?;
-    match instruction.family {
-        Family::Coordinated => super::coord::bind(&mut bind),
-        Family::Transform => super::mct::bind(&mut bind),
-        Family::Cam => super::cam::bind(&mut bind),
-        Family::PlcOpen => Err(format!(
-            "{} is a function block: call it on an instance with named inputs",
-            instruction.mnemonic
-        )),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::load;
     use planner::axis::{AxisConfig, AxisKind};
+    use planner::catalogue;
     use std::path::Path;
 
     fn scene() -> Scene {
@@ -527,10 +503,10 @@ mod tests {
             task: &mut task,
             instructions: &mut instructions,
         };
-        let e = compile("mdcc", &[], &mut ctx).expect_err("not simulated");
+        let e = super::super::compile_logix("mdcc", &[], &mut ctx).expect_err("not simulated");
         assert!(e.starts_with("MDCC is a Logix motion instruction"), "{e}");
         assert_eq!(
-            compile("MRP", &[ident("a")], &mut ctx).map(|_| ()),
+            super::super::compile_logix("MRP", &[ident("a")], &mut ctx).map(|_| ()),
             Err("MRP takes 5 operands (Axis, Motion Control, Type, Position Select, Position), got 1".to_string())
         );
     }

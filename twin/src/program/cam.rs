@@ -269,7 +269,7 @@ mod tests {
             task,
             instructions: &mut instructions,
         };
-        super::super::bind::compile(&call.name.value, &operands, &mut ctx)
+        super::super::compile_logix(&call.name.value, &operands, &mut ctx)
     }
 
     #[test]

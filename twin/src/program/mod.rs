@@ -33,6 +33,8 @@ pub mod steps;
 
 use crate::scene::Scene;
 use crate::st::{Args, Expr};
+use bind::{Bind, LogixContext, LogixStep};
+use planner::catalogue::{self, CallStyle, Family};
 use planner::task::{FbHandle, InstructionHandle, MotionTask};
 use std::path::PathBuf;
 use steps::{CompiledStep, StepAction};
@@ -126,7 +128,7 @@ impl Program {
                     task,
                     instructions: &mut self.instructions,
                 };
-                Ok(StepAction::Logix(bind::compile(&call.name.value, &operands, &mut ctx)?))
+                Ok(StepAction::Logix(compile_logix(&call.name.value, &operands, &mut ctx)?))
             }
             Args::Named(_) => {
                 let bound = modulo::bind(call, scene, task, &mut self.fbs)?;
@@ -155,5 +157,31 @@ impl Program {
     /// the program first uses them.
     pub fn instructions(&self) -> &[InstructionBinding] {
         &self.instructions
+    }
+}
+
+/// Binds one positional call to the planner: the catalogue names its
+/// family, and the family's file binds it.
+///
+/// # Errors
+/// A message naming the operand at fault, or saying that the instruction is
+/// not simulated.
+pub fn compile_logix(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
+    let Some(instruction) = catalogue::find(name).filter(|i| i.style == CallStyle::Positional) else {
+        return Err(format!(
+            "{} is a Logix motion instruction the twin does not simulate (it simulates: {})",
+            name.to_ascii_uppercase(),
+            catalogue::positional_mnemonics()
+        ));
+    };
+    let mut bind = Bind::new(instruction, operands, ctx)?;
+    match instruction.family {
+        Family::Coordinated => coord::bind(&mut bind),
+        Family::Transform => mct::bind(&mut bind),
+        Family::Cam => cam::bind(&mut bind),
+        Family::PlcOpen => Err(format!(
+            "{} is a function block: call it on an instance with named inputs",
+            instruction.mnemonic
+        )),
     }
 }

@@ -1,0 +1,197 @@
+//! The direction of the data, checked on the source: twin's stages import
+//! only the stages before them (st → scene → program, plant → run →
+//! output), and no production file of either crate takes part in an import
+//! circle (ARCHITECTURE.md).
+//!
+//! A reference is a `crate::a::b` path or a `super::a` path in a source
+//! file's production part (comments and everything from its first
+//! `#[cfg(test)]` on are left out); it names the longest module path that
+//! is a file of the crate.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Module path (`program::bind`) → file, for every `.rs` file under `src`
+/// except test files.
+fn modules(src: &Path) -> BTreeMap<String, PathBuf> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![src.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).expect("source folder") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+            if !name.ends_with(".rs") || name == "tests.rs" {
+                continue;
+            }
+            let rel = path.strip_prefix(src).expect("under src").with_extension("");
+            let mut parts: Vec<String> = rel.iter().map(|p| p.to_string_lossy().into_owned()).collect();
+            if matches!(parts.last().map(String::as_str), Some("mod" | "lib" | "main")) {
+                parts.pop();
+            }
+            out.insert(parts.join("::"), path);
+        }
+    }
+    out
+}
+
+/// The production part of a file, without comments.
+fn production(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).expect("readable");
+    let text = text.split("#[cfg(test)]").next().unwrap_or_default();
+    text.lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The identifiers of a `::`-separated path starting at `at` in `text`.
+fn path_at(text: &str, at: usize) -> Vec<&str> {
+    let rest = &text[at..];
+    let end = rest
+        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':'))
+        .unwrap_or(rest.len());
+    rest[..end].split("::").filter(|s| !s.is_empty()).collect()
+}
+
+/// The modules `module` refers to (other than itself, its ancestors and
+/// its descendants).
+fn references(module: &str, text: &str, all: &BTreeMap<String, PathBuf>) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    let parent: Vec<&str> = module.split("::").filter(|s| !s.is_empty()).collect();
+    let parent = &parent[..parent.len().saturating_sub(1)];
+    for (prefix, base) in [("crate::", Vec::new()), ("super::", parent.to_vec())] {
+        for (at, _) in text.match_indices(prefix) {
+            let preceded = text[..at].chars().next_back();
+            if preceded.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_' || c == ':') {
+                continue;
+            }
+            let mut path = base.clone();
+            path.extend(path_at(text, at + prefix.len()));
+            let target = (1..=path.len())
+                .rev()
+                .map(|k| path[..k].join("::"))
+                .find(|m| all.contains_key(m));
+            if let Some(target) = target {
+                let related = target == module
+                    || module.starts_with(&format!("{target}::"))
+                    || target.starts_with(&format!("{module}::"))
+                    || target.is_empty();
+                if !related {
+                    out.insert(target);
+                }
+            }
+        }
+    }
+    out
+}
+
+fn graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let all = modules(src);
+    all.iter()
+        .map(|(m, path)| (m.clone(), references(m, &production(path), &all)))
+        .collect()
+}
+
+/// The import circles: strongly connected groups of more than one file.
+fn circles(graph: &BTreeMap<String, BTreeSet<String>>) -> Vec<Vec<String>> {
+    // Kosaraju: finish order on the graph, then components on its reverse.
+    fn visit(v: &str, g: &BTreeMap<String, BTreeSet<String>>, seen: &mut BTreeSet<String>, order: &mut Vec<String>) {
+        if !seen.insert(v.to_owned()) {
+            return;
+        }
+        for w in g.get(v).into_iter().flatten() {
+            visit(w, g, seen, order);
+        }
+        order.push(v.to_owned());
+    }
+    let mut reverse: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for (v, ws) in graph {
+        for w in ws {
+            reverse.entry(w.clone()).or_default().insert(v.clone());
+        }
+    }
+    let (mut seen, mut order) = (BTreeSet::new(), Vec::new());
+    for v in graph.keys() {
+        visit(v, graph, &mut seen, &mut order);
+    }
+    let mut assigned = BTreeSet::new();
+    let mut out = Vec::new();
+    for v in order.iter().rev() {
+        let mut component = Vec::new();
+        visit(v, &reverse, &mut assigned, &mut component);
+        if component.len() > 1 {
+            component.sort();
+            out.push(component);
+        }
+    }
+    out
+}
+
+fn crate_src(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(name).join("src")
+}
+
+#[test]
+fn no_production_file_is_in_an_import_circle() {
+    for name in ["planner", "twin"] {
+        let graph = graph(&crate_src(name));
+        assert!(graph.len() > 20, "{name}: {} files found", graph.len());
+        assert_eq!(circles(&graph), Vec::<Vec<String>>::new(), "{name}");
+    }
+}
+
+#[test]
+fn twin_stages_import_only_the_stages_before_them() {
+    // Stage → the stages it may import.
+    let allowed: BTreeMap<&str, &[&str]> = BTreeMap::from([
+        ("st", &[][..]),
+        ("scene", &["st"][..]),
+        ("program", &["st", "scene"][..]),
+        ("plant", &["st", "scene"][..]),
+        ("run", &["st", "scene", "program", "plant"][..]),
+        ("output", &["st", "scene", "program", "plant", "run"][..]),
+    ]);
+    let stage = |module: &str| module.split("::").next().unwrap_or_default().to_owned();
+    let mut wrong = Vec::new();
+    for (module, targets) in graph(&crate_src("twin")) {
+        let from = stage(&module);
+        let Some(may) = allowed.get(from.as_str()) else {
+            continue; // lib.rs, main.rs: they put the stages together.
+        };
+        for target in targets {
+            let to = stage(&target);
+            if to != from && !may.contains(&to.as_str()) {
+                wrong.push(format!("{module} imports {target}"));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "{wrong:#?}");
+}
+
+#[test]
+fn the_checker_sees_a_circle_and_a_backward_import() {
+    let all: BTreeMap<String, PathBuf> = ["scene", "scene::raw", "program", "program::bind", "program::coord"]
+        .iter()
+        .map(|m| ((*m).to_owned(), PathBuf::new()))
+        .collect();
+    let bind = references("program::bind", "use super::coord::bind; use crate::scene::raw::X;", &all);
+    assert_eq!(
+        bind,
+        BTreeSet::from(["program::coord".to_owned(), "scene::raw".to_owned()])
+    );
+    let graph = BTreeMap::from([
+        ("program::bind".to_owned(), bind),
+        (
+            "program::coord".to_owned(),
+            references("program::coord", "use super::bind::Bind;", &all),
+        ),
+    ]);
+    assert_eq!(
+        circles(&graph),
+        vec![vec!["program::bind".to_owned(), "program::coord".to_owned()]]
+    );
+}
