@@ -178,7 +178,11 @@ fn the_checker_sees_a_circle_and_a_backward_import() {
         .iter()
         .map(|m| ((*m).to_owned(), PathBuf::new()))
         .collect();
-    let bind = references("program::bind", "use super::coord::bind; use crate::scene::raw::X;", &all);
+    let bind = references(
+        "program::bind",
+        "use super::coord::bind; use crate::scene::raw::X;",
+        &all,
+    );
     assert_eq!(
         bind,
         BTreeSet::from(["program::coord".to_owned(), "scene::raw".to_owned()])

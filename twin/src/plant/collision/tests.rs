@@ -1,7 +1,8 @@
 //! Collision model, events and sweep against analytic geometry.
 
 use super::*;
-use crate::scene::{AllowedPair, Location, Obstacle, Preflight, Reaction};
+use crate::scene::{AllowedPair, Location, MeshApproximation, Obstacle, Preflight, Reaction, Shape};
+use nalgebra::{Translation3, UnitQuaternion, Vector3};
 use std::path::Path;
 
 fn settings() -> CollisionSettings {
