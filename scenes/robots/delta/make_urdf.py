@@ -115,31 +115,27 @@ for i in range(3):
     <origin xyz="{L2} 0 0"/>
   </joint>
 ''')
+
+def virtual_slide(link, parent, axis):
+    """A light link on a virtual prismatic joint (set by the twin, not a motor)."""
+    return f'''
+  <link name="{link}">
+    <inertial>
+      <mass value="0.05"/>
+      <inertia ixx="0.00001" ixy="0" ixz="0" iyy="0.00001" iyz="0" izz="0.00001"/>
+    </inertial>
+  </link>
+  <joint name="{link}" type="prismatic">
+    <parent link="{parent}"/>
+    <child link="{link}"/>
+    <axis xyz="{axis}"/>
+    <limit lower="-1" upper="1" effort="0" velocity="10"/>
+  </joint>'''
+
+
+out.append(virtual_slide('platform_x', 'delta_base', '1 0 0'))
+out.append(virtual_slide('platform_y', 'platform_x', '0 1 0'))
 out.append('''
-  <link name="platform_x">
-    <inertial>
-      <mass value="0.05"/>
-      <inertia ixx="0.00001" ixy="0" ixz="0" iyy="0.00001" iyz="0" izz="0.00001"/>
-    </inertial>
-  </link>
-  <joint name="platform_x" type="prismatic">
-    <parent link="delta_base"/>
-    <child link="platform_x"/>
-    <axis xyz="1 0 0"/>
-    <limit lower="-1" upper="1" effort="0" velocity="10"/>
-  </joint>
-  <link name="platform_y">
-    <inertial>
-      <mass value="0.05"/>
-      <inertia ixx="0.00001" ixy="0" ixz="0" iyy="0.00001" iyz="0" izz="0.00001"/>
-    </inertial>
-  </link>
-  <joint name="platform_y" type="prismatic">
-    <parent link="platform_x"/>
-    <child link="platform_y"/>
-    <axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="0" velocity="10"/>
-  </joint>
   <link name="platform">
     <inertial>
       <mass value="0.5"/>
