@@ -142,22 +142,14 @@ impl Delta3d {
         let d31 = sub(c[2], c[0]);
         let d = norm(d21);
         if d < 1e-12 * self.arms.l2 {
-            return Err(PositionError::Singularity {
-                chain: 1,
-                angle_rad: 0.0,
-                margin_rad: super::SINGULARITY_MARGIN_RAD,
-            });
+            return Err(degenerate(1));
         }
         let ex = scale(d21, 1.0 / d);
         let i = dot(ex, d31);
         let ey_raw = sub(d31, scale(ex, i));
         let j = norm(ey_raw);
         if j < 1e-12 * self.arms.l2 {
-            return Err(PositionError::Singularity {
-                chain: 2,
-                angle_rad: 0.0,
-                margin_rad: super::SINGULARITY_MARGIN_RAD,
-            });
+            return Err(degenerate(2));
         }
         let ey = scale(ey_raw, 1.0 / j);
         let ez = cross(ex, ey);
@@ -251,11 +243,7 @@ impl FiveBar {
         let (du, dw) = (u2 - u1, w2 - w1);
         let d = du.hypot(dw);
         if d < 1e-12 * self.arms.l2 {
-            return Err(PositionError::Singularity {
-                chain: 1,
-                angle_rad: 0.0,
-                margin_rad: super::SINGULARITY_MARGIN_RAD,
-            });
+            return Err(degenerate(1));
         }
         let half = d / 2.0;
         if half > self.arms.l2 {
@@ -319,6 +307,16 @@ impl FiveBar {
             s = s.with(i, arm_flipped(qi + zi, u, w));
         }
         Ok(s)
+    }
+}
+
+/// A degenerate platform solution on `chain` (the arms' spheres do not
+/// span a plane): a singularity at angle 0.
+fn degenerate(chain: u8) -> PositionError {
+    PositionError::Singularity {
+        chain,
+        angle_rad: 0.0,
+        margin_rad: super::SINGULARITY_MARGIN_RAD,
     }
 }
 

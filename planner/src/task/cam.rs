@@ -198,6 +198,13 @@ impl MotionTask {
         self.bits(h).set_error(err, exerr, segment);
     }
 
+    /// Starts a MAJ/MAS execution (`.EN`) with its validated operands; an
+    /// operand error sets `.ER` with its ERR and EXERR.
+    fn begin_validated<T>(&mut self, h: InstructionHandle, validated: Result<T, JogError>) -> Result<T, JogError> {
+        self.begin(h);
+        validated.inspect_err(|e| self.fail(h, e.err(), e.exerr(), 0))
+    }
+
     /// MCCP: calculates `profile` from the first `length` elements of `cam`.
     /// Returns the error also written into the tag.
     pub fn mccp(
@@ -345,6 +352,12 @@ impl MotionTask {
     fn abort_move(&mut self, axis: AxisHandle) {
         // Coordinated motion on the axis comes to rest too (task/coord.rs).
         self.release_axis_from_coordinated_motion(axis);
+        self.abort_modulo_commands(axis);
+    }
+
+    /// Aborts the MC_MoveModulo command running on `axis` and the one
+    /// buffered behind it (`CommandAborted`).
+    pub(super) fn abort_modulo_commands(&mut self, axis: AxisHandle) {
         let a = &mut self.axes[axis.0 as usize];
         let job_fb = a.job.take().and_then(|j| j.fb);
         let buffered_fb = a.buffered.take().map(|(fb, _)| fb);
@@ -474,14 +487,8 @@ impl MotionTask {
         motion_control: InstructionHandle,
         operands: &MajOperands,
     ) -> Result<(), JogError> {
-        self.begin(motion_control);
-        let jog = match Jog::new(operands, &self.axes[axis.0 as usize].config) {
-            Ok(j) => j,
-            Err(e) => {
-                self.fail(motion_control, e.err(), e.exerr(), 0);
-                return Err(e);
-            }
-        };
+        let jog = Jog::new(operands, &self.axes[axis.0 as usize].config);
+        let jog = self.begin_validated(motion_control, jog)?;
         self.abort_move(axis);
         self.end_cams(axis);
         self.end_ramp(axis);
@@ -508,14 +515,8 @@ impl MotionTask {
         motion_control: InstructionHandle,
         operands: &MasOperands,
     ) -> Result<(), JogError> {
-        self.begin(motion_control);
-        let stop = match Stop::new(operands, &self.axes[axis.0 as usize].config) {
-            Ok(s) => s,
-            Err(e) => {
-                self.fail(motion_control, e.err(), e.exerr(), 0);
-                return Err(e);
-            }
-        };
+        let stop = Stop::new(operands, &self.axes[axis.0 as usize].config);
+        let stop = self.begin_validated(motion_control, stop)?;
         // A preloaded Pending cam (no cam active) is part of the position
         // cam process too: the stop resets its Pending Status.
         let cam_running = self.cam.axes.get(axis.0 as usize).is_some_and(|c| {

@@ -449,12 +449,7 @@ impl MotionTask {
         self.coord.systems[cs.0 as usize].taken.clear();
         for axis in axes {
             self.release_cam_and_jog(axis);
-            let a = &mut self.axes[axis.0 as usize];
-            let job = a.job.take().and_then(|j| j.fb);
-            let buffered = a.buffered.take().map(|(fb, _)| fb);
-            for fb in job.into_iter().chain(buffered) {
-                self.finish(fb, Finish::Aborted);
-            }
+            self.abort_modulo_commands(axis);
         }
     }
 
