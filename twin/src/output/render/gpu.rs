@@ -1,7 +1,11 @@
 //! GPU-side resources (meshes, targets, growable buffers, pipelines) and
 //! the bytes uploaded to them each frame.
 
-use super::*;
+use super::math;
+use super::{
+    COLOR_FORMAT, Camera, CameraFrame, DEPTH_FORMAT, GLOBALS_BYTES, LINE_WIDTH_PX, LineStrip, MeshProblem,
+    ReadbackStage, RenderError, VERTEX_BYTES,
+};
 use crate::plant::mesh::TriMesh;
 
 /// A mesh as stored by the renderer.
