@@ -309,12 +309,13 @@ impl MotionTask {
         }
     }
 
-    /// Feeds the measured position of an axis (axis units, unwrapped, in the
-    /// device's own frame: the MRP redefinitions made so far are added, see
-    /// [`MotionTask::position_offset`]); used from the next update on. An axis
-    /// never fed follows its command.
+    /// Feeds the measured position of an axis (axis units, unwrapped, in
+    /// the axis' positions: the MRP redefinitions made so far included, the
+    /// frame [`MotionTask::axis_state`] reports in; a device that reports in
+    /// its own frame is `position_offset` away, see
+    /// [`MotionTask::position_offset`]); used from the next update on. An
+    /// axis never fed follows its command.
     pub fn feed_actual_position(&mut self, axis: AxisHandle, position: f64) {
-        let position = self.redefined_feedback(axis, position);
         let a = &mut self.axes[axis.0 as usize];
         if position.is_finite() {
             a.actual = position;

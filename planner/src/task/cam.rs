@@ -39,10 +39,10 @@
 //! positions *without* MRP shifts (the redefinitions are summed per axis and
 //! taken out), so redefining a master's position never moves its slaves; a
 //! Master Lock Position is taken in the master's positions of the moment the
-//! MAPC executes. The shift is also applied to positions fed with
-//! [`MotionTask::feed_actual_position`] afterwards, since the device keeps
-//! reporting in its own frame ([`MotionTask::position_offset`] tells the
-//! twin how to map command positions back to the joint).
+//! MAPC executes. Every position the task takes and gives, fed actual
+//! positions included, is in the axis' redefined positions; a device keeps
+//! its own frame, [`MotionTask::position_offset`] away, and the caller
+//! converts between the two.
 
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
 use crate::instruction::MotionInstructionBits;
@@ -406,7 +406,7 @@ impl MotionTask {
         self.cam.axes.get(axis.0 as usize).map(|c| c.limits).unwrap_or_default()
     }
 
-    /// The sum of MRP redefinitions on `axis`: command positions are the
+    /// The sum of MRP redefinitions on `axis`: the axis' positions are the
     /// device's (joint's) positions plus this.
     pub fn position_offset(&self, axis: AxisHandle) -> f64 {
         self.cam.axes.get(axis.0 as usize).map_or(0.0, |c| c.redefined)
@@ -470,11 +470,6 @@ impl MotionTask {
         c.cam.redefine_slave(delta);
         self.bits(motion_control).dn = true;
         Ok(())
-    }
-
-    /// The device's position fed back, in the axis' (redefined) positions.
-    pub(super) fn redefined_feedback(&self, axis: AxisHandle, position: f64) -> f64 {
-        position + self.position_offset(axis)
     }
 
     /// MAJ: jogs `axis` at the operands' speed, from its current state.

@@ -3,9 +3,11 @@
 //!
 //! An axis position in the planner is in axis units (`deg`, `mm`, …) and
 //! includes the offset an MRP redefined; the joint it drives is in rad or m
-//! and knows nothing of MRP. [`AxisJoint::joint_position`] and
-//! [`AxisBinding::axis_position`] convert between the two; nothing else in
-//! the twin scales by `si_per_unit` or subtracts an offset.
+//! and knows nothing of MRP. [`AxisJoint::joint_position`] (and
+//! [`AxisBinding::drive_command`]) and [`AxisBinding::axis_position`]
+//! convert between the two, both ways here: the planner takes and gives
+//! only axis positions, and nothing else in the twin applies an MRP offset.
+//! The unit factor itself is [`crate::scene::Units::si_per_unit`].
 
 use super::PlantError;
 use super::limits;
@@ -75,10 +77,10 @@ impl AxisBinding {
         x * self.si_per_unit
     }
 
-    /// The axis position (joint frame, axis units) of a joint position
-    /// (rad or m); the planner adds the MRP offset back.
-    pub fn axis_position(&self, joint_position: f64) -> f64 {
-        joint_position / self.si_per_unit
+    /// The axis position (axis units, MRP redefinitions included) of a
+    /// joint position (rad or m): what the planner is fed.
+    pub fn axis_position(&self, task: &MotionTask, joint_position: f64) -> f64 {
+        joint_position / self.si_per_unit + task.position_offset(self.handle)
     }
 }
 

@@ -264,7 +264,8 @@ impl Plant {
         self.previous_command = now;
         for axis in &self.axes {
             let Some(drive) = axis.drive else { continue };
-            task.feed_actual_position(axis.handle, axis.axis_position(self.sim.joint_position(drive)));
+            let position = axis.axis_position(task, self.sim.joint_position(drive));
+            task.feed_actual_position(axis.handle, position);
         }
         self.record_trails();
     }

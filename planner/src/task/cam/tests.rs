@@ -65,9 +65,11 @@ impl Rig {
         })
     }
 
-    /// The master's actual position becomes `m`, then one coarse update.
+    /// The master's device reports `m` (its own frame: the rig adds the
+    /// axis' MRP offset, as the twin's plant does), then one coarse update.
     fn to(&mut self, m: f64) {
-        self.task.feed_actual_position(self.master, m);
+        let offset = self.task.position_offset(self.master);
+        self.task.feed_actual_position(self.master, m + offset);
         self.task.update();
     }
 
@@ -971,8 +973,10 @@ fn mrp_redefines_without_motion_and_keeps_the_following_error() {
     r.bits(mi, "EN DN");
     let s = r.task.axis_state(r.slave);
     assert_eq!((s.command_position, s.actual_position), (100.0, 99.5));
-    // The device keeps reporting in its own frame: −0.5 is now 99.5.
-    r.task.feed_actual_position(r.slave, -0.5);
+    // The device keeps its own frame (−0.5); the axis' position is 99.5.
+    let offset = r.task.position_offset(r.slave);
+    assert_eq!(offset, 100.0);
+    r.task.feed_actual_position(r.slave, -0.5 + offset);
     r.task.update();
     let s = r.task.axis_state(r.slave);
     assert_eq!(
