@@ -30,7 +30,7 @@
 //! (`program/coord.rs`, `program/cam.rs`, `program/mct.rs`).
 
 use super::InstructionBinding;
-use crate::scene::{BaseType, Scene, TagValue};
+use crate::scene::{BaseType, Scene, Tag, TagValue};
 use crate::st::Expr;
 use planner::catalogue::{Format, Instruction, Operand};
 use planner::task::{AxisHandle, InstructionHandle, MotionTask};
@@ -77,10 +77,7 @@ impl LogixContext<'_> {
         let Expr::Ident(name) = operand else {
             return Err(format!("{what} {operand}: expected a MOTION_INSTRUCTION tag"));
         };
-        let tag = self
-            .scene
-            .tag(name)
-            .ok_or_else(|| format!("{what} {name}: not a declared tag"))?;
+        let tag = declared_tag(self.scene, what, name, "MOTION_INSTRUCTION")?;
         if tag.ty.base != BaseType::MotionInstruction || tag.ty.array_len.is_some() {
             return Err(format!(
                 "{what} {name}: is a {} tag, expected MOTION_INSTRUCTION",
@@ -409,6 +406,21 @@ impl<'b, 'a> Bind<'b, 'a> {
         let (spec, e) = self.operand("Motion Control");
         self.ctx.instruction(spec.name, e)
     }
+}
+
+/// The tag an operand names, or a message: an axis where a tag of type
+/// `expected` is needed, or no such name.
+///
+/// # Errors
+/// The message, naming the operand.
+pub fn declared_tag<'s>(scene: &'s Scene, what: &str, name: &str, expected: &str) -> Result<&'s Tag, String> {
+    scene.tag(name).ok_or_else(|| {
+        if scene.axis(name).is_some() {
+            format!("{what} {name}: is an axis, expected a {expected} tag")
+        } else {
+            format!("{what} {name}: not a declared tag")
+        }
+    })
 }
 
 #[cfg(test)]

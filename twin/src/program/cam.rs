@@ -31,7 +31,7 @@
 //! Each call is one scan of a one-shot rung: the planner executes it, and
 //! `.EN` clears at the next coarse update once `.DN` or `.ER` is set.
 
-use super::bind::{Bind, LogixContext, LogixStep};
+use super::bind::{Bind, LogixContext, LogixStep, declared_tag};
 use crate::scene::{BaseType, SegmentType, TagValue};
 use crate::st::Expr;
 use planner::jog::{MajOperands, MasOperands};
@@ -85,10 +85,7 @@ fn cam_profile(ctx: &mut LogixContext<'_>, operand: &Expr) -> Result<CamProfileH
         }
         _ => return Err(format!("{what} {operand}: expected a CAM_PROFILE tag")),
     };
-    let tag = ctx
-        .scene
-        .tag(name)
-        .ok_or_else(|| format!("{what} {name}: not a declared tag"))?;
+    let tag = declared_tag(ctx.scene, what, name, "CAM_PROFILE")?;
     if tag.ty.base != BaseType::CamProfile {
         return Err(format!("{what} {name}: is a {} tag, expected CAM_PROFILE", tag.ty));
     }

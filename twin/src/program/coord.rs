@@ -16,7 +16,7 @@
 //!   link this field stands for); without one they fail at run time with
 //!   ERR 13 (EXERR: speed units).
 
-use super::bind::{Bind, LogixContext, LogixStep};
+use super::bind::{Bind, LogixContext, LogixStep, declared_tag};
 use crate::scene::{BaseType, TagValue};
 use crate::st::Expr;
 use planner::coord::{CoordMoveInputs, McsInputs};
@@ -112,10 +112,7 @@ pub(super) fn coordinate_system(ctx: &mut LogixContext<'_>, what: &str, operand:
     {
         return Ok(h);
     }
-    let tag = ctx
-        .scene
-        .tag(name)
-        .ok_or_else(|| format!("{what} {name}: not a declared tag"))?;
+    let tag = declared_tag(ctx.scene, what, name, "COORDINATE_SYSTEM")?;
     let (Some(TagValue::Axes(members)), Some(settings), BaseType::CoordinateSystem) =
         (&tag.value, &tag.coordinate_system, tag.ty.base)
     else {
@@ -214,8 +211,10 @@ mod tests {
             Err(e) => e.to_string(),
             Ok(_) => panic!("compiles"),
         };
+        // The operand count is checked when the scene loads.
         let t = text().replacen("none, 0, 0)\"", "none, 0)\"", 1);
-        assert!(err(t).contains("MCLM takes 22 operands"));
+        let e = scene(&t).unwrap_err().to_string();
+        assert!(e.contains("MCLM takes 22 operands"), "{e}");
         // A word of another operand is refused when the scene loads.
         let t = text().replacen("200, unitspersec, 1000", "200, unitspersec³, 1000", 1);
         let e = scene(&t).unwrap_err().to_string();
@@ -228,6 +227,12 @@ mod tests {
         assert!(e.contains("Speed Units 3: expected one of unitspersec (0)"), "{e}");
         let t = text().replacen("MCLM(XYZ, L1,", "MCLM(OnCircle, L1,", 1);
         assert!(err(t).contains("Coordinate System OnCircle: is a REAL[2] tag"));
+        let t = text().replacen("MCLM(XYZ, L1,", "MCLM(X, L1,", 1);
+        let e = err(t);
+        assert!(
+            e.contains("Coordinate System X: is an axis, expected a COORDINATE_SYSTEM tag"),
+            "{e}"
+        );
         let t = with_xy_table("coordinate_system = { tool_link = \"nozzle\" }");
         let e = err(t);
         assert!(e.contains("tool_link 'nozzle' is not a link"), "{e}");

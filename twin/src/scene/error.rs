@@ -1,7 +1,7 @@
 //! Scene errors: one [`SceneError`] per file problem, displayed as
 //! `FILE:LINE:COLUMN: FIELD: what is wrong`, and the [`Problem`] it names.
 
-use planner::catalogue::Word;
+use planner::catalogue::{Instruction, Kind, Operand};
 use std::fmt;
 use std::path::PathBuf;
 
@@ -76,15 +76,50 @@ pub enum Problem {
     },
     /// A bare word that is neither a tag/axis nor one of its operand's
     /// enumeration words.
-    #[error("unknown tag or enumeration word '{name}' for {operand}{}", word_hint(.words))]
+    #[error("unknown tag or enumeration word '{name}' for {}{}", .operand.name, kind_hint(.operand.kind))]
     UnknownOperand {
         /// The word.
         name: String,
-        /// The operand it was given for, as the catalogue names it
-        /// (`Speed Units`).
-        operand: &'static str,
-        /// The operand's enumeration words, empty when it takes none.
-        words: &'static [Word],
+        /// The operand it was given for, as the catalogue describes it
+        /// (its name, what it takes, its enumeration words).
+        operand: &'static Operand,
+    },
+    /// A positional call with more or fewer operands than its instruction.
+    #[error(
+        "{} takes {} operands ({}), got {got}",
+        .instruction.mnemonic,
+        .instruction.operands.len(),
+        .instruction.operand_names()
+    )]
+    OperandCount {
+        /// The instruction.
+        instruction: &'static Instruction,
+        /// How many operands the call has.
+        got: usize,
+    },
+    /// A named input the function block does not have.
+    #[error("{} has no input '{name}' (inputs: {})", .block.mnemonic, .block.operand_names())]
+    UnknownInput {
+        /// The input as written.
+        name: String,
+        /// The block.
+        block: &'static Instruction,
+    },
+    /// A tag or axis called positionally, as a Logix instruction would be.
+    #[error(
+        "'{name}' is {kind}, not a Logix motion instruction; a function-block instance takes named inputs (Input := value)"
+    )]
+    NotAnInstruction {
+        /// The name.
+        name: String,
+        /// What it is (`a MC_MoveModulo tag`, `an axis`).
+        kind: String,
+    },
+    /// A Logix instruction called with named inputs.
+    #[error("{name} is a Logix instruction: call it with its operands in order, {name}(...), not with named inputs")]
+    NamedLogixCall {
+        /// The mnemonic as written.
+        name: String,
     },
     /// A Logix motion instruction the twin does not simulate.
     #[error("{name} is a Logix motion instruction the twin does not simulate (it simulates: {simulated})")]
@@ -428,10 +463,21 @@ impl fmt::Display for SceneError {
 }
 
 /// The end of an [`Problem::UnknownOperand`] message: the operand's words.
-fn word_hint(words: &[Word]) -> String {
-    if words.is_empty() {
-        return " (a tag or a value: it takes no enumeration words)".to_owned();
-    }
-    let list: Vec<String> = words.iter().map(|w| format!("{} ({})", w.word, w.code)).collect();
-    format!(" (its words: {})", list.join(", "))
+fn kind_hint(kind: Kind) -> String {
+    let takes = match kind {
+        Kind::Enumeration(words) => {
+            let list: Vec<String> = words.iter().map(|w| format!("{} ({})", w.word, w.code)).collect();
+            return format!(" (its words: {})", list.join(", "));
+        }
+        Kind::Axis => "an axis",
+        Kind::CoordinateSystem => "a COORDINATE_SYSTEM tag",
+        Kind::MotionControl => "a MOTION_INSTRUCTION tag",
+        Kind::Cam => "a CAM array element",
+        Kind::CamProfile => "a CAM_PROFILE tag",
+        Kind::Number | Kind::Count | Kind::Integer => "a number or a numeric tag",
+        Kind::Bool => "TRUE or FALSE",
+        Kind::Values | Kind::Vector3 => "a REAL array element",
+        Kind::OptionalArray => "0 or a REAL array",
+    };
+    format!(" (it takes {takes}, no enumeration words)")
 }

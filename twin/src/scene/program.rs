@@ -117,9 +117,10 @@ impl Ctx<'_> {
     }
 
     /// Checks a call against the instruction catalogue: a positional call
-    /// names a simulated Logix instruction, a named call an instance of a
-    /// function-block tag, and every bare-word operand is a declared
-    /// tag/axis or one of *that operand's* enumeration words.
+    /// names a simulated Logix instruction and has its operand count, a
+    /// named call names an instance of a function-block tag and inputs the
+    /// block has, and every bare-word operand is a declared tag/axis or one
+    /// of *that operand's* enumeration words.
     pub(super) fn check_call(
         &self,
         text: &Spanned<String>,
@@ -132,15 +133,27 @@ impl Ctx<'_> {
                 let block = self.function_block(text, &call.name, field, names)?;
                 let instruction = catalogue::find(block.name());
                 for (input, value) in inputs {
-                    let operand = instruction.and_then(|i| i.operand(&input.value)).map(|(_, o)| o);
+                    let operand = match instruction {
+                        Some(i) => Some(self.input(text, i, input, field)?),
+                        None => None,
+                    };
                     self.check_operand(text, value, operand, field, names)?;
                 }
             }
             Args::Positional(operands) => {
                 let instruction = self.positional_instruction(text, &call.name, field, names)?;
-                for (i, value) in operands.iter().enumerate() {
-                    let operand = instruction.operands.get(i);
-                    self.check_operand(text, value, operand, field, names)?;
+                if operands.len() != instruction.operands.len() {
+                    let problem = Problem::OperandCount {
+                        instruction,
+                        got: operands.len(),
+                    };
+                    let at = operands
+                        .get(instruction.operands.len())
+                        .map_or(call.name.span, |extra| extra.span);
+                    return Err(self.invalid_in(text, at, field, problem));
+                }
+                for (value, operand) in operands.iter().zip(instruction.operands) {
+                    self.check_operand(text, value, Some(operand), field, names)?;
                 }
             }
         }
@@ -155,7 +168,8 @@ impl Ctx<'_> {
         field: &str,
         names: &Names,
     ) -> Result<FunctionBlock, SceneError> {
-        let problem = match names.get(&name.value.to_lowercase()) {
+        let written = &name.value;
+        let problem = match names.get(&written.to_lowercase()) {
             Some((
                 _,
                 NameKind::Tag(TagType {
@@ -164,17 +178,36 @@ impl Ctx<'_> {
                 }),
             )) => return Ok(*block),
             Some((_, other)) => Problem::NotCallable {
-                name: name.value.clone(),
-                kind: match other {
-                    NameKind::Axis => "an axis".to_owned(),
-                    NameKind::Tag(ty) => format!("a {ty} tag"),
-                },
+                name: written.clone(),
+                kind: kind_of(*other),
             },
-            None => Problem::UnknownTag {
-                name: name.value.clone(),
+            None if is_not_simulated(written) => Problem::NotSimulated {
+                name: written.to_ascii_uppercase(),
+                simulated: catalogue::positional_mnemonics(),
             },
+            None if catalogue::find(written).is_some_and(|i| i.style == CallStyle::Positional) => {
+                Problem::NamedLogixCall { name: written.clone() }
+            }
+            None => Problem::UnknownTag { name: written.clone() },
         };
         Err(self.invalid_in(text, name.span, field, problem))
+    }
+
+    /// The catalogue's description of a named input of `block`.
+    fn input(
+        &self,
+        text: &Spanned<String>,
+        block: &'static Instruction,
+        input: &st::Spanned<String>,
+        field: &str,
+    ) -> Result<&'static Operand, SceneError> {
+        block.operand(&input.value).map(|(_, o)| o).ok_or_else(|| {
+            let problem = Problem::UnknownInput {
+                name: input.value.clone(),
+                block,
+            };
+            self.invalid_in(text, input.span, field, problem)
+        })
     }
 
     /// The catalogue entry of a positional call's instruction.
@@ -189,15 +222,15 @@ impl Ctx<'_> {
         if let Some(instruction) = catalogue::find(written).filter(|i| i.style == CallStyle::Positional) {
             return Ok(instruction);
         }
-        let problem = if catalogue::NOT_SIMULATED.iter().any(|m| m.eq_ignore_ascii_case(written)) {
+        let problem = if is_not_simulated(written) {
             Problem::NotSimulated {
                 name: written.to_ascii_uppercase(),
                 simulated: catalogue::positional_mnemonics(),
             }
-        } else if names.contains_key(&written.to_lowercase()) {
-            Problem::NotCallable {
+        } else if let Some((_, kind)) = names.get(&written.to_lowercase()) {
+            Problem::NotAnInstruction {
                 name: written.clone(),
-                kind: "called positionally".to_owned(),
+                kind: kind_of(*kind),
             }
         } else {
             Problem::UnknownInstruction { name: written.clone() }
@@ -207,13 +240,14 @@ impl Ctx<'_> {
 
     /// Checks one operand: a bare word is a declared tag/axis or one of the
     /// operand's words; a reference names a declared tag within bounds.
-    /// `operand` is `None` where the catalogue does not describe the input
-    /// (the binding reports that); such a word must be a declared name.
+    /// `operand` is `None` for the inputs of a block the catalogue does not
+    /// describe (the binding refuses the block); such a word must be a
+    /// declared name.
     fn check_operand(
         &self,
         text: &Spanned<String>,
         expr: &st::Spanned<Expr>,
-        operand: Option<&Operand>,
+        operand: Option<&'static Operand>,
         field: &str,
         names: &Names,
     ) -> Result<(), SceneError> {
@@ -223,18 +257,30 @@ impl Ctx<'_> {
         if names.contains_key(&word.to_lowercase()) || operand.is_some_and(|o| o.code_of(word).is_some()) {
             return Ok(());
         }
-        let words = operand.map_or(&[][..], |o| o.kind.words());
         // A word that cannot be an enumeration value is read as a tag name.
-        let enumeration_like = !words.is_empty() || word.get(..3).is_some_and(|p| p.eq_ignore_ascii_case("MC_"));
-        let problem = if enumeration_like {
-            Problem::UnknownOperand {
-                name: word.clone(),
-                operand: operand.map_or("this operand", |o| o.name),
-                words,
+        let has_words = operand.is_some_and(|o| !o.kind.words().is_empty());
+        let problem = match operand {
+            Some(o) if has_words || word.get(..3).is_some_and(|p| p.eq_ignore_ascii_case("MC_")) => {
+                Problem::UnknownOperand {
+                    name: word.clone(),
+                    operand: o,
+                }
             }
-        } else {
-            Problem::UnknownTag { name: word.clone() }
+            _ => Problem::UnknownTag { name: word.clone() },
         };
         Err(self.invalid_in(text, expr.span, field, problem))
     }
+}
+
+/// What a declared name is, for messages (`an axis`, `a REAL[2] tag`).
+fn kind_of(kind: NameKind) -> String {
+    match kind {
+        NameKind::Axis => "an axis".to_owned(),
+        NameKind::Tag(ty) => format!("a {ty} tag"),
+    }
+}
+
+/// Whether `name` is a Logix motion instruction the twin does not simulate.
+fn is_not_simulated(name: &str) -> bool {
+    catalogue::NOT_SIMULATED.iter().any(|m| m.eq_ignore_ascii_case(name))
 }

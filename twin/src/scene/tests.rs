@@ -294,9 +294,9 @@ fn enumeration_words_belong_to_their_operand() {
     let e = error_of(&text);
     assert_place(&e, find(&text, "%oftime, 50"), "program[2].call");
     match e.problem() {
-        Some(Problem::UnknownOperand { name, operand, words }) => {
-            assert_eq!((name.as_str(), *operand), ("%oftime", "Accel Units"));
-            assert!(words.iter().any(|w| (w.word, w.code) == ("%ofmaximum", 1)), "{words:?}");
+        Some(Problem::UnknownOperand { name, operand }) => {
+            assert_eq!((name.as_str(), operand.name), ("%oftime", "Accel Units"));
+            assert_eq!(operand.code_of("%ofmaximum"), Some(1));
         }
         other => panic!("{other:?}"),
     }
@@ -310,6 +310,56 @@ fn instructions_outside_the_catalogue_are_refused_at_load() {
     assert_place(&e, find(&text, "MDCC"), "program[3].call");
     assert!(matches!(e.problem(), Some(Problem::NotSimulated { .. })), "{e}");
     assert!(e.to_string().contains("MCLM, MCCM"), "{e}");
+}
+
+#[test]
+fn operand_counts_inputs_and_call_styles_are_checked_at_load() {
+    // One operand too many: the error points at it.
+    let text = edited("0, 0, 0, 0, 0, 0, 0)\"", "0, 0, 0, 0, 0, 0, 0, s-curve)\"");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "s-curve)"), "program[2].call");
+    assert!(
+        matches!(e.problem(), Some(Problem::OperandCount { instruction, got: 26 }) if instruction.mnemonic == "MCCM"),
+        "{e}"
+    );
+    assert!(
+        e.to_string()
+            .contains("MCCM takes 25 operands (Coordinate System, Motion Control,"),
+        "{e}"
+    );
+    // An instance called positionally.
+    let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "MoveTable(Table, FALSE)");
+    let e = error_of(&text);
+    assert!(matches!(e.problem(), Some(Problem::NotAnInstruction { .. })), "{e}");
+    assert!(
+        e.to_string()
+            .contains("a MC_MoveModulo tag, not a Logix motion instruction"),
+        "{e}"
+    );
+    // Logix instructions with named inputs.
+    let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "MSO(Axis := Table)");
+    assert!(matches!(error_of(&text).problem(), Some(Problem::NotSimulated { .. })));
+    let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "MAJ(Axis := Table)");
+    assert!(matches!(
+        error_of(&text).problem(),
+        Some(Problem::NamedLogixCall { .. })
+    ));
+    // An input the block does not have, named as written.
+    let text = edited("Table, Execute := FALSE", "Table, Speed := 180.0");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "Speed :="), "program[1].call");
+    assert!(
+        e.to_string()
+            .contains("MC_MoveModulo has no input 'Speed' (inputs: Axis, Execute,"),
+        "{e}"
+    );
+    // What an operand without words takes.
+    let text = edited("Table, Execute := FALSE", "Table, Execute := MC_Buffered");
+    assert!(
+        error_of(&text)
+            .to_string()
+            .contains("(it takes TRUE or FALSE, no enumeration words)")
+    );
 }
 
 #[test]
