@@ -4,7 +4,7 @@
 //! the URDF by [`crate::collision`].
 
 use super::validate::ShapeFields;
-use super::{Ctx, Location, Problem, SceneError, Shape, ShapeKind};
+use super::{Ctx, Location, Numbers, Problem, SceneError, Shape, ShapeKind};
 use serde::Deserialize;
 use std::path::Path;
 use toml::Spanned;
@@ -144,13 +144,13 @@ struct RawTool {
     name: Option<Spanned<String>>,
     link: Spanned<String>,
     shape: Spanned<ShapeKind>,
-    size: Option<Spanned<[f64; 3]>>,
+    size: Option<Spanned<Numbers<3>>>,
     radius: Option<Spanned<f64>>,
     length: Option<Spanned<f64>>,
     file: Option<Spanned<String>>,
-    scale: Option<Spanned<[f64; 3]>>,
-    position: Option<Spanned<[f64; 3]>>,
-    rpy_deg: Option<Spanned<[f64; 3]>>,
+    scale: Option<Spanned<Numbers<3>>>,
+    position: Option<Spanned<Numbers<3>>>,
+    rpy_deg: Option<Spanned<Numbers<3>>>,
 }
 
 impl Ctx<'_> {

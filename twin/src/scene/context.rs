@@ -9,7 +9,7 @@ use toml::Spanned;
 
 use crate::st::ParseError;
 
-use super::{Location, Problem, SceneError, TagType};
+use super::{Location, Numbers, Problem, SceneError, TagType};
 
 pub(super) struct Ctx<'a> {
     pub(super) file: PathBuf,
@@ -159,17 +159,18 @@ impl Ctx<'_> {
 
     pub(super) fn finite_array<const N: usize>(
         &self,
-        v: &Spanned<[f64; N]>,
+        v: &Spanned<Numbers<N>>,
         field: &str,
     ) -> Result<[f64; N], SceneError> {
-        match v.get_ref().iter().find(|x| !x.is_finite()) {
+        let values = v.get_ref().0;
+        match values.iter().find(|x| !x.is_finite()) {
             Some(&value) => Err(self.invalid(v, field, Problem::NotFinite { value })),
-            None => Ok(*v.get_ref()),
+            None => Ok(values),
         }
     }
 
     /// Three finite values, each > 0.
-    pub(super) fn positive_array(&self, v: &Spanned<[f64; 3]>, field: &str) -> Result<[f64; 3], SceneError> {
+    pub(super) fn positive_array(&self, v: &Spanned<Numbers<3>>, field: &str) -> Result<[f64; 3], SceneError> {
         let values = self.finite_array(v, field)?;
         match values.iter().find(|x| **x <= 0.0) {
             Some(&value) => Err(self.invalid(v, field, Problem::NotPositive { value })),

@@ -3,7 +3,7 @@
 //! how its chain maps onto the URDF, for the load-time kinematics check
 //! ([`crate::plant::kinematics_check`]).
 
-use super::{Ctx, Location, Problem, SceneError};
+use super::{Ctx, Location, Numbers, Problem, SceneError};
 use planner::mct::{GeometryKind, GeometryParams};
 use serde::Deserialize;
 use toml::Spanned;
@@ -26,10 +26,10 @@ pub(super) struct RawGeometry {
     #[serde(rename = "type")]
     kind: Spanned<String>,
     transform_dimension: Option<Spanned<i64>>,
-    link_lengths: Option<Spanned<[f64; 2]>>,
-    base_offsets: Option<Spanned<[f64; 3]>>,
-    end_effector_offsets: Option<Spanned<[f64; 3]>>,
-    zero_angles_deg: Option<Spanned<[f64; 3]>>,
+    link_lengths: Option<Spanned<Numbers<2>>>,
+    base_offsets: Option<Spanned<Numbers<3>>>,
+    end_effector_offsets: Option<Spanned<Numbers<3>>>,
+    zero_angles_deg: Option<Spanned<Numbers<3>>>,
     base_link: Option<Spanned<String>>,
     tool_link: Option<Spanned<String>>,
     platform_joints: Option<Vec<Spanned<String>>>,
@@ -114,7 +114,7 @@ impl Ctx<'_> {
             }
             None => natural,
         };
-        let three = |v: &Option<Spanned<[f64; 3]>>, name: &str| match v {
+        let three = |v: &Option<Spanned<Numbers<3>>>, name: &str| match v {
             Some(v) => self.finite_array(v, &f(name)),
             None => Ok([0.0; 3]),
         };

@@ -53,7 +53,8 @@ pub use model::{
 
 use context::{Ctx, NameKind, Names};
 use raw::{
-    RawAxis, RawCamera, RawCoordinateSystem, RawObstacle, RawRobot, RawScene, RawSnapshots, RawStep, RawTag, ShapeKind,
+    Numbers, RawAxis, RawCamera, RawCoordinateSystem, RawObstacle, RawRobot, RawScene, RawSnapshots, RawStep, RawTag,
+    ShapeKind,
 };
 
 impl Scene {

@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 
 use serde::Deserialize;
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use toml::Spanned;
 
 use super::{AxisKind, MotorGains, Units};
@@ -54,7 +55,7 @@ pub(super) struct RawAxis {
     pub(super) target_position_monitoring: Option<bool>,
     pub(super) modulo_tolerance_window: Option<Spanned<f64>>,
     pub(super) initial_position: Option<Spanned<f64>>,
-    pub(super) soft_travel_limits: Option<Spanned<[f64; 2]>>,
+    pub(super) soft_travel_limits: Option<Spanned<Numbers<2>>>,
     pub(super) motor: Option<Spanned<MotorGains>>,
 }
 
@@ -62,8 +63,8 @@ pub(super) struct RawAxis {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawCamera {
     pub(super) name: Spanned<String>,
-    pub(super) position: Spanned<[f64; 3]>,
-    pub(super) target: Spanned<[f64; 3]>,
+    pub(super) position: Spanned<Numbers<3>>,
+    pub(super) target: Spanned<Numbers<3>>,
     pub(super) fov_deg: Spanned<f64>,
     pub(super) width: Spanned<u32>,
     pub(super) height: Spanned<u32>,
@@ -95,14 +96,14 @@ impl ShapeKind {
 pub(super) struct RawObstacle {
     pub(super) name: Spanned<String>,
     pub(super) shape: Spanned<ShapeKind>,
-    pub(super) size: Option<Spanned<[f64; 3]>>,
+    pub(super) size: Option<Spanned<Numbers<3>>>,
     pub(super) radius: Option<Spanned<f64>>,
     pub(super) length: Option<Spanned<f64>>,
     pub(super) file: Option<Spanned<String>>,
-    pub(super) scale: Option<Spanned<[f64; 3]>>,
-    pub(super) position: Spanned<[f64; 3]>,
-    pub(super) rpy_deg: Option<Spanned<[f64; 3]>>,
-    pub(super) color: Option<Spanned<[f64; 4]>>,
+    pub(super) scale: Option<Spanned<Numbers<3>>>,
+    pub(super) position: Spanned<Numbers<3>>,
+    pub(super) rpy_deg: Option<Spanned<Numbers<3>>>,
+    pub(super) color: Option<Spanned<Numbers<4>>>,
 }
 
 #[derive(Deserialize)]
@@ -144,4 +145,38 @@ pub(super) struct RawStep {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawSnapshots {
     pub(super) frames: Spanned<Vec<Spanned<u32>>>,
+}
+
+/// Exactly `N` numbers, as a TOML array (integers are taken as floats). An
+/// array of another length is an error naming both lengths, never
+/// truncated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Numbers<const N: usize>(pub(super) [f64; N]);
+
+impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Exactly<const N: usize>;
+        impl<'de, const N: usize> Visitor<'de> for Exactly<N> {
+            type Value = Numbers<N>;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                write!(f, "an array of {N} numbers")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Numbers<N>, A::Error> {
+                let mut values = [0.0; N];
+                let mut len = 0;
+                while let Some(value) = seq.next_element::<f64>()? {
+                    if len < N {
+                        values[len] = value;
+                    }
+                    len += 1;
+                }
+                if len == N {
+                    Ok(Numbers(values))
+                } else {
+                    Err(de::Error::invalid_length(len, &self))
+                }
+            }
+        }
+        deserializer.deserialize_seq(Exactly::<N>)
+    }
 }

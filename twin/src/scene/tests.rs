@@ -363,6 +363,47 @@ fn operand_counts_inputs_and_call_styles_are_checked_at_load() {
 }
 
 #[test]
+fn fixed_length_arrays_take_exactly_their_length() {
+    for (from, to, at) in [
+        (
+            "size = [0.1, 0.6, 0.4]",
+            "size = [0.1, 0.6, 0.4, 9.0]",
+            "[0.1, 0.6, 0.4, 9.0]",
+        ),
+        ("size = [0.1, 0.6, 0.4]", "size = [0.1, 0.6]", "[0.1, 0.6]"),
+        (
+            "position = [0.6, 0.0, 0.2]",
+            "position = [0.6, 0.0, 0.2, \"x\"]",
+            "\"x\"]",
+        ),
+        (
+            "position = [1.2, -1.2, 1.0]",
+            "position = [1.2, -1.2, 1.0, 0.0]",
+            "[1.2, -1.2, 1.0, 0.0]",
+        ),
+    ] {
+        let text = edited(from, to);
+        let e = error_of(&text);
+        let place = find(&text, at);
+        match &e {
+            SceneError::Toml { line, column, .. } => assert_eq!((*line, *column), (place.line, place.column), "{e}"),
+            other => panic!("{other}"),
+        }
+        let message = e.to_string();
+        assert!(
+            message.contains("an array of 3 numbers") || message.contains("invalid type"),
+            "{message}"
+        );
+    }
+    // Integers are numbers too.
+    parse(
+        &fixtures().join("case.toml"),
+        &edited("size = [0.1, 0.6, 0.4]", "size = [1, 2, 3]"),
+    )
+    .expect("integers");
+}
+
+#[test]
 fn unknown_tag_in_when() {
     let text = edited("when = \"MoveTable.Done\"", "when = \"Moved.Done\"");
     let e = error_of(&text);

@@ -9,8 +9,8 @@ use toml::Spanned;
 use planner::axis::AxisConfig;
 
 use super::{
-    Axis, Camera, Ctx, MotorGains, NameKind, Names, Obstacle, Problem, RawAxis, RawCamera, RawObstacle, RawRobot,
-    RawScene, RawSnapshots, Robot, Scene, SceneError, Shape, ShapeKind, Snapshots,
+    Axis, Camera, Ctx, MotorGains, NameKind, Names, Numbers, Obstacle, Problem, RawAxis, RawCamera, RawObstacle,
+    RawRobot, RawScene, RawSnapshots, Robot, Scene, SceneError, Shape, ShapeKind, Snapshots,
 };
 
 impl Ctx<'_> {
@@ -403,9 +403,9 @@ impl Ctx<'_> {
 #[derive(Clone, Copy)]
 pub(super) struct ShapeFields<'a> {
     pub(super) kind: &'a Spanned<ShapeKind>,
-    pub(super) size: &'a Option<Spanned<[f64; 3]>>,
+    pub(super) size: &'a Option<Spanned<Numbers<3>>>,
     pub(super) radius: &'a Option<Spanned<f64>>,
     pub(super) length: &'a Option<Spanned<f64>>,
     pub(super) file: &'a Option<Spanned<String>>,
-    pub(super) scale: &'a Option<Spanned<[f64; 3]>>,
+    pub(super) scale: &'a Option<Spanned<Numbers<3>>>,
 }
