@@ -101,10 +101,12 @@ pub enum PlantError {
         source: TaskError,
     },
     /// An obstacle's mesh file cannot be loaded.
-    #[error("{scene}:{line}:{column}: obstacles.file: obstacle '{obstacle}': {source}")]
+    #[error("{scene}:{line}:{column}: obstacles[{index}].file: obstacle '{obstacle}': {source}")]
     ObstacleMesh {
         /// Scene file.
         scene: PathBuf,
+        /// Index of the obstacle in `[[obstacles]]`.
+        index: usize,
         /// Line of the obstacle.
         line: usize,
         /// Column of the obstacle.
@@ -191,6 +193,7 @@ impl Plant {
             let o = &scene.obstacles[e.obstacle];
             PlantError::ObstacleMesh {
                 scene: path.clone(),
+                index: e.obstacle,
                 line: o.location.line,
                 column: o.location.column,
                 obstacle: o.name.clone(),

@@ -41,6 +41,15 @@ pub enum StlError {
         #[source]
         source: std::io::Error,
     },
+    /// Text that is not an ASCII STL (it does not start with `solid`): an
+    /// OBJ, a URDF or any other text file given where an STL is expected.
+    #[error(
+        "{path} is not an STL file: it is text that does not start with 'solid' (meshes here must be STL, binary or ASCII)"
+    )]
+    NotStl {
+        /// The file.
+        path: PathBuf,
+    },
     /// The file ends before the data its header or syntax promises.
     #[error("STL file {path} is truncated: expected at least {expected_bytes} bytes, found {actual_bytes}")]
     Truncated {
@@ -103,7 +112,7 @@ pub fn load_stl(path: &Path) -> Result<TriMesh, StlError> {
 /// told apart). `path` is used only to name the file in errors.
 ///
 /// # Errors
-/// [`StlError::Truncated`], [`StlError::TriangleCountMismatch`],
+/// [`StlError::NotStl`], [`StlError::Truncated`], [`StlError::TriangleCountMismatch`],
 /// [`StlError::NonFinite`], [`StlError::MalformedAscii`] or [`StlError::Empty`].
 ///
 /// # Examples
@@ -123,7 +132,13 @@ pub fn parse_stl(bytes: &[u8], path: &Path) -> Result<TriMesh, StlError> {
     });
     // Binary files almost always contain NUL bytes (the triangle count's high
     // bytes, zero attribute words); ASCII ones never do.
-    let looks_ascii = bytes.trim_ascii_start().starts_with(b"solid") && !bytes.contains(&0);
+    let text = !bytes.contains(&0);
+    let looks_ascii = bytes.trim_ascii_start().starts_with(b"solid") && text;
+    if !exact_binary && !looks_ascii && text && std::str::from_utf8(bytes).is_ok() {
+        return Err(StlError::NotStl {
+            path: path.to_path_buf(),
+        });
+    }
     let triangles = if exact_binary || !looks_ascii {
         parse_binary(bytes, path)?
     } else {
@@ -342,6 +357,14 @@ mod tests {
         let flat = [[2.0, 0.0, 0.0], [0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
         let mesh = parse_stl(&binary(&[flat], 1), Path::new(P)).unwrap();
         assert_eq!(mesh.normals[0], [1.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn text_that_is_not_ascii_stl_is_named_as_such() {
+        let obj = b"# A triangle\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let e = parse_stl(obj, Path::new("guard.obj")).unwrap_err();
+        assert!(matches!(e, StlError::NotStl { .. }), "{e}");
+        assert!(e.to_string().starts_with("guard.obj is not an STL file"), "{e}");
     }
 
     #[test]
