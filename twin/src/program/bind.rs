@@ -34,8 +34,32 @@ use crate::scene::{BaseType, Scene, Tag, TagValue};
 use crate::st::Expr;
 use planner::catalogue::{Format, Instruction, Operand};
 use planner::task::{AxisHandle, InstructionHandle, MotionTask};
+use std::cell::Cell;
 use std::fmt;
 use std::sync::Arc;
+
+/// Why a call cannot be bound: what is wrong, and the operand (call
+/// position) it is about when there is one, so that the error can point
+/// at it in the scene file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BindError {
+    /// Call position of the operand at fault.
+    pub operand: Option<usize>,
+    /// What is wrong, naming the operand as the manual does.
+    pub message: String,
+}
+
+impl From<String> for BindError {
+    fn from(message: String) -> Self {
+        BindError { operand: None, message }
+    }
+}
+
+impl fmt::Display for BindError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
 
 /// A compiled Logix call: what one scan of its rung does to the planner.
 #[derive(Clone)]
@@ -281,6 +305,8 @@ pub struct Bind<'b, 'a> {
     operands: &'b [Expr],
     /// What the operands refer to.
     pub ctx: &'b mut LogixContext<'a>,
+    /// Call position of the operand read last: a failed read is about it.
+    last: Cell<Option<usize>>,
 }
 
 impl<'b, 'a> Bind<'b, 'a> {
@@ -306,6 +332,7 @@ impl<'b, 'a> Bind<'b, 'a> {
             instruction,
             operands,
             ctx,
+            last: Cell::new(None),
         })
     }
 
@@ -320,7 +347,14 @@ impl<'b, 'a> Bind<'b, 'a> {
             .instruction
             .operand(name)
             .unwrap_or_else(|| panic!("{} has no operand '{name}' in the catalogue", self.instruction.mnemonic));
+        self.last.set(Some(i));
         (spec, &self.operands[i])
+    }
+
+    /// The call position of the operand read last (the one a failed read
+    /// is about).
+    pub fn last_operand(&self) -> Option<usize> {
+        self.last.get()
     }
 
     /// A number operand.
@@ -516,10 +550,12 @@ mod tests {
             instructions: &mut instructions,
         };
         let e = super::super::compile_logix("mdcc", &[], &mut ctx).expect_err("not simulated");
-        assert!(e.starts_with("MDCC is a Logix motion instruction"), "{e}");
+        assert!(e.message.starts_with("MDCC is a Logix motion instruction"), "{e}");
         assert_eq!(
             super::super::compile_logix("MRP", &[ident("a")], &mut ctx).map(|_| ()),
-            Err("MRP takes 5 operands (Axis, Motion Control, Type, Position Select, Position), got 1".to_string())
+            Err(BindError::from(
+                "MRP takes 5 operands (Axis, Motion Control, Type, Position Select, Position), got 1".to_string()
+            ))
         );
     }
 }

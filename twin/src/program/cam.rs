@@ -266,7 +266,7 @@ mod tests {
             task,
             instructions: &mut instructions,
         };
-        super::super::compile_logix(&call.name.value, &operands, &mut ctx)
+        super::super::compile_logix(&call.name.value, &operands, &mut ctx).map_err(|e| e.message)
     }
 
     #[test]

@@ -223,8 +223,17 @@ mod tests {
             "{e}"
         );
         let t = text().replacen("200, unitspersec, 1000", "200, 3, 1000", 1);
-        let e = err(t);
+        let e = err(t.clone());
         assert!(e.contains("Speed Units 3: expected one of unitspersec (0)"), "{e}");
+        // The error points at the operand, in the `call` field.
+        let (line, text_line) = t
+            .lines()
+            .enumerate()
+            .find(|(_, l)| l.contains("200, 3, 1000"))
+            .expect("edited line");
+        let column = text_line[..text_line.find("3, 1000").expect("operand")].chars().count() + 1;
+        assert!(e.contains(&format!(":{}:{column}: program[", line + 1)), "{e}");
+        assert!(e.contains("].call: Speed Units 3"), "{e}");
         let t = text().replacen("MCLM(XYZ, L1,", "MCLM(OnCircle, L1,", 1);
         assert!(err(t).contains("Coordinate System OnCircle: is a REAL[2] tag"));
         let t = text().replacen("MCLM(XYZ, L1,", "MCLM(X, L1,", 1);

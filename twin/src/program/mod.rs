@@ -33,7 +33,7 @@ pub mod steps;
 
 use crate::scene::Scene;
 use crate::st::{Args, Expr};
-use bind::{Bind, LogixContext, LogixStep};
+use bind::{Bind, BindError, LogixContext, LogixStep};
 use planner::catalogue::{self, CallStyle, Family};
 use planner::task::{FbHandle, InstructionHandle, MotionTask};
 use std::path::PathBuf;
@@ -45,16 +45,18 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum ProgramError {
     /// A program step cannot be carried out.
-    #[error("{scene}:{line}:{column}: program[{index}]: {message}")]
+    #[error("{scene}:{line}:{column}: program[{index}].{field}: {message}")]
     Step {
         /// Scene file.
         scene: PathBuf,
-        /// Line of the step.
+        /// Line of the operand at fault, or of the `call`/`when` string.
         line: usize,
-        /// Column of the step.
+        /// Column of the operand at fault, or of the string.
         column: usize,
         /// Step index.
         index: usize,
+        /// The step's field at fault (`call`, `when`).
+        field: &'static str,
         /// What is wrong.
         message: String,
     },
@@ -100,15 +102,25 @@ impl Program {
             steps: Vec::new(),
         };
         for (index, step) in scene.program.iter().enumerate() {
-            let fail = |message: String| ProgramError::Step {
-                scene: scene.path.clone(),
-                line: step.location.line,
-                column: step.location.column,
-                index,
-                message,
+            let fail = |field: &'static str, e: BindError| {
+                let at = e
+                    .operand
+                    .and_then(|i| step.operand_locations.get(i))
+                    .unwrap_or(&step.location);
+                ProgramError::Step {
+                    scene: scene.path.clone(),
+                    line: at.line,
+                    column: at.column,
+                    index,
+                    field,
+                    message: e.message,
+                }
             };
-            let action = program.bind_call(scene, task, &step.call).map_err(fail)?;
-            let trigger = steps::trigger(&step.trigger, &program.fbs, &program.instructions).map_err(fail)?;
+            let action = program
+                .bind_call(scene, task, &step.call)
+                .map_err(|e| fail("call", e))?;
+            let trigger = steps::trigger(&step.trigger, &program.fbs, &program.instructions)
+                .map_err(|message| fail("when", BindError::from(message)))?;
             program.steps.push(CompiledStep::new(trigger, action));
         }
         Ok(program)
@@ -119,7 +131,7 @@ impl Program {
         scene: &Scene,
         task: &mut MotionTask,
         call: &crate::st::Call,
-    ) -> Result<StepAction, String> {
+    ) -> Result<StepAction, BindError> {
         match &call.args {
             Args::Positional(operands) => {
                 let operands: Vec<Expr> = operands.iter().map(|o| o.value.clone()).collect();
@@ -166,16 +178,16 @@ impl Program {
 /// # Errors
 /// A message naming the operand at fault, or saying that the instruction is
 /// not simulated.
-pub fn compile_logix(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, String> {
+pub fn compile_logix(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, BindError> {
     let Some(instruction) = catalogue::find(name).filter(|i| i.style == CallStyle::Positional) else {
-        return Err(format!(
+        return Err(BindError::from(format!(
             "{} is a Logix motion instruction the twin does not simulate (it simulates: {})",
             name.to_ascii_uppercase(),
             catalogue::positional_mnemonics()
-        ));
+        )));
     };
     let mut bind = Bind::new(instruction, operands, ctx)?;
-    match instruction.family {
+    let bound = match instruction.family {
         Family::Coordinated => coord::bind(&mut bind),
         Family::Transform => mct::bind(&mut bind),
         Family::Cam => cam::bind(&mut bind),
@@ -183,5 +195,9 @@ pub fn compile_logix(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) 
             "{} is a function block: call it on an instance with named inputs",
             instruction.mnemonic
         )),
-    }
+    };
+    bound.map_err(|message| BindError {
+        operand: bind.last_operand(),
+        message,
+    })
 }

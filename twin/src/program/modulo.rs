@@ -8,7 +8,7 @@
 //! `Options` (ST_MoveOptions) is not supported and is refused by name.
 
 use super::FbBinding;
-use super::bind::{axis_named, number};
+use super::bind::{BindError, axis_named, number};
 use crate::scene::{BaseType, FunctionBlock, Scene};
 use crate::st::{Args, Call, Expr};
 use planner::catalogue::{Kind, MC_MOVE_MODULO, Operand};
@@ -68,7 +68,7 @@ pub(super) fn bind(
     scene: &Scene,
     task: &mut MotionTask,
     fbs: &mut Vec<FbBinding>,
-) -> Result<BoundCall, String> {
+) -> Result<BoundCall, BindError> {
     let name = &call.name.value;
     let tag = scene
         .tag(name)
@@ -76,34 +76,34 @@ pub(super) fn bind(
     let block = match tag.ty.base {
         BaseType::FunctionBlock(fb) => fb,
         _ => {
-            return Err(format!(
-                "'{name}' is a {} tag, not a function block",
-                tag.ty.base.name()
-            ));
+            return Err(format!("'{name}' is a {} tag, not a function block", tag.ty.base.name()).into());
         }
     };
     if block != FunctionBlock::MoveModulo {
-        return Err(format!(
+        let message = format!(
             "'{name}' is an {} instance; the twin runs the function block MC_MoveModulo",
             block.name()
-        ));
+        );
+        return Err(message.into());
     }
     let Args::Named(args) = &call.args else {
-        return Err(format!(
-            "'{name}' is a function block: call it with named inputs (Input := value)"
-        ));
+        return Err(format!("'{name}' is a function block: call it with named inputs (Input := value)").into());
     };
     let mut axis = None;
     let mut set = Vec::new();
-    for (input, value) in args {
-        let Some((_, spec)) = MC_MOVE_MODULO.operand(&input.value) else {
-            return Err(format!(
-                "MC_MoveModulo has no input '{}' (inputs: {})",
-                input.value.to_ascii_lowercase(),
-                MC_MOVE_MODULO.operand_names()
-            ));
+    for (i, (input, value)) in args.iter().enumerate() {
+        let at = |message: String| BindError {
+            operand: Some(i),
+            message,
         };
-        match setting(spec, &value.value, scene, task)? {
+        let Some((_, spec)) = MC_MOVE_MODULO.operand(&input.value) else {
+            return Err(at(format!(
+                "MC_MoveModulo has no input '{}' (inputs: {})",
+                input.value,
+                MC_MOVE_MODULO.operand_names()
+            )));
+        };
+        match setting(spec, &value.value, scene, task).map_err(at)? {
             Input::Axis(a) => axis = Some(a),
             Input::Set(s) => set.push(s),
         }

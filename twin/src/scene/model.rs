@@ -563,6 +563,9 @@ pub struct Step {
     pub call_text: String,
     /// Where the `call` string is written.
     pub location: Location,
+    /// Where each operand (positional calls) or input value (named calls)
+    /// is written, in call order: binding errors point there.
+    pub operand_locations: Vec<Location>,
 }
 
 /// `[snapshots]`: frames compared with golden images.

@@ -54,11 +54,20 @@ impl Ctx<'_> {
             };
             let call = st::parse_call(s.call.get_ref()).map_err(|e| self.syntax(&s.call, f("call"), e))?;
             self.check_call(&s.call, &call, &f("call"), names)?;
+            let spans: Vec<st::Span> = match &call.args {
+                Args::Positional(operands) => operands.iter().map(|o| o.span).collect(),
+                Args::Named(inputs) => inputs.iter().map(|(_, value)| value.span).collect(),
+            };
+            let operand_locations = spans
+                .iter()
+                .map(|span| self.string_location(&s.call, span.column()))
+                .collect();
             steps.push(Step {
                 trigger,
                 call,
                 call_text: s.call.get_ref().clone(),
                 location: self.loc(&s.call),
+                operand_locations,
             });
         }
         Ok(steps)
