@@ -107,9 +107,10 @@ pub(crate) fn bind_axes(
         axes: Vec::new(),
         drives: Vec::new(),
     };
-    for axis in &scene.axes {
+    for (index, axis) in scene.axes.iter().enumerate() {
         let joint_error = |message: String| PlantError::Joint {
             scene: scene.path.clone(),
+            index,
             line: axis.joint_location.line,
             column: axis.joint_location.column,
             message,

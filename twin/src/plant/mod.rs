@@ -71,10 +71,12 @@ pub enum PlantError {
         source: Box<UrdfError>,
     },
     /// An axis is mapped to a joint the URDF does not have (or cannot drive).
-    #[error("{scene}:{line}:{column}: axes.joint: {message}")]
+    #[error("{scene}:{line}:{column}: axes[{index}].joint: {message}")]
     Joint {
         /// Scene file.
         scene: PathBuf,
+        /// Index of the axis in `[[axes]]`.
+        index: usize,
         /// Line of the field.
         line: usize,
         /// Column of the field.
@@ -131,10 +133,12 @@ pub enum PlantError {
         message: String,
     },
     /// A coordinate system's `tool_link` is not a link of the URDF.
-    #[error("{scene}:{line}:{column}: tags.coordinate_system.tool_link: {message}")]
+    #[error("{scene}:{line}:{column}: tags[{index}].coordinate_system.tool_link: {message}")]
     ToolLink {
         /// Scene file.
         scene: PathBuf,
+        /// Index of the tag in `[[tags]]`.
+        index: usize,
         /// Line of the `coordinate_system` table.
         line: usize,
         /// Column of the table.

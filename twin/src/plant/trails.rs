@@ -38,6 +38,11 @@ pub(crate) fn tool_trails(scene: &Scene, model: &RobotModel, task: &MotionTask) 
             names.sort_unstable();
             return Err(PlantError::ToolLink {
                 scene: scene.path.clone(),
+                index: scene
+                    .tags
+                    .iter()
+                    .position(|t| t.name.eq_ignore_ascii_case(name))
+                    .unwrap_or_default(),
                 line: settings.location.line,
                 column: settings.location.column,
                 message: format!(

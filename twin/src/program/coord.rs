@@ -243,8 +243,10 @@ mod tests {
             "{e}"
         );
         let t = with_xy_table("coordinate_system = { tool_link = \"nozzle\" }");
+        let xy = scene(&t).unwrap().tags.iter().position(|t| t.name == "XY").unwrap();
         let e = err(t);
         assert!(e.contains("tool_link 'nozzle' is not a link"), "{e}");
+        assert!(e.contains(&format!("tags[{xy}].coordinate_system.tool_link")), "{e}");
     }
 
     #[test]
