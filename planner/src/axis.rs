@@ -249,6 +249,9 @@ pub struct AxisState {
     /// Actual position, unwrapped, axis units: fed back from outside, or the
     /// command position for an axis that is never fed (an ideal drive).
     pub actual_position: f64,
+    /// Actual velocity, units/s: the change of the fed position over the
+    /// last update (the command velocity for an axis never fed).
+    pub actual_velocity: f64,
     /// Command position wrapped by the modulo period (modulo axes only).
     pub modulo_command_position: Option<f64>,
     /// Whether any motion command is generating setpoints on the axis.

@@ -90,6 +90,8 @@ struct AxisSlot {
     config: AxisConfig,
     command: Sample,
     actual: f64,
+    /// Change of the fed position over the last update, units/s.
+    actual_velocity: f64,
     fed: bool,
     last_direction: f64,
     job: Option<Job>,
@@ -118,6 +120,9 @@ struct FbSlot {
 struct InstructionSlot {
     name: String,
     bits: MotionInstructionBits,
+    /// Executed by a scanned language (Structured Text): its rung does not
+    /// fall by itself after an execution.
+    scanned: bool,
 }
 
 /// A motion task: axes, instances, and the coarse update.
@@ -196,6 +201,7 @@ impl MotionTask {
                 ..Sample::default()
             },
             actual: initial_position,
+            actual_velocity: 0.0,
             fed: false,
             last_direction: 1.0,
             job: None,
@@ -254,6 +260,7 @@ impl MotionTask {
         self.instructions.push(InstructionSlot {
             name: name.into(),
             bits: MotionInstructionBits::default(),
+            scanned: false,
         });
         InstructionHandle(self.instructions.len() as u32 - 1)
     }
@@ -271,6 +278,28 @@ impl MotionTask {
         dead_code,
         reason = "written by the Logix instructions that execute with a control structure"
     )]
+    /// Writes a control structure's bits and codes, as a program that
+    /// writes `MC1.EN := 0;` does (the instruction reads them at its next
+    /// execution or update).
+    pub fn set_motion_bits(&mut self, instruction: InstructionHandle, bits: MotionInstructionBits) {
+        self.instructions[instruction.0 as usize].bits = bits;
+    }
+
+    /// Marks a control structure as executed by a scanned language
+    /// (Structured Text): each execution is a scan of a rung that goes
+    /// false then true, and the rung does not fall by itself afterwards, so
+    /// `.EN` stays set until the instruction executes again (a statement in
+    /// a branch that is not taken is not scanned at all). Without this
+    /// mark an execution is a one-shot rung, false from the next update on.
+    pub fn set_scanned(&mut self, instruction: InstructionHandle) {
+        self.instructions[instruction.0 as usize].scanned = true;
+    }
+
+    /// Whether [`MotionTask::set_scanned`] marked the control structure.
+    pub fn is_scanned(&self, instruction: InstructionHandle) -> bool {
+        self.instructions[instruction.0 as usize].scanned
+    }
+
     pub(crate) fn motion_bits_mut(&mut self, instruction: InstructionHandle) -> &mut MotionInstructionBits {
         &mut self.instructions[instruction.0 as usize].bits
     }
@@ -304,6 +333,7 @@ impl MotionTask {
             command_acceleration: a.command.acceleration,
             command_jerk: a.command.jerk,
             actual_position: a.actual,
+            actual_velocity: if a.fed { a.actual_velocity } else { a.command.velocity },
             modulo_command_position: a.config.modulo().map(|m| m.wrap(a.command.position)),
             has_job: a.job.as_ref().is_some_and(|j| !j.generation_done),
         }
@@ -316,8 +346,10 @@ impl MotionTask {
     /// [`MotionTask::position_offset`]); used from the next update on. An
     /// axis never fed follows its command.
     pub fn feed_actual_position(&mut self, axis: AxisHandle, position: f64) {
+        let dt_s = self.dt_s;
         let a = &mut self.axes[axis.0 as usize];
         if position.is_finite() {
+            a.actual_velocity = if a.fed { (position - a.actual) / dt_s } else { 0.0 };
             a.actual = position;
             a.fed = true;
         }

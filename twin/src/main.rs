@@ -97,10 +97,11 @@ fn load(path: &Path) -> Result<Twin> {
 fn check(path: &Path) -> Result<ExitCode> {
     let twin = load(path)?;
     println!(
-        "{}: ok ({} axes, {} program steps, {} cameras, {:.3} s)",
+        "{}: ok ({} axes, {} program steps, {} tasks, {} cameras, {:.3} s)",
         path.display(),
         twin.plant().axes().len(),
         twin.scene().program.len(),
+        twin.scene().tasks.len(),
         twin.scene().cameras.len(),
         twin.scene().duration_s
     );
@@ -156,7 +157,7 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
             writeln!(w, "{}", twin::output::trace::row(&twin).join(","))?;
         }
         progress.tick(twin.task().updates(), &wall);
-        if twin.plant().collision_abort() {
+        if twin.plant().collision_abort() || twin.program().controller().major_fault().is_some() {
             break;
         }
     }
@@ -174,6 +175,10 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
     if summary.collision_abort {
         eprintln!("error: the run was aborted by a collision (collision.reaction = \"abort\")");
         return Ok(ExitCode::from(3));
+    }
+    if let Some(f) = twin.program().controller().major_fault() {
+        eprintln!("error: the controller stopped on a {f}");
+        return Ok(ExitCode::from(4));
     }
     if summary.any_error() {
         bail!("an instruction reported an error (see the summary above)");

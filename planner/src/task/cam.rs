@@ -169,6 +169,9 @@ impl MotionTask {
     /// its rung is false from the next coarse update on, which clears `.EN`
     /// there once `.DN` or `.ER` is set (see [`MotionTask::rung_false`]).
     pub fn rung_false_next_scan(&mut self, h: InstructionHandle) {
+        if self.is_scanned(h) {
+            return;
+        }
         let now = self.updates;
         self.cam.rung_false.push((h, now));
     }

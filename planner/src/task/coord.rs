@@ -488,7 +488,7 @@ impl MotionTask {
         slot.previous_rung = false;
         slot.rung = true;
         self.scan_coord_instruction(h);
-        self.coord.instructions[h.0 as usize].rung = false;
+        self.coord.instructions[h.0 as usize].rung = self.is_scanned(control);
         self.started_before_update(h);
     }
 

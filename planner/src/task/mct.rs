@@ -233,9 +233,10 @@ impl MotionTask {
             joints,
             condition: &condition,
         };
+        let scanned = self.is_scanned(control);
         let slot = &mut self.mct.instructions[index];
         slot.source = source;
-        slot.release = true;
+        slot.release = !scanned;
         slot.joint_motion = [(0.0, 0.0); 3];
         let started = slot.mct.execute(&mut self.mct.table, &request);
         let bits = slot.mct.bits();

@@ -311,6 +311,11 @@ impl Recording {
             let changed = std::mem::replace(previous, b) != b;
             log_instruction(rec, &ins.name, b.bits(), changed.then(|| (b.er, describe_bits(b))))?;
         }
+        let program = twin.program();
+        for t in program.traced_tags() {
+            let v: f64 = program.traced_value(t, twin.task()).parse().unwrap_or(f64::NAN);
+            rec.log_scalar(&format!("tags/{}", t.name), v)?;
+        }
         // Tool-centre trails of the coordinate systems, every 25th update.
         if twin.task().updates().is_multiple_of(25) {
             for t in twin.plant().tool_trails() {
@@ -540,6 +545,67 @@ pub struct Summary {
     pub min_clearance_m: Vec<(String, Option<f64>)>,
     /// Whether an `abort` collision reaction ended the run early.
     pub collision_abort: bool,
+    /// Scenes with `[[tasks]]`: what the tasks did and cost, and their
+    /// faults.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tasks: Option<TasksSummary>,
+}
+
+/// The task engine's part of the summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TasksSummary {
+    /// Program scans run.
+    pub scans: u64,
+    /// Statements executed.
+    pub statements: u64,
+    /// Wall time spent in the tasks, s.
+    pub task_wall_s: f64,
+    /// That wall time as a share of the run's.
+    pub task_share: f64,
+    /// The major fault that stopped the run, if any.
+    pub major_fault: Option<FaultSummary>,
+    /// Minor faults recorded (all counted).
+    pub minor_fault_count: i64,
+    /// The first minor faults, in order.
+    pub minor_faults: Vec<FaultSummary>,
+    /// Motion instructions whose operand values were refused at run time.
+    pub refused: Vec<String>,
+}
+
+/// A controller fault, for the summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FaultSummary {
+    /// Fault type.
+    pub fault_type: u8,
+    /// Fault code.
+    pub code: u8,
+    /// Task.
+    pub task: String,
+    /// Program.
+    pub program: String,
+    /// Routine file.
+    pub routine: String,
+    /// Line.
+    pub line: u32,
+    /// Scan time, s.
+    pub time_s: f64,
+    /// What happened.
+    pub message: String,
+}
+
+impl From<&crate::program::plc::Fault> for FaultSummary {
+    fn from(f: &crate::program::plc::Fault) -> Self {
+        FaultSummary {
+            fault_type: f.fault_type,
+            code: f.code,
+            task: f.task.clone(),
+            program: f.program.clone(),
+            routine: f.routine.display().to_string(),
+            line: f.line,
+            time_s: f.time_s,
+            message: f.message.clone(),
+        }
+    }
 }
 
 impl Stats {
@@ -633,6 +699,20 @@ impl Stats {
                 .map(|(b, d)| (b, d.is_finite().then_some(d)))
                 .collect(),
             collision_abort: twin.plant().collision_abort(),
+            tasks: (!twin.scene().tasks.is_empty()).then(|| {
+                let c = twin.program().controller();
+                let task_wall_s = c.stats().wall.as_secs_f64();
+                TasksSummary {
+                    scans: c.stats().scans,
+                    statements: c.stats().statements,
+                    task_wall_s,
+                    task_share: if wall_s > 0.0 { task_wall_s / wall_s } else { 0.0 },
+                    major_fault: c.major_fault().map(FaultSummary::from),
+                    minor_fault_count: c.minor_fault_count(),
+                    minor_faults: c.minor_faults().iter().map(FaultSummary::from).collect(),
+                    refused: c.refusals().to_vec(),
+                }
+            }),
         }
     }
 }
@@ -715,6 +795,36 @@ impl Summary {
         }
         if self.collision_abort {
             let _ = writeln!(s, "  run aborted by a collision");
+        }
+        if let Some(t) = &self.tasks {
+            let _ = writeln!(
+                s,
+                "  tasks: {} scans, {} statements, {:.3} s wall ({:.1} % of the run)",
+                t.scans,
+                t.statements,
+                t.task_wall_s,
+                100.0 * t.task_share
+            );
+            if let Some(f) = &t.major_fault {
+                let _ = writeln!(
+                    s,
+                    "  MAJOR FAULT type {} code {} at {:.3} s: task {}, program {}, {}:{}: {}",
+                    f.fault_type, f.code, f.time_s, f.task, f.program, f.routine, f.line, f.message
+                );
+            }
+            if t.minor_fault_count > 0 {
+                let _ = writeln!(s, "  minor faults: {}", t.minor_fault_count);
+                for f in t.minor_faults.iter().take(5) {
+                    let _ = writeln!(
+                        s,
+                        "    type {} code {} at {:.3} s: {}:{}: {}",
+                        f.fault_type, f.code, f.time_s, f.routine, f.line, f.message
+                    );
+                }
+            }
+            for r in &t.refused {
+                let _ = writeln!(s, "  refused at run time: {r}");
+            }
         }
         let _ = writeln!(s, "  frames written: {}", self.frames_written);
         s

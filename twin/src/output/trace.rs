@@ -16,7 +16,10 @@
 //!   `<cs>.tool_x`, `.tool_y`, `.tool_z`;
 //! * when the program calls MCT: per coordinate system
 //!   `<cs>.TransformSourceStatus`, `.TransformTargetStatus`, then per axis
-//!   `<axis>.TransformStateStatus`, `.ControlledByTransformStatus`.
+//!   `<axis>.TransformStateStatus`, `.ControlledByTransformStatus`;
+//! * each `[trace] tags` entry, named as written (`State`, `Pos[0]`,
+//!   `Pick.Count`, `MC1.PC`): BOOL as 0/1, integers in full, REAL at single
+//!   precision.
 //!
 //! Numbers use Rust's shortest round-trip formatting (deterministic).
 
@@ -79,6 +82,7 @@ pub fn header(twin: &Twin) -> Vec<String> {
             h.push(format!("{}.ControlledByTransformStatus", a.name));
         }
     }
+    h.extend(program.traced_tags().iter().map(|t| t.name.clone()));
     h
 }
 
@@ -139,6 +143,7 @@ pub fn row(twin: &Twin) -> Vec<String> {
             row.push(bit(task.controlled_by_transform_status(a.handle)));
         }
     }
+    row.extend(program.traced_tags().iter().map(|t| program.traced_value(t, task)));
     row
 }
 
@@ -166,4 +171,5 @@ fn uses_mct(twin: &Twin) -> bool {
         .program
         .iter()
         .any(|s| s.call.name.value.eq_ignore_ascii_case("MCT"))
+        || twin.program().controller().calls("MCT")
 }

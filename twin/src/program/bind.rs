@@ -34,6 +34,7 @@ use crate::scene::{BaseType, Scene, Tag, TagValue};
 use crate::st::Expr;
 use planner::catalogue::{Format, Instruction, Operand};
 use planner::task::{AxisHandle, InstructionHandle, MotionTask};
+use std::borrow::Cow;
 use std::cell::Cell;
 use std::fmt;
 use std::sync::Arc;
@@ -81,10 +82,26 @@ impl fmt::Debug for LogixStep {
     }
 }
 
+/// The values of tags, by name: the scene's initial values for program
+/// steps, the live tag memory for Structured Text routines.
+pub trait TagValues {
+    /// The current value of the tag called `name` (case-insensitive).
+    fn tag_value(&self, name: &str) -> Option<Cow<'_, TagValue>>;
+}
+
+impl TagValues for Scene {
+    fn tag_value(&self, name: &str) -> Option<Cow<'_, TagValue>> {
+        self.tag(name).and_then(|t| t.value.as_ref()).map(Cow::Borrowed)
+    }
+}
+
 /// What a Logix call's operands may refer to while the scene is bound.
 pub struct LogixContext<'a> {
-    /// The scene.
+    /// The scene (tag declarations; for a routine, with its program's tags
+    /// added under their qualified names).
     pub scene: &'a Scene,
+    /// Where operand values are read.
+    pub values: &'a dyn TagValues,
     /// The planner (its axes are the scene's `[[axes]]`).
     pub task: &'a mut MotionTask,
     /// The `MOTION_INSTRUCTION` tags bound so far (first-use order).
@@ -136,7 +153,7 @@ impl LogixContext<'_> {
     /// # Errors
     /// A message naming the operand otherwise.
     pub fn number(&self, what: &str, operand: &Expr) -> Result<f64, String> {
-        number(operand, self.scene)
+        number(operand, self.values)
             .ok_or_else(|| format!("{what} {operand}: expected a number or a REAL/DINT tag with a value"))
     }
 
@@ -189,7 +206,8 @@ impl LogixContext<'_> {
     /// shorter than `count` from the start element.
     pub fn numbers(&self, what: &str, operand: &Expr, count: usize) -> Result<Vec<f64>, String> {
         let (name, start) = array_start(what, operand)?;
-        let Some(TagValue::Array(items)) = self.scene.tag(name).and_then(|t| t.value.as_ref()) else {
+        let value = self.values.tag_value(name);
+        let Some(TagValue::Array(items)) = value.as_deref() else {
             return Err(format!(
                 "{what} {operand}: '{name}' is not a REAL/DINT array tag with a value"
             ));
@@ -220,7 +238,7 @@ impl LogixContext<'_> {
             Expr::Index(..) | Expr::Ident(_) => array_start(what, operand)?,
             _ => return self.number(what, operand).map(|x| vec![x]),
         };
-        match self.scene.tag(name).and_then(|t| t.value.as_ref()) {
+        match self.values.tag_value(name).as_deref() {
             Some(TagValue::Array(items)) => {
                 let len = items.len().saturating_sub(start);
                 self.numbers(what, operand, len)
@@ -240,7 +258,7 @@ impl LogixContext<'_> {
             Expr::Number(x) if *x == 0.0 => Ok(Vec::new()),
             Expr::Ident(name)
                 if !matches!(
-                    self.scene.tag(name).and_then(|t| t.value.as_ref()),
+                    self.values.tag_value(name).as_deref(),
                     Some(TagValue::Array(_))
                 ) =>
             {
@@ -275,19 +293,18 @@ pub fn axis_named(task: &MotionTask, name: &str) -> Option<AxisHandle> {
 
 /// The numeric value of an operand: a literal, a REAL/DINT tag, or an
 /// element of an array tag.
-pub fn number(expr: &Expr, scene: &Scene) -> Option<f64> {
+pub fn number(expr: &Expr, values: &dyn TagValues) -> Option<f64> {
     let numeric = |v: &TagValue| match v {
         TagValue::Real(x) => Some(*x),
         TagValue::Integer(i) => Some(*i as f64),
         _ => None,
     };
-    let tag_value = |name: &str| scene.tag(name).and_then(|t| t.value.as_ref());
     match expr {
         Expr::Number(x) => Some(*x),
         Expr::Integer(i) => Some(*i as f64),
-        Expr::Ident(name) => tag_value(name).and_then(numeric),
+        Expr::Ident(name) => values.tag_value(name).as_deref().and_then(numeric),
         Expr::Index(base, i) => match (base.as_ref(), usize::try_from(*i)) {
-            (Expr::Ident(name), Ok(i)) => match tag_value(name) {
+            (Expr::Ident(name), Ok(i)) => match values.tag_value(name).as_deref() {
                 Some(TagValue::Array(items)) => items.get(i).and_then(numeric),
                 _ => None,
             },
@@ -488,6 +505,7 @@ mod tests {
         let mut instructions = Vec::new();
         let mut ctx = LogixContext {
             scene: &scene,
+            values: &scene,
             task: &mut task,
             instructions: &mut instructions,
         };
@@ -546,6 +564,7 @@ mod tests {
         let mut instructions = Vec::new();
         let mut ctx = LogixContext {
             scene: &scene,
+            values: &scene,
             task: &mut task,
             instructions: &mut instructions,
         };

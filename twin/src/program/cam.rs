@@ -110,7 +110,8 @@ fn cam_points(ctx: &LogixContext<'_>, operand: &Expr) -> Result<Vec<CamElement>,
     let Some(tag) = ctx.scene.tag(name) else {
         return Err(format!("{what} {operand}: '{name}' is not a declared tag"));
     };
-    let Some(TagValue::CamPoints(points)) = tag.value.as_ref() else {
+    let value = ctx.values.tag_value(name);
+    let Some(TagValue::CamPoints(points)) = value.as_deref() else {
         return Err(format!("{what} {operand}: '{name}' is not a CAM tag with points"));
     };
     // The elements the scene leaves out hold the controller's initial values
@@ -263,6 +264,7 @@ mod tests {
         let mut instructions: Vec<InstructionBinding> = Vec::new();
         let mut ctx = LogixContext {
             scene,
+            values: scene,
             task,
             instructions: &mut instructions,
         };

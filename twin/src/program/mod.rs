@@ -11,6 +11,10 @@
 //!   MCS), [`mct`] (MCT), [`cam`] (MCCP, MAPC, MRP, MAJ, MAS), [`modulo`]
 //!   (the PLCopen block MC_MoveModulo, named inputs).
 //! * [`steps`] holds the triggers: when each step fires.
+//! * [`plc`] is the task engine: `[[tasks]]` of Structured Text programs
+//!   scanned periodically, with live tags, timers and faults; its motion
+//!   instructions are bound by the same family files, with operand values
+//!   read when they execute.
 //!
 //! # Program steps
 //! Each step fires once. A `when` step is armed once the step before it has
@@ -29,6 +33,7 @@ pub mod cam;
 pub mod coord;
 pub mod mct;
 pub mod modulo;
+pub mod plc;
 pub mod steps;
 
 use crate::scene::Scene;
@@ -60,6 +65,23 @@ pub enum ProgramError {
         /// What is wrong.
         message: String,
     },
+    /// A `[trace] tags` entry that names nothing traceable.
+    #[error("{scene}:{line}:{column}: trace.tags[{index}]: {message}")]
+    TraceTag {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the entry.
+        line: usize,
+        /// Column of the entry.
+        column: usize,
+        /// Entry index.
+        index: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A routine of a task cannot be compiled.
+    #[error(transparent)]
+    Task(#[from] plc::TaskError),
 }
 
 /// A function-block instance of the program.
@@ -86,6 +108,17 @@ pub struct Program {
     fbs: Vec<FbBinding>,
     instructions: Vec<InstructionBinding>,
     steps: Vec<CompiledStep>,
+    plc: plc::Controller,
+    traced: Vec<TracedTag>,
+}
+
+/// A `[trace] tags` entry bound to what it reads.
+#[derive(Debug, Clone)]
+pub struct TracedTag {
+    /// The reference as written (the trace column's name).
+    pub name: String,
+    place: plc::ir::Place,
+    ty: plc::types::DataType,
 }
 
 impl Program {
@@ -96,10 +129,14 @@ impl Program {
     /// # Errors
     /// [`ProgramError::Step`] naming the step and what is wrong.
     pub fn bind(scene: &Scene, task: &mut MotionTask) -> Result<Program, ProgramError> {
+        let mut instructions = Vec::new();
+        let plc = plc::Controller::new(scene, task, &mut instructions)?;
         let mut program = Program {
             fbs: Vec::new(),
-            instructions: Vec::new(),
+            instructions,
             steps: Vec::new(),
+            plc,
+            traced: Vec::new(),
         };
         for (index, step) in scene.program.iter().enumerate() {
             let fail = |field: &'static str, e: BindError| {
@@ -123,6 +160,23 @@ impl Program {
                 .map_err(|message| fail("when", BindError::from(message)))?;
             program.steps.push(CompiledStep::new(trigger, action));
         }
+        for (index, (name, at)) in scene.trace_tags.iter().enumerate() {
+            let (place, ty) = program
+                .plc
+                .trace_place(name, task, &mut program.instructions)
+                .map_err(|message| ProgramError::TraceTag {
+                    scene: scene.path.clone(),
+                    line: at.line,
+                    column: at.column,
+                    index,
+                    message,
+                })?;
+            program.traced.push(TracedTag {
+                name: name.clone(),
+                place,
+                ty,
+            });
+        }
         Ok(program)
     }
 
@@ -137,6 +191,7 @@ impl Program {
                 let operands: Vec<Expr> = operands.iter().map(|o| o.value.clone()).collect();
                 let mut ctx = bind::LogixContext {
                     scene,
+                    values: scene,
                     task,
                     instructions: &mut self.instructions,
                 };
@@ -153,11 +208,34 @@ impl Program {
     }
 
     /// One scan: fires the steps due at the planner's current time, in list
-    /// order (their calls take effect at the next planner update).
+    /// order, then runs the task triggers due (their calls take effect at
+    /// the next planner update).
     pub fn scan(&mut self, task: &mut MotionTask) {
         for i in steps::due(&mut self.steps, task, &self.fbs, &self.instructions) {
             self.steps[i].action.execute(task);
         }
+        self.plc.scan(task, &mut self.instructions);
+    }
+
+    /// The `[trace] tags` entries.
+    pub fn traced_tags(&self) -> &[TracedTag] {
+        &self.traced
+    }
+
+    /// A traced tag's value now, as the trace writes it: BOOL 0/1,
+    /// integers in full, REAL at single precision.
+    pub fn traced_value(&self, t: &TracedTag, task: &MotionTask) -> String {
+        match self.plc.peek(&t.place, task) {
+            plc::types::Value::Bool(b) => u8::from(b).to_string(),
+            plc::types::Value::Int(i) => i.to_string(),
+            plc::types::Value::Real(x) if t.ty == plc::types::DataType::Real => format!("{}", x as f32),
+            plc::types::Value::Real(x) => format!("{x}"),
+        }
+    }
+
+    /// The task engine: tag memory, faults, costs.
+    pub fn controller(&self) -> &plc::Controller {
+        &self.plc
     }
 
     /// The function-block instances, in the order the program first calls them.

@@ -230,6 +230,24 @@ pub enum Problem {
         /// The accepted names.
         expected: String,
     },
+    /// A tag type only the controller scope may declare.
+    #[error("{ty} tags are controller-scoped: declare it in [[tags]]")]
+    ControllerScopeOnly {
+        /// The type.
+        ty: &'static str,
+    },
+    /// A routine listed twice in a program.
+    #[error("routine '{name}' is listed twice in this program (a routine's name is its file stem)")]
+    DuplicateRoutine {
+        /// The routine name.
+        name: String,
+    },
+    /// A routine dialect other than `logix` or `iec`.
+    #[error("unknown dialect '{name}', expected \"logix\" or \"iec\"")]
+    UnknownDialect {
+        /// The dialect as written.
+        name: String,
+    },
     /// A coordinate system naming an undeclared axis.
     #[error("unknown axis '{name}'")]
     UnknownAxis {
@@ -372,6 +390,17 @@ pub enum SceneError {
         #[source]
         source: ParseError,
     },
+    /// A routine file that cannot be read or is not valid Structured Text.
+    Routine {
+        /// The routine file.
+        file: PathBuf,
+        /// 1-based line (0 when the file cannot be read).
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong (`expected …, found …`).
+        message: String,
+    },
     /// A value that parses but is not allowed.
     Invalid {
         /// The scene file.
@@ -395,6 +424,7 @@ impl SceneError {
             SceneError::Read { .. } => None,
             SceneError::Toml { line, column, .. }
             | SceneError::Syntax { line, column, .. }
+            | SceneError::Routine { line, column, .. }
             | SceneError::Invalid { line, column, .. } => Some(Location {
                 line: *line,
                 column: *column,
@@ -408,7 +438,7 @@ impl SceneError {
         match self {
             SceneError::Syntax { field, .. } | SceneError::Invalid { field, .. } => Some(field),
             SceneError::Toml { table, .. } => table.as_deref(),
-            SceneError::Read { .. } => None,
+            SceneError::Read { .. } | SceneError::Routine { .. } => None,
         }
     }
 
@@ -458,6 +488,18 @@ impl fmt::Display for SceneError {
             } => {
                 write!(f, "{}:{line}:{column}: {field}: {problem}", file.display())
             }
+            SceneError::Routine {
+                file,
+                line: 0,
+                message,
+                ..
+            } => write!(f, "{}: {message}", file.display()),
+            SceneError::Routine {
+                file,
+                line,
+                column,
+                message,
+            } => write!(f, "{}:{line}:{column}: {message}", file.display()),
         }
     }
 }

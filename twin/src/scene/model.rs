@@ -48,6 +48,11 @@ pub struct Scene {
     pub tags: Vec<Tag>,
     /// Program steps, in file order.
     pub program: Vec<Step>,
+    /// Periodic tasks of Structured Text programs (`[[tasks]]`).
+    pub tasks: Vec<super::Task>,
+    /// `[trace] tags`: tag references traced as extra columns, as written,
+    /// with where each is written.
+    pub trace_tags: Vec<(String, Location)>,
     /// Golden-image frames, if any.
     pub snapshots: Option<Snapshots>,
     /// Collision checking (`[collision]`); off when the table is absent.
@@ -350,6 +355,28 @@ pub enum BaseType {
     Dint,
     /// `UDINT` (unsigned 32-bit).
     Udint,
+    /// `LINT` (64-bit).
+    Lint,
+    /// `USINT` (unsigned 8-bit).
+    Usint,
+    /// `UINT` (unsigned 16-bit).
+    Uint,
+    /// `ULINT` (unsigned 64-bit).
+    Ulint,
+    /// `FBD_TIMER` (TONR, TOFR, RTOR in Structured Text).
+    FbdTimer,
+    /// `FBD_COUNTER` (CTUD).
+    FbdCounter,
+    /// `FBD_ONESHOT` (OSRI, OSFI).
+    FbdOneshot,
+    /// `R_TRIG` (IEC dialect only).
+    RTrig,
+    /// `F_TRIG` (IEC dialect only).
+    FTrig,
+    /// `TON` (IEC dialect only; `PT`, `ET` in ms).
+    Ton,
+    /// `TOF` (IEC dialect only; `PT`, `ET` in ms).
+    Tof,
     /// `REAL`.
     Real,
     /// `LREAL`.
@@ -367,12 +394,23 @@ pub enum BaseType {
 }
 
 impl BaseType {
-    const NAMED: [(&'static str, BaseType); 11] = [
+    const NAMED: [(&'static str, BaseType); 22] = [
         ("BOOL", BaseType::Bool),
         ("SINT", BaseType::Sint),
         ("INT", BaseType::Int),
         ("DINT", BaseType::Dint),
+        ("LINT", BaseType::Lint),
+        ("USINT", BaseType::Usint),
+        ("UINT", BaseType::Uint),
         ("UDINT", BaseType::Udint),
+        ("ULINT", BaseType::Ulint),
+        ("FBD_TIMER", BaseType::FbdTimer),
+        ("FBD_COUNTER", BaseType::FbdCounter),
+        ("FBD_ONESHOT", BaseType::FbdOneshot),
+        ("R_TRIG", BaseType::RTrig),
+        ("F_TRIG", BaseType::FTrig),
+        ("TON", BaseType::Ton),
+        ("TOF", BaseType::Tof),
         ("REAL", BaseType::Real),
         ("LREAL", BaseType::Lreal),
         ("MOTION_INSTRUCTION", BaseType::MotionInstruction),
@@ -421,6 +459,9 @@ impl BaseType {
             BaseType::Int => Some((i16::MIN.into(), i16::MAX.into())),
             BaseType::Dint => Some((i32::MIN.into(), i32::MAX.into())),
             BaseType::Udint => Some((0, u32::MAX.into())),
+            BaseType::Lint | BaseType::Ulint => Some((i64::MIN, i64::MAX)),
+            BaseType::Usint => Some((0, u8::MAX.into())),
+            BaseType::Uint => Some((0, u16::MAX.into())),
             _ => None,
         }
     }

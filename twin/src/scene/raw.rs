@@ -27,7 +27,10 @@ pub(super) struct RawScene {
     pub(super) tags: Vec<RawTag>,
     #[serde(default)]
     pub(super) program: Vec<RawStep>,
+    #[serde(default)]
+    pub(super) tasks: Vec<super::tasks::RawTask>,
     pub(super) snapshots: Option<RawSnapshots>,
+    pub(super) trace: Option<RawTrace>,
     pub(super) collision: Option<super::collision::RawCollision>,
 }
 
@@ -139,6 +142,13 @@ pub(super) struct RawStep {
     pub(super) when: Option<Spanned<String>>,
     pub(super) after_s: Option<Spanned<f64>>,
     pub(super) call: Spanned<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawTrace {
+    #[serde(default)]
+    pub(super) tags: Vec<Spanned<String>>,
 }
 
 #[derive(Deserialize)]

@@ -48,10 +48,17 @@ impl Ctx<'_> {
         Ok(TagType { base, array_len })
     }
 
-    pub(super) fn tags(&self, raw: &[RawTag], axes: &[Axis], names: &mut Names) -> Result<Vec<Tag>, SceneError> {
+    /// The tags of `raw`, whose fields are named `{prefix}[i].field`.
+    pub(super) fn tags(
+        &self,
+        raw: &[RawTag],
+        axes: &[Axis],
+        names: &mut Names,
+        prefix: &str,
+    ) -> Result<Vec<Tag>, SceneError> {
         let mut tags = Vec::with_capacity(raw.len());
         for (i, t) in raw.iter().enumerate() {
-            let f = |field: &str| format!("tags[{i}].{field}");
+            let f = |field: &str| format!("{prefix}[{i}].{field}");
             let name = self.identifier(&t.name, &f("name"))?;
             let ty = self.tag_type(&t.ty, &f("type"))?;
             self.unique(names, &t.name, &f("name"), NameKind::Tag(ty))?;
@@ -187,7 +194,19 @@ impl Ctx<'_> {
     ) -> Result<TagValue, SceneError> {
         let mismatch = |expected| self.invalid(v, field, Problem::ValueMismatch { ty, expected });
         match (ty.base, ty.array_len) {
-            (BaseType::MotionInstruction | BaseType::CamProfile | BaseType::FunctionBlock(_), _) => {
+            (
+                BaseType::MotionInstruction
+                | BaseType::CamProfile
+                | BaseType::FunctionBlock(_)
+                | BaseType::FbdTimer
+                | BaseType::FbdCounter
+                | BaseType::FbdOneshot
+                | BaseType::RTrig
+                | BaseType::FTrig
+                | BaseType::Ton
+                | BaseType::Tof,
+                _,
+            ) => {
                 Err(self.invalid(v, field, Problem::ValueNotAllowed { ty }))
             }
             (BaseType::CoordinateSystem, _) => {

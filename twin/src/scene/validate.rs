@@ -48,8 +48,9 @@ impl Ctx<'_> {
         let axes = self.axes(&raw.axes, &robot, &mut names)?;
         let cameras = self.cameras(&raw.cameras)?;
         let obstacles = self.obstacles(&raw.obstacles, base)?;
-        let tags = self.tags(&raw.tags, &axes, &mut names)?;
+        let tags = self.tags(&raw.tags, &axes, &mut names, "tags")?;
         let program = self.program(&raw.program, duration_s, &names)?;
+        let tasks = self.tasks(&raw.tasks, &axes, &names, base)?;
         let snapshots = match &raw.snapshots {
             Some(s) => Some(self.snapshots(s, &cameras)?),
             None => None,
@@ -71,6 +72,13 @@ impl Ctx<'_> {
             obstacles,
             tags,
             program,
+            tasks,
+            trace_tags: raw
+                .trace
+                .iter()
+                .flat_map(|t| &t.tags)
+                .map(|s| (s.get_ref().trim().to_owned(), self.loc(s)))
+                .collect(),
             snapshots,
         })
     }

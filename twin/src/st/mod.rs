@@ -1,5 +1,8 @@
-//! A parser for single instruction calls written in the Structured Text
-//! syntax of the instruction manuals.
+//! Structured Text: the single instruction calls of a scene's
+//! `[[program]]` steps (this module), and whole routines of the Logix ST
+//! dialect for `[[tasks]]` ([`lex`] → [`parse`] → [`ast`]).
+//!
+//! # Calls
 //!
 //! Two call shapes are accepted, the two the specs use:
 //!
@@ -39,6 +42,10 @@
 //! ```
 
 use std::fmt;
+
+pub mod ast;
+pub mod lex;
+pub mod parse;
 
 /// A half-open range of character offsets (0-based) in the parsed text.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

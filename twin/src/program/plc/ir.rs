@@ -1,0 +1,373 @@
+//! The compiled form of a routine: names resolved to slots and planner
+//! handles, every expression typed, so that a scan does no lookups.
+
+use super::types::{DataType, Structure, Ty, Value};
+use crate::st::ast::{BinaryOp, CaseLabel};
+use planner::catalogue::Instruction;
+use planner::task::{AxisHandle, CoordHandle, InstructionHandle};
+
+/// A typed expression.
+#[derive(Debug, Clone)]
+pub struct CExpr {
+    /// What it computes.
+    pub kind: CKind,
+    /// The type it computes in.
+    pub ty: Ty,
+}
+
+/// The expression kinds.
+#[derive(Debug, Clone)]
+pub enum CKind {
+    /// A constant.
+    Const(Value),
+    /// A read.
+    Load(Box<Place>),
+    /// `-x`.
+    Neg(Box<CExpr>),
+    /// `NOT x`.
+    Not(Box<CExpr>),
+    /// `a op b`, both operands computed in `math`.
+    Binary(BinaryOp, Box<CExpr>, Box<CExpr>, Ty),
+    /// A function of one argument.
+    Func(Func, Box<CExpr>),
+}
+
+/// The functions of the dialect.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Func {
+    /// `ABS`.
+    Abs,
+    /// `SQRT` (of the absolute value, as the controller does).
+    Sqrt,
+    /// `SIN`.
+    Sin,
+    /// `COS`.
+    Cos,
+    /// `TAN`.
+    Tan,
+    /// `ASIN`.
+    Asin,
+    /// `ACOS`.
+    Acos,
+    /// `ATAN`.
+    Atan,
+    /// `LN`.
+    Ln,
+    /// `LOG` (base 10).
+    Log,
+    /// `DEG`.
+    Deg,
+    /// `RAD`.
+    Rad,
+    /// `TRUNC`.
+    Trunc,
+}
+
+impl Func {
+    /// The function called `name` (case-insensitive).
+    #[must_use]
+    pub fn parse(name: &str) -> Option<Func> {
+        Some(match name.to_ascii_uppercase().as_str() {
+            "ABS" => Func::Abs,
+            "SQRT" | "SQR" => Func::Sqrt,
+            "SIN" => Func::Sin,
+            "COS" => Func::Cos,
+            "TAN" => Func::Tan,
+            "ASIN" => Func::Asin,
+            "ACOS" => Func::Acos,
+            "ATAN" => Func::Atan,
+            "LN" => Func::Ln,
+            "LOG" => Func::Log,
+            "DEG" => Func::Deg,
+            "RAD" => Func::Rad,
+            "TRUNC" => Func::Trunc,
+            _ => return None,
+        })
+    }
+}
+
+/// Something a program reads or writes.
+#[derive(Debug, Clone)]
+pub enum Place {
+    /// A slot of tag memory.
+    Slot(usize),
+    /// An element (or an element's member) of an array tag: `base +
+    /// index × stride + offset`, the index checked against `len`.
+    Element {
+        /// First slot of the array.
+        base: usize,
+        /// Elements.
+        len: usize,
+        /// Slots an element.
+        stride: usize,
+        /// Slot offset of the member inside the element.
+        offset: usize,
+        /// The subscript.
+        index: CExpr,
+        /// The tag name, for the fault message.
+        name: String,
+    },
+    /// A bit of an integer place.
+    Bit {
+        /// The integer.
+        inner: Box<Place>,
+        /// Its width in bits (the bit number must be below it).
+        width: u32,
+        /// The bit number.
+        bit: CExpr,
+        /// The integer's type.
+        ty: DataType,
+    },
+    /// A member of a `MOTION_INSTRUCTION` tag (bits writable, codes not).
+    Motion(InstructionHandle, MotionMember),
+    /// An axis member (read-only).
+    Axis(AxisHandle, AxisMember),
+    /// A coordinate-system status bit (read-only).
+    Coord(CoordHandle, CoordMember),
+    /// `S:FS`.
+    FirstScan,
+    /// `S:MINOR` (a minor fault was recorded in this scan).
+    MinorInScan,
+    /// The `MinorFaults` counter.
+    MinorFaults,
+}
+
+/// The members of a `MOTION_INSTRUCTION`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MotionMember {
+    /// A status bit by its name (`EN`, `DN`, `ER`, `IP`, `AC`, `PC`, …).
+    Bit(&'static str),
+    /// `ERR`.
+    Err,
+    /// `EXERR`.
+    Exerr,
+    /// `SEGMENT`.
+    Segment,
+}
+
+/// The axis members a program reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AxisMember {
+    /// `ActualPosition` (one coarse update old).
+    ActualPosition,
+    /// `CommandPosition`.
+    CommandPosition,
+    /// `ActualVelocity`.
+    ActualVelocity,
+    /// `CommandVelocity`.
+    CommandVelocity,
+    /// `CommandAcceleration`.
+    CommandAcceleration,
+    /// `CoordinatedMotionStatus`.
+    CoordinatedMotionStatus,
+    /// `PositionCamStatus`.
+    PositionCamStatus,
+    /// `PositionCamLockStatus`.
+    PositionCamLockStatus,
+    /// `PositionCamPendingStatus`.
+    PositionCamPendingStatus,
+    /// `TransformStateStatus`.
+    TransformStateStatus,
+    /// `ControlledByTransformStatus`.
+    ControlledByTransformStatus,
+}
+
+/// Every axis member, with its name and type, for parsing and docs.
+pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 11] = [
+    ("ActualPosition", AxisMember::ActualPosition, DataType::Real),
+    ("CommandPosition", AxisMember::CommandPosition, DataType::Real),
+    ("ActualVelocity", AxisMember::ActualVelocity, DataType::Real),
+    ("CommandVelocity", AxisMember::CommandVelocity, DataType::Real),
+    ("CommandAcceleration", AxisMember::CommandAcceleration, DataType::Real),
+    ("CoordinatedMotionStatus", AxisMember::CoordinatedMotionStatus, DataType::Bool),
+    ("PositionCamStatus", AxisMember::PositionCamStatus, DataType::Bool),
+    ("PositionCamLockStatus", AxisMember::PositionCamLockStatus, DataType::Bool),
+    ("PositionCamPendingStatus", AxisMember::PositionCamPendingStatus, DataType::Bool),
+    ("TransformStateStatus", AxisMember::TransformStateStatus, DataType::Bool),
+    ("ControlledByTransformStatus", AxisMember::ControlledByTransformStatus, DataType::Bool),
+];
+
+/// Coordinate-system status bits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CoordMember {
+    /// A bit of the planner's coordinate-system status by name.
+    Status(&'static str),
+    /// `TransformSourceStatus`.
+    TransformSource,
+    /// `TransformTargetStatus`.
+    TransformTarget,
+}
+
+/// A structure instance: a tag, or an element of an array of them.
+#[derive(Debug, Clone)]
+pub struct Instance {
+    /// First slot of the tag.
+    pub base: usize,
+    /// The structure.
+    pub structure: Structure,
+    /// `(subscript, length)` for an element of an array.
+    pub index: Option<(CExpr, usize)>,
+    /// The tag name, for fault messages.
+    pub name: String,
+}
+
+/// The timer and edge instructions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Builtin {
+    /// `TONR`.
+    Tonr,
+    /// `TOFR`.
+    Tofr,
+    /// `RTOR`.
+    Rtor,
+    /// `CTUD`.
+    Ctud,
+    /// `OSRI`.
+    Osri,
+    /// `OSFI`.
+    Osfi,
+    /// `R_TRIG` (IEC).
+    RTrig,
+    /// `F_TRIG` (IEC).
+    FTrig,
+    /// `TON` (IEC).
+    Ton,
+    /// `TOF` (IEC).
+    Tof,
+}
+
+/// An array operand: a tag and its first element.
+#[derive(Debug, Clone)]
+pub struct ArrayAt {
+    /// First slot of the tag.
+    pub base: usize,
+    /// Elements.
+    pub len: usize,
+    /// Start element.
+    pub start: CExpr,
+    /// Element type.
+    pub ty: DataType,
+    /// The tag name, for fault messages.
+    pub name: String,
+}
+
+/// One operand of a motion instruction, as the binding will see it.
+#[derive(Debug, Clone)]
+pub enum MotionArg {
+    /// Passed as written: an enumeration word, or the name of an axis or
+    /// of a tag the planner keeps (qualified for program tags).
+    Name(String),
+    /// An array tag from an element: `Pos[i]`.
+    Element(String, CExpr),
+    /// A value computed when the instruction executes.
+    Value(CExpr),
+}
+
+/// A motion instruction call.
+#[derive(Debug, Clone)]
+pub struct MotionCall {
+    /// The catalogue entry.
+    pub instruction: &'static Instruction,
+    /// The operands in call order.
+    pub args: Vec<MotionArg>,
+    /// Its control structure.
+    pub control: Option<InstructionHandle>,
+}
+
+/// A compiled statement.
+#[derive(Debug, Clone)]
+pub struct CStmt {
+    /// What it does.
+    pub kind: SKind,
+    /// Its line in the routine.
+    pub line: u32,
+}
+
+/// The statement kinds.
+#[derive(Debug, Clone)]
+pub enum SKind {
+    /// `target := value` (`retentive` false for `[:=]`).
+    Assign {
+        /// The target.
+        target: Place,
+        /// The target's type.
+        ty: DataType,
+        /// The value.
+        value: CExpr,
+        /// `false` for `[:=]`: cleared at prescan.
+        retentive: bool,
+    },
+    /// IF.
+    If(Vec<(CExpr, Vec<CStmt>)>, Vec<CStmt>),
+    /// CASE.
+    Case(CExpr, Vec<(Vec<CaseLabel>, Vec<CStmt>)>, Vec<CStmt>),
+    /// FOR.
+    For {
+        /// The counter.
+        counter: Place,
+        /// Its type.
+        ty: DataType,
+        /// From.
+        from: CExpr,
+        /// To.
+        to: CExpr,
+        /// By.
+        by: CExpr,
+        /// Body.
+        body: Vec<CStmt>,
+    },
+    /// WHILE.
+    While(CExpr, Vec<CStmt>),
+    /// REPEAT … UNTIL.
+    Repeat(Vec<CStmt>, CExpr),
+    /// EXIT.
+    Exit,
+    /// A timer, counter or edge instruction on its structure.
+    Builtin(Builtin, Instance),
+    /// `JSR(routine, n, inputs…, returns…)`.
+    Jsr {
+        /// Routine index in the program.
+        routine: usize,
+        /// Input values.
+        inputs: Vec<CExpr>,
+        /// Where the returned values go, with their types.
+        returns: Vec<(Place, DataType)>,
+    },
+    /// `SBR(params…)`: the inputs of the JSR that called this routine.
+    Sbr(Vec<(Place, DataType)>),
+    /// `RET(values…)`: leaves the routine, handing the values back.
+    Ret(Vec<CExpr>),
+    /// `COP`/`CPS`: copies `len` elements.
+    Cop(ArrayAt, ArrayAt, CExpr),
+    /// `FLL`: fills `len` elements with a value.
+    Fll(CExpr, ArrayAt, CExpr),
+    /// `SIZE(array, 0, dest)`.
+    Size(usize, Place, DataType),
+    /// `GSV(AXIS, axis, attribute, dest)`.
+    Gsv(AxisHandle, GsvAttribute, Place, DataType),
+    /// A motion instruction.
+    Motion(MotionCall),
+}
+
+/// The `AXIS` attributes `GSV` reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GsvAttribute {
+    /// A member also readable as `Axis.Member`.
+    Member(AxisMember),
+    /// `MaximumSpeed` (the axis' max velocity).
+    MaximumSpeed,
+    /// `MaximumAcceleration`.
+    MaximumAcceleration,
+    /// `MaximumDeceleration`.
+    MaximumDeceleration,
+    /// `CIPAxisState`.
+    CipAxisState,
+}
+
+/// Every GSV `AXIS` attribute the twin models, for parsing and docs.
+pub const GSV_ATTRIBUTES: [(&str, GsvAttribute); 4] = [
+    ("MaximumSpeed", GsvAttribute::MaximumSpeed),
+    ("MaximumAcceleration", GsvAttribute::MaximumAcceleration),
+    ("MaximumDeceleration", GsvAttribute::MaximumDeceleration),
+    ("CIPAxisState", GsvAttribute::CipAxisState),
+];

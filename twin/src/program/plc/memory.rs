@@ -1,0 +1,235 @@
+//! Tag memory: every tag of the controller and of its programs laid out
+//! in slots, with the name table the compiler resolves references with.
+//!
+//! Scalars take one slot, arrays one slot an element, structures
+//! ([`Structure`]) one slot a member. Tags the planner owns
+//! (`MOTION_INSTRUCTION`, `COORDINATE_SYSTEM`, `CAM_PROFILE`, axes) take
+//! no slots: their members are read from (and for `MOTION_INSTRUCTION`
+//! written to) the planner. A program-scoped tag is stored under
+//! `Program.Tag`; inside its program the short name finds it first.
+
+use super::types::{DataType, Structure, Value};
+use crate::scene::{BaseType, CamPoint, SegmentType, TagValue};
+use std::collections::HashMap;
+
+/// What a tag is, for the compiler.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// A scalar (or an array of them).
+    Scalar(DataType),
+    /// A structure in slots (or an array of them).
+    Structure(Structure),
+    /// A tag the planner keeps (motion control structure, coordinate
+    /// system, cam profile, function-block instance).
+    Planner(BaseType),
+    /// An axis (`[[axes]]`).
+    Axis,
+}
+
+/// One tag's place in memory.
+#[derive(Debug, Clone)]
+pub struct TagInfo {
+    /// The name as declared (`Program.Tag` for a program tag).
+    pub name: String,
+    /// What it is.
+    pub kind: Kind,
+    /// First slot.
+    pub base: usize,
+    /// `Some(n)` for an array of `n` elements.
+    pub len: Option<usize>,
+}
+
+impl TagInfo {
+    /// Slots one element takes.
+    #[must_use]
+    pub fn stride(&self) -> usize {
+        match self.kind {
+            Kind::Structure(s) => s.size(),
+            Kind::Scalar(_) => 1,
+            Kind::Planner(_) | Kind::Axis => 0,
+        }
+    }
+}
+
+/// The controller's tag memory.
+#[derive(Debug, Clone, Default)]
+pub struct Memory {
+    /// Values.
+    pub slots: Vec<Value>,
+    /// The type of each slot.
+    pub types: Vec<DataType>,
+    /// Tags, in declaration order.
+    pub tags: Vec<TagInfo>,
+    by_name: HashMap<String, usize>,
+}
+
+/// The scalar type of a scene base type, if it is one.
+#[must_use]
+pub fn scalar(base: BaseType) -> Option<DataType> {
+    Some(match base {
+        BaseType::Bool => DataType::Bool,
+        BaseType::Sint => DataType::Sint,
+        BaseType::Int => DataType::Int,
+        BaseType::Dint => DataType::Dint,
+        BaseType::Lint => DataType::Lint,
+        BaseType::Usint => DataType::Usint,
+        BaseType::Uint => DataType::Uint,
+        BaseType::Udint => DataType::Udint,
+        BaseType::Ulint => DataType::Ulint,
+        BaseType::Real => DataType::Real,
+        BaseType::Lreal => DataType::Lreal,
+        _ => return None,
+    })
+}
+
+/// The structure kept in slots for a scene base type, if it is one.
+#[must_use]
+pub fn structure(base: BaseType) -> Option<Structure> {
+    Some(match base {
+        BaseType::FbdTimer => Structure::Timer,
+        BaseType::FbdCounter => Structure::Counter,
+        BaseType::FbdOneshot => Structure::OneShot,
+        BaseType::Cam => Structure::Cam,
+        BaseType::RTrig | BaseType::FTrig => Structure::Trig,
+        BaseType::Ton | BaseType::Tof => Structure::IecTimer,
+        _ => return None,
+    })
+}
+
+impl Memory {
+    /// Adds a tag with its initial value (zeros when it has none) and
+    /// returns its index.
+    pub fn add(&mut self, name: &str, base: BaseType, len: Option<usize>, value: Option<&TagValue>) -> usize {
+        let kind = match (scalar(base), structure(base)) {
+            (Some(t), _) => Kind::Scalar(t),
+            (_, Some(s)) => Kind::Structure(s),
+            _ => Kind::Planner(base),
+        };
+        let start = self.slots.len();
+        let info = TagInfo {
+            name: name.to_owned(),
+            kind,
+            base: start,
+            len,
+        };
+        let count = len.unwrap_or(1) * info.stride();
+        match kind {
+            Kind::Scalar(t) => {
+                let zero = t.store(Value::Int(0)).0;
+                self.slots.resize(start + count, zero);
+                self.types.resize(start + count, t);
+            }
+            Kind::Structure(s) => {
+                // EnableIn is TRUE in a new structure: the instruction runs
+                // when it is executed.
+                for _ in 0..len.unwrap_or(1) {
+                    for (name, t, _) in s.members() {
+                        self.slots.push(Value::Bool(*name == "EnableIn"));
+                        self.slots.last_mut().map(|v| *v = t.store(*v).0);
+                        self.types.push(*t);
+                    }
+                }
+            }
+            Kind::Planner(_) | Kind::Axis => {}
+        }
+        match (kind, value) {
+            (Kind::Scalar(t), Some(TagValue::Array(items))) => {
+                for (i, v) in items.iter().enumerate() {
+                    self.slots[start + i] = t.store(initial(v)).0;
+                }
+            }
+            (Kind::Scalar(t), Some(v)) => self.slots[start] = t.store(initial(v)).0,
+            (Kind::Structure(Structure::Cam), Some(TagValue::CamPoints(points))) => {
+                for (i, p) in points.iter().enumerate() {
+                    let at = start + i * 3;
+                    self.slots[at] = DataType::Real.store(Value::Real(p.master)).0;
+                    self.slots[at + 1] = DataType::Real.store(Value::Real(p.slave)).0;
+                    self.slots[at + 2] = Value::Int(segment_code(p.segment_type));
+                }
+            }
+            _ => {}
+        }
+        self.tags.push(info);
+        self.by_name.insert(name.to_ascii_lowercase(), self.tags.len() - 1);
+        self.tags.len() - 1
+    }
+
+    /// Adds an axis name (no slots).
+    pub fn add_axis(&mut self, name: &str) {
+        self.tags.push(TagInfo {
+            name: name.to_owned(),
+            kind: Kind::Axis,
+            base: self.slots.len(),
+            len: None,
+        });
+        self.by_name.insert(name.to_ascii_lowercase(), self.tags.len() - 1);
+    }
+
+    /// The tag called `name` (case-insensitive), as stored.
+    #[must_use]
+    pub fn find(&self, name: &str) -> Option<usize> {
+        self.by_name.get(&name.to_ascii_lowercase()).copied()
+    }
+
+    /// The tag `name` as seen from `program`: its own tag first, then the
+    /// controller's.
+    #[must_use]
+    pub fn resolve(&self, program: Option<&str>, name: &str) -> Option<usize> {
+        program
+            .and_then(|p| self.find(&format!("{p}.{name}")))
+            .or_else(|| self.find(name))
+    }
+
+    /// A tag's current value in the scene's form (numeric arrays and cam
+    /// points), for instruction operands read when they execute.
+    #[must_use]
+    pub fn value(&self, tag: usize) -> Option<TagValue> {
+        let info = &self.tags[tag];
+        let n = info.len.unwrap_or(1);
+        let read = |slot: usize| match self.slots[slot] {
+            Value::Bool(b) => TagValue::Bool(b),
+            Value::Int(i) => TagValue::Integer(i),
+            Value::Real(x) => TagValue::Real(x),
+        };
+        match info.kind {
+            Kind::Scalar(_) if info.len.is_some() => Some(TagValue::Array((0..n).map(|i| read(info.base + i)).collect())),
+            Kind::Scalar(_) => Some(read(info.base)),
+            Kind::Structure(Structure::Cam) => Some(TagValue::CamPoints(
+                (0..n)
+                    .map(|i| {
+                        let at = info.base + 3 * i;
+                        CamPoint {
+                            master: self.slots[at].as_f64(),
+                            slave: self.slots[at + 1].as_f64(),
+                            segment_type: segment(self.slots[at + 2].as_i64()),
+                        }
+                    })
+                    .collect(),
+            )),
+            _ => None,
+        }
+    }
+}
+
+fn initial(v: &TagValue) -> Value {
+    match v {
+        TagValue::Bool(b) => Value::Bool(*b),
+        TagValue::Integer(i) => Value::Int(*i),
+        TagValue::Real(x) => Value::Real(*x),
+        _ => Value::Int(0),
+    }
+}
+
+/// A cam point's `SegmentType` code: 0 linear, 1 cubic.
+fn segment_code(s: SegmentType) -> i64 {
+    match s {
+        SegmentType::Linear => 0,
+        SegmentType::Cubic => 1,
+    }
+}
+
+/// The segment type a program wrote: 0 is linear, any other value cubic
+/// (the controller's MCCP reads the member the same way: zero or not).
+fn segment(code: i64) -> SegmentType {
+    if code == 0 { SegmentType::Linear } else { SegmentType::Cubic }
+}

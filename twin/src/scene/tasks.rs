@@ -1,0 +1,267 @@
+//! `[[tasks]]`: periodic tasks, their programs in scan order, each
+//! program's tags and routines (Structured Text files, parsed here so that
+//! a syntax error names the routine file, line and column at load).
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::model::Tag;
+use super::raw::RawTag;
+use super::{Axis, BaseType, Ctx, Location, NameKind, Names, Problem, SceneError};
+use crate::st::ast::Routine;
+use crate::st::parse::parse_routine;
+
+/// The watchdog of a task that does not set `watchdog_ms`, as on the
+/// controller.
+pub const DEFAULT_WATCHDOG_MS: f64 = 500.0;
+
+/// Which Structured Text a routine is written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Dialect {
+    /// Studio 5000 Logix ST (the default): what verifies on a controller.
+    #[default]
+    Logix,
+    /// IEC 61131-3 / TwinCAT additions: `R_TRIG`, `F_TRIG`, `TON`, `TOF`
+    /// and PLCopen function blocks called with named inputs.
+    Iec,
+}
+
+/// A periodic task.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Task {
+    /// Task name.
+    pub name: String,
+    /// Period, ms (0.1 to 2,000,000).
+    pub period_ms: f64,
+    /// Priority, 1 (highest) to 15.
+    pub priority: u8,
+    /// Watchdog, ms (default 500).
+    pub watchdog_ms: f64,
+    /// Programs in scan order.
+    pub programs: Vec<ProgramDef>,
+    /// Where the task's `name` is written.
+    pub location: Location,
+}
+
+/// A program of a task.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct ProgramDef {
+    /// Program name.
+    pub name: String,
+    /// Program-scoped tags (they shadow controller tags of the same name).
+    pub tags: Vec<Tag>,
+    /// The main routine: the one the task scans.
+    pub main: RoutineDef,
+    /// Further routines, called with `JSR`.
+    pub routines: Vec<RoutineDef>,
+    /// Where the program's `name` is written.
+    pub location: Location,
+}
+
+/// A routine file, parsed.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct RoutineDef {
+    /// Routine name: the file stem.
+    pub name: String,
+    /// The file, relative to the scene's folder resolved.
+    pub path: PathBuf,
+    /// Its dialect.
+    pub dialect: Dialect,
+    /// The parsed routine.
+    pub routine: Routine,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawTask {
+    name: Spanned<String>,
+    period_ms: Spanned<f64>,
+    priority: Spanned<i64>,
+    watchdog_ms: Option<Spanned<f64>>,
+    #[serde(default)]
+    programs: Vec<RawProgram>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawProgram {
+    name: Spanned<String>,
+    main: Spanned<RawRoutine>,
+    #[serde(default)]
+    routines: Vec<Spanned<RawRoutine>>,
+    #[serde(default)]
+    tags: Vec<RawTag>,
+}
+
+/// A routine: a path, or `{ file = "…", dialect = "iec" }`.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawRoutine {
+    Path(String),
+    Table {
+        file: String,
+        #[serde(default)]
+        dialect: Option<String>,
+    },
+}
+
+impl Ctx<'_> {
+    pub(super) fn tasks(
+        &self,
+        raw: &[RawTask],
+        axes: &[Axis],
+        controller: &Names,
+        base: &Path,
+    ) -> Result<Vec<Task>, SceneError> {
+        let mut task_names: Names = Names::new();
+        let mut program_names: Names = Names::new();
+        let mut tasks = Vec::with_capacity(raw.len());
+        for (i, t) in raw.iter().enumerate() {
+            let f = |field: &str| format!("tasks[{i}].{field}");
+            let name = self.identifier(&t.name, &f("name"))?;
+            self.unique(&mut task_names, &t.name, &f("name"), NameKind::Axis)?;
+            let period_ms = self.in_range(&t.period_ms, &f("period_ms"), 0.1, 2_000_000.0)?;
+            let priority = *t.priority.get_ref();
+            if !(1..=15).contains(&priority) {
+                let problem = Problem::OutOfRange {
+                    value: priority as f64,
+                    min: 1.0,
+                    max: 15.0,
+                    exclusive: false,
+                };
+                return Err(self.invalid(&t.priority, f("priority"), problem));
+            }
+            let watchdog_ms = match &t.watchdog_ms {
+                Some(w) => self.in_range(w, &f("watchdog_ms"), 0.1, 2_000_000.0)?,
+                None => DEFAULT_WATCHDOG_MS,
+            };
+            let mut programs = Vec::with_capacity(t.programs.len());
+            for (j, p) in t.programs.iter().enumerate() {
+                let prefix = format!("tasks[{i}].programs[{j}]");
+                self.unique(&mut program_names, &p.name, &format!("{prefix}.name"), NameKind::Axis)?;
+                programs.push(self.program_def(p, axes, controller, base, &prefix)?);
+            }
+            tasks.push(Task {
+                name,
+                period_ms,
+                priority: priority as u8,
+                watchdog_ms,
+                programs,
+                location: self.loc(&t.name),
+            });
+        }
+        Ok(tasks)
+    }
+
+    fn in_range(&self, v: &Spanned<f64>, field: &str, min: f64, max: f64) -> Result<f64, SceneError> {
+        let x = self.finite(v, field)?;
+        if (min..=max).contains(&x) {
+            Ok(x)
+        } else {
+            let problem = Problem::OutOfRange {
+                value: x,
+                min,
+                max,
+                exclusive: false,
+            };
+            Err(self.invalid(v, field, problem))
+        }
+    }
+
+    fn program_def(
+        &self,
+        p: &RawProgram,
+        axes: &[Axis],
+        controller: &Names,
+        base: &Path,
+        prefix: &str,
+    ) -> Result<ProgramDef, SceneError> {
+        let name = self.identifier(&p.name, &format!("{prefix}.name"))?;
+        // Program tags live in their own namespace: they may reuse a
+        // controller tag's name (and shadow it) but not an axis'.
+        let mut names: Names = controller
+            .iter()
+            .filter(|(_, (_, kind))| matches!(kind, NameKind::Axis))
+            .map(|(k, v)| (k.clone(), v.clone()))
+            .collect();
+        let tags = self.tags(&p.tags, axes, &mut names, &format!("{prefix}.tags"))?;
+        for (k, t) in p.tags.iter().enumerate() {
+            if tags[k].ty.base == BaseType::CoordinateSystem {
+                let problem = Problem::ControllerScopeOnly {
+                    ty: tags[k].ty.base.name(),
+                };
+                return Err(self.invalid(&t.ty, format!("{prefix}.tags[{k}].type"), problem));
+            }
+        }
+        let main = self.routine(&p.main, base, &format!("{prefix}.main"))?;
+        let mut routines: Vec<RoutineDef> = Vec::with_capacity(p.routines.len());
+        for (k, r) in p.routines.iter().enumerate() {
+            let field = format!("{prefix}.routines[{k}]");
+            let def = self.routine(r, base, &field)?;
+            if def.name.eq_ignore_ascii_case(&main.name) || routines.iter().any(|x| x.name.eq_ignore_ascii_case(&def.name))
+            {
+                let problem = Problem::DuplicateRoutine { name: def.name };
+                return Err(self.invalid(r, field, problem));
+            }
+            routines.push(def);
+        }
+        Ok(ProgramDef {
+            name,
+            tags,
+            main,
+            routines,
+            location: self.loc(&p.name),
+        })
+    }
+
+    fn routine(&self, raw: &Spanned<RawRoutine>, base: &Path, field: &str) -> Result<RoutineDef, SceneError> {
+        let (file, dialect) = match raw.get_ref() {
+            RawRoutine::Path(p) => (p, None),
+            RawRoutine::Table { file, dialect } => (file, dialect.as_deref()),
+        };
+        let dialect = match dialect.map(str::to_ascii_lowercase).as_deref() {
+            None | Some("logix") => Dialect::Logix,
+            Some("iec") => Dialect::Iec,
+            Some(other) => {
+                let problem = Problem::UnknownDialect { name: other.to_owned() };
+                return Err(self.invalid(raw, format!("{field}.dialect"), problem));
+            }
+        };
+        let path = base.join(file);
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let valid = name.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+        if !valid {
+            return Err(self.invalid(raw, field, Problem::InvalidName { name }));
+        }
+        if !path.is_file() {
+            return Err(self.invalid(raw, field, Problem::MissingFile { path }));
+        }
+        let text = std::fs::read_to_string(&path).map_err(|e| SceneError::Routine {
+            file: path.clone(),
+            line: 0,
+            column: 0,
+            message: format!("cannot read the routine: {e}"),
+        })?;
+        let routine = parse_routine(&text).map_err(|e| SceneError::Routine {
+            file: path.clone(),
+            line: e.pos.line as usize,
+            column: e.pos.column as usize,
+            message: e.message,
+        })?;
+        Ok(RoutineDef {
+            name,
+            path,
+            dialect,
+            routine,
+        })
+    }
+}

@@ -1,0 +1,252 @@
+//! The syntax tree of a Structured Text routine, as written: names are not
+//! resolved and nothing is typed yet (the program stage compiles it).
+
+pub use super::lex::Pos;
+
+/// A routine: its statements in order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Routine {
+    /// The statements.
+    pub body: Vec<Stmt>,
+}
+
+/// A statement and where it starts.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stmt {
+    /// What it does.
+    pub kind: StmtKind,
+    /// Where it starts.
+    pub pos: Pos,
+}
+
+/// The statements of the Logix ST dialect.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StmtKind {
+    /// `target := value;` (retentive) or `target [:=] value;`
+    /// (non-retentive: also cleared at prescan).
+    Assign {
+        /// What is written.
+        target: Ref,
+        /// The value.
+        value: Expr,
+        /// `false` for `[:=]`.
+        retentive: bool,
+    },
+    /// `IF c THEN … ELSIF c THEN … ELSE … END_IF;`
+    If {
+        /// Each condition with its statements, in order.
+        branches: Vec<(Expr, Vec<Stmt>)>,
+        /// The `ELSE` statements.
+        otherwise: Vec<Stmt>,
+    },
+    /// `CASE selector OF 1: … 2, 3: … 4..6: … ELSE … END_CASE;`
+    Case {
+        /// The numeric selector.
+        selector: Expr,
+        /// Each arm's labels and statements.
+        arms: Vec<(Vec<CaseLabel>, Vec<Stmt>)>,
+        /// The `ELSE` statements.
+        otherwise: Vec<Stmt>,
+    },
+    /// `FOR i := a TO b BY s DO … END_FOR;`
+    For {
+        /// The counter.
+        counter: Ref,
+        /// Initial value.
+        from: Expr,
+        /// Final value.
+        to: Expr,
+        /// Step (1 when absent).
+        by: Option<Expr>,
+        /// The body.
+        body: Vec<Stmt>,
+    },
+    /// `WHILE c DO … END_WHILE;`
+    While {
+        /// Checked before each pass.
+        condition: Expr,
+        /// The body.
+        body: Vec<Stmt>,
+    },
+    /// `REPEAT … UNTIL c END_REPEAT;`
+    Repeat {
+        /// The body.
+        body: Vec<Stmt>,
+        /// Checked after each pass.
+        until: Expr,
+    },
+    /// `EXIT;` leaves the innermost loop.
+    Exit,
+    /// An instruction call `NAME(arg, …);` (a motion instruction, a timer,
+    /// `JSR`, `COP` …) or a function-block call with named inputs
+    /// `Instance(Input := value, …);` (IEC dialect).
+    Call(Call),
+    /// `;` alone.
+    Empty,
+}
+
+/// A `CASE` label: a value or an inclusive range.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CaseLabel {
+    /// One value.
+    Value(i64),
+    /// `low..high`.
+    Range(i64, i64),
+}
+
+impl CaseLabel {
+    /// Whether `x` matches.
+    #[must_use]
+    pub fn matches(self, x: i64) -> bool {
+        match self {
+            CaseLabel::Value(v) => x == v,
+            CaseLabel::Range(a, b) => (a.min(b)..=a.max(b)).contains(&x),
+        }
+    }
+}
+
+/// A call statement.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Call {
+    /// The instruction or instance name, as written.
+    pub name: String,
+    /// Where the name is.
+    pub pos: Pos,
+    /// The arguments.
+    pub args: Vec<Arg>,
+}
+
+/// One argument of a call, kept both as written and as an expression: an
+/// enumeration word of an operand (`%ofTime`, `s-curve`) is recognised
+/// from its text once the operand is known.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Arg {
+    /// `Some(input)` for `input := value`.
+    pub name: Option<String>,
+    /// The value's text as written (white space kept).
+    pub text: String,
+    /// The value as an expression, when it is one.
+    pub expr: Option<Expr>,
+    /// Where the value starts.
+    pub pos: Pos,
+}
+
+/// A reference to a tag, an element, a member or a bit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ref {
+    /// The tag name, as written.
+    pub name: String,
+    /// What follows the name, in order.
+    pub path: Vec<Access>,
+    /// Where the name starts.
+    pub pos: Pos,
+}
+
+/// One step of a reference.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Access {
+    /// `[i]` (one subscript a dimension).
+    Index(Vec<Expr>),
+    /// `.Member`.
+    Member(String),
+    /// `.5`: a bit by number.
+    Bit(u32),
+    /// `.[i]`: a bit by expression.
+    BitExpr(Box<Expr>),
+}
+
+/// An expression and where it starts.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Expr {
+    /// What it is.
+    pub kind: ExprKind,
+    /// Where it starts.
+    pub pos: Pos,
+}
+
+/// The expressions of the dialect.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ExprKind {
+    /// An integer literal.
+    Int(i128),
+    /// A real literal.
+    Real(f64),
+    /// `TRUE` / `FALSE`.
+    Bool(bool),
+    /// A tag, element, member or bit.
+    Ref(Ref),
+    /// `-x`, `NOT x`.
+    Unary(UnaryOp, Box<Expr>),
+    /// `a op b`.
+    Binary(BinaryOp, Box<Expr>, Box<Expr>),
+    /// `NAME(a, …)`: a function (`ABS`, `SIN`, `SIZE` …).
+    Function(String, Vec<Expr>),
+}
+
+/// Unary operators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnaryOp {
+    /// `-`.
+    Neg,
+    /// `NOT` (logical on BOOL, bitwise on integers).
+    Not,
+}
+
+/// Binary operators, from the highest precedence to the lowest.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BinaryOp {
+    /// `**`.
+    Pow,
+    /// `*`.
+    Mul,
+    /// `/`.
+    Div,
+    /// `MOD`.
+    Mod,
+    /// `+`.
+    Add,
+    /// `-`.
+    Sub,
+    /// `<`.
+    Lt,
+    /// `<=`.
+    Le,
+    /// `>`.
+    Gt,
+    /// `>=`.
+    Ge,
+    /// `=`.
+    Eq,
+    /// `<>`.
+    Ne,
+    /// `&`, `AND`.
+    And,
+    /// `XOR`.
+    Xor,
+    /// `OR`.
+    Or,
+}
+
+impl BinaryOp {
+    /// The operator as written.
+    #[must_use]
+    pub fn symbol(self) -> &'static str {
+        match self {
+            BinaryOp::Pow => "**",
+            BinaryOp::Mul => "*",
+            BinaryOp::Div => "/",
+            BinaryOp::Mod => "MOD",
+            BinaryOp::Add => "+",
+            BinaryOp::Sub => "-",
+            BinaryOp::Lt => "<",
+            BinaryOp::Le => "<=",
+            BinaryOp::Gt => ">",
+            BinaryOp::Ge => ">=",
+            BinaryOp::Eq => "=",
+            BinaryOp::Ne => "<>",
+            BinaryOp::And => "AND",
+            BinaryOp::Xor => "XOR",
+            BinaryOp::Or => "OR",
+        }
+    }
+}
