@@ -13,9 +13,11 @@
 //!   with the dividend's sign (0 for 0/0) as the quotient and 0 as the
 //!   remainder; for reals, the IEEE result of `/` (±∞, NaN for 0/0) and 0
 //!   for `MOD`.
-//! * REAL math is single precision (each result rounded to REAL), LREAL
-//!   double; a real result that is not finite from finite operands records
-//!   the minor fault.
+//! * An operation with a REAL operand computes in REAL (LREAL with an LREAL
+//!   or LINT operand): integer operands are converted first (rounded to
+//!   single precision), and each result is rounded to REAL; a real result
+//!   that is not finite from finite operands records the minor fault.
+//!   Comparisons convert the same way.
 //! * `**` computes in REAL (LREAL when an operand is LREAL or LINT).
 //! * `SQRT` takes the square root of the absolute value, as the
 //!   controller's SQRT does; `TRUNC` gives a DINT.
@@ -589,7 +591,10 @@ impl<'e> Exec<'e> {
                 B::Pow => unreachable!("** computes in REAL"),
             };
         }
-        let (a, b) = (x.as_f64(), y.as_f64());
+        // Operands are converted to the math type first (a DINT becomes a
+        // REAL, rounded, before a REAL operation).
+        let to_math = |v: Value| if math == Ty::Real { f64::from(v.as_f64() as f32) } else { v.as_f64() };
+        let (a, b) = (to_math(x), to_math(y));
         let finite = a.is_finite() && b.is_finite();
         match op {
             B::Add => self.real_result(a + b, math, finite),
@@ -616,7 +621,11 @@ impl<'e> Exec<'e> {
         if f == Func::Abs && arg.is_integer() {
             return self.int_result(i128::from(v.as_i64()).abs(), arg, "ABS");
         }
-        let x = v.as_f64();
+        let x = if result == Ty::Real || arg == Ty::Real {
+            f64::from(v.as_f64() as f32)
+        } else {
+            v.as_f64()
+        };
         let y = match f {
             Func::Abs => x.abs(),
             Func::Sqrt => x.abs().sqrt(),

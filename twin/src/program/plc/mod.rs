@@ -53,6 +53,7 @@ pub mod compile;
 pub mod exec;
 pub mod ir;
 pub mod memory;
+pub mod sandbox;
 pub mod types;
 
 use super::InstructionBinding;

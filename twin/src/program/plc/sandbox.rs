@@ -1,0 +1,140 @@
+//! A controller with one task (4 ms) of one program and no plant, for
+//! testing routines: declare tags, give the routine's text, scan.
+//!
+//! ```
+//! use twin::program::plc::{sandbox::Sandbox, types::Value};
+//! let mut s = Sandbox::new(&[("A", "DINT"), ("X", "REAL")], "X := 2.5; A := X + 0.5;").unwrap();
+//! s.scan();
+//! assert_eq!(s.value("A"), Some(Value::Int(3)));
+//! ```
+
+use super::types::Value;
+use super::{Controller, memory};
+use crate::program::InstructionBinding;
+use crate::scene::{BaseType, Dialect, Location, ProgramDef, Robot, RoutineDef, Scene, Tag, TagType, Task};
+use crate::st::parse::parse_routine;
+use planner::task::MotionTask;
+use std::path::PathBuf;
+
+/// See the module doc.
+pub struct Sandbox {
+    plc: Controller,
+    task: MotionTask,
+    instructions: Vec<InstructionBinding>,
+}
+
+impl Sandbox {
+    /// Declares `tags` (name, type as in a scene: `DINT`, `REAL[4]`,
+    /// `FBD_TIMER` …; zero initial values) and compiles `routine`.
+    ///
+    /// # Errors
+    /// `LINE:COLUMN: message` for a routine that does not parse or compile,
+    /// or a message naming an unknown type.
+    pub fn new(tags: &[(&str, &str)], routine: &str) -> Result<Sandbox, String> {
+        let mut declared = Vec::with_capacity(tags.len());
+        for (name, ty) in tags {
+            let (base, len) = match ty.split_once('[') {
+                Some((b, rest)) => (b, rest.trim_end_matches(']').parse::<usize>().ok()),
+                None => (*ty, None),
+            };
+            let base = BaseType::parse(base).ok_or_else(|| format!("unknown type {ty}"))?;
+            declared.push(Tag {
+                name: (*name).to_owned(),
+                ty: TagType { base, array_len: len },
+                value: None,
+                coordinate_system: None,
+                geometry: None,
+                location: Location::default(),
+            });
+        }
+        let parsed = parse_routine(routine).map_err(|e| format!("{}: {}", e.pos, e.message))?;
+        let main = RoutineDef {
+            name: "Main".into(),
+            path: PathBuf::from("Main.st"),
+            dialect: Dialect::Logix,
+            routine: parsed,
+        };
+        let scene = Scene {
+            name: "sandbox".into(),
+            path: PathBuf::from("sandbox.toml"),
+            duration_s: 1.0,
+            coarse_update_ms: 4.0,
+            physics_step_ms: 1.0,
+            robot: Robot {
+                urdf: PathBuf::new(),
+                urdf_location: Location::default(),
+                initial_joints: Default::default(),
+                initial_joint_locations: Default::default(),
+            },
+            axes: Vec::new(),
+            cameras: Vec::new(),
+            obstacles: Vec::new(),
+            tags: declared,
+            program: Vec::new(),
+            tasks: vec![Task {
+                name: "T".into(),
+                period_ms: 4.0,
+                priority: 5,
+                watchdog_ms: crate::scene::DEFAULT_WATCHDOG_MS,
+                programs: vec![ProgramDef {
+                    name: "P".into(),
+                    tags: Vec::new(),
+                    main,
+                    routines: Vec::new(),
+                    location: Location::default(),
+                }],
+                location: Location::default(),
+            }],
+            trace_tags: Vec::new(),
+            snapshots: None,
+            collision: None,
+        };
+        let mut task = MotionTask::new(0.004).map_err(|e| e.to_string())?;
+        let mut instructions = Vec::new();
+        let plc = Controller::new(&scene, &mut task, &mut instructions)
+            .map_err(|e| format!("{}:{}: {}", e.line, e.column, e.message))?;
+        Ok(Sandbox {
+            plc,
+            task,
+            instructions,
+        })
+    }
+
+    /// One coarse update with the scan due in it.
+    pub fn scan(&mut self) {
+        self.plc.scan(&mut self.task, &mut self.instructions);
+        self.task.update();
+    }
+
+    /// A scalar tag's value, or an element's (`Arr[3]`), or a structure
+    /// member's (`T1.ACC`).
+    #[must_use]
+    pub fn value(&self, name: &str) -> Option<Value> {
+        let mem = self.plc.memory();
+        let (base, rest) = match name.split_once('[') {
+            Some((b, r)) => (b, Some(r.trim_end_matches(']'))),
+            None => (name, None),
+        };
+        let (tag_name, member) = match base.split_once('.') {
+            Some((t, m)) => (t, Some(m)),
+            None => (base, None),
+        };
+        let info = &mem.tags[mem.find(tag_name)?];
+        let index: usize = match rest {
+            Some(i) => i.parse().ok().filter(|i| *i < info.len.unwrap_or(0))?,
+            None => 0,
+        };
+        let offset = match (info.kind, member) {
+            (memory::Kind::Structure(s), Some(m)) => s.member(m)?.0,
+            (memory::Kind::Scalar(_), None) => 0,
+            _ => return None,
+        };
+        mem.slots.get(info.base + index * info.stride() + offset).copied()
+    }
+
+    /// The controller (faults, statistics).
+    #[must_use]
+    pub fn controller(&self) -> &Controller {
+        &self.plc
+    }
+}
