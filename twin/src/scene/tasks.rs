@@ -143,6 +143,10 @@ impl Ctx<'_> {
             let mut programs = Vec::with_capacity(t.programs.len());
             for (j, p) in t.programs.iter().enumerate() {
                 let prefix = format!("tasks[{i}].programs[{j}]");
+                // `Program.Tag` names a program's tag from outside it: a
+                // program may not share its name with an axis or a tag.
+                let mut taken = controller.clone();
+                self.unique(&mut taken, &p.name, &format!("{prefix}.name"), NameKind::Axis)?;
                 self.unique(&mut program_names, &p.name, &format!("{prefix}.name"), NameKind::Axis)?;
                 programs.push(self.program_def(p, axes, controller, base, &prefix)?);
             }
