@@ -1784,3 +1784,13 @@ fn scenes_readme_operand_lists_equal_the_catalogue() {
         );
     }
 }
+
+#[test]
+fn scara_pallet_frames_match_snapshots() {
+    assert_scene_frames_match_snapshots("scenes/scara_pallet.toml", "scara_pallet_snapshots");
+}
+
+#[test]
+fn knife_cut_frames_match_snapshots() {
+    assert_scene_frames_match_snapshots("scenes/knife_cut.toml", "knife_cut_snapshots");
+}
