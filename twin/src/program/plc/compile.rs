@@ -204,10 +204,11 @@ impl<'c, 'a> Compiler<'c, 'a> {
             ExprKind::Bool(b) => constant(Value::Bool(*b), Ty::Bool),
             ExprKind::Ref(r) => {
                 let (place, ty) = self.place(r)?;
-                CExpr {
-                    kind: CKind::Load(Box::new(place)),
-                    ty: ty.math(),
-                }
+                let kind = match place {
+                    Place::Slot(i) => CKind::Slot(i),
+                    place => CKind::Load(Box::new(place)),
+                };
+                CExpr { kind, ty: ty.math() }
             }
             ExprKind::Unary(UnaryOp::Neg, a) => {
                 let a = self.expr(a)?;
@@ -310,6 +311,11 @@ impl<'c, 'a> Compiler<'c, 'a> {
                 }
             }
         };
+        if let (CKind::Const(a), CKind::Const(b), Ty::Dint) = (&x.kind, &y.kind, math)
+            && let Some(v) = fold_dint(op, a.as_i64(), b.as_i64())
+        {
+            return Ok(constant(v, result));
+        }
         Ok(CExpr {
             kind: CKind::Binary(op, Box::new(x), Box::new(y), math),
             ty: result,
@@ -924,6 +930,27 @@ pub fn operand_expr(kind: OperandKind, v: Value) -> crate::st::Expr {
             Value::Int(i) => crate::st::Expr::Integer(i),
             Value::Real(x) => crate::st::Expr::Number(x),
         },
+    }
+}
+
+/// A DINT operation on two constants, computed once at compile time when
+/// it cannot fault (no overflow, no division by zero); `None` leaves it to
+/// the scan, which records the fault where the program runs it.
+fn fold_dint(op: BinaryOp, a: i64, b: i64) -> Option<Value> {
+    let fits = |r: i64| i32::try_from(r).is_ok().then_some(Value::Int(r));
+    match op {
+        BinaryOp::Add => fits(a + b),
+        BinaryOp::Sub => fits(a - b),
+        BinaryOp::Mul => fits(a * b),
+        BinaryOp::Div if b != 0 => fits(a / b),
+        BinaryOp::Mod if b != 0 => Some(Value::Int(a % b)),
+        BinaryOp::Lt => Some(Value::Bool(a < b)),
+        BinaryOp::Le => Some(Value::Bool(a <= b)),
+        BinaryOp::Gt => Some(Value::Bool(a > b)),
+        BinaryOp::Ge => Some(Value::Bool(a >= b)),
+        BinaryOp::Eq => Some(Value::Bool(a == b)),
+        BinaryOp::Ne => Some(Value::Bool(a != b)),
+        _ => None,
     }
 }
 

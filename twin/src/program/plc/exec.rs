@@ -102,7 +102,8 @@ pub struct Exec<'e> {
     returns: Vec<Value>,
 }
 
-type R<T> = Result<T, Raised>;
+/// Faults are boxed: the happy path carries a `Value`-sized result.
+type R<T> = Result<T, Box<Raised>>;
 
 impl<'e> Exec<'e> {
     /// A scan of one program.
@@ -137,19 +138,19 @@ impl<'e> Exec<'e> {
         }
     }
 
-    fn raise(&self, fault_type: u8, code: u8, message: String) -> Raised {
-        Raised {
+    fn raise(&self, fault_type: u8, code: u8, message: String) -> Box<Raised> {
+        Box::new(Raised {
             fault_type,
             code,
             message,
             routine: self.routine,
             line: self.line,
-        }
+        })
     }
 
     fn overflow(&mut self, what: &str) {
         let r = self.raise(4, 4, format!("arithmetic overflow: {what}"));
-        self.minor.push(r);
+        self.minor.push(*r);
         self.minor_total += 1;
     }
 
@@ -364,7 +365,7 @@ impl<'e> Exec<'e> {
         }
     }
 
-    fn subscript_fault(&self, name: &str, i: i64, len: usize) -> Raised {
+    fn subscript_fault(&self, name: &str, i: i64, len: usize) -> Box<Raised> {
         self.raise(
             4,
             20,
@@ -406,6 +407,9 @@ impl<'e> Exec<'e> {
     /// # Errors
     /// A subscript fault.
     pub fn load(&mut self, place: &Place) -> R<Value> {
+        if let Place::Slot(i) = place {
+            return Ok(self.mem.slots[*i]);
+        }
         if let Some(i) = self.slot(place)? {
             return Ok(self.mem.slots[i]);
         }
@@ -466,7 +470,11 @@ impl<'e> Exec<'e> {
     /// # Errors
     /// A subscript fault.
     pub fn store(&mut self, place: &Place, ty: DataType, v: Value) -> R<()> {
-        let (stored, bad) = ty.store(v);
+        // The common case, a DINT value into a DINT, needs no conversion.
+        let (stored, bad) = match (ty, v) {
+            (DataType::Dint, Value::Int(x)) if i32::try_from(x).is_ok() => (v, false),
+            _ => ty.store(v),
+        };
         if bad {
             self.overflow(&format!("the value does not fit {}", ty.name()));
         }
@@ -499,6 +507,7 @@ impl<'e> Exec<'e> {
     pub fn eval(&mut self, e: &CExpr) -> R<Value> {
         Ok(match &e.kind {
             CKind::Const(v) => *v,
+            CKind::Slot(i) => self.mem.slots[*i],
             CKind::Load(p) => self.load(p)?,
             CKind::Neg(a) => {
                 let v = self.eval(a)?;
@@ -517,7 +526,7 @@ impl<'e> Exec<'e> {
                 }
             }
             CKind::Binary(op, a, b, math) => {
-                let x = self.eval(a)?;
+                let x = self.leaf(a)?;
                 if *math == Ty::Bool {
                     let y = self.eval(b)?;
                     return Ok(Value::Bool(match op {
@@ -527,7 +536,7 @@ impl<'e> Exec<'e> {
                         _ => unreachable!("BOOL math is logic only"),
                     }));
                 }
-                let y = self.eval(b)?;
+                let y = self.leaf(b)?;
                 self.binary(*op, x, y, *math)
             }
             CKind::Func(f, a) => {
@@ -535,6 +544,24 @@ impl<'e> Exec<'e> {
                 self.function(*f, v, a.ty, e.ty)
             }
         })
+    }
+
+    fn dint_result(&mut self, r: i64, what: &str) -> Value {
+        if i32::try_from(r).is_ok() {
+            Value::Int(r)
+        } else {
+            self.int_result(i128::from(r), Ty::Dint, what)
+        }
+    }
+
+    /// [`Exec::eval`] with the leaves read in place.
+    #[inline]
+    fn leaf(&mut self, e: &CExpr) -> R<Value> {
+        match &e.kind {
+            CKind::Const(v) => Ok(*v),
+            CKind::Slot(i) => Ok(self.mem.slots[*i]),
+            _ => self.eval(e),
+        }
     }
 
     fn int_result(&mut self, r: i128, ty: Ty, what: &str) -> Value {
@@ -561,6 +588,23 @@ impl<'e> Exec<'e> {
 
     fn binary(&mut self, op: BinaryOp, x: Value, y: Value, math: Ty) -> Value {
         use BinaryOp as B;
+        if math == Ty::Dint {
+            // Two 32-bit operands: every result fits 64 bits.
+            let (a, b) = (x.as_i64(), y.as_i64());
+            match op {
+                B::Add => return self.dint_result(a + b, "addition"),
+                B::Sub => return self.dint_result(a - b, "subtraction"),
+                B::Mul => return self.dint_result(a * b, "multiplication"),
+                B::Lt => return Value::Bool(a < b),
+                B::Le => return Value::Bool(a <= b),
+                B::Gt => return Value::Bool(a > b),
+                B::Ge => return Value::Bool(a >= b),
+                B::Eq => return Value::Bool(a == b),
+                B::Ne => return Value::Bool(a != b),
+                B::Mod if b != 0 => return Value::Int(a % b),
+                _ => {}
+            }
+        }
         if math.is_integer() {
             let (a, b) = (i128::from(x.as_i64()), i128::from(y.as_i64()));
             let max = if math == Ty::Dint { i128::from(i32::MAX) } else { i128::from(i64::MAX) };

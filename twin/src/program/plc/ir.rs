@@ -20,6 +20,8 @@ pub struct CExpr {
 pub enum CKind {
     /// A constant.
     Const(Value),
+    /// A read of one slot of tag memory (the common case of [`CKind::Load`]).
+    Slot(usize),
     /// A read.
     Load(Box<Place>),
     /// `-x`.

@@ -365,6 +365,9 @@ impl Controller {
             let refusals = std::mem::take(&mut exec.refusals);
             self.stats.scans += 1;
             self.stats.statements += exec.steps;
+            if minor.is_empty() && refusals.is_empty() && result.is_ok() {
+                continue;
+            }
             let (task_name, program_name) = (self.tasks[i].name.clone(), self.tasks[i].programs[p].name.clone());
             let paths = self.tasks[i].programs[p].routine_paths.clone();
             let fault = |r: Raised, major: bool| Fault {
@@ -383,7 +386,7 @@ impl Controller {
             }
             self.refusals.extend(refusals);
             if let Err(r) = result {
-                self.major = Some(fault(r, true));
+                self.major = Some(fault(*r, true));
                 return;
             }
         }
