@@ -326,7 +326,7 @@ fn motion_instruction_members_read_and_write_like_tags() {
 fn writing_an_axis_member_is_refused_at_load_with_the_routine_line() {
     let path = scene("readonly", &tag("X", "REAL"), "X := 1.0;\nTable.ActualPosition := X;", 4.0);
     let scene = twin::scene::load(&path).expect("parses");
-    let e = Twin::new(scene).err().expect("refused").to_string();
+    let e = Twin::new(scene).expect_err("refused").to_string();
     assert!(e.contains("Main.st:2:1") && e.contains("read-only"), "{e}");
 }
 
@@ -341,4 +341,37 @@ fn twin_check_reports_a_routine_syntax_error_with_file_line_and_column() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(2));
     assert!(stderr.contains("Main.st:3:8: expected an operand"), "{stderr}");
+}
+
+#[test]
+fn an_iec_routine_calls_mc_move_modulo_on_its_instance_and_reads_its_outputs() {
+    let routine = "Trig.CLK := TRUE; R_TRIG(Trig); IF Trig.Q THEN Go := TRUE; END_IF;\n\
+                   Move(Axis := Table, Execute := Go, Position := 90.0, Velocity := 180.0, Acceleration := 1800.0,\n\
+                        Deceleration := 1800.0, Jerk := 18000.0, Direction := MC_Positive_Direction, BufferMode := MC_Aborting);\n\
+                   IF Move.Done THEN Finished := TRUE; Go := FALSE; END_IF;";
+    let tags = format!(
+        "{}{}{}{}",
+        tag("Trig", "R_TRIG"),
+        tag("Go", "BOOL"),
+        tag("Finished", "BOOL"),
+        tag("Move", "MC_MoveModulo")
+    );
+    let path = scene("iec_fb", &tags, routine, 4.0);
+    let text = std::fs::read_to_string(&path).expect("scene");
+    let text = text
+        .replace("main = \"Main.st\"", "main = { file = \"Main.st\", dialect = \"iec\" }")
+        .replacen("kind = \"rotary\"", "kind = \"rotary\"\nmodulo_period = 360.0", 1);
+    std::fs::write(&path, text).expect("scene");
+    let mut twin = load(&path);
+    for _ in 0..300 {
+        twin.step();
+    }
+    assert_eq!(value(&twin, "Finished"), Value::Bool(true));
+    let table = twin.task().axis_state(axis(&twin, "Table"));
+    assert!((table.command_position - 90.0).abs() < 1e-9, "{}", table.command_position);
+
+    // The same routine in the Logix dialect is refused, naming the dialect.
+    let logix = scene("iec_fb_in_logix", &tags, routine, 4.0);
+    let e = Twin::new(twin::scene::load(&logix).expect("parses")).expect_err("refused").to_string();
+    assert!(e.contains("IEC"), "{e}");
 }

@@ -130,9 +130,10 @@ impl Program {
     /// [`ProgramError::Step`] naming the step and what is wrong.
     pub fn bind(scene: &Scene, task: &mut MotionTask) -> Result<Program, ProgramError> {
         let mut instructions = Vec::new();
-        let plc = plc::Controller::new(scene, task, &mut instructions)?;
+        let mut fbs = Vec::new();
+        let plc = plc::Controller::new(scene, task, &mut instructions, &mut fbs)?;
         let mut program = Program {
-            fbs: Vec::new(),
+            fbs,
             instructions,
             steps: Vec::new(),
             plc,
@@ -163,7 +164,7 @@ impl Program {
         for (index, (name, at)) in scene.trace_tags.iter().enumerate() {
             let (place, ty) = program
                 .plc
-                .trace_place(name, task, &mut program.instructions)
+                .trace_place(name, task, &mut program.instructions, &mut program.fbs)
                 .map_err(|message| ProgramError::TraceTag {
                     scene: scene.path.clone(),
                     line: at.line,
@@ -214,7 +215,7 @@ impl Program {
         for i in steps::due(&mut self.steps, task, &self.fbs, &self.instructions) {
             self.steps[i].action.execute(task);
         }
-        self.plc.scan(task, &mut self.instructions);
+        self.plc.scan(task, &mut self.instructions, &mut self.fbs);
     }
 
     /// The `[trace] tags` entries.

@@ -28,7 +28,7 @@ pub(super) struct RawScene {
     #[serde(default)]
     pub(super) program: Vec<RawStep>,
     #[serde(default)]
-    pub(super) tasks: Vec<super::tasks::RawTask>,
+    pub(super) tasks: Vec<RawTask>,
     pub(super) snapshots: Option<RawSnapshots>,
     pub(super) trace: Option<RawTrace>,
     pub(super) collision: Option<super::collision::RawCollision>,
@@ -142,6 +142,40 @@ pub(super) struct RawStep {
     pub(super) when: Option<Spanned<String>>,
     pub(super) after_s: Option<Spanned<f64>>,
     pub(super) call: Spanned<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawTask {
+    pub(super) name: Spanned<String>,
+    pub(super) period_ms: Spanned<f64>,
+    pub(super) priority: Spanned<i64>,
+    pub(super) watchdog_ms: Option<Spanned<f64>>,
+    #[serde(default)]
+    pub(super) programs: Vec<RawProgram>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawProgram {
+    pub(super) name: Spanned<String>,
+    pub(super) main: Spanned<RawRoutine>,
+    #[serde(default)]
+    pub(super) routines: Vec<Spanned<RawRoutine>>,
+    #[serde(default)]
+    pub(super) tags: Vec<RawTag>,
+}
+
+/// A routine: a path, or `{ file = "…", dialect = "iec" }`.
+#[derive(Deserialize)]
+#[serde(untagged)]
+pub(super) enum RawRoutine {
+    Path(String),
+    Table {
+        file: String,
+        #[serde(default)]
+        dialect: Option<String>,
+    },
 }
 
 #[derive(Deserialize)]

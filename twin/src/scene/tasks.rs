@@ -4,11 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Deserialize;
 use toml::Spanned;
 
 use super::model::Tag;
-use super::raw::RawTag;
+use super::raw::{RawProgram, RawRoutine, RawTask};
 use super::{Axis, BaseType, Ctx, Location, NameKind, Names, Problem, SceneError};
 use crate::st::ast::Routine;
 use crate::st::parse::parse_routine;
@@ -74,40 +73,6 @@ pub struct RoutineDef {
     pub dialect: Dialect,
     /// The parsed routine.
     pub routine: Routine,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawTask {
-    name: Spanned<String>,
-    period_ms: Spanned<f64>,
-    priority: Spanned<i64>,
-    watchdog_ms: Option<Spanned<f64>>,
-    #[serde(default)]
-    programs: Vec<RawProgram>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawProgram {
-    name: Spanned<String>,
-    main: Spanned<RawRoutine>,
-    #[serde(default)]
-    routines: Vec<Spanned<RawRoutine>>,
-    #[serde(default)]
-    tags: Vec<RawTag>,
-}
-
-/// A routine: a path, or `{ file = "…", dialect = "iec" }`.
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum RawRoutine {
-    Path(String),
-    Table {
-        file: String,
-        #[serde(default)]
-        dialect: Option<String>,
-    },
 }
 
 impl Ctx<'_> {
@@ -191,7 +156,7 @@ impl Ctx<'_> {
         let mut names: Names = controller
             .iter()
             .filter(|(_, (_, kind))| matches!(kind, NameKind::Axis))
-            .map(|(k, v)| (k.clone(), v.clone()))
+            .map(|(k, v)| (k.clone(), *v))
             .collect();
         let tags = self.tags(&p.tags, axes, &mut names, &format!("{prefix}.tags"))?;
         for (k, t) in p.tags.iter().enumerate() {

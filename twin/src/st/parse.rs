@@ -280,11 +280,7 @@ impl Parser {
     }
 
     fn at_case_label(&self) -> bool {
-        match (self.tok(0), self.tok(1)) {
-            (Tok::Int(_), _) => true,
-            (Tok::Sym("-"), Tok::Int(_)) => true,
-            _ => false,
-        }
+        matches!((self.tok(0), self.tok(1)), (Tok::Int(_), _) | (Tok::Sym("-"), Tok::Int(_)))
     }
 
     fn case_value(&mut self) -> Result<i64, SyntaxError> {

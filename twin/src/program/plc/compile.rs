@@ -3,13 +3,13 @@
 //! checked, so that errors name the routine file, line and column at load.
 
 use super::ir::{
-    AXIS_MEMBERS, ArrayAt, Builtin, CExpr, CKind, CStmt, CoordMember, Func, GSV_ATTRIBUTES, GsvAttribute,
-    Instance, MotionArg, MotionCall, MotionMember, Place, SKind,
+    AXIS_MEMBERS, ArrayAt, BlockCall, Builtin, CExpr, CKind, CStmt, CoordMember, FbMember, Func, GSV_ATTRIBUTES,
+    GsvAttribute, Instance, MotionArg, MotionCall, MotionMember, Place, SKind,
 };
 use super::memory::{Kind, Memory};
 use super::types::{DataType, Structure, Ty, Value};
 use crate::program::bind::{LogixContext, axis_named};
-use crate::program::{coord, compile_logix};
+use crate::program::{FbBinding, coord, compile_logix};
 use crate::scene::{BaseType, Dialect};
 use crate::st::ast::{Access, Arg, BinaryOp, Call, Expr, ExprKind, Ref, Stmt, StmtKind, UnaryOp};
 use crate::st::lex::Pos;
@@ -47,6 +47,8 @@ pub struct Compiler<'c, 'a> {
     pub dialect: Dialect,
     /// The planner binding (handles are created on first use).
     pub ctx: &'c mut LogixContext<'a>,
+    /// The program's function-block instances (created on their first call).
+    pub fbs: &'c mut Vec<FbBinding>,
     /// Loop nesting (for `EXIT`).
     loops: usize,
 }
@@ -61,6 +63,7 @@ impl<'c, 'a> Compiler<'c, 'a> {
         routines: &'c [String],
         dialect: Dialect,
         ctx: &'c mut LogixContext<'a>,
+        fbs: &'c mut Vec<FbBinding>,
     ) -> Self {
         Compiler {
             mem,
@@ -68,8 +71,107 @@ impl<'c, 'a> Compiler<'c, 'a> {
             routines,
             dialect,
             ctx,
+            fbs,
             loops: 0,
         }
+    }
+
+    /// Binds the function-block calls of `stmts` (creating their instances),
+    /// so that a reference to an instance's output compiles wherever it
+    /// stands.
+    ///
+    /// # Errors
+    /// The first [`CompileError`] of a call.
+    pub fn bind_blocks(&mut self, stmts: &[Stmt]) -> Result<()> {
+        for s in stmts {
+            match &s.kind {
+                StmtKind::Call(call) if call.args.iter().any(|a| a.name.is_some()) => {
+                    self.block_call(call)?;
+                }
+                StmtKind::If { branches, otherwise } => {
+                    for (_, b) in branches {
+                        self.bind_blocks(b)?;
+                    }
+                    self.bind_blocks(otherwise)?;
+                }
+                StmtKind::Case { arms, otherwise, .. } => {
+                    for (_, b) in arms {
+                        self.bind_blocks(b)?;
+                    }
+                    self.bind_blocks(otherwise)?;
+                }
+                StmtKind::For { body, .. } | StmtKind::While { body, .. } | StmtKind::Repeat { body, .. } => {
+                    self.bind_blocks(body)?;
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// A PLCopen function block called on its instance with named inputs.
+    fn block_call(&mut self, call: &Call) -> Result<SKind> {
+        if self.dialect != Dialect::Iec {
+            return err(
+                call.pos,
+                format!(
+                    "{} is called with named inputs, as a PLCopen function block: write it in a routine of the IEC dialect ({{ file = \"…\", dialect = \"iec\" }}) or in a [[program]] step",
+                    call.name
+                ),
+            );
+        }
+        let Some(t) = self.mem.resolve(Some(self.program), &call.name) else {
+            return err(call.pos, format!("'{}' is not a tag of this program or a controller tag", call.name));
+        };
+        let info = self.mem.tags[t].clone();
+        if !matches!(info.kind, Kind::Planner(BaseType::FunctionBlock(_))) {
+            return err(call.pos, format!("'{}' is not a function-block instance", call.name));
+        }
+        let block = &catalogue::MC_MOVE_MODULO;
+        let mut inputs = Vec::with_capacity(call.args.len());
+        let mut probe = Vec::with_capacity(call.args.len());
+        for arg in &call.args {
+            let Some(input) = &arg.name else {
+                return err(arg.pos, "a function-block call names every input (Input := value)");
+            };
+            let text = arg.text.trim();
+            let spec = block.operand(input).map(|(_, spec)| spec);
+            let (value, p) = match spec {
+                Some(spec) if spec.code_of(text).is_some() => {
+                    (MotionArg::Name(text.to_owned()), crate::st::Expr::Ident(text.to_owned()))
+                }
+                Some(spec) if spec.name == "Axis" => {
+                    (MotionArg::Name(text.to_owned()), crate::st::Expr::Ident(text.to_owned()))
+                }
+                _ => {
+                    let v = self.value_arg(arg)?;
+                    let p = match (v.kind.clone(), spec.map(|s| s.kind)) {
+                        (CKind::Const(c), _) => match c {
+                            Value::Bool(b) => crate::st::Expr::Bool(b),
+                            Value::Int(i) => crate::st::Expr::Integer(i),
+                            Value::Real(x) => crate::st::Expr::Number(x),
+                        },
+                        (_, Some(OperandKind::Enumeration(words))) => {
+                            crate::st::Expr::Integer(words.first().map_or(0, |w| w.code))
+                        }
+                        _ if v.ty == Ty::Bool => crate::st::Expr::Bool(false),
+                        _ => crate::st::Expr::Number(0.0),
+                    };
+                    (MotionArg::Value(v), p)
+                }
+            };
+            inputs.push((input.clone(), value));
+            probe.push((input.clone(), p));
+        }
+        crate::program::modulo::bind(&named_call(&info.name, probe), self.ctx.scene, self.ctx.task, self.fbs)
+            .map_err(|e| CompileError {
+                pos: e.operand.and_then(|i| call.args.get(i)).map_or(call.pos, |a| a.pos),
+                message: e.message,
+            })?;
+        Ok(SKind::Block(BlockCall {
+            instance: info.name,
+            inputs,
+        }))
     }
 
     /// Compiles statements.
@@ -333,7 +435,7 @@ impl<'c, 'a> Compiler<'c, 'a> {
     fn writable(&mut self, r: &Ref) -> Result<(Place, DataType)> {
         let (place, ty) = self.place(r)?;
         match place {
-            Place::Axis(..) | Place::Coord(..) | Place::FirstScan | Place::MinorInScan | Place::MinorFaults => err(
+            Place::Axis(..) | Place::Coord(..) | Place::Fb(..) | Place::FirstScan | Place::MinorInScan | Place::MinorFaults => err(
                 r.pos,
                 format!("'{}' is read-only (axis and coordinate-system members, S:FS, S:MINOR and MinorFaults are the controller's)", show(r)),
             ),
@@ -514,6 +616,27 @@ impl<'c, 'a> Compiler<'c, 'a> {
                 };
                 (Place::Coord(handle, member), DataType::Bool)
             }
+            Kind::Planner(BaseType::FunctionBlock(_)) => {
+                let Some(Access::Member(m)) = path.next() else {
+                    return err(r.pos, format!("'{}' is a function block: name an output, e.g. {}.Done", r.name, r.name));
+                };
+                let Some(fb) = self.fbs.iter().find(|f| f.name.eq_ignore_ascii_case(&info.name)) else {
+                    return err(
+                        r.pos,
+                        format!("'{}' is never called in an IEC routine or a program step: it has no outputs to read", r.name),
+                    );
+                };
+                let outputs = planner::instruction::FbOutputs::default();
+                let member = if m.eq_ignore_ascii_case("ErrorID") {
+                    (FbMember::ErrorId, DataType::Udint)
+                } else if let Some((n, _)) = outputs.bits().into_iter().find(|(n, _)| n.eq_ignore_ascii_case(m)) {
+                    (FbMember::Bit(n), DataType::Bool)
+                } else {
+                    let names: Vec<&str> = outputs.bits().into_iter().map(|b| b.0).collect();
+                    return err(r.pos, format!("function block outputs are {}, ErrorID; not '{m}'", names.join(", ")));
+                };
+                (Place::Fb(fb.handle, member.0), member.1)
+            }
             Kind::Planner(base) => {
                 return err(r.pos, format!("'{}' is a {} tag: a program does not read it in an expression", r.name, base.name()));
             }
@@ -643,14 +766,8 @@ impl<'c, 'a> Compiler<'c, 'a> {
                 err(call.pos, format!("{upper} takes {n} operand(s), got {}", call.args.len()))
             }
         };
-        if let Some(a) = call.args.iter().find(|a| a.name.is_some()) {
-            return err(
-                a.pos,
-                format!(
-                    "{} is called with named inputs: the twin runs PLCopen function blocks only from [[program]] steps (not from routines yet)",
-                    call.name
-                ),
-            );
+        if call.args.iter().any(|a| a.name.is_some()) {
+            return self.block_call(call);
         }
         let iec = self.dialect == Dialect::Iec;
         let builtin = match upper.as_str() {
@@ -951,6 +1068,22 @@ fn fold_dint(op: BinaryOp, a: i64, b: i64) -> Option<Value> {
         BinaryOp::Eq => Some(Value::Bool(a == b)),
         BinaryOp::Ne => Some(Value::Bool(a != b)),
         _ => None,
+    }
+}
+
+/// A named call in the form the `[[program]]` binding reads.
+#[must_use]
+pub fn named_call(instance: &str, inputs: Vec<(String, crate::st::Expr)>) -> crate::st::Call {
+    use crate::st::{Args, Span, Spanned};
+    fn spanned<T>(value: T) -> Spanned<T> {
+        Spanned {
+            value,
+            span: Span::default(),
+        }
+    }
+    crate::st::Call {
+        name: spanned(instance.to_owned()),
+        args: Args::Named(inputs.into_iter().map(|(n, e)| (spanned(n), spanned(e))).collect()),
     }
 }
 

@@ -65,11 +65,19 @@ pub enum Flow {
     Return,
 }
 
-/// Runs a motion instruction with its operands: the binding, given the
-/// call and its operand expressions; `Err` carries the refusal and the
-/// call position of the operand at fault.
+/// What the binding is asked to run.
+pub enum Invocation<'i> {
+    /// A Logix instruction with its operand values in call order.
+    Logix(&'i MotionCall, Vec<crate::st::Expr>),
+    /// A function block: the instance and its named input values.
+    Block(&'i str, Vec<(String, crate::st::Expr)>),
+}
+
+/// Runs motion instructions and function blocks with their operand values
+/// (the program's binding); `Err` carries the refusal and the call
+/// position of the operand at fault.
 pub type MotionRunner<'r> =
-    dyn FnMut(&MotionCall, &[crate::st::Expr], &Memory, &mut MotionTask) -> Result<(), (Option<usize>, String)> + 'r;
+    dyn FnMut(Invocation<'_>, &Memory, &mut MotionTask) -> Result<(), (Option<usize>, String)> + 'r;
 
 /// One scan's state.
 pub struct Exec<'e> {
@@ -294,6 +302,16 @@ impl<'e> Exec<'e> {
                 self.store(place, *ty, v)?;
             }
             SKind::Motion(call) => self.motion_call(call)?,
+            SKind::Block(call) => {
+                let mut inputs = Vec::with_capacity(call.inputs.len());
+                for (name, arg) in &call.inputs {
+                    inputs.push((name.clone(), self.operand(arg, None)?));
+                }
+                if let Err((_, message)) = (self.motion)(Invocation::Block(&call.instance, inputs), self.mem, self.task)
+                {
+                    self.refusals.push(format!("{} (line {}): {message}", call.instance, self.line));
+                }
+            }
         }
         Ok(Flow::Next)
     }
@@ -440,6 +458,13 @@ impl<'e> Exec<'e> {
                 CoordMember::TransformSource => self.task.transform_source_status(*h),
                 CoordMember::TransformTarget => self.task.transform_target_status(*h),
             }),
+            Place::Fb(h, m) => {
+                let o = self.task.outputs(*h);
+                match m {
+                    super::ir::FbMember::Bit(name) => Value::Bool(o.bits().into_iter().any(|(n, b)| n == *name && b)),
+                    super::ir::FbMember::ErrorId => Value::Int(i64::from(o.error_id)),
+                }
+            }
             Place::FirstScan => Value::Bool(self.first_scan),
             Place::MinorInScan => Value::Bool(!self.minor.is_empty()),
             Place::MinorFaults => Value::Int(self.minor_total.min(i64::from(i32::MAX))),
@@ -881,19 +906,33 @@ impl<'e> Exec<'e> {
         self.set(base, s, "DN", Value::Bool(acc >= pre));
     }
 
+    /// An operand as the binding reads it (`kind`: the operand's catalogue
+    /// kind, which decides integer or number; `None` keeps the value's own).
+    fn operand(&mut self, arg: &MotionArg, kind: Option<planner::catalogue::Kind>) -> R<crate::st::Expr> {
+        Ok(match arg {
+            MotionArg::Name(n) => crate::st::Expr::Ident(n.clone()),
+            MotionArg::Element(n, index) => {
+                let i = self.eval(index)?.as_i64();
+                crate::st::Expr::Index(Box::new(crate::st::Expr::Ident(n.clone())), i)
+            }
+            MotionArg::Value(e) => {
+                let v = self.eval(e)?;
+                match (kind, v) {
+                    (Some(k), _) => super::compile::operand_expr(k, v),
+                    (None, Value::Bool(b)) => crate::st::Expr::Bool(b),
+                    (None, Value::Int(i)) => crate::st::Expr::Integer(i),
+                    (None, Value::Real(x)) => crate::st::Expr::Number(x),
+                }
+            }
+        })
+    }
+
     fn motion_call(&mut self, call: &MotionCall) -> R<()> {
         let mut exprs = Vec::with_capacity(call.args.len());
         for (spec, arg) in call.instruction.operands.iter().zip(&call.args) {
-            exprs.push(match arg {
-                MotionArg::Name(n) => crate::st::Expr::Ident(n.clone()),
-                MotionArg::Element(n, index) => {
-                    let i = self.eval(index)?.as_i64();
-                    crate::st::Expr::Index(Box::new(crate::st::Expr::Ident(n.clone())), i)
-                }
-                MotionArg::Value(e) => super::compile::operand_expr(spec.kind, self.eval(e)?),
-            });
+            exprs.push(self.operand(arg, Some(spec.kind))?);
         }
-        if let Err((operand, message)) = (self.motion)(call, &exprs, self.mem, self.task) {
+        if let Err((operand, message)) = (self.motion)(Invocation::Logix(call, exprs), self.mem, self.task) {
             // An operand value the instruction cannot take: ERR 13 with the
             // operand's faceplate index, as the controller reports it.
             if let Some(control) = call.control {

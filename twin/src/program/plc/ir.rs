@@ -4,7 +4,7 @@
 use super::types::{DataType, Structure, Ty, Value};
 use crate::st::ast::{BinaryOp, CaseLabel};
 use planner::catalogue::Instruction;
-use planner::task::{AxisHandle, CoordHandle, InstructionHandle};
+use planner::task::{AxisHandle, CoordHandle, FbHandle, InstructionHandle};
 
 /// A typed expression.
 #[derive(Debug, Clone)]
@@ -126,6 +126,8 @@ pub enum Place {
     Axis(AxisHandle, AxisMember),
     /// A coordinate-system status bit (read-only).
     Coord(CoordHandle, CoordMember),
+    /// An output of a PLCopen function-block instance (read-only).
+    Fb(FbHandle, FbMember),
     /// `S:FS`.
     FirstScan,
     /// `S:MINOR` (a minor fault was recorded in this scan).
@@ -145,6 +147,16 @@ pub enum MotionMember {
     Exerr,
     /// `SEGMENT`.
     Segment,
+}
+
+/// The outputs of a PLCopen function block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FbMember {
+    /// A BOOL output by name (`Done`, `Busy`, `Active`, `CommandAborted`,
+    /// `Error`).
+    Bit(&'static str),
+    /// `ErrorID`.
+    ErrorId,
 }
 
 /// The axis members a program reads.
@@ -349,6 +361,18 @@ pub enum SKind {
     Gsv(AxisHandle, GsvAttribute, Place, DataType),
     /// A motion instruction.
     Motion(MotionCall),
+    /// A PLCopen function block called on its instance with named inputs
+    /// (IEC dialect): the inputs it names are set at every execution.
+    Block(BlockCall),
+}
+
+/// A function-block call: the instance tag and the inputs it names.
+#[derive(Debug, Clone)]
+pub struct BlockCall {
+    /// The instance tag (qualified for a program tag).
+    pub instance: String,
+    /// Each named input with its value.
+    pub inputs: Vec<(String, MotionArg)>,
 }
 
 /// The `AXIS` attributes `GSV` reads.

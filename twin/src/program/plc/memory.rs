@@ -124,8 +124,7 @@ impl Memory {
                 // when it is executed.
                 for _ in 0..len.unwrap_or(1) {
                     for (name, t, _) in s.members() {
-                        self.slots.push(Value::Bool(*name == "EnableIn"));
-                        self.slots.last_mut().map(|v| *v = t.store(*v).0);
+                        self.slots.push(t.store(Value::Bool(*name == "EnableIn")).0);
                         self.types.push(*t);
                     }
                 }

@@ -56,11 +56,11 @@ pub mod memory;
 pub mod sandbox;
 pub mod types;
 
-use super::InstructionBinding;
+use super::{FbBinding, InstructionBinding};
 use super::bind::{LogixContext, TagValues};
 use crate::scene::{Scene, Tag, TagValue};
 use compile::{CompileError, Compiler};
-use exec::{Exec, NOMINAL_STATEMENT_US, Raised};
+use exec::{Exec, Invocation, NOMINAL_STATEMENT_US, Raised};
 use ir::{Builtin, CStmt, MotionMember, Place, SKind};
 use memory::Memory;
 use planner::instruction::MotionInstructionBits;
@@ -197,6 +197,7 @@ impl Controller {
         scene: &Scene,
         task: &mut MotionTask,
         instructions: &mut Vec<InstructionBinding>,
+        fbs: &mut Vec<FbBinding>,
     ) -> Result<Controller, TaskError> {
         let mut mem = Memory::default();
         for a in &scene.axes {
@@ -228,22 +229,33 @@ impl Controller {
             for p in &t.programs {
                 let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
                 let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
-                let mut routines = Vec::with_capacity(defs.len());
-                for def in &defs {
-                    let mut ctx = LogixContext {
-                        scene: &view,
-                        values: &mem,
-                        task,
-                        instructions,
-                    };
-                    let mut compiler = Compiler::new(&mem, &p.name, &names, def.dialect, &mut ctx);
-                    let body = compiler.block(&def.routine.body).map_err(|e: CompileError| TaskError {
-                        file: def.path.clone(),
+                let mut ctx = LogixContext {
+                    scene: &view,
+                    values: &mem,
+                    task,
+                    instructions,
+                };
+                let failed = |def: &crate::scene::RoutineDef| {
+                    let file = def.path.clone();
+                    move |e: CompileError| TaskError {
+                        file,
                         line: e.pos.line as usize,
                         column: e.pos.column as usize,
                         message: e.message,
-                    })?;
-                    routines.push(body);
+                    }
+                };
+                // Function-block instances first, so that their outputs
+                // compile wherever they are read.
+                for def in &defs {
+                    let mut compiler = Compiler::new(&mem, &p.name, &names, def.dialect, &mut ctx, fbs);
+                    if def.dialect == crate::scene::Dialect::Iec {
+                        compiler.bind_blocks(&def.routine.body).map_err(failed(def))?;
+                    }
+                }
+                let mut routines = Vec::with_capacity(defs.len());
+                for def in &defs {
+                    let mut compiler = Compiler::new(&mem, &p.name, &names, def.dialect, &mut ctx, fbs);
+                    routines.push(compiler.block(&def.routine.body).map_err(failed(def))?);
                 }
                 programs.push(ProgramRun {
                     name: p.name.clone(),
@@ -297,7 +309,12 @@ impl Controller {
 
     /// Runs every trigger due at the planner's current time (module doc,
     /// "Timing"). Nothing runs once a major fault stopped the controller.
-    pub fn scan(&mut self, task: &mut MotionTask, instructions: &mut Vec<InstructionBinding>) {
+    pub fn scan(
+        &mut self,
+        task: &mut MotionTask,
+        instructions: &mut Vec<InstructionBinding>,
+        fbs: &mut Vec<FbBinding>,
+    ) {
         if self.major.is_some() || self.tasks.is_empty() {
             return;
         }
@@ -316,7 +333,7 @@ impl Controller {
         }
         due.sort_unstable();
         for (at_us, _, i) in due {
-            self.run_task(i, at_us, task, instructions);
+            self.run_task(i, at_us, task, instructions, fbs);
             if self.major.is_some() {
                 break;
             }
@@ -324,7 +341,14 @@ impl Controller {
         self.stats.wall += wall.elapsed();
     }
 
-    fn run_task(&mut self, i: usize, at_us: i64, task: &mut MotionTask, instructions: &mut Vec<InstructionBinding>) {
+    fn run_task(
+        &mut self,
+        i: usize,
+        at_us: i64,
+        task: &mut MotionTask,
+        instructions: &mut Vec<InstructionBinding>,
+        fbs: &mut Vec<FbBinding>,
+    ) {
         let mut statements = 0u64;
         for p in 0..self.tasks[i].programs.len() {
             let t = &mut self.tasks[i];
@@ -332,8 +356,7 @@ impl Controller {
             let program = &mut t.programs[p];
             let first = std::mem::replace(&mut program.first_scan, false);
             let scene = &self.view;
-            let mut runner = |call: &ir::MotionCall,
-                              exprs: &[crate::st::Expr],
+            let mut runner = |invocation: Invocation<'_>,
                               mem: &Memory,
                               task: &mut MotionTask|
              -> Result<(), (Option<usize>, String)> {
@@ -343,9 +366,23 @@ impl Controller {
                     task,
                     instructions,
                 };
-                let step = super::compile_logix(call.instruction.mnemonic, exprs, &mut ctx)
-                    .map_err(|e| (e.operand, e.message))?;
-                (step.run)(task);
+                match invocation {
+                    Invocation::Logix(call, exprs) => {
+                        let step = super::compile_logix(call.instruction.mnemonic, &exprs, &mut ctx)
+                            .map_err(|e| (e.operand, e.message))?;
+                        (step.run)(task);
+                    }
+                    Invocation::Block(instance, inputs) => {
+                        let call = compile::named_call(instance, inputs);
+                        let bound = super::modulo::bind(&call, scene, ctx.task, fbs).map_err(|e| (e.operand, e.message))?;
+                        let fb = fbs[bound.fb].handle;
+                        let mut set = task.move_modulo_inputs(fb);
+                        for setting in bound.set {
+                            setting.apply(&mut set);
+                        }
+                        task.set_move_modulo_inputs(fb, set);
+                    }
+                }
                 Ok(())
             };
             let mut exec = Exec::new(
@@ -484,6 +521,7 @@ impl Controller {
         text: &str,
         task: &mut MotionTask,
         instructions: &mut Vec<InstructionBinding>,
+        fbs: &mut Vec<FbBinding>,
     ) -> Result<(Place, types::DataType), String> {
         let e = crate::st::parse::parse_expression(text).map_err(|e| e.message)?;
         let crate::st::ast::ExprKind::Ref(r) = &e.kind else {
@@ -495,7 +533,7 @@ impl Controller {
             task,
             instructions,
         };
-        let mut compiler = Compiler::new(&self.mem, "", &[], crate::scene::Dialect::Logix, &mut ctx);
+        let mut compiler = Compiler::new(&self.mem, "", &[], crate::scene::Dialect::Logix, &mut ctx, fbs);
         let (place, ty) = compiler.reference(r).map_err(|e| e.message)?;
         if !constant_place(&place) {
             return Err(format!("'{text}': a traced element needs a constant subscript"));
@@ -579,6 +617,13 @@ fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
             ir::CoordMember::TransformSource => task.transform_source_status(*h),
             ir::CoordMember::TransformTarget => task.transform_target_status(*h),
         }),
+        Place::Fb(h, m) => {
+            let o = task.outputs(*h);
+            match m {
+                ir::FbMember::Bit(n) => Value::Bool(o.bits().into_iter().any(|(x, b)| x == *n && b)),
+                ir::FbMember::ErrorId => Value::Int(i64::from(o.error_id)),
+            }
+        }
         Place::FirstScan | Place::MinorInScan => Value::Bool(false),
         Place::MinorFaults => Value::Int(0),
     }

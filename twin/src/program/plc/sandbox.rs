@@ -10,7 +10,7 @@
 
 use super::types::Value;
 use super::{Controller, memory};
-use crate::program::InstructionBinding;
+use crate::program::{FbBinding, InstructionBinding};
 use crate::scene::{BaseType, Dialect, Location, ProgramDef, Robot, RoutineDef, Scene, Tag, TagType, Task};
 use crate::st::parse::parse_routine;
 use planner::task::MotionTask;
@@ -21,6 +21,7 @@ pub struct Sandbox {
     plc: Controller,
     task: MotionTask,
     instructions: Vec<InstructionBinding>,
+    fbs: Vec<FbBinding>,
 }
 
 impl Sandbox {
@@ -91,18 +92,20 @@ impl Sandbox {
         };
         let mut task = MotionTask::new(0.004).map_err(|e| e.to_string())?;
         let mut instructions = Vec::new();
-        let plc = Controller::new(&scene, &mut task, &mut instructions)
+        let mut fbs = Vec::new();
+        let plc = Controller::new(&scene, &mut task, &mut instructions, &mut fbs)
             .map_err(|e| format!("{}:{}: {}", e.line, e.column, e.message))?;
         Ok(Sandbox {
             plc,
             task,
             instructions,
+            fbs,
         })
     }
 
     /// One coarse update with the scan due in it.
     pub fn scan(&mut self) {
-        self.plc.scan(&mut self.task, &mut self.instructions);
+        self.plc.scan(&mut self.task, &mut self.instructions, &mut self.fbs);
         self.task.update();
     }
 

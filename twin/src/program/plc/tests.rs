@@ -47,7 +47,7 @@ impl Run {
             task.add_axis(a.config.clone(), 0.0).map_err(|e| e.to_string())?;
         }
         let mut instructions = Vec::new();
-        let plc = Controller::new(&scene, &mut task, &mut instructions).map_err(|e| e.to_string())?;
+        let plc = Controller::new(&scene, &mut task, &mut instructions, &mut Vec::new()).map_err(|e| e.to_string())?;
         Ok(Run { plc, task })
     }
 
@@ -55,7 +55,7 @@ impl Run {
     pub(crate) fn scans(&mut self, n: usize) -> &mut Self {
         let mut instructions = Vec::new();
         for _ in 0..n {
-            self.plc.scan(&mut self.task, &mut instructions);
+            self.plc.scan(&mut self.task, &mut instructions, &mut Vec::new());
             self.task.update();
         }
         self
@@ -258,24 +258,25 @@ fn tofr_and_rtor_histories() {
 
 #[test]
 fn ctud_counts_edges_and_osri_pulses_once() {
-    let tags = format!("{}{}{}{}", tag("C1", "FBD_COUNTER"), tag("O1", "FBD_ONESHOT"), tag("N", "DINT"), tag("P", "DINT"));
+    let tags = format!("{}{}{}{}", tag("C1", "FBD_COUNTER"), tag("O1", "FBD_ONESHOT"), tag("N", "DINT"), tag("Pulses", "DINT"));
     let routine = "N := N + 1;\n\
                    C1.PRE := 2; C1.CUEnable := (N MOD 2) = 0; C1.CDEnable := N = 7; CTUD(C1);\n\
-                   O1.InputBit := N >= 3; OSRI(O1); IF O1.OutputBit THEN P := P + 1; END_IF;";
+                   O1.InputBit := N >= 3; OSRI(O1); IF O1.OutputBit THEN Pulses := Pulses + 1; END_IF;";
     let mut run = Run::new(&tags, routine).unwrap();
     run.scans(8);
     // Rising CUEnable at N = 2, 4, 6, 8; CDEnable rises at N = 7.
     assert_eq!(int(run.member("C1", "ACC")), 3);
     assert_eq!(run.member("C1", "DN"), Value::Bool(true));
-    assert_eq!(int(run.get("P")), 1, "one pulse");
+    assert_eq!(int(run.get("Pulses")), 1, "one pulse");
 }
 
 #[test]
 fn osri_gives_no_pulse_on_the_first_scan_when_the_input_is_already_true() {
-    let tags = format!("{}{}", tag("O1", "FBD_ONESHOT"), tag("P", "DINT"));
-    let mut run = Run::new(&tags, "O1.InputBit := TRUE; OSRI(O1); IF O1.OutputBit THEN P := P + 1; END_IF;").unwrap();
+    let tags = format!("{}{}", tag("O1", "FBD_ONESHOT"), tag("Pulses", "DINT"));
+    let mut run =
+        Run::new(&tags, "O1.InputBit := TRUE; OSRI(O1); IF O1.OutputBit THEN Pulses := Pulses + 1; END_IF;").unwrap();
     run.scans(3);
-    assert_eq!(int(run.get("P")), 0);
+    assert_eq!(int(run.get("Pulses")), 0);
 }
 
 #[test]
@@ -298,8 +299,8 @@ fn jsr_passes_parameters_and_returns_values() {
     };
     let mut task = MotionTask::new(0.004).unwrap();
     let mut instructions = Vec::new();
-    let mut plc = Controller::new(&scene, &mut task, &mut instructions).unwrap();
-    plc.scan(&mut task, &mut instructions);
+    let mut plc = Controller::new(&scene, &mut task, &mut instructions, &mut Vec::new()).unwrap();
+    plc.scan(&mut task, &mut instructions, &mut Vec::new());
     let a = plc.mem.find("A").unwrap();
     assert_eq!(plc.mem.slots[plc.mem.tags[a].base], Value::Int(42));
 }
@@ -333,8 +334,8 @@ fn program_tags_shadow_controller_tags() {
     };
     let mut task = MotionTask::new(0.004).unwrap();
     let mut instructions = Vec::new();
-    let mut plc = Controller::new(&scene, &mut task, &mut instructions).unwrap();
-    plc.scan(&mut task, &mut instructions);
+    let mut plc = Controller::new(&scene, &mut task, &mut instructions, &mut Vec::new()).unwrap();
+    plc.scan(&mut task, &mut instructions, &mut Vec::new());
     let read = |n: &str| plc.mem.slots[plc.mem.tags[plc.mem.find(n).unwrap()].base];
     assert_eq!(read("P.A"), Value::Int(5));
     assert_eq!(read("A"), Value::Int(0));
