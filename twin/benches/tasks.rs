@@ -1,9 +1,10 @@
 //! Task engine speed: one scan of a 500-statement Structured Text routine
-//! (assignments with arithmetic, IF, CASE, a FOR loop, a timer), and one
-//! scan of the palletizer's routine.
+//! (assignments with arithmetic, IF, CASE, array elements), and the cost of
+//! a scan itself (a one-statement routine).
 //!
-//! Run with `cargo bench -p twin --profile dev --bench tasks` (the release
-//! profile gives lower numbers; the README reports the dev ones).
+//! Run with `CARGO_PROFILE_DEV_OPT_LEVEL=3 cargo bench -p twin --profile dev
+//! --bench tasks`: the dependencies keep the dev profile's `opt-level = 2`,
+//! the workspace crates (the engine) are optimised like a release build.
 
 #![allow(missing_docs)]
 

@@ -108,6 +108,9 @@ pub struct Exec<'e> {
     depth: usize,
     params: Vec<Value>,
     returns: Vec<Value>,
+    /// A fault raised while evaluating: the statement stops at its next
+    /// check, before any further side effect.
+    fault: Option<Box<Raised>>,
 }
 
 /// Faults are boxed: the happy path carries a `Value`-sized result.
@@ -143,6 +146,22 @@ impl<'e> Exec<'e> {
             depth: 0,
             params: Vec::new(),
             returns: Vec::new(),
+            fault: None,
+        }
+    }
+
+    /// Records the first fault of the statement.
+    fn fail(&mut self, r: Box<Raised>) {
+        if self.fault.is_none() {
+            self.fault = Some(r);
+        }
+    }
+
+    /// The fault an evaluation raised, if any.
+    fn check(&mut self) -> R<()> {
+        match self.fault.take() {
+            Some(f) => Err(f),
+            None => Ok(()),
         }
     }
 
@@ -163,6 +182,7 @@ impl<'e> Exec<'e> {
     }
 
     fn tick(&mut self) -> R<()> {
+        self.check()?;
         self.steps += 1;
         if self.steps > self.budget {
             return Err(self.raise(
@@ -202,19 +222,24 @@ impl<'e> Exec<'e> {
     fn stmt(&mut self, s: &CStmt) -> R<Flow> {
         match &s.kind {
             SKind::Assign { target, ty, value, .. } => {
-                let v = self.eval(value)?;
-                self.store(target, *ty, v)?;
+                let v = self.eval(value);
+                self.check()?;
+                self.store(target, *ty, v);
+                self.check()?;
             }
             SKind::If(branches, otherwise) => {
                 for (c, body) in branches {
-                    if self.eval(c)?.truthy() {
+                    let taken = self.eval(c).truthy();
+                    self.check()?;
+                    if taken {
                         return self.block(body);
                     }
                 }
                 return self.block(otherwise);
             }
             SKind::Case(sel, arms, otherwise) => {
-                let x = self.eval(sel)?.as_i64();
+                let x = self.eval(sel).as_i64();
+                self.check()?;
                 for (labels, body) in arms {
                     if labels.iter().any(|l| l.matches(x)) {
                         return self.block(body);
@@ -232,7 +257,9 @@ impl<'e> Exec<'e> {
             } => return self.for_loop(counter, *ty, from, to, by, body),
             SKind::While(c, body) => loop {
                 self.tick()?;
-                if !self.eval(c)?.truthy() {
+                let more = self.eval(c).truthy();
+                self.check()?;
+                if !more {
                     break;
                 }
                 match self.block(body)? {
@@ -248,13 +275,16 @@ impl<'e> Exec<'e> {
                     Flow::Return => return Ok(Flow::Return),
                     Flow::Next => {}
                 }
-                if self.eval(until)?.truthy() {
+                let done = self.eval(until).truthy();
+                self.check()?;
+                if done {
                     break;
                 }
             },
             SKind::Exit => return Ok(Flow::Exit),
             SKind::Builtin(b, inst) => {
-                let base = self.instance_base(inst)?;
+                let base = self.instance_base(inst);
+                self.check()?;
                 self.builtin(*b, base);
             }
             SKind::Jsr {
@@ -265,30 +295,38 @@ impl<'e> Exec<'e> {
             SKind::Sbr(targets) => {
                 let params = std::mem::take(&mut self.params);
                 for ((place, ty), v) in targets.iter().zip(params) {
-                    self.store(place, *ty, v)?;
+                    self.store(place, *ty, v);
+                    self.check()?;
                 }
             }
             SKind::Ret(values) => {
-                self.returns = values.iter().map(|v| self.eval(v)).collect::<R<Vec<_>>>()?;
+                self.returns = values.iter().map(|v| self.eval(v)).collect();
+                self.check()?;
                 return Ok(Flow::Return);
             }
             SKind::Cop(src, dst, len) => {
-                let n = self.eval(len)?.as_i64();
+                let n = self.eval(len).as_i64();
+                self.check()?;
                 let (s, d) = (self.array_range(src, n)?, self.array_range(dst, n)?);
                 let values: Vec<Value> = self.mem.slots[s..s + n as usize].to_vec();
                 self.mem.slots[d..d + n as usize].copy_from_slice(&values);
             }
             SKind::Fll(value, dst, len) => {
-                let n = self.eval(len)?.as_i64();
+                let n = self.eval(len).as_i64();
+                self.check()?;
                 let d = self.array_range(dst, n)?;
-                let v = self.eval(value)?;
+                let v = self.eval(value);
+                self.check()?;
                 let (stored, bad) = dst.ty.store(v);
                 if bad {
                     self.overflow("FLL source does not fit the destination");
                 }
                 self.mem.slots[d..d + n as usize].fill(stored);
             }
-            SKind::Size(len, place, ty) => self.store(place, *ty, Value::Int(*len as i64))?,
+            SKind::Size(len, place, ty) => {
+                self.store(place, *ty, Value::Int(*len as i64));
+                self.check()?;
+            }
             SKind::Gsv(axis, attribute, place, ty) => {
                 let config = self.task.axis_config(*axis);
                 let v = match attribute {
@@ -299,14 +337,16 @@ impl<'e> Exec<'e> {
                     // Axes are always enabled in the twin: Running.
                     GsvAttribute::CipAxisState => Value::Int(4),
                 };
-                self.store(place, *ty, v)?;
+                self.store(place, *ty, v);
+                self.check()?;
             }
             SKind::Motion(call) => self.motion_call(call)?,
             SKind::Block(call) => {
                 let mut inputs = Vec::with_capacity(call.inputs.len());
                 for (name, arg) in &call.inputs {
-                    inputs.push((name.clone(), self.operand(arg, None)?));
+                    inputs.push((name.clone(), self.operand(arg, None)));
                 }
+                self.check()?;
                 if let Err((_, message)) = (self.motion)(Invocation::Block(&call.instance, inputs), self.mem, self.task)
                 {
                     self.refusals.push(format!("{} (line {}): {message}", call.instance, self.line));
@@ -317,13 +357,15 @@ impl<'e> Exec<'e> {
     }
 
     fn for_loop(&mut self, counter: &Place, ty: DataType, from: &CExpr, to: &CExpr, by: &CExpr, body: &[CStmt]) -> R<Flow> {
-        let start = self.eval(from)?;
-        self.store(counter, ty, start)?;
+        let start = self.eval(from);
+        self.check()?;
+        self.store(counter, ty, start);
         loop {
             self.tick()?;
-            let i = self.load(counter)?.as_i64();
-            let end = self.eval(to)?.as_i64();
-            let step = self.eval(by)?.as_i64();
+            let i = self.load(counter).as_i64();
+            let end = self.eval(to).as_i64();
+            let step = self.eval(by).as_i64();
+            self.check()?;
             if (step >= 0 && i > end) || (step < 0 && i < end) {
                 return Ok(Flow::Next);
             }
@@ -332,8 +374,8 @@ impl<'e> Exec<'e> {
                 Flow::Return => return Ok(Flow::Return),
                 Flow::Next => {}
             }
-            let i = self.load(counter)?.as_i64();
-            self.store(counter, ty, Value::Int(i.wrapping_add(step)))?;
+            let i = self.load(counter).as_i64();
+            self.store(counter, ty, Value::Int(i.wrapping_add(step)));
         }
     }
 
@@ -341,7 +383,8 @@ impl<'e> Exec<'e> {
         if self.depth >= MAX_JSR_DEPTH {
             return Err(self.raise(4, 84, format!("stack overflow: JSR nested deeper than {MAX_JSR_DEPTH}")));
         }
-        self.params = inputs.iter().map(|e| self.eval(e)).collect::<R<Vec<_>>>()?;
+        self.params = inputs.iter().map(|e| self.eval(e)).collect();
+        self.check()?;
         self.returns.clear();
         let (caller, line) = (self.routine, self.line);
         self.depth += 1;
@@ -353,13 +396,15 @@ impl<'e> Exec<'e> {
         flow?;
         let values = std::mem::take(&mut self.returns);
         for ((place, ty), v) in returns.iter().zip(values) {
-            self.store(place, *ty, v)?;
+            self.store(place, *ty, v);
+            self.check()?;
         }
         Ok(())
     }
 
     fn array_range(&mut self, a: &ArrayAt, n: i64) -> R<usize> {
-        let start = self.eval(&a.start)?.as_i64();
+        let start = self.eval(&a.start).as_i64();
+        self.check()?;
         if start < 0 || n < 0 || start + n > a.len as i64 {
             return Err(self.raise(
                 4,
@@ -370,15 +415,17 @@ impl<'e> Exec<'e> {
         Ok(a.base + start as usize)
     }
 
-    fn instance_base(&mut self, inst: &Instance) -> R<usize> {
+    fn instance_base(&mut self, inst: &Instance) -> usize {
         match &inst.index {
-            None => Ok(inst.base),
+            None => inst.base,
             Some((index, len)) => {
-                let i = self.eval(index)?.as_i64();
+                let i = self.eval(index).as_i64();
                 if i < 0 || i >= *len as i64 {
-                    return Err(self.subscript_fault(&inst.name, i, *len));
+                    let f = self.subscript_fault(&inst.name, i, *len);
+                    self.fail(f);
+                    return inst.base;
                 }
-                Ok(inst.base + i as usize * inst.structure.size())
+                inst.base + i as usize * inst.structure.size()
             }
         }
     }
@@ -391,8 +438,10 @@ impl<'e> Exec<'e> {
         )
     }
 
-    fn slot(&mut self, place: &Place) -> R<Option<usize>> {
-        Ok(match place {
+    /// The slot a place reads or writes (`None` for the planner's places,
+    /// or when its subscript is out of range, which records the fault).
+    fn slot(&mut self, place: &Place) -> Option<usize> {
+        match place {
             Place::Slot(i) => Some(*i),
             Place::Element {
                 base,
@@ -402,39 +451,40 @@ impl<'e> Exec<'e> {
                 index,
                 name,
             } => {
-                let i = self.eval(index)?.as_i64();
+                let i = self.leaf(index).as_i64();
                 if i < 0 || i >= *len as i64 {
-                    return Err(self.subscript_fault(name, i, *len));
+                    let f = self.subscript_fault(name, i, *len);
+                    self.fail(f);
+                    return None;
                 }
                 Some(base + i as usize * stride + offset)
             }
             _ => None,
-        })
+        }
     }
 
-    fn bit_number(&mut self, bit: &CExpr, width: u32) -> R<u32> {
-        let b = self.eval(bit)?.as_i64();
+    fn bit_number(&mut self, bit: &CExpr, width: u32) -> Option<u32> {
+        let b = self.leaf(bit).as_i64();
         if b < 0 || b >= i64::from(width) {
-            return Err(self.raise(4, 20, format!("bit {b} is outside a {width}-bit integer")));
+            let f = self.raise(4, 20, format!("bit {b} is outside a {width}-bit integer"));
+            self.fail(f);
+            return None;
         }
-        Ok(b as u32)
+        Some(b as u32)
     }
 
-    /// Reads a place.
-    ///
-    /// # Errors
-    /// A subscript fault.
-    pub fn load(&mut self, place: &Place) -> R<Value> {
+    /// Reads a place (0 after a subscript fault, which is recorded).
+    pub fn load(&mut self, place: &Place) -> Value {
         if let Place::Slot(i) = place {
-            return Ok(self.mem.slots[*i]);
+            return self.mem.slots[*i];
         }
-        if let Some(i) = self.slot(place)? {
-            return Ok(self.mem.slots[i]);
+        if let Place::Element { .. } = place {
+            return self.slot(place).map_or(Value::Int(0), |i| self.mem.slots[i]);
         }
-        Ok(match place {
+        match place {
             Place::Bit { inner, width, bit, .. } => {
-                let v = self.load(inner)?.as_i64();
-                let b = self.bit_number(bit, *width)?;
+                let v = self.load(inner).as_i64();
+                let b = self.bit_number(bit, *width).unwrap_or(0);
                 Value::Bool(v >> b & 1 == 1)
             }
             Place::Motion(h, member) => {
@@ -469,7 +519,7 @@ impl<'e> Exec<'e> {
             Place::MinorInScan => Value::Bool(!self.minor.is_empty()),
             Place::MinorFaults => Value::Int(self.minor_total.min(i64::from(i32::MAX))),
             Place::Slot(_) | Place::Element { .. } => unreachable!("slots read above"),
-        })
+        }
     }
 
     fn axis_member(&self, h: planner::task::AxisHandle, m: AxisMember) -> Value {
@@ -490,11 +540,12 @@ impl<'e> Exec<'e> {
         }
     }
 
-    /// Writes a place, converting to its type.
-    ///
-    /// # Errors
-    /// A subscript fault.
-    pub fn store(&mut self, place: &Place, ty: DataType, v: Value) -> R<()> {
+    /// Writes a place, converting to its type; nothing after a fault of the
+    /// statement (a subscript out of range is recorded).
+    pub fn store(&mut self, place: &Place, ty: DataType, v: Value) {
+        if self.fault.is_some() {
+            return;
+        }
         // The common case, a DINT value into a DINT, needs no conversion.
         let (stored, bad) = match (ty, v) {
             (DataType::Dint, Value::Int(x)) if i32::try_from(x).is_ok() => (v, false),
@@ -503,17 +554,23 @@ impl<'e> Exec<'e> {
         if bad {
             self.overflow(&format!("the value does not fit {}", ty.name()));
         }
-        if let Some(i) = self.slot(place)? {
-            self.mem.slots[i] = stored;
-            return Ok(());
+        if let Place::Slot(i) = place {
+            self.mem.slots[*i] = stored;
+            return;
+        }
+        if let Place::Element { .. } = place {
+            if let Some(i) = self.slot(place) {
+                self.mem.slots[i] = stored;
+            }
+            return;
         }
         match place {
             Place::Bit { inner, width, bit, ty } => {
-                let b = self.bit_number(bit, *width)?;
-                let old = self.load(inner)?.as_i64();
+                let Some(b) = self.bit_number(bit, *width) else { return };
+                let old = self.load(inner).as_i64();
                 let new = if stored.truthy() { old | 1 << b } else { old & !(1 << b) };
                 let (value, _) = ty.store(Value::Int(ty.wrap(i128::from(new))));
-                self.store(inner, *ty, value)?;
+                self.store(inner, *ty, value);
             }
             Place::Motion(h, MotionMember::Bit(name)) => {
                 let mut bits = self.task.motion_bits(*h);
@@ -522,20 +579,17 @@ impl<'e> Exec<'e> {
             }
             _ => unreachable!("the compiler refuses writes to read-only places"),
         }
-        Ok(())
     }
 
-    /// Evaluates an expression.
-    ///
-    /// # Errors
-    /// A subscript fault.
-    pub fn eval(&mut self, e: &CExpr) -> R<Value> {
-        Ok(match &e.kind {
+    /// Evaluates an expression (a subscript fault is recorded for the
+    /// statement to stop at).
+    pub fn eval(&mut self, e: &CExpr) -> Value {
+        match &e.kind {
             CKind::Const(v) => *v,
             CKind::Slot(i) => self.mem.slots[*i],
-            CKind::Load(p) => self.load(p)?,
+            CKind::Load(p) => self.load(p),
             CKind::Neg(a) => {
-                let v = self.eval(a)?;
+                let v = self.eval(a);
                 match e.ty {
                     Ty::Dint | Ty::Lint => self.int_result(-i128::from(v.as_i64()), e.ty, "negation"),
                     Ty::Real => Value::Real(f64::from(-v.as_f64() as f32)),
@@ -543,7 +597,7 @@ impl<'e> Exec<'e> {
                 }
             }
             CKind::Not(a) => {
-                let v = self.eval(a)?;
+                let v = self.eval(a);
                 match e.ty {
                     Ty::Bool => Value::Bool(!v.truthy()),
                     Ty::Dint => Value::Int(i64::from(!(v.as_i64() as i32))),
@@ -551,24 +605,24 @@ impl<'e> Exec<'e> {
                 }
             }
             CKind::Binary(op, a, b, math) => {
-                let x = self.leaf(a)?;
+                let x = self.leaf(a);
                 if *math == Ty::Bool {
-                    let y = self.eval(b)?;
-                    return Ok(Value::Bool(match op {
+                    let y = self.leaf(b);
+                    return Value::Bool(match op {
                         BinaryOp::And => x.truthy() && y.truthy(),
                         BinaryOp::Or => x.truthy() || y.truthy(),
                         BinaryOp::Xor => x.truthy() != y.truthy(),
                         _ => unreachable!("BOOL math is logic only"),
-                    }));
+                    });
                 }
-                let y = self.leaf(b)?;
+                let y = self.leaf(b);
                 self.binary(*op, x, y, *math)
             }
             CKind::Func(f, a) => {
-                let v = self.eval(a)?;
+                let v = self.eval(a);
                 self.function(*f, v, a.ty, e.ty)
             }
-        })
+        }
     }
 
     fn dint_result(&mut self, r: i64, what: &str) -> Value {
@@ -581,10 +635,10 @@ impl<'e> Exec<'e> {
 
     /// [`Exec::eval`] with the leaves read in place.
     #[inline]
-    fn leaf(&mut self, e: &CExpr) -> R<Value> {
+    fn leaf(&mut self, e: &CExpr) -> Value {
         match &e.kind {
-            CKind::Const(v) => Ok(*v),
-            CKind::Slot(i) => Ok(self.mem.slots[*i]),
+            CKind::Const(v) => *v,
+            CKind::Slot(i) => self.mem.slots[*i],
             _ => self.eval(e),
         }
     }
@@ -908,15 +962,15 @@ impl<'e> Exec<'e> {
 
     /// An operand as the binding reads it (`kind`: the operand's catalogue
     /// kind, which decides integer or number; `None` keeps the value's own).
-    fn operand(&mut self, arg: &MotionArg, kind: Option<planner::catalogue::Kind>) -> R<crate::st::Expr> {
-        Ok(match arg {
+    fn operand(&mut self, arg: &MotionArg, kind: Option<planner::catalogue::Kind>) -> crate::st::Expr {
+        match arg {
             MotionArg::Name(n) => crate::st::Expr::Ident(n.clone()),
             MotionArg::Element(n, index) => {
-                let i = self.eval(index)?.as_i64();
+                let i = self.eval(index).as_i64();
                 crate::st::Expr::Index(Box::new(crate::st::Expr::Ident(n.clone())), i)
             }
             MotionArg::Value(e) => {
-                let v = self.eval(e)?;
+                let v = self.eval(e);
                 match (kind, v) {
                     (Some(k), _) => super::compile::operand_expr(k, v),
                     (None, Value::Bool(b)) => crate::st::Expr::Bool(b),
@@ -924,14 +978,15 @@ impl<'e> Exec<'e> {
                     (None, Value::Real(x)) => crate::st::Expr::Number(x),
                 }
             }
-        })
+        }
     }
 
     fn motion_call(&mut self, call: &MotionCall) -> R<()> {
         let mut exprs = Vec::with_capacity(call.args.len());
         for (spec, arg) in call.instruction.operands.iter().zip(&call.args) {
-            exprs.push(self.operand(arg, Some(spec.kind))?);
+            exprs.push(self.operand(arg, Some(spec.kind)));
         }
+        self.check()?;
         if let Err((operand, message)) = (self.motion)(Invocation::Logix(call, exprs), self.mem, self.task) {
             // An operand value the instruction cannot take: ERR 13 with the
             // operand's faceplate index, as the controller reports it.
