@@ -31,8 +31,19 @@ fn routine() -> String {
 }
 
 fn bench(c: &mut Criterion) {
-    let mut tags = vec![("A", "DINT"), ("B", "DINT"), ("C", "DINT"), ("X", "REAL"), ("Arr", "DINT[16]")];
-    tags.extend([("REAL_0", "REAL"), ("REAL_1", "REAL"), ("REAL_2", "REAL"), ("REAL_3", "REAL")]);
+    let mut tags = vec![
+        ("A", "DINT"),
+        ("B", "DINT"),
+        ("C", "DINT"),
+        ("X", "REAL"),
+        ("Arr", "DINT[16]"),
+    ];
+    tags.extend([
+        ("REAL_0", "REAL"),
+        ("REAL_1", "REAL"),
+        ("REAL_2", "REAL"),
+        ("REAL_3", "REAL"),
+    ]);
     let mut sandbox = Sandbox::new(&tags, &routine()).expect("routine compiles");
     sandbox.scan();
     let statements = sandbox.controller().stats().statements;

@@ -81,7 +81,11 @@ fn scara_pallet_places_twelve_parts_each_within_the_actual_tolerance_of_its_targ
             let want = [0.30 + (i / 4) as f64 * 0.05, 0.15 + (i % 4) as f64 * 0.05, -0.20];
             for a in 0..3 {
                 let traced = num(&w[1][target[a]]);
-                assert!((traced - want[a]).abs() < 1e-6, "placement {i}: target {a} is {traced}, want {}", want[a]);
+                assert!(
+                    (traced - want[a]).abs() < 1e-6,
+                    "placement {i}: target {a} is {traced}, want {}",
+                    want[a]
+                );
                 let err = (num(&w[1][tool[a]]) - base[a] - want[a]).abs();
                 assert!(err <= 0.001, "placement {i}: tool off the target by {err} m along {a}");
             }
@@ -114,11 +118,18 @@ fn knife_cut_switches_cams_at_the_end_of_the_running_cycle() {
             assert!((m - at).abs() < 1.0, "replaced at master {m}, scheduled at {at}");
             let s = num(&w[1][slave]);
             let turns = s / 360.0;
-            assert!((turns - turns.round()).abs() < 0.01, "knife at {s} deg when the cam was replaced");
+            assert!(
+                (turns - turns.round()).abs() < 0.01,
+                "knife at {s} deg when the cam was replaced"
+            );
             seen.push(at);
         }
     }
-    assert_eq!(seen, vec![300.0, 700.0], "300 mm cycles end at 300; 200 mm cycles from 300 end at 700");
+    assert_eq!(
+        seen,
+        vec![300.0, 700.0],
+        "300 mm cycles end at 300; 200 mm cycles from 300 end at 700"
+    );
     // After the second switch the knife turns once per 250 mm.
     let after: Vec<&Vec<String>> = rows.iter().filter(|r| num(&r[master]) >= 700.0).collect();
     let (m0, s0) = (num(&after[0][master]), num(&after[0][slave]));
@@ -135,13 +146,26 @@ fn fault_demo_records_the_minor_fault_and_stops_on_the_major_with_exit_code_4() 
         stdout.contains("MAJOR FAULT type 4 code 20") && stdout.contains("Main.st:8"),
         "{stdout}"
     );
-    assert!(stdout.contains("type 4 code 4") && stdout.contains("Main.st:13"), "{stdout}");
+    assert!(
+        stdout.contains("type 4 code 4") && stdout.contains("Main.st:13"),
+        "{stdout}"
+    );
     let last = rows.last().expect("rows");
-    assert_eq!(last[col(&h, "Cell.Faults")], "1", "MinorFaults counts the division by zero");
+    assert_eq!(
+        last[col(&h, "Cell.Faults")],
+        "1",
+        "MinorFaults counts the division by zero"
+    );
     assert_eq!(last[col(&h, "Cell.Average")], "2147483647", "the documented quotient");
-    assert!((num(&last[0]) - 1.084).abs() < 1e-9, "the run ends with the update of the fault");
+    assert!(
+        (num(&last[0]) - 1.084).abs() < 1e-9,
+        "the run ends with the update of the fault"
+    );
     let summary = std::fs::read_to_string(out_dir_path("fault_demo").join("s.json")).expect("summary");
-    assert!(summary.contains("\"major_fault\"") && summary.contains("\"code\": 20"), "{summary}");
+    assert!(
+        summary.contains("\"major_fault\"") && summary.contains("\"code\": 20"),
+        "{summary}"
+    );
 }
 
 fn out_dir_path(name: &str) -> PathBuf {
@@ -184,7 +208,12 @@ fn value(twin: &Twin, name: &str) -> Value {
 }
 
 fn axis(twin: &Twin, name: &str) -> planner::task::AxisHandle {
-    twin.plant().axes().iter().find(|a| a.name == name).expect("axis").handle
+    twin.plant()
+        .axes()
+        .iter()
+        .find(|a| a.name == name)
+        .expect("axis")
+        .handle
 }
 
 fn control(twin: &Twin, name: &str) -> planner::task::InstructionHandle {
@@ -201,7 +230,12 @@ const MAJ: &str = "MAJ(Table, Jog, Forward, 90.0, UnitsPerSec, 900.0, UnitsPerSe
 #[test]
 fn a_10_ms_task_on_a_4_ms_update_runs_at_the_first_update_after_each_trigger() {
     let routine = format!("Scans := Scans + 1; IF Scans = 2 THEN {MAJ} END_IF; Seen := Table.ActualPosition;");
-    let tags = format!("{}{}{}", tag("Scans", "DINT"), tag("Seen", "REAL"), tag("Jog", "MOTION_INSTRUCTION"));
+    let tags = format!(
+        "{}{}{}",
+        tag("Scans", "DINT"),
+        tag("Seen", "REAL"),
+        tag("Jog", "MOTION_INSTRUCTION")
+    );
     let mut twin = load(&scene("latency", &tags, &routine, 10.0));
     let table = axis(&twin, "Table");
     let mut scans_at = Vec::new();
@@ -273,7 +307,10 @@ fn an_unguarded_mclm_executes_at_every_scan_and_queues_behind_itself() {
         if update >= 2 && position < 29.9 {
             travelling += 1;
             assert!(b.en && !b.dn && !b.pc, "update {update}: held, {b:?}");
-            assert!(twin.task().coord_status(xy).move_pending, "update {update}: a move queued");
+            assert!(
+                twin.task().coord_status(xy).move_pending,
+                "update {update}: a move queued"
+            );
         }
     }
     assert!(travelling > 90, "{travelling} updates travelling");
@@ -283,9 +320,8 @@ fn an_unguarded_mclm_executes_at_every_scan_and_queues_behind_itself() {
 
 #[test]
 fn a_motion_operand_computed_by_the_program_is_read_when_the_instruction_executes() {
-    let routine = format!(
-        "Scans := Scans + 1;\nIF Scans = 3 THEN Target[0] := 10.0 * Scans; Target[1] := 5.0; {MCLM} END_IF;"
-    );
+    let routine =
+        format!("Scans := Scans + 1;\nIF Scans = 3 THEN Target[0] := 10.0 * Scans; Target[1] := 5.0; {MCLM} END_IF;");
     let tags = format!(
         "{}{}{}",
         tag("Scans", "DINT"),
@@ -297,7 +333,11 @@ fn a_motion_operand_computed_by_the_program_is_read_when_the_instruction_execute
         twin.step();
     }
     let table = twin.task().axis_state(axis(&twin, "Table"));
-    assert!((table.command_position - 30.0).abs() < 1e-9, "{}", table.command_position);
+    assert!(
+        (table.command_position - 30.0).abs() < 1e-9,
+        "{}",
+        table.command_position
+    );
 }
 
 #[test]
@@ -319,12 +359,20 @@ fn motion_instruction_members_read_and_write_like_tags() {
         twin.step();
     }
     assert_eq!(value(&twin, "Seen"), Value::Bool(true));
-    assert!(!twin.task().motion_bits(control(&twin, "Move")).pc, "the program cleared .PC");
+    assert!(
+        !twin.task().motion_bits(control(&twin, "Move")).pc,
+        "the program cleared .PC"
+    );
 }
 
 #[test]
 fn writing_an_axis_member_is_refused_at_load_with_the_routine_line() {
-    let path = scene("readonly", &tag("X", "REAL"), "X := 1.0;\nTable.ActualPosition := X;", 4.0);
+    let path = scene(
+        "readonly",
+        &tag("X", "REAL"),
+        "X := 1.0;\nTable.ActualPosition := X;",
+        4.0,
+    );
     let scene = twin::scene::load(&path).expect("parses");
     let e = Twin::new(scene).expect_err("refused").to_string();
     assert!(e.contains("Main.st:2:1") && e.contains("read-only"), "{e}");
@@ -332,7 +380,12 @@ fn writing_an_axis_member_is_refused_at_load_with_the_routine_line() {
 
 #[test]
 fn twin_check_reports_a_routine_syntax_error_with_file_line_and_column() {
-    let path = scene("syntax", &tag("X", "REAL"), "X := 1.0;\nIF X > 0 THEN\n  X := ;\nEND_IF;", 4.0);
+    let path = scene(
+        "syntax",
+        &tag("X", "REAL"),
+        "X := 1.0;\nIF X > 0 THEN\n  X := ;\nEND_IF;",
+        4.0,
+    );
     let output = Command::new(env!("CARGO_BIN_EXE_twin"))
         .args(["check"])
         .arg(&path)
@@ -368,10 +421,16 @@ fn an_iec_routine_calls_mc_move_modulo_on_its_instance_and_reads_its_outputs() {
     }
     assert_eq!(value(&twin, "Finished"), Value::Bool(true));
     let table = twin.task().axis_state(axis(&twin, "Table"));
-    assert!((table.command_position - 90.0).abs() < 1e-9, "{}", table.command_position);
+    assert!(
+        (table.command_position - 90.0).abs() < 1e-9,
+        "{}",
+        table.command_position
+    );
 
     // The same routine in the Logix dialect is refused, naming the dialect.
     let logix = scene("iec_fb_in_logix", &tags, routine, 4.0);
-    let e = Twin::new(twin::scene::load(&logix).expect("parses")).expect_err("refused").to_string();
+    let e = Twin::new(twin::scene::load(&logix).expect("parses"))
+        .expect_err("refused")
+        .to_string();
     assert!(e.contains("IEC"), "{e}");
 }

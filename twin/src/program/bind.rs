@@ -256,12 +256,7 @@ impl LogixContext<'_> {
         match operand {
             Expr::Integer(0) => Ok(Vec::new()),
             Expr::Number(x) if *x == 0.0 => Ok(Vec::new()),
-            Expr::Ident(name)
-                if !matches!(
-                    self.values.tag_value(name).as_deref(),
-                    Some(TagValue::Array(_))
-                ) =>
-            {
+            Expr::Ident(name) if !matches!(self.values.tag_value(name).as_deref(), Some(TagValue::Array(_))) => {
                 self.values(what, operand)?;
                 Err(refused())
             }

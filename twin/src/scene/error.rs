@@ -489,10 +489,7 @@ impl fmt::Display for SceneError {
                 write!(f, "{}:{line}:{column}: {field}: {problem}", file.display())
             }
             SceneError::Routine {
-                file,
-                line: 0,
-                message,
-                ..
+                file, line: 0, message, ..
             } => write!(f, "{}: {message}", file.display()),
             SceneError::Routine {
                 file,

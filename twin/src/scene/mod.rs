@@ -47,11 +47,11 @@ mod validate;
 pub use collision::{AllowedPair, CollisionSettings, MeshApproximation, Preflight, Reaction, Tool};
 pub use error::{Problem, SceneError};
 pub use geometry::{GEOMETRY_TYPES, GeometrySettings};
-pub use tasks::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
 pub use model::{
     Axis, AxisKind, BaseType, CamPoint, Camera, CoordinateSystemSettings, FunctionBlock, Location, MotorGains,
     Obstacle, Robot, Scene, SegmentType, Shape, Snapshots, Step, Tag, TagType, TagValue, Trigger, Units,
 };
+pub use tasks::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
 
 use context::{Ctx, NameKind, Names};
 use raw::{

@@ -206,9 +206,7 @@ impl Ctx<'_> {
                 | BaseType::Ton
                 | BaseType::Tof,
                 _,
-            ) => {
-                Err(self.invalid(v, field, Problem::ValueNotAllowed { ty }))
-            }
+            ) => Err(self.invalid(v, field, Problem::ValueNotAllowed { ty })),
             (BaseType::CoordinateSystem, _) => {
                 let expected = "an array of 1 to 6 distinct axis names";
                 let toml::Value::Array(items) = v.get_ref() else {

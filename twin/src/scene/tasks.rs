@@ -172,7 +172,8 @@ impl Ctx<'_> {
         for (k, r) in p.routines.iter().enumerate() {
             let field = format!("{prefix}.routines[{k}]");
             let def = self.routine(r, base, &field)?;
-            if def.name.eq_ignore_ascii_case(&main.name) || routines.iter().any(|x| x.name.eq_ignore_ascii_case(&def.name))
+            if def.name.eq_ignore_ascii_case(&main.name)
+                || routines.iter().any(|x| x.name.eq_ignore_ascii_case(&def.name))
             {
                 let problem = Problem::DuplicateRoutine { name: def.name };
                 return Err(self.invalid(r, field, problem));

@@ -54,8 +54,28 @@ impl From<LexError> for SyntaxError {
 
 /// Words that cannot name a tag.
 pub const KEYWORDS: [&str; 22] = [
-    "IF", "THEN", "ELSIF", "ELSE", "END_IF", "CASE", "OF", "END_CASE", "FOR", "TO", "BY", "DO", "END_FOR", "WHILE",
-    "END_WHILE", "REPEAT", "UNTIL", "END_REPEAT", "EXIT", "MOD", "AND", "OR",
+    "IF",
+    "THEN",
+    "ELSIF",
+    "ELSE",
+    "END_IF",
+    "CASE",
+    "OF",
+    "END_CASE",
+    "FOR",
+    "TO",
+    "BY",
+    "DO",
+    "END_FOR",
+    "WHILE",
+    "END_WHILE",
+    "REPEAT",
+    "UNTIL",
+    "END_REPEAT",
+    "EXIT",
+    "MOD",
+    "AND",
+    "OR",
 ];
 
 const MORE_KEYWORDS: [&str; 4] = ["XOR", "NOT", "TRUE", "FALSE"];
@@ -280,7 +300,10 @@ impl Parser {
     }
 
     fn at_case_label(&self) -> bool {
-        matches!((self.tok(0), self.tok(1)), (Tok::Int(_), _) | (Tok::Sym("-"), Tok::Int(_)))
+        matches!(
+            (self.tok(0), self.tok(1)),
+            (Tok::Int(_), _) | (Tok::Sym("-"), Tok::Int(_))
+        )
     }
 
     fn case_value(&mut self) -> Result<i64, SyntaxError> {
@@ -544,7 +567,11 @@ impl Parser {
         let mut left = self.primary()?;
         while self.is_sym("**") {
             self.bump();
-            let right = if self.is_sym("-") { self.unary()? } else { self.primary()? };
+            let right = if self.is_sym("-") {
+                self.unary()?
+            } else {
+                self.primary()?
+            };
             let pos = left.pos;
             left = Expr {
                 kind: ExprKind::Binary(BinaryOp::Pow, Box::new(left), Box::new(right)),

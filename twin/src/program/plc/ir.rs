@@ -193,12 +193,28 @@ pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 11] = [
     ("ActualVelocity", AxisMember::ActualVelocity, DataType::Real),
     ("CommandVelocity", AxisMember::CommandVelocity, DataType::Real),
     ("CommandAcceleration", AxisMember::CommandAcceleration, DataType::Real),
-    ("CoordinatedMotionStatus", AxisMember::CoordinatedMotionStatus, DataType::Bool),
+    (
+        "CoordinatedMotionStatus",
+        AxisMember::CoordinatedMotionStatus,
+        DataType::Bool,
+    ),
     ("PositionCamStatus", AxisMember::PositionCamStatus, DataType::Bool),
-    ("PositionCamLockStatus", AxisMember::PositionCamLockStatus, DataType::Bool),
-    ("PositionCamPendingStatus", AxisMember::PositionCamPendingStatus, DataType::Bool),
+    (
+        "PositionCamLockStatus",
+        AxisMember::PositionCamLockStatus,
+        DataType::Bool,
+    ),
+    (
+        "PositionCamPendingStatus",
+        AxisMember::PositionCamPendingStatus,
+        DataType::Bool,
+    ),
     ("TransformStateStatus", AxisMember::TransformStateStatus, DataType::Bool),
-    ("ControlledByTransformStatus", AxisMember::ControlledByTransformStatus, DataType::Bool),
+    (
+        "ControlledByTransformStatus",
+        AxisMember::ControlledByTransformStatus,
+        DataType::Bool,
+    ),
 ];
 
 /// Coordinate-system status bits.

@@ -191,7 +191,9 @@ impl Memory {
             Value::Real(x) => TagValue::Real(x),
         };
         match info.kind {
-            Kind::Scalar(_) if info.len.is_some() => Some(TagValue::Array((0..n).map(|i| read(info.base + i)).collect())),
+            Kind::Scalar(_) if info.len.is_some() => {
+                Some(TagValue::Array((0..n).map(|i| read(info.base + i)).collect()))
+            }
             Kind::Scalar(_) => Some(read(info.base)),
             Kind::Structure(Structure::Cam) => Some(TagValue::CamPoints(
                 (0..n)
@@ -230,5 +232,9 @@ fn segment_code(s: SegmentType) -> i64 {
 /// The segment type a program wrote: 0 is linear, any other value cubic
 /// (the controller's MCCP reads the member the same way: zero or not).
 fn segment(code: i64) -> SegmentType {
-    if code == 0 { SegmentType::Linear } else { SegmentType::Cubic }
+    if code == 0 {
+        SegmentType::Linear
+    } else {
+        SegmentType::Cubic
+    }
 }

@@ -56,8 +56,8 @@ pub mod memory;
 pub mod sandbox;
 pub mod types;
 
-use super::{FbBinding, InstructionBinding};
 use super::bind::{LogixContext, TagValues};
+use super::{FbBinding, InstructionBinding};
 use crate::scene::{Scene, Tag, TagValue};
 use compile::{CompileError, Compiler};
 use exec::{Exec, Invocation, NOMINAL_STATEMENT_US, Raised};
@@ -199,70 +199,18 @@ impl Controller {
         instructions: &mut Vec<InstructionBinding>,
         fbs: &mut Vec<FbBinding>,
     ) -> Result<Controller, TaskError> {
-        let mut mem = Memory::default();
-        for a in &scene.axes {
-            mem.add_axis(&a.name);
-        }
-        for t in &scene.tags {
-            mem.add(&t.name, t.ty.base, t.ty.array_len, t.value.as_ref());
-        }
-        for t in &scene.tasks {
-            for p in &t.programs {
-                for tag in &p.tags {
-                    let name = format!("{}.{}", p.name, tag.name);
-                    mem.add(&name, tag.ty.base, tag.ty.array_len, tag.value.as_ref());
-                }
-            }
-        }
-        let mut view = scene.clone();
-        for t in &scene.tasks {
-            for p in &t.programs {
-                view.tags.extend(p.tags.iter().map(|tag| Tag {
-                    name: format!("{}.{}", p.name, tag.name),
-                    ..tag.clone()
-                }));
-            }
-        }
+        let (mem, view) = layout(scene);
         let mut tasks = Vec::with_capacity(scene.tasks.len());
         for t in &scene.tasks {
             let mut programs = Vec::with_capacity(t.programs.len());
             for p in &t.programs {
-                let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
-                let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
                 let mut ctx = LogixContext {
                     scene: &view,
                     values: &mem,
                     task,
                     instructions,
                 };
-                let failed = |def: &crate::scene::RoutineDef| {
-                    let file = def.path.clone();
-                    move |e: CompileError| TaskError {
-                        file,
-                        line: e.pos.line as usize,
-                        column: e.pos.column as usize,
-                        message: e.message,
-                    }
-                };
-                // Function-block instances first, so that their outputs
-                // compile wherever they are read.
-                for def in &defs {
-                    let mut compiler = Compiler::new(&mem, &p.name, &names, def.dialect, &mut ctx, fbs);
-                    if def.dialect == crate::scene::Dialect::Iec {
-                        compiler.bind_blocks(&def.routine.body).map_err(failed(def))?;
-                    }
-                }
-                let mut routines = Vec::with_capacity(defs.len());
-                for def in &defs {
-                    let mut compiler = Compiler::new(&mem, &p.name, &names, def.dialect, &mut ctx, fbs);
-                    routines.push(compiler.block(&def.routine.body).map_err(failed(def))?);
-                }
-                programs.push(ProgramRun {
-                    name: p.name.clone(),
-                    routine_paths: defs.iter().map(|d| d.path.clone()).collect(),
-                    routines,
-                    first_scan: true,
-                });
+                programs.push(compile_program(p, &mem, &mut ctx, fbs)?);
             }
             tasks.push(TaskRun {
                 name: t.name.clone(),
@@ -355,36 +303,13 @@ impl Controller {
             let budget = t.budget.saturating_sub(statements);
             let program = &mut t.programs[p];
             let first = std::mem::replace(&mut program.first_scan, false);
-            let scene = &self.view;
-            let mut runner = |invocation: Invocation<'_>,
-                              mem: &Memory,
-                              task: &mut MotionTask|
-             -> Result<(), (Option<usize>, String)> {
-                let mut ctx = LogixContext {
-                    scene,
-                    values: mem,
-                    task,
-                    instructions,
-                };
-                match invocation {
-                    Invocation::Logix(call, exprs) => {
-                        let step = super::compile_logix(call.instruction.mnemonic, &exprs, &mut ctx)
-                            .map_err(|e| (e.operand, e.message))?;
-                        (step.run)(task);
-                    }
-                    Invocation::Block(instance, inputs) => {
-                        let call = compile::named_call(instance, inputs);
-                        let bound = super::modulo::bind(&call, scene, ctx.task, fbs).map_err(|e| (e.operand, e.message))?;
-                        let fb = fbs[bound.fb].handle;
-                        let mut set = task.move_modulo_inputs(fb);
-                        for setting in bound.set {
-                            setting.apply(&mut set);
-                        }
-                        task.set_move_modulo_inputs(fb, set);
-                    }
-                }
-                Ok(())
+            let mut binding = Binding {
+                scene: &self.view,
+                instructions: &mut *instructions,
+                fbs: &mut *fbs,
             };
+            let mut runner =
+                |invocation: Invocation<'_>, mem: &Memory, task: &mut MotionTask| binding.run(invocation, mem, task);
             let mut exec = Exec::new(
                 &mut self.mem,
                 task,
@@ -402,31 +327,55 @@ impl Controller {
             let refusals = std::mem::take(&mut exec.refusals);
             self.stats.scans += 1;
             self.stats.statements += exec.steps;
-            if minor.is_empty() && refusals.is_empty() && result.is_ok() {
-                continue;
-            }
-            let (task_name, program_name) = (self.tasks[i].name.clone(), self.tasks[i].programs[p].name.clone());
-            let paths = self.tasks[i].programs[p].routine_paths.clone();
-            let fault = |r: Raised, major: bool| Fault {
-                major,
-                fault_type: r.fault_type,
-                code: r.code,
-                message: r.message,
-                task: task_name.clone(),
-                program: program_name.clone(),
-                routine: paths[r.routine].clone(),
-                line: r.line,
-                time_s: at_us as f64 / 1e6,
-            };
-            for r in minor {
-                self.keep_minor(fault(r, false));
-            }
-            self.refusals.extend(refusals);
-            if let Err(r) = result {
-                self.major = Some(fault(*r, true));
+            if !self.record(i, p, at_us, minor, refusals, result) {
                 return;
             }
         }
+        self.check_overlap(i, at_us, statements);
+    }
+
+    /// Records a program scan's faults and refusals; `false` when a major
+    /// fault stopped the controller.
+    fn record(
+        &mut self,
+        i: usize,
+        p: usize,
+        at_us: i64,
+        minor: Vec<Raised>,
+        refusals: Vec<String>,
+        result: Result<(), Box<Raised>>,
+    ) -> bool {
+        self.refusals.extend(refusals);
+        if minor.is_empty() && result.is_ok() {
+            return true;
+        }
+        let (task_name, program_name) = (self.tasks[i].name.clone(), self.tasks[i].programs[p].name.clone());
+        let paths = self.tasks[i].programs[p].routine_paths.clone();
+        let fault = |r: Raised, major: bool| Fault {
+            major,
+            fault_type: r.fault_type,
+            code: r.code,
+            message: r.message,
+            task: task_name.clone(),
+            program: program_name.clone(),
+            routine: paths[r.routine].clone(),
+            line: r.line,
+            time_s: at_us as f64 / 1e6,
+        };
+        for r in minor {
+            self.keep_minor(fault(r, false));
+        }
+        match result {
+            Ok(()) => true,
+            Err(r) => {
+                self.major = Some(fault(*r, true));
+                false
+            }
+        }
+    }
+
+    /// A minor fault 6/2 when the task's scan ran longer than its period.
+    fn check_overlap(&mut self, i: usize, at_us: i64, statements: u64) {
         let t = &self.tasks[i];
         let nominal_us = statements as f64 * NOMINAL_STATEMENT_US;
         if nominal_us > t.period_us as f64 {
@@ -539,6 +488,109 @@ impl Controller {
             return Err(format!("'{text}': a traced element needs a constant subscript"));
         }
         Ok((place, ty))
+    }
+}
+
+/// Tag memory (axes, controller tags, then each program's tags under
+/// `Program.Tag`) and the scene as the binding sees it (the program tags
+/// added under the same names).
+fn layout(scene: &Scene) -> (Memory, Scene) {
+    let mut mem = Memory::default();
+    for a in &scene.axes {
+        mem.add_axis(&a.name);
+    }
+    for t in &scene.tags {
+        mem.add(&t.name, t.ty.base, t.ty.array_len, t.value.as_ref());
+    }
+    let mut view = scene.clone();
+    for t in &scene.tasks {
+        for p in &t.programs {
+            for tag in &p.tags {
+                let name = format!("{}.{}", p.name, tag.name);
+                mem.add(&name, tag.ty.base, tag.ty.array_len, tag.value.as_ref());
+                view.tags.push(Tag { name, ..tag.clone() });
+            }
+        }
+    }
+    (mem, view)
+}
+
+/// Compiles a program's routines: its function-block calls first (so that
+/// their outputs compile wherever they are read), then every routine.
+fn compile_program(
+    p: &crate::scene::ProgramDef,
+    mem: &Memory,
+    ctx: &mut LogixContext<'_>,
+    fbs: &mut Vec<FbBinding>,
+) -> Result<ProgramRun, TaskError> {
+    let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
+    let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
+    let failed = |def: &crate::scene::RoutineDef| {
+        let file = def.path.clone();
+        move |e: CompileError| TaskError {
+            file,
+            line: e.pos.line as usize,
+            column: e.pos.column as usize,
+            message: e.message,
+        }
+    };
+    for def in defs.iter().filter(|d| d.dialect == crate::scene::Dialect::Iec) {
+        let mut compiler = Compiler::new(mem, &p.name, &names, def.dialect, ctx, fbs);
+        compiler.bind_blocks(&def.routine.body).map_err(failed(def))?;
+    }
+    let mut routines = Vec::with_capacity(defs.len());
+    for def in &defs {
+        let mut compiler = Compiler::new(mem, &p.name, &names, def.dialect, ctx, fbs);
+        routines.push(compiler.block(&def.routine.body).map_err(failed(def))?);
+    }
+    Ok(ProgramRun {
+        name: p.name.clone(),
+        routine_paths: defs.iter().map(|d| d.path.clone()).collect(),
+        routines,
+        first_scan: true,
+    })
+}
+
+/// What a scan's motion instructions and function blocks are bound with.
+struct Binding<'b> {
+    scene: &'b Scene,
+    instructions: &'b mut Vec<InstructionBinding>,
+    fbs: &'b mut Vec<FbBinding>,
+}
+
+impl Binding<'_> {
+    /// Binds an invocation with its operand values and runs it.
+    fn run(
+        &mut self,
+        invocation: Invocation<'_>,
+        mem: &Memory,
+        task: &mut MotionTask,
+    ) -> Result<(), (Option<usize>, String)> {
+        match invocation {
+            Invocation::Logix(call, exprs) => {
+                let mut ctx = LogixContext {
+                    scene: self.scene,
+                    values: mem,
+                    task,
+                    instructions: self.instructions,
+                };
+                let step = super::compile_logix(call.instruction.mnemonic, &exprs, &mut ctx)
+                    .map_err(|e| (e.operand, e.message))?;
+                (step.run)(task);
+            }
+            Invocation::Block(instance, inputs) => {
+                let call = compile::named_call(instance, inputs);
+                let bound =
+                    super::modulo::bind(&call, self.scene, task, self.fbs).map_err(|e| (e.operand, e.message))?;
+                let fb = self.fbs[bound.fb].handle;
+                let mut set = task.move_modulo_inputs(fb);
+                for setting in bound.set {
+                    setting.apply(&mut set);
+                }
+                task.set_move_modulo_inputs(fb, set);
+            }
+        }
+        Ok(())
     }
 }
 

@@ -76,7 +76,9 @@ impl Run {
     pub(crate) fn member(&self, name: &str, member: &str) -> Value {
         let mem = self.plc.memory();
         let t = mem.resolve(Some("P"), name).unwrap_or_else(|| panic!("no tag {name}"));
-        let memory::Kind::Structure(s) = mem.tags[t].kind else { panic!("{name} is no structure") };
+        let memory::Kind::Structure(s) = mem.tags[t].kind else {
+            panic!("{name} is no structure")
+        };
         mem.slots[mem.tags[t].base + s.offset(member)]
     }
 }
@@ -133,7 +135,14 @@ fn integer_arithmetic_wraps_truncates_and_faults() {
 
 #[test]
 fn real_to_integer_rounds_half_to_even_on_assignment() {
-    for (x, want) in [("-2.5", -2), ("-1.5", -2), ("1.5", 2), ("2.5", 2), ("0.5", 0), ("3.7", 4)] {
+    for (x, want) in [
+        ("-2.5", -2),
+        ("-1.5", -2),
+        ("1.5", 2),
+        ("2.5", 2),
+        ("0.5", 0),
+        ("3.7", 4),
+    ] {
         let run = one_scan(&format!("X := {x}; A := X;"));
         assert_eq!(int(run.get("A")), want, "{x}");
     }
@@ -180,13 +189,22 @@ fn reals_compute_in_single_precision_and_lreal_in_double() {
 #[test]
 fn control_flow_case_ranges_loops_and_exit() {
     let rows: [(&str, i64); 9] = [
-        ("C := 5; CASE C OF 1: A := 1; 2, 3: A := 2; 4..6: A := 3; ELSE A := 4; END_CASE;", 3),
-        ("C := 3; CASE C OF 1: A := 1; 2, 3: A := 2; 4..6: A := 3; ELSE A := 4; END_CASE;", 2),
+        (
+            "C := 5; CASE C OF 1: A := 1; 2, 3: A := 2; 4..6: A := 3; ELSE A := 4; END_CASE;",
+            3,
+        ),
+        (
+            "C := 3; CASE C OF 1: A := 1; 2, 3: A := 2; 4..6: A := 3; ELSE A := 4; END_CASE;",
+            2,
+        ),
         ("C := 9; CASE C OF 1: A := 1; 4..6: A := 3; ELSE A := 4; END_CASE;", 4),
         ("C := -2; CASE C OF -3..-1: A := 7; END_CASE;", 7),
         ("A := 0; FOR C := 1 TO 10 DO A := A + C; END_FOR;", 55),
         ("A := 0; FOR C := 10 TO 1 BY -3 DO A := A + C; END_FOR;", 22),
-        ("A := 0; FOR C := 1 TO 100 DO IF C > 4 THEN EXIT; END_IF; A := A + 1; END_FOR;", 4),
+        (
+            "A := 0; FOR C := 1 TO 100 DO IF C > 4 THEN EXIT; END_IF; A := A + 1; END_FOR;",
+            4,
+        ),
         ("A := 0; WHILE A < 7 DO A := A + 2; END_WHILE;", 8),
         ("A := 10; REPEAT A := A - 3; UNTIL A < 0 END_REPEAT;", -2),
     ];
@@ -239,10 +257,22 @@ fn tonr_accumulates_only_while_executed() {
 
 #[test]
 fn tofr_and_rtor_histories() {
-    let tags = format!("{}{}{}", tag("T1", "FBD_TIMER"), tag("T2", "FBD_TIMER"), tag("On", "BOOL"));
+    let tags = format!(
+        "{}{}{}",
+        tag("T1", "FBD_TIMER"),
+        tag("T2", "FBD_TIMER"),
+        tag("On", "BOOL")
+    );
     let routine = "T1.PRE := 20; T1.TimerEnable := On; TOFR(T1);\n\
                    T2.PRE := 20; T2.TimerEnable := On; RTOR(T2);";
-    let mut run = Run::new(&tags.replace("name = \"On\"\ntype = \"BOOL\"\n", "name = \"On\"\ntype = \"BOOL\"\nvalue = true\n"), routine).unwrap();
+    let mut run = Run::new(
+        &tags.replace(
+            "name = \"On\"\ntype = \"BOOL\"\n",
+            "name = \"On\"\ntype = \"BOOL\"\nvalue = true\n",
+        ),
+        routine,
+    )
+    .unwrap();
     run.scans(3);
     assert_eq!(run.member("T1", "DN"), Value::Bool(true), "TOFR on at once");
     assert_eq!(int(run.member("T2", "ACC")), 8);
@@ -258,7 +288,13 @@ fn tofr_and_rtor_histories() {
 
 #[test]
 fn ctud_counts_edges_and_osri_pulses_once() {
-    let tags = format!("{}{}{}{}", tag("C1", "FBD_COUNTER"), tag("O1", "FBD_ONESHOT"), tag("N", "DINT"), tag("Pulses", "DINT"));
+    let tags = format!(
+        "{}{}{}{}",
+        tag("C1", "FBD_COUNTER"),
+        tag("O1", "FBD_ONESHOT"),
+        tag("N", "DINT"),
+        tag("Pulses", "DINT")
+    );
     let routine = "N := N + 1;\n\
                    C1.PRE := 2; C1.CUEnable := (N MOD 2) = 0; C1.CDEnable := N = 7; CTUD(C1);\n\
                    O1.InputBit := N >= 3; OSRI(O1); IF O1.OutputBit THEN Pulses := Pulses + 1; END_IF;";
@@ -273,8 +309,11 @@ fn ctud_counts_edges_and_osri_pulses_once() {
 #[test]
 fn osri_gives_no_pulse_on_the_first_scan_when_the_input_is_already_true() {
     let tags = format!("{}{}", tag("O1", "FBD_ONESHOT"), tag("Pulses", "DINT"));
-    let mut run =
-        Run::new(&tags, "O1.InputBit := TRUE; OSRI(O1); IF O1.OutputBit THEN Pulses := Pulses + 1; END_IF;").unwrap();
+    let mut run = Run::new(
+        &tags,
+        "O1.InputBit := TRUE; OSRI(O1); IF O1.OutputBit THEN Pulses := Pulses + 1; END_IF;",
+    )
+    .unwrap();
     run.scans(3);
     assert_eq!(int(run.get("Pulses")), 0);
 }
@@ -309,11 +348,18 @@ fn jsr_passes_parameters_and_returns_values() {
 fn cop_fll_and_size() {
     let tags = format!("{}{}{}", tag("Src", "DINT[4]"), tag("Dst", "DINT[4]"), tag("A", "DINT"));
     let run = {
-        let mut r = Run::new(&tags, "FLL(7, Src[0], 4); Src[1] := 1; COP(Src[1], Dst[0], 3); SIZE(Dst, 0, A);").unwrap();
+        let mut r = Run::new(
+            &tags,
+            "FLL(7, Src[0], 4); Src[1] := 1; COP(Src[1], Dst[0], 3); SIZE(Dst, 0, A);",
+        )
+        .unwrap();
         r.scans(1);
         r
     };
-    assert_eq!((0..4).map(|i| int(run.elem("Dst", i))).collect::<Vec<_>>(), vec![1, 7, 7, 0]);
+    assert_eq!(
+        (0..4).map(|i| int(run.elem("Dst", i))).collect::<Vec<_>>(),
+        vec![1, 7, 7, 0]
+    );
     assert_eq!(int(run.get("A")), 4);
 }
 
@@ -384,9 +430,17 @@ fn compile_errors_name_the_line_column_and_what_was_expected() {
         ("A := FOO(1);", "unknown function"),
         ("A.40 := TRUE;", "outside a DINT"),
     ];
-    let tags = format!("{}{}{}{}", tag("A", "DINT"), tag("X", "REAL"), tag("B", "BOOL"), tag("Arr", "DINT[2]"));
+    let tags = format!(
+        "{}{}{}{}",
+        tag("A", "DINT"),
+        tag("X", "REAL"),
+        tag("B", "BOOL"),
+        tag("Arr", "DINT[2]")
+    );
     for (routine, want) in rows {
-        let e = Run::new(&tags, routine).err().unwrap_or_else(|| panic!("{routine} compiles"));
+        let e = Run::new(&tags, routine)
+            .err()
+            .unwrap_or_else(|| panic!("{routine} compiles"));
         assert!(e.contains(want), "{routine}: {e}");
         assert!(e.contains("Main.st:1:"), "{routine}: {e}");
     }

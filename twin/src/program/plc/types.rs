@@ -108,7 +108,10 @@ impl DataType {
                     Value::Real(_) => (0, true),
                 };
                 let stored = self.wrap(wide);
-                (Value::Int(stored), bad || i128::from(stored) != wide && !self.same_bits(wide, stored))
+                (
+                    Value::Int(stored),
+                    bad || i128::from(stored) != wide && !self.same_bits(wide, stored),
+                )
             }
         }
     }
@@ -229,7 +232,9 @@ impl Value {
         match self {
             Value::Bool(b) => i64::from(b),
             Value::Int(i) => i,
-            Value::Real(x) if x.is_finite() => round_half_even(x).clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64,
+            Value::Real(x) if x.is_finite() => {
+                round_half_even(x).clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64
+            }
             Value::Real(_) => 0,
         }
     }
@@ -403,18 +408,32 @@ mod tests {
 
     #[test]
     fn real_to_integer_rounds_half_to_even() {
-        for (x, want) in [(-2.5, -2), (-1.5, -2), (1.5, 2), (2.5, 2), (0.49, 0), (-0.5, 0), (3.5, 4)] {
+        for (x, want) in [
+            (-2.5, -2),
+            (-1.5, -2),
+            (1.5, 2),
+            (2.5, 2),
+            (0.49, 0),
+            (-0.5, 0),
+            (3.5, 4),
+        ] {
             assert_eq!(DataType::Dint.store(Value::Real(x)), (Value::Int(want), false), "{x}");
         }
     }
 
     #[test]
     fn narrowing_keeps_the_low_bits_and_flags_the_overflow() {
-        assert_eq!(DataType::Int.store(Value::Int(40_000)), (Value::Int(40_000 - 65_536), true));
+        assert_eq!(
+            DataType::Int.store(Value::Int(40_000)),
+            (Value::Int(40_000 - 65_536), true)
+        );
         assert_eq!(DataType::Sint.store(Value::Int(-128)), (Value::Int(-128), false));
         assert_eq!(DataType::Sint.store(Value::Int(128)), (Value::Int(-128), true));
         assert_eq!(DataType::Usint.store(Value::Int(-1)), (Value::Int(255), true));
-        assert_eq!(DataType::Dint.store(Value::Real(3e9)), (Value::Int(3_000_000_000 - 4_294_967_296), true));
+        assert_eq!(
+            DataType::Dint.store(Value::Real(3e9)),
+            (Value::Int(3_000_000_000 - 4_294_967_296), true)
+        );
         assert_eq!(DataType::Dint.store(Value::Real(f64::NAN)), (Value::Int(0), true));
         assert_eq!(DataType::Ulint.store(Value::Int(-1)), (Value::Int(-1), false));
     }

@@ -1,0 +1,420 @@
+//! References: a tag, an element, a member or a bit resolved to the place
+//! it reads or writes, and the structure and array operands of
+//! instructions.
+
+use super::{CompileError, Compiler, Result, constant, err, show};
+use crate::program::bind::axis_named;
+use crate::program::coord;
+use crate::program::plc::ir::{
+    AXIS_MEMBERS, ArrayAt, CExpr, CKind, CoordMember, FbMember, Instance, MotionMember, Place,
+};
+use crate::program::plc::memory::Kind;
+use crate::program::plc::types::{DataType, Structure, Ty, Value};
+use crate::scene::BaseType;
+use crate::st::ast::{Access, Arg, Expr, ExprKind, Ref};
+use planner::instruction::MotionInstructionBits;
+
+/// The `MOTION_INSTRUCTION` bits a program names.
+const BIT_NAMES: [&str; 8] = ["EN", "DN", "ER", "IP", "AC", "PC", "ACCEL", "DECEL"];
+
+impl Compiler<'_, '_> {
+    pub(super) fn tag(&self, r: &Ref) -> Result<usize> {
+        self.mem
+            .resolve(Some(self.program), &r.name)
+            .ok_or_else(|| CompileError {
+                pos: r.pos,
+                message: format!("'{}' is not a tag of this program, a controller tag or an axis", r.name),
+            })
+    }
+
+    /// A place that may be written, with its type.
+    pub(super) fn writable(&mut self, r: &Ref) -> Result<(Place, DataType)> {
+        let (place, ty) = self.place(r)?;
+        match place {
+            Place::Axis(..)
+            | Place::Coord(..)
+            | Place::Fb(..)
+            | Place::FirstScan
+            | Place::MinorInScan
+            | Place::MinorFaults => err(
+                r.pos,
+                format!(
+                    "'{}' is read-only (axis and coordinate-system members, S:FS, S:MINOR and MinorFaults are the controller's)",
+                    show(r)
+                ),
+            ),
+            Place::Motion(_, MotionMember::Bit(_)) => Ok((place, ty)),
+            Place::Motion(..) => err(
+                r.pos,
+                format!("'{}' is read-only: the instruction writes its codes", show(r)),
+            ),
+            _ => Ok((place, ty)),
+        }
+    }
+
+    /// Compiles a reference (for the trace).
+    ///
+    /// # Errors
+    /// A [`CompileError`] when it names nothing readable.
+    pub fn reference(&mut self, r: &Ref) -> Result<(Place, DataType)> {
+        self.place(r)
+    }
+
+    /// `Program.Tag` written from outside the program: the qualified tag.
+    pub(super) fn qualified(&self, r: &Ref) -> Option<Ref> {
+        if self.mem.resolve(Some(self.program), &r.name).is_some() {
+            return None;
+        }
+        let Some(Access::Member(m)) = r.path.first() else {
+            return None;
+        };
+        let name = format!("{}.{m}", r.name);
+        self.mem.find(&name)?;
+        Some(Ref {
+            name,
+            path: r.path[1..].to_vec(),
+            pos: r.pos,
+        })
+    }
+
+    /// Resolves a reference.
+    pub(super) fn place(&mut self, r: &Ref) -> Result<(Place, DataType)> {
+        if let Some(q) = self.qualified(r) {
+            return self.place(&q);
+        }
+        if let Some(flag) = self.status_flag(r)? {
+            return Ok(flag);
+        }
+        let t = self.tag(r)?;
+        let info = self.mem.tags[t].clone();
+        let mut path = r.path.iter();
+        let member = |path: &mut std::slice::Iter<'_, Access>, hint: &str| match path.next() {
+            Some(Access::Member(m)) => Ok(m.clone()),
+            _ => err(r.pos, format!("'{}' is {hint}", r.name)),
+        };
+        let (place, ty) = match info.kind {
+            Kind::Scalar(_) | Kind::Structure(_) => self.memory_place(r, &info, &mut path)?,
+            Kind::Axis => {
+                let m = member(
+                    &mut path,
+                    &format!("an axis: name a member, e.g. {}.ActualPosition", r.name),
+                )?;
+                self.axis_place(r, &info.name, &m)?
+            }
+            Kind::Planner(BaseType::MotionInstruction) => {
+                let m = member(
+                    &mut path,
+                    &format!("a MOTION_INSTRUCTION: name a member, e.g. {}.PC", r.name),
+                )?;
+                self.motion_place(r, &info.name, &m)?
+            }
+            Kind::Planner(BaseType::CoordinateSystem) => {
+                let m = member(&mut path, "a COORDINATE_SYSTEM: name a status bit")?;
+                self.coord_place(r, &info.name, &m)?
+            }
+            Kind::Planner(BaseType::FunctionBlock(_)) => {
+                let m = member(
+                    &mut path,
+                    &format!("a function block: name an output, e.g. {}.Done", r.name),
+                )?;
+                self.fb_place(r, &info.name, &m)?
+            }
+            Kind::Planner(base) => {
+                return err(
+                    r.pos,
+                    format!(
+                        "'{}' is a {} tag: a program does not read it in an expression",
+                        r.name,
+                        base.name()
+                    ),
+                );
+            }
+        };
+        let (place, ty) = match path.next() {
+            Some(access) => self.bit_of(r, place, ty, access)?,
+            None => (place, ty),
+        };
+        if path.next().is_some() {
+            return err(r.pos, format!("'{}': too many parts", show(r)));
+        }
+        Ok((place, ty))
+    }
+
+    /// `S:FS`, `S:MINOR` and the `MinorFaults` counter.
+    fn status_flag(&self, r: &Ref) -> Result<Option<(Place, DataType)>> {
+        if !r.path.is_empty() {
+            return Ok(None);
+        }
+        Ok(match r.name.to_ascii_uppercase().as_str() {
+            "S:FS" => Some((Place::FirstScan, DataType::Bool)),
+            "S:MINOR" => Some((Place::MinorInScan, DataType::Bool)),
+            n if n.starts_with("S:") => {
+                return err(
+                    r.pos,
+                    format!("status flag {} is not modelled (S:FS and S:MINOR are)", r.name),
+                );
+            }
+            "MINORFAULTS" if self.mem.resolve(Some(self.program), &r.name).is_none() => {
+                Some((Place::MinorFaults, DataType::Dint))
+            }
+            _ => None,
+        })
+    }
+
+    /// A scalar, an element, or a member of a structure (or of an element
+    /// of an array of them) in tag memory.
+    fn memory_place(
+        &mut self,
+        r: &Ref,
+        info: &crate::program::plc::memory::TagInfo,
+        path: &mut std::slice::Iter<'_, Access>,
+    ) -> Result<(Place, DataType)> {
+        let index = match (info.len, path.as_slice().first()) {
+            (Some(len), Some(Access::Index(sub))) => {
+                path.next();
+                Some((self.subscript(sub, r)?, len))
+            }
+            (Some(_), _) => {
+                return err(
+                    r.pos,
+                    format!("'{}' is an array: name an element, e.g. {}[0]", r.name, r.name),
+                );
+            }
+            (None, _) => None,
+        };
+        let (offset, ty, stride) = match info.kind {
+            Kind::Scalar(ty) => (0, ty, 1),
+            Kind::Structure(s) => {
+                let Some(Access::Member(m)) = path.next() else {
+                    return err(
+                        r.pos,
+                        format!(
+                            "'{}' is a {}: name a member ({})",
+                            r.name,
+                            s.name(),
+                            s.visible_members()
+                        ),
+                    );
+                };
+                let Some((offset, ty)) = s.member(m) else {
+                    return err(
+                        r.pos,
+                        format!("{} has no member '{m}' (members: {})", s.name(), s.visible_members()),
+                    );
+                };
+                (offset, ty, s.size())
+            }
+            _ => unreachable!("memory places only"),
+        };
+        let place = match index {
+            Some((index, len)) => Place::Element {
+                base: info.base,
+                len,
+                stride,
+                offset,
+                index,
+                name: info.name.clone(),
+            },
+            None => Place::Slot(info.base + offset),
+        };
+        Ok((place, ty))
+    }
+
+    fn axis_place(&mut self, r: &Ref, axis: &str, m: &str) -> Result<(Place, DataType)> {
+        let Some((_, member, ty)) = AXIS_MEMBERS.iter().find(|(n, ..)| n.eq_ignore_ascii_case(m)) else {
+            let names: Vec<&str> = AXIS_MEMBERS.iter().map(|a| a.0).collect();
+            return err(
+                r.pos,
+                format!("axis member '{m}' is not modelled (members: {})", names.join(", ")),
+            );
+        };
+        let handle = axis_named(self.ctx.task, axis).ok_or_else(|| CompileError {
+            pos: r.pos,
+            message: format!("axis '{axis}' is not in the planner"),
+        })?;
+        Ok((Place::Axis(handle, *member), *ty))
+    }
+
+    fn motion_place(&mut self, r: &Ref, tag: &str, m: &str) -> Result<(Place, DataType)> {
+        let handle = self
+            .ctx
+            .instruction("Motion Control", &crate::st::Expr::Ident(tag.to_owned()))
+            .map_err(|message| CompileError { pos: r.pos, message })?;
+        let upper = m.to_ascii_uppercase();
+        debug_assert!(MotionInstructionBits::default().bits().len() == BIT_NAMES.len());
+        let (member, ty) = match (BIT_NAMES.iter().find(|b| **b == upper), upper.as_str()) {
+            (Some(b), _) => (MotionMember::Bit(b), DataType::Bool),
+            (None, "ERR") => (MotionMember::Err, DataType::Int),
+            (None, "EXERR") => (MotionMember::Exerr, DataType::Sint),
+            (None, "SEGMENT") => (MotionMember::Segment, DataType::Dint),
+            (None, _) => {
+                let members = BIT_NAMES.join(", ");
+                return err(
+                    r.pos,
+                    format!("MOTION_INSTRUCTION has no member '{m}' (members: {members}, ERR, EXERR, SEGMENT)"),
+                );
+            }
+        };
+        Ok((Place::Motion(handle, member), ty))
+    }
+
+    fn coord_place(&mut self, r: &Ref, tag: &str, m: &str) -> Result<(Place, DataType)> {
+        let handle = coord::coordinate_system(self.ctx, "Coordinate System", &crate::st::Expr::Ident(tag.to_owned()))
+            .map_err(|message| CompileError { pos: r.pos, message })?;
+        let status = planner::coord::CoordStatus::default();
+        let member = if let Some((n, _)) = status.bits().into_iter().find(|(n, _)| n.eq_ignore_ascii_case(m)) {
+            CoordMember::Status(n)
+        } else if m.eq_ignore_ascii_case("TransformSourceStatus") {
+            CoordMember::TransformSource
+        } else if m.eq_ignore_ascii_case("TransformTargetStatus") {
+            CoordMember::TransformTarget
+        } else {
+            let names: Vec<&str> = status.bits().into_iter().map(|b| b.0).collect();
+            return err(
+                r.pos,
+                format!(
+                    "COORDINATE_SYSTEM has no member '{m}' (members: {}, TransformSourceStatus, TransformTargetStatus)",
+                    names.join(", ")
+                ),
+            );
+        };
+        Ok((Place::Coord(handle, member), DataType::Bool))
+    }
+
+    fn fb_place(&mut self, r: &Ref, tag: &str, m: &str) -> Result<(Place, DataType)> {
+        let Some(fb) = self.fbs.iter().find(|f| f.name.eq_ignore_ascii_case(tag)) else {
+            return err(
+                r.pos,
+                format!(
+                    "'{}' is never called in an IEC routine or a program step: it has no outputs to read",
+                    r.name
+                ),
+            );
+        };
+        let outputs = planner::instruction::FbOutputs::default();
+        if m.eq_ignore_ascii_case("ErrorID") {
+            return Ok((Place::Fb(fb.handle, FbMember::ErrorId), DataType::Udint));
+        }
+        match outputs.bits().into_iter().find(|(n, _)| n.eq_ignore_ascii_case(m)) {
+            Some((n, _)) => Ok((Place::Fb(fb.handle, FbMember::Bit(n)), DataType::Bool)),
+            None => {
+                let names: Vec<&str> = outputs.bits().into_iter().map(|b| b.0).collect();
+                err(
+                    r.pos,
+                    format!("function block outputs are {}, ErrorID; not '{m}'", names.join(", ")),
+                )
+            }
+        }
+    }
+
+    /// A bit of an integer place: `.5` or `.[i]`.
+    fn bit_of(&mut self, r: &Ref, place: Place, ty: DataType, access: &Access) -> Result<(Place, DataType)> {
+        let bit = match access {
+            Access::Bit(b) => constant(Value::Int(i64::from(*b)), Ty::Dint),
+            Access::BitExpr(e) => self.integer(e)?,
+            _ => {
+                return err(
+                    r.pos,
+                    format!("'{}': nothing follows a {} value but a bit number", show(r), ty.name()),
+                );
+            }
+        };
+        if !ty.is_integer() {
+            return err(
+                r.pos,
+                format!("'{}': bit access needs an integer, this is {}", show(r), ty.name()),
+            );
+        }
+        if let CKind::Const(Value::Int(b)) = bit.kind
+            && (b < 0 || b >= i64::from(ty.bits()))
+        {
+            return err(
+                r.pos,
+                format!("'{}': bit {b} is outside a {} ({} bits)", show(r), ty.name(), ty.bits()),
+            );
+        }
+        let place = Place::Bit {
+            inner: Box::new(place),
+            width: ty.bits(),
+            bit,
+            ty,
+        };
+        Ok((place, DataType::Bool))
+    }
+
+    pub(super) fn subscript(&mut self, sub: &[Expr], r: &Ref) -> Result<CExpr> {
+        if sub.len() != 1 {
+            return err(
+                r.pos,
+                format!("'{}' has one dimension, got {} subscripts", r.name, sub.len()),
+            );
+        }
+        self.integer(&sub[0])
+    }
+
+    pub(super) fn instance(&mut self, arg: &Arg, want: &[Structure], what: &str) -> Result<Instance> {
+        let bad = || CompileError {
+            pos: arg.pos,
+            message: format!(
+                "{what} takes a {} tag, got '{}'",
+                want.iter().map(|s| s.name()).collect::<Vec<_>>().join(" or "),
+                arg.text
+            ),
+        };
+        let Some(Expr {
+            kind: ExprKind::Ref(r), ..
+        }) = &arg.expr
+        else {
+            return Err(bad());
+        };
+        let t = self.tag(r)?;
+        let info = self.mem.tags[t].clone();
+        let Kind::Structure(s) = info.kind else {
+            return Err(bad());
+        };
+        if !want.contains(&s) {
+            return Err(bad());
+        }
+        let index = match (info.len, r.path.as_slice()) {
+            (None, []) => None,
+            (Some(len), [Access::Index(sub)]) => Some((self.subscript(sub, r)?, len)),
+            _ => return Err(bad()),
+        };
+        Ok(Instance {
+            base: info.base,
+            structure: s,
+            index,
+            name: info.name,
+        })
+    }
+
+    pub(super) fn array_at(&mut self, arg: &Arg, what: &str) -> Result<ArrayAt> {
+        let bad = || CompileError {
+            pos: arg.pos,
+            message: format!("{what}: expected an array element such as Tag[0], got '{}'", arg.text),
+        };
+        let Some(Expr {
+            kind: ExprKind::Ref(r), ..
+        }) = &arg.expr
+        else {
+            return Err(bad());
+        };
+        let t = self.tag(r)?;
+        let info = self.mem.tags[t].clone();
+        let (Kind::Scalar(ty), Some(len)) = (info.kind, info.len) else {
+            return Err(bad());
+        };
+        let start = match r.path.as_slice() {
+            [Access::Index(sub)] => self.subscript(sub, r)?,
+            [] => constant(Value::Int(0), Ty::Dint),
+            _ => return Err(bad()),
+        };
+        Ok(ArrayAt {
+            base: info.base,
+            len,
+            start,
+            ty,
+            name: info.name,
+        })
+    }
+}

@@ -1,0 +1,216 @@
+//! Expressions: the controller's arithmetic (module doc of [`super`]).
+
+use super::Exec;
+use crate::program::plc::ir::{CExpr, CKind, Func};
+use crate::program::plc::types::{Ty, Value};
+use crate::st::ast::BinaryOp;
+
+impl Exec<'_> {
+    /// Evaluates an expression (a subscript fault is recorded for the
+    /// statement to stop at).
+    pub fn eval(&mut self, e: &CExpr) -> Value {
+        match &e.kind {
+            CKind::Const(v) => *v,
+            CKind::Slot(i) => self.mem.slots[*i],
+            CKind::Load(p) => self.load(p),
+            CKind::Neg(a) => {
+                let v = self.eval(a);
+                match e.ty {
+                    Ty::Dint | Ty::Lint => self.int_result(-i128::from(v.as_i64()), e.ty, "negation"),
+                    Ty::Real => Value::Real(f64::from(-v.as_f64() as f32)),
+                    _ => Value::Real(-v.as_f64()),
+                }
+            }
+            CKind::Not(a) => {
+                let v = self.eval(a);
+                match e.ty {
+                    Ty::Bool => Value::Bool(!v.truthy()),
+                    Ty::Dint => Value::Int(i64::from(!(v.as_i64() as i32))),
+                    _ => Value::Int(!v.as_i64()),
+                }
+            }
+            CKind::Binary(op, a, b, math) => {
+                let x = self.leaf(a);
+                if *math == Ty::Bool {
+                    let y = self.leaf(b);
+                    return Value::Bool(match op {
+                        BinaryOp::And => x.truthy() && y.truthy(),
+                        BinaryOp::Or => x.truthy() || y.truthy(),
+                        BinaryOp::Xor => x.truthy() != y.truthy(),
+                        _ => unreachable!("BOOL math is logic only"),
+                    });
+                }
+                let y = self.leaf(b);
+                self.binary(*op, x, y, *math)
+            }
+            CKind::Func(f, a) => {
+                let v = self.eval(a);
+                self.function(*f, v, a.ty, e.ty)
+            }
+        }
+    }
+
+    pub(super) fn dint_result(&mut self, r: i64, what: &str) -> Value {
+        if i32::try_from(r).is_ok() {
+            Value::Int(r)
+        } else {
+            self.int_result(i128::from(r), Ty::Dint, what)
+        }
+    }
+
+    /// [`Exec::eval`] with the leaves read in place.
+    #[inline]
+    pub(super) fn leaf(&mut self, e: &CExpr) -> Value {
+        match &e.kind {
+            CKind::Const(v) => *v,
+            CKind::Slot(i) => self.mem.slots[*i],
+            _ => self.eval(e),
+        }
+    }
+
+    pub(super) fn int_result(&mut self, r: i128, ty: Ty, what: &str) -> Value {
+        let (lo, hi) = if ty == Ty::Dint {
+            (i128::from(i32::MIN), i128::from(i32::MAX))
+        } else {
+            (i128::from(i64::MIN), i128::from(i64::MAX))
+        };
+        if (lo..=hi).contains(&r) {
+            Value::Int(r as i64)
+        } else {
+            self.overflow(&format!("{what} gives {r}, outside {}", ty.name()));
+            Value::Int(if ty == Ty::Dint { i64::from(r as i32) } else { r as i64 })
+        }
+    }
+
+    pub(super) fn real_result(&mut self, r: f64, ty: Ty, finite_in: bool) -> Value {
+        let r = if ty == Ty::Real { f64::from(r as f32) } else { r };
+        if finite_in && !r.is_finite() {
+            self.overflow(&format!("the {} result is not finite", ty.name()));
+        }
+        Value::Real(r)
+    }
+
+    pub(super) fn binary(&mut self, op: BinaryOp, x: Value, y: Value, math: Ty) -> Value {
+        use BinaryOp as B;
+        if math == Ty::Dint {
+            // Two 32-bit operands: every result fits 64 bits.
+            let (a, b) = (x.as_i64(), y.as_i64());
+            match op {
+                B::Add => return self.dint_result(a + b, "addition"),
+                B::Sub => return self.dint_result(a - b, "subtraction"),
+                B::Mul => return self.dint_result(a * b, "multiplication"),
+                B::Lt => return Value::Bool(a < b),
+                B::Le => return Value::Bool(a <= b),
+                B::Gt => return Value::Bool(a > b),
+                B::Ge => return Value::Bool(a >= b),
+                B::Eq => return Value::Bool(a == b),
+                B::Ne => return Value::Bool(a != b),
+                B::Mod if b != 0 => return Value::Int(a % b),
+                _ => {}
+            }
+        }
+        if math.is_integer() {
+            let (a, b) = (i128::from(x.as_i64()), i128::from(y.as_i64()));
+            let max = if math == Ty::Dint {
+                i128::from(i32::MAX)
+            } else {
+                i128::from(i64::MAX)
+            };
+            return match op {
+                B::Add => self.int_result(a + b, math, "addition"),
+                B::Sub => self.int_result(a - b, math, "subtraction"),
+                B::Mul => self.int_result(a * b, math, "multiplication"),
+                B::Div | B::Mod if b == 0 => {
+                    self.overflow("division by zero");
+                    Value::Int(if op == B::Mod { 0 } else { (a.signum() * max) as i64 })
+                }
+                B::Div => self.int_result(a / b, math, "division"),
+                B::Mod => Value::Int((a % b) as i64),
+                B::And | B::Or | B::Xor => {
+                    let r = match op {
+                        B::And => a & b,
+                        B::Or => a | b,
+                        _ => a ^ b,
+                    };
+                    Value::Int(if math == Ty::Dint {
+                        i64::from(r as i32)
+                    } else {
+                        r as i64
+                    })
+                }
+                B::Lt => Value::Bool(a < b),
+                B::Le => Value::Bool(a <= b),
+                B::Gt => Value::Bool(a > b),
+                B::Ge => Value::Bool(a >= b),
+                B::Eq => Value::Bool(a == b),
+                B::Ne => Value::Bool(a != b),
+                B::Pow => unreachable!("** computes in REAL"),
+            };
+        }
+        // Operands are converted to the math type first (a DINT becomes a
+        // REAL, rounded, before a REAL operation).
+        let to_math = |v: Value| {
+            if math == Ty::Real {
+                f64::from(v.as_f64() as f32)
+            } else {
+                v.as_f64()
+            }
+        };
+        let (a, b) = (to_math(x), to_math(y));
+        let finite = a.is_finite() && b.is_finite();
+        match op {
+            B::Add => self.real_result(a + b, math, finite),
+            B::Sub => self.real_result(a - b, math, finite),
+            B::Mul => self.real_result(a * b, math, finite),
+            B::Div => self.real_result(a / b, math, finite),
+            B::Pow => self.real_result(a.powf(b), math, finite),
+            B::Mod if b == 0.0 => {
+                self.overflow("MOD by zero");
+                Value::Real(0.0)
+            }
+            B::Mod => self.real_result(a - (a / b).trunc() * b, math, finite),
+            B::Lt => Value::Bool(a < b),
+            B::Le => Value::Bool(a <= b),
+            B::Gt => Value::Bool(a > b),
+            B::Ge => Value::Bool(a >= b),
+            B::Eq => Value::Bool(a == b),
+            B::Ne => Value::Bool(a != b),
+            B::And | B::Or | B::Xor => unreachable!("the compiler refuses bitwise REAL"),
+        }
+    }
+
+    pub(super) fn function(&mut self, f: Func, v: Value, arg: Ty, result: Ty) -> Value {
+        if f == Func::Abs && arg.is_integer() {
+            return self.int_result(i128::from(v.as_i64()).abs(), arg, "ABS");
+        }
+        let x = if result == Ty::Real || arg == Ty::Real {
+            f64::from(v.as_f64() as f32)
+        } else {
+            v.as_f64()
+        };
+        let y = match f {
+            Func::Abs => x.abs(),
+            Func::Sqrt => x.abs().sqrt(),
+            Func::Sin => x.sin(),
+            Func::Cos => x.cos(),
+            Func::Tan => x.tan(),
+            Func::Asin => x.asin(),
+            Func::Acos => x.acos(),
+            Func::Atan => x.atan(),
+            Func::Ln => x.ln(),
+            Func::Log => x.log10(),
+            Func::Deg => x.to_degrees(),
+            Func::Rad => x.to_radians(),
+            Func::Trunc => {
+                let t = x.trunc();
+                return if t.is_finite() {
+                    self.int_result(t as i128, Ty::Dint, "TRUNC")
+                } else {
+                    self.overflow("TRUNC of a value that is not finite");
+                    Value::Int(0)
+                };
+            }
+        };
+        self.real_result(y, result, x.is_finite())
+    }
+}
