@@ -139,6 +139,36 @@ impl Ctx<'_> {
         }
     }
 
+    /// A finite value within `min..=max`.
+    pub(super) fn in_range(&self, v: &Spanned<f64>, field: &str, min: f64, max: f64) -> Result<f64, SceneError> {
+        let value = self.finite(v, field)?;
+        if (min..=max).contains(&value) {
+            Ok(value)
+        } else {
+            Err(self.out_of_range(v, field, value, min, max))
+        }
+    }
+
+    /// An integer within `min..=max`.
+    pub(super) fn int_in_range(&self, v: &Spanned<i64>, field: &str, min: i64, max: i64) -> Result<i64, SceneError> {
+        let value = *v.get_ref();
+        if (min..=max).contains(&value) {
+            Ok(value)
+        } else {
+            Err(self.out_of_range(v, field, value as f64, min as f64, max as f64))
+        }
+    }
+
+    fn out_of_range<T>(&self, v: &Spanned<T>, field: &str, value: f64, min: f64, max: f64) -> SceneError {
+        let problem = Problem::OutOfRange {
+            value,
+            min,
+            max,
+            exclusive: false,
+        };
+        self.invalid(v, field, problem)
+    }
+
     pub(super) fn positive(&self, v: &Spanned<f64>, field: &str) -> Result<f64, SceneError> {
         let value = self.finite(v, field)?;
         if value > 0.0 {

@@ -99,19 +99,7 @@ impl Ctx<'_> {
             _ => members.min(3),
         };
         let transform_dimension = match &r.transform_dimension {
-            Some(d) => {
-                let value = *d.get_ref();
-                if !(1..=3).contains(&value) {
-                    let problem = Problem::OutOfRange {
-                        value: value as f64,
-                        min: 1.0,
-                        max: 3.0,
-                        exclusive: false,
-                    };
-                    return Err(self.invalid(d, f("transform_dimension"), problem));
-                }
-                value as usize
-            }
+            Some(d) => self.int_in_range(d, &f("transform_dimension"), 1, 3)? as usize,
             None => natural,
         };
         let three = |v: &Option<Spanned<Numbers<3>>>, name: &str| match v {

@@ -128,20 +128,7 @@ impl Ctx<'_> {
         };
         let r = raw.get_ref();
         let primary_axes = match &r.primary_axes {
-            Some(p) => {
-                let max = default_primary as i64;
-                let value = *p.get_ref();
-                if !(1..=max).contains(&value) {
-                    let problem = Problem::OutOfRange {
-                        value: value as f64,
-                        min: 1.0,
-                        max: max as f64,
-                        exclusive: false,
-                    };
-                    return Err(self.invalid(p, f("primary_axes"), problem));
-                }
-                value as usize
-            }
+            Some(p) => self.int_in_range(p, &f("primary_axes"), 1, default_primary as i64)? as usize,
             None => default_primary,
         };
         let pos = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {

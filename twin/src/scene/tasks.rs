@@ -91,16 +91,7 @@ impl Ctx<'_> {
             let name = self.identifier(&t.name, &f("name"))?;
             self.unique(&mut task_names, &t.name, &f("name"), NameKind::Axis)?;
             let period_ms = self.in_range(&t.period_ms, &f("period_ms"), 0.1, 2_000_000.0)?;
-            let priority = *t.priority.get_ref();
-            if !(1..=15).contains(&priority) {
-                let problem = Problem::OutOfRange {
-                    value: priority as f64,
-                    min: 1.0,
-                    max: 15.0,
-                    exclusive: false,
-                };
-                return Err(self.invalid(&t.priority, f("priority"), problem));
-            }
+            let priority = self.int_in_range(&t.priority, &f("priority"), 1, 15)?;
             let watchdog_ms = match &t.watchdog_ms {
                 Some(w) => self.in_range(w, &f("watchdog_ms"), 0.1, 2_000_000.0)?,
                 None => DEFAULT_WATCHDOG_MS,
@@ -125,21 +116,6 @@ impl Ctx<'_> {
             });
         }
         Ok(tasks)
-    }
-
-    fn in_range(&self, v: &Spanned<f64>, field: &str, min: f64, max: f64) -> Result<f64, SceneError> {
-        let x = self.finite(v, field)?;
-        if (min..=max).contains(&x) {
-            Ok(x)
-        } else {
-            let problem = Problem::OutOfRange {
-                value: x,
-                min,
-                max,
-                exclusive: false,
-            };
-            Err(self.invalid(v, field, problem))
-        }
     }
 
     fn program_def(

@@ -92,15 +92,7 @@ fn is_keyword(word: &str) -> bool {
 /// # Errors
 /// The first [`SyntaxError`].
 pub fn parse_routine(text: &str) -> Result<Routine, SyntaxError> {
-    let tokens = lex(text)?;
-    let chars: Vec<char> = text.chars().collect();
-    let end = tokens.len() - 1;
-    let mut p = Parser {
-        tokens,
-        chars,
-        at: 0,
-        end,
-    };
+    let mut p = Parser::new(text)?;
     let body = p.statements(&[])?;
     if !p.at_end() {
         return Err(p.unexpected("a statement"));
@@ -113,15 +105,7 @@ pub fn parse_routine(text: &str) -> Result<Routine, SyntaxError> {
 /// # Errors
 /// The first [`SyntaxError`], also when text follows the expression.
 pub fn parse_expression(text: &str) -> Result<Expr, SyntaxError> {
-    let tokens = lex(text)?;
-    let chars: Vec<char> = text.chars().collect();
-    let end = tokens.len() - 1;
-    let mut p = Parser {
-        tokens,
-        chars,
-        at: 0,
-        end,
-    };
+    let mut p = Parser::new(text)?;
     let e = p.expr()?;
     if !p.at_end() {
         return Err(p.unexpected("an operator or the end of the expression"));
@@ -140,6 +124,17 @@ struct Parser {
 const EOF: Tok = Tok::Eof;
 
 impl Parser {
+    fn new(text: &str) -> Result<Parser, SyntaxError> {
+        let tokens = lex(text)?;
+        let end = tokens.len() - 1;
+        Ok(Parser {
+            tokens,
+            chars: text.chars().collect(),
+            at: 0,
+            end,
+        })
+    }
+
     fn tok(&self, ahead: usize) -> &Tok {
         let i = self.at + ahead;
         if i >= self.end { &EOF } else { &self.tokens[i].tok }

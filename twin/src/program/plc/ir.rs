@@ -136,6 +136,24 @@ pub enum Place {
     MinorFaults,
 }
 
+impl Place {
+    /// The slot of element `index` of an [`Place::Element`], `None` when
+    /// the index is out of range or the place is not an element.
+    #[must_use]
+    pub fn element_slot(&self, index: i64) -> Option<usize> {
+        match self {
+            Place::Element {
+                base,
+                len,
+                stride,
+                offset,
+                ..
+            } if (0..*len as i64).contains(&index) => Some(base + index as usize * stride + offset),
+            _ => None,
+        }
+    }
+}
+
 /// The members of a `MOTION_INSTRUCTION`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MotionMember {

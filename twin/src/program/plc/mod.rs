@@ -61,7 +61,7 @@ use super::{FbBinding, InstructionBinding};
 use crate::scene::{Scene, Tag, TagValue};
 use compile::{CompileError, Compiler};
 use exec::{Exec, Invocation, NOMINAL_STATEMENT_US, Raised};
-use ir::{Builtin, CStmt, MotionMember, Place, SKind};
+use ir::{Builtin, CStmt, Place, SKind};
 use memory::Memory;
 use planner::instruction::MotionInstructionBits;
 use planner::task::MotionTask;
@@ -627,54 +627,12 @@ fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
     };
     match place {
         Place::Slot(i) => mem.slots[*i],
-        Place::Element {
-            base,
-            len,
-            stride,
-            offset,
-            index,
-            ..
-        } => {
-            let i = constant(index).clamp(0, *len as i64 - 1) as usize;
-            mem.slots[base + i * stride + offset]
-        }
+        Place::Element { index, .. } => place
+            .element_slot(constant(index))
+            .map_or(Value::Int(0), |i| mem.slots[i]),
         Place::Bit { inner, bit, .. } => Value::Bool(peek(inner, mem, task).as_i64() >> constant(bit) & 1 == 1),
-        Place::Motion(h, m) => {
-            let b = task.motion_bits(*h);
-            match m {
-                MotionMember::Bit(n) => Value::Bool(b.bit(n).unwrap_or(false)),
-                MotionMember::Err => Value::Int(i64::from(b.err)),
-                MotionMember::Exerr => Value::Int(i64::from(b.exerr)),
-                MotionMember::Segment => Value::Int(i64::from(b.segment)),
-            }
-        }
-        Place::Axis(h, m) => {
-            let s = task.axis_state(*h);
-            match m {
-                ir::AxisMember::ActualPosition => Value::Real(s.actual_position),
-                ir::AxisMember::CommandPosition => Value::Real(s.command_position),
-                ir::AxisMember::ActualVelocity => Value::Real(s.actual_velocity),
-                ir::AxisMember::CommandVelocity => Value::Real(s.command_velocity),
-                ir::AxisMember::CommandAcceleration => Value::Real(s.command_acceleration),
-                ir::AxisMember::CoordinatedMotionStatus => Value::Bool(task.coordinated_motion_status(*h)),
-                ir::AxisMember::PositionCamStatus => Value::Bool(task.slave_cam_status(*h).position_cam),
-                ir::AxisMember::PositionCamLockStatus => Value::Bool(task.slave_cam_status(*h).lock),
-                ir::AxisMember::PositionCamPendingStatus => Value::Bool(task.slave_cam_status(*h).pending),
-                ir::AxisMember::TransformStateStatus => Value::Bool(task.transform_state_status(*h)),
-                ir::AxisMember::ControlledByTransformStatus => Value::Bool(task.controlled_by_transform_status(*h)),
-            }
-        }
-        Place::Coord(h, m) => Value::Bool(match m {
-            ir::CoordMember::Status(n) => task.coord_status(*h).bits().into_iter().any(|(x, b)| x == *n && b),
-            ir::CoordMember::TransformSource => task.transform_source_status(*h),
-            ir::CoordMember::TransformTarget => task.transform_target_status(*h),
-        }),
-        Place::Fb(h, m) => {
-            let o = task.outputs(*h);
-            match m {
-                ir::FbMember::Bit(n) => Value::Bool(o.bits().into_iter().any(|(x, b)| x == *n && b)),
-                ir::FbMember::ErrorId => Value::Int(i64::from(o.error_id)),
-            }
+        Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Fb(..) => {
+            exec::places::planner_value(place, task).unwrap_or(Value::Int(0))
         }
         Place::FirstScan | Place::MinorInScan => Value::Bool(false),
         Place::MinorFaults => Value::Int(0),

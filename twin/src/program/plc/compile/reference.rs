@@ -8,7 +8,7 @@ use crate::program::coord;
 use crate::program::plc::ir::{
     AXIS_MEMBERS, ArrayAt, CExpr, CKind, CoordMember, FbMember, Instance, MotionMember, Place,
 };
-use crate::program::plc::memory::Kind;
+use crate::program::plc::memory::{Kind, TagInfo};
 use crate::program::plc::types::{DataType, Structure, Ty, Value};
 use crate::scene::BaseType;
 use crate::st::ast::{Access, Arg, Expr, ExprKind, Ref};
@@ -166,7 +166,7 @@ impl Compiler<'_, '_> {
     fn memory_place(
         &mut self,
         r: &Ref,
-        info: &crate::program::plc::memory::TagInfo,
+        info: &TagInfo,
         path: &mut std::slice::Iter<'_, Access>,
     ) -> Result<(Place, DataType)> {
         let index = match (info.len, path.as_slice().first()) {
@@ -352,6 +352,18 @@ impl Compiler<'_, '_> {
         self.integer(&sub[0])
     }
 
+    /// The reference an operand is and the tag it names, if it is one.
+    fn tag_arg<'r>(&self, arg: &'r Arg) -> Option<(&'r Ref, TagInfo)> {
+        let Some(Expr {
+            kind: ExprKind::Ref(r), ..
+        }) = &arg.expr
+        else {
+            return None;
+        };
+        let t = self.mem.resolve(Some(self.program), &r.name)?;
+        Some((r, self.mem.tags[t].clone()))
+    }
+
     pub(super) fn instance(&mut self, arg: &Arg, want: &[Structure], what: &str) -> Result<Instance> {
         let bad = || CompileError {
             pos: arg.pos,
@@ -361,14 +373,7 @@ impl Compiler<'_, '_> {
                 arg.text
             ),
         };
-        let Some(Expr {
-            kind: ExprKind::Ref(r), ..
-        }) = &arg.expr
-        else {
-            return Err(bad());
-        };
-        let t = self.tag(r)?;
-        let info = self.mem.tags[t].clone();
+        let (r, info) = self.tag_arg(arg).ok_or_else(bad)?;
         let Kind::Structure(s) = info.kind else {
             return Err(bad());
         };
@@ -393,14 +398,7 @@ impl Compiler<'_, '_> {
             pos: arg.pos,
             message: format!("{what}: expected an array element such as Tag[0], got '{}'", arg.text),
         };
-        let Some(Expr {
-            kind: ExprKind::Ref(r), ..
-        }) = &arg.expr
-        else {
-            return Err(bad());
-        };
-        let t = self.tag(r)?;
-        let info = self.mem.tags[t].clone();
+        let (r, info) = self.tag_arg(arg).ok_or_else(bad)?;
         let (Kind::Scalar(ty), Some(len)) = (info.kind, info.len) else {
             return Err(bad());
         };

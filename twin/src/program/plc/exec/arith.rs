@@ -138,13 +138,8 @@ impl Exec<'_> {
                         r as i64
                     })
                 }
-                B::Lt => Value::Bool(a < b),
-                B::Le => Value::Bool(a <= b),
-                B::Gt => Value::Bool(a > b),
-                B::Ge => Value::Bool(a >= b),
-                B::Eq => Value::Bool(a == b),
-                B::Ne => Value::Bool(a != b),
                 B::Pow => unreachable!("** computes in REAL"),
+                _ => compare(op, a, b),
             };
         }
         // Operands are converted to the math type first (a DINT becomes a
@@ -169,13 +164,8 @@ impl Exec<'_> {
                 Value::Real(0.0)
             }
             B::Mod => self.real_result(a - (a / b).trunc() * b, math, finite),
-            B::Lt => Value::Bool(a < b),
-            B::Le => Value::Bool(a <= b),
-            B::Gt => Value::Bool(a > b),
-            B::Ge => Value::Bool(a >= b),
-            B::Eq => Value::Bool(a == b),
-            B::Ne => Value::Bool(a != b),
             B::And | B::Or | B::Xor => unreachable!("the compiler refuses bitwise REAL"),
+            _ => compare(op, a, b),
         }
     }
 
@@ -213,4 +203,17 @@ impl Exec<'_> {
         };
         self.real_result(y, result, x.is_finite())
     }
+}
+
+/// A comparison operator applied to two operands of one math type.
+fn compare<T: PartialOrd>(op: BinaryOp, a: T, b: T) -> Value {
+    Value::Bool(match op {
+        BinaryOp::Lt => a < b,
+        BinaryOp::Le => a <= b,
+        BinaryOp::Gt => a > b,
+        BinaryOp::Ge => a >= b,
+        BinaryOp::Eq => a == b,
+        BinaryOp::Ne => a != b,
+        _ => unreachable!("comparisons only"),
+    })
 }

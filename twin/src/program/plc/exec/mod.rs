@@ -30,7 +30,7 @@ use planner::task::MotionTask;
 
 mod arith;
 mod builtins;
-mod places;
+pub(super) mod places;
 
 /// Slots of statements a scan may execute: the watchdog counts each
 /// executed statement (and each loop test) as [`NOMINAL_STATEMENT_US`].
@@ -338,7 +338,7 @@ impl<'e> Exec<'e> {
             SKind::Gsv(axis, attribute, place, ty) => {
                 let config = self.task.axis_config(*axis);
                 let v = match attribute {
-                    GsvAttribute::Member(m) => self.axis_member(*axis, *m),
+                    GsvAttribute::Member(m) => places::axis_value(self.task, *axis, *m),
                     GsvAttribute::MaximumSpeed => Value::Real(config.max_velocity),
                     GsvAttribute::MaximumAcceleration => Value::Real(config.max_acceleration),
                     GsvAttribute::MaximumDeceleration => Value::Real(config.max_deceleration),

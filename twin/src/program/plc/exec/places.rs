@@ -5,6 +5,7 @@ use super::Exec;
 use crate::program::plc::ir::{AxisMember, CExpr, CoordMember, FbMember, MotionMember, Place};
 use crate::program::plc::types::{DataType, Value};
 use planner::instruction::MotionInstructionBits;
+use planner::task::{AxisHandle, MotionTask};
 
 impl Exec<'_> {
     /// The slot a place reads or writes (`None` for the planner's places,
@@ -12,21 +13,14 @@ impl Exec<'_> {
     pub(super) fn slot(&mut self, place: &Place) -> Option<usize> {
         match place {
             Place::Slot(i) => Some(*i),
-            Place::Element {
-                base,
-                len,
-                stride,
-                offset,
-                index,
-                name,
-            } => {
+            Place::Element { len, index, name, .. } => {
                 let i = self.leaf(index).as_i64();
-                if i < 0 || i >= *len as i64 {
+                let slot = place.element_slot(i);
+                if slot.is_none() {
                     let f = self.subscript_fault(name, i, *len);
                     self.fail(f);
-                    return None;
                 }
-                Some(base + i as usize * stride + offset)
+                slot
             }
             _ => None,
         }
@@ -56,56 +50,13 @@ impl Exec<'_> {
                 let b = self.bit_number(bit, *width).unwrap_or(0);
                 Value::Bool(v >> b & 1 == 1)
             }
-            Place::Motion(h, member) => {
-                let bits = self.task.motion_bits(*h);
-                match member {
-                    MotionMember::Bit(name) => Value::Bool(bits.bit(name).unwrap_or(false)),
-                    MotionMember::Err => Value::Int(i64::from(bits.err)),
-                    MotionMember::Exerr => Value::Int(i64::from(bits.exerr)),
-                    MotionMember::Segment => Value::Int(i64::from(bits.segment)),
-                }
-            }
-            Place::Axis(h, m) => self.axis_member(*h, *m),
-            Place::Coord(h, m) => Value::Bool(match m {
-                CoordMember::Status(name) => self
-                    .task
-                    .coord_status(*h)
-                    .bits()
-                    .into_iter()
-                    .find(|(n, _)| n == name)
-                    .is_some_and(|(_, b)| b),
-                CoordMember::TransformSource => self.task.transform_source_status(*h),
-                CoordMember::TransformTarget => self.task.transform_target_status(*h),
-            }),
-            Place::Fb(h, m) => {
-                let o = self.task.outputs(*h);
-                match m {
-                    FbMember::Bit(name) => Value::Bool(o.bits().into_iter().any(|(n, b)| n == *name && b)),
-                    FbMember::ErrorId => Value::Int(i64::from(o.error_id)),
-                }
+            Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Fb(..) => {
+                planner_value(place, self.task).unwrap_or(Value::Int(0))
             }
             Place::FirstScan => Value::Bool(self.first_scan),
             Place::MinorInScan => Value::Bool(!self.minor.is_empty()),
             Place::MinorFaults => Value::Int(self.minor_total.min(i64::from(i32::MAX))),
             Place::Slot(_) | Place::Element { .. } => unreachable!("slots read above"),
-        }
-    }
-
-    pub(super) fn axis_member(&self, h: planner::task::AxisHandle, m: AxisMember) -> Value {
-        let s = self.task.axis_state(h);
-        let real = |x: f64| Value::Real(f64::from(x as f32));
-        match m {
-            AxisMember::ActualPosition => real(s.actual_position),
-            AxisMember::CommandPosition => real(s.command_position),
-            AxisMember::ActualVelocity => real(s.actual_velocity),
-            AxisMember::CommandVelocity => real(s.command_velocity),
-            AxisMember::CommandAcceleration => real(s.command_acceleration),
-            AxisMember::CoordinatedMotionStatus => Value::Bool(self.task.coordinated_motion_status(h)),
-            AxisMember::PositionCamStatus => Value::Bool(self.task.slave_cam_status(h).position_cam),
-            AxisMember::PositionCamLockStatus => Value::Bool(self.task.slave_cam_status(h).lock),
-            AxisMember::PositionCamPendingStatus => Value::Bool(self.task.slave_cam_status(h).pending),
-            AxisMember::TransformStateStatus => Value::Bool(self.task.transform_state_status(h)),
-            AxisMember::ControlledByTransformStatus => Value::Bool(self.task.controlled_by_transform_status(h)),
         }
     }
 
@@ -162,5 +113,55 @@ fn set_bit(bits: &mut MotionInstructionBits, name: &str, v: bool) {
         "PC" => bits.pc = v,
         "ACCEL" => bits.accel = v,
         _ => bits.decel = v,
+    }
+}
+
+/// The value of a member the planner keeps (a control structure's, an
+/// axis', a coordinate system's, a function block's), as a program reads
+/// it; `None` for places in tag memory.
+pub(in crate::program::plc) fn planner_value(place: &Place, task: &MotionTask) -> Option<Value> {
+    Some(match place {
+        Place::Motion(h, member) => {
+            let bits = task.motion_bits(*h);
+            match member {
+                MotionMember::Bit(name) => Value::Bool(bits.bit(name).unwrap_or(false)),
+                MotionMember::Err => Value::Int(i64::from(bits.err)),
+                MotionMember::Exerr => Value::Int(i64::from(bits.exerr)),
+                MotionMember::Segment => Value::Int(i64::from(bits.segment)),
+            }
+        }
+        Place::Axis(h, m) => axis_value(task, *h, *m),
+        Place::Coord(h, m) => Value::Bool(match m {
+            CoordMember::Status(name) => task.coord_status(*h).bits().into_iter().any(|(n, b)| n == *name && b),
+            CoordMember::TransformSource => task.transform_source_status(*h),
+            CoordMember::TransformTarget => task.transform_target_status(*h),
+        }),
+        Place::Fb(h, m) => {
+            let o = task.outputs(*h);
+            match m {
+                FbMember::Bit(name) => Value::Bool(o.bits().into_iter().any(|(n, b)| n == *name && b)),
+                FbMember::ErrorId => Value::Int(i64::from(o.error_id)),
+            }
+        }
+        _ => return None,
+    })
+}
+
+/// An axis member: positions and velocities at REAL precision.
+pub(in crate::program::plc) fn axis_value(task: &MotionTask, h: AxisHandle, m: AxisMember) -> Value {
+    let s = task.axis_state(h);
+    let real = |x: f64| Value::Real(f64::from(x as f32));
+    match m {
+        AxisMember::ActualPosition => real(s.actual_position),
+        AxisMember::CommandPosition => real(s.command_position),
+        AxisMember::ActualVelocity => real(s.actual_velocity),
+        AxisMember::CommandVelocity => real(s.command_velocity),
+        AxisMember::CommandAcceleration => real(s.command_acceleration),
+        AxisMember::CoordinatedMotionStatus => Value::Bool(task.coordinated_motion_status(h)),
+        AxisMember::PositionCamStatus => Value::Bool(task.slave_cam_status(h).position_cam),
+        AxisMember::PositionCamLockStatus => Value::Bool(task.slave_cam_status(h).lock),
+        AxisMember::PositionCamPendingStatus => Value::Bool(task.slave_cam_status(h).pending),
+        AxisMember::TransformStateStatus => Value::Bool(task.transform_state_status(h)),
+        AxisMember::ControlledByTransformStatus => Value::Bool(task.controlled_by_transform_status(h)),
     }
 }
