@@ -129,6 +129,8 @@ fn integer_arithmetic_wraps_truncates_and_faults() {
         assert_eq!(run.plc.minor_fault_count(), faults, "{routine}");
         for f in run.plc.minor_faults() {
             assert_eq!((f.fault_type, f.code, f.major), (4, 4, false), "{routine}: {f}");
+            assert!(f.message.starts_with("arithmetic overflow: "), "{routine}: {f}");
+            assert_eq!(f.line, 1, "{routine}: {f}");
         }
     }
 }
@@ -401,10 +403,43 @@ fn major_faults_stop_the_controller_with_type_code_and_line() {
     run.scans(1);
     let f = run.plc.major_fault().expect("watchdog");
     assert_eq!((f.fault_type, f.code), (6, 1));
+    assert!(f.message.starts_with("task watchdog expired"), "{}", f.message);
 
     let mut run = Run::new(&tag("A", "DINT"), "A := A + 1; A.[A + 40] := TRUE;").unwrap();
     run.scans(1);
     assert_eq!(run.plc.major_fault().map(|f| (f.fault_type, f.code)), Some((4, 20)));
+}
+
+#[test]
+fn a_routine_calling_itself_overflows_the_stack() {
+    let scene = {
+        let dir = std::env::temp_dir().join(format!("twin-plc-stack-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("Main.st"), "JSR(Deeper);").unwrap();
+        std::fs::write(dir.join("Deeper.st"), "N := N + 1;\nJSR(Deeper);").unwrap();
+        let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/robots/indexing_table.urdf");
+        let text = format!(
+            "duration_s = 1.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n[robot]\nurdf = {urdf:?}\n\
+             {}\n[[tasks]]\nname = \"T\"\nperiod_ms = 4.0\npriority = 5\n\
+             [[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\nroutines = [\"Deeper.st\"]\n",
+            tag("N", "DINT"),
+        );
+        scene::parse(&dir.join("s.toml"), &text).unwrap()
+    };
+    let mut task = MotionTask::new(0.004).unwrap();
+    let mut plc = Controller::new(&scene, &mut task, &mut Vec::new(), &mut Vec::new()).unwrap();
+    plc.scan(&mut task, &mut Vec::new(), &mut Vec::new());
+    let f = plc.major_fault().expect("stack overflow");
+    assert_eq!((f.fault_type, f.code, f.line), (4, 84, 2));
+    assert!(
+        f.routine.ends_with("Deeper.st") && f.message.starts_with("stack overflow"),
+        "{f}"
+    );
+    let n = plc.mem.find("N").unwrap();
+    assert_eq!(
+        plc.mem.slots[plc.mem.tags[n].base],
+        Value::Int(exec::MAX_JSR_DEPTH as i64)
+    );
 }
 
 #[test]
@@ -413,6 +448,7 @@ fn a_scan_longer_than_the_period_is_an_overlap() {
     run.scans(2);
     let f = &run.plc.minor_faults()[0];
     assert_eq!((f.fault_type, f.code), (6, 2));
+    assert!(f.message.starts_with("periodic task overlap"), "{}", f.message);
     assert!(run.plc.major_fault().is_none());
 }
 
