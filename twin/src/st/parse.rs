@@ -562,8 +562,15 @@ impl Parser {
         let mut left = self.primary()?;
         while self.is_sym("**") {
             self.bump();
+            // A signed primary: `2 ** -1 ** 2` is `(2 ** -1) ** 2`.
             let right = if self.is_sym("-") {
-                self.unary()?
+                let pos = self.pos();
+                self.bump();
+                let operand = self.primary()?;
+                Expr {
+                    kind: ExprKind::Unary(UnaryOp::Neg, Box::new(operand)),
+                    pos,
+                }
             } else {
                 self.primary()?
             };
@@ -652,6 +659,7 @@ mod tests {
         assert_eq!(grouped("10 - 4 - 3"), "((10 - 4) - 3)");
         assert_eq!(grouped("ABS(-3) + SIN(x)"), "(ABS((-3)) + SIN(x))");
         assert_eq!(grouped("2 ** -1"), "(2 ** (-1))");
+        assert_eq!(grouped("2 ** -1 ** 2"), "((2 ** (-1)) ** 2)");
     }
 
     #[test]

@@ -240,17 +240,25 @@ impl Value {
     }
 }
 
-/// Rounds to the nearest integer, ties to even (the Logix REAL → integer
-/// conversion).
+/// Rounds a finite value to the nearest integer, ties to even (the Logix
+/// REAL → integer conversion). Beyond ±2^100 the result keeps only what a
+/// wrap to 64 bits or fewer keeps: a value with the same low 64 bits,
+/// itself beyond every integer type's range (so the overflow shows).
 #[must_use]
 pub fn round_half_even(x: f64) -> i128 {
-    let r = x.round_ties_even();
-    if r >= 1.7e38 {
-        i128::MAX
-    } else if r <= -1.7e38 {
-        i128::MIN
-    } else {
+    wide_integer(x.round_ties_even())
+}
+
+/// An integral float as an integer; beyond ±2^100, see [`round_half_even`].
+#[must_use]
+pub fn wide_integer(r: f64) -> i128 {
+    const TWO_64: f64 = 18_446_744_073_709_551_616.0;
+    if r.abs() < 2f64.powi(100) {
         r as i128
+    } else {
+        // Exact: a float this large is a multiple of 2^48, and the
+        // remainder of a division by a power of two is exact.
+        (r.rem_euclid(TWO_64) as u128 as i128) + (1i128 << 100)
     }
 }
 
@@ -436,6 +444,17 @@ mod tests {
         );
         assert_eq!(DataType::Dint.store(Value::Real(f64::NAN)), (Value::Int(0), true));
         assert_eq!(DataType::Ulint.store(Value::Int(-1)), (Value::Int(-1), false));
+    }
+
+    #[test]
+    fn huge_reals_wrap_by_their_low_bits() {
+        // 3.4e38 as a REAL is 0xFFFFFF × 2^104: its low 64 bits are zero.
+        let x = f64::from(3.4e38f32);
+        assert_eq!(DataType::Dint.store(Value::Real(x)), (Value::Int(0), true));
+        assert_eq!(DataType::Lint.store(Value::Real(-x)), (Value::Int(0), true));
+        // 2^70 + 2^60 keeps 2^60 in its low 64 bits.
+        let y = 2f64.powi(70) + 2f64.powi(60);
+        assert_eq!(DataType::Lint.store(Value::Real(y)), (Value::Int(1 << 60), true));
     }
 
     #[test]

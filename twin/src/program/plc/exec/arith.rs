@@ -2,7 +2,7 @@
 
 use super::Exec;
 use crate::program::plc::ir::{CExpr, CKind, Func};
-use crate::program::plc::types::{Ty, Value};
+use crate::program::plc::types::{Ty, Value, wide_integer};
 use crate::st::ast::BinaryOp;
 
 impl Exec<'_> {
@@ -194,7 +194,7 @@ impl Exec<'_> {
             Func::Trunc => {
                 let t = x.trunc();
                 return if t.is_finite() {
-                    self.int_result(t as i128, Ty::Dint, "TRUNC")
+                    self.int_result(wide_integer(t), Ty::Dint, "TRUNC")
                 } else {
                     self.overflow("TRUNC of a value that is not finite");
                     Value::Int(0)
