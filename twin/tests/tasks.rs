@@ -434,3 +434,42 @@ fn an_iec_routine_calls_mc_move_modulo_on_its_instance_and_reads_its_outputs() {
         .to_string();
     assert!(e.contains("IEC"), "{e}");
 }
+
+#[test]
+fn mrp_mas_and_mcs_run_from_a_routine() {
+    // Scan 1 redefines Table's position to 100 (MRP, no motion); scan 2
+    // jogs it; scan 50 stops the jog (MAS). Scan 2 also starts an MCLM of
+    // XY that scan 20 stops (MCS).
+    let routine = format!(
+        "N := N + 1;\n\
+         IF N = 1 THEN MRP(Table, Redefine, absolute, command, 100.0); END_IF;\n\
+         IF N = 2 THEN {MAJ} MCLM(XY, Move, 1, Target[0], 10.0, unitspersec, 1000, unitspersec2, 1000, unitspersec2, trapezoidal, 100, 100, %ofTime, 1, disabled, programmed, 0, 0, none, 0, 0); END_IF;\n\
+         IF N = 20 THEN MCS(XY, Halt, coordinatedmove, yes, 500.0, unitspersec², no, 100.0, %ofTime); END_IF;\n\
+         IF N = 50 THEN MAS(Table, Stop, jog, yes, 900.0, unitspersec²); END_IF;"
+    );
+    let tags = format!(
+        "{}{}{}{}{}{}{}",
+        tag("N", "DINT"),
+        tag("Redefine", "MOTION_INSTRUCTION"),
+        tag("Jog", "MOTION_INSTRUCTION"),
+        tag("Stop", "MOTION_INSTRUCTION"),
+        tag("Move", "MOTION_INSTRUCTION"),
+        tag("Halt", "MOTION_INSTRUCTION"),
+        "[[tags]]\nname = \"Target\"\ntype = \"REAL[2]\"\nvalue = [0.0, 50.0]\n"
+    );
+    let mut twin = load(&scene("mrp_mas_mcs", &tags, &routine, 4.0));
+    let (table, slide) = (axis(&twin, "Table"), axis(&twin, "Slide"));
+    twin.step();
+    assert_eq!(twin.task().axis_state(table).command_position, 100.0, "MRP redefined");
+    for _ in 0..300 {
+        twin.step();
+    }
+    for name in ["Redefine", "Jog", "Stop", "Move", "Halt"] {
+        let b = twin.task().motion_bits(control(&twin, name));
+        assert!(!b.er, "{name}: {b:?}");
+    }
+    assert!(twin.task().motion_bits(control(&twin, "Stop")).pc, "MAS complete");
+    assert_eq!(twin.task().axis_state(table).command_velocity, 0.0, "the jog stopped");
+    let s = twin.task().axis_state(slide).command_position;
+    assert!(s > 0.0 && s < 50.0, "MCS halted the move part way: Slide at {s}");
+}
