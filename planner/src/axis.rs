@@ -235,6 +235,18 @@ fn non_negative(field: &'static str, value: f64) -> Result<f64, AxisConfigError>
     }
 }
 
+/// A dynamic limit of an axis a program may change at run time
+/// ([`crate::task::MotionTask::set_axis_limit`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AxisLimit {
+    /// `max_velocity` (`MaximumSpeed`).
+    Velocity,
+    /// `max_acceleration` (`MaximumAcceleration`).
+    Acceleration,
+    /// `max_deceleration` (`MaximumDeceleration`).
+    Deceleration,
+}
+
 /// What an axis reports after a coarse update.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct AxisState {

@@ -18,7 +18,7 @@
 //! Nothing here reads a clock: time advances only through `update`, so the
 //! same calls give bit-identical setpoints.
 
-use crate::axis::{AxisConfig, AxisConfigError, AxisState};
+use crate::axis::{AxisConfig, AxisConfigError, AxisLimit, AxisState};
 use crate::instruction::{FbOutputs, MotionInstructionBits};
 use crate::modulo::{McBufferMode, MoveModulo, MoveModuloError, MoveModuloInputs};
 use crate::profile::{Profile, Sample, State};
@@ -322,6 +322,26 @@ impl MotionTask {
     /// An axis' configuration.
     pub fn axis_config(&self, axis: AxisHandle) -> &AxisConfig {
         &self.axes[axis.0 as usize].config
+    }
+
+    /// Sets one of an axis' dynamic limits, as a program's SSV of
+    /// `MaximumSpeed`, `MaximumAcceleration` or `MaximumDeceleration` does:
+    /// instructions started afterwards plan with it (and `% of maximum`
+    /// rates refer to it); motion already planned keeps its profile.
+    ///
+    /// # Errors
+    /// [`AxisConfigError`] when the value is not positive and finite; the
+    /// axis keeps its limit.
+    pub fn set_axis_limit(&mut self, axis: AxisHandle, limit: AxisLimit, value: f64) -> Result<(), AxisConfigError> {
+        let mut config = self.axes[axis.0 as usize].config.clone();
+        match limit {
+            AxisLimit::Velocity => config.max_velocity = value,
+            AxisLimit::Acceleration => config.max_acceleration = value,
+            AxisLimit::Deceleration => config.max_deceleration = value,
+        }
+        config.validate()?;
+        self.axes[axis.0 as usize].config = config;
+        Ok(())
     }
 
     /// An axis' state after the last update.

@@ -473,3 +473,43 @@ fn mrp_mas_and_mcs_run_from_a_routine() {
     let s = twin.task().axis_state(slide).command_position;
     assert!(s > 0.0 && s < 50.0, "MCS halted the move part way: Slide at {s}");
 }
+
+#[test]
+fn ssv_sets_an_axis_limit_that_later_instructions_plan_with() {
+    // MaximumSpeed 90 deg/s, then a jog at 100 % of maximum; an SSV of 0 is
+    // refused and the limit kept.
+    let routine = "N := N + 1;\n\
+                   IF N = 1 THEN SSV(AXIS, Table, MaximumSpeed, 90.0); SSV(AXIS, Table, MaximumAcceleration, 0.0); END_IF;\n\
+                   GSV(AXIS, Table, MaximumSpeed, Speed);\n\
+                   IF N = 2 THEN MAJ(Table, Jog, Forward, 100.0, %ofMaximum, 900.0, UnitsPerSec2, 900.0, UnitsPerSec2, Trapezoidal); END_IF;";
+    let tags = format!(
+        "{}{}{}",
+        tag("N", "DINT"),
+        tag("Speed", "REAL"),
+        tag("Jog", "MOTION_INSTRUCTION")
+    );
+    let out = out_dir_path("ssv");
+    let path = scene("ssv", &tags, routine, 4.0);
+    let mut twin = load(&path);
+    for _ in 0..100 {
+        twin.step();
+    }
+    assert_eq!(value(&twin, "Speed"), Value::Real(90.0));
+    let table = twin.task().axis_state(axis(&twin, "Table"));
+    assert!(
+        (table.command_velocity - 90.0).abs() < 1e-9,
+        "{}",
+        table.command_velocity
+    );
+    assert_eq!(
+        twin.task().axis_config(axis(&twin, "Table")).max_acceleration,
+        3600.0,
+        "0 refused"
+    );
+    let refused = twin.program().controller().refusals();
+    assert!(
+        refused.len() == 1 && refused[0].contains("max_acceleration"),
+        "{refused:?} ({})",
+        out.display()
+    );
+}

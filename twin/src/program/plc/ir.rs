@@ -393,6 +393,8 @@ pub enum SKind {
     Size(usize, Place, DataType),
     /// `GSV(AXIS, axis, attribute, dest)`.
     Gsv(AxisHandle, GsvAttribute, Place, DataType),
+    /// `SSV(AXIS, axis, attribute, source)`.
+    Ssv(AxisHandle, planner::axis::AxisLimit, CExpr),
     /// A motion instruction.
     Motion(MotionCall),
     /// A PLCopen function block called on its instance with named inputs
@@ -423,6 +425,13 @@ pub enum GsvAttribute {
     /// `CIPAxisState`.
     CipAxisState,
 }
+
+/// The `AXIS` attributes `SSV` sets.
+pub const SSV_ATTRIBUTES: [(&str, planner::axis::AxisLimit); 3] = [
+    ("MaximumSpeed", planner::axis::AxisLimit::Velocity),
+    ("MaximumAcceleration", planner::axis::AxisLimit::Acceleration),
+    ("MaximumDeceleration", planner::axis::AxisLimit::Deceleration),
+];
 
 /// Every GSV `AXIS` attribute the twin models, for parsing and docs.
 pub const GSV_ATTRIBUTES: [(&str, GsvAttribute); 4] = [

@@ -31,6 +31,7 @@ pub(crate) fn scene_with(tags: &str, routine: &str, period_ms: f64) -> Result<Sc
          [[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\n"
     );
     let path = dir.join("scene.toml");
+    std::fs::write(&path, &text).map_err(|e| e.to_string())?;
     scene::parse(&path, &text).map_err(|e| e.to_string())
 }
 
@@ -482,4 +483,64 @@ fn compile_errors_name_the_line_column_and_what_was_expected() {
     }
     let e = scene_with(&tags, "A := 1;\nIF A THEN\n  A := ;\nEND_IF;", 4.0).unwrap_err();
     assert!(e.contains("Main.st:3:8: expected an operand"), "{e}");
+}
+
+#[test]
+fn iec_ton_tof_and_triggers_in_the_iec_dialect() {
+    let tags = format!(
+        "{}{}{}{}{}",
+        tag("T1", "TON"),
+        tag("T2", "TOF"),
+        tag("R1", "R_TRIG"),
+        tag("F1", "F_TRIG"),
+        tag("N", "DINT")
+    );
+    let routine = "N := N + 1;\n\
+                   T1.IN := TRUE; T1.PT := 20; TON(T1);\n\
+                   T2.IN := N < 3; T2.PT := 20; TOF(T2);\n\
+                   R1.CLK := N >= 2; R_TRIG(R1);\n\
+                   F1.CLK := N < 4; F_TRIG(F1);";
+    let scene = scene_with(&tags, routine, 4.0).unwrap();
+    let text = std::fs::read_to_string(&scene.path)
+        .unwrap()
+        .replace("main = \"Main.st\"", "main = { file = \"Main.st\", dialect = \"iec\" }");
+    let scene = scene::parse(&scene.path, &text).unwrap();
+    let mut task = MotionTask::new(0.004).unwrap();
+    let mut plc = Controller::new(&scene, &mut task, &mut Vec::new(), &mut Vec::new()).unwrap();
+    let member = |plc: &Controller, t: &str, m: &str| {
+        let info = &plc.mem.tags[plc.mem.find(t).unwrap()];
+        let memory::Kind::Structure(s) = info.kind else {
+            panic!()
+        };
+        plc.mem.slots[info.base + s.offset(m)]
+    };
+    let mut q = Vec::new();
+    for _ in 0..10 {
+        plc.scan(&mut task, &mut Vec::new(), &mut Vec::new());
+        task.update();
+        q.push((
+            member(&plc, "T1", "Q").truthy(),
+            member(&plc, "T2", "Q").truthy(),
+            member(&plc, "R1", "Q").truthy(),
+            member(&plc, "F1", "Q").truthy(),
+        ));
+    }
+    // Scans at 0, 4, …, 36 ms: TON's Q from ET = 20 ms (the 6th scan);
+    // TOF's Q from the 1st scan until 20 ms after IN fell at the 3rd (8 ms):
+    // off from 28 ms (the 8th); R_TRIG pulses at the 2nd, F_TRIG at the 4th.
+    let ton: Vec<bool> = q.iter().map(|x| x.0).collect();
+    let tof: Vec<bool> = q.iter().map(|x| x.1).collect();
+    let rising: Vec<bool> = q.iter().map(|x| x.2).collect();
+    let falling: Vec<bool> = q.iter().map(|x| x.3).collect();
+    assert_eq!(ton, [false, false, false, false, false, true, true, true, true, true]);
+    assert_eq!(tof, [true, true, true, true, true, true, true, false, false, false]);
+    assert_eq!(
+        rising,
+        [false, true, false, false, false, false, false, false, false, false]
+    );
+    assert_eq!(
+        falling,
+        [false, false, false, true, false, false, false, false, false, false]
+    );
+    assert_eq!(member(&plc, "T1", "ET"), Value::Int(20));
 }

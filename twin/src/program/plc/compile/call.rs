@@ -7,6 +7,7 @@ use crate::program::bind::axis_named;
 use crate::program::compile_logix;
 use crate::program::plc::ir::{
     AXIS_MEMBERS, BlockCall, Builtin, CExpr, CKind, GSV_ATTRIBUTES, GsvAttribute, MotionArg, MotionCall, Place, SKind,
+    SSV_ATTRIBUTES,
 };
 use crate::program::plc::memory::Kind;
 use crate::program::plc::types::{DataType, Structure, Ty, Value};
@@ -164,11 +165,7 @@ impl Compiler<'_, '_> {
                 Ok(SKind::Ret(values))
             }
             "COP" | "CPS" | "FLL" | "SIZE" => self.data_instruction(call, &upper),
-            "GSV" => self.gsv(call),
-            "SSV" => err(
-                call.pos,
-                "SSV: no axis attribute is settable in the twin yet (GSV reads them)",
-            ),
+            "GSV" | "SSV" => self.system_value(call, &upper),
             _ => self.motion(call),
         }
     }
@@ -299,25 +296,47 @@ impl Compiler<'_, '_> {
         })
     }
 
-    pub(super) fn gsv(&mut self, call: &Call) -> Result<SKind> {
+    /// `GSV`/`SSV` of the `AXIS` class.
+    fn system_value(&mut self, call: &Call, upper: &str) -> Result<SKind> {
+        let operands = if upper == "GSV" { "Dest" } else { "Source" };
         if call.args.len() != 4 {
             return err(
                 call.pos,
                 format!(
-                    "GSV takes 4 operands (Class, Instance, Attribute, Dest), got {}",
+                    "{upper} takes 4 operands (Class, Instance, Attribute, {operands}), got {}",
                     call.args.len()
                 ),
             );
         }
         if !call.args[0].text.trim().eq_ignore_ascii_case("AXIS") {
-            return err(call.args[0].pos, "GSV: the twin models the AXIS class only");
+            return err(
+                call.args[0].pos,
+                format!("{upper}: the twin models the AXIS class only"),
+            );
         }
         let name = call.args[1].text.trim();
         let axis = axis_named(self.ctx.task, name).ok_or_else(|| CompileError {
             pos: call.args[1].pos,
-            message: format!("GSV: '{name}' is not an axis"),
+            message: format!("{upper}: '{name}' is not an axis"),
         })?;
         let attr_name = call.args[2].text.trim();
+        if upper == "SSV" {
+            let Some((_, limit)) = SSV_ATTRIBUTES.iter().find(|(n, _)| n.eq_ignore_ascii_case(attr_name)) else {
+                let names: Vec<&str> = SSV_ATTRIBUTES.iter().map(|a| a.0).collect();
+                return err(
+                    call.args[2].pos,
+                    format!(
+                        "SSV: AXIS attribute '{attr_name}' cannot be set (settable: {})",
+                        names.join(", ")
+                    ),
+                );
+            };
+            let value = self.value_arg(&call.args[3])?;
+            if value.ty == Ty::Bool {
+                return err(call.args[3].pos, "SSV: the Source is a number, not a BOOL");
+            }
+            return Ok(SKind::Ssv(axis, *limit, value));
+        }
         let attribute = AXIS_MEMBERS
             .iter()
             .find(|(n, ..)| n.eq_ignore_ascii_case(attr_name))

@@ -348,6 +348,14 @@ impl<'e> Exec<'e> {
                 self.store(place, *ty, v);
                 self.check()?;
             }
+            SKind::Ssv(axis, limit, value) => {
+                let v = self.eval(value).as_f64();
+                self.check()?;
+                if let Err(e) = self.task.set_axis_limit(*axis, *limit, v) {
+                    let name = self.task.axis_config(*axis).name.clone();
+                    self.refusals.push(format!("SSV {name} (line {}): {e}", self.line));
+                }
+            }
             SKind::Motion(call) => self.motion_call(call)?,
             SKind::Block(call) => {
                 let mut inputs = Vec::with_capacity(call.inputs.len());
