@@ -313,8 +313,7 @@ impl Recording {
         }
         let program = twin.program();
         for t in program.traced_tags() {
-            let v: f64 = program.traced_value(t, twin.task()).parse().unwrap_or(f64::NAN);
-            rec.log_scalar(&format!("tags/{}", t.name), v)?;
+            rec.log_scalar(&format!("tags/{}", t.name), program.traced(t, twin.task()).as_f64())?;
         }
         // Tool-centre trails of the coordinate systems, every 25th update.
         if twin.task().updates().is_multiple_of(25) {
@@ -563,49 +562,13 @@ pub struct TasksSummary {
     /// That wall time as a share of the run's.
     pub task_share: f64,
     /// The major fault that stopped the run, if any.
-    pub major_fault: Option<FaultSummary>,
+    pub major_fault: Option<crate::program::plc::Fault>,
     /// Minor faults recorded (all counted).
     pub minor_fault_count: i64,
     /// The first minor faults, in order.
-    pub minor_faults: Vec<FaultSummary>,
+    pub minor_faults: Vec<crate::program::plc::Fault>,
     /// Motion instructions whose operand values were refused at run time.
     pub refused: Vec<String>,
-}
-
-/// A controller fault, for the summary.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FaultSummary {
-    /// Fault type.
-    pub fault_type: u8,
-    /// Fault code.
-    pub code: u8,
-    /// Task.
-    pub task: String,
-    /// Program.
-    pub program: String,
-    /// Routine file.
-    pub routine: String,
-    /// Line.
-    pub line: u32,
-    /// Scan time, s.
-    pub time_s: f64,
-    /// What happened.
-    pub message: String,
-}
-
-impl From<&crate::program::plc::Fault> for FaultSummary {
-    fn from(f: &crate::program::plc::Fault) -> Self {
-        FaultSummary {
-            fault_type: f.fault_type,
-            code: f.code,
-            task: f.task.clone(),
-            program: f.program.clone(),
-            routine: f.routine.display().to_string(),
-            line: f.line,
-            time_s: f.time_s,
-            message: f.message.clone(),
-        }
-    }
 }
 
 impl Stats {
@@ -707,9 +670,9 @@ impl Stats {
                     statements: c.stats().statements,
                     task_wall_s,
                     task_share: if wall_s > 0.0 { task_wall_s / wall_s } else { 0.0 },
-                    major_fault: c.major_fault().map(FaultSummary::from),
+                    major_fault: c.major_fault().cloned(),
                     minor_fault_count: c.minor_fault_count(),
-                    minor_faults: c.minor_faults().iter().map(FaultSummary::from).collect(),
+                    minor_faults: c.minor_faults().to_vec(),
                     refused: c.refusals().to_vec(),
                 }
             }),
@@ -809,7 +772,14 @@ impl Summary {
                 let _ = writeln!(
                     s,
                     "  MAJOR FAULT type {} code {} at {:.3} s: task {}, program {}, {}:{}: {}",
-                    f.fault_type, f.code, f.time_s, f.task, f.program, f.routine, f.line, f.message
+                    f.fault_type,
+                    f.code,
+                    f.time_s,
+                    f.task,
+                    f.program,
+                    f.routine.display(),
+                    f.line,
+                    f.message
                 );
             }
             if t.minor_fault_count > 0 {
@@ -818,7 +788,12 @@ impl Summary {
                     let _ = writeln!(
                         s,
                         "    type {} code {} at {:.3} s: {}:{}: {}",
-                        f.fault_type, f.code, f.time_s, f.routine, f.line, f.message
+                        f.fault_type,
+                        f.code,
+                        f.time_s,
+                        f.routine.display(),
+                        f.line,
+                        f.message
                     );
                 }
             }

@@ -223,10 +223,15 @@ impl Program {
         &self.traced
     }
 
+    /// A traced tag's value now.
+    pub fn traced(&self, t: &TracedTag, task: &MotionTask) -> plc::types::Value {
+        self.plc.peek(&t.place, task)
+    }
+
     /// A traced tag's value now, as the trace writes it: BOOL 0/1,
     /// integers in full, REAL at single precision.
     pub fn traced_value(&self, t: &TracedTag, task: &MotionTask) -> String {
-        match self.plc.peek(&t.place, task) {
+        match self.traced(t, task) {
             plc::types::Value::Bool(b) => u8::from(b).to_string(),
             plc::types::Value::Int(i) => i.to_string(),
             plc::types::Value::Real(x) if t.ty == plc::types::DataType::Real => format!("{}", x as f32),

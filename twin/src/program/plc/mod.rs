@@ -70,8 +70,8 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 use types::{Structure, Value};
 
-/// A fault the controller recorded.
-#[derive(Debug, Clone, PartialEq)]
+/// A fault the controller recorded (also as the summary writes it).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Fault {
     /// Major (the controller stopped) or minor.
     pub major: bool,

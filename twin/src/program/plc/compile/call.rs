@@ -92,11 +92,7 @@ impl Compiler<'_, '_> {
                 _ => {
                     let v = self.value_arg(arg)?;
                     let p = match (v.kind.clone(), spec.map(|s| s.kind)) {
-                        (CKind::Const(c), _) => match c {
-                            Value::Bool(b) => crate::st::Expr::Bool(b),
-                            Value::Int(i) => crate::st::Expr::Integer(i),
-                            Value::Real(x) => crate::st::Expr::Number(x),
-                        },
+                        (CKind::Const(c), _) => value_expr(c),
                         (_, Some(OperandKind::Enumeration(words))) => {
                             crate::st::Expr::Integer(words.first().map_or(0, |w| w.code))
                         }
@@ -516,6 +512,16 @@ pub fn named_call(instance: &str, inputs: Vec<(String, crate::st::Expr)>) -> cra
     crate::st::Call {
         name: spanned(instance.to_owned()),
         args: Args::Named(inputs.into_iter().map(|(n, e)| (spanned(n), spanned(e))).collect()),
+    }
+}
+
+/// A value as the binding reads an operand that keeps its own type.
+#[must_use]
+pub fn value_expr(v: Value) -> crate::st::Expr {
+    match v {
+        Value::Bool(b) => crate::st::Expr::Bool(b),
+        Value::Int(i) => crate::st::Expr::Integer(i),
+        Value::Real(x) => crate::st::Expr::Number(x),
     }
 }
 

@@ -25,7 +25,7 @@ type Result<T> = std::result::Result<T, CompileError>;
 mod call;
 mod reference;
 
-pub use call::{named_call, operand_expr};
+pub use call::{named_call, operand_expr, value_expr};
 
 pub(super) fn err<T>(pos: Pos, message: impl Into<String>) -> Result<T> {
     Err(CompileError {

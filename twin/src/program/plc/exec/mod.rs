@@ -481,11 +481,9 @@ impl<'e> Exec<'e> {
             }
             MotionArg::Value(e) => {
                 let v = self.eval(e);
-                match (kind, v) {
-                    (Some(k), _) => super::compile::operand_expr(k, v),
-                    (None, Value::Bool(b)) => crate::st::Expr::Bool(b),
-                    (None, Value::Int(i)) => crate::st::Expr::Integer(i),
-                    (None, Value::Real(x)) => crate::st::Expr::Number(x),
+                match kind {
+                    Some(k) => super::compile::operand_expr(k, v),
+                    None => super::compile::value_expr(v),
                 }
             }
         }
