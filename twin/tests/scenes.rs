@@ -6,18 +6,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use twin::run::Twin;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("workspace root")
-        .to_path_buf()
-}
+mod common;
+use common::root;
 
 fn out_dir(name: &str) -> PathBuf {
-    let dir = root().join("target").join("scene-tests").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("create test output dir");
-    dir
+    common::fresh_dir("scene-tests", name)
 }
 
 fn twin_cmd() -> Command {

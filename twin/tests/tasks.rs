@@ -8,18 +8,11 @@ use std::process::Command;
 use twin::program::plc::types::Value;
 use twin::run::Twin;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("workspace root")
-        .to_path_buf()
-}
+mod common;
+use common::root;
 
 fn out_dir(name: &str) -> PathBuf {
-    let dir = root().join("target").join("task-tests").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("create test output dir");
-    dir
+    common::fresh_dir("task-tests", name)
 }
 
 fn load(path: &Path) -> Twin {
@@ -169,7 +162,7 @@ fn fault_demo_records_the_minor_fault_and_stops_on_the_major_with_exit_code_4() 
 }
 
 fn out_dir_path(name: &str) -> PathBuf {
-    root().join("target").join("task-tests").join(name)
+    common::out_path("task-tests", name)
 }
 
 /// A scene in `target/task-tests/<name>/` on the indexing table fixture, with

@@ -12,13 +12,23 @@ static RUN: AtomicUsize = AtomicUsize::new(0);
 /// A scene with `tags` (TOML `[[tags]]` entries), one task of period
 /// `period_ms` and one program whose main routine is `routine`.
 pub(crate) fn scene_with(tags: &str, routine: &str, period_ms: f64) -> Result<Scene, String> {
+    scene_of(tags, &[("Main", routine)], "", period_ms)
+}
+
+/// As [`scene_with`], with more routines (the first is the main one, each
+/// written to `<name>.st`) and `program` appended to the program's table
+/// (its `[[tasks.programs.tags]]`, say).
+pub(crate) fn scene_of(tags: &str, routines: &[(&str, &str)], program: &str, period_ms: f64) -> Result<Scene, String> {
     let dir = std::env::temp_dir().join(format!(
         "twin-plc-{}-{}",
         std::process::id(),
         RUN.fetch_add(1, Ordering::Relaxed)
     ));
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
-    std::fs::write(dir.join("Main.st"), routine).map_err(|e| e.to_string())?;
+    for (name, text) in routines {
+        std::fs::write(dir.join(format!("{name}.st")), text).map_err(|e| e.to_string())?;
+    }
+    let called: Vec<String> = routines[1..].iter().map(|(n, _)| format!("\"{n}.st\"")).collect();
     let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/robots/indexing_table.urdf");
     let text = format!(
         "duration_s = 1.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n\
@@ -28,7 +38,9 @@ pub(crate) fn scene_with(tags: &str, routine: &str, period_ms: f64) -> Result<Sc
          in_position_window = 0.1\n\
          {tags}\n\
          [[tasks]]\nname = \"T\"\nperiod_ms = {period_ms:?}\npriority = 5\n\
-         [[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\n"
+         [[tasks.programs]]\nname = \"P\"\nmain = \"{main}.st\"\nroutines = [{called}]\n{program}",
+        main = routines[0].0,
+        called = called.join(", "),
     );
     let path = dir.join("scene.toml");
     std::fs::write(&path, &text).map_err(|e| e.to_string())?;
@@ -323,22 +335,12 @@ fn osri_gives_no_pulse_on_the_first_scan_when_the_input_is_already_true() {
 
 #[test]
 fn jsr_passes_parameters_and_returns_values() {
-    let scene = {
-        let dir = std::env::temp_dir().join(format!("twin-plc-jsr-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("Main.st"), "JSR(Twice, 1, 21, A);").unwrap();
-        std::fs::write(dir.join("Twice.st"), "SBR(C); D := C * 2; RET(D);").unwrap();
-        let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/robots/indexing_table.urdf");
-        let text = format!(
-            "duration_s = 1.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n[robot]\nurdf = {urdf:?}\n\
-             {}{}{}\n[[tasks]]\nname = \"T\"\nperiod_ms = 4.0\npriority = 5\n\
-             [[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\nroutines = [\"Twice.st\"]\n",
-            tag("A", "DINT"),
-            tag("C", "DINT"),
-            tag("D", "DINT")
-        );
-        scene::parse(&dir.join("s.toml"), &text).unwrap()
-    };
+    let tags = format!("{}{}{}", tag("A", "DINT"), tag("C", "DINT"), tag("D", "DINT"));
+    let routines = [
+        ("Main", "JSR(Twice, 1, 21, A);"),
+        ("Twice", "SBR(C); D := C * 2; RET(D);"),
+    ];
+    let scene = scene_of(&tags, &routines, "", 4.0).unwrap();
     let mut task = MotionTask::new(0.004).unwrap();
     let mut instructions = Vec::new();
     let mut plc = Controller::new(&scene, &mut task, &mut instructions, &mut Vec::new()).unwrap();
@@ -368,19 +370,8 @@ fn cop_fll_and_size() {
 
 #[test]
 fn program_tags_shadow_controller_tags() {
-    let scene = {
-        let dir = std::env::temp_dir().join(format!("twin-plc-scope-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("Main.st"), "A := 5;").unwrap();
-        let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/robots/indexing_table.urdf");
-        let text = format!(
-            "duration_s = 1.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n[robot]\nurdf = {urdf:?}\n\
-             {}\n[[tasks]]\nname = \"T\"\nperiod_ms = 4.0\npriority = 5\n\
-             [[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\n[[tasks.programs.tags]]\nname = \"A\"\ntype = \"DINT\"\n",
-            tag("A", "DINT"),
-        );
-        scene::parse(&dir.join("s.toml"), &text).unwrap()
-    };
+    let program_tag = "[[tasks.programs.tags]]\nname = \"A\"\ntype = \"DINT\"\n";
+    let scene = scene_of(&tag("A", "DINT"), &[("Main", "A := 5;")], program_tag, 4.0).unwrap();
     let mut task = MotionTask::new(0.004).unwrap();
     let mut instructions = Vec::new();
     let mut plc = Controller::new(&scene, &mut task, &mut instructions, &mut Vec::new()).unwrap();
@@ -413,20 +404,8 @@ fn major_faults_stop_the_controller_with_type_code_and_line() {
 
 #[test]
 fn a_routine_calling_itself_overflows_the_stack() {
-    let scene = {
-        let dir = std::env::temp_dir().join(format!("twin-plc-stack-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("Main.st"), "JSR(Deeper);").unwrap();
-        std::fs::write(dir.join("Deeper.st"), "N := N + 1;\nJSR(Deeper);").unwrap();
-        let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/robots/indexing_table.urdf");
-        let text = format!(
-            "duration_s = 1.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n[robot]\nurdf = {urdf:?}\n\
-             {}\n[[tasks]]\nname = \"T\"\nperiod_ms = 4.0\npriority = 5\n\
-             [[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\nroutines = [\"Deeper.st\"]\n",
-            tag("N", "DINT"),
-        );
-        scene::parse(&dir.join("s.toml"), &text).unwrap()
-    };
+    let routines = [("Main", "JSR(Deeper);"), ("Deeper", "N := N + 1;\nJSR(Deeper);")];
+    let scene = scene_of(&tag("N", "DINT"), &routines, "", 4.0).unwrap();
     let mut task = MotionTask::new(0.004).unwrap();
     let mut plc = Controller::new(&scene, &mut task, &mut Vec::new(), &mut Vec::new()).unwrap();
     plc.scan(&mut task, &mut Vec::new(), &mut Vec::new());

@@ -1,0 +1,24 @@
+//! Paths the integration tests share.
+
+use std::path::{Path, PathBuf};
+
+/// The workspace root.
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace root")
+        .to_path_buf()
+}
+
+/// `target/<group>/<name>` under the workspace root.
+pub fn out_path(group: &str, name: &str) -> PathBuf {
+    root().join("target").join(group).join(name)
+}
+
+/// [`out_path`], emptied and created.
+pub fn fresh_dir(group: &str, name: &str) -> PathBuf {
+    let dir = out_path(group, name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("create test output dir");
+    dir
+}
