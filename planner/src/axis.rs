@@ -7,6 +7,8 @@
 //! "SetPos", continuous through full turns); a modulo axis also reports the
 //! wrapped position through its [`Modulo`] period.
 
+pub use crate::servo::AxisType;
+use crate::servo::FaultAction;
 use thiserror::Error;
 
 /// Linear or rotary axis. Either may be modulo (TwinCAT makes no difference).
@@ -85,6 +87,25 @@ pub struct AxisConfig {
     /// ([`crate::task::MotionTask::add_axis`]). Which commands respect them:
     /// see [`crate::task`] module `mct`.
     pub soft_travel_limits: Option<(f64, f64)>,
+    /// Servo, virtual or feedback-only (default: servo). See
+    /// [`crate::servo`].
+    pub axis_type: AxisType,
+    /// Logix `InhibitAxis`: every instruction on the axis fails with ERR 53
+    /// (default false).
+    pub inhibited: bool,
+    /// Whether a servo axis starts with its loop closed, as after an MSO
+    /// (default true); off, the program enables it with MSO.
+    pub start_servo_on: bool,
+    /// Time an MSO waits for the drive (a holding brake's release delay),
+    /// s (default 0: [`crate::servo::SERVO_ENABLE_UPDATES`] coarse updates).
+    pub servo_enable_delay_s: f64,
+    /// Logix `PositionErrorTolerance`, axis units (default: none, not
+    /// checked): a larger |command − actual| on a servo-on axis is an
+    /// Excessive Position Error.
+    pub position_error_tolerance: Option<f64>,
+    /// What the axis does on an Excessive Position Error (default: Stop
+    /// Drive).
+    pub position_error_action: FaultAction,
 }
 
 impl AxisConfig {
@@ -102,6 +123,12 @@ impl AxisConfig {
             target_position_monitoring: true,
             modulo_tolerance_window: 0.0,
             soft_travel_limits: None,
+            axis_type: AxisType::Servo,
+            inhibited: false,
+            start_servo_on: true,
+            servo_enable_delay_s: 0.0,
+            position_error_tolerance: None,
+            position_error_action: FaultAction::StopDrive,
         }
     }
 
@@ -119,6 +146,10 @@ impl AxisConfig {
         non_negative("max_jerk", self.max_jerk)?;
         non_negative("in_position_window", self.in_position_window)?;
         non_negative("modulo_tolerance_window", self.modulo_tolerance_window)?;
+        non_negative("servo_enable_delay_s", self.servo_enable_delay_s)?;
+        if let Some(t) = self.position_error_tolerance {
+            positive("position_error_tolerance", t)?;
+        }
         if let Some(p) = self.modulo_period
             && self.modulo_tolerance_window >= p / 2.0
         {

@@ -191,6 +191,9 @@ pub enum Family {
     Cam,
     /// PLCopen single-axis blocks: MC_MoveModulo.
     PlcOpen,
+    /// Axis and coordinate-system states: MSO, MSF, MASD, MASR, MAFR,
+    /// MCSD, MCSR.
+    State,
 }
 
 /// One instruction the product accepts.
@@ -274,6 +277,13 @@ pub const INSTRUCTIONS: &[&Instruction] = &[
     &MRP,
     &MAJ,
     &MAS,
+    &MSO,
+    &MSF,
+    &MASD,
+    &MASR,
+    &MAFR,
+    &MCSD,
+    &MCSR,
     &MC_MOVE_MODULO,
 ];
 
@@ -301,12 +311,12 @@ pub fn positional_mnemonics() -> String {
 /// than as an unknown name.
 pub const NOT_SIMULATED: &[&str] = &[
     // Motion state
-    "MSO", "MSF", "MASD", "MASR", "MDO", "MDF", "MDS", "MAFR", // Motion move
+    "MDO", "MDF", "MDS", // Motion move
     "MAH", "MAM", "MAG", "MCD", "MCSV", "MATC", "MDAC", // Motion group
     "MGS", "MGSD", "MGSR", "MGSP", // Motion event
     "MAW", "MDW", "MAR", "MDR", "MAOC", "MDOC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
-    "MCCD", "MCTP", "MCTO", "MCTPO", "MCPM", "MCSD", "MCSR", "MDCC",
+    "MCCD", "MCTP", "MCTO", "MCTPO", "MCPM", "MDCC",
 ];
 
 /// The catalogue as Markdown: per instruction a heading and a table of its
@@ -684,6 +694,50 @@ pub const MAS: Instruction = Instruction {
     ],
 };
 
+/// MSO's and MSF's operands: the drive instructions take no AXIS_VIRTUAL.
+const DRIVE_STATE_OPERANDS: [Operand; 2] = [
+    op("Axis", "AXIS_CIP_DRIVE", Tag, Kind::Axis, 0),
+    op("Motion Control", "MOTION_INSTRUCTION", Tag, Kind::MotionControl, 1),
+];
+
+/// MASD's, MASR's and MAFR's operands.
+const AXIS_STATE_OPERANDS: [Operand; 2] = [
+    op("Axis", "AXIS", Tag, Kind::Axis, 0),
+    op("Motion Control", "MOTION_INSTRUCTION", Tag, Kind::MotionControl, 1),
+];
+
+/// MCSD's and MCSR's operands.
+const SYSTEM_STATE_OPERANDS: [Operand; 2] = [
+    op("Coordinate System", "COORDINATE_SYSTEM", Tag, Kind::CoordinateSystem, 0),
+    op("Motion Control", "MOTION_INSTRUCTION", Tag, Kind::MotionControl, 1),
+];
+
+/// A state instruction.
+const fn state(mnemonic: &'static str, title: &'static str, operands: &'static [Operand]) -> Instruction {
+    Instruction {
+        mnemonic,
+        title,
+        style: CallStyle::Positional,
+        family: Family::State,
+        operands,
+    }
+}
+
+/// Motion Servo On.
+pub const MSO: Instruction = state("MSO", "Motion Servo On", &DRIVE_STATE_OPERANDS);
+/// Motion Servo Off.
+pub const MSF: Instruction = state("MSF", "Motion Servo Off", &DRIVE_STATE_OPERANDS);
+/// Motion Axis Shutdown.
+pub const MASD: Instruction = state("MASD", "Motion Axis Shutdown", &AXIS_STATE_OPERANDS);
+/// Motion Axis Shutdown Reset.
+pub const MASR: Instruction = state("MASR", "Motion Axis Shutdown Reset", &AXIS_STATE_OPERANDS);
+/// Motion Axis Fault Reset.
+pub const MAFR: Instruction = state("MAFR", "Motion Axis Fault Reset", &AXIS_STATE_OPERANDS);
+/// Motion Coordinated Shutdown.
+pub const MCSD: Instruction = state("MCSD", "Motion Coordinated Shutdown", &SYSTEM_STATE_OPERANDS);
+/// Motion Coordinated Shutdown Reset.
+pub const MCSR: Instruction = state("MCSR", "Motion Coordinated Shutdown Reset", &SYSTEM_STATE_OPERANDS);
+
 /// PLCopen / Beckhoff `MC_MoveModulo`, called on an instance with named
 /// inputs (`Options` is listed so that naming it gets a clear refusal).
 pub const MC_MOVE_MODULO: Instruction = Instruction {
@@ -806,7 +860,8 @@ mod tests {
     fn find_is_case_insensitive_and_knows_only_catalogued_instructions() {
         assert_eq!(find("mc_movemodulo").map(|i| i.mnemonic), Some("MC_MoveModulo"));
         assert_eq!(find("Mapc").map(|i| i.operands.len()), Some(14));
-        assert!(find("MSO").is_none());
+        assert_eq!(find("mso").map(|i| i.operands.len()), Some(2));
+        assert!(find("MAM").is_none());
         for name in NOT_SIMULATED {
             assert!(find(name).is_none(), "{name} is both simulated and not");
         }

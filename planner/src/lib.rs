@@ -14,6 +14,8 @@
 //! * [`coord`] — coordinate systems, coordinated-move operands and status;
 //!   [`mclm`] linear and [`mccm`] circular coordinated moves; MCS in `coord`.
 //! * [`mct`] — MCT coordinated transforms and robot geometries.
+//! * [`servo`] — axis types and states (MSO, MSF, MASD, MASR, MAFR, MCSD,
+//!   MCSR) and the state every motion instruction needs.
 //! * [`task`] — the coarse-update executor that owns axes and commands.
 
 pub mod axis;
@@ -29,5 +31,6 @@ pub mod mct;
 pub mod modulo;
 pub mod mrp;
 pub mod profile;
+pub mod servo;
 pub mod task;
 mod vector;

@@ -279,6 +279,9 @@ pub enum MapcError {
     /// ERR 32: the profile's Status is 0.
     #[error("cam profile not calculated (Status 0) (ERR 32)")]
     CamProfileNotCalculated,
+    /// The axis' state refuses the instruction (ERR 5, 7, 8, 16, 53 …; EXERR 0).
+    #[error("{0}")]
+    State(crate::servo::StateError),
 }
 
 impl MapcError {
@@ -288,6 +291,7 @@ impl MapcError {
             Self::ParameterOutOfRange { .. } => 13,
             Self::CamProfileBeingCalculated => 30,
             Self::CamProfileNotCalculated => 32,
+            Self::State(e) => e.err(),
         }
     }
 

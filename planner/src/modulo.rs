@@ -211,6 +211,9 @@ impl ErrorId {
     /// update it became Active, as the twin does, the move is undone and an
     /// axis at rest does not move; see `MotionTask::reject_move`).
     pub const PATH_COLLISION: Self = Self(0x422C);
+    /// 0x422D: the axis is not ready for motion: servo off, shut down,
+    /// faulted, inhibited or feedback-only (see [`crate::servo`]).
+    pub const AXIS_NOT_READY: Self = Self(0x422D);
 
     /// What the number means, in words (for logs and summaries).
     pub fn meaning(self) -> &'static str {
@@ -227,6 +230,9 @@ impl ErrorId {
             Self::BUSY => "the block was triggered again while busy",
             Self::AXIS_LIMITS => "the axis limits cannot form a profile",
             Self::PATH_COLLISION => "the planned path collides (pre-flight sweep); the move was rejected",
+            Self::AXIS_NOT_READY => {
+                "the axis is not ready for motion (servo off, shut down, faulted, inhibited or feedback-only)"
+            }
             _ => "unknown error",
         }
     }
@@ -285,6 +291,9 @@ pub enum MoveModuloError {
     /// See [`ErrorId::PATH_COLLISION`].
     #[error("the pre-flight sweep predicts a collision on the planned path")]
     PathCollision,
+    /// See [`ErrorId::AXIS_NOT_READY`].
+    #[error("axis not ready: {0}")]
+    AxisNotReady(crate::servo::StateError),
 }
 
 impl MoveModuloError {
@@ -309,6 +318,7 @@ impl MoveModuloError {
             Self::Busy => ErrorId::BUSY,
             Self::AxisLimits => ErrorId::AXIS_LIMITS,
             Self::PathCollision => ErrorId::PATH_COLLISION,
+            Self::AxisNotReady(_) => ErrorId::AXIS_NOT_READY,
         }
     }
 }

@@ -72,17 +72,24 @@ pub enum MrpError {
         /// Its value.
         value: f64,
     },
+    /// The axis' state refuses the instruction (ERR 5, 7, 8, 16, 53 …; EXERR 0).
+    #[error("{0}")]
+    State(crate::servo::StateError),
 }
 
 impl MrpError {
     /// The `ERR` code.
     pub fn err(&self) -> i32 {
-        13
+        match self {
+            Self::ParameterOutOfRange { .. } => 13,
+            Self::State(e) => e.err(),
+        }
     }
     /// The `EXERR` code.
     pub fn exerr(&self) -> i32 {
         match self {
             Self::ParameterOutOfRange { operand, .. } => *operand,
+            Self::State(_) => 0,
         }
     }
 }

@@ -13,7 +13,10 @@
 //!    axis never fed (an ideal drive) — and updates `Done` (target position
 //!    monitoring), starting a buffered command when its predecessor is done;
 //! 4. (MCT, `task/mct.rs`) after the coordinate systems have moved, every
-//!    active transform moves the side that did not move.
+//!    active transform moves the side that did not move;
+//! 5. (axis states, `task/servo.rs`) an MSO in process counts down, the
+//!    command of a servo-off axis follows its actual position, and the
+//!    position error of a servo-on axis is checked against its tolerance.
 //!
 //! Nothing here reads a clock: time advances only through `update`, so the
 //! same calls give bit-identical setpoints.
@@ -34,6 +37,7 @@ pub use coord::{
 };
 mod mct;
 pub use mct::TransformGeometry;
+mod servo;
 
 /// Handle of an axis in a [`MotionTask`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -96,6 +100,8 @@ struct AxisSlot {
     last_direction: f64,
     job: Option<Job>,
     buffered: Option<(FbHandle, MoveModulo)>,
+    /// Servo state, faults (`task/servo.rs`).
+    servo: servo::ServoSlot,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -195,6 +201,7 @@ impl MotionTask {
         }
         config.check_soft_travel_limits(initial_position).map_err(err)?;
         self.axes.push(AxisSlot {
+            servo: servo::ServoSlot::new(&config),
             config,
             command: Sample {
                 position: initial_position,
@@ -407,6 +414,7 @@ impl MotionTask {
         self.advance_coordinate_systems();
         self.advance_cams_and_jogs();
         self.advance_transforms();
+        self.advance_servo_states();
     }
 
     fn evaluate_inputs(&mut self, fb: FbHandle) {
@@ -439,6 +447,9 @@ impl MotionTask {
             Ok(c) => c,
             Err(e) => return self.finish(fb, Finish::Error(e)),
         };
+        if let Err(e) = self.check_state(axis, servo::Need::Motion) {
+            return self.finish(fb, Finish::Error(MoveModuloError::AxisNotReady(e)));
+        }
         let a = &mut self.axes[axis.0 as usize];
         let idle = a.job.is_none();
         match command.buffer_mode() {

@@ -44,6 +44,7 @@
 //! its own frame, [`MotionTask::position_offset`] away, and the caller
 //! converts between the two.
 
+use super::servo::Need;
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
 use crate::instruction::MotionInstructionBits;
 use crate::jog::{Jog, JogError, MajOperands, MasOperands, Stop};
@@ -208,6 +209,15 @@ impl MotionTask {
         validated.inspect_err(|e| self.fail(h, e.err(), e.exerr(), 0))
     }
 
+    /// Fails a MAJ/MAS execution (`.ER`, ERR, EXERR 0) whose axis' state
+    /// refuses `need`.
+    fn state_allows(&mut self, axis: AxisHandle, h: InstructionHandle, need: Need) -> Result<(), JogError> {
+        self.check_state(axis, need).map_err(|e| {
+            self.fail(h, e.err(), 0, 0);
+            JogError::State(e)
+        })
+    }
+
     /// MCCP: calculates `profile` from the first `length` elements of `cam`.
     /// Returns the error also written into the tag.
     pub fn mccp(
@@ -291,6 +301,7 @@ impl MotionTask {
 
     fn mapc_inner(&mut self, call: MapcCall) -> Result<(), MapcError> {
         let mut mapc = Mapc::new(&call.operands)?;
+        self.check_state(call.slave, Need::Motion).map_err(MapcError::State)?;
         if call.slave == call.master {
             return Err(MapcError::ParameterOutOfRange {
                 operand: crate::mapc::operand::MASTER,
@@ -441,7 +452,10 @@ impl MotionTask {
         position: f64,
     ) -> Result<(), MrpError> {
         self.begin(motion_control);
-        let mrp = match Mrp::new(kind, select, position) {
+        let mrp = match Mrp::new(kind, select, position).and_then(|m| {
+            self.check_state(axis, Need::Any).map_err(MrpError::State)?;
+            Ok(m)
+        }) {
             Ok(m) => m,
             Err(e) => {
                 self.fail(motion_control, e.err(), e.exerr(), 0);
@@ -487,6 +501,7 @@ impl MotionTask {
     ) -> Result<(), JogError> {
         let jog = Jog::new(operands, &self.axes[axis.0 as usize].config);
         let jog = self.begin_validated(motion_control, jog)?;
+        self.state_allows(axis, motion_control, Need::Motion)?;
         self.abort_move(axis);
         self.end_cams(axis);
         self.end_ramp(axis);
@@ -515,6 +530,7 @@ impl MotionTask {
     ) -> Result<(), JogError> {
         let stop = Stop::new(operands, &self.axes[axis.0 as usize].config);
         let stop = self.begin_validated(motion_control, stop)?;
+        self.state_allows(axis, motion_control, Need::Any)?;
         // A preloaded Pending cam (no cam active) is part of the position
         // cam process too: the stop resets its Pending Status.
         let cam_running = self.cam.axes.get(axis.0 as usize).is_some_and(|c| {
@@ -614,6 +630,26 @@ impl MotionTask {
             stop: None,
         });
         true
+    }
+
+    /// Starts a stop ramp along `profile` on `axis` (no control structure):
+    /// a fault's Stop Planner action.
+    pub(super) fn start_stop_ramp(&mut self, axis: AxisHandle, profile: Profile) {
+        self.end_ramp(axis);
+        self.cam_axis(axis).ramp = Some(RampRun {
+            profile,
+            t_s: 0.0,
+            jog: None,
+            stop: None,
+        });
+    }
+
+    /// Whether `axis` jogs (MAJ) and whether it runs a stop ramp.
+    pub(super) fn jog_and_stop_status(&self, axis: AxisHandle) -> (bool, bool) {
+        match self.cam.axes.get(axis.0 as usize).and_then(|c| c.ramp.as_ref()) {
+            Some(r) => (r.jog.is_some(), r.jog.is_none()),
+            None => (false, false),
+        }
     }
 
     /// Whether `axis` runs a stop ramp (MAS or a stop of all axes).

@@ -29,10 +29,11 @@
 //!   a fault, and the transform leaves the table when they are at rest (an
 //!   MCT on their axes meanwhile is EXERR 10). Joints moving under their own
 //!   commands (a joint move the source was following) go on.
-//! * The task has one motion group and no axis shutdown or inhibit, so
-//!   EXERR 1, 13 and 14 cannot arise here (they are tested on
-//!   [`crate::mct::instruction`]). EXERR 10 is any single-axis command or
-//!   coordinated move on an axis of either system.
+//! * The task has one motion group, so EXERR 1 cannot arise here (it is
+//!   tested on [`crate::mct::instruction`]). EXERR 13 is an axis of either
+//!   system in the Shutdown state (MASD, MCSD, a fault's Shutdown action),
+//!   EXERR 14 an inhibited one ([`crate::servo`]). EXERR 10 is any
+//!   single-axis command or coordinated move on an axis of either system.
 //! * Joint axes: maximum speed, deceleration and soft travel limits from
 //!   their [`crate::axis::AxisConfig`]. A Cartesian command that would put a
 //!   joint beyond its limit — or so close to it, that fast, that the joint
@@ -63,6 +64,7 @@ use crate::mct::instruction::{
 };
 use crate::mct::{GeometryKind, GeometryParams, Vec3};
 use crate::profile::Sample;
+use crate::servo::CipAxisState;
 
 /// The transform-related configuration of a coordinate system.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -212,7 +214,8 @@ impl MotionTask {
                     id,
                     AxisCondition {
                         motion_process: single || coordinated,
-                        ..AxisCondition::default()
+                        shutdown: self.cip_axis_state(handle(id)) == CipAxisState::Shutdown,
+                        inhibited: self.axes[id.0 as usize].config.inhibited,
                     },
                 )
             })
@@ -362,6 +365,28 @@ impl MotionTask {
             } else {
                 slot.mct.cancel(&mut self.mct.table);
             }
+            let (control, bits) = (slot.control, slot.mct.bits());
+            *self.motion_bits_mut(control) = bits;
+        }
+    }
+
+    /// Cancels at once every transform with `axis` among its source or
+    /// target axes (the axis' drive was disabled: MSF, a shutdown, a fault).
+    pub(super) fn mct_cancel_on_axis(&mut self, axis: AxisHandle) {
+        let id = axis_id(axis);
+        for i in 0..self.mct.instructions.len() {
+            let slot = &mut self.mct.instructions[i];
+            let Some(t) = slot.mct.transform() else { continue };
+            let involved = self
+                .mct
+                .table
+                .get(t)
+                .is_some_and(|tr| tr.source_axes().contains(&id) || tr.target_axes().contains(&id));
+            if !involved {
+                continue;
+            }
+            slot.mct.cancel(&mut self.mct.table);
+            slot.stopping = None;
             let (control, bits) = (slot.control, slot.mct.bits());
             *self.motion_bits_mut(control) = bits;
         }

@@ -109,6 +109,11 @@ impl MotionTask {
             return;
         }
         self.coord.instructions[h.0 as usize].held = false;
+        if let Err((e, index)) = self.check_system_state(cs) {
+            self.cbits(h).set_error(e.err(), index, 0);
+            return;
+        }
+        let sys = &self.coord.systems[cs.0 as usize];
         let start = if merging {
             self.rest_point(cs)
         } else if busy {
@@ -241,6 +246,18 @@ impl MotionTask {
     /// Ends a system's motion where its command stands now (merge all
     /// motion from another system): its instructions lose `.IP`/`.AC`, its
     /// queue is cleared, and its axes keep their command positions.
+    /// Cancels at once the coordinated motion (moves, queue, stop) of every
+    /// system that holds `axis` (its drive was disabled).
+    pub(in crate::task) fn cancel_systems_with_axis(&mut self, axis: AxisHandle) {
+        for i in 0..self.coord.systems.len() {
+            let sys = &self.coord.systems[i];
+            let busy = !sys.components.is_empty() || sys.pending.is_some() || sys.stop.is_some();
+            if busy && sys.axes.contains(&axis) {
+                self.cancel_system(CoordHandle(i as u32));
+            }
+        }
+    }
+
     pub(super) fn cancel_system(&mut self, cs: CoordHandle) {
         let here = self.axis_positions(cs);
         let sys = &mut self.coord.systems[cs.0 as usize];

@@ -1,0 +1,422 @@
+//! Axis states through the task: the state instructions' bits and
+//! transitions, the state every motion instruction needs with its ERR and
+//! EXERR, the fault reaction, and seeded random instruction sequences.
+
+use super::*;
+use crate::axis::AxisKind;
+use crate::coord::{CoordMoveInputs, CoordinateSystemConfig};
+use crate::jog::{JogError, MajOperands, MasOperands};
+use crate::modulo::{MoveModuloError, MoveModuloInputs};
+use crate::task::CoordCall;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+const DT: f64 = 0.004;
+
+fn config(name: &str) -> AxisConfig {
+    AxisConfig {
+        max_velocity: 100.0,
+        max_acceleration: 1000.0,
+        max_deceleration: 1000.0,
+        modulo_period: Some(360.0),
+        start_servo_on: false,
+        ..AxisConfig::new(name, AxisKind::Rotary)
+    }
+}
+
+fn jog(speed: f64) -> MajOperands {
+    MajOperands {
+        speed,
+        ..MajOperands::default()
+    }
+}
+
+fn one(config: AxisConfig) -> (MotionTask, AxisHandle, InstructionHandle) {
+    let mut task = MotionTask::new(DT).unwrap();
+    let axis = task.add_axis(config, 10.0).unwrap();
+    let mi = task.add_instruction("MC");
+    (task, axis, mi)
+}
+
+fn err(task: &MotionTask, mi: InstructionHandle) -> (bool, i32, i32) {
+    let b = task.motion_bits(mi);
+    (b.er, b.err, b.exerr)
+}
+
+fn enable(task: &mut MotionTask, axis: AxisHandle, mso: InstructionHandle) {
+    task.mso(axis, mso).unwrap();
+    for _ in 0..SERVO_ENABLE_UPDATES {
+        task.update();
+    }
+    assert!(task.motion_bits(mso).dn && task.is_servo_on(axis));
+}
+
+#[test]
+fn a_servo_off_axis_refuses_motion_until_mso_has_closed_the_loop() {
+    let (mut task, axis, mi) = one(config("A"));
+    assert_eq!(task.cip_axis_state(axis), CipAxisState::Stopped);
+    assert!(!task.axis_status(axis).servo_action);
+    assert_eq!(
+        task.maj(axis, mi, &jog(10.0)),
+        Err(JogError::State(StateError::ServoOff))
+    );
+    assert_eq!(err(&task, mi), (true, 5, 0));
+    let mso = task.add_instruction("MSO");
+    task.mso(axis, mso).unwrap();
+    let b = task.motion_bits(mso);
+    assert!(b.en && !b.dn && !b.er, "MSO is done only when the loop is closed");
+    assert_eq!(task.cip_axis_state(axis), CipAxisState::Starting);
+    assert_eq!(
+        task.maj(axis, mi, &jog(10.0)),
+        Err(JogError::State(StateError::ServoOff))
+    );
+    for _ in 0..SERVO_ENABLE_UPDATES - 1 {
+        task.update();
+        assert!(!task.motion_bits(mso).dn);
+    }
+    task.update();
+    assert!(task.motion_bits(mso).dn);
+    assert_eq!(task.cip_axis_state(axis), CipAxisState::Running);
+    let s = task.axis_status(axis);
+    assert!(s.servo_action && s.drive_enable);
+    task.maj(axis, mi, &jog(10.0)).unwrap();
+    task.update();
+    assert!(task.axis_status(axis).jogging);
+    assert!(task.axis_state(axis).command_velocity > 0.0);
+    // A second MSO on a servo-on axis: done at once, nothing changes.
+    task.mso(axis, mso).unwrap();
+    assert!(task.motion_bits(mso).dn && task.axis_status(axis).jogging);
+}
+
+#[test]
+fn the_brake_release_delay_lengthens_the_enable() {
+    let (mut task, axis, mso) = one(AxisConfig {
+        servo_enable_delay_s: 0.1,
+        ..config("A")
+    });
+    task.mso(axis, mso).unwrap();
+    let mut updates = 0;
+    while !task.motion_bits(mso).dn {
+        task.update();
+        updates += 1;
+        assert!(updates < 1000);
+    }
+    assert_eq!(updates, 25, "0.1 s at 4 ms");
+}
+
+#[test]
+fn msf_ends_a_jog_at_once_and_the_command_follows_the_actual_position() {
+    let (mut task, axis, mi) = one(AxisConfig {
+        start_servo_on: true,
+        ..config("A")
+    });
+    task.maj(axis, mi, &jog(50.0)).unwrap();
+    for _ in 0..20 {
+        task.update();
+        let p = task.axis_state(axis).command_position;
+        task.feed_actual_position(axis, p - 0.5);
+    }
+    let msf = task.add_instruction("MSF");
+    task.msf(axis, msf).unwrap();
+    assert!(task.motion_bits(msf).dn);
+    assert!(!task.motion_bits(mi).ip, "the jog ended");
+    assert_eq!(task.cip_axis_state(axis), CipAxisState::Stopped);
+    // The joint coasts: the command follows what is fed back.
+    for k in 0..10 {
+        let fed = 40.0 + f64::from(k);
+        task.feed_actual_position(axis, fed);
+        task.update();
+        let s = task.axis_state(axis);
+        assert_eq!(s.command_position, fed);
+        assert!(!s.has_job);
+    }
+    // MSO on an axis still moving: Axis In Motion.
+    let mso = task.add_instruction("MSO");
+    assert_eq!(task.mso(axis, mso), Err(StateError::InMotion));
+    assert_eq!(err(&task, mso), (true, 22, 0));
+    // At rest: MSO enables where the axis is, without a jump.
+    task.feed_actual_position(axis, 49.0);
+    task.update();
+    task.mso(axis, mso).unwrap();
+    for _ in 0..SERVO_ENABLE_UPDATES {
+        task.update();
+        assert_eq!(task.axis_state(axis).command_position, 49.0);
+    }
+    assert!(task.motion_bits(mso).dn && task.is_servo_on(axis));
+}
+
+#[test]
+fn shutdown_needs_masr_and_mafr_does_not_clear_it() {
+    let (mut task, axis, mi) = one(AxisConfig {
+        start_servo_on: true,
+        ..config("A")
+    });
+    let (masd, masr, mafr, mso) = (
+        task.add_instruction("MASD"),
+        task.add_instruction("MASR"),
+        task.add_instruction("MAFR"),
+        task.add_instruction("MSO"),
+    );
+    task.masd(axis, masd).unwrap();
+    assert_eq!(task.cip_axis_state(axis), CipAxisState::Shutdown);
+    assert!(task.axis_status(axis).shutdown);
+    assert_eq!(
+        task.maj(axis, mi, &jog(1.0)),
+        Err(JogError::State(StateError::Shutdown))
+    );
+    assert_eq!(err(&task, mi), (true, 7, 0));
+    assert_eq!(task.mso(axis, mso), Err(StateError::Shutdown));
+    task.mafr(axis, mafr).unwrap();
+    assert_eq!(task.cip_axis_state(axis), CipAxisState::Shutdown);
+    task.masr(axis, masr).unwrap();
+    assert_eq!(
+        task.cip_axis_state(axis),
+        CipAxisState::Stopped,
+        "servo off after the reset"
+    );
+    enable(&mut task, axis, mso);
+}
+
+#[test]
+fn feedback_only_and_inhibited_axes_refuse_with_8_and_53() {
+    let (mut task, axis, mi) = one(AxisConfig {
+        axis_type: AxisType::FeedbackOnly,
+        ..config("Encoder")
+    });
+    assert_eq!(task.mso(axis, mi), Err(StateError::AxisType));
+    assert_eq!(err(&task, mi), (true, 8, 0));
+    assert_eq!(task.msf(axis, mi), Err(StateError::AxisType));
+    assert_eq!(
+        task.maj(axis, mi, &jog(1.0)),
+        Err(JogError::State(StateError::AxisType))
+    );
+    let fb = task.add_move_modulo("Move", axis);
+    task.set_move_modulo_inputs(
+        fb,
+        MoveModuloInputs {
+            execute: true,
+            position: 90.0,
+            velocity: 10.0,
+            ..Default::default()
+        },
+    );
+    task.update();
+    let out = task.outputs(fb);
+    assert!(out.error);
+    assert_eq!(
+        out.error_id,
+        MoveModuloError::AxisNotReady(StateError::AxisType).error_id().0
+    );
+
+    let (mut task, axis, mi) = one(AxisConfig {
+        inhibited: true,
+        start_servo_on: true,
+        ..config("A")
+    });
+    assert_eq!(task.cip_axis_state(axis), CipAxisState::AxisInhibited);
+    assert!(task.axis_status(axis).inhibit && !task.axis_status(axis).servo_action);
+    for r in [
+        task.mso(axis, mi),
+        task.masd(axis, mi),
+        task.masr(axis, mi),
+        task.mafr(axis, mi),
+    ] {
+        assert_eq!(r, Err(StateError::Inhibited));
+    }
+    let stop = MasOperands::default();
+    assert_eq!(task.mas(axis, mi, &stop), Err(JogError::State(StateError::Inhibited)));
+    assert_eq!(err(&task, mi), (true, 53, 0));
+}
+
+#[test]
+fn a_coordinated_move_names_the_axis_at_fault_by_its_index() {
+    let mut task = MotionTask::new(DT).unwrap();
+    let on = AxisConfig::new("X", AxisKind::Linear);
+    let x = task.add_axis(on.clone(), 0.0).unwrap();
+    let off = AxisConfig {
+        name: "Y".into(),
+        start_servo_on: false,
+        ..on
+    };
+    let y = task.add_axis(off, 0.0).unwrap();
+    let cs = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: 2,
+                primary_axes: 2,
+                max_speed: 100.0,
+                max_accel: 1000.0,
+                max_decel: 1000.0,
+                ..CoordinateSystemConfig::new("CS")
+            },
+            &[x, y],
+        )
+        .unwrap();
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![1.0, 1.0],
+        speed: 10.0,
+        accel_rate: 50.0,
+        decel_rate: 50.0,
+        ..Default::default()
+    });
+    let h = task.add_coord_instruction("Line", cs, call.clone());
+    let fire = |task: &mut MotionTask| {
+        task.set_coord_instruction(h, false, call.clone());
+        task.update();
+        task.set_coord_instruction(h, true, call.clone());
+        task.update();
+        let b = task.coord_bits(h);
+        (b.er, b.err, b.exerr)
+    };
+    assert_eq!(fire(&mut task), (true, 5, 1));
+    let mcsd = task.add_instruction("MCSD");
+    task.mcsd(cs, mcsd).unwrap();
+    assert_eq!(task.cip_axis_state(x), CipAxisState::Shutdown);
+    assert_eq!(task.cip_axis_state(y), CipAxisState::Shutdown);
+    assert_eq!(fire(&mut task), (true, 7, 0));
+    task.mcsr(cs, mcsd).unwrap();
+    assert_eq!(task.cip_axis_state(x), CipAxisState::Stopped);
+    let mso = task.add_instruction("MSO");
+    enable(&mut task, x, mso);
+    enable(&mut task, y, mso);
+    assert_eq!(fire(&mut task), (false, 0, 0));
+    assert!(task.coordinated_motion_status(x));
+}
+
+#[test]
+fn an_excessive_position_error_takes_the_configured_action() {
+    let tolerance = 2.0;
+    for (action, state) in [
+        (FaultAction::StopDrive, CipAxisState::Faulted),
+        (FaultAction::Shutdown, CipAxisState::Shutdown),
+        (FaultAction::StopPlanner, CipAxisState::Running),
+        (FaultAction::FaultStatusOnly, CipAxisState::Running),
+    ] {
+        let (mut task, axis, mi) = one(AxisConfig {
+            start_servo_on: true,
+            position_error_tolerance: Some(tolerance),
+            position_error_action: action,
+            ..config("A")
+        });
+        task.maj(axis, mi, &jog(50.0)).unwrap();
+        // The joint is stuck at 10: the error grows until it trips.
+        let mut tripped = false;
+        for _ in 0..200 {
+            task.feed_actual_position(axis, 10.0);
+            task.update();
+            if !task.axis_faults(axis).is_clear() {
+                tripped = true;
+                break;
+            }
+            let e = task.axis_state(axis).command_position - 10.0;
+            assert!(e.abs() <= tolerance, "{action:?}: no fault at error {e}");
+        }
+        assert!(tripped, "{action:?}");
+        assert_eq!(task.axis_faults(axis).0, AxisFaults::MOTION, "{action:?}");
+        assert_eq!(task.cip_axis_state(axis), state, "{action:?}");
+        let jog_runs = task.motion_bits(mi).ip;
+        assert_eq!(jog_runs, action == FaultAction::FaultStatusOnly, "{action:?}");
+        if action == FaultAction::StopDrive {
+            let (mso, mafr) = (task.add_instruction("MSO"), task.add_instruction("MAFR"));
+            assert_eq!(task.mso(axis, mso), Err(StateError::Faulted));
+            assert_eq!(err(&task, mso), (true, 20, 0));
+            task.mafr(axis, mafr).unwrap();
+            assert!(task.axis_faults(axis).is_clear());
+            assert_eq!(task.cip_axis_state(axis), CipAxisState::Stopped, "MSO again");
+        }
+        if action == FaultAction::StopPlanner {
+            assert!(task.axis_status(axis).stopping);
+        }
+    }
+}
+
+#[test]
+fn virtual_axes_are_on_and_come_back_on_after_a_shutdown_reset() {
+    let (mut task, axis, mi) = one(AxisConfig {
+        axis_type: AxisType::Virtual,
+        ..config("V")
+    });
+    assert!(task.is_servo_on(axis));
+    assert!(!task.axis_status(axis).drive_enable, "no drive");
+    task.masd(axis, mi).unwrap();
+    assert_eq!(task.cip_axis_state(axis), CipAxisState::Shutdown);
+    task.masr(axis, mi).unwrap();
+    assert_eq!(task.cip_axis_state(axis), CipAxisState::Running);
+}
+
+/// Random sequences of MSO, MSF, MASD, MASR, MAFR, MAJ, MAS and
+/// MC_MoveModulo on a fed axis: nothing panics, a servo-off axis is never
+/// commanded away from where it is, and every refusal carries a
+/// documented ERR.
+#[test]
+fn random_state_sequences_never_move_a_disabled_axis() {
+    const DOCUMENTED: [i32; 7] = [5, 7, 8, 13, 20, 22, 53];
+    let mut refusals = 0;
+    for seed in 0..200u64 {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let config = AxisConfig {
+            axis_type: if rng.random_bool(0.1) {
+                AxisType::FeedbackOnly
+            } else {
+                AxisType::Servo
+            },
+            inhibited: rng.random_bool(0.05),
+            start_servo_on: rng.random_bool(0.5),
+            position_error_tolerance: rng.random_bool(0.5).then_some(5.0),
+            ..config("A")
+        };
+        let (mut task, axis, mi) = one(config);
+        let fb = task.add_move_modulo("Move", axis);
+        // A drive that closes a random part of its following error each
+        // update (the plant); a disabled one stays where it is.
+        let mut actual = task.axis_state(axis).actual_position;
+        let mut execute = false;
+        for _ in 0..400 {
+            let r = match rng.random_range(0..9) {
+                0 => task.mso(axis, mi).err().map(StateError::err),
+                1 => task.msf(axis, mi).err().map(StateError::err),
+                2 => task.masd(axis, mi).err().map(StateError::err),
+                3 => task.masr(axis, mi).err().map(StateError::err),
+                4 => task.mafr(axis, mi).err().map(StateError::err),
+                5 => {
+                    let speed = rng.random_range(-150.0..150.0);
+                    task.maj(axis, mi, &jog(speed)).err().map(|e| e.err())
+                }
+                6 => task.mas(axis, mi, &MasOperands::default()).err().map(|e| e.err()),
+                7 => {
+                    execute = !execute;
+                    let inputs = MoveModuloInputs {
+                        execute,
+                        position: rng.random_range(0.0..360.0),
+                        velocity: 50.0,
+                        ..Default::default()
+                    };
+                    task.set_move_modulo_inputs(fb, inputs);
+                    None
+                }
+                _ => None,
+            };
+            if let Some(code) = r {
+                refusals += 1;
+                assert!(DOCUMENTED.contains(&code), "seed {seed}: ERR {code}");
+                assert_eq!(task.motion_bits(mi).err, code);
+            }
+            let enabled_before = task.is_drive_enabled(axis);
+            task.update();
+            let s = task.axis_state(axis);
+            assert!(s.command_position.is_finite() && s.actual_position.is_finite());
+            if !enabled_before && !task.is_drive_enabled(axis) {
+                assert_eq!(
+                    s.command_position, actual,
+                    "seed {seed}: a servo-off axis follows its actual position"
+                );
+                assert!(!s.has_job, "seed {seed}");
+            }
+            if task.is_drive_enabled(axis) {
+                actual += (s.command_position - actual) * rng.random_range(0.3..1.0);
+            }
+            task.feed_actual_position(axis, actual);
+        }
+    }
+    assert!(refusals > 1000, "the sequences exercise refusals: {refusals}");
+}
