@@ -32,6 +32,8 @@ pub struct AxisBinding {
     pub si_per_unit: f64,
     /// In-position window, axis units.
     pub in_position_window: f64,
+    /// The joint has a holding brake (see [`crate::scene::Axis::holding_brake`]).
+    pub holding_brake: bool,
 }
 
 /// How an axis position becomes its joint's position right now.
@@ -129,6 +131,7 @@ pub(crate) fn bind_axes(
             joint: None,
             si_per_unit: axis.units.si_per_unit(),
             in_position_window: axis.config.in_position_window,
+            holding_brake: axis.holding_brake,
         };
         // A virtual axis has no joint and is never fed (actual = command).
         if let Some(joint) = &axis.joint {

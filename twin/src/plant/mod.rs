@@ -179,6 +179,8 @@ pub struct Plant {
     previous_command: Vec<(f64, f64)>,
     collision: Option<collide::CollideState>,
     trails: Vec<ToolTrail>,
+    /// Per axis, the joint position (SI) its engaged holding brake holds.
+    brakes: Vec<Option<f64>>,
 }
 
 impl Plant {
@@ -228,6 +230,7 @@ impl Plant {
             .map(|a| (task.axis_state(a.handle).command_position, 0.0))
             .collect();
         Ok(Plant {
+            brakes: vec![None; axes.len()],
             substeps: (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize,
             model,
             parts,
@@ -259,6 +262,7 @@ impl Plant {
     pub fn advance(&mut self, task: &mut MotionTask) {
         self.collision_begin_update();
         let now: Vec<(f64, f64)> = self.axes.iter().map(|a| a.drive_command(task)).collect();
+        self.set_drive_modes(task);
         let n = self.substeps;
         for j in 0..n {
             self.set_setpoints(&now, j as f64 / n as f64, (j as f64 + 0.5) / n as f64);
@@ -277,12 +281,34 @@ impl Plant {
         self.record_trails();
     }
 
+    /// Each drive's mode for this update from its axis' state: an enabled
+    /// drive follows the command; a disabled one is free, or held by its
+    /// holding brake where the joint was when the drive went off.
+    fn set_drive_modes(&mut self, task: &MotionTask) {
+        for (k, axis) in self.axes.iter().enumerate() {
+            let Some(drive) = axis.drive else { continue };
+            let enabled = task.is_drive_enabled(axis.handle);
+            if enabled {
+                self.brakes[k] = None;
+            } else if axis.holding_brake && self.brakes[k].is_none() {
+                self.brakes[k] = Some(self.sim.joint_position(drive));
+            }
+            self.sim.set_drive_free(drive, !enabled && !axis.holding_brake);
+        }
+    }
+
     /// Drive setpoints at fraction `f` of the update (velocity at `fm`),
-    /// interpolated from the previous update's commands to `now`.
+    /// interpolated from the previous update's commands to `now`; a braked
+    /// joint's setpoint is its brake position.
     fn set_setpoints(&mut self, now: &[(f64, f64)], f: f64, fm: f64) {
         let mut setpoints = Vec::with_capacity(self.axes.len());
         for (k, axis) in self.axes.iter().enumerate() {
             let Some(drive) = axis.drive else { continue };
+            if let Some(held) = self.brakes[k] {
+                self.sim.set_setpoint(drive, held, 0.0);
+                setpoints.push((drive, held));
+                continue;
+            }
             let (p0, v0) = self.previous_command[k];
             let (p1, v1) = now[k];
             let p = p0 + (p1 - p0) * f;

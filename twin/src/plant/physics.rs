@@ -182,6 +182,8 @@ struct DriveSlot {
     position: f64,
     /// Setpoint velocity (rad/s or m/s).
     velocity: f64,
+    /// The motor is off: no torque, the joint is free.
+    free: bool,
 }
 
 /// A URDF robot in a rapier world, stepped at a fixed rate with joint motors.
@@ -252,6 +254,7 @@ impl RobotSim {
                 damping: drive.damping,
                 position: q0[j],
                 velocity: 0.0,
+                free: false,
             });
         }
 
@@ -328,6 +331,16 @@ impl RobotSim {
         self.apply_motor_targets(0.0);
     }
 
+    /// Turns drive `drive_index`'s motor off (`free`: the joint moves only
+    /// under gravity and contacts) or on again (following its setpoint).
+    ///
+    /// # Panics
+    /// If `drive_index >= drive_count()`.
+    pub fn set_drive_free(&mut self, drive_index: usize, free: bool) {
+        self.drives[drive_index].free = free;
+        self.apply_motor_targets(0.0);
+    }
+
     /// Writes every drive's motor target for `elapsed_s` into the step.
     fn apply_motor_targets(&mut self, elapsed_s: f64) {
         for slot in &self.drives {
@@ -338,8 +351,8 @@ impl RobotSim {
                     slot.axis,
                     slot.position + slot.velocity * elapsed_s,
                     slot.velocity,
-                    slot.stiffness,
-                    slot.damping,
+                    if slot.free { 0.0 } else { slot.stiffness },
+                    if slot.free { 0.0 } else { slot.damping },
                 );
             }
         }

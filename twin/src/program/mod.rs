@@ -8,8 +8,9 @@
 //! * [`bind`] reads a positional Logix call's operands through the
 //!   instruction catalogue ([`planner::catalogue`]); one file per
 //!   instruction family binds them to the planner: [`coord`] (MCLM, MCCM,
-//!   MCS), [`mct`] (MCT), [`cam`] (MCCP, MAPC, MRP, MAJ, MAS), [`modulo`]
-//!   (the PLCopen block MC_MoveModulo, named inputs).
+//!   MCS), [`mct`] (MCT), [`cam`] (MCCP, MAPC, MRP, MAJ, MAS), [`state`]
+//!   (MSO, MSF, MASD, MASR, MAFR, MCSD, MCSR), [`modulo`] (the PLCopen
+//!   block MC_MoveModulo, named inputs).
 //! * [`steps`] holds the triggers: when each step fires.
 //! * [`plc`] is the task engine: `[[tasks]]` of Structured Text programs
 //!   scanned periodically, with live tags, timers and faults; its motion
@@ -34,6 +35,7 @@ pub mod coord;
 pub mod mct;
 pub mod modulo;
 pub mod plc;
+pub mod state;
 pub mod steps;
 
 use crate::scene::Scene;
@@ -275,6 +277,7 @@ pub fn compile_logix(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) 
         Family::Coordinated => coord::bind(&mut bind),
         Family::Transform => mct::bind(&mut bind),
         Family::Cam => cam::bind(&mut bind),
+        Family::State => state::bind(&mut bind),
         Family::PlcOpen => Err(format!(
             "{} is a function block: call it on an instance with named inputs",
             instruction.mnemonic

@@ -300,6 +300,12 @@ pub enum Problem {
         /// Upper limit.
         max: f64,
     },
+    /// A drive field on a virtual axis.
+    #[error("a virtual axis (no joint) has no drive: '{field}' applies only to an axis with a joint")]
+    NoDrive {
+        /// The field.
+        field: &'static str,
+    },
     /// Two axes driving one joint.
     #[error("joint '{joint}' is already driven by axis '{other_axis}'")]
     SharedJoint {

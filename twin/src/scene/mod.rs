@@ -55,8 +55,8 @@ pub use tasks::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
 
 use context::{Ctx, NameKind, Names};
 use raw::{
-    Numbers, RawAxis, RawCamera, RawCoordinateSystem, RawObstacle, RawRobot, RawScene, RawSnapshots, RawStep, RawTag,
-    ShapeKind,
+    AxisConfiguration, Numbers, RawAxis, RawCamera, RawCoordinateSystem, RawObstacle, RawRobot, RawScene, RawSnapshots,
+    RawStep, RawTag, ShapeKind,
 };
 
 impl Scene {

@@ -208,6 +208,10 @@ pub struct Axis {
     pub initial_position: f64,
     /// Joint motor gains.
     pub motor: MotorGains,
+    /// Whether the joint has a holding brake that holds it while the servo
+    /// is off (default false: a servo-off joint is free and falls under
+    /// gravity).
+    pub holding_brake: bool,
     /// Where the `[[axes]]` entry's `name` is written.
     pub location: Location,
 }

@@ -60,6 +60,47 @@ pub(super) struct RawAxis {
     pub(super) initial_position: Option<Spanned<f64>>,
     pub(super) soft_travel_limits: Option<Spanned<Numbers<2>>>,
     pub(super) motor: Option<Spanned<MotorGains>>,
+    pub(super) axis_configuration: Option<Spanned<AxisConfiguration>>,
+    pub(super) inhibit_axis: Option<bool>,
+    pub(super) servo_on_at_start: Option<Spanned<bool>>,
+    pub(super) position_error_tolerance: Option<Spanned<f64>>,
+    pub(super) position_error_action: Option<Spanned<ExceptionAction>>,
+    pub(super) holding_brake: Option<Spanned<bool>>,
+    pub(super) brake_release_delay_ms: Option<Spanned<f64>>,
+}
+
+/// `[[axes]] axis_configuration`: Logix's Axis Configuration words.
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum AxisConfiguration {
+    PositionLoop,
+    FeedbackOnly,
+}
+
+/// `[[axes]] position_error_action`: the exception actions.
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum ExceptionAction {
+    Ignore,
+    Alarm,
+    FaultStatusOnly,
+    StopPlanner,
+    StopDrive,
+    Shutdown,
+}
+
+impl ExceptionAction {
+    pub(super) fn planner(self) -> planner::servo::FaultAction {
+        use planner::servo::FaultAction as F;
+        match self {
+            Self::Ignore => F::Ignore,
+            Self::Alarm => F::Alarm,
+            Self::FaultStatusOnly => F::FaultStatusOnly,
+            Self::StopPlanner => F::StopPlanner,
+            Self::StopDrive => F::StopDrive,
+            Self::Shutdown => F::Shutdown,
+        }
+    }
 }
 
 #[derive(Deserialize)]

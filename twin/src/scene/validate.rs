@@ -2,15 +2,17 @@
 //! obstacles and snapshots (tags and the program have files of their own).
 
 use std::collections::{BTreeMap, HashMap};
+use std::ops::Range;
 use std::path::Path;
 
 use toml::Spanned;
 
 use planner::axis::AxisConfig;
+use planner::servo::{AxisType, FaultAction};
 
 use super::{
-    Axis, Camera, Ctx, MotorGains, NameKind, Names, Numbers, Obstacle, Problem, RawAxis, RawCamera, RawObstacle,
-    RawRobot, RawScene, RawSnapshots, Robot, Scene, SceneError, Shape, ShapeKind, Snapshots,
+    Axis, AxisConfiguration, Camera, Ctx, MotorGains, NameKind, Names, Numbers, Obstacle, Problem, RawAxis, RawCamera,
+    RawObstacle, RawRobot, RawScene, RawSnapshots, Robot, Scene, SceneError, Shape, ShapeKind, Snapshots,
 };
 
 impl Ctx<'_> {
@@ -97,6 +99,60 @@ impl Ctx<'_> {
             urdf_location: self.loc(&raw.urdf),
             initial_joints,
             initial_joint_locations,
+        })
+    }
+
+    /// An axis' drive and state fields (`axis_configuration`,
+    /// `servo_on_at_start`, `position_error_*`, `holding_brake`,
+    /// `brake_release_delay_ms`); a virtual axis takes none of the drive
+    /// fields.
+    fn drive_options(
+        &self,
+        a: &RawAxis,
+        has_joint: bool,
+        f: &dyn Fn(&str) -> String,
+    ) -> Result<DriveOptions, SceneError> {
+        if !has_joint {
+            let given: [(Option<Range<usize>>, &'static str); 5] = [
+                (a.axis_configuration.as_ref().map(Spanned::span), "axis_configuration"),
+                (a.servo_on_at_start.as_ref().map(Spanned::span), "servo_on_at_start"),
+                (
+                    a.position_error_tolerance.as_ref().map(Spanned::span),
+                    "position_error_tolerance",
+                ),
+                (a.holding_brake.as_ref().map(Spanned::span), "holding_brake"),
+                (
+                    a.brake_release_delay_ms.as_ref().map(Spanned::span),
+                    "brake_release_delay_ms",
+                ),
+            ];
+            if let Some((Some(span), field)) = given.into_iter().find(|(s, _)| s.is_some()) {
+                return Err(self.invalid_at(span, f(field), Problem::NoDrive { field }));
+            }
+        }
+        let axis_type = match a.axis_configuration.as_ref().map(|c| *c.get_ref()) {
+            _ if !has_joint => AxisType::Virtual,
+            Some(AxisConfiguration::FeedbackOnly) => AxisType::FeedbackOnly,
+            _ => AxisType::Servo,
+        };
+        let position_error_tolerance = match &a.position_error_tolerance {
+            Some(t) => Some(self.positive(t, &f("position_error_tolerance"))?),
+            None => None,
+        };
+        let servo_enable_delay_s = match &a.brake_release_delay_ms {
+            Some(d) => self.non_negative(d, &f("brake_release_delay_ms"))? / 1000.0,
+            None => 0.0,
+        };
+        Ok(DriveOptions {
+            axis_type,
+            start_servo_on: a.servo_on_at_start.as_ref().is_none_or(|s| *s.get_ref()),
+            servo_enable_delay_s,
+            position_error_tolerance,
+            position_error_action: a
+                .position_error_action
+                .as_ref()
+                .map_or(FaultAction::StopDrive, |x| x.get_ref().planner()),
+            holding_brake: a.holding_brake.as_ref().is_some_and(|b| *b.get_ref()),
         })
     }
 
@@ -204,6 +260,7 @@ impl Ctx<'_> {
                 }
                 None => None,
             };
+            let drive = self.drive_options(a, joint.is_some(), &f)?;
             axes.push(Axis {
                 name: name.clone(),
                 joint,
@@ -220,10 +277,17 @@ impl Ctx<'_> {
                     target_position_monitoring: a.target_position_monitoring.unwrap_or(true),
                     modulo_tolerance_window,
                     soft_travel_limits,
+                    axis_type: drive.axis_type,
+                    inhibited: a.inhibit_axis.unwrap_or(false),
+                    start_servo_on: drive.start_servo_on,
+                    servo_enable_delay_s: drive.servo_enable_delay_s,
+                    position_error_tolerance: drive.position_error_tolerance,
+                    position_error_action: drive.position_error_action,
                     ..AxisConfig::new(name, kind.planner_kind())
                 },
                 initial_position,
                 motor,
+                holding_brake: drive.holding_brake,
                 location: self.loc(&a.name),
             });
         }
@@ -416,4 +480,14 @@ pub(super) struct ShapeFields<'a> {
     pub(super) length: &'a Option<Spanned<f64>>,
     pub(super) file: &'a Option<Spanned<String>>,
     pub(super) scale: &'a Option<Spanned<Numbers<3>>>,
+}
+
+/// An axis' drive and state options, validated.
+struct DriveOptions {
+    axis_type: AxisType,
+    start_servo_on: bool,
+    servo_enable_delay_s: f64,
+    position_error_tolerance: Option<f64>,
+    position_error_action: FaultAction,
+    holding_brake: bool,
 }

@@ -202,10 +202,34 @@ pub enum AxisMember {
     TransformStateStatus,
     /// `ControlledByTransformStatus`.
     ControlledByTransformStatus,
+    /// `CIPAxisState`: the axis state ([`planner::servo::CipAxisState`]).
+    CipAxisState,
+    /// `AxisFault`: the fault word ([`planner::servo::AxisFaults`]).
+    AxisFault,
+    /// `ServoActionStatus`: the servo loop is closed.
+    ServoActionStatus,
+    /// `DriveEnableStatus`: the drive is enabled.
+    DriveEnableStatus,
+    /// `ShutdownStatus`: the axis is shut down.
+    ShutdownStatus,
+    /// `InhibitStatus`: the axis is inhibited.
+    InhibitStatus,
+    /// `AxisHomedStatus`: a homing sequence completed.
+    AxisHomedStatus,
+    /// `HomingStatus`: a homing sequence runs.
+    HomingStatus,
+    /// `MoveStatus`: a single-axis move runs.
+    MoveStatus,
+    /// `JogStatus`: a jog runs.
+    JogStatus,
+    /// `GearingStatus`: gearing is engaged.
+    GearingStatus,
+    /// `StoppingStatus`: a stop ramps the axis.
+    StoppingStatus,
 }
 
 /// Every axis member, with its name and type, for parsing and docs.
-pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 11] = [
+pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 23] = [
     ("ActualPosition", AxisMember::ActualPosition, DataType::Real),
     ("CommandPosition", AxisMember::CommandPosition, DataType::Real),
     ("ActualVelocity", AxisMember::ActualVelocity, DataType::Real),
@@ -233,6 +257,18 @@ pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 11] = [
         AxisMember::ControlledByTransformStatus,
         DataType::Bool,
     ),
+    ("CIPAxisState", AxisMember::CipAxisState, DataType::Dint),
+    ("AxisFault", AxisMember::AxisFault, DataType::Dint),
+    ("ServoActionStatus", AxisMember::ServoActionStatus, DataType::Bool),
+    ("DriveEnableStatus", AxisMember::DriveEnableStatus, DataType::Bool),
+    ("ShutdownStatus", AxisMember::ShutdownStatus, DataType::Bool),
+    ("InhibitStatus", AxisMember::InhibitStatus, DataType::Bool),
+    ("AxisHomedStatus", AxisMember::AxisHomedStatus, DataType::Bool),
+    ("HomingStatus", AxisMember::HomingStatus, DataType::Bool),
+    ("MoveStatus", AxisMember::MoveStatus, DataType::Bool),
+    ("JogStatus", AxisMember::JogStatus, DataType::Bool),
+    ("GearingStatus", AxisMember::GearingStatus, DataType::Bool),
+    ("StoppingStatus", AxisMember::StoppingStatus, DataType::Bool),
 ];
 
 /// Coordinate-system status bits.
@@ -422,8 +458,6 @@ pub enum GsvAttribute {
     MaximumAcceleration,
     /// `MaximumDeceleration`.
     MaximumDeceleration,
-    /// `CIPAxisState`.
-    CipAxisState,
 }
 
 /// The `AXIS` attributes `SSV` sets.
@@ -434,9 +468,8 @@ pub const SSV_ATTRIBUTES: [(&str, planner::axis::AxisLimit); 3] = [
 ];
 
 /// Every GSV `AXIS` attribute the twin models, for parsing and docs.
-pub const GSV_ATTRIBUTES: [(&str, GsvAttribute); 4] = [
+pub const GSV_ATTRIBUTES: [(&str, GsvAttribute); 3] = [
     ("MaximumSpeed", GsvAttribute::MaximumSpeed),
     ("MaximumAcceleration", GsvAttribute::MaximumAcceleration),
     ("MaximumDeceleration", GsvAttribute::MaximumDeceleration),
-    ("CIPAxisState", GsvAttribute::CipAxisState),
 ];

@@ -342,8 +342,6 @@ impl<'e> Exec<'e> {
                     GsvAttribute::MaximumSpeed => Value::Real(config.max_velocity),
                     GsvAttribute::MaximumAcceleration => Value::Real(config.max_acceleration),
                     GsvAttribute::MaximumDeceleration => Value::Real(config.max_deceleration),
-                    // Axes are always enabled in the twin: Running.
-                    GsvAttribute::CipAxisState => Value::Int(4),
                 };
                 self.store(place, *ty, v);
                 self.check()?;

@@ -163,5 +163,17 @@ pub(in crate::program::plc) fn axis_value(task: &MotionTask, h: AxisHandle, m: A
         AxisMember::PositionCamPendingStatus => Value::Bool(task.slave_cam_status(h).pending),
         AxisMember::TransformStateStatus => Value::Bool(task.transform_state_status(h)),
         AxisMember::ControlledByTransformStatus => Value::Bool(task.controlled_by_transform_status(h)),
+        AxisMember::CipAxisState => Value::Int(i64::from(task.cip_axis_state(h).code())),
+        AxisMember::AxisFault => Value::Int(i64::from(task.axis_faults(h).0)),
+        AxisMember::ServoActionStatus => Value::Bool(task.axis_status(h).servo_action),
+        AxisMember::DriveEnableStatus => Value::Bool(task.axis_status(h).drive_enable),
+        AxisMember::ShutdownStatus => Value::Bool(task.axis_status(h).shutdown),
+        AxisMember::InhibitStatus => Value::Bool(task.axis_status(h).inhibit),
+        AxisMember::AxisHomedStatus => Value::Bool(task.axis_status(h).homed),
+        AxisMember::HomingStatus => Value::Bool(task.axis_status(h).homing),
+        AxisMember::MoveStatus => Value::Bool(task.axis_status(h).moving),
+        AxisMember::JogStatus => Value::Bool(task.axis_status(h).jogging),
+        AxisMember::GearingStatus => Value::Bool(task.axis_status(h).gearing),
+        AxisMember::StoppingStatus => Value::Bool(task.axis_status(h).stopping),
     }
 }

@@ -1,0 +1,166 @@
+//! Axis states end to end: the `servo_states` scene (MSO, MSF with a holding
+//! brake, MASD, MAFR, MASR, the refusals with their ERR and EXERR), and
+//! variants of shipped scenes that make an axis feedback-only (ERR 8) or
+//! inhibited (ERR 53, MCT EXERR 14).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+mod common;
+use common::root;
+
+/// Runs the `twin` binary on `scene` with a trace; returns the exit code,
+/// its output, and the trace's header and rows.
+fn run(scene: &Path, out_name: &str) -> (i32, String, Vec<String>, Vec<Vec<String>>) {
+    let out = common::fresh_dir("servo-tests", out_name);
+    let output = Command::new(env!("CARGO_BIN_EXE_twin"))
+        .current_dir(root())
+        .arg("run")
+        .arg(scene)
+        .args(["--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .arg("--summary")
+        .arg(out.join("s.json"))
+        .output()
+        .expect("run twin");
+    let text = std::fs::read_to_string(out.join("t.csv")).expect("trace");
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or_default().split(',').map(str::to_owned).collect();
+    let rows = lines.map(|l| l.split(',').map(str::to_owned).collect()).collect();
+    let log = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
+    (output.status.code().unwrap_or(-1), log, header, rows)
+}
+
+fn col(header: &[String], name: &str) -> usize {
+    header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name}"))
+}
+
+fn num(s: &str) -> f64 {
+    s.parse().unwrap_or_else(|_| panic!("not a number: {s}"))
+}
+
+/// A shipped scene with `edits` applied, written under `target/` with its
+/// relative paths made absolute.
+fn variant(scene: &str, name: &str, edits: &[(&str, &str)]) -> PathBuf {
+    let scenes = root().join("scenes");
+    let mut text = std::fs::read_to_string(scenes.join(scene)).expect("scene");
+    for (from, to) in edits {
+        assert!(text.contains(from), "{scene} has no '{from}'");
+        text = text.replacen(from, to, 1);
+    }
+    let base = scenes.display().to_string();
+    let text = text
+        .replace("\"robots/", &format!("\"{base}/robots/"))
+        .replace("\"routines/", &format!("\"{base}/routines/"));
+    let dir = common::fresh_dir("servo-tests", &format!("{name}-scene"));
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).expect("write variant");
+    path
+}
+
+#[test]
+fn servo_states_refuses_with_the_documented_codes_and_the_brake_holds_the_arm() {
+    let (code, log, h, rows) = run(&root().join("scenes/servo_states.toml"), "servo_states");
+    // Exit 2: instructions reported errors, on purpose.
+    assert_eq!(code, 2, "{log}");
+    let last = rows.last().expect("rows");
+    assert_eq!(last[col(&h, "Main.State")], "40", "the program ran to its end");
+    let refused: Vec<&str> = (0..4)
+        .map(|i| last[col(&h, &format!("Main.Refused[{i}]"))].as_str())
+        .collect();
+    // MCLM with J2 servo-off: ERR 5, EXERR 1; MCT with J3 shut down: ERR 61,
+    // EXERR 13; MCLM with J3 shut down: ERR 7, EXERR 2; MSO on the
+    // shut-down J3 after MAFR: ERR 7.
+    assert_eq!(refused, ["501", "6113", "702", "700"]);
+    assert_eq!(last[col(&h, "Main.N")], "4");
+
+    // MSO on J2 (brake release 100 ms) at the first scan (t = 0): .DN at
+    // the 25th coarse update.
+    let t = col(&h, "time_s");
+    let on2 = col(&h, "Main.On2.DN");
+    let first_dn = rows
+        .iter()
+        .find(|r| r[on2] == "1")
+        .map(|r| num(&r[t]))
+        .expect("MSO J2 done");
+    assert!((first_dn - 0.1).abs() < 1e-9, "J2 enabled at {first_dn}");
+
+    // J2 servo-off from the MSF (state 20) to the MSO (state 30): the brake
+    // holds it, and its command follows its actual position.
+    let state = col(&h, "Main.State");
+    let (cmd, act) = (col(&h, "J2.cmd_pos"), col(&h, "J2.act_pos"));
+    let braked: Vec<&Vec<String>> = rows.iter().filter(|r| r[state] == "21").collect();
+    assert!(braked.len() > 100, "{}", braked.len());
+    let held = num(&braked[0][act]);
+    for r in &braked[1..] {
+        assert!(
+            (num(&r[act]) - held).abs() < 0.2,
+            "J2 moved to {} under its brake",
+            r[act]
+        );
+        assert!((num(&r[cmd]) - num(&r[act])).abs() < 0.2);
+    }
+}
+
+#[test]
+fn a_feedback_only_axis_refuses_mso_with_err_8() {
+    let scene = variant(
+        "servo_states.toml",
+        "feedback_only",
+        &[(
+            "initial_position = 0.0\nmotor = { stiffness = 35530.6, damping = 377.0 }\nservo_on_at_start = false",
+            "initial_position = 0.0\nmotor = { stiffness = 35530.6, damping = 377.0 }\nservo_on_at_start = false\naxis_configuration = \"feedback_only\"",
+        )],
+    );
+    let (code, log, h, rows) = run(&scene, "feedback_only");
+    assert_eq!(code, 2, "{log}");
+    let last = rows.last().expect("rows");
+    assert_eq!(
+        (
+            last[col(&h, "Main.On1.ER")].as_str(),
+            last[col(&h, "Main.On1.ERR")].as_str()
+        ),
+        ("1", "8")
+    );
+    assert_eq!(last[col(&h, "Main.State")], "10", "the program waits for J1");
+    // Not driven: J1 (vertical, no load) stays where it was.
+    assert!(num(&last[col(&h, "J1.cmd_pos")]).abs() < 1e-6);
+}
+
+#[test]
+fn an_inhibited_axis_refuses_with_err_53_and_mct_names_it_with_exerr_14() {
+    let scene = variant(
+        "servo_states.toml",
+        "inhibited",
+        &[(
+            "brake_release_delay_ms = 100.0\n\n[[cameras]]",
+            "brake_release_delay_ms = 100.0\ninhibit_axis = true\n\n[[cameras]]",
+        )],
+    );
+    let (code, log, h, rows) = run(&scene, "inhibited");
+    assert_eq!(code, 2, "{log}");
+    let last = rows.last().expect("rows");
+    assert_eq!(last[col(&h, "Main.On3.ERR")], "53", "MSO on the inhibited J3");
+
+    // scara_pallet's first scan starts MCT(Cart, Joints): with J2 inhibited
+    // it is refused with EXERR 14 and the pallet is never started.
+    let scene = variant(
+        "scara_pallet.toml",
+        "pallet_inhibited",
+        &[("joint = \"j2\"", "joint = \"j2\"\ninhibit_axis = true")],
+    );
+    let (code, log, h, rows) = run(&scene, "pallet_inhibited");
+    assert_eq!(code, 2, "{log}");
+    let last = rows.last().expect("rows");
+    assert_eq!(
+        (
+            last[col(&h, "Pallet.Xform.ER")].as_str(),
+            last[col(&h, "Pallet.Xform.EXERR")].as_str()
+        ),
+        ("1", "14")
+    );
+    assert_eq!(last[col(&h, "Pallet.State")], "5");
+}
