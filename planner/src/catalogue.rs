@@ -187,7 +187,7 @@ pub enum Family {
     Coordinated,
     /// Coordinate transforms: MCT.
     Transform,
-    /// Cams and the single-axis calls that serve them: MCCP, MAPC, MRP, MAJ, MAS.
+    /// Cams and the single-axis calls: MCCP, MAPC, MRP, MAJ, MAS, MAM.
     Cam,
     /// PLCopen single-axis blocks: MC_MoveModulo.
     PlcOpen,
@@ -277,6 +277,7 @@ pub const INSTRUCTIONS: &[&Instruction] = &[
     &MRP,
     &MAJ,
     &MAS,
+    &MAM,
     &MSO,
     &MSF,
     &MASD,
@@ -312,7 +313,7 @@ pub fn positional_mnemonics() -> String {
 pub const NOT_SIMULATED: &[&str] = &[
     // Motion state
     "MDO", "MDF", "MDS", // Motion move
-    "MAH", "MAM", "MAG", "MCD", "MCSV", "MATC", "MDAC", // Motion group
+    "MAH", "MAG", "MCD", "MCSV", "MATC", "MDAC", // Motion group
     "MGS", "MGSD", "MGSR", "MGSP", // Motion event
     "MAW", "MDW", "MAR", "MDR", "MAOC", "MDOC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
@@ -431,6 +432,7 @@ const MRP_TYPE: &[Word] = &[w("absolute", 0), w("relative", 1)];
 const JOG_DIRECTION: &[Word] = &[w("forward", 0), w("reverse", 1)];
 const JOG_SPEED_UNITS: &[Word] = &[w("unitspersec", 0), w("%ofmaximum", 1)];
 const JOG_ACCEL_UNITS: &[Word] = &[w("unitspersec²", 0), w("unitspersec2", 0), w("%ofmaximum", 1)];
+const MAM_MERGE: &[Word] = &[w("disabled", 0), w("enabled", 1)];
 const MAS_STOP_TYPE: &[Word] = &[
     w("all", 0),
     w("jog", 1),
@@ -678,6 +680,42 @@ pub const MAJ: Instruction = Instruction {
     ],
 };
 
+/// Motion Axis Move.
+pub const MAM: Instruction = Instruction {
+    mnemonic: "MAM",
+    title: "Motion Axis Move",
+    style: CallStyle::Positional,
+    family: Family::Cam,
+    operands: &[
+        op("Axis", "AXIS", Tag, Kind::Axis, 0),
+        op("Motion Control", "MOTION_INSTRUCTION", Tag, Kind::MotionControl, 1),
+        op("Move Type", INTEGER, ImmediateOrTag, Kind::Integer, 2),
+        op("Position", NUMERIC, ImmediateOrTag, Kind::Number, 3),
+        op("Speed", NUMERIC, ImmediateOrTag, Kind::Number, 4),
+        op("Speed Units", INTEGER, Immediate, Kind::Enumeration(JOG_SPEED_UNITS), 5),
+        op("Accel Rate", NUMERIC, ImmediateOrTag, Kind::Number, 6),
+        op("Accel Units", INTEGER, Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 7),
+        op("Decel Rate", NUMERIC, ImmediateOrTag, Kind::Number, 8),
+        op("Decel Units", INTEGER, Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 9),
+        op("Profile", INTEGER, Immediate, Kind::Enumeration(PROFILE), 10),
+        op("Accel Jerk", NUMERIC, ImmediateOrTag, Kind::Number, 11),
+        op("Decel Jerk", NUMERIC, ImmediateOrTag, Kind::Number, 12),
+        op("Jerk Units", INTEGER, Immediate, Kind::Enumeration(TIME_JERK_UNITS), 13),
+        op("Merge", INTEGER, Immediate, Kind::Enumeration(MAM_MERGE), 14),
+        op("Merge Speed", INTEGER, Immediate, Kind::Enumeration(MERGE_SPEED), 15),
+        op("Lock Position", "REAL", ImmediateOrTag, Kind::Number, 16),
+        op(
+            "Lock Direction",
+            "UINT32",
+            ImmediateOrTag,
+            Kind::Enumeration(LOCK_DIRECTION),
+            17,
+        ),
+        op("Event Distance", "REAL ARRAY or 0", Array, Kind::OptionalArray, 18),
+        op("Calculated Data", "REAL ARRAY or 0", Array, Kind::OptionalArray, 19),
+    ],
+};
+
 /// Motion Axis Stop (its first six operands).
 pub const MAS: Instruction = Instruction {
     mnemonic: "MAS",
@@ -861,7 +899,7 @@ mod tests {
         assert_eq!(find("mc_movemodulo").map(|i| i.mnemonic), Some("MC_MoveModulo"));
         assert_eq!(find("Mapc").map(|i| i.operands.len()), Some(14));
         assert_eq!(find("mso").map(|i| i.operands.len()), Some(2));
-        assert!(find("MAM").is_none());
+        assert!(find("MAG").is_none());
         for name in NOT_SIMULATED {
             assert!(find(name).is_none(), "{name} is both simulated and not");
         }

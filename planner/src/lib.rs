@@ -11,6 +11,8 @@
 //! * [`mapc`] — Motion Axis Position Cam: position camming of a slave axis.
 //! * [`mrp`] — Motion Redefine Position.
 //! * [`jog`] — Motion Axis Jog / Motion Axis Stop (drives cam masters).
+//! * [`mam`] — Motion Axis Move: single-axis moves (absolute, incremental,
+//!   rotary move types).
 //! * [`coord`] — coordinate systems, coordinated-move operands and status;
 //!   [`mclm`] linear and [`mccm`] circular coordinated moves; MCS in `coord`.
 //! * [`mct`] — MCT coordinated transforms and robot geometries.
@@ -23,6 +25,7 @@ pub mod catalogue;
 pub mod coord;
 pub mod instruction;
 pub mod jog;
+pub mod mam;
 pub mod mapc;
 pub mod mccm;
 pub mod mccp;

@@ -37,6 +37,7 @@ pub use coord::{
 };
 mod mct;
 pub use mct::TransformGeometry;
+mod mam;
 mod servo;
 
 /// Handle of an axis in a [`MotionTask`].

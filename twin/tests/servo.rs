@@ -67,7 +67,10 @@ fn servo_states_refuses_with_the_documented_codes_and_the_brake_holds_the_arm() 
     // Exit 2: instructions reported errors, on purpose.
     assert_eq!(code, 2, "{log}");
     let last = rows.last().expect("rows");
-    assert_eq!(last[col(&h, "Main.State")], "40", "the program ran to its end");
+    assert_eq!(last[col(&h, "Main.State")], "50", "the program ran to its end");
+    // The closing MAM put J1 at -30 exactly, and .PC says so.
+    assert_eq!(num(&last[col(&h, "J1.cmd_pos")]), -30.0);
+    assert_eq!(last[col(&h, "MoveJ1.PC")], "1");
     let refused: Vec<&str> = (0..4)
         .map(|i| last[col(&h, &format!("Main.Refused[{i}]"))].as_str())
         .collect();

@@ -76,8 +76,10 @@ type MasterKey = (AxisHandle, MasterReference);
 struct RampRun {
     profile: Profile,
     t_s: f64,
-    /// The MAJ driving it (`None` for a stop ramp).
+    /// The MAJ driving it (`None` for a stop ramp or a move).
     jog: Option<InstructionHandle>,
+    /// The MAM moving the axis along it (`None` for a jog or a stop ramp).
+    mv: Option<InstructionHandle>,
     /// The MAS stopping it, if any.
     stop: Option<InstructionHandle>,
 }
@@ -191,14 +193,14 @@ impl MotionTask {
 
     /// Starts an execution: `.EN` set, `.DN .ER .PC .IP .AC` and the codes
     /// cleared.
-    fn begin(&mut self, h: InstructionHandle) {
+    pub(super) fn begin(&mut self, h: InstructionHandle) {
         *self.bits(h) = MotionInstructionBits {
             en: true,
             ..MotionInstructionBits::default()
         };
     }
 
-    fn fail(&mut self, h: InstructionHandle, err: i32, exerr: i32, segment: i32) {
+    pub(super) fn fail(&mut self, h: InstructionHandle, err: i32, exerr: i32, segment: i32) {
         self.bits(h).set_error(err, exerr, segment);
     }
 
@@ -363,7 +365,7 @@ impl MotionTask {
         self.end_ramp(axis);
     }
 
-    fn abort_move(&mut self, axis: AxisHandle) {
+    pub(super) fn abort_move(&mut self, axis: AxisHandle) {
         // Coordinated motion on the axis comes to rest too (task/coord.rs).
         self.release_axis_from_coordinated_motion(axis);
         self.abort_modulo_commands(axis);
@@ -385,10 +387,13 @@ impl MotionTask {
             for mi in r.jog.into_iter().chain(r.stop) {
                 self.bits(mi).ip = false;
             }
+            if let Some(mi) = r.mv {
+                self.bits(mi).end_motion();
+            }
         }
     }
 
-    fn end_cams(&mut self, axis: AxisHandle) {
+    pub(super) fn end_cams(&mut self, axis: AxisHandle) {
         let c = self.cam_axis(axis);
         c.cam_drove = false;
         let events = c.cam.stop();
@@ -510,6 +515,7 @@ impl MotionTask {
             profile: Profile::to_velocity(state, jog.velocity, &jog.limits),
             t_s: 0.0,
             jog: Some(motion_control),
+            mv: None,
             stop: None,
         });
         let b = self.bits(motion_control);
@@ -537,12 +543,8 @@ impl MotionTask {
             let s = c.cam.status();
             s.position_cam || s.pending
         });
-        let jogging = self
-            .cam
-            .axes
-            .get(axis.0 as usize)
-            .is_some_and(|c| c.ramp.as_ref().is_some_and(|r| r.jog.is_some()));
-        let moving = self.axes[axis.0 as usize].job.is_some();
+        let (jogging, _, mam) = self.jog_and_stop_status(axis);
+        let moving = self.axes[axis.0 as usize].job.is_some() || mam;
         let mut stops = false;
         if stop.scope.position_cam && cam_running {
             self.end_cams(axis);
@@ -554,6 +556,9 @@ impl MotionTask {
         }
         if stop.scope.moves && moving {
             self.abort_move(axis);
+            if mam {
+                self.end_ramp(axis);
+            }
             stops = true;
         }
         self.bits(motion_control).dn = true;
@@ -584,6 +589,7 @@ impl MotionTask {
             profile: Profile::to_velocity(state, 0.0, &limits),
             t_s: 0.0,
             jog: None,
+            mv: None,
             stop: Some(motion_control),
         });
         self.bits(motion_control).ip = true;
@@ -627,6 +633,7 @@ impl MotionTask {
             profile,
             t_s: 0.0,
             jog: None,
+            mv: None,
             stop: None,
         });
         true
@@ -640,16 +647,33 @@ impl MotionTask {
             profile,
             t_s: 0.0,
             jog: None,
+            mv: None,
             stop: None,
         });
     }
 
-    /// Whether `axis` jogs (MAJ) and whether it runs a stop ramp.
-    pub(super) fn jog_and_stop_status(&self, axis: AxisHandle) -> (bool, bool) {
+    /// Whether `axis` jogs (MAJ), runs a stop ramp, and moves (MAM).
+    pub(super) fn jog_and_stop_status(&self, axis: AxisHandle) -> (bool, bool, bool) {
         match self.cam.axes.get(axis.0 as usize).and_then(|c| c.ramp.as_ref()) {
-            Some(r) => (r.jog.is_some(), r.jog.is_none()),
-            None => (false, false),
+            Some(r) => (r.jog.is_some(), r.jog.is_none() && r.mv.is_none(), r.mv.is_some()),
+            None => (false, false, false),
         }
+    }
+
+    /// Starts a MAM's move along `profile` on `axis` (whatever ramp ran
+    /// there ends): `.IP` and `.AC` until the command reaches the end.
+    pub(super) fn start_move_ramp(&mut self, axis: AxisHandle, profile: Profile, control: InstructionHandle) {
+        self.end_ramp(axis);
+        self.cam_axis(axis).ramp = Some(RampRun {
+            profile,
+            t_s: 0.0,
+            jog: None,
+            mv: Some(control),
+            stop: None,
+        });
+        let b = self.bits(control);
+        b.ip = true;
+        b.ac = true;
     }
 
     /// Whether `axis` runs a stop ramp (MAS or a stop of all axes).
@@ -657,7 +681,7 @@ impl MotionTask {
         self.cam
             .axes
             .get(axis.0 as usize)
-            .is_some_and(|c| c.ramp.as_ref().is_some_and(|r| r.jog.is_none()))
+            .is_some_and(|c| c.ramp.as_ref().is_some_and(|r| r.jog.is_none() && r.mv.is_none()))
     }
 
     /// Advances jogs, stop ramps and position cams by one coarse update
@@ -679,9 +703,20 @@ impl MotionTask {
             };
             r.t_s += dt;
             let sample = r.profile.sample(r.t_s);
-            let stopped = r.jog.is_none() && r.t_s >= r.profile.duration_s();
-            let stop_mi = r.stop;
+            let ended = r.jog.is_none() && r.t_s >= r.profile.duration_s();
+            let (stop_mi, move_mi) = (r.stop, r.mv);
+            let (accel, decel) = r.profile.accel_decel_at(r.t_s);
             self.set_command(axis, sample);
+            if let Some(mi) = move_mi {
+                let b = self.bits(mi);
+                b.accel = accel && !ended;
+                b.decel = decel && !ended;
+                if ended {
+                    b.end_motion();
+                    b.pc = true;
+                }
+            }
+            let stopped = ended;
             if stopped {
                 self.cam.axes[i].ramp = None;
                 self.axes[i].command.velocity = 0.0;

@@ -122,7 +122,8 @@ impl MotionTask {
         let a = &self.axes[axis.0 as usize];
         let real_drive = a.config.axis_type == AxisType::Servo;
         let moving = a.job.as_ref().is_some_and(|j| !j.generation_done && !j.stopping) || a.buffered.is_some();
-        let (jogging, ramp_stopping) = self.jog_and_stop_status(axis);
+        let (jogging, ramp_stopping, mam) = self.jog_and_stop_status(axis);
+        let moving = moving || mam;
         AxisStatusBits {
             servo_action: self.is_servo_on(axis),
             drive_enable: real_drive && self.is_drive_enabled(axis),

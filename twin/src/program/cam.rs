@@ -1,5 +1,6 @@
-//! Logix cam calls: MCCP, MAPC, MRP, and the MAJ jog / MAS stop that drive
-//! cam masters, bound to planner calls (see [`super::bind`]).
+//! Logix cam and single-axis calls: MCCP, MAPC, MRP, MAM, and the MAJ jog /
+//! MAS stop that also drive cam masters, bound to planner calls (see
+//! [`super::bind`]).
 //!
 //! Operands are the manual's, in its order:
 //! * `MCCP(MotionControl, Cam, Length, StartSlope, EndSlope, CamProfile)` —
@@ -23,6 +24,11 @@
 //!   operands (the jerk, merge and lock operands are not simulated):
 //!   Direction `Forward Reverse`, units `UnitsPerSec` / `UnitsPerSec2` or
 //!   `%ofMaximum`, Profile `Trapezoidal S-Curve`.
+//! * `MAM(Axis, MotionControl, MoveType, Position, Speed, SpeedUnits,
+//!   AccelRate, AccelUnits, DecelRate, DecelUnits, Profile, AccelJerk,
+//!   DecelJerk, JerkUnits, Merge, MergeSpeed, LockPosition, LockDirection,
+//!   EventDistance, CalculatedData)` — Merge `Disabled Enabled`, MergeSpeed
+//!   `Programmed Current`; the rules are [`planner::mam`]'s.
 //! * `MAS(Axis, MotionControl, StopType, ChangeDecel, DecelRate, DecelUnits)`
 //!   — the manual's first six operands: StopType `All Jog Move Gear Home Tune
 //!   Test TimeCam PositionCam MasterOffsetMove DirectControl`, ChangeDecel
@@ -35,12 +41,13 @@ use super::bind::{Bind, LogixContext, LogixStep, declared_tag};
 use crate::scene::{BaseType, SegmentType, TagValue};
 use crate::st::Expr;
 use planner::jog::{MajOperands, MasOperands};
+use planner::mam::MamOperands;
 use planner::mapc::MapcOperands;
 use planner::mccp::CamElement;
 use planner::task::{CamProfileHandle, InstructionHandle, MapcCall, MotionTask};
 use std::sync::Arc;
 
-/// Binds an MCCP, MAPC, MRP, MAJ or MAS call.
+/// Binds an MCCP, MAPC, MRP, MAJ, MAM or MAS call.
 ///
 /// # Errors
 /// A message naming the operand at fault.
@@ -50,6 +57,7 @@ pub fn bind(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
         "MAPC" => mapc(b),
         "MRP" => mrp(b),
         "MAJ" => maj(b),
+        "MAM" => mam(b),
         _ => mas(b),
     }
 }
@@ -224,6 +232,34 @@ fn maj(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
     };
     Ok(step("MAJ", control, move |task| {
         let _ = task.maj(axis, control, &o);
+    }))
+}
+
+fn mam(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
+    let axis = b.axis("Axis")?;
+    let control = b.motion_control()?;
+    let o = MamOperands {
+        move_type: b.integer("Move Type")?,
+        position: b.number("Position")?,
+        speed: b.number("Speed")?,
+        speed_units: b.code("Speed Units")?,
+        accel_rate: b.number("Accel Rate")?,
+        accel_units: b.code("Accel Units")?,
+        decel_rate: b.number("Decel Rate")?,
+        decel_units: b.code("Decel Units")?,
+        profile: b.code("Profile")?,
+        accel_jerk: b.number("Accel Jerk")?,
+        decel_jerk: b.number("Decel Jerk")?,
+        jerk_units: b.code("Jerk Units")?,
+        merge: b.code("Merge")?,
+        merge_speed: b.code("Merge Speed")?,
+        lock_direction: b.code("Lock Direction")?,
+    };
+    b.number("Lock Position")?;
+    b.optional_array("Event Distance")?;
+    b.optional_array("Calculated Data")?;
+    Ok(step("MAM", control, move |task| {
+        let _ = task.mam(axis, control, &o);
     }))
 }
 

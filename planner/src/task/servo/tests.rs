@@ -344,7 +344,7 @@ fn virtual_axes_are_on_and_come_back_on_after_a_shutdown_reset() {
     assert_eq!(task.cip_axis_state(axis), CipAxisState::Running);
 }
 
-/// Random sequences of MSO, MSF, MASD, MASR, MAFR, MAJ, MAS and
+/// Random sequences of MSO, MSF, MASD, MASR, MAFR, MAJ, MAS, MAM and
 /// MC_MoveModulo on a fed axis: nothing panics, a servo-off axis is never
 /// commanded away from where it is, and every refusal carries a
 /// documented ERR.
@@ -372,7 +372,7 @@ fn random_state_sequences_never_move_a_disabled_axis() {
         let mut actual = task.axis_state(axis).actual_position;
         let mut execute = false;
         for _ in 0..400 {
-            let r = match rng.random_range(0..9) {
+            let r = match rng.random_range(0..10) {
                 0 => task.mso(axis, mi).err().map(StateError::err),
                 1 => task.msf(axis, mi).err().map(StateError::err),
                 2 => task.masd(axis, mi).err().map(StateError::err),
@@ -393,6 +393,14 @@ fn random_state_sequences_never_move_a_disabled_axis() {
                     };
                     task.set_move_modulo_inputs(fb, inputs);
                     None
+                }
+                8 => {
+                    let o = crate::mam::MamOperands {
+                        move_type: rng.random_range(0..5),
+                        position: rng.random_range(0.0..720.0),
+                        ..crate::mam::MamOperands::default()
+                    };
+                    task.mam(axis, mi, &o).err().map(|e| e.err())
                 }
                 _ => None,
             };
