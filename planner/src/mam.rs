@@ -41,12 +41,15 @@
 //! * Lock Position and Lock Direction: only Lock Direction 0 (None) is
 //!   simulated; another value is refused with ERR 13 on Lock Direction.
 //!   Event Distance and Calculated Data are accepted and not written.
-//! * Merge: a MAM with Merge Enabled ends every single-axis motion on the
-//!   axis (jog, move, cam) and starts from the axis' current state; with
-//!   Merge Disabled a second MAM replaces the one running (the new target
-//!   is planned from the current command state: no stop in between), as
-//!   Logix does. Superimposing a Merge Disabled MAM on a jog or a cam is
-//!   not simulated yet: it ends them as a merge does.
+//! * Merge: a MAM with Merge Enabled ends every motion on the axis (jog,
+//!   move, cam, superimposed run, the coordinated motion of its systems)
+//!   and starts from the axis' current state. With Merge Disabled, on an
+//!   axis a cam or coordinated motion drives, the move is superimposed on
+//!   that motion (`task/superimposed.rs`: its distance is its target minus
+//!   the command when it executes); otherwise a second MAM replaces the
+//!   one running (planned from the current command state: no stop in
+//!   between), as Logix does. Superimposing a MAM on a jog is not
+//!   simulated: it ends the jog as a merge does.
 
 use crate::axis::AxisConfig;
 use crate::profile::{Limits, State, jerk_from_percent_of_time};

@@ -14,6 +14,10 @@
 //!    monitoring), starting a buffered command when its predecessor is done;
 //! 4. (MCT, `task/mct.rs`) after the coordinate systems have moved, every
 //!    active transform moves the side that did not move;
+//!
+//! Around steps 2–4 the superimposed offsets (`task/superimposed.rs`) are
+//! taken out of the commands and added back.
+//!
 //! 5. (axis states, `task/servo.rs`) an MSO in process counts down, the
 //!    command of a servo-off axis follows its actual position, and the
 //!    position error of a servo-on axis is checked against its tolerance.
@@ -39,6 +43,7 @@ mod mct;
 pub use mct::TransformGeometry;
 mod mam;
 mod servo;
+mod superimposed;
 
 /// Handle of an axis in a [`MotionTask`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -103,6 +108,9 @@ struct AxisSlot {
     buffered: Option<(FbHandle, MoveModulo)>,
     /// Servo state, faults (`task/servo.rs`).
     servo: servo::ServoSlot,
+    /// A MAM or MAJ running on top of the axis' base motion
+    /// (`task/superimposed.rs`).
+    superimposed: Option<superimposed::SuperRun>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -145,6 +153,9 @@ pub struct MotionTask {
     cam: cam::CamState,
     /// MCT transforms (`task/mct.rs`).
     mct: mct::MctState,
+    /// Between [`MotionTask::remove_superimposed`] and
+    /// [`MotionTask::add_superimposed`]: commands are bases.
+    superimposed_removed: bool,
 }
 
 impl MotionTask {
@@ -165,6 +176,7 @@ impl MotionTask {
             coord: coord::CoordState::default(),
             cam: cam::CamState::default(),
             mct: mct::MctState::default(),
+            superimposed_removed: false,
         })
     }
 
@@ -203,6 +215,7 @@ impl MotionTask {
         config.check_soft_travel_limits(initial_position).map_err(err)?;
         self.axes.push(AxisSlot {
             servo: servo::ServoSlot::new(&config),
+            superimposed: None,
             config,
             command: Sample {
                 position: initial_position,
@@ -387,6 +400,7 @@ impl MotionTask {
     /// motion stops at once, and the running and buffered commands are
     /// aborted (`CommandAborted`).
     pub fn reset_axis(&mut self, axis: AxisHandle) {
+        self.fold_superimposed(axis);
         self.release_cam_and_jog(axis);
         self.release_axis_from_coordinated_motion(axis);
         let a = &mut self.axes[axis.0 as usize];
@@ -409,12 +423,14 @@ impl MotionTask {
         }
         self.evaluate_coord_instructions();
         self.evaluate_mct_instructions();
+        self.remove_superimposed();
         for i in 0..self.axes.len() {
             self.advance_axis(AxisHandle(i as u32));
         }
         self.advance_coordinate_systems();
         self.advance_cams_and_jogs();
         self.advance_transforms();
+        self.add_superimposed();
         self.advance_servo_states();
     }
 
@@ -484,6 +500,7 @@ impl MotionTask {
     /// Starts `command` on `axis` now, `elapsed_s` into its profile (a blend
     /// hand-over inside an update), aborting whatever runs there.
     fn start(&mut self, axis: AxisHandle, fb: FbHandle, command: MoveModulo, elapsed_s: Option<f64>) {
+        self.fold_superimposed(axis);
         self.release_cam_and_jog(axis);
         self.release_axis_from_coordinated_motion(axis);
         let a = &mut self.axes[axis.0 as usize];

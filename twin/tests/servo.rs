@@ -23,11 +23,11 @@ fn run(scene: &Path, out_name: &str) -> (i32, String, Vec<String>, Vec<Vec<Strin
         .arg(out.join("s.json"))
         .output()
         .expect("run twin");
-    let text = std::fs::read_to_string(out.join("t.csv")).expect("trace");
+    let log = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
+    let text = std::fs::read_to_string(out.join("t.csv")).unwrap_or_else(|e| panic!("no trace ({e}): {log}"));
     let mut lines = text.lines();
     let header = lines.next().unwrap_or_default().split(',').map(str::to_owned).collect();
     let rows = lines.map(|l| l.split(',').map(str::to_owned).collect()).collect();
-    let log = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
     (output.status.code().unwrap_or(-1), log, header, rows)
 }
 
@@ -166,4 +166,58 @@ fn an_inhibited_axis_refuses_with_err_53_and_mct_names_it_with_exerr_14() {
         ("1", "14")
     );
     assert_eq!(last[col(&h, "Pallet.State")], "5");
+}
+
+/// `rotary_knife` with a MAM on the knife (the cam slave) at 1 s: with
+/// Merge Disabled it is superimposed on the cam, which goes on; with Merge
+/// Enabled it ends the cam.
+fn knife_with_mam(merge: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let step = format!(
+        "[[program]]\nat_s = 1.0\ncall = \"MAM(Knife, Trim, 1, 10.0, 200.0, UnitsPerSec, 2000.0, UnitsPerSec2, 2000.0, UnitsPerSec2, Trapezoidal, 0, 0, UnitsPerSec3, {merge}, Programmed, 0, None, 0, 0)\"\n\n[[program]]\nat_s = 1.5"
+    );
+    let tag = "[[tags]]\nname = \"Trim\"\ntype = \"MOTION_INSTRUCTION\"\n\n[[tags]]\nname = \"Stop\"";
+    let scene = variant(
+        "rotary_knife.toml",
+        &format!("knife_mam_{merge}"),
+        &[("[[program]]\nat_s = 1.5", &step), ("[[tags]]\nname = \"Stop\"", tag)],
+    );
+    let (code, log, h, rows) = run(&scene, &format!("knife_mam_{merge}"));
+    assert_eq!(code, 0, "{log}");
+    (h, rows)
+}
+
+#[test]
+fn a_mam_on_the_knife_rides_on_its_cam_or_ends_it() {
+    let original = root().join("scenes/rotary_knife.toml");
+    let (code, log, h0, base) = run(&original, "knife_base");
+    assert_eq!(code, 0, "{log}");
+    let knife0 = col(&h0, "Knife.cmd_pos");
+
+    let (h, rows) = knife_with_mam("Disabled");
+    let (t, knife, sup) = (col(&h, "time_s"), col(&h, "Knife.cmd_pos"), col(&h, "Knife.sup_pos"));
+    let (cam, pc) = (col(&h, "Knife.PositionCamStatus"), col(&h, "Trim.PC"));
+    let mut checked = 0;
+    for (r, r0) in rows.iter().zip(&base) {
+        let time = num(&r[t]);
+        // From the MAM's end to the cam replacement at 1.5 s: exactly 10°
+        // past the cam, the cam still active.
+        if r[pc] == "1" && time < 1.5 {
+            let diff = num(&r[knife]) - num(&r0[knife0]);
+            assert!((diff - 10.0).abs() < 1e-9, "t {time}: {diff}");
+            assert_eq!(num(&r[sup]), 10.0);
+            assert_eq!(r[cam], "1");
+            checked += 1;
+        }
+    }
+    assert!(checked > 50, "{checked} rows");
+
+    let (h, rows) = knife_with_mam("Enabled");
+    let (t, cam, pc) = (
+        col(&h, "time_s"),
+        col(&h, "Knife.PositionCamStatus"),
+        col(&h, "Trim.PC"),
+    );
+    let after: Vec<&Vec<String>> = rows.iter().filter(|r| (1.01..1.5).contains(&num(&r[t]))).collect();
+    assert!(after.iter().all(|r| r[cam] == "0"), "the merge ended the cam");
+    assert!(after.iter().any(|r| r[pc] == "1"));
 }

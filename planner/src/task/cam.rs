@@ -19,8 +19,10 @@
 //!   then ramps from the axis' current state (a running jog is merged:
 //!   re-planned to the new speed);
 //! * MAPC (non-pending) aborts the MoveModulo command and the jog; the cam
-//!   starts from the slave's current command position. (Logix superimposes
-//!   moves and jogs on a cam; this planner does not.)
+//!   starts from the slave's current command position. A MAM with Merge
+//!   Disabled on a cam slave runs superimposed on the cam
+//!   (`task/superimposed.rs`); a MAJ (which has no Merge operand here)
+//!   ends the cam.
 //! * MAS stops what its Stop Type names and ramps the axis to rest from its
 //!   current velocity with the stop deceleration.
 //! * [`MotionTask::reset_axis`] ends cams and jogs as well.
@@ -45,6 +47,7 @@
 //! converts between the two.
 
 use super::servo::Need;
+use super::superimposed::SuperKind;
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
 use crate::instruction::MotionInstructionBits;
 use crate::jog::{Jog, JogError, MajOperands, MasOperands, Stop};
@@ -361,6 +364,7 @@ impl MotionTask {
 
     /// A cam takes `axis`: its MoveModulo command is aborted and its jog ends.
     fn take_axis_for_cam(&mut self, axis: AxisHandle) {
+        self.fold_superimposed(axis);
         self.abort_move(axis);
         self.end_ramp(axis);
     }
@@ -507,6 +511,7 @@ impl MotionTask {
         let jog = Jog::new(operands, &self.axes[axis.0 as usize].config);
         let jog = self.begin_validated(motion_control, jog)?;
         self.state_allows(axis, motion_control, Need::Motion)?;
+        self.fold_superimposed(axis);
         self.abort_move(axis);
         self.end_cams(axis);
         self.end_ramp(axis);
@@ -560,6 +565,14 @@ impl MotionTask {
                 self.end_ramp(axis);
             }
             stops = true;
+        }
+        let sup_named = match self.superimposed_moving(axis) {
+            Some(SuperKind::Jog) => stop.scope.jog,
+            Some(SuperKind::Move) => stop.scope.moves,
+            _ => false,
+        };
+        if sup_named {
+            self.stop_superimposed(axis);
         }
         self.bits(motion_control).dn = true;
         let state = self.axes[axis.0 as usize].command.state();
@@ -658,6 +671,29 @@ impl MotionTask {
             Some(r) => (r.jog.is_some(), r.jog.is_none() && r.mv.is_none(), r.mv.is_some()),
             None => (false, false, false),
         }
+    }
+
+    /// Whether a position cam drives `axis` now.
+    pub(super) fn cam_drives(&self, axis: AxisHandle) -> bool {
+        self.cam.axes.get(axis.0 as usize).is_some_and(|c| c.cam.drives())
+    }
+
+    /// A coordinated move takes `axis`: a jog or MAM ramp on it goes on
+    /// superimposed (`task/superimposed.rs`); stop ramps and cams end.
+    pub(super) fn superimpose_or_release(&mut self, axis: AxisHandle) {
+        let ramp = self.cam.axes.get_mut(axis.0 as usize).and_then(|c| {
+            let keep = c.ramp.as_ref().is_some_and(|r| r.jog.is_some() || r.mv.is_some());
+            if keep { c.ramp.take() } else { None }
+        });
+        if let Some(r) = ramp {
+            let (control, kind) = match (r.jog, r.mv) {
+                (Some(j), _) => (j, SuperKind::Jog),
+                (None, Some(m)) => (m, SuperKind::Move),
+                (None, None) => unreachable!("kept only a jog or a move"),
+            };
+            self.superimpose_ramp(axis, &r.profile, r.t_s, control, kind);
+        }
+        self.release_cam_and_jog(axis);
     }
 
     /// Starts a MAM's move along `profile` on `axis` (whatever ramp ran

@@ -69,15 +69,19 @@
 //!   (its instructions lose `.IP`/`.AC`); the two systems' motions are not
 //!   blended, so the new move starts with the command velocity of its own
 //!   (rest) profile.
-//! * **Single-axis motion** (MC_MoveModulo, MAPC cams, MAJ jogs, MAS
-//!   stops) and coordinated motion never superimpose here: a coordinated
-//!   move that starts aborts the single-axis commands on its axes and ends
-//!   their cams and jogs (whatever the merge type; the spec's superimposed
-//!   motion for merge disabled is not modelled; the move starts from rest
-//!   on its own profile), and a single-axis command that takes an axis of a
-//!   moving system (or an axis reset) brings that system to rest along its
-//!   path (its instructions lose `.IP`/`.AC`, the pending move is
-//!   cancelled) while the single-axis command alone writes that axis.
+//! * **Single-axis motion**: a coordinated move with Merge Disabled or
+//!   Coordinated Motion that starts on an axis a MAJ jogs or a MAM moves
+//!   leaves that jog or move running, superimposed on the path (the
+//!   spec's Merge section; `task/superimposed.rs`); Merge All Motion ends
+//!   it (also when the system was idle). A coordinated move ends the
+//!   MC_MoveModulo commands, cams and stop ramps on its axes whatever the
+//!   merge (superimposing those is not modelled); the move starts from
+//!   rest on its own profile. A single-axis command that takes an axis of
+//!   a moving system (MC_MoveModulo, MAPC, MAJ, a MAM with Merge Enabled,
+//!   an axis reset) brings that system to rest along its path (its
+//!   instructions lose `.IP`/`.AC`, the pending move is cancelled) while
+//!   the single-axis command alone writes that axis; a MAM with Merge
+//!   Disabled runs superimposed instead.
 //! * [`MotionTask::stop_all_axes`] (the twin's collision stop) brings every
 //!   moving system to rest along its path with the system's maximum
 //!   deceleration.

@@ -37,13 +37,21 @@ impl MotionTask {
                 return Err(e);
             }
         };
+        let target = mam.target(start, &self.axes[axis.0 as usize].config);
+        self.bits_mut(control).dn = true;
+        let base_driven = self.cam_drives(axis) || self.coordinated_motion_status(axis);
+        if !mam.merge && base_driven {
+            // Superimposed on the cam or the coordinated motion.
+            self.superimpose_move(axis, control, target - start.position, &mam.limits);
+            return Ok(());
+        }
         // Every other single-axis motion on the axis ends (see the module
         // doc of `crate::mam` on merge); a MAM it replaces loses `.IP`.
+        self.fold_superimposed(axis);
         self.abort_move(axis);
         self.end_cams(axis);
-        let target = mam.target(start, &self.axes[axis.0 as usize].config);
+        let start = self.axes[axis.0 as usize].command.state();
         let profile = Profile::to_position(start, target, 0.0, &mam.limits);
-        self.bits_mut(control).dn = true;
         self.start_move_ramp(axis, profile, control);
         Ok(())
     }

@@ -17,6 +17,7 @@
 //! off); MCT transforms on the axis are cancelled. While the servo is off
 //! the command follows the fed actual position.
 
+use super::superimposed::SuperKind;
 use super::{AxisHandle, CoordHandle, InstructionHandle, MotionTask};
 use crate::axis::AxisConfig;
 use crate::instruction::MotionInstructionBits;
@@ -123,7 +124,9 @@ impl MotionTask {
         let real_drive = a.config.axis_type == AxisType::Servo;
         let moving = a.job.as_ref().is_some_and(|j| !j.generation_done && !j.stopping) || a.buffered.is_some();
         let (jogging, ramp_stopping, mam) = self.jog_and_stop_status(axis);
-        let moving = moving || mam;
+        let sup = self.superimposed_moving(axis);
+        let moving = moving || mam || sup == Some(SuperKind::Move);
+        let jogging = jogging || sup == Some(SuperKind::Jog);
         AxisStatusBits {
             servo_action: self.is_servo_on(axis),
             drive_enable: real_drive && self.is_drive_enabled(axis),
@@ -367,6 +370,7 @@ impl MotionTask {
 
     /// Ends every motion process on `axis` at once (no ramp).
     fn end_all_motion(&mut self, axis: AxisHandle) {
+        self.fold_superimposed(axis);
         self.release_cam_and_jog(axis);
         self.abort_modulo_commands(axis);
         self.cancel_systems_with_axis(axis);

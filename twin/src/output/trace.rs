@@ -17,6 +17,15 @@
 //! * when the program calls MCT: per coordinate system
 //!   `<cs>.TransformSourceStatus`, `.TransformTargetStatus`, then per axis
 //!   `<axis>.TransformStateStatus`, `.ControlledByTransformStatus`;
+//! * when the program calls MAM, or MAJ together with MCLM or MCCM (the
+//!   programs whose single-axis motion can run superimposed on a cam or a
+//!   coordinated move): per axis `<axis>.sup_pos`, `.sup_vel`, the
+//!   superimposed part of `cmd_pos` and `cmd_vel` (0 without one; the rest
+//!   is the cam's or the path's);
+//! * when the program calls a state instruction (MSO, MSF, MASD, MASR,
+//!   MAFR, MCSD, MCSR): per axis `<axis>.CIPAxisState` (2 Stopped, 3
+//!   Starting, 4 Running, 8 Faulted, 10 Shutdown, 11 Axis Inhibited) and
+//!   `.AxisFault`;
 //! * each `[trace] tags` entry, named as written (`State`, `Pos[0]`,
 //!   `Pick.Count`, `MC1.PC`): BOOL as 0/1, integers in full, REAL at single
 //!   precision.
@@ -82,6 +91,18 @@ pub fn header(twin: &Twin) -> Vec<String> {
             h.push(format!("{}.ControlledByTransformStatus", a.name));
         }
     }
+    if superimposes(twin) {
+        for a in plant.axes() {
+            h.push(format!("{}.sup_pos", a.name));
+            h.push(format!("{}.sup_vel", a.name));
+        }
+    }
+    if uses_states(twin) {
+        for a in plant.axes() {
+            h.push(format!("{}.CIPAxisState", a.name));
+            h.push(format!("{}.AxisFault", a.name));
+        }
+    }
     h.extend(program.traced_tags().iter().map(|t| t.name.clone()));
     h
 }
@@ -143,6 +164,19 @@ pub fn row(twin: &Twin) -> Vec<String> {
             row.push(bit(task.controlled_by_transform_status(a.handle)));
         }
     }
+    if superimposes(twin) {
+        for a in plant.axes() {
+            let s = task.superimposed(a.handle).unwrap_or_default();
+            row.push(format!("{}", s.position));
+            row.push(format!("{}", s.velocity));
+        }
+    }
+    if uses_states(twin) {
+        for a in plant.axes() {
+            row.push(task.cip_axis_state(a.handle).code().to_string());
+            row.push(task.axis_faults(a.handle).0.to_string());
+        }
+    }
     row.extend(program.traced_tags().iter().map(|t| program.traced_value(t, task)));
     row
 }
@@ -165,11 +199,28 @@ fn coord_row(twin: &Twin, row: &mut Vec<String>) {
     }
 }
 
-/// Whether the program calls MCT.
-fn uses_mct(twin: &Twin) -> bool {
+/// Whether the program calls `instruction` (a step or a routine).
+fn calls(twin: &Twin, instruction: &str) -> bool {
     twin.scene()
         .program
         .iter()
-        .any(|s| s.call.name.value.eq_ignore_ascii_case("MCT"))
-        || twin.program().controller().calls("MCT")
+        .any(|s| s.call.name.value.eq_ignore_ascii_case(instruction))
+        || twin.program().controller().calls(instruction)
+}
+
+/// Whether the program calls MCT.
+fn uses_mct(twin: &Twin) -> bool {
+    calls(twin, "MCT")
+}
+
+/// Whether the program's single-axis motion can be superimposed.
+fn superimposes(twin: &Twin) -> bool {
+    calls(twin, "MAM") || (calls(twin, "MAJ") && (calls(twin, "MCLM") || calls(twin, "MCCM")))
+}
+
+/// Whether the program calls a state instruction.
+fn uses_states(twin: &Twin) -> bool {
+    ["MSO", "MSF", "MASD", "MASR", "MAFR", "MCSD", "MCSR"]
+        .iter()
+        .any(|m| calls(twin, m))
 }

@@ -218,9 +218,11 @@ impl MotionTask {
     pub(super) fn complete_components(&mut self, cs: CoordHandle) {
         let actual = {
             let sys = &self.coord.systems[cs.0 as usize];
+            // The path's own part of each actual position: a superimposed
+            // jog or move is not the path's to settle.
             sys.axes
                 .iter()
-                .map(|a| self.axes[a.0 as usize].actual)
+                .map(|&a| self.axes[a.0 as usize].actual - self.superimposed(a).map_or(0.0, |s| s.position))
                 .collect::<Vec<_>>()
         };
         let sys = &mut self.coord.systems[cs.0 as usize];

@@ -190,6 +190,9 @@ impl MotionTask {
             sys.pending = Some((h, mv));
             self.cbits(h).ip = true;
         } else {
+            if mv.merge() == Merge::AllMotion {
+                self.abort_single_axis_motion(cs);
+            }
             self.start_component(cs, h, mv, 0.0);
         }
         self.refresh_queue_status(cs);
@@ -407,7 +410,7 @@ impl MotionTask {
         initial: State,
     ) {
         let start = self.record_start(cs);
-        self.abort_single_axis_motion(cs);
+        self.take_axes_for_coordinated_motion(cs);
         let master_now = {
             let sys = &self.coord.systems[cs.0 as usize];
             sys.master
@@ -459,13 +462,26 @@ impl MotionTask {
         b.ac = true;
     }
 
-    /// Aborts the MC_MoveModulo commands (running and buffered), cams, jogs
-    /// and stop ramps on the system's axes: a coordinated move takes them.
+    /// Merge All Motion: aborts every single-axis process on the system's
+    /// axes — MC_MoveModulo commands (running and buffered), cams, jogs,
+    /// moves, stop ramps and superimposed runs.
     pub(super) fn abort_single_axis_motion(&mut self, cs: CoordHandle) {
         let axes = self.coord.systems[cs.0 as usize].axes.clone();
         self.coord.systems[cs.0 as usize].taken.clear();
         for axis in axes {
+            self.fold_superimposed(axis);
             self.release_cam_and_jog(axis);
+            self.abort_modulo_commands(axis);
+        }
+    }
+
+    /// A coordinated move takes the system's axes: MC_MoveModulo commands,
+    /// cams and stop ramps end; a jog or MAM goes on superimposed.
+    pub(super) fn take_axes_for_coordinated_motion(&mut self, cs: CoordHandle) {
+        let axes = self.coord.systems[cs.0 as usize].axes.clone();
+        self.coord.systems[cs.0 as usize].taken.clear();
+        for axis in axes {
+            self.superimpose_or_release(axis);
             self.abort_modulo_commands(axis);
         }
     }
@@ -475,6 +491,7 @@ impl MotionTask {
     pub(super) fn stop_single_axis_motion(&mut self, cs: CoordHandle) {
         let axes = self.coord.systems[cs.0 as usize].axes.clone();
         for axis in axes {
+            self.stop_superimposed(axis);
             let a = &mut self.axes[axis.0 as usize];
             let buffered = a.buffered.take().map(|(fb, _)| fb);
             let mut aborted: Vec<_> = buffered.into_iter().collect();

@@ -942,7 +942,7 @@ fn stop_all_axes_brings_coordinated_motion_to_rest_along_the_path() {
 }
 
 #[test]
-fn a_jog_takes_its_axis_from_a_coordinated_move_and_a_move_takes_it_back() {
+fn a_jog_takes_its_axis_from_a_coordinated_move_and_a_move_merging_all_motion_takes_it_back() {
     let (mut task, cs, axes) = gantry(2, 0);
     let a = task.add_instruction("A");
     task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[30.0, 40.0], 1)));
@@ -963,8 +963,16 @@ fn a_jog_takes_its_axis_from_a_coordinated_move_and_a_move_takes_it_back() {
         task.update();
     }
     assert!((task.axis_state(axes[0]).command_velocity - 5.0).abs() < 1e-9);
-    // A new coordinated move ends the jog and drives both axes again.
+    // A new coordinated move with Merge Disabled leaves the jog running,
+    // superimposed (MCCM document, Merge); one with Merge All Motion ends
+    // it and drives both axes again.
     task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
+    assert!(task.motion_bits(jog).ip);
+    let all_motion = CoordMoveInputs {
+        merge: 2,
+        ..line(&[0.0, 0.0], 1)
+    };
+    task.execute_coordinated(cs, a, CoordCall::Mclm(all_motion));
     assert!(!task.motion_bits(jog).ip);
     run_until(&mut task, 20_000, |t| t.motion_bits(a).pc);
     assert_eq!(positions(&task, &axes), vec![0.0, 0.0]);
