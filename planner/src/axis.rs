@@ -7,6 +7,7 @@
 //! "SetPos", continuous through full turns); a modulo axis also reports the
 //! wrapped position through its [`Modulo`] period.
 
+use crate::mah::Homing;
 pub use crate::servo::AxisType;
 use crate::servo::FaultAction;
 use thiserror::Error;
@@ -106,6 +107,9 @@ pub struct AxisConfig {
     /// What the axis does on an Excessive Position Error (default: Stop
     /// Drive).
     pub position_error_action: FaultAction,
+    /// How MAH homes the axis (default: active, immediate, home position
+    /// 0). See [`crate::mah`].
+    pub homing: Homing,
 }
 
 impl AxisConfig {
@@ -129,6 +133,7 @@ impl AxisConfig {
             servo_enable_delay_s: 0.0,
             position_error_tolerance: None,
             position_error_action: FaultAction::StopDrive,
+            homing: Homing::default(),
         }
     }
 
@@ -158,6 +163,10 @@ impl AxisConfig {
                 period: p,
             });
         }
+        finite("home_position", self.homing.position)?;
+        finite("home_offset", self.homing.offset)?;
+        non_negative("home_speed", self.homing.speed)?;
+        non_negative("home_return_speed", self.homing.return_speed)?;
         if let Some((min, max)) = self.soft_travel_limits {
             if !(min.is_finite() && max.is_finite() && min < max) {
                 return Err(AxisConfigError::SoftTravelLimits { min, max });
@@ -209,6 +218,14 @@ pub enum AxisConfigError {
         /// Its value.
         value: f64,
     },
+    /// A field that must be finite is not.
+    #[error("axis field {field} must be finite, got {value}")]
+    NotFinite {
+        /// Field name.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
     /// The modulo tolerance window must be under half the period.
     #[error("modulo_tolerance_window {window} must be less than half the modulo period {period}")]
     ToleranceWindowTooWide {
@@ -255,6 +272,14 @@ fn positive(field: &'static str, value: f64) -> Result<f64, AxisConfigError> {
         Ok(value)
     } else {
         Err(AxisConfigError::NotPositive { field, value })
+    }
+}
+
+fn finite(field: &'static str, value: f64) -> Result<f64, AxisConfigError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(AxisConfigError::NotFinite { field, value })
     }
 }
 

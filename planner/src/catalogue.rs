@@ -192,7 +192,7 @@ pub enum Family {
     /// PLCopen single-axis blocks: MC_MoveModulo.
     PlcOpen,
     /// Axis and coordinate-system states: MSO, MSF, MASD, MASR, MAFR,
-    /// MCSD, MCSR.
+    /// MCSD, MCSR, and homing (MAH).
     State,
 }
 
@@ -283,6 +283,7 @@ pub const INSTRUCTIONS: &[&Instruction] = &[
     &MASD,
     &MASR,
     &MAFR,
+    &MAH,
     &MCSD,
     &MCSR,
     &MC_MOVE_MODULO,
@@ -313,7 +314,7 @@ pub fn positional_mnemonics() -> String {
 pub const NOT_SIMULATED: &[&str] = &[
     // Motion state
     "MDO", "MDF", "MDS", // Motion move
-    "MAH", "MAG", "MCD", "MCSV", "MATC", "MDAC", // Motion group
+    "MAG", "MCD", "MCSV", "MATC", "MDAC", // Motion group
     "MGS", "MGSD", "MGSR", "MGSP", // Motion event
     "MAW", "MDW", "MAR", "MDR", "MAOC", "MDOC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
@@ -771,6 +772,9 @@ pub const MASD: Instruction = state("MASD", "Motion Axis Shutdown", &AXIS_STATE_
 pub const MASR: Instruction = state("MASR", "Motion Axis Shutdown Reset", &AXIS_STATE_OPERANDS);
 /// Motion Axis Fault Reset.
 pub const MAFR: Instruction = state("MAFR", "Motion Axis Fault Reset", &AXIS_STATE_OPERANDS);
+/// Motion Axis Home (how it homes is the axis' configuration:
+/// [`crate::mah`]).
+pub const MAH: Instruction = state("MAH", "Motion Axis Home", &AXIS_STATE_OPERANDS);
 /// Motion Coordinated Shutdown.
 pub const MCSD: Instruction = state("MCSD", "Motion Coordinated Shutdown", &SYSTEM_STATE_OPERANDS);
 /// Motion Coordinated Shutdown Reset.

@@ -41,6 +41,7 @@ pub use coord::{
 };
 mod mct;
 pub use mct::TransformGeometry;
+mod home;
 mod mam;
 mod servo;
 mod superimposed;
@@ -431,6 +432,7 @@ impl MotionTask {
         self.advance_cams_and_jogs();
         self.advance_transforms();
         self.add_superimposed();
+        self.advance_homing();
         self.advance_servo_states();
     }
 

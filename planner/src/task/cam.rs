@@ -482,6 +482,16 @@ impl MotionTask {
             self.fail(motion_control, e.err(), e.exerr(), 0);
             return Err(e);
         }
+        self.redefine_position(axis, delta);
+        self.bits(motion_control).dn = true;
+        Ok(())
+    }
+
+    /// Shifts `axis`' position frame by `delta`: command and actual
+    /// positions, the motion in process on it and the cam's slave offset
+    /// (MRP, MAH).
+    pub(super) fn redefine_position(&mut self, axis: AxisHandle, delta: f64) {
+        let a = &mut self.axes[axis.0 as usize];
         a.command.position += delta;
         a.actual += delta;
         if let Some(job) = a.job.as_mut() {
@@ -494,8 +504,6 @@ impl MotionTask {
             r.profile.shift_position(delta);
         }
         c.cam.redefine_slave(delta);
-        self.bits(motion_control).dn = true;
-        Ok(())
     }
 
     /// MAJ: jogs `axis` at the operands' speed, from its current state.

@@ -48,6 +48,10 @@ pub(super) struct ServoSlot {
     pub(super) faults: AxisFaults,
     /// The axis' position error exceeded its tolerance in the last update.
     pub(super) position_error_exceeded: bool,
+    /// An active MAH waiting for the axis to come to rest (`task/home.rs`).
+    pub(super) homing: Option<InstructionHandle>,
+    /// `AxisHomedStatus`: an MAH completed.
+    pub(super) homed: bool,
 }
 
 impl ServoSlot {
@@ -62,6 +66,8 @@ impl ServoSlot {
             power,
             faults: AxisFaults::default(),
             position_error_exceeded: false,
+            homing: None,
+            homed: false,
         }
     }
 }
@@ -132,8 +138,8 @@ impl MotionTask {
             drive_enable: real_drive && self.is_drive_enabled(axis),
             shutdown: a.servo.power == Power::Shutdown,
             inhibit: a.config.inhibited,
-            homed: false,
-            homing: false,
+            homed: a.servo.homed,
+            homing: a.servo.homing.is_some(),
             moving,
             jogging,
             gearing: false,
@@ -154,6 +160,7 @@ impl MotionTask {
             Need::Disable => Ok(()),
             Need::Enable | Need::Motion if feedback_only => Err(StateError::AxisType),
             Need::Enable | Need::Motion if a.servo.power == Power::Shutdown => Err(StateError::Shutdown),
+            Need::Motion if a.servo.homing.is_some() => Err(StateError::Homing),
             Need::Motion if a.servo.power != Power::On => Err(StateError::ServoOff),
             Need::Motion => Ok(()),
             Need::Enable => match a.servo.power {
@@ -178,14 +185,18 @@ impl MotionTask {
 
     /// Starts an execution of a state instruction: `.EN` set, the other
     /// bits and codes cleared.
-    fn begin_state(&mut self, control: InstructionHandle) {
+    pub(super) fn begin_state(&mut self, control: InstructionHandle) {
         *self.motion_bits_mut(control) = MotionInstructionBits {
             en: true,
             ..MotionInstructionBits::default()
         };
     }
 
-    fn state_result(&mut self, control: InstructionHandle, r: Result<(), StateError>) -> Result<(), StateError> {
+    pub(super) fn state_result(
+        &mut self,
+        control: InstructionHandle,
+        r: Result<(), StateError>,
+    ) -> Result<(), StateError> {
         let b = self.motion_bits_mut(control);
         match r {
             Ok(()) => b.dn = true,
@@ -360,6 +371,7 @@ impl MotionTask {
             b.set_error(e.err(), 0, 0);
         }
         self.end_all_motion(axis);
+        self.end_homing(axis);
         let a = &mut self.axes[axis.0 as usize];
         a.servo.power = to;
         a.command = Sample {
@@ -369,7 +381,7 @@ impl MotionTask {
     }
 
     /// Ends every motion process on `axis` at once (no ramp).
-    fn end_all_motion(&mut self, axis: AxisHandle) {
+    pub(super) fn end_all_motion(&mut self, axis: AxisHandle) {
         self.fold_superimposed(axis);
         self.release_cam_and_jog(axis);
         self.abort_modulo_commands(axis);

@@ -185,7 +185,7 @@ impl MotionTask {
 
     /// Replaces the axis' command by a stop ramp from its command state.
     /// Returns false when the axis has no command (nothing to stop).
-    fn ramp_to_rest(&mut self, axis: AxisHandle) -> bool {
+    pub(super) fn ramp_to_rest(&mut self, axis: AxisHandle) -> bool {
         let a = &mut self.axes[axis.0 as usize];
         let Some(job) = a.job.take() else {
             return false;

@@ -350,7 +350,7 @@ fn virtual_axes_are_on_and_come_back_on_after_a_shutdown_reset() {
 /// documented ERR.
 #[test]
 fn random_state_sequences_never_move_a_disabled_axis() {
-    const DOCUMENTED: [i32; 7] = [5, 7, 8, 13, 20, 22, 53];
+    const DOCUMENTED: [i32; 8] = [5, 7, 8, 13, 16, 20, 22, 53];
     let mut refusals = 0;
     for seed in 0..200u64 {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -365,14 +365,28 @@ fn random_state_sequences_never_move_a_disabled_axis() {
             position_error_tolerance: rng.random_bool(0.5).then_some(5.0),
             ..config("A")
         };
+        let config = AxisConfig {
+            homing: crate::mah::Homing {
+                mode: if config.axis_type == AxisType::FeedbackOnly || rng.random_bool(0.3) {
+                    crate::mah::HomeMode::Passive
+                } else {
+                    crate::mah::HomeMode::Active
+                },
+                position: rng.random_range(-50.0..50.0),
+                ..Default::default()
+            },
+            ..config
+        };
         let (mut task, axis, mi) = one(config);
         let fb = task.add_move_modulo("Move", axis);
         // A drive that closes a random part of its following error each
-        // update (the plant); a disabled one stays where it is.
+        // update (the plant); a disabled one stays where it is. `actual` is
+        // the joint's position; the axis reads it shifted by the position
+        // redefinitions (MAH).
         let mut actual = task.axis_state(axis).actual_position;
         let mut execute = false;
         for _ in 0..400 {
-            let r = match rng.random_range(0..10) {
+            let r = match rng.random_range(0..11) {
                 0 => task.mso(axis, mi).err().map(StateError::err),
                 1 => task.msf(axis, mi).err().map(StateError::err),
                 2 => task.masd(axis, mi).err().map(StateError::err),
@@ -402,6 +416,7 @@ fn random_state_sequences_never_move_a_disabled_axis() {
                     };
                     task.mam(axis, mi, &o).err().map(|e| e.err())
                 }
+                9 => task.mah(axis, mi).err().map(StateError::err),
                 _ => None,
             };
             if let Some(code) = r {
@@ -413,18 +428,143 @@ fn random_state_sequences_never_move_a_disabled_axis() {
             task.update();
             let s = task.axis_state(axis);
             assert!(s.command_position.is_finite() && s.actual_position.is_finite());
+            let offset = task.position_offset(axis);
             if !enabled_before && !task.is_drive_enabled(axis) {
-                assert_eq!(
-                    s.command_position, actual,
+                assert!(
+                    (s.command_position - (actual + offset)).abs() < 1e-9,
                     "seed {seed}: a servo-off axis follows its actual position"
                 );
                 assert!(!s.has_job, "seed {seed}");
             }
             if task.is_drive_enabled(axis) {
-                actual += (s.command_position - actual) * rng.random_range(0.3..1.0);
+                actual += (s.command_position - offset - actual) * rng.random_range(0.3..1.0);
             }
-            task.feed_actual_position(axis, actual);
+            task.feed_actual_position(axis, actual + offset);
         }
     }
     assert!(refusals > 1000, "the sequences exercise refusals: {refusals}");
+}
+
+fn homing(mode: crate::mah::HomeMode, position: f64) -> crate::mah::Homing {
+    crate::mah::Homing {
+        mode,
+        position,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn mah_from_rest_homes_in_its_own_scan() {
+    use crate::mah::HomeMode;
+    let (mut task, axis, mi) = one(AxisConfig {
+        homing: homing(HomeMode::Active, 25.0),
+        modulo_period: None,
+        ..config("A")
+    });
+    // Active homing needs the servo on.
+    assert_eq!(task.mah(axis, mi), Err(StateError::ServoOff));
+    assert_eq!(err(&task, mi), (true, 5, 0));
+    assert!(!task.axis_status(axis).homed);
+    let mso = task.add_instruction("MSO");
+    enable(&mut task, axis, mso);
+    task.mah(axis, mi).unwrap();
+    let b = task.motion_bits(mi);
+    assert!(b.en && b.dn && b.pc && !b.ip && !b.er);
+    let s = task.axis_state(axis);
+    assert_eq!((s.command_position, s.actual_position), (25.0, 25.0));
+    let st = task.axis_status(axis);
+    assert!(st.homed && !st.homing);
+    // The redefinition holds through the next updates.
+    task.update();
+    assert_eq!(task.axis_state(axis).command_position, 25.0);
+}
+
+#[test]
+fn active_mah_stops_a_jog_first_and_refuses_motion_while_homing() {
+    use crate::mah::HomeMode;
+    let (mut task, axis, mi) = one(AxisConfig {
+        homing: homing(HomeMode::Active, -5.0),
+        modulo_period: None,
+        ..config("A")
+    });
+    let mso = task.add_instruction("MSO");
+    enable(&mut task, axis, mso);
+    let jog_mi = task.add_instruction("Jog");
+    task.maj(axis, jog_mi, &jog(80.0)).unwrap();
+    for _ in 0..50 {
+        task.update();
+    }
+    let home = task.add_instruction("Home");
+    task.mah(axis, home).unwrap();
+    let b = task.motion_bits(home);
+    assert!(b.dn && b.ip && !b.pc);
+    assert!(!task.motion_bits(jog_mi).ip, "the jog is cancelled");
+    assert!(task.axis_status(axis).homing);
+    // Motion and a second MAH are refused while homing.
+    assert_eq!(task.maj(axis, mi, &jog(10.0)), Err(JogError::State(StateError::Homing)));
+    assert_eq!(err(&task, mi), (true, 16, 0));
+    let again = task.add_instruction("Again");
+    assert_eq!(task.mah(axis, again), Err(StateError::Homing));
+    let mut updates = 0;
+    while task.motion_bits(home).ip {
+        task.update();
+        updates += 1;
+        assert!(updates < 100, "the stop ends");
+    }
+    // 80 units/s at 1000 units/s² stops in 0.08 s.
+    assert!((15..=30).contains(&updates), "{updates}");
+    let b = task.motion_bits(home);
+    assert!(b.pc && !b.er);
+    let s = task.axis_state(axis);
+    assert_eq!((s.command_position, s.command_velocity), (-5.0, 0.0));
+    assert!(task.axis_status(axis).homed && !task.axis_status(axis).homing);
+    task.maj(axis, mi, &jog(10.0)).unwrap();
+}
+
+#[test]
+fn passive_mah_works_servo_off_and_on_feedback_only_axes() {
+    use crate::mah::HomeMode;
+    for axis_type in [AxisType::Servo, AxisType::FeedbackOnly] {
+        let (mut task, axis, mi) = one(AxisConfig {
+            axis_type,
+            homing: homing(HomeMode::Passive, 90.0),
+            modulo_period: None,
+            ..config("A")
+        });
+        task.mah(axis, mi).unwrap();
+        assert!(task.motion_bits(mi).pc);
+        assert_eq!(task.axis_state(axis).actual_position, 90.0);
+        assert!(task.axis_status(axis).homed);
+    }
+    // Active homing needs a drive.
+    let (mut task, axis, mi) = one(AxisConfig {
+        axis_type: AxisType::FeedbackOnly,
+        homing: homing(HomeMode::Active, 0.0),
+        ..config("A")
+    });
+    assert_eq!(task.mah(axis, mi), Err(StateError::AxisType));
+    assert_eq!(err(&task, mi), (true, 8, 0));
+}
+
+#[test]
+fn a_disable_ends_a_homing_in_process() {
+    use crate::mah::HomeMode;
+    let (mut task, axis, _) = one(AxisConfig {
+        homing: homing(HomeMode::Active, 0.0),
+        ..config("A")
+    });
+    let mso = task.add_instruction("MSO");
+    enable(&mut task, axis, mso);
+    let jog_mi = task.add_instruction("Jog");
+    task.maj(axis, jog_mi, &jog(80.0)).unwrap();
+    for _ in 0..20 {
+        task.update();
+    }
+    let home = task.add_instruction("Home");
+    task.mah(axis, home).unwrap();
+    let off = task.add_instruction("MSF");
+    task.msf(axis, off).unwrap();
+    let b = task.motion_bits(home);
+    assert!(!b.ip && !b.pc);
+    assert!(!task.axis_status(axis).homing && !task.axis_status(axis).homed);
 }
