@@ -221,3 +221,114 @@ fn a_mam_on_the_knife_rides_on_its_cam_or_ends_it() {
     assert!(after.iter().all(|r| r[cam] == "0"), "the merge ended the cam");
     assert!(after.iter().any(|r| r[pc] == "1"));
 }
+
+/// Rising edges of a 0/1 column.
+fn rises(rows: &[Vec<String>], c: usize) -> usize {
+    rows.windows(2).filter(|w| w[0][c] == "0" && w[1][c] == "1").count()
+}
+
+#[test]
+fn the_heavy_arm_completes_every_move_holds_still_and_keeps_within_its_torque_limits() {
+    let (code, log, h, rows) = run(&root().join("scenes/heavy_arm.toml"), "heavy_arm");
+    assert_eq!(code, 0, "{log}");
+    let last = rows.last().expect("rows");
+    assert_eq!(last[col(&h, "Main.State")], "90", "the program ran to its end: {log}");
+    assert_eq!(last[col(&h, "Main.Cycles")], "2");
+    // Every MCLM ends on the actual position (termination type 0): Pose1,
+    // Pose2, Pose1, Pose2, home.
+    assert_eq!(rises(&rows, col(&h, "Move.PC")), 5);
+    for wrist in ["Wrist4", "Wrist5", "Wrist6"] {
+        assert_eq!(last[col(&h, &format!("Main.{wrist}.PC"))], "1", "{wrist}");
+    }
+    // The overload faulted J2 (Excessive Position Error: the AxisFault word's
+    // motion bit), MAFR left it servo-off, and MSO brought it back.
+    assert_eq!(last[col(&h, "Main.Faults")], "16");
+    let state2 = col(&h, "J2.CIPAxisState");
+    let faulted = rows.iter().position(|r| r[state2] == "8").expect("J2 faulted");
+    let stopped = faulted + rows[faulted..].iter().position(|r| r[state2] == "2").expect("MAFR");
+    assert!(rows[stopped..].iter().any(|r| r[state2] == "4"), "MSO again");
+
+    // The drives' torques stay within the URDF joints' efforts.
+    let effort = [250.0, 450.0, 200.0, 50.0, 50.0, 25.0];
+    for (k, limit) in effort.iter().enumerate() {
+        let c = col(&h, &format!("J{}.torque", k + 1));
+        let peak = rows.iter().map(|r| num(&r[c]).abs()).fold(0.0, f64::max);
+        assert!(peak <= limit + 1e-9, "J{}: {peak} N·m", k + 1);
+    }
+
+    // Standstill: after each move (command velocity back to 0) that is
+    // followed by 0.5 s of rest with the servo on, the position error is
+    // below a tenth of the 0.1 deg in-position window.
+    let t = col(&h, "time_s");
+    let mut checked = 0;
+    for k in 1..=6 {
+        let (v, p, a, s) = (
+            col(&h, &format!("J{k}.cmd_vel")),
+            col(&h, &format!("J{k}.cmd_pos")),
+            col(&h, &format!("J{k}.act_pos")),
+            col(&h, &format!("J{k}.CIPAxisState")),
+        );
+        for i in 1..rows.len() {
+            if num(&rows[i - 1][v]) == 0.0 || num(&rows[i][v]) != 0.0 {
+                continue;
+            }
+            let until = num(&rows[i][t]) + 0.5;
+            let Some(j) = rows[i..].iter().position(|r| num(&r[t]) >= until - 1e-9) else {
+                continue;
+            };
+            let rest = &rows[i..=i + j];
+            if rest.iter().any(|r| num(&r[v]) != 0.0 || r[s] != "4") {
+                continue;
+            }
+            let error = (num(&rest[j][p]) - num(&rest[j][a])).abs();
+            assert!(error < 0.01, "J{k} {error} deg after the stop at {}", rows[i][t]);
+            checked += 1;
+        }
+    }
+    assert!(checked >= 6, "{checked} standstills checked");
+}
+
+#[test]
+fn motion_during_an_active_mah_is_refused_with_err_16() {
+    let dir = common::fresh_dir("servo-tests", "homing-routine");
+    let routine = dir.join("Main.st");
+    std::fs::write(
+        &routine,
+        "CASE State OF\n\
+           0: MSO(J1, On1); State := 10;\n\
+           10: IF On1.DN THEN\n\
+                 MAM(J1, Wrist4, 1, 90, 50, %ofMaximum, 50, %ofMaximum, 50, %ofMaximum, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);\n\
+                 State := 20;\n\
+               END_IF;\n\
+           20: MAH(J1, Home1);\n\
+               Retries := J1.HomingStatus;\n\
+               MAM(J1, Wrist5, 1, 10, 50, %ofMaximum, 50, %ofMaximum, 50, %ofMaximum, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);\n\
+               IF Wrist5.ER THEN Faults := Wrist5.ERR; END_IF;\n\
+               State := 30;\n\
+           30: IF Home1.PC AND J1.AxisHomedStatus THEN State := 40; END_IF;\n\
+           40: ;\n\
+         END_CASE;\n",
+    )
+    .expect("routine");
+    let main = format!("main = \"{}\"", routine.display());
+    let scene = variant(
+        "heavy_arm.toml",
+        "homing",
+        &[
+            ("main = \"routines/heavy_arm/Main.st\"", &main),
+            (
+                "position_error_tolerance = 1.0\n",
+                "position_error_tolerance = 1.0\nhome_position = 5.0\n",
+            ),
+        ],
+    );
+    let (code, log, h, rows) = run(&scene, "homing");
+    assert_eq!(code, 2, "{log}");
+    let last = rows.last().expect("rows");
+    assert_eq!(last[col(&h, "Main.State")], "40", "{log}");
+    assert_eq!(last[col(&h, "Main.Retries")], "1", "HomingStatus while the jog stops");
+    assert_eq!(last[col(&h, "Main.Faults")], "16", "MAM while homing: ERR 16");
+    // Homed at rest: J1 reads 5 where it stopped.
+    let p = num(&last[col(&h, "J1.cmd_pos")]);
+    assert!((p - 5.0).abs() < 0.01, "{p}");
+}

@@ -291,11 +291,14 @@ impl Recording {
             let q = parent_from_child.rotation.coords;
             rec.log_transform(&self.link_paths[joint.child.0], [t.x, t.y, t.z], [q.x, q.y, q.z, q.w])?;
         }
-        for a in twin.plant().axes() {
+        for (k, a) in twin.plant().axes().iter().enumerate() {
             let s = twin.task().axis_state(a.handle);
             rec.log_scalar(&format!("axes/{}/cmd_pos", a.name), s.command_position)?;
             rec.log_scalar(&format!("axes/{}/act_pos", a.name), s.actual_position)?;
             rec.log_scalar(&format!("axes/{}/cmd_vel", a.name), s.command_velocity)?;
+            if let Some(torque) = twin.plant().drive_torque(k) {
+                rec.log_scalar(&format!("axes/{}/torque", a.name), torque)?;
+            }
         }
         self.previous_outputs
             .resize(twin.program().fbs().len(), Default::default());
@@ -534,6 +537,10 @@ pub struct Summary {
     pub instructions: Vec<InstructionOutcome>,
     /// Per axis: name and max |command − actual| in axis units.
     pub max_following_error: Vec<(String, f64)>,
+    /// Per axis with a servo drive: name and the largest |torque| of any
+    /// physics substep, N·m or N (empty without servo drives).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub max_torque: Vec<(String, f64)>,
     /// PNG frames written.
     pub frames_written: usize,
     /// Collision events (scenes with `[collision]`), in start order.
@@ -651,6 +658,13 @@ impl Stats {
                 .zip(&self.max_following_error)
                 .map(|(a, e)| (a.name.clone(), *e))
                 .collect(),
+            max_torque: twin
+                .plant()
+                .axes()
+                .iter()
+                .enumerate()
+                .filter_map(|(k, a)| Some((a.name.clone(), twin.plant().drive_peak_torque(k)?)))
+                .collect(),
             frames_written,
             collisions: twin.plant().collision_events().to_vec(),
             predicted_collisions: twin.plant().predicted_collisions().to_vec(),
@@ -714,6 +728,9 @@ impl Summary {
         }
         for (name, e) in &self.max_following_error {
             let _ = writeln!(s, "  axis {name}: max |cmd - act| = {e:.6}");
+        }
+        for (name, t) in &self.max_torque {
+            let _ = writeln!(s, "  axis {name}: max |torque| = {t:.3}");
         }
         for e in &self.collisions {
             let end = e

@@ -23,9 +23,12 @@
 //!   superimposed part of `cmd_pos` and `cmd_vel` (0 without one; the rest
 //!   is the cam's or the path's);
 //! * when the program calls a state instruction (MSO, MSF, MASD, MASR,
-//!   MAFR, MCSD, MCSR): per axis `<axis>.CIPAxisState` (2 Stopped, 3
+//!   MAFR, MAH, MCSD, MCSR): per axis `<axis>.CIPAxisState` (2 Stopped, 3
 //!   Starting, 4 Running, 8 Faulted, 10 Shutdown, 11 Axis Inhibited) and
 //!   `.AxisFault`;
+//! * per axis with a servo drive (a `joint` and no `motor`):
+//!   `<axis>.torque`, the drive's torque in the last physics substep of the
+//!   update, N·m (rotary joint) or N (prismatic), 0 while the drive is off;
 //! * each `[trace] tags` entry, named as written (`State`, `Pos[0]`,
 //!   `Pick.Count`, `MC1.PC`): BOOL as 0/1, integers in full, REAL at single
 //!   precision.
@@ -103,6 +106,11 @@ pub fn header(twin: &Twin) -> Vec<String> {
             h.push(format!("{}.AxisFault", a.name));
         }
     }
+    for (k, a) in plant.axes().iter().enumerate() {
+        if plant.drive_torque(k).is_some() {
+            h.push(format!("{}.torque", a.name));
+        }
+    }
     h.extend(program.traced_tags().iter().map(|t| t.name.clone()));
     h
 }
@@ -177,6 +185,11 @@ pub fn row(twin: &Twin) -> Vec<String> {
             row.push(task.axis_faults(a.handle).0.to_string());
         }
     }
+    for k in 0..plant.axes().len() {
+        if let Some(torque) = plant.drive_torque(k) {
+            row.push(format!("{torque}"));
+        }
+    }
     row.extend(program.traced_tags().iter().map(|t| program.traced_value(t, task)));
     row
 }
@@ -220,7 +233,7 @@ fn superimposes(twin: &Twin) -> bool {
 
 /// Whether the program calls a state instruction.
 fn uses_states(twin: &Twin) -> bool {
-    ["MSO", "MSF", "MASD", "MASR", "MAFR", "MCSD", "MCSR"]
+    ["MSO", "MSF", "MASD", "MASR", "MAFR", "MAH", "MCSD", "MCSR"]
         .iter()
         .any(|m| calls(twin, m))
 }

@@ -12,6 +12,7 @@
 use super::PlantError;
 use super::limits;
 use super::physics::JointDrive;
+use super::servo_drive::ServoGains;
 use super::urdf::RobotModel;
 use crate::scene::{Axis, Scene};
 use planner::task::{AxisHandle, MotionTask};
@@ -138,11 +139,15 @@ pub(crate) fn bind_axes(
             let index = driven_joint(scene, model, axis, joint).map_err(joint_error)?;
             initial.retain(|(name, _)| name != joint);
             initial.push((joint.clone(), binding.to_si(axis.initial_position)));
-            bound.drives.push(JointDrive {
-                joint: joint.clone(),
-                stiffness: axis.motor.stiffness,
-                damping: axis.motor.damping,
-                max_force: None,
+            bound.drives.push(match axis.servo {
+                Some(gains) => JointDrive::servo(joint, with_effort_limits(gains, model, index)),
+                None => JointDrive {
+                    joint: joint.clone(),
+                    stiffness: axis.motor.stiffness,
+                    damping: axis.motor.damping,
+                    max_force: None,
+                    servo: None,
+                },
             });
             binding.drive = Some(bound.drives.len() - 1);
             binding.joint = Some(index);
@@ -150,6 +155,20 @@ pub(crate) fn bind_axes(
         bound.axes.push(binding);
     }
     Ok(bound)
+}
+
+/// A servo drive's torque limits where the scene leaves them out: the URDF
+/// joint's `effort` (±), none when that is 0 or absent.
+fn with_effort_limits(gains: ServoGains, model: &RobotModel, joint: usize) -> ServoGains {
+    let effort = model.joints[joint]
+        .limits
+        .map(|l| l.effort)
+        .filter(|e| e.is_finite() && *e > 0.0);
+    ServoGains {
+        torque_limit_positive: gains.torque_limit_positive.or(effort),
+        torque_limit_negative: gains.torque_limit_negative.or(effort.map(|e| -e)),
+        ..gains
+    }
 }
 
 /// The URDF joint index an axis drives.

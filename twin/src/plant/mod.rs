@@ -39,6 +39,7 @@ pub mod limits;
 pub mod mesh;
 pub mod parts;
 pub mod physics;
+pub mod servo_drive;
 pub mod stl;
 pub mod trails;
 pub mod transform;
@@ -174,6 +175,8 @@ pub struct Plant {
     /// Per URDF joint, its initial position (0 where the scene gives none).
     rest_joints: Vec<f64>,
     substeps: usize,
+    /// The coarse update period, s.
+    update_s: f64,
     step_s: f64,
     /// Per axis, the last update's drive command (joint frame, axis units).
     previous_command: Vec<(f64, f64)>,
@@ -232,6 +235,7 @@ impl Plant {
         Ok(Plant {
             brakes: vec![None; axes.len()],
             substeps: (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize,
+            update_s: scene.coarse_update_ms / 1000.0,
             model,
             parts,
             sim,
@@ -263,6 +267,7 @@ impl Plant {
         self.collision_begin_update();
         let now: Vec<(f64, f64)> = self.axes.iter().map(|a| a.drive_command(task)).collect();
         self.set_drive_modes(task);
+        self.sim.refresh_servo_inertias(&self.model);
         let n = self.substeps;
         for j in 0..n {
             self.set_setpoints(&now, j as f64 / n as f64, (j as f64 + 0.5) / n as f64);
@@ -294,6 +299,7 @@ impl Plant {
                 self.brakes[k] = Some(self.sim.joint_position(drive));
             }
             self.sim.set_drive_free(drive, !enabled && !axis.holding_brake);
+            self.sim.set_drive_braked(drive, self.brakes[k].is_some());
         }
     }
 
@@ -314,6 +320,8 @@ impl Plant {
             let p = p0 + (p1 - p0) * f;
             let v = v0 + (v1 - v0) * fm;
             self.sim.set_setpoint(drive, axis.to_si(p), axis.to_si(v));
+            self.sim
+                .set_setpoint_acceleration(drive, axis.to_si((v1 - v0) / self.update_s));
             setpoints.push((drive, axis.to_si(p)));
         }
         for rig in &mut self.rigs {
@@ -327,6 +335,19 @@ impl Plant {
             return;
         }
         trails::record(&mut self.trails, &self.sim.world_from_link());
+    }
+
+    /// Axis `axis_index`'s servo drive torque in the last physics substep
+    /// (N·m or N, 0 while the drive is off); `None` for an axis without a
+    /// servo drive (virtual, or a spring `motor`).
+    pub fn drive_torque(&self, axis_index: usize) -> Option<f64> {
+        self.axes[axis_index].drive.and_then(|d| self.sim.drive_torque(d))
+    }
+
+    /// Axis `axis_index`'s largest |servo drive torque| over the run so far
+    /// (every substep); `None` as for [`Plant::drive_torque`].
+    pub fn drive_peak_torque(&self, axis_index: usize) -> Option<f64> {
+        self.axes[axis_index].drive.and_then(|d| self.sim.drive_peak_torque(d))
     }
 
     /// The robot model.

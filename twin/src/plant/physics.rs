@@ -39,6 +39,7 @@ use rapier3d_f64::prelude::{
 };
 
 use crate::plant::convert::{isometry_to_arrays, matrix_to_rapier, pose_from_rapier, pose_to_rapier, vector_to_rapier};
+use crate::plant::servo_drive::{ServoGains, ServoLoop, Setpoint, joint_inertia};
 use crate::plant::urdf::{Geometry, Joint, JointKind, RobotModel};
 
 /// The collision group every robot link is a member of and filters out.
@@ -57,6 +58,10 @@ pub struct JointDrive {
     pub damping: f64,
     /// Largest motor force in N·m (rotary) or N (linear); `None` for no limit.
     pub max_force: Option<f64>,
+    /// A servo drive's loops (`plant/servo_drive.rs`): the joint is driven
+    /// by their torque, and `stiffness`/`damping` are only its holding
+    /// brake's; `None` for the spring drive above.
+    pub servo: Option<ServoGains>,
 }
 
 impl JointDrive {
@@ -76,9 +81,30 @@ impl JointDrive {
             stiffness: omega * omega,
             damping: 2.0 * omega,
             max_force: None,
+            servo: None,
+        }
+    }
+
+    /// A servo drive with `gains`; its holding brake (used while the drive
+    /// is off and braked) is a critically damped 30 Hz hold.
+    pub fn servo(joint: &str, gains: ServoGains) -> JointDrive {
+        JointDrive {
+            servo: Some(gains),
+            ..JointDrive::critically_damped(joint, BRAKE_HZ)
         }
     }
 }
+
+/// Natural frequency of a servo-driven joint's holding brake, Hz.
+const BRAKE_HZ: f64 = 30.0;
+
+/// The velocity (rad/s or m/s) a servo drive's motor asks for, far beyond
+/// any joint's reach, so that its force limit (the loops' torque) binds.
+const UNREACHABLE_SPEED: f64 = 1.0e6;
+
+/// The force-based damping of that motor: large, so the limit binds even
+/// when the joint moves fast.
+const UNREACHABLE_DAMPING: f64 = 1.0e9;
 
 /// World and solver settings for a [`RobotSim`].
 #[derive(Debug, Clone, PartialEq)]
@@ -184,6 +210,26 @@ struct DriveSlot {
     velocity: f64,
     /// The motor is off: no torque, the joint is free.
     free: bool,
+    /// The spring drive's force limit (`f64::MAX` for none).
+    max_force: f64,
+    /// Setpoint acceleration (rad/s² or m/s²), for a servo drive's
+    /// feed-forward.
+    acceleration: f64,
+    /// A servo drive: its loops, and the bodies and axis its torque acts on.
+    servo: Option<ServoSlot>,
+    /// A servo drive's holding brake holds the joint at `position`.
+    braked: bool,
+}
+
+/// A servo drive's loops, whose torque the joint motor applies.
+#[derive(Debug, Clone)]
+struct ServoSlot {
+    control: ServoLoop,
+    /// The URDF joint it drives.
+    joint: usize,
+    /// No `SystemInertia` given: the loops scale by the inertia the joint
+    /// moves in the current pose ([`RobotSim::refresh_servo_inertias`]).
+    pose_inertia: bool,
 }
 
 /// A URDF robot in a rapier world, stepped at a fixed rate with joint motors.
@@ -198,6 +244,7 @@ pub struct RobotSim {
     step_s: f64,
     substeps: usize,
     steps: u64,
+    default_link_mass_kg: f64,
 }
 
 impl std::fmt::Debug for RobotSim {
@@ -247,14 +294,30 @@ impl RobotSim {
             let handle = joint_handles[j].ok_or_else(|| PhysicsError::Multibody {
                 joint: drive.joint.clone(),
             })?;
+            let joint = &model.joints[j];
+            let servo = drive.servo.map(|gains| {
+                let inertia = gains.system_inertia.unwrap_or_else(|| {
+                    let poses = model.world_from_link(&q0);
+                    joint_inertia(model, j, &poses, options.default_link_mass_kg, DEFAULT_INERTIA_RADIUS_M)
+                });
+                ServoSlot {
+                    control: ServoLoop::new(gains, inertia.max(1e-9)),
+                    joint: j,
+                    pose_inertia: gains.system_inertia.is_none(),
+                }
+            });
             slots.push(DriveSlot {
                 handle,
-                axis: dof_axis(model.joints[j].kind),
+                axis: dof_axis(joint.kind),
                 stiffness: drive.stiffness,
                 damping: drive.damping,
                 position: q0[j],
                 velocity: 0.0,
                 free: false,
+                max_force: drive.max_force.unwrap_or(f64::MAX),
+                acceleration: 0.0,
+                servo,
+                braked: false,
             });
         }
 
@@ -264,6 +327,7 @@ impl RobotSim {
             drives: slots,
             step_s: options.step_s,
             substeps: options.substeps,
+            default_link_mass_kg: options.default_link_mass_kg,
             steps: 0,
         };
         sim.place_at_rest(model, drives, &driven, &joint_handles, &q0);
@@ -341,19 +405,152 @@ impl RobotSim {
         self.apply_motor_targets(0.0);
     }
 
-    /// Writes every drive's motor target for `elapsed_s` into the step.
+    /// Sets drive `drive_index`'s setpoint acceleration (rad/s² or m/s²),
+    /// the feed-forward of a servo drive (a spring drive ignores it).
+    ///
+    /// # Panics
+    /// If `drive_index >= drive_count()`.
+    pub fn set_setpoint_acceleration(&mut self, drive_index: usize, acceleration: f64) {
+        self.drives[drive_index].acceleration = acceleration;
+    }
+
+    /// Engages (`true`) or releases a servo drive's holding brake: engaged,
+    /// the joint is held at its setpoint position by the brake and the
+    /// loops are off. A spring drive holds its setpoint anyway.
+    ///
+    /// # Panics
+    /// If `drive_index >= drive_count()`.
+    pub fn set_drive_braked(&mut self, drive_index: usize, braked: bool) {
+        self.drives[drive_index].braked = braked;
+        self.apply_motor_targets(0.0);
+    }
+
+    /// The torque (N·m or N) a servo drive applied in the last substep
+    /// (0 while it is off or braked); `None` for a spring drive.
+    ///
+    /// # Panics
+    /// If `drive_index >= drive_count()`.
+    pub fn drive_torque(&self, drive_index: usize) -> Option<f64> {
+        self.drives[drive_index].servo.as_ref().map(|s| s.control.last_torque())
+    }
+
+    /// The largest |torque| (N·m or N) a servo drive applied in any
+    /// substep so far; `None` for a spring drive.
+    ///
+    /// # Panics
+    /// If `drive_index >= drive_count()`.
+    pub fn drive_peak_torque(&self, drive_index: usize) -> Option<f64> {
+        self.drives[drive_index].servo.as_ref().map(|s| s.control.peak_torque())
+    }
+
+    /// Sets each servo drive without a `SystemInertia` to the inertia its
+    /// joint moves in the current pose (`model` is the one the simulation
+    /// was built from): the loops keep their bandwidths as the arm folds
+    /// and stretches, like a drive with a load observer.
+    pub fn refresh_servo_inertias(&mut self, model: &RobotModel) {
+        if !self
+            .drives
+            .iter()
+            .any(|d| d.servo.as_ref().is_some_and(|s| s.pose_inertia))
+        {
+            return;
+        }
+        let poses = self.world_from_link_isometries();
+        let mass = self.default_link_mass_kg;
+        for slot in &mut self.drives {
+            if let Some(servo) = slot.servo.as_mut().filter(|s| s.pose_inertia) {
+                let inertia = joint_inertia(model, servo.joint, &poses, mass, DEFAULT_INERTIA_RADIUS_M);
+                if inertia.is_finite() {
+                    servo.control.set_inertia(inertia.max(1e-9));
+                }
+            }
+        }
+    }
+
+    /// The inertia a servo drive's loops scale by (kg·m² or kg); `None`
+    /// for a spring drive.
+    ///
+    /// # Panics
+    /// If `drive_index >= drive_count()`.
+    pub fn drive_inertia(&self, drive_index: usize) -> Option<f64> {
+        self.drives[drive_index].servo.as_ref().map(|s| s.control.inertia())
+    }
+
+    /// Closes every enabled servo drive's loops for one substep of `dt_s`
+    /// that starts `elapsed_s` into the step, on the joint's measured
+    /// position and velocity; a drive that is off or braked resets them.
+    fn close_servo_loops(&mut self, elapsed_s: f64, dt_s: f64) {
+        for i in 0..self.drives.len() {
+            if self.drives[i].servo.is_none() {
+                continue;
+            }
+            let (q, qd) = (self.joint_position(i), self.joint_velocity(i));
+            let slot = &mut self.drives[i];
+            let Some(servo) = slot.servo.as_mut() else { continue };
+            if slot.free || slot.braked || !(q.is_finite() && qd.is_finite()) {
+                servo.control.reset();
+                continue;
+            }
+            let sp = Setpoint {
+                position: slot.position + slot.velocity * elapsed_s,
+                velocity: slot.velocity,
+                acceleration: slot.acceleration,
+            };
+            servo.control.torque(sp, q, qd, dt_s);
+        }
+    }
+
+    /// Writes every drive's motor for `elapsed_s` into the step.
+    ///
+    /// * A spring drive: a spring to its setpoint moving at its velocity.
+    /// * A servo drive that is enabled: its loops' torque, applied exactly
+    ///   as a force-limited motor that asks for an unreachable velocity in
+    ///   the torque's direction (the motor then always pushes with its full
+    ///   limit, `|τ|`). rapier's multibody links take no user torques, and
+    ///   the motor's impulse is the joint's own generalized force.
+    /// * A servo drive that is braked: a stiff spring at the held position
+    ///   whose torque is limited to the drive's (a brake slips beyond its
+    ///   holding torque, which is sized like the motor's).
+    /// * A free drive: no force at all (limit 0).
     fn apply_motor_targets(&mut self, elapsed_s: f64) {
         for slot in &self.drives {
             if let Some((multibody, link_id)) = self.world.multibody_joints.get_mut(slot.handle)
                 && let Some(link) = multibody.link_mut(link_id)
             {
-                link.joint.data.set_motor(
-                    slot.axis,
-                    slot.position + slot.velocity * elapsed_s,
-                    slot.velocity,
-                    if slot.free { 0.0 } else { slot.stiffness },
-                    if slot.free { 0.0 } else { slot.damping },
-                );
+                let data = &mut link.joint.data;
+                let (model, target, speed, stiffness, damping, limit) = match (&slot.servo, slot.free, slot.braked) {
+                    (_, true, _) => (MotorModel::AccelerationBased, slot.position, 0.0, 0.0, 0.0, 0.0),
+                    (Some(servo), false, true) => (
+                        MotorModel::AccelerationBased,
+                        slot.position,
+                        0.0,
+                        slot.stiffness,
+                        slot.damping,
+                        servo.control.brake_torque(),
+                    ),
+                    (Some(servo), false, false) => {
+                        let tau = servo.control.last_torque();
+                        (
+                            MotorModel::ForceBased,
+                            0.0,
+                            UNREACHABLE_SPEED.copysign(tau),
+                            0.0,
+                            UNREACHABLE_DAMPING,
+                            tau.abs(),
+                        )
+                    }
+                    (None, false, _) => (
+                        MotorModel::AccelerationBased,
+                        slot.position + slot.velocity * elapsed_s,
+                        slot.velocity,
+                        slot.stiffness,
+                        slot.damping,
+                        slot.max_force,
+                    ),
+                };
+                data.set_motor_model(slot.axis, model);
+                data.set_motor(slot.axis, target, speed, stiffness, damping);
+                data.set_motor_max_force(slot.axis, limit);
             }
         }
     }
@@ -365,6 +562,7 @@ impl RobotSim {
     pub fn step(&mut self) {
         let substep_s = self.step_s / self.substeps as f64;
         for k in 0..self.substeps {
+            self.close_servo_loops(k as f64 * substep_s, substep_s);
             self.apply_motor_targets(k as f64 * substep_s);
             self.world.step();
         }

@@ -219,6 +219,7 @@ pub(crate) fn parallel_rigs(
                 stiffness: VIRTUAL_GAINS.0,
                 damping: VIRTUAL_GAINS.1,
                 max_force: None,
+                servo: None,
             });
             initial.retain(|(n, _)| n != name);
             initial.push((name.clone(), pose[joint.0]));

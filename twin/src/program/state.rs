@@ -1,5 +1,5 @@
 //! Axis and coordinate-system state calls bound to the planner: `MSO`,
-//! `MSF`, `MASD`, `MASR`, `MAFR` `(Axis, Motion Control)` and `MCSD`,
+//! `MSF`, `MASD`, `MASR`, `MAFR`, `MAH` `(Axis, Motion Control)` and `MCSD`,
 //! `MCSR` `(Coordinate System, Motion Control)`. The state rules and their
 //! error codes are the planner's ([`planner::servo`]).
 //!
@@ -45,6 +45,7 @@ pub fn bind(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
         "MSF" => MotionTask::msf,
         "MASD" => MotionTask::masd,
         "MASR" => MotionTask::masr,
+        "MAH" => MotionTask::mah,
         _ => MotionTask::mafr,
     };
     Ok(step(mnemonic, control, move |task| {

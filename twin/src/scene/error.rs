@@ -300,6 +300,20 @@ pub enum Problem {
         /// Upper limit.
         max: f64,
     },
+    /// Both drives on one axis.
+    #[error("give 'motor' (a spring drive) or 'drive' (a servo drive), not both")]
+    SpringAndServo,
+    /// A homing sequence that needs a sensor the twin does not simulate.
+    #[error(
+        "home_sequence '{sequence}' is not simulated (the twin has no home switch, encoder marker or torque sensing): use \"immediate\""
+    )]
+    HomeSequenceNotSimulated {
+        /// The sequence word.
+        sequence: &'static str,
+    },
+    /// Active homing on a feedback-only axis.
+    #[error("home_mode \"active\" moves the axis: a feedback-only axis has no drive (use \"passive\")")]
+    ActiveHomingWithoutDrive,
     /// A drive field on a virtual axis.
     #[error("a virtual axis (no joint) has no drive: '{field}' applies only to an axis with a joint")]
     NoDrive {

@@ -49,14 +49,14 @@ pub use error::{Problem, SceneError};
 pub use geometry::{GEOMETRY_TYPES, GeometrySettings};
 pub use model::{
     Axis, AxisKind, BaseType, CamPoint, Camera, CoordinateSystemSettings, FunctionBlock, Location, MotorGains,
-    Obstacle, Robot, Scene, SegmentType, Shape, Snapshots, Step, Tag, TagType, TagValue, Trigger, Units,
+    Obstacle, Robot, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType, TagValue, Trigger, Units,
 };
 pub use tasks::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
 
 use context::{Ctx, NameKind, Names};
 use raw::{
-    AxisConfiguration, Numbers, RawAxis, RawCamera, RawCoordinateSystem, RawObstacle, RawRobot, RawScene, RawSnapshots,
-    RawStep, RawTag, ShapeKind,
+    AxisConfiguration, HomeDirectionWord, HomeModeWord, HomeSequenceWord, Numbers, RawAxis, RawCamera,
+    RawCoordinateSystem, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, RawStep, RawTag, ShapeKind,
 };
 
 impl Scene {

@@ -206,14 +206,59 @@ pub struct Axis {
     pub config: AxisConfig,
     /// Initial position, axis units (default: 0, or from `robot.initial_joints`).
     pub initial_position: f64,
-    /// Joint motor gains.
+    /// Gains of the spring drive (`motor`); the joint's drive when `servo`
+    /// is `None`.
     pub motor: MotorGains,
+    /// The servo drive (`drive`; the default of an axis with a joint):
+    /// `None` when the scene gives `motor` or the axis has no joint.
+    pub servo: Option<ServoGains>,
     /// Whether the joint has a holding brake that holds it while the servo
     /// is off (default false: a servo-off joint is free and falls under
     /// gravity).
     pub holding_brake: bool,
     /// Where the `[[axes]]` entry's `name` is written.
     pub location: Location,
+}
+
+/// A servo drive's gains and limits (`[[axes]] drive`; the loops are the
+/// plant's, `plant/servo_drive.rs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ServoGains {
+    /// `PositionLoopBandwidth`, Hz.
+    pub position_loop_bandwidth_hz: f64,
+    /// `PositionIntegratorBandwidth`, Hz (0: no integrator).
+    pub position_integrator_bandwidth_hz: f64,
+    /// `VelocityLoopBandwidth`, Hz.
+    pub velocity_loop_bandwidth_hz: f64,
+    /// `VelocityIntegratorBandwidth`, Hz (0: no integrator).
+    pub velocity_integrator_bandwidth_hz: f64,
+    /// `VelocityFeedforwardGain`, %.
+    pub velocity_feedforward_gain_pct: f64,
+    /// `AccelerationFeedforwardGain`, %.
+    pub acceleration_feedforward_gain_pct: f64,
+    /// `TorqueLimitPositive`, N·m or N (`None`: no limit).
+    pub torque_limit_positive: Option<f64>,
+    /// `TorqueLimitNegative`, N·m or N, ≤ 0 (`None`: no limit).
+    pub torque_limit_negative: Option<f64>,
+    /// `SystemInertia`, kg·m² or kg (`None`: the joint's inertia at the
+    /// initial pose).
+    pub system_inertia: Option<f64>,
+}
+
+impl Default for ServoGains {
+    fn default() -> Self {
+        Self {
+            position_loop_bandwidth_hz: 20.0,
+            position_integrator_bandwidth_hz: 0.0,
+            velocity_loop_bandwidth_hz: 80.0,
+            velocity_integrator_bandwidth_hz: 15.0,
+            velocity_feedforward_gain_pct: 100.0,
+            acceleration_feedforward_gain_pct: 100.0,
+            torque_limit_positive: None,
+            torque_limit_negative: None,
+            system_inertia: None,
+        }
+    }
 }
 
 /// `[[cameras]]`: a pinhole camera in the world frame (Z up).

@@ -67,6 +67,73 @@ pub(super) struct RawAxis {
     pub(super) position_error_action: Option<Spanned<ExceptionAction>>,
     pub(super) holding_brake: Option<Spanned<bool>>,
     pub(super) brake_release_delay_ms: Option<Spanned<f64>>,
+    pub(super) drive: Option<Spanned<RawDrive>>,
+    pub(super) home_mode: Option<Spanned<HomeModeWord>>,
+    pub(super) home_sequence: Option<Spanned<HomeSequenceWord>>,
+    pub(super) home_position: Option<Spanned<f64>>,
+    pub(super) home_offset: Option<Spanned<f64>>,
+    pub(super) home_direction: Option<Spanned<HomeDirectionWord>>,
+    pub(super) home_speed: Option<Spanned<f64>>,
+    pub(super) home_return_speed: Option<Spanned<f64>>,
+}
+
+/// `[[axes]] home_mode`: Logix `HomeMode`.
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum HomeModeWord {
+    Passive,
+    Active,
+}
+
+/// `[[axes]] home_sequence`: Logix `HomeSequence` (only `immediate` is
+/// simulated; the others are named so that the refusal says why).
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum HomeSequenceWord {
+    Immediate,
+    Switch,
+    Marker,
+    SwitchMarker,
+    TorqueLevel,
+    TorqueLevelMarker,
+}
+
+impl HomeSequenceWord {
+    pub(super) fn word(self) -> &'static str {
+        match self {
+            Self::Immediate => "immediate",
+            Self::Switch => "switch",
+            Self::Marker => "marker",
+            Self::SwitchMarker => "switch_marker",
+            Self::TorqueLevel => "torque_level",
+            Self::TorqueLevelMarker => "torque_level_marker",
+        }
+    }
+}
+
+/// `[[axes]] home_direction`: Logix `HomeDirection`.
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum HomeDirectionWord {
+    UnidirectionalForward,
+    BidirectionalForward,
+    UnidirectionalReverse,
+    BidirectionalReverse,
+}
+
+/// `[[axes]] drive`: a servo drive's gains and limits, each optional.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawDrive {
+    pub(super) position_loop_bandwidth_hz: Option<Spanned<f64>>,
+    pub(super) position_integrator_bandwidth_hz: Option<Spanned<f64>>,
+    pub(super) velocity_loop_bandwidth_hz: Option<Spanned<f64>>,
+    pub(super) velocity_integrator_bandwidth_hz: Option<Spanned<f64>>,
+    pub(super) velocity_feedforward_gain_pct: Option<Spanned<f64>>,
+    pub(super) acceleration_feedforward_gain_pct: Option<Spanned<f64>>,
+    pub(super) torque_limit_positive: Option<Spanned<f64>>,
+    pub(super) torque_limit_negative: Option<Spanned<f64>>,
+    pub(super) system_inertia: Option<Spanned<f64>>,
 }
 
 /// `[[axes]] axis_configuration`: Logix's Axis Configuration words.

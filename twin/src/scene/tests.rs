@@ -618,3 +618,86 @@ fn soft_travel_limits_are_checked_at_the_field() {
         Some(Problem::SoftTravelLimitsOnModulo { period }) if *period == 360.0
     ));
 }
+
+#[test]
+fn homing_fields_are_checked_at_the_field() {
+    use planner::mah::HomeMode;
+    let ok = edited(
+        "in_position_window = 0.05\n",
+        "in_position_window = 0.05\nhome_mode = \"passive\"\nhome_position = 25.0\nhome_speed = 10.0\n",
+    );
+    let scene = parse(&fixtures().join("case.toml"), &ok).expect("homing fields");
+    let homing = scene.axes[1].config.homing;
+    assert_eq!(
+        (homing.mode, homing.position, homing.speed),
+        (HomeMode::Passive, 25.0, 10.0)
+    );
+    assert_eq!(scene.axes[0].config.homing.mode, HomeMode::Active, "the default");
+
+    let text = edited(
+        "in_position_window = 0.05\n",
+        "in_position_window = 0.05\nhome_sequence = \"switch_marker\"\n",
+    );
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "\"switch_marker\""), "axes[1].home_sequence");
+    assert!(e.to_string().contains("not simulated"), "{e}");
+
+    let text = edited(
+        "in_position_window = 0.05\n",
+        "in_position_window = 0.05\naxis_configuration = \"feedback_only\"\nhome_mode = \"active\"\n",
+    );
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "\"active\""), "axes[1].home_mode");
+
+    let text = edited(
+        "in_position_window = 0.05\n",
+        "in_position_window = 0.05\nhome_return_speed = -1.0\n",
+    );
+    assert_place(&error_of(&text), find(&text, "-1.0"), "axes[1].home_return_speed");
+}
+
+#[test]
+fn drive_fields_are_checked_at_the_field() {
+    // Slide has a joint and no motor: a servo drive, with the defaults
+    // where `drive` leaves a gain out.
+    let ok = edited(
+        "in_position_window = 0.05\n",
+        "in_position_window = 0.05\ndrive = { velocity_loop_bandwidth_hz = 60.0, torque_limit_positive = 80.0, torque_limit_negative = -70.0 }\n",
+    );
+    let scene = parse(&fixtures().join("case.toml"), &ok).expect("drive fields");
+    let gains = scene.axes[1].servo.expect("a servo drive");
+    assert_eq!(gains.velocity_loop_bandwidth_hz, 60.0);
+    assert_eq!(
+        (gains.torque_limit_positive, gains.torque_limit_negative),
+        (Some(80.0), Some(-70.0))
+    );
+    assert_eq!(
+        gains.position_loop_bandwidth_hz,
+        ServoGains::default().position_loop_bandwidth_hz
+    );
+    assert_eq!(scene.axes[0].servo, None, "the platter keeps its spring motor");
+
+    for (drive, field) in [
+        ("{ torque_limit_negative = 5.0 }", "torque_limit_negative"),
+        ("{ velocity_loop_bandwidth_hz = 0.0 }", "velocity_loop_bandwidth_hz"),
+        (
+            "{ velocity_integrator_bandwidth_hz = -1.0 }",
+            "velocity_integrator_bandwidth_hz",
+        ),
+        ("{ system_inertia = nan }", "system_inertia"),
+    ] {
+        let text = edited(
+            "in_position_window = 0.05\n",
+            &format!("in_position_window = 0.05\ndrive = {drive}\n"),
+        );
+        let e = error_of(&text);
+        assert_eq!(e.field(), Some(format!("axes[1].drive.{field}").as_str()), "{e}");
+        assert!(!e.to_string().contains('\n'));
+    }
+    let text = edited(
+        "in_position_window = 0.05\n",
+        "in_position_window = 0.05\nmotor = { stiffness = 1.0 }\ndrive = {}\n",
+    );
+    let e = error_of(&text);
+    assert!(e.to_string().contains("not both"), "{e}");
+}

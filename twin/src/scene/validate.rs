@@ -8,11 +8,13 @@ use std::path::Path;
 use toml::Spanned;
 
 use planner::axis::AxisConfig;
+use planner::mah::{HomeDirection, HomeMode, HomeSequence, Homing};
 use planner::servo::{AxisType, FaultAction};
 
 use super::{
     Axis, AxisConfiguration, Camera, Ctx, MotorGains, NameKind, Names, Numbers, Obstacle, Problem, RawAxis, RawCamera,
-    RawObstacle, RawRobot, RawScene, RawSnapshots, Robot, Scene, SceneError, Shape, ShapeKind, Snapshots,
+    RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, Robot, Scene, SceneError, ServoGains, Shape, ShapeKind,
+    Snapshots,
 };
 
 impl Ctx<'_> {
@@ -113,7 +115,8 @@ impl Ctx<'_> {
         f: &dyn Fn(&str) -> String,
     ) -> Result<DriveOptions, SceneError> {
         if !has_joint {
-            let given: [(Option<Range<usize>>, &'static str); 5] = [
+            let given: [(Option<Range<usize>>, &'static str); 6] = [
+                (a.drive.as_ref().map(Spanned::span), "drive"),
                 (a.axis_configuration.as_ref().map(Spanned::span), "axis_configuration"),
                 (a.servo_on_at_start.as_ref().map(Spanned::span), "servo_on_at_start"),
                 (
@@ -143,7 +146,17 @@ impl Ctx<'_> {
             Some(d) => self.non_negative(d, &f("brake_release_delay_ms"))? / 1000.0,
             None => 0.0,
         };
+        if let (Some(m), Some(_)) = (&a.motor, &a.drive) {
+            return Err(self.invalid(m, f("motor"), Problem::SpringAndServo));
+        }
+        let servo = match (&a.drive, &a.motor) {
+            (_, Some(_)) => None,
+            _ if !has_joint => None,
+            (Some(d), None) => Some(self.servo_gains(d.get_ref(), f)?),
+            (None, None) => Some(ServoGains::default()),
+        };
         Ok(DriveOptions {
+            servo,
             axis_type,
             start_servo_on: a.servo_on_at_start.as_ref().is_none_or(|s| *s.get_ref()),
             servo_enable_delay_s,
@@ -153,6 +166,120 @@ impl Ctx<'_> {
                 .as_ref()
                 .map_or(FaultAction::StopDrive, |x| x.get_ref().planner()),
             holding_brake: a.holding_brake.as_ref().is_some_and(|b| *b.get_ref()),
+        })
+    }
+
+    /// An axis' homing attributes (`home_*`, axis units): active by
+    /// default, passive by default on a feedback-only axis.
+    fn homing(&self, a: &RawAxis, axis_type: AxisType, f: &dyn Fn(&str) -> String) -> Result<Homing, SceneError> {
+        use super::{HomeDirectionWord as D, HomeModeWord, HomeSequenceWord};
+        let mode = match &a.home_mode {
+            Some(m) if *m.get_ref() == HomeModeWord::Active && axis_type == AxisType::FeedbackOnly => {
+                return Err(self.invalid(m, f("home_mode"), Problem::ActiveHomingWithoutDrive));
+            }
+            Some(m) if *m.get_ref() == HomeModeWord::Passive => HomeMode::Passive,
+            Some(_) => HomeMode::Active,
+            None if axis_type == AxisType::FeedbackOnly => HomeMode::Passive,
+            None => HomeMode::Active,
+        };
+        if let Some(s) = &a.home_sequence
+            && *s.get_ref() != HomeSequenceWord::Immediate
+        {
+            let sequence = s.get_ref().word();
+            return Err(self.invalid(s, f("home_sequence"), Problem::HomeSequenceNotSimulated { sequence }));
+        }
+        let finite = |v: &Option<Spanned<f64>>, name: &str| match v {
+            Some(v) => self.finite(v, &f(name)),
+            None => Ok(0.0),
+        };
+        let non_negative = |v: &Option<Spanned<f64>>, name: &str| match v {
+            Some(v) => self.non_negative(v, &f(name)),
+            None => Ok(0.0),
+        };
+        Ok(Homing {
+            mode,
+            sequence: HomeSequence::Immediate,
+            position: finite(&a.home_position, "home_position")?,
+            offset: finite(&a.home_offset, "home_offset")?,
+            direction: match a.home_direction.as_ref().map(|d| *d.get_ref()) {
+                None | Some(D::UnidirectionalForward) => HomeDirection::UnidirectionalForward,
+                Some(D::BidirectionalForward) => HomeDirection::BidirectionalForward,
+                Some(D::UnidirectionalReverse) => HomeDirection::UnidirectionalReverse,
+                Some(D::BidirectionalReverse) => HomeDirection::BidirectionalReverse,
+            },
+            speed: non_negative(&a.home_speed, "home_speed")?,
+            return_speed: non_negative(&a.home_return_speed, "home_return_speed")?,
+        })
+    }
+
+    /// `[[axes]] drive`: the servo gains, defaults for what it leaves out.
+    fn servo_gains(&self, d: &RawDrive, f: &dyn Fn(&str) -> String) -> Result<ServoGains, SceneError> {
+        let g = ServoGains::default();
+        let field = |name: &str| f(&format!("drive.{name}"));
+        let positive = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
+            Some(v) => self.positive(v, &field(name)),
+            None => Ok(default),
+        };
+        let non_negative = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
+            Some(v) => self.non_negative(v, &field(name)),
+            None => Ok(default),
+        };
+        let torque_limit_negative = match &d.torque_limit_negative {
+            Some(v) => {
+                let x = self.finite(v, &field("torque_limit_negative"))?;
+                if x >= 0.0 {
+                    let problem = Problem::OutOfRange {
+                        value: x,
+                        min: f64::NEG_INFINITY,
+                        max: 0.0,
+                        exclusive: true,
+                    };
+                    return Err(self.invalid(v, field("torque_limit_negative"), problem));
+                }
+                Some(x)
+            }
+            None => None,
+        };
+        Ok(ServoGains {
+            position_loop_bandwidth_hz: positive(
+                &d.position_loop_bandwidth_hz,
+                "position_loop_bandwidth_hz",
+                g.position_loop_bandwidth_hz,
+            )?,
+            position_integrator_bandwidth_hz: non_negative(
+                &d.position_integrator_bandwidth_hz,
+                "position_integrator_bandwidth_hz",
+                g.position_integrator_bandwidth_hz,
+            )?,
+            velocity_loop_bandwidth_hz: positive(
+                &d.velocity_loop_bandwidth_hz,
+                "velocity_loop_bandwidth_hz",
+                g.velocity_loop_bandwidth_hz,
+            )?,
+            velocity_integrator_bandwidth_hz: non_negative(
+                &d.velocity_integrator_bandwidth_hz,
+                "velocity_integrator_bandwidth_hz",
+                g.velocity_integrator_bandwidth_hz,
+            )?,
+            velocity_feedforward_gain_pct: non_negative(
+                &d.velocity_feedforward_gain_pct,
+                "velocity_feedforward_gain_pct",
+                g.velocity_feedforward_gain_pct,
+            )?,
+            acceleration_feedforward_gain_pct: non_negative(
+                &d.acceleration_feedforward_gain_pct,
+                "acceleration_feedforward_gain_pct",
+                g.acceleration_feedforward_gain_pct,
+            )?,
+            torque_limit_positive: match &d.torque_limit_positive {
+                Some(v) => Some(self.positive(v, &field("torque_limit_positive"))?),
+                None => None,
+            },
+            torque_limit_negative,
+            system_inertia: match &d.system_inertia {
+                Some(v) => Some(self.positive(v, &field("system_inertia"))?),
+                None => None,
+            },
         })
     }
 
@@ -261,6 +388,8 @@ impl Ctx<'_> {
                 None => None,
             };
             let drive = self.drive_options(a, joint.is_some(), &f)?;
+            let servo = drive.servo;
+            let homing = self.homing(a, drive.axis_type, &f)?;
             axes.push(Axis {
                 name: name.clone(),
                 joint,
@@ -283,10 +412,12 @@ impl Ctx<'_> {
                     servo_enable_delay_s: drive.servo_enable_delay_s,
                     position_error_tolerance: drive.position_error_tolerance,
                     position_error_action: drive.position_error_action,
+                    homing,
                     ..AxisConfig::new(name, kind.planner_kind())
                 },
                 initial_position,
                 motor,
+                servo,
                 holding_brake: drive.holding_brake,
                 location: self.loc(&a.name),
             });
@@ -484,6 +615,7 @@ pub(super) struct ShapeFields<'a> {
 
 /// An axis' drive and state options, validated.
 struct DriveOptions {
+    servo: Option<ServoGains>,
     axis_type: AxisType,
     start_servo_on: bool,
     servo_enable_delay_s: f64,
