@@ -187,7 +187,7 @@ pub enum Family {
     Coordinated,
     /// Coordinate transforms: MCT.
     Transform,
-    /// Cams and the single-axis calls: MCCP, MAPC, MRP, MAJ, MAS, MAM.
+    /// Cams and the single-axis calls: MCCP, MAPC, MRP, MAJ, MAS, MAM, MAG.
     Cam,
     /// PLCopen single-axis blocks: MC_MoveModulo.
     PlcOpen,
@@ -278,6 +278,7 @@ pub const INSTRUCTIONS: &[&Instruction] = &[
     &MAJ,
     &MAS,
     &MAM,
+    &MAG,
     &MSO,
     &MSF,
     &MASD,
@@ -314,7 +315,7 @@ pub fn positional_mnemonics() -> String {
 pub const NOT_SIMULATED: &[&str] = &[
     // Motion state
     "MDO", "MDF", "MDS", // Motion move
-    "MAG", "MCD", "MCSV", "MATC", "MDAC", // Motion group
+    "MCD", "MCSV", "MATC", "MDAC", // Motion group
     "MGS", "MGSD", "MGSR", "MGSP", // Motion event
     "MAW", "MDW", "MAR", "MDR", "MAOC", "MDOC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
@@ -433,6 +434,8 @@ const MRP_TYPE: &[Word] = &[w("absolute", 0), w("relative", 1)];
 const JOG_DIRECTION: &[Word] = &[w("forward", 0), w("reverse", 1)];
 const JOG_SPEED_UNITS: &[Word] = &[w("unitspersec", 0), w("%ofmaximum", 1)];
 const JOG_ACCEL_UNITS: &[Word] = &[w("unitspersec²", 0), w("unitspersec2", 0), w("%ofmaximum", 1)];
+const RATIO_FORMAT: &[Word] = &[w("real", 0), w("fraction_slave_master_counts", 1)];
+const CLUTCH: &[Word] = &[w("enabled", 0), w("disabled", 1)];
 const MAM_MERGE: &[Word] = &[w("disabled", 0), w("enabled", 1)];
 const MAS_STOP_TYPE: &[Word] = &[
     w("all", 0),
@@ -681,6 +684,34 @@ pub const MAJ: Instruction = Instruction {
     ],
 };
 
+/// Motion Axis Gear.
+pub const MAG: Instruction = Instruction {
+    mnemonic: "MAG",
+    title: "Motion Axis Gear",
+    style: CallStyle::Positional,
+    family: Family::Cam,
+    operands: &[
+        op("Slave Axis", "AXIS", Tag, Kind::Axis, 0),
+        op("Master Axis", "AXIS", Tag, Kind::Axis, 1),
+        op("Motion Control", "MOTION_INSTRUCTION", Tag, Kind::MotionControl, 2),
+        op("Direction", "DINT", Immediate, Kind::Enumeration(MAPC_DIRECTION), 3),
+        op("Ratio", "REAL", ImmediateOrTag, Kind::Number, 4),
+        op("Slave Counts", "DINT", ImmediateOrTag, Kind::Integer, 5),
+        op("Master Counts", "DINT", ImmediateOrTag, Kind::Integer, 6),
+        op(
+            "Master Reference",
+            "DINT",
+            Immediate,
+            Kind::Enumeration(ACTUAL_COMMAND),
+            7,
+        ),
+        op("Ratio Format", "DINT", Immediate, Kind::Enumeration(RATIO_FORMAT), 8),
+        op("Clutch", "DINT", Immediate, Kind::Enumeration(CLUTCH), 9),
+        op("Accel Rate", "REAL", ImmediateOrTag, Kind::Number, 10),
+        op("Accel Units", "DINT", Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 11),
+    ],
+};
+
 /// Motion Axis Move.
 pub const MAM: Instruction = Instruction {
     mnemonic: "MAM",
@@ -903,7 +934,7 @@ mod tests {
         assert_eq!(find("mc_movemodulo").map(|i| i.mnemonic), Some("MC_MoveModulo"));
         assert_eq!(find("Mapc").map(|i| i.operands.len()), Some(14));
         assert_eq!(find("mso").map(|i| i.operands.len()), Some(2));
-        assert!(find("MAG").is_none());
+        assert!(find("MCD").is_none());
         for name in NOT_SIMULATED {
             assert!(find(name).is_none(), "{name} is both simulated and not");
         }

@@ -245,6 +245,8 @@ pub struct StopScope {
     pub moves: bool,
     /// Position cams.
     pub position_cam: bool,
+    /// Gearing (MAG).
+    pub gear: bool,
 }
 
 /// A validated MAS.
@@ -268,26 +270,37 @@ impl Stop {
                 jog: true,
                 moves: true,
                 position_cam: true,
+                gear: true,
             },
             1 => StopScope {
                 jog: true,
                 moves: false,
                 position_cam: false,
+                gear: false,
             },
             2 => StopScope {
                 jog: false,
                 moves: true,
                 position_cam: false,
+                gear: false,
+            },
+            3 => StopScope {
+                jog: false,
+                moves: false,
+                position_cam: false,
+                gear: true,
             },
             8 => StopScope {
                 jog: false,
                 moves: false,
                 position_cam: true,
+                gear: false,
             },
-            3..=10 => StopScope {
+            4..=10 => StopScope {
                 jog: false,
                 moves: false,
                 position_cam: false,
+                gear: false,
             },
             t => return Err(bad(exerr::STOP_TYPE, f64::from(t))),
         };

@@ -16,6 +16,7 @@
 //! * [`coord`] — coordinate systems, coordinated-move operands and status;
 //!   [`mclm`] linear and [`mccm`] circular coordinated moves; MCS in `coord`.
 //! * [`mct`] — MCT coordinated transforms and robot geometries.
+//! * [`mag`] — MAG electronic gearing.
 //! * [`mah`] — homing attributes and MAH.
 //! * [`servo`] — axis types and states (MSO, MSF, MASD, MASR, MAFR, MCSD,
 //!   MCSR) and the state every motion instruction needs.
@@ -26,6 +27,7 @@ pub mod catalogue;
 pub mod coord;
 pub mod instruction;
 pub mod jog;
+pub mod mag;
 pub mod mah;
 pub mod mam;
 pub mod mapc;

@@ -41,6 +41,7 @@ pub use coord::{
 };
 mod mct;
 pub use mct::TransformGeometry;
+mod gear;
 mod home;
 mod mam;
 mod servo;
@@ -112,6 +113,8 @@ struct AxisSlot {
     /// A MAM or MAJ running on top of the axis' base motion
     /// (`task/superimposed.rs`).
     superimposed: Option<superimposed::SuperRun>,
+    /// MAG gearing of the axis to a master (`task/gear.rs`).
+    gear: Option<gear::GearRun>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -217,6 +220,7 @@ impl MotionTask {
         self.axes.push(AxisSlot {
             servo: servo::ServoSlot::new(&config),
             superimposed: None,
+            gear: None,
             config,
             command: Sample {
                 position: initial_position,
@@ -430,6 +434,7 @@ impl MotionTask {
         }
         self.advance_coordinate_systems();
         self.advance_cams_and_jogs();
+        self.advance_gears();
         self.advance_transforms();
         self.add_superimposed();
         self.advance_homing();

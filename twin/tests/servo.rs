@@ -332,3 +332,50 @@ fn motion_during_an_active_mah_is_refused_with_err_16() {
     let p = num(&last[col(&h, "J1.cmd_pos")]);
     assert!((p - 5.0).abs() < 0.01, "{p}");
 }
+
+#[test]
+fn a_geared_wrist_follows_its_master_at_the_ratio_until_mas_gear() {
+    let dir = common::fresh_dir("servo-tests", "gear-routine");
+    let routine = dir.join("Main.st");
+    std::fs::write(
+        &routine,
+        "CASE State OF\n\
+           0: MSO(J4, On4); MSO(J6, On6); State := 10;\n\
+           10: IF On4.DN AND On6.DN THEN\n\
+                 MAG(J6, J4, Wrist6, same, 2.0, 1, 1, command, real, enabled, 100, %ofmaximum);\n\
+                 MAM(J4, Wrist4, 1, 45, 50, %ofMaximum, 50, %ofMaximum, 50, %ofMaximum, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);\n\
+                 State := 20;\n\
+               END_IF;\n\
+           20: IF Wrist4.PC THEN\n\
+                 Faults := J6.GearingStatus + 2 * J6.GearingLockStatus;\n\
+                 MAS(J6, Reset2, gear, no, 0, unitspersec2);\n\
+                 MAM(J4, Wrist4, 1, -45, 50, %ofMaximum, 50, %ofMaximum, 50, %ofMaximum, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);\n\
+                 State := 30;\n\
+               END_IF;\n\
+           30: IF Wrist4.PC THEN State := 40; END_IF;\n\
+           40: ;\n\
+         END_CASE;\n",
+    )
+    .expect("routine");
+    let main = format!("main = \"{}\"", routine.display());
+    let scene = variant(
+        "heavy_arm.toml",
+        "gear",
+        &[("main = \"routines/heavy_arm/Main.st\"", &main)],
+    );
+    let (code, log, h, rows) = run(&scene, "gear");
+    assert_eq!(code, 0, "{log}");
+    let last = rows.last().expect("rows");
+    assert_eq!(last[col(&h, "Main.State")], "40", "{log}");
+    assert_eq!(last[col(&h, "Main.Faults")], "3", "geared and locked");
+    assert_eq!(last[col(&h, "Main.Wrist6.IP")], "0", "MAS Gear ended it");
+    // Geared, J6 moved twice J4's 45 degrees; after MAS Gear it stayed
+    // while J4 went back.
+    let (j4, j6) = (col(&h, "J4.cmd_pos"), col(&h, "J6.cmd_pos"));
+    let state = col(&h, "Main.State");
+    let at_stop = rows.iter().rev().find(|r| r[state] == "20").expect("state 20");
+    assert!((num(&at_stop[j6]) - 90.0).abs() < 1e-6, "{}", at_stop[j6]);
+    assert!((num(&at_stop[j4]) - 45.0).abs() < 1e-6, "{}", at_stop[j4]);
+    assert!((num(&last[j6]) - 90.0).abs() < 1e-6);
+    assert!(num(&last[j4]).abs() < 1e-6);
+}

@@ -190,7 +190,7 @@ impl MotionTask {
         }
     }
 
-    fn bits(&mut self, h: InstructionHandle) -> &mut MotionInstructionBits {
+    pub(super) fn bits(&mut self, h: InstructionHandle) -> &mut MotionInstructionBits {
         self.motion_bits_mut(h)
     }
 
@@ -246,7 +246,7 @@ impl MotionTask {
     }
 
     /// The master position a cam sees (without MRP shifts).
-    fn cam_master_position(&self, key: MasterKey) -> f64 {
+    pub(super) fn cam_master_position(&self, key: MasterKey) -> f64 {
         let (axis, reference) = key;
         let a = &self.axes[axis.0 as usize];
         let p = match reference {
@@ -367,6 +367,7 @@ impl MotionTask {
         self.fold_superimposed(axis);
         self.abort_move(axis);
         self.end_ramp(axis);
+        self.end_gear(axis);
     }
 
     pub(super) fn abort_move(&mut self, axis: AxisHandle) {
@@ -407,6 +408,7 @@ impl MotionTask {
     /// Hook for MoveModulo starts and axis resets: cams and jogs on `axis`
     /// end.
     pub(super) fn release_cam_and_jog(&mut self, axis: AxisHandle) {
+        self.end_gear(axis);
         if (axis.0 as usize) < self.cam.axes.len() {
             self.end_cams(axis);
             self.end_ramp(axis);
@@ -522,6 +524,7 @@ impl MotionTask {
         self.fold_superimposed(axis);
         self.abort_move(axis);
         self.end_cams(axis);
+        self.end_gear(axis);
         self.end_ramp(axis);
         let state = self.axes[axis.0 as usize].command.state();
         self.cam_axis(axis).ramp = Some(RampRun {
@@ -561,6 +564,9 @@ impl MotionTask {
         let mut stops = false;
         if stop.scope.position_cam && cam_running {
             self.end_cams(axis);
+            stops = true;
+        }
+        if stop.scope.gear && self.end_gear(axis) {
             stops = true;
         }
         if stop.scope.jog && jogging {
@@ -619,15 +625,17 @@ impl MotionTask {
 
     /// Hook for [`MotionTask::stop_all_axes`]: ends the cams and the jog on
     /// `axis` and ramps it to rest from its command state with its configured
-    /// deceleration and jerk (as the MoveModulo commands there). Returns
-    /// whether the axis had a cam or jog to stop.
+    /// deceleration and jerk (as the MoveModulo commands there); a gearing
+    /// on it ends the same way. Returns whether the axis had a cam, jog or
+    /// gearing to stop.
     pub(super) fn stop_cam_and_jog(&mut self, axis: AxisHandle) -> bool {
-        let Some(c) = self.cam.axes.get(axis.0 as usize) else {
-            return false;
-        };
-        if !(c.cam.drives() || c.ramp.is_some()) {
+        let geared = self.end_gear(axis);
+        let (drives, ramp, pending) = self.cam.axes.get(axis.0 as usize).map_or((false, false, false), |c| {
+            (c.cam.drives(), c.ramp.is_some(), c.cam.status().pending)
+        });
+        if !(geared || drives || ramp) {
             // A preloaded Pending cam moves nothing but ends as well.
-            if c.cam.status().pending {
+            if pending {
                 self.end_cams(axis);
             }
             return false;
@@ -683,7 +691,24 @@ impl MotionTask {
 
     /// Whether a position cam drives `axis` now.
     pub(super) fn cam_drives(&self, axis: AxisHandle) -> bool {
-        self.cam.axes.get(axis.0 as usize).is_some_and(|c| c.cam.drives())
+        self.cam.axes.get(axis.0 as usize).is_some_and(|c| c.cam.drives()) || self.axes[axis.0 as usize].gear.is_some()
+    }
+
+    /// A gearing takes `axis`: a jog or MAM ramp on it goes on
+    /// superimposed (`task/superimposed.rs`); a stop ramp ends.
+    pub(super) fn superimpose_running_ramp(&mut self, axis: AxisHandle) {
+        let ramp = self.cam.axes.get_mut(axis.0 as usize).and_then(|c| c.ramp.take());
+        if let Some(r) = ramp {
+            match (r.jog, r.mv) {
+                (Some(j), _) => self.superimpose_ramp(axis, &r.profile, r.t_s, j, SuperKind::Jog),
+                (None, Some(m)) => self.superimpose_ramp(axis, &r.profile, r.t_s, m, SuperKind::Move),
+                (None, None) => {
+                    if let Some(mi) = r.stop {
+                        self.bits(mi).ip = false;
+                    }
+                }
+            }
+        }
     }
 
     /// A coordinated move takes `axis`: a jog or MAM ramp on it goes on
@@ -807,7 +832,7 @@ impl MotionTask {
         }
     }
 
-    fn set_command(&mut self, axis: AxisHandle, sample: Sample) {
+    pub(super) fn set_command(&mut self, axis: AxisHandle, sample: Sample) {
         let a = &mut self.axes[axis.0 as usize];
         a.command = sample;
         if !a.fed {

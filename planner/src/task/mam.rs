@@ -50,6 +50,7 @@ impl MotionTask {
         self.fold_superimposed(axis);
         self.abort_move(axis);
         self.end_cams(axis);
+        self.end_gear(axis);
         let start = self.axes[axis.0 as usize].command.state();
         let profile = Profile::to_position(start, target, 0.0, &mam.limits);
         self.start_move_ramp(axis, profile, control);

@@ -142,7 +142,7 @@ impl MotionTask {
             homing: a.servo.homing.is_some(),
             moving,
             jogging,
-            gearing: false,
+            gearing: a.gear.is_some(),
             stopping: ramp_stopping || a.job.as_ref().is_some_and(|j| j.stopping),
         }
     }

@@ -29,6 +29,12 @@
 //!   DecelJerk, JerkUnits, Merge, MergeSpeed, LockPosition, LockDirection,
 //!   EventDistance, CalculatedData)` — Merge `Disabled Enabled`, MergeSpeed
 //!   `Programmed Current`; the rules are [`planner::mam`]'s.
+//! * `MAG(SlaveAxis, MasterAxis, MotionControl, Direction, Ratio,
+//!   SlaveCounts, MasterCounts, MasterReference, RatioFormat, Clutch,
+//!   AccelRate, AccelUnits)` — Direction `Same Opposite Reverse Unchanged`,
+//!   MasterReference `Actual Command`, RatioFormat `Real
+//!   Fraction_Slave_Master_Counts`, Clutch `Enabled Disabled`; the rules are
+//!   [`planner::mag`]'s.
 //! * `MAS(Axis, MotionControl, StopType, ChangeDecel, DecelRate, DecelUnits)`
 //!   — the manual's first six operands: StopType `All Jog Move Gear Home Tune
 //!   Test TimeCam PositionCam MasterOffsetMove DirectControl`, ChangeDecel
@@ -41,13 +47,14 @@ use super::bind::{Bind, LogixContext, LogixStep, declared_tag};
 use crate::scene::{BaseType, SegmentType, TagValue};
 use crate::st::Expr;
 use planner::jog::{MajOperands, MasOperands};
+use planner::mag::MagOperands;
 use planner::mam::MamOperands;
 use planner::mapc::MapcOperands;
 use planner::mccp::CamElement;
 use planner::task::{CamProfileHandle, InstructionHandle, MapcCall, MotionTask};
 use std::sync::Arc;
 
-/// Binds an MCCP, MAPC, MRP, MAJ, MAM or MAS call.
+/// Binds an MCCP, MAPC, MRP, MAJ, MAM, MAG or MAS call.
 ///
 /// # Errors
 /// A message naming the operand at fault.
@@ -58,6 +65,7 @@ pub fn bind(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
         "MRP" => mrp(b),
         "MAJ" => maj(b),
         "MAM" => mam(b),
+        "MAG" => mag(b),
         _ => mas(b),
     }
 }
@@ -261,6 +269,31 @@ fn mam(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
     Ok(step("MAM", control, move |task| {
         let _ = task.mam(axis, control, &o);
     }))
+}
+
+fn mag(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
+    let slave = b.axis("Slave Axis")?;
+    let master = b.axis("Master Axis")?;
+    let control = b.motion_control()?;
+    let o = MagOperands {
+        direction: b.code_i32("Direction")?,
+        ratio: b.number("Ratio")?,
+        slave_counts: dint(b.integer("Slave Counts")?, "Slave Counts")?,
+        master_counts: dint(b.integer("Master Counts")?, "Master Counts")?,
+        master_reference: b.code_i32("Master Reference")?,
+        ratio_format: b.code_i32("Ratio Format")?,
+        clutch: b.code_i32("Clutch")?,
+        accel_rate: b.number("Accel Rate")?,
+        accel_units: b.code_i32("Accel Units")?,
+    };
+    Ok(step("MAG", control, move |task| {
+        let _ = task.mag(slave, master, control, &o);
+    }))
+}
+
+/// A DINT operand's value.
+fn dint(x: i64, what: &str) -> Result<i32, String> {
+    i32::try_from(x).map_err(|_| format!("{what} {x}: outside the DINT range"))
 }
 
 fn mas(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {

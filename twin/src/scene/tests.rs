@@ -337,7 +337,7 @@ fn operand_counts_inputs_and_call_styles_are_checked_at_load() {
         "{e}"
     );
     // Logix instructions with named inputs.
-    let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "MAG(Axis := Table)");
+    let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "MCD(Axis := Table)");
     assert!(matches!(error_of(&text).problem(), Some(Problem::NotSimulated { .. })));
     let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "MAJ(Axis := Table)");
     assert!(matches!(

@@ -224,12 +224,15 @@ pub enum AxisMember {
     JogStatus,
     /// `GearingStatus`: gearing is engaged.
     GearingStatus,
+    /// `GearingLockStatus`: the slave is locked to its master (not while
+    /// the MAG's clutch slips).
+    GearingLockStatus,
     /// `StoppingStatus`: a stop ramps the axis.
     StoppingStatus,
 }
 
 /// Every axis member, with its name and type, for parsing and docs.
-pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 23] = [
+pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 24] = [
     ("ActualPosition", AxisMember::ActualPosition, DataType::Real),
     ("CommandPosition", AxisMember::CommandPosition, DataType::Real),
     ("ActualVelocity", AxisMember::ActualVelocity, DataType::Real),
@@ -268,6 +271,7 @@ pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 23] = [
     ("MoveStatus", AxisMember::MoveStatus, DataType::Bool),
     ("JogStatus", AxisMember::JogStatus, DataType::Bool),
     ("GearingStatus", AxisMember::GearingStatus, DataType::Bool),
+    ("GearingLockStatus", AxisMember::GearingLockStatus, DataType::Bool),
     ("StoppingStatus", AxisMember::StoppingStatus, DataType::Bool),
 ];
 

@@ -174,6 +174,7 @@ pub(in crate::program::plc) fn axis_value(task: &MotionTask, h: AxisHandle, m: A
         AxisMember::MoveStatus => Value::Bool(task.axis_status(h).moving),
         AxisMember::JogStatus => Value::Bool(task.axis_status(h).jogging),
         AxisMember::GearingStatus => Value::Bool(task.axis_status(h).gearing),
+        AxisMember::GearingLockStatus => Value::Bool(task.gearing_status(h).1),
         AxisMember::StoppingStatus => Value::Bool(task.axis_status(h).stopping),
     }
 }
