@@ -689,13 +689,14 @@ impl MotionTask {
         }
     }
 
-    /// Whether a position cam drives `axis` now.
+    /// Whether a position cam or a gearing drives `axis` now.
     pub(super) fn cam_drives(&self, axis: AxisHandle) -> bool {
         self.cam.axes.get(axis.0 as usize).is_some_and(|c| c.cam.drives()) || self.axes[axis.0 as usize].gear.is_some()
     }
 
-    /// A gearing takes `axis`: a jog or MAM ramp on it goes on
-    /// superimposed (`task/superimposed.rs`); a stop ramp ends.
+    /// A gearing or a coordinated move takes `axis`: a jog or MAM ramp on
+    /// it goes on superimposed (`task/superimposed.rs`); a stop ramp ends
+    /// (its MAS loses `.IP`).
     pub(super) fn superimpose_running_ramp(&mut self, axis: AxisHandle) {
         let ramp = self.cam.axes.get_mut(axis.0 as usize).and_then(|c| c.ramp.take());
         if let Some(r) = ramp {
@@ -712,20 +713,10 @@ impl MotionTask {
     }
 
     /// A coordinated move takes `axis`: a jog or MAM ramp on it goes on
-    /// superimposed (`task/superimposed.rs`); stop ramps and cams end.
+    /// superimposed (`task/superimposed.rs`); stop ramps, cams and gearing
+    /// end.
     pub(super) fn superimpose_or_release(&mut self, axis: AxisHandle) {
-        let ramp = self.cam.axes.get_mut(axis.0 as usize).and_then(|c| {
-            let keep = c.ramp.as_ref().is_some_and(|r| r.jog.is_some() || r.mv.is_some());
-            if keep { c.ramp.take() } else { None }
-        });
-        if let Some(r) = ramp {
-            let (control, kind) = match (r.jog, r.mv) {
-                (Some(j), _) => (j, SuperKind::Jog),
-                (None, Some(m)) => (m, SuperKind::Move),
-                (None, None) => unreachable!("kept only a jog or a move"),
-            };
-            self.superimpose_ramp(axis, &r.profile, r.t_s, control, kind);
-        }
+        self.superimpose_running_ramp(axis);
         self.release_cam_and_jog(axis);
     }
 

@@ -73,6 +73,26 @@ pub struct LogixStep {
     pub run: Arc<dyn Fn(&mut MotionTask) + Send + Sync>,
 }
 
+impl LogixStep {
+    /// A call executed as one scan of a one-shot rung: `run`, then the rung
+    /// goes false at the next coarse update (so `.EN` clears once `.DN` or
+    /// `.ER` is set).
+    pub fn one_shot(
+        instruction: &'static str,
+        control: InstructionHandle,
+        run: impl Fn(&mut MotionTask) + Send + Sync + 'static,
+    ) -> LogixStep {
+        LogixStep {
+            instruction,
+            control: Some(control),
+            run: Arc::new(move |task: &mut MotionTask| {
+                run(task);
+                task.rung_false_next_scan(control);
+            }),
+        }
+    }
+}
+
 impl fmt::Debug for LogixStep {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("LogixStep")

@@ -51,8 +51,7 @@ use planner::mag::MagOperands;
 use planner::mam::MamOperands;
 use planner::mapc::MapcOperands;
 use planner::mccp::CamElement;
-use planner::task::{CamProfileHandle, InstructionHandle, MapcCall, MotionTask};
-use std::sync::Arc;
+use planner::task::{CamProfileHandle, MapcCall};
 
 /// Binds an MCCP, MAPC, MRP, MAJ, MAM, MAG or MAS call.
 ///
@@ -67,21 +66,6 @@ pub fn bind(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
         "MAM" => mam(b),
         "MAG" => mag(b),
         _ => mas(b),
-    }
-}
-
-fn step(
-    instruction: &'static str,
-    control: InstructionHandle,
-    run: impl Fn(&mut MotionTask) + Send + Sync + 'static,
-) -> LogixStep {
-    LogixStep {
-        instruction,
-        control: Some(control),
-        run: Arc::new(move |task: &mut MotionTask| {
-            run(task);
-            task.rung_false_next_scan(control);
-        }),
     }
 }
 
@@ -177,7 +161,7 @@ fn mccp(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
     let start_slope = b.number("Start Slope")?;
     let end_slope = b.number("End Slope")?;
     let profile = b.cam_profile("Cam Profile")?;
-    Ok(step("MCCP", control, move |task| {
+    Ok(LogixStep::one_shot("MCCP", control, move |task| {
         // The outcome is in the control structure (.DN or .ER/ERR/EXERR/SEGMENT).
         let _ = task.mccp(control, &cam, length, start_slope, end_slope, profile);
     }))
@@ -209,7 +193,7 @@ fn mapc(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
         cam_profile: profile,
         operands: o,
     };
-    Ok(step("MAPC", control, move |task| {
+    Ok(LogixStep::one_shot("MAPC", control, move |task| {
         let _ = task.mapc(call);
     }))
 }
@@ -220,7 +204,7 @@ fn mrp(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
     let kind = b.code_i32("Type")?;
     let select = b.code_i32("Position Select")?;
     let position = b.number("Position")?;
-    Ok(step("MRP", control, move |task| {
+    Ok(LogixStep::one_shot("MRP", control, move |task| {
         let _ = task.mrp(axis, control, kind, select, position);
     }))
 }
@@ -238,7 +222,7 @@ fn maj(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
         decel_units: b.code_i32("Decel Units")?,
         profile: b.code_i32("Profile")?,
     };
-    Ok(step("MAJ", control, move |task| {
+    Ok(LogixStep::one_shot("MAJ", control, move |task| {
         let _ = task.maj(axis, control, &o);
     }))
 }
@@ -266,7 +250,7 @@ fn mam(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
     b.number("Lock Position")?;
     b.optional_array("Event Distance")?;
     b.optional_array("Calculated Data")?;
-    Ok(step("MAM", control, move |task| {
+    Ok(LogixStep::one_shot("MAM", control, move |task| {
         let _ = task.mam(axis, control, &o);
     }))
 }
@@ -286,7 +270,7 @@ fn mag(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
         accel_rate: b.number("Accel Rate")?,
         accel_units: b.code_i32("Accel Units")?,
     };
-    Ok(step("MAG", control, move |task| {
+    Ok(LogixStep::one_shot("MAG", control, move |task| {
         let _ = task.mag(slave, master, control, &o);
     }))
 }
@@ -305,7 +289,7 @@ fn mas(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
         decel_rate: b.number("Decel Rate")?,
         decel_units: b.code_i32("Decel Units")?,
     };
-    Ok(step("MAS", control, move |task| {
+    Ok(LogixStep::one_shot("MAS", control, move |task| {
         let _ = task.mas(axis, control, &o);
     }))
 }
@@ -317,6 +301,7 @@ mod tests {
     use crate::scene::{Scene, load};
     use crate::st::parse_call;
     use planner::axis::{AxisConfig, AxisKind};
+    use planner::task::MotionTask;
     use std::path::Path;
 
     fn scene() -> Scene {

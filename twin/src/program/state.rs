@@ -10,7 +10,6 @@
 use super::bind::{Bind, LogixStep};
 use planner::servo::{AxisType, StateError};
 use planner::task::{AxisHandle, InstructionHandle, MotionTask};
-use std::sync::Arc;
 
 /// Binds a state call.
 ///
@@ -22,7 +21,7 @@ pub fn bind(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
         let system = b.coordinate_system("Coordinate System")?;
         let control = b.motion_control()?;
         let shutdown = mnemonic == "MCSD";
-        return Ok(step(mnemonic, control, move |task| {
+        return Ok(LogixStep::one_shot(mnemonic, control, move |task| {
             let _ = if shutdown {
                 task.mcsd(system, control)
             } else {
@@ -48,22 +47,7 @@ pub fn bind(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
         "MAH" => MotionTask::mah,
         _ => MotionTask::mafr,
     };
-    Ok(step(mnemonic, control, move |task| {
+    Ok(LogixStep::one_shot(mnemonic, control, move |task| {
         let _ = execute(task, axis, control);
     }))
-}
-
-fn step(
-    instruction: &'static str,
-    control: InstructionHandle,
-    run: impl Fn(&mut MotionTask) + Send + Sync + 'static,
-) -> LogixStep {
-    LogixStep {
-        instruction,
-        control: Some(control),
-        run: Arc::new(move |task: &mut MotionTask| {
-            run(task);
-            task.rung_false_next_scan(control);
-        }),
-    }
 }
