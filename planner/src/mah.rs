@@ -12,9 +12,11 @@
 //!   a shut-down one with ERR 7, on a feedback-only one with ERR 8 (active
 //!   homing needs a drive). All other motion in process on the axis is
 //!   cancelled first, as the Logix manual says: single-axis motion (moves,
-//!   jogs, cams, superimposed motion) ramps to rest with the axis' maximum
-//!   deceleration, coordinated motion of the systems holding the axis is
-//!   cancelled at once (as a disable cancels it). While the axis comes to
+//!   jogs, cams, gearing, superimposed motion) ramps to rest with the
+//!   axis' maximum deceleration, and the coordinated motion of the systems
+//!   holding the axis comes to rest along its path at the system's maximum
+//!   deceleration, as in a collision stop (transforms on the axis are
+//!   cancelled). While the axis comes to
 //!   rest the homing is in process (`.IP`, `HomingStatus`): motion
 //!   instructions on the axis fail with ERR 16 (Homing In Process), and so
 //!   does a second MAH. At rest, the **immediate** sequence redefines the

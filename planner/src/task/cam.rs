@@ -642,6 +642,20 @@ impl MotionTask {
         }
         self.end_cams(axis);
         self.end_ramp(axis);
+        let profile = self.rest_profile(axis);
+        self.cam_axis(axis).ramp = Some(RampRun {
+            profile,
+            t_s: 0.0,
+            jog: None,
+            mv: None,
+            stop: None,
+        });
+        true
+    }
+
+    /// A ramp of `axis` from its command state to rest with its configured
+    /// deceleration and jerk (S-curve; trapezoidal without a jerk).
+    pub(super) fn rest_profile(&self, axis: AxisHandle) -> Profile {
         let a = &self.axes[axis.0 as usize];
         let start = a.command.state();
         let cfg = &a.config;
@@ -654,18 +668,10 @@ impl MotionTask {
             cfg.max_jerk,
         )
         .or_else(|_| Limits::trapezoidal(vmax, cfg.max_acceleration, cfg.max_deceleration));
-        let profile = match limits {
+        match limits {
             Ok(limits) => Profile::to_velocity(start, 0.0, &limits),
             Err(_) => Profile::hold(start),
-        };
-        self.cam_axis(axis).ramp = Some(RampRun {
-            profile,
-            t_s: 0.0,
-            jog: None,
-            mv: None,
-            stop: None,
-        });
-        true
+        }
     }
 
     /// Starts a stop ramp along `profile` on `axis` (no control structure):

@@ -52,14 +52,17 @@ impl MotionTask {
         }
         self.stop_cam_and_jog(axis);
         self.stop_superimposed(axis);
-        self.cancel_systems_with_axis(axis);
         self.mct_cancel_on_axis(axis);
+        self.stop_systems_with_axis(axis);
         !self.at_rest(axis)
     }
 
     fn at_rest(&self, axis: AxisHandle) -> bool {
         let a = &self.axes[axis.0 as usize];
-        a.command.velocity == 0.0 && !self.is_stopping(axis) && self.superimposed_moving(axis).is_none()
+        a.command.velocity == 0.0
+            && !self.is_stopping(axis)
+            && self.superimposed_moving(axis).is_none()
+            && !self.coordinated_motion_status(axis)
     }
 
     /// The immediate sequence: the axis position becomes `HomePosition`.

@@ -246,21 +246,32 @@ impl MotionTask {
             .collect()
     }
 
-    /// Ends a system's motion where its command stands now (merge all
-    /// motion from another system): its instructions lose `.IP`/`.AC`, its
-    /// queue is cleared, and its axes keep their command positions.
     /// Cancels at once the coordinated motion (moves, queue, stop) of every
-    /// system that holds `axis` (its drive was disabled).
+    /// system that holds `axis` (its drive was disabled). The system's other
+    /// axes, whose drives still follow their commands, ramp to rest each at
+    /// its own deceleration from where the path left them (as a Stop
+    /// Planner would), rather than keeping the path's last velocity.
     pub(in crate::task) fn cancel_systems_with_axis(&mut self, axis: AxisHandle) {
         for i in 0..self.coord.systems.len() {
             let sys = &self.coord.systems[i];
             let busy = !sys.components.is_empty() || sys.pending.is_some() || sys.stop.is_some();
             if busy && sys.axes.contains(&axis) {
+                let others: Vec<AxisHandle> = sys.axes.iter().copied().filter(|&a| a != axis).collect();
                 self.cancel_system(CoordHandle(i as u32));
+                for other in others {
+                    let c = self.axes[other.0 as usize].command;
+                    if c.velocity != 0.0 || c.acceleration != 0.0 {
+                        let profile = self.rest_profile(other);
+                        self.start_stop_ramp(other, profile);
+                    }
+                }
             }
         }
     }
 
+    /// Ends a system's motion where its command stands now (merge all
+    /// motion from another system): its instructions lose `.IP`/`.AC`, its
+    /// queue is cleared, and its axes keep their command positions.
     pub(super) fn cancel_system(&mut self, cs: CoordHandle) {
         let here = self.axis_positions(cs);
         let sys = &mut self.coord.systems[cs.0 as usize];
@@ -549,21 +560,37 @@ impl MotionTask {
     pub(in crate::task) fn stop_coordinated_motion(&mut self) -> Vec<AxisHandle> {
         let mut stopped = Vec::new();
         for i in 0..self.coord.systems.len() {
-            let sys = &mut self.coord.systems[i];
-            if sys.components.is_empty() && sys.pending.is_none() {
-                continue;
-            }
-            sys.stop = None;
-            let decel = sys.system.config().max_decel;
-            let limits = Limits::trapezoidal(f64::MAX / 4.0, decel, decel).ok();
-            stopped.extend(sys.axes.iter().copied());
-            let cs = CoordHandle(i as u32);
-            self.bring_to_rest(cs, limits);
-            let st = &mut self.coord.systems[i].status;
-            st.move_ = false;
-            st.move_transition = false;
-            self.refresh_queue_status(cs);
+            stopped.extend(self.stop_system_along_path(CoordHandle(i as u32)));
         }
         stopped
+    }
+
+    /// Every moving system that holds `axis` comes to rest along its path
+    /// as in [`MotionTask::stop_all_axes`] (an active MAH's cancel).
+    pub(in crate::task) fn stop_systems_with_axis(&mut self, axis: AxisHandle) {
+        for i in 0..self.coord.systems.len() {
+            if self.coord.systems[i].axes.contains(&axis) {
+                self.stop_system_along_path(CoordHandle(i as u32));
+            }
+        }
+    }
+
+    /// Brings system `cs`, if it moves, to rest along its path with its
+    /// maximum deceleration; returns its axes then (none if it was idle).
+    fn stop_system_along_path(&mut self, cs: CoordHandle) -> Vec<AxisHandle> {
+        let sys = &mut self.coord.systems[cs.0 as usize];
+        if sys.components.is_empty() && sys.pending.is_none() {
+            return Vec::new();
+        }
+        sys.stop = None;
+        let decel = sys.system.config().max_decel;
+        let limits = Limits::trapezoidal(f64::MAX / 4.0, decel, decel).ok();
+        let axes = sys.axes.clone();
+        self.bring_to_rest(cs, limits);
+        let st = &mut self.coord.systems[cs.0 as usize].status;
+        st.move_ = false;
+        st.move_transition = false;
+        self.refresh_queue_status(cs);
+        axes
     }
 }

@@ -568,3 +568,108 @@ fn a_disable_ends_a_homing_in_process() {
     assert!(!b.ip && !b.pc);
     assert!(!task.axis_status(axis).homing && !task.axis_status(axis).homed);
 }
+
+#[test]
+fn active_mah_during_a_coordinated_move_waits_for_the_path_to_stop() {
+    use crate::mah::HomeMode;
+    let mut task = MotionTask::new(DT).unwrap();
+    let config = |name: &str| AxisConfig {
+        homing: homing(HomeMode::Active, 100.0),
+        ..AxisConfig::new(name, AxisKind::Linear)
+    };
+    let x = task.add_axis(config("X"), 0.0).unwrap();
+    let y = task.add_axis(config("Y"), 0.0).unwrap();
+    let cs = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: 2,
+                primary_axes: 2,
+                max_speed: 100.0,
+                max_accel: 500.0,
+                max_decel: 500.0,
+                ..CoordinateSystemConfig::new("CS")
+            },
+            &[x, y],
+        )
+        .unwrap();
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![50.0, 50.0],
+        speed: 40.0,
+        accel_rate: 200.0,
+        decel_rate: 200.0,
+        ..Default::default()
+    });
+    let h = task.add_coord_instruction("Line", cs, call.clone());
+    task.set_coord_instruction(h, true, call);
+    for _ in 0..100 {
+        task.update();
+    }
+    assert!(task.coordinated_motion_status(x));
+    let home = task.add_instruction("Home");
+    task.mah(x, home).unwrap();
+    assert!(task.motion_bits(home).ip && task.axis_status(x).homing);
+    let mut updates = 0;
+    while task.motion_bits(home).ip {
+        task.update();
+        updates += 1;
+        assert!(updates < 200, "the path stops and the homing ends");
+    }
+    assert!(task.motion_bits(home).pc);
+    assert!(!task.coordinated_motion_status(x) && !task.coordinated_motion_status(y));
+    let (sx, sy) = (task.axis_state(x), task.axis_state(y));
+    assert_eq!((sx.command_velocity, sy.command_velocity), (0.0, 0.0));
+    assert!((sx.command_position - 100.0).abs() < 1e-9, "homed to 100");
+    assert!(sy.command_position < 50.0, "Y stopped short of the target");
+}
+
+#[test]
+fn a_disable_during_a_coordinated_move_brings_the_other_axes_to_rest() {
+    let mut task = MotionTask::new(DT).unwrap();
+    let config = |name: &str| AxisConfig {
+        max_deceleration: 400.0,
+        ..AxisConfig::new(name, AxisKind::Linear)
+    };
+    let x = task.add_axis(config("X"), 0.0).unwrap();
+    let y = task.add_axis(config("Y"), 0.0).unwrap();
+    let cs = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: 2,
+                primary_axes: 2,
+                max_speed: 100.0,
+                max_accel: 500.0,
+                max_decel: 500.0,
+                ..CoordinateSystemConfig::new("CS")
+            },
+            &[x, y],
+        )
+        .unwrap();
+    let call = CoordCall::Mclm(CoordMoveInputs {
+        position: vec![50.0, 50.0],
+        speed: 40.0,
+        accel_rate: 200.0,
+        decel_rate: 200.0,
+        ..Default::default()
+    });
+    let h = task.add_coord_instruction("Line", cs, call.clone());
+    task.set_coord_instruction(h, true, call);
+    for _ in 0..100 {
+        task.update();
+    }
+    let vy = task.axis_state(y).command_velocity;
+    assert!(vy > 20.0, "{vy}");
+    let msf = task.add_instruction("MSF");
+    task.msf(x, msf).unwrap();
+    assert!(!task.coordinated_motion_status(y));
+    // Y ramps down at its 400 units/s² instead of keeping the path's speed.
+    let mut updates = 0;
+    while task.axis_state(y).command_velocity != 0.0 {
+        task.update();
+        updates += 1;
+        assert!(updates < 100, "Y comes to rest");
+    }
+    assert!(updates as f64 * DT >= vy / 400.0 - 2.0 * DT, "{updates} updates");
+    let p = task.axis_state(y).command_position;
+    task.update();
+    assert_eq!(task.axis_state(y).command_position, p);
+}
