@@ -467,15 +467,6 @@ impl RobotSim {
         }
     }
 
-    /// The inertia a servo drive's loops scale by (kg·m² or kg); `None`
-    /// for a spring drive.
-    ///
-    /// # Panics
-    /// If `drive_index >= drive_count()`.
-    pub fn drive_inertia(&self, drive_index: usize) -> Option<f64> {
-        self.drives[drive_index].servo.as_ref().map(|s| s.control.inertia())
-    }
-
     /// Closes every enabled servo drive's loops for one substep of `dt_s`
     /// that starts `elapsed_s` into the step, on the joint's measured
     /// position and velocity; a drive that is off or braked resets them.

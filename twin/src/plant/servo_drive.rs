@@ -74,11 +74,6 @@ impl ServoLoop {
         }
     }
 
-    /// The inertia the loops scale by.
-    pub fn inertia(&self) -> f64 {
-        self.inertia
-    }
-
     /// Changes the inertia the loops scale by (kg·m² or kg, > 0).
     pub fn set_inertia(&mut self, inertia: f64) {
         self.inertia = inertia;

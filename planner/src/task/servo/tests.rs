@@ -569,16 +569,20 @@ fn a_disable_ends_a_homing_in_process() {
     assert!(!task.axis_status(axis).homing && !task.axis_status(axis).homed);
 }
 
-#[test]
-fn active_mah_during_a_coordinated_move_waits_for_the_path_to_stop() {
-    use crate::mah::HomeMode;
+/// Axes X and Y (both `config`, renamed) in a coordinate system, 0.4 s
+/// into an MCLM to (50, 50) at 40 units/s.
+fn line_under_way(config: AxisConfig) -> (MotionTask, AxisHandle, AxisHandle) {
     let mut task = MotionTask::new(DT).unwrap();
-    let config = |name: &str| AxisConfig {
-        homing: homing(HomeMode::Active, 100.0),
-        ..AxisConfig::new(name, AxisKind::Linear)
-    };
-    let x = task.add_axis(config("X"), 0.0).unwrap();
-    let y = task.add_axis(config("Y"), 0.0).unwrap();
+    let x = task.add_axis(config.clone(), 0.0).unwrap();
+    let y = task
+        .add_axis(
+            AxisConfig {
+                name: "Y".into(),
+                ..config
+            },
+            0.0,
+        )
+        .unwrap();
     let cs = task
         .add_coordinate_system(
             CoordinateSystemConfig {
@@ -604,6 +608,17 @@ fn active_mah_during_a_coordinated_move_waits_for_the_path_to_stop() {
     for _ in 0..100 {
         task.update();
     }
+    (task, x, y)
+}
+
+#[test]
+fn active_mah_during_a_coordinated_move_waits_for_the_path_to_stop() {
+    use crate::mah::HomeMode;
+    let config = AxisConfig {
+        homing: homing(HomeMode::Active, 100.0),
+        ..AxisConfig::new("X", AxisKind::Linear)
+    };
+    let (mut task, x, y) = line_under_way(config);
     assert!(task.coordinated_motion_status(x));
     let home = task.add_instruction("Home");
     task.mah(x, home).unwrap();
@@ -624,38 +639,11 @@ fn active_mah_during_a_coordinated_move_waits_for_the_path_to_stop() {
 
 #[test]
 fn a_disable_during_a_coordinated_move_brings_the_other_axes_to_rest() {
-    let mut task = MotionTask::new(DT).unwrap();
-    let config = |name: &str| AxisConfig {
+    let config = AxisConfig {
         max_deceleration: 400.0,
-        ..AxisConfig::new(name, AxisKind::Linear)
+        ..AxisConfig::new("X", AxisKind::Linear)
     };
-    let x = task.add_axis(config("X"), 0.0).unwrap();
-    let y = task.add_axis(config("Y"), 0.0).unwrap();
-    let cs = task
-        .add_coordinate_system(
-            CoordinateSystemConfig {
-                axis_count: 2,
-                primary_axes: 2,
-                max_speed: 100.0,
-                max_accel: 500.0,
-                max_decel: 500.0,
-                ..CoordinateSystemConfig::new("CS")
-            },
-            &[x, y],
-        )
-        .unwrap();
-    let call = CoordCall::Mclm(CoordMoveInputs {
-        position: vec![50.0, 50.0],
-        speed: 40.0,
-        accel_rate: 200.0,
-        decel_rate: 200.0,
-        ..Default::default()
-    });
-    let h = task.add_coord_instruction("Line", cs, call.clone());
-    task.set_coord_instruction(h, true, call);
-    for _ in 0..100 {
-        task.update();
-    }
+    let (mut task, x, y) = line_under_way(config);
     let vy = task.axis_state(y).command_velocity;
     assert!(vy > 20.0, "{vy}");
     let msf = task.add_instruction("MSF");
