@@ -14,25 +14,40 @@
 //! at the current time and planning a new one from that [`State`].
 //!
 //! # Shape
-//! A position profile is always *ramp → cruise → ramp*: a velocity change from
+//! A position profile is *ramp → cruise → ramp*: a velocity change from
 //! the start state to a peak velocity `v_p`, a cruise at `v_p`, and a velocity
 //! change to the final speed. The planner picks the largest `v_p ≤ v_max`
 //! whose two ramps fit in the distance (bisection on the ramp distance, which
-//! grows monotonically with `v_p` above both end speeds), which makes
-//! rest-to-rest profiles time-optimal. An S-curve ramp is the classic
-//! three-phase jerk ramp (jerk up, constant acceleration, jerk down), so a
-//! rest-to-rest S-curve has the seven phases of the textbook double-S.
+//! grows monotonically with `v_p` above both end speeds). An S-curve ramp is
+//! the classic three-phase jerk ramp (jerk up, constant acceleration, jerk
+//! down), so a rest-to-rest S-curve has the seven phases of the textbook
+//! double-S. One more shape covers an axis that is already decelerating
+//! towards a target beyond its braking point but short of where ending the
+//! deceleration would carry it: it decelerates less hard first, then brakes
+//! (no stop-and-creep). With these the planner is time-optimal from any
+//! start state that keeps the limits: `tests/state_to_state.rs` matches
+//! Ruckig's time-optimal durations within 1e-9 on 100,000 cases.
 //!
 //! # Limits, and where they apply
-//! A ramp that raises the speed |v| uses the *acceleration* limit and the
+//! A phase that raises the speed |v| uses the *acceleration* limit and the
 //! *accel jerk*; one that lowers it uses the *deceleration* limit and the
-//! *decel jerk*; a ramp that reverses the direction of travel uses the smaller
-//! of each pair. Choices the textbooks leave open, made here:
+//! *decel jerk* — as the Logix accel and decel jerks are defined. So a stop
+//! issued while the axis still accelerates first ends the acceleration with
+//! the accel jerk and only then decelerates: the speed never passes
+//! `v_max` when the start state lets it stay within. A ramp that reverses
+//! the direction of travel uses the smaller of each pair (it both lowers and
+//! raises the speed), after easing, while the speed still falls, an
+//! acceleration the far side could not end in time. Choices the textbooks
+//! leave open, made here:
 //! * a trapezoidal profile ignores the start acceleration (acceleration may
 //!   jump, by definition of a trapezoid);
 //! * a start speed above `v_max` (a re-plan with a lower speed) is brought down
-//!   to `v_max` with the deceleration limits; a start acceleration above the
-//!   limit is first ramped back to the limit with the ramp's jerk;
+//!   to `v_max` with the deceleration limits, as Logix decelerates to a
+//!   lowered speed; a start acceleration above the limit is first ramped back
+//!   to the limit with the ramp's jerk;
+//! * a start whose acceleration cannot end before the speed passes `v_max`
+//!   (v + a²/2j above it) peaks at that coast velocity, the least the jerk
+//!   allows; [`Profile::peak_speed`] tells a caller to flag it;
 //! * when the end speed cannot be reached in the distance available (a blend
 //!   into a move that is too short), the profile ends at the highest speed it
 //!   can reach — [`Profile::final_state`] tells the caller which;
@@ -300,6 +315,12 @@ impl Profile {
             if lo >= vf && d(lo, vf) <= dist {
                 peak = largest_feasible(lo, v_max, |vp| d(vp, vf) <= dist);
             } else if v_free > vf {
+                if a0 < 0.0
+                    && v0 <= v_max
+                    && let Some(profile) = softened_brake(start, dir, target_position, vf, dist, limits)
+                {
+                    return profile;
+                }
                 // Too close to cruise above the start speed: brake earlier.
                 // Braking straight to `vf` fits because stopping fits.
                 peak = largest_feasible(vf, v_free.min(v_max), |vp| d(vp, vf) <= dist);
@@ -454,6 +475,30 @@ impl Profile {
         self.final_state.position += delta;
     }
 
+    /// The constant-jerk phases in time order: start time (s), duration (s)
+    /// and the sample at the phase's start, whose jerk holds throughout.
+    pub fn phases(&self) -> impl Iterator<Item = (f64, f64, Sample)> + '_ {
+        self.segments.iter().map(|s| (s.t0_s, s.duration_s, s.at(0.0)))
+    }
+
+    /// The highest speed |v| anywhere in the profile, its start and final
+    /// state included (exact: inside a phase the speed peaks where the
+    /// acceleration crosses zero).
+    pub fn peak_speed(&self) -> f64 {
+        let mut peak = self.start.velocity.abs().max(self.final_state.velocity.abs());
+        for seg in &self.segments {
+            peak = peak.max(seg.start.velocity.abs());
+            peak = peak.max(seg.at(seg.duration_s).velocity.abs());
+            if seg.jerk != 0.0 {
+                let t = -seg.start.acceleration / seg.jerk;
+                if t > 0.0 && t < seg.duration_s {
+                    peak = peak.max(seg.at(t).velocity.abs());
+                }
+            }
+        }
+        peak
+    }
+
     /// Duration in seconds until the final state is reached.
     pub fn duration_s(&self) -> f64 {
         self.duration_s
@@ -524,6 +569,57 @@ impl Profile {
         let lowering = s.velocity * s.acceleration < 0.0;
         (raising, lowering)
     }
+}
+
+/// The time-optimal profile for an axis that is already decelerating
+/// (`dir`-frame acceleration < 0) towards a target beyond its braking point
+/// but short of where it would be after ending the deceleration: it
+/// decelerates less hard first — the acceleration rises from `a0` to some
+/// `a1 < 0` with the decel jerk — then brakes to `vf` with the full limits,
+/// never touching zero acceleration in between (no creep). `a1` is the one
+/// whose distance equals the target's; the distance grows with `a1`.
+/// `None` when the planner's other shapes should handle the case.
+fn softened_brake(
+    start: State,
+    dir: f64,
+    target_position: f64,
+    vf: f64,
+    dist: f64,
+    limits: &Limits,
+) -> Option<Profile> {
+    let Shape::SCurve { decel_jerk: j, .. } = limits.shape else {
+        return None;
+    };
+    let (v0, a0) = (dir * start.velocity, dir * start.acceleration);
+    let soften = |a1: f64| {
+        let first = Ramp::jerk_phase(v0, a0, j, (a1 - a0) / j);
+        let v1 = v0 + (a1 * a1 - a0 * a0) / (2.0 * j);
+        let rest = Ramp::new(v1, a1, vf, limits);
+        (first, rest)
+    };
+    let distance = |a1: f64| {
+        let (first, rest) = soften(a1);
+        first.distance() + rest.distance()
+    };
+    if distance(a0) > dist || distance(0.0) < dist {
+        return None;
+    }
+    let a1 = largest_feasible(a0, 0.0, |a1| distance(a1) <= dist);
+    let (first, rest) = soften(a1);
+    let mirrored_start = State {
+        position: 0.0,
+        velocity: v0,
+        acceleration: a0,
+    };
+    let mut profile = Profile::from_ramps(mirrored_start, &[&first, &rest], None, limits);
+    profile.mirror_and_shift(dir, start.position);
+    profile.start = start;
+    profile.final_state = State {
+        position: target_position,
+        velocity: dir * vf,
+        acceleration: 0.0,
+    };
+    Some(profile)
 }
 
 /// Signed distance an axis in `state` travels until it stands still, braking

@@ -1,0 +1,170 @@
+"""Writes ruckig_state_to_state.txt: Ruckig's time-optimal durations for the
+state-to-state cases that planner/tests/state_to_state.rs draws.
+
+Dev-time only (the table is committed; tests never run Python):
+
+    pip install ruckig==0.19.4
+    python3 planner/tests/reference/ruckig_state_to_state.py
+
+Limits and start states come from a SplitMix64 stream that the Rust test
+repeats bit for bit (only +, -, *, / and sqrt, which IEEE 754 rounds the same
+in both languages). The target depends on where Ruckig's own time-optimal stop
+ends, so each line stores it (shortest round-trip), then the sign of the
+final velocity (+, - or 0) and Ruckig's duration (13 significant digits), or
+`x` where Ruckig reports an error.
+
+Ruckig's model equals the planner's when the acceleration and jerk limits are
+the same for raising and lowering the speed and the start state can keep the
+velocity limit, so the cases are drawn that way; asymmetric limits and
+out-of-limit starts are checked for invariants in the Rust test instead.
+"""
+
+import os
+import sys
+
+import ruckig
+
+CASES = 100_000
+SEED = 0x5EED_0014
+MASK = (1 << 64) - 1
+
+
+class SplitMix64:
+    def __init__(self, seed):
+        self.state = seed & MASK
+
+    def next(self):
+        self.state = (self.state + 0x9E3779B97F4A7C15) & MASK
+        z = self.state
+        z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & MASK
+        z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & MASK
+        return z ^ (z >> 31)
+
+    def unit(self):
+        """Uniform in [0, 1)."""
+        return (self.next() >> 11) * (1.0 / 9007199254740992.0)
+
+    def below(self, n):
+        return self.next() % n
+
+    def scale(self, lo, hi):
+        """(1 + u) * 2^k, k uniform in lo..=hi: log-uniform-ish, exact."""
+        k = lo + self.below(hi - lo + 1)
+        return (1.0 + self.unit()) * (2.0**k)
+
+
+def draw(rng):
+    """One case's limits, start state and target recipe (mirrored in Rust)."""
+    v = rng.scale(-4, 10)
+    a = v * rng.scale(-3, 5)
+    j = a * a / v * rng.scale(-2, 7)
+    p0 = (2.0 * rng.unit() - 1.0) * 100.0
+    kind = rng.below(8)
+    if kind == 0:
+        v0, a0 = 0.0, 0.0
+    else:
+        v0 = v * (2.0 * rng.unit() - 1.0)
+        a0 = a * (2.0 * rng.unit() - 1.0)
+        if kind == 1:
+            a0 = 0.0
+        for _ in range(60):
+            coast = v0 + a0 * abs(a0) / (2.0 * j)
+            if -v <= coast <= v:
+                break
+            a0 *= 0.5
+        else:
+            a0 = 0.0
+    vf = v * rng.unit() if rng.below(4) == 0 else 0.0
+    near = rng.below(3) != 0
+    k = rng.below(21)
+    u = rng.unit()
+    side = 1.0 if rng.below(2) == 0 else -1.0
+    return v, a, j, p0, v0, a0, vf, near, k, u, side
+
+
+def stop_position(p0, v0, a0, v, a, j):
+    """Where Ruckig's own time-optimal stop (velocity interface) ends."""
+    inp = ruckig.InputParameter(1)
+    inp.control_interface = ruckig.ControlInterface.Velocity
+    inp.current_position = [p0]
+    inp.current_velocity = [v0]
+    inp.current_acceleration = [a0]
+    inp.target_velocity = [0.0]
+    inp.target_acceleration = [0.0]
+    inp.max_velocity = [v]
+    inp.max_acceleration = [a]
+    inp.max_jerk = [j]
+    traj = ruckig.Trajectory(1)
+    try:
+        res = ruckig.Ruckig(1).calculate(inp, traj)
+    except ruckig.RuckigError:
+        return None
+    if res not in (ruckig.Result.Working, ruckig.Result.Finished):
+        return None
+    pos, _, _ = traj.at_time(traj.duration)
+    return pos[0]
+
+
+def duration(p0, v0, a0, target, vf_signed, v, a, j):
+    inp = ruckig.InputParameter(1)
+    inp.current_position = [p0]
+    inp.current_velocity = [v0]
+    inp.current_acceleration = [a0]
+    inp.target_position = [target]
+    inp.target_velocity = [vf_signed]
+    inp.target_acceleration = [0.0]
+    inp.max_velocity = [v]
+    inp.max_acceleration = [a]
+    inp.max_jerk = [j]
+    traj = ruckig.Trajectory(1)
+    try:
+        res = ruckig.Ruckig(1).calculate(inp, traj)
+    except ruckig.RuckigError:
+        return None
+    if res not in (ruckig.Result.Working, ruckig.Result.Finished):
+        return None
+    return traj.duration
+
+
+def main():
+    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "ruckig_state_to_state.txt")
+    rng = SplitMix64(SEED)
+    lines = [
+        "# Ruckig 0.19.4 durations for planner/tests/state_to_state.rs; written by",
+        "# ruckig_state_to_state.py (seed 0x5EED0014): target, final-velocity sign, duration_s",
+    ]
+    for _ in range(CASES):
+        v, a, j, p0, v0, a0, vf, near, k, u, side = draw(rng)
+        span = v * v / a + a / j * v
+        stop = stop_position(p0, v0, a0, v, a, j)
+        if stop is None:
+            lines.append("x x x")
+            continue
+        if vf > 0.0:
+            # Far enough beyond the stop for the final speed to be reachable.
+            sign = 1.0 if v0 > 0.0 or (v0 == 0.0 and side > 0.0) else -1.0
+            target = stop + sign * span * (2.0 + 4.0 * u)
+        elif near:
+            # Near the stopping point, on either side: 2^-k of the span.
+            # Not closer than 2^-16: Ruckig accepts a profile whose end is
+            # within 1e-8 of the target.
+            target = stop + side * max(span * (1.0 + u) * (2.0 ** (-k)), 2.0**-16)
+        else:
+            target = p0 + side * span * 8.0 * u
+        sign_char = "0"
+        vf_signed = 0.0
+        if vf > 0.0:
+            sign_char = "+" if sign > 0.0 else "-"
+            vf_signed = sign * vf
+        d = duration(p0, v0, a0, target, vf_signed, v, a, j)
+        if d is None:
+            lines.append("%r %s x" % (target, sign_char))
+        else:
+            lines.append("%r %s %.13g" % (target, sign_char, d))
+    with open(out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("wrote", out, file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
