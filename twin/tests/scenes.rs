@@ -1787,3 +1787,34 @@ fn scara_pallet_frames_match_snapshots() {
 fn knife_cut_frames_match_snapshots() {
     assert_scene_frames_match_snapshots("scenes/knife_cut.toml", "knife_cut_snapshots");
 }
+
+/// MCCP from `Cam[1]` of a CAM[4] with Length 4 (three elements remain):
+/// ERR 26, and its EXERR is the size of the CAM tag — "the number of cams in
+/// the Cam Tag provided to the instruction" — not the three from [1].
+#[test]
+fn mccp_illegal_cam_length_reports_the_cam_tag_size() {
+    let path = edited_scene(
+        "rotary_knife",
+        "mccp_err26",
+        &[("MCCP(MCCP_2, KnifeCam2[0], 4,", "MCCP(MCCP_2, KnifeCam2[1], 4,")],
+    );
+    let out = path.parent().expect("scene dir");
+    let output = twin_cmd()
+        .args(["run", &path.display().to_string(), "--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .output()
+        .expect("run twin");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(!output.status.success(), "an instruction error fails the run: {stdout}");
+    let (header, rows) = read_trace(&out.join("t.csv"));
+    let (er, err, exerr) = (
+        column(&header, "MCCP_2.ER"),
+        column(&header, "MCCP_2.ERR"),
+        column(&header, "MCCP_2.EXERR"),
+    );
+    let row = rows.iter().find(|r| r[er] == 1.0).expect("MCCP_2 errs");
+    assert_eq!((row[err], row[exerr]), (26.0, 4.0));
+    // From [0] the same tag calculates.
+    let ok = rows.iter().find(|r| r[column(&header, "MCCP_1.DN")] == 1.0);
+    assert!(ok.is_some());
+}

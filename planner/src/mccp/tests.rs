@@ -296,3 +296,20 @@ fn operand_errors_leave_a_calculated_profile_untouched() {
     assert_eq!(tag.calculate(&bad, 2, 0.0, 0.0).unwrap_err().err(), 29);
     assert_eq!((tag.status(), tag.profile().is_none()), (0, true));
 }
+
+/// `Cam[start]`: the check counts the elements from `start`, the EXERR of ERR
+/// 26 is the whole array's size.
+#[test]
+fn err_26_from_an_element_reports_the_array_size() {
+    use crate::task::MotionTask;
+    let cam = cubic(&[(0.0, 0.0), (1.0, 1.0), (2.0, 0.0), (3.0, 2.0), (4.0, 1.0)]);
+    let mut task = MotionTask::new(0.004).unwrap();
+    let profile = task.add_cam_profile("Profile", 4);
+    let mccp = task.add_instruction("MCCP_1");
+    let e = task.mccp_from(mccp, &cam, 2, 4, 0.0, 0.0, profile).unwrap_err();
+    assert_eq!((e.err(), e.exerr()), (26, 5));
+    let bits = task.motion_bits(mccp);
+    assert_eq!((bits.er, bits.err, bits.exerr), (true, 26, 5));
+    task.mccp_from(mccp, &cam, 2, 3, 0.0, 0.0, profile).unwrap();
+    assert_eq!(task.cam_profile(profile).profile().unwrap().elements()[0].master, 2.0);
+}

@@ -234,10 +234,36 @@ impl MotionTask {
         end_slope: f64,
         profile: CamProfileHandle,
     ) -> Result<(), MccpError> {
+        self.mccp_from(motion_control, cam, 0, length, start_slope, end_slope, profile)
+    }
+
+    /// MCCP with the Cam operand an element of a CAM array, `Cam[start]`:
+    /// calculates from `length` elements of `cam_array` starting at `start`.
+    /// ERR 26's EXERR is the size of the whole array (the spec: "the number
+    /// of cams in the Cam Tag provided"), not the count from `start`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn mccp_from(
+        &mut self,
+        motion_control: InstructionHandle,
+        cam_array: &[CamElement],
+        start: usize,
+        length: usize,
+        start_slope: f64,
+        end_slope: f64,
+        profile: CamProfileHandle,
+    ) -> Result<(), MccpError> {
         self.begin(motion_control);
+        let cam = cam_array.get(start..).unwrap_or(&[]);
         let r = self.cam.profiles[profile.0 as usize]
             .1
-            .calculate(cam, length, start_slope, end_slope);
+            .calculate(cam, length, start_slope, end_slope)
+            .map_err(|e| match e {
+                MccpError::IllegalCamLength { length, .. } => MccpError::IllegalCamLength {
+                    length,
+                    elements: cam_array.len(),
+                },
+                e => e,
+            });
         match &r {
             Ok(()) => self.bits(motion_control).dn = true,
             Err(e) => e.write_to(self.bits(motion_control)),

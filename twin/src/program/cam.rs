@@ -97,7 +97,8 @@ fn cam_profile(ctx: &mut LogixContext<'_>, operand: &Expr) -> Result<CamProfileH
 
 /// The cam points an operand names (`Cam[2]`: from element 2), as MCCP sees
 /// them.
-fn cam_points(ctx: &LogixContext<'_>, operand: &Expr) -> Result<Vec<CamElement>, String> {
+/// The whole CAM array the operand names and the index it starts at.
+fn cam_points(ctx: &LogixContext<'_>, operand: &Expr) -> Result<(Vec<CamElement>, usize), String> {
     let what = "Cam";
     let (name, start) = match operand {
         Expr::Ident(name) => (name, 0usize),
@@ -134,7 +135,7 @@ fn cam_points(ctx: &LogixContext<'_>, operand: &Expr) -> Result<Vec<CamElement>,
         })
         .collect();
     elements.resize(size, CamElement::default());
-    Ok(elements.split_off(start))
+    Ok((elements, start))
 }
 
 fn count(b: &Bind<'_, '_>, name: &str) -> Result<usize, String> {
@@ -156,14 +157,14 @@ impl Bind<'_, '_> {
 
 fn mccp(b: &mut Bind<'_, '_>) -> Result<LogixStep, String> {
     let control = b.motion_control()?;
-    let cam = cam_points(b.ctx, b.operand("Cam").1)?;
+    let (cam, start) = cam_points(b.ctx, b.operand("Cam").1)?;
     let length = count(b, "Length")?;
     let start_slope = b.number("Start Slope")?;
     let end_slope = b.number("End Slope")?;
     let profile = b.cam_profile("Cam Profile")?;
     Ok(LogixStep::one_shot("MCCP", control, move |task| {
         // The outcome is in the control structure (.DN or .ER/ERR/EXERR/SEGMENT).
-        let _ = task.mccp(control, &cam, length, start_slope, end_slope, profile);
+        let _ = task.mccp_from(control, &cam, start, length, start_slope, end_slope, profile);
     }))
 }
 
