@@ -359,12 +359,13 @@ mod tests {
         let e = compile_text("MCCP(MCCP_1, KnifeCam[4], 4, 0, 0, KnifeProfile)", &scene, &mut task)
             .expect_err("CAM[4] has no element 4");
         assert!(e.starts_with("Cam KnifeCam[4]"), "{e}");
-        // Length beyond the CAM array: ERR 26 with EXERR = its element count.
+        // Length beyond the CAM array: ERR 26 with EXERR = the size of the
+        // CAM tag (4), not the 3 elements from [1].
         let long = compile_text("MCCP(MCCP_2, KnifeCam[1], 4, 0, 0, KnifeProfile2)", &scene, &mut task)
             .expect("binds; the error is the instruction's");
         (long.run)(&mut task);
         let b = task.motion_bits(long.control.expect("control"));
-        assert_eq!((b.er, b.err, b.exerr), (true, 26, 3));
+        assert_eq!((b.er, b.err, b.exerr), (true, 26, 4));
         let e = compile_text(
             "MAPC(Knife, Conveyor, MAPC_1, Sideways, KnifeProfile[0], 1, 1, Continuous, Immediate, 0, 0, NewCam, Command, ForwardOnly)",
             &scene,
