@@ -1818,3 +1818,23 @@ fn mccp_illegal_cam_length_reports_the_cam_tag_size() {
     let ok = rows.iter().find(|r| r[column(&header, "MCCP_1.DN")] == 1.0);
     assert!(ok.is_some());
 }
+
+/// A camera faster than the coarse updates would silently lose frames
+/// (coarse 4 ms gives 250 updates a second): refused at load, naming the
+/// file, line and field.
+#[test]
+fn a_camera_faster_than_the_updates_is_refused() {
+    let path = edited_scene("indexing_table", "fps_above_updates", &[("fps = 4.0", "fps = 500.0")]);
+    let out = twin_cmd().arg("check").arg(&path).output().expect("run twin");
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let line = stderr.lines().next().unwrap_or_default().to_string();
+    assert!(
+        line.contains("indexing_table.toml:") && line.contains("cameras[0].fps") && line.contains("250"),
+        "{stderr}"
+    );
+    // At the update rate it runs, one frame per update.
+    let path = edited_scene("indexing_table", "fps_at_updates", &[("fps = 4.0", "fps = 250.0")]);
+    let out = twin_cmd().arg("check").arg(&path).output().expect("run twin");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}

@@ -51,6 +51,17 @@ pub enum Problem {
         /// The coarse update period, ms.
         coarse_update_ms: f64,
     },
+    /// A camera asks for more frames per second than the coarse updates
+    /// give (frames are rendered at updates, one per update at most).
+    #[error(
+        "fps = {fps} is above the coarse update rate of {max_fps} per second (coarse_update_ms); frames are rendered at updates"
+    )]
+    FpsAboveUpdateRate {
+        /// The camera's fps.
+        fps: f64,
+        /// 1000 / coarse_update_ms.
+        max_fps: f64,
+    },
     /// A name used twice.
     #[error("duplicate name '{name}' (first declared on line {first_line})")]
     DuplicateName {

@@ -469,6 +469,7 @@ fn ranges_are_checked() {
         ("max_jerk = 36000.0", "max_jerk = -1.0", "axes[0].max_jerk"),
         ("max_velocity = 500.0", "max_velocity = nan", "axes[1].max_velocity"),
         ("fps = 10.0", "fps = 0.0", "cameras[0].fps"),
+        ("fps = 10.0", "fps = 1000.0", "cameras[0].fps"),
         ("width = 640", "width = 0", "cameras[0].width"),
         ("fov_deg = 45.0", "fov_deg = 180.0", "cameras[0].fov_deg"),
         ("duration_s = 8.0", "duration_s = 0.0", "duration_s"),

@@ -50,7 +50,7 @@ impl Ctx<'_> {
         let robot = self.robot(&raw.robot, base)?;
         let mut names: Names = HashMap::new();
         let axes = self.axes(&raw.axes, &robot, &mut names)?;
-        let cameras = self.cameras(&raw.cameras)?;
+        let cameras = self.cameras(&raw.cameras, coarse_update_ms)?;
         let obstacles = self.obstacles(&raw.obstacles, base)?;
         let tags = self.tags(&raw.tags, &axes, &mut names, "tags")?;
         let program = self.program(&raw.program, duration_s, &names)?;
@@ -425,7 +425,7 @@ impl Ctx<'_> {
         Ok(axes)
     }
 
-    pub(super) fn cameras(&self, raw: &[RawCamera]) -> Result<Vec<Camera>, SceneError> {
+    pub(super) fn cameras(&self, raw: &[RawCamera], coarse_update_ms: f64) -> Result<Vec<Camera>, SceneError> {
         let mut seen: HashMap<String, (usize, ())> = HashMap::new();
         let mut cameras = Vec::with_capacity(raw.len());
         for (i, c) in raw.iter().enumerate() {
@@ -453,6 +453,10 @@ impl Ctx<'_> {
                 }
             }
             let fps = self.positive(&c.fps, &f("fps"))?;
+            let max_fps = 1000.0 / coarse_update_ms;
+            if fps > max_fps * (1.0 + 1e-12) {
+                return Err(self.invalid(&c.fps, f("fps"), Problem::FpsAboveUpdateRate { fps, max_fps }));
+            }
             cameras.push(Camera {
                 name,
                 position_m,
