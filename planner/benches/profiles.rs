@@ -38,6 +38,63 @@ fn planning(c: &mut Criterion) {
     });
 }
 
+/// 10,000 seeded state-to-state cases (moving starts within the limits,
+/// asymmetric jerks, targets near the stopping point or anywhere).
+fn state_to_state_cases() -> Vec<(State, f64, f64, Limits)> {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(14);
+    (0..10_000)
+        .map(|_| {
+            let v = 10f64.powf(rng.random_range(-1.0..3.0));
+            let a = v * 10f64.powf(rng.random_range(-1.0..1.5));
+            let d = a * 10f64.powf(rng.random_range(-0.5..0.5));
+            let ja = a * a / v * 10f64.powf(rng.random_range(-0.5..2.0));
+            let jd = ja * 10f64.powf(rng.random_range(-0.7..0.7));
+            let limits = Limits::s_curve(v, a, d, ja, jd).expect("valid limits");
+            let start = State {
+                position: 0.0,
+                velocity: v * rng.random_range(-0.9..0.9),
+                acceleration: a.min(d) * rng.random_range(-0.3..0.3),
+            };
+            let stop = planner::profile::stopping_distance(start, &limits);
+            let target = if rng.random_bool(0.5) {
+                stop * (1.0 + rng.random_range(-0.1..0.1))
+            } else {
+                v * v / a * rng.random_range(-5.0..5.0)
+            };
+            let vf = if rng.random_bool(0.25) { v * rng.random_range(0.0..1.0) } else { 0.0 };
+            (start, target, vf, limits)
+        })
+        .collect()
+}
+
+fn state_to_state(c: &mut Criterion) {
+    let cases = state_to_state_cases();
+    // Mean: criterion times the whole set; divide by 10,000.
+    c.bench_function("s_curve_plan_state_to_state_10k_cases", |b| {
+        b.iter(|| {
+            for (start, target, vf, limits) in &cases {
+                black_box(Profile::to_position(black_box(*start), *target, *vf, limits));
+            }
+        })
+    });
+    // Worst: each case timed alone, best of 20 runs (so a preempted run does
+    // not count), then the slowest case.
+    let mut worst_ns = 0u128;
+    for (start, target, vf, limits) in &cases {
+        let best = (0..20)
+            .map(|_| {
+                let t = std::time::Instant::now();
+                black_box(Profile::to_position(black_box(*start), *target, *vf, limits));
+                t.elapsed().as_nanos()
+            })
+            .min()
+            .unwrap_or(0);
+        worst_ns = worst_ns.max(best);
+    }
+    println!("s_curve_plan_state_to_state worst case over 10,000: {worst_ns} ns");
+}
+
 fn coarse_update(c: &mut Criterion) {
     // 16 modulo axes, each running a long move: time per update / 16 is the
     // per-axis interpolation cost.
@@ -66,5 +123,5 @@ fn coarse_update(c: &mut Criterion) {
     c.bench_function("coarse_update_16_axes", |b| b.iter(|| task.update()));
 }
 
-criterion_group!(benches, planning, coarse_update);
+criterion_group!(benches, planning, state_to_state, coarse_update);
 criterion_main!(benches);
