@@ -1838,3 +1838,44 @@ fn a_camera_faster_than_the_updates_is_refused() {
     let out = twin_cmd().arg("check").arg(&path).output().expect("run twin");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// `.EN` as the controller shows it: set in the update whose scan executed
+/// the instruction (a program step is a rung true for one scan), cleared
+/// on the false rung once `.DN` or `.ER` is set — so an MCLM, done when it
+/// is queued, shows `.EN` for exactly one update, and one that waits for
+/// the queue keeps it until it is queued. A `when = "L2.EN"` step fires on
+/// it, one update later.
+#[test]
+fn enable_bits_show_for_the_executing_scan_and_trigger_steps() {
+    let path = edited_scene("gantry_arcs", "en_bits", &[("when = \"L2.DN\"", "when = \"L2.EN\"")]);
+    let (header, rows) = run_trace(&path.display().to_string(), "en_bits_run");
+    let on = |name: &str| -> Vec<usize> {
+        let c = column(&header, name);
+        (0..rows.len()).filter(|&i| rows[i][c] == 1.0).collect()
+    };
+    for name in ["L1", "C1", "C2", "L2"] {
+        let en = on(&format!("{name}.EN"));
+        assert_eq!(en.len(), 1, "{name}.EN for one update: {en:?}");
+        assert_eq!(
+            rows[en[0]][column(&header, &format!("{name}.DN"))],
+            1.0,
+            "done when queued"
+        );
+    }
+    let (time, l1) = (column(&header, "time_s"), on("L1.EN")[0]);
+    assert!(
+        (rows[l1][time] - 0.104).abs() < 1e-9,
+        "the update after at_s = 0.1: {}",
+        rows[l1][time]
+    );
+    // C4 fires on L2.EN, one update later.
+    assert_eq!(on("C4.EN").first(), Some(&(on("L2.EN")[0] + 1)));
+    // An instruction that waits for the queue keeps .EN until .DN, which
+    // the false rung clears it on.
+    let l3 = on("L3.EN");
+    let l3_dn = column(&header, "L3.DN");
+    assert!(l3.len() > 100, "{}", l3.len());
+    assert!(l3.iter().all(|&i| rows[i][l3_dn] == 0.0));
+    let queued = l3.last().unwrap() + 1;
+    assert_eq!(rows[queued][l3_dn], 1.0);
+}

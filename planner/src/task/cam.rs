@@ -172,13 +172,16 @@ impl MotionTask {
     }
 
     /// A one-shot rung: the instruction just executed with `h` in this scan;
-    /// its rung is false from the next coarse update on, which clears `.EN`
-    /// there once `.DN` or `.ER` is set (see [`MotionTask::rung_false`]).
+    /// its rung is false from the second coarse update on (so `.EN` shows
+    /// in the update that executed it), which clears `.EN` there, or at the
+    /// first update after that which finds `.DN` or `.ER` set (see
+    /// [`MotionTask::rung_false`]). A new execution replaces a pending one.
     pub fn rung_false_next_scan(&mut self, h: InstructionHandle) {
         if self.is_scanned(h) {
             return;
         }
         let now = self.updates;
+        self.cam.rung_false.retain(|&(x, _)| x != h);
         self.cam.rung_false.push((h, now));
     }
 
@@ -781,12 +784,18 @@ impl MotionTask {
     pub(super) fn advance_cams_and_jogs(&mut self) {
         let dt = self.dt_s;
         let updates = self.updates;
-        let (due, later): (Vec<_>, Vec<_>) = std::mem::take(&mut self.cam.rung_false)
-            .into_iter()
-            .partition(|&(_, at)| updates >= at + 2);
-        self.cam.rung_false = later;
-        for (h, _) in due {
+        // A false rung clears `.EN` once `.DN` or `.ER` is set: until then
+        // it stays pending.
+        let pending = std::mem::take(&mut self.cam.rung_false);
+        for (h, at) in pending {
+            if updates < at + 2 {
+                self.cam.rung_false.push((h, at));
+                continue;
+            }
             self.rung_false(h);
+            if self.motion_bits(h).en {
+                self.cam.rung_false.push((h, at));
+            }
         }
         for i in 0..self.cam.axes.len().min(self.axes.len()) {
             let axis = AxisHandle(i as u32);

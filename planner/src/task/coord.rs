@@ -321,6 +321,10 @@ struct InstrSlot {
     call: CoordCall,
     rung: bool,
     previous_rung: bool,
+    /// Set by a one-shot execution (a program step, not a scanned rung): the
+    /// update count it executed at; the rung goes false two updates later,
+    /// so `.EN` shows for the update of the scan that executed it.
+    one_shot_at: Option<u64>,
     held: bool,
     calculated_data: Vec<f64>,
 }
@@ -439,6 +443,7 @@ impl MotionTask {
             call,
             rung: false,
             previous_rung: false,
+            one_shot_at: None,
             held: false,
             calculated_data: Vec::new(),
         });
@@ -492,7 +497,10 @@ impl MotionTask {
         slot.previous_rung = false;
         slot.rung = true;
         self.scan_coord_instruction(h);
-        self.coord.instructions[h.0 as usize].rung = self.is_scanned(control);
+        // A scanned rung is the routine's to set; a one-shot stays true
+        // through the next update and goes false after it.
+        let one_shot_at = (!self.is_scanned(control)).then_some(self.updates);
+        self.coord.instructions[h.0 as usize].one_shot_at = one_shot_at;
         self.started_before_update(h);
     }
 

@@ -19,6 +19,13 @@ impl MotionTask {
     /// Step 1b of an update: rung transitions of the coordinated
     /// instructions (held ones retry first).
     pub(in crate::task) fn evaluate_coord_instructions(&mut self) {
+        let updates = self.updates;
+        for slot in &mut self.coord.instructions {
+            if slot.one_shot_at.is_some_and(|at| updates >= at + 2) {
+                slot.rung = false;
+                slot.one_shot_at = None;
+            }
+        }
         for i in 0..self.coord.instructions.len() {
             let h = CoordInstructionHandle(i as u32);
             if self.coord.instructions[i].held {

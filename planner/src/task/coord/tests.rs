@@ -714,12 +714,16 @@ fn coordinated_and_single_axis_motion_abort_each_other() {
 }
 
 #[test]
-fn one_shot_execution_sets_bits_at_once_and_clears_en_on_the_next_scan() {
+fn one_shot_execution_sets_bits_at_once_and_clears_en_after_its_update() {
     let (mut task, cs, axes) = gantry(2, 0);
     let mc = task.add_instruction("MC1");
     task.execute_coordinated(cs, mc, CoordCall::Mclm(line(&[1.0, 0.0], 1)));
     let b = task.motion_bits(mc);
     assert!(b.en && b.dn && b.ip && b.ac, "set by the scan itself: {b:?}");
+    // The update of the executing scan still shows .EN; the next scan's
+    // rung is false and clears it (.DN is set).
+    task.update();
+    assert!(task.motion_bits(mc).en);
     task.update();
     let b = task.motion_bits(mc);
     assert!(!b.en && b.dn && b.ip);
