@@ -1879,3 +1879,56 @@ fn enable_bits_show_for_the_executing_scan_and_trigger_steps() {
     let queued = l3.last().unwrap() + 1;
     assert_eq!(rows[queued][l3_dn], 1.0);
 }
+
+/// Operand formats from the catalogue: MCCM's Direction is "Immediate or
+/// Tag", so a DINT tag holding 7 reaches the instruction, which fails at run
+/// time with ERR 13 and EXERR 6 (Direction's faceplate index from zero);
+/// MAJ's Direction is "Immediate", so a tag there is refused at load.
+#[test]
+fn immediate_or_tag_operands_fail_at_run_time_and_immediate_ones_at_load() {
+    let path = edited_scene(
+        "gantry_arcs",
+        "format_tag_operand",
+        &[
+            (
+                "OnCircle[0], 1, Origin[0], 3, 200,",
+                "OnCircle[0], 1, Origin[0], Dir, 200,",
+            ),
+            (
+                "[[tags]]\nname = \"XY\"\n",
+                "[[tags]]\nname = \"Dir\"\ntype = \"DINT\"\nvalue = 7\n\n[[tags]]\nname = \"XY\"\n",
+            ),
+        ],
+    );
+    let out = path.parent().expect("dir");
+    let output = twin_cmd()
+        .args(["run", &path.display().to_string(), "--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .output()
+        .expect("run twin");
+    assert!(!output.status.success());
+    let (header, rows) = read_trace(&out.join("t.csv"));
+    let (er, err, exerr) = (
+        column(&header, "C1.ER"),
+        column(&header, "C1.ERR"),
+        column(&header, "C1.EXERR"),
+    );
+    let row = rows.iter().find(|r| r[er] == 1.0).expect("C1 errs");
+    assert_eq!((row[err], row[exerr]), (13.0, 6.0));
+
+    let path = edited_scene(
+        "rotary_knife",
+        "format_immediate_operand",
+        &[
+            ("MAJ(Conveyor, Jog, Forward, 200.0", "MAJ(Conveyor, Jog, JogDir, 200.0"),
+            (
+                "[[tags]]\nname = \"KnifeCam\"\n",
+                "[[tags]]\nname = \"JogDir\"\ntype = \"DINT\"\nvalue = 0\n\n[[tags]]\nname = \"KnifeCam\"\n",
+            ),
+        ],
+    );
+    let output = twin_cmd().arg("check").arg(&path).output().expect("run twin");
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("Direction") && stderr.contains("Immediate"), "{stderr}");
+}
