@@ -62,7 +62,11 @@ fn state_to_state_cases() -> Vec<(State, f64, f64, Limits)> {
             } else {
                 v * v / a * rng.random_range(-5.0..5.0)
             };
-            let vf = if rng.random_bool(0.25) { v * rng.random_range(0.0..1.0) } else { 0.0 };
+            let vf = if rng.random_bool(0.25) {
+                v * rng.random_range(0.0..1.0)
+            } else {
+                0.0
+            };
             (start, target, vf, limits)
         })
         .collect()

@@ -74,9 +74,21 @@ pub struct AxisConfig {
     /// In-position window, ± units around the target (default 0.01).
     pub in_position_window: f64,
     /// Target position monitoring: `Done` waits for the actual position to be
-    /// inside the in-position window (default true). Off: `Done` as soon as
-    /// setpoint generation ends.
+    /// inside the in-position window (default true). Off: position range
+    /// monitoring decides, or `Done` comes as soon as setpoint generation
+    /// ends.
     pub target_position_monitoring: bool,
+    /// Position range monitoring (TwinCAT "Position Range Monitoring"):
+    /// with target position monitoring off, `Done` waits for the actual
+    /// position to be inside the position range window (default false).
+    pub position_range_monitoring: bool,
+    /// Position range window, ± units around the target (default 5).
+    pub position_range_window: f64,
+    /// Motion commands are allowed on a coupled (cam or gear) slave
+    /// (TwinCAT "Allow motion commands to slave axis"; default false): an
+    /// MC_MoveModulo then decouples the axis and runs, with `MC_Aborting`
+    /// only.
+    pub allow_motion_on_coupled_slave: bool,
     /// Modulo tolerance window, ± units (default 0): a modulo move from
     /// standstill whose start is at most this far from its modulo target takes
     /// the shortest way to it, whatever the direction asked.
@@ -125,6 +137,9 @@ impl AxisConfig {
             max_jerk: 0.0,
             in_position_window: 0.01,
             target_position_monitoring: true,
+            position_range_monitoring: false,
+            position_range_window: 5.0,
+            allow_motion_on_coupled_slave: false,
             modulo_tolerance_window: 0.0,
             soft_travel_limits: None,
             axis_type: AxisType::Servo,
@@ -150,6 +165,7 @@ impl AxisConfig {
         positive("max_deceleration", self.max_deceleration)?;
         non_negative("max_jerk", self.max_jerk)?;
         non_negative("in_position_window", self.in_position_window)?;
+        non_negative("position_range_window", self.position_range_window)?;
         non_negative("modulo_tolerance_window", self.modulo_tolerance_window)?;
         non_negative("servo_enable_delay_s", self.servo_enable_delay_s)?;
         if let Some(t) = self.position_error_tolerance {

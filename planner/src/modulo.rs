@@ -31,7 +31,28 @@
 //! * Outputs follow the PLCopen rules documented on
 //!   [`crate::instruction::FbOutputs`]. `Done` when setpoint generation has
 //!   ended and — with target position monitoring — the actual position is in
-//!   the in-position window; at once without monitoring.
+//!   the in-position window; with position range monitoring only
+//!   ([`crate::axis::AxisConfig::position_range_monitoring`]) in the
+//!   position range window; at once with neither, or with
+//!   `Options.IgnorePositionMonitoring`.
+//! * **Coupled slaves**: on an axis a cam or a gearing drives, the command
+//!   is refused ([`ErrorId::COUPLED_SLAVE`]) unless the axis allows motion
+//!   commands on coupled slaves
+//!   ([`crate::axis::AxisConfig::allow_motion_on_coupled_slave`]); then it
+//!   decouples the axis (ends the cam or gear) and runs, and — "the only
+//!   available BufferMode is Aborting" — any other mode is refused
+//!   ([`ErrorId::COUPLED_BUFFER_MODE`]).
+//! * **Stops**: "a standard stop may have been triggered just before": a
+//!   command issued while the axis stops (a MAS ramp, a fault's, a
+//!   collision's or a coordinated stop) is refused with
+//!   [`ErrorId::AXIS_STOPPING`] and the stop goes on, as PLCopen's Stopping
+//!   state refuses motion; once the axis stands still it is accepted. (The
+//!   twin runs no MC_Stop block, whose `Execute` would extend that state.)
+//! * **Options** ([`MoveOptions`], `ST_MoveOptions`):
+//!   `IgnorePositionMonitoring` is honoured (above);
+//!   `EnableStopPositionMonitoring` concerns stop commands only and has no
+//!   effect here; `EnableBlendingPosition` is not simulated and a command
+//!   with it set is refused ([`ErrorId::BLENDING_POSITION`]).
 //!
 //! # Choices where the spec is silent
 //! * **Shortest way** from standstill adds the extra turns in the direction of
@@ -177,6 +198,27 @@ pub struct MoveModuloInputs {
     pub direction: McDirection,
     /// `BufferMode`.
     pub buffer_mode: McBufferMode,
+    /// `Options` (`ST_MoveOptions`).
+    pub options: MoveOptions,
+}
+
+/// `ST_MoveOptions` (Tc2_MC2): optional settings of a travel command; all
+/// off by default ("the input can normally remain open").
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MoveOptions {
+    /// `EnableBlendingPosition`: hand over at `BlendingPosition` instead
+    /// of the running command's target. Not simulated: a command with it
+    /// set is refused ([`ErrorId::BLENDING_POSITION`]).
+    pub enable_blending_position: bool,
+    /// `BlendingPosition`, axis units (used only with the flag above).
+    pub blending_position: f64,
+    /// `IgnorePositionMonitoring`: `Done` as soon as setpoint generation
+    /// ends, whatever the axis' target-position or position-range
+    /// monitoring.
+    pub ignore_position_monitoring: bool,
+    /// `EnableStopPositionMonitoring`: concerns MC_Stop and MC_Halt only
+    /// (they define no target); no effect on MC_MoveModulo.
+    pub enable_stop_position_monitoring: bool,
 }
 
 /// An MC_MoveModulo `ErrorID`.
@@ -214,6 +256,17 @@ impl ErrorId {
     /// 0x422D: the axis is not ready for motion: servo off, shut down,
     /// faulted, inhibited or feedback-only (see [`crate::servo`]).
     pub const AXIS_NOT_READY: Self = Self(0x422D);
+    /// 0x422E: the axis is stopping (a MAS, a fault's or a collision's stop
+    /// ramp): motion commands are refused until it stands still, and the
+    /// stop goes on.
+    pub const AXIS_STOPPING: Self = Self(0x422E);
+    /// 0x422F: the axis is a coupled slave (cam or gear) and its
+    /// configuration does not allow motion commands on coupled slaves.
+    pub const COUPLED_SLAVE: Self = Self(0x422F);
+    /// 0x4230: on a coupled slave only `MC_Aborting` is available.
+    pub const COUPLED_BUFFER_MODE: Self = Self(0x4230);
+    /// 0x4231: `Options.EnableBlendingPosition` is not simulated.
+    pub const BLENDING_POSITION: Self = Self(0x4231);
 
     /// What the number means, in words (for logs and summaries).
     pub fn meaning(self) -> &'static str {
@@ -233,6 +286,10 @@ impl ErrorId {
             Self::AXIS_NOT_READY => {
                 "the axis is not ready for motion (servo off, shut down, faulted, inhibited or feedback-only)"
             }
+            Self::AXIS_STOPPING => "the axis is stopping; motion commands are refused until it stands still",
+            Self::COUPLED_SLAVE => "the axis is a coupled slave and motion commands on coupled slaves are not allowed",
+            Self::COUPLED_BUFFER_MODE => "on a coupled slave only MC_Aborting is available",
+            Self::BLENDING_POSITION => "Options.EnableBlendingPosition is not simulated",
             _ => "unknown error",
         }
     }
@@ -294,6 +351,21 @@ pub enum MoveModuloError {
     /// See [`ErrorId::AXIS_NOT_READY`].
     #[error("axis not ready: {0}")]
     AxisNotReady(crate::servo::StateError),
+    /// See [`ErrorId::AXIS_STOPPING`].
+    #[error("the axis is stopping; motion commands are refused until it stands still")]
+    AxisStopping,
+    /// See [`ErrorId::COUPLED_SLAVE`].
+    #[error("the axis is a coupled slave (cam or gear) and does not allow motion commands")]
+    CoupledSlave,
+    /// See [`ErrorId::COUPLED_BUFFER_MODE`].
+    #[error("BufferMode {mode:?} on a coupled slave: only MC_Aborting is available")]
+    CoupledBufferMode {
+        /// The mode asked.
+        mode: McBufferMode,
+    },
+    /// See [`ErrorId::BLENDING_POSITION`].
+    #[error("Options.EnableBlendingPosition is not simulated (the hand-over is the running command's target)")]
+    BlendingPosition,
 }
 
 impl MoveModuloError {
@@ -319,6 +391,10 @@ impl MoveModuloError {
             Self::AxisLimits => ErrorId::AXIS_LIMITS,
             Self::PathCollision => ErrorId::PATH_COLLISION,
             Self::AxisNotReady(_) => ErrorId::AXIS_NOT_READY,
+            Self::AxisStopping => ErrorId::AXIS_STOPPING,
+            Self::CoupledSlave => ErrorId::COUPLED_SLAVE,
+            Self::CoupledBufferMode { .. } => ErrorId::COUPLED_BUFFER_MODE,
+            Self::BlendingPosition => ErrorId::BLENDING_POSITION,
         }
     }
 }
@@ -333,6 +409,7 @@ pub struct MoveModulo {
     buffer_mode: McBufferMode,
     modulo: Modulo,
     tolerance_window: f64,
+    ignore_position_monitoring: bool,
 }
 
 fn rate(operand: &'static str, value: f64, default: f64) -> Result<f64, MoveModuloError> {
@@ -347,8 +424,8 @@ impl MoveModulo {
     ///
     /// # Errors
     /// [`MoveModuloError`] for the first operand out of range (checked in
-    /// the order Position, Velocity, Acceleration, Deceleration, Jerk), or an
-    /// axis without modulo period.
+    /// the order Position, Velocity, Acceleration, Deceleration, Jerk), an
+    /// axis without modulo period, or `Options.EnableBlendingPosition`.
     pub fn new(inputs: &MoveModuloInputs, axis: &AxisConfig) -> Result<Self, MoveModuloError> {
         if !(inputs.position.is_finite() && inputs.position >= 0.0) {
             return Err(MoveModuloError::Position {
@@ -372,6 +449,9 @@ impl MoveModulo {
             Limits::trapezoidal(v, acc, dec)
         };
         let limits = limits.map_err(|_| MoveModuloError::AxisLimits)?;
+        if inputs.options.enable_blending_position {
+            return Err(MoveModuloError::BlendingPosition);
+        }
         Ok(Self {
             position: inputs.position,
             velocity: v,
@@ -380,7 +460,14 @@ impl MoveModulo {
             buffer_mode: inputs.buffer_mode,
             modulo,
             tolerance_window: axis.modulo_tolerance_window,
+            ignore_position_monitoring: inputs.options.ignore_position_monitoring,
         })
+    }
+
+    /// Whether `Done` ignores the axis' position monitoring
+    /// (`Options.IgnorePositionMonitoring`).
+    pub fn ignores_position_monitoring(&self) -> bool {
+        self.ignore_position_monitoring
     }
 
     /// The command's velocity (units/s).

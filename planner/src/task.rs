@@ -474,6 +474,18 @@ impl MotionTask {
         if let Err(e) = self.check_state(axis, servo::Need::Motion) {
             return self.finish(fb, Finish::Error(MoveModuloError::AxisNotReady(e)));
         }
+        if self.stop_in_progress(axis) {
+            return self.finish(fb, Finish::Error(MoveModuloError::AxisStopping));
+        }
+        if self.cam_drives(axis) {
+            if !self.axes[axis.0 as usize].config.allow_motion_on_coupled_slave {
+                return self.finish(fb, Finish::Error(MoveModuloError::CoupledSlave));
+            }
+            let mode = command.buffer_mode();
+            if mode != McBufferMode::Aborting {
+                return self.finish(fb, Finish::Error(MoveModuloError::CoupledBufferMode { mode }));
+            }
+        }
         let a = &mut self.axes[axis.0 as usize];
         let idle = a.job.is_none();
         match command.buffer_mode() {
@@ -603,8 +615,22 @@ impl MotionTask {
         if !job.generation_done {
             return;
         }
-        let in_position =
-            !a.config.target_position_monitoring || (a.actual - job.target).abs() <= a.config.in_position_window;
+        // MC_MoveModulo's Done rule (spec): target position monitoring
+        // waits for the in-position window, position range monitoring (with
+        // target monitoring off) for the position range window; neither, or
+        // Options.IgnorePositionMonitoring, sets Done when setpoint
+        // generation ends.
+        let error = (a.actual - job.target).abs();
+        let c = &a.config;
+        let in_position = if job.command.ignores_position_monitoring() {
+            true
+        } else if c.target_position_monitoring {
+            error <= c.in_position_window
+        } else if c.position_range_monitoring {
+            error <= c.position_range_window
+        } else {
+            true
+        };
         if !in_position {
             return;
         }

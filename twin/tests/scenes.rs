@@ -1932,3 +1932,179 @@ fn immediate_or_tag_operands_fail_at_run_time_and_immediate_ones_at_load() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("Direction") && stderr.contains("Immediate"), "{stderr}");
 }
+
+/// The first row where `name` is 1, if any.
+fn first_on(header: &[String], rows: &[Vec<f64>], name: &str) -> Option<usize> {
+    let c = column(header, name);
+    rows.iter().position(|r| r[c] == 1.0)
+}
+
+/// Runs an edited scene that may end with an instruction error; returns
+/// its trace.
+fn run_edited_trace(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let out = path.parent().expect("dir");
+    let output = twin_cmd()
+        .args(["run", &path.display().to_string(), "--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .output()
+        .expect("run twin");
+    assert!(
+        matches!(output.status.code(), Some(0 | 2)),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    read_trace(&out.join("t.csv"))
+}
+
+/// MC_MoveModulo while a MAS ramps the table to rest: refused with ErrorID
+/// 16#422E and the stop goes on; once the table stands still a new
+/// execution is accepted and completes.
+#[test]
+fn move_modulo_while_stopping_is_refused_and_runs_after_the_stop() {
+    let path = edited_scene(
+        "indexing_table",
+        "modulo_while_stopping",
+        &[(
+            "[[program]]\nat_s = 0.0\n",
+            "[[tags]]\nname = \"Halt\"\ntype = \"MOTION_INSTRUCTION\"\n\n\
+             [[program]]\nat_s = 0.3\ncall = \"MAS(Table, Halt, All, Yes, 200.0, UnitsPerSec2)\"\n\n\
+             [[program]]\nat_s = 0.32\ncall = \"MoveB(Axis := Table, Execute := TRUE, Position := 10.0, Velocity := 90.0, Direction := MC_Positive_Direction)\"\n\n\
+             [[program]]\nat_s = 1.8\ncall = \"MoveB(Execute := FALSE)\"\n\n\
+             [[program]]\nat_s = 1.9\ncall = \"MoveB(Execute := TRUE)\"\n\n\
+             [[program]]\nat_s = 0.0\n",
+        )],
+    );
+    let (header, rows) = run_edited_trace(&path);
+    let time = column(&header, "time_s");
+    let err = first_on(&header, &rows, "MoveB.Error").expect("MoveB refused");
+    assert!((rows[err][time] - 0.324).abs() < 0.005, "{}", rows[err][time]);
+    assert_eq!(rows[err][column(&header, "MoveB.ErrorID")], f64::from(0x422E));
+    // The stop goes on to rest.
+    let vel = column(&header, "Table.cmd_vel");
+    assert!(rows[err + 1][vel].abs() < rows[err - 1][vel].abs());
+    let rest = rows
+        .iter()
+        .position(|r| r[time] > 0.4 && r[vel] == 0.0)
+        .expect("at rest");
+    assert!(rows[rest][time] < 1.8, "{}", rows[rest][time]);
+    // After the stop, the same block executes and completes.
+    let done = first_on(&header, &rows, "MoveB.Done").expect("MoveB done after the stop");
+    assert!(rows[done][time] > 1.9);
+    let pos = rows[done][column(&header, "Table.cmd_pos")].rem_euclid(360.0);
+    assert!((pos - 10.0).abs() < 1e-9, "{pos}");
+}
+
+/// MC_MoveModulo on the rotary knife while its cam drives it: refused
+/// (16#422F) unless the axis allows motion commands on coupled slaves; with
+/// the option MC_Buffered is refused (16#4230) and MC_Aborting ends the cam
+/// and runs to its target.
+#[test]
+fn move_modulo_on_a_cam_slave_follows_the_coupled_slave_option() {
+    let edits = |allow: &str, mode: &str| -> Vec<(String, String)> {
+        vec![
+            (
+                "in_position_window = 0.5\ninitial_position = 0.0\n".into(),
+                format!("in_position_window = 0.5\ninitial_position = 0.0\nmodulo_period = 360.0\n{allow}"),
+            ),
+            (
+                "[[tags]]\nname = \"KnifeCam\"\n".into(),
+                format!(
+                    "[[tags]]\nname = \"MoveK\"\ntype = \"MC_MoveModulo\"\n\n\
+                     [[program]]\nat_s = 0.5\ncall = \"MoveK(Axis := Knife, Execute := TRUE, Position := 180.0, Velocity := 360.0, Direction := MC_Positive_Direction, BufferMode := {mode})\"\n\n\
+                     [[tags]]\nname = \"KnifeCam\"\n"
+                ),
+            ),
+        ]
+    };
+    let run = |name: &str, allow: &str, mode: &str| {
+        let e = edits(allow, mode);
+        let e: Vec<(&str, &str)> = e.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
+        run_edited_trace(&edited_scene("rotary_knife", name, &e))
+    };
+    let (header, rows) = run("coupled_refused", "", "MC_Aborting");
+    let err = first_on(&header, &rows, "MoveK.Error").expect("refused");
+    assert_eq!(rows[err][column(&header, "MoveK.ErrorID")], f64::from(0x422F));
+    assert_eq!(
+        rows[err][column(&header, "Knife.PositionCamStatus")],
+        1.0,
+        "the cam goes on"
+    );
+
+    let allow = "allow_motion_on_coupled_slave = true\n";
+    let (header, rows) = run("coupled_buffered", allow, "MC_Buffered");
+    let err = first_on(&header, &rows, "MoveK.Error").expect("refused");
+    assert_eq!(rows[err][column(&header, "MoveK.ErrorID")], f64::from(0x4230));
+
+    let (header, rows) = run("coupled_aborting", allow, "MC_Aborting");
+    assert!(first_on(&header, &rows, "MoveK.Error").is_none());
+    let active = first_on(&header, &rows, "MoveK.Active").expect("runs");
+    assert_eq!(
+        rows[active][column(&header, "Knife.PositionCamStatus")],
+        0.0,
+        "decoupled"
+    );
+    let done = first_on(&header, &rows, "MoveK.Done").expect("done");
+    let pos = rows[done][column(&header, "Knife.cmd_pos")].rem_euclid(360.0);
+    assert!((pos - 180.0).abs() < 1e-9, "{pos}");
+}
+
+/// MC_MoveModulo's Done: with position range monitoring only, Done waits for
+/// the lagging spring-driven table to enter the range window; the instance's
+/// `options = { IgnorePositionMonitoring = true }` sets it when the
+/// setpoints end; EnableBlendingPosition is refused at load.
+#[test]
+fn move_modulo_done_with_position_range_monitoring_and_options() {
+    let done_lag = |name: &str, edits: &[(&str, &str)]| -> f64 {
+        let (header, rows) = run_edited_trace(&edited_scene("indexing_table", name, edits));
+        let (time, vel, pos) = (
+            column(&header, "time_s"),
+            column(&header, "Table.cmd_vel"),
+            column(&header, "Table.cmd_pos"),
+        );
+        let end = rows
+            .iter()
+            .position(|r| r[vel] == 0.0 && r[pos] == 90.0)
+            .expect("setpoints end");
+        let done = first_on(&header, &rows, "MoveA.Done").expect("done");
+        rows[done][time] - rows[end][time]
+    };
+    let range = |window: &str| {
+        format!(
+            "target_position_monitoring = false\nposition_range_monitoring = true\nposition_range_window = {window}\n"
+        )
+    };
+    let tight = range("0.0001");
+    let wide = range("5.0");
+    let lag_tight = done_lag(
+        "range_tight",
+        &[("target_position_monitoring = true\n", tight.as_str())],
+    );
+    let lag_wide = done_lag("range_wide", &[("target_position_monitoring = true\n", wide.as_str())]);
+    let ignore = done_lag(
+        "range_ignored",
+        &[
+            ("target_position_monitoring = true\n", tight.as_str()),
+            (
+                "name = \"MoveA\"\ntype = \"MC_MoveModulo\"\n",
+                "name = \"MoveA\"\ntype = \"MC_MoveModulo\"\noptions = { IgnorePositionMonitoring = true }\n",
+            ),
+        ],
+    );
+    assert!(lag_tight > 0.008, "the tight window waits for the spring: {lag_tight}");
+    assert!(lag_wide <= 0.0041 && ignore <= 0.0041, "{lag_wide} {ignore}");
+
+    let path = edited_scene(
+        "indexing_table",
+        "blending_position",
+        &[(
+            "name = \"MoveA\"\ntype = \"MC_MoveModulo\"\n",
+            "name = \"MoveA\"\ntype = \"MC_MoveModulo\"\noptions = { EnableBlendingPosition = true, BlendingPosition = 10.0 }\n",
+        )],
+    );
+    let out = twin_cmd().arg("check").arg(&path).output().expect("run twin");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("tags[0].options.EnableBlendingPosition"),
+        "{stderr}"
+    );
+}

@@ -410,6 +410,15 @@ impl MotionTask {
         self.coord.systems[system.0 as usize].components.last().map(|c| &c.mv)
     }
 
+    /// Whether a coordinated stop (MCS, a fault's or a collision's) ramps a
+    /// coordinate system that `axis` belongs to.
+    pub(super) fn coordinated_stop_with(&self, axis: AxisHandle) -> bool {
+        self.coord
+            .systems
+            .iter()
+            .any(|s| s.axes.contains(&axis) && s.components.iter().any(|c| c.stopping))
+    }
+
     /// The axis bit `CoordinatedMotionStatus`: a coordinated move drives the
     /// axis.
     pub fn coordinated_motion_status(&self, axis: AxisHandle) -> bool {

@@ -183,6 +183,13 @@ impl MotionTask {
             || self.is_ramping_to_rest(axis)
     }
 
+    /// Whether any stop ramps `axis` now: a MAS (or a fault's) stop ramp,
+    /// a stop of its single-axis command, or a coordinated stop of a system
+    /// it belongs to. Motion commands (MC_MoveModulo) are refused meanwhile.
+    pub fn stop_in_progress(&self, axis: AxisHandle) -> bool {
+        self.is_stopping(axis) || self.coordinated_stop_with(axis)
+    }
+
     /// Replaces the axis' command by a stop ramp from its command state.
     /// Returns false when the axis has no command (nothing to stop).
     pub(super) fn ramp_to_rest(&mut self, axis: AxisHandle) -> bool {

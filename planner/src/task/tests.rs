@@ -436,3 +436,152 @@ fn random_retargets_never_reverse_and_end_on_the_modulo_target() {
         assert!(err <= 1e-9, "{ctx}: ended at {wrapped}, asked {goal}");
     }
 }
+
+/// MC_MoveModulo while the axis stops (a MAS ramp): refused with
+/// AXIS_STOPPING, the stop goes on; once the axis stands still it runs.
+#[test]
+fn move_modulo_is_refused_while_the_axis_stops_and_accepted_after() {
+    let (mut task, axis, a, _) = setup(0.0);
+    let jog = task.add_instruction("Jog");
+    let ops = crate::jog::MajOperands {
+        speed: 360.0,
+        speed_units: 0,
+        ..Default::default()
+    };
+    task.maj(axis, jog, &ops).unwrap();
+    run_until(&mut task, 1000, |t| t.axis_state(axis).command_velocity >= 359.0);
+    let stop = task.add_instruction("Stop");
+    task.mas(
+        axis,
+        stop,
+        &crate::jog::MasOperands {
+            stop_type: 0,
+            change_decel: 1,
+            decel_rate: 100.0,
+            decel_units: 0,
+        },
+    )
+    .unwrap();
+    task.update();
+    assert!(task.stop_in_progress(axis));
+    task.set_move_modulo_inputs(a, go(90.0, 100.0, McDirection::Positive, McBufferMode::Aborting));
+    task.update();
+    let o = task.outputs(a);
+    assert!(o.error && o.error_id == ErrorId::AXIS_STOPPING.0 && !o.busy, "{o:?}");
+    assert!(task.axis_status(axis).stopping, "the stop goes on");
+    let v = task.axis_state(axis).command_velocity;
+    task.update();
+    assert!(task.axis_state(axis).command_velocity < v);
+    run_until(&mut task, 10_000, |t| !t.stop_in_progress(axis));
+    release(&mut task, a);
+    task.update();
+    task.set_move_modulo_inputs(a, go(90.0, 100.0, McDirection::Positive, McBufferMode::Aborting));
+    run_until(&mut task, 10_000, |t| t.outputs(a).done);
+    assert!((task.axis_state(axis).command_position.rem_euclid(360.0) - 90.0).abs() < 1e-9);
+}
+
+/// On a coupled (geared) slave: refused without the axis option; with it,
+/// `MC_Buffered` is refused and `MC_Aborting` decouples the axis and runs.
+#[test]
+fn move_modulo_on_a_coupled_slave_needs_the_axis_option_and_aborting() {
+    let gear = |allowed: bool| {
+        let mut task = MotionTask::new(DT).unwrap();
+        let master = task.add_axis(table_axis(36000.0), 0.0).unwrap();
+        let slave_config = AxisConfig {
+            allow_motion_on_coupled_slave: allowed,
+            ..table_axis(36000.0)
+        };
+        let slave = task.add_axis(slave_config, 0.0).unwrap();
+        let mag = task.add_instruction("Gear");
+        let ops = crate::mag::MagOperands {
+            ratio: 1.0,
+            clutch: 1,
+            ..Default::default()
+        };
+        task.mag(slave, master, mag, &ops).unwrap();
+        let fb = task.add_move_modulo("Move", slave);
+        task.update();
+        assert!(task.axis_status(slave).gearing);
+        (task, slave, fb)
+    };
+    let (mut task, slave, fb) = gear(false);
+    task.set_move_modulo_inputs(fb, go(90.0, 100.0, McDirection::Positive, McBufferMode::Aborting));
+    task.update();
+    assert_eq!(task.outputs(fb).error_id, ErrorId::COUPLED_SLAVE.0);
+    assert!(task.axis_status(slave).gearing, "still coupled");
+
+    let (mut task, slave, fb) = gear(true);
+    task.set_move_modulo_inputs(fb, go(90.0, 100.0, McDirection::Positive, McBufferMode::Buffered));
+    task.update();
+    assert_eq!(task.outputs(fb).error_id, ErrorId::COUPLED_BUFFER_MODE.0);
+    assert!(task.axis_status(slave).gearing);
+    release(&mut task, fb);
+    task.update();
+    task.set_move_modulo_inputs(fb, go(90.0, 100.0, McDirection::Positive, McBufferMode::Aborting));
+    task.update();
+    assert!(task.outputs(fb).active && !task.axis_status(slave).gearing, "decoupled");
+    run_until(&mut task, 10_000, |t| t.outputs(fb).done);
+}
+
+/// Done: with target position monitoring off and position range monitoring
+/// on, Done waits for the actual position inside the position range window;
+/// `Options.IgnorePositionMonitoring` sets it when setpoint generation ends;
+/// `Options.EnableBlendingPosition` is refused.
+#[test]
+fn move_modulo_done_follows_the_monitoring_and_the_options() {
+    let config = AxisConfig {
+        target_position_monitoring: false,
+        position_range_monitoring: true,
+        position_range_window: 2.0,
+        ..table_axis(36000.0)
+    };
+    let mut task = MotionTask::new(DT).unwrap();
+    let axis = task.add_axis(config, 0.0).unwrap();
+    let fb = task.add_move_modulo("Move", axis);
+    task.feed_actual_position(axis, 0.0);
+    task.set_move_modulo_inputs(fb, go(90.0, 100.0, McDirection::Positive, McBufferMode::Aborting));
+    // The actual position lags 3 units: setpoints end, no Done.
+    let mut ended = false;
+    for _ in 0..10_000 {
+        task.update();
+        let cmd = task.axis_state(axis).command_position;
+        task.feed_actual_position(axis, cmd - 3.0);
+        if task.axis_state(axis).command_velocity == 0.0 && cmd == 90.0 {
+            ended = true;
+            break;
+        }
+    }
+    assert!(ended);
+    for _ in 0..10 {
+        task.update();
+    }
+    assert!(!task.outputs(fb).done && task.outputs(fb).busy);
+    task.feed_actual_position(axis, 88.5);
+    task.update();
+    assert!(task.outputs(fb).done, "inside the 2-unit range window");
+
+    // IgnorePositionMonitoring: Done though the axis lags.
+    release(&mut task, fb);
+    task.update();
+    let mut inputs = go(180.0, 100.0, McDirection::Positive, McBufferMode::Aborting);
+    inputs.options.ignore_position_monitoring = true;
+    task.set_move_modulo_inputs(fb, inputs);
+    for _ in 0..10_000 {
+        task.update();
+        let cmd = task.axis_state(axis).command_position;
+        task.feed_actual_position(axis, cmd - 30.0);
+        if task.outputs(fb).done {
+            break;
+        }
+    }
+    assert!(task.outputs(fb).done);
+    assert_eq!(task.axis_state(axis).command_position, 180.0);
+
+    release(&mut task, fb);
+    task.update();
+    let mut inputs = go(10.0, 100.0, McDirection::Positive, McBufferMode::Aborting);
+    inputs.options.enable_blending_position = true;
+    task.set_move_modulo_inputs(fb, inputs);
+    task.update();
+    assert_eq!(task.outputs(fb).error_id, ErrorId::BLENDING_POSITION.0);
+}

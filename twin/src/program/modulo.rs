@@ -4,8 +4,11 @@
 //! A call sets the inputs it names; the others keep their last value, as
 //! PLC block inputs do. The instance is created on its first call, which
 //! must name its axis; an instance drives one axis. Inputs and their
-//! enumeration words come from [`planner::catalogue::MC_MOVE_MODULO`];
-//! `Options` (ST_MoveOptions) is not supported and is refused by name.
+//! enumeration words come from [`planner::catalogue::MC_MOVE_MODULO`].
+//! `Options` (ST_MoveOptions) is set where the instance is declared — its
+//! `[[tags]]` entry's `options = { IgnorePositionMonitoring = true }`, as an
+//! IEC declaration initialises a block's input — and a call naming it is
+//! refused with a message saying so.
 
 use super::FbBinding;
 use super::bind::{BindError, axis_named, number};
@@ -109,6 +112,12 @@ pub(super) fn bind(
         }
     }
     let index = instance(name, &tag.name, axis, task, fbs)?;
+    let handle = fbs[index].handle;
+    let inputs = MoveModuloInputs {
+        options: tag.move_options,
+        ..task.move_modulo_inputs(handle)
+    };
+    task.set_move_modulo_inputs(handle, inputs);
     Ok(BoundCall { fb: index, set })
 }
 
@@ -137,7 +146,12 @@ fn setting(spec: &Operand, v: &Expr, scene: &Scene, task: &MotionTask) -> Result
             let handle = axis_named(task, a).ok_or_else(|| format!("Axis := {a}: no axis of that name in [[axes]]"))?;
             return Ok(Input::Axis(handle));
         }
-        ("Options", _) => return Err("Options: ST_MoveOptions are not supported; leave the input open".to_string()),
+        ("Options", _) => {
+            return Err(
+                "Options: set the instance's ST_MoveOptions where it is declared, e.g. options = { IgnorePositionMonitoring = true } in its [[tags]] entry; a call cannot change them"
+                    .to_string(),
+            );
+        }
         ("Execute", _) => match v {
             Expr::Bool(b) => Setting::Execute(*b),
             _ => return Err(format!("Execute := {v}: expected TRUE or FALSE")),

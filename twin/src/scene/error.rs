@@ -233,6 +233,17 @@ pub enum Problem {
     /// coordinate system.
     #[error("only COORDINATE_SYSTEM tags take coordinate_system and geometry tables")]
     CoordinateSystemOnly,
+    /// An `options` table on a tag that is not an MC_MoveModulo instance.
+    #[error("only MC_MoveModulo instances take an options table (ST_MoveOptions)")]
+    MoveOptionsOnly,
+    /// An `ST_MoveOptions` member the twin does not simulate, set.
+    #[error("{member} is not simulated: {why}")]
+    OptionNotSimulated {
+        /// The member.
+        member: &'static str,
+        /// What the twin does instead.
+        why: &'static str,
+    },
     /// An unknown MCT geometry type.
     #[error("unknown geometry '{name}', expected one of {expected}")]
     UnknownGeometry {

@@ -56,7 +56,8 @@ pub use tasks::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
 use context::{Ctx, NameKind, Names};
 use raw::{
     AxisConfiguration, HomeDirectionWord, HomeModeWord, HomeSequenceWord, Numbers, RawAxis, RawCamera,
-    RawCoordinateSystem, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, RawStep, RawTag, ShapeKind,
+    RawCoordinateSystem, RawDrive, RawMoveOptions, RawObstacle, RawRobot, RawScene, RawSnapshots, RawStep, RawTag,
+    ShapeKind,
 };
 
 impl Scene {

@@ -599,6 +599,9 @@ pub struct Tag {
     /// `COORDINATE_SYSTEM` tags: the MCT geometry of a robot's joint system
     /// and its URDF mapping (`None` when the `geometry` table is absent).
     pub geometry: Option<GeometrySettings>,
+    /// `MC_MoveModulo` instances: the `Options` input their declaration
+    /// sets (`ST_MoveOptions`; all off when the table is absent).
+    pub move_options: planner::modulo::MoveOptions,
     /// Where the entry's `name` is written.
     pub location: Location,
 }

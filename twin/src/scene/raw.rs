@@ -56,6 +56,9 @@ pub(super) struct RawAxis {
     pub(super) max_jerk: Spanned<f64>,
     pub(super) in_position_window: Spanned<f64>,
     pub(super) target_position_monitoring: Option<bool>,
+    pub(super) position_range_monitoring: Option<bool>,
+    pub(super) position_range_window: Option<Spanned<f64>>,
+    pub(super) allow_motion_on_coupled_slave: Option<bool>,
     pub(super) modulo_tolerance_window: Option<Spanned<f64>>,
     pub(super) initial_position: Option<Spanned<f64>>,
     pub(super) soft_travel_limits: Option<Spanned<Numbers<2>>>,
@@ -226,6 +229,22 @@ pub(super) struct RawTag {
     pub(super) value: Option<Spanned<toml::Value>>,
     pub(super) coordinate_system: Option<Spanned<RawCoordinateSystem>>,
     pub(super) geometry: Option<Spanned<super::geometry::RawGeometry>>,
+    pub(super) options: Option<Spanned<RawMoveOptions>>,
+}
+
+/// An `MC_MoveModulo` instance's `Options` input (`ST_MoveOptions`), as
+/// its declaration initialises it; the members by their Tc2_MC2 names.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawMoveOptions {
+    #[serde(rename = "EnableBlendingPosition")]
+    pub(super) enable_blending_position: Option<Spanned<bool>>,
+    #[serde(rename = "BlendingPosition")]
+    pub(super) blending_position: Option<Spanned<f64>>,
+    #[serde(rename = "IgnorePositionMonitoring")]
+    pub(super) ignore_position_monitoring: Option<bool>,
+    #[serde(rename = "EnableStopPositionMonitoring")]
+    pub(super) enable_stop_position_monitoring: Option<bool>,
 }
 
 #[derive(Deserialize)]

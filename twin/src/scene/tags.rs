@@ -4,10 +4,11 @@
 use toml::Spanned;
 
 use planner::coord::CoordinateSystemConfig;
+use planner::modulo::MoveOptions;
 
 use super::{
-    Axis, BaseType, CamPoint, CoordinateSystemSettings, Ctx, NameKind, Names, Problem, RawCoordinateSystem, RawTag,
-    SceneError, Tag, TagType, TagValue,
+    Axis, BaseType, CamPoint, CoordinateSystemSettings, Ctx, FunctionBlock, NameKind, Names, Problem,
+    RawCoordinateSystem, RawMoveOptions, RawTag, SceneError, Tag, TagType, TagValue,
 };
 
 impl Ctx<'_> {
@@ -46,6 +47,30 @@ impl Ctx<'_> {
             return Err(self.invalid(raw, field, Problem::ArrayNotAllowed { base: base.name() }));
         }
         Ok(TagType { base, array_len })
+    }
+
+    /// An MC_MoveModulo instance's `Options` (module doc of
+    /// [`planner::modulo`]): `EnableBlendingPosition` is refused by name.
+    fn move_options(&self, raw: &RawMoveOptions, field: &str) -> Result<MoveOptions, SceneError> {
+        if let Some(flag) = &raw.enable_blending_position
+            && *flag.get_ref()
+        {
+            let problem = Problem::OptionNotSimulated {
+                member: "EnableBlendingPosition",
+                why: "a blending MC_MoveModulo hands over at the running command's target",
+            };
+            return Err(self.invalid(flag, format!("{field}.EnableBlendingPosition"), problem));
+        }
+        let blending_position = match &raw.blending_position {
+            Some(p) => self.finite(p, &format!("{field}.BlendingPosition"))?,
+            None => 0.0,
+        };
+        Ok(MoveOptions {
+            enable_blending_position: false,
+            blending_position,
+            ignore_position_monitoring: raw.ignore_position_monitoring.unwrap_or(false),
+            enable_stop_position_monitoring: raw.enable_stop_position_monitoring.unwrap_or(false),
+        })
     }
 
     /// The tags of `raw`, whose fields are named `{prefix}[i].field`.
@@ -91,12 +116,20 @@ impl Ctx<'_> {
                 }
                 _ => None,
             };
+            let move_options = match &t.options {
+                Some(raw) if ty.base != BaseType::FunctionBlock(FunctionBlock::MoveModulo) => {
+                    return Err(self.invalid(raw, f("options"), Problem::MoveOptionsOnly));
+                }
+                Some(raw) => self.move_options(raw.get_ref(), &f("options"))?,
+                None => MoveOptions::default(),
+            };
             tags.push(Tag {
                 name,
                 ty,
                 value,
                 coordinate_system,
                 geometry,
+                move_options,
                 location: self.loc(&t.name),
             });
         }

@@ -702,3 +702,32 @@ fn drive_fields_are_checked_at_the_field() {
     let e = error_of(&text);
     assert!(e.to_string().contains("not both"), "{e}");
 }
+
+#[test]
+fn move_options_are_checked_on_the_instance() {
+    let with = |options: &str| {
+        edited(
+            "type = \"MC_MoveModulo\"",
+            &format!("type = \"MC_MoveModulo\"\noptions = {options}"),
+        )
+    };
+    let scene = parse(
+        &fixtures().join("case.toml"),
+        &with("{ IgnorePositionMonitoring = true }"),
+    )
+    .unwrap();
+    let tag = scene.tag("MoveTable").unwrap();
+    assert!(tag.move_options.ignore_position_monitoring && !tag.move_options.enable_blending_position);
+    let e = error_of(&with("{ EnableBlendingPosition = true }"));
+    assert_eq!(e.field(), Some("tags[0].options.EnableBlendingPosition"), "{e}");
+    assert!(matches!(e.problem(), Some(Problem::OptionNotSimulated { .. })));
+    let e = error_of(&with("{ IgnorePositionMonitoring = 1 }"));
+    assert!(e.to_string().contains("case.toml:"), "{e}");
+    let e = error_of(&with("{ Blending = true }"));
+    assert!(e.to_string().contains("Blending"), "{e}");
+    let e = error_of(&edited(
+        "type = \"DINT\"",
+        "type = \"DINT\"\noptions = { IgnorePositionMonitoring = true }",
+    ));
+    assert!(matches!(e.problem(), Some(Problem::MoveOptionsOnly)), "{e}");
+}

@@ -319,6 +319,10 @@ impl Ctx<'_> {
             let max_deceleration = self.positive(&a.max_deceleration, &f("max_deceleration"))?;
             let max_jerk = self.positive(&a.max_jerk, &f("max_jerk"))?;
             let in_position_window = self.positive(&a.in_position_window, &f("in_position_window"))?;
+            let position_range_window = match &a.position_range_window {
+                Some(w) => self.non_negative(w, &f("position_range_window"))?,
+                None => 5.0,
+            };
             let modulo_tolerance_window = match &a.modulo_tolerance_window {
                 Some(w) => self.non_negative(w, &f("modulo_tolerance_window"))?,
                 None => 0.0,
@@ -404,6 +408,9 @@ impl Ctx<'_> {
                     max_jerk,
                     in_position_window,
                     target_position_monitoring: a.target_position_monitoring.unwrap_or(true),
+                    position_range_monitoring: a.position_range_monitoring.unwrap_or(false),
+                    position_range_window,
+                    allow_motion_on_coupled_slave: a.allow_motion_on_coupled_slave.unwrap_or(false),
                     modulo_tolerance_window,
                     soft_travel_limits,
                     axis_type: drive.axis_type,

@@ -45,6 +45,7 @@ impl Sandbox {
                 value: None,
                 coordinate_system: None,
                 geometry: None,
+                move_options: Default::default(),
                 location: Location::default(),
             });
         }
