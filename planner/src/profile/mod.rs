@@ -305,6 +305,9 @@ impl Profile {
         let d = |vp: f64, vf: f64| Ramp::new(v0, a0, vp, limits).distance() + Ramp::new(vp, 0.0, vf, limits).distance();
 
         let v_max = limits.velocity;
+        // Distance the root search may leave to the cruise (which absorbs it
+        // exactly): a few ulps of the move.
+        let tol = 1e-15 * dist.abs();
         let v_free = coast_velocity(v0, a0, limits);
         let mut vf = final_speed;
         let peak;
@@ -313,7 +316,7 @@ impl Profile {
         } else {
             let lo = vf.max(v_free.max(0.0)).min(v_max);
             if lo >= vf && d(lo, vf) <= dist {
-                peak = largest_feasible(lo, v_max, |vp| d(vp, vf) <= dist);
+                peak = largest_at_most(lo, v_max, tol, |vp| d(vp, vf) - dist);
             } else if v_free > vf {
                 if a0 < 0.0
                     && v0 <= v_max
@@ -323,11 +326,11 @@ impl Profile {
                 }
                 // Too close to cruise above the start speed: brake earlier.
                 // Braking straight to `vf` fits because stopping fits.
-                peak = largest_feasible(vf, v_free.min(v_max), |vp| d(vp, vf) <= dist);
+                peak = largest_at_most(vf, v_free.min(v_max), tol, |vp| d(vp, vf) - dist);
             } else {
                 // Cannot even reach `vf` in the distance: end as fast as possible.
-                let only_ramp = |vt: f64| Ramp::new(v0, a0, vt, limits).distance() <= dist;
-                vf = largest_feasible(0.0, vf, only_ramp);
+                let only_ramp = |vt: f64| Ramp::new(v0, a0, vt, limits).distance() - dist;
+                vf = largest_at_most(0.0, vf, tol, only_ramp);
                 peak = vf;
             }
         }
@@ -604,7 +607,7 @@ fn softened_brake(
     if distance(a0) > dist || distance(0.0) < dist {
         return None;
     }
-    let a1 = largest_feasible(a0, 0.0, |a1| distance(a1) <= dist);
+    let a1 = largest_at_most(a0, 0.0, 1e-15 * dist.abs(), |a1| distance(a1) - dist);
     let (first, rest) = soften(a1);
     let mirrored_start = State {
         position: 0.0,
@@ -642,21 +645,66 @@ fn sanitize(state: State, limits: &Limits) -> State {
     s
 }
 
-/// Largest `x` in `[lo, hi]` with `ok(x)`, assuming `ok(lo)` and monotone `ok`.
-fn largest_feasible(lo: f64, hi: f64, ok: impl Fn(f64) -> bool) -> f64 {
-    if hi <= lo || ok(hi) {
-        return if hi <= lo { lo } else { hi };
+/// Largest `x` in `[lo, hi]` with `f(x) ≤ 0`, for `f` increasing and
+/// `f(lo) ≤ 0`: `hi` when `f(hi) ≤ 0`, else a point on the root's low side
+/// where `f` is within `tol` of 0 (or the root to the last bits). Regula falsi with the Illinois modification,
+/// which converges superlinearly on the smooth ramp distances, and a
+/// bisection step whenever an interpolation does not halve the bracket.
+fn largest_at_most(lo: f64, hi: f64, tol: f64, f: impl Fn(f64) -> f64) -> f64 {
+    if hi <= lo {
+        return lo;
+    }
+    let mut f_hi = f(hi);
+    if f_hi <= 0.0 {
+        return hi;
     }
     let (mut lo, mut hi) = (lo, hi);
+    let mut f_lo = f(lo).min(0.0);
+    // Which end the last two steps moved (+1 low, −1 high), for Illinois.
+    let mut side = 0i8;
     for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if mid <= lo || mid >= hi {
-            break;
+        let width = hi - lo;
+        let mut x = if f_hi > f_lo { lo - f_lo * width / (f_hi - f_lo) } else { 0.5 * (lo + hi) };
+        if !(x > lo && x < hi) {
+            x = 0.5 * (lo + hi);
+            if x <= lo || x >= hi {
+                break;
+            }
         }
-        if ok(mid) {
-            lo = mid;
+        let fx = f(x);
+        if fx <= 0.0 {
+            lo = x;
+            f_lo = fx;
+            if side == 1 {
+                f_hi *= 0.5;
+            }
+            side = 1;
+            if fx >= -tol {
+                break;
+            }
         } else {
-            hi = mid;
+            hi = x;
+            f_hi = fx;
+            if side == -1 {
+                f_lo *= 0.5;
+            }
+            side = -1;
+        }
+        if hi - lo > 0.5 * width {
+            // Slow progress: bisect once.
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            let fm = f(mid);
+            if fm <= 0.0 {
+                lo = mid;
+                f_lo = fm;
+            } else {
+                hi = mid;
+                f_hi = fm;
+            }
+            side = 0;
         }
     }
     lo
