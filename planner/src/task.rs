@@ -370,6 +370,19 @@ impl MotionTask {
         Ok(())
     }
 
+    /// Whether the single-axis profile running on `axis` (an MC_MoveModulo,
+    /// a MAM, a jog, a stop ramp) is overshooting now: above its speed limit
+    /// because its start state could not keep it, or past its target, to
+    /// which it comes back ([`crate::profile::Profile::overshoot_at`]). The
+    /// trace's `<axis>.overshoot`.
+    pub fn profile_overshoot(&self, axis: AxisHandle) -> bool {
+        let job = self.axes[axis.0 as usize]
+            .job
+            .as_ref()
+            .is_some_and(|j| !j.generation_done && j.profile.overshoot_at(j.t_s));
+        job || self.ramp_overshoots(axis)
+    }
+
     /// An axis' state after the last update.
     pub fn axis_state(&self, axis: AxisHandle) -> AxisState {
         let a = &self.axes[axis.0 as usize];

@@ -350,3 +350,39 @@ fn a_stop_while_accelerating_keeps_the_velocity_limit() {
     let full = Profile::to_position(State::at_rest(0.0), 100.0, 0.0, &limits);
     assert!((full.peak_speed() - 10.0).abs() < 1e-12);
 }
+
+/// `Profile::overshoot`: a plan that must pass its target (it lies behind
+/// where the axis can stop) or its speed limit (the start cannot keep it)
+/// says so, and `overshoot_at` is true exactly while it is past the target
+/// or above the limit; a plan that keeps its limits never says so.
+#[test]
+fn overshoots_are_reported_while_they_last() {
+    let limits = Limits::s_curve(10.0, 100.0, 100.0, 10_000.0, 1_000.0).unwrap();
+    let moving = State {
+        position: 0.0,
+        velocity: 10.0,
+        acceleration: 0.0,
+    };
+    let stop = planner::profile::stopping_distance(moving, &limits);
+    let p = Profile::to_position(moving, 0.5 * stop, 0.0, &limits);
+    assert!(p.overshoot());
+    let past: Vec<bool> = (0..=1000)
+        .map(|k| p.duration_s() * f64::from(k) / 1000.0)
+        .map(|t| p.overshoot_at(t) == (p.sample(t).position > 0.5 * stop) || t >= p.duration_s())
+        .collect();
+    assert!(past.iter().all(|&ok| ok));
+    // Not holdable: already at 10 with a = 100 and a jerk of 10,000 left.
+    let fast = State {
+        position: 0.0,
+        velocity: 9.9,
+        acceleration: 100.0,
+    };
+    let p = Profile::to_velocity(fast, 0.0, &limits);
+    assert!(p.overshoot() && p.overshoot_at(0.005) && !p.overshoot_at(p.duration_s() * 0.9));
+    assert!((p.peak_speed() - 10.4).abs() < 1e-12, "the least the accel jerk allows");
+    // Within the limits: no overshoot.
+    let p = Profile::to_position(State::at_rest(0.0), 50.0, 0.0, &limits);
+    assert!(!p.overshoot());
+    let p = Profile::to_velocity(moving, 0.0, &limits);
+    assert!(!p.overshoot());
+}

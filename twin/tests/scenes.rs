@@ -141,6 +141,7 @@ fn indexing_table_runs_end_to_end_and_reruns_identically() {
         "MoveB.CommandAborted",
         "MoveB.Error",
         "MoveB.ErrorID",
+        "Table.overshoot",
     ];
     assert_eq!(header, expected);
     let col = |name: &str| column(&header, name);
@@ -650,6 +651,7 @@ fn collision_cell_stop_brakes_within_the_deceleration_and_aborts_the_move() {
     let bodies: Vec<&str> = header[col("collision.count") + 1..]
         .iter()
         .map(String::as_str)
+        .take_while(|h| h.ends_with(".clearance_m"))
         .collect();
     assert_eq!(
         bodies,
@@ -2107,4 +2109,42 @@ fn move_modulo_done_with_position_range_monitoring_and_options() {
         !out.status.success() && stderr.contains("tags[0].options.EnableBlendingPosition"),
         "{stderr}"
     );
+}
+
+/// `<axis>.overshoot`: a command that re-targets the table at a lower
+/// speed than it turns at (MC_Aborting) starts above its own maximum, which
+/// the trace flags, in one run of updates, until the table has slowed to
+/// the new speed. The scene's own step 5 does it (MoveB at 240°/s while
+/// MoveA turns at 360°/s); an added MoveB at 45°/s at 0.3 s (MoveA cruises
+/// at 180°/s) does it again.
+#[test]
+fn a_speed_lowered_mid_move_is_flagged_as_overshoot() {
+    let check = |header: &[String], rows: &[Vec<f64>], new_speed: f64| -> f64 {
+        let (time, flag, vel) = (
+            column(header, "time_s"),
+            column(header, "Table.overshoot"),
+            column(header, "Table.cmd_vel"),
+        );
+        let flagged: Vec<usize> = (0..rows.len()).filter(|&i| rows[i][flag] == 1.0).collect();
+        assert!(!flagged.is_empty());
+        assert!(flagged.windows(2).all(|w| w[1] == w[0] + 1), "one run");
+        let (first, last) = (flagged[0], *flagged.last().unwrap());
+        assert!(rows[first][vel].abs() > new_speed, "{}", rows[first][vel]);
+        assert!(rows[last][vel].abs() > new_speed - 1e-9);
+        assert!(rows[last + 1][vel].abs() <= new_speed + 1e-9, "{}", rows[last + 1][vel]);
+        rows[first][time]
+    };
+    let (header, rows) = run_trace("scenes/indexing_table.toml", "overshoot_plain");
+    check(&header, &rows, 240.0);
+    let path = edited_scene(
+        "indexing_table",
+        "overshoot_lowered",
+        &[(
+            "[[program]]\nat_s = 0.0\n",
+            "[[program]]\nat_s = 0.3\ncall = \"MoveB(Axis := Table, Execute := TRUE, Position := 0.0, Velocity := 45.0, Direction := MC_Positive_Direction)\"\n\n[[program]]\nat_s = 0.0\n",
+        )],
+    );
+    let (header, rows) = run_edited_trace(&path);
+    let at = check(&header, &rows, 45.0);
+    assert!((at - 0.304).abs() < 0.005, "{at}");
 }

@@ -241,6 +241,16 @@ pub struct Profile {
     start: State,
     final_state: State,
     duration_s: f64,
+    overshoot: Option<Overshoot>,
+}
+
+/// How a profile overshoots (see [`Profile::overshoot`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Overshoot {
+    /// The speed limit the profile passes, if it does.
+    speed_limit: Option<f64>,
+    /// The target it passes, and the direction it approached it from.
+    passes: Option<(f64, f64)>,
 }
 
 impl Profile {
@@ -252,6 +262,7 @@ impl Profile {
         };
         Self {
             segments: Vec::new(),
+            overshoot: None,
             start: state,
             final_state: state,
             duration_s: 0.0,
@@ -268,6 +279,17 @@ impl Profile {
     /// target gives a profile that holds the start position (callers validate
     /// operands before planning).
     pub fn to_position(start: State, target_position: f64, final_speed: f64, limits: &Limits) -> Self {
+        let mut profile = Self::plan_position(start, target_position, final_speed, limits);
+        let s = sanitize(start, limits);
+        let toward = target_position - s.position;
+        let passes = s.velocity * toward > 0.0
+            && toward * (toward - stopping_distance(s, limits)) < 0.0
+            && target_position.is_finite();
+        profile.flag_overshoot(limits, passes.then_some((target_position, toward.signum())));
+        profile
+    }
+
+    fn plan_position(start: State, target_position: f64, final_speed: f64, limits: &Limits) -> Self {
         let requested_final_speed = if final_speed.is_finite() && final_speed > 0.0 {
             final_speed
         } else {
@@ -347,7 +369,12 @@ impl Profile {
             // is one level deep).
             let stop = Self::to_velocity(start, 0.0, limits);
             let rest = State::at_rest(stop.final_state.position);
-            return stop.then(Self::to_position(rest, target_position, requested_final_speed, limits));
+            return stop.then(Self::plan_position(
+                rest,
+                target_position,
+                requested_final_speed,
+                limits,
+            ));
         }
         let cruise_s = if cruise_len > 0.0 && peak > 0.0 {
             cruise_len / peak
@@ -386,6 +413,7 @@ impl Profile {
         let ramp = Ramp::new(start.velocity, start.acceleration, vt, limits);
         let mut profile = Self::from_ramps(start, &[&ramp], None, limits);
         profile.final_state.velocity = vt;
+        profile.flag_overshoot(limits, None);
         profile
     }
 
@@ -441,6 +469,7 @@ impl Profile {
         };
         Self {
             segments,
+            overshoot: None,
             start,
             final_state,
             duration_s: t,
@@ -482,6 +511,36 @@ impl Profile {
     /// and the sample at the phase's start, whose jerk holds throughout.
     pub fn phases(&self) -> impl Iterator<Item = (f64, f64, Sample)> + '_ {
         self.segments.iter().map(|s| (s.t0_s, s.duration_s, s.at(0.0)))
+    }
+
+    fn flag_overshoot(&mut self, limits: &Limits, passes: Option<(f64, f64)>) {
+        let speed_limit = (self.peak_speed() > limits.velocity * (1.0 + 1e-12)).then_some(limits.velocity);
+        self.overshoot = (speed_limit.is_some() || passes.is_some()).then_some(Overshoot { speed_limit, passes });
+    }
+
+    /// Whether the profile overshoots: its speed passes the limit (a start
+    /// state that cannot keep it — a stop issued while accelerating with a
+    /// smaller decel jerk, a speed lowered mid-move), or it passes its
+    /// target and comes back (the target lies behind where the axis can
+    /// stop — the overshoot the Logix documents warn of when the
+    /// deceleration is decreased while a move decelerates).
+    pub fn overshoot(&self) -> bool {
+        self.overshoot.is_some()
+    }
+
+    /// Whether the profile is overshooting at `t_s`: above the speed limit,
+    /// or past the target it comes back to.
+    pub fn overshoot_at(&self, t_s: f64) -> bool {
+        let Some(o) = self.overshoot else {
+            return false;
+        };
+        if t_s >= self.duration_s {
+            return false;
+        }
+        let s = self.sample(t_s);
+        o.speed_limit.is_some_and(|v| s.velocity.abs() > v * (1.0 + 1e-12))
+            || o.passes
+                .is_some_and(|(target, toward)| toward * (s.position - target) > 0.0)
     }
 
     /// The highest speed |v| anywhere in the profile, its start and final
@@ -664,7 +723,11 @@ fn largest_at_most(lo: f64, hi: f64, tol: f64, f: impl Fn(f64) -> f64) -> f64 {
     let mut side = 0i8;
     for _ in 0..200 {
         let width = hi - lo;
-        let mut x = if f_hi > f_lo { lo - f_lo * width / (f_hi - f_lo) } else { 0.5 * (lo + hi) };
+        let mut x = if f_hi > f_lo {
+            lo - f_lo * width / (f_hi - f_lo)
+        } else {
+            0.5 * (lo + hi)
+        };
         if !(x > lo && x < hi) {
             x = 0.5 * (lo + hi);
             if x <= lo || x >= hi {

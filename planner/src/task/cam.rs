@@ -455,6 +455,16 @@ impl MotionTask {
             .unwrap_or_default()
     }
 
+    /// Whether a running jog, MAM or stop ramp on `axis` is overshooting
+    /// ([`crate::profile::Profile::overshoot_at`]).
+    pub(super) fn ramp_overshoots(&self, axis: AxisHandle) -> bool {
+        self.cam
+            .axes
+            .get(axis.0 as usize)
+            .and_then(|c| c.ramp.as_ref())
+            .is_some_and(|r| r.t_s < r.profile.duration_s() && r.profile.overshoot())
+    }
+
     /// Whether the last update's command exceeded the axis' limits.
     pub fn limits_exceeded(&self, axis: AxisHandle) -> LimitFlags {
         self.cam.axes.get(axis.0 as usize).map(|c| c.limits).unwrap_or_default()

@@ -29,6 +29,13 @@
 //! * per axis with a servo drive (a `joint` and no `motor`):
 //!   `<axis>.torque`, the drive's torque in the last physics substep of the
 //!   update, N·m (rotary joint) or N (prismatic), 0 while the drive is off;
+//! * per axis `<axis>.overshoot`: 1 while the single-axis profile running
+//!   on it (MC_MoveModulo, MAM, MAJ, a stop ramp) is overshooting — above
+//!   the programmed maximum speed because the state it started from could
+//!   not keep it (a stop issued while accelerating with a smaller decel
+//!   jerk, a speed lowered mid-move), or past its target, to which it comes
+//!   back (the overshoot the MCCM document warns of when the deceleration is
+//!   decreased while a move decelerates);
 //! * each `[trace] tags` entry, named as written (`State`, `Pos[0]`,
 //!   `Pick.Count`, `MC1.PC`): BOOL as 0/1, integers in full, REAL at single
 //!   precision.
@@ -111,6 +118,9 @@ pub fn header(twin: &Twin) -> Vec<String> {
             h.push(format!("{}.torque", a.name));
         }
     }
+    for a in plant.axes() {
+        h.push(format!("{}.overshoot", a.name));
+    }
     h.extend(program.traced_tags().iter().map(|t| t.name.clone()));
     h
 }
@@ -189,6 +199,9 @@ pub fn row(twin: &Twin) -> Vec<String> {
         if let Some(torque) = plant.drive_torque(k) {
             row.push(format!("{torque}"));
         }
+    }
+    for a in plant.axes() {
+        row.push(bit(task.profile_overshoot(a.handle)));
     }
     row.extend(program.traced_tags().iter().map(|t| program.traced_value(t, task)));
     row
