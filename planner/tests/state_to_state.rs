@@ -328,18 +328,24 @@ fn asymmetric_random_starts() {
     assert!(held_cases > 30_000, "{held_cases}");
 }
 
-/// The example: v 10, a = d 100, accel jerk 10,000, decel jerk
-/// 1,000. A stop issued as the acceleration starts to fall (v 9.5, a 100)
-/// peaks at the limit, not at 14.5 (where ending the acceleration with the
-/// decel jerk would carry it).
+/// v 10, a = d 100, accel jerk 10,000, decel jerk 1,000, and a state
+/// moving at `velocity` with `acceleration`.
+fn decel_jerk_tenth(velocity: f64, acceleration: f64) -> (Limits, State) {
+    let limits = Limits::s_curve(10.0, 100.0, 100.0, 10_000.0, 1_000.0).unwrap();
+    let state = State {
+        position: 0.0,
+        velocity,
+        acceleration,
+    };
+    (limits, state)
+}
+
+/// The example (limits above). A stop issued as the acceleration
+/// starts to fall (v 9.5, a 100) peaks at the limit, not at 14.5 (where
+/// ending the acceleration with the decel jerk would carry it).
 #[test]
 fn a_stop_while_accelerating_keeps_the_velocity_limit() {
-    let limits = Limits::s_curve(10.0, 100.0, 100.0, 10_000.0, 1_000.0).unwrap();
-    let start = State {
-        position: 0.0,
-        velocity: 9.5,
-        acceleration: 100.0,
-    };
+    let (limits, start) = decel_jerk_tenth(9.5, 100.0);
     let stop = Profile::to_velocity(start, 0.0, &limits);
     assert!((stop.peak_speed() - 10.0).abs() < 1e-12, "{}", stop.peak_speed());
     limits_held(&stop, &limits, 10.0).unwrap();
@@ -357,12 +363,7 @@ fn a_stop_while_accelerating_keeps_the_velocity_limit() {
 /// or above the limit; a plan that keeps its limits never says so.
 #[test]
 fn overshoots_are_reported_while_they_last() {
-    let limits = Limits::s_curve(10.0, 100.0, 100.0, 10_000.0, 1_000.0).unwrap();
-    let moving = State {
-        position: 0.0,
-        velocity: 10.0,
-        acceleration: 0.0,
-    };
+    let (limits, moving) = decel_jerk_tenth(10.0, 0.0);
     let stop = planner::profile::stopping_distance(moving, &limits);
     let p = Profile::to_position(moving, 0.5 * stop, 0.0, &limits);
     assert!(p.overshoot());
@@ -371,12 +372,9 @@ fn overshoots_are_reported_while_they_last() {
         .map(|t| p.overshoot_at(t) == (p.sample(t).position > 0.5 * stop) || t >= p.duration_s())
         .collect();
     assert!(past.iter().all(|&ok| ok));
-    // Not holdable: already at 10 with a = 100 and a jerk of 10,000 left.
-    let fast = State {
-        position: 0.0,
-        velocity: 9.9,
-        acceleration: 100.0,
-    };
+    // Not holdable: at 9.9 with a = 100, ending the acceleration with the
+    // accel jerk carries it to 10.4.
+    let (_, fast) = decel_jerk_tenth(9.9, 100.0);
     let p = Profile::to_velocity(fast, 0.0, &limits);
     assert!(p.overshoot() && p.overshoot_at(0.005) && !p.overshoot_at(p.duration_s() * 0.9));
     assert!((p.peak_speed() - 10.4).abs() < 1e-12, "the least the accel jerk allows");

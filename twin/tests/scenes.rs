@@ -1800,22 +1800,8 @@ fn mccp_illegal_cam_length_reports_the_cam_tag_size() {
         "mccp_err26",
         &[("MCCP(MCCP_2, KnifeCam2[0], 4,", "MCCP(MCCP_2, KnifeCam2[1], 4,")],
     );
-    let out = path.parent().expect("scene dir");
-    let output = twin_cmd()
-        .args(["run", &path.display().to_string(), "--no-render", "--trace"])
-        .arg(out.join("t.csv"))
-        .output()
-        .expect("run twin");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(!output.status.success(), "an instruction error fails the run: {stdout}");
-    let (header, rows) = read_trace(&out.join("t.csv"));
-    let (er, err, exerr) = (
-        column(&header, "MCCP_2.ER"),
-        column(&header, "MCCP_2.ERR"),
-        column(&header, "MCCP_2.EXERR"),
-    );
-    let row = rows.iter().find(|r| r[er] == 1.0).expect("MCCP_2 errs");
-    assert_eq!((row[err], row[exerr]), (26.0, 4.0));
+    let (header, rows) = run_edited_trace(&path);
+    assert_eq!(first_error_codes(&header, &rows, "MCCP_2"), (26.0, 4.0));
     // From [0] the same tag calculates.
     let ok = rows.iter().find(|r| r[column(&header, "MCCP_1.DN")] == 1.0);
     assert!(ok.is_some());
@@ -1902,21 +1888,8 @@ fn immediate_or_tag_operands_fail_at_run_time_and_immediate_ones_at_load() {
             ),
         ],
     );
-    let out = path.parent().expect("dir");
-    let output = twin_cmd()
-        .args(["run", &path.display().to_string(), "--no-render", "--trace"])
-        .arg(out.join("t.csv"))
-        .output()
-        .expect("run twin");
-    assert!(!output.status.success());
-    let (header, rows) = read_trace(&out.join("t.csv"));
-    let (er, err, exerr) = (
-        column(&header, "C1.ER"),
-        column(&header, "C1.ERR"),
-        column(&header, "C1.EXERR"),
-    );
-    let row = rows.iter().find(|r| r[er] == 1.0).expect("C1 errs");
-    assert_eq!((row[err], row[exerr]), (13.0, 6.0));
+    let (header, rows) = run_edited_trace(&path);
+    assert_eq!(first_error_codes(&header, &rows, "C1"), (13.0, 6.0));
 
     let path = edited_scene(
         "rotary_knife",
@@ -1941,8 +1914,21 @@ fn first_on(header: &[String], rows: &[Vec<f64>], name: &str) -> Option<usize> {
     rows.iter().position(|r| r[c] == 1.0)
 }
 
-/// Runs an edited scene that may end with an instruction error; returns
-/// its trace.
+/// `.ERR` and `.EXERR` of `control` in the first row where its `.ER` is set.
+fn first_error_codes(header: &[String], rows: &[Vec<f64>], control: &str) -> (f64, f64) {
+    let er = column(header, &format!("{control}.ER"));
+    let row = rows
+        .iter()
+        .find(|r| r[er] == 1.0)
+        .unwrap_or_else(|| panic!("{control} errs"));
+    (
+        row[column(header, &format!("{control}.ERR"))],
+        row[column(header, &format!("{control}.EXERR"))],
+    )
+}
+
+/// Runs an edited scene that may end with an instruction error (exit code
+/// 2); returns its trace.
 fn run_edited_trace(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let out = path.parent().expect("dir");
     let output = twin_cmd()

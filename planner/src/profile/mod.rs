@@ -381,17 +381,41 @@ impl Profile {
         } else {
             0.0
         };
+        Self::in_travel_frame(
+            start,
+            dir,
+            &[&first, &last],
+            Some((1, cruise_s)),
+            target_position,
+            vf,
+            limits,
+        )
+    }
+
+    /// The profile of `ramps` (with a cruise before ramp `cruise.0`)
+    /// planned in the frame where travel is positive (`dir` · the axis),
+    /// mapped back onto the axis from `start`, ending at `target_position`
+    /// with speed `final_speed` in the direction of travel.
+    fn in_travel_frame(
+        start: State,
+        dir: f64,
+        ramps: &[&Ramp],
+        cruise: Option<(usize, f64)>,
+        target_position: f64,
+        final_speed: f64,
+        limits: &Limits,
+    ) -> Self {
         let mirrored_start = State {
             position: 0.0,
-            velocity: v0,
-            acceleration: a0,
+            velocity: dir * start.velocity,
+            acceleration: dir * start.acceleration,
         };
-        let mut profile = Self::from_ramps(mirrored_start, &[&first, &last], Some((1, cruise_s)), limits);
+        let mut profile = Self::from_ramps(mirrored_start, ramps, cruise, limits);
         profile.mirror_and_shift(dir, start.position);
         profile.start = start;
         profile.final_state = State {
             position: target_position,
-            velocity: dir * vf,
+            velocity: dir * final_speed,
             acceleration: 0.0,
         };
         profile
@@ -668,20 +692,15 @@ fn softened_brake(
     }
     let a1 = largest_at_most(a0, 0.0, 1e-15 * dist.abs(), |a1| distance(a1) - dist);
     let (first, rest) = soften(a1);
-    let mirrored_start = State {
-        position: 0.0,
-        velocity: v0,
-        acceleration: a0,
-    };
-    let mut profile = Profile::from_ramps(mirrored_start, &[&first, &rest], None, limits);
-    profile.mirror_and_shift(dir, start.position);
-    profile.start = start;
-    profile.final_state = State {
-        position: target_position,
-        velocity: dir * vf,
-        acceleration: 0.0,
-    };
-    Some(profile)
+    Some(Profile::in_travel_frame(
+        start,
+        dir,
+        &[&first, &rest],
+        None,
+        target_position,
+        vf,
+        limits,
+    ))
 }
 
 /// Signed distance an axis in `state` travels until it stands still, braking
@@ -719,17 +738,19 @@ fn largest_at_most(lo: f64, hi: f64, tol: f64, f: impl Fn(f64) -> f64) -> f64 {
     }
     let (mut lo, mut hi) = (lo, hi);
     let mut f_lo = f(lo).min(0.0);
-    // Which end the last two steps moved (+1 low, −1 high), for Illinois.
-    let mut side = 0i8;
+    // Which end the last step moved (+1 low, −1 high), for Illinois; and
+    // whether the next step bisects (the last one did not halve the bracket).
+    let (mut side, mut bisect) = (0i8, false);
     for _ in 0..200 {
         let width = hi - lo;
-        let mut x = if f_hi > f_lo {
-            lo - f_lo * width / (f_hi - f_lo)
+        let mid = 0.5 * (lo + hi);
+        let mut x = if bisect || f_hi <= f_lo {
+            mid
         } else {
-            0.5 * (lo + hi)
+            lo - f_lo * width / (f_hi - f_lo)
         };
         if !(x > lo && x < hi) {
-            x = 0.5 * (lo + hi);
+            x = mid;
             if x <= lo || x >= hi {
                 break;
             }
@@ -738,7 +759,7 @@ fn largest_at_most(lo: f64, hi: f64, tol: f64, f: impl Fn(f64) -> f64) -> f64 {
         if fx <= 0.0 {
             lo = x;
             f_lo = fx;
-            if side == 1 {
+            if side == 1 && !bisect {
                 f_hi *= 0.5;
             }
             side = 1;
@@ -748,27 +769,12 @@ fn largest_at_most(lo: f64, hi: f64, tol: f64, f: impl Fn(f64) -> f64) -> f64 {
         } else {
             hi = x;
             f_hi = fx;
-            if side == -1 {
+            if side == -1 && !bisect {
                 f_lo *= 0.5;
             }
             side = -1;
         }
-        if hi - lo > 0.5 * width {
-            // Slow progress: bisect once.
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            let fm = f(mid);
-            if fm <= 0.0 {
-                lo = mid;
-                f_lo = fm;
-            } else {
-                hi = mid;
-                f_hi = fm;
-            }
-            side = 0;
-        }
+        bisect = !bisect && hi - lo > 0.5 * width;
     }
     lo
 }

@@ -82,48 +82,48 @@ def draw(rng):
     return v, a, j, p0, v0, a0, vf, near, k, u, side
 
 
-def stop_position(p0, v0, a0, v, a, j):
-    """Where Ruckig's own time-optimal stop (velocity interface) ends."""
-    inp = ruckig.InputParameter(1)
-    inp.control_interface = ruckig.ControlInterface.Velocity
-    inp.current_position = [p0]
-    inp.current_velocity = [v0]
-    inp.current_acceleration = [a0]
-    inp.target_velocity = [0.0]
-    inp.target_acceleration = [0.0]
-    inp.max_velocity = [v]
-    inp.max_acceleration = [a]
-    inp.max_jerk = [j]
+def solve(inp):
+    """Ruckig's trajectory for `inp`, or None where it reports an error."""
     traj = ruckig.Trajectory(1)
     try:
         res = ruckig.Ruckig(1).calculate(inp, traj)
     except ruckig.RuckigError:
         return None
     if res not in (ruckig.Result.Working, ruckig.Result.Finished):
+        return None
+    return traj
+
+
+def inputs(p0, v0, a0, v, a, j):
+    inp = ruckig.InputParameter(1)
+    inp.current_position = [p0]
+    inp.current_velocity = [v0]
+    inp.current_acceleration = [a0]
+    inp.target_acceleration = [0.0]
+    inp.max_velocity = [v]
+    inp.max_acceleration = [a]
+    inp.max_jerk = [j]
+    return inp
+
+
+def stop_position(p0, v0, a0, v, a, j):
+    """Where Ruckig's own time-optimal stop (velocity interface) ends."""
+    inp = inputs(p0, v0, a0, v, a, j)
+    inp.control_interface = ruckig.ControlInterface.Velocity
+    inp.target_velocity = [0.0]
+    traj = solve(inp)
+    if traj is None:
         return None
     pos, _, _ = traj.at_time(traj.duration)
     return pos[0]
 
 
 def duration(p0, v0, a0, target, vf_signed, v, a, j):
-    inp = ruckig.InputParameter(1)
-    inp.current_position = [p0]
-    inp.current_velocity = [v0]
-    inp.current_acceleration = [a0]
+    inp = inputs(p0, v0, a0, v, a, j)
     inp.target_position = [target]
     inp.target_velocity = [vf_signed]
-    inp.target_acceleration = [0.0]
-    inp.max_velocity = [v]
-    inp.max_acceleration = [a]
-    inp.max_jerk = [j]
-    traj = ruckig.Trajectory(1)
-    try:
-        res = ruckig.Ruckig(1).calculate(inp, traj)
-    except ruckig.RuckigError:
-        return None
-    if res not in (ruckig.Result.Working, ruckig.Result.Finished):
-        return None
-    return traj.duration
+    traj = solve(inp)
+    return None if traj is None else traj.duration
 
 
 def main():
