@@ -63,10 +63,9 @@ impl Ramp {
             && a != 0.0
         {
             // The acceleration must pass through zero before the speed turns
-            // the other way: end it with the jerk of the current sense.
-            // (A ramp that reverses the direction of travel while the speed
-            // falls keeps the older rule below: the smaller limits of both
-            // senses throughout, which holds either.)
+            // the other way: end it with the jerk of the current sense. A
+            // ramp through zero speed while the speed falls uses the smaller
+            // limits of both senses, which hold on either side.
             let rising = v * a >= 0.0;
             let j_now = if rising { accel_jerk } else { decel_jerk };
             let v_free = v + a * a.abs() / (2.0 * j_now);
@@ -85,7 +84,7 @@ impl Ramp {
                 return ramp;
             }
             if (!reverses || rising) && v_free * v >= 0.0 {
-                // End the acceleration, then change the speed from rest
+                // End the acceleration, then change the speed from zero
                 // acceleration with the limits of the new sense.
                 ramp.push(Phase {
                     duration_s: a.abs() / j_now,

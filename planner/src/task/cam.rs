@@ -462,7 +462,7 @@ impl MotionTask {
             .axes
             .get(axis.0 as usize)
             .and_then(|c| c.ramp.as_ref())
-            .is_some_and(|r| r.t_s < r.profile.duration_s() && r.profile.overshoot())
+            .is_some_and(|r| r.profile.overshoot_at(r.t_s))
     }
 
     /// Whether the last update's command exceeded the axis' limits.

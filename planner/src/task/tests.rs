@@ -585,3 +585,40 @@ fn move_modulo_done_follows_the_monitoring_and_the_options() {
     task.update();
     assert_eq!(task.outputs(fb).error_id, ErrorId::BLENDING_POSITION.0);
 }
+
+/// `profile_overshoot` on a MAM that re-targets the axis 10° ahead while
+/// it moves at 720°/s (its stopping distance is about 72°): the new profile
+/// passes the target and comes back; the flag holds exactly while the axis
+/// is past the target, not for the whole ramp.
+#[test]
+fn a_target_behind_the_stopping_point_is_an_overshoot_while_past_it() {
+    let (mut task, axis, _, _) = setup(0.0);
+    let mam = task.add_instruction("Move");
+    let far = crate::mam::MamOperands {
+        position: 3000.0,
+        ..Default::default()
+    };
+    task.mam(axis, mam, &far).unwrap();
+    run_until(&mut task, 1000, |t| t.axis_state(axis).command_velocity >= 720.0 - 1e-9);
+    assert!(!task.profile_overshoot(axis));
+    let target = task.axis_state(axis).command_position + 10.0;
+    let near = crate::mam::MamOperands {
+        position: target,
+        ..far
+    };
+    task.mam(axis, mam, &near).unwrap();
+    let (mut flagged, mut back) = (0, false);
+    for _ in 0..2000 {
+        task.update();
+        let p = task.axis_state(axis).command_position;
+        let on = task.profile_overshoot(axis);
+        assert_eq!(on, !back && p > target + 1e-9, "at {p}, target {target}");
+        flagged += usize::from(on);
+        back |= flagged > 0 && p <= target;
+        if task.motion_bits(mam).pc {
+            break;
+        }
+    }
+    assert!(flagged > 10 && back);
+    assert!((task.axis_state(axis).command_position - target).abs() < 1e-9);
+}
