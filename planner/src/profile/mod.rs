@@ -25,8 +25,12 @@
 //! towards a target beyond its braking point but short of where ending the
 //! deceleration would carry it: it decelerates less hard first, then brakes
 //! (no stop-and-creep). With these the planner is time-optimal from any
-//! start state that keeps the limits: `tests/state_to_state.rs` matches
-//! Ruckig's time-optimal durations within 1e-9 on 100,000 cases.
+//! start state that keeps the limits when raising and lowering the speed
+//! share their limits: `tests/state_to_state.rs` matches Ruckig's
+//! time-optimal durations within 1e-9 on 100,000 such cases. With
+//! different accel and decel limits it holds every limit; a reversal then
+//! uses the smaller pair throughout, which is not time-optimal across zero
+//! speed.
 //!
 //! # Limits, and where they apply
 //! A phase that raises the speed |v| uses the *acceleration* limit and the
@@ -725,9 +729,10 @@ fn sanitize(state: State, limits: &Limits) -> State {
 
 /// Largest `x` in `[lo, hi]` with `f(x) ≤ 0`, for `f` increasing and
 /// `f(lo) ≤ 0`: `hi` when `f(hi) ≤ 0`, else a point on the root's low side
-/// where `f` is within `tol` of 0 (or the root to the last bits). Regula falsi with the Illinois modification,
-/// which converges superlinearly on the smooth ramp distances, and a
-/// bisection step whenever an interpolation does not halve the bracket.
+/// where `f` is within `tol` of 0 (or the root to the last bits). Regula
+/// falsi with the Illinois modification, which converges superlinearly on
+/// the smooth ramp distances, and a bisection step whenever an
+/// interpolation does not halve the bracket.
 fn largest_at_most(lo: f64, hi: f64, tol: f64, f: impl Fn(f64) -> f64) -> f64 {
     if hi <= lo {
         return lo;
