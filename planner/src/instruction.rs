@@ -8,7 +8,48 @@
 //!
 //! These are *status*: an instruction in process is not an error. Errors are
 //! carried as numbers in the status (as on the controller), and each
-//! instruction module has its own typed error enum that maps to them.
+//! instruction module has its own typed error enum that maps to them;
+//! [`OperandError`] serves the instructions whose only refusals are an
+//! operand out of range and the axis' state (MAJ/MAS, MRP, MAG).
+
+use crate::servo::StateError;
+use thiserror::Error;
+
+/// Why an instruction that can only refuse an operand or the axis' state
+/// fails (MAJ and MAS: `JogError`, MRP: `MrpError`, MAG: `MagError`).
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum OperandError {
+    /// ERR 13: operand out of range (EXERR = faceplate number).
+    #[error("parameter out of range: operand {operand} = {value} (ERR 13)")]
+    ParameterOutOfRange {
+        /// Operand number.
+        operand: i32,
+        /// Its value.
+        value: f64,
+    },
+    /// The axis' state refuses the instruction (ERR 5, 7, 8, 16, 53 …; EXERR 0).
+    #[error(transparent)]
+    State(#[from] StateError),
+}
+
+impl OperandError {
+    /// The Logix `ERR` code.
+    pub fn err(&self) -> i32 {
+        match self {
+            Self::ParameterOutOfRange { .. } => 13,
+            Self::State(e) => e.err(),
+        }
+    }
+
+    /// The Logix `EXERR` code.
+    pub fn exerr(&self) -> i32 {
+        match self {
+            Self::ParameterOutOfRange { operand, .. } => *operand,
+            Self::State(_) => 0,
+        }
+    }
+}
 
 /// A Logix `MOTION_INSTRUCTION` tag.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -31,7 +31,6 @@
 
 use crate::axis::AxisConfig;
 use crate::profile::{Limits, LimitsError};
-use thiserror::Error;
 
 /// MAJ's numeric operands.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,39 +81,8 @@ pub struct MasOperands {
     pub decel_units: i32,
 }
 
-/// Why an MAJ or MAS failed.
-#[derive(Debug, Clone, PartialEq, Error)]
-#[non_exhaustive]
-pub enum JogError {
-    /// ERR 13: operand out of range (EXERR = faceplate number).
-    #[error("parameter out of range: operand {operand} = {value} (ERR 13)")]
-    ParameterOutOfRange {
-        /// Operand number.
-        operand: i32,
-        /// Its value.
-        value: f64,
-    },
-    /// The axis' state refuses the instruction (ERR 5, 7, 8, 16, 53 …; EXERR 0).
-    #[error("{0}")]
-    State(crate::servo::StateError),
-}
-
-impl JogError {
-    /// The `ERR` code.
-    pub fn err(&self) -> i32 {
-        match self {
-            Self::ParameterOutOfRange { .. } => 13,
-            Self::State(e) => e.err(),
-        }
-    }
-    /// The `EXERR` code.
-    pub fn exerr(&self) -> i32 {
-        match self {
-            Self::ParameterOutOfRange { operand, .. } => *operand,
-            Self::State(_) => 0,
-        }
-    }
-}
+/// Why MAJ or MAS fails (ERR 13 with the operand, or the axis' state).
+pub type JogError = crate::instruction::OperandError;
 
 /// Faceplate indices (ERR 13's EXERR), read from the catalogue.
 mod exerr {

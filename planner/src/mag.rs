@@ -40,8 +40,6 @@
 use crate::axis::AxisConfig;
 use crate::catalogue::MAG;
 use crate::mapc::MasterReference;
-use crate::servo::StateError;
-use thiserror::Error;
 
 /// MAG's numeric operands (enumerations as their codes).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,40 +80,8 @@ impl Default for MagOperands {
     }
 }
 
-/// Why a MAG failed.
-#[derive(Debug, Clone, PartialEq, Error)]
-#[non_exhaustive]
-pub enum MagError {
-    /// ERR 13: operand out of range (EXERR = faceplate number).
-    #[error("parameter out of range: operand {operand} = {value} (ERR 13)")]
-    ParameterOutOfRange {
-        /// Operand number.
-        operand: i32,
-        /// Its value.
-        value: f64,
-    },
-    /// The slave's state refuses motion.
-    #[error(transparent)]
-    State(#[from] StateError),
-}
-
-impl MagError {
-    /// The Logix ERR code.
-    pub fn err(&self) -> i32 {
-        match self {
-            Self::ParameterOutOfRange { .. } => 13,
-            Self::State(e) => e.err(),
-        }
-    }
-
-    /// The Logix EXERR code.
-    pub fn exerr(&self) -> i32 {
-        match self {
-            Self::ParameterOutOfRange { operand, .. } => *operand,
-            Self::State(_) => 0,
-        }
-    }
-}
+/// Why MAG fails (ERR 13 with the operand, or the slave's state).
+pub type MagError = crate::instruction::OperandError;
 
 /// MAG's Direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

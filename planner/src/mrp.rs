@@ -29,7 +29,6 @@
 //! spec allows several coarse updates).
 
 use crate::catalogue::MRP;
-use thiserror::Error;
 
 /// Absolute or relative.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -60,39 +59,8 @@ pub struct Mrp {
     pub position: f64,
 }
 
-/// Why an MRP failed.
-#[derive(Debug, Clone, PartialEq, Error)]
-#[non_exhaustive]
-pub enum MrpError {
-    /// ERR 13: operand out of range (EXERR = faceplate number).
-    #[error("parameter out of range: operand {operand} = {value} (ERR 13)")]
-    ParameterOutOfRange {
-        /// Operand number.
-        operand: i32,
-        /// Its value.
-        value: f64,
-    },
-    /// The axis' state refuses the instruction (ERR 5, 7, 8, 16, 53 …; EXERR 0).
-    #[error("{0}")]
-    State(crate::servo::StateError),
-}
-
-impl MrpError {
-    /// The `ERR` code.
-    pub fn err(&self) -> i32 {
-        match self {
-            Self::ParameterOutOfRange { .. } => 13,
-            Self::State(e) => e.err(),
-        }
-    }
-    /// The `EXERR` code.
-    pub fn exerr(&self) -> i32 {
-        match self {
-            Self::ParameterOutOfRange { operand, .. } => *operand,
-            Self::State(_) => 0,
-        }
-    }
-}
+/// Why MRP fails (ERR 13 with the operand, or the axis' state).
+pub type MrpError = crate::instruction::OperandError;
 
 impl Mrp {
     /// Validates the operands (Type, Position Select as DINTs).

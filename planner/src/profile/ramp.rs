@@ -53,12 +53,16 @@ pub(super) fn ramp_limits(v: f64, vt: f64, limits: &Limits) -> (f64, Option<f64>
 }
 
 impl Ramp {
-    pub(super) fn new(v: f64, a: f64, vt: f64, limits: &Limits) -> Self {
-        let mut ramp = Self {
+    fn empty() -> Self {
+        Self {
             phases: [Phase::default(); 4],
             count: 0,
             distance: 0.0,
-        };
+        }
+    }
+
+    pub(super) fn new(v: f64, a: f64, vt: f64, limits: &Limits) -> Self {
+        let mut ramp = Self::empty();
         if let Shape::SCurve { accel_jerk, decel_jerk } = limits.shape
             && a != 0.0
         {
@@ -157,11 +161,7 @@ impl Ramp {
 
     /// One constant-jerk phase from (v, a): `duration_s` at jerk `jerk`.
     pub(super) fn jerk_phase(v: f64, a: f64, jerk: f64, duration_s: f64) -> Self {
-        let mut ramp = Self {
-            phases: [Phase::default(); 4],
-            count: 0,
-            distance: 0.0,
-        };
+        let mut ramp = Self::empty();
         ramp.push(Phase {
             duration_s,
             jerk,
