@@ -17,8 +17,13 @@
 //! A position profile is *ramp → cruise → ramp*: a velocity change from
 //! the start state to a peak velocity `v_p`, a cruise at `v_p`, and a velocity
 //! change to the final speed. The planner picks the largest `v_p ≤ v_max`
-//! whose two ramps fit in the distance (bisection on the ramp distance, which
-//! grows monotonically with `v_p` above both end speeds). An S-curve ramp is
+//! whose two ramps fit in the distance. A ramp's distance, and its first
+//! and second derivatives by its end speed, are closed-form per regime
+//! (acceleration limit held or not: a quadratic, or a cubic in the peak
+//! acceleration, Ruckig's profile shapes), so the peak is a root found by
+//! a power-law step from afar and quadratic-model steps near it — exact in
+//! one step where both ramps hold their limit, a handful of evaluations
+//! otherwise, with no ramp built until the peak is known. An S-curve ramp is
 //! the classic three-phase jerk ramp (jerk up, constant acceleration, jerk
 //! down), so a rest-to-rest S-curve has the seven phases of the textbook
 //! double-S. One more shape covers an axis that is already decelerating
@@ -63,7 +68,7 @@ mod ramp;
 
 pub use jerk::{JerkUnits, JerkUnitsError, jerk_from_percent_of_time, jerk_to_percent_of_time, jerk_to_units_per_sec3};
 
-use ramp::{Phase, Ramp, coast_velocity};
+use ramp::{Course, Phase, Ramp, Settle, coast_velocity, ramp_distance, ramp_limits};
 use thiserror::Error;
 
 /// Kinematic state of one dimension at an instant (units, units/s, units/s²).
@@ -283,17 +288,26 @@ impl Profile {
     /// target gives a profile that holds the start position (callers validate
     /// operands before planning).
     pub fn to_position(start: State, target_position: f64, final_speed: f64, limits: &Limits) -> Self {
-        let mut profile = Self::plan_position(start, target_position, final_speed, limits);
+        let mut stopping = None;
+        let mut profile = Self::plan_position(start, target_position, final_speed, limits, &mut stopping);
         let s = sanitize(start, limits);
         let toward = target_position - s.position;
         let passes = s.velocity * toward > 0.0
-            && toward * (toward - stopping_distance(s, limits)) < 0.0
+            && toward * (toward - stopping.unwrap_or_else(|| stopping_distance(s, limits))) < 0.0
             && target_position.is_finite();
         profile.flag_overshoot(limits, passes.then_some((target_position, toward.signum())));
         profile
     }
 
-    fn plan_position(start: State, target_position: f64, final_speed: f64, limits: &Limits) -> Self {
+    /// [`Profile::to_position`] without the overshoot flag; `stopping` gets
+    /// the start's stopping distance where the plan computes it.
+    fn plan_position(
+        start: State,
+        target_position: f64,
+        final_speed: f64,
+        limits: &Limits,
+        stopping: &mut Option<f64>,
+    ) -> Self {
         let requested_final_speed = if final_speed.is_finite() && final_speed > 0.0 {
             final_speed
         } else {
@@ -308,19 +322,24 @@ impl Profile {
         // The least distance to the target's side: brake to the final speed.
         let toward = if distance < 0.0 { -1.0 } else { 1.0 };
         let mut final_speed = final_speed;
-        let mut brake = Ramp::new(start.velocity, start.acceleration, toward * final_speed, limits);
-        if toward * (distance - brake.distance()) < 0.0 && final_speed > 0.0 {
+        let brake = |vt: f64| ramp_distance(start.velocity, start.acceleration, vt, limits);
+        let mut braking = brake(toward * final_speed);
+        if toward * (distance - braking) < 0.0 && final_speed > 0.0 {
             // Overshoots even so: stop there, come back, arrive at rest.
             final_speed = 0.0;
-            brake = Ramp::new(start.velocity, start.acceleration, 0.0, limits);
+            braking = brake(0.0);
         }
-        let beyond = distance - brake.distance();
+        if final_speed == 0.0 {
+            *stopping = Some(braking);
+        }
+        let beyond = distance - braking;
         // Which way the axis travels at arrival.
         let dir = if beyond > 0.0 {
             1.0
         } else if beyond < 0.0 {
             -1.0
         } else {
+            let brake = Ramp::new(start.velocity, start.acceleration, toward * final_speed, limits);
             let mut profile = Self::from_ramps(start, &[&brake], None, limits);
             profile.final_state.position = target_position;
             return profile;
@@ -328,21 +347,23 @@ impl Profile {
         let v0 = dir * start.velocity;
         let a0 = dir * start.acceleration;
         let dist = dir * distance;
-        let d = |vp: f64, vf: f64| Ramp::new(v0, a0, vp, limits).distance() + Ramp::new(vp, 0.0, vf, limits).distance();
-
         let v_max = limits.velocity;
         // Distance the root search may leave to the cruise (which absorbs it
         // exactly): a few ulps of the move.
         let tol = 1e-15 * dist.abs();
         let v_free = coast_velocity(v0, a0, limits);
         let mut vf = final_speed;
+        let lo = vf.max(v_free.max(0.0)).min(v_max);
+        let mut up = PeakRamps::new((v0, a0), Some(vf), (lo, v_max), dist, limits);
+        let at_max = up.excess(v_max);
         let peak;
-        if d(v_max, vf) <= dist {
+        if at_max[0] <= 0.0 {
             peak = v_max;
         } else {
-            let lo = vf.max(v_free.max(0.0)).min(v_max);
-            if lo >= vf && d(lo, vf) <= dist {
-                peak = largest_at_most(lo, v_max, tol, |vp| d(vp, vf) - dist);
+            let at_lo = up.excess(lo)[0];
+            if lo >= vf && at_lo <= 0.0 {
+                up.fix_course();
+                peak = newton_at_most(lo, v_max, at_lo, at_max, tol, |vp| up.excess(vp));
             } else if v_free > vf {
                 if a0 < 0.0
                     && v0 <= v_max
@@ -352,11 +373,10 @@ impl Profile {
                 }
                 // Too close to cruise above the start speed: brake earlier.
                 // Braking straight to `vf` fits because stopping fits.
-                peak = largest_at_most(vf, v_free.min(v_max), tol, |vp| d(vp, vf) - dist);
+                peak = PeakRamps::new((v0, a0), Some(vf), (vf, v_free.min(v_max)), dist, limits).solve(tol);
             } else {
                 // Cannot even reach `vf` in the distance: end as fast as possible.
-                let only_ramp = |vt: f64| Ramp::new(v0, a0, vt, limits).distance() - dist;
-                vf = largest_at_most(0.0, vf, tol, only_ramp);
+                vf = PeakRamps::new((v0, a0), None, (0.0, vf), dist, limits).solve(tol);
                 peak = vf;
             }
         }
@@ -364,6 +384,7 @@ impl Profile {
         let last = Ramp::new(peak, 0.0, vf, limits);
         let cruise_len = dist - first.distance() - last.distance();
         let tolerance = 1e-12 * (1.0 + dist.abs() + start.position.abs());
+
         let at_rest = start.velocity == 0.0 && start.acceleration == 0.0;
         if !at_rest && (cruise_len < -tolerance || (cruise_len > tolerance && peak <= 1e-9 * v_max)) {
             // The ramps do not meet (the acceleration limits switch between
@@ -378,9 +399,10 @@ impl Profile {
                 target_position,
                 requested_final_speed,
                 limits,
+                &mut None,
             ));
         }
-        let cruise_s = if cruise_len > 0.0 && peak > 0.0 {
+        let cruise_s = if cruise_len > 0.0 && peak > 1e-9 * v_max {
             cruise_len / peak
         } else {
             0.0
@@ -576,15 +598,23 @@ impl Profile {
     /// acceleration crosses zero).
     pub fn peak_speed(&self) -> f64 {
         let mut peak = self.start.velocity.abs().max(self.final_state.velocity.abs());
-        for seg in &self.segments {
-            peak = peak.max(seg.start.velocity.abs());
-            peak = peak.max(seg.at(seg.duration_s).velocity.abs());
-            if seg.jerk != 0.0 {
-                let t = -seg.start.acceleration / seg.jerk;
-                if t > 0.0 && t < seg.duration_s {
-                    peak = peak.max(seg.at(t).velocity.abs());
-                }
+        let mut raise = |speed: f64| {
+            if speed > peak {
+                peak = speed;
             }
+        };
+        // A segment ends where the next starts; inside one, the speed has
+        // an extremum only where the acceleration changes sign.
+        for seg in &self.segments {
+            let (v, a, j) = (seg.start.velocity, seg.start.acceleration, seg.jerk);
+            raise(v.abs());
+            if a * (a + j * seg.duration_s) < 0.0 {
+                let t = -a / j;
+                raise((v + t * (a + j * t / 2.0)).abs());
+            }
+        }
+        if let Some(last) = self.segments.last() {
+            raise(last.at(last.duration_s).velocity.abs());
         }
         peak
     }
@@ -687,14 +717,18 @@ fn softened_brake(
         let rest = Ramp::new(v1, a1, vf, limits);
         (first, rest)
     };
-    let distance = |a1: f64| {
-        let (first, rest) = soften(a1);
-        first.distance() + rest.distance()
-    };
-    if distance(a0) > dist || distance(0.0) < dist {
+    let excess = |a1: f64| softened_excess(v0, a0, a1, vf, dist, limits);
+    let at_start = excess(a0);
+    let at_zero = excess(0.0);
+    if at_start[0] > 0.0 || at_zero[0] < 0.0 {
         return None;
     }
-    let a1 = largest_at_most(a0, 0.0, 1e-15 * dist.abs(), |a1| distance(a1) - dist);
+    let tol = 1e-15 * dist.abs();
+    let a1 = if at_zero[1].is_finite() {
+        newton_at_most(a0, 0.0, at_start[0], at_zero, tol, excess)
+    } else {
+        largest_at_most(a0, 0.0, tol, |a1| excess(a1)[0])
+    };
     let (first, rest) = soften(a1);
     Some(Profile::in_travel_frame(
         start,
@@ -707,11 +741,39 @@ fn softened_brake(
     ))
 }
 
+/// The distance of [`softened_brake`]'s profile with the acceleration
+/// eased to `a1` (in `[a0, 0]`), minus `dist`, and its derivative by `a1`
+/// (the second derivative unknown: NaN). The brake after the easing starts
+/// at `a1` and first deepens it with the decel jerk, so it is the ramp from
+/// zero acceleration at the virtual speed v_v = v1 + a1²/(2j) (whose own
+/// first phase would pass through (v1, a1)) less that virtual phase:
+/// closed-form, like its derivative, 2·v_v/j + a1²/j² + 2·a1·S'(v_v)/j with
+/// S the ramp from (v_v, 0) to `vf`. (The coast speed v1 − a1²/(2j) is the
+/// same for every `a1`, so the brake deepens throughout when it does at
+/// `a0`; with a start deceleration beyond the limit it does not, and the
+/// distance comes from the general ramp.)
+fn softened_excess(v0: f64, a0: f64, a1: f64, vf: f64, dist: f64, limits: &Limits) -> [f64; 3] {
+    let Shape::SCurve { decel_jerk: j, .. } = limits.shape else {
+        return [f64::NAN; 3];
+    };
+    let t = (a1 - a0) / j;
+    let lead = t * (v0 + t * (a0 / 2.0 + t * j / 6.0));
+    let v1 = v0 + (a1 * a1 - a0 * a0) / (2.0 * j);
+    if -a0 > limits.deceleration {
+        return [lead + ramp_distance(v1, a1, vf, limits) - dist, f64::NAN, f64::NAN];
+    }
+    let v_virtual = v1 + a1 * a1 / (2.0 * j);
+    let [settle, settle_slope, _] = Settle::new(vf, limits.deceleration, Some(j)).reach(v_virtual);
+    let virtual_phase = (-a1 / j) * (v_virtual - a1 * a1 / (6.0 * j));
+    let slope = 2.0 * v_virtual / j + a1 * a1 / (j * j) + 2.0 * a1 * settle_slope / j;
+    [lead + settle - virtual_phase - dist, slope, f64::NAN]
+}
+
 /// Signed distance an axis in `state` travels until it stands still, braking
 /// with `limits` (the deceleration ramp of a stop).
 pub fn stopping_distance(state: State, limits: &Limits) -> f64 {
     let state = sanitize(state, limits);
-    Ramp::new(state.velocity, state.acceleration, 0.0, limits).distance()
+    ramp_distance(state.velocity, state.acceleration, 0.0, limits)
 }
 
 fn sanitize(state: State, limits: &Limits) -> State {
@@ -725,6 +787,168 @@ fn sanitize(state: State, limits: &Limits) -> State {
         s.acceleration = 0.0;
     }
     s
+}
+
+/// The ramps of a position profile as a function of its peak speed `vp`:
+/// from (v0, a0) to `vp`, then from `vp` at rest acceleration down to `vf`
+/// (no second ramp when `vf` is `None`), for `vp` in a search range. The
+/// distances and their slopes are closed-form, so Newton steps find the
+/// peak whose ramps fit a distance in a few evaluations.
+struct PeakRamps<'a> {
+    start: (f64, f64),
+    /// The final speed and the limits of the ramp down to it.
+    settle: Option<Settle>,
+    range: (f64, f64),
+    /// Where the first ramp's course is taken from: inside the range also
+    /// at its ends (at an end it may be another: at the coast velocity a
+    /// ramp only ends its acceleration), so the distance is one smooth
+    /// function.
+    inside: (f64, f64),
+    /// The first ramp's course where it is the same throughout the range
+    /// (it is unless an easing varies with the peak, or the range spans
+    /// the coast velocity), with its lead's distance.
+    course: Option<(Course, f64)>,
+    dist: f64,
+    limits: &'a Limits,
+}
+
+impl<'a> PeakRamps<'a> {
+    fn new(start: (f64, f64), vf: Option<f64>, (lo, hi): (f64, f64), dist: f64, limits: &'a Limits) -> Self {
+        let nudge = (hi - lo).max(0.0) * 2f64.powi(-20);
+        let mid = 0.5 * (lo + hi);
+        Self {
+            start,
+            settle: vf.map(|vf| {
+                let (a_max, jerk) = ramp_limits(mid, vf, limits);
+                Settle::new(vf, a_max, jerk)
+            }),
+            range: (lo, hi),
+            inside: (lo + nudge, (hi - nudge).max(lo + nudge)),
+            course: None,
+            dist,
+            limits,
+        }
+    }
+
+    /// Takes the first ramp's course once for the whole range where it is
+    /// the same throughout (before a search's many evaluations).
+    fn fix_course(&mut self) {
+        let (v0, a0) = self.start;
+        let low = Course::new(v0, a0, self.inside.0, self.limits);
+        self.course = (low.eased.is_none() && low == Course::new(v0, a0, self.inside.1, self.limits))
+            .then(|| (low, low.lead_distance(v0, a0)));
+    }
+
+    /// The ramps' distance minus the distance to fit, and its first and
+    /// second derivatives, at `vp`.
+    fn excess(&self, vp: f64) -> [f64; 3] {
+        let (v0, a0) = self.start;
+        let first = match self.course {
+            Some((course, lead)) => {
+                let [tail, slope, curvature] = course.tail.reach(vp);
+                [lead + tail, slope, curvature]
+            }
+            None => Course::new(v0, a0, vp.clamp(self.inside.0, self.inside.1), self.limits).reach(v0, a0, vp),
+        };
+        let second = self.settle.map_or([0.0; 3], |settle| settle.reach(vp));
+        [
+            first[0] + second[0] - self.dist,
+            first[1] + second[1],
+            first[2] + second[2],
+        ]
+    }
+
+    /// The largest peak in the range whose ramps fit, to within `tol`
+    /// (they fit at the range's low end).
+    fn solve(mut self, tol: f64) -> f64 {
+        let (lo, hi) = self.range;
+        if hi <= lo {
+            return lo;
+        }
+        self.fix_course();
+        newton_at_most(lo, hi, self.excess(lo)[0], self.excess(hi), tol, |vp| self.excess(vp))
+    }
+}
+
+/// Largest `x` in `[lo, hi]` with `f(x) ≤ 0`, to within `tol`, for `f`
+/// increasing, given `f` and its first and second derivatives (and their
+/// values at the ends): `hi` when `f(hi) ≤ 0`, `lo` when `f(lo) ≥ −tol`.
+/// Far from the root a step assumes `f − f(lo)` grows like a power of
+/// `x − lo` (a ramp's distance does, with exponent ½ to 2, so one such step
+/// lands close from any distance); near it a step goes to the root of the
+/// local quadratic (exact where both ramps hold their acceleration limit,
+/// cubically convergent elsewhere; Newton where the curvature is unknown);
+/// a step that leaves the bracket, and every step after the tenth, bisects.
+fn newton_at_most(
+    lo: f64,
+    hi: f64,
+    f_lo: f64,
+    [f_hi, df_hi, ddf_hi]: [f64; 3],
+    tol: f64,
+    f: impl Fn(f64) -> [f64; 3],
+) -> f64 {
+    if f_hi <= 0.0 {
+        return hi;
+    }
+    if f_lo >= -tol {
+        return lo;
+    }
+    let span = -f_lo;
+    let (mut a, mut b) = (lo, hi);
+    let (mut x, mut fx, mut dfx, mut ddfx) = (hi, f_hi, df_hi, ddf_hi);
+    for step in 0..100 {
+        let newton = fx / dfx;
+        if newton.abs() <= 2.0 * f64::EPSILON * x.abs() && dfx.is_finite() {
+            // Converged to the resolution of x: keep the ramps inside the
+            // distance if a few ulps below does, else f is at its rounding
+            // and the cruise absorbs it.
+            for _ in 0..4 {
+                if fx <= 0.0 || x <= a {
+                    break;
+                }
+                x = x.next_down();
+                fx = f(x)[0];
+            }
+            return x.max(a);
+        }
+        let mut next = if step >= 10 {
+            f64::NAN
+        } else if fx.abs() > span {
+            let rise = fx - f_lo;
+            let power = dfx * (x - lo) / rise;
+            lo + (x - lo) * (-(rise / span).ln() / power).exp()
+        } else {
+            // The root of f + f'·δ + f''·δ²/2 nearest x, in the form that
+            // does not cancel: δ = −2f / (f' + √(f'² − 2·f·f'')).
+            let discriminant = dfx * dfx - 2.0 * fx * ddfx;
+            if discriminant >= 0.0 {
+                x - 2.0 * fx / (dfx + discriminant.sqrt())
+            } else {
+                x - newton
+            }
+        };
+        if !(next > a && next < b) {
+            next = 0.5 * (a + b);
+            if !(next > a && next < b) {
+                break;
+            }
+        }
+        x = next;
+        [fx, dfx, ddfx] = f(x);
+        if fx <= 0.0 {
+            a = x;
+            if fx >= -tol {
+                return x;
+            }
+        } else {
+            b = x;
+        }
+        // The bracket is down to a few ulps: f is at its rounding there.
+        if b - a <= 8.0 * f64::EPSILON * b.abs() {
+            return a;
+        }
+    }
+    a
 }
 
 /// Largest `x` in `[lo, hi]` with `f(x) ≤ 0`, for `f` increasing and

@@ -52,17 +52,49 @@ pub(super) fn ramp_limits(v: f64, vt: f64, limits: &Limits) -> (f64, Option<f64>
     }
 }
 
-impl Ramp {
-    fn empty() -> Self {
-        Self {
-            phases: [Phase::default(); 4],
-            count: 0,
-            distance: 0.0,
-        }
-    }
+/// The part of a ramp that changes the speed in one go: from (`v`, `a`) to
+/// the target with one acceleration limit and jerk (`None`: a trapezoid,
+/// whose acceleration is a step).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Tail {
+    pub v: f64,
+    pub a: f64,
+    pub a_max: f64,
+    pub jerk: Option<f64>,
+}
 
+/// How a ramp from (v, a) reaches its target: at most one lead phase (ending
+/// or easing the start acceleration), then a [`Tail`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Course {
+    pub lead: Option<Phase>,
+    pub tail: Tail,
+    /// Set when the lead eases a deceleration into a reversal just enough
+    /// for the tail to end its acceleration at the target: the easing then
+    /// depends on the target.
+    pub eased: Option<Easing>,
+}
+
+/// The limits of an easing that ends where the target is (see
+/// [`Course::eased`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Easing {
+    /// 1/(2·j_both) − 1/(2·decel jerk): how the far side's reach grows with
+    /// the acceleration left after the easing, squared.
+    gain: f64,
+    decel_jerk: f64,
+    j_both: f64,
+    /// The sign of the start acceleration (the frame the easing is in).
+    sign: f64,
+}
+
+impl Course {
     pub(super) fn new(v: f64, a: f64, vt: f64, limits: &Limits) -> Self {
-        let mut ramp = Self::empty();
+        let simple = |v: f64, a: f64, a_max: f64, jerk: Option<f64>| Course {
+            lead: None,
+            tail: Tail { v, a, a_max, jerk },
+            eased: None,
+        };
         if let Shape::SCurve { accel_jerk, decel_jerk } = limits.shape
             && a != 0.0
         {
@@ -78,29 +110,30 @@ impl Ramp {
             let reverses = v * vt < 0.0 || v_free * v < 0.0;
             if !reverses && (vt - v_free) * a > 0.0 {
                 // The acceleration keeps its sign: one sense throughout.
-                let (a_max, j) = if rising {
-                    (limits.acceleration, accel_jerk)
+                return if rising {
+                    simple(v, a, limits.acceleration, Some(accel_jerk))
                 } else {
-                    (limits.deceleration, decel_jerk)
+                    simple(v, a, limits.deceleration, Some(decel_jerk))
                 };
-                ramp.s_curve(v, a, vt, a_max, j);
-                ramp.distance = ramp.integrate(v, a);
-                return ramp;
             }
             if (!reverses || rising) && v_free * v >= 0.0 {
                 // End the acceleration, then change the speed from zero
                 // acceleration with the limits of the new sense.
-                ramp.push(Phase {
-                    duration_s: a.abs() / j_now,
-                    jerk: -j_now.copysign(a),
-                    set_acceleration: None,
-                });
-                if vt != v_free {
-                    let (a_max, jerk) = ramp_limits(v_free, vt, limits);
-                    ramp.s_curve(v_free, 0.0, vt, a_max, jerk.unwrap_or(j_now));
-                }
-                ramp.distance = ramp.integrate(v, a);
-                return ramp;
+                let (a_max, jerk) = ramp_limits(v_free, vt, limits);
+                return Course {
+                    lead: Some(Phase {
+                        duration_s: a.abs() / j_now,
+                        jerk: -j_now.copysign(a),
+                        set_acceleration: None,
+                    }),
+                    tail: Tail {
+                        v: v_free,
+                        a: 0.0,
+                        a_max,
+                        jerk: Some(jerk.unwrap_or(j_now)),
+                    },
+                    eased: None,
+                };
             }
             let a_both = limits.acceleration.min(limits.deceleration);
             let j_both = accel_jerk.min(decel_jerk);
@@ -115,8 +148,18 @@ impl Ramp {
                 let v_free_d = v_s + a_s * a_s / (2.0 * decel_jerk);
                 let gain = 1.0 / (2.0 * j_both) - 1.0 / (2.0 * decel_jerk);
                 let mut a_c = a_s.min(a_both);
+                let mut eased = None;
                 if vt_s > v_s && gain > 0.0 {
-                    a_c = a_c.min(((vt_s - v_free_d).max(0.0) / gain).sqrt());
+                    let reach = ((vt_s - v_free_d).max(0.0) / gain).sqrt();
+                    if reach < a_c {
+                        a_c = reach;
+                        eased = Some(Easing {
+                            gain,
+                            decel_jerk,
+                            j_both,
+                            sign: s,
+                        });
+                    }
                 }
                 let duration_s = (a_s - a_c) / decel_jerk;
                 let jerk = -decel_jerk.copysign(a);
@@ -124,36 +167,270 @@ impl Ramp {
                 // Only while the speed still falls: an easing that would
                 // reach zero speed first is left to the smaller limits.
                 if a_c < a_s && v1 * v > 0.0 {
-                    ramp.push(Phase {
-                        duration_s,
-                        jerk,
-                        set_acceleration: None,
-                    });
-                    ramp.s_curve(v1, s * a_c, vt, a_both, j_both);
-                    ramp.distance = ramp.integrate(v, a);
-                    return ramp;
+                    return Course {
+                        lead: Some(Phase {
+                            duration_s,
+                            jerk,
+                            set_acceleration: None,
+                        }),
+                        tail: Tail {
+                            v: v1,
+                            a: s * a_c,
+                            a_max: a_both,
+                            jerk: Some(j_both),
+                        },
+                        eased,
+                    };
                 }
             }
             if reverses {
-                ramp.s_curve(v, a, vt, a_both, j_both);
-                ramp.distance = ramp.integrate(v, a);
-                return ramp;
+                return simple(v, a, a_both, Some(j_both));
             }
         }
         let (a_max, jerk) = ramp_limits(v, vt, limits);
-        match jerk {
+        simple(v, a, a_max, jerk)
+    }
+
+    /// Distance of the lead phase from (v, a), where the ramp starts.
+    pub(super) fn lead_distance(&self, v: f64, a: f64) -> f64 {
+        self.lead.map_or(0.0, |p| {
+            let t = p.duration_s;
+            t * (v + t * (a / 2.0 + t * p.jerk / 6.0))
+        })
+    }
+
+    /// Signed distance of the ramp from (v, a) to `vt` (the target this
+    /// course was planned for), and its first and second derivatives with
+    /// respect to `vt` (the second NaN where an easing makes it unknown).
+    pub(super) fn reach(&self, v: f64, a: f64, vt: f64) -> [f64; 3] {
+        let Some(Easing {
+            gain,
+            decel_jerk: jd,
+            j_both: jb,
+            sign,
+        }) = self.eased
+        else {
+            let [tail, slope, curvature] = self.tail.reach(vt);
+            return [self.lead_distance(v, a) + tail, slope, curvature];
+        };
+        let end = self.tail.end_acceleration(jb);
+        let t = end.duration_s;
+        let distance = self.lead_distance(v, a) + t * (self.tail.v + t * (self.tail.a / 2.0 + t * end.jerk / 6.0));
+        // In the frame of the start acceleration: the easing ends at a_c
+        // with speed v1, one phase at −jb ends a_c. With a_c² = (vt − v_free
+        // under the decel jerk)/gain, d(distance)/d(a_c) is
+        // −v1/jd + v1/jb − a_c²/(jd·jb) + a_c²/jb², and d(a_c)/d(vt) is
+        // 1/(2·gain·a_c).
+        let (v1, a_c) = (sign * self.tail.v, sign * self.tail.a);
+        let per_a_c = -v1 / jd + v1 / jb - a_c * a_c / (jd * jb) + a_c * a_c / (jb * jb);
+        [distance, per_a_c / (2.0 * gain * a_c), f64::NAN]
+    }
+}
+
+/// Signed distance of the ramp from (v, a) to `vt`, in closed form (what
+/// [`Ramp::new`]'s phases integrate to, without building them).
+pub(super) fn ramp_distance(v: f64, a: f64, vt: f64, limits: &Limits) -> f64 {
+    Course::new(v, a, vt, limits).reach(v, a, vt)[0]
+}
+
+impl Tail {
+    /// Signed distance of this tail to `vt`, and its first and second
+    /// derivatives with respect to `vt`, in closed form (the phases
+    /// [`Ramp::new`] builds).
+    pub(super) fn reach(&self, vt: f64) -> [f64; 3] {
+        let Tail { v, a_max, jerk, .. } = *self;
+        let Some(j) = jerk else {
+            // One phase at ±a_max: (vt² − v²) / (2·acc).
+            let acc = a_max.copysign(vt - v);
+            return if vt == v {
+                [0.0, 0.0, 0.0]
+            } else {
+                [(vt * vt - v * v) / (2.0 * acc), vt / acc, 1.0 / acc]
+            };
+        };
+        let TailPhases {
+            s,
+            v,
+            a,
+            held,
+            peak,
+            inv_peak,
+            t1,
+            j1,
+            v1,
+            t2,
+            t3,
+            inv_j,
+        } = self.phases_to(vt, j);
+        let d1 = t1 * (v + t1 * (a / 2.0 + t1 * j1 / 6.0));
+        let v2 = v1 + peak * t2;
+        let d2 = t2 * (v1 + peak * t2 / 2.0);
+        let d3 = t3 * (v2 + t3 * (peak / 2.0 - j * t3 / 6.0));
+        // d/dvt: a longer hold at the peak (limited), or a higher peak
+        // (not): both give v2/peak + t3. Its own derivative: 1/peak while
+        // the peak is held; else, with v2 = v + (peak² − a²)/(2j) and
+        // d(peak)/d(vt) = j/(2·peak), (3/(2j) − (v − a²/(2j))/peak²)·j/(2·peak).
+        let curvature = if held {
+            inv_peak
+        } else {
+            (1.5 * inv_j - (v - 0.5 * a * a * inv_j) * inv_peak * inv_peak) * 0.5 * j * inv_peak
+        };
+        [s * (d1 + d2 + d3), v2 * inv_peak + t3, s * curvature]
+    }
+}
+
+/// An S-curve tail's three phases to a target speed, in the frame where
+/// the speed rises (`s` maps it back): jerk `j1` for `t1` to the peak
+/// acceleration, a hold at the peak for `t2`, jerk −j for `t3` to zero.
+struct TailPhases {
+    s: f64,
+    /// Start speed and acceleration, in the frame.
+    v: f64,
+    a: f64,
+    /// Whether the peak is the acceleration limit.
+    held: bool,
+    peak: f64,
+    inv_peak: f64,
+    t1: f64,
+    j1: f64,
+    /// Speed after the first phase, in the frame.
+    v1: f64,
+    t2: f64,
+    t3: f64,
+    inv_j: f64,
+}
+
+impl Tail {
+    /// The phase that brings the acceleration to zero with jerk `j`: the
+    /// whole tail where the target is the speed that reaches (an easing's
+    /// tail). Built as such rather than as three phases to the target, whose
+    /// square root amplifies rounding there.
+    fn end_acceleration(&self, j: f64) -> Phase {
+        Phase {
+            duration_s: self.a.abs() / j,
+            jerk: -j.copysign(self.a),
+            set_acceleration: None,
+        }
+    }
+
+    /// The phases to `vt` with jerk `j`: one computation for the built
+    /// ramps and the closed-form distances, so the two agree to the last
+    /// bits (with few divisions: it runs inside root searches).
+    fn phases_to(&self, vt: f64, j: f64) -> TailPhases {
+        let inv_j = 1.0 / j;
+        let v_free = self.v + 0.5 * self.a * self.a.abs() * inv_j;
+        let s = if vt >= v_free { 1.0 } else { -1.0 };
+        let (v, a, vt) = (s * self.v, s * self.a, s * vt);
+        // The acceleration peaks at its limit (held for t2), or lower.
+        let unclipped = (j * (vt - v) + 0.5 * a * a).max(0.0).sqrt();
+        let held = a > self.a_max || unclipped >= self.a_max;
+        let peak = if held { self.a_max } else { unclipped };
+        let inv_peak = 1.0 / peak;
+        let t1 = (peak - a).abs() * inv_j;
+        let j1 = if peak >= a { j } else { -j };
+        let v1 = v + t1 * (a + j1 * t1 / 2.0);
+        let t3 = peak * inv_j;
+        let t2 = if peak > 0.0 {
+            ((vt - v1 - 0.5 * peak * t3) * inv_peak).max(0.0)
+        } else {
+            0.0
+        };
+        TailPhases {
+            s,
+            v,
+            a,
+            held,
+            peak,
+            inv_peak,
+            t1,
+            j1,
+            v1,
+            t2,
+            t3,
+            inv_j,
+        }
+    }
+}
+
+/// A ramp from (`vp`, 0) down to `vf` (0 ≤ `vf` ≤ `vp`) with one
+/// acceleration limit and jerk, as a function of `vp`: its distance and
+/// that distance's first and second derivatives, in closed form. Starting
+/// and ending at zero acceleration, the speed falls symmetrically, so the
+/// distance is the mean speed times the duration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Settle {
+    vf: f64,
+    a_max: f64,
+    inv_a: f64,
+    /// The jerk's inverse, and the speed change from which the
+    /// acceleration limit is held (a²/j); `None` for a trapezoid.
+    jerk: Option<(f64, f64)>,
+}
+
+impl Settle {
+    pub(super) fn new(vf: f64, a_max: f64, jerk: Option<f64>) -> Self {
+        Self {
+            vf,
+            a_max,
+            inv_a: 1.0 / a_max,
+            jerk: jerk.map(|j| (1.0 / j, a_max * a_max / j)),
+        }
+    }
+
+    /// The distance from `vp` and its first two derivatives.
+    pub(super) fn reach(&self, vp: f64) -> [f64; 3] {
+        let dv = vp - self.vf;
+        // The duration and its first two derivatives with respect to vp.
+        let (t, dt, ddt) = match self.jerk {
+            None => (dv * self.inv_a, self.inv_a, 0.0),
+            Some((inv_j, held_from)) if dv >= held_from => (dv * self.inv_a + self.a_max * inv_j, self.inv_a, 0.0),
+            Some((inv_j, _)) => {
+                // t = 2·r with r = √(dv/j): dt = 1/(j·r), ddt = −dt/(2·dv).
+                let r = (dv * inv_j).sqrt();
+                let inv_r = 1.0 / r;
+                let dt = inv_j * inv_r;
+                (2.0 * r, dt, -0.5 * dt * inv_j * inv_r * inv_r)
+            }
+        };
+        let mean = 0.5 * (vp + self.vf);
+        [mean * t, 0.5 * t + mean * dt, dt + mean * ddt]
+    }
+}
+
+impl Ramp {
+    fn empty() -> Self {
+        Self {
+            phases: [Phase::default(); 4],
+            count: 0,
+            distance: 0.0,
+        }
+    }
+
+    pub(super) fn new(v: f64, a: f64, vt: f64, limits: &Limits) -> Self {
+        let course = Course::new(v, a, vt, limits);
+        let mut ramp = Self::empty();
+        if let Some(lead) = course.lead {
+            ramp.push(lead);
+        }
+        let tail = course.tail;
+        if let Some(easing) = course.eased {
+            ramp.push(tail.end_acceleration(easing.j_both));
+            ramp.distance = ramp.integrate(v, a);
+            return ramp;
+        }
+        match tail.jerk {
             None => {
-                let dv = vt - v;
+                let (vt0, a_max) = (tail.v, tail.a_max);
+                let dv = vt - vt0;
                 if dv != 0.0 {
-                    let acc = a_max.copysign(dv);
                     ramp.push(Phase {
                         duration_s: dv.abs() / a_max,
                         jerk: 0.0,
-                        set_acceleration: Some(acc),
+                        set_acceleration: Some(a_max.copysign(dv)),
                     });
                 }
             }
-            Some(j) => ramp.s_curve(v, a, vt, a_max, j),
+            Some(j) => ramp.s_curve(&tail, vt, j),
         }
         ramp.distance = ramp.integrate(v, a);
         ramp
@@ -171,35 +448,8 @@ impl Ramp {
         ramp
     }
 
-    fn s_curve(&mut self, v: f64, a: f64, vt: f64, a_max: f64, j: f64) {
-        // Velocity reached by ramping the acceleration straight to zero.
-        let v_free = v + a * a.abs() / (2.0 * j);
-        let dv_total = vt - v_free;
-        if dv_total == 0.0 {
-            if a != 0.0 {
-                self.push(Phase {
-                    duration_s: a.abs() / j,
-                    jerk: -j.copysign(a),
-                    set_acceleration: None,
-                });
-            }
-            return;
-        }
-        // Work in the frame where the velocity must rise.
-        let s = dv_total.signum();
-        let (v, a, vt) = (s * v, s * a, s * vt);
-        let unclipped = (j * (vt - v) + 0.5 * a * a).max(0.0).sqrt();
-        let peak = if a > a_max { a_max } else { unclipped.min(a_max) };
-        let t1 = (peak - a).abs() / j;
-        let dv1 = 0.5 * (a + peak) * t1;
-        let t3 = peak / j;
-        let dv3 = 0.5 * peak * t3;
-        let t2 = if peak > 0.0 {
-            ((vt - v - dv1 - dv3) / peak).max(0.0)
-        } else {
-            0.0
-        };
-        let j1 = if peak >= a { j } else { -j };
+    fn s_curve(&mut self, tail: &Tail, vt: f64, j: f64) {
+        let TailPhases { s, t1, j1, t2, t3, .. } = tail.phases_to(vt, j);
         self.push(Phase {
             duration_s: t1,
             jerk: s * j1,

@@ -399,3 +399,130 @@ fn identical_inputs_give_bit_identical_profiles() {
         assert_eq!(a.sample(t).position.to_bits(), b.sample(t).position.to_bits());
     }
 }
+
+/// The closed-form distances the peak search uses equal the built ramps'
+/// integrated distances, and their slopes the ramps' difference quotients.
+#[test]
+fn closed_form_ramp_distances_match_the_built_ramps() {
+    let mut rng = ChaCha8Rng::seed_from_u64(77);
+    for case in 0..CASES {
+        let l = random_limits(&mut rng, case % 4 != 0);
+        let (v_max, a_max) = (l.velocity(), l.acceleration().max(l.deceleration()));
+        let v = v_max * rng.random_range(-1.2..1.2);
+        let a = if jerks(&l).is_some() {
+            a_max * rng.random_range(-1.2..1.2)
+        } else {
+            0.0
+        };
+        let vt = v_max * rng.random_range(-1.0..1.0);
+        let ctx = format!("case {case}: {l:?} from v {v} a {a} to {vt}");
+        let course = ramp::Course::new(v, a, vt, &l);
+        let [closed, slope, curvature] = course.reach(v, a, vt);
+        let built = ramp::Ramp::new(v, a, vt, &l).distance();
+        let scale = v_max * v_max / a_max + v.abs() * v_max / a_max + built.abs();
+        // Near the coast velocity the distance is steep in vt (the slope
+        // grows without bound): allow the rounding of vt times the slope.
+        let steepest = slope.abs().max(course.tail.reach(vt)[1].abs());
+        let conditioning = 1e-14 * steepest * (vt.abs() + v_max);
+        assert!(
+            (closed - built).abs() <= 1e-12 * scale + conditioning,
+            "{ctx}: {closed} vs {built}"
+        );
+        // The slope against a central difference, where the course keeps
+        // its shape (an easing varies with vt, smoothly).
+        let tail = course.tail;
+        let tail_free = tail.v + tail.a * tail.a.abs() / (2.0 * jerks(&l).map_or(f64::INFINITY, |j| j.0.min(j.1)));
+        // An easing ends the tail's acceleration right at vt, where the
+        // tail's distance has a square-root kink that amplifies rounding:
+        // a wider step there.
+        let h = if course.eased.is_some() {
+            1e-4 * v_max
+        } else {
+            1e-6 * (vt - tail_free).abs().min(v_max)
+        };
+        let shape = |x: f64| {
+            let c = ramp::Course::new(v, a, x, &l);
+            (c.lead.is_some(), c.tail.a_max, c.tail.jerk, c.eased.is_some())
+        };
+        if h > 0.0 && shape(vt - h) == shape(vt) && shape(vt + h) == shape(vt) {
+            let quotient = (ramp::ramp_distance(v, a, vt + h, &l) - ramp::ramp_distance(v, a, vt - h, &l)) / (2.0 * h);
+            assert!(
+                (quotient - slope).abs() <= 1e-4 * (slope.abs() + v_max / a_max),
+                "{ctx}: slope {slope} vs {quotient}"
+            );
+            if course.eased.is_none() {
+                let reach = |x: f64| course.tail.reach(x);
+                let second = (reach(vt + h)[1] - reach(vt - h)[1]) / (2.0 * h);
+                assert!(
+                    (second - curvature).abs() <= 1e-4 * (curvature.abs() + 1.0 / a_max),
+                    "{ctx}: curvature {curvature} vs {second}"
+                );
+            }
+        }
+        // The settling ramp from (vp, 0) down to vt's magnitude.
+        let (vp, vf) = (v.abs().max(vt.abs()), v.abs().min(vt.abs()));
+        let (a_lim, jerk) = ramp::ramp_limits(vp, vf, &l);
+        let settle = ramp::Settle::new(vf, a_lim, jerk);
+        let [d2, s2, c2] = settle.reach(vp);
+        let built2 = ramp::Ramp::new(vp, 0.0, vf, &l).distance();
+        assert!((d2 - built2).abs() <= 1e-12 * scale, "{ctx}: settle {d2} vs {built2}");
+        let h = 1e-6 * (vp - vf);
+        if h > 0.0 {
+            let q2 = (settle.reach(vp + h)[0] - settle.reach(vp - h)[0]) / (2.0 * h);
+            assert!(
+                (q2 - s2).abs() <= 1e-5 * (s2.abs() + v_max / a_max),
+                "{ctx}: settle slope {s2} vs {q2}"
+            );
+            let c = (settle.reach(vp + h)[1] - settle.reach(vp - h)[1]) / (2.0 * h);
+            assert!(
+                (c - c2).abs() <= 1e-4 * (c2.abs() + 1.0 / a_max),
+                "{ctx}: settle curvature {c2} vs {c}"
+            );
+        }
+    }
+}
+
+/// The softened brake's closed-form distance (a ramp from a virtual start
+/// less its virtual phase) equals the easing phase plus the general ramp,
+/// and its slope the difference quotient.
+#[test]
+fn softened_brake_distance_matches_the_general_ramp() {
+    let mut rng = ChaCha8Rng::seed_from_u64(78);
+    let mut checked = 0;
+    for case in 0..CASES {
+        let l = random_limits(&mut rng, true);
+        let Some((_, jd)) = jerks(&l) else { continue };
+        let d = l.deceleration();
+        let v0 = l.velocity() * rng.random_range(0.1..1.0);
+        let a0 = -d * rng.random_range(0.0..1.0);
+        let a1 = a0 * rng.random_range(0.0..1.0);
+        // The shape's precondition: the coast speed stays above vf.
+        let coast = v0 - a0 * a0 / (2.0 * jd);
+        if coast <= 0.0 {
+            continue;
+        }
+        let vf = coast * rng.random_range(0.0..1.0);
+        let ctx = format!("case {case}: {l:?} v0 {v0} a0 {a0} a1 {a1} vf {vf}");
+        let [excess, slope, _] = softened_excess(v0, a0, a1, vf, 0.0, &l);
+        let t = (a1 - a0) / jd;
+        let v1 = v0 + (a1 * a1 - a0 * a0) / (2.0 * jd);
+        let general = t * (v0 + t * (a0 / 2.0 + t * jd / 6.0)) + ramp::Ramp::new(v1, a1, vf, &l).distance();
+        let scale = v0 * v0 / d + v0 * d / jd;
+        assert!(
+            (excess - general).abs() <= 1e-11 * scale,
+            "{ctx}: {excess} vs {general}"
+        );
+        let h = 1e-6 * d;
+        if a1 - h >= a0 && a1 + h <= 0.0 {
+            let quotient = (softened_excess(v0, a0, a1 + h, vf, 0.0, &l)[0]
+                - softened_excess(v0, a0, a1 - h, vf, 0.0, &l)[0])
+                / (2.0 * h);
+            assert!(
+                (quotient - slope).abs() <= 1e-4 * (slope.abs() + v0 / jd),
+                "{ctx}: slope {slope} vs {quotient}"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > CASES / 4, "only {checked} slopes checked");
+}
