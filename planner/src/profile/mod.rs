@@ -68,7 +68,7 @@ mod ramp;
 
 pub use jerk::{JerkUnits, JerkUnitsError, jerk_from_percent_of_time, jerk_to_percent_of_time, jerk_to_units_per_sec3};
 
-use ramp::{Course, Phase, Ramp, Settle, coast_velocity, ramp_distance, ramp_limits};
+use ramp::{Course, Phase, Ramp, Settle, TailFrame, coast_velocity, ramp_distance, ramp_limits};
 use thiserror::Error;
 
 /// Kinematic state of one dimension at an instant (units, units/s, units/s²).
@@ -380,11 +380,18 @@ impl Profile {
                 peak = vf;
             }
         }
+        // The ramps' own integration gives the distance they cover; the
+        // cruise between them takes the rest.
         let first = Ramp::new(v0, a0, peak, limits);
         let last = Ramp::new(peak, 0.0, vf, limits);
-        let cruise_len = dist - first.distance() - last.distance();
+        let travel_start = State {
+            position: 0.0,
+            velocity: v0,
+            acceleration: a0,
+        };
+        let mut profile = Self::from_ramps(travel_start, &[&first, &last], None, limits);
+        let cruise_len = dist - profile.final_state.position;
         let tolerance = 1e-12 * (1.0 + dist.abs() + start.position.abs());
-
         let at_rest = start.velocity == 0.0 && start.acceleration == 0.0;
         if !at_rest && (cruise_len < -tolerance || (cruise_len > tolerance && peak <= 1e-9 * v_max)) {
             // The ramps do not meet (the acceleration limits switch between
@@ -402,20 +409,17 @@ impl Profile {
                 &mut None,
             ));
         }
-        let cruise_s = if cruise_len > 0.0 && peak > 1e-9 * v_max {
-            cruise_len / peak
-        } else {
-            0.0
+        if cruise_len > 0.0 && peak > 1e-9 * v_max {
+            profile.insert_cruise(first.len(), cruise_len / peak);
+        }
+        profile.mirror_and_shift(dir, start.position);
+        profile.start = start;
+        profile.final_state = State {
+            position: target_position,
+            velocity: dir * vf,
+            acceleration: 0.0,
         };
-        Self::in_travel_frame(
-            start,
-            dir,
-            &[&first, &last],
-            Some((1, cruise_s)),
-            target_position,
-            vf,
-            limits,
-        )
+        profile
     }
 
     /// The profile of `ramps` (with a cruise before ramp `cruise.0`)
@@ -524,6 +528,32 @@ impl Profile {
             final_state,
             duration_s: t,
         }
+    }
+
+    /// Inserts a cruise of `duration_s` at the speed reached before segment
+    /// `at` (the end of the first ramp), moving the later segments on.
+    fn insert_cruise(&mut self, at: usize, duration_s: f64) {
+        let (t0_s, state) = self
+            .segments
+            .get(at)
+            .map_or((self.duration_s, self.final_state), |s| (s.t0_s, s.start));
+        let shift = state.velocity * duration_s;
+        for seg in &mut self.segments[at..] {
+            seg.t0_s += duration_s;
+            seg.start.position += shift;
+        }
+        let cruise = Segment {
+            t0_s,
+            duration_s,
+            start: State {
+                acceleration: 0.0,
+                ..state
+            },
+            jerk: 0.0,
+        };
+        self.segments.insert(at, cruise);
+        self.final_state.position += shift;
+        self.duration_s += duration_s;
     }
 
     /// This profile followed by `next` (which must start where this one ends).
@@ -806,8 +836,8 @@ struct PeakRamps<'a> {
     inside: (f64, f64),
     /// The first ramp's course where it is the same throughout the range
     /// (it is unless an easing varies with the peak, or the range spans
-    /// the coast velocity), with its lead's distance.
-    course: Option<(Course, f64)>,
+    /// the coast velocity), with its lead's distance and its tail's frame.
+    course: Option<(Course, f64, Option<TailFrame>)>,
     dist: f64,
     limits: &'a Limits,
 }
@@ -834,9 +864,15 @@ impl<'a> PeakRamps<'a> {
     /// the same throughout (before a search's many evaluations).
     fn fix_course(&mut self) {
         let (v0, a0) = self.start;
-        let low = Course::new(v0, a0, self.inside.0, self.limits);
-        self.course = (low.eased.is_none() && low == Course::new(v0, a0, self.inside.1, self.limits))
-            .then(|| (low, low.lead_distance(v0, a0)));
+        let (lo, hi) = self.inside;
+        let low = Course::new(v0, a0, lo, self.limits);
+        self.course = (low.eased.is_none() && low == Course::new(v0, a0, hi, self.limits)).then(|| {
+            let frame = low.tail.jerk.and_then(|j| {
+                let frame = low.tail.frame(j, lo);
+                (frame == low.tail.frame(j, hi)).then_some(frame)
+            });
+            (low, low.lead_distance(v0, a0), frame)
+        });
     }
 
     /// The ramps' distance minus the distance to fit, and its first and
@@ -844,8 +880,11 @@ impl<'a> PeakRamps<'a> {
     fn excess(&self, vp: f64) -> [f64; 3] {
         let (v0, a0) = self.start;
         let first = match self.course {
-            Some((course, lead)) => {
-                let [tail, slope, curvature] = course.tail.reach(vp);
+            Some((course, lead, frame)) => {
+                let [tail, slope, curvature] = match frame {
+                    Some(frame) => frame.reach(vp),
+                    None => course.tail.reach(vp),
+                };
                 [lead + tail, slope, curvature]
             }
             None => Course::new(v0, a0, vp.clamp(self.inside.0, self.inside.1), self.limits).reach(v0, a0, vp),
@@ -897,8 +936,7 @@ fn newton_at_most(
     let (mut a, mut b) = (lo, hi);
     let (mut x, mut fx, mut dfx, mut ddfx) = (hi, f_hi, df_hi, ddf_hi);
     for step in 0..100 {
-        let newton = fx / dfx;
-        if newton.abs() <= 2.0 * f64::EPSILON * x.abs() && dfx.is_finite() {
+        if fx.abs() <= 2.0 * f64::EPSILON * x.abs() * dfx.abs() && dfx.is_finite() {
             // Converged to the resolution of x: keep the ramps inside the
             // distance if a few ulps below does, else f is at its rounding
             // and the cruise absorbs it.
@@ -919,12 +957,13 @@ fn newton_at_most(
             lo + (x - lo) * (-(rise / span).ln() / power).exp()
         } else {
             // The root of f + f'·δ + f''·δ²/2 nearest x, in the form that
-            // does not cancel: δ = −2f / (f' + √(f'² − 2·f·f'')).
+            // does not cancel: δ = −2f / (f' + √(f'² − 2·f·f'')); Newton
+            // where there is none or the curvature is unknown (NaN).
             let discriminant = dfx * dfx - 2.0 * fx * ddfx;
             if discriminant >= 0.0 {
                 x - 2.0 * fx / (dfx + discriminant.sqrt())
             } else {
-                x - newton
+                x - fx / dfx
             }
         };
         if !(next > a && next < b) {

@@ -26,12 +26,14 @@ pub(super) struct Phase {
     pub set_acceleration: Option<f64>,
 }
 
-/// A planned velocity change.
+/// A planned velocity change: its phases (a profile integrates them; the
+/// planner's searches use the closed-form [`Course::reach`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Ramp {
     phases: [Phase; 4],
     count: usize,
-    distance: f64,
+    /// The speed and acceleration it starts from.
+    start: (f64, f64),
 }
 
 /// The acceleration and jerk limits a ramp from `v` to `vt` uses: raising the
@@ -248,10 +250,76 @@ impl Tail {
                 [(vt * vt - v * v) / (2.0 * acc), vt / acc, 1.0 / acc]
             };
         };
-        let TailPhases {
+        self.frame(j, vt).reach(vt)
+    }
+
+    /// The frame of the targets on `vt`'s side of the coast velocity.
+    pub(super) fn frame(&self, j: f64, vt: f64) -> TailFrame {
+        let inv_j = 1.0 / j;
+        let v_free = self.v + 0.5 * self.a * self.a.abs() * inv_j;
+        let s = if vt >= v_free { 1.0 } else { -1.0 };
+        TailFrame::new(self, j, inv_j, s)
+    }
+}
+
+/// An S-curve tail seen from one side of its coast velocity (the speed at
+/// which ending the start acceleration arrives), in the frame where the
+/// speed rises there: what its phases to every target on that side share,
+/// computed once — a root search evaluates many targets.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct TailFrame {
+    s: f64,
+    /// Start speed and acceleration, in the frame.
+    v: f64,
+    a: f64,
+    j: f64,
+    inv_j: f64,
+    a_max: f64,
+    /// The phases up to the hold when the acceleration limit is held:
+    /// inverse peak, t1, j1, v1, t3.
+    held: (f64, f64, f64, f64, f64),
+}
+
+impl TailFrame {
+    fn new(tail: &Tail, j: f64, inv_j: f64, s: f64) -> Self {
+        let (v, a, a_max) = (s * tail.v, s * tail.a, tail.a_max);
+        let mut frame = Self {
             s,
             v,
             a,
+            j,
+            inv_j,
+            a_max,
+            held: (0.0, 0.0, 0.0, 0.0, 0.0),
+        };
+        frame.held = frame.up_to_hold(a_max);
+        frame
+    }
+
+    /// Inverse peak, t1, j1, v1, t3 for an acceleration peaking at `peak`.
+    fn up_to_hold(&self, peak: f64) -> (f64, f64, f64, f64, f64) {
+        let (v, a, j) = (self.v, self.a, self.j);
+        let t1 = (peak - a).abs() * self.inv_j;
+        let j1 = if peak >= a { j } else { -j };
+        (1.0 / peak, t1, j1, v + t1 * (a + j1 * t1 / 2.0), peak * self.inv_j)
+    }
+
+    /// The phases to `vt`: one computation for the built ramps and the
+    /// closed-form distances, so the two agree to the last bits.
+    fn phases(&self, vt: f64) -> TailPhases {
+        let vt = self.s * vt;
+        // The acceleration peaks at its limit (held for t2), or lower.
+        let (v, a, a_max) = (self.v, self.a, self.a_max);
+        let rise = self.j * (vt - v) + 0.5 * a * a;
+        let held = a > a_max || rise >= a_max * a_max;
+        let peak = if held { a_max } else { rise.max(0.0).sqrt() };
+        let (inv_peak, t1, j1, v1, t3) = if held { self.held } else { self.up_to_hold(peak) };
+        let t2 = if peak > 0.0 {
+            ((vt - v1 - 0.5 * peak * t3) * inv_peak).max(0.0)
+        } else {
+            0.0
+        };
+        TailPhases {
             held,
             peak,
             inv_peak,
@@ -260,8 +328,22 @@ impl Tail {
             v1,
             t2,
             t3,
-            inv_j,
-        } = self.phases_to(vt, j);
+        }
+    }
+
+    /// Signed distance to `vt`, and its first and second derivatives.
+    pub(super) fn reach(&self, vt: f64) -> [f64; 3] {
+        let TailPhases {
+            held,
+            peak,
+            inv_peak,
+            t1,
+            j1,
+            v1,
+            t2,
+            t3,
+        } = self.phases(vt);
+        let (s, v, a, j, inv_j) = (self.s, self.v, self.a, self.j, self.inv_j);
         let d1 = t1 * (v + t1 * (a / 2.0 + t1 * j1 / 6.0));
         let v2 = v1 + peak * t2;
         let d2 = t2 * (v1 + peak * t2 / 2.0);
@@ -279,14 +361,10 @@ impl Tail {
     }
 }
 
-/// An S-curve tail's three phases to a target speed, in the frame where
-/// the speed rises (`s` maps it back): jerk `j1` for `t1` to the peak
-/// acceleration, a hold at the peak for `t2`, jerk −j for `t3` to zero.
+/// An S-curve tail's three phases to a target speed, in its
+/// [`TailFrame`]: jerk `j1` for `t1` to the peak acceleration, a hold at
+/// the peak for `t2`, jerk −j for `t3` to zero.
 struct TailPhases {
-    s: f64,
-    /// Start speed and acceleration, in the frame.
-    v: f64,
-    a: f64,
     /// Whether the peak is the acceleration limit.
     held: bool,
     peak: f64,
@@ -297,7 +375,6 @@ struct TailPhases {
     v1: f64,
     t2: f64,
     t3: f64,
-    inv_j: f64,
 }
 
 impl Tail {
@@ -310,44 +387,6 @@ impl Tail {
             duration_s: self.a.abs() / j,
             jerk: -j.copysign(self.a),
             set_acceleration: None,
-        }
-    }
-
-    /// The phases to `vt` with jerk `j`: one computation for the built
-    /// ramps and the closed-form distances, so the two agree to the last
-    /// bits (with few divisions: it runs inside root searches).
-    fn phases_to(&self, vt: f64, j: f64) -> TailPhases {
-        let inv_j = 1.0 / j;
-        let v_free = self.v + 0.5 * self.a * self.a.abs() * inv_j;
-        let s = if vt >= v_free { 1.0 } else { -1.0 };
-        let (v, a, vt) = (s * self.v, s * self.a, s * vt);
-        // The acceleration peaks at its limit (held for t2), or lower.
-        let unclipped = (j * (vt - v) + 0.5 * a * a).max(0.0).sqrt();
-        let held = a > self.a_max || unclipped >= self.a_max;
-        let peak = if held { self.a_max } else { unclipped };
-        let inv_peak = 1.0 / peak;
-        let t1 = (peak - a).abs() * inv_j;
-        let j1 = if peak >= a { j } else { -j };
-        let v1 = v + t1 * (a + j1 * t1 / 2.0);
-        let t3 = peak * inv_j;
-        let t2 = if peak > 0.0 {
-            ((vt - v1 - 0.5 * peak * t3) * inv_peak).max(0.0)
-        } else {
-            0.0
-        };
-        TailPhases {
-            s,
-            v,
-            a,
-            held,
-            peak,
-            inv_peak,
-            t1,
-            j1,
-            v1,
-            t2,
-            t3,
-            inv_j,
         }
     }
 }
@@ -398,24 +437,23 @@ impl Settle {
 }
 
 impl Ramp {
-    fn empty() -> Self {
+    fn empty(v: f64, a: f64) -> Self {
         Self {
             phases: [Phase::default(); 4],
             count: 0,
-            distance: 0.0,
+            start: (v, a),
         }
     }
 
     pub(super) fn new(v: f64, a: f64, vt: f64, limits: &Limits) -> Self {
         let course = Course::new(v, a, vt, limits);
-        let mut ramp = Self::empty();
+        let mut ramp = Self::empty(v, a);
         if let Some(lead) = course.lead {
             ramp.push(lead);
         }
         let tail = course.tail;
         if let Some(easing) = course.eased {
             ramp.push(tail.end_acceleration(easing.j_both));
-            ramp.distance = ramp.integrate(v, a);
             return ramp;
         }
         match tail.jerk {
@@ -432,24 +470,24 @@ impl Ramp {
             }
             Some(j) => ramp.s_curve(&tail, vt, j),
         }
-        ramp.distance = ramp.integrate(v, a);
         ramp
     }
 
     /// One constant-jerk phase from (v, a): `duration_s` at jerk `jerk`.
     pub(super) fn jerk_phase(v: f64, a: f64, jerk: f64, duration_s: f64) -> Self {
-        let mut ramp = Self::empty();
+        let mut ramp = Self::empty(v, a);
         ramp.push(Phase {
             duration_s,
             jerk,
             set_acceleration: None,
         });
-        ramp.distance = ramp.integrate(v, a);
         ramp
     }
 
     fn s_curve(&mut self, tail: &Tail, vt: f64, j: f64) {
-        let TailPhases { s, t1, j1, t2, t3, .. } = tail.phases_to(vt, j);
+        let frame = tail.frame(j, vt);
+        let s = frame.s;
+        let TailPhases { t1, j1, t2, t3, .. } = frame.phases(vt);
         self.push(Phase {
             duration_s: t1,
             jerk: s * j1,
@@ -474,8 +512,11 @@ impl Ramp {
         }
     }
 
-    fn integrate(&self, v0: f64, a0: f64) -> f64 {
-        let (mut p, mut v, mut a) = (0.0, v0, a0);
+    /// Signed distance travelled during the ramp, integrated through its
+    /// phases (the tests' check on the closed forms).
+    #[cfg(test)]
+    pub(super) fn distance(&self) -> f64 {
+        let (mut p, (mut v, mut a)) = (0.0, self.start);
         for ph in self.phases() {
             if let Some(acc) = ph.set_acceleration {
                 a = acc;
@@ -492,14 +533,14 @@ impl Ramp {
         p
     }
 
+    /// How many phases the ramp has.
+    pub(super) fn len(&self) -> usize {
+        self.count
+    }
+
     /// The phases in time order.
     pub(super) fn phases(&self) -> impl Iterator<Item = Phase> + '_ {
         self.phases[..self.count].iter().copied()
-    }
-
-    /// Signed distance travelled during the ramp.
-    pub(super) fn distance(&self) -> f64 {
-        self.distance
     }
 }
 
