@@ -17,6 +17,15 @@ Ruckig's model equals the planner's when the acceleration and jerk limits are
 the same for raising and lowering the speed and the start state can keep the
 velocity limit, so the cases are drawn that way; asymmetric limits and
 out-of-limit starts are checked for invariants in the Rust test instead.
+
+A second table, ruckig_asymmetric_accel.txt (`python3 ... asymmetric`),
+covers different accel and decel limits: Ruckig bounds a positive
+acceleration by max_acceleration and a negative one by min_acceleration,
+which is the planner's rule (accel limit while the speed rises, decel limit
+while it falls) for a move that never reverses. So its cases start at rest
+or moving forwards, with an acceleration that ends at a forward speed within
+the limit, towards targets ahead of where Ruckig's own stop ends. Ruckig has
+one jerk, so accel and decel jerks stay equal there.
 """
 
 import os
@@ -94,7 +103,7 @@ def solve(inp):
     return traj
 
 
-def inputs(p0, v0, a0, v, a, j):
+def inputs(p0, v0, a0, v, a, j, d=None):
     inp = ruckig.InputParameter(1)
     inp.current_position = [p0]
     inp.current_velocity = [v0]
@@ -102,13 +111,15 @@ def inputs(p0, v0, a0, v, a, j):
     inp.target_acceleration = [0.0]
     inp.max_velocity = [v]
     inp.max_acceleration = [a]
+    if d is not None:
+        inp.min_acceleration = [-d]
     inp.max_jerk = [j]
     return inp
 
 
-def stop_position(p0, v0, a0, v, a, j):
+def stop_position(p0, v0, a0, v, a, j, d=None):
     """Where Ruckig's own time-optimal stop (velocity interface) ends."""
-    inp = inputs(p0, v0, a0, v, a, j)
+    inp = inputs(p0, v0, a0, v, a, j, d)
     inp.control_interface = ruckig.ControlInterface.Velocity
     inp.target_velocity = [0.0]
     traj = solve(inp)
@@ -118,8 +129,8 @@ def stop_position(p0, v0, a0, v, a, j):
     return pos[0]
 
 
-def duration(p0, v0, a0, target, vf_signed, v, a, j):
-    inp = inputs(p0, v0, a0, v, a, j)
+def duration(p0, v0, a0, target, vf_signed, v, a, j, d=None):
+    inp = inputs(p0, v0, a0, v, a, j, d)
     inp.target_position = [target]
     inp.target_velocity = [vf_signed]
     traj = solve(inp)
@@ -166,5 +177,61 @@ def main():
     print("wrote", out, file=sys.stderr)
 
 
+ASYMMETRIC_SEED = 0x5EED_A014
+
+
+def draw_asymmetric(rng):
+    """One case of the asymmetric table (mirrored in Rust)."""
+    v = rng.scale(-4, 10)
+    a = v * rng.scale(-3, 5)
+    d = a * rng.scale(-2, 2)
+    j = a * a / v * rng.scale(-2, 7)
+    p0 = (2.0 * rng.unit() - 1.0) * 100.0
+    kind = rng.below(4)
+    v0 = 0.0 if kind == 0 else v * rng.unit()
+    a0 = 0.0 if kind <= 1 else (a + d) * rng.unit() - d
+    for _ in range(60):
+        coast = v0 + a0 * abs(a0) / (2.0 * j)
+        if 0.0 <= coast <= v:
+            break
+        a0 *= 0.5
+    else:
+        a0 = 0.0
+    vf = v * rng.unit() if rng.below(4) == 0 else 0.0
+    k = rng.below(21)
+    u = rng.unit()
+    return v, a, d, j, p0, v0, a0, vf, k, u
+
+
+def main_asymmetric():
+    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "ruckig_asymmetric_accel.txt")
+    rng = SplitMix64(ASYMMETRIC_SEED)
+    lines = [
+        "# Ruckig 0.19.4 durations for planner/tests/state_to_state.rs; written by",
+        "# ruckig_state_to_state.py asymmetric (seed 0x5EEDA014): target, duration_s",
+    ]
+    for _ in range(CASES):
+        v, a, d, j, p0, v0, a0, vf, k, u = draw_asymmetric(rng)
+        span = v * v / min(a, d) + max(a, d) / j * v
+        stop = stop_position(p0, v0, a0, v, a, j, d)
+        if stop is None:
+            lines.append("x x")
+            continue
+        if vf > 0.0:
+            target = stop + span * (2.0 + 4.0 * u)
+        else:
+            # Ahead of the stop by 2^-k of the span (not closer than 2^-16:
+            # Ruckig accepts an end within 1e-8 of the target).
+            target = stop + max(span * (1.0 + u) * (2.0 ** (-k)), 2.0**-16)
+        dur = duration(p0, v0, a0, target, vf, v, a, j, d)
+        lines.append("%r %s" % (target, "x" if dur is None else "%.13g" % dur))
+    with open(out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("wrote", out, file=sys.stderr)
+
+
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:] == ["asymmetric"]:
+        main_asymmetric()
+    else:
+        main()
