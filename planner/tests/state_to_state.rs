@@ -12,6 +12,12 @@
 //!   sign of the acceleration are the planner's by whether the speed rises
 //!   or falls; `reference/ruckig_asymmetric_accel.txt` holds Ruckig's
 //!   durations, matched within 1e-9 relative.
+//! * `asymmetric_jerk_table`: 100,000 cases whose accel and decel limits
+//!   and jerks all differ, from zero acceleration (at rest or moving
+//!   forwards) to targets from just beyond the ramps straight to the final
+//!   speed to far away — the moves whose time-optimal shape is known in
+//!   closed form; `reference/asymmetric_jerk.txt` holds the optimum's
+//!   duration found by 30-digit bisection, matched within 1e-9 relative.
 //! * `asymmetric_random_starts`: 100,000 seeded cases with accel and decel
 //!   limits and jerks that differ (up to 16×), start velocities and
 //!   accelerations inside and beyond the limits and targets near the stopping
@@ -334,6 +340,65 @@ fn ruckig_asymmetric_accel_table() {
         "{} cases where the reference is slower: {slower_reference:?}",
         slower_reference.len()
     );
+    assert!(
+        failures.is_empty(),
+        "worst {worst:.2e}; {} …\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+/// Different accel and decel limits and jerks (up to 16× apart) on moves
+/// whose time-optimal shape is known in closed form — a start at zero
+/// acceleration, at rest or moving forwards, a target at least as far as
+/// the ramps straight to the final speed — against
+/// `reference/asymmetric_jerk.txt` (the optimum found by 30-digit bisection
+/// in `asymmetric_jerk_reference.py`): durations within 1e-9 relative.
+#[test]
+fn asymmetric_jerk_table() {
+    let table = include_str!("reference/asymmetric_jerk.txt");
+    let mut rng = SplitMix64(0x5EED_1E14);
+    let (mut compared, mut worst) = (0, 0.0_f64);
+    let mut failures = Vec::new();
+    for (i, line) in table.lines().filter(|l| !l.starts_with('#')).enumerate() {
+        // The generator's draws, in its order.
+        let v = rng.scale(-4, 10);
+        let a = v * rng.scale(-3, 5);
+        let d = a * rng.scale(-2, 2);
+        let ja = a * a / v * rng.scale(-2, 7);
+        let jd = ja * rng.scale(-4, 3);
+        let p0 = (2.0 * rng.unit() - 1.0) * 100.0;
+        let v0 = if rng.below(4) == 0 { 0.0 } else { v * rng.unit() };
+        let vf = if rng.below(4) == 0 { v * rng.unit() } else { 0.0 };
+        let _ = (rng.below(31), rng.unit());
+        let (target, duration) = line.split_once(' ').unwrap();
+        let target: f64 = target.parse().unwrap();
+        let reference: f64 = duration.parse().unwrap();
+        let limits = Limits::s_curve(v, a, d, ja, jd).unwrap();
+        let start = State {
+            position: p0,
+            velocity: v0,
+            acceleration: 0.0,
+        };
+        let p = Profile::to_position(start, target, vf, &limits);
+        let ctx = format!("case {i}: {limits:?} start {start:?} target {target} vf {vf}");
+        reaches_target(&p, target, &ctx);
+        assert_eq!(p.final_state().velocity, vf, "{ctx}");
+        if let Err(e) = limits_held(&p, &limits, v) {
+            panic!("{ctx}: {e}");
+        }
+        let rel = (p.duration_s() - reference).abs() / reference;
+        worst = worst.max(rel);
+        compared += 1;
+        if rel > 1e-9 && failures.len() < 20 {
+            failures.push(format!(
+                "{ctx}: {} s, reference {reference} s ({rel:.2e})",
+                p.duration_s()
+            ));
+        }
+    }
+    eprintln!("asymmetric jerk table: {compared} compared, worst {worst:.1e}");
+    assert_eq!(compared, 100_000);
     assert!(
         failures.is_empty(),
         "worst {worst:.2e}; {} …\n{}",

@@ -34,11 +34,14 @@
 //! share their limits: `tests/state_to_state.rs` matches Ruckig's
 //! time-optimal durations within 1e-9 on 100,000 such cases, and on
 //! 100,000 more with different accel and decel limits (one jerk: Ruckig
-//! has one) on moves that do not reverse. Different accel and decel jerks
-//! have no public time-optimal reference; the planner holds every limit
-//! with them (100,000 seeded cases). A reversal with different limits uses
-//! the smaller pair throughout, which holds them but is not time-optimal
-//! across zero speed.
+//! has one) on moves that do not reverse. With different accel and decel
+//! jerks too it matches, within 1e-9 on 100,000 cases, the optimum that a
+//! 30-digit bisection finds for the moves whose optimal shape is known in
+//! closed form (from zero acceleration, forwards); no public solver covers
+//! other starts with such jerks, and there the planner holds every limit
+//! (100,000 seeded cases). A reversal with different limits uses the
+//! smaller pair throughout, which holds them but is not time-optimal across
+//! zero speed.
 //!
 //! # Limits, and where they apply
 //! A phase that raises the speed |v| uses the *acceleration* limit and the

@@ -314,7 +314,10 @@ impl TailFrame {
         let held = a > a_max || rise >= a_max * a_max;
         let peak = if held { a_max } else { rise.max(0.0).sqrt() };
         let (inv_peak, t1, j1, v1, t3) = if held { self.held } else { self.up_to_hold(peak) };
-        let t2 = if peak > 0.0 {
+        // A hold only at the limit: below it the hold is zero, and the
+        // formula's rounding (a difference of nearly equal speeds over a
+        // small peak) must not add one.
+        let t2 = if held && peak > 0.0 {
             ((vt - v1 - 0.5 * peak * t3) * inv_peak).max(0.0)
         } else {
             0.0
