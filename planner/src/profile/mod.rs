@@ -37,9 +37,10 @@
 //! has one) on moves that do not reverse. With different accel and decel
 //! jerks too it matches, within 1e-9 on 100,000 cases, the optimum that a
 //! 30-digit bisection finds for the moves whose optimal shape is known in
-//! closed form (from zero acceleration, forwards); no public solver covers
-//! other starts with such jerks, and there the planner holds every limit
-//! (100,000 seeded cases). A reversal with different limits uses the
+//! closed form (forwards, from no acceleration or a rising one, to targets
+//! beyond the lowest peak's ramps); no public solver covers other starts
+//! with such jerks, and there the planner holds every limit (100,000
+//! seeded cases). A reversal with different limits uses the
 //! smaller pair throughout, which holds them but is not time-optimal across
 //! zero speed.
 //!
@@ -893,7 +894,21 @@ impl<'a> PeakRamps<'a> {
                 };
                 [lead + tail, slope, curvature]
             }
-            None => Course::new(v0, a0, vp.clamp(self.inside.0, self.inside.1), self.limits).reach(v0, a0, vp),
+            None => {
+                // The course, and the side of the coast speed the tail is
+                // seen from, of the range's inside: at an end the distance
+                // is the limit from inside (from the other side of the
+                // coast speed it has a square-root kink).
+                let inside = vp.clamp(self.inside.0, self.inside.1);
+                let course = Course::new(v0, a0, inside, self.limits);
+                match (course.eased, course.tail.jerk) {
+                    (None, Some(j)) => {
+                        let [tail, slope, curvature] = course.tail.frame(j, inside).reach(vp);
+                        [course.lead_distance(v0, a0) + tail, slope, curvature]
+                    }
+                    _ => course.reach(v0, a0, vp),
+                }
+            }
         };
         let second = self.settle.map_or([0.0; 3], |settle| settle.reach(vp));
         [

@@ -258,7 +258,7 @@ impl Tail {
         let inv_j = 1.0 / j;
         let v_free = self.v + 0.5 * self.a * self.a.abs() * inv_j;
         let s = if vt >= v_free { 1.0 } else { -1.0 };
-        TailFrame::new(self, j, inv_j, s)
+        TailFrame::new(self, j, inv_j, s, v_free)
     }
 }
 
@@ -272,6 +272,8 @@ pub(super) struct TailFrame {
     /// Start speed and acceleration, in the frame.
     v: f64,
     a: f64,
+    /// The coast speed, in the frame (no target on this side is below it).
+    v_free: f64,
     j: f64,
     inv_j: f64,
     a_max: f64,
@@ -281,12 +283,13 @@ pub(super) struct TailFrame {
 }
 
 impl TailFrame {
-    fn new(tail: &Tail, j: f64, inv_j: f64, s: f64) -> Self {
+    fn new(tail: &Tail, j: f64, inv_j: f64, s: f64, v_free: f64) -> Self {
         let (v, a, a_max) = (s * tail.v, s * tail.a, tail.a_max);
         let mut frame = Self {
             s,
             v,
             a,
+            v_free: s * v_free,
             j,
             inv_j,
             a_max,
@@ -308,11 +311,17 @@ impl TailFrame {
     /// closed-form distances, so the two agree to the last bits.
     fn phases(&self, vt: f64) -> TailPhases {
         let vt = self.s * vt;
-        // The acceleration peaks at its limit (held for t2), or lower.
-        let (v, a, a_max) = (self.v, self.a, self.a_max);
-        let rise = self.j * (vt - v) + 0.5 * a * a;
+        // The acceleration peaks at its limit (held for t2), or lower, at
+        // √(j·(vt − v) + a²/2). Measured from the coast speed the square
+        // has no cancelling terms — j·(vt − v_free) + a² (a > 0) or
+        // j·(vt − v_free) (a ≤ 0) — so a target at the coast speed ends
+        // the acceleration exactly instead of adding phases as long as the
+        // square root of a rounding residue.
+        let (a, a_max) = (self.a, self.a_max);
+        let from_coast = self.j * (vt - self.v_free).max(0.0);
+        let rise = if a > 0.0 { from_coast + a * a } else { from_coast };
         let held = a > a_max || rise >= a_max * a_max;
-        let peak = if held { a_max } else { rise.max(0.0).sqrt() };
+        let peak = if held { a_max } else { rise.sqrt() };
         let (inv_peak, t1, j1, v1, t3) = if held { self.held } else { self.up_to_hold(peak) };
         // A hold only at the limit: below it the hold is zero, and the
         // formula's rounding (a difference of nearly equal speeds over a
