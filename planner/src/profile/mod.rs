@@ -419,14 +419,7 @@ impl Profile {
         if cruise_len > 0.0 && peak > 1e-9 * v_max {
             profile.insert_cruise(first.len(), cruise_len / peak);
         }
-        profile.mirror_and_shift(dir, start.position);
-        profile.start = start;
-        profile.final_state = State {
-            position: target_position,
-            velocity: dir * vf,
-            acceleration: 0.0,
-        };
-        profile
+        profile.onto_axis(start, dir, target_position, vf)
     }
 
     /// The profile of `ramps` (with a cruise before ramp `cruise.0`)
@@ -447,15 +440,22 @@ impl Profile {
             velocity: dir * start.velocity,
             acceleration: dir * start.acceleration,
         };
-        let mut profile = Self::from_ramps(mirrored_start, ramps, cruise, limits);
-        profile.mirror_and_shift(dir, start.position);
-        profile.start = start;
-        profile.final_state = State {
+        Self::from_ramps(mirrored_start, ramps, cruise, limits).onto_axis(start, dir, target_position, final_speed)
+    }
+
+    /// This profile, planned in the frame where travel is positive (`dir` ·
+    /// the axis) from position 0, mapped onto the axis from `start`, ending
+    /// exactly at `target_position` with speed `final_speed` in the
+    /// direction of travel.
+    fn onto_axis(mut self, start: State, dir: f64, target_position: f64, final_speed: f64) -> Self {
+        self.mirror_and_shift(dir, start.position);
+        self.start = start;
+        self.final_state = State {
             position: target_position,
             velocity: dir * final_speed,
             acceleration: 0.0,
         };
-        profile
+        self
     }
 
     /// Changes velocity from `start` to `target_velocity` (signed) and holds it.

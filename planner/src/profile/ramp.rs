@@ -345,17 +345,9 @@ impl TailFrame {
 
     /// Signed distance to `vt`, and its first and second derivatives.
     pub(super) fn reach(&self, vt: f64) -> [f64; 3] {
-        let TailPhases {
-            held,
-            peak,
-            inv_peak,
-            t1,
-            j1,
-            v1,
-            t2,
-            t3,
-        } = self.phases(vt);
-        let (s, v, a, j, inv_j) = (self.s, self.v, self.a, self.j, self.inv_j);
+        let ph = self.phases(vt);
+        let (peak, inv_peak, t1, v1, t2, t3) = (ph.peak, ph.inv_peak, ph.t1, ph.v1, ph.t2, ph.t3);
+        let (s, v, a, j, inv_j, j1) = (self.s, self.v, self.a, self.j, self.inv_j, ph.j1);
         let d1 = t1 * (v + t1 * (a / 2.0 + t1 * j1 / 6.0));
         let v2 = v1 + peak * t2;
         let d2 = t2 * (v1 + peak * t2 / 2.0);
@@ -364,7 +356,7 @@ impl TailFrame {
         // (not): both give v2/peak + t3. Its own derivative: 1/peak while
         // the peak is held; else, with v2 = v + (peak² − a²)/(2j) and
         // d(peak)/d(vt) = j/(2·peak), (3/(2j) − (v − a²/(2j))/peak²)·j/(2·peak).
-        let curvature = if held {
+        let curvature = if ph.held {
             inv_peak
         } else {
             (1.5 * inv_j - (v - 0.5 * a * a * inv_j) * inv_peak * inv_peak) * 0.5 * j * inv_peak

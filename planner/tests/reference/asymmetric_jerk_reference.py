@@ -25,12 +25,9 @@ ruckig_state_to_state.py (its own seed); each line stores the target
 (shortest round-trip) and the duration (13 significant digits).
 """
 
-import os
-import sys
-
 from mpmath import mp, mpf, sqrt
 
-from splitmix import SplitMix64
+from splitmix import SplitMix64, write_table
 
 CASES = 100_000
 
@@ -110,7 +107,6 @@ def duration(dist, v, a, d, ja, jd, v0, a0, vf):
 
 
 def main():
-    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "asymmetric_jerk.txt")
     rng = SplitMix64(SEED)
     lines = [
         "# Time-optimal durations (30-digit bisection) for planner/tests/state_to_state.rs;",
@@ -127,9 +123,7 @@ def main():
         dist = mpf(target) - mpf(p0)
         t = duration(dist, *m)
         lines.append("%r %.13g" % (target, float(t)))
-    with open(out, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("wrote", out, file=sys.stderr)
+    write_table("asymmetric_jerk.txt", lines)
 
 
 if __name__ == "__main__":

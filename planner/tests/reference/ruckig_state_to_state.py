@@ -28,12 +28,11 @@ the limit, towards targets ahead of where Ruckig's own stop ends. Ruckig has
 one jerk, so accel and decel jerks stay equal there.
 """
 
-import os
 import sys
 
 import ruckig
 
-from splitmix import SplitMix64
+from splitmix import SplitMix64, write_table
 
 CASES = 100_000
 SEED = 0x5EED_0014
@@ -115,7 +114,6 @@ def duration(p0, v0, a0, target, vf_signed, v, a, j, d=None):
 
 
 def main():
-    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "ruckig_state_to_state.txt")
     rng = SplitMix64(SEED)
     lines = [
         "# Ruckig 0.19.4 durations for planner/tests/state_to_state.rs; written by",
@@ -149,9 +147,7 @@ def main():
             lines.append("%r %s x" % (target, sign_char))
         else:
             lines.append("%r %s %.13g" % (target, sign_char, d))
-    with open(out, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("wrote", out, file=sys.stderr)
+    write_table("ruckig_state_to_state.txt", lines)
 
 
 ASYMMETRIC_SEED = 0x5EED_A014
@@ -181,7 +177,6 @@ def draw_asymmetric(rng):
 
 
 def main_asymmetric():
-    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "ruckig_asymmetric_accel.txt")
     rng = SplitMix64(ASYMMETRIC_SEED)
     lines = [
         "# Ruckig 0.19.4 durations for planner/tests/state_to_state.rs; written by",
@@ -202,9 +197,7 @@ def main_asymmetric():
             target = stop + max(span * (1.0 + u) * (2.0 ** (-k)), 2.0**-16)
         dur = duration(p0, v0, a0, target, vf, v, a, j, d)
         lines.append("%r %s" % (target, "x" if dur is None else "%.13g" % dur))
-    with open(out, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("wrote", out, file=sys.stderr)
+    write_table("ruckig_asymmetric_accel.txt", lines)
 
 
 if __name__ == "__main__":

@@ -1,9 +1,21 @@
-"""The SplitMix64 stream the reference generators draw their cases from, and
-planner/tests/state_to_state.rs repeats bit for bit (only +, -, *, / and
-sqrt on the drawn values, which IEEE 754 rounds the same in both languages).
+"""What the reference generators share: the SplitMix64 stream they draw
+their cases from, which planner/tests/state_to_state.rs repeats bit for bit
+(only +, -, *, / and sqrt on the drawn values, which IEEE 754 rounds the same
+in both languages), and the writing of a table next to this file.
 """
 
+import os
+import sys
+
 MASK = (1 << 64) - 1
+
+
+def write_table(name, lines):
+    """Writes `lines` to the table `name` in this folder."""
+    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), name)
+    with open(out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("wrote", out, file=sys.stderr)
 
 
 class SplitMix64:
