@@ -75,7 +75,7 @@ mod ramp;
 
 pub use jerk::{JerkUnits, JerkUnitsError, jerk_from_percent_of_time, jerk_to_percent_of_time, jerk_to_units_per_sec3};
 
-use ramp::{Course, Phase, Ramp, Settle, TailFrame, coast_velocity, ramp_distance, ramp_limits};
+use ramp::{Course, Phase, Ramp, Settle, TailFrame, coast_velocity, phase_distance, ramp_distance, ramp_limits};
 use thiserror::Error;
 
 /// Kinematic state of one dimension at an instant (units, units/s, units/s²).
@@ -238,7 +238,7 @@ impl Segment {
         } = self.start;
         let j = self.jerk;
         Sample {
-            position: p + tau * (v + tau * (a / 2.0 + tau * j / 6.0)),
+            position: p + phase_distance(v, a, j, tau),
             velocity: v + tau * (a + tau * j / 2.0),
             acceleration: a + tau * j,
             jerk: j,
@@ -793,8 +793,7 @@ fn softened_excess(v0: f64, a0: f64, a1: f64, vf: f64, dist: f64, limits: &Limit
     let Shape::SCurve { decel_jerk: j, .. } = limits.shape else {
         return [f64::NAN; 3];
     };
-    let t = (a1 - a0) / j;
-    let lead = t * (v0 + t * (a0 / 2.0 + t * j / 6.0));
+    let lead = phase_distance(v0, a0, j, (a1 - a0) / j);
     let v1 = v0 + (a1 * a1 - a0 * a0) / (2.0 * j);
     if -a0 > limits.deceleration {
         return [lead + ramp_distance(v1, a1, vf, limits) - dist, f64::NAN, f64::NAN];

@@ -36,6 +36,17 @@ pub(super) struct Ramp {
     start: (f64, f64),
 }
 
+/// Signed distance of one constant-jerk phase of `t_s` from (`v`, `a`).
+#[inline]
+pub(super) fn phase_distance(v: f64, a: f64, jerk: f64, t_s: f64) -> f64 {
+    t_s * (v + t_s * (a / 2.0 + t_s * jerk / 6.0))
+}
+
+/// The speed at which ending the acceleration `a` with `jerk` arrives.
+fn coast(v: f64, a: f64, jerk: f64) -> f64 {
+    v + a * a.abs() / (2.0 * jerk)
+}
+
 /// The acceleration and jerk limits a ramp from `v` to `vt` uses: raising the
 /// speed uses the acceleration limits, lowering it the deceleration limits,
 /// reversing the smaller of both.
@@ -106,7 +117,7 @@ impl Course {
             // limits of both senses, which hold on either side.
             let rising = v * a >= 0.0;
             let j_now = if rising { accel_jerk } else { decel_jerk };
-            let v_free = v + a * a.abs() / (2.0 * j_now);
+            let v_free = coast(v, a, j_now);
             // Through zero speed: asked for, or forced by an acceleration
             // that cannot end before the speed reaches zero.
             let reverses = v * vt < 0.0 || v_free * v < 0.0;
@@ -195,10 +206,7 @@ impl Course {
 
     /// Distance of the lead phase from (v, a), where the ramp starts.
     pub(super) fn lead_distance(&self, v: f64, a: f64) -> f64 {
-        self.lead.map_or(0.0, |p| {
-            let t = p.duration_s;
-            t * (v + t * (a / 2.0 + t * p.jerk / 6.0))
-        })
+        self.lead.map_or(0.0, |p| phase_distance(v, a, p.jerk, p.duration_s))
     }
 
     /// Signed distance of the ramp from (v, a) to `vt` (the target this
@@ -216,8 +224,7 @@ impl Course {
             return [self.lead_distance(v, a) + tail, slope, curvature];
         };
         let end = self.tail.end_acceleration(jb);
-        let t = end.duration_s;
-        let distance = self.lead_distance(v, a) + t * (self.tail.v + t * (self.tail.a / 2.0 + t * end.jerk / 6.0));
+        let distance = self.lead_distance(v, a) + phase_distance(self.tail.v, self.tail.a, end.jerk, end.duration_s);
         // In the frame of the start acceleration: the easing ends at a_c
         // with speed v1, one phase at −jb ends a_c. With a_c² = (vt − v_free
         // under the decel jerk)/gain, d(distance)/d(a_c) is
@@ -348,10 +355,10 @@ impl TailFrame {
         let ph = self.phases(vt);
         let (peak, inv_peak, t1, v1, t2, t3) = (ph.peak, ph.inv_peak, ph.t1, ph.v1, ph.t2, ph.t3);
         let (s, v, a, j, inv_j, j1) = (self.s, self.v, self.a, self.j, self.inv_j, ph.j1);
-        let d1 = t1 * (v + t1 * (a / 2.0 + t1 * j1 / 6.0));
+        let d1 = phase_distance(v, a, j1, t1);
         let v2 = v1 + peak * t2;
-        let d2 = t2 * (v1 + peak * t2 / 2.0);
-        let d3 = t3 * (v2 + t3 * (peak / 2.0 - j * t3 / 6.0));
+        let d2 = phase_distance(v1, peak, 0.0, t2);
+        let d3 = phase_distance(v2, peak, -j, t3);
         // d/dvt: a longer hold at the peak (limited), or a higher peak
         // (not): both give v2/peak + t3. Its own derivative: 1/peak while
         // the peak is held; else, with v2 = v + (peak² − a²)/(2j) and
@@ -527,7 +534,7 @@ impl Ramp {
             }
             let t = ph.duration_s;
             let j = ph.jerk;
-            p += t * (v + t * (a / 2.0 + t * j / 6.0));
+            p += phase_distance(v, a, j, t);
             v += t * (a + t * j / 2.0);
             a += t * j;
             if ph.set_acceleration.is_some() {
@@ -555,8 +562,7 @@ pub(super) fn coast_velocity(v: f64, a: f64, limits: &Limits) -> f64 {
         Shape::Trapezoidal => v,
         Shape::SCurve { accel_jerk, decel_jerk } => {
             // The speed rises while v·a ≥ 0 (accel jerk), falls otherwise.
-            let j = if v * a >= 0.0 { accel_jerk } else { decel_jerk };
-            v + a * a.abs() / (2.0 * j)
+            coast(v, a, if v * a >= 0.0 { accel_jerk } else { decel_jerk })
         }
     }
 }
