@@ -1,7 +1,10 @@
 //! What a run produces besides the trace: rendered frames, the Rerun
 //! recording, and the summary.
 
-use crate::output::recording::{Recorder, RecordingError, Sink, TextLevel, urdf_entity_paths};
+#[cfg(feature = "rerun")]
+pub use crate::output::recording::run::Recording;
+use crate::output::status::{describe, describe_bits, error_codes};
+#[cfg(feature = "render")]
 use crate::plant::parts::{column_major, world_from_part};
 use crate::run::Twin;
 use planner::instruction::MotionInstructionBits;
@@ -23,12 +26,21 @@ pub enum OutputError {
         message: String,
     },
     /// The Rerun recording failed.
+    #[cfg(feature = "rerun")]
     #[error("rerun: {0}")]
-    Recording(#[from] RecordingError),
+    Recording(#[from] crate::output::recording::RecordingError),
+    /// `--save` or `--connect` asked of a twin built without Rerun.
+    #[error(
+        "{flag}: this twin was built without Rerun recordings (cargo feature `rerun`); \
+         build it with the default features to save or stream a recording"
+    )]
+    NoRerun {
+        /// The flag that asked for a recording.
+        flag: &'static str,
+    },
 }
 
-/// Tint of a link in collision, in frames and the Rerun highlight (red).
-pub const COLLISION_TINT_RGBA: [f32; 4] = [1.0, 0.05, 0.05, 0.8];
+pub use crate::output::COLLISION_TINT_RGBA;
 
 /// Renders every camera at its frame rate into a directory.
 pub struct Frames {
@@ -193,279 +205,41 @@ impl Frames {
     }
 }
 
-/// Streams the run to Rerun: the URDF tree (meshes static, link transforms
-/// on `sim_time`), one scalar series per axis quantity, instruction status.
-pub struct Recording {
-    recorder: Option<Recorder>,
-    link_paths: Vec<String>,
-    previous_outputs: Vec<planner::instruction::FbOutputs>,
-    previous_bits: Vec<MotionInstructionBits>,
-    logged_events: usize,
-    logged_predictions: usize,
-    highlighted: Vec<usize>,
-}
+/// The recording of a twin built without the `rerun` feature: it logs
+/// nothing, and refuses to be asked for a file or a viewer.
+#[cfg(not(feature = "rerun"))]
+#[derive(Debug)]
+pub struct Recording;
 
+#[cfg(not(feature = "rerun"))]
 impl Recording {
-    /// Opens the sinks asked for (none: a no-op recording).
+    /// Succeeds when no recording is asked for.
     ///
     /// # Errors
-    /// [`OutputError::Recording`] when a sink cannot be opened.
-    pub fn new(twin: &Twin, save: Option<&Path>, connect: Option<&str>) -> Result<Recording, OutputError> {
-        let mut sinks = Vec::new();
-        if let Some(p) = save {
-            sinks.push(Sink::File(p.to_path_buf()));
+    /// [`OutputError::NoRerun`] for `--save` or `--connect`.
+    pub fn new(_twin: &Twin, save: Option<&Path>, connect: Option<&str>) -> Result<Recording, OutputError> {
+        match (save, connect) {
+            (Some(_), _) => Err(OutputError::NoRerun { flag: "--save" }),
+            (None, Some(_)) => Err(OutputError::NoRerun { flag: "--connect" }),
+            (None, None) => Ok(Recording),
         }
-        if let Some(a) = connect {
-            sinks.push(Sink::Connect(a.to_string()));
-        }
-        let model = twin.plant().model();
-        let names: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
-        let joints: Vec<(&str, usize, usize)> = model
-            .joints
-            .iter()
-            .map(|j| (j.name.as_str(), j.parent.0, j.child.0))
-            .collect();
-        let idle = Recording {
-            recorder: None,
-            link_paths: urdf_entity_paths(&names, &joints, model.root.0),
-            previous_outputs: Vec::new(),
-            previous_bits: Vec::new(),
-            logged_events: 0,
-            logged_predictions: 0,
-            highlighted: Vec::new(),
-        };
-        if sinks.is_empty() {
-            return Ok(idle);
-        }
-        let mut recorder = Recorder::new(&format!("twin_{}", twin.scene().name), &sinks)?;
-        recorder.set_time_s(0.0);
-        let mut count = vec![0usize; model.links.len()];
-        for part in twin.plant().parts() {
-            let (path, pose) = match part.link {
-                Some(i) => {
-                    count[i] += 1;
-                    (
-                        format!("{}/visual_{}", idle.link_paths[i], count[i] - 1),
-                        part.parent_from_mesh,
-                    )
-                }
-                None => (format!("obstacles/{}", part.name), part.parent_from_mesh),
-            };
-            let t = pose.translation.vector;
-            let q = pose.rotation.coords;
-            let local = (
-                [t.x as f32, t.y as f32, t.z as f32],
-                [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
-                [1.0, 1.0, 1.0],
-            );
-            recorder.log_link_mesh_static(&path, &part.mesh, part.color_rgba, local)?;
-        }
-        Ok(Recording {
-            recorder: Some(recorder),
-            ..idle
-        })
     }
 
-    /// Logs the current update.
+    /// Logs nothing.
     ///
     /// # Errors
-    /// [`OutputError::Recording`] when logging fails.
-    pub fn log(&mut self, twin: &Twin) -> Result<(), OutputError> {
-        let Some(rec) = self.recorder.as_mut() else {
-            return Ok(());
-        };
-        rec.set_time_s(twin.time_s());
-        // Link transforms relative to their parent link (the entity tree).
-        let model = twin.plant().model();
-        let poses = twin.plant().world_from_link();
-        let iso = |i: usize| {
-            let (t, q) = poses[i];
-            nalgebra::Isometry3::from_parts(
-                nalgebra::Translation3::new(t[0], t[1], t[2]),
-                nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2])),
-            )
-        };
-        for joint in &model.joints {
-            let parent_from_child = iso(joint.parent.0).inverse() * iso(joint.child.0);
-            let t = parent_from_child.translation.vector;
-            let q = parent_from_child.rotation.coords;
-            rec.log_transform(&self.link_paths[joint.child.0], [t.x, t.y, t.z], [q.x, q.y, q.z, q.w])?;
-        }
-        for (k, a) in twin.plant().axes().iter().enumerate() {
-            let s = twin.task().axis_state(a.handle);
-            rec.log_scalar(&format!("axes/{}/cmd_pos", a.name), s.command_position)?;
-            rec.log_scalar(&format!("axes/{}/act_pos", a.name), s.actual_position)?;
-            rec.log_scalar(&format!("axes/{}/cmd_vel", a.name), s.command_velocity)?;
-            if let Some(torque) = twin.plant().drive_torque(k) {
-                rec.log_scalar(&format!("axes/{}/torque", a.name), torque)?;
-            }
-        }
-        self.previous_outputs
-            .resize(twin.program().fbs().len(), Default::default());
-        for (fb, previous) in twin.program().fbs().iter().zip(&mut self.previous_outputs) {
-            let o = twin.task().outputs(fb.handle);
-            let changed = std::mem::replace(previous, o) != o;
-            log_instruction(rec, &fb.name, o.bits(), changed.then(|| (o.error, describe(o))))?;
-        }
-        self.previous_bits
-            .resize(twin.program().instructions().len(), Default::default());
-        for (ins, previous) in twin.program().instructions().iter().zip(&mut self.previous_bits) {
-            let b = twin.task().motion_bits(ins.handle);
-            let changed = std::mem::replace(previous, b) != b;
-            log_instruction(rec, &ins.name, b.bits(), changed.then(|| (b.er, describe_bits(b))))?;
-        }
-        let program = twin.program();
-        for t in program.traced_tags() {
-            rec.log_scalar(&format!("tags/{}", t.name), program.traced(t, twin.task()).as_f64())?;
-        }
-        // Tool-centre trails of the coordinate systems, every 25th update.
-        if twin.task().updates().is_multiple_of(25) {
-            for t in twin.plant().tool_trails() {
-                if t.points_in_world.len() >= 2 {
-                    rec.log_line_strip(
-                        &format!("tool_trails/{}", t.system),
-                        &t.points_in_world,
-                        [1.0, 0.45, 0.0, 1.0],
-                    )?;
-                }
-            }
-        }
-        if twin.plant().collision_enabled() {
-            self.log_collisions(twin)?;
-        }
+    /// Never.
+    pub fn log(&mut self, _twin: &Twin) -> Result<(), OutputError> {
         Ok(())
     }
 
-    /// Clearance series, contact arrows, event text log, red highlights.
-    fn log_collisions(&mut self, twin: &Twin) -> Result<(), OutputError> {
-        let Some(rec) = self.recorder.as_mut() else {
-            return Ok(());
-        };
-        for (body, d) in twin.plant().collision_bodies().iter().zip(twin.plant().clearance_m()) {
-            if d.is_finite() {
-                rec.log_scalar(&format!("collisions/clearance/{body}"), d)?;
-            }
-        }
-        let contacts = twin.plant().contacts();
-        let origins: Vec<[f64; 3]> = contacts.iter().map(|c| c.point_in_world).collect();
-        // Arrow length: the depth, at least 5 cm so that a touch is visible.
-        let vectors: Vec<[f64; 3]> = contacts
-            .iter()
-            .map(|c| c.normal_in_world.map(|n| n * c.depth_m.max(0.05)))
-            .collect();
-        rec.log_arrows("collisions/contacts", &origins, &vectors, COLLISION_TINT_RGBA)?;
-        for e in &twin.plant().collision_events()[self.logged_events..] {
-            let text = format!(
-                "collision {} <-> {} at {:.4} s, depth {:.4} m, point {:?}, normal {:?}",
-                e.a, e.b, e.start_s, e.max_depth_m, e.point_in_world, e.normal_in_world
-            );
-            rec.log_text("collisions/log", TextLevel::Warn, &text)?;
-        }
-        self.logged_events = twin.plant().collision_events().len();
-        for p in &twin.plant().predicted_collisions()[self.logged_predictions..] {
-            let text = format!(
-                "pre-flight: {} predicts {} <-> {} at parameter {:.4} (t +{:.4} s){}",
-                p.instance,
-                p.collision.a,
-                p.collision.b,
-                p.collision.parameter,
-                p.collision.time_s,
-                if p.rejected { ", move rejected" } else { "" }
-            );
-            let text = match &p.out_of_reach {
-                Some(why) => format!(
-                    "pre-flight: {} leaves the workspace of {} at parameter {:.4} (t +{:.4} s): {why}",
-                    p.instance, p.collision.a, p.collision.parameter, p.collision.time_s
-                ),
-                None => text,
-            };
-            rec.log_text("collisions/log", TextLevel::Warn, &text)?;
-        }
-        self.logged_predictions = twin.plant().predicted_collisions().len();
-        let colliding = twin.plant().colliding_links();
-        if colliding != self.highlighted {
-            for &l in &self.highlighted {
-                if !colliding.contains(&l) {
-                    rec.log_clear(&format!("{}/collision_highlight", self.link_paths[l]))?;
-                }
-            }
-            for &l in &colliding {
-                if self.highlighted.contains(&l) {
-                    continue;
-                }
-                for (k, part) in twin.plant().parts().iter().filter(|p| p.link == Some(l)).enumerate() {
-                    let mesh = part
-                        .mesh
-                        .transformed(&crate::plant::parts::column_major(&part.parent_from_mesh));
-                    rec.log_mesh_timed(
-                        &format!("{}/collision_highlight/{k}", self.link_paths[l]),
-                        &mesh,
-                        COLLISION_TINT_RGBA,
-                    )?;
-                }
-            }
-            self.highlighted = colliding;
-        }
-        Ok(())
-    }
-
-    /// Flushes and closes the stream (the `.rrd` gets its footer).
+    /// Nothing to flush.
     ///
     /// # Errors
-    /// [`OutputError::Recording`] when flushing fails.
+    /// Never.
     pub fn finish(self) -> Result<(), OutputError> {
-        if let Some(rec) = self.recorder {
-            rec.finish()?;
-        }
         Ok(())
     }
-}
-
-fn describe(o: planner::instruction::FbOutputs) -> String {
-    let mut s = String::new();
-    for (name, bit) in o.bits() {
-        if bit {
-            let _ = write!(s, "{name} ");
-        }
-    }
-    if o.error {
-        let _ = write!(
-            s,
-            "ErrorID 16#{:04X} ({})",
-            o.error_id,
-            planner::modulo::ErrorId(o.error_id).meaning()
-        );
-    }
-    if s.is_empty() {
-        "idle".to_string()
-    } else {
-        s.trim_end().to_string()
-    }
-}
-
-fn describe_bits(b: MotionInstructionBits) -> String {
-    let mut s = String::new();
-    for (name, bit) in b.bits() {
-        if bit {
-            let _ = write!(s, ".{name} ");
-        }
-    }
-    if b.er {
-        let _ = write!(s, "{}", error_codes(b));
-    }
-    if s.is_empty() {
-        "idle".to_string()
-    } else {
-        s.trim_end().to_string()
-    }
-}
-
-fn error_codes(b: MotionInstructionBits) -> String {
-    let mut s = format!("ERR {} EXERR {}", b.err, b.exerr);
-    if b.segment != 0 {
-        let _ = write!(s, " SEGMENT {}", b.segment);
-    }
-    s
 }
 
 /// Per-run statistics gathered each update.
@@ -821,23 +595,4 @@ impl Summary {
         let _ = writeln!(s, "  frames written: {}", self.frames_written);
         s
     }
-}
-
-/// Logs one instruction's (or function block's) bits as scalars under
-/// `instructions/<name>/`, and `change` — whether it is an error, and its
-/// description — as a line of the instruction log.
-fn log_instruction<const N: usize>(
-    rec: &mut Recorder,
-    name: &str,
-    bits: [(&'static str, bool); N],
-    change: Option<(bool, String)>,
-) -> Result<(), RecordingError> {
-    for (bit, value) in bits {
-        rec.log_scalar(&format!("instructions/{name}/{bit}"), f64::from(u8::from(value)))?;
-    }
-    if let Some((error, description)) = change {
-        let level = if error { TextLevel::Error } else { TextLevel::Info };
-        rec.log_text("instructions/log", level, &format!("{name}: {description}"))?;
-    }
-    Ok(())
 }

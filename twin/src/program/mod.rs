@@ -241,6 +241,17 @@ impl Program {
         }
     }
 
+    /// A traced tag's value now as the number the trace writes: BOOL 0/1,
+    /// integers (exact up to 2^53), REAL rounded to single precision.
+    pub fn traced_number(&self, t: &TracedTag, task: &MotionTask) -> f64 {
+        match self.traced(t, task) {
+            plc::types::Value::Bool(b) => f64::from(u8::from(b)),
+            plc::types::Value::Int(i) => i as f64,
+            plc::types::Value::Real(x) if t.ty == plc::types::DataType::Real => f64::from(x as f32),
+            plc::types::Value::Real(x) => x,
+        }
+    }
+
     /// The task engine: tag memory, faults, costs.
     pub fn controller(&self) -> &plc::Controller {
         &self.plc

@@ -47,6 +47,8 @@ pub enum Quantity {
     Scale,
     /// A line-strip point.
     Point,
+    /// The lengths of a column's times and values (they must be equal).
+    ColumnLength,
 }
 
 /// Failures of [`Recorder`].

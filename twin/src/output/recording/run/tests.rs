@@ -1,0 +1,159 @@
+use super::*;
+use rand::{Rng, SeedableRng};
+
+fn random_pose(rng: &mut impl Rng) -> nalgebra::Isometry3<f64> {
+    let axis = nalgebra::Vector3::new(
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    );
+    nalgebra::Isometry3::new(
+        nalgebra::Vector3::new(
+            rng.random_range(-2.0..2.0),
+            rng.random_range(-2.0..2.0),
+            rng.random_range(-2.0..2.0),
+        ),
+        axis * rng.random_range(0.0..3.0),
+    )
+}
+
+fn parts(p: &nalgebra::Isometry3<f64>) -> ([f64; 3], [f64; 4]) {
+    let t = p.translation.vector;
+    let q = p.rotation.coords;
+    ([t.x, t.y, t.z], [q.x, q.y, q.z, q.w])
+}
+
+#[test]
+fn parent_from_child_equals_the_isometry_product() {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(15);
+    for _ in 0..1000 {
+        let (world_from_parent, world_from_child) = (random_pose(&mut rng), random_pose(&mut rng));
+        let expected = parts(&(world_from_parent.inverse() * world_from_child));
+        let (t, q) = parent_from_child(parts(&world_from_parent), parts(&world_from_child));
+        for k in 0..3 {
+            assert!((t[k] - expected.0[k]).abs() < 1e-12, "{t:?} vs {:?}", expected.0);
+        }
+        // q and −q are the same rotation.
+        let sign = if q.iter().zip(expected.1).map(|(a, b)| a * b).sum::<f64>() < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        for k in 0..4 {
+            assert!((sign * q[k] - expected.1[k]).abs() < 1e-12, "{q:?} vs {:?}", expected.1);
+        }
+    }
+}
+
+#[test]
+fn a_series_gathers_changes_and_the_sample_before_each() {
+    let mut s = Series::new("x".into());
+    // 0 0 0 1 1 2 2 2 NaN NaN: gathered 0@0, 0@2 (before the change), 1@3,
+    // 1@4, 2@5, 2@7, NaN@8; close adds NaN@9.
+    for (t, v) in [0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 2.0, f64::NAN, f64::NAN]
+        .into_iter()
+        .enumerate()
+    {
+        s.observe(t as i64, v);
+    }
+    s.close();
+    assert_eq!(s.times_ns, [0, 2, 3, 4, 5, 7, 8, 9]);
+    let expected = [0.0, 0.0, 1.0, 1.0, 2.0, 2.0, f64::NAN, f64::NAN];
+    assert!(
+        s.values.iter().zip(expected).all(|(a, b)| a.to_bits() == b.to_bits()),
+        "{:?}",
+        s.values
+    );
+    // The latest sample at or before each update is that update's value.
+    for (t, v) in [0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 2.0, f64::NAN, f64::NAN]
+        .into_iter()
+        .enumerate()
+    {
+        let i = s.times_ns.partition_point(|&x| x <= t as i64) - 1;
+        assert_eq!(s.values[i].to_bits(), v.to_bits(), "update {t}");
+    }
+}
+
+/// The `(class, display name)` of every view, the timeline of the time
+/// panel and the application id of the blueprint in an `.rrd` file, read
+/// back with Rerun's own decoder.
+fn blueprint_in(path: &std::path::Path) -> (Vec<(String, String)>, Vec<String>, Vec<String>) {
+    use rerun::external::arrow::array::{Array as _, StringArray};
+    use rerun::external::re_log_encoding::DecoderApp;
+    use rerun::log::{Chunk, LogMsg};
+
+    let file = std::io::BufReader::new(std::fs::File::open(path).expect("rrd"));
+    let mut views: BTreeMap<String, (String, String)> = BTreeMap::new();
+    let (mut timelines, mut applications) = (Vec::new(), Vec::new());
+    for msg in DecoderApp::decode_lazy(file) {
+        let LogMsg::ArrowMsg(store, arrow) = msg.expect("decodes") else {
+            continue;
+        };
+        if store.kind() != rerun::StoreKind::Blueprint {
+            continue;
+        }
+        applications.push(store.application_id().to_string());
+        let chunk = Chunk::from_arrow_msg(&arrow).expect("chunk");
+        let entity = chunk.entity_path().to_string();
+        for column in chunk.components().0.values() {
+            let values = column.list_array.values();
+            let Some(strings) = values.as_any().downcast_ref::<StringArray>() else {
+                continue;
+            };
+            let strings: Vec<String> = (0..strings.len()).map(|i| strings.value(i).to_owned()).collect();
+            let slot = views.entry(entity.clone()).or_default();
+            match column.descriptor.component.as_str() {
+                "ViewBlueprint:class_identifier" => slot.0 = strings.concat(),
+                "ViewBlueprint:display_name" => slot.1 = strings.concat(),
+                "TimePanelBlueprint:timeline" => timelines.extend(strings),
+                _ => {}
+            }
+        }
+    }
+    let views = views.into_values().filter(|(class, _)| !class.is_empty()).collect();
+    (views, timelines, applications)
+}
+
+#[test]
+fn a_recording_opens_with_the_default_layout() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/test-output/recording-run");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gantry_collision.toml");
+    let mut twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
+    let path = dir.join("gantry_collision.rrd");
+    let mut recording = Recording::new(&twin, Some(&path), None).expect("open");
+    for _ in 0..5 {
+        recording.log(&twin).expect("log");
+        twin.step();
+    }
+    recording.finish().expect("finish");
+
+    let (views, timelines, applications) = blueprint_in(&path);
+    let has = |class: &str, name: &str| views.iter().any(|(c, n)| c == class && n == name);
+    assert!(has("3D", "Cell"), "{views:?}");
+    // gantry_collision's coordinate system is `Gantry` (axes X, Y, Z).
+    let system = &twin
+        .task()
+        .coord_config(twin.task().coord_handles().next().expect("a system"))
+        .name;
+    assert!(has("TimeSeries", &format!("{system} position")), "{views:?}");
+    assert!(has("TimeSeries", &format!("{system} velocity")), "{views:?}");
+    assert!(has("TimeSeries", "Program"), "{views:?}");
+    assert!(has("TimeSeries", "Clearance"), "{views:?}");
+    assert!(has("TextLog", "Instruction log"), "{views:?}");
+    assert!(has("TextLog", "Collision log"), "{views:?}");
+    assert_eq!(timelines, [crate::output::recording::SIM_TIME_TIMELINE]);
+    assert!(
+        !applications.is_empty() && applications.iter().all(|a| a == APPLICATION_ID),
+        "{applications:?}"
+    );
+}
+
+#[test]
+fn no_sink_is_a_no_op() {
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/indexing_table.toml");
+    let twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
+    let mut recording = Recording::new(&twin, None, None).expect("open");
+    recording.log(&twin).expect("log");
+    recording.finish().expect("finish");
+}
