@@ -1,7 +1,7 @@
 //! The `twin` command line: runs a scene headless and writes frames, a
 //! trace, a summary and a Rerun recording; or checks a scene.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use std::fs;
 use std::io::{IsTerminal, Write};
@@ -15,8 +15,30 @@ const EXAMPLES: &str = "\
 Examples:
   twin run scenes/indexing_table.toml --frames out --save out.rrd --trace out.csv
   twin run scenes/indexing_table.toml --connect            # stream to a Rerun viewer on 127.0.0.1:9876
-  twin run scenes/indexing_table.toml --no-render --summary out.json
-  twin check scenes/indexing_table.toml";
+  twin run scenes/indexing_table.toml --no-render --summary out.json --duration 0.5
+  twin check scenes/indexing_table.toml
+
+Exit codes:
+  0 success; 2 an instruction reported an error; 3 a collision aborted the run;
+  4 a major controller fault stopped it; 64 usage error; 65 invalid input
+  (scene, routine, URDF, mesh); 74 an output cannot be written or a viewer reached";
+
+/// Exit codes (README, "Exit codes"): 2, 3 and 4 are what a run reports,
+/// the others follow sysexits.h.
+mod exit {
+    /// An instruction reported an error; the run went to its end.
+    pub const INSTRUCTION_ERROR: u8 = 2;
+    /// A collision with `collision.reaction = "abort"` ended the run.
+    pub const COLLISION_ABORT: u8 = 3;
+    /// A major controller fault stopped the run.
+    pub const MAJOR_FAULT: u8 = 4;
+    /// Unknown flag or subcommand, a bad flag value, a flag this build lacks.
+    pub const USAGE: u8 = 64;
+    /// The scene, a routine, the URDF or a mesh is invalid.
+    pub const INVALID_INPUT: u8 = 65;
+    /// An output cannot be written, or a viewer cannot be reached.
+    pub const OUTPUT: u8 = 74;
+}
 
 /// Physics-backed digital twin for PLC motion programs.
 #[derive(Debug, Parser)]
@@ -52,6 +74,13 @@ struct RunArgs {
     /// Stream to a Rerun viewer (default address 127.0.0.1:9876).
     #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:9876")]
     connect: Option<String>,
+    /// Start a Rerun viewer (`rerun` on PATH) and stream to it.
+    #[arg(long)]
+    spawn: bool,
+    /// Write the recording to standard output (`| rerun -`); the summary
+    /// then goes to stderr.
+    #[arg(long)]
+    stdout: bool,
     /// Write the per-update trace to FILE.csv.
     #[arg(long, value_name = "FILE.csv")]
     trace: Option<PathBuf>,
@@ -61,10 +90,41 @@ struct RunArgs {
     /// Do not render frames (no GPU or Vulkan needed).
     #[arg(long)]
     no_render: bool,
+    /// Run for S seconds of simulated time instead of the scene's
+    /// `duration_s` (steps after the end are not reached).
+    #[arg(long, value_name = "S", value_parser = parse_duration)]
+    duration: Option<f64>,
+}
+
+/// A `--duration`: seconds, positive, finite, at most 10⁶ (11.6 days).
+fn parse_duration(text: &str) -> Result<f64, String> {
+    let s: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("expected seconds (a number), found {text:?}"))?;
+    if !(s > 0.0 && s <= 1e6) {
+        return Err(format!("expected seconds in (0, 1e6], found {text}"));
+    }
+    Ok(s)
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // --help and --version print to stdout and succeed; a usage error
+        // prints clap's message (with a suggestion for a near miss).
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { exit::USAGE } else { 0 });
+        }
+    };
+    if let Command::Run(args) = &cli.command
+        && args.frames.is_some()
+        && !args.no_render
+        && let Some(code) = rerun_with_runtime_dir()
+    {
+        return code;
+    }
     let result = match cli.command {
         Command::Check { scene } => check(&scene),
         Command::Run(args) => run(&args),
@@ -84,9 +144,59 @@ fn main() -> ExitCode {
                 }
             }
             eprintln!("error: {}", text.replace('\n', " "));
-            ExitCode::from(2)
+            ExitCode::from(exit_code(&e))
         }
     }
+}
+
+/// Mesa's Vulkan drivers print "error: XDG_RUNTIME_DIR is invalid or not
+/// set in the environment" when a process without one renders (a CI box, a
+/// container, `sudo`). When it is missing or unusable, this runs the same
+/// command again with a private one (`<tmp>/twin-runtime-<uid>`, mode 0700,
+/// as the XDG spec asks) and returns its exit code; `None` when there is
+/// nothing to do (or no such folder can be made: the run goes on as is).
+#[cfg(unix)]
+fn rerun_with_runtime_dir() -> Option<ExitCode> {
+    use std::os::unix::fs::{DirBuilderExt as _, MetadataExt as _, PermissionsExt as _};
+    let uid = fs::metadata("/proc/self").ok()?.uid();
+    let usable = |dir: &Path| {
+        fs::metadata(dir).is_ok_and(|m| m.is_dir() && m.uid() == uid && m.permissions().mode() & 0o077 == 0)
+    };
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| usable(Path::new(&d))) {
+        return None;
+    }
+    let dir = std::env::temp_dir().join(format!("twin-runtime-{uid}"));
+    let _ = fs::DirBuilder::new().mode(0o700).create(&dir);
+    if !usable(&dir) {
+        return None;
+    }
+    let status = std::process::Command::new(std::env::current_exe().ok()?)
+        .args(std::env::args_os().skip(1))
+        .env("XDG_RUNTIME_DIR", &dir)
+        .status()
+        .ok()?;
+    Some(ExitCode::from(
+        status.code().map_or(1, |c| u8::try_from(c).unwrap_or(1)),
+    ))
+}
+
+#[cfg(not(unix))]
+fn rerun_with_runtime_dir() -> Option<ExitCode> {
+    None
+}
+
+/// The exit code of a failed command, from what failed.
+fn exit_code(e: &anyhow::Error) -> u8 {
+    use twin::output::session::OutputError;
+    for cause in e.chain() {
+        if cause.is::<scene::SceneError>() || cause.is::<twin::run::RunError>() {
+            return exit::INVALID_INPUT;
+        }
+        if let Some(OutputError::NoRerun { .. }) = cause.downcast_ref::<OutputError>() {
+            return exit::USAGE;
+        }
+    }
+    exit::OUTPUT
 }
 
 fn load(path: &Path) -> Result<Twin> {
@@ -96,16 +206,94 @@ fn load(path: &Path) -> Result<Twin> {
 
 fn check(path: &Path) -> Result<ExitCode> {
     let twin = load(path)?;
+    let scene = twin.scene();
     println!(
         "{}: ok ({} axes, {} program steps, {} tasks, {} cameras, {:.3} s)",
         path.display(),
         twin.plant().axes().len(),
-        twin.scene().program.len(),
-        twin.scene().tasks.len(),
-        twin.scene().cameras.len(),
-        twin.scene().duration_s
+        scene.program.len(),
+        scene.tasks.len(),
+        scene.cameras.len(),
+        scene.duration_s
     );
+    print!("{}", resolved(&twin));
     Ok(ExitCode::SUCCESS)
+}
+
+/// What a scene resolved to: the robot, each axis with its joint, units
+/// and limits, the cameras and the tags.
+fn resolved(twin: &Twin) -> String {
+    use std::fmt::Write as _;
+    let (scene, plant) = (twin.scene(), twin.plant());
+    let model = plant.model();
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "robot: {} ({} links, {} joints); coarse update {} ms, physics step {} ms",
+        scene.robot.urdf.display(),
+        model.links.len(),
+        model.joints.len(),
+        scene.coarse_update_ms,
+        scene.physics_step_ms
+    );
+    if !scene.axes.is_empty() {
+        let _ = writeln!(s, "axes:");
+    }
+    for axis in &scene.axes {
+        let c = &axis.config;
+        let u = axis.units;
+        let joint = match axis
+            .joint
+            .as_deref()
+            .and_then(|j| model.joint_by_name(j).map(|i| (j, i)))
+        {
+            Some((name, i)) => {
+                let joint = &model.joints[i.0];
+                let si = if matches!(u, scene::Units::Deg | scene::Units::Rad) {
+                    "rad"
+                } else {
+                    "m"
+                };
+                let limits = joint.limits.as_ref().map_or(String::new(), |l| {
+                    format!(", URDF limits [{}, {}] {si}", l.lower, l.upper)
+                });
+                let kind = format!("{:?}", joint.kind).to_lowercase();
+                format!("joint {name} ({kind}{limits}), 1 {u} = {} {si}", u.si_per_unit())
+            }
+            None => "virtual (no joint)".to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "  {} ({}, {u}): {joint}; max velocity {} {u}/s, acceleration {} {u}/s², deceleration {} {u}/s², jerk {}",
+            axis.name,
+            axis.kind,
+            c.max_velocity,
+            c.max_acceleration,
+            c.max_deceleration,
+            if c.max_jerk > 0.0 {
+                format!("{} {u}/s³", c.max_jerk)
+            } else {
+                "none (trapezoidal)".to_string()
+            },
+        );
+    }
+    if !scene.cameras.is_empty() {
+        let _ = writeln!(s, "cameras:");
+    }
+    for c in &scene.cameras {
+        let _ = writeln!(
+            s,
+            "  {}: {}x{} px at {} fps, {}° field of view, from {:?} m looking at {:?} m",
+            c.name, c.width, c.height, c.fps, c.fov_deg, c.position_m, c.target_m
+        );
+    }
+    if !scene.tags.is_empty() {
+        let _ = writeln!(s, "tags:");
+    }
+    for t in &scene.tags {
+        let _ = writeln!(s, "  {}: {}", t.name, t.ty);
+    }
+    s
 }
 
 /// Creates the folder an output file goes into.
@@ -118,7 +306,11 @@ fn parent_dir(flag: &str, path: &Path) -> Result<()> {
 
 fn run(args: &RunArgs) -> Result<ExitCode> {
     let wall = Instant::now();
-    let mut twin = load(&args.scene)?;
+    let mut scene = scene::load(&args.scene)?;
+    if let Some(s) = args.duration {
+        scene.duration_s = s;
+    }
+    let mut twin = Twin::new(scene)?;
     for (flag, path) in [
         ("--trace", &args.trace),
         ("--summary", &args.summary),
@@ -138,11 +330,17 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
         None => None,
     };
     let mut frames = twin::output::session::Frames::new(&twin, args.frames.as_deref(), !args.no_render)?;
-    let mut recording = twin::output::session::Recording::new(&twin, args.save.as_deref(), args.connect.as_deref())?;
+    let targets = twin::output::RecordingTargets {
+        save: args.save.clone(),
+        connect: args.connect.clone(),
+        spawn: args.spawn,
+        stdout: args.stdout,
+    };
+    let mut recording = twin::output::session::Recording::new(&twin, &targets)?;
     let mut stats = twin::output::session::Stats::new(&twin);
 
     let total = twin.total_updates();
-    let mut progress = Progress::new(total);
+    let mut progress = Progress::new(total, twin.scene().coarse_update_ms / 1000.0);
     frames.capture(&twin)?;
     recording.log(&twin)?;
     if let Some((w, _)) = trace.as_mut() {
@@ -168,57 +366,77 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
     }
     recording.finish()?;
     let summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), frames.written());
-    print!("{}", summary.human());
+    if args.stdout {
+        // Standard output carries the recording.
+        eprint!("{}", summary.human());
+    } else {
+        print!("{}", summary.human());
+    }
     if let Some(p) = &args.summary {
         fs::write(p, summary.json()).with_context(|| format!("--summary: cannot write {}", p.display()))?;
     }
     if summary.collision_abort {
         eprintln!("error: the run was aborted by a collision (collision.reaction = \"abort\")");
-        return Ok(ExitCode::from(3));
+        return Ok(ExitCode::from(exit::COLLISION_ABORT));
     }
     if let Some(f) = twin.program().controller().major_fault() {
         eprintln!("error: the controller stopped on a {f}");
-        return Ok(ExitCode::from(4));
+        return Ok(ExitCode::from(exit::MAJOR_FAULT));
     }
     if summary.any_error() {
-        bail!("an instruction reported an error (see the summary above)");
+        eprintln!("error: an instruction reported an error (see the summary above)");
+        return Ok(ExitCode::from(exit::INSTRUCTION_ERROR));
     }
     Ok(ExitCode::SUCCESS)
 }
 
-/// A one-line progress bar on stderr, for runs longer than a second of wall
-/// time, only when stderr is a terminal.
+/// A one-line progress bar on stderr (indicatif), shown for runs longer
+/// than a second of wall time and only when stderr is a terminal: the
+/// simulated time reached, the real-time factor and the ETA.
 struct Progress {
+    bar: indicatif::ProgressBar,
     total: u64,
+    update_s: f64,
     shown: bool,
-    last_percent: u64,
 }
 
 impl Progress {
-    fn new(total: u64) -> Self {
+    fn new(total: u64, update_s: f64) -> Self {
+        let bar = indicatif::ProgressBar::with_draw_target(Some(total.max(1)), indicatif::ProgressDrawTarget::hidden());
+        if let Ok(style) = indicatif::ProgressStyle::with_template("[{bar:30}] {percent:>3}% {msg} ETA {eta}")
+            .map(|s| s.progress_chars("#>-"))
+        {
+            bar.set_style(style);
+        }
         Self {
-            total: total.max(1),
+            bar,
+            total,
+            update_s,
             shown: false,
-            last_percent: u64::MAX,
         }
     }
 
     fn tick(&mut self, done: u64, wall: &Instant) {
-        if !std::io::stderr().is_terminal() || wall.elapsed().as_secs_f64() < 1.0 {
-            return;
-        }
-        let percent = done * 100 / self.total;
-        if percent != self.last_percent {
-            let filled = (percent / 5) as usize;
-            eprint!("\r[{}{}] {percent:3}%", "#".repeat(filled), " ".repeat(20 - filled));
-            self.last_percent = percent;
+        let elapsed_s = wall.elapsed().as_secs_f64();
+        if !self.shown {
+            if elapsed_s < 1.0 || !std::io::stderr().is_terminal() {
+                return;
+            }
+            self.bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
             self.shown = true;
         }
+        let sim_s = done as f64 * self.update_s;
+        self.bar.set_message(format!(
+            "{sim_s:.2}/{:.2} s simulated, {:.2}x real time",
+            self.total as f64 * self.update_s,
+            sim_s / elapsed_s
+        ));
+        self.bar.set_position(done);
     }
 
     fn finish(&self) {
         if self.shown {
-            eprintln!();
+            self.bar.finish();
         }
     }
 }

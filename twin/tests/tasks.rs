@@ -385,7 +385,8 @@ fn twin_check_reports_a_routine_syntax_error_with_file_line_and_column() {
         .output()
         .expect("run twin");
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(2));
+    // Invalid input: exit code 65 (README, "Errors and exit codes").
+    assert_eq!(output.status.code(), Some(65));
     assert!(stderr.contains("Main.st:3:8: expected an operand"), "{stderr}");
 }
 

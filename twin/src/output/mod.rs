@@ -21,3 +21,36 @@ pub mod trace;
 
 /// Tint of a link in collision, in frames and the Rerun highlight (red).
 pub const COLLISION_TINT_RGBA: [f32; 4] = [1.0, 0.05, 0.05, 0.8];
+
+/// Where a run's Rerun recording goes: `--save`, `--connect`, `--spawn`,
+/// `--stdout` (none: no recording).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct RecordingTargets {
+    /// An `.rrd` file.
+    pub save: Option<std::path::PathBuf>,
+    /// A viewer's address (`host:port` or a `rerun+http://…/proxy` URL).
+    pub connect: Option<String>,
+    /// Start a viewer and stream to it.
+    pub spawn: bool,
+    /// The `.rrd` stream on standard output.
+    pub stdout: bool,
+}
+
+impl RecordingTargets {
+    /// The flag of the first target asked for, if any.
+    pub fn first_flag(&self) -> Option<&'static str> {
+        [
+            (self.save.is_some(), "--save"),
+            (self.connect.is_some(), "--connect"),
+            (self.spawn, "--spawn"),
+            (self.stdout, "--stdout"),
+        ]
+        .into_iter()
+        .find_map(|(asked, flag)| asked.then_some(flag))
+    }
+
+    /// Whether a viewer watches as the run goes (`--connect`, `--spawn`).
+    pub fn live(&self) -> bool {
+        self.connect.is_some() || self.spawn
+    }
+}

@@ -75,6 +75,12 @@ pub enum Sink {
     /// Either `host:port` (default: [`DEFAULT_CONNECT_ADDR`]) or a full
     /// `rerun+http://host:port/proxy` URL.
     Connect(String),
+    /// Start a Rerun viewer (the `rerun` executable on `PATH`; one already
+    /// listening on the default port is used instead) and stream to it.
+    Spawn,
+    /// Write the `.rrd` stream to standard output (for `| rerun -`); refused
+    /// when standard output is a terminal.
+    Stdout,
 }
 
 impl Sink {
@@ -182,16 +188,29 @@ impl Recorder {
             {
                 return Err(RecordingError::DuplicateFile { path: path.clone() });
             }
+            if matches!(sink, Sink::Stdout) && std::io::IsTerminal::is_terminal(&std::io::stdout()) {
+                return Err(RecordingError::StdoutIsTerminal);
+            }
         }
 
-        // Check every viewer address before creating any file, so a failed
-        // connect leaves no empty .rrd behind.
+        // Check every viewer address (and start a viewer if asked) before
+        // creating any file, so a failed connect leaves no empty .rrd behind.
         let mut viewers = Vec::new();
         for sink in sinks {
-            if let Sink::Connect(addr) = sink {
-                let (uri, socket_addrs) = parse_viewer_address(addr)?;
-                probe_viewer(addr, &socket_addrs)?;
-                viewers.push(uri);
+            match sink {
+                Sink::Connect(addr) => {
+                    let (uri, socket_addrs) = parse_viewer_address(addr)?;
+                    probe_viewer(addr, &socket_addrs)?;
+                    viewers.push(uri);
+                }
+                Sink::Spawn => {
+                    let spawned = rerun::spawn(&rerun::SpawnOptions::default())
+                        .map_err(|source| RecordingError::Spawn { source })?;
+                    let addr = format!("127.0.0.1:{}", spawned.port);
+                    let (uri, _) = parse_viewer_address(&addr)?;
+                    viewers.push(uri);
+                }
+                Sink::File(_) | Sink::Stdout => {}
             }
         }
 
@@ -204,11 +223,19 @@ impl Recorder {
                     log_sinks.push(Box::new(create_file_sink(path)?));
                     names.push(format!("file {}", path.display()));
                 }
-                Sink::Connect(addr) => {
+                Sink::Connect(_) | Sink::Spawn => {
                     if let Some(uri) = viewers.next() {
+                        names.push(format!("viewer {uri}"));
                         log_sinks.push(Box::new(GrpcSink::new(uri)));
-                        names.push(format!("viewer {addr}"));
                     }
+                }
+                Sink::Stdout => {
+                    let sink = FileSink::stdout().map_err(|source| RecordingError::FileSink {
+                        path: PathBuf::from("-"),
+                        source,
+                    })?;
+                    log_sinks.push(Box::new(sink));
+                    names.push("standard output".to_owned());
                 }
             }
         }

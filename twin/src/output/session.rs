@@ -29,7 +29,8 @@ pub enum OutputError {
     #[cfg(feature = "rerun")]
     #[error("rerun: {0}")]
     Recording(#[from] crate::output::recording::RecordingError),
-    /// `--save` or `--connect` asked of a twin built without Rerun.
+    /// `--save`, `--connect`, `--spawn` or `--stdout` asked of a twin built
+    /// without Rerun.
     #[error(
         "{flag}: this twin was built without Rerun recordings (cargo feature `rerun`); \
          build it with the default features to save or stream a recording"
@@ -216,12 +217,11 @@ impl Recording {
     /// Succeeds when no recording is asked for.
     ///
     /// # Errors
-    /// [`OutputError::NoRerun`] for `--save` or `--connect`.
-    pub fn new(_twin: &Twin, save: Option<&Path>, connect: Option<&str>) -> Result<Recording, OutputError> {
-        match (save, connect) {
-            (Some(_), _) => Err(OutputError::NoRerun { flag: "--save" }),
-            (None, Some(_)) => Err(OutputError::NoRerun { flag: "--connect" }),
-            (None, None) => Ok(Recording),
+    /// [`OutputError::NoRerun`] naming the first flag that asks for one.
+    pub fn new(_twin: &Twin, targets: &crate::output::RecordingTargets) -> Result<Recording, OutputError> {
+        match targets.first_flag() {
+            Some(flag) => Err(OutputError::NoRerun { flag }),
+            None => Ok(Recording),
         }
     }
 

@@ -58,13 +58,87 @@ impl Ctx<'_> {
     pub(super) fn toml_error(&self, e: &toml::de::Error) -> SceneError {
         let start = e.span().map_or(0, |s| s.start);
         let Location { line, column } = self.location(start);
+        let table = e.span().and_then(|_| self.table_at(line));
+        // A value of the wrong type: name its field and say it plainly.
+        let plain = plain_type_message(e.message());
+        let key = plain.as_ref().and(e.span()).and_then(|_| self.key_at(line, column));
+        let field = key.map(|key| match &table {
+            Some(table) => format!("{table}.{key}"),
+            None => key,
+        });
+        let message = match (&field, plain) {
+            (Some(_), Some(plain)) => plain,
+            _ => e.message().to_owned(),
+        };
         SceneError::Toml {
             file: self.file.clone(),
             line,
             column,
-            table: e.span().and_then(|_| self.table_at(line)),
-            message: e.message().to_owned(),
+            table,
+            field,
+            message,
         }
+    }
+
+    /// The key (`max_velocity`, `position.x`, `initial[2]`) whose value
+    /// starts at `line`:`column`, when the line says it plainly: `key =
+    /// value`, a key of an inline table, an element of a one-line array
+    /// (no strings before the value, whose brackets could mislead).
+    fn key_at(&self, line: usize, column: usize) -> Option<String> {
+        let text = self.text.lines().nth(line.checked_sub(1)?)?;
+        let before: String = text.chars().take(column.checked_sub(1)?).collect();
+        if before.contains(['"', '\'', '#']) {
+            return None;
+        }
+        // Open inline tables and arrays before the value: each with the
+        // key it belongs to, and for an array the commas seen in it.
+        let mut open: Vec<(char, String, usize)> = Vec::new();
+        let (mut token, mut key) = (String::new(), None::<String>);
+        for c in before.chars() {
+            match c {
+                '=' => key = Some(std::mem::take(&mut token).trim().to_owned()),
+                '{' | '[' => {
+                    open.push((c, key.take().unwrap_or_default(), 0));
+                    token.clear();
+                }
+                '}' | ']' => {
+                    open.pop();
+                    token.clear();
+                }
+                ',' => {
+                    if let Some((_, _, commas)) = open.last_mut() {
+                        *commas += 1;
+                    }
+                    token.clear();
+                    key = None;
+                }
+                _ => token.push(c),
+            }
+        }
+        let is_key = |k: &str| {
+            !k.is_empty()
+                && k.chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')
+        };
+        let mut path = Vec::new();
+        for (bracket, name, commas) in &open {
+            if !is_key(name) {
+                return None;
+            }
+            path.push(if *bracket == '[' {
+                format!("{name}[{commas}]")
+            } else {
+                name.clone()
+            });
+        }
+        match key {
+            // `key = ` right before the value.
+            Some(k) if token.trim().is_empty() && is_key(&k) => path.push(k),
+            // An array element.
+            None if token.trim().is_empty() && open.last().is_some_and(|(b, _, _)| *b == '[') => {}
+            _ => return None,
+        }
+        Some(path.join("."))
     }
 
     /// The table (`axes[1]`, `robot`) whose body contains `line`, from the
@@ -267,4 +341,35 @@ impl Ctx<'_> {
             Err(self.invalid(name, field, Problem::InvalidName { name: n.clone() }))
         }
     }
+}
+
+/// serde's "invalid type: string \"fast\", expected f64" as a user reads
+/// it: `expected a number, found "fast"`; `None` for other messages.
+pub(super) fn plain_type_message(message: &str) -> Option<String> {
+    let rest = message.trim().strip_prefix("invalid type: ")?;
+    let (found, expected) = rest.rsplit_once(", expected ")?;
+    let found = found.replace('`', "");
+    let found = if let Some(s) = found.strip_prefix("string ") {
+        s.to_owned()
+    } else if let Some(v) = ["integer ", "floating point ", "boolean ", "character "]
+        .iter()
+        .find_map(|p| found.strip_prefix(p))
+    {
+        v.to_owned()
+    } else {
+        match found.as_str() {
+            "sequence" => "an array".to_owned(),
+            "map" => "a table".to_owned(),
+            other => other.to_owned(),
+        }
+    };
+    let expected = match expected.trim() {
+        "f64" | "f32" | "a float" => "a number",
+        "u8" | "u16" | "u32" | "u64" | "usize" | "i8" | "i16" | "i32" | "i64" | "isize" | "an integer" => "an integer",
+        "a boolean" | "bool" => "true or false",
+        "a sequence" => "an array",
+        "a map" | "struct" => "a table",
+        other => other,
+    };
+    Some(format!("expected {expected}, found {found}"))
 }

@@ -415,7 +415,10 @@ pub enum SceneError {
         column: usize,
         /// The table the error is in (`axes[1]`, `robot`), if any.
         table: Option<String>,
-        /// The TOML/serde message.
+        /// For a value of the wrong type, its field (`axes[0].max_velocity`).
+        field: Option<String>,
+        /// The TOML/serde message (for a value of the wrong type: `expected
+        /// a number, found "fast"`).
         message: String,
     },
     /// A `call` or `when` string that is not valid Structured Text.
@@ -479,7 +482,7 @@ impl SceneError {
     pub fn field(&self) -> Option<&str> {
         match self {
             SceneError::Syntax { field, .. } | SceneError::Invalid { field, .. } => Some(field),
-            SceneError::Toml { table, .. } => table.as_deref(),
+            SceneError::Toml { table, field, .. } => field.as_deref().or(table.as_deref()),
             SceneError::Read { .. } | SceneError::Routine { .. } => None,
         }
     }
@@ -503,10 +506,13 @@ impl fmt::Display for SceneError {
                 line,
                 column,
                 table,
+                field,
                 message,
             } => {
                 write!(f, "{}:{line}:{column}: ", file.display())?;
-                if let Some(table) = table {
+                if let Some(field) = field {
+                    write!(f, "{field}: ")?;
+                } else if let Some(table) = table {
                     write!(f, "in {table}: ")?;
                 }
                 // serde quotes names with backticks; keep the message on one line.

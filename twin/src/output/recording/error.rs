@@ -94,6 +94,16 @@ pub enum RecordingError {
         /// The address as given.
         addr: String,
     },
+    /// [`Sink::Spawn`] could not start a viewer.
+    #[error("cannot start a Rerun viewer (is the `rerun` executable on PATH? `pip install rerun-sdk==0.36.3`)")]
+    Spawn {
+        /// Rerun's error.
+        #[source]
+        source: rerun::SpawnError,
+    },
+    /// [`Sink::Stdout`] with standard output a terminal.
+    #[error("standard output is a terminal: pipe it into a viewer (`twin run SCENE --stdout | rerun -`)")]
+    StdoutIsTerminal,
     /// Nothing accepted a connection at a [`Sink::Connect`] address.
     #[error("cannot connect to a Rerun viewer at {addr} (is `rerun` running?)")]
     Connect {

@@ -46,8 +46,8 @@ use std::collections::BTreeMap;
 use planner::instruction::{FbOutputs, MotionInstructionBits};
 
 use super::{Recorder, RecordingError, Sink, TextLevel, urdf_entity_paths};
-use crate::output::COLLISION_TINT_RGBA;
 use crate::output::status::{describe, describe_bits};
+use crate::output::{COLLISION_TINT_RGBA, RecordingTargets};
 use crate::plant::parts::column_major;
 use crate::run::Twin;
 
@@ -123,17 +123,19 @@ impl Recording {
     ///
     /// # Errors
     /// [`RecordingError`] when a sink cannot be opened.
-    pub fn new(
-        twin: &Twin,
-        save: Option<&std::path::Path>,
-        connect: Option<&str>,
-    ) -> Result<Recording, RecordingError> {
+    pub fn new(twin: &Twin, targets: &RecordingTargets) -> Result<Recording, RecordingError> {
         let mut sinks = Vec::new();
-        if let Some(p) = save {
-            sinks.push(Sink::File(p.to_path_buf()));
+        if let Some(p) = &targets.save {
+            sinks.push(Sink::File(p.clone()));
         }
-        if let Some(a) = connect {
-            sinks.push(Sink::Connect(a.to_string()));
+        if let Some(a) = &targets.connect {
+            sinks.push(Sink::Connect(a.clone()));
+        }
+        if targets.spawn {
+            sinks.push(Sink::Spawn);
+        }
+        if targets.stdout {
+            sinks.push(Sink::Stdout);
         }
         if sinks.is_empty() {
             return Ok(Recording { inner: None });
@@ -256,7 +258,7 @@ impl Recording {
                 highlighted: Vec::new(),
                 time_ns: 0,
                 pending_updates: 0,
-                live: connect.map(|_| std::time::Instant::now()),
+                live: targets.live().then(std::time::Instant::now),
             }),
         })
     }

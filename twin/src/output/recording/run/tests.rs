@@ -121,7 +121,11 @@ fn a_recording_opens_with_the_default_layout() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gantry_collision.toml");
     let mut twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
     let path = dir.join("gantry_collision.rrd");
-    let mut recording = Recording::new(&twin, Some(&path), None).expect("open");
+    let targets = RecordingTargets {
+        save: Some(path.clone()),
+        ..RecordingTargets::default()
+    };
+    let mut recording = Recording::new(&twin, &targets).expect("open");
     for _ in 0..5 {
         recording.log(&twin).expect("log");
         twin.step();
@@ -153,7 +157,7 @@ fn a_recording_opens_with_the_default_layout() {
 fn no_sink_is_a_no_op() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/indexing_table.toml");
     let twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
-    let mut recording = Recording::new(&twin, None, None).expect("open");
+    let mut recording = Recording::new(&twin, &RecordingTargets::default()).expect("open");
     recording.log(&twin).expect("log");
     recording.finish().expect("finish");
 }

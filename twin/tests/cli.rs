@@ -1,0 +1,230 @@
+//! The `twin` command as a user meets it: every bad-input case of the
+//! README's "Errors and exit codes" table names its file, place and field
+//! and exits with its code; usage errors suggest the near miss; `--duration`
+//! and `twin check`'s report.
+
+mod common;
+
+use common::{fresh_dir, root};
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn twin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_twin"))
+}
+
+/// `scenes/indexing_table.toml` with `edits` applied, written under
+/// `target/cli/<name>/` (the URDF path made absolute).
+fn edited(name: &str, edits: &[(&str, &str)]) -> PathBuf {
+    let mut text = std::fs::read_to_string(root().join("scenes/indexing_table.toml")).expect("scene");
+    for (from, to) in edits {
+        let edited = text.replacen(from, to, 1);
+        assert_ne!(edited, text, "'{from}' is not in the scene");
+        text = edited;
+    }
+    let robots = root().join("scenes/robots");
+    let text = text.replace("urdf = \"robots/", &format!("urdf = \"{}/", robots.display()));
+    let path = fresh_dir("cli", name).join("scene.toml");
+    std::fs::write(&path, text).expect("write scene");
+    path
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Runs `twin check` on an edited scene; asserts exit code 65 and one
+/// line of stderr holding the file, `line:column` and `needle`.
+fn check_rejects(name: &str, edits: &[(&str, &str)], place: &str, needle: &str) {
+    let path = edited(name, edits);
+    let out = twin().arg("check").arg(&path).output().expect("run twin");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(65), "{name}: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{name}: one line: {err}");
+    assert!(err.contains(&format!("{}:{place}: ", path.display())), "{name}: {err}");
+    assert!(err.contains(needle), "{name}: expected {needle:?} in {err}");
+}
+
+#[test]
+fn a_value_of_the_wrong_type_names_its_field() {
+    check_rejects(
+        "wrong_type",
+        &[("max_velocity = 360.0", "max_velocity = \"fast\"")],
+        "27:16",
+        "axes[0].max_velocity: expected a number, found \"fast\"",
+    );
+    check_rejects(
+        "wrong_type_inline",
+        &[("stiffness = 35530.6", "stiffness = \"stiff\"")],
+        "36:23",
+        "axes[0].motor.stiffness: expected a number, found \"stiff\"",
+    );
+    check_rejects(
+        "wrong_type_array",
+        &[("position = [1.5, -1.7, 1.6]", "position = [1.5, \"x\", 1.6]")],
+        "40:18",
+        "cameras[0].position[1]: expected a number, found \"x\"",
+    );
+    check_rejects(
+        "wrong_type_bool",
+        &[("target_position_monitoring = true", "target_position_monitoring = 1")],
+        "32:30",
+        "axes[0].target_position_monitoring: expected true or false, found 1",
+    );
+}
+
+#[test]
+fn unknown_fields_out_of_range_values_and_missing_files_name_their_field() {
+    check_rejects(
+        "unknown_field",
+        &[("max_velocity = 360.0", "max_velocty = 360.0")],
+        "27:1",
+        "in axes[0]: unknown field 'max_velocty', expected one of",
+    );
+    check_rejects(
+        "out_of_range",
+        &[("max_velocity = 360.0", "max_velocity = -5.0")],
+        "27:16",
+        "axes[0].max_velocity: must be greater than 0, got -5",
+    );
+    check_rejects(
+        "unknown_joint",
+        &[("joint = \"platter_joint\"", "joint = \"platter_jnt\"")],
+        "23:9",
+        "axes[0].joint: axis 'Table' is mapped to joint 'platter_jnt'",
+    );
+    check_rejects(
+        "bad_call",
+        &[("Position := 90.0,", "Position := ,")],
+        "64:59",
+        "program[0].call: expected an operand",
+    );
+    check_rejects(
+        "missing_urdf",
+        &[("indexing_table/indexing_table.urdf", "nope.urdf")],
+        "19:8",
+        "robot.urdf: file '",
+    );
+}
+
+#[test]
+fn usage_errors_exit_64_and_suggest_the_near_miss() {
+    let out = twin()
+        .args(["run", "--frmes", "x", "scenes/indexing_table.toml"])
+        .output()
+        .expect("run twin");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(64), "{err}");
+    assert!(err.contains("--frames"), "a did-you-mean for --frames: {err}");
+    let out = twin().arg("chek").output().expect("run twin");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(64), "{err}");
+    assert!(err.contains("check"), "a did-you-mean for check: {err}");
+    let scene = root().join("scenes/indexing_table.toml");
+    for bad in ["0", "-1", "abc", "inf", "NaN", "1e7"] {
+        let out = twin()
+            .arg("run")
+            .arg(&scene)
+            .args(["--no-render", &format!("--duration={bad}")])
+            .output()
+            .expect("run twin");
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(64), "--duration {bad}: {err}");
+        assert!(err.contains("--duration"), "{err}");
+    }
+    // --help and --version succeed.
+    for flag in ["--help", "--version"] {
+        let out = twin().arg(flag).output().expect("run twin");
+        assert_eq!(out.status.code(), Some(0), "{flag}");
+    }
+}
+
+#[test]
+fn an_output_that_cannot_be_written_exits_74_naming_the_flag() {
+    let dir = fresh_dir("cli", "unwritable");
+    // A file where a folder is needed.
+    let blocker = dir.join("file");
+    std::fs::write(&blocker, "").expect("write");
+    let scene = root().join("scenes/indexing_table.toml");
+    for flag in ["--trace", "--summary", "--save"] {
+        let out = twin()
+            .arg("run")
+            .arg(&scene)
+            .arg("--no-render")
+            .arg(flag)
+            .arg(blocker.join("out"))
+            .output()
+            .expect("run twin");
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(74), "{flag}: {err}");
+        assert!(err.contains(flag), "{flag}: {err}");
+    }
+    // No viewer listening.
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("free port")
+        .port();
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--connect", &format!("127.0.0.1:{port}")])
+        .output()
+        .expect("run twin");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(74), "{err}");
+    assert!(err.contains(&format!("127.0.0.1:{port}")), "{err}");
+}
+
+#[test]
+fn duration_overrides_the_scenes_run_length() {
+    let dir = fresh_dir("cli", "duration");
+    let scene = root().join("scenes/indexing_table.toml");
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--duration", "0.1", "--trace"])
+        .arg(dir.join("t.csv"))
+        .output()
+        .expect("run twin");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let trace = std::fs::read_to_string(dir.join("t.csv")).expect("trace");
+    let last = trace.lines().last().expect("rows");
+    assert!(last.starts_with("0.1,"), "the last row is at 0.1 s: {last}");
+}
+
+#[test]
+fn check_prints_what_the_scene_resolved_to() {
+    let out = twin()
+        .arg("check")
+        .arg(root().join("scenes/indexing_table.toml"))
+        .output()
+        .expect("run twin");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    for needle in [
+        ": ok (1 axes",
+        "robot: ",
+        "axes:\n  Table (rotary, deg): joint platter_joint",
+        "1 deg = 0.017453292519943295 rad",
+        "max velocity 360 deg/s",
+        "cameras:\n  iso: ",
+    ] {
+        assert!(text.contains(needle), "{needle:?} in\n{text}");
+    }
+}
+
+#[test]
+fn rendering_without_a_runtime_dir_prints_no_mesa_noise() {
+    let dir = fresh_dir("cli", "runtime_dir");
+    let out = twin()
+        .arg("run")
+        .arg(root().join("scenes/indexing_table.toml"))
+        .args(["--duration", "0.04", "--frames"])
+        .arg(dir.join("frames"))
+        .env_remove("XDG_RUNTIME_DIR")
+        .output()
+        .expect("run twin");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(!err.contains("XDG_RUNTIME_DIR"), "{err}");
+}
