@@ -54,3 +54,34 @@ impl RecordingTargets {
         self.connect.is_some() || self.spawn
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::RecordingTargets;
+    use super::session::OutputError;
+
+    #[test]
+    fn the_first_recording_flag_is_named_in_a_lean_builds_refusal() {
+        assert_eq!(RecordingTargets::default().first_flag(), None);
+        let targets = RecordingTargets {
+            connect: Some("127.0.0.1:9876".into()),
+            stdout: true,
+            ..RecordingTargets::default()
+        };
+        assert_eq!(targets.first_flag(), Some("--connect"));
+        assert!(targets.live());
+        let stdout_only = RecordingTargets {
+            stdout: true,
+            ..RecordingTargets::default()
+        };
+        assert_eq!(stdout_only.first_flag(), Some("--stdout"));
+        assert!(!stdout_only.live());
+        // What a build without the `rerun` feature prints (README, "Errors
+        // and exit codes"); the refusal itself is `Recording::new` there.
+        let message = OutputError::NoRerun { flag: "--save" }.to_string();
+        assert!(
+            message.starts_with("--save: ") && message.contains("cargo feature `rerun`"),
+            "{message}"
+        );
+    }
+}

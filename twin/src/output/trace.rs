@@ -40,11 +40,38 @@
 //!   `Pick.Count`, `MC1.PC`): BOOL as 0/1, integers in full, REAL at single
 //!   precision.
 //!
-//! Numbers use Rust's shortest round-trip formatting (deterministic).
+//! Numbers are the shortest text that reads back as the same value
+//! ([`number`]): positional (`0.25`, `90`), with an exponent below 1e-5
+//! and from 1e16 in magnitude (`1.5e-20`) so that values near zero stay
+//! short; deterministic, so reruns write identical files.
 
+use crate::program::plc::types::Value;
 use crate::run::Twin;
 use planner::coord::CoordStatus;
 use planner::instruction::{FbOutputs, MotionInstructionBits};
+
+/// A number as the trace writes it (module doc): Rust's shortest
+/// round-trip text, positional for magnitudes in [1e-5, 1e16) and zero,
+/// with an exponent otherwise (`1e-20`, not twenty zeros); `inf`, `-inf`
+/// and `NaN` as Rust writes them.
+pub fn number(x: f64) -> String {
+    let a = x.abs();
+    if a.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// [`number`] for a single-precision value (a REAL tag).
+pub fn number_f32(x: f32) -> String {
+    let a = x.abs();
+    if a.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
 
 /// The trace's column names (module doc).
 pub fn header(twin: &Twin) -> Vec<String> {
@@ -140,7 +167,7 @@ fn bit(b: bool) -> String {
 /// The row for the current update, matching [`header`].
 pub fn row(twin: &Twin) -> Vec<String> {
     let (task, program, plant) = (twin.task(), twin.program(), twin.plant());
-    let mut row = vec![format!("{}", twin.time_s())];
+    let mut row = vec![number(twin.time_s())];
     for a in plant.axes() {
         let s = task.axis_state(a.handle);
         for x in [
@@ -149,7 +176,7 @@ pub fn row(twin: &Twin) -> Vec<String> {
             s.command_acceleration,
             s.actual_position,
         ] {
-            row.push(format!("{x}"));
+            row.push(number(x));
         }
     }
     for fb in program.fbs() {
@@ -164,7 +191,7 @@ pub fn row(twin: &Twin) -> Vec<String> {
     }
     if plant.collision_enabled() {
         row.push(plant.collision_events().len().to_string());
-        row.extend(plant.clearance_m().iter().map(|d| format!("{d}")));
+        row.extend(plant.clearance_m().into_iter().map(number));
     }
     for a in plant.axes().iter().filter(|a| task.is_cam_slave(a.handle)) {
         let s = task.slave_cam_status(a.handle);
@@ -185,8 +212,8 @@ pub fn row(twin: &Twin) -> Vec<String> {
     if superimposes(twin) {
         for a in plant.axes() {
             let s = task.superimposed(a.handle).unwrap_or_default();
-            row.push(format!("{}", s.position));
-            row.push(format!("{}", s.velocity));
+            row.push(number(s.position));
+            row.push(number(s.velocity));
         }
     }
     if uses_states(twin) {
@@ -197,13 +224,18 @@ pub fn row(twin: &Twin) -> Vec<String> {
     }
     for k in 0..plant.axes().len() {
         if let Some(torque) = plant.drive_torque(k) {
-            row.push(format!("{torque}"));
+            row.push(number(torque));
         }
     }
     for a in plant.axes() {
         row.push(bit(task.profile_overshoot(a.handle)));
     }
-    row.extend(program.traced_tags().iter().map(|t| program.traced_value(t, task)));
+    row.extend(program.traced_tags().iter().map(|t| match program.traced(t, task) {
+        Value::Bool(b) => bit(b),
+        Value::Int(i) => i.to_string(),
+        Value::Real(x) if t.single_precision() => number_f32(x as f32),
+        Value::Real(x) => number(x),
+    }));
     row
 }
 
@@ -219,7 +251,7 @@ fn coord_row(twin: &Twin, row: &mut Vec<String>) {
         row.extend(task.coord_status(cs).bits().into_iter().map(|(_, b)| bit(b)));
         if let Some(t) = plant.tool_trails().iter().find(|t| &t.system == name) {
             for x in links[t.link].0 {
-                row.push(format!("{x}"));
+                row.push(number(x));
             }
         }
     }
@@ -249,4 +281,45 @@ fn uses_states(twin: &Twin) -> bool {
     ["MSO", "MSF", "MASD", "MASR", "MAFR", "MAH", "MCSD", "MCSR"]
         .iter()
         .any(|m| calls(twin, m))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{number, number_f32};
+    use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn numbers_are_short_near_zero_and_read_back_exactly() {
+        for (x, text) in [
+            (0.0, "0"),
+            (-0.0, "-0"),
+            (90.0, "90"),
+            (0.25, "0.25"),
+            (1e-5, "0.00001"),
+            (9.9e-6, "9.9e-6"),
+            (-2.5e-7, "-2.5e-7"),
+            (1e-20, "1e-20"),
+            (1.5e16, "1.5e16"),
+            (f64::INFINITY, "inf"),
+        ] {
+            assert_eq!(number(x), text);
+        }
+        assert_eq!(number(f64::NAN), "NaN");
+        assert_eq!(number_f32(1e-7), "1e-7");
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(15);
+        for _ in 0..100_000 {
+            let x = f64::from_bits(rng.random::<u64>());
+            if x.is_nan() {
+                continue;
+            }
+            let text = number(x);
+            assert_eq!(text.parse::<f64>().map(f64::to_bits), Ok(x.to_bits()), "{text}");
+            // At most 17 significant digits, a sign, a point and an exponent.
+            assert!(text.len() <= 24, "{text}");
+            let y = f32::from_bits(rng.random::<u32>());
+            if !y.is_nan() {
+                assert_eq!(number_f32(y).parse::<f32>().map(f32::to_bits), Ok(y.to_bits()));
+            }
+        }
+    }
 }

@@ -123,6 +123,14 @@ pub struct TracedTag {
     ty: plc::types::DataType,
 }
 
+impl TracedTag {
+    /// Whether the tag is a REAL (single precision), whose value the trace
+    /// writes rounded to `f32`.
+    pub fn single_precision(&self) -> bool {
+        self.ty == plc::types::DataType::Real
+    }
+}
+
 impl Program {
     /// Binds every program step: its call to the planner (creating
     /// instances, control structures and coordinate systems on first use)
@@ -228,17 +236,6 @@ impl Program {
     /// A traced tag's value now.
     pub fn traced(&self, t: &TracedTag, task: &MotionTask) -> plc::types::Value {
         self.plc.peek(&t.place, task)
-    }
-
-    /// A traced tag's value now, as the trace writes it: BOOL 0/1,
-    /// integers in full, REAL at single precision.
-    pub fn traced_value(&self, t: &TracedTag, task: &MotionTask) -> String {
-        match self.traced(t, task) {
-            plc::types::Value::Bool(b) => u8::from(b).to_string(),
-            plc::types::Value::Int(i) => i.to_string(),
-            plc::types::Value::Real(x) if t.ty == plc::types::DataType::Real => format!("{}", x as f32),
-            plc::types::Value::Real(x) => format!("{x}"),
-        }
     }
 
     /// A traced tag's value now as the number the trace writes: BOOL 0/1,

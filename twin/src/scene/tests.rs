@@ -145,17 +145,33 @@ fn wrong_type_points_at_the_value() {
     let e = error_of(&text);
     assert!(matches!(&e, SceneError::Toml { .. }), "{e}");
     assert_place(&e, find(&text, "\"fast\""), "cameras[0].fps");
-    assert!(e.to_string().ends_with("cameras[0].fps: expected a number, found \"fast\""), "{e}");
+    assert!(
+        e.to_string()
+            .ends_with("cameras[0].fps: expected a number, found \"fast\""),
+        "{e}"
+    );
 }
 
 #[test]
 fn plain_type_messages_name_what_was_expected_and_found() {
     use super::context::plain_type_message as plain;
     for (serde, user) in [
-        ("invalid type: string \"fast\", expected f64", "expected a number, found \"fast\""),
-        ("invalid type: integer `1`, expected a boolean", "expected true or false, found 1"),
-        ("invalid type: floating point `1.5`, expected u32", "expected an integer, found 1.5"),
-        ("invalid type: sequence, expected a string", "expected a string, found an array"),
+        (
+            "invalid type: string \"fast\", expected f64",
+            "expected a number, found \"fast\"",
+        ),
+        (
+            "invalid type: integer `1`, expected a boolean",
+            "expected true or false, found 1",
+        ),
+        (
+            "invalid type: floating point `1.5`, expected u32",
+            "expected an integer, found 1.5",
+        ),
+        (
+            "invalid type: sequence, expected a string",
+            "expected a string, found an array",
+        ),
         ("invalid type: map, expected f64", "expected a number, found a table"),
     ] {
         assert_eq!(plain(serde).as_deref(), Some(user), "{serde}");
