@@ -55,17 +55,18 @@ use planner::instruction::{FbOutputs, MotionInstructionBits};
 /// with an exponent otherwise (`1e-20`, not twenty zeros); `inf`, `-inf`
 /// and `NaN` as Rust writes them.
 pub fn number(x: f64) -> String {
-    let a = x.abs();
-    if a.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
+    shortest(x, x)
 }
 
 /// [`number`] for a single-precision value (a REAL tag).
 pub fn number_f32(x: f32) -> String {
-    let a = x.abs();
+    shortest(x, f64::from(x))
+}
+
+/// `x`'s shortest round-trip text, with an exponent when `value` (`x`
+/// widened) is nonzero and finite outside [1e-5, 1e16) in magnitude.
+fn shortest<T: std::fmt::Display + std::fmt::LowerExp>(x: T, value: f64) -> String {
+    let a = value.abs();
     if a.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
         format!("{x:e}")
     } else {

@@ -467,10 +467,18 @@ impl Logged {
         if let Some(at) = &mut self.live {
             *at = std::time::Instant::now();
         }
-        let rec = &mut self.recorder;
         for pose in &mut self.poses {
-            pose.flush(rec)?;
+            pose.flush(&mut self.recorder)?;
         }
+        let (recorder, scalars) = self.scalar_series();
+        for series in scalars {
+            series.flush(recorder)?;
+        }
+        Ok(())
+    }
+
+    /// The recorder, and every scalar series.
+    fn scalar_series(&mut self) -> (&mut Recorder, impl Iterator<Item = &mut Series>) {
         let scalars = self
             .axes
             .iter_mut()
@@ -480,25 +488,13 @@ impl Logged {
             .chain(self.instructions.iter_mut().flat_map(|(s, _)| s))
             .chain(&mut self.tags)
             .chain(&mut self.clearances);
-        for series in scalars {
-            series.flush(rec)?;
-        }
-        Ok(())
+        (&mut self.recorder, scalars)
     }
 
     /// The last trail pieces, every series' value at the last update, and
     /// what has gathered.
     fn close(&mut self) -> Result<(), RecordingError> {
-        let scalars = self
-            .axes
-            .iter_mut()
-            .flatten()
-            .chain(self.torques.iter_mut().flatten())
-            .chain(self.fbs.iter_mut().flat_map(|(s, _)| s))
-            .chain(self.instructions.iter_mut().flat_map(|(s, _)| s))
-            .chain(&mut self.tags)
-            .chain(&mut self.clearances);
-        for series in scalars {
+        for series in self.scalar_series().1 {
             series.close();
         }
         self.flush()
