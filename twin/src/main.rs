@@ -364,7 +364,7 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
         w.flush()
             .with_context(|| format!("--trace: cannot write {}", p.display()))?;
     }
-    recording.finish()?;
+    recording.finish(&twin)?;
     let summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), frames.written());
     if args.stdout {
         // Standard output carries the recording.

@@ -237,7 +237,7 @@ impl Recording {
     ///
     /// # Errors
     /// Never.
-    pub fn finish(self) -> Result<(), OutputError> {
+    pub fn finish(self, _twin: &Twin) -> Result<(), OutputError> {
         Ok(())
     }
 }

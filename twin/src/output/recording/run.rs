@@ -18,7 +18,7 @@
 //! | `instructions/<tag>/EN` … `DECEL`, `ERR`, `EXERR`, `SEGMENT` | control-structure bits and codes | when they change |
 //! | `instructions/log` | one line per change of an instruction's status | on change |
 //! | `tags/<reference>` | each `[trace] tags` entry, as the trace writes it | when it changes |
-//! | `tool_trails/<system>/<k>` | the tool-centre path, piece `k` (m, world) | every 100 updates, the new part only |
+//! | `tool_trails/<system>/<k>` | the tool-centre path, piece `k` (m, world; systems sharing a tool link share the first one's trail) | every 100 updates and at the end, the new part only |
 //! | `collisions/clearance/<body>` | clearance, m (infinite while nothing is in range) | when it changes |
 //! | `collisions/contacts` | contact normals scaled by depth | when the contacts change |
 //! | `collisions/log` | collision events and pre-flight predictions | as they happen |
@@ -93,8 +93,9 @@ struct Logged {
     link_paths: Vec<String>,
     /// Per URDF joint: its child link's pose relative to its parent link.
     poses: Vec<PoseSeries>,
-    /// Per axis: cmd_pos, act_pos, cmd_vel, act_vel, and torque for a drive.
+    /// Per axis: cmd_pos, act_pos, cmd_vel, act_vel.
     axes: Vec<[Series; 4]>,
+    /// Per axis: the drive's torque, for an axis with a servo drive.
     torques: Vec<Option<Series>>,
     /// Per function block: its outputs, then ErrorID; and the last outputs.
     fbs: Vec<(Vec<Series>, FbOutputs)>,
@@ -102,8 +103,9 @@ struct Logged {
     instructions: Vec<(Vec<Series>, MotionInstructionBits)>,
     tags: Vec<Series>,
     clearances: Vec<Series>,
-    /// Per tool trail: points logged so far, pieces logged so far.
-    trails: Vec<(usize, usize)>,
+    /// Per tool trail: points logged so far, pieces logged so far, and
+    /// whether it is logged (the first of the systems sharing its link).
+    trails: Vec<(usize, usize, bool)>,
     /// The contact arrows last logged (origins, vectors).
     contacts: (Vec<[f64; 3]>, Vec<[f64; 3]>),
     logged_events: usize,
@@ -251,7 +253,12 @@ impl Recording {
                 instructions,
                 tags,
                 clearances,
-                trails: vec![(0, 0); plant.tool_trails().len()],
+                trails: plant
+                    .tool_trails()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, t)| (0, 0, !plant.tool_trails()[..i].iter().any(|u| u.link == t.link)))
+                    .collect(),
                 contacts: (Vec::new(), Vec::new()),
                 logged_events: 0,
                 logged_predictions: 0,
@@ -275,15 +282,17 @@ impl Recording {
         logged.update(twin)
     }
 
-    /// Sends what has gathered, flushes and closes the stream (the `.rrd`
-    /// gets its footer).
+    /// Logs the tool trails' last pieces, sends what has gathered, flushes
+    /// and closes the stream (the `.rrd` gets its footer). `twin` is the
+    /// twin as last logged.
     ///
     /// # Errors
     /// [`RecordingError`] when logging or flushing fails.
-    pub fn finish(self) -> Result<(), RecordingError> {
+    pub fn finish(self, twin: &Twin) -> Result<(), RecordingError> {
         let Some(mut logged) = self.inner else {
             return Ok(());
         };
+        logged.log_trails(twin)?;
         logged.close()?;
         logged.recorder.finish()
     }
@@ -373,9 +382,16 @@ impl Logged {
     }
 
     /// The part of each tool trail not logged yet, as a new piece (which
-    /// starts at the last point logged, so the pieces join).
+    /// starts at the last point logged, so the pieces join). Systems that
+    /// share a tool link share one trail, the first one's.
     fn log_trails(&mut self, twin: &Twin) -> Result<(), RecordingError> {
-        for (trail, (logged, pieces)) in twin.plant().tool_trails().iter().zip(&mut self.trails) {
+        for (trail, (logged, pieces, _)) in twin
+            .plant()
+            .tool_trails()
+            .iter()
+            .zip(&mut self.trails)
+            .filter(|(_, (_, _, owner))| *owner)
+        {
             let points = &trail.points_in_world;
             let from = logged.saturating_sub(1);
             if points.len() > *logged && points.len() - from >= 2 {

@@ -130,7 +130,7 @@ fn a_recording_opens_with_the_default_layout() {
         recording.log(&twin).expect("log");
         twin.step();
     }
-    recording.finish().expect("finish");
+    recording.finish(&twin).expect("finish");
 
     let (views, timelines, applications) = blueprint_in(&path);
     let has = |class: &str, name: &str| views.iter().any(|(c, n)| c == class && n == name);
@@ -159,5 +159,57 @@ fn no_sink_is_a_no_op() {
     let twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
     let mut recording = Recording::new(&twin, &RecordingTargets::default()).expect("open");
     recording.log(&twin).expect("log");
-    recording.finish().expect("finish");
+    recording.finish(&twin).expect("finish");
+}
+
+#[test]
+fn the_tool_trail_is_logged_in_pieces_up_to_the_end() {
+    use rerun::external::re_log_encoding::DecoderApp;
+    use rerun::log::{Chunk, LogMsg};
+
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/test-output/recording-run");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gantry_arcs.toml");
+    let mut twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
+    let path = dir.join("gantry_arcs_trail.rrd");
+    let targets = RecordingTargets {
+        save: Some(path.clone()),
+        ..RecordingTargets::default()
+    };
+    let mut recording = Recording::new(&twin, &targets).expect("open");
+    recording.log(&twin).expect("log");
+    // 150 updates: a piece at update 100, the rest at the end.
+    for _ in 0..150 {
+        twin.step();
+        recording.log(&twin).expect("log");
+    }
+    let trail = &twin.plant().tool_trails()[0];
+    assert!(trail.points_in_world.len() > 10, "the tool moved");
+    recording.finish(&twin).expect("finish");
+
+    let file = std::io::BufReader::new(std::fs::File::open(&path).expect("rrd"));
+    let mut pieces = std::collections::BTreeMap::new();
+    for msg in DecoderApp::decode_lazy(file) {
+        if let LogMsg::ArrowMsg(store, arrow) = msg.expect("decodes")
+            && store.kind() == rerun::StoreKind::Recording
+        {
+            let chunk = Chunk::from_arrow_msg(&arrow).expect("chunk");
+            let entity = chunk.entity_path().to_string();
+            if entity.starts_with("/tool_trails/") {
+                *pieces.entry(entity).or_insert(0) += chunk.num_rows();
+            }
+        }
+    }
+    // gantry_arcs' XY and XYZ systems share their tool link: one trail.
+    assert!(twin.plant().tool_trails().iter().all(|t| t.link == trail.link));
+    let system = entity_part(&trail.system);
+    assert_eq!(
+        pieces.keys().cloned().collect::<Vec<_>>(),
+        [format!("/tool_trails/{system}/0"), format!("/tool_trails/{system}/1")],
+        "{pieces:?}"
+    );
+    assert!(
+        pieces.values().all(|&rows| rows == 1),
+        "each piece logged once: {pieces:?}"
+    );
 }
