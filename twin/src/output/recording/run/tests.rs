@@ -74,26 +74,61 @@ fn a_series_gathers_changes_and_the_sample_before_each() {
     }
 }
 
-/// The `(class, display name)` of every view, the timeline of the time
-/// panel and the application id of the blueprint in an `.rrd` file, read
-/// back with Rerun's own decoder.
-fn blueprint_in(path: &std::path::Path) -> (Vec<(String, String)>, Vec<String>, Vec<String>) {
-    use rerun::external::arrow::array::{Array as _, StringArray};
+/// A shipped scene run for `updates` coarse updates with `--save`, into
+/// `target/test-output/recording-run/<file>`; the twin as last logged and
+/// the file, finished.
+fn record(scene: &str, file: &str, updates: usize) -> (Twin, std::path::PathBuf) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dir = root.join("target/test-output/recording-run");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let scene = root.join(format!("scenes/{scene}.toml"));
+    let mut twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
+    let path = dir.join(file);
+    let targets = RecordingTargets {
+        save: Some(path.clone()),
+        ..RecordingTargets::default()
+    };
+    let mut recording = Recording::new(&twin, &targets).expect("open");
+    recording.log(&twin).expect("log");
+    for _ in 0..updates {
+        twin.step();
+        recording.log(&twin).expect("log");
+    }
+    recording.finish(&twin).expect("finish");
+    (twin, path)
+}
+
+/// Every chunk of an `.rrd` file with the kind and application id of its
+/// store, read back with Rerun's own decoder.
+fn chunks_in(path: &std::path::Path) -> Vec<(rerun::StoreKind, String, rerun::log::Chunk)> {
     use rerun::external::re_log_encoding::DecoderApp;
     use rerun::log::{Chunk, LogMsg};
 
     let file = std::io::BufReader::new(std::fs::File::open(path).expect("rrd"));
+    DecoderApp::decode_lazy(file)
+        .filter_map(|msg| match msg.expect("decodes") {
+            LogMsg::ArrowMsg(store, arrow) => Some((
+                store.kind(),
+                store.application_id().to_string(),
+                Chunk::from_arrow_msg(&arrow).expect("chunk"),
+            )),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The `(class, display name)` of every view, the timeline of the time
+/// panel and the application id of the blueprint in an `.rrd` file.
+fn blueprint_in(path: &std::path::Path) -> (Vec<(String, String)>, Vec<String>, Vec<String>) {
+    use rerun::external::arrow::array::{Array as _, StringArray};
+
     let mut views: BTreeMap<String, (String, String)> = BTreeMap::new();
     let (mut timelines, mut applications) = (Vec::new(), Vec::new());
-    for msg in DecoderApp::decode_lazy(file) {
-        let LogMsg::ArrowMsg(store, arrow) = msg.expect("decodes") else {
-            continue;
-        };
-        if store.kind() != rerun::StoreKind::Blueprint {
+    for (kind, application, chunk) in chunks_in(path) {
+        if kind != rerun::StoreKind::Blueprint {
             continue;
         }
-        applications.push(store.application_id().to_string());
-        let chunk = Chunk::from_arrow_msg(&arrow).expect("chunk");
+        applications.push(application);
         let entity = chunk.entity_path().to_string();
         for column in chunk.components().0.values() {
             let values = column.list_array.values();
@@ -116,26 +151,11 @@ fn blueprint_in(path: &std::path::Path) -> (Vec<(String, String)>, Vec<String>, 
 
 #[test]
 fn a_recording_opens_with_the_default_layout() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/test-output/recording-run");
-    std::fs::create_dir_all(&dir).expect("dir");
-    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gantry_collision.toml");
-    let mut twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
-    let path = dir.join("gantry_collision.rrd");
-    let targets = RecordingTargets {
-        save: Some(path.clone()),
-        ..RecordingTargets::default()
-    };
-    let mut recording = Recording::new(&twin, &targets).expect("open");
-    for _ in 0..5 {
-        recording.log(&twin).expect("log");
-        twin.step();
-    }
-    recording.finish(&twin).expect("finish");
-
+    let (twin, path) = record("gantry_collision", "gantry_collision.rrd", 5);
     let (views, timelines, applications) = blueprint_in(&path);
     let has = |class: &str, name: &str| views.iter().any(|(c, n)| c == class && n == name);
     assert!(has("3D", "Cell"), "{views:?}");
-    // gantry_collision's coordinate system is `Gantry` (axes X, Y, Z).
+    // A position and a velocity view for gantry_collision's coordinate system.
     let system = &twin
         .task()
         .coord_config(twin.task().coord_handles().next().expect("a system"))
@@ -164,40 +184,15 @@ fn no_sink_is_a_no_op() {
 
 #[test]
 fn the_tool_trail_is_logged_in_pieces_up_to_the_end() {
-    use rerun::external::re_log_encoding::DecoderApp;
-    use rerun::log::{Chunk, LogMsg};
-
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/test-output/recording-run");
-    std::fs::create_dir_all(&dir).expect("dir");
-    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gantry_arcs.toml");
-    let mut twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
-    let path = dir.join("gantry_arcs_trail.rrd");
-    let targets = RecordingTargets {
-        save: Some(path.clone()),
-        ..RecordingTargets::default()
-    };
-    let mut recording = Recording::new(&twin, &targets).expect("open");
-    recording.log(&twin).expect("log");
     // 150 updates: a piece at update 100, the rest at the end.
-    for _ in 0..150 {
-        twin.step();
-        recording.log(&twin).expect("log");
-    }
+    let (twin, path) = record("gantry_arcs", "gantry_arcs_trail.rrd", 150);
     let trail = &twin.plant().tool_trails()[0];
     assert!(trail.points_in_world.len() > 10, "the tool moved");
-    recording.finish(&twin).expect("finish");
-
-    let file = std::io::BufReader::new(std::fs::File::open(&path).expect("rrd"));
-    let mut pieces = std::collections::BTreeMap::new();
-    for msg in DecoderApp::decode_lazy(file) {
-        if let LogMsg::ArrowMsg(store, arrow) = msg.expect("decodes")
-            && store.kind() == rerun::StoreKind::Recording
-        {
-            let chunk = Chunk::from_arrow_msg(&arrow).expect("chunk");
-            let entity = chunk.entity_path().to_string();
-            if entity.starts_with("/tool_trails/") {
-                *pieces.entry(entity).or_insert(0) += chunk.num_rows();
-            }
+    let mut pieces = BTreeMap::new();
+    for (kind, _, chunk) in chunks_in(&path) {
+        let entity = chunk.entity_path().to_string();
+        if kind == rerun::StoreKind::Recording && entity.starts_with("/tool_trails/") {
+            *pieces.entry(entity).or_insert(0) += chunk.num_rows();
         }
     }
     // gantry_arcs' XY and XYZ systems share their tool link: one trail.
