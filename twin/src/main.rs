@@ -23,7 +23,7 @@ Exit codes:
   4 a major controller fault stopped it; 64 usage error; 65 invalid input
   (scene, routine, URDF, mesh); 74 an output cannot be written or a viewer reached";
 
-/// Exit codes (README, "Exit codes"): 2, 3 and 4 are what a run reports,
+/// Exit codes (README, "Errors and exit codes"): 2, 3 and 4 are what a run reports,
 /// the others follow sysexits.h.
 mod exit {
     /// An instruction reported an error; the run went to its end.

@@ -277,6 +277,12 @@ impl Recorder {
         }
     }
 
+    /// The current `sim_time` in nanoseconds (the index of everything
+    /// logged now), if [`Self::set_time_s`] has been called.
+    pub fn time_ns(&self) -> Option<i64> {
+        self.sim_time_ns
+    }
+
     /// The current `sim_time` in seconds, if [`Self::set_time_s`] has been called.
     pub fn time_s(&self) -> Option<f64> {
         self.sim_time_ns.map(|ns| ns as f64 * 1e-9)
@@ -399,16 +405,8 @@ impl Recorder {
                 quantity: Quantity::ColumnLength,
             });
         }
-        let log_error = |source| RecordingError::Log {
-            entity_path: entity_path.to_owned(),
-            source,
-        };
-        let columns = rerun::archetypes::Scalars::new(values.iter().copied())
-            .columns_of_unit_batches()
-            .map_err(|e| log_error(e.into()))?;
-        self.stream
-            .send_columns(entity_path, [sim_time_column(times_ns)], columns)
-            .map_err(log_error)
+        let columns = rerun::archetypes::Scalars::new(values.iter().copied()).columns_of_unit_batches();
+        self.send_timed_columns(entity_path, times_ns, columns)
     }
 
     /// Logs a whole column of poses of the entity relative to its parent
@@ -442,17 +440,28 @@ impl Recorder {
             .map(|&q| unit_quaternion(q).map(rerun::datatypes::Quaternion::from_xyzw))
             .collect::<Option<Vec<_>>>()
             .ok_or_else(|| invalid(Quantity::Rotation))?;
+        let columns = rerun::archetypes::Transform3D::update_fields()
+            .with_many_translation(translations_m.iter().map(|t| t.map(|v| v as f32)))
+            .with_many_quaternion(rotations)
+            .columns_of_unit_batches();
+        self.send_timed_columns(entity_path, times_ns, columns)
+    }
+
+    /// Sends serialized component columns as one chunk at `entity_path`,
+    /// indexed by `sim_time` `times_ns` (ns).
+    fn send_timed_columns(
+        &mut self,
+        entity_path: &str,
+        times_ns: &[i64],
+        columns: rerun::SerializationResult<impl IntoIterator<Item = rerun::SerializedComponentColumn>>,
+    ) -> Result<(), RecordingError> {
         let log_error = |source| RecordingError::Log {
             entity_path: entity_path.to_owned(),
             source,
         };
-        let columns = rerun::archetypes::Transform3D::update_fields()
-            .with_many_translation(translations_m.iter().map(|t| t.map(|v| v as f32)))
-            .with_many_quaternion(rotations)
-            .columns_of_unit_batches()
-            .map_err(|e| log_error(e.into()))?;
+        let time = rerun::log::TimeColumn::new_duration_nanos(SIM_TIME_TIMELINE, times_ns.iter().copied());
         self.stream
-            .send_columns(entity_path, [sim_time_column(times_ns)], columns)
+            .send_columns(entity_path, [time], columns.map_err(|e| log_error(e.into()))?)
             .map_err(log_error)
     }
 
@@ -647,11 +656,6 @@ impl Recorder {
                 source,
             })
     }
-}
-
-/// The `sim_time` index of a column of samples.
-fn sim_time_column(times_ns: &[i64]) -> rerun::log::TimeColumn {
-    rerun::log::TimeColumn::new_duration_nanos(SIM_TIME_TIMELINE, times_ns.iter().copied())
 }
 
 /// Entity paths mirroring a URDF kinematic tree, one per link, in link order:

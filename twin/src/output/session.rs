@@ -25,10 +25,6 @@ pub enum OutputError {
         /// What failed.
         message: String,
     },
-    /// The Rerun recording failed.
-    #[cfg(feature = "rerun")]
-    #[error("rerun: {0}")]
-    Recording(#[from] crate::output::recording::RecordingError),
     /// `--save`, `--connect`, `--spawn` or `--stdout` asked of a twin built
     /// without Rerun.
     #[error(

@@ -111,8 +111,6 @@ struct Logged {
     logged_events: usize,
     logged_predictions: usize,
     highlighted: Vec<usize>,
-    /// The `sim_time` of the last logged update, ns.
-    time_ns: i64,
     /// Updates logged since the last flush.
     pending_updates: u64,
     /// With a live viewer: when the samples were last sent.
@@ -186,7 +184,7 @@ impl Recording {
             ]
             .map(|(leaf, what, rgba)| {
                 (
-                    Series::new(format!("axes/{}/{leaf}", a.name)),
+                    Series::new(format!("axes/{}/{leaf}", entity_part(&a.name))),
                     format!("{} {what}", a.name),
                     rgba,
                 )
@@ -197,7 +195,7 @@ impl Recording {
             axes.push(series.map(|(s, _, _)| s));
             let torque = plant
                 .drive_torque(k)
-                .map(|_| Series::new(format!("axes/{}/torque", a.name)));
+                .map(|_| Series::new(format!("axes/{}/torque", entity_part(&a.name))));
             if let Some(s) = &torque {
                 recorder.log_series_style(&s.path, &format!("{} torque", a.name), color)?;
             }
@@ -263,7 +261,6 @@ impl Recording {
                 logged_events: 0,
                 logged_predictions: 0,
                 highlighted: Vec::new(),
-                time_ns: 0,
                 pending_updates: 0,
                 live: targets.live().then(std::time::Instant::now),
             }),
@@ -300,9 +297,9 @@ impl Recording {
 
 impl Logged {
     fn update(&mut self, twin: &Twin) -> Result<(), RecordingError> {
-        let t = (twin.time_s() * 1e9).round() as i64;
-        self.time_ns = t;
+        // The series' samples are indexed like everything logged now.
         self.recorder.set_time_s(twin.time_s());
+        let t = self.recorder.time_ns().unwrap_or(0);
         let (task, program, plant) = (twin.task(), twin.program(), twin.plant());
 
         // Link poses relative to their parent link (the entity tree).
@@ -407,7 +404,7 @@ impl Logged {
     /// Clearance series, contact arrows, event text log, red highlights.
     fn log_collisions(&mut self, twin: &Twin) -> Result<(), RecordingError> {
         let plant = twin.plant();
-        let t = self.time_ns;
+        let t = self.recorder.time_ns().unwrap_or(0);
         for (series, d) in self.clearances.iter_mut().zip(plant.clearance_m()) {
             // Infinite while nothing is in range, as in the trace.
             series.observe(t, d);
