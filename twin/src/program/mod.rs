@@ -244,7 +244,7 @@ impl Program {
         match self.traced(t, task) {
             plc::types::Value::Bool(b) => f64::from(u8::from(b)),
             plc::types::Value::Int(i) => i as f64,
-            plc::types::Value::Real(x) if t.ty == plc::types::DataType::Real => f64::from(x as f32),
+            plc::types::Value::Real(x) if t.single_precision() => f64::from(x as f32),
             plc::types::Value::Real(x) => x,
         }
     }
