@@ -156,7 +156,7 @@ impl Frames {
                 .zip(&inner.meshes)
                 .map(|(p, id)| crate::output::render::DrawItem {
                     mesh: *id,
-                    world_from_mesh: column_major(&world_from_part(p, &links)),
+                    world_from_mesh: column_major(&world_from_part(p, links)),
                     color_rgba: p.color_rgba,
                     tint_rgba: p.link.filter(|l| colliding.contains(l)).map(|_| COLLISION_TINT_RGBA),
                 })

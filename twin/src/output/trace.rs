@@ -242,11 +242,7 @@ pub fn row(twin: &Twin) -> Vec<String> {
 
 fn coord_row(twin: &Twin, row: &mut Vec<String>) {
     let (task, plant) = (twin.task(), twin.plant());
-    let links = if plant.tool_trails().is_empty() {
-        Vec::new()
-    } else {
-        plant.world_from_link()
-    };
+    let links = plant.world_from_link();
     for cs in task.coord_handles() {
         let name = &task.coord_config(cs).name;
         row.extend(task.coord_status(cs).bits().into_iter().map(|(_, b)| bit(b)));

@@ -182,6 +182,8 @@ pub struct Plant {
     previous_command: Vec<(f64, f64)>,
     collision: Option<collide::CollideState>,
     trails: Vec<ToolTrail>,
+    /// Every link's world pose at the end of the last update (or at rest).
+    world_from_link: Vec<([f64; 3], [f64; 4])>,
     /// Per axis, the joint position (SI) its engaged holding brake holds.
     brakes: Vec<Option<f64>>,
 }
@@ -232,6 +234,7 @@ impl Plant {
             .iter()
             .map(|a| (task.axis_state(a.handle).command_position, 0.0))
             .collect();
+        let world_from_link = sim.world_from_link();
         Ok(Plant {
             brakes: vec![None; axes.len()],
             substeps: (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize,
@@ -246,6 +249,7 @@ impl Plant {
             previous_command,
             collision,
             trails: Vec::new(),
+            world_from_link,
         })
     }
 
@@ -283,6 +287,7 @@ impl Plant {
             let position = axis.axis_position(task, self.sim.joint_position(drive));
             task.feed_actual_position(axis.handle, position);
         }
+        self.world_from_link = self.sim.world_from_link();
         self.record_trails();
     }
 
@@ -334,7 +339,7 @@ impl Plant {
         if self.trails.is_empty() {
             return;
         }
-        trails::record(&mut self.trails, &self.sim.world_from_link());
+        trails::record(&mut self.trails, &self.world_from_link);
     }
 
     /// Axis `axis_index`'s servo drive torque in the last physics substep
@@ -366,9 +371,9 @@ impl Plant {
     }
 
     /// World poses of every URDF link (translation m, quaternion xyzw), in
-    /// model link order.
-    pub fn world_from_link(&self) -> Vec<([f64; 3], [f64; 4])> {
-        self.sim.world_from_link()
+    /// model link order, at the end of the last update.
+    pub fn world_from_link(&self) -> &[([f64; 3], [f64; 4])] {
+        &self.world_from_link
     }
 
     /// The tool-centre trails of the coordinate systems that name a
