@@ -144,6 +144,69 @@ impl std::fmt::Debug for Recorder {
     }
 }
 
+/// Simulated seconds as the `sim_time` index, in nanoseconds (`None` for a
+/// NaN or infinite time).
+pub fn sim_time_ns(sim_time_s: f64) -> Option<i64> {
+    // `as` saturates; ±292 years of simulated time is plenty.
+    sim_time_s.is_finite().then(|| (sim_time_s * 1e9).round() as i64)
+}
+
+/// A recording's sinks, opened and checked, and what its stream is made
+/// with; [`OpenSinks::start`] starts the stream (its threads, the
+/// blueprint, the view coordinates).
+pub struct OpenSinks {
+    app_id: rerun::ApplicationId,
+    recording: Option<String>,
+    blueprint: Option<rerun::blueprint::Blueprint>,
+    sinks: Vec<Box<dyn LogSink>>,
+    names: String,
+}
+
+impl std::fmt::Debug for OpenSinks {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("OpenSinks")
+            .field("sinks", &self.names)
+            .finish_non_exhaustive()
+    }
+}
+
+impl OpenSinks {
+    /// Starts the stream over the sinks and logs the static Z-up view
+    /// coordinates.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Stream`] when Rerun cannot start the stream,
+    /// [`RecordingError::Log`] when it refuses the view coordinates.
+    pub fn start(self) -> Result<Recorder, RecordingError> {
+        let mut builder = RecordingStreamBuilder::new(self.app_id);
+        if let Some(name) = &self.recording {
+            let millis = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_millis());
+            builder = builder
+                .recording_id(format!("{name}-{millis}"))
+                .send_properties(true)
+                .recording_name(name);
+        }
+        if let Some(blueprint) = self.blueprint {
+            builder = builder.with_default_blueprint(blueprint);
+        }
+        let stream = builder
+            .set_sinks(self.sinks)
+            .map_err(|source| RecordingError::Stream { source })?;
+        let mut recorder = Recorder {
+            stream,
+            sim_time_ns: None,
+            sink_names: self.names,
+        };
+        for entity_path in ["/", ROBOT_ENTITY] {
+            recorder.log_static(entity_path, &rerun::archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())?;
+        }
+        Ok(recorder)
+    }
+}
+
 impl Recorder {
     /// Opens a recording that tees to every sink in `sinks`, and logs the
     /// static Z-up view coordinates.
@@ -174,6 +237,22 @@ impl Recorder {
         blueprint: Option<rerun::blueprint::Blueprint>,
         sinks: &[Sink],
     ) -> Result<Self, RecordingError> {
+        Self::open_sinks(application_id, recording, blueprint, sinks)?.start()
+    }
+
+    /// The part of [`Recorder::open`] that can fail on the user's input
+    /// (the application id, addresses, files, viewers), done at once;
+    /// [`OpenSinks::start`] then starts the stream, on any thread.
+    ///
+    /// # Errors
+    ///
+    /// As [`Recorder::new`].
+    pub fn open_sinks(
+        application_id: &str,
+        recording: Option<&str>,
+        blueprint: Option<rerun::blueprint::Blueprint>,
+        sinks: &[Sink],
+    ) -> Result<OpenSinks, RecordingError> {
         if sinks.is_empty() {
             return Err(RecordingError::NoSinks);
         }
@@ -240,41 +319,40 @@ impl Recorder {
             }
         }
 
-        let mut builder = RecordingStreamBuilder::new(app_id);
-        if let Some(name) = recording {
-            let millis = std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(0, |d| d.as_millis());
-            builder = builder
-                .recording_id(format!("{name}-{millis}"))
-                .send_properties(true)
-                .recording_name(name);
-        }
-        if let Some(blueprint) = blueprint {
-            builder = builder.with_default_blueprint(blueprint);
-        }
-        let stream = builder
-            .set_sinks(log_sinks)
-            .map_err(|source| RecordingError::Stream { source })?;
-        let mut recorder = Self {
-            stream,
-            sim_time_ns: None,
-            sink_names: names.join(", "),
-        };
-        for entity_path in ["/", ROBOT_ENTITY] {
-            recorder.log_static(entity_path, &rerun::archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())?;
-        }
-        Ok(recorder)
+        Ok(OpenSinks {
+            app_id,
+            recording: recording.map(str::to_owned),
+            blueprint,
+            sinks: log_sinks,
+            names: names.join(", "),
+        })
     }
 
     /// Sets the `sim_time` of everything logged afterwards, in seconds of
     /// simulated time. Negative times are allowed; a NaN or infinite time is
     /// ignored (the previous time stays).
     pub fn set_time_s(&mut self, sim_time_s: f64) {
-        if sim_time_s.is_finite() {
-            // `as` saturates; ±292 years of simulated time is plenty.
-            self.sim_time_ns = Some((sim_time_s * 1e9).round() as i64);
+        if let Some(ns) = sim_time_ns(sim_time_s) {
+            self.sim_time_ns = Some(ns);
         }
+    }
+
+    /// Sets the `sim_time` of everything logged afterwards, in nanoseconds.
+    pub fn set_time_ns(&mut self, sim_time_ns: i64) {
+        self.sim_time_ns = Some(sim_time_ns);
+    }
+
+    /// Starts sending everything logged so far on to the sinks, without
+    /// waiting (Rerun otherwise gathers small logs for up to 200 ms).
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Flush`] when a sink has already failed.
+    pub fn flush_async(&self) -> Result<(), RecordingError> {
+        self.stream.flush_async().map_err(|source| RecordingError::Flush {
+            sinks: self.sink_names.clone(),
+            source,
+        })
     }
 
     /// The current `sim_time` in nanoseconds (the index of everything

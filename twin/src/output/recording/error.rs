@@ -145,6 +145,12 @@ pub enum RecordingError {
         /// What is wrong.
         defect: MeshDefect,
     },
+    /// The recording thread could not start, or stopped without a result.
+    #[error("{why}")]
+    Worker {
+        /// What happened.
+        why: String,
+    },
     /// Not all data reached the sinks when the recording was finished.
     #[error("flushing the recording to {sinks} failed")]
     Flush {

@@ -29,9 +29,22 @@
 //! changes) and at the last update: its value at every update is the
 //! latest sample at or before it, which equals the trace. Samples are
 //! gathered per series and sent as one column (Rerun's columnar API, a
-//! fraction of the cost of logging them one by one): for a file every
-//! [`FLUSH_UPDATES`] updates and at the end, for a live viewer also every
-//! [`LIVE_FLUSH`] of wall time.
+//! fraction of the cost of logging them one by one): every
+//! [`FLUSH_UPDATES`] updates, whenever the recording thread is idle with
+//! [`IDLE_FLUSH_UPDATES`] gathered, and at the end; for a live viewer also
+//! every [`LIVE_FLUSH`] of wall time.
+//!
+//! # Threads
+//!
+//! The run's thread copies each update's numbers (link poses, axis
+//! values, instruction outputs, tags, clearances) into a batch and hands
+//! it over every [`BATCH_UPDATES`] updates; the `twin_recording` thread
+//! starts the stream, logs the static meshes, and does everything else, so
+//! that Rerun's encoding and writing overlap the simulation. At most
+//! [`BATCHES_IN_FLIGHT`] batches wait (the run waits beyond that), and an
+//! error on the recording thread reaches the run at its next hand-over.
+//! Opening the sinks (files, viewer connections) stays on the run's
+//! thread, so a bad `--save` path or an absent viewer fails before the run.
 //!
 //! # Layout
 //!
@@ -45,9 +58,10 @@ use std::collections::BTreeMap;
 
 use planner::instruction::{FbOutputs, MotionInstructionBits};
 
-use super::{Recorder, RecordingError, Sink, TextLevel, urdf_entity_paths};
+use super::{Recorder, RecordingError, Sink, TextLevel, sim_time_ns, urdf_entity_paths};
 use crate::output::status::{describe, describe_bits};
 use crate::output::{COLLISION_TINT_RGBA, RecordingTargets};
+use crate::plant::mesh::TriMesh;
 use crate::plant::parts::column_major;
 use crate::run::Twin;
 
@@ -57,6 +71,11 @@ pub const APPLICATION_ID: &str = "twin";
 /// Samples gathered for a file are sent to Rerun every this many coarse
 /// updates (and at the end).
 pub const FLUSH_UPDATES: u64 = 2048;
+
+/// The recording thread, when it has nothing else to do, sends the
+/// samples gathered over at least this many updates (so that little is
+/// left to send at the end of the run).
+pub const IDLE_FLUSH_UPDATES: u64 = 512;
 
 /// Samples gathered for a live viewer are sent at least this often (wall
 /// time), so the plots follow the run.
@@ -83,43 +102,109 @@ const AXIS_RGBA: [[f32; 4]; 8] = [
 
 /// Streams a run to Rerun (see the module doc); a no-op when no sink is
 /// asked for.
+///
+/// The run's thread only copies each update's numbers into a batch; a
+/// recording thread (`twin_recording`) owns the [`Recorder`], keeps the
+/// series, decides what changed and sends it, so that encoding and
+/// writing the recording overlap the simulation.
 pub struct Recording {
-    inner: Option<Logged>,
+    inner: Option<Feed>,
 }
 
-/// The recorder and what it needs to log only what changed.
-struct Logged {
-    recorder: Recorder,
-    link_paths: Vec<String>,
-    /// Per URDF joint: its child link's pose relative to its parent link.
-    poses: Vec<PoseSeries>,
-    /// Per axis: cmd_pos, act_pos, cmd_vel, act_vel.
-    axes: Vec<[Series; 4]>,
-    /// Per axis: the drive's torque, for an axis with a servo drive.
-    torques: Vec<Option<Series>>,
-    /// Per function block: its outputs, then ErrorID; and the last outputs.
-    fbs: Vec<(Vec<Series>, FbOutputs)>,
-    /// Per control structure: its bits, then its codes; and the last bits.
-    instructions: Vec<(Vec<Series>, MotionInstructionBits)>,
-    tags: Vec<Series>,
-    clearances: Vec<Series>,
-    /// Per tool trail: points logged so far, pieces logged so far, and
+/// Batches go to the recording thread every this many coarse updates.
+pub const BATCH_UPDATES: usize = 64;
+
+/// Batches waiting for the recording thread at most; the run waits when
+/// the recording falls this far behind (bounded memory).
+pub const BATCHES_IN_FLIGHT: usize = 8;
+
+/// The run's side of a recording: the batch being filled, and what it
+/// needs to send only the new part of trails, events and contacts.
+struct Feed {
+    sender: std::sync::mpsc::SyncSender<Batch>,
+    worker: std::thread::JoinHandle<Result<(), RecordingError>>,
+    batch: Batch,
+    /// Per tool trail: points sent so far, pieces sent so far, and
     /// whether it is logged (the first of the systems sharing its link).
     trails: Vec<(usize, usize, bool)>,
-    /// The contact arrows last logged (origins, vectors).
+    /// The contact arrows last sent (origins, vectors).
     contacts: (Vec<[f64; 3]>, Vec<[f64; 3]>),
     logged_events: usize,
     logged_predictions: usize,
     highlighted: Vec<usize>,
-    /// Updates logged since the last flush.
+    link_paths: Vec<String>,
+    /// With a live viewer: when the last batch was sent.
+    live: Option<std::time::Instant>,
+}
+
+/// Updates gathered on the run's thread: per update its time, the world
+/// poses of the links, the scalar values in series order (`None`: no
+/// sample), the function blocks' outputs and the control structures' bits;
+/// and what is logged as it happens, after the update it follows.
+#[derive(Default)]
+struct Batch {
+    times_ns: Vec<i64>,
+    world_from_link: Vec<([f64; 3], [f64; 4])>,
+    values: Vec<Option<f64>>,
+    fbs: Vec<FbOutputs>,
+    instructions: Vec<MotionInstructionBits>,
+    /// (updates of this batch before it, `sim_time` in ns, what).
+    items: Vec<(usize, i64, Item)>,
+}
+
+/// Something logged as it happens.
+enum Item {
+    Trail {
+        path: String,
+        points: Vec<[f64; 3]>,
+    },
+    Arrows {
+        origins: Vec<[f64; 3]>,
+        vectors: Vec<[f64; 3]>,
+    },
+    Text {
+        path: &'static str,
+        level: TextLevel,
+        text: String,
+    },
+    Clear {
+        path: String,
+    },
+    Mesh {
+        path: String,
+        mesh: TriMesh,
+    },
+}
+
+/// A static mesh logged when the recording thread starts: path, mesh,
+/// colour, parent-from-mesh pose.
+type StaticMesh = (String, TriMesh, [f32; 4], ([f32; 3], [f32; 4], [f32; 3]));
+
+/// The recording thread's side: the recorder and the series.
+struct Logged {
+    recorder: Recorder,
+    /// Per URDF joint: (parent link, child link) and the child's pose
+    /// relative to its parent.
+    poses: Vec<((usize, usize), PoseSeries)>,
+    links: usize,
+    /// Every scalar series, in the order of [`Batch::values`]: per axis
+    /// cmd_pos, act_pos, cmd_vel, act_vel; the drives' torques; traced
+    /// tags; clearances.
+    scalars: Vec<Series>,
+    /// Per function block: its name, outputs then ErrorID, the last outputs.
+    fbs: Vec<(String, Vec<Series>, FbOutputs)>,
+    /// Per control structure: its name, bits then codes, the last bits.
+    instructions: Vec<(String, Vec<Series>, MotionInstructionBits)>,
+    /// Updates taken in since the last flush.
     pending_updates: u64,
     /// With a live viewer: when the samples were last sent.
     live: Option<std::time::Instant>,
 }
 
 impl Recording {
-    /// Opens the sinks asked for (none: a no-op recording), logs the static
-    /// meshes, the series' names and colours and the default blueprint.
+    /// Opens the sinks asked for (none: a no-op recording) and starts the
+    /// recording thread, which logs the static meshes, the series' names
+    /// and colours and (with the stream) the default blueprint.
     ///
     /// # Errors
     /// [`RecordingError`] when a sink cannot be opened.
@@ -140,8 +225,7 @@ impl Recording {
         if sinks.is_empty() {
             return Ok(Recording { inner: None });
         }
-        let mut recorder = Recorder::open(APPLICATION_ID, Some(&twin.scene().name), Some(blueprint(twin)), &sinks)?;
-        recorder.set_time_s(0.0);
+        let sinks = Recorder::open_sinks(APPLICATION_ID, Some(&twin.scene().name), Some(blueprint(twin)), &sinks)?;
         let model = twin.plant().model();
         let names: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
         let joints: Vec<(&str, usize, usize)> = model
@@ -151,64 +235,331 @@ impl Recording {
             .collect();
         let link_paths = urdf_entity_paths(&names, &joints, model.root.0);
         let mut count = vec![0usize; model.links.len()];
-        for part in twin.plant().parts() {
-            let path = match part.link {
-                Some(i) => {
-                    count[i] += 1;
-                    format!("{}/visual_{}", link_paths[i], count[i] - 1)
-                }
-                None => format!("obstacles/{}", part.name),
-            };
-            let pose = part.parent_from_mesh;
-            let t = pose.translation.vector;
-            let q = pose.rotation.coords;
-            let local = (
-                [t.x as f32, t.y as f32, t.z as f32],
-                [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
-                [1.0, 1.0, 1.0],
-            );
-            recorder.log_link_mesh_static(&path, &part.mesh, part.color_rgba, local)?;
-        }
+        let meshes: Vec<StaticMesh> = twin
+            .plant()
+            .parts()
+            .iter()
+            .map(|part| {
+                let path = match part.link {
+                    Some(i) => {
+                        count[i] += 1;
+                        format!("{}/visual_{}", link_paths[i], count[i] - 1)
+                    }
+                    None => format!("obstacles/{}", part.name),
+                };
+                let pose = part.parent_from_mesh;
+                let t = pose.translation.vector;
+                let q = pose.rotation.coords;
+                let local = (
+                    [t.x as f32, t.y as f32, t.z as f32],
+                    [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
+                    [1.0, 1.0, 1.0],
+                );
+                (path, part.mesh.clone(), part.color_rgba, local)
+            })
+            .collect();
 
+        let (series, styles) = Series::of(twin, &link_paths);
+        let live = targets.live();
+        let (sender, receiver) = std::sync::mpsc::sync_channel(BATCHES_IN_FLIGHT);
+        let worker = std::thread::Builder::new()
+            .name("twin_recording".to_owned())
+            .spawn(move || {
+                let logged = Logged::new(sinks.start()?, series, live);
+                logged.run(&meshes, &styles, &receiver)
+            })
+            .map_err(|source| RecordingError::Worker {
+                why: format!("cannot start the recording thread: {source}"),
+            })?;
         let plant = twin.plant();
-        let mut axes = Vec::new();
-        let mut torques = Vec::new();
+        Ok(Recording {
+            inner: Some(Feed {
+                sender,
+                worker,
+                batch: Batch::default(),
+                trails: plant
+                    .tool_trails()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, t)| (0, 0, !plant.tool_trails()[..i].iter().any(|u| u.link == t.link)))
+                    .collect(),
+                contacts: (Vec::new(), Vec::new()),
+                logged_events: 0,
+                logged_predictions: 0,
+                highlighted: Vec::new(),
+                link_paths,
+                live: targets.live().then(std::time::Instant::now),
+            }),
+        })
+    }
+
+    /// Takes in the current update; hands a batch to the recording thread
+    /// when it is time to (module doc).
+    ///
+    /// # Errors
+    /// [`RecordingError`] when the recording thread has stopped on an
+    /// error (that error).
+    pub fn log(&mut self, twin: &Twin) -> Result<(), RecordingError> {
+        let Some(feed) = self.inner.as_mut() else {
+            return Ok(());
+        };
+        feed.take(twin);
+        let live_due = feed.live.is_some_and(|at| at.elapsed() >= LIVE_FLUSH / 4);
+        if feed.batch.times_ns.len() >= BATCH_UPDATES || live_due {
+            if let Some(at) = &mut feed.live {
+                *at = std::time::Instant::now();
+            }
+            let batch = std::mem::take(&mut feed.batch);
+            if feed.sender.send(batch).is_err() {
+                // The thread has stopped: its result says why.
+                let inner = self.inner.take();
+                return inner.map_or(Ok(()), |feed| feed.join());
+            }
+        }
+        Ok(())
+    }
+
+    /// Logs the tool trails' last pieces, hands over what has gathered, and
+    /// waits for the recording thread to send everything, flush and close
+    /// the stream (the `.rrd` gets its footer). `twin` is the twin as last
+    /// logged.
+    ///
+    /// # Errors
+    /// [`RecordingError`] when logging or flushing fails.
+    pub fn finish(self, twin: &Twin) -> Result<(), RecordingError> {
+        let Some(mut feed) = self.inner else {
+            return Ok(());
+        };
+        let t = sim_time_ns(twin.time_s()).unwrap_or(0);
+        feed.trails(twin, t);
+        let batch = std::mem::take(&mut feed.batch);
+        // A send fails only when the thread has stopped; joining says why.
+        let _ = feed.sender.send(batch);
+        feed.join()
+    }
+}
+
+impl Feed {
+    /// Copies the update's numbers into the batch, and queues the new part
+    /// of the trails, the collision events and the contacts.
+    fn take(&mut self, twin: &Twin) {
+        let (task, program, plant) = (twin.task(), twin.program(), twin.plant());
+        let t = sim_time_ns(twin.time_s()).unwrap_or(0);
+        let b = &mut self.batch;
+        b.times_ns.push(t);
+        b.world_from_link.extend(plant.world_from_link());
+        for a in plant.axes() {
+            let s = task.axis_state(a.handle);
+            b.values.extend([
+                Some(s.command_position),
+                Some(s.actual_position),
+                Some(s.command_velocity),
+                Some(s.actual_velocity),
+            ]);
+        }
+        for k in 0..plant.axes().len() {
+            b.values.push(plant.drive_torque(k));
+        }
+        for tag in program.traced_tags() {
+            b.values.push(Some(program.traced_number(tag, task)));
+        }
+        if plant.collision_enabled() {
+            b.values.extend(plant.clearance_m().into_iter().map(Some));
+        }
+        b.fbs.extend(program.fbs().iter().map(|fb| task.outputs(fb.handle)));
+        b.instructions
+            .extend(program.instructions().iter().map(|ins| task.motion_bits(ins.handle)));
+        if task.updates().is_multiple_of(TRAIL_UPDATES) {
+            self.trails(twin, t);
+        }
+        if plant.collision_enabled() {
+            self.collisions(twin, t);
+        }
+    }
+
+    /// Queues an item after the updates gathered so far.
+    fn push(&mut self, t_ns: i64, item: Item) {
+        self.batch.items.push((self.batch.times_ns.len(), t_ns, item));
+    }
+
+    /// The part of each tool trail not sent yet, as a new piece (which
+    /// starts at the last point sent, so the pieces join). Systems that
+    /// share a tool link share one trail, the first one's.
+    fn trails(&mut self, twin: &Twin, t_ns: i64) {
+        for k in 0..self.trails.len() {
+            let (sent, pieces, owner) = self.trails[k];
+            let trail = &twin.plant().tool_trails()[k];
+            let all = &trail.points_in_world;
+            let from = sent.saturating_sub(1);
+            if owner && all.len() > sent && all.len() - from >= 2 {
+                let path = format!("tool_trails/{}/{pieces}", entity_part(&trail.system));
+                let points = all[from..].to_vec();
+                self.trails[k] = (all.len(), pieces + 1, owner);
+                self.push(t_ns, Item::Trail { path, points });
+            }
+        }
+    }
+
+    /// Contact arrows when they change, new events and predictions as text,
+    /// red highlights of the colliding links.
+    fn collisions(&mut self, twin: &Twin, t_ns: i64) {
+        let plant = twin.plant();
+        let contacts = plant.contacts();
+        let origins: Vec<[f64; 3]> = contacts.iter().map(|c| c.point_in_world).collect();
+        // Arrow length: the depth, at least 5 cm so that a touch is visible.
+        let vectors: Vec<[f64; 3]> = contacts
+            .iter()
+            .map(|c| c.normal_in_world.map(|n| n * c.depth_m.max(0.05)))
+            .collect();
+        if (&origins, &vectors) != (&self.contacts.0, &self.contacts.1) {
+            self.contacts = (origins.clone(), vectors.clone());
+            self.push(t_ns, Item::Arrows { origins, vectors });
+        }
+        let events = &plant.collision_events()[self.logged_events..];
+        let texts: Vec<String> = events
+            .iter()
+            .map(|e| {
+                format!(
+                    "collision {} <-> {} at {:.4} s, depth {:.4} m, point {:?}, normal {:?}",
+                    e.a, e.b, e.start_s, e.max_depth_m, e.point_in_world, e.normal_in_world
+                )
+            })
+            .chain(
+                plant.predicted_collisions()[self.logged_predictions..]
+                    .iter()
+                    .map(|p| match &p.out_of_reach {
+                        Some(why) => format!(
+                            "pre-flight: {} leaves the workspace of {} at parameter {:.4} (t +{:.4} s): {why}",
+                            p.instance, p.collision.a, p.collision.parameter, p.collision.time_s
+                        ),
+                        None => format!(
+                            "pre-flight: {} predicts {} <-> {} at parameter {:.4} (t +{:.4} s){}",
+                            p.instance,
+                            p.collision.a,
+                            p.collision.b,
+                            p.collision.parameter,
+                            p.collision.time_s,
+                            if p.rejected { ", move rejected" } else { "" }
+                        ),
+                    }),
+            )
+            .collect();
+        for text in texts {
+            self.push(
+                t_ns,
+                Item::Text {
+                    path: "collisions/log",
+                    level: TextLevel::Warn,
+                    text,
+                },
+            );
+        }
+        self.logged_events = plant.collision_events().len();
+        self.logged_predictions = plant.predicted_collisions().len();
+        let colliding = plant.colliding_links();
+        if colliding != self.highlighted {
+            for l in std::mem::take(&mut self.highlighted) {
+                if !colliding.contains(&l) {
+                    let path = format!("{}/collision_highlight", self.link_paths[l]);
+                    self.push(t_ns, Item::Clear { path });
+                }
+            }
+            for &l in &colliding {
+                if self.highlighted.contains(&l) {
+                    continue;
+                }
+                for (k, part) in plant.parts().iter().filter(|p| p.link == Some(l)).enumerate() {
+                    let mesh = part.mesh.transformed(&column_major(&part.parent_from_mesh));
+                    let path = format!("{}/collision_highlight/{k}", self.link_paths[l]);
+                    self.push(t_ns, Item::Mesh { path, mesh });
+                }
+            }
+            self.highlighted = colliding;
+        }
+    }
+
+    /// Closes the channel and waits for the recording thread's result.
+    fn join(self) -> Result<(), RecordingError> {
+        drop(self.sender);
+        self.worker.join().unwrap_or_else(|_| {
+            Err(RecordingError::Worker {
+                why: "the recording thread panicked".to_owned(),
+            })
+        })
+    }
+}
+
+/// What the recording thread keeps per update (see [`Logged`]).
+struct AllSeries {
+    poses: Vec<((usize, usize), PoseSeries)>,
+    links: usize,
+    scalars: Vec<Series>,
+    fbs: Vec<(String, Vec<Series>, FbOutputs)>,
+    instructions: Vec<(String, Vec<Series>, MotionInstructionBits)>,
+}
+
+/// A scalar series' path, name and colour in the plots.
+type Style = (String, String, [f32; 4]);
+
+impl Series {
+    /// The series of `twin`'s link poses, axes, drives, instructions, tags
+    /// and clearances, and the (path, name, colour) of those plotted with
+    /// a name.
+    fn of(twin: &Twin, link_paths: &[String]) -> (AllSeries, Vec<Style>) {
+        let plant = twin.plant();
+        let mut styles = Vec::new();
+        let mut scalars = Vec::new();
         for (k, a) in plant.axes().iter().enumerate() {
             let color = AXIS_RGBA[k % AXIS_RGBA.len()];
             let lighter = color.map(|c| c + (1.0 - c) * 0.5);
-            let series = [
+            for (leaf, what, rgba) in [
                 ("cmd_pos", "command position", color),
                 ("act_pos", "actual position", lighter),
                 ("cmd_vel", "command velocity", color),
                 ("act_vel", "actual velocity", lighter),
-            ]
-            .map(|(leaf, what, rgba)| {
-                (
-                    Series::new(format!("axes/{}/{leaf}", entity_part(&a.name))),
-                    format!("{} {what}", a.name),
-                    rgba,
-                )
-            });
-            for (s, name, rgba) in &series {
-                recorder.log_series_style(&s.path, name, *rgba)?;
+            ] {
+                let path = format!("axes/{}/{leaf}", entity_part(&a.name));
+                styles.push((path.clone(), format!("{} {what}", a.name), rgba));
+                scalars.push(Series::new(path));
             }
-            axes.push(series.map(|(s, _, _)| s));
-            let torque = plant
-                .drive_torque(k)
-                .map(|_| Series::new(format!("axes/{}/torque", entity_part(&a.name))));
-            if let Some(s) = &torque {
-                recorder.log_series_style(&s.path, &format!("{} torque", a.name), color)?;
+        }
+        for (k, a) in plant.axes().iter().enumerate() {
+            let path = format!("axes/{}/torque", entity_part(&a.name));
+            if plant.drive_torque(k).is_some() {
+                styles.push((
+                    path.clone(),
+                    format!("{} torque", a.name),
+                    AXIS_RGBA[k % AXIS_RGBA.len()],
+                ));
             }
-            torques.push(torque);
+            scalars.push(Series::new(path));
         }
         let program = twin.program();
+        scalars.extend(
+            program
+                .traced_tags()
+                .iter()
+                .map(|t| Series::new(format!("tags/{}", entity_part(&t.name)))),
+        );
+        if plant.collision_enabled() {
+            scalars.extend(
+                plant
+                    .collision_bodies()
+                    .iter()
+                    .map(|b| Series::new(format!("collisions/clearance/{}", entity_part(b)))),
+            );
+        }
         let fbs = program
             .fbs()
             .iter()
             .map(|fb| {
                 let mut names: Vec<&str> = FbOutputs::default().bits().iter().map(|(n, _)| *n).collect();
                 names.push("ErrorID");
-                (instruction_series(&fb.name, &names), FbOutputs::default())
+                (
+                    fb.name.clone(),
+                    instruction_series(&fb.name, &names),
+                    FbOutputs::default(),
+                )
             })
             .collect();
         let zero = MotionInstructionBits::default();
@@ -222,295 +573,209 @@ impl Recording {
                     .map(|(n, _)| *n)
                     .chain(zero.codes().iter().map(|(n, _)| *n))
                     .collect();
-                (instruction_series(&ins.name, &names), zero)
+                (ins.name.clone(), instruction_series(&ins.name, &names), zero)
             })
             .collect();
-        let tags = program
-            .traced_tags()
-            .iter()
-            .map(|t| Series::new(format!("tags/{}", entity_part(&t.name))))
-            .collect();
-        let clearances = plant
-            .collision_bodies()
-            .iter()
-            .map(|b| Series::new(format!("collisions/clearance/{}", entity_part(b))))
-            .collect();
+        let model = plant.model();
         let poses = model
             .joints
             .iter()
-            .map(|j| PoseSeries::new(link_paths[j.child.0].clone()))
+            .map(|j| ((j.parent.0, j.child.0), PoseSeries::new(link_paths[j.child.0].clone())))
             .collect();
-        Ok(Recording {
-            inner: Some(Logged {
-                recorder,
-                link_paths,
-                poses,
-                axes,
-                torques,
-                fbs,
-                instructions,
-                tags,
-                clearances,
-                trails: plant
-                    .tool_trails()
-                    .iter()
-                    .enumerate()
-                    .map(|(i, t)| (0, 0, !plant.tool_trails()[..i].iter().any(|u| u.link == t.link)))
-                    .collect(),
-                contacts: (Vec::new(), Vec::new()),
-                logged_events: 0,
-                logged_predictions: 0,
-                highlighted: Vec::new(),
-                pending_updates: 0,
-                live: targets.live().then(std::time::Instant::now),
-            }),
-        })
-    }
-
-    /// Takes in the current update; sends what has gathered when it is
-    /// time to (module doc).
-    ///
-    /// # Errors
-    /// [`RecordingError`] when logging fails.
-    pub fn log(&mut self, twin: &Twin) -> Result<(), RecordingError> {
-        let Some(logged) = self.inner.as_mut() else {
-            return Ok(());
+        let series = AllSeries {
+            poses,
+            links: model.links.len(),
+            scalars,
+            fbs,
+            instructions,
         };
-        logged.update(twin)
-    }
-
-    /// Logs the tool trails' last pieces, sends what has gathered, flushes
-    /// and closes the stream (the `.rrd` gets its footer). `twin` is the
-    /// twin as last logged.
-    ///
-    /// # Errors
-    /// [`RecordingError`] when logging or flushing fails.
-    pub fn finish(self, twin: &Twin) -> Result<(), RecordingError> {
-        let Some(mut logged) = self.inner else {
-            return Ok(());
-        };
-        logged.log_trails(twin)?;
-        logged.close()?;
-        logged.recorder.finish()
+        (series, styles)
     }
 }
 
 impl Logged {
-    fn update(&mut self, twin: &Twin) -> Result<(), RecordingError> {
-        // The series' samples are indexed like everything logged now.
-        self.recorder.set_time_s(twin.time_s());
-        let t = self.recorder.time_ns().unwrap_or(0);
-        let (task, program, plant) = (twin.task(), twin.program(), twin.plant());
+    fn new(recorder: Recorder, series: AllSeries, live: bool) -> Logged {
+        let AllSeries {
+            poses,
+            links,
+            scalars,
+            fbs,
+            instructions,
+        } = series;
+        Logged {
+            recorder,
+            poses,
+            links,
+            scalars,
+            fbs,
+            instructions,
+            pending_updates: 0,
+            live: live.then(std::time::Instant::now),
+        }
+    }
 
-        // Link poses relative to their parent link (the entity tree).
-        let model = plant.model();
-        let poses = plant.world_from_link();
-        for (joint, series) in model.joints.iter().zip(&mut self.poses) {
-            let (translation, rotation) = parent_from_child(poses[joint.parent.0], poses[joint.child.0]);
-            series.observe(t, translation, rotation);
+    /// The recording thread: logs the static meshes and the series'
+    /// styles, takes in batches until the run's side closes the channel,
+    /// then sends the last samples and closes the stream.
+    fn run(
+        mut self,
+        meshes: &[StaticMesh],
+        styles: &[Style],
+        batches: &std::sync::mpsc::Receiver<Batch>,
+    ) -> Result<(), RecordingError> {
+        self.recorder.set_time_ns(0);
+        for (path, mesh, rgba, local) in meshes {
+            self.recorder.log_link_mesh_static(path, mesh, *rgba, *local)?;
         }
+        for (path, name, rgba) in styles {
+            self.recorder.log_series_style(path, name, *rgba)?;
+        }
+        // Static data on its way to the sinks while the run goes on.
+        self.recorder.flush_async()?;
+        loop {
+            let batch = match batches.try_recv() {
+                Ok(batch) => batch,
+                Err(std::sync::mpsc::TryRecvError::Empty) => {
+                    // Idle: send what has gathered now rather than at the end.
+                    if self.pending_updates >= IDLE_FLUSH_UPDATES {
+                        self.flush()?;
+                    }
+                    match batches.recv() {
+                        Ok(batch) => batch,
+                        Err(_) => break,
+                    }
+                }
+                Err(std::sync::mpsc::TryRecvError::Disconnected) => break,
+            };
+            self.take(batch)?;
+        }
+        for series in self.all_scalars() {
+            series.close();
+        }
+        self.flush()?;
+        self.recorder.finish()
+    }
 
-        for (k, a) in plant.axes().iter().enumerate() {
-            let s = task.axis_state(a.handle);
-            let values = [
-                s.command_position,
-                s.actual_position,
-                s.command_velocity,
-                s.actual_velocity,
-            ];
-            for (series, value) in self.axes[k].iter_mut().zip(values) {
-                series.observe(t, value);
+    /// Takes in a batch: every update's samples, the instruction log lines
+    /// of what changed, and the items in order.
+    fn take(&mut self, batch: Batch) -> Result<(), RecordingError> {
+        let scalars = self.scalars.len();
+        let (fbs, instructions) = (self.fbs.len(), self.instructions.len());
+        let mut items = batch.items.into_iter().peekable();
+        for (u, &t) in batch.times_ns.iter().enumerate() {
+            while let Some((_, t_item, item)) = items.next_if(|(before, _, _)| *before <= u) {
+                self.log_item(t_item, item)?;
             }
-            if let (Some(series), Some(torque)) = (&mut self.torques[k], plant.drive_torque(k)) {
-                series.observe(t, torque);
+            self.recorder.set_time_ns(t);
+            let poses = &batch.world_from_link[u * self.links..(u + 1) * self.links];
+            for ((parent, child), series) in &mut self.poses {
+                let (translation, rotation) = parent_from_child(poses[*parent], poses[*child]);
+                series.observe(t, translation, rotation);
+            }
+            for (series, value) in self
+                .scalars
+                .iter_mut()
+                .zip(&batch.values[u * scalars..(u + 1) * scalars])
+            {
+                if let Some(v) = value {
+                    series.observe(t, *v);
+                }
+            }
+            for ((name, series, previous), o) in self.fbs.iter_mut().zip(&batch.fbs[u * fbs..(u + 1) * fbs]) {
+                let o = *o;
+                let values = o
+                    .bits()
+                    .map(|(_, b)| f64::from(u8::from(b)))
+                    .into_iter()
+                    .chain([f64::from(o.error_id)]);
+                for (s, v) in series.iter_mut().zip(values) {
+                    s.observe(t, v);
+                }
+                if std::mem::replace(previous, o) != o {
+                    let level = if o.error { TextLevel::Error } else { TextLevel::Info };
+                    self.recorder
+                        .log_text("instructions/log", level, &format!("{name}: {}", describe(o)))?;
+                }
+            }
+            for ((name, series, previous), b) in self
+                .instructions
+                .iter_mut()
+                .zip(&batch.instructions[u * instructions..(u + 1) * instructions])
+            {
+                let b = *b;
+                let values = b
+                    .bits()
+                    .map(|(_, bit)| f64::from(u8::from(bit)))
+                    .into_iter()
+                    .chain(b.codes().map(|(_, c)| f64::from(c)));
+                for (s, v) in series.iter_mut().zip(values) {
+                    s.observe(t, v);
+                }
+                if std::mem::replace(previous, b) != b {
+                    let level = if b.er { TextLevel::Error } else { TextLevel::Info };
+                    self.recorder
+                        .log_text("instructions/log", level, &format!("{name}: {}", describe_bits(b)))?;
+                }
+            }
+            self.pending_updates += 1;
+            if self.pending_updates >= FLUSH_UPDATES {
+                self.flush()?;
             }
         }
-
-        for (fb, (series, previous)) in program.fbs().iter().zip(&mut self.fbs) {
-            let o = task.outputs(fb.handle);
-            let values = o
-                .bits()
-                .map(|(_, b)| f64::from(u8::from(b)))
-                .into_iter()
-                .chain([f64::from(o.error_id)]);
-            for (s, v) in series.iter_mut().zip(values) {
-                s.observe(t, v);
-            }
-            if std::mem::replace(previous, o) != o {
-                let level = if o.error { TextLevel::Error } else { TextLevel::Info };
-                self.recorder
-                    .log_text("instructions/log", level, &format!("{}: {}", fb.name, describe(o)))?;
-            }
+        for (_, t_item, item) in items {
+            self.log_item(t_item, item)?;
         }
-        for (ins, (series, previous)) in program.instructions().iter().zip(&mut self.instructions) {
-            let b = task.motion_bits(ins.handle);
-            let values = b
-                .bits()
-                .map(|(_, bit)| f64::from(u8::from(bit)))
-                .into_iter()
-                .chain(b.codes().map(|(_, c)| f64::from(c)));
-            for (s, v) in series.iter_mut().zip(values) {
-                s.observe(t, v);
-            }
-            if std::mem::replace(previous, b) != b {
-                let level = if b.er { TextLevel::Error } else { TextLevel::Info };
-                self.recorder.log_text(
-                    "instructions/log",
-                    level,
-                    &format!("{}: {}", ins.name, describe_bits(b)),
-                )?;
-            }
-        }
-        for (tag, series) in program.traced_tags().iter().zip(&mut self.tags) {
-            series.observe(t, program.traced_number(tag, task));
-        }
-
-        if task.updates().is_multiple_of(TRAIL_UPDATES) {
-            self.log_trails(twin)?;
-        }
-        if plant.collision_enabled() {
-            self.log_collisions(twin)?;
-        }
-        self.pending_updates += 1;
-        if self.pending_updates >= FLUSH_UPDATES || self.live.is_some_and(|at| at.elapsed() >= LIVE_FLUSH) {
+        if self.live.is_some_and(|at| at.elapsed() >= LIVE_FLUSH) {
             self.flush()?;
         }
         Ok(())
     }
 
-    /// The part of each tool trail not logged yet, as a new piece (which
-    /// starts at the last point logged, so the pieces join). Systems that
-    /// share a tool link share one trail, the first one's.
-    fn log_trails(&mut self, twin: &Twin) -> Result<(), RecordingError> {
-        for (trail, (logged, pieces, _)) in twin
-            .plant()
-            .tool_trails()
-            .iter()
-            .zip(&mut self.trails)
-            .filter(|(_, (_, _, owner))| *owner)
-        {
-            let points = &trail.points_in_world;
-            let from = logged.saturating_sub(1);
-            if points.len() > *logged && points.len() - from >= 2 {
-                let path = format!("tool_trails/{}/{pieces}", entity_part(&trail.system));
-                self.recorder.log_line_strip(&path, &points[from..], TRAIL_RGBA)?;
-                *logged = points.len();
-                *pieces += 1;
-            }
-        }
-        Ok(())
+    /// Every scalar series: axes, drives, tags, clearances, then the
+    /// instructions'.
+    fn all_scalars(&mut self) -> impl Iterator<Item = &mut Series> {
+        self.scalar_series().1
     }
 
-    /// Clearance series, contact arrows, event text log, red highlights.
-    fn log_collisions(&mut self, twin: &Twin) -> Result<(), RecordingError> {
-        let plant = twin.plant();
-        let t = self.recorder.time_ns().unwrap_or(0);
-        for (series, d) in self.clearances.iter_mut().zip(plant.clearance_m()) {
-            // Infinite while nothing is in range, as in the trace.
-            series.observe(t, d);
-        }
-        let contacts = plant.contacts();
-        let origins: Vec<[f64; 3]> = contacts.iter().map(|c| c.point_in_world).collect();
-        // Arrow length: the depth, at least 5 cm so that a touch is visible.
-        let vectors: Vec<[f64; 3]> = contacts
-            .iter()
-            .map(|c| c.normal_in_world.map(|n| n * c.depth_m.max(0.05)))
-            .collect();
-        if (&origins, &vectors) != (&self.contacts.0, &self.contacts.1) {
-            self.recorder
-                .log_arrows("collisions/contacts", &origins, &vectors, COLLISION_TINT_RGBA)?;
-            self.contacts = (origins, vectors);
-        }
-        for e in &plant.collision_events()[self.logged_events..] {
-            let text = format!(
-                "collision {} <-> {} at {:.4} s, depth {:.4} m, point {:?}, normal {:?}",
-                e.a, e.b, e.start_s, e.max_depth_m, e.point_in_world, e.normal_in_world
-            );
-            self.recorder.log_text("collisions/log", TextLevel::Warn, &text)?;
-        }
-        self.logged_events = plant.collision_events().len();
-        for p in &plant.predicted_collisions()[self.logged_predictions..] {
-            let text = match &p.out_of_reach {
-                Some(why) => format!(
-                    "pre-flight: {} leaves the workspace of {} at parameter {:.4} (t +{:.4} s): {why}",
-                    p.instance, p.collision.a, p.collision.parameter, p.collision.time_s
-                ),
-                None => format!(
-                    "pre-flight: {} predicts {} <-> {} at parameter {:.4} (t +{:.4} s){}",
-                    p.instance,
-                    p.collision.a,
-                    p.collision.b,
-                    p.collision.parameter,
-                    p.collision.time_s,
-                    if p.rejected { ", move rejected" } else { "" }
-                ),
-            };
-            self.recorder.log_text("collisions/log", TextLevel::Warn, &text)?;
-        }
-        self.logged_predictions = plant.predicted_collisions().len();
-        let colliding = plant.colliding_links();
-        if colliding != self.highlighted {
-            for &l in &self.highlighted {
-                if !colliding.contains(&l) {
-                    self.recorder
-                        .log_clear(&format!("{}/collision_highlight", self.link_paths[l]))?;
-                }
-            }
-            for &l in &colliding {
-                if self.highlighted.contains(&l) {
-                    continue;
-                }
-                for (k, part) in plant.parts().iter().filter(|p| p.link == Some(l)).enumerate() {
-                    let mesh = part.mesh.transformed(&column_major(&part.parent_from_mesh));
-                    self.recorder.log_mesh_timed(
-                        &format!("{}/collision_highlight/{k}", self.link_paths[l]),
-                        &mesh,
-                        COLLISION_TINT_RGBA,
-                    )?;
-                }
-            }
-            self.highlighted = colliding;
-        }
-        Ok(())
+    /// The recorder, and every scalar series.
+    fn scalar_series(&mut self) -> (&mut Recorder, impl Iterator<Item = &mut Series>) {
+        let scalars = self
+            .scalars
+            .iter_mut()
+            .chain(self.fbs.iter_mut().flat_map(|(_, s, _)| s))
+            .chain(self.instructions.iter_mut().flat_map(|(_, s, _)| s));
+        (&mut self.recorder, scalars)
     }
 
-    /// Every series' gathered samples, one column each.
+    fn log_item(&mut self, t_ns: i64, item: Item) -> Result<(), RecordingError> {
+        self.recorder.set_time_ns(t_ns);
+        let r = &mut self.recorder;
+        match item {
+            Item::Trail { path, points } => r.log_line_strip(&path, &points, TRAIL_RGBA),
+            Item::Arrows { origins, vectors } => {
+                r.log_arrows("collisions/contacts", &origins, &vectors, COLLISION_TINT_RGBA)
+            }
+            Item::Text { path, level, text } => r.log_text(path, level, &text),
+            Item::Clear { path } => r.log_clear(&path),
+            Item::Mesh { path, mesh } => r.log_mesh_timed(&path, &mesh, COLLISION_TINT_RGBA),
+        }
+    }
+
+    /// Every series' gathered samples, one column each; then everything
+    /// on its way to the sinks.
     fn flush(&mut self) -> Result<(), RecordingError> {
         self.pending_updates = 0;
         if let Some(at) = &mut self.live {
             *at = std::time::Instant::now();
         }
-        for pose in &mut self.poses {
+        for (_, pose) in &mut self.poses {
             pose.flush(&mut self.recorder)?;
         }
         let (recorder, scalars) = self.scalar_series();
         for series in scalars {
             series.flush(recorder)?;
         }
-        Ok(())
-    }
-
-    /// The recorder, and every scalar series.
-    fn scalar_series(&mut self) -> (&mut Recorder, impl Iterator<Item = &mut Series>) {
-        let scalars = self
-            .axes
-            .iter_mut()
-            .flatten()
-            .chain(self.torques.iter_mut().flatten())
-            .chain(self.fbs.iter_mut().flat_map(|(s, _)| s))
-            .chain(self.instructions.iter_mut().flat_map(|(s, _)| s))
-            .chain(&mut self.tags)
-            .chain(&mut self.clearances);
-        (&mut self.recorder, scalars)
-    }
-
-    /// The last trail pieces, every series' value at the last update, and
-    /// what has gathered.
-    fn close(&mut self) -> Result<(), RecordingError> {
-        for series in self.scalar_series().1 {
-            series.close();
-        }
-        self.flush()
+        self.recorder.flush_async()
     }
 }
 
