@@ -81,6 +81,12 @@ struct RunArgs {
     /// then goes to stderr.
     #[arg(long)]
     stdout: bool,
+    /// Serve the recording over gRPC at ADDR (default 127.0.0.1:9876; give
+    /// 0.0.0.0:9876 for other machines) for viewers to connect to
+    /// (`rerun rerun+http://ADDR/proxy`); after the run it goes on
+    /// serving until Ctrl-C.
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:9876")]
+    serve: Option<String>,
     /// Write the per-update trace to FILE.csv.
     #[arg(long, value_name = "FILE.csv")]
     trace: Option<PathBuf>,
@@ -335,6 +341,7 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
         connect: args.connect.clone(),
         spawn: args.spawn,
         stdout: args.stdout,
+        serve: args.serve.clone(),
     };
     let mut recording = twin::output::session::Recording::new(&twin, &targets)?;
     let mut stats = twin::output::session::Stats::new(&twin);
@@ -364,7 +371,7 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
         w.flush()
             .with_context(|| format!("--trace: cannot write {}", p.display()))?;
     }
-    recording.finish(&twin)?;
+    let served = recording.finish(&twin)?;
     let summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), frames.written());
     if args.stdout {
         // Standard output carries the recording.
@@ -375,19 +382,25 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
     if let Some(p) = &args.summary {
         fs::write(p, summary.json()).with_context(|| format!("--summary: cannot write {}", p.display()))?;
     }
-    if summary.collision_abort {
+    let code = if summary.collision_abort {
         eprintln!("error: the run was aborted by a collision (collision.reaction = \"abort\")");
-        return Ok(ExitCode::from(exit::COLLISION_ABORT));
-    }
-    if let Some(f) = twin.program().controller().major_fault() {
+        exit::COLLISION_ABORT
+    } else if let Some(f) = twin.program().controller().major_fault() {
         eprintln!("error: the controller stopped on a {f}");
-        return Ok(ExitCode::from(exit::MAJOR_FAULT));
-    }
-    if summary.any_error() {
+        exit::MAJOR_FAULT
+    } else if summary.any_error() {
         eprintln!("error: an instruction reported an error (see the summary above)");
-        return Ok(ExitCode::from(exit::INSTRUCTION_ERROR));
+        exit::INSTRUCTION_ERROR
+    } else {
+        0
+    };
+    for address in served.addresses() {
+        eprintln!("serving the recording at {address} until Ctrl-C (open it with `rerun {address}`)");
     }
-    Ok(ExitCode::SUCCESS)
+    // What the user must see goes out before the wait (stdout may be a pipe).
+    std::io::stdout().flush()?;
+    served.wait();
+    Ok(ExitCode::from(code))
 }
 
 /// A one-line progress bar on stderr (indicatif), shown for runs longer

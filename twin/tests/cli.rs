@@ -228,3 +228,65 @@ fn rendering_without_a_runtime_dir_prints_no_mesa_noise() {
     assert_eq!(out.status.code(), Some(0), "{err}");
     assert!(!err.contains("XDG_RUNTIME_DIR"), "{err}");
 }
+
+/// A port nothing listens on now.
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("free port")
+        .port()
+}
+
+#[test]
+fn serve_refuses_a_busy_port_and_goes_on_serving_after_the_run() {
+    use std::io::BufRead as _;
+
+    let scene = root().join("scenes/indexing_table.toml");
+    let busy = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
+    let addr = busy.local_addr().expect("address").to_string();
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--serve", &addr])
+        .output()
+        .expect("run twin");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(74), "{err}");
+    assert!(err.contains(&format!("cannot serve a recording at {addr}")), "{err}");
+    drop(busy);
+
+    let port = free_port();
+    let mut child = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--serve", &format!("127.0.0.1:{port}")])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start twin");
+    let lines = std::io::BufReader::new(child.stderr.take().expect("stderr"));
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in lines.lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let expected = format!("serving the recording at rerun+http://127.0.0.1:{port}/proxy");
+    let mut seen = Vec::new();
+    let served = loop {
+        match rx.recv_timeout(std::time::Duration::from_secs(120)) {
+            Ok(line) if line.contains(&expected) => break true,
+            Ok(line) => seen.push(line),
+            Err(_) => break false,
+        }
+    };
+    let connected = std::net::TcpStream::connect(("127.0.0.1", port)).is_ok();
+    let still_running = child.try_wait().expect("try_wait").is_none();
+    child.kill().ok();
+    child.wait().ok();
+    assert!(served, "no {expected:?} in {seen:?}");
+    assert!(connected, "nothing listens on port {port} after the run");
+    assert!(still_running, "twin stopped serving after the run");
+}

@@ -34,6 +34,8 @@ pub struct RecordingTargets {
     pub spawn: bool,
     /// The `.rrd` stream on standard output.
     pub stdout: bool,
+    /// A gRPC server's `host:port` that viewers connect to.
+    pub serve: Option<String>,
 }
 
 impl RecordingTargets {
@@ -44,14 +46,16 @@ impl RecordingTargets {
             (self.connect.is_some(), "--connect"),
             (self.spawn, "--spawn"),
             (self.stdout, "--stdout"),
+            (self.serve.is_some(), "--serve"),
         ]
         .into_iter()
         .find_map(|(asked, flag)| asked.then_some(flag))
     }
 
-    /// Whether a viewer watches as the run goes (`--connect`, `--spawn`).
+    /// Whether a viewer may watch as the run goes (`--connect`, `--spawn`,
+    /// `--serve`).
     pub fn live(&self) -> bool {
-        self.connect.is_some() || self.spawn
+        self.connect.is_some() || self.spawn || self.serve.is_some()
     }
 }
 
@@ -75,6 +79,12 @@ mod tests {
             ..RecordingTargets::default()
         };
         assert_eq!(stdout_only.first_flag(), Some("--stdout"));
+        let serve_only = RecordingTargets {
+            serve: Some("127.0.0.1:9876".into()),
+            ..RecordingTargets::default()
+        };
+        assert_eq!(serve_only.first_flag(), Some("--serve"));
+        assert!(serve_only.live());
         assert!(!stdout_only.live());
         // What a build without the `rerun` feature prints (README, "Errors
         // and exit codes"); the refusal itself is `Recording::new` there.

@@ -40,6 +40,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use rerun::external::re_uri::ProxyUri;
+use rerun::grpc_server::GrpcServerSink;
 use rerun::sink::{FileSink, FileSinkError, GrpcSink, LogSink, SinkFlushError};
 use rerun::{RecordingStream, RecordingStreamBuilder, TimeCell};
 
@@ -57,6 +58,10 @@ pub const ROBOT_ENTITY: &str = "robot";
 
 /// Address of a Rerun viewer's gRPC proxy on this machine (`rerun` listens there by default).
 pub const DEFAULT_CONNECT_ADDR: &str = "127.0.0.1:9876";
+
+/// Where [`Sink::Serve`] listens by default: this machine only (give
+/// `0.0.0.0:9876` to let other machines connect).
+pub const DEFAULT_SERVE_ADDR: &str = "127.0.0.1:9876";
 
 /// How long [`Recorder::new`] waits for a TCP connection to a viewer.
 const CONNECT_PROBE_TIMEOUT: Duration = Duration::from_secs(2);
@@ -81,6 +86,12 @@ pub enum Sink {
     /// Write the `.rrd` stream to standard output (for `| rerun -`); refused
     /// when standard output is a terminal.
     Stdout,
+    /// Host a Rerun gRPC server at this `host:port` (default:
+    /// [`DEFAULT_SERVE_ADDR`]) that viewers connect to, as Rerun's own
+    /// `--serve-grpc` does: `rerun rerun+http://host:port/proxy`.
+    /// It keeps up to 1 GiB of the recording for viewers that connect late,
+    /// and goes on serving after the run while [`Served::wait`] waits.
+    Serve(String),
 }
 
 impl Sink {
@@ -133,6 +144,8 @@ pub struct Recorder {
     sim_time_ns: Option<i64>,
     /// Human-readable list of the sinks, for errors.
     sink_names: String,
+    /// The addresses of the [`Sink::Serve`] servers.
+    served: Vec<String>,
 }
 
 impl std::fmt::Debug for Recorder {
@@ -160,6 +173,8 @@ pub struct OpenSinks {
     blueprint: Option<rerun::blueprint::Blueprint>,
     sinks: Vec<Box<dyn LogSink>>,
     names: String,
+    /// The addresses of the [`Sink::Serve`] servers.
+    served: Vec<String>,
 }
 
 impl std::fmt::Debug for OpenSinks {
@@ -199,6 +214,7 @@ impl OpenSinks {
             stream,
             sim_time_ns: None,
             sink_names: self.names,
+            served: self.served,
         };
         for entity_path in ["/", ROBOT_ENTITY] {
             recorder.log_static(entity_path, &rerun::archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())?;
@@ -289,12 +305,22 @@ impl Recorder {
                     let (uri, _) = parse_viewer_address(&addr)?;
                     viewers.push(uri);
                 }
+                Sink::Serve(addr) => {
+                    let socket = parse_serve_address(addr)?;
+                    // The server binds on its own thread and only logs when it
+                    // cannot: try the address here, so a busy port is an error.
+                    std::net::TcpListener::bind(socket).map_err(|source| RecordingError::Serve {
+                        addr: addr.clone(),
+                        source,
+                    })?;
+                }
                 Sink::File(_) | Sink::Stdout => {}
             }
         }
 
         let mut log_sinks: Vec<Box<dyn LogSink>> = Vec::with_capacity(sinks.len());
         let mut names = Vec::with_capacity(sinks.len());
+        let mut served = Vec::new();
         let mut viewers = viewers.into_iter();
         for sink in sinks {
             match sink {
@@ -316,6 +342,19 @@ impl Recorder {
                     log_sinks.push(Box::new(sink));
                     names.push("standard output".to_owned());
                 }
+                Sink::Serve(addr) => {
+                    let socket = parse_serve_address(addr)?;
+                    let server =
+                        GrpcServerSink::new(&socket.ip().to_string(), socket.port(), rerun::ServerOptions::default())
+                            .map_err(|e| RecordingError::Serve {
+                            addr: addr.clone(),
+                            source: std::io::Error::new(std::io::ErrorKind::InvalidInput, e),
+                        })?;
+                    let uri = server.uri().to_string();
+                    names.push(format!("server {uri}"));
+                    served.push(uri);
+                    log_sinks.push(Box::new(server));
+                }
             }
         }
 
@@ -325,6 +364,7 @@ impl Recorder {
             blueprint,
             sinks: log_sinks,
             names: names.join(", "),
+            served,
         })
     }
 
@@ -677,12 +717,32 @@ impl Recorder {
     /// [`RecordingError::Flush`] when not everything reached the sinks (a
     /// viewer that went away, a full disk, or a timeout of 20 s). The stream
     /// is closed and the file finished either way.
-    pub fn finish(self) -> Result<(), RecordingError> {
-        let Self { stream, sink_names, .. } = self;
+    ///
+    /// With a [`Sink::Serve`] server, the files are finished and the stream
+    /// stays open: the returned [`Served`] keeps the server up.
+    pub fn finish(self) -> Result<Served, RecordingError> {
+        let Self {
+            stream,
+            sink_names,
+            served,
+            ..
+        } = self;
         let flushed = stream.flush_with_timeout(FINISH_FLUSH_TIMEOUT);
         // Closes the file sinks now, which writes their footers, whatever the
         // viewer connections are doing.
         stream.finalize_deferred_sinks();
+        if !served.is_empty() {
+            return match flushed {
+                Ok(()) => Ok(Served {
+                    stream: Some(stream),
+                    addresses: served,
+                }),
+                Err(source) => Err(RecordingError::Flush {
+                    sinks: sink_names,
+                    source,
+                }),
+            };
+        }
         // Dropping the last handle shuts down the gRPC clients, and Rerun waits
         // without limit for a viewer that is connected but stuck. Do it on a
         // helper thread and stop waiting after a while: the files are complete.
@@ -699,7 +759,7 @@ impl Recorder {
             Err(_) => true,
         };
         match (flushed, closed) {
-            (Ok(()), true) => Ok(()),
+            (Ok(()), true) => Ok(Served::default()),
             (Err(source), _) => Err(RecordingError::Flush {
                 sinks: sink_names,
                 source,
@@ -822,6 +882,55 @@ fn create_file_sink(path: &Path) -> Result<FileSink, RecordingError> {
             source,
         },
     })
+}
+
+/// What [`Recorder::finish`] leaves running: the [`Sink::Serve`] servers,
+/// if any.
+#[derive(Default)]
+pub struct Served {
+    stream: Option<RecordingStream>,
+    addresses: Vec<String>,
+}
+
+impl std::fmt::Debug for Served {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Served")
+            .field("addresses", &self.addresses)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Served {
+    /// The servers' addresses (`rerun+http://host:port/proxy`), for
+    /// `rerun --connect`; empty when nothing is served.
+    pub fn addresses(&self) -> &[String] {
+        &self.addresses
+    }
+
+    /// Serves for as long as the process lives (Ctrl-C ends it); returns at
+    /// once when nothing is served.
+    pub fn wait(self) {
+        if self.stream.is_some() {
+            loop {
+                std::thread::park();
+            }
+        }
+    }
+}
+
+/// A [`Sink::Serve`] address, `host:port`, as the socket address to bind.
+fn parse_serve_address(addr: &str) -> Result<SocketAddr, RecordingError> {
+    addr.trim()
+        .to_socket_addrs()
+        .ok()
+        .and_then(|mut a| a.next())
+        .ok_or_else(|| RecordingError::Serve {
+            addr: addr.to_owned(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "expected host:port, e.g. 127.0.0.1:9876",
+            ),
+        })
 }
 
 /// Turns `host:port` or a `rerun+http(s)://host:port/proxy` URL into Rerun's

@@ -2,6 +2,8 @@
 //! recording, and the summary.
 
 #[cfg(feature = "rerun")]
+pub use crate::output::recording::Served;
+#[cfg(feature = "rerun")]
 pub use crate::output::recording::run::Recording;
 use crate::output::status::{describe, describe_bits, error_codes};
 #[cfg(feature = "render")]
@@ -233,9 +235,25 @@ impl Recording {
     ///
     /// # Errors
     /// Never.
-    pub fn finish(self, _twin: &Twin) -> Result<(), OutputError> {
-        Ok(())
+    pub fn finish(self, _twin: &Twin) -> Result<Served, OutputError> {
+        Ok(Served)
     }
+}
+
+/// Nothing is served by a twin built without the `rerun` feature.
+#[cfg(not(feature = "rerun"))]
+#[derive(Debug, Default)]
+pub struct Served;
+
+#[cfg(not(feature = "rerun"))]
+impl Served {
+    /// No addresses.
+    pub fn addresses(&self) -> &[String] {
+        &[]
+    }
+
+    /// Returns at once.
+    pub fn wait(self) {}
 }
 
 /// Per-run statistics gathered each update.

@@ -145,6 +145,16 @@ pub enum RecordingError {
         /// What is wrong.
         defect: MeshDefect,
     },
+    /// A [`super::Sink::Serve`] address cannot be listened on (in use, not
+    /// this machine's, not allowed).
+    #[error("cannot serve a recording at {addr}")]
+    Serve {
+        /// The address as given.
+        addr: String,
+        /// Why binding failed.
+        #[source]
+        source: std::io::Error,
+    },
     /// The recording thread could not start, or stopped without a result.
     #[error("{why}")]
     Worker {

@@ -58,7 +58,7 @@ use std::collections::BTreeMap;
 
 use planner::instruction::{FbOutputs, MotionInstructionBits};
 
-use super::{Recorder, RecordingError, Sink, TextLevel, sim_time_ns, urdf_entity_paths};
+use super::{Recorder, RecordingError, Served, Sink, TextLevel, sim_time_ns, urdf_entity_paths};
 use crate::output::status::{describe, describe_bits};
 use crate::output::{COLLISION_TINT_RGBA, RecordingTargets};
 use crate::plant::mesh::TriMesh;
@@ -122,7 +122,7 @@ pub const BATCHES_IN_FLIGHT: usize = 8;
 /// needs to send only the new part of trails, events and contacts.
 struct Feed {
     sender: std::sync::mpsc::SyncSender<Batch>,
-    worker: std::thread::JoinHandle<Result<(), RecordingError>>,
+    worker: std::thread::JoinHandle<Result<Served, RecordingError>>,
     batch: Batch,
     /// Per tool trail: points sent so far, pieces sent so far, and
     /// whether it is logged (the first of the systems sharing its link).
@@ -222,6 +222,9 @@ impl Recording {
         if targets.stdout {
             sinks.push(Sink::Stdout);
         }
+        if let Some(a) = &targets.serve {
+            sinks.push(Sink::Serve(a.clone()));
+        }
         if sinks.is_empty() {
             return Ok(Recording { inner: None });
         }
@@ -313,7 +316,7 @@ impl Recording {
             if feed.sender.send(batch).is_err() {
                 // The thread has stopped: its result says why.
                 let inner = self.inner.take();
-                return inner.map_or(Ok(()), |feed| feed.join());
+                return inner.map_or(Ok(()), |feed| feed.join().map(drop));
             }
         }
         Ok(())
@@ -322,13 +325,14 @@ impl Recording {
     /// Logs the tool trails' last pieces, hands over what has gathered, and
     /// waits for the recording thread to send everything, flush and close
     /// the stream (the `.rrd` gets its footer). `twin` is the twin as last
-    /// logged.
+    /// logged. With `--serve`, the server stays up in the returned
+    /// [`Served`].
     ///
     /// # Errors
     /// [`RecordingError`] when logging or flushing fails.
-    pub fn finish(self, twin: &Twin) -> Result<(), RecordingError> {
+    pub fn finish(self, twin: &Twin) -> Result<Served, RecordingError> {
         let Some(mut feed) = self.inner else {
-            return Ok(());
+            return Ok(Served::default());
         };
         let t = sim_time_ns(twin.time_s()).unwrap_or(0);
         feed.trails(twin, t);
@@ -479,7 +483,7 @@ impl Feed {
     }
 
     /// Closes the channel and waits for the recording thread's result.
-    fn join(self) -> Result<(), RecordingError> {
+    fn join(self) -> Result<Served, RecordingError> {
         drop(self.sender);
         self.worker.join().unwrap_or_else(|_| {
             Err(RecordingError::Worker {
@@ -622,7 +626,7 @@ impl Logged {
         meshes: &[StaticMesh],
         styles: &[Style],
         batches: &std::sync::mpsc::Receiver<Batch>,
-    ) -> Result<(), RecordingError> {
+    ) -> Result<Served, RecordingError> {
         self.recorder.set_time_ns(0);
         for (path, mesh, rgba, local) in meshes {
             self.recorder.log_link_mesh_static(path, mesh, *rgba, *local)?;
