@@ -1,9 +1,16 @@
 //! STL loading (binary and ASCII) into the shared [`TriMesh`].
 //!
-//! A small parser of our own rather than a crate: the format is tiny, and
-//! owning it lets every error name the file and say exactly what is wrong
-//! (truncation, a header that lies about its triangle count, NaN coordinates),
-//! which the URDF loader then wraps with the link that referenced the mesh.
+//! mesh-loader (already here for COLLADA) reads the file; this module
+//! decides what the file is, checks what mesh-loader lets pass, and names
+//! the file and the defect in every error, which the URDF loader then wraps
+//! with the link that referenced the mesh:
+//! - a binary file's header count is checked against its size (mesh-loader
+//!   trusts the size, so a file cut at a triangle boundary would silently
+//!   lose triangles): [`StlError::Truncated`], [`StlError::TriangleCountMismatch`];
+//! - NaN and infinite coordinates parse, and are refused with the
+//!   triangle's index ([`StlError::NonFinite`]);
+//! - an ASCII grammar error carries mesh-loader's line, column and reason
+//!   ([`StlError::MalformedAscii`]).
 //!
 //! Choices the format leaves open:
 //! - Vertices are not shared: each triangle gets its own three vertices so the
@@ -70,6 +77,17 @@ pub enum StlError {
         /// Complete 50-byte triangle records present after the header.
         in_file: usize,
     },
+    /// A binary file has bytes after its last triangle that are not a line
+    /// break.
+    #[error("STL file {path} has {bytes} stray bytes after its {declared} triangles")]
+    TrailingBytes {
+        /// The file.
+        path: PathBuf,
+        /// Triangle count written in the header.
+        declared: u32,
+        /// Bytes after the last triangle.
+        bytes: usize,
+    },
     /// A vertex coordinate is NaN or infinite.
     #[error("STL file {path} has a non-finite coordinate in triangle {triangle}")]
     NonFinite {
@@ -79,12 +97,12 @@ pub enum StlError {
         triangle: usize,
     },
     /// An ASCII file does not follow the `facet normal / outer loop / vertex` grammar.
-    #[error("ASCII STL file {path} is malformed at line {line}")]
+    #[error("ASCII STL file {path} is malformed at {at}")]
     MalformedAscii {
         /// The file.
         path: PathBuf,
-        /// One-based line number where parsing failed.
-        line: usize,
+        /// Where and why (boxed: errors stay small).
+        at: Box<AsciiDefect>,
     },
     /// The file contains no triangles at all.
     #[error("STL file {path} contains no triangles")]
@@ -92,6 +110,23 @@ pub enum StlError {
         /// The file.
         path: PathBuf,
     },
+}
+
+/// Where an ASCII STL file breaks the grammar, and how.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AsciiDefect {
+    /// One-based line number where parsing failed.
+    pub line: usize,
+    /// One-based column.
+    pub column: usize,
+    /// What was expected there (mesh-loader's words).
+    pub reason: String,
+}
+
+impl std::fmt::Display for AsciiDefect {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "line {}, column {}: {}", self.line, self.column, self.reason)
+    }
 }
 
 /// Loads an STL file (binary or ASCII) as a flat-shaded [`TriMesh`] in the
@@ -113,7 +148,8 @@ pub fn load_stl(path: &Path) -> Result<TriMesh, StlError> {
 ///
 /// # Errors
 /// [`StlError::NotStl`], [`StlError::Truncated`], [`StlError::TriangleCountMismatch`],
-/// [`StlError::NonFinite`], [`StlError::MalformedAscii`] or [`StlError::Empty`].
+/// [`StlError::TrailingBytes`], [`StlError::NonFinite`], [`StlError::MalformedAscii`]
+/// or [`StlError::Empty`].
 ///
 /// # Examples
 /// ```
@@ -139,11 +175,23 @@ pub fn parse_stl(bytes: &[u8], path: &Path) -> Result<TriMesh, StlError> {
             path: path.to_path_buf(),
         });
     }
-    let triangles = if exact_binary || !looks_ascii {
-        parse_binary(bytes, path)?
-    } else {
-        parse_ascii(bytes, path)?
-    };
+    if exact_binary || !looks_ascii {
+        check_binary_size(bytes, path)?;
+    }
+    let scene = mesh_loader::stl::from_slice(bytes).map_err(|e| malformed(&e, path))?;
+    let triangles: Vec<Facet> = scene
+        .meshes
+        .iter()
+        .flat_map(|mesh| {
+            mesh.faces.iter().map(|face| {
+                let corner = |k: usize| face[k] as usize;
+                Facet {
+                    normal: mesh.normals.get(corner(0)).copied().unwrap_or_default(),
+                    vertices: [0, 1, 2].map(|k| mesh.vertices.get(corner(k)).copied().unwrap_or([f32::NAN; 3])),
+                }
+            })
+        })
+        .collect();
     if triangles.is_empty() {
         return Err(StlError::Empty {
             path: path.to_path_buf(),
@@ -171,14 +219,14 @@ fn declared_binary_count(bytes: &[u8]) -> Option<u32> {
     Some(u32::from_le_bytes(count))
 }
 
-fn parse_binary(bytes: &[u8], path: &Path) -> Result<Vec<Facet>, StlError> {
+/// A binary file holds exactly the triangles its header declares.
+fn check_binary_size(bytes: &[u8], path: &Path) -> Result<(), StlError> {
     let declared = declared_binary_count(bytes).ok_or_else(|| StlError::Truncated {
         path: path.to_path_buf(),
         expected_bytes: BINARY_HEADER_BYTES,
         actual_bytes: bytes.len(),
     })?;
-    let body = &bytes[BINARY_HEADER_BYTES..];
-    let in_file = body.len() / BINARY_TRIANGLE_BYTES;
+    let in_file = (bytes.len() - BINARY_HEADER_BYTES) / BINARY_TRIANGLE_BYTES;
     if in_file < declared as usize {
         return Err(StlError::Truncated {
             path: path.to_path_buf(),
@@ -193,89 +241,37 @@ fn parse_binary(bytes: &[u8], path: &Path) -> Result<Vec<Facet>, StlError> {
             in_file,
         });
     }
-    let f32_at = |record: &[u8], i: usize| {
-        let mut b = [0u8; 4];
-        b.copy_from_slice(&record[4 * i..4 * i + 4]);
-        f32::from_le_bytes(b)
-    };
-    Ok(body
-        .chunks_exact(BINARY_TRIANGLE_BYTES)
-        .map(|record| {
-            let v = |k: usize| [f32_at(record, k), f32_at(record, k + 1), f32_at(record, k + 2)];
-            Facet {
-                normal: v(0),
-                vertices: [v(3), v(6), v(9)],
-            }
-        })
-        .collect())
-}
-
-fn parse_ascii(bytes: &[u8], path: &Path) -> Result<Vec<Facet>, StlError> {
-    let malformed = |line: usize| StlError::MalformedAscii {
-        path: path.to_path_buf(),
-        line,
-    };
-    let text = String::from_utf8_lossy(bytes);
-    let mut facets = Vec::new();
-    // State of the facet being read: its normal and the vertices seen so far.
-    let mut current: Option<([f32; 3], Vec<[f32; 3]>)> = None;
-    let mut ended = false;
-    for (i, raw) in text.lines().enumerate() {
-        let line_no = i + 1;
-        let mut words = raw.split_whitespace();
-        let Some(keyword) = words.next() else {
-            continue;
-        };
-        let rest: Vec<&str> = words.collect();
-        match keyword {
-            "solid" if i == 0 || facets.is_empty() && current.is_none() => {}
-            "facet" if current.is_none() => {
-                let normal = match rest.as_slice() {
-                    ["normal", x, y, z] => parse3(x, y, z).ok_or_else(|| malformed(line_no))?,
-                    _ => return Err(malformed(line_no)),
-                };
-                current = Some((normal, Vec::with_capacity(3)));
-            }
-            "outer" if current.is_some() && rest == ["loop"] => {}
-            "vertex" => {
-                let (_, vertices) = current.as_mut().ok_or_else(|| malformed(line_no))?;
-                let v = match rest.as_slice() {
-                    [x, y, z] => parse3(x, y, z).ok_or_else(|| malformed(line_no))?,
-                    _ => return Err(malformed(line_no)),
-                };
-                if vertices.len() == 3 {
-                    return Err(malformed(line_no));
-                }
-                vertices.push(v);
-            }
-            "endloop" if current.is_some() => {}
-            "endfacet" => {
-                let (normal, vertices) = current.take().ok_or_else(|| malformed(line_no))?;
-                let vertices: [[f32; 3]; 3] = vertices.try_into().map_err(|_| malformed(line_no))?;
-                facets.push(Facet { normal, vertices });
-            }
-            "endsolid" if current.is_none() => {
-                ended = true;
-                break;
-            }
-            _ => return Err(malformed(line_no)),
-        }
-    }
-    if current.is_some() || !ended {
-        // The text stops inside a facet or before `endsolid`.
-        return Err(StlError::Truncated {
+    // Some exporters end the file with a line break; anything else is not
+    // a triangle.
+    let rest = &bytes[BINARY_HEADER_BYTES + in_file * BINARY_TRIANGLE_BYTES..];
+    if !rest.is_empty() && rest != b"\n" && rest != b"\r\n" {
+        return Err(StlError::TrailingBytes {
             path: path.to_path_buf(),
-            expected_bytes: bytes.len() + 1,
-            actual_bytes: bytes.len(),
+            declared,
+            bytes: rest.len(),
         });
     }
-    Ok(facets)
+    Ok(())
 }
 
-/// Parses three ASCII numbers; NaN and infinities parse and are caught later
-/// with the triangle index.
-fn parse3(x: &str, y: &str, z: &str) -> Option<[f32; 3]> {
-    Some([x.parse().ok()?, y.parse().ok()?, z.parse().ok()?])
+/// mesh-loader's error, `"<reason> (<line>:<column>)"`, as
+/// [`StlError::MalformedAscii`] (binary files reach it only through
+/// [`check_binary_size`], which refuses every size it would).
+fn malformed(e: &std::io::Error, path: &Path) -> StlError {
+    let text = e.to_string();
+    let (reason, place) = text
+        .strip_suffix(')')
+        .and_then(|t| t.rsplit_once(" ("))
+        .unwrap_or((text.as_str(), ""));
+    let mut numbers = place.split(':').map(|n| n.parse::<usize>().unwrap_or(0));
+    StlError::MalformedAscii {
+        path: path.to_path_buf(),
+        at: Box::new(AsciiDefect {
+            line: numbers.next().unwrap_or(0),
+            column: numbers.next().unwrap_or(0),
+            reason: reason.to_owned(),
+        }),
+    }
 }
 
 fn to_trimesh(facets: &[Facet]) -> TriMesh {
@@ -426,23 +422,53 @@ mod tests {
     }
 
     #[test]
-    fn ascii_errors_name_line_or_truncation() {
-        let two_vertices =
-            "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid a\n";
+    fn ascii_errors_name_line_column_and_reason() {
+        let cases = [
+            // A facet with two vertices: `endloop` comes where the third is due.
+            (
+                "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid a\n",
+                6,
+            ),
+            // The text stops inside a facet.
+            ("solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n", 5),
+            // A word where a number is due.
+            ("solid a\nfacet normal x 0 1\n", 2),
+        ];
+        for (text, expected_line) in cases {
+            match parse_stl(text.as_bytes(), Path::new(P)) {
+                Err(ref e @ StlError::MalformedAscii { ref at, .. }) => {
+                    let (line, column) = (at.line, at.column);
+                    assert_eq!(line, expected_line, "{e}");
+                    assert!(column >= 1, "{e}");
+                    let message = e.to_string();
+                    assert!(
+                        message.starts_with(&format!(
+                            "ASCII STL file {P} is malformed at line {line}, column {column}: "
+                        )),
+                        "{message}"
+                    );
+                    assert!(!message.ends_with(": "), "a reason: {message}");
+                }
+                other => panic!("{text:?}: unexpected {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn binary_with_stray_bytes_after_its_triangles_is_refused() {
+        let mut bytes = binary(&[TRI], 1);
+        bytes.extend_from_slice(b"xyz");
         assert!(matches!(
-            parse_stl(two_vertices.as_bytes(), Path::new(P)),
-            Err(StlError::MalformedAscii { line: 7, .. })
+            parse_stl(&bytes, Path::new(P)),
+            Err(StlError::TrailingBytes {
+                declared: 1,
+                bytes: 3,
+                ..
+            })
         ));
-        let cut = "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n";
-        assert!(matches!(
-            parse_stl(cut.as_bytes(), Path::new(P)),
-            Err(StlError::Truncated { .. })
-        ));
-        let garbage = "solid a\nfacet normal x 0 1\n";
-        assert!(matches!(
-            parse_stl(garbage.as_bytes(), Path::new(P)),
-            Err(StlError::MalformedAscii { line: 2, .. })
-        ));
+        let mut newline = binary(&[TRI], 1);
+        newline.push(b'\n');
+        assert_eq!(parse_stl(&newline, Path::new(P)).unwrap().indices.len(), 3);
     }
 
     #[test]
