@@ -1,5 +1,7 @@
 //! The pinhole camera and the view/projection it gives the shader.
 
+use glam::Vec3;
+
 use super::math::{self, Mat4};
 use super::{CameraProblem, NEAR_PLANE_M, RenderError};
 
@@ -61,23 +63,29 @@ impl Camera {
             });
         }
         let (eye, target) = (self.eye_in_world, self.target_in_world);
-        let forward = math::normalize(math::sub(target, eye)).ok_or(RenderError::Camera {
-            problem: CameraProblem::EyeOnTarget,
-        })?;
-        let up = math::normalize(self.up_in_world).ok_or(RenderError::Camera {
-            problem: CameraProblem::UpAlongView,
-        })?;
-        let view = math::look_at(eye, target, up).ok_or(RenderError::Camera {
+        let forward = (Vec3::from(target) - Vec3::from(eye))
+            .try_normalize()
+            .ok_or(RenderError::Camera {
+                problem: CameraProblem::EyeOnTarget,
+            })?;
+        let up = Vec3::from(self.up_in_world)
+            .try_normalize()
+            .ok_or(RenderError::Camera {
+                problem: CameraProblem::UpAlongView,
+            })?;
+        let view = math::look_at(eye, target, up.to_array()).ok_or(RenderError::Camera {
             problem: CameraProblem::UpAlongView,
         })?;
         let aspect = width_px as f32 / height_px as f32;
         let proj = math::perspective_reversed_infinite(self.fov_y_deg.to_radians(), aspect, NEAR_PLANE_M);
-        let right = math::normalize(math::cross(forward, up)).ok_or(RenderError::Camera {
+        let right = forward.cross(up).try_normalize().ok_or(RenderError::Camera {
             problem: CameraProblem::UpAlongView,
         })?;
         // Above, behind and to the left of the camera.
-        let mix: [f32; 3] = std::array::from_fn(|k| 1.0 * up[k] - 0.6 * forward[k] - 0.5 * right[k]);
-        let to_light_in_world = math::normalize(mix).unwrap_or(up);
+        let to_light_in_world = (up - 0.6 * forward - 0.5 * right)
+            .try_normalize()
+            .unwrap_or(up)
+            .to_array();
         Ok(CameraFrame {
             clip_from_world: math::mul(&proj, &view),
             to_light_in_world,

@@ -165,7 +165,7 @@ pub(super) fn line_bytes(lines: &[LineStrip]) -> Result<Vec<u8>, RenderError> {
 /// Packs the `Globals` uniform block of `scene.wgsl`.
 pub(super) fn globals_bytes(camera: &Camera, frame: &CameraFrame) -> Vec<u8> {
     let eye = camera.eye_in_world;
-    let distance = math::length(math::sub(camera.target_in_world, eye));
+    let distance = glam::Vec3::from(camera.target_in_world).distance(glam::Vec3::from(eye));
     // The grid fades out between these distances from the eye (m), scaled
     // with the viewing distance so close-ups and overviews both look right.
     let fade_start = (1.5 * distance).max(2.0);

@@ -1,71 +1,43 @@
-//! Small column-major matrix helpers for the renderer (f32, like the GPU).
+//! The renderer's matrix math, through glam (f32, like the GPU).
 //!
-//! Matrices are `[[f32; 4]; 4]` arrays of columns: `m[c][r]` is row `r` of
-//! column `c`, the layout WGSL's `mat4x4<f32>` expects.
+//! Matrices cross module and GPU boundaries as `[[f32; 4]; 4]` arrays of
+//! columns: `m[c][r]` is row `r` of column `c`, the layout WGSL's
+//! `mat4x4<f32>` expects (and glam's `from_cols_array_2d`). What glam
+//! leaves to the caller is decided here: a degenerate camera is `None`
+//! instead of a NaN matrix, and the normal matrix stays defined for
+//! singular transforms.
+
+use glam::camera::rh::{proj::directx, view};
+use glam::{Mat4 as Matrix, Vec3};
 
 /// A column-major 4x4 matrix.
 pub(crate) type Mat4 = [[f32; 4]; 4];
 
-pub(crate) fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-pub(crate) fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub(crate) fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-pub(crate) fn length(a: [f32; 3]) -> f32 {
-    dot(a, a).sqrt()
-}
-
-/// `a / |a|`, or `None` when `a` is (nearly) zero or not finite.
-pub(crate) fn normalize(a: [f32; 3]) -> Option<[f32; 3]> {
-    let len = length(a);
-    (len.is_finite() && len > 1e-12).then(|| a.map(|c| c / len))
-}
-
 pub(crate) fn mul(a: &Mat4, b: &Mat4) -> Mat4 {
-    std::array::from_fn(|c| std::array::from_fn(|r| (0..4).map(|k| a[k][r] * b[c][k]).sum()))
+    (Matrix::from_cols_array_2d(a) * Matrix::from_cols_array_2d(b)).to_cols_array_2d()
 }
 
 pub(crate) fn transform_point(m: &Mat4, p: [f32; 3]) -> [f32; 4] {
-    std::array::from_fn(|r| m[0][r] * p[0] + m[1][r] * p[1] + m[2][r] * p[2] + m[3][r])
+    (Matrix::from_cols_array_2d(m) * Vec3::from(p).extend(1.0)).to_array()
 }
 
 /// Right-handed view matrix: the camera at `eye` looks along -Z_view towards
 /// `target`, +Y_view is `up` projected onto the image plane. `None` when the
 /// eye sits on the target or `up` is parallel to the viewing direction.
 pub(crate) fn look_at(eye: [f32; 3], target: [f32; 3], up: [f32; 3]) -> Option<Mat4> {
-    let f = normalize(sub(target, eye))?;
-    let s = normalize(cross(f, normalize(up)?))?;
-    let u = cross(s, f);
-    Some([
-        [s[0], u[0], -f[0], 0.0],
-        [s[1], u[1], -f[1], 0.0],
-        [s[2], u[2], -f[2], 0.0],
-        [-dot(s, eye), -dot(u, eye), dot(f, eye), 1.0],
-    ])
+    let eye = Vec3::from(eye);
+    let forward = (Vec3::from(target) - eye).try_normalize()?;
+    let up = Vec3::from(up).try_normalize()?;
+    forward.cross(up).try_normalize()?;
+    Some(view::look_to_mat4(eye, forward, up).to_cols_array_2d())
 }
 
 /// Perspective projection with reversed depth and an infinite far plane:
 /// depth 1 at `near_m`, tending to 0 at infinity (best precision with a
 /// floating-point depth buffer). Clip space is wgpu's (depth 0..1, +Y up).
 pub(crate) fn perspective_reversed_infinite(fov_y_rad: f32, aspect: f32, near_m: f32) -> Mat4 {
-    let f = 1.0 / (0.5 * fov_y_rad).tan();
-    [
-        [f / aspect, 0.0, 0.0, 0.0],
-        [0.0, f, 0.0, 0.0],
-        [0.0, 0.0, 0.0, -1.0],
-        [0.0, 0.0, near_m, 0.0],
-    ]
+    // WebGPU's clip space is DirectX's.
+    directx::perspective_infinite_reverse(fov_y_rad, aspect, near_m).to_cols_array_2d()
 }
 
 /// Normal matrix of an affine transform (columns, xyz used) scaled by a
@@ -73,19 +45,20 @@ pub(crate) fn perspective_reversed_infinite(fov_y_rad: f32, aspect: f32, near_m:
 /// It is the cofactor matrix (det * inverse transpose) with the sign of det
 /// removed, so it stays defined for singular matrices.
 pub(crate) fn normal_matrix(m: &Mat4) -> ([[f32; 3]; 3], f32) {
-    let col = |c: usize| [m[c][0], m[c][1], m[c][2]];
-    let cof = [cross(col(1), col(2)), cross(col(2), col(0)), cross(col(0), col(1))];
-    let det = dot(col(0), cof[0]);
+    let m = Matrix::from_cols_array_2d(m);
+    let (c0, c1, c2) = (m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate());
+    let cof = [c1.cross(c2), c2.cross(c0), c0.cross(c1)];
+    let det = c0.dot(cof[0]);
     let sign = if det < 0.0 { -1.0 } else { 1.0 };
     // Scale so the largest column has unit length: keeps tiny or huge
     // scales within f32 range before the shader renormalises.
-    let largest = cof.iter().map(|c| length(*c)).fold(0.0_f32, f32::max);
+    let largest = cof.iter().map(|c| c.length()).fold(0.0_f32, f32::max);
     let scale = if largest > 0.0 && largest.is_finite() {
         sign / largest
     } else {
         sign
     };
-    (cof.map(|c| c.map(|v| v * scale)), sign)
+    (cof.map(|c| (c * scale).to_array()), sign)
 }
 
 /// Linear value of an sRGB-encoded channel (0..1).
@@ -105,7 +78,7 @@ mod tests {
     fn look_at_maps_target_onto_negative_view_z() {
         let view = look_at([3.0, -2.0, 1.5], [0.0, 0.0, 0.5], [0.0, 0.0, 1.0]).expect("valid camera");
         let t = transform_point(&view, [0.0, 0.0, 0.5]);
-        let dist = length(sub([3.0, -2.0, 1.5], [0.0, 0.0, 0.5]));
+        let dist = Vec3::new(3.0, -2.0, 1.5).distance(Vec3::new(0.0, 0.0, 0.5));
         assert!(t[0].abs() < 1e-5 && t[1].abs() < 1e-5);
         assert!((t[2] + dist).abs() < 1e-5);
         // World up is up on screen: a point above the target has view y > 0.

@@ -65,7 +65,9 @@ fn scene(renderer: &mut Renderer) -> Scene {
         tint_rgba: None,
     };
     let eye = camera.eye_in_world;
-    let away = math::normalize(math::sub(BOX_CENTRE, eye)).expect("eye is not on the box");
+    let away = (glam::Vec3::from(BOX_CENTRE) - glam::Vec3::from(eye))
+        .try_normalize()
+        .expect("eye is not on the box");
     let hidden_centre: [f32; 3] = std::array::from_fn(|k| BOX_CENTRE[k] + 0.45 * away[k]);
     let trail = LineStrip {
         points_in_world: (0..=40)
@@ -148,7 +150,10 @@ fn scene_shows_shapes_grid_lighting_and_background() {
         .iter()
         .map(|n: &[f32; 3]| {
             let face_centre: [f32; 3] = std::array::from_fn(|k| BOX_CENTRE[k] + 0.9 * BOX_HALF * n[k]);
-            (math::dot(*n, light), luma(pixel_at(&img, &s.camera, face_centre)))
+            (
+                glam::Vec3::from(*n).dot(glam::Vec3::from(light)),
+                luma(pixel_at(&img, &s.camera, face_centre)),
+            )
         })
         .collect();
     faces.sort_by(|a, b| a.0.total_cmp(&b.0));
