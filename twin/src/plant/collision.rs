@@ -402,6 +402,10 @@ impl CollisionModel {
         } else {
             f64::INFINITY
         };
+        // Bounded work: at most MAX_SWEEP_SAMPLES poses; a path that would
+        // need more at this resolution is checked more coarsely (the
+        // report's `step_bound` says how coarsely).
+        let min_step = min_step.max(length / MAX_SWEEP_SAMPLES as f64);
         let mut report = SweepReport {
             collision: None,
             samples: 0,
@@ -438,7 +442,9 @@ impl CollisionModel {
                 .map(|(d, r)| d / r)
                 .fold(f64::INFINITY, f64::min);
             let step = safe.max(min_step);
-            s = if step.is_finite() {
+            // The budget's last pose is the path's end (rounding in the
+            // steps above may leave a sliver).
+            s = if step.is_finite() && report.samples < MAX_SWEEP_SAMPLES {
                 (s + step).min(length)
             } else {
                 length
@@ -480,6 +486,12 @@ pub struct PredictedCollision {
     /// planned path lies in `[parameter - bound, parameter]`.
     pub bound: f64,
 }
+
+/// The most poses one pre-flight sweep checks (bounded work, whatever the
+/// path's length): a path that needs more at `sweep_resolution_m` is
+/// checked with steps of `length / MAX_SWEEP_SAMPLES`, reported as the
+/// sweep's `step_bound`.
+pub const MAX_SWEEP_SAMPLES: usize = 100_000;
 
 /// What a sweep did.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -25,6 +25,9 @@ pub(super) enum NameKind {
     Tag(TagType),
 }
 
+/// The longest name that output files are named after, in characters.
+const MAX_FILE_NAME_PART: usize = 100;
+
 impl Ctx<'_> {
     pub(super) fn location(&self, byte: usize) -> Location {
         let byte = byte.min(self.text.len());
@@ -299,6 +302,27 @@ impl Ctx<'_> {
             Err(self.invalid(v, field, Problem::Empty))
         } else {
             Ok(v.get_ref().clone())
+        }
+    }
+
+    /// A name that output files are named after (the scene, a camera):
+    /// one path component that stays inside the output folder.
+    pub(super) fn file_name_part(&self, v: &Spanned<String>, field: &str) -> Result<String, SceneError> {
+        let name = self.nonempty_name(v, field)?;
+        let why = if name.contains(['/', '\\']) {
+            Some("it holds a path separator ('/' or '\\')")
+        } else if name.starts_with('.') {
+            Some("it starts with '.'")
+        } else if name.chars().any(char::is_control) {
+            Some("it holds a control character")
+        } else if name.chars().count() > MAX_FILE_NAME_PART {
+            Some("it is longer than 100 characters")
+        } else {
+            None
+        };
+        match why {
+            Some(why) => Err(self.invalid(v, field, Problem::NotAFileName { name, why })),
+            None => Ok(name),
         }
     }
 

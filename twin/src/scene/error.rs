@@ -73,6 +73,15 @@ pub enum Problem {
     /// An empty name.
     #[error("must not be empty")]
     Empty,
+    /// A name that becomes part of an output file's name but could leave
+    /// its folder or hide the file.
+    #[error("'{name}' cannot be part of a file name: {why}")]
+    NotAFileName {
+        /// The name.
+        name: String,
+        /// What is wrong with it.
+        why: &'static str,
+    },
     /// Not an ST identifier.
     #[error("'{name}' is not a valid tag name (letters, digits and '_', not starting with a digit)")]
     InvalidName {
@@ -200,6 +209,16 @@ pub enum Problem {
     BadArrayLength {
         /// The type as written.
         type_name: String,
+    },
+    /// An array longer than its type allows.
+    #[error("'{type_name}' has more than {max} elements ({why})")]
+    ArrayTooLong {
+        /// The type as written.
+        type_name: String,
+        /// The most elements allowed.
+        max: usize,
+        /// Where the limit comes from.
+        why: &'static str,
     },
     /// An array of a type that cannot be an array here.
     #[error("{base} cannot be declared as an array")]

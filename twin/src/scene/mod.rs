@@ -48,8 +48,9 @@ pub use collision::{AllowedPair, CollisionSettings, MeshApproximation, Preflight
 pub use error::{Problem, SceneError};
 pub use geometry::{GEOMETRY_TYPES, GeometrySettings};
 pub use model::{
-    Axis, AxisKind, BaseType, CamPoint, Camera, CoordinateSystemSettings, FunctionBlock, Location, MotorGains,
-    Obstacle, Robot, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType, TagValue, Trigger, Units,
+    Axis, AxisKind, BaseType, CamPoint, Camera, CoordinateSystemSettings, FunctionBlock, Location, MAX_ARRAY_LEN,
+    MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MIN_PHYSICS_STEP_MS, MotorGains, Obstacle, Robot, Scene,
+    SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType, TagValue, Trigger, Units,
 };
 pub use tasks::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
 

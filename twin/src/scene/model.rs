@@ -30,11 +30,12 @@ pub struct Scene {
     pub name: String,
     /// The scene file as given to [`load`].
     pub path: PathBuf,
-    /// Simulated run time, seconds (> 0).
+    /// Simulated run time, seconds (> 0, at most [`MAX_DURATION_S`]).
     pub duration_s: f64,
     /// Planner coarse update period, milliseconds (1..=32).
     pub coarse_update_ms: f64,
-    /// Physics step, milliseconds; divides `coarse_update_ms` exactly.
+    /// Physics step, milliseconds (at least [`MIN_PHYSICS_STEP_MS`]);
+    /// divides `coarse_update_ms` exactly.
     pub physics_step_ms: f64,
     /// The robot model.
     pub robot: Robot,
@@ -512,6 +513,59 @@ impl BaseType {
             BaseType::Usint => Some((0, u8::MAX.into())),
             BaseType::Uint => Some((0, u16::MAX.into())),
             _ => None,
+        }
+    }
+}
+
+impl Scene {
+    /// Every file the scene reads: the scene itself, the URDF, every
+    /// routine, every obstacle mesh (the URDF's own meshes are the
+    /// plant's). Outputs must not be written over any of them.
+    pub fn input_files(&self) -> Vec<PathBuf> {
+        let mut files = vec![self.path.clone(), self.robot.urdf.clone()];
+        for task in &self.tasks {
+            for program in &task.programs {
+                files.push(program.main.path.clone());
+                files.extend(program.routines.iter().map(|r| r.path.clone()));
+            }
+        }
+        for o in &self.obstacles {
+            if let Shape::Mesh { path, .. } = &o.shape {
+                files.push(path.clone());
+            }
+        }
+        files
+    }
+}
+
+/// The widest or tallest camera image, pixels: the texture size every
+/// wgpu adapter supports (8192).
+pub const MAX_IMAGE_PX: u32 = 8192;
+
+/// The longest run a scene (or `--duration`) may ask for: 10⁶ s of
+/// simulated time (11.6 days), so that a run's length is always bounded.
+pub const MAX_DURATION_S: f64 = 1e6;
+
+/// The shortest physics step: 10 µs, at most 3,200 physics steps per
+/// coarse update (32 ms), so an update always ends.
+pub const MIN_PHYSICS_STEP_MS: f64 = 0.01;
+
+/// The most elements a `CAM` or `CAM_PROFILE` array may have: MCCP's
+/// `Length` operand is a UINT, so no longer cam can be calculated.
+pub const MAX_CAM_ARRAY_LEN: usize = 65_535;
+
+/// The most elements any other array tag may have. Logix limits arrays by
+/// controller memory; here a million elements (tens of MB) is the bound,
+/// checked before anything is allocated.
+pub const MAX_ARRAY_LEN: usize = 1_000_000;
+
+impl BaseType {
+    /// The most elements an array of this type may have
+    /// ([`MAX_CAM_ARRAY_LEN`] or [`MAX_ARRAY_LEN`]).
+    pub fn max_array_len(self) -> usize {
+        match self {
+            BaseType::Cam | BaseType::CamProfile => MAX_CAM_ARRAY_LEN,
+            _ => MAX_ARRAY_LEN,
         }
     }
 }

@@ -46,6 +46,21 @@ impl Ctx<'_> {
         if array_len.is_some() && matches!(base, BaseType::CoordinateSystem | BaseType::FunctionBlock(_)) {
             return Err(self.invalid(raw, field, Problem::ArrayNotAllowed { base: base.name() }));
         }
+        if let Some(len) = array_len
+            && len > base.max_array_len()
+        {
+            let why = if matches!(base, BaseType::Cam | BaseType::CamProfile) {
+                "MCCP's Length is a UINT"
+            } else {
+                "the twin's limit for an array tag"
+            };
+            let problem = Problem::ArrayTooLong {
+                type_name: written.to_owned(),
+                max: base.max_array_len(),
+                why,
+            };
+            return Err(self.invalid(raw, field, problem));
+        }
         Ok(TagType { base, array_len })
     }
 

@@ -763,3 +763,90 @@ fn move_options_are_checked_on_the_instance() {
     ));
     assert!(matches!(e.problem(), Some(Problem::MoveOptionsOnly)), "{e}");
 }
+
+#[test]
+fn huge_array_tags_are_refused_before_anything_is_allocated() {
+    // CAM[4294967296] used to abort allocating 103 GB; DINT[100000000]
+    // took 39 s and 7 GB. Both are refused at the type, at once.
+    let fixture = fixture_text();
+    let first = fixture.find("type = \"REAL[2]\"").expect("a REAL[2] tag");
+    for (ty, max) in [
+        ("CAM[4294967296]", 65_535),
+        ("CAM_PROFILE[65536]", 65_535),
+        ("DINT[100000000]", 1_000_000),
+        ("REAL[18446744073709551615]", 1_000_000),
+    ] {
+        let text = format!(
+            "{}type = \"{ty}\"{}",
+            &fixture[..first],
+            &fixture[first + "type = \"REAL[2]\"".len()..]
+        );
+        let started = std::time::Instant::now();
+        let e = error_of(&text);
+        assert!(
+            started.elapsed() < std::time::Duration::from_secs(5),
+            "{ty}: slow refusal"
+        );
+        let line = e.to_string();
+        assert!(line.contains(&format!("'{ty}' has more than {max} elements")), "{line}");
+        assert_eq!(e.location(), Some(find(&text, &format!("\"{ty}\""))), "{line}");
+    }
+    // The limits themselves are allowed.
+    let at_limit = format!(
+        "{}type = \"CAM[65535]\"{}",
+        &fixture[..first],
+        &fixture[first + "type = \"REAL[2]\"".len()..]
+    );
+    if let Err(e) = parse(&fixtures().join("case.toml"), &at_limit) {
+        assert!(!e.to_string().contains("elements ("), "{e}");
+    }
+}
+
+#[test]
+fn a_physics_step_too_short_to_finish_an_update_is_refused() {
+    // 4e-12 ms divides the update exactly and used to hang the run.
+    for step in ["4e-12", "0.001"] {
+        let text = edited("physics_step_ms = 1.0", &format!("physics_step_ms = {step}"));
+        let e = error_of(&text);
+        assert_place(&e, find(&text, step), "physics_step_ms");
+        assert!(e.to_string().contains("must be between 0.01 and"), "{e}");
+    }
+}
+
+#[test]
+fn a_run_longer_than_the_documented_bound_is_refused() {
+    let text = edited("duration_s = 8.0", "duration_s = 1e300");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "1e300"), "duration_s");
+}
+
+#[test]
+fn names_that_output_files_are_named_after_stay_inside_their_folder() {
+    // A camera named `../../x` or `/abs/path` made `--frames DIR` write
+    // outside DIR; the scene's name names snapshots and recordings.
+    for (from, bad, field, why) in [
+        ("name = \"iso\"", "../../x", "cameras[0].name", "path separator"),
+        ("name = \"iso\"", "/abs/path", "cameras[0].name", "path separator"),
+        ("name = \"iso\"", "a\\\\b", "cameras[0].name", "path separator"),
+        ("name = \"iso\"", "..", "cameras[0].name", "starts with '.'"),
+        ("name = \"iso\"", ".hidden", "cameras[0].name", "starts with '.'"),
+        ("name = \"iso\"", "tab\\there", "cameras[0].name", "control character"),
+        ("name = \"indexing_table\"", "../escape", "name", "path separator"),
+    ] {
+        let written = format!("name = \"{bad}\"");
+        let text = edited(from, &written);
+        let e = error_of(&text);
+        assert_place(&e, find(&text, &format!("\"{bad}\"")), field);
+        assert!(e.to_string().contains(why), "{e}");
+    }
+    // Spaces and dots inside are fine.
+    let text = edited("name = \"iso\"", "name = \"iso view 2.5\"");
+    parse(&fixtures().join("case.toml"), &text).expect("a plain name loads");
+}
+
+#[test]
+fn a_camera_image_beyond_the_texture_limit_is_refused() {
+    let text = edited("width = 640", "width = 1000000");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "1000000"), "cameras[0].width");
+}

@@ -12,21 +12,30 @@ use planner::mah::{HomeDirection, HomeMode, HomeSequence, Homing};
 use planner::servo::{AxisType, FaultAction};
 
 use super::{
-    Axis, AxisConfiguration, Camera, Ctx, MotorGains, NameKind, Names, Numbers, Obstacle, Problem, RawAxis, RawCamera,
-    RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, Robot, Scene, SceneError, ServoGains, Shape, ShapeKind,
-    Snapshots,
+    Axis, AxisConfiguration, Camera, Ctx, MAX_DURATION_S, MAX_IMAGE_PX, MIN_PHYSICS_STEP_MS, MotorGains, NameKind,
+    Names, Numbers, Obstacle, Problem, RawAxis, RawCamera, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots,
+    Robot, Scene, SceneError, ServoGains, Shape, ShapeKind, Snapshots,
 };
 
 impl Ctx<'_> {
     pub(super) fn validate(&self, raw: RawScene, path: &Path) -> Result<Scene, SceneError> {
         let base = path.parent().unwrap_or_else(|| Path::new(""));
         let name = match &raw.name {
-            Some(n) => self.nonempty_name(n, "name")?,
+            Some(n) => self.file_name_part(n, "name")?,
             None => path
                 .file_stem()
                 .map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
         };
         let duration_s = self.positive(&raw.duration_s, "duration_s")?;
+        if duration_s > MAX_DURATION_S {
+            let problem = Problem::OutOfRange {
+                value: duration_s,
+                min: 0.0,
+                max: MAX_DURATION_S,
+                exclusive: false,
+            };
+            return Err(self.invalid(&raw.duration_s, "duration_s", problem));
+        }
         let coarse_update_ms = self.finite(&raw.coarse_update_ms, "coarse_update_ms")?;
         if !(1.0..=32.0).contains(&coarse_update_ms) {
             let problem = Problem::OutOfRange {
@@ -38,6 +47,15 @@ impl Ctx<'_> {
             return Err(self.invalid(&raw.coarse_update_ms, "coarse_update_ms", problem));
         }
         let physics_step_ms = self.positive(&raw.physics_step_ms, "physics_step_ms")?;
+        if physics_step_ms < MIN_PHYSICS_STEP_MS {
+            let problem = Problem::OutOfRange {
+                value: physics_step_ms,
+                min: MIN_PHYSICS_STEP_MS,
+                max: coarse_update_ms,
+                exclusive: false,
+            };
+            return Err(self.invalid(&raw.physics_step_ms, "physics_step_ms", problem));
+        }
         let ratio = coarse_update_ms / physics_step_ms;
         if (ratio - ratio.round()).abs() > 1e-9 || ratio.round() < 1.0 {
             let problem = Problem::StepNotDivisor {
@@ -437,7 +455,7 @@ impl Ctx<'_> {
         let mut cameras = Vec::with_capacity(raw.len());
         for (i, c) in raw.iter().enumerate() {
             let f = |field: &str| format!("cameras[{i}].{field}");
-            let name = self.nonempty_name(&c.name, &f("name"))?;
+            let name = self.file_name_part(&c.name, &f("name"))?;
             self.unique(&mut seen, &c.name, &f("name"), ())?;
             let position_m = self.finite_array(&c.position, &f("position"))?;
             let target_m = self.finite_array(&c.target, &f("target"))?;
@@ -457,6 +475,15 @@ impl Ctx<'_> {
             for (v, field) in [(&c.width, "width"), (&c.height, "height")] {
                 if *v.get_ref() == 0 {
                     return Err(self.invalid(v, f(field), Problem::NotPositive { value: 0.0 }));
+                }
+                if *v.get_ref() > MAX_IMAGE_PX {
+                    let problem = Problem::OutOfRange {
+                        value: f64::from(*v.get_ref()),
+                        min: 1.0,
+                        max: f64::from(MAX_IMAGE_PX),
+                        exclusive: false,
+                    };
+                    return Err(self.invalid(v, f(field), problem));
                 }
             }
             let fps = self.positive(&c.fps, &f("fps"))?;

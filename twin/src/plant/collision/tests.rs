@@ -420,3 +420,28 @@ fn a_dae_collision_mesh_gets_the_same_convex_hull_as_the_equivalent_stl() {
     // The URDF scale (y doubled) reaches both.
     assert!(from_dae.iter().any(|p| (p[1] - 0.1).abs() < 1e-6));
 }
+
+#[test]
+fn a_sweep_of_an_absurdly_long_path_ends_within_its_sample_budget() {
+    // `Position := 1e30` used to hang the pre-flight: its samples grew
+    // with the path's length (and s + step stopped advancing).
+    let model = arm();
+    let far = [obstacle("far", Shape::Sphere { radius_m: 0.1 }, [0.0, 2.0, 0.0])];
+    let world = CollisionModel::new(&model, &far, &settings()).unwrap();
+    for end_rad in [1e6, 1e30, f64::MAX] {
+        let report = world.sweep(&model, &Turn { end_rad }, 0.001);
+        assert!(
+            report.samples <= MAX_SWEEP_SAMPLES + 1,
+            "{end_rad}: {} samples",
+            report.samples
+        );
+        assert!(
+            report.step_bound >= end_rad / MAX_SWEEP_SAMPLES as f64,
+            "{end_rad}: {report:?}"
+        );
+        assert!(report.collision.is_none());
+    }
+    // A short path keeps its resolution.
+    let report = world.sweep(&model, &Turn { end_rad: 3.0 }, 0.001);
+    assert!(report.step_bound < 0.01, "{report:?}");
+}
