@@ -109,6 +109,12 @@ pub fn parse_dae(bytes: &[u8], path: &Path) -> Result<TriMesh, DaeError> {
         reason,
     };
     let text = std::str::from_utf8(bytes).map_err(|e| malformed(format!("not UTF-8 text ({e})")))?;
+    if let Some(line) = crate::plant::xml::too_deep(text) {
+        return Err(malformed(format!(
+            "elements nested deeper than {} levels at line {line}",
+            crate::plant::xml::MAX_XML_DEPTH
+        )));
+    }
     let asset = Asset::read(text).map_err(malformed)?;
     let scene = catch_unwind(AssertUnwindSafe(|| mesh_loader::collada::from_str(text)))
         .map_err(|_| malformed("the COLLADA parser failed on inconsistent indices or sources".to_string()))?
@@ -447,5 +453,20 @@ mod tests {
             load_dae(Path::new("/nonexistent/dir/part.dae")),
             Err(DaeError::Read { .. })
         ));
+    }
+
+    #[test]
+    fn a_collada_file_nested_thousands_deep_is_refused_not_a_stack_overflow() {
+        let text = format!(
+            "<?xml version=\"1.0\"?>\n<COLLADA>{}{}</COLLADA>",
+            "<node>".repeat(20_000),
+            "</node>".repeat(20_000)
+        );
+        match parse_dae(text.as_bytes(), Path::new("deep.dae")) {
+            Err(e @ DaeError::Malformed { .. }) => {
+                assert!(e.to_string().contains("nested deeper than 256 levels at line 2"), "{e}")
+            }
+            other => panic!("unexpected {other:?}"),
+        }
     }
 }

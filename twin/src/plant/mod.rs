@@ -44,6 +44,7 @@ pub mod stl;
 pub mod trails;
 pub mod transform;
 pub mod urdf;
+pub mod xml;
 
 use axes::{AxisBinding, BoundAxes};
 use collision::CollisionModelError;

@@ -29,6 +29,8 @@ use std::path::{Component, Path, PathBuf};
 
 use nalgebra::{Isometry3, Matrix3, Translation3, Unit, UnitQuaternion, Vector3};
 
+pub mod checks;
+
 use crate::plant::convert::isometry_from_urdf_pose;
 use crate::plant::dae::{DaeError, load_dae};
 use crate::plant::mesh::TriMesh;
@@ -241,6 +243,31 @@ pub enum UrdfError {
         #[source]
         source: urdf_rs::UrdfError,
     },
+    /// A physical quantity no robot can have (see [`checks`]).
+    #[error("{path}:{}: {owner}: <{element}>: {problem}", line.map_or_else(|| "?".to_owned(), |l| l.to_string()))]
+    Physical {
+        /// The URDF file.
+        path: PathBuf,
+        /// The element's line (or its nearest written parent's).
+        line: Option<usize>,
+        /// `link NAME` or `joint NAME`.
+        owner: String,
+        /// The element, as a path below the owner (`inertial/inertia`,
+        /// `visual[0]/geometry/box`).
+        element: String,
+        /// What is wrong.
+        problem: String,
+    },
+    /// Elements nested deeper than the XML readers can follow.
+    #[error("{path}:{line}: elements nested deeper than {max} levels")]
+    TooDeep {
+        /// The URDF file.
+        path: PathBuf,
+        /// The line of the first element too deep.
+        line: usize,
+        /// [`crate::plant::xml::MAX_XML_DEPTH`].
+        max: usize,
+    },
     /// A mesh file referenced by a link does not exist at any resolved location.
     #[error("link {link}: mesh file {filename} not found (looked for {path})")]
     MeshMissing {
@@ -385,11 +412,19 @@ impl RobotModel {
     /// assert_eq!(world_from_link[1].translation.z, 1.0);
     /// ```
     pub fn from_urdf_str(xml: &str, urdf_path: &Path) -> Result<RobotModel, UrdfError> {
+        if let Some(line) = crate::plant::xml::too_deep(xml) {
+            return Err(UrdfError::TooDeep {
+                path: urdf_path.to_path_buf(),
+                line,
+                max: crate::plant::xml::MAX_XML_DEPTH,
+            });
+        }
         let robot = urdf_rs::read_from_string(xml).map_err(|source| UrdfError::Parse {
             path: urdf_path.to_path_buf(),
             line: line_of(&source),
             source,
         })?;
+        checks::check(&robot, xml, urdf_path)?;
         let urdf_dir = urdf_path.parent().unwrap_or(Path::new("")).to_path_buf();
         build(&robot, &urdf_dir)
     }
@@ -1095,5 +1130,24 @@ mod tests {
         let world_from_link = m.world_from_link(&[std::f64::consts::FRAC_PI_2]);
         let p = world_from_link[i].translation.vector;
         assert!((p - Vector3::new(0.0, 0.22, 0.76)).norm() < 1e-9, "{p}");
+    }
+
+    #[test]
+    fn a_urdf_nested_thousands_deep_is_refused_not_a_stack_overflow() {
+        let xml = format!(
+            "<robot name=\"r\">\n<link name=\"base\">{}{}</link></robot>",
+            "<visual>".repeat(20_000),
+            "</visual>".repeat(20_000)
+        );
+        match RobotModel::from_urdf_str(&xml, Path::new("deep.urdf")) {
+            Err(e @ UrdfError::TooDeep { line: 2, .. }) => {
+                assert!(
+                    e.to_string()
+                        .starts_with("deep.urdf:2: elements nested deeper than 256"),
+                    "{e}"
+                );
+            }
+            other => panic!("unexpected {other:?}"),
+        }
     }
 }
