@@ -32,6 +32,8 @@ mod exit {
     pub const COLLISION_ABORT: u8 = 3;
     /// A major controller fault stopped the run.
     pub const MAJOR_FAULT: u8 = 4;
+    /// The physics state became non-finite and stopped the run.
+    pub const PHYSICS_FAULT: u8 = 5;
     /// Unknown flag or subcommand, a bad flag value, a flag this build lacks.
     pub const USAGE: u8 = 64;
     /// The scene, a routine, the URDF or a mesh is invalid.
@@ -108,7 +110,7 @@ fn parse_duration(text: &str) -> Result<f64, String> {
         .trim()
         .parse()
         .map_err(|_| format!("expected seconds (a number), found {text:?}"))?;
-    if !(s > 0.0 && s <= 1e6) {
+    if !(s > 0.0 && s <= scene::MAX_DURATION_S) {
         return Err(format!("expected seconds in (0, 1e6], found {text}"));
     }
     Ok(s)
@@ -199,6 +201,9 @@ fn exit_code(e: &anyhow::Error) -> u8 {
             return exit::INVALID_INPUT;
         }
         if let Some(OutputError::NoRerun { .. }) = cause.downcast_ref::<OutputError>() {
+            return exit::USAGE;
+        }
+        if cause.is::<Refused>() {
             return exit::USAGE;
         }
     }
@@ -302,6 +307,198 @@ fn resolved(twin: &Twin) -> String {
     s
 }
 
+/// What each update is written to; an output that fails is reported and
+/// dropped, the others go on.
+struct UpdateSinks<'a> {
+    frames: &'a mut Option<twin::output::session::Frames>,
+    recording: &'a mut Option<twin::output::session::Recording>,
+    trace: &'a mut Option<Trace>,
+    failures: &'a mut Vec<anyhow::Error>,
+}
+
+impl UpdateSinks<'_> {
+    fn write(&mut self, twin: &Twin) {
+        if let Some(f) = self.frames.as_mut()
+            && let Err(e) = f.capture(twin)
+        {
+            self.failures
+                .push(anyhow::Error::new(e).context("--frames: stopped writing frames"));
+            *self.frames = None;
+        }
+        if let Some(r) = self.recording.as_mut()
+            && let Err(e) = r.log(twin)
+        {
+            self.failures
+                .push(anyhow::Error::new(e).context("the recording stopped"));
+            *self.recording = None;
+        }
+        if let Some(t) = self.trace.as_mut() {
+            t.row(twin);
+        }
+    }
+}
+
+/// An output file written beside its path and moved onto it when complete,
+/// so a failed or interrupted run leaves an earlier file at the path as it
+/// was. A path that exists and is not a regular file (a FIFO, a device) is
+/// written directly.
+struct OutputFile {
+    flag: &'static str,
+    path: PathBuf,
+    temp: Option<PathBuf>,
+}
+
+impl OutputFile {
+    fn new(flag: &'static str, path: &Path) -> OutputFile {
+        let special = fs::metadata(path).is_ok_and(|m| !m.is_file());
+        let temp = (!special).then(|| {
+            let name = path
+                .file_name()
+                .map_or_else(Default::default, |n| n.to_string_lossy().into_owned());
+            path.with_file_name(format!(".{name}.twin-{}.tmp", std::process::id()))
+        });
+        OutputFile {
+            flag,
+            path: path.to_path_buf(),
+            temp,
+        }
+    }
+
+    /// The path to write now.
+    fn writing(&self) -> &Path {
+        self.temp.as_deref().unwrap_or(&self.path)
+    }
+
+    /// Moves the finished file onto its path.
+    fn commit(mut self) -> Result<()> {
+        if let Some(temp) = self.temp.take() {
+            let moved = fs::rename(&temp, &self.path);
+            if moved.is_err() {
+                let _ = fs::remove_file(&temp);
+            }
+            moved.with_context(|| format!("{}: cannot write {}", self.flag, self.path.display()))?;
+        }
+        Ok(())
+    }
+
+    /// Removes what was written (the path keeps its earlier file); also
+    /// what dropping an uncommitted file does.
+    fn discard(&self) {
+        if let Some(temp) = &self.temp {
+            let _ = fs::remove_file(temp);
+        }
+    }
+}
+
+impl Drop for OutputFile {
+    fn drop(&mut self) {
+        self.discard();
+    }
+}
+
+/// The `--trace` CSV: a row per update; the first write error stops it and
+/// is reported at the end, naming the flag and the path.
+struct Trace {
+    writer: std::io::BufWriter<fs::File>,
+    file: OutputFile,
+    failed: Option<std::io::Error>,
+}
+
+impl Trace {
+    fn create(path: &Path, twin: &Twin) -> Result<Trace> {
+        let file = OutputFile::new("--trace", path);
+        let f =
+            fs::File::create(file.writing()).with_context(|| format!("--trace: cannot create {}", path.display()))?;
+        let mut trace = Trace {
+            writer: std::io::BufWriter::new(f),
+            file,
+            failed: None,
+        };
+        trace.line(&twin::output::trace::header(twin).join(","));
+        Ok(trace)
+    }
+
+    fn row(&mut self, twin: &Twin) {
+        if self.failed.is_none() {
+            self.line(&twin::output::trace::row(twin).join(","));
+        }
+    }
+
+    fn line(&mut self, line: &str) {
+        if let Err(e) = writeln!(self.writer, "{line}") {
+            self.failed = Some(e);
+        }
+    }
+
+    fn finish(mut self) -> Result<()> {
+        let flushed = match self.failed.take() {
+            Some(e) => Err(e),
+            None => self.writer.flush(),
+        };
+        if let Err(e) = flushed {
+            return Err(anyhow::Error::new(e).context(format!("--trace: cannot write {}", self.file.path.display())));
+        }
+        self.file.commit()
+    }
+}
+
+/// Refuses two outputs on one path and an output on a file the scene
+/// reads: either would silently lose data.
+fn check_output_paths(args: &RunArgs, inputs: &[PathBuf]) -> Result<()> {
+    let outputs = [
+        ("--trace", &args.trace),
+        ("--summary", &args.summary),
+        ("--save", &args.save),
+        ("--frames", &args.frames),
+    ];
+    let inputs: Vec<PathBuf> = inputs.iter().map(|p| same_file(p)).collect();
+    let mut seen: Vec<(&str, PathBuf)> = Vec::new();
+    for (flag, path) in outputs {
+        let Some(path) = path else { continue };
+        let key = same_file(path);
+        if let Some((other, _)) = seen.iter().find(|(_, k)| *k == key) {
+            return Err(Refused(format!("{flag} {}: {other} writes there too", path.display())).into());
+        }
+        if inputs.contains(&key) {
+            return Err(Refused(format!(
+                "{flag} {}: the scene reads this file; it would be overwritten",
+                path.display()
+            ))
+            .into());
+        }
+        seen.push((flag, key));
+    }
+    Ok(())
+}
+
+/// A path as compared for sameness: an existing file with its links
+/// resolved; a new one as its resolved folder and its name.
+fn same_file(path: &Path) -> PathBuf {
+    if let Ok(p) = fs::canonicalize(path) {
+        return p;
+    }
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    match (
+        absolute.parent().and_then(|d| fs::canonicalize(d).ok()),
+        absolute.file_name(),
+    ) {
+        (Some(dir), Some(name)) => dir.join(name),
+        _ => absolute,
+    }
+}
+
+/// Flags that cannot go together (exit code 64).
+#[derive(Debug)]
+struct Refused(String);
+
+impl std::fmt::Display for Refused {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Refused {}
+
 /// Creates the folder an output file goes into.
 fn parent_dir(flag: &str, path: &Path) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -316,6 +513,7 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
     if let Some(s) = args.duration {
         scene.duration_s = s;
     }
+    check_output_paths(args, &scene.input_files())?;
     let mut twin = Twin::new(scene)?;
     for (flag, path) in [
         ("--trace", &args.trace),
@@ -326,53 +524,73 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
             parent_dir(flag, p)?;
         }
     }
+    // Outputs that fail during the run are reported at the end; the others
+    // are still written.
+    let mut failures: Vec<anyhow::Error> = Vec::new();
     let mut trace = match &args.trace {
-        Some(p) => {
-            let f = fs::File::create(p).with_context(|| format!("--trace: cannot create {}", p.display()))?;
-            let mut w = std::io::BufWriter::new(f);
-            writeln!(w, "{}", twin::output::trace::header(&twin).join(","))?;
-            Some((w, p.clone()))
-        }
+        Some(p) => Some(Trace::create(p, &twin)?),
         None => None,
     };
-    let mut frames = twin::output::session::Frames::new(&twin, args.frames.as_deref(), !args.no_render)?;
+    let mut frames = Some(twin::output::session::Frames::new(
+        &twin,
+        args.frames.as_deref(),
+        !args.no_render,
+    )?);
+    let rrd = args.save.as_deref().map(|p| OutputFile::new("--save", p));
     let targets = twin::output::RecordingTargets {
-        save: args.save.clone(),
+        save: rrd.as_ref().map(|f| f.writing().to_path_buf()),
         connect: args.connect.clone(),
         spawn: args.spawn,
         stdout: args.stdout,
         serve: args.serve.clone(),
     };
-    let mut recording = twin::output::session::Recording::new(&twin, &targets)?;
+    let mut recording = Some(twin::output::session::Recording::new(&twin, &targets)?);
     let mut stats = twin::output::session::Stats::new(&twin);
 
     let total = twin.total_updates();
     let mut progress = Progress::new(total, twin.scene().coarse_update_ms / 1000.0);
-    frames.capture(&twin)?;
-    recording.log(&twin)?;
-    if let Some((w, _)) = trace.as_mut() {
-        writeln!(w, "{}", twin::output::trace::row(&twin).join(","))?;
-    }
+    let mut sinks = UpdateSinks {
+        frames: &mut frames,
+        recording: &mut recording,
+        trace: &mut trace,
+        failures: &mut failures,
+    };
+    sinks.write(&twin);
     for _ in 0..total {
         twin.step();
         stats.observe(&twin);
-        frames.capture(&twin)?;
-        recording.log(&twin)?;
-        if let Some((w, _)) = trace.as_mut() {
-            writeln!(w, "{}", twin::output::trace::row(&twin).join(","))?;
-        }
+        sinks.write(&twin);
         progress.tick(twin.task().updates(), &wall);
-        if twin.plant().collision_abort() || twin.program().controller().major_fault().is_some() {
+        if twin.plant().collision_abort()
+            || twin.program().controller().major_fault().is_some()
+            || twin.plant().physics_fault().is_some()
+        {
             break;
         }
     }
     progress.finish();
-    if let Some((mut w, p)) = trace {
-        w.flush()
-            .with_context(|| format!("--trace: cannot write {}", p.display()))?;
+    if let Some(t) = trace
+        && let Err(e) = t.finish()
+    {
+        failures.push(e);
     }
-    let served = recording.finish(&twin)?;
-    let summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), frames.written());
+    // An unfinished recording is not moved onto --save's path (dropping
+    // its OutputFile removes it).
+    let served = match recording.map(|r| r.finish(&twin)) {
+        Some(Ok(served)) => {
+            if let Some(Err(e)) = rrd.map(OutputFile::commit) {
+                failures.push(e);
+            }
+            served
+        }
+        Some(Err(e)) => {
+            failures.push(anyhow::Error::new(e).context("the recording did not finish"));
+            Default::default()
+        }
+        None => Default::default(),
+    };
+    let written = frames.as_ref().map_or(0, |f| f.written());
+    let summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), written);
     if args.stdout {
         // Standard output carries the recording.
         eprint!("{}", summary.human());
@@ -380,9 +598,18 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
         print!("{}", summary.human());
     }
     if let Some(p) = &args.summary {
-        fs::write(p, summary.json()).with_context(|| format!("--summary: cannot write {}", p.display()))?;
+        let file = OutputFile::new("--summary", p);
+        let written = fs::write(file.writing(), summary.json())
+            .with_context(|| format!("--summary: cannot write {}", p.display()))
+            .and_then(|()| file.commit());
+        if let Err(e) = written {
+            failures.push(e);
+        }
     }
-    let code = if summary.collision_abort {
+    let code = if let Some(f) = &summary.physics_fault {
+        eprintln!("error: {f} (check the URDF's masses and inertias and the drives' gains)");
+        exit::PHYSICS_FAULT
+    } else if summary.collision_abort {
         eprintln!("error: the run was aborted by a collision (collision.reaction = \"abort\")");
         exit::COLLISION_ABORT
     } else if let Some(f) = twin.program().controller().major_fault() {
@@ -394,13 +621,18 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
     } else {
         0
     };
+    for e in &failures {
+        eprintln!("error: {e:#}");
+    }
     for address in served.addresses() {
         eprintln!("serving the recording at {address} until Ctrl-C (open it with `rerun {address}`)");
     }
     // What the user must see goes out before the wait (stdout may be a pipe).
     std::io::stdout().flush()?;
     served.wait();
-    Ok(ExitCode::from(code))
+    // Lost output outweighs how the run went: the user must not trust a
+    // partial set of files.
+    Ok(ExitCode::from(if failures.is_empty() { code } else { exit::OUTPUT }))
 }
 
 /// A one-line progress bar on stderr (indicatif), shown for runs longer

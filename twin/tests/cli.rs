@@ -290,3 +290,101 @@ fn serve_refuses_a_busy_port_and_goes_on_serving_after_the_run() {
     assert!(connected, "nothing listens on port {port} after the run");
     assert!(still_running, "twin stopped serving after the run");
 }
+
+#[test]
+fn two_outputs_on_one_path_or_an_output_on_an_input_are_refused() {
+    let dir = fresh_dir("cli", "same_path");
+    let scene = edited("same_path_scene", &[]);
+    let before = std::fs::read(&scene).expect("scene");
+    let out_file = dir.join("out");
+    let cases: Vec<(Vec<std::ffi::OsString>, &str)> = vec![
+        (
+            vec![
+                "--trace".into(),
+                out_file.clone().into(),
+                "--summary".into(),
+                out_file.clone().into(),
+            ],
+            "--summary",
+        ),
+        (
+            vec![
+                "--trace".into(),
+                out_file.clone().into(),
+                "--save".into(),
+                dir.join(".").join("out").into(),
+            ],
+            "--save",
+        ),
+        (
+            vec!["--trace".into(), scene.clone().into()],
+            "the scene reads this file",
+        ),
+    ];
+    for (flags, needle) in cases {
+        let out = twin()
+            .arg("run")
+            .arg(&scene)
+            .arg("--no-render")
+            .args(&flags)
+            .output()
+            .expect("run twin");
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(64), "{flags:?}: {err}");
+        assert!(err.contains(needle), "{flags:?}: {err}");
+    }
+    assert_eq!(std::fs::read(&scene).expect("scene"), before, "the scene was written");
+    assert!(!out_file.exists(), "nothing is written when outputs are refused");
+}
+
+#[test]
+fn a_failing_output_names_its_flag_and_keeps_the_others() {
+    let dir = fresh_dir("cli", "failing_output");
+    let scene = root().join("scenes/indexing_table.toml");
+    if std::path::Path::new("/dev/full").exists() {
+        let summary = dir.join("summary.json");
+        let out = twin()
+            .arg("run")
+            .arg(&scene)
+            .args(["--no-render", "--trace", "/dev/full", "--summary"])
+            .arg(&summary)
+            .output()
+            .expect("run twin");
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(74), "{err}");
+        assert!(err.contains("--trace: cannot write /dev/full"), "{err}");
+        assert!(summary.exists(), "the summary is still written: {err}");
+    }
+    // A recording that cannot start leaves an earlier trace at the path as
+    // it was, and no temporary file behind.
+    let trace = dir.join("trace.csv");
+    std::fs::write(&trace, "earlier run\n").expect("write");
+    let port = free_port();
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--trace"])
+        .arg(&trace)
+        .args(["--connect", &format!("127.0.0.1:{port}")])
+        .output()
+        .expect("run twin");
+    assert_eq!(out.status.code(), Some(74), "{}", stderr(&out));
+    assert_eq!(std::fs::read_to_string(&trace).expect("trace"), "earlier run\n");
+    let temporary: Vec<_> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .filter_map(Result::ok)
+        .map(|e| e.file_name())
+        .filter(|n| n.to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(temporary.is_empty(), "left behind: {temporary:?}");
+    // A successful run replaces it.
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--trace"])
+        .arg(&trace)
+        .output()
+        .expect("run twin");
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(std::fs::read_to_string(&trace).expect("trace").starts_with("time_s"));
+}

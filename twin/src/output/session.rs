@@ -339,6 +339,9 @@ pub struct Summary {
     pub min_clearance_m: Vec<(String, Option<f64>)>,
     /// Whether an `abort` collision reaction ended the run early.
     pub collision_abort: bool,
+    /// Set when the physics state became non-finite and stopped the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub physics_fault: Option<crate::plant::PhysicsFault>,
     /// Scenes with `[[tasks]]`: what the tasks did and cost, and their
     /// faults.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -464,6 +467,7 @@ impl Stats {
                 .map(|(b, d)| (b, d.is_finite().then_some(d)))
                 .collect(),
             collision_abort: twin.plant().collision_abort(),
+            physics_fault: twin.plant().physics_fault().cloned(),
             tasks: (!twin.scene().tasks.is_empty()).then(|| {
                 let c = twin.program().controller();
                 let task_wall_s = c.stats().wall.as_secs_f64();
@@ -563,6 +567,9 @@ impl Summary {
         }
         if self.collision_abort {
             let _ = writeln!(s, "  run aborted by a collision");
+        }
+        if let Some(f) = &self.physics_fault {
+            let _ = writeln!(s, "  run stopped: {f}");
         }
         if let Some(t) = &self.tasks {
             let _ = writeln!(

@@ -187,6 +187,30 @@ pub struct Plant {
     world_from_link: Vec<([f64; 3], [f64; 4])>,
     /// Per axis, the joint position (SI) its engaged holding brake holds.
     brakes: Vec<Option<f64>>,
+    /// Set when the physics state stopped being finite; the plant then
+    /// stands still.
+    physics_fault: Option<PhysicsFault>,
+}
+
+/// The physics state became NaN or infinite (a model or gains the solver
+/// cannot integrate). The run stops: a non-finite pose is never fed back
+/// as an actual position.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PhysicsFault {
+    /// Simulated time of the update that produced it, s.
+    pub time_s: f64,
+    /// What is not finite: the first link or joint found.
+    pub what: String,
+}
+
+impl std::fmt::Display for PhysicsFault {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the physics state became non-finite at t = {:.3} s: {}",
+            self.time_s, self.what
+        )
+    }
 }
 
 impl Plant {
@@ -251,6 +275,7 @@ impl Plant {
             collision,
             trails: Vec::new(),
             world_from_link,
+            physics_fault: None,
         })
     }
 
@@ -269,6 +294,9 @@ impl Plant {
     /// planner's new setpoints, the live collision checks run after every
     /// step, and the joints' positions are fed back as actual positions.
     pub fn advance(&mut self, task: &mut MotionTask) {
+        if self.physics_fault.is_some() {
+            return;
+        }
         self.collision_begin_update();
         let now: Vec<(f64, f64)> = self.axes.iter().map(|a| a.drive_command(task)).collect();
         self.set_drive_modes(task);
@@ -283,12 +311,20 @@ impl Plant {
             }
         }
         self.previous_command = now;
+        let world_from_link = self.sim.world_from_link();
+        if let Some(what) = self.non_finite(&world_from_link) {
+            self.physics_fault = Some(PhysicsFault {
+                time_s: task.time_s(),
+                what,
+            });
+            return;
+        }
         for axis in &self.axes {
             let Some(drive) = axis.drive else { continue };
             let position = axis.axis_position(task, self.sim.joint_position(drive));
             task.feed_actual_position(axis.handle, position);
         }
-        self.world_from_link = self.sim.world_from_link();
+        self.world_from_link = world_from_link;
         self.record_trails();
     }
 
@@ -334,6 +370,23 @@ impl Plant {
             let setpoint = |d: usize| setpoints.iter().find(|(x, _)| *x == d).map(|(_, p)| *p);
             rig.drive(&self.model, &mut self.sim, self.step_s, setpoint);
         }
+    }
+
+    /// The first link pose or drive position that is not finite, named.
+    fn non_finite(&self, world_from_link: &[([f64; 3], [f64; 4])]) -> Option<String> {
+        let finite = |(t, q): &([f64; 3], [f64; 4])| t.iter().chain(q).all(|v| v.is_finite());
+        if let Some(k) = world_from_link.iter().position(|p| !finite(p)) {
+            return Some(format!("link {}'s pose", self.model.links[k].name));
+        }
+        self.axes.iter().find_map(|axis| {
+            let drive = axis.drive?;
+            (!self.sim.joint_position(drive).is_finite()).then(|| format!("axis {}'s joint position", axis.name))
+        })
+    }
+
+    /// Set once the physics state stopped being finite (the run stops).
+    pub fn physics_fault(&self) -> Option<&PhysicsFault> {
+        self.physics_fault.as_ref()
     }
 
     fn record_trails(&mut self) {
@@ -408,5 +461,55 @@ fn collision_error(scene: &crate::scene::Scene, source: CollisionModelError) -> 
         line,
         column,
         source,
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)] // a failed unwrap is a failed test
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_non_finite_physics_state_stops_the_plant_instead_of_being_fed_back() {
+        // A NaN inertial origin used to make the tool NaN from the first
+        // update while every axis reported act_pos == cmd_pos; here the
+        // state is poisoned by hand, as a model the solver cannot
+        // integrate would.
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/indexing_table.toml");
+        let scene = crate::scene::load(&path).unwrap();
+        let mut task = MotionTask::new(scene.coarse_update_ms / 1000.0).unwrap();
+        let mut plant = Plant::new(&scene, &mut task).unwrap();
+        let axis = plant.axes[0].handle;
+        task.update();
+        plant.advance(&mut task);
+        assert!(plant.physics_fault().is_none());
+        let last_actual = task.axis_state(axis).actual_position;
+        let last_poses = plant.world_from_link().to_vec();
+
+        plant.sim.set_gravity_for_test([f64::NAN; 3]);
+        task.update();
+        plant.advance(&mut task);
+        let fault = plant.physics_fault().cloned().expect("a physics fault");
+        assert!(fault.what.contains("link") || fault.what.contains("axis"), "{fault}");
+        assert!(
+            fault
+                .to_string()
+                .starts_with("the physics state became non-finite at t = "),
+            "{fault}"
+        );
+        assert_eq!(
+            task.axis_state(axis).actual_position,
+            last_actual,
+            "nothing non-finite is fed back"
+        );
+        assert_eq!(
+            plant.world_from_link(),
+            last_poses.as_slice(),
+            "the last finite poses stay"
+        );
+        // The plant stands still from then on.
+        task.update();
+        plant.advance(&mut task);
+        assert_eq!(plant.physics_fault(), Some(&fault));
     }
 }

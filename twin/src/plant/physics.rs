@@ -373,6 +373,13 @@ impl RobotSim {
         }
     }
 
+    /// Sets gravity (m/s²): lets a test poison the state with NaN, as a
+    /// model the solver cannot integrate would.
+    #[cfg(test)]
+    pub(crate) fn set_gravity_for_test(&mut self, gravity_mps2: [f64; 3]) {
+        self.world.gravity = vector_to_rapier(&Vector3::from(gravity_mps2));
+    }
+
     /// Number of drives (the valid `drive_index` range is `0..drive_count()`).
     pub fn drive_count(&self) -> usize {
         self.drives.len()
