@@ -30,9 +30,13 @@
 //! latest sample at or before it, which equals the trace. Samples are
 //! gathered per series and sent as one column (Rerun's columnar API, a
 //! fraction of the cost of logging them one by one): every
-//! [`FLUSH_UPDATES`] updates, whenever the recording thread is idle with
-//! [`IDLE_FLUSH_UPDATES`] gathered, and at the end; for a live viewer also
-//! every [`LIVE_FLUSH`] of wall time.
+//! [`FLUSH_UPDATES`] updates; whenever the recording thread is idle with
+//! [`IDLE_FLUSH_UPDATES`] gathered, a threshold that doubles with each such
+//! flush up to [`FLUSH_UPDATES`] (early flushes leave little to send after
+//! the last update of a short run; few, long columns keep a long run's
+//! chunks — and the memory Rerun keeps per chunk for the file's footer —
+//! few); and at the end; for a live viewer also every [`LIVE_FLUSH`] of
+//! wall time.
 //!
 //! # Threads
 //!
@@ -70,11 +74,12 @@ pub const APPLICATION_ID: &str = "twin";
 
 /// Samples gathered for a file are sent to Rerun every this many coarse
 /// updates (and at the end).
-pub const FLUSH_UPDATES: u64 = 2048;
+pub const FLUSH_UPDATES: u64 = 16_384;
 
 /// The recording thread, when it has nothing else to do, sends the
-/// samples gathered over at least this many updates (so that little is
-/// left to send at the end of the run).
+/// samples gathered over at least this many updates at first (so that
+/// little is left to send at the end of a short run), twice as many after
+/// each such flush.
 pub const IDLE_FLUSH_UPDATES: u64 = 512;
 
 /// Samples gathered for a live viewer are sent at least this often (wall
@@ -197,6 +202,8 @@ struct Logged {
     instructions: Vec<(String, Vec<Series>, MotionInstructionBits)>,
     /// Updates taken in since the last flush.
     pending_updates: u64,
+    /// Updates gathered before an idle flush (module doc).
+    idle_flush_updates: u64,
     /// With a live viewer: when the samples were last sent.
     live: Option<std::time::Instant>,
 }
@@ -614,6 +621,7 @@ impl Logged {
             fbs,
             instructions,
             pending_updates: 0,
+            idle_flush_updates: IDLE_FLUSH_UPDATES,
             live: live.then(std::time::Instant::now),
         }
     }
@@ -641,7 +649,8 @@ impl Logged {
                 Ok(batch) => batch,
                 Err(std::sync::mpsc::TryRecvError::Empty) => {
                     // Idle: send what has gathered now rather than at the end.
-                    if self.pending_updates >= IDLE_FLUSH_UPDATES {
+                    if self.pending_updates >= self.idle_flush_updates {
+                        self.idle_flush_updates = (2 * self.idle_flush_updates).min(FLUSH_UPDATES);
                         self.flush()?;
                     }
                     match batches.recv() {
