@@ -113,12 +113,21 @@ pub fn parse_expression(text: &str) -> Result<Expr, SyntaxError> {
     Ok(e)
 }
 
+/// The deepest nesting a routine may have: statements inside statements,
+/// parentheses, calls, unary operators and operator chains together. The
+/// parser and the compiler recurse per level, so without a bound a
+/// mutated or generated routine (`VT(VT(VT(…` a thousand times) would
+/// overflow the stack; no hand-written routine comes near it.
+pub const MAX_NESTING: usize = 32;
+
 struct Parser {
     tokens: Vec<Token>,
     chars: Vec<char>,
     at: usize,
     /// Tokens from here on read as the end (a call argument being parsed).
     end: usize,
+    /// Nesting levels entered now ([`MAX_NESTING`]).
+    depth: usize,
 }
 
 const EOF: Tok = Tok::Eof;
@@ -132,7 +141,22 @@ impl Parser {
             chars: text.chars().collect(),
             at: 0,
             end,
+            depth: 0,
         })
+    }
+
+    /// Enters one nesting level (`extra` more for an operator chain).
+    fn enter(&mut self, extra: usize) -> Result<(), SyntaxError> {
+        if self.depth + extra >= MAX_NESTING {
+            return Err(SyntaxError {
+                pos: self.pos(),
+                message: format!(
+                    "nested deeper than {MAX_NESTING} levels (statements, parentheses, calls and operators together)"
+                ),
+            });
+        }
+        self.depth += 1;
+        Ok(())
     }
 
     fn tok(&self, ahead: usize) -> &Tok {
@@ -203,6 +227,13 @@ impl Parser {
     }
 
     fn statement(&mut self) -> Result<Stmt, SyntaxError> {
+        self.enter(0)?;
+        let statement = self.statement_inner();
+        self.depth -= 1;
+        statement
+    }
+
+    fn statement_inner(&mut self) -> Result<Stmt, SyntaxError> {
         let pos = self.pos();
         let kind = match self.tok(0).clone() {
             Tok::Sym(";") => {
@@ -499,7 +530,10 @@ impl Parser {
 
     /// An expression (the lowest level, `OR`).
     fn expr(&mut self) -> Result<Expr, SyntaxError> {
-        self.binary(0)
+        self.enter(0)?;
+        let e = self.binary(0);
+        self.depth -= 1;
+        e
     }
 
     fn level_op(&self, level: usize) -> Option<BinaryOp> {
@@ -529,7 +563,12 @@ impl Parser {
             return self.unary();
         }
         let mut left = self.binary(level + 1)?;
+        let mut chain = 0;
         while let Some(op) = self.level_op(level) {
+            // Each operator of a chain nests the tree one level deeper.
+            chain += 1;
+            self.enter(chain)?;
+            self.depth -= 1;
             self.bump();
             let right = self.binary(level + 1)?;
             let pos = left.pos;
@@ -551,16 +590,22 @@ impl Parser {
             return self.power();
         };
         self.bump();
-        let operand = self.unary()?;
+        self.enter(0)?;
+        let operand = self.unary();
+        self.depth -= 1;
         Ok(Expr {
-            kind: ExprKind::Unary(op, Box::new(operand)),
+            kind: ExprKind::Unary(op, Box::new(operand?)),
             pos,
         })
     }
 
     fn power(&mut self) -> Result<Expr, SyntaxError> {
         let mut left = self.primary()?;
+        let mut chain = 0;
         while self.is_sym("**") {
+            chain += 1;
+            self.enter(chain)?;
+            self.depth -= 1;
             self.bump();
             // A signed primary: `2 ** -1 ** 2` is `(2 ** -1) ** 2`.
             let right = if self.is_sym("-") {
@@ -717,5 +762,27 @@ mod tests {
         assert!(e.message.contains("CASE label"), "{}", e.message);
         assert!(parse_routine("MCLM(a, b").is_err());
         assert!(parse_routine("f(a,,b);").is_err());
+    }
+
+    #[test]
+    fn a_routine_nested_beyond_the_bound_is_refused_not_a_stack_overflow() {
+        // `VT(VT(VT(…` a thousand deep overflowed a test thread's stack.
+        let deep_calls = format!("X := {}1{};", "VT(".repeat(1000), ")".repeat(1000));
+        let deep_parens = format!("X := {}1{};", "(".repeat(1000), ")".repeat(1000));
+        let deep_not = format!("X := {}TRUE;", "NOT ".repeat(1000));
+        let long_chain = format!("X := 1{};", " + 1".repeat(1000));
+        let deep_ifs = format!("{}X := 1;{}", "IF TRUE THEN ".repeat(1000), " END_IF;".repeat(1000));
+        for text in [deep_calls, deep_parens, deep_not, long_chain, deep_ifs] {
+            let outcome = std::thread::Builder::new()
+                .stack_size(512 * 1024)
+                .spawn(move || parse_routine(&text).map(|_| ()))
+                .unwrap()
+                .join()
+                .unwrap();
+            let e = outcome.unwrap_err();
+            assert!(e.message.starts_with("nested deeper than 32 levels"), "{}", e.message);
+        }
+        // Thirty levels of parentheses are fine.
+        parse_routine(&format!("X := {}1{};", "(".repeat(28), ")".repeat(28))).unwrap();
     }
 }
