@@ -99,6 +99,37 @@ pub fn load_dae(path: &Path) -> Result<TriMesh, DaeError> {
     parse_dae(&bytes, path)
 }
 
+/// The first `count`, `offset` or `stride` attribute (with its line) that
+/// sizes more than the file can hold: mesh-loader reserves memory for
+/// `count × (largest offset + 1)` indices before reading them, so
+/// `count="4294967296"` or `offset="4294967295"` would abort the process.
+/// Every element takes at least a byte of the file, and no input has more
+/// than [`MAX_INPUT_OFFSET`] companions.
+fn count_beyond_the_file(text: &str) -> Option<(String, usize)> {
+    let doc = roxmltree::Document::parse(text).ok()?;
+    doc.descendants().filter(roxmltree::Node::is_element).find_map(|node| {
+        ["count", "offset", "stride"].into_iter().find_map(|name| {
+            let value = node.attribute(name)?.trim();
+            let limit = if name == "count" {
+                text.len() as u64
+            } else {
+                MAX_INPUT_OFFSET
+            };
+            let fits = value.parse::<u64>().is_ok_and(|n| n <= limit);
+            // Non-numbers are mesh-loader's to report.
+            (!fits && value.bytes().all(|b| b.is_ascii_digit())).then(|| {
+                (
+                    format!("{name}=\"{value}\""),
+                    doc.text_pos_at(node.range().start).row as usize,
+                )
+            })
+        })
+    })
+}
+
+/// The largest `offset` or `stride` a COLLADA element may give.
+const MAX_INPUT_OFFSET: u64 = 64;
+
 /// Parses COLLADA bytes. `path` is used only to name the file in errors.
 ///
 /// # Errors
@@ -113,6 +144,12 @@ pub fn parse_dae(bytes: &[u8], path: &Path) -> Result<TriMesh, DaeError> {
         return Err(malformed(format!(
             "elements nested deeper than {} levels at line {line}",
             crate::plant::xml::MAX_XML_DEPTH
+        )));
+    }
+    if let Some((attribute, line)) = count_beyond_the_file(text) {
+        return Err(malformed(format!(
+            "{attribute} at line {line} sizes more than the file can hold ({} bytes)",
+            text.len()
         )));
     }
     let asset = Asset::read(text).map_err(malformed)?;
@@ -467,6 +504,33 @@ mod tests {
                 assert!(e.to_string().contains("nested deeper than 256 levels at line 2"), "{e}")
             }
             other => panic!("unexpected {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_count_beyond_the_file_is_refused_not_an_allocation_abort() {
+        // count="4294967296" made mesh-loader reserve 103 GB and abort.
+        let doc = collada("", &[(&TriMesh::sphere(0.1, 4, 8), [0.0; 3])], true);
+        for (from, to) in [
+            ("<triangles count=\"", "<triangles count=\"4294967296"),
+            ("offset=\"0\"", "offset=\"4294967295\""),
+        ] {
+            let at = doc.find(from).expect("in the document");
+            let bad = format!("{}{to}{}", &doc[..at], &doc[at + from.len()..]);
+            let bad = if from.starts_with("<triangles") {
+                // Drop the original count's digits.
+                let start = at + to.len();
+                let end = start + bad[start..].find('"').expect("quote");
+                format!("{}{}", &bad[..start], &bad[end..])
+            } else {
+                bad
+            };
+            match parse_dae(bad.as_bytes(), Path::new(P)) {
+                Err(e @ DaeError::Malformed { .. }) => {
+                    assert!(e.to_string().contains("sizes more than the file can hold"), "{e}")
+                }
+                other => panic!("unexpected {other:?}"),
+            }
         }
     }
 }
