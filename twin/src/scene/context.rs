@@ -285,6 +285,36 @@ impl Ctx<'_> {
         }
     }
 
+    /// Every value within `(0, max]`.
+    pub(super) fn bounded_array(&self, v: &Spanned<Numbers<3>>, field: &str, max: f64) -> Result<[f64; 3], SceneError> {
+        let values = self.positive_array(v, field)?;
+        self.at_most(v, field, &values, max)?;
+        Ok(values)
+    }
+
+    /// A value within `(0, max]`.
+    pub(super) fn bounded(&self, v: &Spanned<f64>, field: &str, max: f64) -> Result<f64, SceneError> {
+        let value = self.positive(v, field)?;
+        self.at_most(v, field, &[value], max)?;
+        Ok(value)
+    }
+
+    /// Every value's magnitude at most `max`.
+    pub(super) fn at_most<T>(&self, v: &Spanned<T>, field: &str, values: &[f64], max: f64) -> Result<(), SceneError> {
+        match values.iter().find(|x| x.abs() > max) {
+            Some(&value) => {
+                let problem = Problem::OutOfRange {
+                    value,
+                    min: -max,
+                    max,
+                    exclusive: false,
+                };
+                Err(self.invalid(v, field, problem))
+            }
+            None => Ok(()),
+        }
+    }
+
     /// A shape is missing a field its kind needs.
     pub(super) fn missing_shape_field<T>(
         &self,

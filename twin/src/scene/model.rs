@@ -538,6 +538,14 @@ impl Scene {
     }
 }
 
+/// The largest length a scene or URDF may give (a size, a radius, a
+/// position's coordinate), m: a cell is metres across, and parry's contact
+/// queries fail on shapes of astronomical size.
+pub const MAX_LENGTH_M: f64 = 1e4;
+
+/// The largest mesh scale factor.
+pub const MAX_MESH_SCALE: f64 = 1e6;
+
 /// The widest or tallest camera image, pixels: the texture size every
 /// wgpu adapter supports (8192).
 pub const MAX_IMAGE_PX: u32 = 8192;

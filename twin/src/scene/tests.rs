@@ -850,3 +850,12 @@ fn a_camera_image_beyond_the_texture_limit_is_refused() {
     let e = error_of(&text);
     assert_place(&e, find(&text, "1000000"), "cameras[0].width");
 }
+
+#[test]
+fn an_obstacle_of_astronomical_size_is_refused() {
+    // A box of 1e300 m panicked in parry's EPA during the run.
+    let text = edited("size = [0.1, 0.6, 0.4]", "size = [0.1, 0.6, 1e300]");
+    let e = error_of(&text);
+    assert!(e.to_string().contains("size: must be between -10000 and 10000"), "{e}");
+    assert_eq!(e.location(), Some(find(&text, "[0.1, 0.6, 1e300]")), "{e}");
+}

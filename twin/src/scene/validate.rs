@@ -12,9 +12,9 @@ use planner::mah::{HomeDirection, HomeMode, HomeSequence, Homing};
 use planner::servo::{AxisType, FaultAction};
 
 use super::{
-    Axis, AxisConfiguration, Camera, Ctx, MAX_DURATION_S, MAX_IMAGE_PX, MIN_PHYSICS_STEP_MS, MotorGains, NameKind,
-    Names, Numbers, Obstacle, Problem, RawAxis, RawCamera, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots,
-    Robot, Scene, SceneError, ServoGains, Shape, ShapeKind, Snapshots,
+    Axis, AxisConfiguration, Camera, Ctx, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE,
+    MIN_PHYSICS_STEP_MS, MotorGains, NameKind, Names, Numbers, Obstacle, Problem, RawAxis, RawCamera, RawDrive,
+    RawObstacle, RawRobot, RawScene, RawSnapshots, Robot, Scene, SceneError, ServoGains, Shape, ShapeKind, Snapshots,
 };
 
 impl Ctx<'_> {
@@ -522,6 +522,7 @@ impl Ctx<'_> {
             };
             let shape = self.shape(&fields, base, &f)?;
             let position_m = self.finite_array(&o.position, &f("position"))?;
+            self.at_most(&o.position, &f("position"), &position_m, MAX_LENGTH_M)?;
             let rpy_deg = match &o.rpy_deg {
                 Some(r) => self.finite_array(r, &f("rpy_deg"))?,
                 None => [0.0; 3],
@@ -599,21 +600,33 @@ impl Ctx<'_> {
         let missing = |field: &'static str| self.missing_shape_field(kind_at, f("shape"), shape_name, field);
         Ok(match kind {
             ShapeKind::Box => Shape::Box {
-                size_m: self.positive_array(size.as_ref().ok_or_else(|| missing("size"))?, &f("size"))?,
+                size_m: self.bounded_array(size.as_ref().ok_or_else(|| missing("size"))?, &f("size"), MAX_LENGTH_M)?,
             },
             ShapeKind::Cylinder => Shape::Cylinder {
-                radius_m: self.positive(radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
-                length_m: self.positive(length.as_ref().ok_or_else(|| missing("length"))?, &f("length"))?,
+                radius_m: self.bounded(
+                    radius.as_ref().ok_or_else(|| missing("radius"))?,
+                    &f("radius"),
+                    MAX_LENGTH_M,
+                )?,
+                length_m: self.bounded(
+                    length.as_ref().ok_or_else(|| missing("length"))?,
+                    &f("length"),
+                    MAX_LENGTH_M,
+                )?,
             },
             ShapeKind::Sphere => Shape::Sphere {
-                radius_m: self.positive(radius.as_ref().ok_or_else(|| missing("radius"))?, &f("radius"))?,
+                radius_m: self.bounded(
+                    radius.as_ref().ok_or_else(|| missing("radius"))?,
+                    &f("radius"),
+                    MAX_LENGTH_M,
+                )?,
             },
             ShapeKind::Mesh => {
                 let file = file.as_ref().ok_or_else(|| missing("file"))?;
                 Shape::Mesh {
                     path: self.existing_file(file, &f("file"), base)?,
                     scale: match scale {
-                        Some(s) => self.positive_array(s, &f("scale"))?,
+                        Some(s) => self.bounded_array(s, &f("scale"), MAX_MESH_SCALE)?,
                         None => [1.0; 3],
                     },
                 }

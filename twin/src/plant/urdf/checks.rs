@@ -23,8 +23,7 @@ use nalgebra::{Matrix3, SymmetricEigen};
 
 use super::UrdfError;
 
-/// The largest length (origin offset, size, radius) a URDF may give, m.
-pub const MAX_LENGTH_M: f64 = 1e4;
+pub use crate::scene::MAX_LENGTH_M;
 
 /// The largest link mass, kg.
 pub const MAX_MASS_KG: f64 = 1e7;
