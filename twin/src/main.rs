@@ -499,6 +499,19 @@ impl std::fmt::Display for Refused {
 
 impl std::error::Error for Refused {}
 
+/// Whether a viewer address (`host:port` or `rerun+http://host:port/proxy`)
+/// resolves to this machine only (loopback). An address that does not
+/// resolve counts as this machine: connecting reports it.
+fn is_this_machine(addr: &str) -> bool {
+    use std::net::ToSocketAddrs as _;
+    let host_port = addr
+        .split_once("://")
+        .map_or(addr, |(_, rest)| rest.split('/').next().unwrap_or_default());
+    host_port
+        .to_socket_addrs()
+        .map_or(true, |mut addrs| addrs.all(|a| a.ip().is_loopback()))
+}
+
 /// Creates the folder an output file goes into.
 fn parent_dir(flag: &str, path: &Path) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -544,6 +557,14 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
         stdout: args.stdout,
         serve: args.serve.clone(),
     };
+    if let Some(addr) = &args.connect
+        && !is_this_machine(addr)
+    {
+        eprintln!(
+            "warning: --connect {addr}: not this machine; the recording travels unencrypted over the network, \
+             and the viewer there accepts any sender"
+        );
+    }
     let mut recording = Some(twin::output::session::Recording::new(&twin, &targets)?);
     let mut stats = twin::output::session::Stats::new(&twin);
 

@@ -388,3 +388,26 @@ fn a_failing_output_names_its_flag_and_keeps_the_others() {
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(std::fs::read_to_string(&trace).expect("trace").starts_with("time_s"));
 }
+
+#[test]
+fn connect_to_another_machine_warns() {
+    // 0.0.0.0 is not a loopback address (and reaches this machine, where
+    // nothing listens on the port: the run then stops with 74).
+    let port = free_port();
+    let out = twin()
+        .arg("run")
+        .arg(root().join("scenes/indexing_table.toml"))
+        .args(["--no-render", "--connect", &format!("0.0.0.0:{port}")])
+        .output()
+        .expect("run twin");
+    let err = stderr(&out);
+    assert!(err.contains("warning: --connect 0.0.0.0:"), "{err}");
+    assert!(err.contains("not this machine"), "{err}");
+    let out = twin()
+        .arg("run")
+        .arg(root().join("scenes/indexing_table.toml"))
+        .args(["--no-render", "--connect", &format!("127.0.0.1:{port}")])
+        .output()
+        .expect("run twin");
+    assert!(!stderr(&out).contains("warning"), "{}", stderr(&out));
+}

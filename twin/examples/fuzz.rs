@@ -1,0 +1,72 @@
+//! A longer fuzz campaign than `cargo test` runs (the cases are those of
+//! `twin/tests/fuzz_cases`):
+//!
+//! ```text
+//! cargo run --release -p twin --example fuzz -- --cases 10000000 [--from 0] [--threads 2]
+//! ```
+//!
+//! Prints progress every million cases and every failure (case number,
+//! target, what happened); exits 1 if any case failed.
+
+#[path = "../tests/fuzz_cases/mod.rs"]
+mod fuzz_cases;
+
+use fuzz_cases::{Corpus, run_cases, silence_panics};
+use std::path::Path;
+use std::process::ExitCode;
+use std::time::Instant;
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let flag = |name: &str, default: u64| -> u64 {
+        args.iter()
+            .position(|a| a == name)
+            .and_then(|i| args.get(i + 1))
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    let (from, cases, threads) = (
+        flag("--from", 0),
+        flag("--cases", 1_000_000),
+        flag("--threads", 2).max(1),
+    );
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let corpus = Corpus::load(&root);
+    let _printing = silence_panics();
+    let started = Instant::now();
+    let mut failed = 0usize;
+    let block = 1_000_000u64;
+    let mut next = from;
+    while next < from + cases {
+        let end = (next + block).min(from + cases);
+        let per = (end - next).div_ceil(threads);
+        let failures: Vec<_> = std::thread::scope(|s| {
+            let handles: Vec<_> = (0..threads)
+                .map(|t| {
+                    let (a, b) = ((next + t * per).min(end), (next + (t + 1) * per).min(end));
+                    let (corpus, root) = (&corpus, &root);
+                    s.spawn(move || run_cases(corpus, root, a..b))
+                })
+                .collect();
+            handles
+                .into_iter()
+                .flat_map(|h| h.join().expect("a fuzz worker"))
+                .collect()
+        });
+        for f in &failures {
+            println!("FAIL case {} ({}): {}", f.case, f.target, f.what);
+        }
+        failed += failures.len();
+        next = end;
+        println!(
+            "{} cases, {failed} failed, {:.0} s",
+            next - from,
+            started.elapsed().as_secs_f64()
+        );
+    }
+    if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
