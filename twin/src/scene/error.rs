@@ -388,6 +388,11 @@ pub enum Problem {
     /// A camera looking at its own position.
     #[error("camera target must differ from its position")]
     DegenerateCamera,
+    /// A camera that looks straight up or down (world +Z is the image's up).
+    #[error(
+        "the camera looks straight up or down, so the image has no up direction (world +Z); move the target sideways a little"
+    )]
+    CameraAlongUp,
     /// Cam points whose master positions do not increase.
     #[error("cam master positions must increase strictly (point {index})")]
     CamNotIncreasing {
@@ -423,6 +428,15 @@ pub enum SceneError {
         /// The I/O error.
         #[source]
         source: std::io::Error,
+    },
+    /// The file is not UTF-8 text.
+    NotUtf8 {
+        /// The scene file.
+        path: PathBuf,
+        /// 1-based line of the first byte that is not UTF-8.
+        line: usize,
+        /// 1-based column (characters) of that byte.
+        column: usize,
     },
     /// TOML syntax, an unknown or missing field, or a value of the wrong type.
     Toml {
@@ -486,7 +500,8 @@ impl SceneError {
     pub fn location(&self) -> Option<Location> {
         match self {
             SceneError::Read { .. } => None,
-            SceneError::Toml { line, column, .. }
+            SceneError::NotUtf8 { line, column, .. }
+            | SceneError::Toml { line, column, .. }
             | SceneError::Syntax { line, column, .. }
             | SceneError::Routine { line, column, .. }
             | SceneError::Invalid { line, column, .. } => Some(Location {
@@ -502,7 +517,7 @@ impl SceneError {
         match self {
             SceneError::Syntax { field, .. } | SceneError::Invalid { field, .. } => Some(field),
             SceneError::Toml { table, field, .. } => field.as_deref().or(table.as_deref()),
-            SceneError::Read { .. } | SceneError::Routine { .. } => None,
+            SceneError::Read { .. } | SceneError::NotUtf8 { .. } | SceneError::Routine { .. } => None,
         }
     }
 
@@ -520,6 +535,11 @@ impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             SceneError::Read { path, source } => write!(f, "{}: cannot read the scene file: {source}", path.display()),
+            SceneError::NotUtf8 { path, line, column } => write!(
+                f,
+                "{}:{line}:{column}: not UTF-8 text (a scene is a TOML text file)",
+                path.display()
+            ),
             SceneError::Toml {
                 file,
                 line,

@@ -95,11 +95,21 @@ impl Scene {
 /// problem found, as [`SceneError::Toml`], [`SceneError::Syntax`] or
 /// [`SceneError::Invalid`], naming the file, line, column and field.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Read {
         path: path.to_owned(),
         source,
     })?;
-    parse(path, &text)
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        // The valid part is text: count its lines and the last one's characters.
+        let valid = String::from_utf8_lossy(&bytes[..e.valid_up_to()]);
+        let line_start = valid.rfind('\n').map_or(0, |i| i + 1);
+        SceneError::NotUtf8 {
+            path: path.to_owned(),
+            line: valid.matches('\n').count() + 1,
+            column: valid[line_start..].chars().count() + 1,
+        }
+    })?;
+    parse(path, text)
 }
 
 /// Parses and validates scene text as if read from `path` (which names the

@@ -859,3 +859,36 @@ fn an_obstacle_of_astronomical_size_is_refused() {
     assert!(e.to_string().contains("size: must be between -10000 and 10000"), "{e}");
     assert_eq!(e.location(), Some(find(&text, "[0.1, 0.6, 1e300]")), "{e}");
 }
+
+#[test]
+fn a_scene_that_is_not_utf8_names_the_line_and_column() {
+    let dir = std::env::temp_dir().join(format!("twin-scene-utf8-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let path = dir.join("bad.toml");
+    std::fs::write(&path, b"name = \"x\"\nduration_s = 1.0 # caf\xe9\n").expect("write");
+    let e = load(&path).expect_err("not UTF-8");
+    assert_eq!(e.location(), Some(Location { line: 2, column: 23 }), "{e}");
+    assert!(
+        e.to_string()
+            .ends_with("bad.toml:2:23: not UTF-8 text (a scene is a TOML text file)"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_modulo_tolerance_window_of_half_the_period_names_its_field() {
+    // It used to surface from the planner with no place in the scene.
+    let text = edited("modulo_tolerance_window = 0.0", "modulo_tolerance_window = 180.0");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "180.0"), "axes[0].modulo_tolerance_window");
+}
+
+#[test]
+fn a_camera_looking_straight_down_names_its_target() {
+    // It used to fail only when frames were rendered, with no place.
+    let text = edited("position = [1.2, -1.2, 1.0]", "position = [0.0, 0.0, 3.0]");
+    let e = error_of(&text);
+    assert_place(&e, find(&text, "[0.0, 0.0, 0.2]"), "cameras[0].target");
+    assert!(e.to_string().contains("straight up or down"), "{e}");
+}

@@ -342,7 +342,22 @@ impl Ctx<'_> {
                 None => 5.0,
             };
             let modulo_tolerance_window = match &a.modulo_tolerance_window {
-                Some(w) => self.non_negative(w, &f("modulo_tolerance_window"))?,
+                Some(w) => {
+                    let window = self.non_negative(w, &f("modulo_tolerance_window"))?;
+                    // The planner's rule (AxisConfig): under half the period.
+                    if let Some(period) = modulo_period
+                        && window >= period / 2.0
+                    {
+                        let problem = Problem::OutOfRange {
+                            value: window,
+                            min: 0.0,
+                            max: period / 2.0,
+                            exclusive: true,
+                        };
+                        return Err(self.invalid(w, f("modulo_tolerance_window"), problem));
+                    }
+                    window
+                }
                 None => 0.0,
             };
             let motor = match &a.motor {
@@ -459,8 +474,17 @@ impl Ctx<'_> {
             self.unique(&mut seen, &c.name, &f("name"), ())?;
             let position_m = self.finite_array(&c.position, &f("position"))?;
             let target_m = self.finite_array(&c.target, &f("target"))?;
+            self.at_most(&c.position, &f("position"), &position_m, MAX_LENGTH_M)?;
+            self.at_most(&c.target, &f("target"), &target_m, MAX_LENGTH_M)?;
             if position_m == target_m {
                 return Err(self.invalid(&c.target, f("target"), Problem::DegenerateCamera));
+            }
+            // The image's up is world +Z: a camera looking straight up or
+            // down has none.
+            let d: Vec<f64> = (0..3).map(|k| target_m[k] - position_m[k]).collect();
+            let horizontal = d[0].hypot(d[1]);
+            if horizontal <= 1e-6 * d[2].abs() {
+                return Err(self.invalid(&c.target, f("target"), Problem::CameraAlongUp));
             }
             let fov_deg = self.finite(&c.fov_deg, &f("fov_deg"))?;
             if !(fov_deg > 0.0 && fov_deg < 180.0) {
