@@ -611,6 +611,17 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
         None => Default::default(),
     };
     let written = frames.as_ref().map_or(0, |f| f.written());
+    if let (Some(f), Some(dir)) = (&frames, &args.frames) {
+        let stale = f.stale();
+        if let Some(first) = stale.first() {
+            eprintln!(
+                "warning: --frames {}: {} frames of an earlier, longer run remain (from {}); they are not from this run",
+                dir.display(),
+                stale.len(),
+                first.file_name().unwrap_or_default().to_string_lossy()
+            );
+        }
+    }
     let summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), written);
     if args.stdout {
         // Standard output carries the recording.

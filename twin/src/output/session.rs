@@ -202,6 +202,38 @@ impl Frames {
     pub fn written(&self) -> usize {
         self.written
     }
+
+    /// Frames in the folder named like this run's (`<camera>-<frame>.png`)
+    /// but past the last frame it wrote: left by an earlier, longer run.
+    /// They are not removed (they may be someone's); the caller says so.
+    pub fn stale(&self) -> Vec<PathBuf> {
+        #[cfg(feature = "render")]
+        if let Some(inner) = &self.inner {
+            let Ok(entries) = std::fs::read_dir(&inner.dir) else {
+                return Vec::new();
+            };
+            let mut stale: Vec<PathBuf> = entries
+                .filter_map(Result::ok)
+                .map(|e| e.path())
+                .filter(|p| {
+                    let Some(file) = p.file_name().and_then(|f| f.to_str()) else {
+                        return false;
+                    };
+                    inner.cameras.iter().any(|(name, _, _, next)| {
+                        file.strip_prefix(name.as_str())
+                            .and_then(|rest| rest.strip_prefix('-'))
+                            .and_then(|rest| rest.strip_suffix(".png"))
+                            .filter(|digits| digits.len() >= 5 && digits.bytes().all(|b| b.is_ascii_digit()))
+                            .and_then(|digits| digits.parse::<u64>().ok())
+                            .is_some_and(|frame| frame >= *next)
+                    })
+                })
+                .collect();
+            stale.sort();
+            return stale;
+        }
+        Vec::new()
+    }
 }
 
 /// The recording of a twin built without the `rerun` feature: it logs
