@@ -103,8 +103,30 @@
 //! * A second Pending cam supersedes the first; a Pending cam supersedes a
 //!   waiting scheduled replacement.
 //! * MAPC with the slave as its own master is ERR 13, EXERR 1.
+//! * **Speed rule**: no drive follows a cam that would command, at the
+//!   master's maximum speed, a slave speed beyond all reason — a cam whose
+//!   master points are 10⁻¹² apart commanded 1.2·10¹⁶ deg/s. The peak slave
+//!   speed is the profile's steepest slope ([`crate::mccp::CamProfile::peak_slope`])
+//!   × |Slave Scaling / Master Scaling| × the master axis' maximum speed
+//!   ([`peak_slave_speed`]); MAPC refuses a cam whose peak slave speed is
+//!   not finite or exceeds [`MAX_CAM_SPEED_RATIO`] × the slave axis'
+//!   maximum speed, with ERR 13 (parameter out of range), EXERR = the Slave
+//!   Scaling operand. The factor leaves room for masters whose maximum speed
+//!   is set far above what they run at; the drive's own limits (position
+//!   error, torque) act below it.
 
 use thiserror::Error;
+
+/// How far a cam's peak slave speed may exceed the slave axis' maximum
+/// speed before MAPC refuses it (the speed rule in the module doc).
+pub const MAX_CAM_SPEED_RATIO: f64 = 1000.0;
+
+/// The peak slave speed of a cam (units/s): `peak_slope` (slave units per
+/// master unit of the profile) × |Slave Scaling / Master Scaling| ×
+/// `master_max_speed`. NaN or infinite when any of them is.
+pub fn peak_slave_speed(peak_slope: f64, mapc: &Mapc, master_max_speed: f64) -> f64 {
+    peak_slope * (mapc.slave_scaling / mapc.master_scaling).abs() * master_max_speed
+}
 
 mod axis;
 pub use axis::{CamEvent, CamRequest, PositionCamAxis, SlaveCamStatus};

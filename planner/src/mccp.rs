@@ -353,6 +353,26 @@ impl CamProfile {
         (self.elements[0].master, self.elements[self.elements.len() - 1].master)
     }
 
+    /// The steepest |slave slope| (slave units per master unit) anywhere in
+    /// the profile: each segment's derivative `C1 + 2·C2·d + 3·C3·d²` at
+    /// its ends and at its vertex when that lies inside. Infinite or NaN
+    /// only if a coefficient is.
+    pub fn peak_slope(&self) -> f64 {
+        self.elements
+            .windows(2)
+            .map(|pair| {
+                let (e, h) = (&pair[0], pair[1].master - pair[0].master);
+                let slope = |d: f64| e.c1 + 2.0 * e.c2 * d + 3.0 * e.c3 * d * d;
+                let vertex = if e.c3 != 0.0 { -e.c2 / (3.0 * e.c3) } else { f64::NAN };
+                let mut peak = slope(0.0).abs().max(slope(h).abs());
+                if vertex > 0.0 && vertex < h {
+                    peak = peak.max(slope(vertex).abs());
+                }
+                peak
+            })
+            .fold(0.0, |a: f64, b| if b.is_nan() { f64::NAN } else { a.max(b) })
+    }
+
     /// First and last slave values.
     pub fn slave_range(&self) -> (f64, f64) {
         (self.elements[0].slave, self.elements[self.elements.len() - 1].slave)

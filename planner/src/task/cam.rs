@@ -346,6 +346,20 @@ impl MotionTask {
         mapc.master_lock_position -= self.cam.axes.get(call.master.0 as usize).map_or(0.0, |c| c.redefined);
         let tag = &mut self.cam.profiles[call.cam_profile.0 as usize].1;
         let profile: Arc<CamProfile> = tag.acquire().map_err(MapcError::from_status)?;
+        // The speed rule (module doc of `crate::mapc`).
+        let peak_mps = crate::mapc::peak_slave_speed(
+            profile.peak_slope(),
+            &mapc,
+            self.axes[call.master.0 as usize].config.max_velocity,
+        );
+        let allowed = crate::mapc::MAX_CAM_SPEED_RATIO * self.axes[call.slave.0 as usize].config.max_velocity;
+        if !peak_mps.is_finite() || peak_mps > allowed {
+            self.cam.profiles[call.cam_profile.0 as usize].1.release();
+            return Err(MapcError::ParameterOutOfRange {
+                operand: crate::mapc::operand::SLAVE_SCALING,
+                value: mapc.slave_scaling,
+            });
+        }
         let key = (call.master, mapc.master_reference);
         let slave = self.axes[call.slave.0 as usize].command.position;
         let req = CamRequest {

@@ -1494,36 +1494,62 @@ fn pending_cam_takes_over_at_the_end_of_the_current_cycle_even_after_a_long_step
     }
 }
 
-/// A tiny Master Scaling and a long master travel overflowed the cam
-/// coordinate and the slave was commanded to NaN.
+/// A tiny Master Scaling (or a huge Slave Scaling) once overflowed the cam
+/// coordinate and commanded the slave to NaN; a cam whose master points are
+/// 1e-12 apart commanded 1.2e16 deg/s. The speed rule refuses them all at
+/// MAPC (ERR 13, EXERR = Slave Scaling) and the slave holds.
 #[test]
-fn an_overflowing_cam_ends_with_err_179_and_the_slave_holds() {
-    for (master_scaling, slave_scaling, mode) in [(1e-300, 1.0, CONTINUOUS), (1.0, 1e308, ONCE)] {
+fn a_cam_no_drive_can_follow_is_refused_by_the_speed_rule_and_the_slave_holds() {
+    let steep = [(0.0, 0.0), (120.0, 60.0), (120.000000000001, 120.0), (180.0, 120.0)];
+    let line = [(0.0, 0.0), (10.0, 10.0)];
+    for (points, master_scaling, slave_scaling, mode) in [
+        (&line[..], 1e-300, 1.0, CONTINUOUS),
+        (&line[..], 1.0, 1e308, ONCE),
+        (&steep[..], 1.0, 1.0, ONCE),
+    ] {
         let mut r = rig();
-        let p = r.profile("Line", &[(0.0, 0.0), (10.0, 10.0)], 0);
+        let p = r.profile("Cam", points, 0);
         let mi = r.task.add_instruction("MAPC_1");
-        r.mapc(
-            mi,
-            p,
-            MapcOperands {
-                master_scaling,
-                slave_scaling,
-                ..ops(mode, IMMEDIATE)
-            },
-        )
-        .unwrap();
-        r.to(1e-300);
-        let held = r.slave_pos();
-        assert!(held.is_finite());
-        r.to(1e9);
-        r.slave_at(held);
+        let start = r.slave_pos();
+        let e = r
+            .mapc(
+                mi,
+                p,
+                MapcOperands {
+                    master_scaling,
+                    slave_scaling,
+                    ..ops(mode, IMMEDIATE)
+                },
+            )
+            .unwrap_err();
+        assert_eq!(e.err(), 13, "{e}");
         let b = r.task.motion_bits(mi);
-        assert_eq!((b.err, b.exerr, b.segment), (179, 0, 0));
-        r.bits(mi, "EN DN ER");
+        assert_eq!((b.err, b.exerr), (13, crate::mapc::operand::SLAVE_SCALING));
+        r.bits(mi, "EN ER");
         r.slave_bits("");
-        assert_eq!(r.task.cam_profile(p).status(), 2);
-        r.to(2e9);
-        r.slave_at(held);
+        assert_eq!(r.task.cam_profile(p).status(), 2, "the profile is released");
+        r.to(1e9);
+        r.slave_at(start);
         assert_eq!(r.task.axis_state(r.slave).command_velocity, 0.0);
     }
+}
+
+/// The peak slope the speed rule uses is the profile's steepest, cubic
+/// segments included (their vertex inside the segment).
+#[test]
+fn the_peak_slope_is_the_steepest_anywhere_in_the_profile() {
+    let mut r = rig();
+    let line = r.profile("Line", &[(0.0, 0.0), (10.0, 20.0), (20.0, 25.0)], 0);
+    let profile = r.task.cam_profile(line).profile().unwrap().clone();
+    assert_eq!(profile.peak_slope(), 2.0);
+    let cubic = r.profile("Cubic", &[(0.0, 0.0), (1.0, 1.0), (2.0, 0.0)], 1);
+    let profile = r.task.cam_profile(cubic).profile().unwrap().clone();
+    let sampled = (0..=20_000)
+        .map(|k| profile.eval(f64::from(k) * 1e-4).slope.abs())
+        .fold(0.0, f64::max);
+    assert!(
+        (profile.peak_slope() - sampled).abs() < 1e-6,
+        "{} vs {sampled}",
+        profile.peak_slope()
+    );
 }
