@@ -435,3 +435,34 @@ fn frames_left_by_an_earlier_longer_run_are_named() {
     );
     assert!(dir.join("iso-00099.png").exists() && dir.join("iso-00000.png").exists());
 }
+
+#[test]
+fn a_viewer_that_accepts_but_never_reads_costs_no_other_output() {
+    // It used to block forever after the trace was written; the summary
+    // was never written.
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
+    let addr = listener.local_addr().expect("address").to_string();
+    std::thread::spawn(move || {
+        let mut held = Vec::new();
+        for stream in listener.incoming().map_while(Result::ok) {
+            held.push(stream); // accepted, never read
+        }
+    });
+    let dir = fresh_dir("cli", "silent_viewer");
+    let (trace, summary) = (dir.join("t.csv"), dir.join("s.json"));
+    let started = std::time::Instant::now();
+    let out = twin()
+        .arg("run")
+        .arg(root().join("scenes/indexing_table.toml"))
+        .args(["--no-render", "--connect", &addr, "--trace"])
+        .arg(&trace)
+        .arg("--summary")
+        .arg(&summary)
+        .output()
+        .expect("run twin");
+    let err = stderr(&out);
+    assert!(started.elapsed() < std::time::Duration::from_secs(120), "{err}");
+    assert_eq!(out.status.code(), Some(74), "{err}");
+    assert!(err.contains("recording"), "{err}");
+    assert!(trace.exists() && summary.exists(), "{err}");
+}

@@ -119,6 +119,15 @@ pub struct Recording {
 /// Batches go to the recording thread every this many coarse updates.
 pub const BATCH_UPDATES: usize = 64;
 
+/// The longest the run waits for room to hand the recording thread a batch
+/// before it drops the recording (reported; the run and its other outputs
+/// go on).
+pub const STALL_WAIT: std::time::Duration = std::time::Duration::from_secs(20);
+
+/// The longest the end of a run waits for the recording to be finished
+/// (the recorder's own flush and close wait 20 s each).
+pub const FINISH_WAIT: std::time::Duration = std::time::Duration::from_secs(45);
+
 /// Batches waiting for the recording thread at most; the run waits when
 /// the recording falls this far behind (bounded memory).
 pub const BATCHES_IN_FLIGHT: usize = 8;
@@ -127,7 +136,9 @@ pub const BATCHES_IN_FLIGHT: usize = 8;
 /// needs to send only the new part of trails, events and contacts.
 struct Feed {
     sender: std::sync::mpsc::SyncSender<Batch>,
-    worker: std::thread::JoinHandle<Result<Served, RecordingError>>,
+    /// The recording thread's result, sent when it ends (it is never
+    /// joined: a thread stuck on a viewer must not hold the run).
+    done: std::sync::mpsc::Receiver<Result<Served, RecordingError>>,
     batch: Batch,
     /// Per tool trail: points sent so far, pieces sent so far, and
     /// whether it is logged (the first of the systems sharing its link).
@@ -272,11 +283,14 @@ impl Recording {
         let (series, styles) = Series::of(twin, &link_paths);
         let live = targets.live();
         let (sender, receiver) = std::sync::mpsc::sync_channel(BATCHES_IN_FLIGHT);
-        let worker = std::thread::Builder::new()
+        let (done_tx, done) = std::sync::mpsc::channel();
+        std::thread::Builder::new()
             .name("twin_recording".to_owned())
             .spawn(move || {
-                let logged = Logged::new(sinks.start()?, series, live);
-                logged.run(&meshes, &styles, &receiver)
+                let result = sinks
+                    .start()
+                    .and_then(|recorder| Logged::new(recorder, series, live).run(&meshes, &styles, &receiver));
+                let _ = done_tx.send(result);
             })
             .map_err(|source| RecordingError::Worker {
                 why: format!("cannot start the recording thread: {source}"),
@@ -285,7 +299,7 @@ impl Recording {
         Ok(Recording {
             inner: Some(Feed {
                 sender,
-                worker,
+                done,
                 batch: Batch::default(),
                 trails: plant
                     .tool_trails()
@@ -320,10 +334,9 @@ impl Recording {
                 *at = std::time::Instant::now();
             }
             let batch = std::mem::take(&mut feed.batch);
-            if feed.sender.send(batch).is_err() {
-                // The thread has stopped: its result says why.
-                let inner = self.inner.take();
-                return inner.map_or(Ok(()), |feed| feed.join().map(drop));
+            if let Err(e) = feed.send(batch) {
+                self.inner = None;
+                return Err(e);
             }
         }
         Ok(())
@@ -344,9 +357,8 @@ impl Recording {
         let t = sim_time_ns(twin.time_s()).unwrap_or(0);
         feed.trails(twin, t);
         let batch = std::mem::take(&mut feed.batch);
-        // A send fails only when the thread has stopped; joining says why.
-        let _ = feed.sender.send(batch);
-        feed.join()
+        feed.send(batch)?;
+        feed.join(FINISH_WAIT)
     }
 }
 
@@ -489,14 +501,55 @@ impl Feed {
         }
     }
 
-    /// Closes the channel and waits for the recording thread's result.
-    fn join(self) -> Result<Served, RecordingError> {
+    /// Hands a batch to the recording thread, waiting at most [`STALL_WAIT`]
+    /// for room (the thread takes nothing while a viewer that accepted the
+    /// connection does not read).
+    fn send(&mut self, mut batch: Batch) -> Result<(), RecordingError> {
+        let since = std::time::Instant::now();
+        loop {
+            match self.sender.try_send(batch) {
+                Ok(()) => return Ok(()),
+                Err(std::sync::mpsc::TrySendError::Full(b)) if since.elapsed() < STALL_WAIT => {
+                    batch = b;
+                    std::thread::sleep(std::time::Duration::from_millis(1));
+                }
+                Err(std::sync::mpsc::TrySendError::Full(_)) => {
+                    return Err(RecordingError::Worker {
+                        why: format!(
+                            "the recording took nothing for {} s (a viewer that accepted the connection but does not read?); it is dropped, the run goes on",
+                            STALL_WAIT.as_secs()
+                        ),
+                    });
+                }
+                // The thread has ended: its result says why.
+                Err(std::sync::mpsc::TrySendError::Disconnected(_)) => {
+                    return Err(match self.done.try_recv() {
+                        Ok(Err(e)) => e,
+                        _ => RecordingError::Worker {
+                            why: "the recording thread stopped".to_owned(),
+                        },
+                    });
+                }
+            }
+        }
+    }
+
+    /// Closes the channel and waits at most `wait` for the recording
+    /// thread's result.
+    fn join(self, wait: std::time::Duration) -> Result<Served, RecordingError> {
         drop(self.sender);
-        self.worker.join().unwrap_or_else(|_| {
-            Err(RecordingError::Worker {
+        match self.done.recv_timeout(wait) {
+            Ok(result) => result,
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => Err(RecordingError::Worker {
+                why: format!(
+                    "nothing came back within {} s (a viewer that accepted the connection but does not read?)",
+                    wait.as_secs()
+                ),
+            }),
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => Err(RecordingError::Worker {
                 why: "the recording thread panicked".to_owned(),
-            })
-        })
+            }),
+        }
     }
 }
 
