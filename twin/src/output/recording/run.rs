@@ -62,7 +62,7 @@ use std::collections::BTreeMap;
 
 use planner::instruction::{FbOutputs, MotionInstructionBits};
 
-use super::{Recorder, RecordingError, Served, Sink, TextLevel, sim_time_ns, urdf_entity_paths};
+use super::{Recorder, RecordingError, Served, Sink, TextLevel, sim_time_ns, urdf_entity_paths, visual_entity_path};
 use crate::output::status::{describe, describe_bits};
 use crate::output::{COLLISION_TINT_RGBA, RecordingTargets};
 use crate::plant::mesh::TriMesh;
@@ -199,18 +199,7 @@ type StaticMesh = (String, TriMesh, [f32; 4], ([f32; 3], [f32; 4], [f32; 3]));
 /// The recording thread's side: the recorder and the series.
 struct Logged {
     recorder: Recorder,
-    /// Per URDF joint: (parent link, child link) and the child's pose
-    /// relative to its parent.
-    poses: Vec<((usize, usize), PoseSeries)>,
-    links: usize,
-    /// Every scalar series, in the order of [`Batch::values`]: per axis
-    /// cmd_pos, act_pos, cmd_vel, act_vel; the drives' torques; traced
-    /// tags; clearances.
-    scalars: Vec<Series>,
-    /// Per function block: its name, outputs then ErrorID, the last outputs.
-    fbs: Vec<(String, Vec<Series>, FbOutputs)>,
-    /// Per control structure: its name, bits then codes, the last bits.
-    instructions: Vec<(String, Vec<Series>, MotionInstructionBits)>,
+    series: AllSeries,
     /// Updates taken in since the last flush.
     pending_updates: u64,
     /// Updates gathered before an idle flush (module doc).
@@ -264,7 +253,7 @@ impl Recording {
                 let path = match part.link {
                     Some(i) => {
                         count[i] += 1;
-                        format!("{}/visual_{}", link_paths[i], count[i] - 1)
+                        visual_entity_path(&link_paths[i], count[i] - 1)
                     }
                     None => format!("obstacles/{}", part.name),
                 };
@@ -555,10 +544,17 @@ impl Feed {
 
 /// What the recording thread keeps per update (see [`Logged`]).
 struct AllSeries {
+    /// Per URDF joint: (parent link, child link) and the child's pose
+    /// relative to its parent.
     poses: Vec<((usize, usize), PoseSeries)>,
     links: usize,
+    /// Every scalar series, in the order of [`Batch::values`]: per axis
+    /// cmd_pos, act_pos, cmd_vel, act_vel; the drives' torques; traced
+    /// tags; clearances.
     scalars: Vec<Series>,
+    /// Per function block: its name, outputs then ErrorID, the last outputs.
     fbs: Vec<(String, Vec<Series>, FbOutputs)>,
+    /// Per control structure: its name, bits then codes, the last bits.
     instructions: Vec<(String, Vec<Series>, MotionInstructionBits)>,
 }
 
@@ -659,20 +655,9 @@ impl Series {
 
 impl Logged {
     fn new(recorder: Recorder, series: AllSeries, live: bool) -> Logged {
-        let AllSeries {
-            poses,
-            links,
-            scalars,
-            fbs,
-            instructions,
-        } = series;
         Logged {
             recorder,
-            poses,
-            links,
-            scalars,
-            fbs,
-            instructions,
+            series,
             pending_updates: 0,
             idle_flush_updates: IDLE_FLUSH_UPDATES,
             live: live.then(std::time::Instant::now),
@@ -725,20 +710,21 @@ impl Logged {
     /// Takes in a batch: every update's samples, the instruction log lines
     /// of what changed, and the items in order.
     fn take(&mut self, batch: Batch) -> Result<(), RecordingError> {
-        let scalars = self.scalars.len();
-        let (fbs, instructions) = (self.fbs.len(), self.instructions.len());
+        let scalars = self.series.scalars.len();
+        let (fbs, instructions) = (self.series.fbs.len(), self.series.instructions.len());
         let mut items = batch.items.into_iter().peekable();
         for (u, &t) in batch.times_ns.iter().enumerate() {
             while let Some((_, t_item, item)) = items.next_if(|(before, _, _)| *before <= u) {
                 self.log_item(t_item, item)?;
             }
             self.recorder.set_time_ns(t);
-            let poses = &batch.world_from_link[u * self.links..(u + 1) * self.links];
-            for ((parent, child), series) in &mut self.poses {
+            let poses = &batch.world_from_link[u * self.series.links..(u + 1) * self.series.links];
+            for ((parent, child), series) in &mut self.series.poses {
                 let (translation, rotation) = parent_from_child(poses[*parent], poses[*child]);
                 series.observe(t, translation, rotation);
             }
             for (series, value) in self
+                .series
                 .scalars
                 .iter_mut()
                 .zip(&batch.values[u * scalars..(u + 1) * scalars])
@@ -747,7 +733,7 @@ impl Logged {
                     series.observe(t, *v);
                 }
             }
-            for ((name, series, previous), o) in self.fbs.iter_mut().zip(&batch.fbs[u * fbs..(u + 1) * fbs]) {
+            for ((name, series, previous), o) in self.series.fbs.iter_mut().zip(&batch.fbs[u * fbs..(u + 1) * fbs]) {
                 let o = *o;
                 let values = o
                     .bits()
@@ -764,6 +750,7 @@ impl Logged {
                 }
             }
             for ((name, series, previous), b) in self
+                .series
                 .instructions
                 .iter_mut()
                 .zip(&batch.instructions[u * instructions..(u + 1) * instructions])
@@ -806,10 +793,11 @@ impl Logged {
     /// The recorder, and every scalar series.
     fn scalar_series(&mut self) -> (&mut Recorder, impl Iterator<Item = &mut Series>) {
         let scalars = self
+            .series
             .scalars
             .iter_mut()
-            .chain(self.fbs.iter_mut().flat_map(|(_, s, _)| s))
-            .chain(self.instructions.iter_mut().flat_map(|(_, s, _)| s));
+            .chain(self.series.fbs.iter_mut().flat_map(|(_, s, _)| s))
+            .chain(self.series.instructions.iter_mut().flat_map(|(_, s, _)| s));
         (&mut self.recorder, scalars)
     }
 
@@ -834,7 +822,7 @@ impl Logged {
         if let Some(at) = &mut self.live {
             *at = std::time::Instant::now();
         }
-        for (_, pose) in &mut self.poses {
+        for (_, pose) in &mut self.series.poses {
             pose.flush(&mut self.recorder)?;
         }
         let (recorder, scalars) = self.scalar_series();
