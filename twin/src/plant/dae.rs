@@ -105,8 +105,8 @@ pub fn load_dae(path: &Path) -> Result<TriMesh, DaeError> {
 /// `count="4294967296"` or `offset="4294967295"` would abort the process.
 /// Every element takes at least a byte of the file, and no input has more
 /// than [`MAX_INPUT_OFFSET`] companions.
-fn count_beyond_the_file(text: &str) -> Option<(String, usize)> {
-    let doc = roxmltree::Document::parse(text).ok()?;
+fn count_beyond_the_file(doc: &roxmltree::Document<'_>) -> Option<(String, usize)> {
+    let text = doc.input_text();
     doc.descendants().filter(roxmltree::Node::is_element).find_map(|node| {
         ["count", "offset", "stride"].into_iter().find_map(|name| {
             let value = node.attribute(name)?.trim();
@@ -146,13 +146,15 @@ pub fn parse_dae(bytes: &[u8], path: &Path) -> Result<TriMesh, DaeError> {
             crate::plant::xml::MAX_XML_DEPTH
         )));
     }
-    if let Some((attribute, line)) = count_beyond_the_file(text) {
+    // One XML parse serves the size check and the <asset> reading.
+    let doc = roxmltree::Document::parse(text).map_err(|e| malformed(format!("invalid XML: {e}")))?;
+    if let Some((attribute, line)) = count_beyond_the_file(&doc) {
         return Err(malformed(format!(
             "{attribute} at line {line} sizes more than the file can hold ({} bytes)",
             text.len()
         )));
     }
-    let asset = Asset::read(text).map_err(malformed)?;
+    let asset = Asset::read(&doc).map_err(malformed)?;
     let scene = catch_unwind(AssertUnwindSafe(|| mesh_loader::collada::from_str(text)))
         .map_err(|_| malformed("the COLLADA parser failed on inconsistent indices or sources".to_string()))?
         .map_err(|e| malformed(e.to_string()))?;
@@ -238,8 +240,7 @@ struct Asset {
 }
 
 impl Asset {
-    fn read(text: &str) -> Result<Asset, String> {
-        let doc = roxmltree::Document::parse(text).map_err(|e| format!("invalid XML: {e}"))?;
+    fn read(doc: &roxmltree::Document<'_>) -> Result<Asset, String> {
         let root = doc.root_element();
         if root.tag_name().name() != "COLLADA" {
             return Err(format!("root element is <{}>, not <COLLADA>", root.tag_name().name()));
