@@ -97,9 +97,14 @@ pub struct AxisConfig {
     /// `SoftTravelLimitNegative`, `SoftTravelLimitPositive` with soft
     /// overtravel checking on) (default: none). Finite, `min < max`, not on a
     /// modulo axis; the initial position must lie inside
-    /// ([`crate::task::MotionTask::add_axis`]). Which commands respect them:
-    /// see [`crate::task`] module `mct`.
+    /// ([`crate::task::MotionTask::add_axis`]). The task watches the actual
+    /// position against them (soft overtravel, [`crate::servo`]); what a
+    /// transform commands never crosses them (see [`crate::task`] module
+    /// `mct`).
     pub soft_travel_limits: Option<(f64, f64)>,
+    /// What the axis does on a soft overtravel (the Motion Exception Action
+    /// of Soft Travel Limit - Positive / Negative; default: Stop Planner).
+    pub soft_overtravel_action: FaultAction,
     /// Servo, virtual or feedback-only (default: servo). See
     /// [`crate::servo`].
     pub axis_type: AxisType,
@@ -142,6 +147,7 @@ impl AxisConfig {
             allow_motion_on_coupled_slave: false,
             modulo_tolerance_window: 0.0,
             soft_travel_limits: None,
+            soft_overtravel_action: FaultAction::StopPlanner,
             axis_type: AxisType::Servo,
             inhibited: false,
             start_servo_on: true,

@@ -17,13 +17,13 @@
 //! * ERR 13 with EXERR 2 (Type), 3 (Position Select) or 4 (Position not
 //!   finite).
 //! * **Soft travel limits** (`AxisConfig::soft_travel_limits`, the spec's
-//!   Max Positive / Max Negative Travel): the redefined *actual* position
+//!   Max Positive / Max Negative Travel): a redefined *actual* position
 //!   (the one soft overtravel checking watches; absolute or relative, either
-//!   Position Select) must lie within them, bounds included. Logix redefines
-//!   and then raises a software overtravel *axis* fault; this task models no
-//!   axis faults, so (a choice) the MRP is refused instead: ERR 13, EXERR 4
-//!   (the Position operand), `.ER`, and the axis' positions are left as they
-//!   were, so no MRP takes an axis' actual position beyond its limits.
+//!   Position Select) outside them is redefined all the same (`.DN`) and
+//!   raises the soft overtravel fault at once, as the spec says ("a
+//!   software overtravel fault is generated when the instruction is
+//!   executed"); the axis then takes its `soft_overtravel_action` (see
+//!   [`crate::servo`]). The bounds themselves are inside.
 //!
 //! Choice: the redefinition completes inside the call (`.DN` at once; the
 //! spec allows several coarse updates).

@@ -50,10 +50,40 @@
 //!
 //! # Faults ([`AxisFaults`], the `AxisFault` word)
 //! The word's bits are the CIP axis' fault categories; [`AxisFaults::MOTION`]
-//! holds the planner-detected faults such as Excessive Position Error
-//! ([`FaultAction`] decides what the axis does). MAFR clears the word and
-//! leaves an axis that the fault had disabled servo-off (Stopped): the
-//! program must MSO again. MAFR does not leave Shutdown (MASR does).
+//! holds the planner-detected faults: Excessive Position Error and soft
+//! overtravel ([`FaultAction`] decides what the axis does). MAFR clears the
+//! word and leaves an axis that the fault had disabled servo-off (Stopped):
+//! the program must MSO again. MAFR does not leave Shutdown (MASR does).
+//!
+//! # Soft overtravel ([`MotionFaults`], the `MotionFault` word)
+//! As the Logix Motion Fault and Alarm Exceptions define it: with soft
+//! travel limits (`AxisConfig::soft_travel_limits`, Soft Travel Limit
+//! Checking on) the task compares the axis' **actual** position with them
+//! every coarse update. Beyond `max` (strictly) is Soft Travel Limit -
+//! Positive, below `min` Soft Travel Limit - Negative. On a controlled axis
+//! the exception is generated only while the command moves the axis further
+//! out (command velocity pointing away from the range): an axis standing
+//! beyond a limit, or commanded back towards the range, raises nothing —
+//! the manual's recovery path (MAFR, MSO, move back in). A feedback-only
+//! axis raises it whenever it is outside. The exception sets its
+//! [`MotionFaults`] bit and [`AxisFaults::MOTION`] (both latched until MAFR
+//! or MASR) and takes the axis' `soft_overtravel_action` (default Stop
+//! Planner: the command ramps to rest at the maximum deceleration, the
+//! servo stays on, so the axis stops beyond the limit by its stopping
+//! distance).
+//!
+//! While a soft overtravel bit is set, or the actual position is beyond a
+//! limit (action other than Ignore), a motion instruction that would move
+//! the axis further out fails with ERR 9 (Overtravel Condition,
+//! [`StateError::Overtravel`]); moves back towards the range execute. What
+//! "further out" means per instruction (choices where the manual does not
+//! say): MAM — its target beyond the current command position on that
+//! side; MAJ — its direction; MCLM and MCCM — the axis' end position beyond
+//! its start (EXERR: the axis' index in the coordinate system); MAG and MAPC
+//! — either side, since the master decides the direction. MRP to a
+//! position outside the limits redefines the position and raises the
+//! exception at once (the MAPC document's rule: "a software overtravel
+//! fault is generated when the instruction is executed").
 
 use thiserror::Error;
 
@@ -202,6 +232,33 @@ impl AxisFaults {
     }
 }
 
+/// The `MotionFault` word: the motion planner's exception conditions (Logix
+/// Motion Fault and Alarm Exceptions).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct MotionFaults(pub u32);
+
+impl MotionFaults {
+    /// Bit 1: Soft Travel Limit - Positive (`SoftTravelLimitPositiveFault`).
+    pub const SOFT_TRAVEL_POSITIVE: u32 = 1 << 1;
+    /// Bit 2: Soft Travel Limit - Negative (`SoftTravelLimitNegativeFault`).
+    pub const SOFT_TRAVEL_NEGATIVE: u32 = 1 << 2;
+
+    /// Whether no exception is recorded.
+    pub fn is_clear(self) -> bool {
+        self.0 == 0
+    }
+
+    /// Whether Soft Travel Limit - Positive is recorded.
+    pub fn positive(self) -> bool {
+        self.0 & Self::SOFT_TRAVEL_POSITIVE != 0
+    }
+
+    /// Whether Soft Travel Limit - Negative is recorded.
+    pub fn negative(self) -> bool {
+        self.0 & Self::SOFT_TRAVEL_NEGATIVE != 0
+    }
+}
+
 /// Why a state or motion instruction cannot execute in the axis' state.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
 #[non_exhaustive]
@@ -215,6 +272,10 @@ pub enum StateError {
     /// ERR 8: the axis' type cannot do the instruction.
     #[error("axis type not servo (ERR 8)")]
     AxisType,
+    /// ERR 9: the move would take the axis further beyond a soft travel
+    /// limit it has exceeded.
+    #[error("overtravel condition (ERR 9): move the axis back inside its soft travel limits")]
+    Overtravel,
     /// ERR 16: the axis is homing.
     #[error("homing in process (ERR 16)")]
     Homing,
@@ -236,6 +297,7 @@ impl StateError {
             Self::ServoOff => 5,
             Self::Shutdown => 7,
             Self::AxisType => 8,
+            Self::Overtravel => 9,
             Self::Homing => 16,
             Self::Faulted => 20,
             Self::InMotion => 22,

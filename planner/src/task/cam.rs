@@ -336,6 +336,8 @@ impl MotionTask {
     fn mapc_inner(&mut self, call: MapcCall) -> Result<(), MapcError> {
         let mut mapc = Mapc::new(&call.operands)?;
         self.check_state(call.slave, Need::Motion).map_err(MapcError::State)?;
+        // The master decides the direction: either side counts.
+        self.check_overtravel(call.slave, 0.0).map_err(MapcError::State)?;
         if call.slave == call.master {
             return Err(MapcError::ParameterOutOfRange {
                 operand: crate::mapc::operand::MASTER,
@@ -526,19 +528,21 @@ impl MotionTask {
                 return Err(e);
             }
         };
-        let a = &mut self.axes[axis.0 as usize];
+        let a = &self.axes[axis.0 as usize];
         let delta = mrp.delta(a.command.position, a.actual);
-        // Soft overtravel is checked on the actual position, as Logix does.
-        if a.config.check_soft_travel_limits(a.actual + delta).is_err() {
-            let e = MrpError::ParameterOutOfRange {
-                operand: crate::catalogue::MRP.exerr("Position"),
-                value: mrp.position,
-            };
-            self.fail(motion_control, e.err(), e.exerr(), 0);
-            return Err(e);
-        }
+        // Soft overtravel watches the actual position (`crate::servo`): a
+        // redefinition outside the limits raises the exception at once.
+        let actual = a.actual + delta;
+        let overtravel = match a.config.soft_travel_limits {
+            Some((_, max)) if actual > max => Some(crate::servo::MotionFaults::SOFT_TRAVEL_POSITIVE),
+            Some((min, _)) if actual < min => Some(crate::servo::MotionFaults::SOFT_TRAVEL_NEGATIVE),
+            _ => None,
+        };
         self.redefine_position(axis, delta);
         self.bits(motion_control).dn = true;
+        if let Some(bit) = overtravel {
+            self.raise_soft_overtravel(axis, bit);
+        }
         Ok(())
     }
 
@@ -564,7 +568,9 @@ impl MotionTask {
     /// MAJ: jogs `axis` at the operands' speed, from its current state.
     ///
     /// # Errors
-    /// ERR 13 with EXERR = the operand.
+    /// ERR 13 with EXERR = the operand; the axis-state errors of
+    /// [`crate::servo`] (ERR 9 for a jog further beyond an exceeded soft
+    /// travel limit).
     pub fn maj(
         &mut self,
         axis: AxisHandle,
@@ -574,6 +580,12 @@ impl MotionTask {
         let jog = Jog::new(operands, &self.axes[axis.0 as usize].config);
         let jog = self.begin_validated(motion_control, jog)?;
         self.state_allows(axis, motion_control, Need::Motion)?;
+        if jog.velocity != 0.0
+            && let Err(e) = self.check_overtravel(axis, jog.velocity)
+        {
+            self.fail(motion_control, e.err(), 0, 0);
+            return Err(JogError::State(e));
+        }
         self.fold_superimposed(axis);
         self.abort_move(axis);
         self.end_cams(axis);

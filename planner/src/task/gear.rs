@@ -53,6 +53,8 @@ impl MotionTask {
                 });
             }
             self.check_state(slave, super::servo::Need::Motion)?;
+            // The master decides the direction: either side counts.
+            self.check_overtravel(slave, 0.0)?;
             Ok(m)
         });
         let mag = match validated {

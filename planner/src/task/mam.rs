@@ -15,7 +15,8 @@ impl MotionTask {
     ///
     /// # Errors
     /// ERR 13 with EXERR = the operand, ERR 17 for a rotary move type on a
-    /// non-modulo axis, the axis-state errors of [`crate::servo`]; the
+    /// non-modulo axis, the axis-state errors of [`crate::servo`] (ERR 9
+    /// for a target further beyond an exceeded soft travel limit); the
     /// axis keeps what it was doing.
     pub fn mam(
         &mut self,
@@ -28,6 +29,10 @@ impl MotionTask {
         let start = a.command.state();
         let validated = Mam::new(operands, &a.config, start.velocity.abs()).and_then(|m| {
             self.check_state(axis, Need::Motion).map_err(MamError::State)?;
+            let distance = m.target(start, &a.config) - start.position;
+            if distance != 0.0 {
+                self.check_overtravel(axis, distance).map_err(MamError::State)?;
+            }
             Ok(m)
         });
         let mam = match validated {

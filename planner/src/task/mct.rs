@@ -44,18 +44,16 @@
 //!   produced by a transform is ever beyond a soft travel limit.
 //!
 //! # Soft travel limits and the other commands (a choice)
-//! Soft travel limits guard what a *transform* commands: a joint position is
-//! a consequence of a Cartesian command there, invisible to the program, so
-//! the executor checks it. Every other command names its axis positions
-//! directly and is **not** checked against the limits: single-axis moves
-//! (MC_MoveModulo, which needs a modulo axis, where limits are refused
-//! anyway), jogs (MAJ), cams (MAPC) and coordinated moves (MCLM/MCCM)
-//! on a joint system without a running transform. Logix reports a soft
-//! overtravel as an axis fault (with its fault action) rather than as an
-//! instruction error, and this task models no axis faults. While a transform
-//! runs, a joint move that ends beyond a limit ends the link (ERR 67 on the
-//! MCT structure) but not the joint move itself. (MRP refuses to redefine a
-//! position outside the limits: see [`crate::mrp`].)
+//! Soft travel limits guard what a *transform* commands before it is
+//! commanded: a joint position is a consequence of a Cartesian command
+//! there, invisible to the program, so the executor keeps it inside. Every
+//! other command names its axis positions directly and is checked as Logix
+//! checks it, after the fact: the actual position crossing a limit while the
+//! command moves out is a soft overtravel fault with the axis' exception
+//! action, and a further move out fails with ERR 9 (see [`crate::servo`]).
+//! While a transform runs, a joint move that ends beyond a limit ends the
+//! link (ERR 67 on the MCT structure) but not the joint move itself; MRP
+//! outside the limits raises the fault (see [`crate::mrp`]).
 
 use super::{AxisHandle, CoordHandle, InstructionHandle, MotionTask};
 use crate::mct::instruction::{

@@ -23,7 +23,8 @@ use crate::axis::AxisConfig;
 use crate::instruction::MotionInstructionBits;
 use crate::profile::{Limits, Profile, Sample};
 use crate::servo::{
-    AxisFaults, AxisStatusBits, AxisType, CipAxisState, FaultAction, MOVING_FRACTION, SERVO_ENABLE_UPDATES, StateError,
+    AxisFaults, AxisStatusBits, AxisType, CipAxisState, FaultAction, MOVING_FRACTION, MotionFaults,
+    SERVO_ENABLE_UPDATES, StateError,
 };
 
 /// Whether the drive of an axis is enabled.
@@ -46,6 +47,8 @@ pub(super) enum Power {
 pub(super) struct ServoSlot {
     pub(super) power: Power,
     pub(super) faults: AxisFaults,
+    /// The soft overtravel exceptions recorded (latched until MAFR/MASR).
+    pub(super) motion_faults: MotionFaults,
     /// The axis' position error exceeded its tolerance in the last update.
     pub(super) position_error_exceeded: bool,
     /// An active MAH waiting for the axis to come to rest (`task/home.rs`).
@@ -65,6 +68,7 @@ impl ServoSlot {
         Self {
             power,
             faults: AxisFaults::default(),
+            motion_faults: MotionFaults::default(),
             position_error_exceeded: false,
             homing: None,
             homed: false,
@@ -116,6 +120,31 @@ impl MotionTask {
     /// The `AxisFault` word.
     pub fn axis_faults(&self, axis: AxisHandle) -> AxisFaults {
         self.axes[axis.0 as usize].servo.faults
+    }
+
+    /// The `MotionFault` word (soft overtravel, [`crate::servo`]).
+    pub fn motion_faults(&self, axis: AxisHandle) -> MotionFaults {
+        self.axes[axis.0 as usize].servo.motion_faults
+    }
+
+    /// Whether a motion of `axis` in `direction` (its sign: + positive, −
+    /// negative, 0 either way) would go further beyond a soft travel limit
+    /// the axis has exceeded: ERR 9 ([`crate::servo`]).
+    pub(super) fn check_overtravel(&self, axis: AxisHandle, direction: f64) -> Result<(), StateError> {
+        let a = &self.axes[axis.0 as usize];
+        let Some((min, max)) = a.config.soft_travel_limits else {
+            return Ok(());
+        };
+        if a.config.soft_overtravel_action == FaultAction::Ignore {
+            return Ok(());
+        }
+        let faults = a.servo.motion_faults;
+        let out_positive = faults.positive() || a.actual > max;
+        let out_negative = faults.negative() || a.actual < min;
+        if (out_positive && direction >= 0.0) || (out_negative && direction <= 0.0) {
+            return Err(StateError::Overtravel);
+        }
+        Ok(())
     }
 
     /// Whether the axis' position error (command − actual) exceeded its
@@ -289,6 +318,7 @@ impl MotionTask {
         if r.is_ok() {
             let a = &mut self.axes[axis.0 as usize];
             a.servo.faults = AxisFaults::default();
+            a.servo.motion_faults = MotionFaults::default();
             a.servo.position_error_exceeded = false;
             if a.servo.power == Power::Faulted {
                 a.servo.power = if a.config.axis_type == AxisType::Virtual {
@@ -349,6 +379,7 @@ impl MotionTask {
         let a = &mut self.axes[axis.0 as usize];
         if a.servo.power == Power::Shutdown {
             a.servo.faults = AxisFaults::default();
+            a.servo.motion_faults = MotionFaults::default();
             a.servo.position_error_exceeded = false;
             a.servo.power = if a.config.axis_type == AxisType::Virtual {
                 Power::On
@@ -408,7 +439,10 @@ impl MotionTask {
                         }
                     }
                 }
-                Power::On => self.check_position_error(axis),
+                Power::On => {
+                    self.check_position_error(axis);
+                    self.check_soft_overtravel(axis);
+                }
                 Power::Off | Power::Faulted | Power::Shutdown => {
                     if a.fed {
                         a.command = Sample {
@@ -416,6 +450,9 @@ impl MotionTask {
                             velocity: a.actual_velocity,
                             ..Sample::default()
                         };
+                    }
+                    if a.config.axis_type == AxisType::FeedbackOnly {
+                        self.check_soft_overtravel(axis);
                     }
                 }
             }
@@ -440,6 +477,45 @@ impl MotionTask {
         if action != FaultAction::Ignore {
             a.servo.faults.0 |= AxisFaults::MOTION;
         }
+        self.take_action(axis, action);
+    }
+
+    /// Soft overtravel ([`crate::servo`]): the actual position beyond a
+    /// soft travel limit while the command moves further out (a
+    /// feedback-only axis: whenever it is outside) raises the side's
+    /// exception once and takes the axis' `soft_overtravel_action`.
+    fn check_soft_overtravel(&mut self, axis: AxisHandle) {
+        let a = &self.axes[axis.0 as usize];
+        let Some((min, max)) = a.config.soft_travel_limits else {
+            return;
+        };
+        let uncontrolled = a.config.axis_type == AxisType::FeedbackOnly;
+        let v = a.command.velocity;
+        let bit = if a.actual > max && (uncontrolled || v > 0.0) {
+            MotionFaults::SOFT_TRAVEL_POSITIVE
+        } else if a.actual < min && (uncontrolled || v < 0.0) {
+            MotionFaults::SOFT_TRAVEL_NEGATIVE
+        } else {
+            return;
+        };
+        self.raise_soft_overtravel(axis, bit);
+    }
+
+    /// Records the soft overtravel exception `bit` (unless already
+    /// recorded) and takes the axis' `soft_overtravel_action`.
+    pub(super) fn raise_soft_overtravel(&mut self, axis: AxisHandle, bit: u32) {
+        let a = &mut self.axes[axis.0 as usize];
+        let action = a.config.soft_overtravel_action;
+        if action == FaultAction::Ignore || a.servo.motion_faults.0 & bit != 0 {
+            return;
+        }
+        a.servo.motion_faults.0 |= bit;
+        a.servo.faults.0 |= AxisFaults::MOTION;
+        self.take_action(axis, action);
+    }
+
+    /// What a recorded fault does to the axis.
+    fn take_action(&mut self, axis: AxisHandle, action: FaultAction) {
         match action {
             FaultAction::Ignore | FaultAction::Alarm | FaultAction::FaultStatusOnly => {}
             FaultAction::StopPlanner => self.stop_planner(axis),

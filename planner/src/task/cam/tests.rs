@@ -1422,47 +1422,57 @@ fn stops_end_a_preloaded_pending_cam() {
 }
 
 /// Guards against MRP redefining an axis to a position outside its soft
-/// travel limits without an error (the spec: a software overtravel fault).
+/// travel limits without the fault the MAPC/MRP document names ("a software
+/// overtravel fault is generated when the instruction is executed").
 #[test]
-fn mrp_outside_the_soft_travel_limits_is_refused() {
+fn mrp_outside_the_soft_travel_limits_raises_a_soft_overtravel_fault() {
+    use crate::servo::{AxisFaults, FaultAction, MotionFaults};
+    // (Type, Position Select, Position): each takes the actual position
+    // (9.5, the command 10) outside [−100, 100].
+    for (kind, select, position, bit) in [
+        (0, 0, 100.5, MotionFaults::SOFT_TRAVEL_POSITIVE),
+        (0, 1, -99.6, MotionFaults::SOFT_TRAVEL_NEGATIVE),
+        (1, 0, 90.6, MotionFaults::SOFT_TRAVEL_POSITIVE),
+        (1, 1, -109.6, MotionFaults::SOFT_TRAVEL_NEGATIVE),
+    ] {
+        let mut task = MotionTask::new(DT).unwrap();
+        let cfg = AxisConfig {
+            soft_travel_limits: Some((-100.0, 100.0)),
+            ..axis("Lift")
+        };
+        let lift = task.add_axis(cfg, 10.0).unwrap();
+        let mi = task.add_instruction("MRP_1");
+        task.feed_actual_position(lift, 9.5);
+        task.mrp(lift, mi, kind, select, position).unwrap();
+        let b = task.motion_bits(mi);
+        assert!(b.en && b.dn && !b.er, "{kind} {select} {position}");
+        let s = task.axis_state(lift);
+        assert!(s.actual_position > 100.0 || s.actual_position < -100.0);
+        assert_eq!(task.motion_faults(lift).0, bit, "{kind} {select} {position}");
+        assert_eq!(task.axis_faults(lift).0, AxisFaults::MOTION);
+        // Stop Planner: the servo stays on.
+        assert!(task.is_servo_on(lift));
+    }
+    // The bounds themselves are inside: no fault.
     let mut task = MotionTask::new(DT).unwrap();
     let cfg = AxisConfig {
         soft_travel_limits: Some((-100.0, 100.0)),
+        soft_overtravel_action: FaultAction::StopDrive,
         ..axis("Lift")
     };
     let lift = task.add_axis(cfg, 10.0).unwrap();
     let mi = task.add_instruction("MRP_1");
-    // Command 10, actual 9.5: the following error is kept by a redefinition.
     task.feed_actual_position(lift, 9.5);
-    let before = task.axis_state(lift);
-    // (Type, Position Select, Position): each takes the actual position
-    // outside [−100, 100].
-    for (kind, select, position) in [
-        (0, 0, 100.5),
-        (0, 1, -99.6),
-        (1, 0, 90.6),
-        (1, 1, -109.6),
-        (0, 0, 1e300),
-    ] {
-        let e = task.mrp(lift, mi, kind, select, position).unwrap_err();
-        assert_eq!((e.err(), e.exerr()), (13, 4), "{kind} {select} {position}");
-        let b = task.motion_bits(mi);
-        assert!(b.en && b.er && !b.dn && b.err == 13 && b.exerr == 4);
-        let s = task.axis_state(lift);
-        assert_eq!(
-            (s.command_position, s.actual_position),
-            (before.command_position, before.actual_position)
-        );
-        assert_eq!(task.position_offset(lift), 0.0);
-    }
-    // The bounds themselves are inside.
     task.mrp(lift, mi, 0, 0, 100.0).unwrap();
     let s = task.axis_state(lift);
     assert_eq!((s.command_position, s.actual_position), (100.5, 100.0));
     task.mrp(lift, mi, 1, 1, -200.0).unwrap();
     let s = task.axis_state(lift);
     assert_eq!((s.command_position, s.actual_position), (-99.5, -100.0));
-    assert!(task.motion_bits(mi).dn);
+    assert!(task.motion_faults(lift).is_clear() && task.is_servo_on(lift));
+    // One past the bound, with the Stop Drive action: the drive is off.
+    task.mrp(lift, mi, 1, 1, -0.5).unwrap();
+    assert!(task.motion_faults(lift).negative() && !task.is_servo_on(lift));
 }
 
 /// Guards against a master that moves more than one cycle of a Continuous

@@ -158,6 +158,21 @@ impl MotionTask {
                 return;
             }
         };
+        // An axis that would end further beyond a soft travel limit it has
+        // exceeded: ERR 9, EXERR its index ([`crate::servo`]).
+        let axes = &self.coord.systems[cs.0 as usize].axes;
+        let out = axes
+            .iter()
+            .zip(mv.path().end().iter().zip(&start))
+            .position(|(&a, (end, from))| {
+                let distance = end - from;
+                distance != 0.0 && self.check_overtravel(a, distance).is_err()
+            });
+        if let Some(i) = out {
+            self.cbits(h)
+                .set_error(crate::servo::StateError::Overtravel.err(), i as i32, 0);
+            return;
+        }
         // Another system moving axes of this one: merge all motion ends its
         // motion; otherwise the move is refused.
         let others = self.busy_systems_sharing_axes(cs);

@@ -579,7 +579,7 @@ fn a_cartesian_move_across_a_joint_limit_faults_and_stops_the_joint_short_of_it(
 }
 
 #[test]
-fn an_axis_can_neither_start_nor_be_redefined_beyond_its_limit() {
+fn an_axis_can_neither_start_nor_be_transformed_beyond_its_limit() {
     let mut task = MotionTask::new(DT).unwrap();
     let limited = AxisConfig {
         soft_travel_limits: Some((-10.0, 10.0)),
@@ -593,13 +593,21 @@ fn an_axis_can_neither_start_nor_be_redefined_beyond_its_limit() {
         })
     ));
     assert!(task.add_axis(limited, 10.0).is_ok());
-    // MRP refuses to put the joint beyond its limit (crate::mrp): ERR 13,
-    // EXERR 4, the joint keeps its position and MCT links it as usual.
+    // MRP beyond the limit redefines and raises the soft overtravel fault
+    // (crate::mrp); MRP back inside, MAFR, and MCT links the joint as usual.
     let mut r = scara_limited([0.0, 60.0], [None, Some((-150.0, 150.0))]);
     let mrp = r.task.add_instruction("MRP1");
-    let e = r.task.mrp(r.j[1], mrp, 0, 1, 151.0).unwrap_err();
-    assert_eq!((e.err(), e.exerr()), (13, 4));
-    assert_eq!(r.task.axis_state(r.j[1]).command_position, 60.0);
+    r.task.mrp(r.j[1], mrp, 0, 1, 151.0).unwrap();
+    assert_eq!(r.task.axis_state(r.j[1]).command_position, 151.0);
+    assert!(r.task.motion_faults(r.j[1]).positive());
+    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    // A transform refuses a joint beyond its limit (ERR 67).
+    let b = r.task.motion_bits(r.mct);
+    assert!(b.er && b.err == 67, "{b:?}");
+    r.task.mrp(r.j[1], mrp, 0, 1, 60.0).unwrap();
+    let reset = r.task.add_instruction("MAFR1");
+    r.task.mafr(r.j[1], reset).unwrap();
+    assert!(r.task.motion_faults(r.j[1]).is_clear());
     r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let b = r.task.motion_bits(r.mct);
     assert!(!b.er && b.ip, "{b:?}");

@@ -661,3 +661,242 @@ fn a_disable_during_a_coordinated_move_brings_the_other_axes_to_rest() {
     task.update();
     assert_eq!(task.axis_state(y).command_position, p);
 }
+
+fn reverse(speed: f64) -> MajOperands {
+    MajOperands {
+        direction: 1,
+        ..jog(speed)
+    }
+}
+
+/// A linear servo-on axis at 0 with soft travel limits [−10, 10].
+fn limited(action: FaultAction) -> (MotionTask, AxisHandle, InstructionHandle) {
+    one_at(
+        AxisConfig {
+            modulo_period: None,
+            start_servo_on: true,
+            soft_travel_limits: Some((-10.0, 10.0)),
+            soft_overtravel_action: action,
+            ..config("Lift")
+        },
+        0.0,
+    )
+}
+
+fn one_at(config: AxisConfig, position: f64) -> (MotionTask, AxisHandle, InstructionHandle) {
+    let mut task = MotionTask::new(DT).unwrap();
+    let axis = task.add_axis(config, position).unwrap();
+    let mi = task.add_instruction("MC");
+    (task, axis, mi)
+}
+
+fn mam_to(position: f64) -> crate::mam::MamOperands {
+    crate::mam::MamOperands {
+        position,
+        ..crate::mam::MamOperands::default()
+    }
+}
+
+/// Runs updates with the actual position following the command (at most
+/// `n`) until the axis records a motion fault; the update count.
+fn run_until_fault(task: &mut MotionTask, axis: AxisHandle, n: usize) -> Option<usize> {
+    for k in 0..n {
+        let p = task.axis_state(axis).command_position;
+        task.feed_actual_position(axis, p);
+        task.update();
+        if !task.motion_faults(axis).is_clear() {
+            return Some(k);
+        }
+    }
+    None
+}
+
+/// Guards against a move past a soft travel limit going on with no fault
+/// (issue: "A SCARA quill driven past its URDF limit gets no error"): the
+/// actual position crossing the limit raises Soft Travel Limit - Positive,
+/// Stop Planner ramps the command to rest, a move further out fails with
+/// ERR 9 and a move back in runs.
+#[test]
+fn a_move_past_a_soft_travel_limit_faults_and_a_further_move_out_fails_with_err_9() {
+    let (mut task, axis, mi) = limited(FaultAction::StopPlanner);
+    task.mam(axis, mi, &mam_to(50.0)).unwrap();
+    run_until_fault(&mut task, axis, 1000).expect("the fault rises");
+    let faults = task.motion_faults(axis);
+    assert!(faults.positive() && !faults.negative());
+    assert_eq!(task.axis_faults(axis).0, AxisFaults::MOTION);
+    let s = task.axis_state(axis);
+    assert!(s.actual_position > 10.0, "{s:?}");
+    // The MAM is stopped: no longer in process, never complete.
+    let b = task.motion_bits(mi);
+    assert!(!b.ip && !b.pc, "{b:?}");
+    assert!(task.axis_status(axis).stopping && task.is_servo_on(axis));
+    // It comes to rest beyond the limit by at most the stopping distance
+    // at maximum deceleration (100 units/s, 1000 units/s²: 5 units).
+    for _ in 0..100 {
+        let p = task.axis_state(axis).command_position;
+        task.feed_actual_position(axis, p);
+        task.update();
+    }
+    let rest = task.axis_state(axis);
+    // (Plus the crossing update and the fed position's one-update lag, at
+    // most 0.4 units each.)
+    assert!(
+        rest.command_velocity == 0.0 && rest.command_position < 10.0 + 5.0 + 0.8 + 1e-9,
+        "{rest:?}"
+    );
+    // Further out: ERR 9 on MAM and MAJ; the axis keeps its place.
+    let out = task.add_instruction("OUT");
+    assert_eq!(
+        task.mam(axis, out, &mam_to(rest.command_position + 1.0)),
+        Err(crate::mam::MamError::State(StateError::Overtravel))
+    );
+    assert_eq!(err(&task, out), (true, 9, 0));
+    assert_eq!(
+        task.maj(axis, out, &jog(10.0)),
+        Err(JogError::State(StateError::Overtravel))
+    );
+    assert_eq!(err(&task, out), (true, 9, 0));
+    // Back in: runs, raises nothing new, and completes inside.
+    let back = task.add_instruction("BACK");
+    task.mam(axis, back, &mam_to(0.0)).unwrap();
+    for _ in 0..500 {
+        let p = task.axis_state(axis).command_position;
+        task.feed_actual_position(axis, p);
+        task.update();
+    }
+    assert!(task.motion_bits(back).pc);
+    assert_eq!(task.motion_faults(axis), faults, "latched until MAFR");
+    let mafr = task.add_instruction("MAFR");
+    task.mafr(axis, mafr).unwrap();
+    assert!(task.motion_faults(axis).is_clear() && task.axis_faults(axis).is_clear());
+    // Inside again, a move out runs until it crosses the limit again.
+    task.mam(axis, out, &mam_to(-20.0)).unwrap();
+    run_until_fault(&mut task, axis, 1000).expect("the fault rises again");
+    assert!(task.motion_faults(axis).negative());
+    assert!(task.axis_state(axis).actual_position < -10.0);
+}
+
+#[test]
+fn a_soft_overtravel_takes_the_configured_action() {
+    for (action, state, recorded) in [
+        (FaultAction::StopDrive, CipAxisState::Faulted, true),
+        (FaultAction::Shutdown, CipAxisState::Shutdown, true),
+        (FaultAction::StopPlanner, CipAxisState::Running, true),
+        (FaultAction::FaultStatusOnly, CipAxisState::Running, true),
+        (FaultAction::Ignore, CipAxisState::Running, false),
+    ] {
+        let (mut task, axis, mi) = limited(action);
+        task.maj(axis, mi, &reverse(50.0)).unwrap();
+        let fault = run_until_fault(&mut task, axis, 200);
+        assert_eq!(fault.is_some(), recorded, "{action:?}");
+        assert_eq!(task.cip_axis_state(axis), state, "{action:?}");
+        let jog_runs = task.motion_bits(mi).ip;
+        let runs_on = matches!(action, FaultAction::FaultStatusOnly | FaultAction::Ignore);
+        assert_eq!(jog_runs, runs_on, "{action:?}");
+        if action == FaultAction::StopDrive {
+            // MAFR, MSO while beyond the limit: standing still raises
+            // nothing (the manual's recovery path), and a jog back in runs.
+            let (mafr, mso) = (task.add_instruction("MAFR"), task.add_instruction("MSO"));
+            // The drive is off: the joint comes to rest where it is.
+            let p = task.axis_state(axis).actual_position;
+            for _ in 0..2 {
+                task.feed_actual_position(axis, p);
+                task.update();
+            }
+            task.mafr(axis, mafr).unwrap();
+            enable(&mut task, axis, mso);
+            for _ in 0..10 {
+                let p = task.axis_state(axis).command_position;
+                task.feed_actual_position(axis, p);
+                task.update();
+            }
+            assert!(task.motion_faults(axis).is_clear());
+            assert!(task.axis_state(axis).actual_position < -10.0);
+            let out = task.add_instruction("OUT");
+            assert_eq!(
+                task.maj(axis, out, &reverse(10.0)),
+                Err(JogError::State(StateError::Overtravel)),
+                "beyond the limit, out is refused without a latched fault too"
+            );
+            task.maj(axis, out, &jog(10.0)).unwrap();
+            assert_eq!(run_until_fault(&mut task, axis, 100), None);
+        }
+    }
+}
+
+#[test]
+fn a_feedback_only_axis_faults_whenever_it_is_outside() {
+    let (mut task, axis, _) = one_at(
+        AxisConfig {
+            modulo_period: None,
+            axis_type: AxisType::FeedbackOnly,
+            soft_travel_limits: Some((-10.0, 10.0)),
+            soft_overtravel_action: FaultAction::FaultStatusOnly,
+            ..config("Encoder")
+        },
+        0.0,
+    );
+    task.feed_actual_position(axis, 9.0);
+    task.update();
+    assert!(task.motion_faults(axis).is_clear());
+    task.feed_actual_position(axis, 10.5);
+    task.update();
+    assert!(task.motion_faults(axis).positive());
+    let mafr = task.add_instruction("MAFR");
+    task.mafr(axis, mafr).unwrap();
+    task.update();
+    assert!(task.motion_faults(axis).positive(), "still outside: raised again");
+}
+
+#[test]
+fn a_coordinated_move_further_out_fails_with_err_9_naming_the_axis() {
+    let mut task = MotionTask::new(DT).unwrap();
+    let free = AxisConfig::new("X", AxisKind::Linear);
+    let x = task.add_axis(free.clone(), 0.0).unwrap();
+    let y = task
+        .add_axis(
+            AxisConfig {
+                name: "Y".into(),
+                soft_travel_limits: Some((-1.0, 1.0)),
+                ..free
+            },
+            0.0,
+        )
+        .unwrap();
+    let cs = task
+        .add_coordinate_system(
+            CoordinateSystemConfig {
+                axis_count: 2,
+                primary_axes: 2,
+                max_speed: 100.0,
+                max_accel: 1000.0,
+                max_decel: 1000.0,
+                ..CoordinateSystemConfig::new("CS")
+            },
+            &[x, y],
+        )
+        .unwrap();
+    let mrp = task.add_instruction("MRP");
+    task.mrp(y, mrp, 0, 0, 1.5).unwrap();
+    assert!(task.motion_faults(y).positive());
+    let line = |to: [f64; 2]| {
+        CoordCall::Mclm(CoordMoveInputs {
+            position: to.to_vec(),
+            speed: 10.0,
+            accel_rate: 50.0,
+            decel_rate: 50.0,
+            ..Default::default()
+        })
+    };
+    let h = task.add_coord_instruction("Line", cs, line([1.0, 2.0]));
+    let fire = |task: &mut MotionTask, to: [f64; 2]| {
+        task.set_coord_instruction(h, false, line(to));
+        task.update();
+        task.set_coord_instruction(h, true, line(to));
+        task.update();
+        let b = task.coord_bits(h);
+        (b.er, b.err, b.exerr)
+    };
+    assert_eq!(fire(&mut task, [1.0, 2.0]), (true, 9, 1));
+    assert_eq!(fire(&mut task, [1.0, 0.0]), (false, 0, 0));
+}
