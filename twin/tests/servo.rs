@@ -379,3 +379,95 @@ fn a_geared_wrist_follows_its_master_at_the_ratio_until_mas_gear() {
     assert!((num(&last[j6]) - 90.0).abs() < 1e-6);
     assert!(num(&last[j4]).abs() < 1e-6);
 }
+
+/// Guards against a SCARA quill driven past its URDF limit going on with no
+/// error: the URDF `<limit>` is the axis' soft travel limits, the actual
+/// position at the stop raises Soft Travel Limit - Negative (Stop Planner:
+/// the MAM ends, the axis ramps to rest), a further move down fails with
+/// ERR 9 and a move back up completes; MAFR clears the fault.
+#[test]
+fn a_scara_quill_driven_past_its_urdf_limit_faults_and_a_further_move_down_fails_with_err_9() {
+    let robots = root().join("scenes/robots").display().to_string();
+    let mam = |tag: &str, to: f64| {
+        format!(
+            "MAM(Z, {tag}, 0, {to}, 0.5, unitspersec, 5, unitspersec2, 5, unitspersec2, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0)"
+        )
+    };
+    let mut text = format!(
+        r#"name = "quill_overtravel"
+duration_s = 2.4
+coarse_update_ms = 4.0
+physics_step_ms = 1.0
+
+[robot]
+urdf = "{robots}/scara/scara.urdf"
+
+[[axes]]
+name = "Z"
+joint = "j3"
+kind = "linear"
+units = "m"
+max_velocity = 1.0
+max_acceleration = 10.0
+max_deceleration = 10.0
+max_jerk = 100000.0
+in_position_window = 0.0005
+motor = {{ stiffness = 142122.3, damping = 754.0 }}
+"#
+    );
+    for tag in ["Down", "Further", "Back", "Reset"] {
+        text += &format!("\n[[tags]]\nname = \"{tag}\"\ntype = \"MOTION_INSTRUCTION\"\n");
+    }
+    for (at, call) in [
+        (0.1, mam("Down", -0.4)),
+        (1.2, mam("Further", -0.35)),
+        (1.4, mam("Back", -0.1)),
+        (2.2, "MAFR(Z, Reset)".to_string()),
+    ] {
+        text += &format!("\n[[program]]\nat_s = {at}\ncall = \"{call}\"\n");
+    }
+    text += "\n[trace]\ntags = [\"Z.SoftTravelLimitNegativeFault\", \"Z.SoftTravelLimitNegative\", \"Z.SoftTravelLimitChecking\"]\n";
+    let dir = common::fresh_dir("servo-tests", "quill-overtravel-scene");
+    let scene = dir.join("quill.toml");
+    std::fs::write(&scene, text).expect("write scene");
+    let (code, log, header, rows) = run(&scene, "quill-overtravel");
+    assert_eq!(code, 2, "the refused move is an instruction error: {log}");
+    let (t, act, fault) = (
+        col(&header, "time_s"),
+        col(&header, "Z.act_pos"),
+        col(&header, "Z.MotionFault"),
+    );
+    let at = |time: f64| {
+        rows.iter()
+            .find(|r| (num(&r[t]) - time).abs() < 1e-9)
+            .unwrap_or_else(|| panic!("no row at {time}"))
+    };
+    // The quill reaches its stop (-0.3 m) at about 0.76 s.
+    let first = rows.iter().position(|r| r[fault] != "0").expect("the fault rises");
+    let t_fault = num(&rows[first][t]);
+    assert!((0.7..0.8).contains(&t_fault), "{t_fault}");
+    assert_eq!(rows[first][fault], "4", "Soft Travel Limit - Negative");
+    // What a program reads: the URDF's lower limit, checking on, the bit.
+    let member = |m: &str| rows[first][col(&header, &format!("Z.{m}"))].clone();
+    assert_eq!(member("SoftTravelLimitNegative"), "-0.3");
+    assert_eq!(member("SoftTravelLimitChecking"), "1");
+    assert_eq!(member("SoftTravelLimitNegativeFault"), "1");
+    assert_eq!(rows[first - 1][col(&header, "Z.SoftTravelLimitNegativeFault")], "0");
+    assert!(num(&rows[first][act]) < -0.3 && num(&rows[first][act]) > -0.3 - 1e-6);
+    let down = |name: &str, bit: &str| at(1.3)[col(&header, &format!("{name}.{bit}"))].clone();
+    assert_eq!(
+        (down("Down", "IP"), down("Down", "PC")),
+        ("0".into(), "0".into()),
+        "the MAM is stopped"
+    );
+    assert_eq!(
+        (down("Further", "ER"), down("Further", "ERR")),
+        ("1".into(), "9".into())
+    );
+    let back = at(2.1);
+    assert_eq!(back[col(&header, "Back.PC")], "1");
+    assert!((num(&back[act]) + 0.1).abs() < 1e-3);
+    assert_eq!(back[fault], "4", "latched until MAFR");
+    assert_eq!(at(2.3)[fault], "0");
+    assert!(log.contains("axis Z: Soft Travel Limit - Negative at 0.7"), "{log}");
+}

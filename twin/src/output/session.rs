@@ -296,6 +296,35 @@ pub struct Stats {
     previous: Vec<planner::instruction::FbOutputs>,
     logix_outcomes: Vec<InstructionOutcome>,
     previous_bits: Vec<MotionInstructionBits>,
+    /// Per axis: its `AxisFault` and `MotionFault` words in the last update.
+    previous_faults: Vec<(u32, u32)>,
+    axis_faults: Vec<AxisFaultEvent>,
+    axis_fault_count: u64,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
+}
+
+/// The most axis fault events a summary lists (all are counted).
+pub const MAX_AXIS_FAULT_EVENTS: usize = 256;
+
+/// An axis fault as it was recorded (a rising bit of the axis' `AxisFault`
+/// or `MotionFault` word).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AxisFaultEvent {
+    /// The axis.
+    pub axis: String,
+    /// Simulated time of the update that recorded it, s.
+    pub time_s: f64,
+    /// The exception, as Logix names it: `Soft Travel Limit - Positive`,
+    /// `Soft Travel Limit - Negative`, `Excessive Position Error`.
+    pub fault: &'static str,
+    /// The exception action the axis took (Logix's word, e.g.
+    /// `StopPlanner`).
+    pub action: &'static str,
+    /// The actual position then, axis units.
+    pub actual_position: f64,
 }
 
 /// How one instance (or control structure) did over the run. For a Logix
@@ -371,6 +400,13 @@ pub struct Summary {
     pub min_clearance_m: Vec<(String, Option<f64>)>,
     /// Whether an `abort` collision reaction ended the run early.
     pub collision_abort: bool,
+    /// Axis faults in the order they were recorded (at most
+    /// [`MAX_AXIS_FAULT_EVENTS`]; empty: none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub axis_faults: Vec<AxisFaultEvent>,
+    /// How many axis faults were recorded in all.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub axis_fault_count: u64,
     /// Set when the physics state became non-finite and stopped the run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub physics_fault: Option<crate::plant::PhysicsFault>,
@@ -420,6 +456,49 @@ impl Stats {
                 .map(|b| InstructionOutcome::named(&b.name))
                 .collect(),
             previous_bits: vec![Default::default(); twin.program().instructions().len()],
+            previous_faults: vec![(0, 0); twin.plant().axes().len()],
+            axis_faults: Vec::new(),
+            axis_fault_count: 0,
+        }
+    }
+
+    /// Records the faults whose bits rose on `axis` (index `i`) this update.
+    fn observe_faults(&mut self, twin: &Twin, i: usize, axis: &crate::plant::axes::AxisBinding) {
+        use planner::servo::{AxisFaults, FaultAction, MotionFaults};
+        let task = twin.task();
+        let now = (task.axis_faults(axis.handle).0, task.motion_faults(axis.handle).0);
+        let (axis_before, motion_before) = std::mem::replace(&mut self.previous_faults[i], now);
+        let rose = |word: u32, before: u32, bit: u32| word & bit != 0 && before & bit == 0;
+        let config = task.axis_config(axis.handle);
+        let action_name = |action: FaultAction| {
+            FaultAction::NAMES
+                .iter()
+                .find(|(_, a)| *a == action)
+                .map_or("", |(n, _)| n)
+        };
+        let mut faults = Vec::new();
+        for (bit, fault) in [
+            (MotionFaults::SOFT_TRAVEL_POSITIVE, "Soft Travel Limit - Positive"),
+            (MotionFaults::SOFT_TRAVEL_NEGATIVE, "Soft Travel Limit - Negative"),
+        ] {
+            if rose(now.1, motion_before, bit) {
+                faults.push((fault, action_name(config.soft_overtravel_action)));
+            }
+        }
+        if faults.is_empty() && rose(now.0, axis_before, AxisFaults::MOTION) {
+            faults.push(("Excessive Position Error", action_name(config.position_error_action)));
+        }
+        for (fault, action) in faults {
+            self.axis_fault_count += 1;
+            if self.axis_faults.len() < MAX_AXIS_FAULT_EVENTS {
+                self.axis_faults.push(AxisFaultEvent {
+                    axis: axis.name.clone(),
+                    time_s: twin.time_s(),
+                    fault,
+                    action,
+                    actual_position: task.axis_state(axis.handle).actual_position,
+                });
+            }
         }
     }
 
@@ -431,6 +510,7 @@ impl Stats {
             if e > self.max_following_error[i] {
                 self.max_following_error[i] = e;
             }
+            self.observe_faults(twin, i, a);
         }
         for (i, fb) in twin.program().fbs().iter().enumerate() {
             let o = twin.task().outputs(fb.handle);
@@ -499,6 +579,8 @@ impl Stats {
                 .map(|(b, d)| (b, d.is_finite().then_some(d)))
                 .collect(),
             collision_abort: twin.plant().collision_abort(),
+            axis_faults: self.axis_faults.clone(),
+            axis_fault_count: self.axis_fault_count,
             physics_fault: twin.plant().physics_fault().cloned(),
             tasks: (!twin.scene().tasks.is_empty()).then(|| {
                 let c = twin.program().controller();
@@ -555,6 +637,21 @@ impl Summary {
         }
         for (name, t) in &self.max_torque {
             let _ = writeln!(s, "  axis {name}: max |torque| = {t:.3}");
+        }
+        for f in &self.axis_faults {
+            let _ = writeln!(
+                s,
+                "  axis {}: {} at {:.3} s (actual position {:.6}), action {}",
+                f.axis, f.fault, f.time_s, f.actual_position, f.action
+            );
+        }
+        if self.axis_fault_count > self.axis_faults.len() as u64 {
+            let _ = writeln!(
+                s,
+                "  … {} axis faults in all (the first {} listed)",
+                self.axis_fault_count,
+                self.axis_faults.len()
+            );
         }
         for e in &self.collisions {
             let end = e

@@ -26,6 +26,9 @@
 //!   MAFR, MAH, MCSD, MCSR): per axis `<axis>.CIPAxisState` (2 Stopped, 3
 //!   Starting, 4 Running, 8 Faulted, 10 Shutdown, 11 Axis Inhibited) and
 //!   `.AxisFault`;
+//! * per axis with soft travel limits `<axis>.MotionFault`: 2 after a Soft
+//!   Travel Limit - Positive, 4 after a Negative one (latched until MAFR or
+//!   MASR), 0 otherwise;
 //! * per axis with a servo drive (a `joint` and no `motor`):
 //!   `<axis>.torque`, the drive's torque in the last physics substep of the
 //!   update, N·m (rotary joint) or N (prismatic), 0 while the drive is off;
@@ -141,6 +144,11 @@ pub fn header(twin: &Twin) -> Vec<String> {
             h.push(format!("{}.AxisFault", a.name));
         }
     }
+    for a in plant.axes() {
+        if task.axis_config(a.handle).soft_travel_limits.is_some() {
+            h.push(format!("{}.MotionFault", a.name));
+        }
+    }
     for (k, a) in plant.axes().iter().enumerate() {
         if plant.drive_torque(k).is_some() {
             h.push(format!("{}.torque", a.name));
@@ -221,6 +229,11 @@ pub fn row(twin: &Twin) -> Vec<String> {
         for a in plant.axes() {
             row.push(task.cip_axis_state(a.handle).code().to_string());
             row.push(task.axis_faults(a.handle).0.to_string());
+        }
+    }
+    for a in plant.axes() {
+        if task.axis_config(a.handle).soft_travel_limits.is_some() {
+            row.push(task.motion_faults(a.handle).0.to_string());
         }
     }
     for k in 0..plant.axes().len() {

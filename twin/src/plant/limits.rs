@@ -7,11 +7,17 @@
 //! `<limit lower upper>`, converted from rad / m to axis units; a `continuous`
 //! joint, a virtual axis, a modulo axis (its position wraps) and a `<limit>`
 //! with `lower ≥ upper` (a URDF that leaves them out reads as 0, 0) give
-//! none. The run refuses an axis whose initial position is outside its URDF
-//! limits, naming the axis' `joint` field.
+//! none, and so does `soft_travel_limit_checking = false`. The run refuses
+//! an axis whose initial position is outside its URDF limits, naming the
+//! axis' `joint` field.
 //!
-//! The planner checks the limits where a transform (MCT) commands the joints
-//! (see `planner::task` module `mct`).
+//! The planner watches the actual position against the limits (a soft
+//! overtravel fault with the axis' `soft_overtravel_action`, ERR 9 for a
+//! further move out) and keeps what a transform (MCT) commands inside them
+//! (see `planner::servo` and `planner::task` module `mct`). A URDF limit is
+//! also the joint's physical stop, so an axis driven into it stops there
+//! with its actual position just beyond the limit (the stop's compliance):
+//! the fault rises as the command pushes on.
 
 use crate::plant::urdf::{JointKind, RobotModel};
 use crate::scene::Axis;
@@ -25,7 +31,7 @@ use planner::axis::AxisConfig;
 /// outside the URDF limits.
 pub fn with_urdf_limits(axis: &Axis, model: &RobotModel) -> Result<AxisConfig, String> {
     let mut config = axis.config.clone();
-    if config.soft_travel_limits.is_some() || config.modulo_period.is_some() {
+    if !axis.soft_travel_limit_checking || config.soft_travel_limits.is_some() || config.modulo_period.is_some() {
         return Ok(config);
     }
     let Some(joint) = axis.joint.as_ref().and_then(|name| model.joint_by_name(name)) else {
@@ -94,5 +100,16 @@ mod tests {
         axis.config.modulo_period = Some(360.0);
         let config = with_urdf_limits(&axis, &model).expect("modulo");
         assert_eq!(config.soft_travel_limits, None);
+        // Checking off: no limits at all.
+        axis.config.modulo_period = None;
+        axis.initial_position = 0.0;
+        assert!(
+            with_urdf_limits(&axis, &model)
+                .expect("inside")
+                .soft_travel_limits
+                .is_some()
+        );
+        axis.soft_travel_limit_checking = false;
+        assert_eq!(with_urdf_limits(&axis, &model).expect("off").soft_travel_limits, None);
     }
 }

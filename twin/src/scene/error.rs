@@ -325,6 +325,9 @@ pub enum Problem {
         /// The second element.
         max: f64,
     },
+    /// `soft_travel_limit_checking = false` with `soft_travel_limits`.
+    #[error("soft_travel_limit_checking = false turns the soft_travel_limits given off; remove one of them")]
+    SoftTravelLimitsUnchecked,
     /// `soft_travel_limits` on a modulo axis.
     #[error("soft_travel_limits are not allowed on a modulo axis (modulo_period = {period})")]
     SoftTravelLimitsOnModulo {

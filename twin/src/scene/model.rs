@@ -202,9 +202,14 @@ pub struct Axis {
     /// The axis as the planner takes it (its name and kind as above):
     /// modulo period, maximum rates (axis units, > 0), in-position window,
     /// target position monitoring (default true), modulo tolerance window
-    /// (default 0) and soft travel limits (default none here; the plant
-    /// then takes the joint's URDF `<limit>`).
+    /// (default 0), soft travel limits (default none here; the plant then
+    /// takes the joint's URDF `<limit>` unless checking is off) and the
+    /// soft overtravel action (default Stop Planner).
     pub config: AxisConfig,
+    /// Logix `SoftTravelLimitChecking` (`soft_travel_limit_checking`,
+    /// default true): off, the axis has no soft travel limits, not even its
+    /// URDF joint's.
+    pub soft_travel_limit_checking: bool,
     /// Initial position, axis units (default: 0, or from `robot.initial_joints`).
     pub initial_position: f64,
     /// Gains of the spring drive (`motor`); the joint's drive when `servo`

@@ -62,6 +62,8 @@ pub(super) struct RawAxis {
     pub(super) modulo_tolerance_window: Option<Spanned<f64>>,
     pub(super) initial_position: Option<Spanned<f64>>,
     pub(super) soft_travel_limits: Option<Spanned<Numbers<2>>>,
+    pub(super) soft_travel_limit_checking: Option<Spanned<bool>>,
+    pub(super) soft_overtravel_action: Option<Spanned<ExceptionAction>>,
     pub(super) motor: Option<Spanned<MotorGains>>,
     pub(super) axis_configuration: Option<Spanned<AxisConfiguration>>,
     pub(super) inhibit_axis: Option<bool>,
@@ -147,7 +149,8 @@ pub(super) enum AxisConfiguration {
     FeedbackOnly,
 }
 
-/// `[[axes]] position_error_action`: the exception actions.
+/// `[[axes]] position_error_action`, `soft_overtravel_action`: the
+/// exception actions.
 #[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub(super) enum ExceptionAction {

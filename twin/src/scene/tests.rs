@@ -653,6 +653,40 @@ fn soft_travel_limits_are_checked_at_the_field() {
 }
 
 #[test]
+fn soft_overtravel_action_and_checking_are_read_and_a_conflict_is_refused_at_the_field() {
+    use planner::servo::FaultAction;
+    let scene = parse(&fixtures().join("case.toml"), &fixture_text()).expect("case");
+    assert_eq!(scene.axes[1].config.soft_overtravel_action, FaultAction::StopPlanner);
+    assert!(scene.axes[1].soft_travel_limit_checking);
+    let ok = edited(
+        "in_position_window = 0.05\n",
+        "in_position_window = 0.05\nsoft_overtravel_action = \"stop_drive\"\nsoft_travel_limit_checking = false\n",
+    );
+    let scene = parse(&fixtures().join("case.toml"), &ok).expect("action and checking");
+    assert_eq!(scene.axes[1].config.soft_overtravel_action, FaultAction::StopDrive);
+    assert!(!scene.axes[1].soft_travel_limit_checking);
+    let conflict = edited(
+        "in_position_window = 0.05\n",
+        "in_position_window = 0.05\nsoft_travel_limits = [0.0, 300.0]\nsoft_travel_limit_checking = false\n",
+    );
+    let e = error_of(&conflict);
+    let mut at = find(&conflict, "soft_travel_limit_checking = false");
+    at.column += "soft_travel_limit_checking = ".len();
+    assert_place(&e, at, "axes[1].soft_travel_limit_checking");
+    assert!(matches!(e.problem(), Some(Problem::SoftTravelLimitsUnchecked)), "{e}");
+    let word = edited(
+        "in_position_window = 0.05\n",
+        "in_position_window = 0.05\nsoft_overtravel_action = \"halt\"\n",
+    );
+    let e = error_of(&word);
+    assert_eq!(e.location(), Some(find(&word, "\"halt\"")), "{e}");
+    assert!(
+        e.to_string().contains("'halt'") && e.to_string().contains("'stop_planner'"),
+        "{e}"
+    );
+}
+
+#[test]
 fn homing_fields_are_checked_at_the_field() {
     use planner::mah::HomeMode;
     let ok = edited(

@@ -424,6 +424,12 @@ impl Ctx<'_> {
                 }
                 None => None,
             };
+            let soft_travel_limit_checking = a.soft_travel_limit_checking.as_ref().is_none_or(|c| *c.get_ref());
+            if let (Some(c), Some(_)) = (&a.soft_travel_limit_checking, &a.soft_travel_limits)
+                && !soft_travel_limit_checking
+            {
+                return Err(self.invalid(c, f("soft_travel_limit_checking"), Problem::SoftTravelLimitsUnchecked));
+            }
             let drive = self.drive_options(a, joint.is_some(), &f)?;
             let servo = drive.servo;
             let homing = self.homing(a, drive.axis_type, &f)?;
@@ -446,6 +452,10 @@ impl Ctx<'_> {
                     allow_motion_on_coupled_slave: a.allow_motion_on_coupled_slave.unwrap_or(false),
                     modulo_tolerance_window,
                     soft_travel_limits,
+                    soft_overtravel_action: a
+                        .soft_overtravel_action
+                        .as_ref()
+                        .map_or(FaultAction::StopPlanner, |x| x.get_ref().planner()),
                     axis_type: drive.axis_type,
                     inhibited: a.inhibit_axis.unwrap_or(false),
                     start_servo_on: drive.start_servo_on,
@@ -459,6 +469,7 @@ impl Ctx<'_> {
                 motor,
                 servo,
                 holding_brake: drive.holding_brake,
+                soft_travel_limit_checking,
                 location: self.loc(&a.name),
             });
         }

@@ -229,10 +229,23 @@ pub enum AxisMember {
     GearingLockStatus,
     /// `StoppingStatus`: a stop ramps the axis.
     StoppingStatus,
+    /// `MotionFault`: the soft overtravel word
+    /// ([`planner::servo::MotionFaults`]).
+    MotionFault,
+    /// `SoftTravelLimitPositiveFault`: bit 1 of `MotionFault`.
+    SoftTravelLimitPositiveFault,
+    /// `SoftTravelLimitNegativeFault`: bit 2 of `MotionFault`.
+    SoftTravelLimitNegativeFault,
+    /// `SoftTravelLimitChecking`: the axis has soft travel limits.
+    SoftTravelLimitChecking,
+    /// `SoftTravelLimitPositive`, axis units (0 without limits).
+    SoftTravelLimitPositive,
+    /// `SoftTravelLimitNegative`, axis units (0 without limits).
+    SoftTravelLimitNegative,
 }
 
 /// Every axis member, with its name and type, for parsing and docs.
-pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 24] = [
+pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 30] = [
     ("ActualPosition", AxisMember::ActualPosition, DataType::Real),
     ("CommandPosition", AxisMember::CommandPosition, DataType::Real),
     ("ActualVelocity", AxisMember::ActualVelocity, DataType::Real),
@@ -273,6 +286,32 @@ pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 24] = [
     ("GearingStatus", AxisMember::GearingStatus, DataType::Bool),
     ("GearingLockStatus", AxisMember::GearingLockStatus, DataType::Bool),
     ("StoppingStatus", AxisMember::StoppingStatus, DataType::Bool),
+    ("MotionFault", AxisMember::MotionFault, DataType::Dint),
+    (
+        "SoftTravelLimitPositiveFault",
+        AxisMember::SoftTravelLimitPositiveFault,
+        DataType::Bool,
+    ),
+    (
+        "SoftTravelLimitNegativeFault",
+        AxisMember::SoftTravelLimitNegativeFault,
+        DataType::Bool,
+    ),
+    (
+        "SoftTravelLimitChecking",
+        AxisMember::SoftTravelLimitChecking,
+        DataType::Bool,
+    ),
+    (
+        "SoftTravelLimitPositive",
+        AxisMember::SoftTravelLimitPositive,
+        DataType::Real,
+    ),
+    (
+        "SoftTravelLimitNegative",
+        AxisMember::SoftTravelLimitNegative,
+        DataType::Real,
+    ),
 ];
 
 /// Coordinate-system status bits.

@@ -176,5 +176,11 @@ pub(in crate::program::plc) fn axis_value(task: &MotionTask, h: AxisHandle, m: A
         AxisMember::GearingStatus => Value::Bool(task.axis_status(h).gearing),
         AxisMember::GearingLockStatus => Value::Bool(task.gearing_status(h).1),
         AxisMember::StoppingStatus => Value::Bool(task.axis_status(h).stopping),
+        AxisMember::MotionFault => Value::Int(i64::from(task.motion_faults(h).0)),
+        AxisMember::SoftTravelLimitPositiveFault => Value::Bool(task.motion_faults(h).positive()),
+        AxisMember::SoftTravelLimitNegativeFault => Value::Bool(task.motion_faults(h).negative()),
+        AxisMember::SoftTravelLimitChecking => Value::Bool(task.axis_config(h).soft_travel_limits.is_some()),
+        AxisMember::SoftTravelLimitPositive => real(task.axis_config(h).soft_travel_limits.map_or(0.0, |l| l.1)),
+        AxisMember::SoftTravelLimitNegative => real(task.axis_config(h).soft_travel_limits.map_or(0.0, |l| l.0)),
     }
 }
