@@ -2134,3 +2134,88 @@ fn a_speed_lowered_mid_move_is_flagged_as_overshoot() {
     let at = check(&header, &rows, 45.0);
     assert!((at - 0.304).abs() < 0.005, "{at}");
 }
+
+/// Guards against a second MCT call on a parallel robot failing the run
+/// with "joint platform_x has more than one drive" (no line, no field): a
+/// program may link the same systems again, and a virtual joint that two
+/// geometries would drive is refused at the second geometry's line.
+#[test]
+fn a_second_mct_on_the_delta_runs_and_a_virtual_joint_driven_twice_is_refused_at_its_geometry() {
+    let mct = "call = \"MCT(Cart, Joints, T1, Orient[0], Trans[0])\"\n";
+    let again = format!("{mct}\n[[program]]\nat_s = 5.0\n{mct}");
+    let scene = edited_scene("delta_pick", "delta-mct-twice", &[(mct, &again)]);
+    let out = twin_cmd().arg("check").arg(&scene).output().expect("twin check");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+
+    let tag = "[[tags]]\nname = \"Joints\"\n";
+    let text = std::fs::read_to_string(root().join("scenes/delta_pick.toml")).expect("scene");
+    let start = text.find(tag).expect("Joints tag");
+    let end = start + text[start..].find("\n\n").expect("end of the tag");
+    let second = text[start..end].replace("name = \"Joints\"", "name = \"Joints2\"");
+    let twice = format!("{mct}\n[[program]]\nat_s = 5.0\ncall = \"MCT(Cart, Joints2, T1, Orient[0], Trans[0])\"\n");
+    let scene = edited_scene(
+        "delta_pick",
+        "delta-two-geometries",
+        &[(mct, &twice), (tag, &format!("{second}\n\n{tag}"))],
+    );
+    let out = twin_cmd().arg("check").arg(&scene).output().expect("twin check");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    let geometry_line = std::fs::read_to_string(&scene)
+        .expect("scene")
+        .lines()
+        .position(|l| l.starts_with("geometry = { type = \"delta_3d\""))
+        .expect("Joints2's geometry, the first in the file")
+        + 1;
+    assert!(
+        stderr.contains(&format!("delta_pick.toml:{geometry_line}:"))
+            && stderr.contains(
+                "coordinate system 'Joints2': virtual joint 'platform_x' is already driven by coordinate system 'Joints'"
+            ),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+}
+
+/// Guards against a Delta linked by MCT from a Structured Text routine
+/// running without its virtual joints (the plant read MCT calls only from
+/// `[[program]]` steps): the platform was unsupported and the tool fell
+/// 0.84 m below the Cartesian command with exit 0.
+#[test]
+fn a_delta_linked_from_a_structured_text_routine_keeps_its_tool_on_the_command() {
+    let step = "[[program]]\nat_s = 0.1\ncall = \"MCT(Cart, Joints, T1, Orient[0], Trans[0])\"\n";
+    let task = "[[tasks]]\nname = \"Cell\"\nperiod_ms = 4.0\npriority = 8\n\n[[tasks.programs]]\nname = \"Main\"\nmain = \"st/Link.st\"\n\n[[tasks.programs.tags]]\nname = \"Linked\"\ntype = \"BOOL\"\n\n";
+    let scene = edited_scene("delta_pick", "delta-st-mct", &[(step, task)]);
+    let dir = scene.parent().expect("folder");
+    std::fs::create_dir_all(dir.join("st")).expect("st folder");
+    std::fs::write(
+        dir.join("st/Link.st"),
+        "IF NOT Linked THEN\n  MCT(Cart, Joints, T1, Orient[0], Trans[0]);\n  Linked := 1;\nEND_IF;\n",
+    )
+    .expect("routine");
+    let out = out_dir("delta-st-mct-run");
+    let output = twin_cmd()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--trace"])
+        .arg(out.join("t.csv"))
+        .output()
+        .expect("run twin");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let (header, rows) = read_trace(&out.join("t.csv"));
+    // The robot frame is 1.2 m above the world's (as delta_pick's own test).
+    let worst = [("x", 0.0), ("y", 0.0), ("z", 1.2)]
+        .iter()
+        .map(|(c, base)| {
+            let (tool, cmd) = (
+                column(&header, &format!("Cart.tool_{c}")),
+                column(&header, &format!("{}.cmd_pos", c.to_uppercase())),
+            );
+            rows.iter()
+                .skip(100)
+                .map(|r| (r[tool] - base - r[cmd]).abs())
+                .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max);
+    assert!(worst < 0.01, "the tool is {worst} m from the command");
+}

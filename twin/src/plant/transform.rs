@@ -4,7 +4,8 @@
 //! joints, posed from the MCT kinematics every physics step.
 //!
 //! * `check_transforms` runs [`crate::plant::kinematics_check::check`] for
-//!   every MCT call of the program and refuses the scene on a mismatch,
+//!   every target system an MCT call names — in the scene's `[[program]]`
+//!   steps or in its tasks' routines — and refuses the scene on a mismatch,
 //!   naming the `geometry` table's line and the distance. A geometry the
 //!   planner refuses (a zero link length, …) is not checked here: the MCT
 //!   reports it at run time with its ERR/EXERR, as on the controller.
@@ -17,27 +18,52 @@ use super::kinematics_check::{ChainMapping, check, pose_parallel};
 use super::physics::{JointDrive, RobotSim};
 use super::urdf::RobotModel;
 use crate::scene::{Scene, TagValue};
+use crate::st::ast::ExprKind;
 use crate::st::{Args, Expr};
 use planner::catalogue;
 use planner::mct::{Geometry, JointKind};
 use std::f64::consts::{PI, TAU};
 
-/// Every MCT call of the program whose target has a `geometry` table:
-/// `(source tag, target tag)`.
+/// Every target system with a `geometry` table that an MCT call of the
+/// program names, once (the first call's source with it): `(source tag,
+/// target tag)`. A program may call MCT on the same systems again (after
+/// the link ended); it is still one transform of one robot.
 fn transforms(scene: &Scene) -> Vec<(&crate::scene::Tag, &crate::scene::Tag)> {
-    let mut found = Vec::new();
-    for step in &scene.program {
+    // (source, target) names of each MCT call: the scene's steps, then the
+    // routines of its tasks.
+    let steps = scene.program.iter().filter_map(|step| {
         let Args::Positional(operands) = &step.call.args else {
-            continue;
+            return None;
         };
         if !step.call.name.value.eq_ignore_ascii_case("MCT") || operands.len() != catalogue::MCT.operands.len() {
-            continue;
+            return None;
         }
-        let (Expr::Ident(source), Expr::Ident(target)) = (&operands[0].value, &operands[1].value) else {
-            continue;
-        };
+        match (&operands[0].value, &operands[1].value) {
+            (Expr::Ident(source), Expr::Ident(target)) => Some((source.as_str(), target.as_str())),
+            _ => None,
+        }
+    });
+    let routines = scene
+        .tasks
+        .iter()
+        .flat_map(|t| &t.programs)
+        .flat_map(|p| std::iter::once(&p.main).chain(&p.routines))
+        .flat_map(|r| r.routine.calls())
+        .filter_map(|call| {
+            if !call.name.eq_ignore_ascii_case("MCT") || call.args.len() != catalogue::MCT.operands.len() {
+                return None;
+            }
+            let tag = |k: usize| match call.args[k].expr.as_ref().map(|e| &e.kind) {
+                Some(ExprKind::Ref(r)) if r.path.is_empty() => Some(r.name.as_str()),
+                _ => None,
+            };
+            Some((tag(0)?, tag(1)?))
+        });
+    let mut found: Vec<(&crate::scene::Tag, &crate::scene::Tag)> = Vec::new();
+    for (source, target) in steps.chain(routines) {
         if let (Some(source), Some(target)) = (scene.tag(source), scene.tag(target))
             && target.geometry.is_some()
+            && !found.iter().any(|(_, t)| t.name == target.name)
         {
             found.push((source, target));
         }
@@ -173,8 +199,9 @@ pub(crate) struct ParallelRig {
 /// drive.
 ///
 /// # Errors
-/// [`PlantError::Kinematics`] when a virtual joint is not in the URDF or the
-/// initial joints have no position.
+/// [`PlantError::Kinematics`] (at the `geometry` table) when a virtual joint
+/// is not in the URDF, is already driven (by an axis or another system's
+/// geometry) or the initial joints have no position.
 pub(crate) fn parallel_rigs(
     scene: &Scene,
     model: &RobotModel,
@@ -183,6 +210,8 @@ pub(crate) fn parallel_rigs(
     initial: &mut Vec<(String, f64)>,
 ) -> Result<Vec<ParallelRig>, PlantError> {
     let mut rigs = Vec::new();
+    // (virtual joint, the coordinate system whose geometry drives it)
+    let mut virtual_owners: Vec<(String, String)> = Vec::new();
     for (source, target) in transforms(scene) {
         let Some(c) = chain(scene, source, target)? else {
             continue;
@@ -214,6 +243,17 @@ pub(crate) fn parallel_rigs(
             let joint = model
                 .joint_by_name(name)
                 .ok_or_else(|| fail(format!("virtual joint '{name}' is not in the URDF")))?;
+            if let Some(by) = drives.iter().position(|d| &d.joint == name) {
+                let owner = match axis_drives.iter().position(|&d| d == Some(by)) {
+                    Some(i) => format!("axis '{}'", scene.axes[i].name),
+                    None => virtual_owners
+                        .iter()
+                        .find(|(joint, _)| joint == name)
+                        .map_or_else(String::new, |(_, system)| format!("coordinate system '{system}'")),
+                };
+                return Err(fail(format!("virtual joint '{name}' is already driven by {owner}")));
+            }
+            virtual_owners.push((name.clone(), target.name.clone()));
             drives.push(JointDrive {
                 joint: name.clone(),
                 stiffness: VIRTUAL_GAINS.0,

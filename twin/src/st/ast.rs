@@ -10,6 +10,40 @@ pub struct Routine {
     pub body: Vec<Stmt>,
 }
 
+impl Routine {
+    /// Every instruction call of the routine, those inside `IF`, `CASE`
+    /// and loops included, in text order.
+    #[must_use]
+    pub fn calls(&self) -> Vec<&Call> {
+        fn collect<'a>(statements: &'a [Stmt], out: &mut Vec<&'a Call>) {
+            for s in statements {
+                match &s.kind {
+                    StmtKind::Call(c) => out.push(c),
+                    StmtKind::If { branches, otherwise } => {
+                        for (_, body) in branches {
+                            collect(body, out);
+                        }
+                        collect(otherwise, out);
+                    }
+                    StmtKind::Case { arms, otherwise, .. } => {
+                        for (_, body) in arms {
+                            collect(body, out);
+                        }
+                        collect(otherwise, out);
+                    }
+                    StmtKind::For { body, .. } | StmtKind::While { body, .. } | StmtKind::Repeat { body, .. } => {
+                        collect(body, out);
+                    }
+                    _ => {}
+                }
+            }
+        }
+        let mut out = Vec::new();
+        collect(&self.body, &mut out);
+        out
+    }
+}
+
 /// A statement and where it starts.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stmt {
