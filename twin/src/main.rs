@@ -597,16 +597,18 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
     }
     // An unfinished recording is not moved onto --save's path (dropping
     // its OutputFile removes it).
+    // A viewer that failed costs the file nothing (and the other way round).
     let served = match recording.map(|r| r.finish(&twin)) {
-        Some(Ok(served)) => {
-            if let Some(Err(e)) = rrd.map(OutputFile::commit) {
+        Some(finished) => {
+            for e in finished.failures {
+                failures.push(anyhow::Error::new(e).context("the recording did not finish"));
+            }
+            if finished.files_complete
+                && let Some(Err(e)) = rrd.map(OutputFile::commit)
+            {
                 failures.push(e);
             }
-            served
-        }
-        Some(Err(e)) => {
-            failures.push(anyhow::Error::new(e).context("the recording did not finish"));
-            Default::default()
+            finished.served
         }
         None => Default::default(),
     };

@@ -449,7 +449,7 @@ fn a_viewer_that_accepts_but_never_reads_costs_no_other_output() {
         }
     });
     let dir = fresh_dir("cli", "silent_viewer");
-    let (trace, summary) = (dir.join("t.csv"), dir.join("s.json"));
+    let (trace, summary, rrd) = (dir.join("t.csv"), dir.join("s.json"), dir.join("r.rrd"));
     let started = std::time::Instant::now();
     let out = twin()
         .arg("run")
@@ -458,6 +458,8 @@ fn a_viewer_that_accepts_but_never_reads_costs_no_other_output() {
         .arg(&trace)
         .arg("--summary")
         .arg(&summary)
+        .arg("--save")
+        .arg(&rrd)
         .output()
         .expect("run twin");
     let err = stderr(&out);
@@ -465,4 +467,12 @@ fn a_viewer_that_accepts_but_never_reads_costs_no_other_output() {
     assert_eq!(out.status.code(), Some(74), "{err}");
     assert!(err.contains("recording"), "{err}");
     assert!(trace.exists() && summary.exists(), "{err}");
+    // The file recording is on its own thread: the stuck viewer costs it
+    // nothing (it used to be lost with the viewer's stream).
+    let saved = std::fs::read(&rrd).unwrap_or_else(|e| panic!("no {}: {e}; {err}", rrd.display()));
+    assert!(
+        saved.starts_with(b"RRF2") && saved.len() > 10_000,
+        "{} bytes",
+        saved.len()
+    );
 }

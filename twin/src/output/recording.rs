@@ -169,7 +169,8 @@ pub fn sim_time_ns(sim_time_s: f64) -> Option<i64> {
 /// blueprint, the view coordinates).
 pub struct OpenSinks {
     app_id: rerun::ApplicationId,
-    recording: Option<String>,
+    /// The recording's name and id (`<name>-<unix ms>`).
+    recording: Option<(String, String)>,
     blueprint: Option<rerun::blueprint::Blueprint>,
     sinks: Vec<Box<dyn LogSink>>,
     names: String,
@@ -186,6 +187,14 @@ impl std::fmt::Debug for OpenSinks {
 }
 
 impl OpenSinks {
+    /// Makes this stream the same recording as `other` (its id), so that
+    /// sinks opened as two streams show one recording.
+    pub fn same_recording_as(&mut self, other: &OpenSinks) {
+        if let (Some((_, id)), Some((_, other_id))) = (&mut self.recording, &other.recording) {
+            id.clone_from(other_id);
+        }
+    }
+
     /// Starts the stream over the sinks and logs the static Z-up view
     /// coordinates.
     ///
@@ -195,12 +204,9 @@ impl OpenSinks {
     /// [`RecordingError::Log`] when it refuses the view coordinates.
     pub fn start(self) -> Result<Recorder, RecordingError> {
         let mut builder = RecordingStreamBuilder::new(self.app_id);
-        if let Some(name) = &self.recording {
-            let millis = std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(0, |d| d.as_millis());
+        if let Some((name, id)) = &self.recording {
             builder = builder
-                .recording_id(format!("{name}-{millis}"))
+                .recording_id(id.clone())
                 .send_properties(true)
                 .recording_name(name);
         }
@@ -360,7 +366,12 @@ impl Recorder {
 
         Ok(OpenSinks {
             app_id,
-            recording: recording.map(str::to_owned),
+            recording: recording.map(|name| {
+                let millis = std::time::SystemTime::now()
+                    .duration_since(std::time::UNIX_EPOCH)
+                    .map_or(0, |d| d.as_millis());
+                (name.to_owned(), format!("{name}-{millis}"))
+            }),
             blueprint,
             sinks: log_sinks,
             names: names.join(", "),

@@ -4,7 +4,7 @@
 #[cfg(feature = "rerun")]
 pub use crate::output::recording::Served;
 #[cfg(feature = "rerun")]
-pub use crate::output::recording::run::Recording;
+pub use crate::output::recording::run::{Finished, Recording};
 use crate::output::status::{describe, describe_bits, error_codes};
 #[cfg(feature = "render")]
 use crate::plant::parts::{column_major, world_from_part};
@@ -264,12 +264,26 @@ impl Recording {
     }
 
     /// Nothing to flush.
-    ///
-    /// # Errors
-    /// Never.
-    pub fn finish(self, _twin: &Twin) -> Result<Served, OutputError> {
-        Ok(Served)
+    pub fn finish(self, _twin: &Twin) -> Finished {
+        Finished {
+            served: Served,
+            files_complete: true,
+            failures: Vec::new(),
+        }
     }
+}
+
+/// How a recording ended: in a twin built without the `rerun` feature,
+/// with nothing recorded.
+#[cfg(not(feature = "rerun"))]
+#[derive(Debug, Default)]
+pub struct Finished {
+    /// Nothing is served.
+    pub served: Served,
+    /// Always true: there are no files.
+    pub files_complete: bool,
+    /// Always empty.
+    pub failures: Vec<OutputError>,
 }
 
 /// Nothing is served by a twin built without the `rerun` feature.

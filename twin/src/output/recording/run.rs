@@ -42,13 +42,20 @@
 //!
 //! The run's thread copies each update's numbers (link poses, axis
 //! values, instruction outputs, tags, clearances) into a batch and hands
-//! it over every [`BATCH_UPDATES`] updates; the `twin_recording` thread
+//! it over every [`BATCH_UPDATES`] updates; a `twin_recording` thread
 //! starts the stream, logs the static meshes, and does everything else, so
-//! that Rerun's encoding and writing overlap the simulation. At most
-//! [`BATCHES_IN_FLIGHT`] batches wait (the run waits beyond that), and an
-//! error on the recording thread reaches the run at its next hand-over.
-//! Opening the sinks (files, viewer connections) stays on the run's
-//! thread, so a bad `--save` path or an absent viewer fails before the run.
+//! that Rerun's encoding and writing overlap the simulation. The file and
+//! standard-output sinks (`--save`, `--stdout`) and the viewers and
+//! servers (`--connect`, `--spawn`, `--serve`) are two streams of one
+//! recording (one id), each on its own thread with its own copy of the
+//! batches: a viewer that accepts the connection and stops reading stalls
+//! only its own thread, which is given up after [`STALL_WAIT`] without a
+//! free batch slot (or at the end, [`FINISH_WAIT`]), while the file is
+//! finished. At most [`BATCHES_IN_FLIGHT`] batches wait per thread (the
+//! run waits beyond that), and an error on a recording thread reaches the
+//! run at its next hand-over or at the end ([`Finished`]). Opening the
+//! sinks (files, viewer connections) stays on the run's thread, so a bad
+//! `--save` path or an absent viewer fails before the run.
 //!
 //! # Layout
 //!
@@ -135,10 +142,11 @@ pub const BATCHES_IN_FLIGHT: usize = 8;
 /// The run's side of a recording: the batch being filled, and what it
 /// needs to send only the new part of trails, events and contacts.
 struct Feed {
-    sender: std::sync::mpsc::SyncSender<Batch>,
-    /// The recording thread's result, sent when it ends (it is never
-    /// joined: a thread stuck on a viewer must not hold the run).
-    done: std::sync::mpsc::Receiver<Result<Served, RecordingError>>,
+    /// The recording threads still taking batches: one for the file and
+    /// standard-output sinks, one for the viewers and servers.
+    workers: Vec<Worker>,
+    /// Why a recording thread was given up (the others went on).
+    failures: Vec<(Part, RecordingError)>,
     batch: Batch,
     /// Per tool trail: points sent so far, pieces sent so far, and
     /// whether it is logged (the first of the systems sharing its link).
@@ -153,11 +161,42 @@ struct Feed {
     live: Option<std::time::Instant>,
 }
 
+/// Which sinks a recording thread writes to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Part {
+    /// `--save` and `--stdout`: they never wait for anyone.
+    Files,
+    /// `--connect`, `--spawn`, `--serve`: a viewer may stop reading.
+    Viewers,
+}
+
+/// A recording thread as the run's side sees it.
+struct Worker {
+    part: Part,
+    sender: std::sync::mpsc::SyncSender<Batch>,
+    /// The thread's result, sent when it ends (it is never joined: a thread
+    /// stuck on a viewer must not hold the run).
+    done: std::sync::mpsc::Receiver<Result<Served, RecordingError>>,
+}
+
+/// How a recording ended.
+#[derive(Debug, Default)]
+pub struct Finished {
+    /// The servers kept up (`--serve`).
+    pub served: Served,
+    /// Whether the file and standard-output sinks got everything (a
+    /// `--save` file has its footer): true when there were none.
+    pub files_complete: bool,
+    /// Why a part of the recording did not finish (a viewer that stopped
+    /// reading, a full disk); the other part is unaffected.
+    pub failures: Vec<RecordingError>,
+}
+
 /// Updates gathered on the run's thread: per update its time, the world
 /// poses of the links, the scalar values in series order (`None`: no
 /// sample), the function blocks' outputs and the control structures' bits;
 /// and what is logged as it happens, after the update it follows.
-#[derive(Default)]
+#[derive(Default, Clone)]
 struct Batch {
     times_ns: Vec<i64>,
     world_from_link: Vec<([f64; 3], [f64; 4])>,
@@ -169,6 +208,7 @@ struct Batch {
 }
 
 /// Something logged as it happens.
+#[derive(Clone)]
 enum Item {
     Trail {
         path: String,
@@ -235,7 +275,24 @@ impl Recording {
         if sinks.is_empty() {
             return Ok(Recording { inner: None });
         }
-        let sinks = Recorder::open_sinks(APPLICATION_ID, Some(&twin.scene().name), Some(blueprint(twin)), &sinks)?;
+        // Two streams of one recording, each on its own thread, so that a
+        // viewer that stops reading cannot hold up the file. The viewers are
+        // opened first: an absent one fails before any file is created.
+        let (files, viewers): (Vec<Sink>, Vec<Sink>) = sinks
+            .into_iter()
+            .partition(|s| matches!(s, Sink::File(_) | Sink::Stdout));
+        let name = Some(twin.scene().name.as_str());
+        let open = |sinks: &[Sink]| -> Result<Option<super::OpenSinks>, RecordingError> {
+            if sinks.is_empty() {
+                return Ok(None);
+            }
+            Recorder::open_sinks(APPLICATION_ID, name, Some(blueprint(twin)), sinks).map(Some)
+        };
+        let viewers = open(&viewers)?;
+        let mut files = open(&files)?;
+        if let (Some(f), Some(v)) = (files.as_mut(), viewers.as_ref()) {
+            f.same_recording_as(v);
+        }
         let model = twin.plant().model();
         let names: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
         let joints: Vec<(&str, usize, usize)> = model
@@ -269,26 +326,33 @@ impl Recording {
             })
             .collect();
 
-        let (series, styles) = Series::of(twin, &link_paths);
-        let live = targets.live();
-        let (sender, receiver) = std::sync::mpsc::sync_channel(BATCHES_IN_FLIGHT);
-        let (done_tx, done) = std::sync::mpsc::channel();
-        std::thread::Builder::new()
-            .name("twin_recording".to_owned())
-            .spawn(move || {
-                let result = sinks
-                    .start()
-                    .and_then(|recorder| Logged::new(recorder, series, live).run(&meshes, &styles, &receiver));
-                let _ = done_tx.send(result);
-            })
-            .map_err(|source| RecordingError::Worker {
-                why: format!("cannot start the recording thread: {source}"),
-            })?;
+        let meshes = std::sync::Arc::new(meshes);
+        let mut workers = Vec::new();
+        for (part, sinks) in [(Part::Files, files), (Part::Viewers, viewers)] {
+            let Some(sinks) = sinks else { continue };
+            let (series, styles) = Series::of(twin, &link_paths);
+            let live = part == Part::Viewers;
+            let meshes = std::sync::Arc::clone(&meshes);
+            let (sender, receiver) = std::sync::mpsc::sync_channel(BATCHES_IN_FLIGHT);
+            let (done_tx, done) = std::sync::mpsc::channel();
+            std::thread::Builder::new()
+                .name("twin_recording".to_owned())
+                .spawn(move || {
+                    let result = sinks
+                        .start()
+                        .and_then(|recorder| Logged::new(recorder, series, live).run(&meshes, &styles, &receiver));
+                    let _ = done_tx.send(result);
+                })
+                .map_err(|source| RecordingError::Worker {
+                    why: format!("cannot start the recording thread: {source}"),
+                })?;
+            workers.push(Worker { part, sender, done });
+        }
         let plant = twin.plant();
         Ok(Recording {
             inner: Some(Feed {
-                sender,
-                done,
+                workers,
+                failures: Vec::new(),
                 batch: Batch::default(),
                 trails: plant
                     .tool_trails()
@@ -332,21 +396,23 @@ impl Recording {
     }
 
     /// Logs the tool trails' last pieces, hands over what has gathered, and
-    /// waits for the recording thread to send everything, flush and close
-    /// the stream (the `.rrd` gets its footer). `twin` is the twin as last
-    /// logged. With `--serve`, the server stays up in the returned
-    /// [`Served`].
-    ///
-    /// # Errors
-    /// [`RecordingError`] when logging or flushing fails.
-    pub fn finish(self, twin: &Twin) -> Result<Served, RecordingError> {
+    /// waits for the recording threads to send everything, flush and close
+    /// their streams (a `.rrd` gets its footer), together at most
+    /// [`FINISH_WAIT`]. `twin` is the twin as last logged. With `--serve`,
+    /// the server stays up in the returned [`Finished::served`]. A part
+    /// that failed (a viewer that stopped reading) costs the other nothing:
+    /// see [`Finished`].
+    pub fn finish(self, twin: &Twin) -> Finished {
         let Some(mut feed) = self.inner else {
-            return Ok(Served::default());
+            return Finished {
+                files_complete: true,
+                ..Finished::default()
+            };
         };
         let t = sim_time_ns(twin.time_s()).unwrap_or(0);
         feed.trails(twin, t);
         let batch = std::mem::take(&mut feed.batch);
-        feed.send(batch)?;
+        let _ = feed.send(batch);
         feed.join(FINISH_WAIT)
     }
 }
@@ -490,10 +556,96 @@ impl Feed {
         }
     }
 
-    /// Hands a batch to the recording thread, waiting at most [`STALL_WAIT`]
-    /// for room (the thread takes nothing while a viewer that accepted the
-    /// connection does not read).
-    fn send(&mut self, mut batch: Batch) -> Result<(), RecordingError> {
+    /// Hands a batch to every recording thread, waiting at most
+    /// [`STALL_WAIT`] for room in each (a thread takes nothing while a
+    /// viewer that accepted the connection does not read): one that
+    /// stalls or has stopped is given up, the others go on.
+    ///
+    /// # Errors
+    /// When no recording thread is left: why they stopped.
+    fn send(&mut self, batch: Batch) -> Result<(), RecordingError> {
+        let mut kept = Vec::with_capacity(self.workers.len());
+        let last = self.workers.len().saturating_sub(1);
+        let mut batch = Some(batch);
+        for (k, worker) in std::mem::take(&mut self.workers).into_iter().enumerate() {
+            let mine = if k == last { batch.take() } else { batch.clone() };
+            let Some(mine) = mine else { continue };
+            match worker.hand(mine) {
+                Ok(()) => kept.push(worker),
+                Err(e) => self.failures.push((worker.part, e)),
+            }
+        }
+        self.workers = kept;
+        if self.workers.is_empty() {
+            return Err(self.failure());
+        }
+        Ok(())
+    }
+
+    /// The failures so far as one error.
+    fn failure(&mut self) -> RecordingError {
+        let mut failures = std::mem::take(&mut self.failures);
+        match failures.len() {
+            0 => RecordingError::Worker {
+                why: "the recording thread stopped".to_owned(),
+            },
+            1 => failures.remove(0).1,
+            _ => RecordingError::Worker {
+                why: failures
+                    .iter()
+                    .map(|(_, e)| e.to_string())
+                    .collect::<Vec<_>>()
+                    .join("; "),
+            },
+        }
+    }
+
+    /// Closes the channels and waits, at most `wait` in all, for each
+    /// recording thread's result.
+    fn join(mut self, wait: std::time::Duration) -> Finished {
+        let deadline = std::time::Instant::now() + wait;
+        let mut finished = Finished::default();
+        let had_files = self.workers.iter().any(|w| w.part == Part::Files)
+            || self.failures.iter().any(|(part, _)| *part == Part::Files);
+        let mut files_ok = false;
+        // The files first: they never wait for a viewer.
+        self.workers.sort_by_key(|w| w.part == Part::Viewers);
+        for worker in std::mem::take(&mut self.workers) {
+            let Worker { part, sender, done } = worker;
+            drop(sender);
+            let left = deadline.saturating_duration_since(std::time::Instant::now());
+            let result = match done.recv_timeout(left) {
+                Ok(result) => result,
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => Err(RecordingError::Worker {
+                    why: format!(
+                        "nothing came back within {} s (a viewer that accepted the connection but does not read?)",
+                        wait.as_secs()
+                    ),
+                }),
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => Err(RecordingError::Worker {
+                    why: "the recording thread panicked".to_owned(),
+                }),
+            };
+            match result {
+                Ok(served) => {
+                    if part == Part::Files {
+                        files_ok = true;
+                    } else {
+                        finished.served = served;
+                    }
+                }
+                Err(e) => self.failures.push((part, e)),
+            }
+        }
+        finished.files_complete = !had_files || files_ok;
+        finished.failures = self.failures.into_iter().map(|(_, e)| e).collect();
+        finished
+    }
+}
+
+impl Worker {
+    /// Hands `batch` over, waiting at most [`STALL_WAIT`] for room.
+    fn hand(&self, mut batch: Batch) -> Result<(), RecordingError> {
         let since = std::time::Instant::now();
         loop {
             match self.sender.try_send(batch) {
@@ -520,24 +672,6 @@ impl Feed {
                     });
                 }
             }
-        }
-    }
-
-    /// Closes the channel and waits at most `wait` for the recording
-    /// thread's result.
-    fn join(self, wait: std::time::Duration) -> Result<Served, RecordingError> {
-        drop(self.sender);
-        match self.done.recv_timeout(wait) {
-            Ok(result) => result,
-            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => Err(RecordingError::Worker {
-                why: format!(
-                    "nothing came back within {} s (a viewer that accepted the connection but does not read?)",
-                    wait.as_secs()
-                ),
-            }),
-            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => Err(RecordingError::Worker {
-                why: "the recording thread panicked".to_owned(),
-            }),
         }
     }
 }

@@ -94,7 +94,12 @@ fn record(scene: &str, file: &str, updates: usize) -> (Twin, std::path::PathBuf)
         twin.step();
         recording.log(&twin).expect("log");
     }
-    recording.finish(&twin).expect("finish");
+    let finished = recording.finish(&twin);
+    assert!(
+        finished.files_complete && finished.failures.is_empty(),
+        "{:?}",
+        finished.failures
+    );
     (twin, path)
 }
 
@@ -179,7 +184,12 @@ fn no_sink_is_a_no_op() {
     let twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
     let mut recording = Recording::new(&twin, &RecordingTargets::default()).expect("open");
     recording.log(&twin).expect("log");
-    recording.finish(&twin).expect("finish");
+    let finished = recording.finish(&twin);
+    assert!(
+        finished.files_complete && finished.failures.is_empty(),
+        "{:?}",
+        finished.failures
+    );
 }
 
 #[test]
