@@ -247,6 +247,13 @@ fn the_heavy_arm_completes_every_move_holds_still_and_keeps_within_its_torque_li
     let faulted = rows.iter().position(|r| r[state2] == "8").expect("J2 faulted");
     let stopped = faulted + rows[faulted..].iter().position(|r| r[state2] == "2").expect("MAFR");
     assert!(rows[stopped..].iter().any(|r| r[state2] == "4"), "MSO again");
+    // The summary lists it, once, with its action.
+    let faults: Vec<&str> = log.lines().filter(|l| l.contains("Excessive Position Error")).collect();
+    assert_eq!(faults.len(), 1, "{log}");
+    assert!(
+        faults[0].starts_with("  axis J2: ") && faults[0].ends_with("action StopDrive"),
+        "{log}"
+    );
 
     // The drives' torques stay within the URDF joints' efforts.
     let effort = [250.0, 450.0, 200.0, 50.0, 50.0, 25.0];

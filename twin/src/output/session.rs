@@ -310,8 +310,9 @@ pub struct Stats {
     previous: Vec<planner::instruction::FbOutputs>,
     logix_outcomes: Vec<InstructionOutcome>,
     previous_bits: Vec<MotionInstructionBits>,
-    /// Per axis: its `AxisFault` and `MotionFault` words in the last update.
-    previous_faults: Vec<(u32, u32)>,
+    /// Per axis: its `MotionFault` word and whether its position error
+    /// exceeded the tolerance, in the last update.
+    previous_faults: Vec<(u32, bool)>,
     axis_faults: Vec<AxisFaultEvent>,
     axis_fault_count: u64,
 }
@@ -323,8 +324,8 @@ fn is_zero(n: &u64) -> bool {
 /// The most axis fault events a summary lists (all are counted).
 pub const MAX_AXIS_FAULT_EVENTS: usize = 256;
 
-/// An axis fault as it was recorded (a rising bit of the axis' `AxisFault`
-/// or `MotionFault` word).
+/// An axis fault as it was recorded (a rising bit of the axis'
+/// `MotionFault` word, or its position error exceeding the tolerance).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct AxisFaultEvent {
     /// The axis.
@@ -470,19 +471,23 @@ impl Stats {
                 .map(|b| InstructionOutcome::named(&b.name))
                 .collect(),
             previous_bits: vec![Default::default(); twin.program().instructions().len()],
-            previous_faults: vec![(0, 0); twin.plant().axes().len()],
+            previous_faults: vec![(0, false); twin.plant().axes().len()],
             axis_faults: Vec::new(),
             axis_fault_count: 0,
         }
     }
 
-    /// Records the faults whose bits rose on `axis` (index `i`) this update.
+    /// Records the faults that rose on `axis` (index `i`) this update: a
+    /// bit of its `MotionFault` word, or its position error exceeding the
+    /// tolerance (unless that exception's action is Ignore).
     fn observe_faults(&mut self, twin: &Twin, i: usize, axis: &crate::plant::axes::AxisBinding) {
-        use planner::servo::{AxisFaults, FaultAction, MotionFaults};
+        use planner::servo::{FaultAction, MotionFaults};
         let task = twin.task();
-        let now = (task.axis_faults(axis.handle).0, task.motion_faults(axis.handle).0);
-        let (axis_before, motion_before) = std::mem::replace(&mut self.previous_faults[i], now);
-        let rose = |word: u32, before: u32, bit: u32| word & bit != 0 && before & bit == 0;
+        let now = (
+            task.motion_faults(axis.handle).0,
+            task.position_error_exceeded(axis.handle),
+        );
+        let (motion_before, exceeded_before) = std::mem::replace(&mut self.previous_faults[i], now);
         let config = task.axis_config(axis.handle);
         let action_name = |action: FaultAction| {
             FaultAction::NAMES
@@ -495,11 +500,11 @@ impl Stats {
             (MotionFaults::SOFT_TRAVEL_POSITIVE, "Soft Travel Limit - Positive"),
             (MotionFaults::SOFT_TRAVEL_NEGATIVE, "Soft Travel Limit - Negative"),
         ] {
-            if rose(now.1, motion_before, bit) {
+            if now.0 & bit != 0 && motion_before & bit == 0 {
                 faults.push((fault, action_name(config.soft_overtravel_action)));
             }
         }
-        if faults.is_empty() && rose(now.0, axis_before, AxisFaults::MOTION) {
+        if now.1 && !exceeded_before && config.position_error_action != FaultAction::Ignore {
             faults.push(("Excessive Position Error", action_name(config.position_error_action)));
         }
         for (fault, action) in faults {
