@@ -16,6 +16,7 @@ Examples:
   twin run scenes/indexing_table.toml --frames out --save out.rrd --trace out.csv
   twin run scenes/indexing_table.toml --connect            # stream to a Rerun viewer on 127.0.0.1:9876
   twin run scenes/indexing_table.toml --no-render --summary out.json --duration 0.5
+  twin run scenes/scara_pick.toml --no-render --plant kinematic   # program test, no dynamics
   twin check scenes/indexing_table.toml
 
 Exit codes:
@@ -102,6 +103,21 @@ struct RunArgs {
     /// `duration_s` (steps after the end are not reached).
     #[arg(long, value_name = "S", value_parser = parse_duration)]
     duration: Option<f64>,
+    /// How the plant moves the joints, instead of the scene's `plant`:
+    /// `physics` (drives, gravity, contacts) or `kinematic` (the joints
+    /// follow the setpoints exactly, as a CIP axis in Controller Loop Back
+    /// test mode; for program tests, many times faster).
+    #[arg(long, value_name = "MODE", value_parser = parse_plant)]
+    plant: Option<scene::PlantMode>,
+}
+
+/// A `--plant` mode by name.
+fn parse_plant(text: &str) -> Result<scene::PlantMode, String> {
+    scene::PlantMode::NAMES
+        .iter()
+        .find(|(name, _)| *name == text.trim())
+        .map(|(_, mode)| *mode)
+        .ok_or_else(|| format!("expected physics or kinematic, found {text:?}"))
 }
 
 /// A `--duration`: seconds, positive, finite, at most 10⁶ (11.6 days).
@@ -247,6 +263,9 @@ fn resolved(twin: &Twin) -> String {
         scene.coarse_update_ms,
         scene.physics_step_ms
     );
+    if scene.plant != scene::PlantMode::Physics {
+        let _ = writeln!(s, "plant: {} (the joints follow the setpoints)", scene.plant.name());
+    }
     if !scene.axes.is_empty() {
         let _ = writeln!(s, "axes:");
     }
@@ -525,6 +544,9 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
     let mut scene = scene::load(&args.scene)?;
     if let Some(s) = args.duration {
         scene.duration_s = s;
+    }
+    if let Some(mode) = args.plant {
+        scene.plant = mode;
     }
     check_output_paths(args, &scene.input_files())?;
     let mut twin = Twin::new(scene)?;

@@ -476,3 +476,51 @@ fn a_viewer_that_accepts_but_never_reads_costs_no_other_output() {
         saved.len()
     );
 }
+
+#[test]
+fn plant_kinematic_runs_with_actual_equal_to_command_and_says_so() {
+    let dir = fresh_dir("cli", "plant_kinematic");
+    let (trace, summary) = (dir.join("t.csv"), dir.join("s.json"));
+    let out = twin()
+        .arg("run")
+        .arg(root().join("scenes/scara_pick.toml"))
+        .args(["--no-render", "--plant", "kinematic", "--trace"])
+        .arg(&trace)
+        .arg("--summary")
+        .arg(&summary)
+        .output()
+        .expect("run twin");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned() + &stderr(&out);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("plant: kinematic"), "{text}");
+    assert!(
+        std::fs::read_to_string(&summary)
+            .expect("summary")
+            .contains("\"plant\": \"kinematic\"")
+    );
+    let csv = std::fs::read_to_string(&trace).expect("trace");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    assert_eq!(header.last(), Some(&"plant.kinematic"));
+    let (cmd, act) = (
+        header.iter().position(|h| *h == "Z.cmd_pos").expect("Z.cmd_pos"),
+        header.iter().position(|h| *h == "Z.act_pos").expect("Z.act_pos"),
+    );
+    for line in lines {
+        let row: Vec<f64> = line.split(',').map(|x| x.parse().expect("number")).collect();
+        assert_eq!(row[cmd], row[act], "{line}");
+        assert_eq!(row.last(), Some(&1.0));
+    }
+    let bad = twin()
+        .arg("run")
+        .arg(root().join("scenes/scara_pick.toml"))
+        .args(["--no-render", "--plant", "rigid"])
+        .output()
+        .expect("run twin");
+    assert_eq!(bad.status.code(), Some(64));
+    assert!(
+        stderr(&bad).contains("expected physics or kinematic"),
+        "{}",
+        stderr(&bad)
+    );
+}

@@ -396,6 +396,8 @@ pub struct Summary {
     pub real_time_factor: f64,
     /// Coarse updates run.
     pub updates: u64,
+    /// Which plant ran: `physics` or `kinematic` (scene `plant`, `--plant`).
+    pub plant: &'static str,
     /// Per function-block instance (program order), then per control
     /// structure (program order).
     pub instructions: Vec<InstructionOutcome>,
@@ -572,6 +574,7 @@ impl Stats {
                 f64::INFINITY
             },
             updates: twin.task().updates(),
+            plant: twin.scene().plant.name(),
             instructions,
             max_following_error: twin
                 .plant()
@@ -640,6 +643,13 @@ impl Summary {
             "scene {}: {:.3} s simulated in {:.3} s wall, real-time factor {:.2} ({} updates)",
             self.scene, self.simulated_s, self.wall_s, self.real_time_factor, self.updates
         );
+        if self.plant != crate::scene::PlantMode::Physics.name() {
+            let _ = writeln!(
+                s,
+                "  plant: {} (the joints follow the setpoints; no dynamics, no following error)",
+                self.plant
+            );
+        }
         for i in &self.instructions {
             let _ = write!(
                 s,

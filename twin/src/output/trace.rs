@@ -41,7 +41,10 @@
 //!   decreased while a move decelerates);
 //! * each `[trace] tags` entry, named as written (`State`, `Pos[0]`,
 //!   `Pick.Count`, `MC1.PC`): BOOL as 0/1, integers in full, REAL at single
-//!   precision.
+//!   precision;
+//! * in a run of the kinematic plant (`plant = "kinematic"`, `--plant
+//!   kinematic`), `plant.kinematic`, always 1: the trace says which plant
+//!   ran (a physics run has no such column).
 //!
 //! Numbers are the shortest text that reads back as the same value
 //! ([`number`]): positional (`0.25`, `90`), with an exponent below 1e-5
@@ -158,6 +161,9 @@ pub fn header(twin: &Twin) -> Vec<String> {
         h.push(format!("{}.overshoot", a.name));
     }
     h.extend(program.traced_tags().iter().map(|t| t.name.clone()));
+    if twin.scene().plant == crate::scene::PlantMode::Kinematic {
+        h.push("plant.kinematic".to_string());
+    }
     h
 }
 
@@ -250,6 +256,9 @@ pub fn row(twin: &Twin) -> Vec<String> {
         Value::Real(x) if t.single_precision() => number_f32(x as f32),
         Value::Real(x) => number(x),
     }));
+    if twin.scene().plant == crate::scene::PlantMode::Kinematic {
+        row.push("1".to_string());
+    }
     row
 }
 

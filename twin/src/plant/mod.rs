@@ -11,7 +11,9 @@
 //!   gives them the URDF's soft travel limits.
 //! * [`urdf`] (with [`stl`], [`dae`], [`mesh`]) loads the robot, [`physics`]
 //!   builds the rapier multibody with a joint motor per drive
-//!   ([`convert`]: nalgebra ↔ rapier), [`transform`] checks an MCT target
+//!   ([`convert`]: nalgebra ↔ rapier) — or, with `plant = "kinematic"`,
+//!   [`kinematic`] puts the joints at their setpoints instead (the plant's
+//!   update does not care which: `dynamics.rs`) — [`transform`] checks an MCT target
 //!   robot against its geometry ([`kinematics_check`]) and poses the
 //!   virtual joints of parallel robots.
 //! * [`collision`] is the parry collision model; [`collide`] runs its live
@@ -34,6 +36,8 @@ pub mod collide;
 pub mod collision;
 pub mod convert;
 pub mod dae;
+mod dynamics;
+pub mod kinematic;
 pub mod kinematics_check;
 pub mod limits;
 pub mod mesh;
@@ -48,6 +52,7 @@ pub mod xml;
 
 use axes::{AxisBinding, BoundAxes};
 use collision::CollisionModelError;
+use dynamics::Dynamics;
 use parts::{Part, scene_parts};
 use physics::{PhysicsError, PhysicsOptions, RobotSim};
 use planner::task::{MotionTask, TaskError};
@@ -169,7 +174,7 @@ pub enum PlantError {
 pub struct Plant {
     model: RobotModel,
     parts: Vec<Part>,
-    sim: RobotSim,
+    sim: Dynamics,
     axes: Vec<AxisBinding>,
     /// Parallel robots' virtual joints posed from MCT kinematics.
     rigs: Vec<ParallelRig>,
@@ -248,7 +253,15 @@ impl Plant {
             step_s,
             ..PhysicsOptions::default()
         };
-        let sim = RobotSim::new(&model, &drives, &initial, options).map_err(|source| PlantError::Physics {
+        let sim = match scene.plant {
+            crate::scene::PlantMode::Physics => {
+                RobotSim::new(&model, &drives, &initial, options).map(Dynamics::Physics)
+            }
+            crate::scene::PlantMode::Kinematic => {
+                kinematic::KinematicSim::new(&model, &drives, &initial, step_s).map(Dynamics::Kinematic)
+            }
+        }
+        .map_err(|source| PlantError::Physics {
             scene: path.clone(),
             source,
         })?;
@@ -302,12 +315,24 @@ impl Plant {
         self.set_drive_modes(task);
         self.sim.refresh_servo_inertias(&self.model);
         let n = self.substeps;
-        for j in 0..n {
-            self.set_setpoints(&now, j as f64 / n as f64, (j as f64 + 0.5) / n as f64);
-            self.sim.step();
-            self.collision_after_physics_step(task);
-            if self.collision_abort() {
-                break;
+        if self.sim.is_kinematic() && self.collision.is_none() {
+            // Nothing looks between the updates: the joints go to the
+            // command at once.
+            self.set_setpoints(&now, 1.0, 1.0);
+            self.sim.step(&self.model, n);
+        } else {
+            // Physics: the setpoint at the start of each step, the velocity
+            // at its middle. Kinematic: where the joint is at the step's
+            // end, so the last step ends on the command exactly.
+            let ahead = if self.sim.is_kinematic() { 1.0 } else { 0.0 };
+            for j in 0..n {
+                let f = (j as f64 + ahead) / n as f64;
+                self.set_setpoints(&now, f, (j as f64 + 0.5) / n as f64);
+                self.sim.step(&self.model, 1);
+                self.collision_after_physics_step(task);
+                if self.collision_abort() {
+                    break;
+                }
             }
         }
         self.previous_command = now;
@@ -486,7 +511,10 @@ mod tests {
         let last_actual = task.axis_state(axis).actual_position;
         let last_poses = plant.world_from_link().to_vec();
 
-        plant.sim.set_gravity_for_test([f64::NAN; 3]);
+        let Dynamics::Physics(sim) = &mut plant.sim else {
+            panic!("a physics plant");
+        };
+        sim.set_gravity_for_test([f64::NAN; 3]);
         task.update();
         plant.advance(&mut task);
         let fault = plant.physics_fault().cloned().expect("a physics fault");

@@ -641,7 +641,7 @@ fn movable_joint(model: &RobotModel, name: &str) -> Result<usize, PhysicsError> 
 }
 
 /// Every joint's initial coordinate (0 where none is given).
-fn initial_positions(model: &RobotModel, initial: &[(String, f64)]) -> Result<Vec<f64>, PhysicsError> {
+pub(crate) fn initial_positions(model: &RobotModel, initial: &[(String, f64)]) -> Result<Vec<f64>, PhysicsError> {
     let mut q0 = vec![0.0; model.joints.len()];
     for (name, position) in initial {
         let j = movable_joint(model, name)?;
@@ -658,7 +658,7 @@ fn initial_positions(model: &RobotModel, initial: &[(String, f64)]) -> Result<Ve
 
 /// Per joint, the index of the drive that drives it, after checking each
 /// drive's gains and that no joint has two.
-fn driven_joints(model: &RobotModel, drives: &[JointDrive]) -> Result<Vec<Option<usize>>, PhysicsError> {
+pub(crate) fn driven_joints(model: &RobotModel, drives: &[JointDrive]) -> Result<Vec<Option<usize>>, PhysicsError> {
     let mut driven = vec![None; model.joints.len()];
     for (d, drive) in drives.iter().enumerate() {
         let j = movable_joint(model, &drive.joint)?;

@@ -14,8 +14,9 @@
 //!   lengths are in the source system's coordinate units.
 
 use super::PlantError;
+use super::dynamics::Dynamics;
 use super::kinematics_check::{ChainMapping, check, pose_parallel};
-use super::physics::{JointDrive, RobotSim};
+use super::physics::JointDrive;
 use super::urdf::RobotModel;
 use crate::scene::{Scene, TagValue};
 use crate::st::ast::ExprKind;
@@ -290,7 +291,7 @@ impl ParallelRig {
     pub(crate) fn drive(
         &mut self,
         model: &RobotModel,
-        sim: &mut RobotSim,
+        sim: &mut Dynamics,
         step_s: f64,
         setpoint: impl Fn(usize) -> Option<f64>,
     ) {

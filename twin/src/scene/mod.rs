@@ -50,13 +50,14 @@ pub use geometry::{GEOMETRY_TYPES, GeometrySettings};
 pub use model::{
     Axis, AxisKind, BaseType, CamPoint, Camera, CoordinateSystemSettings, FunctionBlock, Location, MAX_ARRAY_LEN,
     MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE, MIN_PHYSICS_STEP_MS, MotorGains,
-    Obstacle, Robot, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType, TagValue, Trigger, Units,
+    Obstacle, PlantMode, Robot, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType, TagValue,
+    Trigger, Units,
 };
 pub use tasks::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
 
 use context::{Ctx, NameKind, Names};
 use raw::{
-    AxisConfiguration, HomeDirectionWord, HomeModeWord, HomeSequenceWord, Numbers, RawAxis, RawCamera,
+    AxisConfiguration, HomeDirectionWord, HomeModeWord, HomeSequenceWord, Numbers, PlantWord, RawAxis, RawCamera,
     RawCoordinateSystem, RawDrive, RawMoveOptions, RawObstacle, RawRobot, RawScene, RawSnapshots, RawStep, RawTag,
     ShapeKind,
 };

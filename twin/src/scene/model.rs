@@ -58,6 +58,33 @@ pub struct Scene {
     pub snapshots: Option<Snapshots>,
     /// Collision checking (`[collision]`); off when the table is absent.
     pub collision: Option<CollisionSettings>,
+    /// How the plant moves the joints (`plant`; `twin run --plant`
+    /// overrides it).
+    pub plant: PlantMode,
+}
+
+/// How the plant moves the joints (`plant = "physics" | "kinematic"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PlantMode {
+    /// Rigid-body dynamics: drives, gravity, contacts (the default).
+    #[default]
+    Physics,
+    /// The joints are at their setpoints, as a CIP axis in Controller Loop
+    /// Back test mode (`plant/kinematic.rs`).
+    Kinematic,
+}
+
+impl PlantMode {
+    /// Every mode with its name in the scene and on the command line.
+    pub const NAMES: [(&'static str, PlantMode); 2] = [("physics", Self::Physics), ("kinematic", Self::Kinematic)];
+
+    /// The mode's name in the scene and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Physics => "physics",
+            Self::Kinematic => "kinematic",
+        }
+    }
 }
 
 /// `[robot]`.

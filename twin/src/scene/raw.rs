@@ -32,6 +32,15 @@ pub(super) struct RawScene {
     pub(super) snapshots: Option<RawSnapshots>,
     pub(super) trace: Option<RawTrace>,
     pub(super) collision: Option<super::collision::RawCollision>,
+    pub(super) plant: Option<PlantWord>,
+}
+
+/// `plant`: the plant modes.
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum PlantWord {
+    Physics,
+    Kinematic,
 }
 
 #[derive(Deserialize)]

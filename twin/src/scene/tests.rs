@@ -687,6 +687,20 @@ fn soft_overtravel_action_and_checking_are_read_and_a_conflict_is_refused_at_the
 }
 
 #[test]
+fn the_plant_mode_is_read_and_an_unknown_one_is_refused_at_its_place() {
+    use crate::scene::PlantMode;
+    let scene = parse(&fixtures().join("case.toml"), &fixture_text()).expect("case");
+    assert_eq!(scene.plant, PlantMode::Physics);
+    let kinematic = format!("plant = \"kinematic\"\n{}", fixture_text());
+    let scene = parse(&fixtures().join("case.toml"), &kinematic).expect("kinematic");
+    assert_eq!(scene.plant, PlantMode::Kinematic);
+    let bad = format!("plant = \"rigid\"\n{}", fixture_text());
+    let e = error_of(&bad);
+    assert_eq!(e.location(), Some(find(&bad, "\"rigid\"")), "{e}");
+    assert!(e.to_string().contains("'kinematic'"), "{e}");
+}
+
+#[test]
 fn homing_fields_are_checked_at_the_field() {
     use planner::mah::HomeMode;
     let ok = edited(

@@ -82,6 +82,10 @@ impl Ctx<'_> {
             None => None,
         };
         Ok(Scene {
+            plant: match raw.plant {
+                Some(super::PlantWord::Kinematic) => super::PlantMode::Kinematic,
+                Some(super::PlantWord::Physics) | None => super::PlantMode::Physics,
+            },
             collision,
             name,
             path: path.to_owned(),

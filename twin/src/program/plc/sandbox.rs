@@ -62,6 +62,7 @@ impl Sandbox {
             duration_s: 1.0,
             coarse_update_ms: 4.0,
             physics_step_ms: 1.0,
+            plant: Default::default(),
             robot: Robot {
                 urdf: PathBuf::new(),
                 urdf_location: Location::default(),
