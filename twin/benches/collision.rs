@@ -1,5 +1,6 @@
 //! Collision-checking speed: one live check (every physics step) of a
-//! 6-link arm against 20 obstacles, and the pre-flight sweep of one arc.
+//! 6-link arm against 10, 20 and 400 obstacles, and the pre-flight sweep
+//! of one arc.
 //!
 //! Run with `cargo bench -p twin --profile dev --bench collision` (the
 //! dependencies, parry included, are optimised in the dev profile).
@@ -50,15 +51,26 @@ fn urdf() -> String {
     s
 }
 
-/// 20 obstacles (boxes, cylinders, spheres) on a ring outside the arm's reach
-/// at the benchmark pose, so every pair is a distance query and none a contact.
-fn scene_text() -> String {
+/// `n` obstacles (boxes, cylinders, spheres) outside the arm's reach at the
+/// benchmark pose, so every pair is a distance query and none a contact:
+/// the first 10 on a ring of radius 1.9 m (the ones near the arm, the same
+/// in every case), the others on rings of 20 from 2.6 m outward, every
+/// 0.4 m.
+fn scene_text(n: usize) -> String {
     let mut s = String::from(
         "duration_s = 1.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 2.0\n[robot]\nurdf = \"arm6.urdf\"\n[collision]\n",
     );
-    for k in 0..20 {
-        let a = k as f64 * std::f64::consts::TAU / 20.0;
-        let (x, y) = (1.9 * a.cos(), 1.9 * a.sin());
+    for k in 0..n {
+        let (a, r) = if k < 10 {
+            (k as f64 * std::f64::consts::TAU / 10.0, 1.9)
+        } else {
+            let j = k - 10;
+            (
+                (j % 20) as f64 * std::f64::consts::TAU / 20.0,
+                2.6 + 0.4 * (j / 20) as f64,
+            )
+        };
+        let (x, y) = (r * a.cos(), r * a.sin());
         let shape = match k % 3 {
             0 => "shape = \"box\"\nsize = [0.2, 0.2, 0.6]".to_string(),
             1 => "shape = \"cylinder\"\nradius = 0.1\nlength = 0.6".to_string(),
@@ -72,13 +84,13 @@ fn scene_text() -> String {
     s
 }
 
-fn setup() -> (RobotModel, CollisionModel) {
+fn setup(obstacles: usize) -> (RobotModel, CollisionModel) {
     let dir: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/bench-collision");
     std::fs::create_dir_all(&dir).expect("bench dir");
     let urdf_path = dir.join("arm6.urdf");
     std::fs::write(&urdf_path, urdf()).expect("write urdf");
     let model = RobotModel::load(&urdf_path).expect("urdf");
-    let scene = twin::scene::parse(&dir.join("bench.toml"), &scene_text()).expect("scene");
+    let scene = twin::scene::parse(&dir.join("bench.toml"), &scene_text(obstacles)).expect("scene");
     let settings = scene.collision.clone().expect("[collision]");
     let world = CollisionModel::new(&model, &scene.obstacles, &settings).expect("collision model");
     (model, world)
@@ -105,13 +117,18 @@ impl PathSampler for Arc {
 }
 
 fn collision(c: &mut Criterion) {
-    let (model, world) = setup();
     let q = [0.4, 0.3, 0.2, -0.4, 0.1, 0.2];
-    let poses = model.world_from_link(&q);
-    assert!(world.check(&poses).contacts.is_empty());
-    c.bench_function("check_6_links_20_obstacles_per_physics_step", |b| {
-        b.iter(|| world.check(black_box(&poses)))
-    });
+    // The broad phase: the cost of a check grows with the obstacles near
+    // the arm, not with all of them (issue 17: 400 within 1.5x of 10).
+    for n in [10, 20, 400] {
+        let (model, world) = setup(n);
+        let poses = model.world_from_link(&q);
+        assert!(world.check(&poses).contacts.is_empty());
+        c.bench_function(&format!("check_6_links_{n}_obstacles_per_physics_step"), |b| {
+            b.iter(|| world.check(black_box(&poses)))
+        });
+    }
+    let (model, world) = setup(20);
     let arc = Arc {
         end_rad: std::f64::consts::PI,
     };

@@ -12,7 +12,12 @@
 //!
 //! # Checks ([`CollisionModel::check`])
 //! * Every robot body against every obstacle: the distance (clearance) and,
-//!   when they touch or overlap, a contact.
+//!   when they touch or overlap, a contact. The obstacles' bounding boxes
+//!   are in a tree (parry's `Bvh`, the broad phase): the clearance is found
+//!   best first, visiting only obstacles whose boxes are nearer than the
+//!   best distance so far, and contacts are looked for among the obstacles
+//!   whose boxes meet the body's — the result is the same as checking every
+//!   pair, the cost grows with the obstacles near the robot.
 //! * With `self_collision`, every pair of robot bodies that are not
 //!   *adjacent*. Links joined through a chain of fixed joints form one
 //!   rigid group (they never move relative to each other, so a mounting
@@ -54,6 +59,8 @@ use crate::plant::urdf::RobotModel;
 use crate::scene::{CollisionSettings, Obstacle};
 use nalgebra::Isometry3;
 use rapier3d_f64::math::{Pose, Vector};
+use rapier3d_f64::parry::bounding_volume::{Aabb, BoundingVolume};
+use rapier3d_f64::parry::partitioning::{Bvh, BvhBuildStrategy};
 use rapier3d_f64::parry::query;
 use rapier3d_f64::parry::shape::SharedShape;
 use serde::Serialize;
@@ -61,6 +68,17 @@ use std::collections::BTreeMap;
 
 mod build;
 use build::{allowed_pairs, pose_from_xyz_rpy_deg, reach_of, robot_bodies, scene_shape, self_pairs, shape_of, vec3};
+
+/// How much a body's bounding box is grown for the broad phase, m: shapes
+/// that just touch (distance 0) always have overlapping boxes.
+const BOX_MARGIN_M: f64 = 1e-6;
+
+/// The distance between two boxes (0 when they overlap): a lower bound of
+/// the distance between anything inside them.
+fn box_distance(a: &Aabb, b: &Aabb) -> f64 {
+    let gap = (a.mins - b.maxs).max(b.mins - a.maxs).max(Vector::ZERO);
+    gap.length()
+}
 
 /// One side of a checked pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -175,8 +193,15 @@ pub struct CollisionModel {
     bodies: Vec<RobotBody>,
     obstacle_names: Vec<String>,
     obstacles: Vec<(Pose, SharedShape)>,
-    /// Obstacle pairs to check: (body, obstacle).
-    obstacle_pairs: Vec<(usize, usize)>,
+    /// Per body, per obstacle: whether the pair is checked.
+    checked: Vec<Vec<bool>>,
+    /// The obstacles' world bounding boxes in a tree (leaf = obstacle
+    /// index): the broad phase, so a check visits the obstacles near a
+    /// body, not all of them.
+    obstacle_tree: Bvh,
+    /// Per body, the obstacle nearest at the last check: where the next
+    /// search starts.
+    last_nearest: Vec<std::cell::Cell<Option<usize>>>,
     /// Robot body pairs to check.
     self_pairs: Vec<(usize, usize)>,
     /// Per body, per model joint: R_jb (0 where joint j does not move the body).
@@ -234,11 +259,22 @@ impl CollisionModel {
             Vec::new()
         };
         let reach = bodies.iter().map(|b| reach_of(model, b)).collect();
+        let mut checked = vec![vec![false; obstacle_shapes.len()]; bodies.len()];
+        for &(b, o) in &obstacle_pairs {
+            checked[b][o] = true;
+        }
+        let boxes: Vec<Aabb> = obstacle_shapes
+            .iter()
+            .map(|(pose, shape)| shape.compute_aabb(pose))
+            .collect();
+        let obstacle_tree = Bvh::from_leaves(BvhBuildStrategy::default(), &boxes);
         Ok(CollisionModel {
             bodies,
             obstacle_names,
             obstacles: obstacle_shapes,
-            obstacle_pairs,
+            last_nearest: vec![std::cell::Cell::new(None); checked.len()],
+            checked,
+            obstacle_tree,
             self_pairs,
             reach,
         })
@@ -327,26 +363,75 @@ impl CollisionModel {
         d
     }
 
+    /// The world bounding box of a body's shapes, grown by [`BOX_MARGIN_M`]
+    /// (so that shapes that just touch have overlapping boxes).
+    fn body_box(shapes: &[Placed<'_>]) -> Option<Aabb> {
+        let mut boxes = shapes.iter().map(|p| p.shape.compute_aabb(&p.pose));
+        let first = boxes.next()?;
+        Some(boxes.fold(first, |a, b| a.merged(&b)).loosened(BOX_MARGIN_M))
+    }
+
+    /// Body `b`'s clearance: the smallest distance to an obstacle it is
+    /// checked against (0 when touching, infinite without one). Best first
+    /// through the obstacle tree: a subtree whose box is farther than the
+    /// best distance so far is not visited.
+    ///
+    /// The search starts from the obstacle that was nearest at the last
+    /// check (robots move little between checks), so most subtrees are
+    /// pruned at once; the result does not depend on it.
+    fn nearest_obstacle(&self, b: usize, shapes: &[Placed<'_>]) -> f64 {
+        let Some(body) = Self::body_box(shapes) else {
+            return f64::INFINITY;
+        };
+        let last = self.last_nearest[b].get();
+        let start = last.map_or(f64::INFINITY, |o| {
+            Self::distance_between(shapes, &self.placed_obstacle(o), f64::INFINITY)
+        });
+        let found = self.obstacle_tree.find_best(
+            start,
+            |node, _| box_distance(&body, &node.aabb()),
+            |o, best| {
+                let o = o as usize;
+                (self.checked[b][o] && Some(o) != last)
+                    .then(|| Self::distance_between(shapes, &self.placed_obstacle(o), best))
+            },
+        );
+        match found {
+            Some((o, d)) => {
+                self.last_nearest[b].set(Some(o as usize));
+                d
+            }
+            None => start,
+        }
+    }
+
     /// Checks one robot pose (`world_from_link` of every URDF link, in model order).
     pub fn check(&self, world_from_link: &[Isometry3<f64>]) -> CheckResult {
         let shapes = self.placed_bodies(world_from_link);
         let mut clearance_m = vec![f64::INFINITY; self.bodies.len()];
         let mut contacts = Vec::new();
-        for &(b, o) in &self.obstacle_pairs {
-            let obstacle = self.placed_obstacle(o);
-            // Exact below the body's best so far; 0 means touching.
-            let d = Self::distance_between(&shapes[b], &obstacle, clearance_m[b]);
-            clearance_m[b] = d;
-            if d <= 0.0
-                && let Some((depth_m, point, normal)) = Self::contact_between(&shapes[b], &obstacle)
-            {
-                contacts.push(Contact {
-                    a: Body::Robot(b),
-                    b: Body::Obstacle(o),
-                    depth_m,
-                    point_in_world: point,
-                    normal_in_world: normal,
-                });
+        for (b, body_shapes) in shapes.iter().enumerate() {
+            clearance_m[b] = self.nearest_obstacle(b, body_shapes);
+            if clearance_m[b] > 0.0 {
+                continue;
+            }
+            // Touching: the contacts with every obstacle whose box meets
+            // the body's, in obstacle order.
+            let Some(body) = Self::body_box(body_shapes) else {
+                continue;
+            };
+            let mut near: Vec<usize> = self.obstacle_tree.intersect_aabb(&body).map(|o| o as usize).collect();
+            near.sort_unstable();
+            for o in near.into_iter().filter(|&o| self.checked[b][o]) {
+                if let Some((depth_m, point, normal)) = Self::contact_between(body_shapes, &self.placed_obstacle(o)) {
+                    contacts.push(Contact {
+                        a: Body::Robot(b),
+                        b: Body::Obstacle(o),
+                        depth_m,
+                        point_in_world: point,
+                        normal_in_world: normal,
+                    });
+                }
             }
         }
         for &(a, b) in &self.self_pairs {
@@ -367,10 +452,9 @@ impl CollisionModel {
     /// (obstacles and self pairs), m.
     fn distances(&self, world_from_link: &[Isometry3<f64>]) -> Vec<f64> {
         let shapes = self.placed_bodies(world_from_link);
-        let mut d = vec![f64::INFINITY; self.bodies.len()];
-        for &(b, o) in &self.obstacle_pairs {
-            d[b] = Self::distance_between(&shapes[b], &self.placed_obstacle(o), d[b]);
-        }
+        let mut d: Vec<f64> = (0..self.bodies.len())
+            .map(|b| self.nearest_obstacle(b, &shapes[b]))
+            .collect();
         for &(a, b) in &self.self_pairs {
             let x = Self::distance_between(&shapes[a], &shapes[b], d[a].max(d[b]));
             d[a] = d[a].min(x);

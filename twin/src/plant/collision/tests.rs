@@ -445,3 +445,78 @@ fn a_sweep_of_an_absurdly_long_path_ends_within_its_sample_budget() {
     let report = world.sweep(&model, &Turn { end_rad: 3.0 }, 0.001);
     assert!(report.step_bound < 0.01, "{report:?}");
 }
+
+/// Guards the broad phase: the obstacle tree and the warm-started nearest
+/// search give exactly the clearances and contacts of checking every pair,
+/// over seeded random obstacle fields and arm poses (some touching).
+#[test]
+fn the_broad_phase_finds_exactly_what_every_pair_finds() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
+    let model = arm();
+    let mut touching = 0;
+    for field in 0..20 {
+        let n = rng.random_range(1..80);
+        let obstacles: Vec<Obstacle> = (0..n)
+            .map(|k| {
+                let position = [
+                    rng.random_range(-2.0..2.0),
+                    rng.random_range(-2.0..2.0),
+                    rng.random_range(-0.3..0.3),
+                ];
+                let shape = match k % 3 {
+                    0 => Shape::Box {
+                        size_m: [
+                            rng.random_range(0.02..0.3),
+                            rng.random_range(0.02..0.3),
+                            rng.random_range(0.02..0.3),
+                        ],
+                    },
+                    1 => Shape::Sphere {
+                        radius_m: rng.random_range(0.01..0.2),
+                    },
+                    _ => Shape::Cylinder {
+                        radius_m: rng.random_range(0.01..0.2),
+                        length_m: rng.random_range(0.02..0.4),
+                    },
+                };
+                obstacle(&format!("o{k}"), shape, position)
+            })
+            .collect();
+        let world = CollisionModel::new(&model, &obstacles, &settings()).unwrap();
+        for _ in 0..20 {
+            let q = [
+                rng.random_range(-3.2..3.2),
+                rng.random_range(-3.2..3.2),
+                rng.random_range(-3.2..3.2),
+            ];
+            let poses = model.world_from_link(&q);
+            let got = world.check(&poses);
+            // Every pair, the slow way.
+            let shapes = world.placed_bodies(&poses);
+            for (b, body) in shapes.iter().enumerate() {
+                let mut clearance = f64::INFINITY;
+                let mut contacts = Vec::new();
+                for o in 0..obstacles.len() {
+                    let obstacle = world.placed_obstacle(o);
+                    clearance = clearance.min(CollisionModel::distance_between(body, &obstacle, f64::INFINITY));
+                    if let Some((depth, _, _)) = CollisionModel::contact_between(body, &obstacle) {
+                        contacts.push((o, depth));
+                    }
+                }
+                assert_eq!(got.clearance_m[b], clearance, "field {field}, body {b}, q {q:?}");
+                let found: Vec<(usize, f64)> = got
+                    .contacts
+                    .iter()
+                    .filter_map(|c| match (c.a, c.b) {
+                        (Body::Robot(x), Body::Obstacle(o)) if x == b => Some((o, c.depth_m)),
+                        _ => None,
+                    })
+                    .collect();
+                assert_eq!(found, contacts, "field {field}, body {b}, q {q:?}");
+                touching += contacts.len();
+            }
+        }
+    }
+    assert!(touching > 50, "{touching} contacts: the fields must reach the arm");
+}
