@@ -251,6 +251,7 @@ impl Plant {
         let step_s = scene.physics_step_ms / 1000.0;
         let options = PhysicsOptions {
             step_s,
+            substeps: scene.physics_substeps,
             ..PhysicsOptions::default()
         };
         let sim = match scene.plant {

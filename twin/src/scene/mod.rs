@@ -48,10 +48,10 @@ pub use collision::{AllowedPair, CollisionSettings, MeshApproximation, Preflight
 pub use error::{Problem, SceneError};
 pub use geometry::{GEOMETRY_TYPES, GeometrySettings};
 pub use model::{
-    Axis, AxisKind, BaseType, CamPoint, Camera, CoordinateSystemSettings, FunctionBlock, Location, MAX_ARRAY_LEN,
-    MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE, MIN_PHYSICS_STEP_MS, MotorGains,
-    Obstacle, PlantMode, Robot, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType, TagValue,
-    Trigger, Units,
+    Axis, AxisKind, BaseType, CamPoint, Camera, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS, FunctionBlock,
+    Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE,
+    MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, Obstacle, PlantMode, Robot, Scene, SegmentType, ServoGains,
+    Shape, Snapshots, Step, Tag, TagType, TagValue, Trigger, Units,
 };
 pub use tasks::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
 

@@ -61,7 +61,18 @@ pub struct Scene {
     /// How the plant moves the joints (`plant`; `twin run --plant`
     /// overrides it).
     pub plant: PlantMode,
+    /// rapier steps per physics step (`physics_substeps`, 1 to
+    /// [`MAX_PHYSICS_SUBSTEPS`], default [`DEFAULT_PHYSICS_SUBSTEPS`]).
+    pub physics_substeps: usize,
 }
+
+/// rapier steps per physics step when the scene does not say: the fewest
+/// that keep every shipped scene's instruction outcomes and its largest
+/// following error within 1 % of four substeps (README, *Benchmarks*).
+pub const DEFAULT_PHYSICS_SUBSTEPS: usize = 2;
+
+/// The most rapier steps per physics step a scene may ask for.
+pub const MAX_PHYSICS_SUBSTEPS: usize = 16;
 
 /// How the plant moves the joints (`plant = "physics" | "kinematic"`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

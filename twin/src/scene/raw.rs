@@ -33,6 +33,7 @@ pub(super) struct RawScene {
     pub(super) trace: Option<RawTrace>,
     pub(super) collision: Option<super::collision::RawCollision>,
     pub(super) plant: Option<PlantWord>,
+    pub(super) physics_substeps: Option<Spanned<i64>>,
 }
 
 /// `plant`: the plant modes.

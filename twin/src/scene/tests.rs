@@ -701,6 +701,21 @@ fn the_plant_mode_is_read_and_an_unknown_one_is_refused_at_its_place() {
 }
 
 #[test]
+fn physics_substeps_default_to_two_and_are_bounded_at_the_field() {
+    use crate::scene::{DEFAULT_PHYSICS_SUBSTEPS, MAX_PHYSICS_SUBSTEPS};
+    let scene = parse(&fixtures().join("case.toml"), &fixture_text()).expect("case");
+    assert_eq!((scene.physics_substeps, DEFAULT_PHYSICS_SUBSTEPS), (2, 2));
+    let four = format!("physics_substeps = 4\n{}", fixture_text());
+    assert_eq!(parse(&fixtures().join("case.toml"), &four).expect("four").physics_substeps, 4);
+    for bad in ["0", "17", "-1"] {
+        let text = format!("physics_substeps = {bad}\n{}", fixture_text());
+        let e = error_of(&text);
+        assert_place(&e, find(&text, bad), "physics_substeps");
+        assert!(e.to_string().contains(&MAX_PHYSICS_SUBSTEPS.to_string()), "{e}");
+    }
+}
+
+#[test]
 fn homing_fields_are_checked_at_the_field() {
     use planner::mah::HomeMode;
     let ok = edited(

@@ -12,9 +12,10 @@ use planner::mah::{HomeDirection, HomeMode, HomeSequence, Homing};
 use planner::servo::{AxisType, FaultAction};
 
 use super::{
-    Axis, AxisConfiguration, Camera, Ctx, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE,
-    MIN_PHYSICS_STEP_MS, MotorGains, NameKind, Names, Numbers, Obstacle, Problem, RawAxis, RawCamera, RawDrive,
-    RawObstacle, RawRobot, RawScene, RawSnapshots, Robot, Scene, SceneError, ServoGains, Shape, ShapeKind, Snapshots,
+    Axis, AxisConfiguration, Camera, Ctx, DEFAULT_PHYSICS_SUBSTEPS, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M,
+    MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, NameKind, Names, Numbers, Obstacle, Problem,
+    RawAxis, RawCamera, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, Robot, Scene, SceneError, ServoGains,
+    Shape, ShapeKind, Snapshots,
 };
 
 impl Ctx<'_> {
@@ -64,6 +65,22 @@ impl Ctx<'_> {
             };
             return Err(self.invalid(&raw.physics_step_ms, "physics_step_ms", problem));
         }
+        let physics_substeps = match &raw.physics_substeps {
+            Some(n) => {
+                let value = *n.get_ref();
+                if !(1..=MAX_PHYSICS_SUBSTEPS as i64).contains(&value) {
+                    let problem = Problem::OutOfRange {
+                        value: value as f64,
+                        min: 1.0,
+                        max: MAX_PHYSICS_SUBSTEPS as f64,
+                        exclusive: false,
+                    };
+                    return Err(self.invalid(n, "physics_substeps", problem));
+                }
+                value as usize
+            }
+            None => DEFAULT_PHYSICS_SUBSTEPS,
+        };
 
         let robot = self.robot(&raw.robot, base)?;
         let mut names: Names = HashMap::new();
@@ -82,6 +99,7 @@ impl Ctx<'_> {
             None => None,
         };
         Ok(Scene {
+            physics_substeps,
             plant: match raw.plant {
                 Some(super::PlantWord::Kinematic) => super::PlantMode::Kinematic,
                 Some(super::PlantWord::Physics) | None => super::PlantMode::Physics,

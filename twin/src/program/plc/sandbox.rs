@@ -63,6 +63,7 @@ impl Sandbox {
             coarse_update_ms: 4.0,
             physics_step_ms: 1.0,
             plant: Default::default(),
+            physics_substeps: crate::scene::DEFAULT_PHYSICS_SUBSTEPS,
             robot: Robot {
                 urdf: PathBuf::new(),
                 urdf_location: Location::default(),
