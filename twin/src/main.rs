@@ -62,6 +62,38 @@ enum Command {
         /// Scene file (TOML).
         scene: PathBuf,
     },
+    /// Measure scenes: the physics plant against a bare rapier simulation
+    /// replaying the same drive commands, the kinematic plant, and where a
+    /// run with every output spends its time.
+    #[command(after_help = BENCH_HELP)]
+    Bench(BenchArgs),
+}
+
+const BENCH_HELP: &str = "\
+Columns, per scene (best of --runs; the outputs run once):
+  physics xRT     simulated / wall time of the physics plant, no outputs
+  steps/s         the twin's physics steps per wall second, no outputs
+  bare steps/s    a bare simulation of the same robot (drives, step, substeps)
+                  replaying the drive commands the twin gave each step
+  twin/bare       how much longer the twin takes than the bare simulation
+  kinematic xRT   simulated / wall time of the kinematic plant (--plant kinematic)
+  then the share of a run with a trace, a recording and frames spent in the
+  program, the planner, the pre-flight sweeps, the physics, the live collision
+  checks, the trace, the recording and the frames (the rest: bookkeeping).
+
+Example:
+  twin bench scenes/ --runs 3";
+
+#[derive(Debug, clap::Args)]
+struct BenchArgs {
+    /// Scene files, or folders whose `*.toml` scenes are measured (default: scenes/).
+    scenes: Vec<PathBuf>,
+    /// Timed runs per scene and plant; the best counts.
+    #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
+    runs: u32,
+    /// Leave the frames out of the outputs run (no GPU or Vulkan needed).
+    #[arg(long)]
+    no_render: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -142,16 +174,18 @@ fn main() -> ExitCode {
             return ExitCode::from(if e.use_stderr() { exit::USAGE } else { 0 });
         }
     };
-    if let Command::Run(args) = &cli.command
-        && args.frames.is_some()
-        && !args.no_render
-        && let Some(code) = rerun_with_runtime_dir()
-    {
+    let renders = match &cli.command {
+        Command::Run(args) => args.frames.is_some() && !args.no_render,
+        Command::Bench(args) => !args.no_render,
+        Command::Check { .. } => false,
+    };
+    if renders && let Some(code) = rerun_with_runtime_dir() {
         return code;
     }
     let result = match cli.command {
         Command::Check { scene } => check(&scene),
         Command::Run(args) => run(&args),
+        Command::Bench(args) => bench(&args),
     };
     match result {
         Ok(code) => code,
@@ -740,4 +774,193 @@ impl Progress {
             self.bar.finish();
         }
     }
+}
+
+/// The scenes `twin bench` measures: files as given, folders' `*.toml`
+/// files in name order.
+fn bench_scenes(given: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    let given = if given.is_empty() {
+        vec![PathBuf::from("scenes")]
+    } else {
+        given.to_vec()
+    };
+    let mut scenes = Vec::new();
+    for path in given {
+        if path.is_dir() {
+            let mut found: Vec<PathBuf> = fs::read_dir(&path)
+                .with_context(|| format!("cannot read the folder {}", path.display()))?
+                .filter_map(|e| Some(e.ok()?.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+                .collect();
+            found.sort();
+            scenes.extend(found);
+        } else {
+            scenes.push(path);
+        }
+    }
+    if scenes.is_empty() {
+        anyhow::bail!("no scene to measure");
+    }
+    Ok(scenes)
+}
+
+/// Runs `twin` to the end (or to what stops a run), calling `each` after
+/// every update; the wall time of it all, s.
+fn run_to_end(twin: &mut Twin, mut each: impl FnMut(&Twin)) -> f64 {
+    let started = Instant::now();
+    for _ in 0..twin.total_updates() {
+        twin.step();
+        each(twin);
+        if twin.plant().collision_abort()
+            || twin.program().controller().major_fault().is_some()
+            || twin.plant().physics_fault().is_some()
+        {
+            break;
+        }
+    }
+    started.elapsed().as_secs_f64()
+}
+
+/// One scene's figures (see `twin bench --help`).
+struct BenchRow {
+    name: String,
+    physics_rtf: f64,
+    steps_per_s: f64,
+    bare_steps_per_s: Option<f64>,
+    kinematic_rtf: f64,
+    /// Shares of the outputs run: program, planner, sweep, physics,
+    /// collision, trace, recording, frames.
+    split: [f64; 8],
+}
+
+fn bench_scene(path: &Path, runs: u32, render: bool) -> Result<BenchRow> {
+    let load = |plant: scene::PlantMode| -> Result<Twin> {
+        let mut scene = scene::load(path)?;
+        scene.plant = plant;
+        Ok(Twin::new(scene)?)
+    };
+    // Physics, no outputs: the best run, and its recorded physics.
+    let mut best: Option<(f64, Twin)> = None;
+    for _ in 0..runs {
+        let mut twin = load(scene::PlantMode::Physics)?;
+        twin.record_for_bench();
+        let wall = run_to_end(&mut twin, |_| {});
+        if best.as_ref().is_none_or(|(w, _)| wall < *w) {
+            best = Some((wall, twin));
+        }
+    }
+    let (wall, twin) = best.context("no run")?;
+    let replay = twin
+        .plant()
+        .physics_replay()
+        .context("the physics plant records its steps")?;
+    let steps = replay.steps() as f64;
+    let bare = (0..runs)
+        .map(|_| replay.run(twin.plant().model()))
+        .collect::<Result<Vec<f64>, _>>()?
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    let simulated = twin.time_s();
+    // The kinematic plant.
+    let mut kinematic = f64::INFINITY;
+    for _ in 0..runs {
+        let mut twin = load(scene::PlantMode::Kinematic)?;
+        kinematic = kinematic.min(run_to_end(&mut twin, |_| {}));
+    }
+    // Once with every output, into a temporary folder.
+    let dir = std::env::temp_dir().join(format!("twin-bench-{}", std::process::id()));
+    fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let mut twin = load(scene::PlantMode::Physics)?;
+    twin.record_for_bench();
+    let mut trace = Trace::create(&dir.join("bench.csv"), &twin)?;
+    let targets = twin::output::RecordingTargets {
+        save: Some(dir.join("bench.rrd")),
+        ..Default::default()
+    };
+    // A lean build (no `rerun` feature) measures without a recording.
+    let targets = if cfg!(feature = "rerun") {
+        targets
+    } else {
+        twin::output::RecordingTargets::default()
+    };
+    let mut recording = twin::output::session::Recording::new(&twin, &targets)?;
+    let mut frames = twin::output::session::Frames::new(&twin, Some(&dir.join("frames")), render)?;
+    let (mut trace_s, mut recording_s, mut frames_s) = (0.0, 0.0, 0.0);
+    let mut failed = None;
+    let outputs_wall = run_to_end(&mut twin, |twin| {
+        let t = Instant::now();
+        trace.row(twin);
+        let u = Instant::now();
+        if let Err(e) = recording.log(twin) {
+            failed.get_or_insert(e.to_string());
+        }
+        let v = Instant::now();
+        if let Err(e) = frames.capture(twin) {
+            failed.get_or_insert(e.to_string());
+        }
+        let w = Instant::now();
+        trace_s += (u - t).as_secs_f64();
+        recording_s += (v - u).as_secs_f64();
+        frames_s += (w - v).as_secs_f64();
+    });
+    let t = Instant::now();
+    let finished = recording.finish(&twin);
+    let recording_end_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    trace.finish()?;
+    let trace_end_s = t.elapsed().as_secs_f64();
+    recording_s += recording_end_s;
+    trace_s += trace_end_s;
+    let _ = fs::remove_dir_all(&dir);
+    if let Some(e) = failed.or_else(|| finished.failures.first().map(ToString::to_string)) {
+        anyhow::bail!("{}: an output failed while measuring: {e}", path.display());
+    }
+    let total = outputs_wall + recording_end_s + trace_end_s;
+    let stages = twin.stage_times().unwrap_or_default();
+    let plant = twin.plant().times().unwrap_or_default();
+    let share = |x: f64| if total > 0.0 { x / total } else { 0.0 };
+    Ok(BenchRow {
+        name: path
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
+        physics_rtf: simulated / wall,
+        steps_per_s: steps / wall,
+        bare_steps_per_s: (steps > 0.0).then(|| steps / bare),
+        kinematic_rtf: simulated / kinematic,
+        split: [
+            share(stages.program_s),
+            share(stages.planner_s),
+            share(stages.sweep_s),
+            share(plant.physics_s),
+            share(plant.collision_s),
+            share(trace_s),
+            share(recording_s),
+            share(frames_s),
+        ],
+    })
+}
+
+fn bench(args: &BenchArgs) -> Result<ExitCode> {
+    let scenes = bench_scenes(&args.scenes)?;
+    println!(
+        "| scene | physics xRT | steps/s | bare steps/s | twin/bare | kinematic xRT | program | planner | sweep | physics | collision | trace | recording | frames |"
+    );
+    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
+    for path in &scenes {
+        let row = bench_scene(path, args.runs, !args.no_render)?;
+        let (bare, ratio) = match row.bare_steps_per_s {
+            Some(b) => (format!("{b:.0}"), format!("{:.2}", b / row.steps_per_s)),
+            None => ("-".to_string(), "-".to_string()),
+        };
+        let split: Vec<String> = row.split.iter().map(|x| format!("{:.0} %", 100.0 * x)).collect();
+        println!(
+            "| {} | {:.1} | {:.0} | {bare} | {ratio} | {:.0} | {} |",
+            row.name,
+            row.physics_rtf,
+            row.steps_per_s,
+            row.kinematic_rtf,
+            split.join(" | ")
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -48,6 +48,22 @@ pub struct Twin {
     task: MotionTask,
     program: Program,
     plant: Plant,
+    /// `twin bench`: wall time by stage.
+    times: Option<StageTimes>,
+}
+
+/// A run's wall time by stage (`twin bench`; [`Twin::record_for_bench`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimes {
+    /// The program's scan (steps or tasks), s.
+    pub program_s: f64,
+    /// The planner's update, s.
+    pub planner_s: f64,
+    /// The pre-flight sweeps of moves that started, s.
+    pub sweep_s: f64,
+    /// The plant's update: physics and live collision checks
+    /// ([`crate::plant::PlantTimes`] splits it), s.
+    pub plant_s: f64,
 }
 
 impl std::fmt::Debug for Twin {
@@ -79,6 +95,7 @@ impl Twin {
             task,
             program,
             plant,
+            times: None,
         })
     }
 
@@ -86,10 +103,40 @@ impl Twin {
     /// pre-flight sweep of moves that started, the physics steps and the
     /// feedback of actual positions.
     pub fn step(&mut self) {
+        let Some(times) = self.times.as_mut() else {
+            self.program.scan(&mut self.task);
+            self.task.update();
+            self.plant.after_planner_update(&mut self.task);
+            self.plant.advance(&mut self.task);
+            return;
+        };
+        let mut t = std::time::Instant::now();
+        let mut lap = |total: &mut f64| {
+            let now = std::time::Instant::now();
+            *total += (now - t).as_secs_f64();
+            t = now;
+        };
         self.program.scan(&mut self.task);
+        lap(&mut times.program_s);
         self.task.update();
+        lap(&mut times.planner_s);
         self.plant.after_planner_update(&mut self.task);
+        lap(&mut times.sweep_s);
         self.plant.advance(&mut self.task);
+        lap(&mut times.plant_s);
+    }
+
+    /// `twin bench`: from now on, time every stage of [`Twin::step`]
+    /// ([`Twin::stage_times`]) and record the physics for a bare replay
+    /// ([`Plant::physics_replay`]).
+    pub fn record_for_bench(&mut self) {
+        self.times = Some(StageTimes::default());
+        self.plant.record_for_bench();
+    }
+
+    /// The wall time by stage since [`Twin::record_for_bench`].
+    pub fn stage_times(&self) -> Option<StageTimes> {
+        self.times
     }
 
     /// The scene.

@@ -524,3 +524,40 @@ fn plant_kinematic_runs_with_actual_equal_to_command_and_says_so() {
         stderr(&bad)
     );
 }
+
+#[test]
+fn bench_prints_a_row_per_scene_with_the_bare_simulation_and_the_kinematic_plant() {
+    let out = twin()
+        .args(["bench", "--runs", "1", "--no-render"])
+        .arg(root().join("scenes/fault_demo.toml"))
+        .arg(root().join("scenes/knife_cut.toml"))
+        .output()
+        .expect("run twin");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{text}{}", stderr(&out));
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 4, "{text}");
+    assert!(lines[0].starts_with("| scene | physics xRT | steps/s | bare steps/s | twin/bare | kinematic xRT |"));
+    for (line, scene) in lines[2..].iter().zip(["fault_demo", "knife_cut"]) {
+        let cells: Vec<&str> = line.trim_matches('|').split('|').map(str::trim).collect();
+        assert_eq!(cells.len(), 14, "{line}");
+        assert_eq!(cells[0], scene);
+        for c in &cells[1..6] {
+            let x: f64 = c.parse().unwrap_or_else(|_| panic!("{c} in {line}"));
+            assert!(x > 0.0 && x.is_finite(), "{line}");
+        }
+        let shares: f64 = cells[6..]
+            .iter()
+            .map(|c| c.trim_end_matches(" %").parse::<f64>().expect("a share"))
+            .sum();
+        assert!((0.0..=101.0 + 8.0).contains(&shares), "{line}");
+    }
+    let empty = fresh_dir("cli", "bench_empty");
+    let none = twin()
+        .args(["bench", "--runs", "1", "--no-render"])
+        .arg(&empty)
+        .output()
+        .expect("run twin");
+    assert!(!none.status.success());
+    assert!(stderr(&none).contains("no scene to measure"), "{}", stderr(&none));
+}

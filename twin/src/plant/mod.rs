@@ -195,6 +195,64 @@ pub struct Plant {
     /// Set when the physics state stopped being finite; the plant then
     /// stands still.
     physics_fault: Option<PhysicsFault>,
+    /// What the physics simulation was built from (physics plant only), so
+    /// that `twin bench` can build a bare one.
+    physics_inputs: Option<PhysicsInputs>,
+    /// `twin bench`: every physics step's drive commands, and the plant's
+    /// wall time by stage.
+    bench: Option<(Vec<Vec<physics::DriveCommand>>, PlantTimes)>,
+}
+
+/// What a physics simulation is built from: drives, initial joint
+/// positions, options.
+type PhysicsInputs = (Vec<physics::JointDrive>, Vec<(String, f64)>, PhysicsOptions);
+
+/// The plant's wall time by stage (`twin bench`).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PlantTimes {
+    /// Setting the drives and stepping the physics (or the kinematic
+    /// plant), s.
+    pub physics_s: f64,
+    /// The live collision checks after each step, s.
+    pub collision_s: f64,
+}
+
+/// A run's physics, recorded to be replayed on a bare simulation: the same
+/// robot, drives, step and substeps, each step given the drive commands the
+/// twin gave it — rapier's work without the twin's (`twin bench`).
+#[derive(Debug, Clone)]
+pub struct PhysicsReplay {
+    inputs: PhysicsInputs,
+    steps: Vec<Vec<physics::DriveCommand>>,
+    steps_per_update: usize,
+}
+
+impl PhysicsReplay {
+    /// Physics steps recorded.
+    pub fn steps(&self) -> usize {
+        self.steps.len()
+    }
+
+    /// Builds a bare simulation of `model` and replays the steps on it; the
+    /// wall time of the steps (the build not included), s.
+    ///
+    /// # Errors
+    /// [`PhysicsError`] as [`RobotSim::new`] (it built once already).
+    pub fn run(&self, model: &RobotModel) -> Result<f64, PhysicsError> {
+        let (drives, initial, options) = &self.inputs;
+        let mut sim = RobotSim::new(model, drives, initial, options.clone())?;
+        let started = std::time::Instant::now();
+        for (k, commands) in self.steps.iter().enumerate() {
+            if k % self.steps_per_update == 0 {
+                sim.refresh_servo_inertias(model);
+            }
+            for (d, c) in commands.iter().enumerate() {
+                sim.set_drive_command(d, *c);
+            }
+            sim.step();
+        }
+        Ok(started.elapsed().as_secs_f64())
+    }
 }
 
 /// The physics state became NaN or infinite (a model or gains the solver
@@ -254,6 +312,8 @@ impl Plant {
             substeps: scene.physics_substeps,
             ..PhysicsOptions::default()
         };
+        let physics_inputs = (scene.plant == crate::scene::PlantMode::Physics)
+            .then(|| (drives.clone(), initial.clone(), options.clone()));
         let sim = match scene.plant {
             crate::scene::PlantMode::Physics => {
                 RobotSim::new(&model, &drives, &initial, options).map(Dynamics::Physics)
@@ -290,6 +350,8 @@ impl Plant {
             trails: Vec::new(),
             world_from_link,
             physics_fault: None,
+            physics_inputs,
+            bench: None,
         })
     }
 
@@ -316,6 +378,8 @@ impl Plant {
         self.set_drive_modes(task);
         self.sim.refresh_servo_inertias(&self.model);
         let n = self.substeps;
+        let started = self.bench.is_some().then(std::time::Instant::now);
+        let mut collision_s = 0.0;
         if self.sim.is_kinematic() && self.collision.is_none() {
             // Nothing looks between the updates: the joints go to the
             // command at once.
@@ -329,12 +393,23 @@ impl Plant {
             for j in 0..n {
                 let f = (j as f64 + ahead) / n as f64;
                 self.set_setpoints(&now, f, (j as f64 + 0.5) / n as f64);
+                if let (Some((steps, _)), Dynamics::Physics(sim)) = (self.bench.as_mut(), &self.sim) {
+                    steps.push((0..sim.drive_count()).map(|d| sim.drive_command(d)).collect());
+                }
                 self.sim.step(&self.model, 1);
+                let checked = started.map(|_| std::time::Instant::now());
                 self.collision_after_physics_step(task);
+                if let Some(t) = checked {
+                    collision_s += t.elapsed().as_secs_f64();
+                }
                 if self.collision_abort() {
                     break;
                 }
             }
+        }
+        if let (Some(t), Some((_, times))) = (started, self.bench.as_mut()) {
+            times.physics_s += t.elapsed().as_secs_f64() - collision_s;
+            times.collision_s += collision_s;
         }
         self.previous_command = now;
         let world_from_link = self.sim.world_from_link();
@@ -454,6 +529,30 @@ impl Plant {
     /// model link order, at the end of the last update.
     pub fn world_from_link(&self) -> &[([f64; 3], [f64; 4])] {
         &self.world_from_link
+    }
+
+    /// `twin bench`: from now on, record every physics step's drive
+    /// commands (for [`Plant::physics_replay`]) and time the plant's
+    /// stages ([`Plant::times`]).
+    pub fn record_for_bench(&mut self) {
+        self.bench = Some((Vec::new(), PlantTimes::default()));
+    }
+
+    /// The plant's wall time by stage since [`Plant::record_for_bench`].
+    pub fn times(&self) -> Option<PlantTimes> {
+        self.bench.as_ref().map(|(_, t)| *t)
+    }
+
+    /// The physics steps recorded since [`Plant::record_for_bench`], to be
+    /// replayed on a bare simulation; `None` for the kinematic plant or
+    /// when nothing was recorded.
+    pub fn physics_replay(&self) -> Option<PhysicsReplay> {
+        let (steps, _) = self.bench.as_ref()?;
+        Some(PhysicsReplay {
+            inputs: self.physics_inputs.clone()?,
+            steps: steps.clone(),
+            steps_per_update: self.substeps,
+        })
     }
 
     /// The tool-centre trails of the coordinate systems that name a

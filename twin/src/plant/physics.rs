@@ -47,6 +47,21 @@ const ROBOT_GROUP: Group = Group::GROUP_32;
 /// Radius (m) of the solid sphere whose inertia a link without `<inertial>` gets.
 const DEFAULT_INERTIA_RADIUS_M: f64 = 0.05;
 
+/// What a drive is told for one step ([`RobotSim::drive_command`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DriveCommand {
+    /// Setpoint position at the start of the step, rad or m.
+    pub position: f64,
+    /// Setpoint velocity, rad/s or m/s.
+    pub velocity: f64,
+    /// Setpoint acceleration (a servo drive's feed-forward), rad/s² or m/s².
+    pub acceleration: f64,
+    /// The drive is off.
+    pub free: bool,
+    /// The holding brake is engaged.
+    pub braked: bool,
+}
+
 /// A motor on one joint: gains of rapier's acceleration-based motor model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointDrive {
@@ -399,6 +414,38 @@ impl RobotSim {
         let slot = &mut self.drives[drive_index];
         slot.position = position;
         slot.velocity = velocity;
+        self.apply_motor_targets(0.0);
+    }
+
+    /// Everything drive `drive_index` is told for the next step (setpoint,
+    /// feed-forward, off, braked): recorded by `twin bench` and replayed
+    /// onto a bare simulation with [`RobotSim::set_drive_command`].
+    ///
+    /// # Panics
+    /// If `drive_index >= drive_count()`.
+    pub fn drive_command(&self, drive_index: usize) -> DriveCommand {
+        let slot = &self.drives[drive_index];
+        DriveCommand {
+            position: slot.position,
+            velocity: slot.velocity,
+            acceleration: slot.acceleration,
+            free: slot.free,
+            braked: slot.braked,
+        }
+    }
+
+    /// Tells drive `drive_index` everything at once (see
+    /// [`RobotSim::drive_command`]).
+    ///
+    /// # Panics
+    /// If `drive_index >= drive_count()`.
+    pub fn set_drive_command(&mut self, drive_index: usize, command: DriveCommand) {
+        let slot = &mut self.drives[drive_index];
+        slot.position = command.position;
+        slot.velocity = command.velocity;
+        slot.acceleration = command.acceleration;
+        slot.free = command.free;
+        slot.braked = command.braked;
         self.apply_motor_targets(0.0);
     }
 

@@ -706,7 +706,12 @@ fn physics_substeps_default_to_two_and_are_bounded_at_the_field() {
     let scene = parse(&fixtures().join("case.toml"), &fixture_text()).expect("case");
     assert_eq!((scene.physics_substeps, DEFAULT_PHYSICS_SUBSTEPS), (2, 2));
     let four = format!("physics_substeps = 4\n{}", fixture_text());
-    assert_eq!(parse(&fixtures().join("case.toml"), &four).expect("four").physics_substeps, 4);
+    assert_eq!(
+        parse(&fixtures().join("case.toml"), &four)
+            .expect("four")
+            .physics_substeps,
+        4
+    );
     for bad in ["0", "17", "-1"] {
         let text = format!("physics_substeps = {bad}\n{}", fixture_text());
         let e = error_of(&text);
