@@ -307,9 +307,17 @@ impl Plant {
         let rigs = transform::parallel_rigs(scene, &model, &axis_drives, &mut drives, &mut initial)?;
         initial.sort_by(|a, b| a.0.cmp(&b.0));
         let step_s = scene.physics_step_ms / 1000.0;
+        // A parallel robot's virtual joints follow the arms' kinematics:
+        // posed, not simulated (see `PhysicsOptions::posed_joints`).
+        let posed_joints = rigs
+            .iter()
+            .flat_map(|r| r.virtual_joints())
+            .map(|j| model.joints[j].name.clone())
+            .collect();
         let options = PhysicsOptions {
             step_s,
             substeps: scene.physics_substeps,
+            posed_joints,
             ..PhysicsOptions::default()
         };
         let physics_inputs = (scene.plant == crate::scene::PlantMode::Physics)

@@ -136,6 +136,14 @@ pub struct PhysicsOptions {
     /// each substep's motor target advance along the setpoint velocity;
     /// rapier's internal substeps reuse one target and lag by several mrad.
     pub substeps: usize,
+    /// Joints whose child links (and everything below them) are *posed*
+    /// rather than simulated (default: none): kinematic bodies placed every
+    /// substep where their parents and the joints' drive setpoints put
+    /// them, outside the multibody. A parallel robot's virtual joints
+    /// (platform, forearms), which only follow the arms' kinematics, are
+    /// posed: the multibody keeps the arms' few degrees of freedom, and the
+    /// arms' drives do not carry the linkage's inertia.
+    pub posed_joints: Vec<String>,
 }
 
 impl Default for PhysicsOptions {
@@ -145,6 +153,7 @@ impl Default for PhysicsOptions {
             gravity_mps2: [0.0, 0.0, -9.81],
             default_link_mass_kg: 0.1,
             substeps: 4,
+            posed_joints: Vec::new(),
         }
     }
 }
@@ -215,7 +224,9 @@ pub enum PhysicsError {
 /// What [`RobotSim`] keeps per drive.
 #[derive(Debug, Clone)]
 struct DriveSlot {
-    handle: MultibodyJointHandle,
+    /// The multibody joint; `None` for a posed joint (its position is the
+    /// setpoint).
+    handle: Option<MultibodyJointHandle>,
     axis: JointAxis,
     stiffness: f64,
     damping: f64,
@@ -255,6 +266,12 @@ pub struct RobotSim {
     world: PhysicsWorld,
     /// Rigid body of each model link, in model link order.
     link_bodies: Vec<RigidBodyHandle>,
+    /// The posed links' joints, parents first: (URDF joint index, the
+    /// drive setting its position, if any).
+    posed: Vec<(usize, Option<usize>)>,
+    /// Per URDF joint: parent_from_joint and the joint itself, to pose
+    /// links (copied from the model).
+    joints: Vec<crate::plant::urdf::Joint>,
     drives: Vec<DriveSlot>,
     step_s: f64,
     substeps: usize,
@@ -300,15 +317,19 @@ impl RobotSim {
         world.gravity = vector_to_rapier(&Vector3::from(options.gravity_mps2));
         world.integration_parameters.dt = options.step_s / options.substeps as f64;
         world.integration_parameters.num_solver_iterations = 1;
-        let link_bodies = insert_links(&mut world, model, &q0, &options)?;
-        let joint_handles = insert_joints(&mut world, model, &link_bodies)?;
+        let posed_link = posed_links(model, &options.posed_joints)?;
+        let link_bodies = insert_links(&mut world, model, &q0, &options, &posed_link)?;
+        let joint_handles = insert_joints(&mut world, model, &link_bodies, &posed_link)?;
 
         let mut slots = Vec::with_capacity(drives.len());
         for drive in drives {
             let j = movable_joint(model, &drive.joint)?;
-            let handle = joint_handles[j].ok_or_else(|| PhysicsError::Multibody {
-                joint: drive.joint.clone(),
-            })?;
+            let handle = joint_handles[j];
+            if handle.is_none() && !posed_link[model.joints[j].child.0] {
+                return Err(PhysicsError::Multibody {
+                    joint: drive.joint.clone(),
+                });
+            }
             let joint = &model.joints[j];
             let servo = drive.servo.map(|gains| {
                 let inertia = gains.system_inertia.unwrap_or_else(|| {
@@ -336,9 +357,17 @@ impl RobotSim {
             });
         }
 
+        let posed = model
+            .topological_joints()
+            .iter()
+            .filter(|j| posed_link[model.joints[j.0].child.0])
+            .map(|j| (j.0, driven[j.0]))
+            .collect();
         let mut sim = RobotSim {
             world,
             link_bodies,
+            posed,
+            joints: model.joints.clone(),
             drives: slots,
             step_s: options.step_s,
             substeps: options.substeps,
@@ -545,6 +574,31 @@ impl RobotSim {
         }
     }
 
+    /// Places the posed links where they are `elapsed_s` into the step
+    /// (their drives' setpoints advanced at their velocities; a posed joint
+    /// without a drive at 0): as the next kinematic pose of their bodies,
+    /// parents first, a simulated parent where it is now.
+    fn pose_links(&mut self, elapsed_s: f64) {
+        if self.posed.is_empty() {
+            return;
+        }
+        let mut placed: Vec<(usize, rapier3d_f64::math::Pose)> = Vec::with_capacity(self.posed.len());
+        for &(j, drive) in &self.posed {
+            let joint = &self.joints[j];
+            let q = drive.map_or(0.0, |d| {
+                let slot = &self.drives[d];
+                slot.position + slot.velocity * elapsed_s
+            });
+            let parent = placed.iter().find(|(link, _)| *link == joint.parent.0).map_or_else(
+                || *self.world.bodies[self.link_bodies[joint.parent.0]].position(),
+                |(_, p)| *p,
+            );
+            let pose = parent * pose_to_rapier(&(joint.parent_from_joint * joint.joint_from_child(q)));
+            placed.push((joint.child.0, pose));
+            self.world.bodies[self.link_bodies[joint.child.0]].set_next_kinematic_position(pose);
+        }
+    }
+
     /// Writes every drive's motor for `elapsed_s` into the step.
     ///
     /// * A spring drive: a spring to its setpoint moving at its velocity.
@@ -559,7 +613,8 @@ impl RobotSim {
     /// * A free drive: no force at all (limit 0).
     fn apply_motor_targets(&mut self, elapsed_s: f64) {
         for slot in &self.drives {
-            if let Some((multibody, link_id)) = self.world.multibody_joints.get_mut(slot.handle)
+            if let Some(handle) = slot.handle
+                && let Some((multibody, link_id)) = self.world.multibody_joints.get_mut(handle)
                 && let Some(link) = multibody.link_mut(link_id)
             {
                 let data = &mut link.joint.data;
@@ -609,6 +664,7 @@ impl RobotSim {
         for k in 0..self.substeps {
             self.close_servo_loops(k as f64 * substep_s, substep_s);
             self.apply_motor_targets(k as f64 * substep_s);
+            self.pose_links((k + 1) as f64 * substep_s);
             self.world.step();
         }
         for slot in &mut self.drives {
@@ -635,9 +691,12 @@ impl RobotSim {
     /// If `drive_index >= drive_count()`.
     pub fn joint_position(&self, drive_index: usize) -> f64 {
         let slot = &self.drives[drive_index];
+        let Some(handle) = slot.handle else {
+            return slot.position;
+        };
         self.world
             .multibody_joints
-            .get(slot.handle)
+            .get(handle)
             .and_then(|(multibody, link_id)| multibody.link(link_id))
             .map_or(f64::NAN, |link| link.joint().coords()[slot.axis as usize])
     }
@@ -648,9 +707,12 @@ impl RobotSim {
     /// If `drive_index >= drive_count()`.
     pub fn joint_velocity(&self, drive_index: usize) -> f64 {
         let slot = &self.drives[drive_index];
+        let Some(handle) = slot.handle else {
+            return slot.velocity;
+        };
         self.world
             .multibody_joints
-            .get(slot.handle)
+            .get(handle)
             .and_then(|(multibody, link_id)| Some(multibody.joint_velocity(multibody.link(link_id)?)[0]))
             .unwrap_or(f64::NAN)
     }
@@ -738,6 +800,7 @@ fn insert_links(
     model: &RobotModel,
     q0: &[f64],
     options: &PhysicsOptions,
+    posed: &[bool],
 ) -> Result<Vec<RigidBodyHandle>, PhysicsError> {
     let world_from_link = model.world_from_link(q0);
     let groups = InteractionGroups::new(
@@ -749,6 +812,8 @@ fn insert_links(
     for (l, link) in model.links.iter().enumerate() {
         let builder = if l == model.root.0 {
             RigidBodyBuilder::fixed()
+        } else if posed[l] {
+            RigidBodyBuilder::kinematic_position_based()
         } else {
             RigidBodyBuilder::dynamic()
         };
@@ -780,10 +845,14 @@ fn insert_joints(
     world: &mut PhysicsWorld,
     model: &RobotModel,
     link_bodies: &[RigidBodyHandle],
+    posed: &[bool],
 ) -> Result<Vec<Option<MultibodyJointHandle>>, PhysicsError> {
     let mut joint_handles = vec![None; model.joints.len()];
     for &index in model.topological_joints() {
         let joint = model.joint(index);
+        if posed[joint.child.0] {
+            continue;
+        }
         let handle = world
             .multibody_joints
             .insert(
@@ -798,6 +867,20 @@ fn insert_joints(
         joint_handles[index.0] = Some(handle);
     }
     Ok(joint_handles)
+}
+
+/// Per link: whether it is posed (below a joint of `posed_joints`).
+fn posed_links(model: &RobotModel, posed_joints: &[String]) -> Result<Vec<bool>, PhysicsError> {
+    let mut roots = vec![false; model.joints.len()];
+    for name in posed_joints {
+        roots[movable_joint(model, name)?] = true;
+    }
+    let mut posed = vec![false; model.links.len()];
+    for &j in model.topological_joints() {
+        let joint = model.joint(j);
+        posed[joint.child.0] = roots[j.0] || posed[joint.parent.0];
+    }
+    Ok(posed)
 }
 
 fn validate_options(options: &PhysicsOptions) -> Result<(), PhysicsError> {
@@ -1035,6 +1118,57 @@ mod tests {
             max_error = max_error.max((sim.joint_position(0) - theta(sim.time_s())).abs());
         }
         assert!(max_error < 5e-3, "max tracking error {max_error} rad");
+    }
+
+    /// A posed joint's links are placed, not simulated: the slider sits
+    /// exactly where the simulated shoulder and the slide's setpoint put
+    /// it, and the multibody keeps only the shoulder's degree of freedom.
+    #[test]
+    fn posed_links_follow_their_parent_and_setpoint_outside_the_multibody() {
+        let model = arm();
+        let options = PhysicsOptions {
+            posed_joints: vec!["slide".to_string()],
+            ..PhysicsOptions::default()
+        };
+        let mut sim = RobotSim::new(&model, &drives(10.0), &[], options).unwrap();
+        for k in 0..200 {
+            let slide = 0.3 * (k as f64 / 200.0);
+            sim.set_setpoint(0, 0.4, 0.0);
+            sim.set_setpoint(1, slide, 0.0);
+            sim.step();
+        }
+        assert_eq!(sim.joint_position(1), 0.3 * 199.0 / 200.0);
+        let handle = sim.drives[0].handle.expect("the shoulder is simulated");
+        let (multibody, _) = sim.world.multibody_joints.get(handle).expect("multibody");
+        assert_eq!(multibody.ndofs(), 1);
+        assert!(sim.drives[1].handle.is_none());
+        // The slider and the tool below it: the URDF's kinematics of the
+        // shoulder's simulated angle and the slide's setpoint.
+        let shoulder = model.joint_by_name("shoulder").unwrap();
+        let slide = model.joint_by_name("slide").unwrap();
+        let mut q = vec![0.0; model.joints.len()];
+        q[shoulder.0] = sim.joint_position(0);
+        q[slide.0] = sim.joint_position(1);
+        let expected = model.world_from_link(&q);
+        let got = sim.world_from_link_isometries();
+        for link in ["slider", "tool"] {
+            let l = model.link_by_name(link).unwrap().0;
+            let d = (got[l].translation.vector - expected[l].translation.vector).norm();
+            // The parent's pose is the one at the start of the last substep.
+            assert!(d < 1e-3, "{link}: {d} m");
+        }
+        assert!(matches!(
+            RobotSim::new(
+                &model,
+                &[],
+                &[],
+                PhysicsOptions {
+                    posed_joints: vec!["tool_mount".to_string()],
+                    ..PhysicsOptions::default()
+                }
+            ),
+            Err(PhysicsError::FixedJoint { .. })
+        ));
     }
 
     #[test]
