@@ -9,6 +9,23 @@ use rand_chacha::ChaCha8Rng;
 
 const DT: f64 = 0.004;
 
+/// A coordinate system `name` of the two linear axes `x`, `y` (100
+/// units/s, 1000 units/s²), for the task's tests.
+pub(crate) fn two_axis_system(task: &mut MotionTask, name: &str, x: AxisHandle, y: AxisHandle) -> CoordHandle {
+    task.add_coordinate_system(
+        crate::coord::CoordinateSystemConfig {
+            axis_count: 2,
+            primary_axes: 2,
+            max_speed: 100.0,
+            max_accel: 1000.0,
+            max_decel: 1000.0,
+            ..crate::coord::CoordinateSystemConfig::new(name)
+        },
+        &[x, y],
+    )
+    .unwrap()
+}
+
 fn table_axis(jerk: f64) -> AxisConfig {
     AxisConfig {
         modulo_period: Some(360.0),

@@ -657,19 +657,7 @@ fn coordinated_and_single_axis_motion_abort_each_other() {
         )
         .unwrap();
     let y = task.add_axis(AxisConfig::new("Y", AxisKind::Linear), 0.0).unwrap();
-    let cs = task
-        .add_coordinate_system(
-            CoordinateSystemConfig {
-                axis_count: 2,
-                primary_axes: 2,
-                max_speed: 100.0,
-                max_accel: 1000.0,
-                max_decel: 1000.0,
-                ..CoordinateSystemConfig::new("CS")
-            },
-            &[x, y],
-        )
-        .unwrap();
+    let cs = crate::task::tests::two_axis_system(&mut task, "CS", x, y);
     let fb = task.add_move_modulo("MoveX", x);
     task.set_move_modulo_inputs(
         fb,

@@ -43,22 +43,6 @@ fn err(task: &MotionTask, mi: InstructionHandle) -> (bool, i32, i32) {
     (b.er, b.err, b.exerr)
 }
 
-/// A 2-axis coordinate system "CS" of `x` and `y` (100 units/s, 1000 units/s²).
-fn xy_system(task: &mut MotionTask, x: AxisHandle, y: AxisHandle) -> crate::task::CoordHandle {
-    task.add_coordinate_system(
-        CoordinateSystemConfig {
-            axis_count: 2,
-            primary_axes: 2,
-            max_speed: 100.0,
-            max_accel: 1000.0,
-            max_decel: 1000.0,
-            ..CoordinateSystemConfig::new("CS")
-        },
-        &[x, y],
-    )
-    .unwrap()
-}
-
 fn enable(task: &mut MotionTask, axis: AxisHandle, mso: InstructionHandle) {
     task.mso(axis, mso).unwrap();
     for _ in 0..SERVO_ENABLE_UPDATES {
@@ -255,7 +239,7 @@ fn a_coordinated_move_names_the_axis_at_fault_by_its_index() {
         ..on
     };
     let y = task.add_axis(off, 0.0).unwrap();
-    let cs = xy_system(&mut task, x, y);
+    let cs = crate::task::tests::two_axis_system(&mut task, "CS", x, y);
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![1.0, 1.0],
         speed: 10.0,
@@ -867,7 +851,7 @@ fn a_coordinated_move_further_out_fails_with_err_9_naming_the_axis() {
             0.0,
         )
         .unwrap();
-    let cs = xy_system(&mut task, x, y);
+    let cs = crate::task::tests::two_axis_system(&mut task, "CS", x, y);
     let mrp = task.add_instruction("MRP");
     task.mrp(y, mrp, 0, 0, 1.5).unwrap();
     assert!(task.motion_faults(y).positive());

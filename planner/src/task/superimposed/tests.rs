@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::axis::{AxisConfig, AxisKind};
-use crate::coord::{CoordMoveInputs, CoordinateSystemConfig};
+use crate::coord::CoordMoveInputs;
 use crate::jog::{MajOperands, MasOperands};
 use crate::mam::MamOperands;
 use crate::mapc::MapcOperands;
@@ -147,19 +147,7 @@ fn gantry() -> Gantry {
     let mut task = MotionTask::new(DT).unwrap();
     let x = task.add_axis(axis("X"), 0.0).unwrap();
     let y = task.add_axis(axis("Y"), 0.0).unwrap();
-    let cs = task
-        .add_coordinate_system(
-            CoordinateSystemConfig {
-                axis_count: 2,
-                primary_axes: 2,
-                max_speed: 100.0,
-                max_accel: 1000.0,
-                max_decel: 1000.0,
-                ..CoordinateSystemConfig::new("XY")
-            },
-            &[x, y],
-        )
-        .unwrap();
+    let cs = crate::task::tests::two_axis_system(&mut task, "XY", x, y);
     let jog = task.add_instruction("Jog");
     let o = MajOperands {
         speed: 5.0,
