@@ -47,11 +47,16 @@
 //! any configuration, for revolute joints; 1 for prismatic ones). At a
 //! sample with clearance `d_b` no contact can happen within `d_b / L_b`, so
 //! the sweep steps by `max(min_b d_b / L_b, h)` with
-//! `h = sweep_resolution_m / max_b L_b`. **Bound**: a contact of the planned
-//! path that lasts at least `h` of the parameter is found, and the reported
-//! parameter `s_p` lies in `[s_c, s_c + h]` where `s_c` is the first contact
-//! (never early; late by at most one minimum step). Grazes shorter than `h`
-//! (depth below about `sweep_resolution_m`) may be missed.
+//! `h = sweep_resolution_m / max_b L_b`. A step longer than the clearance
+//! allows (the `h` floor) is then settled: with the distances at both ends,
+//! `d_b(a) + d_b(b) > L_b · (b − a)` rules out a contact in between;
+//! otherwise the interval is halved, earlier half first, down to
+//! `ε = SWEEP_TOLERANCE · length`. **Bound**: every contact of the planned
+//! path that lasts at least `ε` is found, and the reported parameter `s_p`
+//! lies in `[s_c, s_c + ε]` where `s_c` is the first contact (never early);
+//! the report's `step_bound` is `ε`. Past the sample budget
+//! ([`MAX_SWEEP_SAMPLES`] steps, [`MAX_REFINE_SAMPLES`] to settle them) the
+//! bound is the step `h` again, and `step_bound` says so.
 
 use crate::plant::convert::pose_to_rapier;
 use crate::plant::stl::StlError;
@@ -486,39 +491,30 @@ impl CollisionModel {
         } else {
             f64::INFINITY
         };
-        // Bounded work: at most MAX_SWEEP_SAMPLES poses; a path that would
-        // need more at this resolution is checked more coarsely (the
-        // report's `step_bound` says how coarsely).
+        // Bounded work: at most MAX_SWEEP_SAMPLES poses at the nominal
+        // steps; a path that would need more at this resolution is stepped
+        // more coarsely.
         let min_step = min_step.max(length / MAX_SWEEP_SAMPLES as f64);
+        let tolerance = (SWEEP_TOLERANCE * length).max(f64::MIN_POSITIVE);
+        let mut sweep = Sweep {
+            world: self,
+            model,
+            path,
+            rates: &pair_rate,
+            tolerance,
+            samples: 0,
+            exact: true,
+        };
         let mut report = SweepReport {
             collision: None,
             samples: 0,
-            step_bound: min_step.min(length.max(0.0)),
+            step_bound: tolerance.min(length.max(0.0)),
             length,
         };
         let mut s = 0.0;
-        loop {
-            let q = path.joint_positions(s);
-            let poses = model.world_from_link(&q);
-            report.samples += 1;
-            let d = self.distances(&poses);
-            if d.iter().any(|x| *x <= 0.0) {
-                let check = self.check(&poses);
-                if let Some(c) = check.contacts.iter().max_by(|x, y| x.depth_m.total_cmp(&y.depth_m)) {
-                    report.collision = Some(PredictedCollision {
-                        parameter: s,
-                        time_s: path.time_s(s),
-                        a: self.name(c.a).to_string(),
-                        b: self.name(c.b).to_string(),
-                        depth_m: c.depth_m,
-                        bound: report.step_bound,
-                    });
-                    return report;
-                }
-            }
-            if s >= length {
-                return report;
-            }
+        let mut d = sweep.distances(s);
+        let mut hit = touching(&d).then_some(s);
+        while hit.is_none() && s < length {
             let safe = d
                 .iter()
                 .zip(&pair_rate)
@@ -528,12 +524,105 @@ impl CollisionModel {
             let step = safe.max(min_step);
             // The budget's last pose is the path's end (rounding in the
             // steps above may leave a sliver).
-            s = if step.is_finite() && report.samples < MAX_SWEEP_SAMPLES {
+            let next = if step.is_finite() && sweep.samples < MAX_SWEEP_SAMPLES {
                 (s + step).min(length)
             } else {
                 length
             };
+            let d_next = sweep.distances(next);
+            // A step longer than the distances allow could pass over a
+            // contact: the first one in between, if any.
+            hit = if next - s > safe {
+                sweep.first_contact((s, &d), (next, &d_next))
+            } else {
+                touching(&d_next).then_some(next)
+            };
+            (s, d) = (next, d_next);
         }
+        report.samples = sweep.samples;
+        if !sweep.exact {
+            report.step_bound = min_step.min(length.max(0.0));
+        }
+        let Some(at) = hit else {
+            return report;
+        };
+        let poses = model.world_from_link(&path.joint_positions(at));
+        let check = self.check(&poses);
+        if let Some(c) = check.contacts.iter().max_by(|x, y| x.depth_m.total_cmp(&y.depth_m)) {
+            report.collision = Some(PredictedCollision {
+                parameter: at,
+                time_s: path.time_s(at),
+                a: self.name(c.a).to_string(),
+                b: self.name(c.b).to_string(),
+                depth_m: c.depth_m,
+                bound: report.step_bound,
+            });
+        }
+        report
+    }
+}
+
+/// Whether some checked pair touches (a distance at or below zero).
+fn touching(d: &[f64]) -> bool {
+    d.iter().any(|x| *x <= 0.0)
+}
+
+/// One sweep's state: the path, the bodies' rate bounds, the work done.
+struct Sweep<'a> {
+    world: &'a CollisionModel,
+    model: &'a RobotModel,
+    path: &'a dyn PathSampler,
+    /// Per body, the bound of its points' speed along the parameter.
+    rates: &'a [f64],
+    /// Intervals shorter than this are not split further (parameter units).
+    tolerance: f64,
+    samples: usize,
+    /// Every interval was settled to the tolerance (not cut short by the
+    /// sample budget).
+    exact: bool,
+}
+
+impl Sweep<'_> {
+    /// Per body, the smallest distance at parameter `s`.
+    fn distances(&mut self, s: f64) -> Vec<f64> {
+        self.samples += 1;
+        let poses = self.model.world_from_link(&self.path.joint_positions(s));
+        self.world.distances(&poses)
+    }
+
+    /// The first parameter in `(a, b]` where a pair touches, to within the
+    /// tolerance and never before the contact, given the distances at both
+    /// ends: an interval whose ends' distances rule out a contact in
+    /// between (each body's distance changes at most at its rate) is clear;
+    /// another is halved, the earlier half first.
+    fn first_contact(&mut self, (a, da): (f64, &[f64]), (b, db): (f64, &[f64])) -> Option<f64> {
+        let clear = da
+            .iter()
+            .zip(db)
+            .zip(self.rates)
+            .all(|((x, y), r)| x + y > r * (b - a) || (*r == 0.0 && *x > 0.0 && *y > 0.0));
+        if clear {
+            return None;
+        }
+        if b - a <= self.tolerance || self.samples >= MAX_SWEEP_SAMPLES + MAX_REFINE_SAMPLES {
+            if b - a > self.tolerance {
+                self.exact = false;
+            }
+            return touching(db).then_some(b);
+        }
+        let mid = a + 0.5 * (b - a);
+        if !(mid > a && mid < b) {
+            // No parameter in between (the ends are neighbours in f64).
+            return touching(db).then_some(b);
+        }
+        let dm = self.distances(mid);
+        if let Some(first) = self.first_contact((a, da), (mid, &dm)) {
+            return Some(first);
+        }
+        if touching(&dm) {
+            return Some(mid);
+        }
+        self.first_contact((mid, &dm), (b, db))
     }
 }
 
@@ -566,16 +655,24 @@ pub struct PredictedCollision {
     pub b: String,
     /// Penetration depth at the sample, m.
     pub depth_m: f64,
-    /// The sweep's bound `h` (parameter units): the first contact of the
-    /// planned path lies in `[parameter - bound, parameter]`.
+    /// The sweep's bound (parameter units; see the module doc): the first
+    /// contact of the planned path lies in `[parameter - bound, parameter]`.
     pub bound: f64,
 }
 
-/// The most poses one pre-flight sweep checks (bounded work, whatever the
-/// path's length): a path that needs more at `sweep_resolution_m` is
-/// checked with steps of `length / MAX_SWEEP_SAMPLES`, reported as the
-/// sweep's `step_bound`.
+/// The most poses one pre-flight sweep steps through (bounded work,
+/// whatever the path's length): a path that needs more at
+/// `sweep_resolution_m` is stepped with steps of `length /
+/// MAX_SWEEP_SAMPLES`.
 pub const MAX_SWEEP_SAMPLES: usize = 100_000;
+
+/// The most further poses a sweep checks to settle the steps between its
+/// samples; beyond them the sweep's bound is its step again.
+pub const MAX_REFINE_SAMPLES: usize = 100_000;
+
+/// The sweep locates the first contact to this fraction of the path's
+/// length (parameter units), never before it.
+pub const SWEEP_TOLERANCE: f64 = 1e-6;
 
 /// What a sweep did.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -431,7 +431,7 @@ fn a_sweep_of_an_absurdly_long_path_ends_within_its_sample_budget() {
     for end_rad in [1e6, 1e30, f64::MAX] {
         let report = world.sweep(&model, &Turn { end_rad }, 0.001);
         assert!(
-            report.samples <= MAX_SWEEP_SAMPLES + 1,
+            report.samples <= MAX_SWEEP_SAMPLES + MAX_REFINE_SAMPLES + 1,
             "{end_rad}: {} samples",
             report.samples
         );
@@ -519,4 +519,67 @@ fn the_broad_phase_finds_exactly_what_every_pair_finds() {
         }
     }
     assert!(touching > 50, "{touching} contacts: the fields must reach the arm");
+}
+
+/// The slider's ball moving from x = `from` to `to` (m).
+struct Slide {
+    from: f64,
+    to: f64,
+}
+
+impl PathSampler for Slide {
+    fn length(&self) -> f64 {
+        (self.to - self.from).abs()
+    }
+    fn joint_positions(&self, s: f64) -> Vec<f64> {
+        vec![self.from + s * (self.to - self.from).signum()]
+    }
+    fn joint_rate_bounds(&self) -> Vec<f64> {
+        vec![1.0]
+    }
+    fn time_s(&self, s: f64) -> f64 {
+        s
+    }
+}
+
+/// Guards against the sweep stepping over a contact shorter than its step
+/// (issue 18: a 5 mm step missed a 4 mm contact) and reporting it a whole
+/// step late: a 2 mm plate crossed by the 0.1 m ball with steps of 0.5 m is
+/// found, at the analytic first contact to within 1e-6 of the path.
+#[test]
+fn the_sweep_finds_a_contact_shorter_than_its_step_at_the_analytic_parameter() {
+    let model = slider();
+    let plate = [obstacle(
+        "plate",
+        Shape::Box {
+            size_m: [0.002, 0.4, 0.4],
+        },
+        [0.3, 0.0, 0.0],
+    )];
+    let world = CollisionModel::new(&model, &plate, &settings()).unwrap();
+    // From x = -0.2 to 0.8: the ball (r 0.05) touches the plate's face at
+    // x = 0.299 - 0.05 = 0.249, i.e. s = 0.449 of a 1.0 m path; it is in
+    // contact for 0.102 m only, less than the 0.5 m steps.
+    let path = Slide { from: -0.2, to: 0.8 };
+    let report = world.sweep(&model, &path, 0.5);
+    let c = report.collision.expect("the plate is found");
+    let analytic = 0.449;
+    assert_eq!(report.step_bound, SWEEP_TOLERANCE * 1.0);
+    assert!(
+        c.parameter >= analytic - 1e-12 && c.parameter <= analytic + report.step_bound + 1e-12,
+        "predicted {} analytic {analytic}",
+        c.parameter
+    );
+    assert_eq!((c.a.as_str(), c.b.as_str()), ("ball", "plate"));
+    // A near miss at 2 mm is no contact.
+    let beside = [obstacle(
+        "beside",
+        Shape::Box {
+            size_m: [0.002, 0.4, 0.4],
+        },
+        [0.3, 0.252, 0.0],
+    )];
+    let world = CollisionModel::new(&model, &beside, &settings()).unwrap();
+    let report = world.sweep(&model, &path, 0.5);
+    assert!(report.collision.is_none(), "{report:?}");
 }
