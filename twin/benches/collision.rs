@@ -128,6 +128,23 @@ fn collision(c: &mut Criterion) {
             b.iter(|| world.check(black_box(&poses)))
         });
     }
+    // The continuous detection over one 1 ms physics step of the arm
+    // turning at 1 rad/s per joint, on top of the discrete check.
+    {
+        let (model, world) = setup(20);
+        let from = model.world_from_link(&q);
+        let q1: Vec<f64> = q.iter().map(|x| x + 0.001).collect();
+        let to = model.world_from_link(&q1);
+        c.bench_function(
+            "check_and_continuous_detection_6_links_20_obstacles_per_physics_step",
+            |b| {
+                b.iter(|| {
+                    black_box(world.check(black_box(&to)));
+                    black_box(world.first_touches(black_box(&from), black_box(&to)))
+                })
+            },
+        );
+    }
     let (model, world) = setup(20);
     let arc = Arc {
         end_rad: std::f64::consts::PI,

@@ -131,6 +131,9 @@ pub(crate) struct CollideState {
     previous_active: Vec<bool>,
     predictions: Vec<Prediction>,
     abort: bool,
+    /// The link poses at the last live check: where the continuous
+    /// detection sweeps from.
+    previous: Option<Vec<nalgebra::Isometry3<f64>>>,
 }
 
 impl CollideState {
@@ -155,6 +158,7 @@ impl CollideState {
                     previous_active: Vec::new(),
                     predictions: Vec::new(),
                     abort: false,
+                    previous: None,
                 }
             }),
         )
@@ -541,7 +545,18 @@ impl Plant {
         let poses = self.sim.world_from_link_isometries();
         let result = c.model.check(&poses);
         let t = self.sim.time_s();
-        let started = c.monitor.observe(&c.model, t, &result);
+        // Continuous detection: what touched during the step, and when.
+        let touches: Vec<(f64, crate::plant::collision::Contact)> = match &c.previous {
+            Some(previous) => c
+                .model
+                .first_touches(previous, &poses)
+                .into_iter()
+                .map(|(tau, contact)| (t - self.step_s * (1.0 - tau), contact))
+                .collect(),
+            None => Vec::new(),
+        };
+        let started = c.monitor.observe_from(&c.model, t, &result, &touches);
+        c.previous = Some(poses);
         for (i, d) in result.clearance_m.iter().enumerate() {
             c.clearance_in_update[i] = c.clearance_in_update[i].min(*d);
             c.min_clearance[i] = c.min_clearance[i].min(*d);

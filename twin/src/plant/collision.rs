@@ -35,9 +35,23 @@
 //! obstacle: the obstacle's outward surface normal).
 //!
 //! # Events ([`Monitor`])
-//! An event opens at the first check where a pair touches and closes at the
-//! first check where it no longer does (`end_s` is that check's time). It
-//! keeps the maximum depth and the point and normal at that depth.
+//! The live check runs after every physics step: the discrete check of the
+//! step's end pose ([`CollisionModel::check`]: depth, clearance) and the
+//! continuous detection over the step ([`CollisionModel::first_touches`]):
+//! each body moves rigidly from its previous pose to its new one (constant
+//! linear and angular velocity, parry's nonlinear shape casting) against
+//! the obstacles (and the other bodies with self-collision); pairs farther
+//! apart at the start than the bodies' points can move in the step, and
+//! pairs whose swept boxes do not meet, are not cast. An event opens at
+//! the first check where a pair touches; its `start_s` is the pair's first
+//! touch inside the step that ended there (interpolated: the continuous
+//! detection's time of impact), else that check's time. It closes at the
+//! first check where the pair no longer touches (`end_s` is that check's
+//! time). A pair that touched during a step and no longer touches at its
+//! end (a contact shorter than a step: a fast, small tool through a thin
+//! part) is an event that opened and closed in that step (depth 0, the
+//! point and normal at the first touch). An event keeps the maximum depth
+//! and the point and normal at that depth.
 //!
 //! # Pre-flight sweep ([`CollisionModel::sweep`])
 //! Conservative advancement along a [`PathSampler`]: each body's points move
@@ -453,6 +467,148 @@ impl CollisionModel {
         CheckResult { contacts, clearance_m }
     }
 
+    /// Continuous detection between two poses of the robot (`from`, then
+    /// `to`, one physics step apart): every checked pair that touches at
+    /// some time during the motion, with the fraction `τ ∈ [0, 1]` of the
+    /// step at which it first touches and the contact there (depth 0:
+    /// touching). Each body moves rigidly from its pose in `from` to its
+    /// pose in `to` (parry's nonlinear shape casting: constant linear and
+    /// angular velocity); obstacles stand still. Only pairs whose swept
+    /// boxes meet are cast, and only pairs not already touching at `from`
+    /// (their event is open).
+    pub fn first_touches(&self, from: &[Isometry3<f64>], to: &[Isometry3<f64>]) -> Vec<(f64, Contact)> {
+        let start = self.placed_bodies(from);
+        let end = self.placed_bodies(to);
+        // How far any point of each body moves over the step (at most):
+        // a pair farther apart than that at the start cannot touch.
+        let moved: Vec<f64> = start
+            .iter()
+            .zip(&end)
+            .map(|(s0, s1)| Self::displacement(s0, s1))
+            .collect();
+        // Cast only pairs that could touch and do not at the start.
+        let could_touch = |d: f64, reach: f64| d > 0.0 && d < reach;
+        let boxes: Vec<Option<Aabb>> = start.iter().map(|s0| Self::body_box(s0)).collect();
+        let mut found = Vec::new();
+        for (b, (s0, s1)) in start.iter().zip(&end).enumerate() {
+            let (Some(box0), Some(box1)) = (boxes[b], Self::body_box(s1)) else {
+                continue;
+            };
+            if moved[b] == 0.0 {
+                continue;
+            }
+            let swept = box0.merged(&box1);
+            let mut near: Vec<usize> = self.obstacle_tree.intersect_aabb(&swept).map(|o| o as usize).collect();
+            near.sort_unstable();
+            for o in near.into_iter().filter(|&o| self.checked[b][o]) {
+                let obstacle = self.placed_obstacle(o);
+                if !could_touch(Self::distance_between(s0, &obstacle, moved[b]), moved[b]) {
+                    continue;
+                }
+                let fixed = [(obstacle[0].pose, obstacle[0].pose)];
+                if let Some(hit) = Self::first_touch(s0, s1, &obstacle, &fixed) {
+                    found.push((
+                        hit.0,
+                        Contact {
+                            a: Body::Robot(b),
+                            b: Body::Obstacle(o),
+                            ..hit.1
+                        },
+                    ));
+                }
+            }
+        }
+        for &(a, b) in &self.self_pairs {
+            let reach = moved[a] + moved[b];
+            let (Some(box_a), Some(box_b)) = (boxes[a], boxes[b]) else {
+                continue;
+            };
+            if reach == 0.0
+                || box_distance(&box_a, &box_b) >= reach
+                || !could_touch(Self::distance_between(&start[a], &start[b], reach), reach)
+            {
+                continue;
+            }
+            let motion_b: Vec<(Pose, Pose)> = start[b].iter().zip(&end[b]).map(|(p, q)| (p.pose, q.pose)).collect();
+            if let Some(hit) = Self::first_touch(&start[a], &end[a], &start[b], &motion_b) {
+                found.push((
+                    hit.0,
+                    Contact {
+                        a: Body::Robot(a),
+                        b: Body::Robot(b),
+                        ..hit.1
+                    },
+                ));
+            }
+        }
+        found
+    }
+
+    /// An upper bound of how far any point of a body's shapes moves from
+    /// their poses in `s0` to those in `s1`: per shape, its bounding
+    /// sphere's centre's displacement plus the turn's angle times the
+    /// sphere's radius.
+    fn displacement(s0: &[Placed<'_>], s1: &[Placed<'_>]) -> f64 {
+        s0.iter()
+            .zip(s1)
+            .map(|(p, q)| {
+                let angle = (q.pose.rotation * p.pose.rotation.inverse()).to_scaled_axis().length();
+                (q.center - p.center).length() + angle * p.radius
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// The first touch of two shape sets moving rigidly over one step:
+    /// `a` from its shapes' poses in `a0` to those in `a1`, `b` from the
+    /// first to the second pose of each of its shapes (`b0` gives the
+    /// shapes). The fraction of the step, and the contact then (placeholder
+    /// bodies).
+    fn first_touch(
+        a0: &[Placed<'_>],
+        a1: &[Placed<'_>],
+        b0: &[Placed<'_>],
+        b_poses: &[(Pose, Pose)],
+    ) -> Option<(f64, Contact)> {
+        use rapier3d_f64::parry::query::NonlinearRigidMotion;
+        let motion = |p: Pose, q: Pose| {
+            let turn = q.rotation * p.rotation.inverse();
+            NonlinearRigidMotion::new(p, Vector::ZERO, q.translation - p.translation, turn.to_scaled_axis())
+        };
+        let mut best: Option<(f64, Contact)> = None;
+        for (pa, qa) in a0.iter().zip(a1) {
+            let ma = motion(pa.pose, qa.pose);
+            for (pb, &(p, q)) in b0.iter().zip(b_poses) {
+                let mb = motion(p, q);
+                let Ok(Some(hit)) =
+                    query::cast_shapes_nonlinear(&ma, pa.shape.as_ref(), &mb, pb.shape.as_ref(), 0.0, 1.0, true)
+                else {
+                    continue;
+                };
+                let tau = hit.time_of_impact.clamp(0.0, 1.0);
+                if best.as_ref().is_some_and(|(t, _)| *t <= tau) {
+                    continue;
+                }
+                // The contact at that time, as the discrete check gives it.
+                let (wa, wb) = (ma.position_at_time(tau), mb.position_at_time(tau));
+                let Ok(Some(c)) = query::contact(&wa, pa.shape.as_ref(), &wb, pb.shape.as_ref(), 1e-6) else {
+                    continue;
+                };
+                let mid = (c.point1 + c.point2) * 0.5;
+                best = Some((
+                    tau,
+                    Contact {
+                        a: Body::Robot(0),
+                        b: Body::Robot(0),
+                        depth_m: 0.0,
+                        point_in_world: vec3(mid),
+                        normal_in_world: vec3(c.normal2),
+                    },
+                ));
+            }
+        }
+        best
+    }
+
     /// Per body, the smallest distance to anything it is checked against
     /// (obstacles and self pairs), m.
     fn distances(&self, world_from_link: &[Isometry3<f64>]) -> Vec<f64> {
@@ -717,6 +873,24 @@ impl Monitor {
     /// Takes in one check at `time_s`; returns the indices of the events
     /// that started at this check.
     pub fn observe(&mut self, model: &CollisionModel, time_s: f64, result: &CheckResult) -> Vec<usize> {
+        self.observe_from(model, time_s, result, &[])
+    }
+
+    /// [`Monitor::observe`] with the continuous detection's first touches
+    /// (`(τ time, contact)`, from [`CollisionModel::first_touches`] over the
+    /// step that ends at `time_s`): an event that starts at this check
+    /// starts at its pair's first touch; a pair that touched during the
+    /// step but no longer does at its end is an event that opened and
+    /// closed within the step (`end_s` = `time_s`, depth 0).
+    pub fn observe_from(
+        &mut self,
+        model: &CollisionModel,
+        time_s: f64,
+        result: &CheckResult,
+        touches: &[(f64, Contact)],
+    ) -> Vec<usize> {
+        let first = |a: Body, b: Body| touches.iter().find(|(_, c)| c.a == a && c.b == b).map(|(t, _)| *t);
+        let before = self.events.len();
         let mut started = Vec::new();
         let mut seen: Vec<(Body, Body)> = Vec::new();
         for c in &result.contacts {
@@ -733,7 +907,7 @@ impl Monitor {
                 }
                 None => {
                     self.events.push(CollisionEvent {
-                        start_s: time_s,
+                        start_s: first(c.a, c.b).unwrap_or(time_s).min(time_s),
                         end_s: None,
                         a: model.name(c.a).to_string(),
                         b: model.name(c.b).to_string(),
@@ -751,6 +925,37 @@ impl Monitor {
             if let Some(i) = self.open.remove(&key) {
                 self.events[i].end_s = Some(time_s);
             }
+        }
+        // Touched and let go within the step.
+        for (t, c) in touches {
+            let key = (c.a, c.b);
+            if seen.contains(&key) || self.open.contains_key(&key) {
+                continue;
+            }
+            self.events.push(CollisionEvent {
+                start_s: t.min(time_s),
+                end_s: Some(time_s),
+                a: model.name(c.a).to_string(),
+                b: model.name(c.b).to_string(),
+                max_depth_m: 0.0,
+                point_in_world: c.point_in_world,
+                normal_in_world: c.normal_in_world,
+            });
+            started.push(self.events.len() - 1);
+        }
+        // The events that started in this step, in start order (a stable
+        // sort: ties stay in pair order).
+        let mut order: Vec<usize> = (before..self.events.len()).collect();
+        order.sort_by(|&x, &y| self.events[x].start_s.total_cmp(&self.events[y].start_s));
+        if order.iter().enumerate().any(|(k, &i)| i != before + k) {
+            let moved: Vec<CollisionEvent> = order.iter().map(|&i| self.events[i].clone()).collect();
+            let new_index = |old: usize| before + order.iter().position(|&i| i == old).unwrap_or(old - before);
+            for i in self.open.values_mut().filter(|i| **i >= before) {
+                *i = new_index(*i);
+            }
+            started = started.into_iter().map(new_index).collect();
+            self.events.truncate(before);
+            self.events.extend(moved);
         }
         started
     }
