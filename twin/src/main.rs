@@ -77,6 +77,8 @@ Columns, per scene (best of --runs; the outputs run once):
                   replaying the drive commands the twin gave each step
   twin/bare       how much longer the twin takes than the bare simulation
   kinematic xRT   simulated / wall time of the kinematic plant (--plant kinematic)
+  collision µs    the live collision checks (discrete and continuous) per
+                  physics step, µs, no outputs (- without [collision])
   then the share of a run with a trace, a recording and frames spent in the
   program, the planner, the pre-flight sweeps, the physics, the live collision
   checks, the trace, the recording and the frames (the rest: bookkeeping).
@@ -828,6 +830,9 @@ struct BenchRow {
     steps_per_s: f64,
     bare_steps_per_s: Option<f64>,
     kinematic_rtf: f64,
+    /// The live collision checks per physics step, µs (scenes with
+    /// `[collision]`).
+    collision_us: Option<f64>,
     /// Shares of the outputs run: program, planner, sweep, physics,
     /// collision, trace, recording, frames.
     split: [f64; 8],
@@ -861,6 +866,8 @@ fn bench_scene(path: &Path, runs: u32, render: bool) -> Result<BenchRow> {
         .into_iter()
         .fold(f64::INFINITY, f64::min);
     let simulated = twin.time_s();
+    let collision_us = (twin.scene().collision.is_some() && steps > 0.0)
+        .then(|| 1e6 * twin.plant().times().unwrap_or_default().collision_s / steps);
     // The kinematic plant.
     let mut kinematic = f64::INFINITY;
     for _ in 0..runs {
@@ -927,6 +934,7 @@ fn bench_scene(path: &Path, runs: u32, render: bool) -> Result<BenchRow> {
         steps_per_s: steps / wall,
         bare_steps_per_s: (steps > 0.0).then(|| steps / bare),
         kinematic_rtf: simulated / kinematic,
+        collision_us,
         split: [
             share(stages.program_s),
             share(stages.planner_s),
@@ -943,9 +951,11 @@ fn bench_scene(path: &Path, runs: u32, render: bool) -> Result<BenchRow> {
 fn bench(args: &BenchArgs) -> Result<ExitCode> {
     let scenes = bench_scenes(&args.scenes)?;
     println!(
-        "| scene | physics xRT | steps/s | bare steps/s | twin/bare | kinematic xRT | program | planner | sweep | physics | collision | trace | recording | frames |"
+        "| scene | physics xRT | steps/s | bare steps/s | twin/bare | kinematic xRT | collision µs | program | planner | sweep | physics | collision | trace | recording | frames |"
     );
-    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
+    println!(
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+    );
     for path in &scenes {
         let row = bench_scene(path, args.runs, !args.no_render)?;
         let (bare, ratio) = match row.bare_steps_per_s {
@@ -953,8 +963,9 @@ fn bench(args: &BenchArgs) -> Result<ExitCode> {
             None => ("-".to_string(), "-".to_string()),
         };
         let split: Vec<String> = row.split.iter().map(|x| format!("{:.0} %", 100.0 * x)).collect();
+        let collision = row.collision_us.map_or_else(|| "-".to_string(), |c| format!("{c:.2}"));
         println!(
-            "| {} | {:.1} | {:.0} | {bare} | {ratio} | {:.0} | {} |",
+            "| {} | {:.1} | {:.0} | {bare} | {ratio} | {:.0} | {collision} | {} |",
             row.name,
             row.physics_rtf,
             row.steps_per_s,

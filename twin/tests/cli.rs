@@ -531,22 +531,31 @@ fn bench_prints_a_row_per_scene_with_the_bare_simulation_and_the_kinematic_plant
         .args(["bench", "--runs", "1", "--no-render"])
         .arg(root().join("scenes/fault_demo.toml"))
         .arg(root().join("scenes/knife_cut.toml"))
+        .arg(root().join("scenes/collision_cell.toml"))
         .output()
         .expect("run twin");
     let text = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(out.status.success(), "{text}{}", stderr(&out));
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines.len(), 4, "{text}");
-    assert!(lines[0].starts_with("| scene | physics xRT | steps/s | bare steps/s | twin/bare | kinematic xRT |"));
-    for (line, scene) in lines[2..].iter().zip(["fault_demo", "knife_cut"]) {
+    assert_eq!(lines.len(), 5, "{text}");
+    // The live collision checks' cost per physics step, with [collision].
+    let cell: Vec<&str> = lines[4].trim_matches('|').split('|').map(str::trim).collect();
+    assert_eq!(cell[0], "collision_cell");
+    assert!(cell[6].parse::<f64>().is_ok_and(|us| us > 0.0), "{}", lines[4]);
+    assert!(
+        lines[0]
+            .starts_with("| scene | physics xRT | steps/s | bare steps/s | twin/bare | kinematic xRT | collision µs |")
+    );
+    for (line, scene) in lines[2..4].iter().zip(["fault_demo", "knife_cut"]) {
         let cells: Vec<&str> = line.trim_matches('|').split('|').map(str::trim).collect();
-        assert_eq!(cells.len(), 14, "{line}");
+        assert_eq!(cells.len(), 15, "{line}");
         assert_eq!(cells[0], scene);
         for c in &cells[1..6] {
             let x: f64 = c.parse().unwrap_or_else(|_| panic!("{c} in {line}"));
             assert!(x > 0.0 && x.is_finite(), "{line}");
         }
-        let shares: f64 = cells[6..]
+        assert_eq!(cells[6], "-", "no [collision] in {scene}");
+        let shares: f64 = cells[7..]
             .iter()
             .map(|c| c.trim_end_matches(" %").parse::<f64>().expect("a share"))
             .sum();
