@@ -543,18 +543,14 @@ impl Plant {
     pub(super) fn collision_after_physics_step(&mut self, task: &mut MotionTask) {
         let Some(c) = self.collision.as_mut() else { return };
         let poses = self.sim.world_from_link_isometries();
-        let result = c.model.check(&poses);
+        // The discrete check, and the continuous detection: what touched
+        // during the step, and when.
+        let (result, touches) = c.model.check_step(c.previous.as_deref(), &poses);
         let t = self.sim.time_s();
-        // Continuous detection: what touched during the step, and when.
-        let touches: Vec<(f64, crate::plant::collision::Contact)> = match &c.previous {
-            Some(previous) => c
-                .model
-                .first_touches(previous, &poses)
-                .into_iter()
-                .map(|(tau, contact)| (t - self.step_s * (1.0 - tau), contact))
-                .collect(),
-            None => Vec::new(),
-        };
+        let touches: Vec<(f64, crate::plant::collision::Contact)> = touches
+            .into_iter()
+            .map(|(tau, contact)| (t - self.step_s * (1.0 - tau), contact))
+            .collect();
         let started = c.monitor.observe_from(&c.model, t, &result, &touches);
         c.previous = Some(poses);
         for (i, d) in result.clearance_m.iter().enumerate() {

@@ -426,7 +426,25 @@ impl CollisionModel {
 
     /// Checks one robot pose (`world_from_link` of every URDF link, in model order).
     pub fn check(&self, world_from_link: &[Isometry3<f64>]) -> CheckResult {
-        let shapes = self.placed_bodies(world_from_link);
+        self.check_placed(&self.placed_bodies(world_from_link))
+    }
+
+    /// The live check of one physics step ending at `to`: [`Self::check`]
+    /// of `to` and, with the previous pose `from`, [`Self::first_touches`]
+    /// over the step, placing the bodies at `to` once for both.
+    pub fn check_step(
+        &self,
+        from: Option<&[Isometry3<f64>]>,
+        to: &[Isometry3<f64>],
+    ) -> (CheckResult, Vec<(f64, Contact)>) {
+        let end = self.placed_bodies(to);
+        let touches = from.map_or_else(Vec::new, |from| {
+            self.first_touches_placed(&self.placed_bodies(from), &end)
+        });
+        (self.check_placed(&end), touches)
+    }
+
+    fn check_placed(&self, shapes: &[Vec<Placed<'_>>]) -> CheckResult {
         let mut clearance_m = vec![f64::INFINITY; self.bodies.len()];
         let mut contacts = Vec::new();
         for (b, body_shapes) in shapes.iter().enumerate() {
@@ -477,20 +495,22 @@ impl CollisionModel {
     /// boxes meet are cast, and only pairs not already touching at `from`
     /// (their event is open).
     pub fn first_touches(&self, from: &[Isometry3<f64>], to: &[Isometry3<f64>]) -> Vec<(f64, Contact)> {
-        let start = self.placed_bodies(from);
-        let end = self.placed_bodies(to);
+        self.first_touches_placed(&self.placed_bodies(from), &self.placed_bodies(to))
+    }
+
+    fn first_touches_placed(&self, start: &[Vec<Placed<'_>>], end: &[Vec<Placed<'_>>]) -> Vec<(f64, Contact)> {
         // How far any point of each body moves over the step (at most):
         // a pair farther apart than that at the start cannot touch.
         let moved: Vec<f64> = start
             .iter()
-            .zip(&end)
+            .zip(end)
             .map(|(s0, s1)| Self::displacement(s0, s1))
             .collect();
         // Cast only pairs that could touch and do not at the start.
         let could_touch = |d: f64, reach: f64| d > 0.0 && d < reach;
         let boxes: Vec<Option<Aabb>> = start.iter().map(|s0| Self::body_box(s0)).collect();
         let mut found = Vec::new();
-        for (b, (s0, s1)) in start.iter().zip(&end).enumerate() {
+        for (b, (s0, s1)) in start.iter().zip(end).enumerate() {
             let (Some(box0), Some(box1)) = (boxes[b], Self::body_box(s1)) else {
                 continue;
             };
@@ -890,8 +910,17 @@ impl Monitor {
         touches: &[(f64, Contact)],
     ) -> Vec<usize> {
         let first = |a: Body, b: Body| touches.iter().find(|(_, c)| c.a == a && c.b == b).map(|(t, _)| *t);
-        let before = self.events.len();
-        let mut started = Vec::new();
+        let event = |c: &Contact, start_s: f64, end_s: Option<f64>| CollisionEvent {
+            start_s: start_s.min(time_s),
+            end_s,
+            a: model.name(c.a).to_string(),
+            b: model.name(c.b).to_string(),
+            max_depth_m: c.depth_m,
+            point_in_world: c.point_in_world,
+            normal_in_world: c.normal_in_world,
+        };
+        // Events that start at this check, with the key of those still open.
+        let mut fresh: Vec<(Option<(Body, Body)>, CollisionEvent)> = Vec::new();
         let mut seen: Vec<(Body, Body)> = Vec::new();
         for c in &result.contacts {
             let key = (c.a, c.b);
@@ -905,19 +934,7 @@ impl Monitor {
                         e.normal_in_world = c.normal_in_world;
                     }
                 }
-                None => {
-                    self.events.push(CollisionEvent {
-                        start_s: first(c.a, c.b).unwrap_or(time_s).min(time_s),
-                        end_s: None,
-                        a: model.name(c.a).to_string(),
-                        b: model.name(c.b).to_string(),
-                        max_depth_m: c.depth_m,
-                        point_in_world: c.point_in_world,
-                        normal_in_world: c.normal_in_world,
-                    });
-                    self.open.insert(key, self.events.len() - 1);
-                    started.push(self.events.len() - 1);
-                }
+                None => fresh.push((Some(key), event(c, first(c.a, c.b).unwrap_or(time_s), None))),
             }
         }
         let ended: Vec<(Body, Body)> = self.open.keys().filter(|k| !seen.contains(k)).copied().collect();
@@ -926,36 +943,22 @@ impl Monitor {
                 self.events[i].end_s = Some(time_s);
             }
         }
-        // Touched and let go within the step.
+        // Touched and let go within the step (the contact has depth 0).
         for (t, c) in touches {
             let key = (c.a, c.b);
-            if seen.contains(&key) || self.open.contains_key(&key) {
-                continue;
+            if !seen.contains(&key) && !self.open.contains_key(&key) {
+                fresh.push((None, event(c, *t, Some(time_s))));
             }
-            self.events.push(CollisionEvent {
-                start_s: t.min(time_s),
-                end_s: Some(time_s),
-                a: model.name(c.a).to_string(),
-                b: model.name(c.b).to_string(),
-                max_depth_m: 0.0,
-                point_in_world: c.point_in_world,
-                normal_in_world: c.normal_in_world,
-            });
-            started.push(self.events.len() - 1);
         }
-        // The events that started in this step, in start order (a stable
-        // sort: ties stay in pair order).
-        let mut order: Vec<usize> = (before..self.events.len()).collect();
-        order.sort_by(|&x, &y| self.events[x].start_s.total_cmp(&self.events[y].start_s));
-        if order.iter().enumerate().any(|(k, &i)| i != before + k) {
-            let moved: Vec<CollisionEvent> = order.iter().map(|&i| self.events[i].clone()).collect();
-            let new_index = |old: usize| before + order.iter().position(|&i| i == old).unwrap_or(old - before);
-            for i in self.open.values_mut().filter(|i| **i >= before) {
-                *i = new_index(*i);
+        // In start order (a stable sort: ties stay in pair order).
+        fresh.sort_by(|x, y| x.1.start_s.total_cmp(&y.1.start_s));
+        let mut started = Vec::with_capacity(fresh.len());
+        for (key, e) in fresh {
+            if let Some(key) = key {
+                self.open.insert(key, self.events.len());
             }
-            started = started.into_iter().map(new_index).collect();
-            self.events.truncate(before);
-            self.events.extend(moved);
+            started.push(self.events.len());
+            self.events.push(e);
         }
         started
     }
