@@ -28,7 +28,7 @@ use nalgebra::Isometry3;
 
 use super::convert::isometry_to_arrays;
 use super::physics::{JointDrive, PhysicsError, driven_joints, initial_positions};
-use super::urdf::{JointIndex, RobotModel};
+use super::urdf::RobotModel;
 
 /// One drive of the kinematic plant.
 #[derive(Debug, Clone, Copy)]
@@ -153,11 +153,6 @@ impl KinematicSim {
         self.q[self.drives[drive_index].joint]
     }
 
-    /// Position of URDF joint `joint`, rad or m.
-    pub fn joint(&self, joint: JointIndex) -> f64 {
-        self.q[joint.0]
-    }
-
     /// Every link's world pose (translation m, quaternion xyzw), in model
     /// link order.
     pub fn world_from_link(&self) -> Vec<([f64; 3], [f64; 4])> {
@@ -208,7 +203,6 @@ mod tests {
         q[j1.0] = 0.7;
         q[j3.0] = -0.1;
         assert_eq!(sim.world_from_link_isometries(), model.world_from_link(&q));
-        assert_eq!(sim.joint(j3), -0.1);
     }
 
     #[test]

@@ -220,14 +220,14 @@ pub struct PlantTimes {
 /// A run's physics, recorded to be replayed on a bare simulation: the same
 /// robot, drives, step and substeps, each step given the drive commands the
 /// twin gave it — rapier's work without the twin's (`twin bench`).
-#[derive(Debug, Clone)]
-pub struct PhysicsReplay {
-    inputs: PhysicsInputs,
-    steps: Vec<Vec<physics::DriveCommand>>,
+#[derive(Debug, Clone, Copy)]
+pub struct PhysicsReplay<'a> {
+    inputs: &'a PhysicsInputs,
+    steps: &'a [Vec<physics::DriveCommand>],
     steps_per_update: usize,
 }
 
-impl PhysicsReplay {
+impl PhysicsReplay<'_> {
     /// Physics steps recorded.
     pub fn steps(&self) -> usize {
         self.steps.len()
@@ -239,7 +239,7 @@ impl PhysicsReplay {
     /// # Errors
     /// [`PhysicsError`] as [`RobotSim::new`] (it built once already).
     pub fn run(&self, model: &RobotModel) -> Result<f64, PhysicsError> {
-        let (drives, initial, options) = &self.inputs;
+        let (drives, initial, options) = self.inputs;
         let mut sim = RobotSim::new(model, drives, initial, options.clone())?;
         let started = std::time::Instant::now();
         for (k, commands) in self.steps.iter().enumerate() {
@@ -554,11 +554,11 @@ impl Plant {
     /// The physics steps recorded since [`Plant::record_for_bench`], to be
     /// replayed on a bare simulation; `None` for the kinematic plant or
     /// when nothing was recorded.
-    pub fn physics_replay(&self) -> Option<PhysicsReplay> {
+    pub fn physics_replay(&self) -> Option<PhysicsReplay<'_>> {
         let (steps, _) = self.bench.as_ref()?;
         Some(PhysicsReplay {
-            inputs: self.physics_inputs.clone()?,
-            steps: steps.clone(),
+            inputs: self.physics_inputs.as_ref()?,
+            steps,
             steps_per_update: self.substeps,
         })
     }
