@@ -640,10 +640,7 @@ fn run(args: &RunArgs) -> Result<ExitCode> {
         stats.observe(&twin);
         sinks.write(&twin);
         progress.tick(twin.task().updates(), &wall);
-        if twin.plant().collision_abort()
-            || twin.program().controller().major_fault().is_some()
-            || twin.plant().physics_fault().is_some()
-        {
+        if twin.stopped() {
             break;
         }
     }
@@ -813,10 +810,7 @@ fn run_to_end(twin: &mut Twin, mut each: impl FnMut(&Twin)) -> f64 {
     for _ in 0..twin.total_updates() {
         twin.step();
         each(twin);
-        if twin.plant().collision_abort()
-            || twin.program().controller().major_fault().is_some()
-            || twin.plant().physics_fault().is_some()
-        {
+        if twin.stopped() {
             break;
         }
     }

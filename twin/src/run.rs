@@ -103,27 +103,23 @@ impl Twin {
     /// pre-flight sweep of moves that started, the physics steps and the
     /// feedback of actual positions.
     pub fn step(&mut self) {
-        let Some(times) = self.times.as_mut() else {
-            self.program.scan(&mut self.task);
-            self.task.update();
-            self.plant.after_planner_update(&mut self.task);
-            self.plant.advance(&mut self.task);
-            return;
-        };
-        let mut t = std::time::Instant::now();
-        let mut lap = |total: &mut f64| {
-            let now = std::time::Instant::now();
-            *total += (now - t).as_secs_f64();
-            t = now;
+        // With `twin bench`'s timing on, each stage's wall time.
+        let mut timer = self.times.as_mut().map(|times| (times, std::time::Instant::now()));
+        let mut lap = |stage: fn(&mut StageTimes) -> &mut f64| {
+            if let Some((times, at)) = timer.as_mut() {
+                let now = std::time::Instant::now();
+                *stage(times) += (now - *at).as_secs_f64();
+                *at = now;
+            }
         };
         self.program.scan(&mut self.task);
-        lap(&mut times.program_s);
+        lap(|t| &mut t.program_s);
         self.task.update();
-        lap(&mut times.planner_s);
+        lap(|t| &mut t.planner_s);
         self.plant.after_planner_update(&mut self.task);
-        lap(&mut times.sweep_s);
+        lap(|t| &mut t.sweep_s);
         self.plant.advance(&mut self.task);
-        lap(&mut times.plant_s);
+        lap(|t| &mut t.plant_s);
     }
 
     /// `twin bench`: from now on, time every stage of [`Twin::step`]
@@ -173,5 +169,14 @@ impl Twin {
     /// Number of coarse updates in the scene's duration.
     pub fn total_updates(&self) -> u64 {
         (self.scene.duration_s / (self.scene.coarse_update_ms / 1000.0)).round() as u64
+    }
+
+    /// Whether something ended the run before its duration: a collision
+    /// with `reaction = "abort"`, a major controller fault, or a physics
+    /// fault.
+    pub fn stopped(&self) -> bool {
+        self.plant.collision_abort()
+            || self.program.controller().major_fault().is_some()
+            || self.plant.physics_fault().is_some()
     }
 }

@@ -2268,10 +2268,7 @@ fn instruction_edges(path: &Path, plant: twin::scene::PlantMode) -> Vec<(String,
             }
         }
         last = now;
-        if twin.plant().collision_abort()
-            || twin.program().controller().major_fault().is_some()
-            || twin.plant().physics_fault().is_some()
-        {
+        if twin.stopped() {
             break;
         }
     }
