@@ -207,6 +207,11 @@ impl FaultAction {
         ("StopDrive", Self::StopDrive),
         ("Shutdown", Self::Shutdown),
     ];
+
+    /// The action's name (Logix's words, no spaces), as in [`Self::NAMES`].
+    pub fn name(self) -> &'static str {
+        Self::NAMES.iter().find(|(_, a)| *a == self).map_or("", |(n, _)| n)
+    }
 }
 
 /// The `AxisFault` word: one bit per fault category.
@@ -246,6 +251,17 @@ impl MotionFaults {
     /// Whether no exception is recorded.
     pub fn is_clear(self) -> bool {
         self.0 == 0
+    }
+
+    /// The exception bit of the soft travel limit `position` is beyond
+    /// (strictly), if any: `SOFT_TRAVEL_POSITIVE` above `max`,
+    /// `SOFT_TRAVEL_NEGATIVE` below `min`; `None` without limits.
+    pub fn beyond(limits: Option<(f64, f64)>, position: f64) -> Option<u32> {
+        match limits? {
+            (_, max) if position > max => Some(Self::SOFT_TRAVEL_POSITIVE),
+            (min, _) if position < min => Some(Self::SOFT_TRAVEL_NEGATIVE),
+            _ => None,
+        }
     }
 
     /// Whether Soft Travel Limit - Positive is recorded.

@@ -532,12 +532,7 @@ impl MotionTask {
         let delta = mrp.delta(a.command.position, a.actual);
         // Soft overtravel watches the actual position (`crate::servo`): a
         // redefinition outside the limits raises the exception at once.
-        let actual = a.actual + delta;
-        let overtravel = match a.config.soft_travel_limits {
-            Some((_, max)) if actual > max => Some(crate::servo::MotionFaults::SOFT_TRAVEL_POSITIVE),
-            Some((min, _)) if actual < min => Some(crate::servo::MotionFaults::SOFT_TRAVEL_NEGATIVE),
-            _ => None,
-        };
+        let overtravel = crate::servo::MotionFaults::beyond(a.config.soft_travel_limits, a.actual + delta);
         self.redefine_position(axis, delta);
         self.bits(motion_control).dn = true;
         if let Some(bit) = overtravel {

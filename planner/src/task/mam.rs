@@ -29,20 +29,20 @@ impl MotionTask {
         let start = a.command.state();
         let validated = Mam::new(operands, &a.config, start.velocity.abs()).and_then(|m| {
             self.check_state(axis, Need::Motion).map_err(MamError::State)?;
-            let distance = m.target(start, &a.config) - start.position;
-            if distance != 0.0 {
-                self.check_overtravel(axis, distance).map_err(MamError::State)?;
+            let target = m.target(start, &a.config);
+            if target != start.position {
+                self.check_overtravel(axis, target - start.position)
+                    .map_err(MamError::State)?;
             }
-            Ok(m)
+            Ok((m, target))
         });
-        let mam = match validated {
-            Ok(m) => m,
+        let (mam, target) = match validated {
+            Ok(v) => v,
             Err(e) => {
                 self.fail(control, e.err(), e.exerr(), 0);
                 return Err(e);
             }
         };
-        let target = mam.target(start, &self.axes[axis.0 as usize].config);
         self.bits_mut(control).dn = true;
         let base_driven = self.cam_drives(axis) || self.coordinated_motion_status(axis);
         if !mam.merge && base_driven {

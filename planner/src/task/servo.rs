@@ -132,16 +132,14 @@ impl MotionTask {
     /// the axis has exceeded: ERR 9 ([`crate::servo`]).
     pub(super) fn check_overtravel(&self, axis: AxisHandle, direction: f64) -> Result<(), StateError> {
         let a = &self.axes[axis.0 as usize];
-        let Some((min, max)) = a.config.soft_travel_limits else {
-            return Ok(());
-        };
-        if a.config.soft_overtravel_action == FaultAction::Ignore {
+        if a.config.soft_travel_limits.is_none() || a.config.soft_overtravel_action == FaultAction::Ignore {
             return Ok(());
         }
-        let faults = a.servo.motion_faults;
-        let out_positive = faults.positive() || a.actual > max;
-        let out_negative = faults.negative() || a.actual < min;
-        if (out_positive && direction >= 0.0) || (out_negative && direction <= 0.0) {
+        // Recorded, or beyond a limit now.
+        let out = MotionFaults(
+            a.servo.motion_faults.0 | MotionFaults::beyond(a.config.soft_travel_limits, a.actual).unwrap_or(0),
+        );
+        if (out.positive() && direction >= 0.0) || (out.negative() && direction <= 0.0) {
             return Err(StateError::Overtravel);
         }
         Ok(())
@@ -486,19 +484,18 @@ impl MotionTask {
     /// exception once and takes the axis' `soft_overtravel_action`.
     fn check_soft_overtravel(&mut self, axis: AxisHandle) {
         let a = &self.axes[axis.0 as usize];
-        let Some((min, max)) = a.config.soft_travel_limits else {
+        let Some(bit) = MotionFaults::beyond(a.config.soft_travel_limits, a.actual) else {
             return;
         };
-        let uncontrolled = a.config.axis_type == AxisType::FeedbackOnly;
         let v = a.command.velocity;
-        let bit = if a.actual > max && (uncontrolled || v > 0.0) {
-            MotionFaults::SOFT_TRAVEL_POSITIVE
-        } else if a.actual < min && (uncontrolled || v < 0.0) {
-            MotionFaults::SOFT_TRAVEL_NEGATIVE
+        let outward = if bit == MotionFaults::SOFT_TRAVEL_POSITIVE {
+            v > 0.0
         } else {
-            return;
+            v < 0.0
         };
-        self.raise_soft_overtravel(axis, bit);
+        if outward || a.config.axis_type == AxisType::FeedbackOnly {
+            self.raise_soft_overtravel(axis, bit);
+        }
     }
 
     /// Records the soft overtravel exception `bit` (unless already

@@ -507,23 +507,17 @@ impl Stats {
         );
         let (motion_before, exceeded_before) = std::mem::replace(&mut self.previous_faults[i], now);
         let config = task.axis_config(axis.handle);
-        let action_name = |action: FaultAction| {
-            FaultAction::NAMES
-                .iter()
-                .find(|(_, a)| *a == action)
-                .map_or("", |(n, _)| n)
-        };
         let mut faults = Vec::new();
         for (bit, fault) in [
             (MotionFaults::SOFT_TRAVEL_POSITIVE, "Soft Travel Limit - Positive"),
             (MotionFaults::SOFT_TRAVEL_NEGATIVE, "Soft Travel Limit - Negative"),
         ] {
             if now.0 & bit != 0 && motion_before & bit == 0 {
-                faults.push((fault, action_name(config.soft_overtravel_action)));
+                faults.push((fault, config.soft_overtravel_action.name()));
             }
         }
         if now.1 && !exceeded_before && config.position_error_action != FaultAction::Ignore {
-            faults.push(("Excessive Position Error", action_name(config.position_error_action)));
+            faults.push(("Excessive Position Error", config.position_error_action.name()));
         }
         for (fault, action) in faults {
             self.axis_fault_count += 1;
