@@ -605,9 +605,6 @@ impl Feed {
     fn join(mut self, wait: std::time::Duration) -> Finished {
         let deadline = std::time::Instant::now() + wait;
         let mut finished = Finished::default();
-        let had_files = self.workers.iter().any(|w| w.part == Part::Files)
-            || self.failures.iter().any(|(part, _)| *part == Part::Files);
-        let mut files_ok = false;
         // The files first: they never wait for a viewer.
         self.workers.sort_by_key(|w| w.part == Part::Viewers);
         for worker in std::mem::take(&mut self.workers) {
@@ -628,16 +625,15 @@ impl Feed {
             };
             match result {
                 Ok(served) => {
-                    if part == Part::Files {
-                        files_ok = true;
-                    } else {
+                    if part == Part::Viewers {
                         finished.served = served;
                     }
                 }
                 Err(e) => self.failures.push((part, e)),
             }
         }
-        finished.files_complete = !had_files || files_ok;
+        // Every file thread either finished or failed.
+        finished.files_complete = !self.failures.iter().any(|(part, _)| *part == Part::Files);
         finished.failures = self.failures.into_iter().map(|(_, e)| e).collect();
         finished
     }
