@@ -545,7 +545,7 @@ impl Plant {
         let poses = self.sim.world_from_link_isometries();
         // The discrete check, and the continuous detection: what touched
         // during the step, and when.
-        let (result, touches) = c.model.check_step(c.previous.as_deref(), &poses);
+        let (result, touches) = c.model.check_step(c.previous.as_deref().map(|p| (p, &c.last)), &poses);
         let t = self.sim.time_s();
         let touches: Vec<(f64, crate::plant::collision::Contact)> = touches
             .into_iter()

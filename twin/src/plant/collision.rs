@@ -174,6 +174,23 @@ pub struct CheckResult {
     pub clearance_m: Vec<f64>,
 }
 
+/// A shape's bounding sphere in its own frame: centre and radius, m.
+#[derive(Debug, Clone, Copy)]
+struct LocalSphere {
+    center: Vector,
+    radius: f64,
+}
+
+impl LocalSphere {
+    fn of(shape: &SharedShape) -> Self {
+        let sphere = shape.compute_local_bounding_sphere();
+        LocalSphere {
+            center: sphere.center,
+            radius: sphere.radius,
+        }
+    }
+}
+
 /// A shape placed in the world with its bounding sphere there.
 struct Placed<'a> {
     pose: Pose,
@@ -183,8 +200,7 @@ struct Placed<'a> {
 }
 
 impl<'a> Placed<'a> {
-    fn new(pose: Pose, shape: &'a SharedShape) -> Self {
-        let sphere = shape.compute_local_bounding_sphere();
+    fn new(pose: Pose, shape: &'a SharedShape, sphere: LocalSphere) -> Self {
         Placed {
             pose,
             shape,
@@ -212,6 +228,10 @@ pub struct CollisionModel {
     bodies: Vec<RobotBody>,
     obstacle_names: Vec<String>,
     obstacles: Vec<(Pose, SharedShape)>,
+    /// Per body, per shape, and per obstacle: the local bounding sphere
+    /// (computed once: a mesh hull's takes a pass over its vertices).
+    body_spheres: Vec<Vec<LocalSphere>>,
+    obstacle_spheres: Vec<LocalSphere>,
     /// Per body, per obstacle: whether the pair is checked.
     checked: Vec<Vec<bool>>,
     /// The obstacles' world bounding boxes in a tree (leaf = obstacle
@@ -287,8 +307,15 @@ impl CollisionModel {
             .map(|(pose, shape)| shape.compute_aabb(pose))
             .collect();
         let obstacle_tree = Bvh::from_leaves(BvhBuildStrategy::default(), &boxes);
+        let body_spheres = bodies
+            .iter()
+            .map(|b| b.shapes.iter().map(|(_, s)| LocalSphere::of(s)).collect())
+            .collect();
+        let obstacle_spheres = obstacle_shapes.iter().map(|(_, s)| LocalSphere::of(s)).collect();
         Ok(CollisionModel {
             bodies,
+            body_spheres,
+            obstacle_spheres,
             obstacle_names,
             obstacles: obstacle_shapes,
             last_nearest: vec![std::cell::Cell::new(None); checked.len()],
@@ -327,12 +354,14 @@ impl CollisionModel {
         let world = pose_to_rapier(&world_from_link[b.link]);
         b.shapes
             .iter()
-            .map(|(local, s)| Placed::new(world * *local, s))
+            .zip(&self.body_spheres[body])
+            .map(|((local, s), sphere)| Placed::new(world * *local, s, *sphere))
             .collect()
     }
 
     fn placed_obstacle(&self, o: usize) -> [Placed<'_>; 1] {
-        [Placed::new(self.obstacles[o].0, &self.obstacles[o].1)]
+        let (pose, shape) = &self.obstacles[o];
+        [Placed::new(*pose, shape, self.obstacle_spheres[o])]
     }
 
     fn placed_bodies(&self, world_from_link: &[Isometry3<f64>]) -> Vec<Vec<Placed<'_>>> {
@@ -426,28 +455,52 @@ impl CollisionModel {
 
     /// Checks one robot pose (`world_from_link` of every URDF link, in model order).
     pub fn check(&self, world_from_link: &[Isometry3<f64>]) -> CheckResult {
-        self.check_placed(&self.placed_bodies(world_from_link))
+        self.check_placed(&self.placed_bodies(world_from_link), None)
     }
 
     /// The live check of one physics step ending at `to`: [`Self::check`]
-    /// of `to` and, with the previous pose `from`, [`Self::first_touches`]
-    /// over the step, placing the bodies at `to` once for both.
+    /// of `to` and, with the step's start `from` (its poses and their
+    /// check), [`Self::first_touches`] over the step. The result equals
+    /// those two calls'; it costs less:
+    /// * the bodies are placed at `to` once for both;
+    /// * a body whose link has exactly its pose in `from` (the base, a
+    ///   link at rest) keeps its clearance and contacts from `from`'s
+    ///   check, and a self pair of two such bodies its contact;
+    /// * a body whose clearance at `from` is at least the distance its
+    ///   points move in the step cannot touch an obstacle in it: it is
+    ///   not cast.
     pub fn check_step(
         &self,
-        from: Option<&[Isometry3<f64>]>,
+        from: Option<(&[Isometry3<f64>], &CheckResult)>,
         to: &[Isometry3<f64>],
     ) -> (CheckResult, Vec<(f64, Contact)>) {
         let end = self.placed_bodies(to);
-        let touches = from.map_or_else(Vec::new, |from| {
-            self.first_touches_placed(&self.placed_bodies(from), &end)
-        });
-        (self.check_placed(&end), touches)
+        let Some((from, checked)) = from else {
+            return (self.check_placed(&end, None), Vec::new());
+        };
+        let touches = self.first_touches_placed(&self.placed_bodies(from), &end, Some(&checked.clearance_m));
+        let unchanged: Vec<bool> = self.bodies.iter().map(|b| from[b.link] == to[b.link]).collect();
+        (self.check_placed(&end, Some((&unchanged, checked))), touches)
     }
 
-    fn check_placed(&self, shapes: &[Vec<Placed<'_>>]) -> CheckResult {
+    /// The discrete check of placed bodies. With `reuse` (per body: whether
+    /// it stands where it stood at a previous check, and that check's
+    /// result), such bodies and pairs take their results from it.
+    fn check_placed(&self, shapes: &[Vec<Placed<'_>>], reuse: Option<(&[bool], &CheckResult)>) -> CheckResult {
         let mut clearance_m = vec![f64::INFINITY; self.bodies.len()];
         let mut contacts = Vec::new();
+        let same = |b: usize| reuse.filter(|(unchanged, _)| unchanged[b]).map(|(_, r)| r);
         for (b, body_shapes) in shapes.iter().enumerate() {
+            if let Some(previous) = same(b) {
+                clearance_m[b] = previous.clearance_m[b];
+                contacts.extend(
+                    previous
+                        .contacts
+                        .iter()
+                        .filter(|c| c.a == Body::Robot(b) && matches!(c.b, Body::Obstacle(_))),
+                );
+                continue;
+            }
             clearance_m[b] = self.nearest_obstacle(b, body_shapes);
             if clearance_m[b] > 0.0 {
                 continue;
@@ -472,6 +525,15 @@ impl CollisionModel {
             }
         }
         for &(a, b) in &self.self_pairs {
+            if let (Some(previous), Some(_)) = (same(a), same(b)) {
+                contacts.extend(
+                    previous
+                        .contacts
+                        .iter()
+                        .filter(|c| c.a == Body::Robot(a) && c.b == Body::Robot(b)),
+                );
+                continue;
+            }
             if let Some((depth_m, point, normal)) = Self::contact_between(&shapes[a], &shapes[b]) {
                 contacts.push(Contact {
                     a: Body::Robot(a),
@@ -495,10 +557,17 @@ impl CollisionModel {
     /// boxes meet are cast, and only pairs not already touching at `from`
     /// (their event is open).
     pub fn first_touches(&self, from: &[Isometry3<f64>], to: &[Isometry3<f64>]) -> Vec<(f64, Contact)> {
-        self.first_touches_placed(&self.placed_bodies(from), &self.placed_bodies(to))
+        self.first_touches_placed(&self.placed_bodies(from), &self.placed_bodies(to), None)
     }
 
-    fn first_touches_placed(&self, start: &[Vec<Placed<'_>>], end: &[Vec<Placed<'_>>]) -> Vec<(f64, Contact)> {
+    /// [`Self::first_touches`] of placed bodies; `start_clearance_m`, when
+    /// given, is each body's clearance at `start` ([`CheckResult::clearance_m`]).
+    fn first_touches_placed(
+        &self,
+        start: &[Vec<Placed<'_>>],
+        end: &[Vec<Placed<'_>>],
+        start_clearance_m: Option<&[f64]>,
+    ) -> Vec<(f64, Contact)> {
         // How far any point of each body moves over the step (at most):
         // a pair farther apart than that at the start cannot touch.
         let moved: Vec<f64> = start
@@ -514,7 +583,8 @@ impl CollisionModel {
             let (Some(box0), Some(box1)) = (boxes[b], Self::body_box(s1)) else {
                 continue;
             };
-            if moved[b] == 0.0 {
+            // Every obstacle is at least the clearance away at the start.
+            if moved[b] == 0.0 || start_clearance_m.is_some_and(|d| d[b] >= moved[b]) {
                 continue;
             }
             let swept = box0.merged(&box1);

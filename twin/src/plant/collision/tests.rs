@@ -521,6 +521,55 @@ fn the_broad_phase_finds_exactly_what_every_pair_finds() {
     assert!(touching > 50, "{touching} contacts: the fields must reach the arm");
 }
 
+/// Guards the live check's shortcuts: `check_step`, reusing the bodies at
+/// rest and skipping casts the start clearance rules out, gives exactly the
+/// discrete check and the continuous detection computed afresh, along
+/// seeded random walks of the arm (self-collision on) through random
+/// obstacle fields where each joint either stands or moves.
+#[test]
+fn a_live_step_equals_its_check_and_detection_computed_afresh() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(18);
+    let model = arm();
+    let (mut reused, mut touches) = (0, 0);
+    for _ in 0..10 {
+        let obstacles: Vec<Obstacle> = (0..rng.random_range(1..30))
+            .map(|k| {
+                let position = [rng.random_range(-1.2..1.2), rng.random_range(-1.2..1.2), 0.0];
+                let size_m = [rng.random_range(0.02..0.2); 3];
+                obstacle(&format!("o{k}"), Shape::Box { size_m }, position)
+            })
+            .collect();
+        let world = CollisionModel::new(&model, &obstacles, &settings()).unwrap();
+        let mut q = [
+            rng.random_range(-3.2..3.2),
+            rng.random_range(-3.2..3.2),
+            rng.random_range(-3.2..3.2),
+        ];
+        let mut from = model.world_from_link(&q);
+        let mut checked = world.check(&from);
+        for _ in 0..200 {
+            for x in &mut q {
+                if rng.random_bool(0.5) {
+                    *x += rng.random_range(-0.08..0.08);
+                }
+            }
+            let to = model.world_from_link(&q);
+            let (got, got_touches) = world.check_step(Some((&from, &checked)), &to);
+            let expected = world.check(&to);
+            assert_eq!(got, expected, "q {q:?}");
+            assert_eq!(got_touches, world.first_touches(&from, &to), "q {q:?}");
+            reused += usize::from(from[1] == to[1]);
+            touches += got_touches.len();
+            (from, checked) = (to, got);
+        }
+    }
+    assert!(
+        reused > 300 && touches > 20,
+        "{reused} steps with l1 at rest, {touches} touches"
+    );
+}
+
 /// The slider's ball moving from x = `from` to `to` (m).
 struct Slide {
     from: f64,
