@@ -545,12 +545,11 @@ impl Plant {
         let poses = self.sim.world_from_link_isometries();
         // The discrete check, and the continuous detection: what touched
         // during the step, and when.
-        let (result, touches) = c.model.check_step(c.previous.as_deref().map(|p| (p, &c.last)), &poses);
+        let (result, mut touches) = c.model.check_step(c.previous.as_deref().map(|p| (p, &c.last)), &poses);
         let t = self.sim.time_s();
-        let touches: Vec<(f64, crate::plant::collision::Contact)> = touches
-            .into_iter()
-            .map(|(tau, contact)| (t - self.step_s * (1.0 - tau), contact))
-            .collect();
+        for (at, _) in &mut touches {
+            *at = t - self.step_s * (1.0 - *at);
+        }
         let started = c.monitor.observe_from(&c.model, t, &result, &touches);
         c.previous = Some(poses);
         for (i, d) in result.clearance_m.iter().enumerate() {

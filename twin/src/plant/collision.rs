@@ -42,7 +42,11 @@
 //! linear and angular velocity, parry's nonlinear shape casting) against
 //! the obstacles (and the other bodies with self-collision); pairs farther
 //! apart at the start than the bodies' points can move in the step, and
-//! pairs whose swept boxes do not meet, are not cast. An event opens at
+//! pairs whose swept boxes do not meet, are not cast. The plant runs both
+//! through [`CollisionModel::check_step`], which gives the same results
+//! for less: a body whose link has not moved keeps the previous check's
+//! clearance and contacts, and a body is placed at the step's start only
+//! when a bound of its link's motion exceeds its clearance there. An event opens at
 //! the first check where a pair touches; its `start_s` is the pair's first
 //! touch inside the step that ended there (interpolated: the continuous
 //! detection's time of impact), else that check's time. It closes at the
@@ -191,6 +195,28 @@ impl LocalSphere {
     }
 }
 
+/// Every robot body's shapes placed in the world, in one vector (bodies
+/// in order; `placement[b]` is body `b`'s shapes).
+struct Placement<'a> {
+    shapes: Vec<Placed<'a>>,
+    /// Where each body's shapes start in `shapes`, and their end.
+    starts: &'a [usize],
+}
+
+impl<'a> Placement<'a> {
+    /// The bodies' shapes, in body order.
+    fn bodies(&self) -> impl Iterator<Item = &[Placed<'a>]> {
+        self.starts.windows(2).map(|w| &self.shapes[w[0]..w[1]])
+    }
+}
+
+impl<'a> std::ops::Index<usize> for Placement<'a> {
+    type Output = [Placed<'a>];
+    fn index(&self, body: usize) -> &[Placed<'a>] {
+        &self.shapes[self.starts[body]..self.starts[body + 1]]
+    }
+}
+
 /// A shape placed in the world with its bounding sphere there.
 struct Placed<'a> {
     pose: Pose,
@@ -232,8 +258,15 @@ pub struct CollisionModel {
     /// (computed once: a mesh hull's takes a pass over its vertices).
     body_spheres: Vec<Vec<LocalSphere>>,
     obstacle_spheres: Vec<LocalSphere>,
+    /// Where each body's shapes start in a [`Placement`] (and their end).
+    shape_starts: Vec<usize>,
+    /// Per body, the largest distance from its link's origin to a point of
+    /// it (over its shapes' bounding spheres), m.
+    body_radius: Vec<f64>,
     /// Per body, per obstacle: whether the pair is checked.
     checked: Vec<Vec<bool>>,
+    /// Per body, how many obstacles it is checked against.
+    checked_count: Vec<usize>,
     /// The obstacles' world bounding boxes in a tree (leaf = obstacle
     /// index): the broad phase, so a check visits the obstacles near a
     /// body, not all of them.
@@ -312,13 +345,33 @@ impl CollisionModel {
             .map(|b| b.shapes.iter().map(|(_, s)| LocalSphere::of(s)).collect())
             .collect();
         let obstacle_spheres = obstacle_shapes.iter().map(|(_, s)| LocalSphere::of(s)).collect();
+        let body_radius = bodies
+            .iter()
+            .zip(&body_spheres)
+            .map(|(b, spheres): (&RobotBody, &Vec<LocalSphere>)| {
+                b.shapes
+                    .iter()
+                    .zip(spheres)
+                    .map(|((local, _), sphere)| (*local * sphere.center).length() + sphere.radius)
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        let shape_starts = std::iter::once(0)
+            .chain(bodies.iter().scan(0, |end, b| {
+                *end += b.shapes.len();
+                Some(*end)
+            }))
+            .collect();
         Ok(CollisionModel {
+            shape_starts,
             bodies,
             body_spheres,
             obstacle_spheres,
+            body_radius,
             obstacle_names,
             obstacles: obstacle_shapes,
             last_nearest: vec![std::cell::Cell::new(None); checked.len()],
+            checked_count: checked.iter().map(|row| row.iter().filter(|&&c| c).count()).collect(),
             checked,
             obstacle_tree,
             self_pairs,
@@ -364,10 +417,21 @@ impl CollisionModel {
         [Placed::new(*pose, shape, self.obstacle_spheres[o])]
     }
 
-    fn placed_bodies(&self, world_from_link: &[Isometry3<f64>]) -> Vec<Vec<Placed<'_>>> {
-        (0..self.bodies.len())
-            .map(|b| self.world_shapes(b, world_from_link))
-            .collect()
+    fn placed_bodies(&self, world_from_link: &[Isometry3<f64>]) -> Placement<'_> {
+        let mut shapes = Vec::with_capacity(self.shape_starts.last().copied().unwrap_or_default());
+        for (b, body) in self.bodies.iter().enumerate() {
+            let world = pose_to_rapier(&world_from_link[body.link]);
+            shapes.extend(
+                body.shapes
+                    .iter()
+                    .zip(&self.body_spheres[b])
+                    .map(|((local, s), sphere)| Placed::new(world * *local, s, *sphere)),
+            );
+        }
+        Placement {
+            shapes,
+            starts: &self.shape_starts,
+        }
     }
 
     /// Deepest contact between two shape sets, if they touch.
@@ -428,13 +492,17 @@ impl CollisionModel {
     /// check (robots move little between checks), so most subtrees are
     /// pruned at once; the result does not depend on it.
     fn nearest_obstacle(&self, b: usize, shapes: &[Placed<'_>]) -> f64 {
-        let Some(body) = Self::body_box(shapes) else {
-            return f64::INFINITY;
-        };
         let last = self.last_nearest[b].get();
         let start = last.map_or(f64::INFINITY, |o| {
             Self::distance_between(shapes, &self.placed_obstacle(o), f64::INFINITY)
         });
+        // The last nearest is the only obstacle the body is checked against.
+        if last.is_some() && self.checked_count[b] == 1 {
+            return start;
+        }
+        let Some(body) = Self::body_box(shapes) else {
+            return f64::INFINITY;
+        };
         let found = self.obstacle_tree.find_best(
             start,
             |node, _| box_distance(&body, &node.aabb()),
@@ -478,7 +546,7 @@ impl CollisionModel {
         let Some((from, checked)) = from else {
             return (self.check_placed(&end, None), Vec::new());
         };
-        let touches = self.first_touches_placed(&self.placed_bodies(from), &end, Some(&checked.clearance_m));
+        let touches = self.first_touches_placed(from, to, &end, Some(&checked.clearance_m));
         let unchanged: Vec<bool> = self.bodies.iter().map(|b| from[b.link] == to[b.link]).collect();
         (self.check_placed(&end, Some((&unchanged, checked))), touches)
     }
@@ -486,11 +554,11 @@ impl CollisionModel {
     /// The discrete check of placed bodies. With `reuse` (per body: whether
     /// it stands where it stood at a previous check, and that check's
     /// result), such bodies and pairs take their results from it.
-    fn check_placed(&self, shapes: &[Vec<Placed<'_>>], reuse: Option<(&[bool], &CheckResult)>) -> CheckResult {
+    fn check_placed(&self, shapes: &Placement<'_>, reuse: Option<(&[bool], &CheckResult)>) -> CheckResult {
         let mut clearance_m = vec![f64::INFINITY; self.bodies.len()];
         let mut contacts = Vec::new();
         let same = |b: usize| reuse.filter(|(unchanged, _)| unchanged[b]).map(|(_, r)| r);
-        for (b, body_shapes) in shapes.iter().enumerate() {
+        for (b, body_shapes) in shapes.bodies().enumerate() {
             if let Some(previous) = same(b) {
                 clearance_m[b] = previous.clearance_m[b];
                 contacts.extend(
@@ -557,42 +625,44 @@ impl CollisionModel {
     /// boxes meet are cast, and only pairs not already touching at `from`
     /// (their event is open).
     pub fn first_touches(&self, from: &[Isometry3<f64>], to: &[Isometry3<f64>]) -> Vec<(f64, Contact)> {
-        self.first_touches_placed(&self.placed_bodies(from), &self.placed_bodies(to), None)
+        self.first_touches_placed(from, to, &self.placed_bodies(to), None)
     }
 
     /// [`Self::first_touches`] of placed bodies; `start_clearance_m`, when
     /// given, is each body's clearance at `start` ([`CheckResult::clearance_m`]).
     fn first_touches_placed(
         &self,
-        start: &[Vec<Placed<'_>>],
-        end: &[Vec<Placed<'_>>],
+        from: &[Isometry3<f64>],
+        to: &[Isometry3<f64>],
+        end: &Placement<'_>,
         start_clearance_m: Option<&[f64]>,
     ) -> Vec<(f64, Contact)> {
-        // How far any point of each body moves over the step (at most):
-        // a pair farther apart than that at the start cannot touch.
-        let moved: Vec<f64> = start
-            .iter()
-            .zip(end)
-            .map(|(s0, s1)| Self::displacement(s0, s1))
-            .collect();
+        // Bodies are placed at the start, and their motion bounded shape by
+        // shape, only where the cheap bound of their link's motion allows
+        // a touch.
+        // Per body, once placed: its shapes at the start and how far they move.
+        let mut start: Vec<Option<(Vec<Placed<'_>>, f64)>> = (0..self.bodies.len()).map(|_| None).collect();
         // Cast only pairs that could touch and do not at the start.
         let could_touch = |d: f64, reach: f64| d > 0.0 && d < reach;
-        let boxes: Vec<Option<Aabb>> = start.iter().map(|s0| Self::body_box(s0)).collect();
         let mut found = Vec::new();
-        for (b, (s0, s1)) in start.iter().zip(end).enumerate() {
-            let (Some(box0), Some(box1)) = (boxes[b], Self::body_box(s1)) else {
-                continue;
-            };
+        for (b, s1) in end.bodies().enumerate() {
             // Every obstacle is at least the clearance away at the start.
-            if moved[b] == 0.0 || start_clearance_m.is_some_and(|d| d[b] >= moved[b]) {
+            let clear = |reach: f64| reach == 0.0 || start_clearance_m.is_some_and(|d| d[b] >= reach);
+            if clear(self.link_motion_bound(b, from, to)) || clear(self.place_start(b, from, end, &mut start)) {
                 continue;
             }
+            let Some((s0, reach)) = start[b].as_ref().map(|(s0, moved)| (s0.as_slice(), *moved)) else {
+                continue;
+            };
+            let (Some(box0), Some(box1)) = (Self::body_box(s0), Self::body_box(s1)) else {
+                continue;
+            };
             let swept = box0.merged(&box1);
             let mut near: Vec<usize> = self.obstacle_tree.intersect_aabb(&swept).map(|o| o as usize).collect();
             near.sort_unstable();
             for o in near.into_iter().filter(|&o| self.checked[b][o]) {
                 let obstacle = self.placed_obstacle(o);
-                if !could_touch(Self::distance_between(s0, &obstacle, moved[b]), moved[b]) {
+                if !could_touch(Self::distance_between(s0, &obstacle, reach), reach) {
                     continue;
                 }
                 let fixed = [(obstacle[0].pose, obstacle[0].pose)];
@@ -609,18 +679,24 @@ impl CollisionModel {
             }
         }
         for &(a, b) in &self.self_pairs {
-            let reach = moved[a] + moved[b];
-            let (Some(box_a), Some(box_b)) = (boxes[a], boxes[b]) else {
+            if self.link_motion_bound(a, from, to) + self.link_motion_bound(b, from, to) == 0.0 {
+                continue;
+            }
+            let reach = self.place_start(a, from, end, &mut start) + self.place_start(b, from, end, &mut start);
+            let (Some((start_a, _)), Some((start_b, _))) = (start[a].as_ref(), start[b].as_ref()) else {
+                continue;
+            };
+            let (Some(box_a), Some(box_b)) = (Self::body_box(start_a), Self::body_box(start_b)) else {
                 continue;
             };
             if reach == 0.0
                 || box_distance(&box_a, &box_b) >= reach
-                || !could_touch(Self::distance_between(&start[a], &start[b], reach), reach)
+                || !could_touch(Self::distance_between(start_a, start_b, reach), reach)
             {
                 continue;
             }
-            let motion_b: Vec<(Pose, Pose)> = start[b].iter().zip(&end[b]).map(|(p, q)| (p.pose, q.pose)).collect();
-            if let Some(hit) = Self::first_touch(&start[a], &end[a], &start[b], &motion_b) {
+            let motion_b: Vec<(Pose, Pose)> = start_b.iter().zip(&end[b]).map(|(p, q)| (p.pose, q.pose)).collect();
+            if let Some(hit) = Self::first_touch(start_a, &end[a], start_b, &motion_b) {
                 found.push((
                     hit.0,
                     Contact {
@@ -634,6 +710,42 @@ impl CollisionModel {
         found
     }
 
+    /// Places body `b` at `from` once (`start[b]`) with how far its points
+    /// move from there to `end` ([`Self::displacement`]); returns that.
+    fn place_start<'a>(
+        &'a self,
+        b: usize,
+        from: &[Isometry3<f64>],
+        end: &Placement<'a>,
+        start: &mut [Option<(Vec<Placed<'a>>, f64)>],
+    ) -> f64 {
+        start[b]
+            .get_or_insert_with(|| {
+                let s0 = self.world_shapes(b, from);
+                let moved = Self::displacement(&s0, &end[b]);
+                (s0, moved)
+            })
+            .1
+    }
+
+    /// An upper bound of how far any point of body `b` moves between two
+    /// poses of its link: `|Δt| + 2 sin(θ/2) · r`, with `θ` the link's turn
+    /// and `r` the largest distance from the link origin to a point of the
+    /// body (a point `p` moves by `|Δt + (R₁R₀⁻¹ − I) R₀p| ≤ |Δt| +
+    /// 2 sin(θ/2) |p|`; `sin(θ/2)` is the length of the turn quaternion's
+    /// vector part), grown by 10⁻⁹ of itself for rounding. Looser than
+    /// [`Self::displacement`], and needs no placing.
+    fn link_motion_bound(&self, b: usize, from: &[Isometry3<f64>], to: &[Isometry3<f64>]) -> f64 {
+        let link = self.bodies[b].link;
+        let (p, q) = (&from[link], &to[link]);
+        if p == q {
+            return 0.0;
+        }
+        let turn = q.rotation * p.rotation.inverse();
+        let chord = 2.0 * turn.imag().norm() * self.body_radius[b];
+        ((q.translation.vector - p.translation.vector).norm() + chord) * (1.0 + 1e-9)
+    }
+
     /// An upper bound of how far any point of a body's shapes moves from
     /// their poses in `s0` to those in `s1`: per shape, its bounding
     /// sphere's centre's displacement plus the turn's angle times the
@@ -642,6 +754,9 @@ impl CollisionModel {
         s0.iter()
             .zip(s1)
             .map(|(p, q)| {
+                if p.pose == q.pose {
+                    return 0.0;
+                }
                 let angle = (q.pose.rotation * p.pose.rotation.inverse()).to_scaled_axis().length();
                 (q.center - p.center).length() + angle * p.radius
             })

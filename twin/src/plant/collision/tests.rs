@@ -494,7 +494,7 @@ fn the_broad_phase_finds_exactly_what_every_pair_finds() {
             let got = world.check(&poses);
             // Every pair, the slow way.
             let shapes = world.placed_bodies(&poses);
-            for (b, body) in shapes.iter().enumerate() {
+            for (b, body) in shapes.bodies().enumerate() {
                 let mut clearance = f64::INFINITY;
                 let mut contacts = Vec::new();
                 for o in 0..obstacles.len() {
