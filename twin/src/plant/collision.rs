@@ -46,7 +46,9 @@
 //! through [`CollisionModel::check_step`], which gives the same results
 //! for less: a body whose link has not moved keeps the previous check's
 //! clearance and contacts, and a body is placed at the step's start only
-//! when a bound of its link's motion exceeds its clearance there. An event opens at
+//! when a bound of its link's motion exceeds its clearance there.
+//!
+//! An event opens at
 //! the first check where a pair touches; its `start_s` is the pair's first
 //! touch inside the step that ended there (interpolated: the continuous
 //! detection's time of impact), else that check's time. It closes at the
@@ -637,10 +639,9 @@ impl CollisionModel {
         end: &Placement<'_>,
         start_clearance_m: Option<&[f64]>,
     ) -> Vec<(f64, Contact)> {
-        // Bodies are placed at the start, and their motion bounded shape by
-        // shape, only where the cheap bound of their link's motion allows
-        // a touch.
-        // Per body, once placed: its shapes at the start and how far they move.
+        // Per body, once placed: its shapes at the start and how far they
+        // move. A body is placed, and its motion bounded shape by shape,
+        // only where the cheap bound of its link's motion allows a touch.
         let mut start: Vec<Option<(Vec<Placed<'_>>, f64)>> = (0..self.bodies.len()).map(|_| None).collect();
         // Cast only pairs that could touch and do not at the start.
         let could_touch = |d: f64, reach: f64| d > 0.0 && d < reach;

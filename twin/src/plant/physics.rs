@@ -12,9 +12,10 @@
 //! links to update each substep (`heavy_arm` 8 → 6: 36× → 44× real
 //! time). Masses and inertias come from each link's `<inertial>`;
 //! colliders from its `<collision>` shapes (boxes, cylinders, spheres,
-//! convex hulls of meshes) carry no mass. The robot's own links never collide with each other (they
-//! share a collision group that filters itself out); other bodies added later
-//! in the default groups still collide with them.
+//! convex hulls of meshes) carry no mass. The robot's own links never
+//! collide with each other (they share a collision group that filters
+//! itself out); other bodies added later in the default groups still
+//! collide with them.
 //!
 //! # Motor model
 //! Drives use rapier's **acceleration-based** motor model: each step the
