@@ -405,14 +405,22 @@ impl CollisionModel {
         &self.self_pairs
     }
 
-    fn world_shapes<'a>(&'a self, body: usize, world_from_link: &[Isometry3<f64>]) -> Vec<Placed<'a>> {
+    /// Body `body`'s shapes placed where `world_from_link` puts its link.
+    fn body_placed<'a>(
+        &'a self,
+        body: usize,
+        world_from_link: &[Isometry3<f64>],
+    ) -> impl Iterator<Item = Placed<'a>> + 'a {
         let b = &self.bodies[body];
         let world = pose_to_rapier(&world_from_link[b.link]);
         b.shapes
             .iter()
             .zip(&self.body_spheres[body])
-            .map(|((local, s), sphere)| Placed::new(world * *local, s, *sphere))
-            .collect()
+            .map(move |((local, s), sphere)| Placed::new(world * *local, s, *sphere))
+    }
+
+    fn world_shapes<'a>(&'a self, body: usize, world_from_link: &[Isometry3<f64>]) -> Vec<Placed<'a>> {
+        self.body_placed(body, world_from_link).collect()
     }
 
     fn placed_obstacle(&self, o: usize) -> [Placed<'_>; 1] {
@@ -422,14 +430,8 @@ impl CollisionModel {
 
     fn placed_bodies(&self, world_from_link: &[Isometry3<f64>]) -> Placement<'_> {
         let mut shapes = Vec::with_capacity(self.shape_starts.last().copied().unwrap_or_default());
-        for (b, body) in self.bodies.iter().enumerate() {
-            let world = pose_to_rapier(&world_from_link[body.link]);
-            shapes.extend(
-                body.shapes
-                    .iter()
-                    .zip(&self.body_spheres[b])
-                    .map(|((local, s), sphere)| Placed::new(world * *local, s, *sphere)),
-            );
+        for b in 0..self.bodies.len() {
+            shapes.extend(self.body_placed(b, world_from_link));
         }
         Placement {
             shapes,
