@@ -983,13 +983,13 @@ fn dof_axis(kind: JointKind) -> JointAxis {
     }
 }
 
-/// The multibody joint for a URDF joint. rapier moves along/about the local
-/// X axis, so both joint frames are turned to put X on the URDF axis:
-/// `parent_from_child(q) = parent_from_joint · R · motion_x(q) · R⁻¹
-/// = parent_from_joint · motion_axis(q)` with `R·x̂ = axis`.
-/// The joint between its parent's body (`body_from_parent`: the parent
-/// link's pose on it when the parent is merged into an ancestor's body)
-/// and its child's.
+/// The multibody joint for a URDF joint, between its parent's body
+/// (`body_from_parent`: the parent link's pose on it when the parent is
+/// merged into an ancestor's body) and its child's. rapier moves
+/// along/about the local X axis, so both joint frames are turned to put X
+/// on the URDF axis: `parent_from_child(q) = parent_from_joint · R ·
+/// motion_x(q) · R⁻¹ = parent_from_joint · motion_axis(q)` with
+/// `R·x̂ = axis`.
 fn rapier_joint(joint: &Joint, body_from_parent: Option<rapier3d_f64::math::Pose>) -> GenericJoint {
     let x_to_axis = UnitQuaternion::rotation_between(&Vector3::x(), &joint.axis)
         .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::z_axis(), std::f64::consts::PI));
