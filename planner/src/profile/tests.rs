@@ -1,5 +1,6 @@
 //! Known values and seeded random invariants of the profile planner.
 
+use super::peak::softened_excess;
 use super::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
