@@ -1,5 +1,5 @@
-//! Logix cam instructions in the motion task: MCCP, MAPC, MRP, and the MAJ
-//! jog / MAS stop that drive masters.
+//! Logix cam instructions in the motion task: MCCP, MAPC, MRP (`cam/mrp.rs`),
+//! and the MAJ jog / MAS stop that drive masters (`cam/jog.rs`).
 //!
 //! Each instruction executes inside its call (the rung's false-to-true
 //! transition, as in one scan): MCCP calculates, MAPC starts or schedules,
@@ -50,14 +50,16 @@ use super::servo::Need;
 use super::superimposed::SuperKind;
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
 use crate::instruction::MotionInstructionBits;
-use crate::jog::{Jog, JogError, MajOperands, MasOperands, Stop};
+use crate::jog::JogError;
 use crate::mapc::{
     CamEvent, CamRequest, Mapc, MapcError, MapcOperands, MasterReference, PositionCamAxis, SlaveCamStatus,
 };
 use crate::mccp::{CamElement, CamProfile, CamProfileTag, MccpError};
-use crate::mrp::{Mrp, MrpError};
-use crate::profile::{Limits, Profile, Sample, State};
+use crate::profile::{Limits, Profile, Sample};
 use std::sync::Arc;
+
+mod jog;
+mod mrp;
 
 /// Handle of a `CAM_PROFILE` tag.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -501,186 +503,6 @@ impl MotionTask {
     /// The cam coordinate of the running cam on `axis` (cam master units).
     pub fn cam_coordinate(&self, axis: AxisHandle) -> Option<f64> {
         self.cam.axes.get(axis.0 as usize).and_then(|c| c.cam.cam_coordinate())
-    }
-
-    /// MRP on `axis` (Type and Position Select as DINTs).
-    ///
-    /// # Errors
-    /// ERR 13 with EXERR 2, 3 or 4; EXERR 4 also when the redefined position
-    /// would lie outside the axis' soft travel limits (see [`crate::mrp`]).
-    /// A failed MRP redefines nothing.
-    pub fn mrp(
-        &mut self,
-        axis: AxisHandle,
-        motion_control: InstructionHandle,
-        kind: i32,
-        select: i32,
-        position: f64,
-    ) -> Result<(), MrpError> {
-        self.begin(motion_control);
-        let mrp = match Mrp::new(kind, select, position).and_then(|m| {
-            self.check_state(axis, Need::Any).map_err(MrpError::State)?;
-            Ok(m)
-        }) {
-            Ok(m) => m,
-            Err(e) => {
-                self.fail(motion_control, e.err(), e.exerr(), 0);
-                return Err(e);
-            }
-        };
-        let a = &self.axes[axis.0 as usize];
-        let delta = mrp.delta(a.command.position, a.actual);
-        // Soft overtravel watches the actual position (`crate::servo`): a
-        // redefinition outside the limits raises the exception at once.
-        let overtravel = crate::servo::MotionFaults::beyond(a.config.soft_travel_limits, a.actual + delta);
-        self.redefine_position(axis, delta);
-        self.bits(motion_control).dn = true;
-        if let Some(bit) = overtravel {
-            self.raise_soft_overtravel(axis, bit);
-        }
-        Ok(())
-    }
-
-    /// Shifts `axis`' position frame by `delta`: command and actual
-    /// positions, the motion in process on it and the cam's slave offset
-    /// (MRP, MAH).
-    pub(super) fn redefine_position(&mut self, axis: AxisHandle, delta: f64) {
-        let a = &mut self.axes[axis.0 as usize];
-        a.command.position += delta;
-        a.actual += delta;
-        if let Some(job) = a.job.as_mut() {
-            job.profile.shift_position(delta);
-            job.target += delta;
-        }
-        let c = self.cam_axis(axis);
-        c.redefined += delta;
-        if let Some(r) = c.ramp.as_mut() {
-            r.profile.shift_position(delta);
-        }
-        c.cam.redefine_slave(delta);
-    }
-
-    /// MAJ: jogs `axis` at the operands' speed, from its current state.
-    ///
-    /// # Errors
-    /// ERR 13 with EXERR = the operand; the axis-state errors of
-    /// [`crate::servo`] (ERR 9 for a jog further beyond an exceeded soft
-    /// travel limit).
-    pub fn maj(
-        &mut self,
-        axis: AxisHandle,
-        motion_control: InstructionHandle,
-        operands: &MajOperands,
-    ) -> Result<(), JogError> {
-        let jog = Jog::new(operands, &self.axes[axis.0 as usize].config);
-        let jog = self.begin_validated(motion_control, jog)?;
-        self.state_allows(axis, motion_control, Need::Motion)?;
-        if jog.velocity != 0.0
-            && let Err(e) = self.check_overtravel(axis, jog.velocity)
-        {
-            self.fail(motion_control, e.err(), 0, 0);
-            return Err(JogError::State(e));
-        }
-        self.fold_superimposed(axis);
-        self.abort_move(axis);
-        self.end_cams(axis);
-        self.end_gear(axis);
-        self.end_ramp(axis);
-        let state = self.axes[axis.0 as usize].command.state();
-        self.cam_axis(axis).ramp = Some(RampRun {
-            profile: Profile::to_velocity(state, jog.velocity, &jog.limits),
-            t_s: 0.0,
-            jog: Some(motion_control),
-            mv: None,
-            stop: None,
-        });
-        let b = self.bits(motion_control);
-        b.dn = true;
-        b.ip = true;
-        Ok(())
-    }
-
-    /// MAS: stops what the Stop Type names on `axis` and ramps it to rest.
-    ///
-    /// # Errors
-    /// ERR 13 with EXERR = the operand.
-    pub fn mas(
-        &mut self,
-        axis: AxisHandle,
-        motion_control: InstructionHandle,
-        operands: &MasOperands,
-    ) -> Result<(), JogError> {
-        let stop = Stop::new(operands, &self.axes[axis.0 as usize].config);
-        let stop = self.begin_validated(motion_control, stop)?;
-        self.state_allows(axis, motion_control, Need::Any)?;
-        // A preloaded Pending cam (no cam active) is part of the position
-        // cam process too: the stop resets its Pending Status.
-        let cam_running = self.cam.axes.get(axis.0 as usize).is_some_and(|c| {
-            let s = c.cam.status();
-            s.position_cam || s.pending
-        });
-        let (jogging, _, mam) = self.jog_and_stop_status(axis);
-        let moving = self.axes[axis.0 as usize].job.is_some() || mam;
-        let mut stops = false;
-        if stop.scope.position_cam && cam_running {
-            self.end_cams(axis);
-            stops = true;
-        }
-        if stop.scope.gear && self.end_gear(axis) {
-            stops = true;
-        }
-        if stop.scope.jog && jogging {
-            self.end_ramp(axis);
-            stops = true;
-        }
-        if stop.scope.moves && moving {
-            self.abort_move(axis);
-            if mam {
-                self.end_ramp(axis);
-            }
-            stops = true;
-        }
-        let sup_named = match self.superimposed_moving(axis) {
-            Some(SuperKind::Jog) => stop.scope.jog,
-            Some(SuperKind::Move) => stop.scope.moves,
-            _ => false,
-        };
-        if sup_named {
-            self.stop_superimposed(axis);
-        }
-        self.bits(motion_control).dn = true;
-        let state = self.axes[axis.0 as usize].command.state();
-        if !stops || state.velocity == 0.0 {
-            if stops {
-                self.axes[axis.0 as usize].command = Sample {
-                    position: state.position,
-                    ..Sample::default()
-                };
-            }
-            self.bits(motion_control).pc = true;
-            return Ok(());
-        }
-        let vmax = self.axes[axis.0 as usize].config.max_velocity.max(state.velocity.abs());
-        let limits = Limits::trapezoidal(vmax, stop.deceleration, stop.deceleration).map_err(|_| {
-            JogError::ParameterOutOfRange {
-                operand: crate::catalogue::MAS.exerr("Decel Rate"),
-                value: stop.deceleration,
-            }
-        })?;
-        let state = State {
-            acceleration: 0.0,
-            ..state
-        };
-        self.end_ramp(axis);
-        self.cam_axis(axis).ramp = Some(RampRun {
-            profile: Profile::to_velocity(state, 0.0, &limits),
-            t_s: 0.0,
-            jog: None,
-            mv: None,
-            stop: Some(motion_control),
-        });
-        self.bits(motion_control).ip = true;
-        Ok(())
     }
 
     /// Hook for [`MotionTask::stop_all_axes`]: ends the cams and the jog on
