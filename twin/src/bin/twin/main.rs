@@ -1,0 +1,365 @@
+//! The `twin` command line: runs a scene headless and writes frames, a
+//! trace, a summary and a Rerun recording; or checks a scene.
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use twin::run::Twin;
+use twin::scene;
+
+mod bench;
+mod run;
+
+const EXAMPLES: &str = "\
+Examples:
+  twin run scenes/indexing_table.toml --frames out --save out.rrd --trace out.csv
+  twin run scenes/indexing_table.toml --connect            # stream to a Rerun viewer on 127.0.0.1:9876
+  twin run scenes/indexing_table.toml --no-render --summary out.json --duration 0.5
+  twin run scenes/scara_pick.toml --no-render --plant kinematic   # program test, no dynamics
+  twin check scenes/indexing_table.toml
+
+Exit codes:
+  0 success; 2 an instruction reported an error; 3 a collision aborted the run;
+  4 a major controller fault stopped it; 64 usage error; 65 invalid input
+  (scene, routine, URDF, mesh); 74 an output cannot be written or a viewer reached";
+
+/// Exit codes (README, "Errors and exit codes"): 2, 3 and 4 are what a run reports,
+/// the others follow sysexits.h.
+mod exit {
+    /// An instruction reported an error; the run went to its end.
+    pub const INSTRUCTION_ERROR: u8 = 2;
+    /// A collision with `collision.reaction = "abort"` ended the run.
+    pub const COLLISION_ABORT: u8 = 3;
+    /// A major controller fault stopped the run.
+    pub const MAJOR_FAULT: u8 = 4;
+    /// The physics state became non-finite and stopped the run.
+    pub const PHYSICS_FAULT: u8 = 5;
+    /// Unknown flag or subcommand, a bad flag value, a flag this build lacks.
+    pub const USAGE: u8 = 64;
+    /// The scene, a routine, the URDF or a mesh is invalid.
+    pub const INVALID_INPUT: u8 = 65;
+    /// An output cannot be written, or a viewer cannot be reached.
+    pub const OUTPUT: u8 = 74;
+}
+
+/// Physics-backed digital twin for PLC motion programs.
+#[derive(Debug, Parser)]
+#[command(name = "twin", version, about, after_help = EXAMPLES)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run a scene: program → planner → physics, with optional outputs.
+    #[command(after_help = EXAMPLES)]
+    Run(RunArgs),
+    /// Parse and validate a scene (file, URDF, meshes, program) without running it.
+    #[command(after_help = "Example:\n  twin check scenes/indexing_table.toml")]
+    Check {
+        /// Scene file (TOML).
+        scene: PathBuf,
+    },
+    /// Measure scenes: the physics plant against a bare rapier simulation
+    /// replaying the same drive commands, the kinematic plant, and where a
+    /// run with every output spends its time.
+    #[command(after_help = BENCH_HELP)]
+    Bench(BenchArgs),
+}
+
+const BENCH_HELP: &str = "\
+Columns, per scene (best of --runs plain runs; one more run records the
+drive commands and times the collision checks; the outputs run once):
+  physics xRT     simulated / wall time of the physics plant, no outputs
+  steps/s         the twin's physics steps per wall second, no outputs
+  bare steps/s    a bare simulation of the same robot (drives, step, substeps)
+                  replaying the drive commands the twin gave each step
+  twin/bare       how much longer the twin takes than the bare simulation
+  kinematic xRT   simulated / wall time of the kinematic plant (--plant kinematic)
+  collision µs    the live collision checks (discrete and continuous) per
+                  physics step, µs, no outputs (- without [collision])
+  then the share of a run with a trace, a recording and frames spent in the
+  program, the planner, the pre-flight sweeps, the physics, the live collision
+  checks, the trace, the recording and the frames (the rest: bookkeeping).
+
+Example:
+  twin bench scenes/ --runs 3";
+
+#[derive(Debug, clap::Args)]
+struct BenchArgs {
+    /// Scene files, or folders whose `*.toml` scenes are measured (default: scenes/).
+    scenes: Vec<PathBuf>,
+    /// Timed runs per scene and plant; the best counts.
+    #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
+    runs: u32,
+    /// Leave the frames out of the outputs run (no GPU or Vulkan needed).
+    #[arg(long)]
+    no_render: bool,
+}
+
+#[derive(Debug, clap::Args)]
+struct RunArgs {
+    /// Scene file (TOML).
+    scene: PathBuf,
+    /// Write PNG frames of every camera into DIR (`<camera>-<frame>.png`).
+    #[arg(long, value_name = "DIR")]
+    frames: Option<PathBuf>,
+    /// Save a Rerun recording to FILE.rrd.
+    #[arg(long, value_name = "FILE.rrd")]
+    save: Option<PathBuf>,
+    /// Stream to a Rerun viewer (default address 127.0.0.1:9876).
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:9876")]
+    connect: Option<String>,
+    /// Start a Rerun viewer (`rerun` on PATH) and stream to it.
+    #[arg(long)]
+    spawn: bool,
+    /// Write the recording to standard output (`| rerun -`); the summary
+    /// then goes to stderr.
+    #[arg(long)]
+    stdout: bool,
+    /// Serve the recording over gRPC at ADDR (default 127.0.0.1:9876; give
+    /// 0.0.0.0:9876 for other machines) for viewers to connect to
+    /// (`rerun rerun+http://ADDR/proxy`); after the run it goes on
+    /// serving until Ctrl-C.
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:9876")]
+    serve: Option<String>,
+    /// Write the per-update trace to FILE.csv.
+    #[arg(long, value_name = "FILE.csv")]
+    trace: Option<PathBuf>,
+    /// Write the run summary to FILE.json.
+    #[arg(long, value_name = "FILE.json")]
+    summary: Option<PathBuf>,
+    /// Do not render frames (no GPU or Vulkan needed).
+    #[arg(long)]
+    no_render: bool,
+    /// Run for S seconds of simulated time instead of the scene's
+    /// `duration_s` (steps after the end are not reached).
+    #[arg(long, value_name = "S", value_parser = parse_duration)]
+    duration: Option<f64>,
+    /// How the plant moves the joints, instead of the scene's `plant`:
+    /// `physics` (drives, gravity, contacts) or `kinematic` (the joints
+    /// follow the setpoints exactly, as a CIP axis in Controller Loop Back
+    /// test mode; for program tests, many times faster).
+    #[arg(long, value_name = "MODE", value_parser = parse_plant)]
+    plant: Option<scene::PlantMode>,
+}
+
+/// A `--plant` mode by name.
+fn parse_plant(text: &str) -> Result<scene::PlantMode, String> {
+    scene::PlantMode::NAMES
+        .iter()
+        .find(|(name, _)| *name == text.trim())
+        .map(|(_, mode)| *mode)
+        .ok_or_else(|| format!("expected physics or kinematic, found {text:?}"))
+}
+
+/// A `--duration`: seconds, positive, finite, at most 10⁶ (11.6 days).
+fn parse_duration(text: &str) -> Result<f64, String> {
+    let s: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("expected seconds (a number), found {text:?}"))?;
+    if !(s > 0.0 && s <= scene::MAX_DURATION_S) {
+        return Err(format!("expected seconds in (0, 1e6], found {text}"));
+    }
+    Ok(s)
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // --help and --version print to stdout and succeed; a usage error
+        // prints clap's message (with a suggestion for a near miss).
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { exit::USAGE } else { 0 });
+        }
+    };
+    let renders = match &cli.command {
+        Command::Run(args) => args.frames.is_some() && !args.no_render,
+        Command::Bench(args) => !args.no_render,
+        Command::Check { .. } => false,
+    };
+    if renders && let Some(code) = rerun_with_runtime_dir() {
+        return code;
+    }
+    let result = match cli.command {
+        Command::Check { scene } => check(&scene),
+        Command::Run(args) => run::run(&args),
+        Command::Bench(args) => bench::bench(&args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            // The error and its causes on one line, each cause once.
+            let mut text = String::new();
+            for cause in e.chain() {
+                let part = cause.to_string();
+                if !text.contains(&part) {
+                    if !text.is_empty() {
+                        text.push_str(": ");
+                    }
+                    text.push_str(&part);
+                }
+            }
+            eprintln!("error: {}", text.replace('\n', " "));
+            ExitCode::from(exit_code(&e))
+        }
+    }
+}
+
+/// Mesa's Vulkan drivers print "error: XDG_RUNTIME_DIR is invalid or not
+/// set in the environment" when a process without one renders (a CI box, a
+/// container, `sudo`). When it is missing or unusable, this runs the same
+/// command again with a private one (`<tmp>/twin-runtime-<uid>`, mode 0700,
+/// as the XDG spec asks) and returns its exit code; `None` when there is
+/// nothing to do (or no such folder can be made: the run goes on as is).
+#[cfg(unix)]
+fn rerun_with_runtime_dir() -> Option<ExitCode> {
+    use std::os::unix::fs::{DirBuilderExt as _, MetadataExt as _, PermissionsExt as _};
+    let uid = fs::metadata("/proc/self").ok()?.uid();
+    let usable = |dir: &Path| {
+        fs::metadata(dir).is_ok_and(|m| m.is_dir() && m.uid() == uid && m.permissions().mode() & 0o077 == 0)
+    };
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| usable(Path::new(&d))) {
+        return None;
+    }
+    let dir = std::env::temp_dir().join(format!("twin-runtime-{uid}"));
+    let _ = fs::DirBuilder::new().mode(0o700).create(&dir);
+    if !usable(&dir) {
+        return None;
+    }
+    let status = std::process::Command::new(std::env::current_exe().ok()?)
+        .args(std::env::args_os().skip(1))
+        .env("XDG_RUNTIME_DIR", &dir)
+        .status()
+        .ok()?;
+    Some(ExitCode::from(
+        status.code().map_or(1, |c| u8::try_from(c).unwrap_or(1)),
+    ))
+}
+
+#[cfg(not(unix))]
+fn rerun_with_runtime_dir() -> Option<ExitCode> {
+    None
+}
+
+/// The exit code of a failed command, from what failed.
+fn exit_code(e: &anyhow::Error) -> u8 {
+    use twin::output::session::OutputError;
+    for cause in e.chain() {
+        if cause.is::<scene::SceneError>() || cause.is::<twin::run::RunError>() {
+            return exit::INVALID_INPUT;
+        }
+        if let Some(OutputError::NoRerun { .. }) = cause.downcast_ref::<OutputError>() {
+            return exit::USAGE;
+        }
+        if cause.is::<run::Refused>() {
+            return exit::USAGE;
+        }
+    }
+    exit::OUTPUT
+}
+
+fn load(path: &Path) -> Result<Twin> {
+    let scene = scene::load(path)?;
+    Ok(Twin::new(scene)?)
+}
+
+fn check(path: &Path) -> Result<ExitCode> {
+    let twin = load(path)?;
+    let scene = twin.scene();
+    println!(
+        "{}: ok ({} axes, {} program steps, {} tasks, {} cameras, {:.3} s)",
+        path.display(),
+        twin.plant().axes().len(),
+        scene.program.len(),
+        scene.tasks.len(),
+        scene.cameras.len(),
+        scene.duration_s
+    );
+    print!("{}", resolved(&twin));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// What a scene resolved to: the robot, each axis with its joint, units
+/// and limits, the cameras and the tags.
+fn resolved(twin: &Twin) -> String {
+    use std::fmt::Write as _;
+    let (scene, plant) = (twin.scene(), twin.plant());
+    let model = plant.model();
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "robot: {} ({} links, {} joints); coarse update {} ms, physics step {} ms",
+        scene.robot.urdf.display(),
+        model.links.len(),
+        model.joints.len(),
+        scene.coarse_update_ms,
+        scene.physics_step_ms
+    );
+    if scene.plant != scene::PlantMode::Physics {
+        let _ = writeln!(s, "plant: {} (the joints follow the setpoints)", scene.plant.name());
+    }
+    if !scene.axes.is_empty() {
+        let _ = writeln!(s, "axes:");
+    }
+    for axis in &scene.axes {
+        let c = &axis.config;
+        let u = axis.units;
+        let joint = match axis
+            .joint
+            .as_deref()
+            .and_then(|j| model.joint_by_name(j).map(|i| (j, i)))
+        {
+            Some((name, i)) => {
+                let joint = &model.joints[i.0];
+                let si = if matches!(u, scene::Units::Deg | scene::Units::Rad) {
+                    "rad"
+                } else {
+                    "m"
+                };
+                let limits = joint.limits.as_ref().map_or(String::new(), |l| {
+                    format!(", URDF limits [{}, {}] {si}", l.lower, l.upper)
+                });
+                let kind = format!("{:?}", joint.kind).to_lowercase();
+                format!("joint {name} ({kind}{limits}), 1 {u} = {} {si}", u.si_per_unit())
+            }
+            None => "virtual (no joint)".to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "  {} ({}, {u}): {joint}; max velocity {} {u}/s, acceleration {} {u}/s², deceleration {} {u}/s², jerk {}",
+            axis.name,
+            axis.kind,
+            c.max_velocity,
+            c.max_acceleration,
+            c.max_deceleration,
+            if c.max_jerk > 0.0 {
+                format!("{} {u}/s³", c.max_jerk)
+            } else {
+                "none (trapezoidal)".to_string()
+            },
+        );
+    }
+    if !scene.cameras.is_empty() {
+        let _ = writeln!(s, "cameras:");
+    }
+    for c in &scene.cameras {
+        let _ = writeln!(
+            s,
+            "  {}: {}x{} px at {} fps, {}° field of view, from {:?} m looking at {:?} m",
+            c.name, c.width, c.height, c.fps, c.fov_deg, c.position_m, c.target_m
+        );
+    }
+    if !scene.tags.is_empty() {
+        let _ = writeln!(s, "tags:");
+    }
+    for t in &scene.tags {
+        let _ = writeln!(s, "  {}: {}", t.name, t.ty);
+    }
+    s
+}
