@@ -93,7 +93,9 @@ use std::collections::BTreeMap;
 
 mod build;
 mod live;
-use build::{allowed_pairs, pose_from_xyz_rpy_deg, reach_of, robot_bodies, scene_shape, self_pairs, shape_of, vec3};
+mod sweep;
+use build::{allowed_pairs, obstacle_shapes, reach_of, robot_bodies, self_pairs, vec3};
+pub use sweep::{MAX_REFINE_SAMPLES, MAX_SWEEP_SAMPLES, PathSampler, PredictedCollision, SWEEP_TOLERANCE, SweepReport};
 
 /// How much a body's bounding box is grown for the broad phase, m: shapes
 /// that just touch (distance 0) always have overlapping boxes.
@@ -251,6 +253,18 @@ struct RobotBody {
     shapes: Vec<(Pose, SharedShape)>,
 }
 
+impl RobotBody {
+    /// The radius about the carrying link's origin of the ball that holds
+    /// every shape of the body, given their bounding spheres.
+    fn radius(&self, spheres: &[LocalSphere]) -> f64 {
+        self.shapes
+            .iter()
+            .zip(spheres)
+            .map(|((local, _), sphere)| (*local * sphere.center).length() + sphere.radius)
+            .fold(0.0, f64::max)
+    }
+}
+
 /// The collision world of a scene.
 #[derive(Clone)]
 pub struct CollisionModel {
@@ -305,14 +319,7 @@ impl CollisionModel {
         settings: &CollisionSettings,
     ) -> Result<CollisionModel, CollisionModelError> {
         let bodies = robot_bodies(model, settings)?;
-        let mut obstacle_shapes = Vec::new();
-        for o in obstacles {
-            let geometry = scene_shape(&o.shape, &o.name)?;
-            let world_from_obstacle = pose_from_xyz_rpy_deg(o.position_m, o.rpy_deg);
-            let (local, shape) = shape_of(&geometry, settings.meshes, &o.name)?
-                .ok_or_else(|| CollisionModelError::DegenerateMesh { body: o.name.clone() })?;
-            obstacle_shapes.push((pose_to_rapier(&(world_from_obstacle * local)), shape));
-        }
+        let obstacle_shapes = obstacle_shapes(obstacles, settings)?;
         let obstacle_names: Vec<String> = obstacles.iter().map(|o| o.name.clone()).collect();
         let allowed = allowed_pairs(&bodies, &obstacle_names, settings)?;
         let is_allowed = |a: Body, b: Body| {
@@ -320,45 +327,30 @@ impl CollisionModel {
             pair.sort();
             allowed.contains(&pair)
         };
-        let mut obstacle_pairs = Vec::new();
-        for b in 0..bodies.len() {
-            for o in 0..obstacle_shapes.len() {
-                if !is_allowed(Body::Robot(b), Body::Obstacle(o)) {
-                    obstacle_pairs.push((b, o));
-                }
-            }
-        }
+        let checked: Vec<Vec<bool>> = (0..bodies.len())
+            .map(|b| {
+                (0..obstacle_shapes.len())
+                    .map(|o| !is_allowed(Body::Robot(b), Body::Obstacle(o)))
+                    .collect()
+            })
+            .collect();
         let self_pairs = if settings.self_collision {
             self_pairs(model, &bodies, is_allowed)
         } else {
             Vec::new()
         };
         let reach = bodies.iter().map(|b| reach_of(model, b)).collect();
-        let mut checked = vec![vec![false; obstacle_shapes.len()]; bodies.len()];
-        for &(b, o) in &obstacle_pairs {
-            checked[b][o] = true;
-        }
         let boxes: Vec<Aabb> = obstacle_shapes
             .iter()
             .map(|(pose, shape)| shape.compute_aabb(pose))
             .collect();
         let obstacle_tree = Bvh::from_leaves(BvhBuildStrategy::default(), &boxes);
-        let body_spheres = bodies
+        let body_spheres: Vec<Vec<LocalSphere>> = bodies
             .iter()
             .map(|b| b.shapes.iter().map(|(_, s)| LocalSphere::of(s)).collect())
             .collect();
         let obstacle_spheres = obstacle_shapes.iter().map(|(_, s)| LocalSphere::of(s)).collect();
-        let body_radius = bodies
-            .iter()
-            .zip(&body_spheres)
-            .map(|(b, spheres): (&RobotBody, &Vec<LocalSphere>)| {
-                b.shapes
-                    .iter()
-                    .zip(spheres)
-                    .map(|((local, _), sphere)| (*local * sphere.center).length() + sphere.radius)
-                    .fold(0.0, f64::max)
-            })
-            .collect();
+        let body_radius = bodies.iter().zip(&body_spheres).map(|(b, s)| b.radius(s)).collect();
         let shape_starts = std::iter::once(0)
             .chain(bodies.iter().scan(0, |end, b| {
                 *end += b.shapes.len();
@@ -609,224 +601,6 @@ impl CollisionModel {
         }
         d
     }
-
-    /// Sweeps `path` (see the module docs for the bound): the first sample
-    /// where a checked pair touches, if any.
-    pub fn sweep(&self, model: &RobotModel, path: &dyn PathSampler, resolution_m: f64) -> SweepReport {
-        let rates = path.joint_rate_bounds();
-        let lipschitz: Vec<f64> = self
-            .reach
-            .iter()
-            .map(|r| r.iter().zip(&rates).map(|(r, q)| r * q.abs()).sum())
-            .collect();
-        // A self pair's relative motion is bounded by the sum of both bodies'.
-        let mut pair_rate = lipschitz.clone();
-        for &(a, b) in &self.self_pairs {
-            let both = lipschitz[a] + lipschitz[b];
-            pair_rate[a] = pair_rate[a].max(both);
-            pair_rate[b] = pair_rate[b].max(both);
-        }
-        let max_rate = pair_rate.iter().copied().fold(0.0, f64::max);
-        let length = path.length();
-        let min_step = if max_rate > 0.0 {
-            resolution_m / max_rate
-        } else {
-            f64::INFINITY
-        };
-        // Bounded work: at most MAX_SWEEP_SAMPLES poses at the nominal
-        // steps; a path that would need more at this resolution is stepped
-        // more coarsely.
-        let min_step = min_step.max(length / MAX_SWEEP_SAMPLES as f64);
-        let tolerance = (SWEEP_TOLERANCE * length).max(f64::MIN_POSITIVE);
-        let mut sweep = Sweep {
-            world: self,
-            model,
-            path,
-            rates: &pair_rate,
-            tolerance,
-            samples: 0,
-            exact: true,
-        };
-        let mut report = SweepReport {
-            collision: None,
-            samples: 0,
-            step_bound: tolerance.min(length.max(0.0)),
-            length,
-        };
-        let mut s = 0.0;
-        let mut d = sweep.distances(s);
-        let mut hit = touching(&d).then_some(s);
-        while hit.is_none() && s < length {
-            let safe = d
-                .iter()
-                .zip(&pair_rate)
-                .filter(|(_, r)| **r > 0.0)
-                .map(|(d, r)| d / r)
-                .fold(f64::INFINITY, f64::min);
-            let step = safe.max(min_step);
-            // The budget's last pose is the path's end (rounding in the
-            // steps above may leave a sliver).
-            let next = if step.is_finite() && sweep.samples < MAX_SWEEP_SAMPLES {
-                (s + step).min(length)
-            } else {
-                length
-            };
-            let d_next = sweep.distances(next);
-            // A step longer than the distances allow could pass over a
-            // contact: the first one in between, if any.
-            hit = if next - s > safe {
-                sweep.first_contact((s, &d), (next, &d_next))
-            } else {
-                touching(&d_next).then_some(next)
-            };
-            (s, d) = (next, d_next);
-        }
-        report.samples = sweep.samples;
-        if !sweep.exact {
-            report.step_bound = min_step.min(length.max(0.0));
-        }
-        let Some(at) = hit else {
-            return report;
-        };
-        let poses = model.world_from_link(&path.joint_positions(at));
-        let check = self.check(&poses);
-        if let Some(c) = check.contacts.iter().max_by(|x, y| x.depth_m.total_cmp(&y.depth_m)) {
-            report.collision = Some(PredictedCollision {
-                parameter: at,
-                time_s: path.time_s(at),
-                a: self.name(c.a).to_string(),
-                b: self.name(c.b).to_string(),
-                depth_m: c.depth_m,
-                bound: report.step_bound,
-            });
-        }
-        report
-    }
-}
-
-/// Whether some checked pair touches (a distance at or below zero).
-fn touching(d: &[f64]) -> bool {
-    d.iter().any(|x| *x <= 0.0)
-}
-
-/// One sweep's state: the path, the bodies' rate bounds, the work done.
-struct Sweep<'a> {
-    world: &'a CollisionModel,
-    model: &'a RobotModel,
-    path: &'a dyn PathSampler,
-    /// Per body, the bound of its points' speed along the parameter.
-    rates: &'a [f64],
-    /// Intervals shorter than this are not split further (parameter units).
-    tolerance: f64,
-    samples: usize,
-    /// Every interval was settled to the tolerance (not cut short by the
-    /// sample budget).
-    exact: bool,
-}
-
-impl Sweep<'_> {
-    /// Per body, the smallest distance at parameter `s`.
-    fn distances(&mut self, s: f64) -> Vec<f64> {
-        self.samples += 1;
-        let poses = self.model.world_from_link(&self.path.joint_positions(s));
-        self.world.distances(&poses)
-    }
-
-    /// The first parameter in `(a, b]` where a pair touches, to within the
-    /// tolerance and never before the contact, given the distances at both
-    /// ends: an interval whose ends' distances rule out a contact in
-    /// between (each body's distance changes at most at its rate) is clear;
-    /// another is halved, the earlier half first.
-    fn first_contact(&mut self, (a, da): (f64, &[f64]), (b, db): (f64, &[f64])) -> Option<f64> {
-        let clear = da
-            .iter()
-            .zip(db)
-            .zip(self.rates)
-            .all(|((x, y), r)| x + y > r * (b - a) || (*r == 0.0 && *x > 0.0 && *y > 0.0));
-        if clear {
-            return None;
-        }
-        if b - a <= self.tolerance || self.samples >= MAX_SWEEP_SAMPLES + MAX_REFINE_SAMPLES {
-            if b - a > self.tolerance {
-                self.exact = false;
-            }
-            return touching(db).then_some(b);
-        }
-        let mid = a + 0.5 * (b - a);
-        if !(mid > a && mid < b) {
-            // No parameter in between (the ends are neighbours in f64).
-            return touching(db).then_some(b);
-        }
-        let dm = self.distances(mid);
-        if let Some(first) = self.first_contact((a, da), (mid, &dm)) {
-            return Some(first);
-        }
-        if touching(&dm) {
-            return Some(mid);
-        }
-        self.first_contact((mid, &dm), (b, db))
-    }
-}
-
-/// A planned path in joint space, by a path parameter `s` in `[0, length]`.
-///
-/// An MC_MoveModulo move samples its axis profile, an MCLM/MCCM move its
-/// path by path length (`plant/collide.rs`). The sweep's bound holds only if
-/// [`PathSampler::joint_rate_bounds`] are true upper bounds.
-pub trait PathSampler {
-    /// End of the parameter range (the start is 0).
-    fn length(&self) -> f64;
-    /// Joint positions (rad or m, per URDF joint in model order) at `s`.
-    fn joint_positions(&self, s: f64) -> Vec<f64>;
-    /// Per URDF joint, an upper bound of `|dq_j/ds|` over the path.
-    fn joint_rate_bounds(&self) -> Vec<f64>;
-    /// Time from the move's start at which the plan reaches `s`, s.
-    fn time_s(&self, s: f64) -> f64;
-}
-
-/// A collision the sweep predicts.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PredictedCollision {
-    /// Path parameter of the first colliding sample.
-    pub parameter: f64,
-    /// Time from the move's start at that sample, s.
-    pub time_s: f64,
-    /// First body.
-    pub a: String,
-    /// Second body.
-    pub b: String,
-    /// Penetration depth at the sample, m.
-    pub depth_m: f64,
-    /// The sweep's bound (parameter units; see the module doc): the first
-    /// contact of the planned path lies in `[parameter - bound, parameter]`.
-    pub bound: f64,
-}
-
-/// The most poses one pre-flight sweep steps through (bounded work,
-/// whatever the path's length): a path that needs more at
-/// `sweep_resolution_m` is stepped with steps of `length /
-/// MAX_SWEEP_SAMPLES`.
-pub const MAX_SWEEP_SAMPLES: usize = 100_000;
-
-/// The most further poses a sweep checks to settle the steps between its
-/// samples; beyond them the sweep's bound is its step again.
-pub const MAX_REFINE_SAMPLES: usize = 100_000;
-
-/// The sweep locates the first contact to this fraction of the path's
-/// length (parameter units), never before it.
-pub const SWEEP_TOLERANCE: f64 = 1e-6;
-
-/// What a sweep did.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SweepReport {
-    /// The first predicted collision, if any.
-    pub collision: Option<PredictedCollision>,
-    /// Poses checked.
-    pub samples: usize,
-    /// The bound `h` in parameter units (see the module docs).
-    pub step_bound: f64,
-    /// The path's parameter length.
-    pub length: f64,
 }
 
 /// A collision event: one pair in contact over a time interval.

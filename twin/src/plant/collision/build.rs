@@ -6,9 +6,9 @@ use super::{Body, CollisionModelError, RobotBody};
 use crate::plant::convert::pose_to_rapier;
 use crate::plant::stl::load_stl;
 use crate::plant::urdf::{Geometry, JointKind, RobotModel};
-use crate::scene::{CollisionSettings, MeshApproximation, Shape};
+use crate::scene::{CollisionSettings, MeshApproximation, Obstacle, Shape};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
-use rapier3d_f64::math::Vector;
+use rapier3d_f64::math::{Pose, Vector};
 use rapier3d_f64::parry::shape::SharedShape;
 
 pub(super) fn vec3(v: Vector) -> [f64; 3] {
@@ -88,6 +88,23 @@ pub(super) fn scene_shape(shape: &Shape, body: &str) -> Result<Geometry, Collisi
         #[allow(unreachable_patterns)]
         _ => return Err(CollisionModelError::DegenerateMesh { body: body.to_string() }),
     })
+}
+
+/// The scene's obstacles as placed shapes, in scene order.
+pub(super) fn obstacle_shapes(
+    obstacles: &[Obstacle],
+    settings: &CollisionSettings,
+) -> Result<Vec<(Pose, SharedShape)>, CollisionModelError> {
+    obstacles
+        .iter()
+        .map(|o| {
+            let geometry = scene_shape(&o.shape, &o.name)?;
+            let world_from_obstacle = pose_from_xyz_rpy_deg(o.position_m, o.rpy_deg);
+            let (local, shape) = shape_of(&geometry, settings.meshes, &o.name)?
+                .ok_or_else(|| CollisionModelError::DegenerateMesh { body: o.name.clone() })?;
+            Ok((pose_to_rapier(&(world_from_obstacle * local)), shape))
+        })
+        .collect()
 }
 
 pub(super) fn pose_from_xyz_rpy_deg(position_m: [f64; 3], rpy_deg: [f64; 3]) -> Isometry3<f64> {
