@@ -50,84 +50,96 @@ pub(super) fn check(robot: &urdf_rs::Robot, xml: &str, path: &Path) -> Result<()
     })
 }
 
+/// The first problem of the robot's links, then of its joints, in
+/// document order.
 fn first_finding(robot: &urdf_rs::Robot) -> Option<Finding> {
-    for link in &robot.links {
-        let owner = format!("link {}", link.name);
-        let at = |element: &str, problem: String| Finding {
-            owner: owner.clone(),
-            element: element.to_owned(),
-            problem,
-        };
-        let i = &link.inertial;
-        if let Some(p) = pose_problem(&i.origin) {
-            return Some(at("inertial/origin", p));
-        }
-        let mass = i.mass.value;
-        if !(mass.is_finite() && (0.0..=MAX_MASS_KG).contains(&mass)) {
-            return Some(at(
-                "inertial/mass",
-                format!("value must be within 0..={MAX_MASS_KG:e} kg, got {mass}"),
-            ));
-        }
-        if mass > 0.0
-            && let Some(p) = inertia_problem(&i.inertia)
-        {
-            return Some(at("inertial/inertia", p));
-        }
-        for (kind, shapes) in [
-            (
-                "visual",
-                link.visual.iter().map(|v| (&v.origin, &v.geometry)).collect::<Vec<_>>(),
-            ),
-            (
-                "collision",
-                link.collision.iter().map(|c| (&c.origin, &c.geometry)).collect(),
-            ),
-        ] {
-            for (k, (origin, geometry)) in shapes.into_iter().enumerate() {
-                if let Some(p) = pose_problem(origin) {
-                    return Some(at(&format!("{kind}[{k}]/origin"), p));
-                }
-                if let Some((element, p)) = geometry_problem(geometry) {
-                    return Some(at(&format!("{kind}[{k}]/geometry/{element}"), p));
-                }
+    robot
+        .links
+        .iter()
+        .find_map(link_finding)
+        .or_else(|| robot.joints.iter().find_map(joint_finding))
+}
+
+/// Makes the findings of one owner (`link base`): element, problem.
+fn finding(owner: String) -> impl Fn(&str, String) -> Finding {
+    move |element, problem| Finding {
+        owner: owner.clone(),
+        element: element.to_owned(),
+        problem,
+    }
+}
+
+/// The first problem of a link: its inertial, then its visuals' and
+/// collisions' origins and geometry.
+fn link_finding(link: &urdf_rs::Link) -> Option<Finding> {
+    let at = finding(format!("link {}", link.name));
+    let i = &link.inertial;
+    if let Some(p) = pose_problem(&i.origin) {
+        return Some(at("inertial/origin", p));
+    }
+    let mass = i.mass.value;
+    if !(mass.is_finite() && (0.0..=MAX_MASS_KG).contains(&mass)) {
+        return Some(at(
+            "inertial/mass",
+            format!("value must be within 0..={MAX_MASS_KG:e} kg, got {mass}"),
+        ));
+    }
+    if mass > 0.0
+        && let Some(p) = inertia_problem(&i.inertia)
+    {
+        return Some(at("inertial/inertia", p));
+    }
+    for (kind, shapes) in [
+        (
+            "visual",
+            link.visual.iter().map(|v| (&v.origin, &v.geometry)).collect::<Vec<_>>(),
+        ),
+        (
+            "collision",
+            link.collision.iter().map(|c| (&c.origin, &c.geometry)).collect(),
+        ),
+    ] {
+        for (k, (origin, geometry)) in shapes.into_iter().enumerate() {
+            if let Some(p) = pose_problem(origin) {
+                return Some(at(&format!("{kind}[{k}]/origin"), p));
+            }
+            if let Some((element, p)) = geometry_problem(geometry) {
+                return Some(at(&format!("{kind}[{k}]/geometry/{element}"), p));
             }
         }
     }
-    for joint in &robot.joints {
-        let owner = format!("joint {}", joint.name);
-        let at = |element: &str, problem: String| Finding {
-            owner: owner.clone(),
-            element: element.to_owned(),
-            problem,
-        };
-        if let Some(p) = pose_problem(&joint.origin) {
-            return Some(at("origin", p));
+    None
+}
+
+/// The first problem of a joint: its origin, limits and dynamics.
+fn joint_finding(joint: &urdf_rs::Joint) -> Option<Finding> {
+    let at = finding(format!("joint {}", joint.name));
+    if let Some(p) = pose_problem(&joint.origin) {
+        return Some(at("origin", p));
+    }
+    let l = &joint.limit;
+    for (name, v) in [
+        ("lower", l.lower),
+        ("upper", l.upper),
+        ("effort", l.effort),
+        ("velocity", l.velocity),
+    ] {
+        if !v.is_finite() {
+            return Some(at("limit", format!("{name} must be finite, got {v}")));
         }
-        let l = &joint.limit;
-        for (name, v) in [
-            ("lower", l.lower),
-            ("upper", l.upper),
-            ("effort", l.effort),
-            ("velocity", l.velocity),
-        ] {
-            if !v.is_finite() {
-                return Some(at("limit", format!("{name} must be finite, got {v}")));
-            }
+    }
+    if l.lower > l.upper {
+        return Some(at("limit", format!("lower {} is above upper {}", l.lower, l.upper)));
+    }
+    for (name, v) in [("effort", l.effort), ("velocity", l.velocity)] {
+        if v < 0.0 {
+            return Some(at("limit", format!("{name} must not be negative, got {v}")));
         }
-        if l.lower > l.upper {
-            return Some(at("limit", format!("lower {} is above upper {}", l.lower, l.upper)));
-        }
-        for (name, v) in [("effort", l.effort), ("velocity", l.velocity)] {
-            if v < 0.0 {
-                return Some(at("limit", format!("{name} must not be negative, got {v}")));
-            }
-        }
-        if let Some(d) = &joint.dynamics {
-            for (name, v) in [("damping", d.damping), ("friction", d.friction)] {
-                if !(v.is_finite() && v >= 0.0) {
-                    return Some(at("dynamics", format!("{name} must be finite and ≥ 0, got {v}")));
-                }
+    }
+    if let Some(d) = &joint.dynamics {
+        for (name, v) in [("damping", d.damping), ("friction", d.friction)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Some(at("dynamics", format!("{name} must be finite and ≥ 0, got {v}")));
             }
         }
     }
