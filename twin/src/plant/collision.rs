@@ -291,10 +291,28 @@ pub struct CollisionModel {
     /// Per body, the obstacle nearest at the last check: where the next
     /// search starts.
     last_nearest: Vec<std::cell::Cell<Option<usize>>>,
+    /// Buffers reused by the checks.
+    scratch: Scratch,
     /// Robot body pairs to check.
     self_pairs: Vec<(usize, usize)>,
     /// Per body, per model joint: R_jb (0 where joint j does not move the body).
     reach: Vec<Vec<f64>>,
+}
+
+/// Buffers a check reuses from one call to the next (a check runs every
+/// physics step); a clone starts with empty ones.
+#[derive(Default)]
+struct Scratch {
+    /// Parry's penetration solver.
+    epa: std::cell::RefCell<rapier3d_f64::parry::query::epa::EPA>,
+    /// Obstacle indices ([`CollisionModel::near_obstacles`]).
+    near: std::cell::Cell<Vec<usize>>,
+}
+
+impl Clone for Scratch {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
 }
 
 impl std::fmt::Debug for CollisionModel {
@@ -366,6 +384,7 @@ impl CollisionModel {
             obstacle_names,
             obstacles: obstacle_shapes,
             last_nearest: vec![std::cell::Cell::new(None); checked.len()],
+            scratch: Scratch::default(),
             checked_count: checked.iter().map(|row| row.iter().filter(|&&c| c).count()).collect(),
             checked,
             obstacle_tree,
@@ -431,15 +450,33 @@ impl CollisionModel {
         }
     }
 
+    /// Calls `each` with every obstacle checked against body `b` whose
+    /// box meets `aabb`, in obstacle order.
+    fn near_obstacles(&self, b: usize, aabb: &Aabb, mut each: impl FnMut(usize)) {
+        let mut near = self.scratch.near.take();
+        near.clear();
+        near.extend(
+            self.obstacle_tree
+                .intersect_aabb(aabb)
+                .map(|o| o as usize)
+                .filter(|&o| self.checked[b][o]),
+        );
+        near.sort_unstable();
+        for &o in &near {
+            each(o);
+        }
+        self.scratch.near.set(near);
+    }
+
     /// Deepest contact between two shape sets, if they touch.
-    fn contact_between(a: &[Placed<'_>], b: &[Placed<'_>]) -> Option<(f64, [f64; 3], [f64; 3])> {
+    fn contact_between(&self, a: &[Placed<'_>], b: &[Placed<'_>]) -> Option<(f64, [f64; 3], [f64; 3])> {
         let mut best: Option<(f64, [f64; 3], [f64; 3])> = None;
         for pa in a {
             for pb in b {
                 if pa.lower_bound(pb) > 0.0 {
                     continue;
                 }
-                let Ok(Some(c)) = query::contact(&pa.pose, pa.shape.as_ref(), &pb.pose, pb.shape.as_ref(), 0.0) else {
+                let Some(c) = self.contact(pa, pb) else {
                     continue;
                 };
                 if c.dist > 0.0 {
@@ -453,6 +490,40 @@ impl CollisionModel {
             }
         }
         best
+    }
+
+    /// `query::contact` of two placed shapes with no prediction, the same
+    /// numbers; for two convex shapes that neither are balls nor half
+    /// spaces (parry's GJK, then EPA when they overlap) it reuses one EPA,
+    /// where parry's own makes a new one, and its buffers, on every call
+    /// (a resting contact is an overlap every physics step).
+    fn contact(&self, pa: &Placed<'_>, pb: &Placed<'_>) -> Option<query::Contact> {
+        use rapier3d_f64::parry::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
+        use rapier3d_f64::parry::shape::HalfSpace;
+        let (s1, s2) = (pa.shape.as_ref(), pb.shape.as_ref());
+        let general = s1.as_ball().is_none()
+            && s2.as_ball().is_none()
+            && s1.as_shape::<HalfSpace>().is_none()
+            && s2.as_shape::<HalfSpace>().is_none();
+        let (true, Some(g1), Some(g2)) = (general, s1.as_support_map(), s2.as_support_map()) else {
+            return query::contact(&pa.pose, s1, &pb.pose, s2, 0.0).ok().flatten();
+        };
+        let pos12 = pa.pose.inv_mul(&pb.pose);
+        let mut simplex = VoronoiSimplex::new();
+        let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
+        simplex.reset(CsoPoint::from_shapes(&pos12, g1, g2, dir));
+        let closest = match gjk::closest_points(&pos12, g1, g2, 0.0, true, &mut simplex) {
+            GJKResult::Intersection => self.scratch.epa.borrow_mut().closest_points(&pos12, g1, g2, &simplex),
+            GJKResult::ClosestPoints(p1, p2, n) => Some((p1, p2, n)),
+            _ => None,
+        };
+        let (point1, point2_1, normal1) = closest?;
+        let dist = (point2_1 - point1).dot(normal1);
+        let point2 = pos12.inverse_transform_point(point2_1);
+        let normal2 = pos12.rotation.inverse() * -normal1;
+        let mut c = query::Contact::new(point1, point2, normal1, normal2, dist);
+        c.transform_by_mut(&pa.pose, &pb.pose);
+        Some(c)
     }
 
     /// The smallest distance between two shape sets, or `cutoff` when none
@@ -520,16 +591,25 @@ impl CollisionModel {
 
     /// Checks one robot pose (`world_from_link` of every URDF link, in model order).
     pub fn check(&self, world_from_link: &[Isometry3<f64>]) -> CheckResult {
-        self.check_placed(&self.placed_bodies(world_from_link), None)
+        self.check_placed(&self.placed_bodies(world_from_link), world_from_link, None)
     }
 
-    /// The discrete check of placed bodies. With `reuse` (per body: whether
-    /// it stands where it stood at a previous check, and that check's
-    /// result), such bodies and pairs take their results from it.
-    fn check_placed(&self, shapes: &Placement<'_>, reuse: Option<(&[bool], &CheckResult)>) -> CheckResult {
+    /// The discrete check of bodies placed at `to`. With `reuse` (the link
+    /// poses of a previous check and its result), a body whose link stands
+    /// where it stood then, and a self pair of two such bodies, take their
+    /// results from it.
+    fn check_placed(
+        &self,
+        shapes: &Placement<'_>,
+        to: &[Isometry3<f64>],
+        reuse: Option<(&[Isometry3<f64>], &CheckResult)>,
+    ) -> CheckResult {
         let mut clearance_m = vec![f64::INFINITY; self.bodies.len()];
         let mut contacts = Vec::new();
-        let same = |b: usize| reuse.filter(|(unchanged, _)| unchanged[b]).map(|(_, r)| r);
+        let same = |b: usize| {
+            let link = self.bodies[b].link;
+            reuse.filter(|(from, _)| from[link] == to[link]).map(|(_, r)| r)
+        };
         for (b, body_shapes) in shapes.bodies().enumerate() {
             if let Some(previous) = same(b) {
                 clearance_m[b] = previous.clearance_m[b];
@@ -550,10 +630,8 @@ impl CollisionModel {
             let Some(body) = Self::body_box(body_shapes) else {
                 continue;
             };
-            let mut near: Vec<usize> = self.obstacle_tree.intersect_aabb(&body).map(|o| o as usize).collect();
-            near.sort_unstable();
-            for o in near.into_iter().filter(|&o| self.checked[b][o]) {
-                if let Some((depth_m, point, normal)) = Self::contact_between(body_shapes, &self.placed_obstacle(o)) {
+            self.near_obstacles(b, &body, |o| {
+                if let Some((depth_m, point, normal)) = self.contact_between(body_shapes, &self.placed_obstacle(o)) {
                     contacts.push(Contact {
                         a: Body::Robot(b),
                         b: Body::Obstacle(o),
@@ -562,7 +640,7 @@ impl CollisionModel {
                         normal_in_world: normal,
                     });
                 }
-            }
+            });
         }
         for &(a, b) in &self.self_pairs {
             if let (Some(previous), Some(_)) = (same(a), same(b)) {
@@ -574,7 +652,7 @@ impl CollisionModel {
                 );
                 continue;
             }
-            if let Some((depth_m, point, normal)) = Self::contact_between(&shapes[a], &shapes[b]) {
+            if let Some((depth_m, point, normal)) = self.contact_between(&shapes[a], &shapes[b]) {
                 contacts.push(Contact {
                     a: Body::Robot(a),
                     b: Body::Robot(b),
@@ -661,10 +739,9 @@ impl Monitor {
         };
         // Events that start at this check, with the key of those still open.
         let mut fresh: Vec<(Option<(Body, Body)>, CollisionEvent)> = Vec::new();
-        let mut seen: Vec<(Body, Body)> = Vec::new();
+        let seen = |key: &(Body, Body)| result.contacts.iter().any(|c| (c.a, c.b) == *key);
         for c in &result.contacts {
             let key = (c.a, c.b);
-            seen.push(key);
             match self.open.get(&key) {
                 Some(&i) => {
                     let e = &mut self.events[i];
@@ -677,7 +754,7 @@ impl Monitor {
                 None => fresh.push((Some(key), event(c, first(c.a, c.b).unwrap_or(time_s), None))),
             }
         }
-        let ended: Vec<(Body, Body)> = self.open.keys().filter(|k| !seen.contains(k)).copied().collect();
+        let ended: Vec<(Body, Body)> = self.open.keys().filter(|k| !seen(k)).copied().collect();
         for key in ended {
             if let Some(i) = self.open.remove(&key) {
                 self.events[i].end_s = Some(time_s);
@@ -686,7 +763,7 @@ impl Monitor {
         // Touched and let go within the step (the contact has depth 0).
         for (t, c) in touches {
             let key = (c.a, c.b);
-            if !seen.contains(&key) && !self.open.contains_key(&key) {
+            if !seen(&key) && !self.open.contains_key(&key) {
                 fresh.push((None, event(c, *t, Some(time_s))));
             }
         }

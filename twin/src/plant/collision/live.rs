@@ -20,8 +20,9 @@ impl CollisionModel {
     ///   link at rest) keeps its clearance and contacts from `from`'s
     ///   check, and a self pair of two such bodies its contact;
     /// * a body whose clearance at `from` is at least the distance its
-    ///   points move in the step cannot touch an obstacle in it: it is
-    ///   not cast.
+    ///   points move in the step cannot touch an obstacle in it, and one
+    ///   checked against a single obstacle that it touches at `from` has
+    ///   its event open already: neither is cast.
     pub fn check_step(
         &self,
         from: Option<(&[Isometry3<f64>], &CheckResult)>,
@@ -29,11 +30,10 @@ impl CollisionModel {
     ) -> (CheckResult, Vec<(f64, Contact)>) {
         let end = self.placed_bodies(to);
         let Some((from, checked)) = from else {
-            return (self.check_placed(&end, None), Vec::new());
+            return (self.check_placed(&end, to, None), Vec::new());
         };
         let touches = self.first_touches_placed(from, to, &end, Some(&checked.clearance_m));
-        let unchanged: Vec<bool> = self.bodies.iter().map(|b| from[b.link] == to[b.link]).collect();
-        (self.check_placed(&end, Some((&unchanged, checked))), touches)
+        (self.check_placed(&end, to, Some((from, checked))), touches)
     }
 
     /// Continuous detection between two poses of the robot (`from`, then
@@ -60,15 +60,22 @@ impl CollisionModel {
     ) -> Vec<(f64, Contact)> {
         // Per body, once placed: its shapes at the start and how far they
         // move. A body is placed, and its motion bounded shape by shape,
-        // only where the cheap bound of its link's motion allows a touch.
-        let mut start: Vec<Option<(Vec<Placed<'_>>, f64)>> = (0..self.bodies.len()).map(|_| None).collect();
+        // only where the cheap bound of its link's motion allows a touch
+        // (the list is made at the first).
+        let mut start: Vec<Option<(Vec<Placed<'_>>, f64)>> = Vec::new();
         // Cast only pairs that could touch and do not at the start.
         let could_touch = |d: f64, reach: f64| d > 0.0 && d < reach;
         let mut found = Vec::new();
         for (b, s1) in end.bodies().enumerate() {
             // Every obstacle is at least the clearance away at the start.
             let clear = |reach: f64| reach == 0.0 || start_clearance_m.is_some_and(|d| d[b] >= reach);
-            if clear(self.link_motion_bound(b, from, to)) || clear(self.place_start(b, from, end, &mut start)) {
+            // A body checked against one obstacle and touching at the
+            // start touches that one: its event is open, nothing to cast.
+            let resting = self.checked_count[b] == 1 && start_clearance_m.is_some_and(|d| d[b] <= 0.0);
+            if resting
+                || clear(self.link_motion_bound(b, from, to))
+                || clear(self.place_start(b, from, end, &mut start))
+            {
                 continue;
             }
             let Some((s0, reach)) = start[b].as_ref().map(|(s0, moved)| (s0.as_slice(), *moved)) else {
@@ -78,12 +85,10 @@ impl CollisionModel {
                 continue;
             };
             let swept = box0.merged(&box1);
-            let mut near: Vec<usize> = self.obstacle_tree.intersect_aabb(&swept).map(|o| o as usize).collect();
-            near.sort_unstable();
-            for o in near.into_iter().filter(|&o| self.checked[b][o]) {
+            self.near_obstacles(b, &swept, |o| {
                 let obstacle = self.placed_obstacle(o);
                 if !could_touch(Self::distance_between(s0, &obstacle, reach), reach) {
-                    continue;
+                    return;
                 }
                 let fixed = [(obstacle[0].pose, obstacle[0].pose)];
                 if let Some(hit) = Self::first_touch(s0, s1, &obstacle, &fixed) {
@@ -96,7 +101,7 @@ impl CollisionModel {
                         },
                     ));
                 }
-            }
+            });
         }
         for &(a, b) in &self.self_pairs {
             if self.link_motion_bound(a, from, to) + self.link_motion_bound(b, from, to) == 0.0 {
@@ -137,8 +142,11 @@ impl CollisionModel {
         b: usize,
         from: &[Isometry3<f64>],
         end: &Placement<'a>,
-        start: &mut [Option<(Vec<Placed<'a>>, f64)>],
+        start: &mut Vec<Option<(Vec<Placed<'a>>, f64)>>,
     ) -> f64 {
+        if start.is_empty() {
+            start.resize_with(self.bodies.len(), || None);
+        }
         start[b]
             .get_or_insert_with(|| {
                 let s0 = self.world_shapes(b, from);

@@ -500,7 +500,7 @@ fn the_broad_phase_finds_exactly_what_every_pair_finds() {
                 for o in 0..obstacles.len() {
                     let obstacle = world.placed_obstacle(o);
                     clearance = clearance.min(CollisionModel::distance_between(body, &obstacle, f64::INFINITY));
-                    if let Some((depth, _, _)) = CollisionModel::contact_between(body, &obstacle) {
+                    if let Some((depth, _, _)) = world.contact_between(body, &obstacle) {
                         contacts.push((o, depth));
                     }
                 }
