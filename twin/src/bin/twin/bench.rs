@@ -76,15 +76,11 @@ fn bench_scene(path: &Path, runs: u32, render: bool) -> Result<BenchRow> {
         scene.plant = plant;
         Ok(Twin::new(scene)?)
     };
-    // Physics, no outputs: the best of plain runs, as `twin run` runs
-    // (recording the steps and timing the stages would add their own
-    // cost), then one run that records its physics steps for the replay
-    // and times the collision checks.
-    let mut wall = f64::INFINITY;
-    for _ in 0..runs {
-        let mut twin = load(scene::PlantMode::Physics)?;
-        wall = wall.min(run_to_end(&mut twin, |_| {}));
-    }
+    // Physics: one run that records its physics steps for the replay and
+    // times the collision checks; then the best of plain runs, as `twin
+    // run` runs (recording the steps and timing the stages would add
+    // their own cost), each followed by a bare replay, so that both see
+    // the machine in the same state.
     let mut twin = load(scene::PlantMode::Physics)?;
     twin.record_for_bench();
     run_to_end(&mut twin, |_| {});
@@ -93,11 +89,12 @@ fn bench_scene(path: &Path, runs: u32, render: bool) -> Result<BenchRow> {
         .physics_replay()
         .context("the physics plant records its steps")?;
     let steps = replay.steps() as f64;
-    let bare = (0..runs)
-        .map(|_| replay.run(twin.plant().model()))
-        .collect::<Result<Vec<f64>, _>>()?
-        .into_iter()
-        .fold(f64::INFINITY, f64::min);
+    let (mut wall, mut bare) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..runs {
+        let mut plain = load(scene::PlantMode::Physics)?;
+        wall = wall.min(run_to_end(&mut plain, |_| {}));
+        bare = bare.min(replay.run(twin.plant().model())?);
+    }
     let simulated = twin.time_s();
     let collision_us = (twin.scene().collision.is_some() && steps > 0.0)
         .then(|| 1e6 * twin.plant().times().unwrap_or_default().collision_s / steps);
