@@ -458,12 +458,16 @@ impl Plant {
     /// interpolated from the previous update's commands to `now`; a braked
     /// joint's setpoint is its brake position.
     fn set_setpoints(&mut self, now: &[(f64, f64)], f: f64, fm: f64) {
-        let mut setpoints = Vec::with_capacity(self.axes.len());
+        // The joints' position setpoints, for the parallel rigs (none: no list).
+        let rigs = !self.rigs.is_empty();
+        let mut setpoints = Vec::new();
         for (k, axis) in self.axes.iter().enumerate() {
             let Some(drive) = axis.drive else { continue };
             if let Some(held) = self.brakes[k] {
                 self.sim.set_setpoint(drive, held, 0.0);
-                setpoints.push((drive, held));
+                if rigs {
+                    setpoints.push((drive, held));
+                }
                 continue;
             }
             let (p0, v0) = self.previous_command[k];
@@ -473,7 +477,9 @@ impl Plant {
             self.sim.set_setpoint(drive, axis.to_si(p), axis.to_si(v));
             self.sim
                 .set_setpoint_acceleration(drive, axis.to_si((v1 - v0) / self.update_s));
-            setpoints.push((drive, axis.to_si(p)));
+            if rigs {
+                setpoints.push((drive, axis.to_si(p)));
+            }
         }
         for rig in &mut self.rigs {
             let setpoint = |d: usize| setpoints.iter().find(|(x, _)| *x == d).map(|(_, p)| *p);
