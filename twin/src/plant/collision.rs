@@ -97,6 +97,10 @@ mod sweep;
 use build::{allowed_pairs, obstacle_shapes, reach_of, robot_bodies, self_pairs, vec3};
 pub use sweep::{MAX_REFINE_SAMPLES, MAX_SWEEP_SAMPLES, PathSampler, PredictedCollision, SWEEP_TOLERANCE, SweepReport};
 
+/// A contact deeper than this, m, is an overlap whatever the rounding of
+/// the distance query that would confirm it: the body's clearance is 0.
+const CLEAR_OVERLAP_M: f64 = 1e-9;
+
 /// How much a body's bounding box is grown for the broad phase, m: shapes
 /// that just touch (distance 0) always have overlapping boxes.
 const BOX_MARGIN_M: f64 = 1e-6;
@@ -450,6 +454,22 @@ impl CollisionModel {
         }
     }
 
+    /// Appends body `b`'s contacts with every obstacle checked against it
+    /// whose box meets the body's (`body`), in obstacle order.
+    fn obstacle_contacts(&self, b: usize, shapes: &[Placed<'_>], body: &Aabb, contacts: &mut Vec<Contact>) {
+        self.near_obstacles(b, body, |o| {
+            if let Some((depth_m, point, normal)) = self.contact_between(shapes, &self.placed_obstacle(o)) {
+                contacts.push(Contact {
+                    a: Body::Robot(b),
+                    b: Body::Obstacle(o),
+                    depth_m,
+                    point_in_world: point,
+                    normal_in_world: normal,
+                });
+            }
+        });
+    }
+
     /// Calls `each` with every obstacle checked against body `b` whose
     /// box meets `aabb`, in obstacle order.
     fn near_obstacles(&self, b: usize, aabb: &Aabb, mut each: impl FnMut(usize)) {
@@ -621,26 +641,30 @@ impl CollisionModel {
                 );
                 continue;
             }
+            let body = Self::body_box(body_shapes);
+            // A body that touched at the previous check likely still does:
+            // its contacts first, and an overlap deeper than rounding could
+            // blur means a clearance of 0 (what the distance gives for
+            // shapes that overlap) without measuring it.
+            let touched = reuse.is_some_and(|(_, r)| r.clearance_m[b] <= 0.0);
+            if let (true, Some(body)) = (touched, &body) {
+                let before = contacts.len();
+                self.obstacle_contacts(b, body_shapes, body, &mut contacts);
+                if contacts[before..].iter().any(|c| c.depth_m > CLEAR_OVERLAP_M) {
+                    clearance_m[b] = 0.0;
+                    continue;
+                }
+                contacts.truncate(before);
+            }
             clearance_m[b] = self.nearest_obstacle(b, body_shapes);
             if clearance_m[b] > 0.0 {
                 continue;
             }
             // Touching: the contacts with every obstacle whose box meets
             // the body's, in obstacle order.
-            let Some(body) = Self::body_box(body_shapes) else {
-                continue;
-            };
-            self.near_obstacles(b, &body, |o| {
-                if let Some((depth_m, point, normal)) = self.contact_between(body_shapes, &self.placed_obstacle(o)) {
-                    contacts.push(Contact {
-                        a: Body::Robot(b),
-                        b: Body::Obstacle(o),
-                        depth_m,
-                        point_in_world: point,
-                        normal_in_world: normal,
-                    });
-                }
-            });
+            if let Some(body) = &body {
+                self.obstacle_contacts(b, body_shapes, body, &mut contacts);
+            }
         }
         for &(a, b) in &self.self_pairs {
             if let (Some(previous), Some(_)) = (same(a), same(b)) {

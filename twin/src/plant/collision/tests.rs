@@ -531,7 +531,7 @@ fn a_live_step_equals_its_check_and_detection_computed_afresh() {
     use rand::{Rng, SeedableRng};
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(18);
     let model = arm();
-    let (mut reused, mut touches) = (0, 0);
+    let (mut reused, mut touches, mut still_touching) = (0, 0, 0);
     for _ in 0..10 {
         let obstacles: Vec<Obstacle> = (0..rng.random_range(1..30))
             .map(|k| {
@@ -561,12 +561,21 @@ fn a_live_step_equals_its_check_and_detection_computed_afresh() {
             assert_eq!(got_touches, world.first_touches(&from, &to), "q {q:?}");
             reused += usize::from(from[1] == to[1]);
             touches += got_touches.len();
+            // Bodies that touched before and overlap now: their clearance
+            // comes from their contacts, not from a distance query.
+            still_touching += got
+                .contacts
+                .iter()
+                .filter(|c| c.depth_m > CLEAR_OVERLAP_M)
+                .filter_map(|c| if let Body::Robot(b) = c.a { Some(b) } else { None })
+                .filter(|&b| checked.clearance_m[b] <= 0.0)
+                .count();
             (from, checked) = (to, got);
         }
     }
     assert!(
-        reused > 300 && touches > 20,
-        "{reused} steps with l1 at rest, {touches} touches"
+        reused > 300 && touches > 20 && still_touching > 20,
+        "{reused} steps with l1 at rest, {touches} touches, {still_touching} bodies still touching"
     );
 }
 
