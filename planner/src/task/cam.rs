@@ -89,6 +89,19 @@ struct RampRun {
     stop: Option<InstructionHandle>,
 }
 
+impl RampRun {
+    /// A ramp along `profile` from its start, owned by no instruction.
+    fn new(profile: Profile) -> Self {
+        Self {
+            profile,
+            t_s: 0.0,
+            jog: None,
+            mv: None,
+            stop: None,
+        }
+    }
+}
+
 #[derive(Debug, Clone, Default)]
 struct CamAxis {
     cam: PositionCamAxis<Tag, MasterKey>,
@@ -523,15 +536,8 @@ impl MotionTask {
             return false;
         }
         self.end_cams(axis);
-        self.end_ramp(axis);
         let profile = self.rest_profile(axis);
-        self.cam_axis(axis).ramp = Some(RampRun {
-            profile,
-            t_s: 0.0,
-            jog: None,
-            mv: None,
-            stop: None,
-        });
+        self.start_stop_ramp(axis, profile);
         true
     }
 
@@ -560,13 +566,7 @@ impl MotionTask {
     /// a fault's Stop Planner action.
     pub(super) fn start_stop_ramp(&mut self, axis: AxisHandle, profile: Profile) {
         self.end_ramp(axis);
-        self.cam_axis(axis).ramp = Some(RampRun {
-            profile,
-            t_s: 0.0,
-            jog: None,
-            mv: None,
-            stop: None,
-        });
+        self.cam_axis(axis).ramp = Some(RampRun::new(profile));
     }
 
     /// Whether `axis` jogs (MAJ), runs a stop ramp, and moves (MAM).
@@ -613,11 +613,8 @@ impl MotionTask {
     pub(super) fn start_move_ramp(&mut self, axis: AxisHandle, profile: Profile, control: InstructionHandle) {
         self.end_ramp(axis);
         self.cam_axis(axis).ramp = Some(RampRun {
-            profile,
-            t_s: 0.0,
-            jog: None,
             mv: Some(control),
-            stop: None,
+            ..RampRun::new(profile)
         });
         let b = self.bits(control);
         b.ip = true;

@@ -327,6 +327,14 @@ impl MotionTask {
         }
     }
 
+    /// Whether MCT slot `i` has an established transform that satisfies
+    /// `involved` (asked as the slots are visited: cancelling one may end
+    /// another's transform).
+    fn mct_slot_involved(&self, i: usize, involved: impl Fn(&Transform) -> bool) -> bool {
+        let t = self.mct.instructions[i].mct.transform();
+        t.and_then(|t| self.mct.table.get(t)).is_some_and(involved)
+    }
+
     /// Hook for MCS on `system` with `stop_type` (0 all, 1 coordinated move,
     /// 2 coordinated transform): types 0 and 2 cancel the transforms the
     /// system is the source or target of.
@@ -336,16 +344,11 @@ impl MotionTask {
         }
         let id = self.system_id(system);
         for i in 0..self.mct.instructions.len() {
-            let slot = &mut self.mct.instructions[i];
-            let Some(t) = slot.mct.transform() else { continue };
-            let involved = self
-                .mct
-                .table
-                .get(t)
-                .is_some_and(|tr| tr.source() == id || tr.target() == id);
-            if !involved {
+            if !self.mct_slot_involved(i, |tr| tr.source() == id || tr.target() == id) {
                 continue;
             }
+            let slot = &mut self.mct.instructions[i];
+            let Some(t) = slot.mct.transform() else { continue };
             // Joints that follow the source may be turning: they stop at
             // their axes' deceleration, as after a fault, not at once. Joints
             // that move under their own commands (the source follows them)
@@ -373,16 +376,10 @@ impl MotionTask {
     pub(super) fn mct_cancel_on_axis(&mut self, axis: AxisHandle) {
         let id = axis_id(axis);
         for i in 0..self.mct.instructions.len() {
-            let slot = &mut self.mct.instructions[i];
-            let Some(t) = slot.mct.transform() else { continue };
-            let involved = self
-                .mct
-                .table
-                .get(t)
-                .is_some_and(|tr| tr.source_axes().contains(&id) || tr.target_axes().contains(&id));
-            if !involved {
+            if !self.mct_slot_involved(i, |tr| tr.source_axes().contains(&id) || tr.target_axes().contains(&id)) {
                 continue;
             }
+            let slot = &mut self.mct.instructions[i];
             slot.mct.cancel(&mut self.mct.table);
             slot.stopping = None;
             let (control, bits) = (slot.control, slot.mct.bits());

@@ -37,11 +37,8 @@ impl MotionTask {
         self.end_ramp(axis);
         let state = self.axes[axis.0 as usize].command.state();
         self.cam_axis(axis).ramp = Some(RampRun {
-            profile: Profile::to_velocity(state, jog.velocity, &jog.limits),
-            t_s: 0.0,
             jog: Some(motion_control),
-            mv: None,
-            stop: None,
+            ..RampRun::new(Profile::to_velocity(state, jog.velocity, &jog.limits))
         });
         let b = self.bits(motion_control);
         b.dn = true;
@@ -122,11 +119,8 @@ impl MotionTask {
         };
         self.end_ramp(axis);
         self.cam_axis(axis).ramp = Some(RampRun {
-            profile: Profile::to_velocity(state, 0.0, &limits),
-            t_s: 0.0,
-            jog: None,
-            mv: None,
             stop: Some(motion_control),
+            ..RampRun::new(Profile::to_velocity(state, 0.0, &limits))
         });
         self.bits(motion_control).ip = true;
         Ok(())
