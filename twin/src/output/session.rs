@@ -5,7 +5,7 @@
 pub use crate::output::recording::Served;
 #[cfg(feature = "rerun")]
 pub use crate::output::recording::run::{Finished, Recording};
-use crate::output::status::{describe, describe_bits, error_codes};
+use crate::output::status::{describe, error_codes};
 #[cfg(feature = "render")]
 use crate::plant::parts::{column_major, world_from_part};
 use crate::run::Twin;
@@ -571,7 +571,7 @@ impl Stats {
         }
         for (out, ins) in self.logix_outcomes.iter().zip(twin.program().instructions()) {
             let mut out = out.clone();
-            out.final_outputs = describe_bits(twin.task().motion_bits(ins.handle));
+            out.final_outputs = describe(twin.task().motion_bits(ins.handle));
             instructions.push(out);
         }
         Summary {

@@ -1,44 +1,77 @@
 //! How an instruction's status reads as text: the summary's final outputs
-//! and first errors, and the recording's instruction log.
+//! and first errors, and the recording's instruction log and series.
 
 use planner::instruction::{FbOutputs, MotionInstructionBits};
 use std::fmt::Write as _;
 
-/// A function block's outputs: the bits that are set, then `ErrorID 16#…
-/// (meaning)` when Error is set; `idle` when nothing is.
-pub(crate) fn describe(o: FbOutputs) -> String {
-    let mut s = String::new();
-    for (name, bit) in o.bits() {
-        if bit {
-            let _ = write!(s, "{name} ");
-        }
+/// An instruction's outputs as the summary and the recording read them: a
+/// PLCopen function block's ([`FbOutputs`]) or a Logix control
+/// structure's ([`MotionInstructionBits`]).
+pub(crate) trait Status: Copy + PartialEq {
+    /// The bits, named, in their documented order.
+    fn named_bits(&self) -> impl Iterator<Item = (&'static str, bool)>;
+    /// The codes, named: `ErrorID`; `ERR`, `EXERR`, `SEGMENT`.
+    fn named_codes(&self) -> impl Iterator<Item = (&'static str, f64)>;
+    /// Whether it reports an error (`Error`, `.ER`).
+    fn failed(&self) -> bool;
+    /// A set bit as text: `Done`, `.DN`.
+    fn bit_text(name: &str) -> String;
+    /// The error as text, when [`Status::failed`].
+    fn error_text(&self) -> String;
+}
+
+impl Status for FbOutputs {
+    fn named_bits(&self) -> impl Iterator<Item = (&'static str, bool)> {
+        self.bits().into_iter()
     }
-    if o.error {
-        let _ = write!(
-            s,
+    fn named_codes(&self) -> impl Iterator<Item = (&'static str, f64)> {
+        [("ErrorID", f64::from(self.error_id))].into_iter()
+    }
+    fn failed(&self) -> bool {
+        self.error
+    }
+    fn bit_text(name: &str) -> String {
+        name.to_owned()
+    }
+    fn error_text(&self) -> String {
+        format!(
             "ErrorID 16#{:04X} ({})",
-            o.error_id,
-            planner::modulo::ErrorId(o.error_id).meaning()
-        );
-    }
-    if s.is_empty() {
-        "idle".to_string()
-    } else {
-        s.trim_end().to_string()
+            self.error_id,
+            planner::modulo::ErrorId(self.error_id).meaning()
+        )
     }
 }
 
-/// A control structure's bits that are set (`.DN .PC`), then its error
-/// codes when `.ER` is set; `idle` when nothing is.
-pub(crate) fn describe_bits(b: MotionInstructionBits) -> String {
+impl Status for MotionInstructionBits {
+    fn named_bits(&self) -> impl Iterator<Item = (&'static str, bool)> {
+        self.bits().into_iter()
+    }
+    fn named_codes(&self) -> impl Iterator<Item = (&'static str, f64)> {
+        self.codes().into_iter().map(|(name, code)| (name, f64::from(code)))
+    }
+    fn failed(&self) -> bool {
+        self.er
+    }
+    fn bit_text(name: &str) -> String {
+        format!(".{name}")
+    }
+    fn error_text(&self) -> String {
+        error_codes(*self)
+    }
+}
+
+/// The bits that are set (`Done Busy`, `.DN .PC`), then the error when
+/// there is one; `idle` when nothing is.
+pub(crate) fn describe<S: Status>(status: S) -> String {
     let mut s = String::new();
-    for (name, bit) in b.bits() {
+    for (name, bit) in status.named_bits() {
         if bit {
-            let _ = write!(s, ".{name} ");
+            s.push_str(&S::bit_text(name));
+            s.push(' ');
         }
     }
-    if b.er {
-        let _ = write!(s, "{}", error_codes(b));
+    if status.failed() {
+        s.push_str(&status.error_text());
     }
     if s.is_empty() {
         "idle".to_string()

@@ -7,7 +7,7 @@ use planner::instruction::{FbOutputs, MotionInstructionBits};
 use super::super::{Recorder, RecordingError, Served, TextLevel};
 use super::{AXIS_RGBA, Batch, FLUSH_UPDATES, IDLE_FLUSH_UPDATES, Item, LIVE_FLUSH, StaticMesh, TRAIL_RGBA};
 use crate::output::COLLISION_TINT_RGBA;
-use crate::output::status::{describe, describe_bits};
+use crate::output::status::{Status, describe};
 use crate::run::Twin;
 
 /// The recording thread's side: the recorder and the series.
@@ -92,29 +92,12 @@ impl Series {
         let fbs = program
             .fbs()
             .iter()
-            .map(|fb| {
-                let mut names: Vec<&str> = FbOutputs::default().bits().iter().map(|(n, _)| *n).collect();
-                names.push("ErrorID");
-                (
-                    fb.name.clone(),
-                    instruction_series(&fb.name, &names),
-                    FbOutputs::default(),
-                )
-            })
+            .map(|fb| status_series(&fb.name, FbOutputs::default()))
             .collect();
-        let zero = MotionInstructionBits::default();
         let instructions = program
             .instructions()
             .iter()
-            .map(|ins| {
-                let names: Vec<&str> = zero
-                    .bits()
-                    .iter()
-                    .map(|(n, _)| *n)
-                    .chain(zero.codes().iter().map(|(n, _)| *n))
-                    .collect();
-                (ins.name.clone(), instruction_series(&ins.name, &names), zero)
-            })
+            .map(|ins| status_series(&ins.name, MotionInstructionBits::default()))
             .collect();
         let model = plant.model();
         let poses = model
@@ -213,43 +196,10 @@ impl Logged {
                     series.observe(t, *v);
                 }
             }
-            for ((name, series, previous), o) in self.series.fbs.iter_mut().zip(&batch.fbs[u * fbs..(u + 1) * fbs]) {
-                let o = *o;
-                let values = o
-                    .bits()
-                    .map(|(_, b)| f64::from(u8::from(b)))
-                    .into_iter()
-                    .chain([f64::from(o.error_id)]);
-                for (s, v) in series.iter_mut().zip(values) {
-                    s.observe(t, v);
-                }
-                if std::mem::replace(previous, o) != o {
-                    let level = if o.error { TextLevel::Error } else { TextLevel::Info };
-                    self.recorder
-                        .log_text("instructions/log", level, &format!("{name}: {}", describe(o)))?;
-                }
-            }
-            for ((name, series, previous), b) in self
-                .series
-                .instructions
-                .iter_mut()
-                .zip(&batch.instructions[u * instructions..(u + 1) * instructions])
-            {
-                let b = *b;
-                let values = b
-                    .bits()
-                    .map(|(_, bit)| f64::from(u8::from(bit)))
-                    .into_iter()
-                    .chain(b.codes().map(|(_, c)| f64::from(c)));
-                for (s, v) in series.iter_mut().zip(values) {
-                    s.observe(t, v);
-                }
-                if std::mem::replace(previous, b) != b {
-                    let level = if b.er { TextLevel::Error } else { TextLevel::Info };
-                    self.recorder
-                        .log_text("instructions/log", level, &format!("{name}: {}", describe_bits(b)))?;
-                }
-            }
+            let recorder = &mut self.recorder;
+            observe_statuses(recorder, t, &mut self.series.fbs, &batch.fbs[u * fbs..(u + 1) * fbs])?;
+            let updated = &batch.instructions[u * instructions..(u + 1) * instructions];
+            observe_statuses(recorder, t, &mut self.series.instructions, updated)?;
             self.pending_updates += 1;
             if self.pending_updates >= FLUSH_UPDATES {
                 self.flush()?;
@@ -313,6 +263,35 @@ impl Logged {
     }
 }
 
+/// Takes in one update's outputs of the function blocks or control
+/// structures: each one's series sample its bits then its codes, and a
+/// change of its outputs is a line of the instruction log.
+fn observe_statuses<S: Status>(
+    recorder: &mut Recorder,
+    t_ns: i64,
+    rows: &mut [(String, Vec<Series>, S)],
+    update: &[S],
+) -> Result<(), RecordingError> {
+    for ((name, series, previous), status) in rows.iter_mut().zip(update) {
+        let values = status
+            .named_bits()
+            .map(|(_, bit)| f64::from(u8::from(bit)))
+            .chain(status.named_codes().map(|(_, code)| code));
+        for (s, v) in series.iter_mut().zip(values) {
+            s.observe(t_ns, v);
+        }
+        if std::mem::replace(previous, *status) != *status {
+            let level = if status.failed() {
+                TextLevel::Error
+            } else {
+                TextLevel::Info
+            };
+            recorder.log_text("instructions/log", level, &format!("{name}: {}", describe(*status)))?;
+        }
+    }
+    Ok(())
+}
+
 /// The pose of a child link in its parent's frame, from both world poses
 /// (translation, `xyzw` unit quaternion): conj(q_p)·q_c, and the offset
 /// t_c − t_p turned by conj(q_p).
@@ -357,13 +336,17 @@ fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-/// A function block's or control structure's series, named by `leaves`.
-fn instruction_series(name: &str, leaves: &[&str]) -> Vec<Series> {
-    let name = entity_part(name);
-    leaves
-        .iter()
-        .map(|leaf| Series::new(format!("instructions/{name}/{leaf}")))
-        .collect()
+/// A function block's or control structure's series (its bits, then its
+/// codes), with the outputs it starts from.
+fn status_series<S: Status>(name: &str, start: S) -> (String, Vec<Series>, S) {
+    let part = entity_part(name);
+    let series = start
+        .named_bits()
+        .map(|(leaf, _)| leaf)
+        .chain(start.named_codes().map(|(leaf, _)| leaf))
+        .map(|leaf| Series::new(format!("instructions/{part}/{leaf}")))
+        .collect();
+    (name.to_owned(), series, start)
 }
 
 /// A name as one entity-path part (a `/`, `.` or space stays inside it).
