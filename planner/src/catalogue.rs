@@ -44,10 +44,7 @@
 
 mod instructions;
 
-pub use instructions::{
-    MAFR, MAG, MAH, MAJ, MAM, MAPC, MAS, MASD, MASR, MC_MOVE_MODULO, MCCM, MCCP, MCLM, MCS, MCSD, MCSR, MCT, MRP, MSF,
-    MSO,
-};
+pub use instructions::*;
 
 /// How an operand may be given, as the manual's Format column says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -272,30 +269,6 @@ const fn str_eq(a: &str, b: &str) -> bool {
     }
     true
 }
-
-/// Every instruction the product accepts, in the order the docs list them.
-pub const INSTRUCTIONS: &[&Instruction] = &[
-    &MCLM,
-    &MCCM,
-    &MCS,
-    &MCT,
-    &MCCP,
-    &MAPC,
-    &MRP,
-    &MAJ,
-    &MAS,
-    &MAM,
-    &MAG,
-    &MSO,
-    &MSF,
-    &MASD,
-    &MASR,
-    &MAFR,
-    &MAH,
-    &MCSD,
-    &MCSR,
-    &MC_MOVE_MODULO,
-];
 
 /// The instruction called `name` (case-insensitive).
 pub fn find(name: &str) -> Option<&'static Instruction> {

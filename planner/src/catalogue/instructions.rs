@@ -1,8 +1,33 @@
 //! The catalogue's entries: every instruction's operands in faceplate
-//! order, with their data types, formats and enumeration words (the
-//! parent module's doc says how they are used).
+//! order, with their data types, formats and enumeration words, and the
+//! list of them all (the parent module's doc says how they are used). An
+//! instruction the twin learns is added here alone.
 
 use super::{CallStyle, Family, Format, Instruction, Kind, Operand, Word};
+
+/// Every instruction the product accepts, in the order the docs list them.
+pub const INSTRUCTIONS: &[&Instruction] = &[
+    &MCLM,
+    &MCCM,
+    &MCS,
+    &MCT,
+    &MCCP,
+    &MAPC,
+    &MRP,
+    &MAJ,
+    &MAS,
+    &MAM,
+    &MAG,
+    &MSO,
+    &MSF,
+    &MASD,
+    &MASR,
+    &MAFR,
+    &MAH,
+    &MCSD,
+    &MCSR,
+    &MC_MOVE_MODULO,
+];
 
 const fn op(name: &'static str, data_type: &'static str, format: Format, kind: Kind, faceplate: i32) -> Operand {
     Operand {
