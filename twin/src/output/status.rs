@@ -10,7 +10,9 @@ use std::fmt::Write as _;
 pub(crate) trait Status: Copy + PartialEq {
     /// The bits, named, in their documented order.
     fn named_bits(&self) -> impl Iterator<Item = (&'static str, bool)>;
-    /// The codes, named: `ErrorID`; `ERR`, `EXERR`, `SEGMENT`.
+    /// The codes, named: `ErrorID`; `ERR`, `EXERR`, `SEGMENT` (the
+    /// recording's series).
+    #[cfg(feature = "rerun")]
     fn named_codes(&self) -> impl Iterator<Item = (&'static str, f64)>;
     /// Whether it reports an error (`Error`, `.ER`).
     fn failed(&self) -> bool;
@@ -24,6 +26,7 @@ impl Status for FbOutputs {
     fn named_bits(&self) -> impl Iterator<Item = (&'static str, bool)> {
         self.bits().into_iter()
     }
+    #[cfg(feature = "rerun")]
     fn named_codes(&self) -> impl Iterator<Item = (&'static str, f64)> {
         [("ErrorID", f64::from(self.error_id))].into_iter()
     }
@@ -46,6 +49,7 @@ impl Status for MotionInstructionBits {
     fn named_bits(&self) -> impl Iterator<Item = (&'static str, bool)> {
         self.bits().into_iter()
     }
+    #[cfg(feature = "rerun")]
     fn named_codes(&self) -> impl Iterator<Item = (&'static str, f64)> {
         self.codes().into_iter().map(|(name, code)| (name, f64::from(code)))
     }
