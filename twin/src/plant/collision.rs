@@ -641,29 +641,33 @@ impl CollisionModel {
                 );
                 continue;
             }
-            let body = Self::body_box(body_shapes);
+            let Some(body) = Self::body_box(body_shapes) else {
+                clearance_m[b] = self.nearest_obstacle(b, body_shapes);
+                continue;
+            };
             // A body that touched at the previous check likely still does:
-            // its contacts first, and an overlap deeper than rounding could
-            // blur means a clearance of 0 (what the distance gives for
-            // shapes that overlap) without measuring it.
+            // its contacts first (where they start in `contacts`), and an
+            // overlap deeper than rounding could blur means a clearance of
+            // 0 (what the distance gives for shapes that overlap) without
+            // measuring it.
             let touched = reuse.is_some_and(|(_, r)| r.clearance_m[b] <= 0.0);
-            if let (true, Some(body)) = (touched, &body) {
+            let found = touched.then(|| {
                 let before = contacts.len();
-                self.obstacle_contacts(b, body_shapes, body, &mut contacts);
-                if contacts[before..].iter().any(|c| c.depth_m > CLEAR_OVERLAP_M) {
-                    clearance_m[b] = 0.0;
-                    continue;
-                }
-                contacts.truncate(before);
-            }
-            clearance_m[b] = self.nearest_obstacle(b, body_shapes);
-            if clearance_m[b] > 0.0 {
+                self.obstacle_contacts(b, body_shapes, &body, &mut contacts);
+                before
+            });
+            if found.is_some_and(|before| contacts[before..].iter().any(|c| c.depth_m > CLEAR_OVERLAP_M)) {
+                clearance_m[b] = 0.0;
                 continue;
             }
-            // Touching: the contacts with every obstacle whose box meets
-            // the body's, in obstacle order.
-            if let Some(body) = &body {
-                self.obstacle_contacts(b, body_shapes, body, &mut contacts);
+            clearance_m[b] = self.nearest_obstacle(b, body_shapes);
+            match (clearance_m[b] > 0.0, found) {
+                // Clear after all: the contacts found first do not count.
+                (true, Some(before)) => contacts.truncate(before),
+                (true, None) | (false, Some(_)) => {}
+                // Touching: the contacts with every obstacle whose box
+                // meets the body's, in obstacle order.
+                (false, None) => self.obstacle_contacts(b, body_shapes, &body, &mut contacts),
             }
         }
         for &(a, b) in &self.self_pairs {
