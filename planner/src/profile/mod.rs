@@ -223,7 +223,7 @@ impl Limits {
 }
 
 /// One constant-jerk piece of a profile, starting at `t0_s`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 struct Segment {
     t0_s: f64,
     duration_s: f64,
@@ -357,21 +357,24 @@ impl Profile {
         let a0 = dir * start.acceleration;
         let dist = dir * distance;
         let v_max = limits.velocity;
-        // Distance the root search may leave to the cruise (which absorbs it
-        // exactly): a few ulps of the move.
-        let tol = 1e-15 * dist.abs();
+        // Distance the root search may leave over or under: 1e-13 of the
+        // move, above the rounding of ramps whose distances nearly cancel
+        // and at most a tenth of the miss (`tolerance` below) that gives
+        // the ramps up. The cruise absorbs a shortfall exactly, the final
+        // state's exact target an excess.
+        let tol = 1e-13 * dist.abs();
         let v_free = coast_velocity(v0, a0, limits);
         let mut vf = final_speed;
         let lo = vf.max(v_free.max(0.0)).min(v_max);
         let mut up = PeakRamps::new((v0, a0), Some(vf), (lo, v_max), dist, limits);
-        let at_max = up.excess(v_max);
+        let at_max = up.excess_at_high();
         let peak;
         if at_max[0] <= 0.0 {
             peak = v_max;
         } else {
+            up.fix_course();
             let at_lo = up.excess(lo)[0];
             if lo >= vf && at_lo <= 0.0 {
-                up.fix_course();
                 peak = newton_at_most(lo, v_max, at_lo, at_max, tol, |vp| up.excess(vp));
             } else if v_free > vf {
                 if a0 < 0.0
@@ -391,15 +394,16 @@ impl Profile {
         }
         // The ramps' own integration gives the distance they cover; the
         // cruise between them takes the rest.
-        let first = Ramp::new(v0, a0, peak, limits);
-        let last = Ramp::new(peak, 0.0, vf, limits);
         let travel_start = State {
             position: 0.0,
             velocity: v0,
             acceleration: a0,
         };
-        let mut profile = Self::from_ramps(travel_start, &[&first, &last], None, limits);
-        let cruise_len = dist - profile.final_state.position;
+        let mut to_peak = Integrated::new(travel_start, limits);
+        to_peak.ramp(&Ramp::new(v0, a0, peak, limits));
+        let mut from_peak = Integrated::continuing(&to_peak);
+        from_peak.ramp(&Ramp::new(peak, 0.0, vf, limits));
+        let cruise_len = dist - from_peak.state.position;
         let tolerance = 1e-12 * (1.0 + dist.abs() + start.position.abs());
         let at_rest = start.velocity == 0.0 && start.acceleration == 0.0;
         if !at_rest && (cruise_len < -tolerance || (cruise_len > tolerance && peak <= 1e-9 * v_max)) {
@@ -418,10 +422,67 @@ impl Profile {
                 &mut None,
             ));
         }
-        if cruise_len > 0.0 && peak > 1e-9 * v_max {
-            profile.insert_cruise(first.len(), cruise_len / peak);
+        let cruise_s = if cruise_len > 0.0 && peak > 1e-9 * v_max {
+            cruise_len / peak
+        } else {
+            0.0
+        };
+        Self::with_cruise(start, dir, &to_peak, cruise_s, &from_peak, target_position, vf)
+    }
+
+    /// The profile of a ramp to the peak speed, a cruise of `cruise_s` at
+    /// the speed it reached and a ramp from the peak (integrated from there
+    /// without the cruise, so moved on by it here), planned in the frame
+    /// where travel is positive (`dir` · the axis) and mapped onto the axis
+    /// from `start`, ending at `target_position` with speed `final_speed`
+    /// in the direction of travel.
+    fn with_cruise(
+        start: State,
+        dir: f64,
+        to_peak: &Integrated,
+        cruise_s: f64,
+        from_peak: &Integrated,
+        target_position: f64,
+        final_speed: f64,
+    ) -> Self {
+        let onto = |seg: &Segment, shift_s: f64, shift: f64| Segment {
+            t0_s: seg.t0_s + shift_s,
+            duration_s: seg.duration_s,
+            start: State {
+                position: start.position + dir * (seg.start.position + shift),
+                velocity: dir * seg.start.velocity,
+                acceleration: dir * seg.start.acceleration,
+            },
+            jerk: dir * seg.jerk,
+        };
+        let mut segments = Vec::with_capacity(to_peak.count + 1 + from_peak.count);
+        segments.extend(to_peak.segments().iter().map(|seg| onto(seg, 0.0, 0.0)));
+        let mut shift = 0.0;
+        if cruise_s > 0.0 {
+            let cruise = Segment {
+                t0_s: to_peak.t_s,
+                duration_s: cruise_s,
+                start: State {
+                    acceleration: 0.0,
+                    ..to_peak.state
+                },
+                jerk: 0.0,
+            };
+            shift = to_peak.state.velocity * cruise_s;
+            segments.push(onto(&cruise, 0.0, 0.0));
         }
-        profile.onto_axis(start, dir, target_position, vf)
+        segments.extend(from_peak.segments().iter().map(|seg| onto(seg, cruise_s, shift)));
+        Self {
+            segments,
+            start,
+            final_state: State {
+                position: target_position,
+                velocity: dir * final_speed,
+                acceleration: 0.0,
+            },
+            duration_s: from_peak.t_s + cruise_s,
+            overshoot: None,
+        }
     }
 
     /// The profile of `ramps` (with a cruise before ramp `cruise.0`)
@@ -442,14 +503,16 @@ impl Profile {
             velocity: dir * start.velocity,
             acceleration: dir * start.acceleration,
         };
-        Self::from_ramps(mirrored_start, ramps, cruise, limits).onto_axis(start, dir, target_position, final_speed)
+        let mut profile = Self::from_ramps(mirrored_start, ramps, cruise, limits);
+        profile.onto_axis(start, dir, target_position, final_speed);
+        profile
     }
 
     /// This profile, planned in the frame where travel is positive (`dir` ·
     /// the axis) from position 0, mapped onto the axis from `start`, ending
     /// exactly at `target_position` with speed `final_speed` in the
     /// direction of travel.
-    fn onto_axis(mut self, start: State, dir: f64, target_position: f64, final_speed: f64) -> Self {
+    fn onto_axis(&mut self, start: State, dir: f64, target_position: f64, final_speed: f64) {
         self.mirror_and_shift(dir, start.position);
         self.start = start;
         self.final_state = State {
@@ -457,7 +520,6 @@ impl Profile {
             velocity: dir * final_speed,
             acceleration: 0.0,
         };
-        self
     }
 
     /// Changes velocity from `start` to `target_velocity` (signed) and holds it.
@@ -481,88 +543,32 @@ impl Profile {
     }
 
     fn from_ramps(start: State, ramps: &[&Ramp], cruise: Option<(usize, f64)>, limits: &Limits) -> Self {
-        let mut segments = Vec::with_capacity(7);
-        let mut t = 0.0;
-        let mut state = start;
-        if matches!(limits.shape, Shape::Trapezoidal) {
-            state.acceleration = 0.0;
-        }
-        let mut push = |phase: Phase, state: &mut State, t: &mut f64| {
-            if phase.duration_s <= 0.0 {
-                return;
-            }
-            if let Some(a) = phase.set_acceleration {
-                state.acceleration = a;
-            }
-            let seg = Segment {
-                t0_s: *t,
-                duration_s: phase.duration_s,
-                start: *state,
-                jerk: phase.jerk,
-            };
-            let end = seg.at(phase.duration_s);
-            *state = end.state();
-            if phase.set_acceleration.is_some() {
-                state.acceleration = 0.0;
-            }
-            *t += phase.duration_s;
-            segments.push(seg);
-        };
+        let mut segments = Vec::with_capacity(9);
+        let mut at = Integrated::new(start, limits);
         for (i, ramp) in ramps.iter().enumerate() {
-            if let Some((at, cruise_s)) = cruise
-                && at == i
+            if let Some((before, cruise_s)) = cruise
+                && before == i
             {
-                push(
-                    Phase {
-                        duration_s: cruise_s,
-                        jerk: 0.0,
-                        set_acceleration: Some(0.0),
-                    },
-                    &mut state,
-                    &mut t,
-                );
+                at.phase(Phase {
+                    duration_s: cruise_s,
+                    jerk: 0.0,
+                    set_acceleration: Some(0.0),
+                });
             }
-            for phase in ramp.phases() {
-                push(phase, &mut state, &mut t);
-            }
+            at.ramp(ramp);
+            segments.extend_from_slice(at.segments());
+            at.count = 0;
         }
-        let final_state = State {
-            acceleration: 0.0,
-            ..state
-        };
         Self {
             segments,
             overshoot: None,
             start,
-            final_state,
-            duration_s: t,
-        }
-    }
-
-    /// Inserts a cruise of `duration_s` at the speed reached before segment
-    /// `at` (the end of the first ramp), moving the later segments on.
-    fn insert_cruise(&mut self, at: usize, duration_s: f64) {
-        let (t0_s, state) = self
-            .segments
-            .get(at)
-            .map_or((self.duration_s, self.final_state), |s| (s.t0_s, s.start));
-        let shift = state.velocity * duration_s;
-        for seg in &mut self.segments[at..] {
-            seg.t0_s += duration_s;
-            seg.start.position += shift;
-        }
-        let cruise = Segment {
-            t0_s,
-            duration_s,
-            start: State {
+            final_state: State {
                 acceleration: 0.0,
-                ..state
+                ..at.state
             },
-            jerk: 0.0,
-        };
-        self.segments.insert(at, cruise);
-        self.final_state.position += shift;
-        self.duration_s += duration_s;
+            duration_s: at.t_s,
+        }
     }
 
     /// This profile followed by `next` (which must start where this one ends).
@@ -727,6 +733,77 @@ impl Profile {
         let raising = s.velocity * s.acceleration > 0.0 || (s.velocity == 0.0 && s.acceleration != 0.0);
         let lowering = s.velocity * s.acceleration < 0.0;
         (raising, lowering)
+    }
+}
+
+/// Phases integrated one after the other into segments (a ramp's worth,
+/// and a cruise, at a time): the state and time reached, in the frame
+/// they are planned in.
+struct Integrated {
+    segments: [Segment; 5],
+    count: usize,
+    state: State,
+    t_s: f64,
+}
+
+impl Integrated {
+    /// From `start` at time 0 (a trapezoid ignores its acceleration).
+    fn new(start: State, limits: &Limits) -> Self {
+        let mut state = start;
+        if matches!(limits.shape, Shape::Trapezoidal) {
+            state.acceleration = 0.0;
+        }
+        Self {
+            segments: [Segment::default(); 5],
+            count: 0,
+            state,
+            t_s: 0.0,
+        }
+    }
+
+    /// From where `before` ends, with no segments yet.
+    fn continuing(before: &Integrated) -> Self {
+        Self {
+            segments: [Segment::default(); 5],
+            count: 0,
+            state: before.state,
+            t_s: before.t_s,
+        }
+    }
+
+    /// Appends one phase (none if it has no duration); the caller empties
+    /// the five segments before a sixth.
+    fn phase(&mut self, phase: Phase) {
+        if phase.duration_s <= 0.0 {
+            return;
+        }
+        if let Some(a) = phase.set_acceleration {
+            self.state.acceleration = a;
+        }
+        let seg = Segment {
+            t0_s: self.t_s,
+            duration_s: phase.duration_s,
+            start: self.state,
+            jerk: phase.jerk,
+        };
+        self.state = seg.at(phase.duration_s).state();
+        if phase.set_acceleration.is_some() {
+            self.state.acceleration = 0.0;
+        }
+        self.t_s += phase.duration_s;
+        self.segments[self.count] = seg;
+        self.count += 1;
+    }
+
+    /// Appends a ramp's phases (at most four).
+    fn ramp(&mut self, ramp: &Ramp) {
+        for phase in ramp.phases() {
+            self.phase(phase);
+        }
+    }
+
+    fn segments(&self) -> &[Segment] {
+        &self.segments[..self.count]
     }
 }
 

@@ -37,7 +37,7 @@ pub(super) fn softened_brake(
     if at_start[0] > 0.0 || at_zero[0] < 0.0 {
         return None;
     }
-    let tol = 1e-15 * dist.abs();
+    let tol = 1e-13 * dist.abs();
     let a1 = if at_zero[1].is_finite() {
         newton_at_most(a0, 0.0, at_start[0], at_zero, tol, excess)
     } else {
@@ -101,6 +101,10 @@ pub(super) struct PeakRamps<'a> {
     /// (it is unless an easing varies with the peak, or the range spans
     /// the coast velocity), with its lead's distance and its tail's frame.
     course: Option<(Course, f64, Option<TailFrame>)>,
+    /// The first ramp's course and tail frame at the inside of the high
+    /// end, kept from [`PeakRamps::excess_at_high`] for
+    /// [`PeakRamps::fix_course`].
+    high: Option<(Course, Option<TailFrame>)>,
     dist: f64,
     limits: &'a Limits,
 }
@@ -118,22 +122,46 @@ impl<'a> PeakRamps<'a> {
             range: (lo, hi),
             inside: (lo + nudge, (hi - nudge).max(lo + nudge)),
             course: None,
+            high: None,
             dist,
             limits,
         }
+    }
+
+    /// The first ramp's course, and its tail's frame where it has one, at
+    /// `vt`.
+    fn course_at(&self, vt: f64) -> (Course, Option<TailFrame>) {
+        let (v0, a0) = self.start;
+        let course = Course::new(v0, a0, vt, self.limits);
+        (course, course.tail.jerk.map(|j| course.tail.frame(j, vt)))
+    }
+
+    /// [`PeakRamps::excess`] at the range's high end, before any course is
+    /// fixed: where the ramps fit there no search follows, and where they
+    /// do not the course found there is kept for [`PeakRamps::fix_course`].
+    pub(super) fn excess_at_high(&mut self) -> [f64; 3] {
+        let (v0, a0) = self.start;
+        let hi = self.range.1;
+        let (course, frame) = self.course_at(self.inside.1);
+        self.high = Some((course, frame));
+        let first = match (course.eased, frame) {
+            (None, Some(frame)) => {
+                let [tail, slope, curvature] = frame.reach(hi);
+                [course.lead_distance(v0, a0) + tail, slope, curvature]
+            }
+            _ => course.reach(v0, a0, hi),
+        };
+        self.with_settle(first, hi)
     }
 
     /// Takes the first ramp's course once for the whole range where it is
     /// the same throughout (before a search's many evaluations).
     pub(super) fn fix_course(&mut self) {
         let (v0, a0) = self.start;
-        let (lo, hi) = self.inside;
-        let low = Course::new(v0, a0, lo, self.limits);
-        self.course = (low.eased.is_none() && low == Course::new(v0, a0, hi, self.limits)).then(|| {
-            let frame = low.tail.jerk.and_then(|j| {
-                let frame = low.tail.frame(j, lo);
-                (frame == low.tail.frame(j, hi)).then_some(frame)
-            });
+        let (high, high_frame) = self.high.take().unwrap_or_else(|| self.course_at(self.inside.1));
+        let (low, low_frame) = self.course_at(self.inside.0);
+        self.course = (low.eased.is_none() && low == high).then(|| {
+            let frame = low_frame.filter(|frame| Some(*frame) == high_frame);
             (low, low.lead_distance(v0, a0), frame)
         });
     }
@@ -144,9 +172,12 @@ impl<'a> PeakRamps<'a> {
         let (v0, a0) = self.start;
         let first = match self.course {
             Some((course, lead, frame)) => {
-                let [tail, slope, curvature] = match frame {
-                    Some(frame) => frame.reach(vp),
-                    None => course.tail.reach(vp),
+                let [tail, slope, curvature] = match (frame, course.tail.jerk) {
+                    (Some(frame), _) => frame.reach(vp),
+                    // The side of the coast speed of the range's inside (see
+                    // below).
+                    (None, Some(j)) => course.tail.frame(j, vp.clamp(self.inside.0, self.inside.1)).reach(vp),
+                    (None, None) => course.tail.reach(vp),
                 };
                 [lead + tail, slope, curvature]
             }
@@ -166,6 +197,12 @@ impl<'a> PeakRamps<'a> {
                 }
             }
         };
+        self.with_settle(first, vp)
+    }
+
+    /// `first` (the first ramp's distance to `vp` and its derivatives) with
+    /// the second ramp's added and the distance to fit taken off.
+    fn with_settle(&self, first: [f64; 3], vp: f64) -> [f64; 3] {
         let second = self.settle.map_or([0.0; 3], |settle| settle.reach(vp));
         [
             first[0] + second[0] - self.dist,
@@ -186,9 +223,11 @@ impl<'a> PeakRamps<'a> {
     }
 }
 
-/// Largest `x` in `[lo, hi]` with `f(x) ≤ 0`, to within `tol`, for `f`
-/// increasing, given `f` and its first and second derivatives (and their
-/// values at the ends): `hi` when `f(hi) ≤ 0`, `lo` when `f(lo) ≥ −tol`.
+/// Largest `x` in `[lo, hi]` with `f(x) ≤ 0`, for `f` increasing, given
+/// `f` and its first and second derivatives (and their values at the
+/// ends): `hi` when `f(hi) ≤ 0`, `lo` when `f(lo) ≥ −tol`, else the first
+/// point found with |f| ≤ `tol` (on either side of the root), or the
+/// root to the resolution of `x`.
 /// Far from the root a step assumes `f − f(lo)` grows like a power of
 /// `x − lo` (a ramp's distance does, with exponent ½ to 2, so one such step
 /// lands close from any distance); near it a step goes to the root of the
@@ -258,6 +297,9 @@ pub(super) fn newton_at_most(
             }
         } else {
             b = x;
+            if fx <= tol {
+                return x;
+            }
         }
         // The bracket is down to a few ulps: f is at its rounding there.
         if b - a <= 8.0 * f64::EPSILON * b.abs() {

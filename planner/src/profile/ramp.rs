@@ -39,7 +39,7 @@ pub(super) struct Ramp {
 /// Signed distance of one constant-jerk phase of `t_s` from (`v`, `a`).
 #[inline]
 pub(super) fn phase_distance(v: f64, a: f64, jerk: f64, t_s: f64) -> f64 {
-    t_s * (v + t_s * (a / 2.0 + t_s * jerk / 6.0))
+    t_s * (v + t_s * (a * 0.5 + t_s * jerk * (1.0 / 6.0)))
 }
 
 /// The speed at which ending the acceleration `a` with `jerk` arrives.
@@ -542,11 +542,6 @@ impl Ramp {
             }
         }
         p
-    }
-
-    /// How many phases the ramp has.
-    pub(super) fn len(&self) -> usize {
-        self.count
     }
 
     /// The phases in time order.
