@@ -4,6 +4,9 @@
 
 #![allow(missing_docs)]
 
+#[path = "../tests/reference/cases.rs"]
+mod cases;
+
 use criterion::{Criterion, criterion_group, criterion_main};
 use planner::axis::{AxisConfig, AxisKind};
 use planner::modulo::{McBufferMode, McDirection, MoveModuloInputs};
@@ -73,30 +76,53 @@ fn state_to_state_cases() -> Vec<(State, f64, f64, Limits)> {
 }
 
 fn state_to_state(c: &mut Criterion) {
-    let cases = state_to_state_cases();
-    // Mean: criterion times the whole set; divide by 10,000.
-    c.bench_function("s_curve_plan_state_to_state_10k_cases", |b| {
+    mean_and_worst(c, "s_curve_plan_state_to_state_10k_cases", &state_to_state_cases());
+    // The same measurement on the cases Ruckig is timed on
+    // (`tests/reference/ruckig_timing.py`): one accel limit and one jerk.
+    mean_and_worst(c, "s_curve_plan_state_to_state_ruckig_table_10k", &ruckig_table_cases());
+}
+
+/// The first 10,000 cases of the Ruckig table that Ruckig solved (start,
+/// target, final speed, limits): the cases `ruckig_timing.py` times Ruckig
+/// on.
+fn ruckig_table_cases() -> Vec<(State, f64, f64, Limits)> {
+    let table = include_str!("../tests/reference/ruckig_state_to_state.txt");
+    let mut rng = cases::SplitMix64(cases::SEED);
+    let mut out = Vec::new();
+    for line in table.lines().filter(|l| !l.starts_with('#')).take(10_000) {
+        let case = cases::draw(&mut rng);
+        let fields: Vec<&str> = line.split(' ').collect();
+        if fields[2] == "x" {
+            continue;
+        }
+        let limits = Limits::s_curve(case.v, case.a, case.a, case.j, case.j).expect("valid limits");
+        out.push((case.start, fields[0].parse().expect("a target"), case.vf, limits));
+    }
+    out
+}
+
+/// Mean (criterion times the whole set; divide by its size) and worst
+/// (each case timed alone in each of 20 passes over the set, its best
+/// time kept so that a preempted run does not count, then the slowest
+/// case) planning time over `cases`.
+fn mean_and_worst(c: &mut Criterion, name: &str, cases: &[(State, f64, f64, Limits)]) {
+    c.bench_function(name, |b| {
         b.iter(|| {
-            for (start, target, vf, limits) in &cases {
+            for (start, target, vf, limits) in cases {
                 black_box(Profile::to_position(black_box(*start), *target, *vf, limits));
             }
         })
     });
-    // Worst: each case timed alone, best of 20 runs (so a preempted run does
-    // not count), then the slowest case.
-    let mut worst_ns = 0u128;
-    for (start, target, vf, limits) in &cases {
-        let best = (0..20)
-            .map(|_| {
-                let t = std::time::Instant::now();
-                black_box(Profile::to_position(black_box(*start), *target, *vf, limits));
-                t.elapsed().as_nanos()
-            })
-            .min()
-            .unwrap_or(0);
-        worst_ns = worst_ns.max(best);
+    let mut best_ns = vec![u128::MAX; cases.len()];
+    for _ in 0..20 {
+        for ((start, target, vf, limits), best) in cases.iter().zip(&mut best_ns) {
+            let t = std::time::Instant::now();
+            black_box(Profile::to_position(black_box(*start), *target, *vf, limits));
+            *best = (*best).min(t.elapsed().as_nanos());
+        }
     }
-    println!("s_curve_plan_state_to_state worst case over 10,000: {worst_ns} ns");
+    let worst_ns = best_ns.into_iter().max().unwrap_or(0);
+    println!("{name}: {} cases, worst case {worst_ns} ns", cases.len());
 }
 
 fn coarse_update(c: &mut Criterion) {
