@@ -206,19 +206,8 @@ fn draw_asymmetric(rng: &mut SplitMix64) -> (Limits, State, f64) {
     let p0 = (2.0 * rng.unit() - 1.0) * 100.0;
     let kind = rng.below(4);
     let v0 = if kind == 0 { 0.0 } else { v * rng.unit() };
-    let mut a0 = if kind <= 1 { 0.0 } else { (a + d) * rng.unit() - d };
-    let mut settled = false;
-    for _ in 0..60 {
-        let coast = v0 + a0 * a0.abs() / (2.0 * j);
-        if (0.0..=v).contains(&coast) {
-            settled = true;
-            break;
-        }
-        a0 *= 0.5;
-    }
-    if !settled {
-        a0 = 0.0;
-    }
+    let a0 = if kind <= 1 { 0.0 } else { (a + d) * rng.unit() - d };
+    let a0 = cases::keeping(v0, a0, j, 0.0..=v);
     let vf = if rng.below(4) == 0 { v * rng.unit() } else { 0.0 };
     // The generator's target recipe (k, u) is consumed here too; the
     // table stores the target.

@@ -59,18 +59,7 @@ pub fn draw(rng: &mut SplitMix64) -> Case {
         if kind == 1 {
             a0 = 0.0;
         }
-        let mut held = false;
-        for _ in 0..60 {
-            let coast = v0 + a0 * a0.abs() / (2.0 * j);
-            if (-v..=v).contains(&coast) {
-                held = true;
-                break;
-            }
-            a0 *= 0.5;
-        }
-        if !held {
-            a0 = 0.0;
-        }
+        a0 = keeping(v0, a0, j, -v..=v);
     }
     let vf = if rng.below(4) == 0 { v * rng.unit() } else { 0.0 };
     // The target recipe's draws (nearness, exponent, fraction, side): the
@@ -87,4 +76,18 @@ pub fn draw(rng: &mut SplitMix64) -> Case {
         },
         vf,
     }
+}
+
+/// `a0` halved (at most 60 times) until ending it with the jerk `j` from
+/// the speed `v0` arrives at a speed in `speeds`, or 0 where it does not:
+/// the generators' rule for a start that can keep the velocity limit.
+pub fn keeping(v0: f64, mut a0: f64, j: f64, speeds: std::ops::RangeInclusive<f64>) -> f64 {
+    for _ in 0..60 {
+        let coast = v0 + a0 * a0.abs() / (2.0 * j);
+        if speeds.contains(&coast) {
+            return a0;
+        }
+        a0 *= 0.5;
+    }
+    0.0
 }
