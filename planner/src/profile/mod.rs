@@ -349,7 +349,7 @@ impl Profile {
             -1.0
         } else {
             let brake = Ramp::new(start.velocity, start.acceleration, toward * final_speed, limits);
-            let mut profile = Self::from_ramps(start, &[&brake], None, limits);
+            let mut profile = Self::from_ramps(start, &[&brake], limits);
             profile.final_state.position = target_position;
             return profile;
         };
@@ -485,15 +485,13 @@ impl Profile {
         }
     }
 
-    /// The profile of `ramps` (with a cruise before ramp `cruise.0`)
-    /// planned in the frame where travel is positive (`dir` · the axis),
+    /// The profile of `ramps` planned in the frame where travel is positive (`dir` · the axis),
     /// mapped back onto the axis from `start`, ending at `target_position`
     /// with speed `final_speed` in the direction of travel.
     fn in_travel_frame(
         start: State,
         dir: f64,
         ramps: &[&Ramp],
-        cruise: Option<(usize, f64)>,
         target_position: f64,
         final_speed: f64,
         limits: &Limits,
@@ -503,7 +501,7 @@ impl Profile {
             velocity: dir * start.velocity,
             acceleration: dir * start.acceleration,
         };
-        let mut profile = Self::from_ramps(mirrored_start, ramps, cruise, limits);
+        let mut profile = Self::from_ramps(mirrored_start, ramps, limits);
         profile.onto_axis(start, dir, target_position, final_speed);
         profile
     }
@@ -536,25 +534,16 @@ impl Profile {
         };
         let start = sanitize(start, limits);
         let ramp = Ramp::new(start.velocity, start.acceleration, vt, limits);
-        let mut profile = Self::from_ramps(start, &[&ramp], None, limits);
+        let mut profile = Self::from_ramps(start, &[&ramp], limits);
         profile.final_state.velocity = vt;
         profile.flag_overshoot(limits, None);
         profile
     }
 
-    fn from_ramps(start: State, ramps: &[&Ramp], cruise: Option<(usize, f64)>, limits: &Limits) -> Self {
-        let mut segments = Vec::with_capacity(9);
+    fn from_ramps(start: State, ramps: &[&Ramp], limits: &Limits) -> Self {
+        let mut segments = Vec::with_capacity(4 * ramps.len());
         let mut at = Integrated::new(start, limits);
-        for (i, ramp) in ramps.iter().enumerate() {
-            if let Some((before, cruise_s)) = cruise
-                && before == i
-            {
-                at.phase(Phase {
-                    duration_s: cruise_s,
-                    jerk: 0.0,
-                    set_acceleration: Some(0.0),
-                });
-            }
+        for ramp in ramps {
             at.ramp(ramp);
             segments.extend_from_slice(at.segments());
             at.count = 0;
@@ -736,11 +725,11 @@ impl Profile {
     }
 }
 
-/// Phases integrated one after the other into segments (a ramp's worth,
-/// and a cruise, at a time): the state and time reached, in the frame
-/// they are planned in.
+/// Phases integrated one after the other into segments (a ramp's worth
+/// at a time): the state and time reached, in the frame they are planned
+/// in.
 struct Integrated {
-    segments: [Segment; 5],
+    segments: [Segment; 4],
     count: usize,
     state: State,
     t_s: f64,
@@ -754,7 +743,7 @@ impl Integrated {
             state.acceleration = 0.0;
         }
         Self {
-            segments: [Segment::default(); 5],
+            segments: [Segment::default(); 4],
             count: 0,
             state,
             t_s: 0.0,
@@ -764,7 +753,7 @@ impl Integrated {
     /// From where `before` ends, with no segments yet.
     fn continuing(before: &Integrated) -> Self {
         Self {
-            segments: [Segment::default(); 5],
+            segments: [Segment::default(); 4],
             count: 0,
             state: before.state,
             t_s: before.t_s,
@@ -772,7 +761,7 @@ impl Integrated {
     }
 
     /// Appends one phase (none if it has no duration); the caller empties
-    /// the five segments before a sixth.
+    /// the four segments before a fifth.
     fn phase(&mut self, phase: Phase) {
         if phase.duration_s <= 0.0 {
             return;

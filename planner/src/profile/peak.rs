@@ -48,7 +48,6 @@ pub(super) fn softened_brake(
         start,
         dir,
         &[&first, &rest],
-        None,
         target_position,
         vf,
         limits,
