@@ -61,23 +61,29 @@ use planner::instruction::{FbOutputs, MotionInstructionBits};
 /// with an exponent otherwise (`1e-20`, not twenty zeros); `inf`, `-inf`
 /// and `NaN` as Rust writes them.
 pub fn number(x: f64) -> String {
-    shortest(x, x)
+    let mut text = String::new();
+    write_shortest(&mut text, x, x);
+    text
 }
 
 /// [`number`] for a single-precision value (a REAL tag).
 pub fn number_f32(x: f32) -> String {
-    shortest(x, f64::from(x))
+    let mut text = String::new();
+    write_shortest(&mut text, x, f64::from(x));
+    text
 }
 
-/// `x`'s shortest round-trip text, with an exponent when `value` (`x`
-/// widened) is nonzero and finite outside [1e-5, 1e16) in magnitude.
-fn shortest<T: std::fmt::Display + std::fmt::LowerExp>(x: T, value: f64) -> String {
+/// Appends `x`'s shortest round-trip text, with an exponent when `value`
+/// (`x` widened) is nonzero and finite outside [1e-5, 1e16) in magnitude.
+fn write_shortest<T: std::fmt::Display + std::fmt::LowerExp>(text: &mut String, x: T, value: f64) {
+    use std::fmt::Write;
     let a = value.abs();
-    if a.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
-        format!("{x:e}")
+    // Writing to a String cannot fail.
+    let _ = if a.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
+        write!(text, "{x:e}")
     } else {
-        format!("{x}")
-    }
+        write!(text, "{x}")
+    };
 }
 
 /// The trace's column names (module doc).
@@ -175,14 +181,19 @@ const CAM_COLUMNS: [&str; 5] = [
     "AccelLimitExceeded",
 ];
 
-fn bit(b: bool) -> String {
-    if b { "1" } else { "0" }.to_string()
+/// One update's row, a cell per [`header`] column.
+pub fn row(twin: &Twin) -> Vec<String> {
+    let mut line = String::new();
+    write_row(twin, &mut line);
+    line.split(',').map(str::to_owned).collect()
 }
 
-/// The row for the current update, matching [`header`].
-pub fn row(twin: &Twin) -> Vec<String> {
+/// Appends one update's row to `line`, cells separated by commas, without
+/// the line's end. No cell holds a comma: numbers, integers and bits.
+pub fn write_row(twin: &Twin, line: &mut String) {
     let (task, program, plant) = (twin.task(), twin.program(), twin.plant());
-    let mut row = vec![number(twin.time_s())];
+    let mut row = Row { line, cells: 0 };
+    row.number(twin.time_s());
     for a in plant.axes() {
         let s = task.axis_state(a.handle);
         for x in [
@@ -191,86 +202,124 @@ pub fn row(twin: &Twin) -> Vec<String> {
             s.command_acceleration,
             s.actual_position,
         ] {
-            row.push(number(x));
+            row.number(x);
         }
     }
     for fb in program.fbs() {
         let o = task.outputs(fb.handle);
-        row.extend(o.bits().into_iter().map(|(_, b)| bit(b)));
-        row.push(o.error_id.to_string());
+        o.bits().into_iter().for_each(|(_, b)| row.bit(b));
+        row.int(o.error_id);
     }
     for ins in program.instructions() {
         let b = task.motion_bits(ins.handle);
-        row.extend(b.bits().into_iter().map(|(_, x)| bit(x)));
-        row.extend(b.codes().into_iter().map(|(_, code)| code.to_string()));
+        b.bits().into_iter().for_each(|(_, x)| row.bit(x));
+        b.codes().into_iter().for_each(|(_, code)| row.int(code));
     }
     if plant.collision_enabled() {
-        row.push(plant.collision_events().len().to_string());
-        row.extend(plant.clearance_m().into_iter().map(number));
+        row.int(plant.collision_events().len());
+        plant.clearance_m().into_iter().for_each(|x| row.number(x));
     }
     for a in plant.axes().iter().filter(|a| task.is_cam_slave(a.handle)) {
         let s = task.slave_cam_status(a.handle);
         let l = task.limits_exceeded(a.handle);
-        row.extend([s.position_cam, s.lock, s.pending, l.velocity, l.acceleration].map(bit));
+        for b in [s.position_cam, s.lock, s.pending, l.velocity, l.acceleration] {
+            row.bit(b);
+        }
     }
     coord_row(twin, &mut row);
     if uses_mct(twin) {
         for cs in task.coord_handles() {
-            row.push(bit(task.transform_source_status(cs)));
-            row.push(bit(task.transform_target_status(cs)));
+            row.bit(task.transform_source_status(cs));
+            row.bit(task.transform_target_status(cs));
         }
         for a in plant.axes() {
-            row.push(bit(task.transform_state_status(a.handle)));
-            row.push(bit(task.controlled_by_transform_status(a.handle)));
+            row.bit(task.transform_state_status(a.handle));
+            row.bit(task.controlled_by_transform_status(a.handle));
         }
     }
     if superimposes(twin) {
         for a in plant.axes() {
             let s = task.superimposed(a.handle).unwrap_or_default();
-            row.push(number(s.position));
-            row.push(number(s.velocity));
+            row.number(s.position);
+            row.number(s.velocity);
         }
     }
     if uses_states(twin) {
         for a in plant.axes() {
-            row.push(task.cip_axis_state(a.handle).code().to_string());
-            row.push(task.axis_faults(a.handle).0.to_string());
+            row.int(task.cip_axis_state(a.handle).code());
+            row.int(task.axis_faults(a.handle).0);
         }
     }
     for a in plant.axes() {
         if task.axis_config(a.handle).soft_travel_limits.is_some() {
-            row.push(task.motion_faults(a.handle).0.to_string());
+            row.int(task.motion_faults(a.handle).0);
         }
     }
     for k in 0..plant.axes().len() {
         if let Some(torque) = plant.drive_torque(k) {
-            row.push(number(torque));
+            row.number(torque);
         }
     }
     for a in plant.axes() {
-        row.push(bit(task.profile_overshoot(a.handle)));
+        row.bit(task.profile_overshoot(a.handle));
     }
-    row.extend(program.traced_tags().iter().map(|t| match program.traced(t, task) {
-        Value::Bool(b) => bit(b),
-        Value::Int(i) => i.to_string(),
-        Value::Real(x) if t.single_precision() => number_f32(x as f32),
-        Value::Real(x) => number(x),
-    }));
+    for t in program.traced_tags() {
+        match program.traced(t, task) {
+            Value::Bool(b) => row.bit(b),
+            Value::Int(i) => row.int(i),
+            Value::Real(x) if t.single_precision() => {
+                let x = x as f32;
+                write_shortest(row.cell(), x, f64::from(x));
+            }
+            Value::Real(x) => row.number(x),
+        }
+    }
     if twin.scene().plant == crate::scene::PlantMode::Kinematic {
-        row.push("1".to_string());
+        row.bit(true);
     }
-    row
 }
 
-fn coord_row(twin: &Twin, row: &mut Vec<String>) {
+/// A row being written into a line: each cell after the first starts
+/// with a comma.
+struct Row<'a> {
+    line: &'a mut String,
+    cells: usize,
+}
+
+impl Row<'_> {
+    /// The line, ready for the next cell's text.
+    fn cell(&mut self) -> &mut String {
+        if self.cells > 0 {
+            self.line.push(',');
+        }
+        self.cells += 1;
+        self.line
+    }
+
+    fn number(&mut self, x: f64) {
+        write_shortest(self.cell(), x, x);
+    }
+
+    fn bit(&mut self, b: bool) {
+        self.cell().push(if b { '1' } else { '0' });
+    }
+
+    fn int(&mut self, i: impl std::fmt::Display) {
+        use std::fmt::Write;
+        // Writing to a String cannot fail.
+        let _ = write!(self.cell(), "{i}");
+    }
+}
+
+fn coord_row(twin: &Twin, row: &mut Row<'_>) {
     let (task, plant) = (twin.task(), twin.plant());
     let links = plant.world_from_link();
     for cs in task.coord_handles() {
         let name = &task.coord_config(cs).name;
-        row.extend(task.coord_status(cs).bits().into_iter().map(|(_, b)| bit(b)));
+        task.coord_status(cs).bits().into_iter().for_each(|(_, b)| row.bit(b));
         if let Some(t) = plant.tool_trails().iter().find(|t| &t.system == name) {
             for x in links[t.link].0 {
-                row.push(number(x));
+                row.number(x);
             }
         }
     }

@@ -108,6 +108,8 @@ pub(crate) struct Trace {
     writer: std::io::BufWriter<fs::File>,
     file: OutputFile,
     failed: Option<std::io::Error>,
+    /// The row being written, its buffer reused from update to update.
+    row: String,
 }
 
 impl Trace {
@@ -119,6 +121,7 @@ impl Trace {
             writer: std::io::BufWriter::new(f),
             file,
             failed: None,
+            row: String::new(),
         };
         trace.line(&twin::output::trace::header(twin).join(","));
         Ok(trace)
@@ -126,12 +129,17 @@ impl Trace {
 
     pub(crate) fn row(&mut self, twin: &Twin) {
         if self.failed.is_none() {
-            self.line(&twin::output::trace::row(twin).join(","));
+            let mut line = std::mem::take(&mut self.row);
+            line.clear();
+            twin::output::trace::write_row(twin, &mut line);
+            self.line(&line);
+            self.row = line;
         }
     }
 
     fn line(&mut self, line: &str) {
-        if let Err(e) = writeln!(self.writer, "{line}") {
+        let written = self.writer.write_all(line.as_bytes());
+        if let Err(e) = written.and_then(|()| self.writer.write_all(b"\n")) {
             self.failed = Some(e);
         }
     }
