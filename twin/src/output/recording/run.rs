@@ -151,6 +151,9 @@ struct Feed {
     /// Why a recording thread was given up (the others went on).
     failures: Vec<(Part, RecordingError)>,
     batch: Batch,
+    /// Batches the recording threads have emptied and given back, to be
+    /// filled again (see [`Batch::clear`]).
+    returned: std::sync::mpsc::Receiver<Batch>,
     /// Per tool trail: points sent so far, pieces sent so far, and
     /// whether it is logged (the first of the systems sharing its link).
     trails: Vec<(usize, usize, bool)>,
@@ -233,6 +236,21 @@ enum Item {
         path: String,
         mesh: TriMesh,
     },
+}
+
+impl Batch {
+    /// Empties the batch, keeping its buffers. The recording threads give
+    /// their batches back to the run's thread emptied: memory is then
+    /// allocated and freed by the run's thread alone, whose allocator
+    /// arena the simulation would otherwise share, lock and wait for.
+    fn clear(&mut self) {
+        self.times_ns.clear();
+        self.world_from_link.clear();
+        self.values.clear();
+        self.fbs.clear();
+        self.instructions.clear();
+        self.items.clear();
+    }
 }
 
 /// A static mesh logged when the recording thread starts: path, mesh,
@@ -318,6 +336,7 @@ impl Recording {
             .collect();
 
         let meshes = std::sync::Arc::new(meshes);
+        let (returns, returned) = std::sync::mpsc::channel();
         let mut workers = Vec::new();
         for (part, sinks) in [(Part::Files, files), (Part::Viewers, viewers)] {
             let Some(sinks) = sinks else { continue };
@@ -326,12 +345,13 @@ impl Recording {
             let meshes = std::sync::Arc::clone(&meshes);
             let (sender, receiver) = std::sync::mpsc::sync_channel(BATCHES_IN_FLIGHT);
             let (done_tx, done) = std::sync::mpsc::channel();
+            let returns = returns.clone();
             std::thread::Builder::new()
                 .name("twin_recording".to_owned())
                 .spawn(move || {
-                    let result = sinks
-                        .start()
-                        .and_then(|recorder| Logged::new(recorder, series, live).run(&meshes, &styles, &receiver));
+                    let result = sinks.start().and_then(|recorder| {
+                        Logged::new(recorder, series, live).run(&meshes, &styles, &receiver, &returns)
+                    });
                     let _ = done_tx.send(result);
                 })
                 .map_err(|source| RecordingError::Worker {
@@ -345,6 +365,7 @@ impl Recording {
                 workers,
                 failures: Vec::new(),
                 batch: Batch::default(),
+                returned,
                 trails: plant
                     .tool_trails()
                     .iter()
@@ -377,7 +398,8 @@ impl Recording {
             if let Some(at) = &mut feed.live {
                 *at = std::time::Instant::now();
             }
-            let batch = std::mem::take(&mut feed.batch);
+            let next = feed.given_back();
+            let batch = std::mem::replace(&mut feed.batch, next);
             if let Err(e) = feed.send(batch) {
                 self.inner = None;
                 return Err(e);
@@ -409,6 +431,16 @@ impl Recording {
 }
 
 impl Feed {
+    /// An empty batch to fill: one given back by a recording thread, or a
+    /// new one. With two recording threads two come back for each one
+    /// handed over: the others are freed here.
+    fn given_back(&self) -> Batch {
+        let mut back = self.returned.try_iter();
+        let batch = back.next().unwrap_or_default();
+        back.for_each(drop);
+        batch
+    }
+
     /// Copies the update's numbers into the batch, and queues the new part
     /// of the trails, the collision events and the contacts.
     fn take(&mut self, twin: &Twin) {

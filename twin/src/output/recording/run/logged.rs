@@ -135,6 +135,7 @@ impl Logged {
         meshes: &[StaticMesh],
         styles: &[Style],
         batches: &std::sync::mpsc::Receiver<Batch>,
+        returns: &std::sync::mpsc::Sender<Batch>,
     ) -> Result<Served, RecordingError> {
         self.recorder.set_time_ns(0);
         for (path, mesh, rgba, local) in meshes {
@@ -146,7 +147,7 @@ impl Logged {
         // Static data on its way to the sinks while the run goes on.
         self.recorder.flush_async()?;
         loop {
-            let batch = match batches.try_recv() {
+            let mut batch = match batches.try_recv() {
                 Ok(batch) => batch,
                 Err(std::sync::mpsc::TryRecvError::Empty) => {
                     // Idle: send what has gathered now rather than at the end.
@@ -161,7 +162,13 @@ impl Logged {
                 }
                 Err(std::sync::mpsc::TryRecvError::Disconnected) => break,
             };
-            self.take(batch)?;
+            self.take(&mut batch)?;
+            // Emptied, back to the run's thread, which fills it again: the
+            // run's allocator arena is then used by the run's thread alone
+            // (freeing its memory here would take the arena's lock, which
+            // the simulation waits for).
+            batch.clear();
+            let _ = returns.send(batch);
         }
         for series in self.all_scalars() {
             series.close();
@@ -172,10 +179,10 @@ impl Logged {
 
     /// Takes in a batch: every update's samples, the instruction log lines
     /// of what changed, and the items in order.
-    fn take(&mut self, batch: Batch) -> Result<(), RecordingError> {
+    fn take(&mut self, batch: &mut Batch) -> Result<(), RecordingError> {
         let scalars = self.series.scalars.len();
         let (fbs, instructions) = (self.series.fbs.len(), self.series.instructions.len());
-        let mut items = batch.items.into_iter().peekable();
+        let mut items = batch.items.drain(..).peekable();
         for (u, &t) in batch.times_ns.iter().enumerate() {
             while let Some((_, t_item, item)) = items.next_if(|(before, _, _)| *before <= u) {
                 self.log_item(t_item, item)?;

@@ -146,3 +146,37 @@ fn the_tool_trail_is_logged_in_pieces_up_to_the_end() {
         "each piece logged once: {pieces:?}"
     );
 }
+
+/// The recording thread hands its batches back emptied, buffers kept, so
+/// that the run's thread alone allocates and frees them.
+#[test]
+fn batches_come_back_emptied_for_reuse() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dir = root.join("target/test-output/recording-run");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let scene = root.join("scenes/indexing_table.toml");
+    let mut twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
+    let targets = RecordingTargets {
+        save: Some(dir.join("given_back.rrd")),
+        ..RecordingTargets::default()
+    };
+    let mut recording = Recording::new(&twin, &targets).expect("open");
+    for _ in 0..BATCH_UPDATES {
+        twin.step();
+        recording.log(&twin).expect("log");
+    }
+    let feed = recording.inner.as_ref().expect("a file sink");
+    let back = feed
+        .returned
+        .recv_timeout(std::time::Duration::from_secs(30))
+        .expect("the first batch comes back");
+    assert!(back.times_ns.is_empty() && back.values.is_empty() && back.world_from_link.is_empty());
+    assert!(
+        back.times_ns.capacity() >= BATCH_UPDATES,
+        "{}",
+        back.times_ns.capacity()
+    );
+    assert!(back.values.capacity() >= BATCH_UPDATES, "{}", back.values.capacity());
+    let finished = recording.finish(&twin);
+    assert!(finished.files_complete, "{:?}", finished.failures);
+}
