@@ -7,6 +7,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use planner::axis::{AxisConfig, AxisKind};
 use planner::coord::{CoordMoveInputs, CoordinateSystem, CoordinateSystemConfig, MoveContext};
+use planner::dynamics::MoveDynamics;
 use planner::mccm::{MccmInputs, mccm};
 use planner::task::{CoordCall, MotionTask};
 use std::hint::black_box;
@@ -26,13 +27,16 @@ fn arc_inputs() -> MccmInputs {
     MccmInputs {
         common: CoordMoveInputs {
             position: vec![0.0, 100.0, 20.0],
-            speed: 200.0,
-            accel_rate: 2000.0,
-            decel_rate: 2000.0,
-            profile: 1,
-            accel_jerk: 100.0,
-            decel_jerk: 100.0,
-            jerk_units: 2,
+            dynamics: MoveDynamics {
+                speed: 200.0,
+                accel_rate: 2000.0,
+                decel_rate: 2000.0,
+                profile: 1,
+                accel_jerk: 100.0,
+                decel_jerk: 100.0,
+                jerk_units: 2,
+                ..CoordMoveInputs::default().dynamics
+            },
             ..Default::default()
         },
         circle_type: 0,

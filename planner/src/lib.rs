@@ -25,6 +25,7 @@
 pub mod axis;
 pub mod catalogue;
 pub mod coord;
+pub mod dynamics;
 pub mod instruction;
 pub mod jog;
 pub mod mag;

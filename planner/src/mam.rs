@@ -52,6 +52,7 @@
 //!   simulated: it ends the jog as a merge does.
 
 use crate::axis::AxisConfig;
+use crate::dynamics::MoveDynamics;
 use crate::profile::{Limits, State, jerk_from_percent_of_time};
 use thiserror::Error;
 
@@ -62,26 +63,9 @@ pub struct MamOperands {
     pub move_type: i64,
     /// Position or distance, axis units.
     pub position: f64,
-    /// Speed.
-    pub speed: f64,
-    /// 0 units/s, 1 % of maximum.
-    pub speed_units: i64,
-    /// Acceleration.
-    pub accel_rate: f64,
-    /// 0 units/s², 1 % of maximum.
-    pub accel_units: i64,
-    /// Deceleration.
-    pub decel_rate: f64,
-    /// 0 units/s², 1 % of maximum.
-    pub decel_units: i64,
-    /// 0 trapezoidal, 1 S-curve.
-    pub profile: i64,
-    /// Acceleration jerk (S-curve).
-    pub accel_jerk: f64,
-    /// Deceleration jerk (S-curve).
-    pub decel_jerk: f64,
-    /// 0 units/s³, 1 % of maximum, 2 % of time.
-    pub jerk_units: i64,
+    /// Speed, rates, profile and jerks (units: 0 or 1; jerk units 0, 1,
+    /// 2).
+    pub dynamics: MoveDynamics,
     /// 0 Disabled, 1 Enabled.
     pub merge: i64,
     /// 0 Programmed, 1 Current.
@@ -95,16 +79,18 @@ impl Default for MamOperands {
         Self {
             move_type: 0,
             position: 0.0,
-            speed: 100.0,
-            speed_units: 1,
-            accel_rate: 100.0,
-            accel_units: 1,
-            decel_rate: 100.0,
-            decel_units: 1,
-            profile: 0,
-            accel_jerk: 100.0,
-            decel_jerk: 100.0,
-            jerk_units: 2,
+            dynamics: MoveDynamics {
+                speed: 100.0,
+                speed_units: 1,
+                accel_rate: 100.0,
+                accel_units: 1,
+                decel_rate: 100.0,
+                decel_units: 1,
+                profile: 0,
+                accel_jerk: 100.0,
+                decel_jerk: 100.0,
+                jerk_units: 2,
+            },
             merge: 0,
             merge_speed: 0,
             lock_direction: 0,
@@ -257,6 +243,7 @@ impl Mam {
             Some(_) if rotary && o.position < 0.0 => return Err(bad(exerr::POSITION, o.position)),
             _ => {}
         }
+        let d = &o.dynamics;
         let merge = code(exerr::MERGE, o.merge, 1)? == 1;
         let current = code(exerr::MERGE_SPEED, o.merge_speed, 1)? == 1;
         if o.lock_direction != 0 {
@@ -264,9 +251,9 @@ impl Mam {
         }
         let programmed = rate(
             exerr::SPEED,
-            o.speed,
+            d.speed,
             exerr::SPEED_UNITS,
-            o.speed_units,
+            d.speed_units,
             axis.max_velocity,
             false,
         )?;
@@ -277,25 +264,25 @@ impl Mam {
         };
         let accel = rate(
             exerr::ACCEL_RATE,
-            o.accel_rate,
+            d.accel_rate,
             exerr::ACCEL_UNITS,
-            o.accel_units,
+            d.accel_units,
             axis.max_acceleration,
             false,
         )?;
         let decel = rate(
             exerr::DECEL_RATE,
-            o.decel_rate,
+            d.decel_rate,
             exerr::DECEL_UNITS,
-            o.decel_units,
+            d.decel_units,
             axis.max_deceleration,
             false,
         )?;
-        let limits = match code(exerr::PROFILE, o.profile, 1)? {
+        let limits = match code(exerr::PROFILE, d.profile, 1)? {
             0 => Limits::trapezoidal(speed, accel, decel),
             _ => {
                 let jerk = |operand: i32, value: f64, a: f64| -> Result<f64, MamError> {
-                    let j = match code(exerr::JERK_UNITS, o.jerk_units, 2)? {
+                    let j = match code(exerr::JERK_UNITS, d.jerk_units, 2)? {
                         0 => value,
                         1 => value / 100.0 * axis.max_jerk,
                         _ => jerk_from_percent_of_time(value, a, speed).map_err(|_| bad(operand, value))?,
@@ -306,12 +293,12 @@ impl Mam {
                         Err(bad(operand, value))
                     }
                 };
-                let ja = jerk(exerr::ACCEL_JERK, o.accel_jerk, accel)?;
-                let jd = jerk(exerr::DECEL_JERK, o.decel_jerk, decel)?;
+                let ja = jerk(exerr::ACCEL_JERK, d.accel_jerk, accel)?;
+                let jd = jerk(exerr::DECEL_JERK, d.decel_jerk, decel)?;
                 Limits::s_curve(speed, accel, decel, ja, jd)
             }
         }
-        .map_err(|_| bad(exerr::SPEED, o.speed))?;
+        .map_err(|_| bad(exerr::SPEED, d.speed))?;
         Ok(Self {
             move_type,
             position: o.position,
@@ -424,23 +411,74 @@ mod tests {
                 },
                 3,
             ),
-            (MamOperands { speed: 0.0, ..ok }, 4),
-            (MamOperands { speed_units: 4, ..ok }, 5),
-            (MamOperands { accel_rate: -1.0, ..ok }, 6),
-            (MamOperands { decel_units: 2, ..ok }, 9),
-            (MamOperands { profile: 2, ..ok }, 10),
             (
                 MamOperands {
-                    profile: 1,
-                    accel_jerk: 0.0,
+                    dynamics: MoveDynamics {
+                        speed: 0.0,
+                        ..ok.dynamics
+                    },
+                    ..ok
+                },
+                4,
+            ),
+            (
+                MamOperands {
+                    dynamics: MoveDynamics {
+                        speed_units: 4,
+                        ..ok.dynamics
+                    },
+                    ..ok
+                },
+                5,
+            ),
+            (
+                MamOperands {
+                    dynamics: MoveDynamics {
+                        accel_rate: -1.0,
+                        ..ok.dynamics
+                    },
+                    ..ok
+                },
+                6,
+            ),
+            (
+                MamOperands {
+                    dynamics: MoveDynamics {
+                        decel_units: 2,
+                        ..ok.dynamics
+                    },
+                    ..ok
+                },
+                9,
+            ),
+            (
+                MamOperands {
+                    dynamics: MoveDynamics {
+                        profile: 2,
+                        ..ok.dynamics
+                    },
+                    ..ok
+                },
+                10,
+            ),
+            (
+                MamOperands {
+                    dynamics: MoveDynamics {
+                        profile: 1,
+                        accel_jerk: 0.0,
+                        ..ok.dynamics
+                    },
                     ..ok
                 },
                 11,
             ),
             (
                 MamOperands {
-                    profile: 1,
-                    jerk_units: 3,
+                    dynamics: MoveDynamics {
+                        profile: 1,
+                        jerk_units: 3,
+                        ..ok.dynamics
+                    },
                     ..ok
                 },
                 13,
@@ -483,8 +521,11 @@ mod tests {
     #[test]
     fn speed_units_and_merge_speed_current() {
         let o = MamOperands {
-            speed: 50.0,
-            speed_units: 1,
+            dynamics: MoveDynamics {
+                speed: 50.0,
+                speed_units: 1,
+                ..MamOperands::default().dynamics
+            },
             ..MamOperands::default()
         };
         assert_eq!(Mam::new(&o, &table(), 0.0).unwrap().limits.velocity(), 180.0);

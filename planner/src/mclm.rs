@@ -44,6 +44,7 @@ mod tests {
     use super::*;
     use crate::coord::{CoordinateSystem, CoordinateSystemConfig};
 
+    use crate::dynamics::MoveDynamics;
     fn system() -> CoordinateSystem {
         CoordinateSystem::new(CoordinateSystemConfig {
             axis_count: 4,
@@ -70,9 +71,12 @@ mod tests {
     fn ok() -> CoordMoveInputs {
         CoordMoveInputs {
             position: vec![4.0, 6.0, 3.0, 10.0],
-            speed: 10.0,
-            accel_rate: 100.0,
-            decel_rate: 100.0,
+            dynamics: MoveDynamics {
+                speed: 10.0,
+                accel_rate: 100.0,
+                decel_rate: 100.0,
+                ..CoordMoveInputs::default().dynamics
+            },
             ..Default::default()
         }
     }
@@ -118,25 +122,76 @@ mod tests {
                 },
                 3,
             ),
-            (CoordMoveInputs { speed: -1.0, ..ok() }, 4),
-            (CoordMoveInputs { speed_units: 3, ..ok() }, 5),
             (
                 CoordMoveInputs {
-                    accel_rate: 0.0,
+                    dynamics: MoveDynamics {
+                        speed: -1.0,
+                        ..ok().dynamics
+                    },
+                    ..ok()
+                },
+                4,
+            ),
+            (
+                CoordMoveInputs {
+                    dynamics: MoveDynamics {
+                        speed_units: 3,
+                        ..ok().dynamics
+                    },
+                    ..ok()
+                },
+                5,
+            ),
+            (
+                CoordMoveInputs {
+                    dynamics: MoveDynamics {
+                        accel_rate: 0.0,
+                        ..ok().dynamics
+                    },
                     ..ok()
                 },
                 6,
             ),
-            (CoordMoveInputs { accel_units: 9, ..ok() }, 7),
             (
                 CoordMoveInputs {
-                    decel_rate: -2.0,
+                    dynamics: MoveDynamics {
+                        accel_units: 9,
+                        ..ok().dynamics
+                    },
+                    ..ok()
+                },
+                7,
+            ),
+            (
+                CoordMoveInputs {
+                    dynamics: MoveDynamics {
+                        decel_rate: -2.0,
+                        ..ok().dynamics
+                    },
                     ..ok()
                 },
                 8,
             ),
-            (CoordMoveInputs { decel_units: 4, ..ok() }, 9),
-            (CoordMoveInputs { profile: 2, ..ok() }, 10),
+            (
+                CoordMoveInputs {
+                    dynamics: MoveDynamics {
+                        decel_units: 4,
+                        ..ok().dynamics
+                    },
+                    ..ok()
+                },
+                9,
+            ),
+            (
+                CoordMoveInputs {
+                    dynamics: MoveDynamics {
+                        profile: 2,
+                        ..ok().dynamics
+                    },
+                    ..ok()
+                },
+                10,
+            ),
             (
                 CoordMoveInputs {
                     termination_type: 7,
@@ -155,24 +210,33 @@ mod tests {
             (CoordMoveInputs { merge_speed: 2, ..ok() }, 13),
             (
                 CoordMoveInputs {
-                    profile: 1,
-                    accel_jerk: 0.0,
+                    dynamics: MoveDynamics {
+                        profile: 1,
+                        accel_jerk: 0.0,
+                        ..ok().dynamics
+                    },
                     ..ok()
                 },
                 14,
             ),
             (
                 CoordMoveInputs {
-                    profile: 1,
-                    decel_jerk: 101.0,
+                    dynamics: MoveDynamics {
+                        profile: 1,
+                        decel_jerk: 101.0,
+                        ..ok().dynamics
+                    },
                     ..ok()
                 },
                 15,
             ),
             (
                 CoordMoveInputs {
-                    profile: 1,
-                    jerk_units: 4,
+                    dynamics: MoveDynamics {
+                        profile: 1,
+                        jerk_units: 4,
+                        ..ok().dynamics
+                    },
                     ..ok()
                 },
                 16,
@@ -202,9 +266,12 @@ mod tests {
             // Master-driven on a system without a master.
             (
                 CoordMoveInputs {
-                    speed_units: 4,
-                    accel_units: 4,
-                    decel_units: 4,
+                    dynamics: MoveDynamics {
+                        speed_units: 4,
+                        accel_units: 4,
+                        decel_units: 4,
+                        ..ok().dynamics
+                    },
                     ..ok()
                 },
                 5,
@@ -216,7 +283,10 @@ mod tests {
         // Trapezoidal moves ignore the jerk operands.
         assert!(
             run(&CoordMoveInputs {
-                accel_jerk: -5.0,
+                dynamics: MoveDynamics {
+                    accel_jerk: -5.0,
+                    ..ok().dynamics
+                },
                 ..ok()
             })
             .is_ok()
@@ -245,8 +315,11 @@ mod tests {
         let ctx = MoveContext { system: &zero, ..ctx };
         // % of maximum of a zero maximum is an operand error first…
         let pct = CoordMoveInputs {
-            decel_units: 1,
-            decel_rate: 100.0,
+            dynamics: MoveDynamics {
+                decel_units: 1,
+                decel_rate: 100.0,
+                ..ok().dynamics
+            },
             ..ok()
         };
         assert_eq!(
@@ -263,13 +336,16 @@ mod tests {
     #[test]
     fn percent_of_maximum_and_calculated_data() {
         let inputs = CoordMoveInputs {
-            speed: 10.0,
-            speed_units: 1,
-            accel_rate: 1.0,
-            accel_units: 1,
-            decel_rate: 1.0,
-            decel_units: 1,
             event_distance: vec![0.0, 5.0, 100.0],
+            dynamics: MoveDynamics {
+                speed: 10.0,
+                speed_units: 1,
+                accel_rate: 1.0,
+                accel_units: 1,
+                decel_rate: 1.0,
+                decel_units: 1,
+                ..ok().dynamics
+            },
             ..ok()
         };
         let m = run(&inputs).unwrap();

@@ -196,18 +196,19 @@ pub(crate) fn finish_move(
     path: impl FnOnce() -> Result<PathGeometry, CoordMoveError>,
 ) -> Result<CoordMove, CoordMoveError> {
     let sys = ctx.system.config();
-    let driver = match inputs.speed_units {
+    let d = &inputs.dynamics;
+    let driver = match d.speed_units {
         0 | 1 => Driver::Time,
         4 => Driver::Master,
         _ => return Err(out_of_range(idx.speed_units)),
     };
-    if !(inputs.speed.is_finite() && inputs.speed >= 0.0) {
+    if !(d.speed.is_finite() && d.speed >= 0.0) {
         return Err(out_of_range(idx.speed));
     }
-    let speed = if inputs.speed_units == 1 {
-        inputs.speed / 100.0 * sys.max_speed
+    let speed = if d.speed_units == 1 {
+        d.speed / 100.0 * sys.max_speed
     } else {
-        inputs.speed
+        d.speed
     };
     let rate = |value: f64, units: i64, max: f64, value_idx: i32, units_idx: i32| {
         let unit_driver = match units {
@@ -226,20 +227,20 @@ pub(crate) fn finish_move(
         }
     };
     let accel = rate(
-        inputs.accel_rate,
-        inputs.accel_units,
+        d.accel_rate,
+        d.accel_units,
         sys.max_accel,
         idx.accel_rate,
         idx.accel_units,
     )?;
     let decel = rate(
-        inputs.decel_rate,
-        inputs.decel_units,
+        d.decel_rate,
+        d.decel_units,
         sys.max_decel,
         idx.decel_rate,
         idx.decel_units,
     )?;
-    let s_curve = match inputs.profile {
+    let s_curve = match d.profile {
         0 => false,
         1 => true,
         _ => return Err(out_of_range(idx.profile)),
@@ -283,7 +284,7 @@ pub(crate) fn finish_move(
     }
     let limits = if speed > 0.0 {
         let limits = if s_curve {
-            let units = match (inputs.jerk_units, driver) {
+            let units = match (d.jerk_units, driver) {
                 (0, Driver::Time) | (4, Driver::Master) => JerkUnits::UnitsPerSec3,
                 (1, _) => JerkUnits::PercentOfMaximum,
                 (2, Driver::Time) | (6, Driver::Master) => JerkUnits::PercentOfTime,
@@ -293,8 +294,8 @@ pub(crate) fn finish_move(
             let jerk = |value: f64, max: f64, rate: f64, exerr: i32| {
                 jerk_to_units_per_sec3(value, units, max, rate, speed).map_err(|_| out_of_range(exerr))
             };
-            let aj = jerk(inputs.accel_jerk, sys.max_accel_jerk, accel, idx.accel_jerk)?;
-            let dj = jerk(inputs.decel_jerk, sys.max_decel_jerk, decel, idx.decel_jerk)?;
+            let aj = jerk(d.accel_jerk, sys.max_accel_jerk, accel, idx.accel_jerk)?;
+            let dj = jerk(d.decel_jerk, sys.max_decel_jerk, decel, idx.decel_jerk)?;
             Limits::s_curve(speed, accel, decel, aj, dj)
         } else {
             Limits::trapezoidal(speed, accel, decel)
@@ -326,8 +327,8 @@ pub(crate) fn finish_move(
         event_distance: inputs.event_distance.clone(),
         jerk_percent_of_time: (s_curve
             && limits.is_some()
-            && matches!((inputs.jerk_units, driver), (2, Driver::Time) | (6, Driver::Master)))
-        .then_some((inputs.accel_jerk, inputs.decel_jerk)),
+            && matches!((d.jerk_units, driver), (2, Driver::Time) | (6, Driver::Master)))
+        .then_some((d.accel_jerk, d.decel_jerk)),
         calculated_data: Vec::new(),
     };
     m.fill_calculated_data();

@@ -3,6 +3,7 @@
 
 use super::CoordinateSystem;
 use crate::catalogue;
+use crate::dynamics::MoveDynamics;
 use thiserror::Error;
 
 /// Move Type: 0 absolute, 1 incremental.
@@ -113,26 +114,8 @@ pub struct CoordMoveInputs {
     pub move_type: i64,
     /// Position array, one element per axis of the system.
     pub position: Vec<f64>,
-    /// Speed (≥ 0).
-    pub speed: f64,
-    /// Speed Units (0 units/s, 1 % of maximum, 4 units per master unit).
-    pub speed_units: i64,
-    /// Accel Rate (> 0).
-    pub accel_rate: f64,
-    /// Accel Units (0, 1, 4).
-    pub accel_units: i64,
-    /// Decel Rate (> 0).
-    pub decel_rate: f64,
-    /// Decel Units (0, 1, 4).
-    pub decel_units: i64,
-    /// Profile (0 trapezoidal, 1 S-curve).
-    pub profile: i64,
-    /// Accel Jerk.
-    pub accel_jerk: f64,
-    /// Decel Jerk.
-    pub decel_jerk: f64,
-    /// Jerk Units (0, 1, 2, 4, 6).
-    pub jerk_units: i64,
+    /// Speed, rates, profile and jerks.
+    pub dynamics: MoveDynamics,
     /// Termination Type (0–6).
     pub termination_type: i64,
     /// Merge (0, 1, 2).
@@ -156,16 +139,18 @@ impl Default for CoordMoveInputs {
         Self {
             move_type: 0,
             position: Vec::new(),
-            speed: 1.0,
-            speed_units: 0,
-            accel_rate: 10.0,
-            accel_units: 0,
-            decel_rate: 10.0,
-            decel_units: 0,
-            profile: 0,
-            accel_jerk: 100.0,
-            decel_jerk: 100.0,
-            jerk_units: 2,
+            dynamics: MoveDynamics {
+                speed: 1.0,
+                speed_units: 0,
+                accel_rate: 10.0,
+                accel_units: 0,
+                decel_rate: 10.0,
+                decel_units: 0,
+                profile: 0,
+                accel_jerk: 100.0,
+                decel_jerk: 100.0,
+                jerk_units: 2,
+            },
             termination_type: 0,
             merge: 0,
             merge_speed: 0,

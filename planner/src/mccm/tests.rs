@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::coord::{CoordMoveInputs, CoordinateSystem, CoordinateSystemConfig};
+use crate::dynamics::MoveDynamics;
 use crate::profile::jerk_from_percent_of_time;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -27,9 +28,12 @@ fn inputs(move_type: i64, position: &[f64], circle_type: i64, vcr: &[f64], direc
         common: CoordMoveInputs {
             move_type,
             position: position.to_vec(),
-            speed: 10.0,
-            accel_rate: 100.0,
-            decel_rate: 100.0,
+            dynamics: MoveDynamics {
+                speed: 10.0,
+                accel_rate: 100.0,
+                decel_rate: 100.0,
+                ..CoordMoveInputs::default().dynamics
+            },
             ..Default::default()
         },
         circle_type,
@@ -349,35 +353,35 @@ fn parameter_out_of_range_names_each_operand() {
     ));
     cases.push((with(&|i| i.direction = 4), 6));
     cases.push((with(&|i| i.direction = -1), 6));
-    cases.push((with(&|i| i.common.speed = -0.1), 7));
-    cases.push((with(&|i| i.common.speed_units = 2), 8));
-    cases.push((with(&|i| i.common.accel_rate = 0.0), 9));
-    cases.push((with(&|i| i.common.accel_units = 3), 10));
-    cases.push((with(&|i| i.common.decel_rate = 0.0), 11));
-    cases.push((with(&|i| i.common.decel_units = -1), 12));
-    cases.push((with(&|i| i.common.profile = 2), 13));
+    cases.push((with(&|i| i.common.dynamics.speed = -0.1), 7));
+    cases.push((with(&|i| i.common.dynamics.speed_units = 2), 8));
+    cases.push((with(&|i| i.common.dynamics.accel_rate = 0.0), 9));
+    cases.push((with(&|i| i.common.dynamics.accel_units = 3), 10));
+    cases.push((with(&|i| i.common.dynamics.decel_rate = 0.0), 11));
+    cases.push((with(&|i| i.common.dynamics.decel_units = -1), 12));
+    cases.push((with(&|i| i.common.dynamics.profile = 2), 13));
     cases.push((with(&|i| i.common.termination_type = 7), 14));
     cases.push((with(&|i| i.common.termination_type = -1), 14));
     cases.push((with(&|i| i.common.merge = 3), 15));
     cases.push((with(&|i| i.common.merge_speed = 2), 16));
     cases.push((
         with(&|i| {
-            i.common.profile = 1;
-            i.common.accel_jerk = 0.0;
+            i.common.dynamics.profile = 1;
+            i.common.dynamics.accel_jerk = 0.0;
         }),
         17,
     ));
     cases.push((
         with(&|i| {
-            i.common.profile = 1;
-            i.common.decel_jerk = 150.0;
+            i.common.dynamics.profile = 1;
+            i.common.dynamics.decel_jerk = 150.0;
         }),
         18,
     ));
     cases.push((
         with(&|i| {
-            i.common.profile = 1;
-            i.common.jerk_units = 3;
+            i.common.dynamics.profile = 1;
+            i.common.dynamics.jerk_units = 3;
         }),
         19,
     ));
@@ -396,7 +400,7 @@ fn parameter_out_of_range_names_each_operand() {
     // ERR 13 comes before the geometry errors: a collinear via with a bad speed.
     let mut i = inputs(0, &[5.0, 2.0], 0, &[4.0, 2.0], 0);
     assert_eq!(err(&i), Err((44, 0)));
-    i.common.speed = -1.0;
+    i.common.dynamics.speed = -1.0;
     assert_eq!(err(&i), Err((13, 7)));
     // Termination types 0–6 are all accepted.
     for tt in 0..=6 {
@@ -438,13 +442,13 @@ fn error_54_names_the_axis_or_minus_one() {
 fn percent_of_time_jerk_follows_the_spec_formula() {
     let sys = system(2);
     let mut i = inputs(0, &[1.0, 2.0], 1, &[2.0, 2.0], 1);
-    i.common.profile = 1;
-    i.common.speed = 8.0;
-    i.common.accel_rate = 40.0;
-    i.common.decel_rate = 20.0;
-    i.common.accel_jerk = 100.0;
-    i.common.decel_jerk = 25.0;
-    i.common.jerk_units = 2;
+    i.common.dynamics.profile = 1;
+    i.common.dynamics.speed = 8.0;
+    i.common.dynamics.accel_rate = 40.0;
+    i.common.dynamics.decel_rate = 20.0;
+    i.common.dynamics.accel_jerk = 100.0;
+    i.common.dynamics.decel_jerk = 25.0;
+    i.common.dynamics.jerk_units = 2;
     let m = build(&sys, &START, &i).unwrap();
     let crate::profile::Shape::SCurve { accel_jerk, decel_jerk } = m.limits().unwrap().shape() else {
         panic!("an S-curve")
@@ -454,8 +458,8 @@ fn percent_of_time_jerk_follows_the_spec_formula() {
     assert_eq!(decel_jerk, 350.0);
     assert_eq!(jerk_from_percent_of_time(25.0, 20.0, 8.0), Ok(decel_jerk));
     // % of maximum uses the system's maximum jerks.
-    i.common.jerk_units = 1;
-    i.common.accel_jerk = 10.0;
+    i.common.dynamics.jerk_units = 1;
+    i.common.dynamics.accel_jerk = 10.0;
     let m = build(&sys, &START, &i).unwrap();
     let crate::profile::Shape::SCurve { accel_jerk, .. } = m.limits().unwrap().shape() else {
         panic!("an S-curve")
@@ -550,12 +554,12 @@ pub(crate) fn random_arc(rng: &mut ChaCha8Rng) -> RandomArc {
         }
     };
     let mut inputs = inputs(move_type, &rel(p1), circle, &vcr, direction);
-    inputs.common.profile = rng.random_range(0..2);
-    inputs.common.speed = rng.random_range(0.5..50.0);
-    inputs.common.accel_rate = rng.random_range(5.0..500.0);
-    inputs.common.decel_rate = rng.random_range(5.0..500.0);
-    inputs.common.accel_jerk = rng.random_range(10.0..100.0);
-    inputs.common.decel_jerk = rng.random_range(10.0..100.0);
+    inputs.common.dynamics.profile = rng.random_range(0..2);
+    inputs.common.dynamics.speed = rng.random_range(0.5..50.0);
+    inputs.common.dynamics.accel_rate = rng.random_range(5.0..500.0);
+    inputs.common.dynamics.decel_rate = rng.random_range(5.0..500.0);
+    inputs.common.dynamics.accel_jerk = rng.random_range(10.0..100.0);
+    inputs.common.dynamics.decel_jerk = rng.random_range(10.0..100.0);
     RandomArc {
         inputs,
         start,
@@ -669,13 +673,13 @@ fn arbitrary_operands_give_an_error_or_a_finite_move() {
             &(0..rng.random_range(0..4)).map(|_| pick(&mut rng)).collect::<Vec<_>>(),
             rng.random_range(-1..5),
         );
-        i.common.speed = pick(&mut rng).abs();
-        i.common.accel_rate = pick(&mut rng).abs();
-        i.common.decel_rate = pick(&mut rng).abs();
-        i.common.profile = rng.random_range(0..2);
-        i.common.accel_jerk = pick(&mut rng);
-        i.common.decel_jerk = pick(&mut rng);
-        i.common.speed_units = [0, 1, 4][rng.random_range(0..3)];
+        i.common.dynamics.speed = pick(&mut rng).abs();
+        i.common.dynamics.accel_rate = pick(&mut rng).abs();
+        i.common.dynamics.decel_rate = pick(&mut rng).abs();
+        i.common.dynamics.profile = rng.random_range(0..2);
+        i.common.dynamics.accel_jerk = pick(&mut rng);
+        i.common.dynamics.decel_jerk = pick(&mut rng);
+        i.common.dynamics.speed_units = [0, 1, 4][rng.random_range(0..3)];
         match build(&sys, &start, &i) {
             Ok(m) => {
                 ok += 1;

@@ -73,6 +73,7 @@ mod tests {
     use crate::axis::{AxisConfig, AxisKind};
     use crate::jog::MasOperands;
 
+    use crate::dynamics::MoveDynamics;
     const DT: f64 = 0.004;
 
     fn rig(modulo: bool) -> (MotionTask, AxisHandle) {
@@ -97,7 +98,10 @@ mod tests {
         MamOperands {
             move_type,
             position,
-            speed: speed_pct,
+            dynamics: MoveDynamics {
+                speed: speed_pct,
+                ..MamOperands::default().dynamics
+            },
             ..MamOperands::default()
         }
     }
@@ -178,10 +182,13 @@ mod tests {
         let (mut task, axis) = rig_at(true, 315.0);
         let mi = task.add_instruction("Move");
         let o = MamOperands {
-            profile: 1,
-            accel_jerk: 20_000.0,
-            decel_jerk: 20_000.0,
-            jerk_units: 0,
+            dynamics: MoveDynamics {
+                profile: 1,
+                accel_jerk: 20_000.0,
+                decel_jerk: 20_000.0,
+                jerk_units: 0,
+                ..to(3, 225.0, 100.0).dynamics
+            },
             ..to(3, 225.0, 100.0)
         };
         task.mam(axis, mi, &o).unwrap();

@@ -515,6 +515,7 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    use planner::dynamics::MoveDynamics;
     /// Random lines and 3D arcs (three primary axes and one non-primary)
     /// mapped onto joints with random scales and offsets: the joint motion
     /// between two nearby path parameters never exceeds the rate bound, and
@@ -536,9 +537,12 @@ mod tests {
             let start = point(&mut rng);
             let common = CoordMoveInputs {
                 position: point(&mut rng),
-                speed: 100.0,
-                accel_rate: 500.0,
-                decel_rate: 500.0,
+                dynamics: MoveDynamics {
+                    speed: 100.0,
+                    accel_rate: 500.0,
+                    decel_rate: 500.0,
+                    ..CoordMoveInputs::default().dynamics
+                },
                 ..Default::default()
             };
             let ctx = MoveContext {
@@ -657,9 +661,12 @@ mod tests {
                 };
                 let common = CoordMoveInputs {
                     position: point(),
-                    speed: 0.5,
-                    accel_rate: 2.0,
-                    decel_rate: 2.0,
+                    dynamics: MoveDynamics {
+                        speed: 0.5,
+                        accel_rate: 2.0,
+                        decel_rate: 2.0,
+                        ..CoordMoveInputs::default().dynamics
+                    },
                     ..Default::default()
                 };
                 let ctx = MoveContext {

@@ -33,6 +33,7 @@ use super::InstructionBinding;
 use crate::scene::{BaseType, Scene, Tag, TagValue};
 use crate::st::Expr;
 use planner::catalogue::{Format, Instruction, Operand};
+use planner::dynamics::MoveDynamics;
 use planner::task::{AxisHandle, InstructionHandle, MotionTask};
 use std::borrow::Cow;
 use std::cell::Cell;
@@ -425,6 +426,26 @@ impl<'b, 'a> Bind<'b, 'a> {
         // Immediate or Tag integer out of i32 saturates, still out of range.
         self.code(name)
             .map(|c| c.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
+    }
+
+    /// Speed to Jerk Units, the operands MAM, MCLM and MCCM share, read in
+    /// their call order.
+    ///
+    /// # Errors
+    /// See [`Bind::number`] and [`Bind::code`].
+    pub fn dynamics(&self) -> Result<MoveDynamics, String> {
+        Ok(MoveDynamics {
+            speed: self.number("Speed")?,
+            speed_units: self.code("Speed Units")?,
+            accel_rate: self.number("Accel Rate")?,
+            accel_units: self.code("Accel Units")?,
+            decel_rate: self.number("Decel Rate")?,
+            decel_units: self.code("Decel Units")?,
+            profile: self.code("Profile")?,
+            accel_jerk: self.number("Accel Jerk")?,
+            decel_jerk: self.number("Decel Jerk")?,
+            jerk_units: self.code("Jerk Units")?,
+        })
     }
 
     /// An array operand (or a radius).

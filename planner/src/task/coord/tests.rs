@@ -5,6 +5,7 @@
 use super::*;
 use crate::axis::{AxisConfig, AxisKind};
 use crate::coord::{CoordMoveInputs, CoordinateSystemConfig, McsInputs, primary_of};
+use crate::dynamics::MoveDynamics;
 use crate::mccm::MccmInputs;
 use crate::modulo::{McBufferMode, McDirection, MoveModuloInputs};
 use crate::task::FbHandle;
@@ -38,13 +39,29 @@ fn gantry(primary: usize, extra: usize) -> (MotionTask, CoordHandle, Vec<AxisHan
     (task, cs, axes)
 }
 
+/// Speed and rates per master unit (units 4), a master-driven move.
+fn per_master_unit(speed: f64, rate: f64) -> MoveDynamics {
+    MoveDynamics {
+        speed,
+        speed_units: 4,
+        accel_rate: rate,
+        accel_units: 4,
+        decel_rate: rate,
+        decel_units: 4,
+        ..CoordMoveInputs::default().dynamics
+    }
+}
+
 fn line(position: &[f64], termination_type: i64) -> CoordMoveInputs {
     CoordMoveInputs {
         position: position.to_vec(),
-        speed: 10.0,
-        accel_rate: 50.0,
-        decel_rate: 50.0,
         termination_type,
+        dynamics: MoveDynamics {
+            speed: 10.0,
+            accel_rate: 50.0,
+            decel_rate: 50.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     }
 }
@@ -302,7 +319,7 @@ fn merge_replaces_the_motion_and_cancels_the_pending_move() {
     let mut merge_inputs = line(&[0.0, 50.0], 1);
     merge_inputs.merge = 1;
     merge_inputs.merge_speed = 1;
-    merge_inputs.speed = 30.0;
+    merge_inputs.dynamics.speed = 30.0;
     let m_call = CoordCall::Mclm(merge_inputs);
     let a = task.add_coord_instruction("A", cs, a_call.clone());
     let b = task.add_coord_instruction("B", cs, b_call.clone());
@@ -393,7 +410,10 @@ fn errors_set_er_with_err_and_exerr() {
     assert!(b.er && !b.dn && !b.ip && b.en && (b.err, b.exerr) == (25, 0));
     assert!(!task.coord_status(cs).motion);
     let bad = CoordCall::Mclm(CoordMoveInputs {
-        speed: -1.0,
+        dynamics: MoveDynamics {
+            speed: -1.0,
+            ..line(&[1.0, 1.0, 0.0], 1).dynamics
+        },
         ..line(&[1.0, 1.0, 0.0], 1)
     });
     task.set_coord_instruction(h, false, bad.clone());
@@ -458,8 +478,8 @@ fn random_arcs_through_the_task_finish_together_within_speed() {
         ];
         let programmed = rng.random_range(1.0..20.0);
         let mut common = line(&end, 1);
-        common.speed = programmed;
-        common.profile = rng.random_range(0..2);
+        common.dynamics.speed = programmed;
+        common.dynamics.profile = rng.random_range(0..2);
         let direction = if theta <= std::f64::consts::PI { 0 } else { 1 };
         let call = CoordCall::Mccm(MccmInputs {
             common,
@@ -533,15 +553,10 @@ fn master_setup(
     let fb = task.add_move_modulo("MoveMaster", master);
     let inputs = CoordMoveInputs {
         position: vec![10.0, 0.0],
-        speed: 0.1,
-        speed_units: 4,
-        accel_rate: 0.01,
-        accel_units: 4,
-        decel_rate: 0.01,
-        decel_units: 4,
         termination_type: 1,
         lock_direction,
         lock_position,
+        dynamics: per_master_unit(0.1, 0.01),
         ..Default::default()
     };
     let h = task.add_coord_instruction("M", cs, CoordCall::Mclm(inputs.clone()));
@@ -806,7 +821,10 @@ fn reruns_are_bit_identical() {
             CoordCall::Mclm(line(&[10.0, 0.0, 5.0], 3)),
             CoordCall::Mccm(MccmInputs {
                 common: CoordMoveInputs {
-                    profile: 1,
+                    dynamics: MoveDynamics {
+                        profile: 1,
+                        ..line(&[20.0, 10.0, 0.0], 2).dynamics
+                    },
                     ..line(&[20.0, 10.0, 0.0], 2)
                 },
                 circle_type: 0,
@@ -1004,9 +1022,9 @@ fn random_arcs_of_every_circle_type_through_the_task() {
         };
         let length = crate::mccm::mccm(&r.inputs, &ctx).unwrap().path().length();
         let programmed = length / rng.random_range(0.1..0.6);
-        r.inputs.common.speed = programmed;
-        r.inputs.common.accel_rate = programmed * rng.random_range(2.0..20.0);
-        r.inputs.common.decel_rate = programmed * rng.random_range(2.0..20.0);
+        r.inputs.common.dynamics.speed = programmed;
+        r.inputs.common.dynamics.accel_rate = programmed * rng.random_range(2.0..20.0);
+        r.inputs.common.dynamics.decel_rate = programmed * rng.random_range(2.0..20.0);
         let mut task = MotionTask::new(DT).unwrap();
         let axes: Vec<AxisHandle> = r
             .start
@@ -1118,15 +1136,18 @@ fn random_instruction_sequences_keep_the_commands_finite() {
                 let common = CoordMoveInputs {
                     move_type: rng.random_range(-1..3),
                     position: (0..3).map(|_| pick(&mut rng, -20.0, 20.0)).collect(),
-                    speed: pick(&mut rng, 0.0, 50.0),
-                    accel_rate: pick(&mut rng, 1.0, 500.0),
-                    decel_rate: pick(&mut rng, 1.0, 500.0),
-                    profile: rng.random_range(0..2),
                     termination_type: rng.random_range(-1..8),
                     merge: rng.random_range(0..3),
                     merge_speed: rng.random_range(0..2),
                     command_tolerance: pick(&mut rng, 0.0, 5.0),
                     event_distance: vec![pick(&mut rng, 0.0, 5.0)],
+                    dynamics: MoveDynamics {
+                        speed: pick(&mut rng, 0.0, 50.0),
+                        accel_rate: pick(&mut rng, 1.0, 500.0),
+                        decel_rate: pick(&mut rng, 1.0, 500.0),
+                        profile: rng.random_range(0..2),
+                        ..CoordMoveInputs::default().dynamics
+                    },
                     ..Default::default()
                 };
                 let call = match rng.random_range(0..5) {
@@ -1175,8 +1196,11 @@ fn calculated_data_uses_the_current_speed_of_a_merge_at_current_speed() {
     let merge = CoordMoveInputs {
         merge: 1,
         merge_speed: 1,
-        speed: 30.0,
         event_distance: vec![5.0],
+        dynamics: MoveDynamics {
+            speed: 30.0,
+            ..line(&[60.0, 0.0], 1).dynamics
+        },
         ..line(&[60.0, 0.0], 1)
     };
     task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
@@ -1194,13 +1218,8 @@ fn a_master_driven_move_cannot_take_over_from_moving_time_driven_motion_while_th
     task.set_coordinate_system_master(cs, Some(master));
     let master_driven = CoordMoveInputs {
         position: vec![10.0, 10.0],
-        speed: 0.1,
-        speed_units: 4,
-        accel_rate: 0.01,
-        accel_units: 4,
-        decel_rate: 0.01,
-        decel_units: 4,
         termination_type: 1,
+        dynamics: per_master_unit(0.1, 0.01),
         ..Default::default()
     };
     // Queued behind a blending time-driven move: it fails when it would
@@ -1255,13 +1274,19 @@ fn termination_4_and_5_follow_the_contour_through_the_end_point_without_stopping
         let (mut task, cs, axes) = gantry(2, 0);
         let (a, b) = (task.add_instruction("A"), task.add_instruction("B"));
         let fast = CoordMoveInputs {
-            profile,
+            dynamics: MoveDynamics {
+                profile,
+                ..line(&[10.0, 0.0], tt).dynamics
+            },
             ..line(&[10.0, 0.0], tt)
         };
         task.execute_coordinated(cs, a, CoordCall::Mclm(fast));
         let slow = CoordMoveInputs {
-            speed: 5.0,
-            profile,
+            dynamics: MoveDynamics {
+                speed: 5.0,
+                profile,
+                ..line(&[20.0, 0.0], 1).dynamics
+            },
             ..line(&[20.0, 0.0], 1)
         };
         task.execute_coordinated(cs, b, CoordCall::Mclm(slow));
@@ -1343,11 +1368,14 @@ fn a_merge_at_current_speed_recomputes_percent_of_time_jerks_for_that_speed() {
     let merge = CoordMoveInputs {
         merge: 1,
         merge_speed: 1,
-        speed: 30.0,
-        profile: 1,
-        accel_jerk: 100.0,
-        decel_jerk: 50.0,
-        jerk_units: 2,
+        dynamics: MoveDynamics {
+            speed: 30.0,
+            profile: 1,
+            accel_jerk: 100.0,
+            decel_jerk: 50.0,
+            jerk_units: 2,
+            ..line(&[60.0, 0.0], 1).dynamics
+        },
         ..line(&[60.0, 0.0], 1)
     };
     task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
@@ -1470,19 +1498,25 @@ fn a_blend_into_a_quickly_accelerating_move_is_deferred_so_the_speeds_never_add_
         let (a, b) = (task.add_instruction("A"), task.add_instruction("B"));
         let first = CoordMoveInputs {
             command_tolerance: 0.9,
-            profile,
-            accel_jerk: first_jerk,
-            decel_jerk: first_jerk,
-            jerk_units: 2,
+            dynamics: MoveDynamics {
+                profile,
+                accel_jerk: first_jerk,
+                decel_jerk: first_jerk,
+                jerk_units: 2,
+                ..line(&[10.0, 0.0], tt).dynamics
+            },
             ..line(&[10.0, 0.0], tt)
         };
         task.execute_coordinated(cs, a, CoordCall::Mclm(first));
         let quick = CoordMoveInputs {
-            accel_rate: 500.0,
-            profile,
-            accel_jerk: second_jerk,
-            decel_jerk: second_jerk,
-            jerk_units: 2,
+            dynamics: MoveDynamics {
+                accel_rate: 500.0,
+                profile,
+                accel_jerk: second_jerk,
+                decel_jerk: second_jerk,
+                jerk_units: 2,
+                ..line(&end, 1).dynamics
+            },
             ..line(&end, 1)
         };
         task.execute_coordinated(cs, b, CoordCall::Mclm(quick));

@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::axis::{AxisConfig, AxisKind};
+use crate::dynamics::MoveDynamics;
 use crate::jog::{MajOperands, MasOperands};
 use crate::mam::MamOperands;
 
@@ -174,13 +175,16 @@ fn a_mam_with_merge_disabled_rides_on_the_gearing_and_one_that_merges_ends_it() 
     let mam = MamOperands {
         move_type: 1,
         position: 10.0,
-        speed: 100.0,
-        speed_units: 0,
-        accel_rate: 1000.0,
-        accel_units: 0,
-        decel_rate: 1000.0,
-        decel_units: 0,
         merge: 0,
+        dynamics: MoveDynamics {
+            speed: 100.0,
+            speed_units: 0,
+            accel_rate: 1000.0,
+            accel_units: 0,
+            decel_rate: 1000.0,
+            decel_units: 0,
+            ..MamOperands::default().dynamics
+        },
         ..MamOperands::default()
     };
     task.mam(slave, mv, &mam).unwrap();

@@ -6,6 +6,7 @@
 use super::*;
 use crate::axis::{AxisConfig, AxisKind};
 use crate::coord::{CoordMoveInputs, CoordinateSystemConfig, McsInputs};
+use crate::dynamics::MoveDynamics;
 use crate::mccm::MccmInputs;
 use crate::mct::Geometry;
 use crate::mct::Placement;
@@ -122,10 +123,13 @@ fn an_mccm_circle_under_mct_keeps_the_tool_on_the_circle() {
     let call = CoordCall::Mccm(MccmInputs {
         common: CoordMoveInputs {
             position: vec![start[0], start[1], 0.1],
-            speed: 0.2,
-            accel_rate: 2.0,
-            decel_rate: 2.0,
             termination_type: 1,
+            dynamics: MoveDynamics {
+                speed: 0.2,
+                accel_rate: 2.0,
+                decel_rate: 2.0,
+                ..CoordMoveInputs::default().dynamics
+            },
             ..Default::default()
         },
         circle_type: 3,
@@ -173,10 +177,13 @@ fn joints_at_rest_after_a_cartesian_move_have_zero_command_speed() {
     let start = tool(&r);
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![start[0] - 0.1, start[1] + 0.05, 0.1],
-        speed: 0.3,
-        accel_rate: 3.0,
-        decel_rate: 3.0,
         termination_type: 1,
+        dynamics: MoveDynamics {
+            speed: 0.3,
+            accel_rate: 3.0,
+            decel_rate: 3.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     });
     let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
@@ -209,10 +216,13 @@ fn a_joint_move_drives_the_cartesian_axes_and_mcs_cancels() {
     // MCLM in the joint system: J2 from 60° to 90°.
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![10.0, 90.0, 0.1],
-        speed: 90.0,
-        accel_rate: 900.0,
-        decel_rate: 900.0,
         termination_type: 1,
+        dynamics: MoveDynamics {
+            speed: 90.0,
+            accel_rate: 900.0,
+            decel_rate: 900.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     });
     let ml = r.task.add_coord_instruction("ML1", r.joints, call.clone());
@@ -264,10 +274,13 @@ fn a_move_out_of_reach_faults_and_stops_the_joints_within_their_limits() {
             1.0 * start[1] / start[0].hypot(start[1]),
             0.1,
         ],
-        speed: 0.5,
-        accel_rate: 5.0,
-        decel_rate: 5.0,
         termination_type: 1,
+        dynamics: MoveDynamics {
+            speed: 0.5,
+            accel_rate: 5.0,
+            decel_rate: 5.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     });
     let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
@@ -311,10 +324,13 @@ fn mcs_in_the_middle_of_a_cartesian_move_stops_the_joints_within_their_decelerat
         let start = tool(&r);
         let call = CoordCall::Mclm(CoordMoveInputs {
             position: vec![start[0] - 0.3, start[1] + 0.1, 0.1],
-            speed: 0.5,
-            accel_rate: 5.0,
-            decel_rate: 5.0,
             termination_type: 1,
+            dynamics: MoveDynamics {
+                speed: 0.5,
+                accel_rate: 5.0,
+                decel_rate: 5.0,
+                ..CoordMoveInputs::default().dynamics
+            },
             ..Default::default()
         });
         let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
@@ -376,10 +392,13 @@ fn a_joint_move_beyond_a_limit_ends_the_link_and_leaves_the_cartesian_axes_at_re
     r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![40.0, 60.0, 0.1],
-        speed: 90.0,
-        accel_rate: 900.0,
-        decel_rate: 900.0,
         termination_type: 1,
+        dynamics: MoveDynamics {
+            speed: 90.0,
+            accel_rate: 900.0,
+            decel_rate: 900.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     });
     let ml = r.task.add_coord_instruction("ML1", r.joints, call.clone());
@@ -414,10 +433,13 @@ fn mcs_on_the_source_during_a_joint_move_ends_the_link_and_the_joint_move_goes_o
     r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![10.0, 90.0, 0.1],
-        speed: 30.0,
-        accel_rate: 300.0,
-        decel_rate: 300.0,
         termination_type: 1,
+        dynamics: MoveDynamics {
+            speed: 30.0,
+            accel_rate: 300.0,
+            decel_rate: 300.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     });
     let ml = r.task.add_coord_instruction("ML1", r.joints, call.clone());
@@ -462,10 +484,13 @@ fn the_transform_status_bits_go_off_with_ip_when_a_fault_stops_the_joints() {
     let out = 1.0 / start[0].hypot(start[1]);
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![start[0] * out, start[1] * out, 0.1],
-        speed: 0.5,
-        accel_rate: 5.0,
-        decel_rate: 5.0,
         termination_type: 1,
+        dynamics: MoveDynamics {
+            speed: 0.5,
+            accel_rate: 5.0,
+            decel_rate: 5.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     });
     let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
@@ -522,10 +547,13 @@ fn a_cartesian_move_across_a_joint_limit_faults_and_stops_the_joint_short_of_it(
         .unwrap();
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![end[0], end[1], 0.1],
-        speed: 0.5,
-        accel_rate: 5.0,
-        decel_rate: 5.0,
         termination_type: 1,
+        dynamics: MoveDynamics {
+            speed: 0.5,
+            accel_rate: 5.0,
+            decel_rate: 5.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     });
     let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
@@ -619,10 +647,13 @@ fn mct_refuses_to_start_while_an_axis_moves_and_restarts_with_new_operands() {
     let mut r = scara([10.0, 60.0]);
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![0.3, 0.3, 0.1],
-        speed: 0.1,
-        accel_rate: 1.0,
-        decel_rate: 1.0,
         termination_type: 1,
+        dynamics: MoveDynamics {
+            speed: 0.1,
+            accel_rate: 1.0,
+            decel_rate: 1.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     });
     let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
@@ -662,10 +693,13 @@ fn the_same_calls_give_bit_identical_joint_commands() {
         let call = CoordCall::Mccm(MccmInputs {
             common: CoordMoveInputs {
                 position: vec![start[0] - 0.03, start[1] + 0.03, 0.1],
-                speed: 0.2,
-                accel_rate: 2.0,
-                decel_rate: 2.0,
                 termination_type: 1,
+                dynamics: MoveDynamics {
+                    speed: 0.2,
+                    accel_rate: 2.0,
+                    decel_rate: 2.0,
+                    ..CoordMoveInputs::default().dynamics
+                },
                 ..Default::default()
             },
             circle_type: 3,

@@ -5,6 +5,7 @@
 use super::*;
 use crate::axis::AxisKind;
 use crate::coord::{CoordMoveInputs, CoordinateSystemConfig};
+use crate::dynamics::MoveDynamics;
 use crate::jog::{JogError, MajOperands, MasOperands};
 use crate::modulo::{MoveModuloError, MoveModuloInputs};
 use crate::task::CoordCall;
@@ -242,9 +243,12 @@ fn a_coordinated_move_names_the_axis_at_fault_by_its_index() {
     let cs = crate::task::tests::two_axis_system(&mut task, "CS", x, y);
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![1.0, 1.0],
-        speed: 10.0,
-        accel_rate: 50.0,
-        decel_rate: 50.0,
+        dynamics: MoveDynamics {
+            speed: 10.0,
+            accel_rate: 50.0,
+            decel_rate: 50.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     });
     let h = task.add_coord_instruction("Line", cs, call.clone());
@@ -586,9 +590,12 @@ fn line_under_way(config: AxisConfig) -> (MotionTask, AxisHandle, AxisHandle) {
         .unwrap();
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![50.0, 50.0],
-        speed: 40.0,
-        accel_rate: 200.0,
-        decel_rate: 200.0,
+        dynamics: MoveDynamics {
+            speed: 40.0,
+            accel_rate: 200.0,
+            decel_rate: 200.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     });
     let h = task.add_coord_instruction("Line", cs, call.clone());
@@ -858,9 +865,12 @@ fn a_coordinated_move_further_out_fails_with_err_9_naming_the_axis() {
     let line = |to: [f64; 2]| {
         CoordCall::Mclm(CoordMoveInputs {
             position: to.to_vec(),
-            speed: 10.0,
-            accel_rate: 50.0,
-            decel_rate: 50.0,
+            dynamics: MoveDynamics {
+                speed: 10.0,
+                accel_rate: 50.0,
+                decel_rate: 50.0,
+                ..CoordMoveInputs::default().dynamics
+            },
             ..Default::default()
         })
     };

@@ -4,6 +4,7 @@
 use super::*;
 use crate::axis::{AxisConfig, AxisKind};
 use crate::coord::CoordMoveInputs;
+use crate::dynamics::MoveDynamics;
 use crate::jog::{MajOperands, MasOperands};
 use crate::mam::MamOperands;
 use crate::mapc::MapcOperands;
@@ -67,13 +68,16 @@ fn incremental(distance: f64, merge: i64) -> MamOperands {
     MamOperands {
         move_type: 1,
         position: distance,
-        speed: 50.0,
-        speed_units: 0,
-        accel_rate: 500.0,
-        accel_units: 0,
-        decel_rate: 500.0,
-        decel_units: 0,
         merge,
+        dynamics: MoveDynamics {
+            speed: 50.0,
+            speed_units: 0,
+            accel_rate: 500.0,
+            accel_units: 0,
+            decel_rate: 500.0,
+            decel_units: 0,
+            ..MamOperands::default().dynamics
+        },
         ..MamOperands::default()
     }
 }
@@ -168,11 +172,14 @@ fn gantry() -> Gantry {
 fn line(to: [f64; 2], merge: i64) -> CoordCall {
     CoordCall::Mclm(CoordMoveInputs {
         position: to.to_vec(),
-        speed: 20.0,
-        accel_rate: 200.0,
-        decel_rate: 200.0,
         termination_type: 1,
         merge,
+        dynamics: MoveDynamics {
+            speed: 20.0,
+            accel_rate: 200.0,
+            decel_rate: 200.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     })
 }

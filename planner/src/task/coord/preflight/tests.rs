@@ -4,6 +4,7 @@
 use super::*;
 use crate::axis::{AxisConfig, AxisKind};
 use crate::coord::{CoordMoveInputs, CoordinateSystemConfig};
+use crate::dynamics::MoveDynamics;
 use crate::mccm::MccmInputs;
 use crate::task::{AxisHandle, CoordCall};
 
@@ -32,10 +33,13 @@ fn xy(start: [f64; 2]) -> (MotionTask, CoordHandle, Vec<AxisHandle>) {
 fn common(position: [f64; 2], termination_type: i64) -> CoordMoveInputs {
     CoordMoveInputs {
         position: position.to_vec(),
-        speed: 10.0,
-        accel_rate: 50.0,
-        decel_rate: 50.0,
         termination_type,
+        dynamics: MoveDynamics {
+            speed: 10.0,
+            accel_rate: 50.0,
+            decel_rate: 50.0,
+            ..CoordMoveInputs::default().dynamics
+        },
         ..Default::default()
     }
 }
