@@ -43,8 +43,8 @@ pub fn mclm(inputs: &CoordMoveInputs, ctx: &MoveContext<'_>) -> Result<CoordMove
 mod tests {
     use super::*;
     use crate::coord::{CoordinateSystem, CoordinateSystemConfig};
-
     use crate::dynamics::MoveDynamics;
+
     fn system() -> CoordinateSystem {
         CoordinateSystem::new(CoordinateSystemConfig {
             axis_count: 4,

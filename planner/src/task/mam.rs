@@ -71,9 +71,9 @@ impl MotionTask {
 mod tests {
     use super::*;
     use crate::axis::{AxisConfig, AxisKind};
+    use crate::dynamics::MoveDynamics;
     use crate::jog::MasOperands;
 
-    use crate::dynamics::MoveDynamics;
     const DT: f64 = 0.004;
 
     fn rig(modulo: bool) -> (MotionTask, AxisHandle) {

@@ -509,13 +509,30 @@ fn transform_systems(task: &MotionTask, cs: CoordHandle) -> (String, String) {
 mod tests {
     use super::*;
     use crate::run::Twin;
-    use planner::coord::{CoordMoveInputs, CoordinateSystem, CoordinateSystemConfig, MoveContext};
+    use planner::coord::{CoordMove, CoordMoveInputs, CoordinateSystem, CoordinateSystemConfig, MoveContext};
+    use planner::dynamics::MoveDynamics;
     use planner::mccm::{MccmInputs, mccm};
     use planner::mclm::mclm;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
-    use planner::dynamics::MoveDynamics;
+    /// An MCCM through `via` (circle type 0), `None` where the three
+    /// points make no arc; an MCLM without `via`.
+    fn line_or_arc(common: CoordMoveInputs, via: Option<Vec<f64>>, ctx: &MoveContext<'_>) -> Option<CoordMove> {
+        match via {
+            Some(via_center_radius) => {
+                let inputs = MccmInputs {
+                    common,
+                    circle_type: 0,
+                    via_center_radius,
+                    direction: 0,
+                };
+                mccm(&inputs, ctx).ok()
+            }
+            None => Some(mclm(&common, ctx).unwrap()),
+        }
+    }
+
     /// Random lines and 3D arcs (three primary axes and one non-primary)
     /// mapped onto joints with random scales and offsets: the joint motion
     /// between two nearby path parameters never exceeds the rate bound, and
@@ -551,19 +568,9 @@ mod tests {
                 start: &start,
                 has_master: false,
             };
-            let mv = if k % 2 == 0 {
-                let inputs = MccmInputs {
-                    common,
-                    circle_type: 0,
-                    via_center_radius: point(&mut rng),
-                    direction: 0,
-                };
-                match mccm(&inputs, &ctx) {
-                    Ok(mv) => mv,
-                    Err(_) => continue,
-                }
-            } else {
-                mclm(&common, &ctx).unwrap()
+            let via = (k % 2 == 0).then(|| point(&mut rng));
+            let Some(mv) = line_or_arc(common, via, &ctx) else {
+                continue;
             };
             if mv.path().arc().is_some() {
                 arcs += 1;
@@ -675,19 +682,9 @@ mod tests {
                     start: &start,
                     has_master: false,
                 };
-                let mv = if k % 2 == 0 {
-                    let inputs = MccmInputs {
-                        common,
-                        circle_type: 0,
-                        via_center_radius: point(),
-                        direction: 0,
-                    };
-                    match mccm(&inputs, &ctx) {
-                        Ok(mv) => mv,
-                        Err(_) => continue,
-                    }
-                } else {
-                    mclm(&common, &ctx).unwrap()
+                let via = (k % 2 == 0).then(&mut point);
+                let Some(mv) = line_or_arc(common, via, &ctx) else {
+                    continue;
                 };
                 let path = CoordMovePath::new(
                     &mv,

@@ -147,6 +147,12 @@ mod tests {
 
     const XY_TABLE: &str = "coordinate_system = { max_speed = 250.0, max_accel = 2000.0, max_decel = 2000.0, max_accel_jerk = 20000.0, max_decel_jerk = 20000.0, command_tolerance = 25.0, actual_tolerance = 0.2, tool_link = \"tool\" }";
 
+    /// The handle of the control structure called `name`.
+    fn instruction(twin: &Twin, name: &str) -> planner::task::InstructionHandle {
+        let bound = twin.program().instructions().iter().find(|b| b.name == name);
+        bound.unwrap_or_else(|| panic!("no instruction {name}")).handle
+    }
+
     fn with_xy_table(table: &str) -> String {
         let t = text();
         assert!(t.contains(XY_TABLE));
@@ -258,13 +264,7 @@ mod tests {
             .unwrap();
         let z = twin.plant().axes().iter().find(|a| a.name == "Z").unwrap().handle;
         assert_eq!(twin.task().coordinate_system_master(xy), Some(z));
-        let c1 = twin
-            .program()
-            .instructions()
-            .iter()
-            .find(|b| b.name == "C1")
-            .unwrap()
-            .handle;
+        let c1 = instruction(&twin, "C1");
         for _ in 0..1000 {
             twin.step();
         }
@@ -285,13 +285,7 @@ mod tests {
         // Direction 7 on the full circle: ERR 13, EXERR 6 (Direction).
         let t = text().replacen("1, Origin[0], 3, 200", "1, Origin[0], 7, 200", 1);
         let mut twin = Twin::new(scene(&t).unwrap()).unwrap();
-        let c1 = twin
-            .program()
-            .instructions()
-            .iter()
-            .find(|b| b.name == "C1")
-            .unwrap()
-            .handle;
+        let c1 = instruction(&twin, "C1");
         for _ in 0..1000 {
             twin.step();
             if twin.task().motion_bits(c1).er {
