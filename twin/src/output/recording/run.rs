@@ -44,7 +44,11 @@
 //! values, instruction outputs, tags, clearances) into a batch and hands
 //! it over every [`BATCH_UPDATES`] updates; a `twin_recording` thread
 //! starts the stream, logs the static meshes, and does everything else, so
-//! that Rerun's encoding and writing overlap the simulation. The file and
+//! that Rerun's encoding and writing overlap the simulation. It gives each
+//! batch back emptied, to be filled again: the run's thread alone
+//! allocates and frees the batches' memory (freeing it on another thread
+//! would take the lock of the run's allocator arena, which the
+//! simulation, allocating every step, would then wait for). The file and
 //! standard-output sinks (`--save`, `--stdout`) and the viewers and
 //! servers (`--connect`, `--spawn`, `--serve`) are two streams of one
 //! recording (one id), each on its own thread with its own copy of the
