@@ -545,8 +545,7 @@ impl Profile {
         let mut at = Integrated::new(start, limits);
         for ramp in ramps {
             at.ramp(ramp);
-            segments.extend_from_slice(at.segments());
-            at.count = 0;
+            at.move_into(&mut segments);
         }
         Self {
             segments,
@@ -760,8 +759,8 @@ impl Integrated {
         }
     }
 
-    /// Appends one phase (none if it has no duration); the caller empties
-    /// the four segments before a fifth.
+    /// Appends one phase (none if it has no duration); at most four
+    /// before [`Integrated::move_into`].
     fn phase(&mut self, phase: Phase) {
         if phase.duration_s <= 0.0 {
             return;
@@ -793,6 +792,13 @@ impl Integrated {
 
     fn segments(&self) -> &[Segment] {
         &self.segments[..self.count]
+    }
+
+    /// Moves the segments integrated so far onto the end of `out`; the
+    /// state and time go on from where they are.
+    fn move_into(&mut self, out: &mut Vec<Segment>) {
+        out.extend_from_slice(self.segments());
+        self.count = 0;
     }
 }
 

@@ -127,30 +127,37 @@ impl<'a> PeakRamps<'a> {
         }
     }
 
-    /// The first ramp's course, and its tail's frame where it has one, at
-    /// `vt`.
+    /// The first ramp's course at `vt`, and its tail's frame where the
+    /// course has a tail and no easing.
     fn course_at(&self, vt: f64) -> (Course, Option<TailFrame>) {
         let (v0, a0) = self.start;
         let course = Course::new(v0, a0, vt, self.limits);
-        (course, course.tail.jerk.map(|j| course.tail.frame(j, vt)))
+        let frame = course.tail.jerk.filter(|_| course.eased.is_none());
+        (course, frame.map(|j| course.tail.frame(j, vt)))
+    }
+
+    /// The first ramp's distance to `vp` and its first and second
+    /// derivatives, along a course and tail frame from
+    /// [`PeakRamps::course_at`].
+    fn first_ramp(&self, (course, frame): (Course, Option<TailFrame>), vp: f64) -> [f64; 3] {
+        let (v0, a0) = self.start;
+        match frame {
+            Some(frame) => {
+                let [tail, slope, curvature] = frame.reach(vp);
+                [course.lead_distance(v0, a0) + tail, slope, curvature]
+            }
+            None => course.reach(v0, a0, vp),
+        }
     }
 
     /// [`PeakRamps::excess`] at the range's high end, before any course is
     /// fixed: where the ramps fit there no search follows, and where they
     /// do not the course found there is kept for [`PeakRamps::fix_course`].
     pub(super) fn excess_at_high(&mut self) -> [f64; 3] {
-        let (v0, a0) = self.start;
         let hi = self.range.1;
-        let (course, frame) = self.course_at(self.inside.1);
-        self.high = Some((course, frame));
-        let first = match (course.eased, frame) {
-            (None, Some(frame)) => {
-                let [tail, slope, curvature] = frame.reach(hi);
-                [course.lead_distance(v0, a0) + tail, slope, curvature]
-            }
-            _ => course.reach(v0, a0, hi),
-        };
-        self.with_settle(first, hi)
+        let high = self.course_at(self.inside.1);
+        self.high = Some(high);
+        self.with_settle(self.first_ramp(high, hi), hi)
     }
 
     /// Takes the first ramp's course once for the whole range where it is
@@ -168,7 +175,6 @@ impl<'a> PeakRamps<'a> {
     /// The ramps' distance minus the distance to fit, and its first and
     /// second derivatives, at `vp`.
     pub(super) fn excess(&self, vp: f64) -> [f64; 3] {
-        let (v0, a0) = self.start;
         let first = match self.course {
             Some((course, lead, frame)) => {
                 let [tail, slope, curvature] = match (frame, course.tail.jerk) {
@@ -186,14 +192,7 @@ impl<'a> PeakRamps<'a> {
                 // is the limit from inside (from the other side of the
                 // coast speed it has a square-root kink).
                 let inside = vp.clamp(self.inside.0, self.inside.1);
-                let course = Course::new(v0, a0, inside, self.limits);
-                match (course.eased, course.tail.jerk) {
-                    (None, Some(j)) => {
-                        let [tail, slope, curvature] = course.tail.frame(j, inside).reach(vp);
-                        [course.lead_distance(v0, a0) + tail, slope, curvature]
-                    }
-                    _ => course.reach(v0, a0, vp),
-                }
+                self.first_ramp(self.course_at(inside), vp)
             }
         };
         self.with_settle(first, vp)
