@@ -78,6 +78,35 @@ pub fn draw(rng: &mut SplitMix64) -> Case {
     }
 }
 
+/// What Ruckig found for a case of `ruckig_state_to_state.txt`.
+pub struct Solved<'t> {
+    /// The target position.
+    pub target: f64,
+    /// The sign of the final velocity: `+`, `-` or `0`.
+    pub sign: &'t str,
+    /// The profile's duration, s.
+    pub duration_s: f64,
+}
+
+/// The table's rows in order (its comment lines skipped): each one's case,
+/// and what Ruckig found for it (`None` for a row whose duration is `x`:
+/// no profile).
+pub fn rows(table: &str) -> impl Iterator<Item = (Case, Option<Solved<'_>>)> {
+    let mut rng = SplitMix64(SEED);
+    table.lines().filter(|l| !l.starts_with('#')).map(move |line| {
+        let case = draw(&mut rng);
+        let mut fields = line.split(' ');
+        let mut field = || fields.next().expect("three fields: target, sign, duration");
+        let (target, sign, duration) = (field(), field(), field());
+        let solved = (duration != "x").then(|| Solved {
+            target: target.parse().expect("a target"),
+            sign,
+            duration_s: duration.parse().expect("a duration"),
+        });
+        (case, solved)
+    })
+}
+
 /// `a0` halved (at most 60 times) until ending it with the jerk `j` from
 /// the speed `v0` arrives at a speed in `speeds`, or 0 where it does not:
 /// the generators' rule for a start that can keep the velocity limit.
