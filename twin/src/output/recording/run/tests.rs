@@ -2,21 +2,27 @@ use std::collections::BTreeMap;
 
 use super::*;
 
-/// A shipped scene run for `updates` coarse updates with `--save`, into
-/// `target/test-output/recording-run/<file>`; the twin as last logged and
-/// the file, finished.
-fn record(scene: &str, file: &str, updates: usize) -> (Twin, std::path::PathBuf) {
+/// A shipped scene's twin, and a recording of it opened with `--save`
+/// into `target/test-output/recording-run/<file>` (that path).
+fn open(scene: &str, file: &str) -> (Twin, Recording, std::path::PathBuf) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let dir = root.join("target/test-output/recording-run");
     std::fs::create_dir_all(&dir).expect("dir");
     let scene = root.join(format!("scenes/{scene}.toml"));
-    let mut twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
+    let twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
     let path = dir.join(file);
     let targets = RecordingTargets {
         save: Some(path.clone()),
         ..RecordingTargets::default()
     };
-    let mut recording = Recording::new(&twin, &targets).expect("open");
+    let recording = Recording::new(&twin, &targets).expect("open");
+    (twin, recording, path)
+}
+
+/// A shipped scene run for `updates` coarse updates with `--save` (see
+/// [`open`]); the twin as last logged and the file, finished.
+fn record(scene: &str, file: &str, updates: usize) -> (Twin, std::path::PathBuf) {
+    let (mut twin, mut recording, path) = open(scene, file);
     recording.log(&twin).expect("log");
     for _ in 0..updates {
         twin.step();
@@ -151,16 +157,7 @@ fn the_tool_trail_is_logged_in_pieces_up_to_the_end() {
 /// that the run's thread alone allocates and frees them.
 #[test]
 fn batches_come_back_emptied_for_reuse() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let dir = root.join("target/test-output/recording-run");
-    std::fs::create_dir_all(&dir).expect("dir");
-    let scene = root.join("scenes/indexing_table.toml");
-    let mut twin = Twin::new(crate::scene::load(&scene).expect("scene")).expect("twin");
-    let targets = RecordingTargets {
-        save: Some(dir.join("given_back.rrd")),
-        ..RecordingTargets::default()
-    };
-    let mut recording = Recording::new(&twin, &targets).expect("open");
+    let (mut twin, mut recording, _) = open("indexing_table", "given_back.rrd");
     for _ in 0..BATCH_UPDATES {
         twin.step();
         recording.log(&twin).expect("log");
