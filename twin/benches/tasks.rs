@@ -1,6 +1,10 @@
 //! Task engine speed: one scan of a 500-statement Structured Text routine
-//! (assignments with arithmetic, IF, CASE, array elements), and the cost of
-//! a scan itself (a one-statement routine).
+//! (assignments with arithmetic, IF, CASE, array elements), the cost of
+//! a scan itself (a one-statement routine), and the cost of executing
+//! motion instructions: a scan that executes eight (two each of MAM, MAJ,
+//! MAS and MRP on four virtual axes) against the same scan with the
+//! instructions' IF false. The difference divided by eight is the cost of
+//! one executed motion instruction (the README's benchmark table).
 //!
 //! Run with `CARGO_PROFILE_DEV_OPT_LEVEL=3 cargo bench -p twin --profile dev
 //! --bench tasks`: the dependencies keep the dev profile's `opt-level = 2`,
@@ -11,6 +15,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::fmt::Write as _;
 use twin::program::plc::sandbox::Sandbox;
+use twin::program::plc::types::Value;
 
 /// 500 statements executed a scan: 100 blocks of five.
 fn routine() -> String {
@@ -53,5 +58,57 @@ fn bench(c: &mut Criterion) {
     c.bench_function("st_scan_1_statement", |b| b.iter(|| empty.scan()));
 }
 
-criterion_group!(benches, bench);
+/// Eight motion instructions, executed while `Go` is TRUE.
+const MOTION: &str = "
+IF Go THEN
+  Target := Target + 0.5;
+  MAM(A1, Mam1, 0, Target, 100.0, unitspersec, 1000.0, unitspersec2, 1000.0, unitspersec2, trapezoidal, 100.0, 100.0, %oftime, disabled, programmed, 0, none, 0, 0);
+  MAM(A2, Mam2, 1, 0.25, 100.0, unitspersec, 1000.0, unitspersec2, 1000.0, unitspersec2, s-curve, 100.0, 100.0, %oftime, disabled, programmed, 0, none, 0, 0);
+  MAJ(A3, Jog1, forward, Speed, unitspersec, 500.0, unitspersec2, 500.0, unitspersec2, trapezoidal);
+  MAJ(A4, Jog2, reverse, 20.0, unitspersec, 500.0, unitspersec2, 500.0, unitspersec2, s-curve);
+  MAS(A3, Stop1, jog, no, 100.0, unitspersec2);
+  MAS(A4, Stop2, all, yes, 200.0, unitspersec2);
+  MRP(A1, Mrp1, relative, command, 0.0);
+  MRP(A2, Mrp2, absolute, actual, Offset);
+END_IF;
+";
+
+fn motion(c: &mut Criterion) {
+    let tags: Vec<(&str, &str)> = ["Mam1", "Mam2", "Jog1", "Jog2", "Stop1", "Stop2", "Mrp1", "Mrp2"]
+        .iter()
+        .map(|n| (*n, "MOTION_INSTRUCTION"))
+        .chain([
+            ("Go", "BOOL"),
+            ("Target", "REAL"),
+            ("Speed", "REAL"),
+            ("Offset", "REAL"),
+        ])
+        .collect();
+    let axes = ["A1", "A2", "A3", "A4"];
+    let mut on = Sandbox::with_axes(&axes, &tags, MOTION).expect("routine compiles");
+    on.set("Go", Value::Bool(true));
+    on.set("Speed", Value::Real(10.0));
+    on.scan();
+    let before = on.controller().stats().statements;
+    on.scan();
+    assert_eq!(
+        on.controller().stats().statements - before,
+        10,
+        "the IF, the assignment and 8 motion statements"
+    );
+    assert!(
+        on.controller().refusals().is_empty(),
+        "{:?}",
+        on.controller().refusals()
+    );
+    c.bench_function("st_scan_8_motion_instructions", |b| b.iter(|| on.scan()));
+    let mut off = Sandbox::with_axes(&axes, &tags, MOTION).expect("routine compiles");
+    off.set("Go", Value::Bool(true));
+    off.set("Speed", Value::Real(10.0));
+    off.scan();
+    off.set("Go", Value::Bool(false));
+    c.bench_function("st_scan_8_motion_instructions_not_executed", |b| b.iter(|| off.scan()));
+}
+
+criterion_group!(benches, bench, motion);
 criterion_main!(benches);

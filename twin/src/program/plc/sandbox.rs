@@ -11,8 +11,11 @@
 use super::types::Value;
 use super::{Controller, memory};
 use crate::program::{FbBinding, InstructionBinding};
-use crate::scene::{BaseType, Dialect, Location, ProgramDef, Robot, RoutineDef, Scene, Tag, TagType, Task};
+use crate::scene::{
+    Axis, AxisKind, BaseType, Dialect, Location, ProgramDef, Robot, RoutineDef, Scene, Tag, TagType, Task, Units,
+};
 use crate::st::parse::parse_routine;
+use planner::axis::AxisConfig;
 use planner::task::MotionTask;
 use std::path::PathBuf;
 
@@ -32,6 +35,33 @@ impl Sandbox {
     /// `LINE:COLUMN: message` for a routine that does not parse or compile,
     /// or a message naming an unknown type.
     pub fn new(tags: &[(&str, &str)], routine: &str) -> Result<Sandbox, String> {
+        Sandbox::with_axes(&[], tags, routine)
+    }
+
+    /// As [`Sandbox::new`], with virtual linear axes (millimetres, the
+    /// planner's default limits) that the routine's motion instructions
+    /// may name.
+    ///
+    /// # Errors
+    /// As [`Sandbox::new`].
+    pub fn with_axes(axes: &[&str], tags: &[(&str, &str)], routine: &str) -> Result<Sandbox, String> {
+        let axes: Vec<Axis> = axes
+            .iter()
+            .map(|name| Axis {
+                name: (*name).to_owned(),
+                joint: None,
+                joint_location: Location::default(),
+                kind: AxisKind::Linear,
+                units: Units::Mm,
+                config: AxisConfig::new(*name, planner::axis::AxisKind::Linear),
+                soft_travel_limit_checking: false,
+                initial_position: 0.0,
+                motor: Default::default(),
+                servo: None,
+                holding_brake: false,
+                location: Location::default(),
+            })
+            .collect();
         let mut declared = Vec::with_capacity(tags.len());
         for (name, ty) in tags {
             let (base, len) = match ty.split_once('[') {
@@ -70,7 +100,7 @@ impl Sandbox {
                 initial_joints: Default::default(),
                 initial_joint_locations: Default::default(),
             },
-            axes: Vec::new(),
+            axes,
             cameras: Vec::new(),
             obstacles: Vec::new(),
             tags: declared,
@@ -94,6 +124,9 @@ impl Sandbox {
             collision: None,
         };
         let mut task = MotionTask::new(0.004).map_err(|e| e.to_string())?;
+        for a in &scene.axes {
+            task.add_axis(a.config.clone(), 0.0).map_err(|e| e.to_string())?;
+        }
         let mut instructions = Vec::new();
         let mut fbs = Vec::new();
         let plc = Controller::new(&scene, &mut task, &mut instructions, &mut fbs)
@@ -136,6 +169,18 @@ impl Sandbox {
             _ => return None,
         };
         mem.slots.get(info.base + index * info.stride() + offset).copied()
+    }
+
+    /// Sets a scalar tag (`A`) to `value`, as a program's assignment would.
+    ///
+    /// # Panics
+    /// When there is no such scalar tag.
+    pub fn set(&mut self, name: &str, value: Value) {
+        let mem = &mut self.plc.mem;
+        let info = &mem.tags[mem.find(name).unwrap_or_else(|| panic!("no tag {name}"))];
+        assert!(matches!(info.kind, memory::Kind::Scalar(_)), "{name} is not a scalar");
+        let slot = info.base;
+        mem.slots[slot] = mem.types[slot].store(value).0;
     }
 
     /// The controller (faults, statistics).
