@@ -7,10 +7,10 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use planner::axis::{AxisConfig, AxisKind};
-use planner::jog::MajOperands;
 use planner::mapc::{CamRequest, Mapc, MapcOperands, PositionCamAxis};
 use planner::mccp::{CamElement, CamProfile};
-use planner::task::{MapcCall, MotionTask};
+use planner::task::instructions::{maj::MAJ, mapc::MAPC, mccp::MCCP};
+use planner::task::{Arg, Args, MotionTask};
 use std::hint::black_box;
 use std::sync::Arc;
 
@@ -49,30 +49,51 @@ fn mapc(c: &mut Criterion) {
     let slave = task.add_axis(axis("Knife"), 0.0).expect("valid axis");
     let profile = task.add_cam_profile("Knife_Profile", 1000);
     let mi = task.add_instruction("MCCP_1");
-    task.mccp(mi, &points, 1000, 1.0, 1.0, profile).expect("valid cam");
+    // MCCP(MCCP_1, Cam[0], 1000, 1.0, 1.0, Knife_Profile)
+    let mccp = [
+        Arg::Control(mi),
+        Arg::Cam(&points, 0),
+        Arg::Integer(1000),
+        Arg::Number(1.0),
+        Arg::Number(1.0),
+        Arg::CamProfile(profile),
+    ];
+    task.execute(&MCCP, &Args::new(&mccp)).expect("valid cam");
+    // MAJ(Conveyor, MAJ_1, forward, 200, unitspersec, 100, %ofmaximum, 100, %ofmaximum, trapezoidal)
     let jog = task.add_instruction("MAJ_1");
-    task.maj(
-        master,
-        jog,
-        &MajOperands {
-            speed: 200.0,
-            ..Default::default()
-        },
-    )
-    .expect("valid jog");
+    let maj = [
+        Arg::Axis(master),
+        Arg::Control(jog),
+        Arg::Integer(0),
+        Arg::Number(200.0),
+        Arg::Integer(0),
+        Arg::Number(100.0),
+        Arg::Integer(1),
+        Arg::Number(100.0),
+        Arg::Integer(1),
+        Arg::Integer(0),
+    ];
+    task.execute(&MAJ, &Args::new(&maj)).expect("valid jog");
+    // MAPC(Knife, Conveyor, MAPC_1, same, Knife_Profile, 1, 1, continuous,
+    // immediate, 0, 0, newcam, command, bidirectional)
     let pc = task.add_instruction("MAPC_1");
-    task.mapc(MapcCall {
-        slave,
-        master,
-        motion_control: pc,
-        cam_profile: profile,
-        operands: MapcOperands {
-            execution_mode: 1,
-            master_reference: 1,
-            ..MapcOperands::default()
-        },
-    })
-    .expect("valid cam");
+    let mapc = [
+        Arg::Axis(slave),
+        Arg::Axis(master),
+        Arg::Control(pc),
+        Arg::Integer(0),
+        Arg::CamProfile(profile),
+        Arg::Number(1.0),
+        Arg::Number(1.0),
+        Arg::Integer(1),
+        Arg::Integer(0),
+        Arg::Number(0.0),
+        Arg::Number(0.0),
+        Arg::Integer(0),
+        Arg::Integer(1),
+        Arg::Integer(0),
+    ];
+    task.execute(&MAPC, &Args::new(&mapc)).expect("valid cam");
     c.bench_function("task_update_jogged_master_and_cam_slave", |b| b.iter(|| task.update()));
 
     let p = Arc::new(CamProfile::calculate(&points, 1000, 1.0, 1.0).expect("valid cam"));

@@ -7,7 +7,7 @@
 //! "SetPos", continuous through full turns); a modulo axis also reports the
 //! wrapped position through its [`Modulo`] period.
 
-use crate::mah::Homing;
+use crate::homing::Homing;
 pub use crate::servo::AxisType;
 use crate::servo::FaultAction;
 use thiserror::Error;
@@ -125,7 +125,7 @@ pub struct AxisConfig {
     /// Drive).
     pub position_error_action: FaultAction,
     /// How MAH homes the axis (default: active, immediate, home position
-    /// 0). See [`crate::mah`].
+    /// 0). See [`crate::homing`].
     pub homing: Homing,
 }
 

@@ -1,5 +1,5 @@
-//! The instruction catalogue: every Logix instruction and PLCopen function
-//! block the product accepts, described once.
+//! The instruction catalogue's vocabulary: how each instruction the
+//! product accepts is described, once.
 //!
 //! Each [`Instruction`] lists its operands in the order a Structured Text
 //! call writes them, and for each operand:
@@ -17,9 +17,16 @@
 //!   and Merge Speed before the jerks (its document's EXERR table gives
 //!   Termination Type 14).
 //!
-//! The Structured Text call checks, the binding of calls to the planner,
-//! the instructions' ERR 13 EXERR numbers, error messages and the operand
-//! lists in `scenes/README.md` all derive from this table.
+//! An entry also carries what the instruction does: [`Instruction::execute`]
+//! runs a call on the motion task with its operand values, bound by
+//! catalogue position; [`Instruction::check`] runs its validation on a call
+//! whose operands are all known when the program loads. Each entry lives in
+//! its instruction's module under `task/instructions/`, and the registry
+//! there ([`crate::task::instructions::INSTRUCTIONS`]) lists them all: the
+//! Structured Text compiler, the binding of operands, the EXERR numbers,
+//! error messages and the operand lists in `scenes/README.md`
+//! ([`markdown`]) all derive from the entries. [`errors`] gives the meaning
+//! of every ERR code.
 //!
 //! # Choices where the documents are silent
 //! * MCS, MAJ and MAS are not among the specification documents; their
@@ -32,19 +39,24 @@
 //!
 //! # Examples
 //! ```
-//! use planner::catalogue::{self, Format};
+//! use planner::catalogue::Format;
+//! use planner::task::instructions;
 //!
-//! let mccm = catalogue::find("mccm").unwrap();
+//! let mccm = instructions::find("mccm").unwrap();
 //! assert_eq!(mccm.operands.len(), 25);
-//! assert_eq!(catalogue::MCCM.exerr("Termination Type"), 14);
+//! assert_eq!(mccm.exerr("Termination Type"), 14);
 //! let units = mccm.operand("Jerk Units").unwrap().1;
 //! assert_eq!(units.format, Format::ImmediateOrTag);
 //! assert_eq!(units.code_of("%ofTime"), Some(2));
 //! ```
 
-mod instructions;
+use crate::instruction::LogixFault;
+use crate::task::{Args, MotionTask};
 
-pub use instructions::*;
+pub mod errors;
+pub mod words;
+
+pub use errors::{ERRORS, ErrorCode, err_meaning};
 
 /// How an operand may be given, as the manual's Format column says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -92,6 +104,10 @@ pub struct Word {
 pub enum Kind {
     /// An axis tag.
     Axis,
+    /// An axis with a drive (`AXIS_CIP_DRIVE`): a virtual axis, always
+    /// servo-on, is refused when the program loads, as the controller's
+    /// verifier refuses it (MSO, MSF).
+    DriveAxis,
     /// A `COORDINATE_SYSTEM` tag.
     CoordinateSystem,
     /// A `MOTION_INSTRUCTION` tag (the control structure).
@@ -184,36 +200,77 @@ pub enum CallStyle {
     Named,
 }
 
-/// The instruction families, each bound to the planner by one binding file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Family {
-    /// Coordinated motion: MCLM, MCCM, MCS.
-    Coordinated,
-    /// Coordinate transforms: MCT.
-    Transform,
-    /// Cams and the single-axis calls: MCCP, MAPC, MRP, MAJ, MAS, MAM, MAG.
-    Cam,
-    /// PLCopen single-axis blocks: MC_MoveModulo.
-    PlcOpen,
-    /// Axis and coordinate-system states: MSO, MSF, MASD, MASR, MAFR,
-    /// MCSD, MCSR, and homing (MAH).
-    State,
-}
+/// A refusal of any instruction, as [`Instruction::execute`] returns it.
+pub type Fault = Box<dyn LogixFault>;
 
-/// One instruction the product accepts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Runs a call on the motion task with its operand values (see
+/// [`Instruction::execute`]).
+pub type Execute = fn(&mut MotionTask, &Args<'_>) -> Result<(), Fault>;
+
+/// Validates a call whose operands are all known (see
+/// [`Instruction::check`]).
+pub type Check = fn(&MotionTask, &Args<'_>) -> Result<(), Fault>;
+
+/// Prepares the motion task for a call at load (see [`Instruction::load`]).
+pub type Load = fn(&mut MotionTask, &Args<'_>);
+
+/// One instruction the product accepts: its operands, and what it does.
+#[derive(Clone, Copy)]
 pub struct Instruction {
     /// Mnemonic or block type (`MCCM`, `MC_MoveModulo`).
     pub mnemonic: &'static str,
     /// The manual's title.
     pub title: &'static str,
+    /// What it does, in one line (the docs' table).
+    pub summary: &'static str,
     /// How it is called.
     pub style: CallStyle,
-    /// Its family.
-    pub family: Family,
     /// Operands in call order.
     pub operands: &'static [Operand],
+    /// Executes a call: the operands' values in call order ([`Args`], for
+    /// a named call only the inputs it names). The instruction writes its
+    /// control structure (`.EN`, `.DN`, `.ER` with ERR and EXERR) or its
+    /// block outputs, as on the controller, and returns the refusal too.
+    pub execute: Execute,
+    /// Runs the instruction's validation on a call whose operands are all
+    /// known when the program loads (constants, and the tags the program
+    /// names), against the task's configuration, without executing it:
+    /// the refusal it would give, whatever the state it runs in.
+    pub check: Check,
+    /// What a call of it prepares in the motion task when the program
+    /// loads (with its tag operands; numbers are not known yet).
+    pub load: Load,
 }
+
+impl std::fmt::Debug for Instruction {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Instruction")
+            .field("mnemonic", &self.mnemonic)
+            .field("style", &self.style)
+            .field("operands", &self.operands.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl PartialEq for Instruction {
+    /// Instructions are the same when their mnemonics are.
+    fn eq(&self, other: &Self) -> bool {
+        self.mnemonic == other.mnemonic
+    }
+}
+
+/// A refusal as a [`Fault`].
+pub fn fault<E: LogixFault>(e: E) -> Fault {
+    Box::new(e)
+}
+
+/// A [`Instruction::check`] that finds nothing to refuse.
+pub fn no_check(_: &MotionTask, _: &Args<'_>) -> Result<(), Fault> {
+    Ok(())
+}
+
+/// A [`Instruction::load`] that prepares nothing.
+pub fn no_load(_: &mut MotionTask, _: &Args<'_>) {}
 
 impl Instruction {
     /// The operand called `name` (case-insensitive) with its call position.
@@ -235,17 +292,25 @@ impl Instruction {
         }
     }
 
-    /// The faceplate index of the operand called `name` (exact spelling),
-    /// `None` when the instruction has no such operand.
-    pub const fn faceplate_of(&self, name: &str) -> Option<i32> {
+    /// The call position of the operand called `name`, exactly as the
+    /// catalogue spells it: the index its value has in [`Args`]. Evaluated
+    /// at compile time where it is used in a constant; a name the
+    /// instruction lacks fails the build there.
+    pub const fn index(&self, name: &str) -> usize {
         let mut i = 0;
         while i < self.operands.len() {
             if str_eq(self.operands[i].name, name) {
-                return Some(self.operands[i].faceplate);
+                return i;
             }
             i += 1;
         }
-        None
+        panic!("the instruction has no operand of that name")
+    }
+
+    /// The faceplate index of the operand called `name` (exact spelling),
+    /// `None` when the instruction has no such operand.
+    pub const fn faceplate_of(&self, name: &str) -> Option<i32> {
+        faceplate_of(self.operands, name)
     }
 
     /// The operand names in call order, comma separated.
@@ -253,6 +318,30 @@ impl Instruction {
         let names: Vec<&str> = self.operands.iter().map(|o| o.name).collect();
         names.join(", ")
     }
+}
+
+/// The faceplate index of the operand called `name` (exact spelling) in an
+/// operand table, for the modules that share one instruction's operands
+/// with its validation; a name the table lacks fails the build where it is
+/// evaluated in a constant.
+pub const fn faceplate(operands: &[Operand], name: &str) -> i32 {
+    match faceplate_of(operands, name) {
+        Some(index) => index,
+        None => panic!("no operand of that name"),
+    }
+}
+
+/// The faceplate index of the operand called `name` (exact spelling) in an
+/// operand table, `None` when it has no such operand.
+pub const fn faceplate_of(operands: &[Operand], name: &str) -> Option<i32> {
+    let mut i = 0;
+    while i < operands.len() {
+        if str_eq(operands[i].name, name) {
+            return Some(operands[i].faceplate);
+        }
+        i += 1;
+    }
+    None
 }
 
 const fn str_eq(a: &str, b: &str) -> bool {
@@ -270,45 +359,13 @@ const fn str_eq(a: &str, b: &str) -> bool {
     true
 }
 
-/// The instruction called `name` (case-insensitive).
-pub fn find(name: &str) -> Option<&'static Instruction> {
-    INSTRUCTIONS
-        .iter()
-        .copied()
-        .find(|i| i.mnemonic.eq_ignore_ascii_case(name))
-}
-
-/// The mnemonics of the positional instructions, comma separated (for
-/// messages).
-pub fn positional_mnemonics() -> String {
-    let names: Vec<&str> = INSTRUCTIONS
-        .iter()
-        .filter(|i| i.style == CallStyle::Positional)
-        .map(|i| i.mnemonic)
-        .collect();
-    names.join(", ")
-}
-
-/// Logix motion instructions a program may name that the product does not
-/// simulate: a call of one is refused with a message saying so, rather
-/// than as an unknown name.
-pub const NOT_SIMULATED: &[&str] = &[
-    // Motion state
-    "MDO", "MDF", "MDS", // Motion move
-    "MCD", "MCSV", "MATC", "MDAC", // Motion group
-    "MGS", "MGSD", "MGSR", "MGSP", // Motion event
-    "MAW", "MDW", "MAR", "MDR", "MAOC", "MDOC", // Motion configuration
-    "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
-    "MCCD", "MCTP", "MCTO", "MCTPO", "MCPM", "MDCC",
-];
-
 /// The catalogue as Markdown: per instruction a heading and a table of its
 /// operands (call position, name, data type, Format, faceplate index,
 /// enumeration words with their codes). `scenes/README.md` holds exactly
 /// this text between its `catalogue:begin` and `catalogue:end` markers.
-pub fn markdown() -> String {
+pub fn markdown(instructions: &[&Instruction]) -> String {
     let mut out = String::new();
-    for ins in INSTRUCTIONS {
+    for ins in instructions {
         let call = match ins.style {
             CallStyle::Positional => "positional",
             CallStyle::Named => "named inputs, on an instance tag",
@@ -339,107 +396,4 @@ pub fn markdown() -> String {
         out.push('\n');
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn mccm_faceplate_indices_are_the_documents_exerr_table() {
-        // The MCCM document's ERR 13 table, row by row.
-        for (name, exerr) in [
-            ("Coordinate System", 0),
-            ("Move Type", 2),
-            ("Position", 3),
-            ("Circle Type", 4),
-            ("Via/Center/Radius", 5),
-            ("Direction", 6),
-            ("Speed", 7),
-            ("Accel Rate", 9),
-            ("Decel Rate", 11),
-            ("Termination Type", 14),
-        ] {
-            assert_eq!(MCCM.exerr(name), exerr, "{name}");
-        }
-        // MAPC EXERR 5 = Slave Scaling, MRP EXERR 4 = Position.
-        assert_eq!(MAPC.exerr("Slave Scaling"), 5);
-        assert_eq!(MRP.exerr("Position"), 4);
-    }
-
-    #[test]
-    fn faceplate_indices_are_a_permutation_of_the_call_positions() {
-        for ins in INSTRUCTIONS.iter().filter(|i| i.style == CallStyle::Positional) {
-            let mut seen: Vec<i32> = ins.operands.iter().map(|o| o.faceplate).collect();
-            seen.sort_unstable();
-            let expected: Vec<i32> = (0..ins.operands.len() as i32).collect();
-            assert_eq!(seen, expected, "{}", ins.mnemonic);
-        }
-    }
-
-    #[test]
-    fn mclm_is_mccm_without_the_circle_operands() {
-        let circle = ["Circle Type", "Via/Center/Radius", "Direction"];
-        let from_mccm: Vec<(&str, &str, Format, Kind)> = MCCM
-            .operands
-            .iter()
-            .filter(|o| !circle.contains(&o.name))
-            .map(|o| (o.name, o.data_type, o.format, o.kind))
-            .collect();
-        let mclm: Vec<(&str, &str, Format, Kind)> = MCLM
-            .operands
-            .iter()
-            .map(|o| (o.name, o.data_type, o.format, o.kind))
-            .collect();
-        assert_eq!(mclm, from_mccm);
-        // MCLM's faceplate: MCCM's without slots 4–6.
-        for (name, exerr) in [
-            ("Move Type", 2),
-            ("Position", 3),
-            ("Speed", 4),
-            ("Profile", 10),
-            ("Termination Type", 11),
-            ("Accel Jerk", 14),
-            ("Jerk Units", 16),
-            ("Event Distance", 20),
-            ("Calculated Data", 21),
-        ] {
-            assert_eq!(MCLM.exerr(name), exerr, "{name}");
-        }
-    }
-
-    #[test]
-    fn words_are_unique_per_operand_and_the_same_word_may_differ_between_operands() {
-        for ins in INSTRUCTIONS {
-            for o in ins.operands {
-                let words = o.kind.words();
-                for (i, a) in words.iter().enumerate() {
-                    assert!(
-                        !words[i + 1..].iter().any(|b| b.word.eq_ignore_ascii_case(a.word)),
-                        "{} {}: {} twice",
-                        ins.mnemonic,
-                        o.name,
-                        a.word
-                    );
-                }
-            }
-        }
-        // `reverse` is MAPC Direction 2 but MAJ Direction 1; `%oftime` exists
-        // only in Jerk Units.
-        assert_eq!(MAPC.operand("Direction").unwrap().1.code_of("Reverse"), Some(2));
-        assert_eq!(MAJ.operand("direction").unwrap().1.code_of("REVERSE"), Some(1));
-        assert_eq!(MCCM.operand("Speed Units").unwrap().1.code_of("%oftime"), None);
-        assert_eq!(MCCM.operand("Jerk Units").unwrap().1.code_of("%OfTime"), Some(2));
-    }
-
-    #[test]
-    fn find_is_case_insensitive_and_knows_only_catalogued_instructions() {
-        assert_eq!(find("mc_movemodulo").map(|i| i.mnemonic), Some("MC_MoveModulo"));
-        assert_eq!(find("Mapc").map(|i| i.operands.len()), Some(14));
-        assert_eq!(find("mso").map(|i| i.operands.len()), Some(2));
-        assert!(find("MCD").is_none());
-        for name in NOT_SIMULATED {
-            assert!(find(name).is_none(), "{name} is both simulated and not");
-        }
-    }
 }

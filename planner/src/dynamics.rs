@@ -1,9 +1,10 @@
 //! The operands that set how a move runs — speed, acceleration and
 //! deceleration rates, profile and jerks, each with its units — as the
 //! program passes them. MAM and MCLM/MCCM share them (their faceplates
-//! list them in the same order, Speed to Jerk Units); what a code means,
-//! which codes an instruction accepts and how a rate is converted is the
-//! instruction's ([`crate::mam`], [`crate::coord`]).
+//! list them in the same order, Speed to Jerk Units); what a code means
+//! and which codes an instruction accepts is the instruction's
+//! (`task/instructions/mam.rs`, [`crate::coord`]). The conversion of a
+//! time-driven rate and the positive-and-finite test are here, once.
 
 /// Speed, rates, profile and jerks of a move, enumerations as their
 /// numeric codes.
@@ -30,4 +31,22 @@ pub struct MoveDynamics {
     /// Jerk Units (0 units/s³, 1 % of maximum, 2 % of time, 4 per master
     /// unit³, 6 % of time master driven).
     pub jerk_units: i64,
+}
+
+/// A time-driven rate as units per second (per second², …): given in
+/// those units (code 0), or in percent of the axis' maximum `max` (code
+/// 1); `None` for any other units code.
+#[must_use]
+pub fn time_rate(value: f64, units: i64, max: f64) -> Option<f64> {
+    match units {
+        0 => Some(value),
+        1 => Some(value / 100.0 * max),
+        _ => None,
+    }
+}
+
+/// `value` when it is finite and greater than zero.
+#[must_use]
+pub fn positive(value: f64) -> Option<f64> {
+    (value.is_finite() && value > 0.0).then_some(value)
 }

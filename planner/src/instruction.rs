@@ -7,47 +7,123 @@
 //!   `Active`, `CommandAborted`, `Error`, `ErrorID`.
 //!
 //! These are *status*: an instruction in process is not an error. Errors are
-//! carried as numbers in the status (as on the controller), and each
-//! instruction module has its own typed error enum that maps to them;
-//! [`OperandError`] serves the instructions whose only refusals are an
-//! operand out of range and the axis' state (MAJ/MAS, MRP, MAG).
+//! carried as numbers in the status (as on the controller). An instruction
+//! that refuses to execute says why with a [`LogixFault`]: a [`Refusal`]
+//! for the cases all instructions share (an operand out of range, an axis'
+//! state) around the instruction's own small enum.
 
 use crate::servo::StateError;
 use thiserror::Error;
 
-/// Why an instruction that can only refuse an operand or the axis' state
-/// fails (MAJ and MAS: `JogError`, MRP: `MrpError`, MAG: `MagError`).
-#[derive(Debug, Clone, PartialEq, Error)]
-#[non_exhaustive]
-pub enum OperandError {
-    /// ERR 13: operand out of range (EXERR = faceplate number).
-    #[error("parameter out of range: operand {operand} = {value} (ERR 13)")]
-    ParameterOutOfRange {
-        /// Operand number.
-        operand: i32,
-        /// Its value.
-        value: f64,
-    },
-    /// The axis' state refuses the instruction (ERR 5, 7, 8, 16, 53 …; EXERR 0).
-    #[error(transparent)]
-    State(#[from] StateError),
+/// A refusal as the controller reports it in a `MOTION_INSTRUCTION`: the
+/// `ERR` code, the `EXERR` and `SEGMENT` that qualify it, and (through
+/// `Display`) the planner's sentence saying what was wrong. The meaning of
+/// each `ERR` code is the catalogue's ([`crate::catalogue::err_meaning`]).
+pub trait LogixFault: std::error::Error + Send + Sync + 'static {
+    /// The `ERR` code.
+    fn err(&self) -> i32;
+    /// The `EXERR` code (0 where the error has none).
+    fn exerr(&self) -> i32 {
+        0
+    }
+    /// The `SEGMENT` (0 where the error has none).
+    fn segment(&self) -> i32 {
+        0
+    }
 }
 
-impl OperandError {
-    /// The Logix `ERR` code.
-    pub fn err(&self) -> i32 {
-        match self {
-            Self::ParameterOutOfRange { .. } => 13,
-            Self::State(e) => e.err(),
+/// Why an instruction refused to execute: the two cases every instruction
+/// shares — an operand out of range (ERR 13) and the state of an axis it
+/// names — and the instruction's own (`E`, a small enum of the
+/// instruction's module; [`NoFault`] when it has none).
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[non_exhaustive]
+pub enum Refusal<E> {
+    /// ERR 13, Parameter Out Of Range: EXERR is the operand's faceplate
+    /// index, counted from 0 (the catalogue's [`crate::catalogue::Operand`]
+    /// `faceplate`).
+    #[error("parameter out of range: operand {exerr}{} (ERR 13)", value.map_or(String::new(), |v| format!(" = {v}")))]
+    Operand {
+        /// The operand's faceplate index (EXERR).
+        exerr: i32,
+        /// The value it was given, where one number is at fault.
+        value: Option<f64>,
+    },
+    /// The state of an axis refuses the instruction (ERR 5, 7, 8, 9, 16,
+    /// 20, 22, 53). EXERR is 0, or for an instruction on a coordinate
+    /// system the index of the axis in it.
+    #[error("{state}")]
+    State {
+        /// What the state refuses.
+        state: StateError,
+        /// The axis' index in its coordinate system, or 0.
+        exerr: i32,
+    },
+    /// The instruction's own refusal.
+    #[error(transparent)]
+    Instruction(E),
+}
+
+impl<E> Refusal<E> {
+    /// ERR 13 for the operand with faceplate index `exerr`, given `value`.
+    pub fn operand(exerr: i32, value: f64) -> Self {
+        Self::Operand {
+            exerr,
+            value: Some(value),
         }
     }
 
-    /// The Logix `EXERR` code.
-    pub fn exerr(&self) -> i32 {
+    /// ERR 13 for the operand with faceplate index `exerr` as a whole (an
+    /// array too short, a point the operands make impossible).
+    pub fn operand_index(exerr: i32) -> Self {
+        Self::Operand { exerr, value: None }
+    }
+}
+
+impl<E> From<StateError> for Refusal<E> {
+    fn from(state: StateError) -> Self {
+        Self::State { state, exerr: 0 }
+    }
+}
+
+impl<E: LogixFault> LogixFault for Refusal<E> {
+    fn err(&self) -> i32 {
         match self {
-            Self::ParameterOutOfRange { operand, .. } => *operand,
-            Self::State(_) => 0,
+            Self::Operand { .. } => 13,
+            Self::State { state, .. } => state.err(),
+            Self::Instruction(e) => e.err(),
         }
+    }
+
+    fn exerr(&self) -> i32 {
+        match self {
+            Self::Operand { exerr, .. } | Self::State { exerr, .. } => *exerr,
+            Self::Instruction(e) => e.exerr(),
+        }
+    }
+
+    fn segment(&self) -> i32 {
+        match self {
+            Self::Instruction(e) => e.segment(),
+            _ => 0,
+        }
+    }
+}
+
+/// The own refusals of an instruction that has none beyond the shared
+/// ones of [`Refusal`] (MAJ, MAS, MRP, MAG, the state instructions).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+pub enum NoFault {}
+
+impl LogixFault for NoFault {
+    fn err(&self) -> i32 {
+        match *self {}
+    }
+}
+
+impl LogixFault for StateError {
+    fn err(&self) -> i32 {
+        StateError::err(*self)
     }
 }
 

@@ -2,42 +2,40 @@
 //! instruction semantics. No physics, GPU, files, clocks or CLI: time is passed
 //! in by the caller, one coarse update at a time.
 //!
-//! * [`profile`] — trapezoidal and S-curve profiles, jerk units.
+//! * [`task::instructions`] — every instruction the product accepts, one
+//!   module each: its catalogue entry, typed operands bound by catalogue
+//!   position, validation, refusals and executor; the registry lists them.
+//! * [`catalogue`] — how an instruction is described (operands, formats,
+//!   enumeration words, faceplate indices) and what each ERR code means.
+//! * [`instruction`] — the status every instruction writes: the Logix
+//!   MOTION_INSTRUCTION bits and the PLCopen function-block outputs; the
+//!   refusals ([`instruction::LogixFault`], [`instruction::Refusal`]).
+//! * [`task`] — the coarse-update executor (the motion engine) that owns
+//!   axes and commands: [`task::MotionTask::execute`] runs a call.
+//! * [`profile`] — trapezoidal and S-curve profiles, jerk units;
+//!   [`dynamics`] — the rates and units moves share.
 //! * [`axis`] — axis configuration (linear, rotary, modulo) and axis state.
-//! * [`instruction`] — status shared by all instructions: the Logix
-//!   MOTION_INSTRUCTION bits and the PLCopen function-block outputs.
-//! * [`modulo`] — MC_MoveModulo.
-//! * [`mccp`] — Motion Calculate Cam Profile: CAM arrays → cam profiles.
-//! * [`mapc`] — Motion Axis Position Cam: position camming of a slave axis.
-//! * [`mrp`] — Motion Redefine Position.
-//! * [`jog`] — Motion Axis Jog / Motion Axis Stop (drives cam masters).
-//! * [`mam`] — Motion Axis Move: single-axis moves (absolute, incremental,
-//!   rotary move types).
+//! * [`servo`] — axis types and states and the state every motion
+//!   instruction needs; [`homing`] — the homing attributes MAH uses.
+//! * [`modulo`] — MC_MoveModulo's commands.
+//! * [`mccp`] — cam profiles from CAM arrays; [`mapc`] — position camming
+//!   of a slave axis.
 //! * [`coord`] — coordinate systems, coordinated-move operands and status;
-//!   [`mclm`] linear and [`mccm`] circular coordinated moves; MCS in `coord`.
-//! * [`mct`] — MCT coordinated transforms and robot geometries.
-//! * [`mag`] — MAG electronic gearing.
-//! * [`mah`] — homing attributes and MAH.
-//! * [`servo`] — axis types and states (MSO, MSF, MASD, MASR, MAFR, MCSD,
-//!   MCSR) and the state every motion instruction needs.
-//! * [`task`] — the coarse-update executor that owns axes and commands.
+//!   [`mclm`] lines and [`mccm`] circles.
+//! * [`mct`] — coordinated transforms and robot geometries.
 
 pub mod axis;
 pub mod catalogue;
 pub mod coord;
 pub mod dynamics;
+pub mod homing;
 pub mod instruction;
-pub mod jog;
-pub mod mag;
-pub mod mah;
-pub mod mam;
 pub mod mapc;
 pub mod mccm;
 pub mod mccp;
 pub mod mclm;
 pub mod mct;
 pub mod modulo;
-pub mod mrp;
 pub mod profile;
 pub mod servo;
 pub mod task;

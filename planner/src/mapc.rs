@@ -115,6 +115,10 @@
 //!   is set far above what they run at; the drive's own limits (position
 //!   error, torque) act below it.
 
+use crate::catalogue::words::{
+    ACTUAL_COMMAND, CAM_TYPE, EXECUTION_MODE, EXECUTION_SCHEDULE, MAPC_DIRECTION, MASTER_DIRECTION, op,
+};
+use crate::catalogue::{Format, Kind, Operand};
 use thiserror::Error;
 
 /// How far a cam's peak slave speed may exceed the slave axis' maximum
@@ -250,37 +254,93 @@ impl Default for MapcOperands {
     }
 }
 
+/// MAPC's operands (its catalogue entry is `task/instructions/mapc.rs`;
+/// they are here beside the validation that names them).
+pub const MAPC_OPERANDS: &[Operand] = &[
+    op("Slave Axis", "AXIS", Format::Tag, Kind::Axis, 0),
+    op("Master Axis", "AXIS", Format::Tag, Kind::Axis, 1),
+    op(
+        "Motion Control",
+        "MOTION_INSTRUCTION",
+        Format::Tag,
+        Kind::MotionControl,
+        2,
+    ),
+    op(
+        "Direction",
+        "DINT",
+        Format::Immediate,
+        Kind::Enumeration(MAPC_DIRECTION),
+        3,
+    ),
+    op("Cam Profile", "CAM_PROFILE", Format::Array, Kind::CamProfile, 4),
+    op("Slave Scaling", "REAL", Format::ImmediateOrTag, Kind::Number, 5),
+    op("Master Scaling", "REAL", Format::ImmediateOrTag, Kind::Number, 6),
+    op(
+        "Execution Mode",
+        "DINT",
+        Format::Immediate,
+        Kind::Enumeration(EXECUTION_MODE),
+        7,
+    ),
+    op(
+        "Execution Schedule",
+        "DINT",
+        Format::Immediate,
+        Kind::Enumeration(EXECUTION_SCHEDULE),
+        8,
+    ),
+    op("Master Lock Position", "REAL", Format::ImmediateOrTag, Kind::Number, 9),
+    op("Cam Lock Position", "REAL", Format::ImmediateOrTag, Kind::Number, 10),
+    op("Cam Type", "DINT", Format::Immediate, Kind::Enumeration(CAM_TYPE), 11),
+    op(
+        "Master Reference",
+        "DINT",
+        Format::Immediate,
+        Kind::Enumeration(ACTUAL_COMMAND),
+        12,
+    ),
+    op(
+        "Master Direction",
+        "DINT",
+        Format::Immediate,
+        Kind::Enumeration(MASTER_DIRECTION),
+        13,
+    ),
+];
+
 /// Faceplate operand numbers (EXERR of ERR 13), read from
-/// [`crate::catalogue::MAPC`].
+/// [`MAPC_OPERANDS`].
 pub mod operand {
-    use crate::catalogue::MAPC;
+    use super::MAPC_OPERANDS;
+    use crate::catalogue::faceplate;
 
     /// Slave Axis.
-    pub const SLAVE: i32 = MAPC.exerr("Slave Axis");
+    pub const SLAVE: i32 = faceplate(MAPC_OPERANDS, "Slave Axis");
     /// Master Axis.
-    pub const MASTER: i32 = MAPC.exerr("Master Axis");
+    pub const MASTER: i32 = faceplate(MAPC_OPERANDS, "Master Axis");
     /// Direction.
-    pub const DIRECTION: i32 = MAPC.exerr("Direction");
+    pub const DIRECTION: i32 = faceplate(MAPC_OPERANDS, "Direction");
     /// Cam Profile.
-    pub const CAM_PROFILE: i32 = MAPC.exerr("Cam Profile");
+    pub const CAM_PROFILE: i32 = faceplate(MAPC_OPERANDS, "Cam Profile");
     /// Slave Scaling.
-    pub const SLAVE_SCALING: i32 = MAPC.exerr("Slave Scaling");
+    pub const SLAVE_SCALING: i32 = faceplate(MAPC_OPERANDS, "Slave Scaling");
     /// Master Scaling.
-    pub const MASTER_SCALING: i32 = MAPC.exerr("Master Scaling");
+    pub const MASTER_SCALING: i32 = faceplate(MAPC_OPERANDS, "Master Scaling");
     /// Execution Mode.
-    pub const EXECUTION_MODE: i32 = MAPC.exerr("Execution Mode");
+    pub const EXECUTION_MODE: i32 = faceplate(MAPC_OPERANDS, "Execution Mode");
     /// Execution Schedule.
-    pub const EXECUTION_SCHEDULE: i32 = MAPC.exerr("Execution Schedule");
+    pub const EXECUTION_SCHEDULE: i32 = faceplate(MAPC_OPERANDS, "Execution Schedule");
     /// Master Lock Position.
-    pub const MASTER_LOCK_POSITION: i32 = MAPC.exerr("Master Lock Position");
+    pub const MASTER_LOCK_POSITION: i32 = faceplate(MAPC_OPERANDS, "Master Lock Position");
     /// Cam Lock Position.
-    pub const CAM_LOCK_POSITION: i32 = MAPC.exerr("Cam Lock Position");
+    pub const CAM_LOCK_POSITION: i32 = faceplate(MAPC_OPERANDS, "Cam Lock Position");
     /// Cam Type.
-    pub const CAM_TYPE: i32 = MAPC.exerr("Cam Type");
+    pub const CAM_TYPE: i32 = faceplate(MAPC_OPERANDS, "Cam Type");
     /// Master Reference.
-    pub const MASTER_REFERENCE: i32 = MAPC.exerr("Master Reference");
+    pub const MASTER_REFERENCE: i32 = faceplate(MAPC_OPERANDS, "Master Reference");
     /// Master Direction.
-    pub const MASTER_DIRECTION: i32 = MAPC.exerr("Master Direction");
+    pub const MASTER_DIRECTION: i32 = faceplate(MAPC_OPERANDS, "Master Direction");
 }
 
 /// Why an MAPC failed.
@@ -304,6 +364,16 @@ pub enum MapcError {
     /// The axis' state refuses the instruction (ERR 5, 7, 8, 16, 53 …; EXERR 0).
     #[error("{0}")]
     State(crate::servo::StateError),
+}
+
+impl crate::instruction::LogixFault for MapcError {
+    fn err(&self) -> i32 {
+        MapcError::err(self)
+    }
+
+    fn exerr(&self) -> i32 {
+        MapcError::exerr(self)
+    }
 }
 
 impl MapcError {

@@ -48,9 +48,10 @@
 //!   are ERR 13 with the Via/Center/Radius operand's index.
 
 use crate::coord::{
-    CoordMove, CoordMoveError, CoordMoveInputs, MoveContext, MoveType, OperandIndex, PathGeometry, finish_move,
-    out_of_range, primary_of, resolve_move_type_and_position, same_point,
+    CoordFault, CoordMove, CoordMoveError, CoordMoveInputs, MoveContext, MoveType, OperandIndex, PathGeometry,
+    finish_move, out_of_range, primary_of, resolve_move_type_and_position, same_point,
 };
+use crate::instruction::Refusal;
 use crate::vector::{V3, add, cross, dot, norm, scale, sub};
 use std::f64::consts::{PI, TAU};
 
@@ -112,6 +113,7 @@ pub struct MccmInputs {
 /// system with the radius circle type, which is 2D only (ERR 25):
 /// ```
 /// use planner::coord::{CoordMoveInputs, CoordinateSystem, CoordinateSystemConfig, MoveContext};
+/// use planner::instruction::LogixFault;
 /// use planner::mccm::{MccmInputs, mccm};
 /// let xy = CoordinateSystem::new(CoordinateSystemConfig {
 ///     axis_count: 2,
@@ -178,7 +180,7 @@ pub fn mccm(inputs: &MccmInputs, ctx: &MoveContext<'_>) -> Result<CoordMove, Coo
             CircleType::Center | CircleType::CenterIncremental => center_arc(p0, aux(), p1, direction, dim)?,
             CircleType::Radius => {
                 if dim == 3 {
-                    return Err(CoordMoveError::RadiusIn3d);
+                    return Err(Refusal::Instruction(CoordFault::RadiusIn3d));
                 }
                 radius_arc(p0, vcr[0], p1, direction)?
             }
@@ -199,7 +201,7 @@ pub fn mccm(inputs: &MccmInputs, ctx: &MoveContext<'_>) -> Result<CoordMove, Coo
 
 fn check_radius(r: f64) -> Result<(), CoordMoveError> {
     if r < MIN_RADIUS {
-        Err(CoordMoveError::RadiusTooSmall { radius: r })
+        Err(Refusal::Instruction(CoordFault::RadiusTooSmall { radius: r }))
     } else {
         Ok(())
     }
@@ -219,11 +221,11 @@ fn angle_about(u: V3, v: V3, normal: V3) -> f64 {
 
 fn via_arc(p0: V3, via: V3, p1: V3, full: bool) -> Result<Arc, CoordMoveError> {
     if same_point(p0, p1) {
-        return Err(CoordMoveError::EndpointEqualsStartpoint);
+        return Err(Refusal::Instruction(CoordFault::EndpointEqualsStartpoint));
     }
     let (a, b) = (sub(via, p0), sub(p1, p0));
     if same_point(via, p0) || same_point(via, p1) || collinear(a, b) {
-        return Err(CoordMoveError::Collinear);
+        return Err(Refusal::Instruction(CoordFault::Collinear));
     }
     let normal = cross(a, b);
     // Circumcenter of p0, via, p1.
@@ -247,15 +249,18 @@ fn center_arc(p0: V3, center: V3, p1: V3, direction: i64, dim: usize) -> Result<
     let closed = same_point(p0, p1);
     if dim == 3 {
         if closed {
-            return Err(CoordMoveError::EndpointEqualsStartpoint);
+            return Err(Refusal::Instruction(CoordFault::EndpointEqualsStartpoint));
         }
         if collinear(r0, r1) {
-            return Err(CoordMoveError::Collinear);
+            return Err(Refusal::Instruction(CoordFault::Collinear));
         }
     }
     check_radius(rs)?;
     if (rs - re).abs() > 0.15 * rs {
-        return Err(CoordMoveError::RadiusMismatch { r_start: rs, r_end: re });
+        return Err(Refusal::Instruction(CoordFault::RadiusMismatch {
+            r_start: rs,
+            r_end: re,
+        }));
     }
     let full = direction >= 2;
     if dim == 2 {
@@ -284,14 +289,14 @@ fn center_arc(p0: V3, center: V3, p1: V3, direction: i64, dim: usize) -> Result<
 
 fn radius_arc(p0: V3, radius: f64, p1: V3, direction: i64) -> Result<Arc, CoordMoveError> {
     if same_point(p0, p1) {
-        return Err(CoordMoveError::EndpointEqualsStartpoint);
+        return Err(Refusal::Instruction(CoordFault::EndpointEqualsStartpoint));
     }
     let r = radius.abs();
     let chord = sub(p1, p0);
     let d = norm(chord);
     let h = d / 2.0;
     if r < MIN_RADIUS || r < h * (1.0 - 1e-12) {
-        return Err(CoordMoveError::RadiusTooSmall { radius });
+        return Err(Refusal::Instruction(CoordFault::RadiusTooSmall { radius }));
     }
     let ccw = direction % 2 == 1;
     let normal = if ccw { [0.0, 0.0, 1.0] } else { [0.0, 0.0, -1.0] };

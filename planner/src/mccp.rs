@@ -50,7 +50,8 @@
 //!   (179) is reported before a bad type (28), before a non-ascending master
 //!   (29).
 
-use crate::catalogue::MCCP;
+use crate::catalogue::words::op;
+use crate::catalogue::{Format, Kind, Operand, faceplate};
 use crate::instruction::MotionInstructionBits;
 use std::sync::Arc;
 use thiserror::Error;
@@ -133,6 +134,23 @@ pub struct CamProfile {
     elements: Vec<CamProfileElement>,
 }
 
+/// MCCP's operands (its catalogue entry is `task/instructions/mccp.rs`;
+/// they are here beside the validation that names them).
+pub const MCCP_OPERANDS: &[Operand] = &[
+    op(
+        "Motion Control",
+        "MOTION_INSTRUCTION",
+        Format::Tag,
+        Kind::MotionControl,
+        0,
+    ),
+    op("Cam", "CAM", Format::Array, Kind::Cam, 1),
+    op("Length", "UINT", Format::ImmediateOrTag, Kind::Count, 2),
+    op("Start Slope", "REAL", Format::ImmediateOrTag, Kind::Number, 3),
+    op("End Slope", "REAL", Format::ImmediateOrTag, Kind::Number, 4),
+    op("Cam Profile", "CAM_PROFILE", Format::Array, Kind::CamProfile, 5),
+];
+
 /// Why MCCP failed (or a cam profile is invalid).
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
@@ -192,6 +210,20 @@ pub enum MccpError {
         /// Its value.
         value: f64,
     },
+}
+
+impl crate::instruction::LogixFault for MccpError {
+    fn err(&self) -> i32 {
+        MccpError::err(self)
+    }
+
+    fn exerr(&self) -> i32 {
+        MccpError::exerr(self)
+    }
+
+    fn segment(&self) -> i32 {
+        MccpError::segment(self)
+    }
 }
 
 impl MccpError {
@@ -402,8 +434,8 @@ fn check_operands(elements: usize, length: usize, start_slope: f64, end_slope: f
         return Err(MccpError::IllegalCamLength { length, elements });
     }
     for (operand, value) in [
-        (MCCP.exerr("Start Slope"), start_slope),
-        (MCCP.exerr("End Slope"), end_slope),
+        (faceplate(MCCP_OPERANDS, "Start Slope"), start_slope),
+        (faceplate(MCCP_OPERANDS, "End Slope"), end_slope),
     ] {
         if !value.is_finite() {
             return Err(MccpError::ParameterOutOfRange { operand, value });

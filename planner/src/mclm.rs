@@ -44,6 +44,7 @@ mod tests {
     use super::*;
     use crate::coord::{CoordinateSystem, CoordinateSystemConfig};
     use crate::dynamics::MoveDynamics;
+    use crate::instruction::LogixFault;
 
     fn system() -> CoordinateSystem {
         CoordinateSystem::new(CoordinateSystemConfig {

@@ -117,13 +117,13 @@ impl McDirection {
     /// The enumeration for its ST name (`MC_Positive_Direction`, …),
     /// case-insensitive, as the catalogue lists the Direction input's words.
     pub fn from_name(name: &str) -> Option<Self> {
-        Self::from_code(input_code("Direction", name)?)
+        Self::from_code(input_code(crate::catalogue::words::MC_DIRECTION, name)?)
     }
 }
 
-/// The code of enumeration word `word` in MC_MoveModulo's input `input`.
-fn input_code(input: &str, word: &str) -> Option<i64> {
-    crate::catalogue::MC_MOVE_MODULO.operand(input)?.1.code_of(word)
+/// The code of enumeration word `word` (case-insensitive) in `words`.
+fn input_code(words: &[crate::catalogue::Word], word: &str) -> Option<i64> {
+    words.iter().find(|w| w.word.eq_ignore_ascii_case(word)).map(|w| w.code)
 }
 
 /// PLCopen `MC_BufferMode`: what happens when the axis is already executing
@@ -162,7 +162,7 @@ impl McBufferMode {
     /// The enumeration for its ST name (`MC_Aborting`, …), case-insensitive,
     /// as the catalogue lists the BufferMode input's words.
     pub fn from_name(name: &str) -> Option<Self> {
-        Self::from_code(input_code("BufferMode", name)?)
+        Self::from_code(input_code(crate::catalogue::words::MC_BUFFER_MODE, name)?)
     }
 
     /// The junction velocity (magnitude) between a running command of

@@ -26,13 +26,18 @@
 //! same calls give bit-identical setpoints.
 
 use crate::axis::{AxisConfig, AxisConfigError, AxisLimit, AxisState};
+use crate::catalogue::{Fault, Instruction};
 use crate::instruction::{FbOutputs, MotionInstructionBits};
 use crate::modulo::{McBufferMode, MoveModulo, MoveModuloError, MoveModuloInputs};
 use crate::profile::{Profile, Sample, State};
 use thiserror::Error;
 
+pub mod args;
+pub use args::{Arg, Args};
 mod cam;
+pub(crate) use cam::RampRun;
 pub use cam::{CamProfileHandle, LimitFlags, MapcCall};
+pub mod instructions;
 
 mod coord;
 pub use coord::{
@@ -42,8 +47,7 @@ pub use coord::{
 mod mct;
 pub use mct::TransformGeometry;
 mod gear;
-mod home;
-mod mam;
+mod homing;
 mod servo;
 mod superimposed;
 
@@ -431,6 +435,54 @@ impl MotionTask {
         for fb in job_fb.into_iter().chain(buffered_fb) {
             self.finish(fb, Finish::Aborted);
         }
+    }
+
+    /// Executes a call of `instruction` with its operand values, in
+    /// catalogue order: the one way a program runs an instruction. The
+    /// instruction writes its control structure or block outputs, and says
+    /// why it refused, if it did.
+    ///
+    /// # Errors
+    /// The instruction's refusal ([`crate::instruction::LogixFault`]: ERR,
+    /// EXERR, SEGMENT and the sentence), also written in its control
+    /// structure.
+    ///
+    /// # Examples
+    /// ```
+    /// use planner::axis::{AxisConfig, AxisKind};
+    /// use planner::task::instructions::mrp::MRP;
+    /// use planner::task::{Arg, Args, MotionTask};
+    /// let mut task = MotionTask::new(0.004).unwrap();
+    /// let x = task.add_axis(AxisConfig::new("X", AxisKind::Linear), 0.0).unwrap();
+    /// let mc = task.add_instruction("MC1");
+    /// // MRP(X, MC1, relative, command, 5.0)
+    /// let args = [Arg::Axis(x), Arg::Control(mc), Arg::Integer(1), Arg::Integer(1), Arg::Number(5.0)];
+    /// task.execute(&MRP, &Args::new(&args)).unwrap();
+    /// assert_eq!(task.axis_state(x).command_position, 5.0);
+    /// // Type 7 is out of range: ERR 13 with the Type operand's faceplate index.
+    /// let bad = [Arg::Axis(x), Arg::Control(mc), Arg::Integer(7), Arg::Integer(1), Arg::Number(5.0)];
+    /// let e = task.execute(&MRP, &Args::new(&bad)).unwrap_err();
+    /// assert_eq!((e.err(), e.exerr()), (13, 2));
+    /// assert!(task.motion_bits(mc).er);
+    /// ```
+    pub fn execute(&mut self, instruction: &Instruction, args: &Args<'_>) -> Result<(), Fault> {
+        (instruction.execute)(self, args)
+    }
+
+    /// Runs `instruction`'s validation on a call whose operands are all
+    /// known when the program loads ([`Instruction::check`]), without
+    /// executing it.
+    ///
+    /// # Errors
+    /// The refusal the call would get whenever it executes.
+    pub fn check(&self, instruction: &Instruction, args: &Args<'_>) -> Result<(), Fault> {
+        (instruction.check)(self, args)
+    }
+
+    /// Prepares the task for a call of `instruction` when the program
+    /// loads ([`Instruction::load`]).
+    pub fn prepare(&mut self, instruction: &Instruction, args: &Args<'_>) {
+        (instruction.load)(self, args);
     }
 
     /// Runs one coarse update.

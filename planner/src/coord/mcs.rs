@@ -1,6 +1,7 @@
 //! MCS, Motion Coordinated Stop: its operands and their verification.
 
-use super::{CoordMoveError, CoordinateSystem, out_of_range};
+use super::{CoordFault, CoordMoveError, CoordinateSystem, out_of_range};
+use crate::instruction::Refusal;
 use crate::profile::{JerkUnits, jerk_to_units_per_sec3};
 
 /// MCS operands (Motion Coordinated Stop).
@@ -81,7 +82,7 @@ impl Mcs {
                 };
                 if !(d.is_finite() && d > 0.0) {
                     return Err(if sys.max_decel == 0.0 && inputs.decel_units == 1 {
-                        CoordMoveError::MaxDecelZero { exerr: -1 }
+                        Refusal::Instruction(CoordFault::MaxDecelZero { exerr: -1 })
                     } else {
                         out_of_range(4)
                     });
@@ -91,7 +92,7 @@ impl Mcs {
             _ => return Err(out_of_range(3)),
         };
         if decel == 0.0 {
-            return Err(CoordMoveError::MaxDecelZero { exerr: -1 });
+            return Err(Refusal::Instruction(CoordFault::MaxDecelZero { exerr: -1 }));
         }
         let decel_jerk = match inputs.change_decel_jerk {
             0 => None,

@@ -70,8 +70,8 @@ pub use motion::CoordMove;
 pub(crate) use motion::{finish_move, progress_at_length, resolve_move_type_and_position, with_velocity};
 pub(crate) use operands::out_of_range;
 pub use operands::{
-    CoordMoveError, CoordMoveInputs, Driver, LockDirection, Merge, MergeSpeed, MoveContext, MoveType, OperandIndex,
-    TerminationType,
+    CoordFault, CoordMoveError, CoordMoveInputs, Driver, LockDirection, MCCM_OPERANDS, MCLM_OPERANDS, Merge,
+    MergeSpeed, MoveContext, MoveType, OperandIndex, TerminationType,
 };
 pub(crate) use path::primary_of;
 pub use path::{Arc, PathGeometry};

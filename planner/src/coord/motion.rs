@@ -2,9 +2,10 @@
 //! and the verification steps MCLM and MCCM share.
 
 use super::{
-    CoordMoveError, CoordMoveInputs, Driver, LockDirection, Merge, MergeSpeed, MoveContext, MoveType, OperandIndex,
-    PathGeometry, TerminationType, out_of_range,
+    CoordFault, CoordMoveError, CoordMoveInputs, Driver, LockDirection, Merge, MergeSpeed, MoveContext, MoveType,
+    OperandIndex, PathGeometry, TerminationType, out_of_range,
 };
+use crate::instruction::Refusal;
 use crate::profile::{
     JerkUnits, Limits, LimitsError, Profile, State, jerk_from_percent_of_time, jerk_to_units_per_sec3,
 };
@@ -309,10 +310,10 @@ pub(crate) fn finish_move(
     // error 54 last: the system's, then each axis'.
     let path = path()?;
     if sys.max_decel == 0.0 {
-        return Err(CoordMoveError::MaxDecelZero { exerr: -1 });
+        return Err(Refusal::Instruction(CoordFault::MaxDecelZero { exerr: -1 }));
     }
     if let Some(i) = ctx.axis_max_decel.iter().position(|d| *d == 0.0) {
-        return Err(CoordMoveError::MaxDecelZero { exerr: i as i32 });
+        return Err(Refusal::Instruction(CoordFault::MaxDecelZero { exerr: i as i32 }));
     }
     let mut m = CoordMove {
         path,

@@ -2,8 +2,12 @@
 //! instruction catalogue) and the ERR/EXERR a move reports.
 
 use super::CoordinateSystem;
-use crate::catalogue;
+use crate::catalogue::words::{
+    ACCEL_UNITS, INTEGER, JERK_UNITS, LOCK_DIRECTION, MERGE, MERGE_SPEED, NUMERIC, PROFILE, SPEED_UNITS, op,
+};
+use crate::catalogue::{self, Format, Kind, Operand};
 use crate::dynamics::MoveDynamics;
+use crate::instruction::{LogixFault, Refusal};
 use thiserror::Error;
 
 /// Move Type: 0 absolute, 1 incremental.
@@ -162,8 +166,128 @@ impl Default for CoordMoveInputs {
     }
 }
 
+/// MCCM's operands; MCLM's are these without Circle Type,
+/// Via/Center/Radius and Direction, with their own faceplate indices.
+pub const MCCM_OPERANDS: &[Operand] = &[
+    op(
+        "Coordinate System",
+        "COORDINATE_SYSTEM",
+        Format::Tag,
+        Kind::CoordinateSystem,
+        0,
+    ),
+    op(
+        "Motion Control",
+        "MOTION_INSTRUCTION",
+        Format::Tag,
+        Kind::MotionControl,
+        1,
+    ),
+    op("Move Type", INTEGER, Format::ImmediateOrTag, Kind::Integer, 2),
+    op("Position", "REAL array", Format::Array, Kind::Values, 3),
+    op("Circle Type", INTEGER, Format::ImmediateOrTag, Kind::Integer, 4),
+    op(
+        "Via/Center/Radius",
+        "REAL array or REAL",
+        Format::Array,
+        Kind::Values,
+        5,
+    ),
+    op("Direction", INTEGER, Format::ImmediateOrTag, Kind::Integer, 6),
+    op("Speed", NUMERIC, Format::ImmediateOrTag, Kind::Number, 7),
+    op(
+        "Speed Units",
+        INTEGER,
+        Format::Immediate,
+        Kind::Enumeration(SPEED_UNITS),
+        8,
+    ),
+    op("Accel Rate", NUMERIC, Format::ImmediateOrTag, Kind::Number, 9),
+    op(
+        "Accel Units",
+        INTEGER,
+        Format::Immediate,
+        Kind::Enumeration(ACCEL_UNITS),
+        10,
+    ),
+    op("Decel Rate", NUMERIC, Format::ImmediateOrTag, Kind::Number, 11),
+    op(
+        "Decel Units",
+        INTEGER,
+        Format::Immediate,
+        Kind::Enumeration(ACCEL_UNITS),
+        12,
+    ),
+    op("Profile", INTEGER, Format::Immediate, Kind::Enumeration(PROFILE), 13),
+    op("Accel Jerk", NUMERIC, Format::ImmediateOrTag, Kind::Number, 17),
+    op("Decel Jerk", NUMERIC, Format::ImmediateOrTag, Kind::Number, 18),
+    op(
+        "Jerk Units",
+        INTEGER,
+        Format::ImmediateOrTag,
+        Kind::Enumeration(JERK_UNITS),
+        19,
+    ),
+    op("Termination Type", INTEGER, Format::ImmediateOrTag, Kind::Integer, 14),
+    op("Merge", INTEGER, Format::Immediate, Kind::Enumeration(MERGE), 15),
+    op(
+        "Merge Speed",
+        INTEGER,
+        Format::Immediate,
+        Kind::Enumeration(MERGE_SPEED),
+        16,
+    ),
+    op("Command Tolerance", "REAL", Format::ImmediateOrTag, Kind::Number, 20),
+    op("Lock Position", "REAL", Format::ImmediateOrTag, Kind::Number, 21),
+    op(
+        "Lock Direction",
+        "UINT32",
+        Format::ImmediateOrTag,
+        Kind::Enumeration(LOCK_DIRECTION),
+        22,
+    ),
+    op(
+        "Event Distance",
+        "REAL ARRAY or 0",
+        Format::Array,
+        Kind::OptionalArray,
+        23,
+    ),
+    op(
+        "Calculated Data",
+        "REAL ARRAY or 0",
+        Format::Array,
+        Kind::OptionalArray,
+        24,
+    ),
+];
+
+/// The MCCM operands MCLM lacks (their faceplate slots 4–6).
+const CIRCLE_OPERANDS: usize = 3;
+
+/// MCLM's operands: MCCM's without Circle Type, Via/Center/Radius and
+/// Direction; the faceplate indices after them move down by three.
+pub const MCLM_OPERANDS: [Operand; MCCM_OPERANDS.len() - CIRCLE_OPERANDS] = {
+    let first_circle = 4;
+    let mut out = [MCCM_OPERANDS[0]; MCCM_OPERANDS.len() - CIRCLE_OPERANDS];
+    let (mut from, mut to) = (0, 0);
+    while from < MCCM_OPERANDS.len() {
+        let mut operand = MCCM_OPERANDS[from];
+        from += 1;
+        if operand.faceplate >= first_circle && operand.faceplate < first_circle + CIRCLE_OPERANDS as i32 {
+            continue;
+        }
+        if operand.faceplate >= first_circle {
+            operand.faceplate -= CIRCLE_OPERANDS as i32;
+        }
+        out[to] = operand;
+        to += 1;
+    }
+    out
+};
+
 /// Faceplate operand indices of one instruction (EXERR of ERR 13), read
-/// from [`crate::catalogue`].
+/// from its operand table.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct OperandIndex {
     /// Coordinate System.
@@ -216,37 +340,37 @@ pub struct OperandIndex {
 
 impl OperandIndex {
     /// MCCM's faceplate order.
-    pub const MCCM: Self = Self::of(&catalogue::MCCM);
+    pub const MCCM: Self = Self::of(MCCM_OPERANDS);
     /// MCLM's faceplate order (no circle operands: those are −1).
-    pub const MCLM: Self = Self::of(&catalogue::MCLM);
+    pub const MCLM: Self = Self::of(&MCLM_OPERANDS);
 
     /// The indices of a coordinated move instruction, read from its
-    /// catalogue entry.
-    const fn of(i: &catalogue::Instruction) -> Self {
+    /// operand table.
+    const fn of(operands: &[Operand]) -> Self {
         Self {
-            coordinate_system: i.exerr("Coordinate System"),
-            move_type: i.exerr("Move Type"),
-            position: i.exerr("Position"),
-            circle_type: none_is_minus_one(i.faceplate_of("Circle Type")),
-            via_center_radius: none_is_minus_one(i.faceplate_of("Via/Center/Radius")),
-            direction: none_is_minus_one(i.faceplate_of("Direction")),
-            speed: i.exerr("Speed"),
-            speed_units: i.exerr("Speed Units"),
-            accel_rate: i.exerr("Accel Rate"),
-            accel_units: i.exerr("Accel Units"),
-            decel_rate: i.exerr("Decel Rate"),
-            decel_units: i.exerr("Decel Units"),
-            profile: i.exerr("Profile"),
-            termination_type: i.exerr("Termination Type"),
-            merge: i.exerr("Merge"),
-            merge_speed: i.exerr("Merge Speed"),
-            accel_jerk: i.exerr("Accel Jerk"),
-            decel_jerk: i.exerr("Decel Jerk"),
-            jerk_units: i.exerr("Jerk Units"),
-            command_tolerance: i.exerr("Command Tolerance"),
-            lock_position: i.exerr("Lock Position"),
-            lock_direction: i.exerr("Lock Direction"),
-            event_distance: i.exerr("Event Distance"),
+            coordinate_system: catalogue::faceplate(operands, "Coordinate System"),
+            move_type: catalogue::faceplate(operands, "Move Type"),
+            position: catalogue::faceplate(operands, "Position"),
+            circle_type: none_is_minus_one(catalogue::faceplate_of(operands, "Circle Type")),
+            via_center_radius: none_is_minus_one(catalogue::faceplate_of(operands, "Via/Center/Radius")),
+            direction: none_is_minus_one(catalogue::faceplate_of(operands, "Direction")),
+            speed: catalogue::faceplate(operands, "Speed"),
+            speed_units: catalogue::faceplate(operands, "Speed Units"),
+            accel_rate: catalogue::faceplate(operands, "Accel Rate"),
+            accel_units: catalogue::faceplate(operands, "Accel Units"),
+            decel_rate: catalogue::faceplate(operands, "Decel Rate"),
+            decel_units: catalogue::faceplate(operands, "Decel Units"),
+            profile: catalogue::faceplate(operands, "Profile"),
+            termination_type: catalogue::faceplate(operands, "Termination Type"),
+            merge: catalogue::faceplate(operands, "Merge"),
+            merge_speed: catalogue::faceplate(operands, "Merge Speed"),
+            accel_jerk: catalogue::faceplate(operands, "Accel Jerk"),
+            decel_jerk: catalogue::faceplate(operands, "Decel Jerk"),
+            jerk_units: catalogue::faceplate(operands, "Jerk Units"),
+            command_tolerance: catalogue::faceplate(operands, "Command Tolerance"),
+            lock_position: catalogue::faceplate(operands, "Lock Position"),
+            lock_direction: catalogue::faceplate(operands, "Lock Direction"),
+            event_distance: catalogue::faceplate(operands, "Event Distance"),
         }
     }
 }
@@ -258,17 +382,11 @@ const fn none_is_minus_one(index: Option<i32>) -> i32 {
     }
 }
 
-/// Why a coordinated move (MCLM, MCCM) or stop (MCS) cannot start: the
-/// controller's ERR/EXERR, as numbers.
+/// The own refusals of the coordinated moves (MCLM, MCCM) and stop (MCS),
+/// beyond the shared ERR 13 and axis-state ones ([`CoordMoveError`]).
 #[derive(Debug, Clone, Copy, PartialEq, Error)]
 #[non_exhaustive]
-pub enum CoordMoveError {
-    /// ERR 13, Parameter Out Of Range; EXERR = the operand's faceplate index.
-    #[error("ERR 13 parameter out of range: operand {exerr}")]
-    ParameterOutOfRange {
-        /// The operand index.
-        exerr: i32,
-    },
+pub enum CoordFault {
     /// ERR 25, Illegal Instruction: a radius circle in a 3D system.
     #[error("ERR 25 illegal instruction: radius circles are 2D only")]
     RadiusIn3d,
@@ -299,33 +417,41 @@ pub enum CoordMoveError {
         /// Axis index, or −1.
         exerr: i32,
     },
+    /// ERR 201: a master-driven move would take over from time-driven
+    /// motion while the master stands still and the system moves
+    /// ([`crate::task::ERR_IDLE_MASTER_SLAVE_MOVING`]).
+    #[error("ERR 201 master-driven move while the master stands still and the system moves")]
+    IdleMasterSlaveMoving,
 }
 
-impl CoordMoveError {
-    /// The `ERR` code.
-    pub fn err(&self) -> i32 {
+impl LogixFault for CoordFault {
+    fn err(&self) -> i32 {
         match self {
-            Self::ParameterOutOfRange { .. } => 13,
             Self::RadiusIn3d => 25,
             Self::Collinear => 44,
             Self::EndpointEqualsStartpoint => 45,
             Self::RadiusMismatch { .. } => 46,
             Self::RadiusTooSmall { .. } => 49,
             Self::MaxDecelZero { .. } => 54,
+            Self::IdleMasterSlaveMoving => 201,
         }
     }
 
-    /// The `EXERR` code (0 where the error has none).
-    pub fn exerr(&self) -> i32 {
+    fn exerr(&self) -> i32 {
         match self {
-            Self::ParameterOutOfRange { exerr } | Self::MaxDecelZero { exerr } => *exerr,
+            Self::MaxDecelZero { exerr } => *exerr,
             _ => 0,
         }
     }
 }
 
+/// Why a coordinated move (MCLM, MCCM) or stop (MCS) cannot start: ERR 13
+/// naming the operand (EXERR: its faceplate index), an axis' state (EXERR:
+/// the axis' index in the system), or [`CoordFault`].
+pub type CoordMoveError = Refusal<CoordFault>;
+
 pub(crate) fn out_of_range(exerr: i32) -> CoordMoveError {
-    CoordMoveError::ParameterOutOfRange { exerr }
+    Refusal::operand_index(exerr)
 }
 
 /// What a move is verified against: the system, its axes' maximum

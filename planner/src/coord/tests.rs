@@ -1,4 +1,5 @@
 use super::*;
+use crate::instruction::LogixFault;
 
 #[test]
 fn system_validation_names_the_field() {

@@ -5,6 +5,7 @@
 use super::*;
 use crate::coord::{CoordMoveInputs, CoordinateSystem, CoordinateSystemConfig};
 use crate::dynamics::MoveDynamics;
+use crate::instruction::LogixFault;
 use crate::profile::jerk_from_percent_of_time;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

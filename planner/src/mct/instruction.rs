@@ -520,7 +520,7 @@ impl Mct {
         if self.previous_rung {
             return None;
         }
-        self.execute(table, request)
+        self.execute(table, request).ok()
     }
 
     /// A scan with the rung false: `.EN` clears once `.DN` or `.ER` is set.
@@ -534,7 +534,10 @@ impl Mct {
     /// A scan of a rung that has just become true (a one-shot rung):
     /// executes the instruction whatever the previous rung state was. See
     /// [`Mct::scan`].
-    pub fn execute(&mut self, table: &mut TransformTable, request: &MctRequest<'_>) -> Option<Vec3> {
+    ///
+    /// # Errors
+    /// The refusal, also in the bits (ERR 61 with its EXERR, ERR 13, ERR 67).
+    pub fn execute(&mut self, table: &mut TransformTable, request: &MctRequest<'_>) -> Result<Vec3, MctError> {
         self.previous_rung = true;
         self.bits.en = true;
         self.bits.dn = false;
@@ -546,11 +549,11 @@ impl Mct {
                 self.transform = Some(id);
                 self.bits.dn = true;
                 self.bits.ip = true;
-                Some(position)
+                Ok(position)
             }
             Err(e) => {
                 self.bits.set_error(e.err(), e.exerr(), 0);
-                None
+                Err(e)
             }
         }
     }

@@ -1,5 +1,7 @@
-//! Logix cam instructions in the motion task: MCCP, MAPC, MRP (`cam/mrp.rs`),
-//! and the MAJ jog / MAS stop that drive masters (`cam/jog.rs`).
+//! The single-axis processes of the motion task: position cams (MAPC, with
+//! the profiles MCCP calculates), the axis' ramp (a MAJ jog, a MAM move, a
+//! MAS stop ramp) and position redefinitions (MRP, MAH). The instructions
+//! themselves are under `task/instructions/`.
 //!
 //! Each instruction executes inside its call (the rung's false-to-true
 //! transition, as in one scan): MCCP calculates, MAPC starts or schedules,
@@ -49,17 +51,13 @@
 use super::servo::Need;
 use super::superimposed::SuperKind;
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
-use crate::instruction::MotionInstructionBits;
-use crate::jog::JogError;
+use crate::instruction::{LogixFault, MotionInstructionBits};
 use crate::mapc::{
     CamEvent, CamRequest, Mapc, MapcError, MapcOperands, MasterReference, PositionCamAxis, SlaveCamStatus,
 };
 use crate::mccp::{CamElement, CamProfile, CamProfileTag, MccpError};
 use crate::profile::{Limits, Profile, Sample};
 use std::sync::Arc;
-
-mod jog;
-mod mrp;
 
 /// Handle of a `CAM_PROFILE` tag.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -77,21 +75,22 @@ pub struct LimitFlags {
 type Tag = (InstructionHandle, CamProfileHandle);
 type MasterKey = (AxisHandle, MasterReference);
 
+/// The axis' ramp: a jog, a MAM move or a stop ramp along a profile.
 #[derive(Debug, Clone)]
-struct RampRun {
-    profile: Profile,
-    t_s: f64,
+pub(crate) struct RampRun {
+    pub(crate) profile: Profile,
+    pub(crate) t_s: f64,
     /// The MAJ driving it (`None` for a stop ramp or a move).
-    jog: Option<InstructionHandle>,
+    pub(crate) jog: Option<InstructionHandle>,
     /// The MAM moving the axis along it (`None` for a jog or a stop ramp).
-    mv: Option<InstructionHandle>,
+    pub(crate) mv: Option<InstructionHandle>,
     /// The MAS stopping it, if any.
-    stop: Option<InstructionHandle>,
+    pub(crate) stop: Option<InstructionHandle>,
 }
 
 impl RampRun {
     /// A ramp along `profile` from its start, owned by no instruction.
-    fn new(profile: Profile) -> Self {
+    pub(crate) fn new(profile: Profile) -> Self {
         Self {
             profile,
             t_s: 0.0,
@@ -103,9 +102,9 @@ impl RampRun {
 }
 
 #[derive(Debug, Clone, Default)]
-struct CamAxis {
-    cam: PositionCamAxis<Tag, MasterKey>,
-    ramp: Option<RampRun>,
+pub(crate) struct CamAxis {
+    pub(crate) cam: PositionCamAxis<Tag, MasterKey>,
+    pub(crate) ramp: Option<RampRun>,
     cam_drove: bool,
     redefined: f64,
     limits: LimitFlags,
@@ -116,7 +115,7 @@ struct CamAxis {
 #[derive(Debug, Clone, Default)]
 pub(super) struct CamState {
     profiles: Vec<(String, CamProfileTag)>,
-    axes: Vec<CamAxis>,
+    pub(crate) axes: Vec<CamAxis>,
     /// One-shot rungs: (tag, update count when its scan ran).
     rung_false: Vec<(InstructionHandle, u64)>,
 }
@@ -137,7 +136,7 @@ pub struct MapcCall {
 }
 
 impl MotionTask {
-    fn cam_axis(&mut self, axis: AxisHandle) -> &mut CamAxis {
+    pub(crate) fn cam_axis(&mut self, axis: AxisHandle) -> &mut CamAxis {
         let i = axis.0 as usize;
         if self.cam.axes.len() <= i {
             self.cam.axes.resize_with(i + 1, CamAxis::default);
@@ -225,20 +224,45 @@ impl MotionTask {
         self.bits(h).set_error(err, exerr, segment);
     }
 
-    /// Starts a MAJ/MAS execution (`.EN`) with its validated operands; an
-    /// operand error sets `.ER` with its ERR and EXERR.
-    fn begin_validated<T>(&mut self, h: InstructionHandle, validated: Result<T, JogError>) -> Result<T, JogError> {
+    /// Refuses a call before it executes (an operand its values cannot
+    /// give, such as an element outside its array): `.EN`, and `.ER` with
+    /// the refusal's ERR and EXERR, as [`MotionTask::instruction`] would.
+    pub(crate) fn refuse_call<E: LogixFault>(&mut self, h: InstructionHandle, e: E) -> crate::catalogue::Fault {
         self.begin(h);
-        validated.inspect_err(|e| self.fail(h, e.err(), e.exerr(), 0))
+        self.fail(h, e.err(), e.exerr(), e.segment());
+        Box::new(e)
     }
 
-    /// Fails a MAJ/MAS execution (`.ER`, ERR, EXERR 0) whose axis' state
-    /// refuses `need`.
-    fn state_allows(&mut self, axis: AxisHandle, h: InstructionHandle, need: Need) -> Result<(), JogError> {
-        self.check_state(axis, need).map_err(|e| {
-            self.fail(h, e.err(), 0, 0);
-            JogError::State(e)
-        })
+    /// Executes an instruction with the control structure `h`: `.EN` set
+    /// and everything else cleared, then `run`; its refusal sets `.ER` with
+    /// the refusal's ERR, EXERR and SEGMENT. The protocol every instruction
+    /// follows (begin, validate, check the axes' state, act).
+    pub(crate) fn instruction<T, E: LogixFault>(
+        &mut self,
+        h: InstructionHandle,
+        run: impl FnOnce(&mut Self) -> Result<T, E>,
+    ) -> Result<T, E> {
+        self.begin(h);
+        run(self).inspect_err(|e| self.fail(h, e.err(), e.exerr(), e.segment()))
+    }
+
+    /// Shifts `axis`' position frame by `delta`: command and actual
+    /// positions, the motion in process on it and the cam's slave offset
+    /// (MRP, MAH).
+    pub(crate) fn redefine_position(&mut self, axis: AxisHandle, delta: f64) {
+        let a = &mut self.axes[axis.0 as usize];
+        a.command.position += delta;
+        a.actual += delta;
+        if let Some(job) = a.job.as_mut() {
+            job.profile.shift_position(delta);
+            job.target += delta;
+        }
+        let c = self.cam_axis(axis);
+        c.redefined += delta;
+        if let Some(r) = c.ramp.as_mut() {
+            r.profile.shift_position(delta);
+        }
+        c.cam.redefine_slave(delta);
     }
 
     /// MCCP: calculates `profile` from the first `length` elements of `cam`.
@@ -447,7 +471,7 @@ impl MotionTask {
         }
     }
 
-    fn end_ramp(&mut self, axis: AxisHandle) {
+    pub(crate) fn end_ramp(&mut self, axis: AxisHandle) {
         if let Some(r) = self.cam_axis(axis).ramp.take() {
             for mi in r.jog.into_iter().chain(r.stop) {
                 self.bits(mi).ip = false;

@@ -139,8 +139,8 @@
 
 use super::{AxisHandle, InstructionHandle, MotionTask};
 use crate::coord::{
-    CoordConfigError, CoordMove, CoordMoveInputs, CoordStatus, CoordinateSystem, CoordinateSystemConfig, LockDirection,
-    McsInputs,
+    CoordConfigError, CoordMove, CoordMoveError, CoordMoveInputs, CoordStatus, CoordinateSystem,
+    CoordinateSystemConfig, LockDirection, McsInputs, MoveContext,
 };
 use crate::instruction::MotionInstructionBits;
 use crate::mccm::MccmInputs;
@@ -200,6 +200,8 @@ pub enum CoordSetupError {
 pub(super) struct CoordState {
     systems: Vec<SystemSlot>,
     instructions: Vec<InstrSlot>,
+    /// The refusal of the execution in progress (its call returns it).
+    refused: Option<CoordMoveError>,
 }
 
 #[derive(Debug, Clone)]
@@ -486,7 +488,17 @@ impl MotionTask {
     /// }
     /// assert_eq!(task.axis_state(y).command_position, 0.4);
     /// ```
-    pub fn execute_coordinated(&mut self, system: CoordHandle, control: InstructionHandle, call: CoordCall) {
+    ///
+    /// # Errors
+    /// The refusal when the instruction fails in this call (a move queued
+    /// behind a full queue is verified when it is taken, later).
+    pub fn execute_coordinated(
+        &mut self,
+        system: CoordHandle,
+        control: InstructionHandle,
+        call: CoordCall,
+    ) -> Result<(), CoordMoveError> {
+        self.coord.refused = None;
         let existing = self
             .coord
             .instructions
@@ -511,6 +523,25 @@ impl MotionTask {
         let one_shot_at = (!self.is_scanned(control)).then_some(self.updates);
         self.coord.instructions[h.0 as usize].one_shot_at = one_shot_at;
         self.started_before_update(h);
+        self.coord.refused.take().map_or(Ok(()), Err)
+    }
+
+    /// Runs `verify` with the context of a move from `system` at rest at
+    /// its origin (the checks of a call when the program loads).
+    pub(crate) fn verify_at_rest<T>(&self, system: CoordHandle, verify: impl FnOnce(&MoveContext<'_>) -> T) -> T {
+        let sys = &self.coord.systems[system.0 as usize];
+        let decels: Vec<f64> = sys
+            .axes
+            .iter()
+            .map(|a| self.axes[a.0 as usize].config.max_deceleration)
+            .collect();
+        let start = vec![0.0; sys.axes.len()];
+        verify(&MoveContext {
+            system: &sys.system,
+            axis_max_decel: &decels,
+            start: &start,
+            has_master: sys.master.is_some(),
+        })
     }
 
     /// The coordinated instruction bound to a control structure, if any.

@@ -57,8 +57,8 @@
 
 use super::{AxisHandle, CoordHandle, InstructionHandle, MotionTask};
 use crate::mct::instruction::{
-    AxesCommand, AxisCondition, AxisId, JointAxis, Mct, MctRequest, SystemId, Transform, TransformFault, TransformId,
-    TransformSystem, TransformTable,
+    AxesCommand, AxisCondition, AxisId, JointAxis, Mct, MctError, MctRequest, SystemId, Transform, TransformFault,
+    TransformId, TransformSystem, TransformTable,
 };
 use crate::mct::{GeometryKind, GeometryParams, Vec3};
 use crate::profile::Sample;
@@ -159,6 +159,10 @@ impl MotionTask {
     /// one scan of a rung that has just become true. Executing again with the
     /// same control structure while its transform runs restarts it with the
     /// new orientation, translation and geometry.
+    ///
+    /// # Errors
+    /// The refusal, also in the control structure (ERR 61 with its EXERR,
+    /// ERR 13, ERR 67).
     pub fn execute_mct(
         &mut self,
         control: InstructionHandle,
@@ -166,7 +170,7 @@ impl MotionTask {
         target: CoordHandle,
         orientation_deg: Vec3,
         translation: Vec3,
-    ) {
+    ) -> Result<(), MctError> {
         let index = match self.mct.instructions.iter().position(|s| s.control == control) {
             Some(i) => i,
             None => {
@@ -242,7 +246,8 @@ impl MotionTask {
         let started = slot.mct.execute(&mut self.mct.table, &request);
         let bits = slot.mct.bits();
         *self.motion_bits_mut(control) = bits;
-        if let (Some(position), Some(id)) = (started, self.mct.instructions[index].mct.transform()) {
+        let position = started?;
+        if let Some(id) = self.mct.instructions[index].mct.transform() {
             let axes: Vec<AxisId> = self
                 .mct
                 .table
@@ -260,6 +265,7 @@ impl MotionTask {
                 }
             }
         }
+        Ok(())
     }
 
     /// The transform an MCT control structure runs, while its `.IP` is set.

@@ -20,7 +20,7 @@
 use super::superimposed::SuperKind;
 use super::{AxisHandle, CoordHandle, InstructionHandle, MotionTask};
 use crate::axis::AxisConfig;
-use crate::instruction::MotionInstructionBits;
+use crate::instruction::{MotionInstructionBits, NoFault, Refusal};
 use crate::profile::{Limits, Profile, Sample};
 use crate::servo::{
     AxisFaults, AxisStatusBits, AxisType, CipAxisState, FaultAction, MOVING_FRACTION, MotionFaults,
@@ -238,7 +238,7 @@ impl MotionTask {
     /// # Errors
     /// ERR 8 (feedback-only), 7 (shut down), 20 (faulted), 22 (servo off and
     /// moving), 53 (inhibited).
-    pub fn mso(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
+    pub(crate) fn mso(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
         self.begin_state(control);
         if let Err(e) = self.check_state(axis, Need::Enable) {
             return self.state_result(control, Err(e));
@@ -263,7 +263,7 @@ impl MotionTask {
     ///
     /// # Errors
     /// ERR 8 (feedback-only), 53 (inhibited).
-    pub fn msf(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
+    pub(crate) fn msf(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
         self.begin_state(control);
         let r = self.check_state(axis, Need::Disable);
         if r.is_ok() {
@@ -280,7 +280,7 @@ impl MotionTask {
     ///
     /// # Errors
     /// ERR 53 (inhibited).
-    pub fn masd(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
+    pub(crate) fn masd(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
         self.begin_state(control);
         let r = self.check_state(axis, Need::Any);
         if r.is_ok() {
@@ -295,7 +295,7 @@ impl MotionTask {
     ///
     /// # Errors
     /// ERR 53 (inhibited).
-    pub fn masr(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
+    pub(crate) fn masr(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
         self.begin_state(control);
         let r = self.check_state(axis, Need::Any);
         if r.is_ok() {
@@ -310,7 +310,7 @@ impl MotionTask {
     ///
     /// # Errors
     /// ERR 53 (inhibited).
-    pub fn mafr(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
+    pub(crate) fn mafr(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
         self.begin_state(control);
         let r = self.check_state(axis, Need::Any);
         if r.is_ok() {
@@ -335,7 +335,7 @@ impl MotionTask {
     /// # Errors
     /// ERR 53 with EXERR = the index of the first inhibited axis; no axis
     /// is shut down then.
-    pub fn mcsd(&mut self, system: CoordHandle, control: InstructionHandle) -> Result<(), StateError> {
+    pub(crate) fn mcsd(&mut self, system: CoordHandle, control: InstructionHandle) -> Result<(), Refusal<NoFault>> {
         self.begin_state(control);
         let axes = self.coord_axes(system).to_vec();
         if let Some(r) = self.first_inhibited(&axes, control) {
@@ -353,7 +353,7 @@ impl MotionTask {
     ///
     /// # Errors
     /// ERR 53 with EXERR = the index of the first inhibited axis.
-    pub fn mcsr(&mut self, system: CoordHandle, control: InstructionHandle) -> Result<(), StateError> {
+    pub(crate) fn mcsr(&mut self, system: CoordHandle, control: InstructionHandle) -> Result<(), Refusal<NoFault>> {
         self.begin_state(control);
         let axes = self.coord_axes(system).to_vec();
         if let Some(r) = self.first_inhibited(&axes, control) {
@@ -366,11 +366,18 @@ impl MotionTask {
         Ok(())
     }
 
-    fn first_inhibited(&mut self, axes: &[AxisHandle], control: InstructionHandle) -> Option<Result<(), StateError>> {
+    fn first_inhibited(
+        &mut self,
+        axes: &[AxisHandle],
+        control: InstructionHandle,
+    ) -> Option<Result<(), Refusal<NoFault>>> {
         let i = axes.iter().position(|a| self.axes[a.0 as usize].config.inhibited)?;
         let e = StateError::Inhibited;
         self.motion_bits_mut(control).set_error(e.err(), i as i32, 0);
-        Some(Err(e))
+        Some(Err(Refusal::State {
+            state: e,
+            exerr: i as i32,
+        }))
     }
 
     fn shutdown_reset(&mut self, axis: AxisHandle) {

@@ -460,7 +460,7 @@ fn random_retargets_never_reverse_and_end_on_the_modulo_target() {
 fn move_modulo_is_refused_while_the_axis_stops_and_accepted_after() {
     let (mut task, axis, a, _) = setup(0.0);
     let jog = task.add_instruction("Jog");
-    let ops = crate::jog::MajOperands {
+    let ops = crate::task::instructions::maj::MajOperands {
         speed: 360.0,
         speed_units: 0,
         ..Default::default()
@@ -471,7 +471,7 @@ fn move_modulo_is_refused_while_the_axis_stops_and_accepted_after() {
     task.mas(
         axis,
         stop,
-        &crate::jog::MasOperands {
+        &crate::task::instructions::mas::MasOperands {
             stop_type: 0,
             change_decel: 1,
             decel_rate: 100.0,
@@ -510,7 +510,7 @@ fn move_modulo_on_a_coupled_slave_needs_the_axis_option_and_aborting() {
         };
         let slave = task.add_axis(slave_config, 0.0).unwrap();
         let mag = task.add_instruction("Gear");
-        let ops = crate::mag::MagOperands {
+        let ops = crate::task::instructions::mag::MagOperands {
             ratio: 1.0,
             clutch: 1,
             ..Default::default()
@@ -611,7 +611,7 @@ fn move_modulo_done_follows_the_monitoring_and_the_options() {
 fn a_target_behind_the_stopping_point_is_an_overshoot_while_past_it() {
     let (mut task, axis, _, _) = setup(0.0);
     let mam = task.add_instruction("Move");
-    let far = crate::mam::MamOperands {
+    let far = crate::task::instructions::mam::MamOperands {
         position: 3000.0,
         ..Default::default()
     };
@@ -619,7 +619,7 @@ fn a_target_behind_the_stopping_point_is_an_overshoot_while_past_it() {
     run_until(&mut task, 1000, |t| t.axis_state(axis).command_velocity >= 720.0 - 1e-9);
     assert!(!task.profile_overshoot(axis));
     let target = task.axis_state(axis).command_position + 10.0;
-    let near = crate::mam::MamOperands {
+    let near = crate::task::instructions::mam::MamOperands {
         position: target,
         ..far
     };

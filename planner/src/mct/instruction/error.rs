@@ -129,6 +129,16 @@ pub enum MctError {
     Position(#[from] PositionError),
 }
 
+impl crate::instruction::LogixFault for MctError {
+    fn err(&self) -> i32 {
+        MctError::err(self)
+    }
+
+    fn exerr(&self) -> i32 {
+        MctError::exerr(self)
+    }
+}
+
 impl MctError {
     /// The Logix ERR code.
     pub fn err(&self) -> i32 {

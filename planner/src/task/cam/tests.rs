@@ -771,7 +771,7 @@ fn master_reference_command_or_actual() {
             .maj(
                 r.master,
                 jog,
-                &crate::jog::MajOperands {
+                &crate::task::instructions::maj::MajOperands {
                     speed: 100.0,
                     accel_rate: 1e6,
                     accel_units: 0,
@@ -837,7 +837,7 @@ fn profile_status_counts_cams_in_and_out() {
     task.mas(
         s1,
         stop,
-        &crate::jog::MasOperands {
+        &crate::task::instructions::mas::MasOperands {
             stop_type: 8,
             ..Default::default()
         },
@@ -1000,7 +1000,7 @@ fn relative_mrp_while_jogging_is_exact() {
         .maj(
             r.master,
             jog,
-            &crate::jog::MajOperands {
+            &crate::task::instructions::maj::MajOperands {
                 speed: 100.0,
                 accel_rate: 1000.0,
                 accel_units: 0,
@@ -1059,7 +1059,7 @@ fn jog_and_stop_bits_and_motion() {
         .maj(
             r.master,
             jog,
-            &crate::jog::MajOperands {
+            &crate::task::instructions::maj::MajOperands {
                 direction: 1,
                 speed: 50.0,
                 accel_rate: 500.0,
@@ -1079,7 +1079,7 @@ fn jog_and_stop_bits_and_motion() {
         .mas(
             r.master,
             stop,
-            &crate::jog::MasOperands {
+            &crate::task::instructions::mas::MasOperands {
                 stop_type: 1,
                 change_decel: 1,
                 decel_rate: 500.0,
@@ -1117,7 +1117,7 @@ fn mas_position_cam_stops_the_slave_with_a_ramp() {
         .mas(
             r.slave,
             stop,
-            &crate::jog::MasOperands {
+            &crate::task::instructions::mas::MasOperands {
                 stop_type: 8,
                 change_decel: 1,
                 decel_rate: 1000.0,
@@ -1185,7 +1185,7 @@ fn one_driver_per_axis() {
         .maj(
             t,
             jog,
-            &crate::jog::MajOperands {
+            &crate::task::instructions::maj::MajOperands {
                 speed: 10.0,
                 ..Default::default()
             },
@@ -1356,7 +1356,7 @@ fn stopping_all_axes_ends_cams_and_jogs_with_a_ramp() {
         .maj(
             r.master,
             jog,
-            &crate::jog::MajOperands {
+            &crate::task::instructions::maj::MajOperands {
                 speed: 100.0,
                 ..Default::default()
             },
@@ -1401,7 +1401,7 @@ fn stops_end_a_preloaded_pending_cam() {
             assert!(report.stopped_instructions.contains(&mi), "{report:?}");
         } else {
             let stop = r.task.add_instruction("MAS_1");
-            let mas = crate::jog::MasOperands {
+            let mas = crate::task::instructions::mas::MasOperands {
                 stop_type: 8,
                 ..Default::default()
             };

@@ -5,10 +5,11 @@ use super::advance::{add_displacement, rest_length, unwind_rotary_targets};
 use super::{Component, CoordCall, CoordHandle, CoordInstructionHandle, ERR_IDLE_MASTER_SLAVE_MOVING, Lock};
 use crate::axis::AxisKind;
 use crate::coord::{
-    CoordMove, CoordMoveError, Driver, Mcs, McsInputs, Merge, MergeSpeed, MoveContext, OperandIndex, TerminationType,
-    primary_of, progress_at_length, with_velocity,
+    CoordFault, CoordMove, CoordMoveError, Driver, Mcs, McsInputs, Merge, MergeSpeed, MoveContext, OperandIndex,
+    TerminationType, primary_of, progress_at_length, with_velocity,
 };
 use crate::instruction::MotionInstructionBits;
+use crate::instruction::{LogixFault, Refusal};
 use crate::mccm::mccm;
 use crate::mclm::mclm;
 use crate::profile::{Limits, Profile, State, stopping_distance};
@@ -116,9 +117,8 @@ impl MotionTask {
             return;
         }
         self.coord.instructions[h.0 as usize].held = false;
-        if let Err((e, index)) = self.check_system_state(cs) {
-            self.cbits(h).set_error(e.err(), index, 0);
-            return;
+        if let Err((state, exerr)) = self.check_system_state(cs) {
+            return self.refuse(h, Refusal::State { state, exerr });
         }
         let sys = &self.coord.systems[cs.0 as usize];
         let start = if merging {
@@ -153,10 +153,7 @@ impl MotionTask {
         let result = verify(&ctx, &unwinds);
         let mv = match result {
             Ok(mv) => mv,
-            Err(e) => {
-                self.cbits(h).set_error(e.err(), e.exerr(), 0);
-                return;
-            }
+            Err(e) => return self.refuse(h, e),
         };
         // An axis that would end further beyond a soft travel limit it has
         // exceeded: ERR 9, EXERR its index ([`crate::servo`]).
@@ -169,25 +166,22 @@ impl MotionTask {
                 distance != 0.0 && self.check_overtravel(a, distance).is_err()
             });
         if let Some(i) = out {
-            self.cbits(h)
-                .set_error(crate::servo::StateError::Overtravel.err(), i as i32, 0);
-            return;
+            let state = crate::servo::StateError::Overtravel;
+            return self.refuse(h, Refusal::State { state, exerr: i as i32 });
         }
         // Another system moving axes of this one: merge all motion ends its
         // motion; otherwise the move is refused.
         let others = self.busy_systems_sharing_axes(cs);
         if !others.is_empty() {
             if mv.merge() != Merge::AllMotion {
-                self.cbits(h).set_error(13, merge_exerr, 0);
-                return;
+                return self.refuse(h, Refusal::operand_index(merge_exerr));
             }
             for other in others {
                 self.cancel_system(other);
             }
         }
         if (merging || !busy) && self.idle_master_with_moving_slave(cs, &mv) {
-            self.cbits(h).set_error(ERR_IDLE_MASTER_SLAVE_MOVING, 0, 0);
-            return;
+            return self.refuse(h, Refusal::Instruction(CoordFault::IdleMasterSlaveMoving));
         }
         self.cbits(h).dn = true;
         // Merge speed current: the speed of all motion on the axes now.
@@ -220,14 +214,19 @@ impl MotionTask {
         self.refresh_queue_status(cs);
     }
 
+    /// Refuses the instruction's execution: `.ER` with the refusal's ERR
+    /// and EXERR, which [`MotionTask::execute_coordinated`] returns when it
+    /// happens in its call.
+    fn refuse(&mut self, h: CoordInstructionHandle, refusal: CoordMoveError) {
+        self.cbits(h).set_error(refusal.err(), refusal.exerr(), 0);
+        self.coord.refused = Some(refusal);
+    }
+
     pub(super) fn execute_mcs(&mut self, h: CoordInstructionHandle, cs: CoordHandle, inputs: &McsInputs) {
         let sys = &self.coord.systems[cs.0 as usize];
         let stop = match Mcs::new(inputs, &sys.system) {
             Ok(s) => s,
-            Err(e) => {
-                self.cbits(h).set_error(e.err(), e.exerr(), 0);
-                return;
-            }
+            Err(e) => return self.refuse(h, e),
         };
         self.cbits(h).dn = true;
         self.mct_on_mcs(cs, inputs.stop_type);

@@ -720,7 +720,7 @@ fn coordinated_and_single_axis_motion_abort_each_other() {
 fn one_shot_execution_sets_bits_at_once_and_clears_en_after_its_update() {
     let (mut task, cs, axes) = gantry(2, 0);
     let mc = task.add_instruction("MC1");
-    task.execute_coordinated(cs, mc, CoordCall::Mclm(line(&[1.0, 0.0], 1)));
+    let _ = task.execute_coordinated(cs, mc, CoordCall::Mclm(line(&[1.0, 0.0], 1)));
     let b = task.motion_bits(mc);
     assert!(b.en && b.dn && b.ip && b.ac, "set by the scan itself: {b:?}");
     // The update of the executing scan still shows .EN; the next scan's
@@ -735,7 +735,7 @@ fn one_shot_execution_sets_bits_at_once_and_clears_en_after_its_update() {
     assert_eq!(task.coord_instruction_name(h), "MC1");
     run_until(&mut task, 10_000, |t| t.motion_bits(mc).pc);
     // The same tag executes again: DN/PC reset by the new scan, then set again.
-    task.execute_coordinated(cs, mc, CoordCall::Mclm(line(&[1.0, 1.0], 1)));
+    let _ = task.execute_coordinated(cs, mc, CoordCall::Mclm(line(&[1.0, 1.0], 1)));
     let b = task.motion_bits(mc);
     assert!(b.en && b.dn && !b.pc && b.ip);
     run_until(&mut task, 10_000, |t| t.motion_bits(mc).pc);
@@ -746,9 +746,9 @@ fn one_shot_execution_sets_bits_at_once_and_clears_en_after_its_update() {
         task.add_instruction("B"),
         task.add_instruction("C"),
     );
-    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[5.0, 1.0], 1)));
-    task.execute_coordinated(cs, b2, CoordCall::Mclm(line(&[5.0, 5.0], 1)));
-    task.execute_coordinated(cs, c, CoordCall::Mclm(line(&[1.0, 1.0], 1)));
+    let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[5.0, 1.0], 1)));
+    let _ = task.execute_coordinated(cs, b2, CoordCall::Mclm(line(&[5.0, 5.0], 1)));
+    let _ = task.execute_coordinated(cs, c, CoordCall::Mclm(line(&[1.0, 1.0], 1)));
     task.update();
     let bc = task.motion_bits(c);
     assert!(bc.en && !bc.dn && !bc.ip);
@@ -776,7 +776,7 @@ fn a_second_system_on_shared_axes_needs_merge_all_motion() {
         )
         .unwrap();
     let a = task.add_instruction("A");
-    task.execute_coordinated(xy, a, CoordCall::Mclm(line(&[50.0, 0.0, 0.0], 1)));
+    let _ = task.execute_coordinated(xy, a, CoordCall::Mclm(line(&[50.0, 0.0, 0.0], 1)));
     for _ in 0..100 {
         task.update();
     }
@@ -794,7 +794,7 @@ fn a_second_system_on_shared_axes_needs_merge_all_motion() {
             via_center_radius: vec![0.0, 10.0, 0.0],
             direction: 0,
         });
-        task.execute_coordinated(xyz, b, call);
+        let _ = task.execute_coordinated(xyz, b, call);
         let bb = task.motion_bits(b);
         assert!(bb.er && (bb.err, bb.exerr) == (13, 15), "{bb:?}");
         assert!(task.motion_bits(a).ip);
@@ -803,7 +803,7 @@ fn a_second_system_on_shared_axes_needs_merge_all_motion() {
         merge: 2,
         ..line(&[0.0, 0.0, 0.0], 1)
     });
-    task.execute_coordinated(xyz, b, call);
+    let _ = task.execute_coordinated(xyz, b, call);
     let (ba, bb) = (task.motion_bits(a), task.motion_bits(b));
     assert!(!ba.ip && !ba.ac && !ba.pc, "{ba:?}");
     assert!(bb.dn && bb.ip && bb.ac && !task.coord_status(xy).motion);
@@ -837,7 +837,7 @@ fn reruns_are_bit_identical() {
         let mut out = Vec::new();
         for k in 0..3000 {
             if let Some(i) = [0, 1, 2].into_iter().find(|i| k == 10 * i) {
-                task.execute_coordinated(cs, hs[i], calls[i].clone());
+                let _ = task.execute_coordinated(cs, hs[i], calls[i].clone());
             }
             task.update();
             out.extend(axes.iter().map(|a| task.axis_state(*a).command_position.to_bits()));
@@ -891,13 +891,13 @@ fn mcs_stop_all_also_stops_single_axis_motion() {
         stop_type: 1,
         ..McsInputs::default()
     };
-    task.execute_coordinated(cs, stop, CoordCall::Mcs(coordinated_only));
+    let _ = task.execute_coordinated(cs, stop, CoordCall::Mcs(coordinated_only));
     task.update();
     assert!(
         task.motion_bits(stop).pc && task.outputs(fb).active,
         "type 1 leaves MC_MoveModulo alone"
     );
-    task.execute_coordinated(cs, stop, CoordCall::Mcs(McsInputs::default()));
+    let _ = task.execute_coordinated(cs, stop, CoordCall::Mcs(McsInputs::default()));
     task.update();
     assert!(task.outputs(fb).command_aborted);
     run_until(&mut task, 10_000, |t| t.axis_state(x).command_velocity == 0.0);
@@ -910,8 +910,8 @@ fn merge_during_a_blend_brings_both_moves_to_rest_and_ends_exactly() {
     let a = task.add_instruction("A");
     let b = task.add_instruction("B");
     let m = task.add_instruction("M");
-    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[10.0, 0.0], 3)));
-    task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[10.0, 10.0], 1)));
+    let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[10.0, 0.0], 3)));
+    let _ = task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[10.0, 10.0], 1)));
     run_until(&mut task, 10_000, |t| {
         t.coord.systems[cs.0 as usize].components.len() == 2
     });
@@ -919,7 +919,7 @@ fn merge_during_a_blend_brings_both_moves_to_rest_and_ends_exactly() {
         merge: 1,
         ..line(&[-5.0, 3.0], 1)
     };
-    task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
+    let _ = task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
     assert!(task.motion_bits(m).ac && !task.motion_bits(b).ac && !task.motion_bits(b).ip);
     let mut speeds = Vec::new();
     run_until(&mut task, 10_000, |t| {
@@ -936,8 +936,8 @@ fn stop_all_axes_brings_coordinated_motion_to_rest_along_the_path() {
     let (mut task, cs, axes) = gantry(2, 0);
     let a = task.add_instruction("A");
     let b = task.add_instruction("B");
-    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[30.0, 40.0], 1)));
-    task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
+    let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[30.0, 40.0], 1)));
+    let _ = task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
     for _ in 0..300 {
         task.update();
     }
@@ -955,12 +955,12 @@ fn stop_all_axes_brings_coordinated_motion_to_rest_along_the_path() {
 fn a_jog_takes_its_axis_from_a_coordinated_move_and_a_move_merging_all_motion_takes_it_back() {
     let (mut task, cs, axes) = gantry(2, 0);
     let a = task.add_instruction("A");
-    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[30.0, 40.0], 1)));
+    let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[30.0, 40.0], 1)));
     for _ in 0..300 {
         task.update();
     }
     let jog = task.add_instruction("J");
-    let operands = crate::jog::MajOperands {
+    let operands = crate::task::instructions::maj::MajOperands {
         speed: 5.0,
         ..Default::default()
     };
@@ -976,13 +976,13 @@ fn a_jog_takes_its_axis_from_a_coordinated_move_and_a_move_merging_all_motion_ta
     // A new coordinated move with Merge Disabled leaves the jog running,
     // superimposed (MCCM document, Merge); one with Merge All Motion ends
     // it and drives both axes again.
-    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
+    let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
     assert!(task.motion_bits(jog).ip);
     let all_motion = CoordMoveInputs {
         merge: 2,
         ..line(&[0.0, 0.0], 1)
     };
-    task.execute_coordinated(cs, a, CoordCall::Mclm(all_motion));
+    let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(all_motion));
     assert!(!task.motion_bits(jog).ip);
     run_until(&mut task, 20_000, |t| t.motion_bits(a).pc);
     assert_eq!(positions(&task, &axes), vec![0.0, 0.0]);
@@ -1038,7 +1038,7 @@ fn random_arcs_of_every_circle_type_through_the_task() {
         let cs = task.add_coordinate_system(config, &axes).unwrap();
         let mc = task.add_instruction("MC");
         per_type[r.inputs.circle_type as usize] += 1;
-        task.execute_coordinated(cs, mc, CoordCall::Mccm(r.inputs.clone()));
+        let _ = task.execute_coordinated(cs, mc, CoordCall::Mccm(r.inputs.clone()));
         assert!(task.motion_bits(mc).dn, "case {case}: {:?}", task.motion_bits(mc));
         let arc = *task.coord_active_move(cs).unwrap().path().arc().unwrap();
         let end = task.coord_active_move(cs).unwrap().path().end().to_vec();
@@ -1091,7 +1091,7 @@ fn random_arcs_of_every_circle_type_through_the_task() {
 fn merge_speed_current_counts_single_axis_motion() {
     let (mut task, cs, axes) = gantry(2, 0);
     let jog = task.add_instruction("J");
-    let operands = crate::jog::MajOperands {
+    let operands = crate::task::instructions::maj::MajOperands {
         speed: 7.0,
         ..Default::default()
     };
@@ -1106,7 +1106,7 @@ fn merge_speed_current_counts_single_axis_motion() {
         merge_speed: 1,
         ..line(&[20.0, 0.0], 1)
     };
-    task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
+    let _ = task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
     assert!(!task.motion_bits(jog).ip, "all motion: the jog ends");
     let v = task.coord_active_move(cs).unwrap().limits().unwrap().velocity();
     assert!((v - 7.0).abs() < 1e-9, "{v}");
@@ -1167,7 +1167,7 @@ fn random_instruction_sequences_keep_the_commands_finite() {
                     }),
                 };
                 let tag = tags[rng.random_range(0..tags.len())];
-                task.execute_coordinated(cs, tag, call);
+                let _ = task.execute_coordinated(cs, tag, call);
             }
             task.update();
             for a in &axes {
@@ -1185,7 +1185,7 @@ fn random_instruction_sequences_keep_the_commands_finite() {
 fn calculated_data_uses_the_current_speed_of_a_merge_at_current_speed() {
     let (mut task, cs, axes) = gantry(2, 0);
     let a = task.add_instruction("A");
-    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[100.0, 0.0], 1)));
+    let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[100.0, 0.0], 1)));
     for _ in 0..500 {
         task.update();
     }
@@ -1203,7 +1203,7 @@ fn calculated_data_uses_the_current_speed_of_a_merge_at_current_speed() {
         },
         ..line(&[60.0, 0.0], 1)
     };
-    task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
+    let _ = task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
     let h = task.coord_instruction_of(m).unwrap();
     // Accel 0.2 s (1 unit), then 34 units at 10 units/s to x = 55: 3.6 s
     // (at the programmed 30 it would be 0.6 s + 26/30 s).
@@ -1226,8 +1226,8 @@ fn a_master_driven_move_cannot_take_over_from_moving_time_driven_motion_while_th
     // start (at the blend point), keeps .DN, and the first move ends at rest.
     let a = task.add_instruction("A");
     let b = task.add_instruction("B");
-    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[10.0, 0.0], 2)));
-    task.execute_coordinated(cs, b, CoordCall::Mclm(master_driven.clone()));
+    let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[10.0, 0.0], 2)));
+    let _ = task.execute_coordinated(cs, b, CoordCall::Mclm(master_driven.clone()));
     let bits = task.motion_bits(b);
     assert!(bits.dn && bits.ip && !bits.er, "{bits:?}");
     run_until(&mut task, 10_000, |t| t.motion_bits(b).er);
@@ -1243,11 +1243,11 @@ fn a_master_driven_move_cannot_take_over_from_moving_time_driven_motion_while_th
     // the running move goes on.
     let c = task.add_instruction("C");
     let m = task.add_instruction("M");
-    task.execute_coordinated(cs, c, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
+    let _ = task.execute_coordinated(cs, c, CoordCall::Mclm(line(&[0.0, 0.0], 1)));
     for _ in 0..100 {
         task.update();
     }
-    task.execute_coordinated(
+    let _ = task.execute_coordinated(
         cs,
         m,
         CoordCall::Mclm(CoordMoveInputs {
@@ -1262,7 +1262,7 @@ fn a_master_driven_move_cannot_take_over_from_moving_time_driven_motion_while_th
     run_until(&mut task, 10_000, |t| t.motion_bits(c).pc);
     assert_eq!(positions(&task, &axes), vec![0.0, 0.0]);
     // Master and slave both at rest: the switch is allowed.
-    task.execute_coordinated(cs, m, CoordCall::Mclm(master_driven));
+    let _ = task.execute_coordinated(cs, m, CoordCall::Mclm(master_driven));
     let bits = task.motion_bits(m);
     assert!(bits.dn && bits.ip && !bits.er, "{bits:?}");
 }
@@ -1280,7 +1280,7 @@ fn termination_4_and_5_follow_the_contour_through_the_end_point_without_stopping
             },
             ..line(&[10.0, 0.0], tt)
         };
-        task.execute_coordinated(cs, a, CoordCall::Mclm(fast));
+        let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(fast));
         let slow = CoordMoveInputs {
             dynamics: MoveDynamics {
                 speed: 5.0,
@@ -1289,7 +1289,7 @@ fn termination_4_and_5_follow_the_contour_through_the_end_point_without_stopping
             },
             ..line(&[20.0, 0.0], 1)
         };
-        task.execute_coordinated(cs, b, CoordCall::Mclm(slow));
+        let _ = task.execute_coordinated(cs, b, CoordCall::Mclm(slow));
         let mut speeds = vec![0.0];
         let mut at_pc = None;
         run_until(&mut task, 20_000, |t| {
@@ -1334,7 +1334,7 @@ fn termination_4_and_5_follow_the_contour_through_the_end_point_without_stopping
     for _ in 0..20_000 {
         // Each move is executed as soon as the queue has room.
         if next < 3 && !task.coord_status(cs).move_pending_queue_full {
-            task.execute_coordinated(cs, hs[next], calls[next].clone());
+            let _ = task.execute_coordinated(cs, hs[next], calls[next].clone());
             next += 1;
         }
         task.update();
@@ -1349,7 +1349,7 @@ fn termination_4_and_5_follow_the_contour_through_the_end_point_without_stopping
     // Without a pending move a type 4 move ends at rest at its end point.
     let (mut task, cs, axes) = gantry(2, 0);
     let h = task.add_instruction("A");
-    task.execute_coordinated(cs, h, CoordCall::Mclm(line(&[3.0, 4.0], 4)));
+    let _ = task.execute_coordinated(cs, h, CoordCall::Mclm(line(&[3.0, 4.0], 4)));
     run_until(&mut task, 20_000, |t| t.motion_bits(h).pc);
     assert_eq!(positions(&task, &axes), vec![3.0, 4.0]);
     assert_eq!(speed(&task, &axes, 2), 0.0);
@@ -1359,7 +1359,7 @@ fn termination_4_and_5_follow_the_contour_through_the_end_point_without_stopping
 fn a_merge_at_current_speed_recomputes_percent_of_time_jerks_for_that_speed() {
     let (mut task, cs, axes) = gantry(2, 0);
     let a = task.add_instruction("A");
-    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[100.0, 0.0], 1)));
+    let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[100.0, 0.0], 1)));
     for _ in 0..500 {
         task.update();
     }
@@ -1378,7 +1378,7 @@ fn a_merge_at_current_speed_recomputes_percent_of_time_jerks_for_that_speed() {
         },
         ..line(&[60.0, 0.0], 1)
     };
-    task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
+    let _ = task.execute_coordinated(cs, m, CoordCall::Mclm(merge));
     let limits = *task.coord_active_move(cs).unwrap().limits().unwrap();
     let crate::profile::Shape::SCurve { accel_jerk, decel_jerk } = limits.shape() else {
         panic!("an S-curve")
@@ -1427,7 +1427,7 @@ fn absolute_positions_of_a_rotary_axis_with_an_unwind_take_the_sign_as_direction
         (-270.0, 630.0, -1.0), // negative: backward to 270
         (-360.0, 360.0, -1.0), // −unwind: backward to the unwind position
     ] {
-        task.execute_coordinated(cs, h, CoordCall::Mclm(line(&[1.0, target], 1)));
+        let _ = task.execute_coordinated(cs, h, CoordCall::Mclm(line(&[1.0, target], 1)));
         assert!(task.motion_bits(h).dn, "{target}: {:?}", task.motion_bits(h));
         run_until(&mut task, 20_000, |t| {
             let v = t.axis_state(c).command_velocity;
@@ -1439,7 +1439,7 @@ fn absolute_positions_of_a_rotary_axis_with_an_unwind_take_the_sign_as_direction
         task.update();
     }
     // Beyond the unwind: ERR 13 on the Position operand (MCLM 3, MCCM 3).
-    task.execute_coordinated(cs, h, CoordCall::Mclm(line(&[1.0, 400.0], 1)));
+    let _ = task.execute_coordinated(cs, h, CoordCall::Mclm(line(&[1.0, 400.0], 1)));
     let b = task.motion_bits(h);
     assert!(b.er && !b.dn && (b.err, b.exerr) == (13, 3), "{b:?}");
     // Incremental moves turn by the increment.
@@ -1448,7 +1448,7 @@ fn absolute_positions_of_a_rotary_axis_with_an_unwind_take_the_sign_as_direction
         move_type: 1,
         ..line(&[0.0, -100.0], 1)
     };
-    task.execute_coordinated(cs, h, CoordCall::Mclm(inc));
+    let _ = task.execute_coordinated(cs, h, CoordCall::Mclm(inc));
     run_until(&mut task, 20_000, |t| t.motion_bits(h).pc);
     assert!((task.axis_state(c).command_position - 260.0).abs() < 1e-9);
 }
@@ -1462,8 +1462,8 @@ fn a_collinear_blend_never_sets_move_transition_status() {
             command_tolerance: 0.5,
             ..line(&[10.0, 0.0], tt)
         };
-        task.execute_coordinated(cs, a, CoordCall::Mclm(first));
-        task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[20.0, 0.0], 1)));
+        let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(first));
+        let _ = task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[20.0, 0.0], 1)));
         let (mut blended, mut speeds) = (false, Vec::new());
         run_until(&mut task, 20_000, |t| {
             blended |= t.coord.systems[cs.0 as usize].components.len() == 2;
@@ -1507,7 +1507,7 @@ fn a_blend_into_a_quickly_accelerating_move_is_deferred_so_the_speeds_never_add_
             },
             ..line(&[10.0, 0.0], tt)
         };
-        task.execute_coordinated(cs, a, CoordCall::Mclm(first));
+        let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(first));
         let quick = CoordMoveInputs {
             dynamics: MoveDynamics {
                 accel_rate: 500.0,
@@ -1519,7 +1519,7 @@ fn a_blend_into_a_quickly_accelerating_move_is_deferred_so_the_speeds_never_add_
             },
             ..line(&end, 1)
         };
-        task.execute_coordinated(cs, b, CoordCall::Mclm(quick));
+        let _ = task.execute_coordinated(cs, b, CoordCall::Mclm(quick));
         let (mut blended, mut speeds) = (false, Vec::new());
         run_until(&mut task, 20_000, |t| {
             blended |= t.coord.systems[cs.0 as usize].components.len() == 2;
@@ -1541,15 +1541,15 @@ fn a_move_executed_while_an_mcs_stops_clears_stopping_status_and_starts_where_th
         task.add_instruction("S"),
         task.add_instruction("B"),
     );
-    task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[100.0, 0.0], 1)));
+    let _ = task.execute_coordinated(cs, a, CoordCall::Mclm(line(&[100.0, 0.0], 1)));
     for _ in 0..200 {
         task.update();
     }
-    task.execute_coordinated(cs, s, CoordCall::Mcs(McsInputs::default()));
+    let _ = task.execute_coordinated(cs, s, CoordCall::Mcs(McsInputs::default()));
     task.update();
     assert!(task.coord_status(cs).stopping);
     // "The Stopping Status bit is cleared when the MCCM instruction executes."
-    task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[0.0, 10.0], 1)));
+    let _ = task.execute_coordinated(cs, b, CoordCall::Mclm(line(&[0.0, 10.0], 1)));
     assert!(!task.coord_status(cs).stopping && task.motion_bits(b).dn);
     let mut previous = positions(&task, &axes);
     run_until(&mut task, 20_000, |t| {

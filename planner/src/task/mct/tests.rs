@@ -106,7 +106,7 @@ fn tool(r: &Robot) -> Vec3 {
 #[test]
 fn an_mccm_circle_under_mct_keeps_the_tool_on_the_circle() {
     let mut r = scara([20.0, 70.0]);
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let b = r.task.motion_bits(r.mct);
     assert!(b.en && b.dn && b.ip && !b.er, "{b:?}");
     assert!(r.task.transform_source_status(r.cart) && r.task.transform_target_status(r.joints));
@@ -173,7 +173,7 @@ fn an_mccm_circle_under_mct_keeps_the_tool_on_the_circle() {
 #[test]
 fn joints_at_rest_after_a_cartesian_move_have_zero_command_speed() {
     let mut r = scara([20.0, 70.0]);
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let start = tool(&r);
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![start[0] - 0.1, start[1] + 0.05, 0.1],
@@ -210,7 +210,8 @@ fn joints_at_rest_after_a_cartesian_move_have_zero_command_speed() {
 #[test]
 fn a_joint_move_drives_the_cartesian_axes_and_mcs_cancels() {
     let mut r = scara([10.0, 60.0]);
-    r.task
+    let _ = r
+        .task
         .execute_mct(r.mct, r.cart, r.joints, [0.0, 0.0, 30.0], [0.1, 0.0, 0.0]);
     assert!(r.task.motion_bits(r.mct).ip);
     // MCLM in the joint system: J2 from 60° to 90°.
@@ -264,7 +265,7 @@ fn a_joint_move_drives_the_cartesian_axes_and_mcs_cancels() {
 #[test]
 fn a_move_out_of_reach_faults_and_stops_the_joints_within_their_limits() {
     let mut r = scara([0.0, 60.0]);
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let start = tool(&r);
     // Straight out along the arm's direction, to 1 m from the base: through
     // full stretch (0.7 m).
@@ -320,7 +321,7 @@ fn a_move_out_of_reach_faults_and_stops_the_joints_within_their_limits() {
 fn mcs_in_the_middle_of_a_cartesian_move_stops_the_joints_within_their_deceleration() {
     for (stop_type, system) in [(0, "Cart"), (2, "Cart"), (0, "Joints"), (2, "Joints")] {
         let mut r = scara([20.0, 70.0]);
-        r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+        let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
         let start = tool(&r);
         let call = CoordCall::Mclm(CoordMoveInputs {
             position: vec![start[0] - 0.3, start[1] + 0.1, 0.1],
@@ -389,7 +390,7 @@ fn mcs_in_the_middle_of_a_cartesian_move_stops_the_joints_within_their_decelerat
 #[test]
 fn a_joint_move_beyond_a_limit_ends_the_link_and_leaves_the_cartesian_axes_at_rest() {
     let mut r = scara_limited([0.0, 60.0], [Some((-20.0, 25.0)), None]);
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![40.0, 60.0, 0.1],
         termination_type: 1,
@@ -430,7 +431,7 @@ fn a_joint_move_beyond_a_limit_ends_the_link_and_leaves_the_cartesian_axes_at_re
 #[test]
 fn mcs_on_the_source_during_a_joint_move_ends_the_link_and_the_joint_move_goes_on() {
     let mut r = scara([10.0, 60.0]);
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let call = CoordCall::Mclm(CoordMoveInputs {
         position: vec![10.0, 90.0, 0.1],
         termination_type: 1,
@@ -479,7 +480,7 @@ fn mcs_on_the_source_during_a_joint_move_ends_the_link_and_the_joint_move_goes_o
 #[test]
 fn the_transform_status_bits_go_off_with_ip_when_a_fault_stops_the_joints() {
     let mut r = scara([0.0, 60.0]);
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let start = tool(&r);
     let out = 1.0 / start[0].hypot(start[1]);
     let call = CoordCall::Mclm(CoordMoveInputs {
@@ -519,7 +520,7 @@ fn the_transform_status_bits_go_off_with_ip_when_a_fault_stops_the_joints() {
         // An MCT on the joints while they are still stopping: a motion
         // process controls them (EXERR 10).
         let again = r.task.add_instruction("MCT2");
-        r.task.execute_mct(again, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+        let _ = r.task.execute_mct(again, r.cart, r.joints, [0.0; 3], [0.0; 3]);
         let b = r.task.motion_bits(again);
         assert!(b.er && (b.err, b.exerr) == (61, 10), "{b:?}");
     }
@@ -529,7 +530,7 @@ fn the_transform_status_bits_go_off_with_ip_when_a_fault_stops_the_joints() {
         r.task.update();
     }
     let again = r.task.add_instruction("MCT3");
-    r.task.execute_mct(again, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(again, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let b = r.task.motion_bits(again);
     assert!(b.ip && !b.er, "{b:?}");
     assert!(r.task.transform_source_status(r.cart));
@@ -539,7 +540,7 @@ fn the_transform_status_bits_go_off_with_ip_when_a_fault_stops_the_joints() {
 fn a_cartesian_move_across_a_joint_limit_faults_and_stops_the_joint_short_of_it() {
     let (min, max) = (-20.0, 25.0);
     let mut r = scara_limited([0.0, 60.0], [Some((min, max)), None]);
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     assert!(r.task.motion_bits(r.mct).ip);
     // A straight line to where J1 would be at 70°: J1 turns through 25°.
     let end = geometry()
@@ -628,7 +629,7 @@ fn an_axis_can_neither_start_nor_be_transformed_beyond_its_limit() {
     r.task.mrp(r.j[1], mrp, 0, 1, 151.0).unwrap();
     assert_eq!(r.task.axis_state(r.j[1]).command_position, 151.0);
     assert!(r.task.motion_faults(r.j[1]).positive());
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     // A transform refuses a joint beyond its limit (ERR 67).
     let b = r.task.motion_bits(r.mct);
     assert!(b.er && b.err == 67, "{b:?}");
@@ -636,7 +637,7 @@ fn an_axis_can_neither_start_nor_be_transformed_beyond_its_limit() {
     let reset = r.task.add_instruction("MAFR1");
     r.task.mafr(r.j[1], reset).unwrap();
     assert!(r.task.motion_faults(r.j[1]).is_clear());
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let b = r.task.motion_bits(r.mct);
     assert!(!b.er && b.ip, "{b:?}");
     assert!(r.task.transform_state_status(r.j[1]));
@@ -659,7 +660,7 @@ fn mct_refuses_to_start_while_an_axis_moves_and_restarts_with_new_operands() {
     let ml = r.task.add_coord_instruction("ML1", r.cart, call.clone());
     r.task.set_coord_instruction(ml, true, call);
     r.task.update();
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     let b = r.task.motion_bits(r.mct);
     assert!(b.er && (b.err, b.exerr) == (61, 10), "{b:?}");
     let ms = r
@@ -670,11 +671,12 @@ fn mct_refuses_to_start_while_an_axis_moves_and_restarts_with_new_operands() {
     for _ in 0..500 {
         r.task.update();
     }
-    r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
+    let _ = r.task.execute_mct(r.mct, r.cart, r.joints, [0.0; 3], [0.0; 3]);
     assert!(r.task.motion_bits(r.mct).ip);
     let first = [pos(&r.task, r.xyz[0]), pos(&r.task, r.xyz[1])];
     r.task.update();
-    r.task
+    let _ = r
+        .task
         .execute_mct(r.mct, r.cart, r.joints, [0.0, 0.0, 0.0], [0.5, 0.25, 0.0]);
     let b = r.task.motion_bits(r.mct);
     assert!(b.ip && b.dn && b.en, "{b:?}");
@@ -687,7 +689,8 @@ fn mct_refuses_to_start_while_an_axis_moves_and_restarts_with_new_operands() {
 fn the_same_calls_give_bit_identical_joint_commands() {
     let run = || {
         let mut r = scara([20.0, 70.0]);
-        r.task
+        let _ = r
+            .task
             .execute_mct(r.mct, r.cart, r.joints, [0.0, 0.0, 15.0], [0.01, 0.02, 0.0]);
         let start = [pos(&r.task, r.xyz[0]), pos(&r.task, r.xyz[1])];
         let call = CoordCall::Mccm(MccmInputs {

@@ -6,9 +6,11 @@ use super::*;
 use crate::axis::AxisKind;
 use crate::coord::{CoordMoveInputs, CoordinateSystemConfig};
 use crate::dynamics::MoveDynamics;
-use crate::jog::{JogError, MajOperands, MasOperands};
+use crate::instruction::LogixFault;
 use crate::modulo::{MoveModuloError, MoveModuloInputs};
 use crate::task::CoordCall;
+use crate::task::instructions::maj::{MajError as JogError, MajOperands};
+use crate::task::instructions::mas::MasOperands;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -59,7 +61,7 @@ fn a_servo_off_axis_refuses_motion_until_mso_has_closed_the_loop() {
     assert!(!task.axis_status(axis).servo_action);
     assert_eq!(
         task.maj(axis, mi, &jog(10.0)),
-        Err(JogError::State(StateError::ServoOff))
+        Err(JogError::from(StateError::ServoOff))
     );
     assert_eq!(err(&task, mi), (true, 5, 0));
     let mso = task.add_instruction("MSO");
@@ -69,7 +71,7 @@ fn a_servo_off_axis_refuses_motion_until_mso_has_closed_the_loop() {
     assert_eq!(task.cip_axis_state(axis), CipAxisState::Starting);
     assert_eq!(
         task.maj(axis, mi, &jog(10.0)),
-        Err(JogError::State(StateError::ServoOff))
+        Err(JogError::from(StateError::ServoOff))
     );
     for _ in 0..SERVO_ENABLE_UPDATES - 1 {
         task.update();
@@ -161,10 +163,7 @@ fn shutdown_needs_masr_and_mafr_does_not_clear_it() {
     task.masd(axis, masd).unwrap();
     assert_eq!(task.cip_axis_state(axis), CipAxisState::Shutdown);
     assert!(task.axis_status(axis).shutdown);
-    assert_eq!(
-        task.maj(axis, mi, &jog(1.0)),
-        Err(JogError::State(StateError::Shutdown))
-    );
+    assert_eq!(task.maj(axis, mi, &jog(1.0)), Err(JogError::from(StateError::Shutdown)));
     assert_eq!(err(&task, mi), (true, 7, 0));
     assert_eq!(task.mso(axis, mso), Err(StateError::Shutdown));
     task.mafr(axis, mafr).unwrap();
@@ -187,10 +186,7 @@ fn feedback_only_and_inhibited_axes_refuse_with_8_and_53() {
     assert_eq!(task.mso(axis, mi), Err(StateError::AxisType));
     assert_eq!(err(&task, mi), (true, 8, 0));
     assert_eq!(task.msf(axis, mi), Err(StateError::AxisType));
-    assert_eq!(
-        task.maj(axis, mi, &jog(1.0)),
-        Err(JogError::State(StateError::AxisType))
-    );
+    assert_eq!(task.maj(axis, mi, &jog(1.0)), Err(JogError::from(StateError::AxisType)));
     let fb = task.add_move_modulo("Move", axis);
     task.set_move_modulo_inputs(
         fb,
@@ -225,7 +221,7 @@ fn feedback_only_and_inhibited_axes_refuse_with_8_and_53() {
         assert_eq!(r, Err(StateError::Inhibited));
     }
     let stop = MasOperands::default();
-    assert_eq!(task.mas(axis, mi, &stop), Err(JogError::State(StateError::Inhibited)));
+    assert_eq!(task.mas(axis, mi, &stop), Err(JogError::from(StateError::Inhibited)));
     assert_eq!(err(&task, mi), (true, 53, 0));
 }
 
@@ -358,11 +354,11 @@ fn random_state_sequences_never_move_a_disabled_axis() {
             ..config("A")
         };
         let config = AxisConfig {
-            homing: crate::mah::Homing {
+            homing: crate::homing::Homing {
                 mode: if config.axis_type == AxisType::FeedbackOnly || rng.random_bool(0.3) {
-                    crate::mah::HomeMode::Passive
+                    crate::homing::HomeMode::Passive
                 } else {
-                    crate::mah::HomeMode::Active
+                    crate::homing::HomeMode::Active
                 },
                 position: rng.random_range(-50.0..50.0),
                 ..Default::default()
@@ -401,10 +397,10 @@ fn random_state_sequences_never_move_a_disabled_axis() {
                     None
                 }
                 8 => {
-                    let o = crate::mam::MamOperands {
+                    let o = crate::task::instructions::mam::MamOperands {
                         move_type: rng.random_range(0..5),
                         position: rng.random_range(0.0..720.0),
-                        ..crate::mam::MamOperands::default()
+                        ..crate::task::instructions::mam::MamOperands::default()
                     };
                     task.mam(axis, mi, &o).err().map(|e| e.err())
                 }
@@ -437,8 +433,8 @@ fn random_state_sequences_never_move_a_disabled_axis() {
     assert!(refusals > 1000, "the sequences exercise refusals: {refusals}");
 }
 
-fn homing(mode: crate::mah::HomeMode, position: f64) -> crate::mah::Homing {
-    crate::mah::Homing {
+fn homing(mode: crate::homing::HomeMode, position: f64) -> crate::homing::Homing {
+    crate::homing::Homing {
         mode,
         position,
         ..Default::default()
@@ -447,7 +443,7 @@ fn homing(mode: crate::mah::HomeMode, position: f64) -> crate::mah::Homing {
 
 #[test]
 fn mah_from_rest_homes_in_its_own_scan() {
-    use crate::mah::HomeMode;
+    use crate::homing::HomeMode;
     let (mut task, axis, mi) = one(AxisConfig {
         homing: homing(HomeMode::Active, 25.0),
         modulo_period: None,
@@ -473,7 +469,7 @@ fn mah_from_rest_homes_in_its_own_scan() {
 
 #[test]
 fn active_mah_stops_a_jog_first_and_refuses_motion_while_homing() {
-    use crate::mah::HomeMode;
+    use crate::homing::HomeMode;
     let (mut task, axis, mi) = one(AxisConfig {
         homing: homing(HomeMode::Active, -5.0),
         modulo_period: None,
@@ -493,7 +489,7 @@ fn active_mah_stops_a_jog_first_and_refuses_motion_while_homing() {
     assert!(!task.motion_bits(jog_mi).ip, "the jog is cancelled");
     assert!(task.axis_status(axis).homing);
     // Motion and a second MAH are refused while homing.
-    assert_eq!(task.maj(axis, mi, &jog(10.0)), Err(JogError::State(StateError::Homing)));
+    assert_eq!(task.maj(axis, mi, &jog(10.0)), Err(JogError::from(StateError::Homing)));
     assert_eq!(err(&task, mi), (true, 16, 0));
     let again = task.add_instruction("Again");
     assert_eq!(task.mah(axis, again), Err(StateError::Homing));
@@ -515,7 +511,7 @@ fn active_mah_stops_a_jog_first_and_refuses_motion_while_homing() {
 
 #[test]
 fn passive_mah_works_servo_off_and_on_feedback_only_axes() {
-    use crate::mah::HomeMode;
+    use crate::homing::HomeMode;
     for axis_type in [AxisType::Servo, AxisType::FeedbackOnly] {
         let (mut task, axis, mi) = one(AxisConfig {
             axis_type,
@@ -540,7 +536,7 @@ fn passive_mah_works_servo_off_and_on_feedback_only_axes() {
 
 #[test]
 fn a_disable_ends_a_homing_in_process() {
-    use crate::mah::HomeMode;
+    use crate::homing::HomeMode;
     let (mut task, axis, _) = one(AxisConfig {
         homing: homing(HomeMode::Active, 0.0),
         ..config("A")
@@ -608,7 +604,7 @@ fn line_under_way(config: AxisConfig) -> (MotionTask, AxisHandle, AxisHandle) {
 
 #[test]
 fn active_mah_during_a_coordinated_move_waits_for_the_path_to_stop() {
-    use crate::mah::HomeMode;
+    use crate::homing::HomeMode;
     let config = AxisConfig {
         homing: homing(HomeMode::Active, 100.0),
         ..AxisConfig::new("X", AxisKind::Linear)
@@ -685,10 +681,10 @@ fn one_at(config: AxisConfig, position: f64) -> (MotionTask, AxisHandle, Instruc
     (task, axis, mi)
 }
 
-fn mam_to(position: f64) -> crate::mam::MamOperands {
-    crate::mam::MamOperands {
+fn mam_to(position: f64) -> crate::task::instructions::mam::MamOperands {
+    crate::task::instructions::mam::MamOperands {
         position,
-        ..crate::mam::MamOperands::default()
+        ..crate::task::instructions::mam::MamOperands::default()
     }
 }
 
@@ -743,12 +739,12 @@ fn a_move_past_a_soft_travel_limit_faults_and_a_further_move_out_fails_with_err_
     let out = task.add_instruction("OUT");
     assert_eq!(
         task.mam(axis, out, &mam_to(rest.command_position + 1.0)),
-        Err(crate::mam::MamError::State(StateError::Overtravel))
+        Err(crate::task::instructions::mam::MamError::from(StateError::Overtravel))
     );
     assert_eq!(err(&task, out), (true, 9, 0));
     assert_eq!(
         task.maj(axis, out, &jog(10.0)),
-        Err(JogError::State(StateError::Overtravel))
+        Err(JogError::from(StateError::Overtravel))
     );
     assert_eq!(err(&task, out), (true, 9, 0));
     // Back in: runs, raises nothing new, and completes inside.
@@ -810,7 +806,7 @@ fn a_soft_overtravel_takes_the_configured_action() {
             let out = task.add_instruction("OUT");
             assert_eq!(
                 task.maj(axis, out, &reverse(10.0)),
-                Err(JogError::State(StateError::Overtravel)),
+                Err(JogError::from(StateError::Overtravel)),
                 "beyond the limit, out is refused without a latched fault too"
             );
             task.maj(axis, out, &jog(10.0)).unwrap();

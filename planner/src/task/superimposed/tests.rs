@@ -5,10 +5,11 @@ use super::*;
 use crate::axis::{AxisConfig, AxisKind};
 use crate::coord::CoordMoveInputs;
 use crate::dynamics::MoveDynamics;
-use crate::jog::{MajOperands, MasOperands};
-use crate::mam::MamOperands;
 use crate::mapc::MapcOperands;
 use crate::mccp::CamElement;
+use crate::task::instructions::maj::MajOperands;
+use crate::task::instructions::mam::MamOperands;
+use crate::task::instructions::mas::MasOperands;
 use crate::task::{CoordCall, CoordHandle, MapcCall};
 
 const DT: f64 = 0.004;

@@ -126,8 +126,8 @@ fn a_move_queued_behind_a_rejected_one_is_cancelled_without_error() {
     let before = bits(&task, &axes);
     let first = task.add_instruction("MC1");
     let second = task.add_instruction("MC2");
-    task.execute_coordinated(cs, first, line([1.0, 0.0], 0));
-    task.execute_coordinated(cs, second, line([1.0, 1.0], 0));
+    let _ = task.execute_coordinated(cs, first, line([1.0, 0.0], 0));
+    let _ = task.execute_coordinated(cs, second, line([1.0, 1.0], 0));
     assert!(task.coord_status(cs).move_pending);
     let h = task.coord_instruction_of(first).unwrap();
     assert!(task.reject_coord_move(h));
@@ -146,8 +146,8 @@ fn a_rejected_pending_move_leaves_the_queue_and_the_running_one_ends_on_its_poin
     let (mut task, cs, axes) = xy([0.0, 0.0]);
     let first = task.add_instruction("MC1");
     let second = task.add_instruction("MC2");
-    task.execute_coordinated(cs, first, line([1.0, 0.0], 2));
-    task.execute_coordinated(cs, second, line([1.0, 1.0], 2));
+    let _ = task.execute_coordinated(cs, first, line([1.0, 0.0], 2));
+    let _ = task.execute_coordinated(cs, second, line([1.0, 1.0], 2));
     task.update();
     let h2 = task.coord_instruction_of(second).unwrap();
     assert!(task.reject_coord_move(h2));
@@ -162,7 +162,7 @@ fn a_rejected_pending_move_leaves_the_queue_and_the_running_one_ends_on_its_poin
     assert_eq!(task.axis_state(axes[1]).command_position, 0.0);
     // The queue continues from the first move's end.
     let third = task.add_instruction("MC3");
-    task.execute_coordinated(cs, third, line([1.0, 2.0], 0));
+    let _ = task.execute_coordinated(cs, third, line([1.0, 2.0], 0));
     for _ in 0..2000 {
         task.update();
     }
@@ -175,8 +175,8 @@ fn a_rejected_blend_successor_brakes_along_its_path_and_the_first_move_completes
     let (mut task, cs, axes) = xy([0.0, 0.0]);
     let first = task.add_instruction("MC1");
     let second = task.add_instruction("MC2");
-    task.execute_coordinated(cs, first, line([1.0, 0.0], 2));
-    task.execute_coordinated(cs, second, arc([1.0, 0.0], 0));
+    let _ = task.execute_coordinated(cs, first, line([1.0, 0.0], 2));
+    let _ = task.execute_coordinated(cs, second, arc([1.0, 0.0], 0));
     let h2 = task.coord_instruction_of(second).unwrap();
     let mut updates = 0;
     while task.coord_moves_started().iter().all(|m| m.instruction != h2) {
@@ -211,7 +211,7 @@ fn a_rejected_blend_successor_brakes_along_its_path_and_the_first_move_completes
 fn a_move_rejected_after_its_first_update_brakes_within_its_deceleration() {
     let (mut task, cs, axes) = xy([0.0, 0.0]);
     let mc = task.add_instruction("MC1");
-    task.execute_coordinated(cs, mc, line([0.0, 5.0], 0));
+    let _ = task.execute_coordinated(cs, mc, line([0.0, 5.0], 0));
     for _ in 0..100 {
         task.update();
     }
@@ -240,7 +240,7 @@ fn a_move_executed_between_updates_is_reported_and_undone_after_the_next_update(
     task.update();
     let before = bits(&task, &axes);
     let mc = task.add_instruction("MC1");
-    task.execute_coordinated(cs, mc, arc([0.0, 0.0], 0));
+    let _ = task.execute_coordinated(cs, mc, arc([0.0, 0.0], 0));
     assert!(task.coord_moves_started().is_empty(), "not advanced yet");
     task.update();
     let h = task.coord_instruction_of(mc).unwrap();
@@ -255,7 +255,7 @@ fn a_move_executed_between_updates_is_reported_and_undone_after_the_next_update(
     let (mut fresh, cs2, axes2) = xy([0.0, 0.0]);
     fresh.update();
     let mc2 = fresh.add_instruction("MC1");
-    fresh.execute_coordinated(cs2, mc2, arc([0.0, 0.0], 0));
+    let _ = fresh.execute_coordinated(cs2, mc2, arc([0.0, 0.0], 0));
     fresh.update();
     assert!(fresh.reject_coord_move(fresh.coord_instruction_of(mc2).unwrap()));
     for _ in 0..50 {

@@ -1,5 +1,6 @@
-//! MAH (Motion Axis Home): the homing attributes of an axis and what the
-//! instruction does with them. The executor side is `task/home.rs`.
+//! Homing: the homing attributes of an axis and what MAH (Motion Axis
+//! Home, `task/instructions/mah.rs`) does with them; the homing process
+//! runs in `task/homing.rs`.
 //!
 //! As in Logix, `MAH(Axis, MotionControl)` has no operands beyond the axis:
 //! how it homes is the axis' configuration ([`Homing`], the scene's

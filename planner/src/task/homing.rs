@@ -1,9 +1,9 @@
-//! MAH in the motion task: the homing process of an axis. The rules, and
-//! what the twin does not simulate, are in [`crate::mah`].
+//! The homing process of an axis, which MAH starts. The rules, and
+//! what the twin does not simulate, are in [`crate::homing`].
 
 use super::servo::Need;
 use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
-use crate::mah::HomeMode;
+use crate::homing::HomeMode;
 use crate::servo::StateError;
 
 impl MotionTask {
@@ -16,7 +16,7 @@ impl MotionTask {
     /// # Errors
     /// Active homing: ERR 53 (inhibited), 8 (feedback-only), 7 (shut down),
     /// 16 (already homing), 5 (servo off). Passive: ERR 53, 16.
-    pub fn mah(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
+    pub(crate) fn mah(&mut self, axis: AxisHandle, control: InstructionHandle) -> Result<(), StateError> {
         self.begin_state(control);
         let homing = self.axes[axis.0 as usize].config.homing;
         let need = match homing.mode {
@@ -41,7 +41,7 @@ impl MotionTask {
     }
 
     /// Cancels every motion process on `axis` for an active homing (module
-    /// doc of [`crate::mah`]); returns whether the axis is still moving.
+    /// doc of [`crate::homing`]); returns whether the axis is still moving.
     fn cancel_motion_for_homing(&mut self, axis: AxisHandle) -> bool {
         let a = &mut self.axes[axis.0 as usize];
         let buffered = a.buffered.take().map(|(fb, _)| fb);

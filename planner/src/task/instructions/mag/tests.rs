@@ -3,10 +3,13 @@
 //! and what ends a gearing.
 
 use super::*;
+use crate::instruction::LogixFault;
+use crate::task::{AxisHandle, MotionTask};
 use crate::axis::{AxisConfig, AxisKind};
 use crate::dynamics::MoveDynamics;
-use crate::jog::{MajOperands, MasOperands};
-use crate::mam::MamOperands;
+use crate::task::instructions::maj::MajOperands;
+use crate::task::instructions::mas::MasOperands;
+use crate::task::instructions::mam::MamOperands;
 
 const DT: f64 = 0.004;
 
@@ -206,7 +209,7 @@ fn a_servo_off_slave_or_the_master_as_its_own_slave_is_refused() {
     let gear = task.add_instruction("Gear");
     let o = MagOperands::default();
     let e = task.mag(slave, slave, gear, &o).unwrap_err();
-    assert_eq!((e.err(), e.exerr()), (13, crate::catalogue::MAG.exerr("Master Axis")));
+    assert_eq!((e.err(), e.exerr()), (13, MAG.exerr("Master Axis")));
     let msf = task.add_instruction("MSF");
     task.msf(slave, msf).unwrap();
     let e = task.mag(slave, master, gear, &o).unwrap_err();
@@ -223,4 +226,101 @@ fn a_disable_ends_the_gearing() {
     task.msf(slave, msf).unwrap();
     assert!(!task.motion_bits(gear).ip);
     assert!(!task.axis_status(slave).gearing);
+}
+
+
+fn slave() -> AxisConfig {
+    AxisConfig {
+        max_acceleration: 400.0,
+        ..AxisConfig::new("S", AxisKind::Rotary)
+    }
+}
+
+#[test]
+fn each_operand_out_of_range_is_named_by_its_faceplate_number() {
+    let ok = MagOperands::default();
+    for (o, name) in [
+        (MagOperands { direction: 4, ..ok }, "Direction"),
+        (MagOperands { ratio: 10.0, ..ok }, "Ratio"),
+        (MagOperands { ratio: 0.0, ..ok }, "Ratio"),
+        (MagOperands { ratio: f64::NAN, ..ok }, "Ratio"),
+        (
+            MagOperands {
+                ratio_format: 1,
+                slave_counts: 0,
+                ..ok
+            },
+            "Slave Counts",
+        ),
+        (
+            MagOperands {
+                ratio_format: 1,
+                master_counts: 0,
+                ..ok
+            },
+            "Master Counts",
+        ),
+        (MagOperands { ratio_format: 2, ..ok }, "Ratio Format"),
+        (
+            MagOperands {
+                master_reference: 2,
+                ..ok
+            },
+            "Master Reference",
+        ),
+        (MagOperands { clutch: 2, ..ok }, "Clutch"),
+        (
+            MagOperands {
+                clutch: 0,
+                accel_rate: 0.0,
+                ..ok
+            },
+            "Accel Rate",
+        ),
+        (
+            MagOperands {
+                clutch: 0,
+                accel_units: 3,
+                ..ok
+            },
+            "Accel Units",
+        ),
+    ] {
+        let e = Mag::new(&o, &slave()).unwrap_err();
+        assert_eq!((e.err(), e.exerr()), (13, MAG.exerr(name)), "{name}");
+    }
+}
+
+#[test]
+fn ratio_formats_directions_and_clutch_units() {
+    let o = MagOperands {
+        ratio: -2.5,
+        ..MagOperands::default()
+    };
+    let m = Mag::new(&o, &slave()).unwrap();
+    assert_eq!(m.effective_ratio(None), -2.5, "the ratio is sign sensitive");
+    let fraction = MagOperands {
+        ratio_format: 1,
+        slave_counts: 1,
+        master_counts: 3,
+        direction: 1,
+        clutch: 0,
+        accel_rate: 50.0,
+        accel_units: 1,
+        ..MagOperands::default()
+    };
+    let m = Mag::new(&fraction, &slave()).unwrap();
+    assert_eq!(m.effective_ratio(None), -1.0 / 3.0);
+    assert_eq!(m.clutch_accel, Some(200.0));
+    let reverse = Mag {
+        direction: GearDirection::Reverse,
+        ..m
+    };
+    assert_eq!(reverse.effective_ratio(Some(-1.0)), 1.0 / 3.0);
+    assert_eq!(reverse.effective_ratio(None), -1.0 / 3.0);
+    let unchanged = Mag {
+        direction: GearDirection::Unchanged,
+        ..m
+    };
+    assert_eq!(unchanged.effective_ratio(Some(-1.0)), -1.0 / 3.0);
 }

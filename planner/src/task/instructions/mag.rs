@@ -1,5 +1,6 @@
 //! MAG (Motion Axis Gear): electronic gearing of a slave axis to a master
-//! axis at a ratio. The executor side is `task/gear.rs`.
+//! axis at a ratio. The gearing runs in the engine (`task/gear.rs`), which
+//! moves the slave each coarse update.
 //!
 //! `MAG(SlaveAxis, MasterAxis, MotionControl, Direction, Ratio, SlaveCounts,
 //! MasterCounts, MasterReference, RatioFormat, Clutch, AccelRate,
@@ -38,8 +39,45 @@
 //! the Master Axis operand.
 
 use crate::axis::AxisConfig;
-use crate::catalogue::MAG;
+use crate::catalogue::words::{ACTUAL_COMMAND, CLUTCH, JOG_ACCEL_UNITS, MAPC_DIRECTION, RATIO_FORMAT, op};
+use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_load};
+use crate::dynamics::time_rate;
+use crate::instruction::{NoFault, Refusal};
 use crate::mapc::MasterReference;
+use crate::task::gear::GearRun;
+use crate::task::servo::Need;
+use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
+
+/// Motion Axis Gear.
+pub const MAG: Instruction = Instruction {
+    mnemonic: "MAG",
+    title: "Motion Axis Gear",
+    summary: "electronic gearing: real or fractional ratio, direction (same, opposite, reverse, unchanged), master actual or command, clutch; a MAM with Merge Disabled rides on it; MAS Gear or All stops it",
+    style: CallStyle::Positional,
+    operands: &[
+        op("Slave Axis", "AXIS", Format::Tag, Kind::Axis, 0),
+        op("Master Axis", "AXIS", Format::Tag, Kind::Axis, 1),
+        op("Motion Control", "MOTION_INSTRUCTION", Format::Tag, Kind::MotionControl, 2),
+        op("Direction", "DINT", Format::Immediate, Kind::Enumeration(MAPC_DIRECTION), 3),
+        op("Ratio", "REAL", Format::ImmediateOrTag, Kind::Number, 4),
+        op("Slave Counts", "DINT", Format::ImmediateOrTag, Kind::Integer, 5),
+        op("Master Counts", "DINT", Format::ImmediateOrTag, Kind::Integer, 6),
+        op(
+            "Master Reference",
+            "DINT",
+            Format::Immediate,
+            Kind::Enumeration(ACTUAL_COMMAND),
+            7,
+        ),
+        op("Ratio Format", "DINT", Format::Immediate, Kind::Enumeration(RATIO_FORMAT), 8),
+        op("Clutch", "DINT", Format::Immediate, Kind::Enumeration(CLUTCH), 9),
+        op("Accel Rate", "REAL", Format::ImmediateOrTag, Kind::Number, 10),
+        op("Accel Units", "DINT", Format::Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 11),
+    ],
+    execute,
+    check,
+    load: no_load,
+};
 
 /// MAG's numeric operands (enumerations as their codes).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -80,8 +118,32 @@ impl Default for MagOperands {
     }
 }
 
-/// Why MAG fails (ERR 13 with the operand, or the slave's state).
-pub type MagError = crate::instruction::OperandError;
+/// Why MAG fails: ERR 13 with the operand, or the slave's state.
+pub type MagError = Refusal<NoFault>;
+
+impl MagOperands {
+    /// The operands of a call, by catalogue position.
+    ///
+    /// # Errors
+    /// ERR 13 for Slave Counts or Master Counts beyond a DINT.
+    pub fn bind(args: &Args<'_>) -> Result<Self, MagError> {
+        let dint = |i: usize| {
+            let n = args.integer(i);
+            i32::try_from(n).map_err(|_| Refusal::operand(MAG.operands[i].faceplate, n as f64))
+        };
+        Ok(MagOperands {
+            direction: args.code(3),
+            ratio: args.number(4),
+            slave_counts: dint(5)?,
+            master_counts: dint(6)?,
+            master_reference: args.code(7),
+            ratio_format: args.code(8),
+            clutch: args.code(9),
+            accel_rate: args.number(10),
+            accel_units: args.code(11),
+        })
+    }
+}
 
 /// MAG's Direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -118,10 +180,7 @@ impl Mag {
     /// # Errors
     /// [`MagError::ParameterOutOfRange`] naming the first operand at fault.
     pub fn new(o: &MagOperands, slave: &AxisConfig) -> Result<Self, MagError> {
-        let bad = |name: &str, value: f64| MagError::ParameterOutOfRange {
-            operand: MAG.exerr(name),
-            value,
-        };
+        let bad = |name: &str, value: f64| Refusal::operand(MAG.exerr(name), value);
         let direction = match o.direction {
             0 => GearDirection::Same,
             1 => GearDirection::Opposite,
@@ -155,10 +214,8 @@ impl Mag {
         };
         let clutch_accel = match o.clutch {
             0 => {
-                let a = match o.accel_units {
-                    0 => o.accel_rate,
-                    1 => o.accel_rate / 100.0 * slave.max_acceleration,
-                    u => return Err(bad("Accel Units", f64::from(u))),
+                let Some(a) = time_rate(o.accel_rate, i64::from(o.accel_units), slave.max_acceleration) else {
+                    return Err(bad("Accel Units", f64::from(o.accel_units)));
                 };
                 if !(a.is_finite() && a > 0.0) {
                     return Err(bad("Accel Rate", o.accel_rate));
@@ -189,104 +246,78 @@ impl Mag {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::axis::AxisKind;
+fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
+    let control = args.control(2);
+    let result = MagOperands::bind(args).and_then(|o| task.mag(args.axis(0), args.axis(1), control, &o));
+    task.rung_false_next_scan(control);
+    result.map_err(fault)
+}
 
-    fn slave() -> AxisConfig {
-        AxisConfig {
-            max_acceleration: 400.0,
-            ..AxisConfig::new("S", AxisKind::Rotary)
-        }
-    }
+fn check(task: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {
+    let o = MagOperands::bind(args).map_err(fault)?;
+    Mag::new(&o, task.axis_config(args.axis(0))).map(|_| ()).map_err(fault)
+}
 
-    #[test]
-    fn each_operand_out_of_range_is_named_by_its_faceplate_number() {
-        let ok = MagOperands::default();
-        for (o, name) in [
-            (MagOperands { direction: 4, ..ok }, "Direction"),
-            (MagOperands { ratio: 10.0, ..ok }, "Ratio"),
-            (MagOperands { ratio: 0.0, ..ok }, "Ratio"),
-            (MagOperands { ratio: f64::NAN, ..ok }, "Ratio"),
-            (
-                MagOperands {
-                    ratio_format: 1,
-                    slave_counts: 0,
-                    ..ok
-                },
-                "Slave Counts",
-            ),
-            (
-                MagOperands {
-                    ratio_format: 1,
-                    master_counts: 0,
-                    ..ok
-                },
-                "Master Counts",
-            ),
-            (MagOperands { ratio_format: 2, ..ok }, "Ratio Format"),
-            (
-                MagOperands {
-                    master_reference: 2,
-                    ..ok
-                },
-                "Master Reference",
-            ),
-            (MagOperands { clutch: 2, ..ok }, "Clutch"),
-            (
-                MagOperands {
-                    clutch: 0,
-                    accel_rate: 0.0,
-                    ..ok
-                },
-                "Accel Rate",
-            ),
-            (
-                MagOperands {
-                    clutch: 0,
-                    accel_units: 3,
-                    ..ok
-                },
-                "Accel Units",
-            ),
-        ] {
-            let e = Mag::new(&o, &slave()).unwrap_err();
-            assert_eq!((e.err(), e.exerr()), (13, MAG.exerr(name)), "{name}");
-        }
-    }
-
-    #[test]
-    fn ratio_formats_directions_and_clutch_units() {
-        let o = MagOperands {
-            ratio: -2.5,
-            ..MagOperands::default()
+impl MotionTask {
+    /// MAG: gears `slave` to `master` at the operands' ratio (module doc of
+    /// the module doc). A MAG on a slave already geared supersedes the
+    /// running one (its `.IP` clears); the clutch then starts from the
+    /// gearing velocity it had.
+    ///
+    /// # Errors
+    /// ERR 13 (EXERR = the operand), or the slave's state error (5, 7, 8,
+    /// 16, 53).
+    pub(crate) fn mag(
+        &mut self,
+        slave: AxisHandle,
+        master: AxisHandle,
+        control: InstructionHandle,
+        operands: &MagOperands,
+    ) -> Result<(), MagError> {
+        let mag = self.instruction(control, |task| {
+            let m = Mag::new(operands, &task.axes[slave.0 as usize].config)?;
+            if slave == master {
+                return Err(Refusal::operand(MAG.exerr("Master Axis"), f64::from(master.0)));
+            }
+            task.check_state(slave, Need::Motion)?;
+            // The master decides the direction: either side counts.
+            task.check_overtravel(slave, 0.0)?;
+            Ok(m)
+        })?;
+        let previous = self.axes[slave.0 as usize].gear.take();
+        let current_sign = previous.as_ref().map(|g| g.ratio.signum());
+        let velocity = match &previous {
+            Some(g) => {
+                self.bits(g.control).ip = false;
+                g.velocity
+            }
+            None => {
+                let a = &self.axes[slave.0 as usize];
+                let sup = self.superimposed(slave).map_or(0.0, |s| s.velocity);
+                a.command.velocity - sup
+            }
         };
-        let m = Mag::new(&o, &slave()).unwrap();
-        assert_eq!(m.effective_ratio(None), -2.5, "the ratio is sign sensitive");
-        let fraction = MagOperands {
-            ratio_format: 1,
-            slave_counts: 1,
-            master_counts: 3,
-            direction: 1,
-            clutch: 0,
-            accel_rate: 50.0,
-            accel_units: 1,
-            ..MagOperands::default()
-        };
-        let m = Mag::new(&fraction, &slave()).unwrap();
-        assert_eq!(m.effective_ratio(None), -1.0 / 3.0);
-        assert_eq!(m.clutch_accel, Some(200.0));
-        let reverse = Mag {
-            direction: GearDirection::Reverse,
-            ..m
-        };
-        assert_eq!(reverse.effective_ratio(Some(-1.0)), 1.0 / 3.0);
-        assert_eq!(reverse.effective_ratio(None), -1.0 / 3.0);
-        let unchanged = Mag {
-            direction: GearDirection::Unchanged,
-            ..m
-        };
-        assert_eq!(unchanged.effective_ratio(Some(-1.0)), -1.0 / 3.0);
+        // The gearing takes the slave from a move or a cam; a jog or MAM
+        // running on it goes on superimposed.
+        self.abort_move(slave);
+        self.end_cams(slave);
+        self.superimpose_running_ramp(slave);
+        let key = (master, mag.master_reference);
+        self.axes[slave.0 as usize].gear = Some(GearRun {
+            control,
+            master,
+            reference: mag.master_reference,
+            ratio: mag.effective_ratio(current_sign),
+            last_master: self.cam_master_position(key),
+            clutch: mag.clutch_accel,
+            velocity,
+        });
+        let b = self.bits(control);
+        b.dn = true;
+        b.ip = true;
+        Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,5 +1,7 @@
-//! Motion Axis Move (MAM): a single-axis move to a position, with a
-//! trapezoidal or S-curve profile. The executor side is `task/mam.rs`.
+//! MAM (Motion Axis Move): a single-axis move to a position, with a
+//! trapezoidal or S-curve profile. The move runs as the axis' ramp in the
+//! engine (`task/cam.rs`), superimposed on a cam, a gearing or coordinated
+//! motion with Merge Disabled (`task/superimposed.rs`).
 //!
 //! # Operands (the manual's order, faceplate index = ERR 13's EXERR)
 //! `MAM(Axis, MotionControl, MoveType, Position, Speed, SpeedUnits,
@@ -52,9 +54,56 @@
 //!   simulated: it ends the jog as a merge does.
 
 use crate::axis::AxisConfig;
-use crate::dynamics::MoveDynamics;
-use crate::profile::{Limits, State, jerk_from_percent_of_time};
+use crate::catalogue::words::{
+    INTEGER, JOG_ACCEL_UNITS, JOG_SPEED_UNITS, LOCK_DIRECTION, MAM_MERGE, MERGE_SPEED, NUMERIC, PROFILE,
+    TIME_JERK_UNITS, op,
+};
+use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_load};
+use crate::dynamics::{MoveDynamics, time_rate};
+use crate::instruction::{LogixFault, Refusal};
+use crate::profile::{Limits, Profile, State, jerk_from_percent_of_time};
+use crate::task::servo::Need;
+use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
 use thiserror::Error;
+
+/// Motion Axis Move.
+pub const MAM: Instruction = Instruction {
+    mnemonic: "MAM",
+    title: "Motion Axis Move",
+    summary: "single-axis move: absolute, incremental, rotary shortest path / positive / negative, trapezoidal or S-curve with jerk units, merge and merge speed; a second MAM replaces the running one",
+    style: CallStyle::Positional,
+    operands: &[
+        op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),
+        op("Motion Control", "MOTION_INSTRUCTION", Format::Tag, Kind::MotionControl, 1),
+        op("Move Type", INTEGER, Format::ImmediateOrTag, Kind::Integer, 2),
+        op("Position", NUMERIC, Format::ImmediateOrTag, Kind::Number, 3),
+        op("Speed", NUMERIC, Format::ImmediateOrTag, Kind::Number, 4),
+        op("Speed Units", INTEGER, Format::Immediate, Kind::Enumeration(JOG_SPEED_UNITS), 5),
+        op("Accel Rate", NUMERIC, Format::ImmediateOrTag, Kind::Number, 6),
+        op("Accel Units", INTEGER, Format::Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 7),
+        op("Decel Rate", NUMERIC, Format::ImmediateOrTag, Kind::Number, 8),
+        op("Decel Units", INTEGER, Format::Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 9),
+        op("Profile", INTEGER, Format::Immediate, Kind::Enumeration(PROFILE), 10),
+        op("Accel Jerk", NUMERIC, Format::ImmediateOrTag, Kind::Number, 11),
+        op("Decel Jerk", NUMERIC, Format::ImmediateOrTag, Kind::Number, 12),
+        op("Jerk Units", INTEGER, Format::Immediate, Kind::Enumeration(TIME_JERK_UNITS), 13),
+        op("Merge", INTEGER, Format::Immediate, Kind::Enumeration(MAM_MERGE), 14),
+        op("Merge Speed", INTEGER, Format::Immediate, Kind::Enumeration(MERGE_SPEED), 15),
+        op("Lock Position", "REAL", Format::ImmediateOrTag, Kind::Number, 16),
+        op(
+            "Lock Direction",
+            "UINT32",
+            Format::ImmediateOrTag,
+            Kind::Enumeration(LOCK_DIRECTION),
+            17,
+        ),
+        op("Event Distance", "REAL ARRAY or 0", Format::Array, Kind::OptionalArray, 18),
+        op("Calculated Data", "REAL ARRAY or 0", Format::Array, Kind::OptionalArray, 19),
+    ],
+    execute,
+    check,
+    load: no_load,
+};
 
 /// MAM's numeric operands.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -113,51 +162,60 @@ pub enum MoveType {
     RotaryNegative,
 }
 
-/// Why an MAM is refused.
-#[derive(Debug, Clone, Copy, PartialEq, Error)]
+/// MAM's own refusal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
 #[non_exhaustive]
-pub enum MamError {
-    /// ERR 13: an operand out of range (EXERR = its faceplate index).
-    #[error("parameter out of range: operand {operand} = {value} (ERR 13)")]
-    ParameterOutOfRange {
-        /// Faceplate index.
-        operand: i32,
-        /// Its value.
-        value: f64,
-    },
+pub enum MamFault {
     /// ERR 17: a rotary move type on an axis without a modulo period.
     #[error("axis mode not rotary (ERR 17): move type {move_type} needs a modulo axis")]
     AxisModeNotRotary {
         /// The move type.
         move_type: i64,
     },
-    /// The axis' state refuses the move (ERR 5, 7, 8, 53 …; EXERR 0).
-    #[error("{0}")]
-    State(crate::servo::StateError),
 }
 
-impl MamError {
-    /// The `ERR` code.
-    pub fn err(&self) -> i32 {
+impl LogixFault for MamFault {
+    fn err(&self) -> i32 {
         match self {
-            Self::ParameterOutOfRange { .. } => 13,
             Self::AxisModeNotRotary { .. } => 17,
-            Self::State(e) => e.err(),
-        }
-    }
-
-    /// The `EXERR` code.
-    pub fn exerr(&self) -> i32 {
-        match self {
-            Self::ParameterOutOfRange { operand, .. } => *operand,
-            _ => 0,
         }
     }
 }
 
-/// Faceplate indices, read from the catalogue.
+/// Why an MAM is refused: ERR 13 with the operand, the axis' state, or
+/// [`MamFault`].
+pub type MamError = Refusal<MamFault>;
+
+impl MamOperands {
+    /// The operands of a call, by catalogue position (Lock Position, Event
+    /// Distance and Calculated Data are not simulated: module doc).
+    #[must_use]
+    pub fn bind(args: &Args<'_>) -> Self {
+        MamOperands {
+            move_type: args.integer(2),
+            position: args.number(3),
+            dynamics: MoveDynamics {
+                speed: args.number(4),
+                speed_units: args.integer(5),
+                accel_rate: args.number(6),
+                accel_units: args.integer(7),
+                decel_rate: args.number(8),
+                decel_units: args.integer(9),
+                profile: args.integer(10),
+                accel_jerk: args.number(11),
+                decel_jerk: args.number(12),
+                jerk_units: args.integer(13),
+            },
+            merge: args.integer(14),
+            merge_speed: args.integer(15),
+            lock_direction: args.integer(17),
+        }
+    }
+}
+
+/// Faceplate indices (ERR 13's EXERR).
 mod exerr {
-    use crate::catalogue::MAM;
+    use super::MAM;
 
     pub(super) const MOVE_TYPE: i32 = MAM.exerr("Move Type");
     pub(super) const POSITION: i32 = MAM.exerr("Position");
@@ -191,7 +249,7 @@ pub struct Mam {
 }
 
 fn bad(operand: i32, value: f64) -> MamError {
-    MamError::ParameterOutOfRange { operand, value }
+    Refusal::operand(operand, value)
 }
 
 fn code(operand: i32, value: i64, max: i64) -> Result<i64, MamError> {
@@ -205,10 +263,7 @@ fn code(operand: i32, value: i64, max: i64) -> Result<i64, MamError> {
 /// A rate in units/s (units 0) or % of `max` (units 1), finite and > 0
 /// (≥ 0 when `zero_ok`).
 fn rate(operand: i32, value: f64, units_operand: i32, units: i64, max: f64, zero_ok: bool) -> Result<f64, MamError> {
-    let v = match code(units_operand, units, 1)? {
-        0 => value,
-        _ => value / 100.0 * max,
-    };
+    let v = time_rate(value, code(units_operand, units, 1)?, max).unwrap_or(f64::NAN);
     if v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0)) {
         Ok(v)
     } else {
@@ -236,7 +291,11 @@ impl Mam {
         }
         let rotary = !matches!(move_type, MoveType::Absolute | MoveType::Incremental);
         match axis.modulo() {
-            None if rotary => return Err(MamError::AxisModeNotRotary { move_type: o.move_type }),
+            None if rotary => {
+                return Err(Refusal::Instruction(MamFault::AxisModeNotRotary {
+                    move_type: o.move_type,
+                }));
+            }
             Some(m) if move_type == MoveType::RotaryShortestPath && !(0.0..m.period()).contains(&o.position) => {
                 return Err(bad(exerr::POSITION, o.position));
             }
@@ -345,6 +404,70 @@ impl Mam {
             }
         }
     }
+}
+
+fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
+    let control = args.control(1);
+    let result = task.mam(args.axis(0), control, &MamOperands::bind(args));
+    task.rung_false_next_scan(control);
+    result.map_err(fault)
+}
+
+/// The operands' validation against the axis at rest.
+fn check(task: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {
+    Mam::new(&MamOperands::bind(args), task.axis_config(args.axis(0)), 0.0)
+        .map(|_| ())
+        .map_err(fault)
+}
+
+impl MotionTask {
+    /// MAM: moves `axis` as the operands say. `.DN` at once, `.IP` and
+    /// `.AC` while it moves, `.PC` when the command reaches the target; a
+    /// MAM that another replaces, or that a stop, a disable or another
+    /// motion process ends, clears `.IP` without `.PC`.
+    ///
+    /// # Errors
+    /// ERR 13 with EXERR = the operand, ERR 17 for a rotary move type on a
+    /// non-modulo axis, the axis-state errors of [`crate::servo`] (ERR 9
+    /// for a target further beyond an exceeded soft travel limit); the
+    /// axis keeps what it was doing.
+    pub(crate) fn mam(
+        &mut self,
+        axis: AxisHandle,
+        control: InstructionHandle,
+        operands: &MamOperands,
+    ) -> Result<(), MamError> {
+        let (mam, target) = self.instruction(control, |task| {
+            let a = &task.axes[axis.0 as usize];
+            let start = a.command.state();
+            let m = Mam::new(operands, &a.config, start.velocity.abs())?;
+            task.check_state(axis, Need::Motion)?;
+            let target = m.target(start, &a.config);
+            if target != start.position {
+                task.check_overtravel(axis, target - start.position)?;
+            }
+            Ok::<_, MamError>((m, target))
+        })?;
+        let start = self.axes[axis.0 as usize].command.state();
+        self.bits(control).dn = true;
+        let base_driven = self.cam_drives(axis) || self.coordinated_motion_status(axis);
+        if !mam.merge && base_driven {
+            // Superimposed on the cam or the coordinated motion.
+            self.superimpose_move(axis, control, target - start.position, &mam.limits);
+            return Ok(());
+        }
+        // Every other single-axis motion on the axis ends (see the module
+        // doc on merge); a MAM it replaces loses `.IP`.
+        self.fold_superimposed(axis);
+        self.abort_move(axis);
+        self.end_cams(axis);
+        self.end_gear(axis);
+        let start = self.axes[axis.0 as usize].command.state();
+        let profile = Profile::to_position(start, target, 0.0, &mam.limits);
+        self.start_move_ramp(axis, profile, control);
+        Ok(())
+    }
+
 }
 
 #[cfg(test)]
@@ -532,5 +655,147 @@ mod tests {
         let current = MamOperands { merge_speed: 1, ..o };
         assert_eq!(Mam::new(&current, &table(), 42.0).unwrap().limits.velocity(), 42.0);
         assert_eq!(Mam::new(&current, &table(), 0.0).unwrap().limits.velocity(), 180.0);
+    }
+}
+
+#[cfg(test)]
+mod executor_tests {
+    use super::*;
+    use crate::axis::{AxisConfig, AxisKind};
+    use crate::dynamics::MoveDynamics;
+    use crate::task::instructions::mas::MasOperands;
+
+    const DT: f64 = 0.004;
+
+    fn rig(modulo: bool) -> (MotionTask, AxisHandle) {
+        rig_at(modulo, 0.0)
+    }
+
+    fn rig_at(modulo: bool, position: f64) -> (MotionTask, AxisHandle) {
+        let mut task = MotionTask::new(DT).unwrap();
+        let config = AxisConfig {
+            modulo_period: modulo.then_some(360.0),
+            max_velocity: 360.0,
+            max_acceleration: 3600.0,
+            max_deceleration: 3600.0,
+            max_jerk: 36_000.0,
+            ..AxisConfig::new("A", if modulo { AxisKind::Rotary } else { AxisKind::Linear })
+        };
+        let axis = task.add_axis(config, position).unwrap();
+        (task, axis)
+    }
+
+    fn to(move_type: i64, position: f64, speed_pct: f64) -> MamOperands {
+        MamOperands {
+            move_type,
+            position,
+            dynamics: MoveDynamics {
+                speed: speed_pct,
+                ..MamOperands::default().dynamics
+            },
+            ..MamOperands::default()
+        }
+    }
+
+    /// Runs until `.PC` or `.IP` falls; returns the command velocities.
+    fn run(task: &mut MotionTask, axis: AxisHandle, mi: InstructionHandle) -> Vec<f64> {
+        let mut v = Vec::new();
+        for _ in 0..10_000 {
+            task.update();
+            v.push(task.axis_state(axis).command_velocity);
+            if !task.motion_bits(mi).ip {
+                break;
+            }
+        }
+        v
+    }
+
+    #[test]
+    fn an_absolute_move_ends_exactly_at_its_target_with_pc() {
+        let (mut task, axis) = rig(false);
+        let mi = task.add_instruction("Move");
+        task.mam(axis, mi, &to(0, 100.0, 50.0)).unwrap();
+        let b = task.motion_bits(mi);
+        assert!(b.en && b.dn && b.ip && b.ac && !b.pc);
+        assert!(task.axis_status(axis).moving);
+        task.update();
+        assert!(task.motion_bits(mi).accel);
+        let v = run(&mut task, axis, mi);
+        let b = task.motion_bits(mi);
+        assert!(b.pc && !b.ip && !b.ac && !b.accel && !b.decel, "{b:?}");
+        assert_eq!(task.axis_state(axis).command_position, 100.0);
+        assert!(v.iter().all(|&x| x <= 180.0 + 1e-9), "50 % of 360");
+        assert!(!task.axis_status(axis).moving);
+    }
+
+    #[test]
+    fn a_second_mam_replaces_the_first_without_stopping() {
+        let (mut task, axis) = rig(false);
+        let (first, second) = (task.add_instruction("M1"), task.add_instruction("M2"));
+        task.mam(axis, first, &to(0, 100.0, 50.0)).unwrap();
+        for _ in 0..50 {
+            task.update();
+        }
+        let v0 = task.axis_state(axis).command_velocity;
+        assert!(v0 > 100.0);
+        task.mam(axis, second, &to(1, 10.0, 50.0)).unwrap();
+        let here = task.axis_state(axis).command_position;
+        let b = task.motion_bits(first);
+        assert!(!b.ip && !b.pc, "replaced: {b:?}");
+        let v = run(&mut task, axis, second);
+        assert!(task.motion_bits(second).pc);
+        assert!(v[..v.len() - 1].iter().all(|&x| x != 0.0), "no stop on the way");
+        assert!((task.axis_state(axis).command_position - (here + 10.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn mas_move_stops_a_mam_without_pc() {
+        let (mut task, axis) = rig(false);
+        let (mv, stop) = (task.add_instruction("Move"), task.add_instruction("Stop"));
+        task.mam(axis, mv, &to(0, 500.0, 100.0)).unwrap();
+        for _ in 0..30 {
+            task.update();
+        }
+        let o = MasOperands {
+            stop_type: 2,
+            ..MasOperands::default()
+        };
+        task.mas(axis, stop, &o).unwrap();
+        let b = task.motion_bits(mv);
+        assert!(!b.ip && !b.pc);
+        run(&mut task, axis, stop);
+        assert!(task.motion_bits(stop).pc);
+        assert!(task.axis_state(axis).command_position < 500.0);
+    }
+
+    #[test]
+    fn an_s_curve_move_keeps_its_jerk_and_a_rotary_positive_move_never_turns_back() {
+        let (mut task, axis) = rig_at(true, 315.0);
+        let mi = task.add_instruction("Move");
+        let o = MamOperands {
+            dynamics: MoveDynamics {
+                profile: 1,
+                accel_jerk: 20_000.0,
+                decel_jerk: 20_000.0,
+                jerk_units: 0,
+                ..to(3, 225.0, 100.0).dynamics
+            },
+            ..to(3, 225.0, 100.0)
+        };
+        task.mam(axis, mi, &o).unwrap();
+        let mut peak_jerk: f64 = 0.0;
+        for _ in 0..10_000 {
+            task.update();
+            let s = task.axis_state(axis);
+            assert!(s.command_velocity >= 0.0, "forward only");
+            peak_jerk = peak_jerk.max(s.command_jerk.abs());
+            if task.motion_bits(mi).pc {
+                break;
+            }
+        }
+        assert!(peak_jerk <= 20_000.0 * (1.0 + 1e-9), "{peak_jerk}");
+        let s = task.axis_state(axis);
+        assert_eq!(s.modulo_command_position, Some(225.0));
+        assert_eq!(s.command_position, 315.0 + 270.0, "315 → 225 forward is 270");
     }
 }
