@@ -113,17 +113,6 @@ impl McDirection {
             _ => return None,
         })
     }
-
-    /// The enumeration for its ST name (`MC_Positive_Direction`, …),
-    /// case-insensitive, as the catalogue lists the Direction input's words.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::from_code(input_code(crate::catalogue::words::MC_DIRECTION, name)?)
-    }
-}
-
-/// The code of enumeration word `word` (case-insensitive) in `words`.
-fn input_code(words: &[crate::catalogue::Word], word: &str) -> Option<i64> {
-    words.iter().find(|w| w.word.eq_ignore_ascii_case(word)).map(|w| w.code)
 }
 
 /// PLCopen `MC_BufferMode`: what happens when the axis is already executing
@@ -159,11 +148,6 @@ impl McBufferMode {
         })
     }
 
-    /// The enumeration for its ST name (`MC_Aborting`, …), case-insensitive,
-    /// as the catalogue lists the BufferMode input's words.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::from_code(input_code(crate::catalogue::words::MC_BUFFER_MODE, name)?)
-    }
 
     /// The junction velocity (magnitude) between a running command of
     /// velocity `previous` and a new one of velocity `next`, or `None` for
@@ -790,14 +774,6 @@ mod tests {
         assert_eq!(McDirection::from_code(0), None);
         assert_eq!(McDirection::from_code(4), Some(McDirection::CurrentDirection));
         assert_eq!(McBufferMode::from_code(6), None);
-        assert_eq!(
-            McBufferMode::from_name("MC_BlendingHigh"),
-            Some(McBufferMode::BlendingHigh)
-        );
-        assert_eq!(
-            McDirection::from_name("mc_shortest_way"),
-            Some(McDirection::ShortestWay)
-        );
         assert_eq!(MoveModuloError::Direction { code: 9 }.error_id(), ErrorId::DIRECTION);
         assert_eq!(MoveModuloError::BufferMode { code: 9 }.error_id(), ErrorId::BUFFER_MODE);
     }

@@ -14,8 +14,8 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::fmt::Write as _;
-use twin::program::plc::sandbox::Sandbox;
-use twin::program::plc::types::Value;
+use twin::program::sandbox::Sandbox;
+use twin::program::types::Value;
 
 /// 500 statements executed a scan: 100 blocks of five.
 fn routine() -> String {

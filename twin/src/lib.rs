@@ -3,7 +3,10 @@
 //!
 //! The stages follow the data, and each imports only the ones before it:
 //!
-//! * [`st`] — the Structured Text call syntax;
+//! * [`source`] — the files a user wrote, spans into them, and the one
+//!   diagnostic type every stage reports a user's input with;
+//! * [`st`] — the Structured Text front-end (routines, step calls, scene
+//!   expressions);
 //! * [`scene`] — a scene file loaded and validated into a [`scene::Scene`];
 //! * [`program`] — the scene's program bound to the planner, scanned each
 //!   coarse update;
@@ -19,4 +22,5 @@ pub mod plant;
 pub mod program;
 pub mod run;
 pub mod scene;
+pub mod source;
 pub mod st;

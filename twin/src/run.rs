@@ -15,7 +15,8 @@
 //! ([`crate::program`]).
 
 use crate::plant::{Plant, PlantError};
-use crate::program::{Program, ProgramError};
+use crate::program::Program;
+use crate::source::Diagnostic;
 use crate::scene::Scene;
 use planner::task::{MotionTask, TaskError};
 use std::path::PathBuf;
@@ -37,9 +38,10 @@ pub enum RunError {
     /// The plant cannot be built (URDF, joints, physics, collision, …).
     #[error(transparent)]
     Plant(#[from] PlantError),
-    /// A program step cannot be bound.
+    /// The program does not compile: a routine, a step's call or trigger,
+    /// a traced tag.
     #[error(transparent)]
-    Program(#[from] ProgramError),
+    Program(#[from] Box<Diagnostic>),
 }
 
 /// A loaded, bound scene, ready to step.

@@ -1761,7 +1761,7 @@ fn scenes_readme_operand_lists_equal_the_catalogue() {
     let (begin, end) = ("<!-- catalogue:begin -->\n", "<!-- catalogue:end -->");
     let start = text.find(begin).expect("begin marker") + begin.len();
     let stop = text.find(end).expect("end marker");
-    let expected = planner::catalogue::markdown();
+    let expected = planner::task::instructions::markdown();
     if std::env::var_os("UPDATE_DOCS").is_some() && std::env::var_os("CI").is_none() {
         let updated = format!("{}{expected}{}", &text[..start], &text[stop..]);
         std::fs::write(&path, updated).expect("rewrite scenes/README.md");
@@ -1769,11 +1769,11 @@ fn scenes_readme_operand_lists_equal_the_catalogue() {
     }
     assert!(
         text[start..stop] == expected,
-        "scenes/README.md's instruction list differs from planner::catalogue; run UPDATE_DOCS=1 cargo test -p twin --test scenes scenes_readme"
+        "scenes/README.md's instruction list differs from planner::task::instructions; run UPDATE_DOCS=1 cargo test -p twin --test scenes scenes_readme"
     );
     // Every catalogued mnemonic is also in the README's table of calls.
     let readme = std::fs::read_to_string(root().join("README.md")).expect("README.md");
-    for ins in planner::catalogue::INSTRUCTIONS {
+    for ins in planner::task::instructions::INSTRUCTIONS {
         assert!(
             readme.contains(&format!("`{}`", ins.mnemonic)),
             "README.md lacks {}",

@@ -34,7 +34,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::cmp::Ordering;
 use std::time::Instant;
-use twin::program::plc::{sandbox::Sandbox, types::Value};
+use twin::program::{sandbox::Sandbox, types::Value};
 
 /// The seed of program `n` is `SEED_BASE + n`.
 const SEED_BASE: u64 = 0x5747_0000_0000;

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use twin::program::plc::types::Value;
+use twin::program::types::Value;
 use twin::run::Twin;
 
 mod common;

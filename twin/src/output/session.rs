@@ -461,11 +461,11 @@ pub struct TasksSummary {
     /// That wall time as a share of the run's.
     pub task_share: f64,
     /// The major fault that stopped the run, if any.
-    pub major_fault: Option<crate::program::plc::Fault>,
+    pub major_fault: Option<crate::program::controller::Fault>,
     /// Minor faults recorded (all counted).
     pub minor_fault_count: i64,
     /// The first minor faults, in order.
-    pub minor_faults: Vec<crate::program::plc::Fault>,
+    pub minor_faults: Vec<crate::program::controller::Fault>,
     /// Motion instructions whose operand values were refused at run time.
     pub refused: Vec<String>,
 }

@@ -51,7 +51,8 @@
 //! and from 1e16 in magnitude (`1.5e-20`) so that values near zero stay
 //! short; deterministic, so reruns write identical files.
 
-use crate::program::plc::types::Value;
+use crate::program::types::Value;
+use planner::task::instructions::{maj, mafr, mah, mam, masd, masr, mccm, mclm, mcsd, mcsr, mct, msf, mso};
 use crate::run::Twin;
 use planner::coord::CoordStatus;
 use planner::instruction::{FbOutputs, MotionInstructionBits};
@@ -325,30 +326,23 @@ fn coord_row(twin: &Twin, row: &mut Row<'_>) {
     }
 }
 
-/// Whether the program calls `instruction` (a step or a routine).
-fn calls(twin: &Twin, instruction: &str) -> bool {
-    twin.scene()
-        .program
-        .iter()
-        .any(|s| s.call.name.value.eq_ignore_ascii_case(instruction))
-        || twin.program().controller().calls(instruction)
-}
-
 /// Whether the program calls MCT.
 fn uses_mct(twin: &Twin) -> bool {
-    calls(twin, "MCT")
+    twin.program().calls(&mct::MCT)
 }
 
-/// Whether the program's single-axis motion can be superimposed.
+/// Whether the program's single-axis motion can be superimposed: a MAM,
+/// or a MAJ where coordinated moves run.
 fn superimposes(twin: &Twin) -> bool {
-    calls(twin, "MAM") || (calls(twin, "MAJ") && (calls(twin, "MCLM") || calls(twin, "MCCM")))
+    let p = twin.program();
+    p.calls(&mam::MAM) || (p.calls(&maj::MAJ) && (p.calls(&mclm::MCLM) || p.calls(&mccm::MCCM)))
 }
 
 /// Whether the program calls a state instruction.
 fn uses_states(twin: &Twin) -> bool {
-    ["MSO", "MSF", "MASD", "MASR", "MAFR", "MAH", "MCSD", "MCSR"]
+    [&mso::MSO, &msf::MSF, &masd::MASD, &masr::MASR, &mafr::MAFR, &mah::MAH, &mcsd::MCSD, &mcsr::MCSR]
         .iter()
-        .any(|m| calls(twin, m))
+        .any(|i| twin.program().calls(i))
 }
 
 #[cfg(test)]

@@ -20,49 +20,35 @@ use super::physics::JointDrive;
 use super::urdf::RobotModel;
 use crate::scene::{Scene, TagValue};
 use crate::st::ast::ExprKind;
-use crate::st::{Args, Expr};
-use planner::catalogue;
+use planner::task::instructions::{self, mct::MCT};
 use planner::mct::{Geometry, JointKind};
 use std::f64::consts::{PI, TAU};
 
 /// Every target system with a `geometry` table that an MCT call of the
 /// program names, once (the first call's source with it): `(source tag,
 /// target tag)`. A program may call MCT on the same systems again (after
-/// the link ended); it is still one transform of one robot.
+/// the link ended); it is still one transform of one robot. The calls are
+/// the steps', then the routines' of the tasks, each looked up in the
+/// instruction catalogue.
 fn transforms(scene: &Scene) -> Vec<(&crate::scene::Tag, &crate::scene::Tag)> {
-    // (source, target) names of each MCT call: the scene's steps, then the
-    // routines of its tasks.
-    let steps = scene.program.iter().filter_map(|step| {
-        let Args::Positional(operands) = &step.call.args else {
-            return None;
-        };
-        if !step.call.name.value.eq_ignore_ascii_case("MCT") || operands.len() != catalogue::MCT.operands.len() {
-            return None;
-        }
-        match (&operands[0].value, &operands[1].value) {
-            (Expr::Ident(source), Expr::Ident(target)) => Some((source.as_str(), target.as_str())),
-            _ => None,
-        }
-    });
     let routines = scene
         .tasks
         .iter()
         .flat_map(|t| &t.programs)
         .flat_map(|p| std::iter::once(&p.main).chain(&p.routines))
-        .flat_map(|r| r.routine.calls())
-        .filter_map(|call| {
-            if !call.name.eq_ignore_ascii_case("MCT") || call.args.len() != catalogue::MCT.operands.len() {
-                return None;
-            }
-            let tag = |k: usize| match call.args[k].expr.as_ref().map(|e| &e.kind) {
-                Some(ExprKind::Ref(r)) if r.path.is_empty() => Some(r.name.as_str()),
-                _ => None,
-            };
-            Some((tag(0)?, tag(1)?))
-        });
+        .flat_map(|r| r.routine.calls());
+    let calls = scene.program.iter().map(|s| &s.call).chain(routines);
+    let (source, target) = (MCT.index("Source System"), MCT.index("Target System"));
     let mut found: Vec<(&crate::scene::Tag, &crate::scene::Tag)> = Vec::new();
-    for (source, target) in steps.chain(routines) {
-        if let (Some(source), Some(target)) = (scene.tag(source), scene.tag(target))
+    for call in calls {
+        if instructions::find(&call.name) != Some(&MCT) || call.args.len() != MCT.operands.len() {
+            continue;
+        }
+        let tag = |k: usize| match call.args[k].expr.as_ref().map(|e| &e.kind) {
+            Some(ExprKind::Ref(r)) if r.path.is_empty() => scene.tag(&r.name),
+            _ => None,
+        };
+        if let (Some(source), Some(target)) = (tag(source), tag(target))
             && target.geometry.is_some()
             && !found.iter().any(|(_, t)| t.name == target.name)
         {

@@ -1,117 +1,77 @@
 //! The program: what the PLC side executes each coarse update.
 //!
-//! **In:** the scene's `[[program]]` steps (validated calls and triggers)
-//! and the planner its axes were added to. **Out:** instruction calls into
-//! the planner ([`planner::task::MotionTask`]), each at the update its
-//! trigger makes it due.
+//! **In:** the scene's `[[program]]` steps and `[[tasks]]` (parsed by
+//! [`crate::st`]), its tags and axes, and the planner its axes were added
+//! to. **Out:** instruction calls into the planner
+//! ([`planner::task::MotionTask::execute`]), live tag values, faults.
 //!
-//! * [`bind`] reads a positional Logix call's operands through the
-//!   instruction catalogue ([`planner::catalogue`]); one file per
-//!   instruction family binds them to the planner: [`coord`] (MCLM, MCCM,
-//!   MCS), [`mct`] (MCT), [`cam`] (MCCP, MAPC, MRP, MAJ, MAS), [`state`]
-//!   (MSO, MSF, MASD, MASR, MAFR, MCSD, MCSR), [`modulo`] (the PLCopen
-//!   block MC_MoveModulo, named inputs).
-//! * [`steps`] holds the triggers: when each step fires.
-//! * [`plc`] is the task engine: `[[tasks]]` of Structured Text programs
-//!   scanned periodically, with live tags, timers and faults; its motion
-//!   instructions are bound by the same family files, with operand values
-//!   read when they execute.
+//! The stage is one compiler and one interpreter for everything a user
+//! writes in Structured Text:
+//! * [`memory`] lays out tag memory; [`bindings`] binds the planner
+//!   handles the program names, on first use;
+//! * [`compile`] compiles routines, step calls and scene expressions into
+//!   [`ir`]: names resolved, expressions typed, each instruction call bound
+//!   to its catalogue entry ([`planner::task::instructions`]) with its
+//!   operands by kind; errors are [`crate::source::Diagnostic`]s;
+//! * [`exec`] evaluates the compiled form (it imports no compiler);
+//! * [`controller`] is the task engine: periodic tasks scanned with their
+//!   timing, prescan and faults; [`steps`] are the `[[program]]` steps;
+//!   [`sandbox`] is the engine without a plant, for tests.
 //!
 //! # Program steps
 //! Each step fires once. A `when` step is armed once the step before it has
 //! fired (the list is a sequence, like SFC transitions) and is due `after_s`
-//! after the first update at which its bit is TRUE; an `at_s` step is due at
-//! its time. A step fires at the first coarse update that starts at or after
-//! it is due; due steps set their inputs in list order, just before the
-//! planner update. A function-block call sets the inputs it
-//! names; the others keep their last value, as PLC block inputs do.
-//! A Logix call is one scan of a rung that has just become true (see
-//! [`bind`]); `when` may name a control-structure bit (`MC1.PC`) as well as
-//! a function-block output (`MoveTable.Done`).
+//! after the first update at which its condition is TRUE; an `at_s` step is
+//! due at its time. A step fires at the first coarse update that starts at
+//! or after it is due; every trigger is read first, then the due steps
+//! execute in list order, just before the planner update. A function-block
+//! call sets the inputs it names; the others keep their last value, as PLC
+//! block inputs do. A Logix call is one scan of a rung that has just
+//! become true (a one-shot rung): the instruction executes once, with the
+//! scene's tag values (read when the scene loads: steps do not see tasks'
+//! writes), and the rung is false again from the next scan on; what the
+//! instruction then does with its control structure (`.EN`, `.DN`, `.ER`,
+//! `.IP`, `.AC`, `.PC`, …) is the instruction's own rule. `when` is a BOOL
+//! expression of the controller's scope: a control-structure bit
+//! (`MC1.PC`), a function-block output (`MoveTable.Done`), a tag.
 
-pub mod bind;
-pub mod cam;
-pub mod coord;
-pub mod mct;
-pub mod modulo;
-pub mod plc;
-pub mod state;
+pub mod bindings;
+pub mod compile;
+pub mod controller;
+pub mod exec;
+pub mod ir;
+pub mod memory;
+pub mod sandbox;
 pub mod steps;
+pub mod types;
 
-use crate::scene::Scene;
-use crate::st::{Args, Expr};
-use bind::{Bind, BindError, LogixContext, LogixStep};
-use planner::catalogue::{self, CallStyle, Family};
-use planner::task::{FbHandle, InstructionHandle, MotionTask};
-use std::path::PathBuf;
-use steps::{CompiledStep, StepAction};
-use thiserror::Error;
-
-/// Why a program step cannot be bound.
-#[derive(Debug, Error)]
-#[non_exhaustive]
-pub enum ProgramError {
-    /// A program step cannot be carried out.
-    #[error("{scene}:{line}:{column}: program[{index}].{field}: {message}")]
-    Step {
-        /// Scene file.
-        scene: PathBuf,
-        /// Line of the operand at fault, or of the `call`/`when` string.
-        line: usize,
-        /// Column of the operand at fault, or of the string.
-        column: usize,
-        /// Step index.
-        index: usize,
-        /// The step's field at fault (`call`, `when`).
-        field: &'static str,
-        /// What is wrong.
-        message: String,
-    },
-    /// A `[trace] tags` entry that names nothing traceable.
-    #[error("{scene}:{line}:{column}: trace.tags[{index}]: {message}")]
-    TraceTag {
-        /// Scene file.
-        scene: PathBuf,
-        /// Line of the entry.
-        line: usize,
-        /// Column of the entry.
-        column: usize,
-        /// Entry index.
-        index: usize,
-        /// What is wrong.
-        message: String,
-    },
-    /// A routine of a task cannot be compiled.
-    #[error(transparent)]
-    Task(#[from] plc::TaskError),
-}
-
-/// A function-block instance of the program.
-#[derive(Debug, Clone)]
-pub struct FbBinding {
-    /// Instance tag name.
-    pub name: String,
-    /// Planner handle.
-    pub handle: FbHandle,
-}
-
-/// A `MOTION_INSTRUCTION` tag of the program (a Logix control structure).
-#[derive(Debug, Clone)]
-pub struct InstructionBinding {
-    /// Tag name.
-    pub name: String,
-    /// Planner handle.
-    pub handle: InstructionHandle,
-}
+use crate::scene::{Dialect, Scene};
+use crate::source::Diagnostic;
+use bindings::{Bindings, Declarations, Env, FbBinding, InstructionBinding};
+use compile::Compiler;
+use controller::Controller;
+use ir::Place;
+use memory::Memory;
+use planner::catalogue::Instruction;
+use planner::task::MotionTask;
+use steps::CompiledStep;
+use types::{DataType, Value};
 
 /// The scene's program bound to the planner.
-#[derive(Debug)]
 pub struct Program {
-    fbs: Vec<FbBinding>,
-    instructions: Vec<InstructionBinding>,
+    bindings: Bindings,
     steps: Vec<CompiledStep>,
-    plc: plc::Controller,
+    plc: Controller,
     traced: Vec<TracedTag>,
+}
+
+impl std::fmt::Debug for Program {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Program")
+            .field("steps", &self.steps.len())
+            .field("controller", &self.plc)
+            .finish_non_exhaustive()
+    }
 }
 
 /// A `[trace] tags` entry bound to what it reads.
@@ -119,113 +79,68 @@ pub struct Program {
 pub struct TracedTag {
     /// The reference as written (the trace column's name).
     pub name: String,
-    place: plc::ir::Place,
-    ty: plc::types::DataType,
+    place: Place,
+    ty: DataType,
 }
 
 impl TracedTag {
     /// Whether the tag is a REAL (single precision), whose value the trace
     /// writes rounded to `f32`.
     pub fn single_precision(&self) -> bool {
-        self.ty == plc::types::DataType::Real
+        self.ty == DataType::Real
     }
 }
 
 impl Program {
-    /// Binds every program step: its call to the planner (creating
-    /// instances, control structures and coordinate systems on first use)
-    /// and its trigger.
+    /// Compiles the program: every task's routines, then every step's call
+    /// and trigger, then the traced tags — binding the planner handles they
+    /// name in that order of first use — and checks the calls whose
+    /// operands are all constant ([`Program::warnings`]).
     ///
     /// # Errors
-    /// [`ProgramError::Step`] naming the step and what is wrong.
-    pub fn bind(scene: &Scene, task: &mut MotionTask) -> Result<Program, ProgramError> {
-        let mut instructions = Vec::new();
-        let mut fbs = Vec::new();
-        let plc = plc::Controller::new(scene, task, &mut instructions, &mut fbs)?;
-        let mut program = Program {
-            fbs,
-            instructions,
-            steps: Vec::new(),
-            plc,
-            traced: Vec::new(),
+    /// The first error, as a diagnostic pointing into its file.
+    pub fn bind(scene: &Scene, task: &mut MotionTask) -> Result<Program, Box<Diagnostic>> {
+        let mem = Memory::of_scene(scene);
+        let decls = Declarations::of(scene);
+        let mut bindings = Bindings::default();
+        let mut env = Env {
+            scene,
+            decls: &decls,
+            files: &scene.files,
+            task,
+            bindings: &mut bindings,
         };
-        for (index, step) in scene.program.iter().enumerate() {
-            let fail = |field: &'static str, e: BindError| {
-                let at = e
-                    .operand
-                    .and_then(|i| step.operand_locations.get(i))
-                    .unwrap_or(&step.location);
-                ProgramError::Step {
-                    scene: scene.path.clone(),
-                    line: at.line,
-                    column: at.column,
-                    index,
-                    field,
-                    message: e.message,
-                }
-            };
-            let action = program
-                .bind_call(scene, task, &step.call)
-                .map_err(|e| fail("call", e))?;
-            let trigger = steps::trigger(&step.trigger, &program.fbs, &program.instructions)
-                .map_err(|message| fail("when", BindError::from(message)))?;
-            program.steps.push(CompiledStep::new(trigger, action));
-        }
-        for (index, (name, at)) in scene.trace_tags.iter().enumerate() {
-            let (place, ty) = program
-                .plc
-                .trace_place(name, task, &mut program.instructions, &mut program.fbs)
-                .map_err(|message| ProgramError::TraceTag {
-                    scene: scene.path.clone(),
-                    line: at.line,
-                    column: at.column,
-                    index,
-                    message,
-                })?;
-            program.traced.push(TracedTag {
-                name: name.clone(),
+        let plc = Controller::new(scene, mem, &mut env)?;
+        let steps = steps::compile(scene, plc.memory(), &mut env)?;
+        let mut traced = Vec::with_capacity(scene.trace_tags.len());
+        for (index, t) in scene.trace_tags.iter().enumerate() {
+            let mut compiler = Compiler::new(plc.memory(), None, &[], Dialect::Logix, &mut env, false);
+            let (place, ty) = compiler
+                .traced(&t.expr)
+                .map_err(|d| Box::new((*d).in_field(format!("trace.tags[{index}]"))))?;
+            traced.push(TracedTag {
+                name: t.text.clone(),
                 place,
                 ty,
             });
         }
-        Ok(program)
+        Ok(Program {
+            bindings,
+            steps,
+            plc,
+            traced,
+        })
     }
 
-    fn bind_call(
-        &mut self,
-        scene: &Scene,
-        task: &mut MotionTask,
-        call: &crate::st::Call,
-    ) -> Result<StepAction, BindError> {
-        match &call.args {
-            Args::Positional(operands) => {
-                let operands: Vec<Expr> = operands.iter().map(|o| o.value.clone()).collect();
-                let mut ctx = bind::LogixContext {
-                    scene,
-                    values: scene,
-                    task,
-                    instructions: &mut self.instructions,
-                };
-                Ok(StepAction::Logix(compile_logix(&call.name.value, &operands, &mut ctx)?))
-            }
-            Args::Named(_) => {
-                let bound = modulo::bind(call, scene, task, &mut self.fbs)?;
-                Ok(StepAction::MoveModulo {
-                    fb: self.fbs[bound.fb].handle,
-                    set: bound.set,
-                })
-            }
-        }
-    }
-
-    /// One scan: fires the steps due at the planner's current time, in list
-    /// order, then runs the task triggers due (their calls take effect at
-    /// the next planner update).
+    /// One scan: fires the steps due at the planner's current time, then
+    /// runs the task triggers due (their calls take effect at the next
+    /// planner update).
     pub fn scan(&mut self, task: &mut MotionTask) {
-        for i in steps::due(&mut self.steps, task, &self.fbs, &self.instructions) {
-            self.steps[i].action.execute(task);
+        if !self.steps.is_empty() {
+            let (mem, scratch, refusals) = self.plc.step_context();
+            steps::fire(&mut self.steps, mem, scratch, task, refusals);
         }
-        self.plc.scan(task, &mut self.instructions, &mut self.fbs);
+        self.plc.scan(task);
     }
 
     /// The `[trace] tags` entries.
@@ -234,7 +149,7 @@ impl Program {
     }
 
     /// A traced tag's value now.
-    pub fn traced(&self, t: &TracedTag, task: &MotionTask) -> plc::types::Value {
+    pub fn traced(&self, t: &TracedTag, task: &MotionTask) -> Value {
         self.plc.peek(&t.place, task)
     }
 
@@ -242,57 +157,42 @@ impl Program {
     /// integers (exact up to 2^53), REAL rounded to single precision.
     pub fn traced_number(&self, t: &TracedTag, task: &MotionTask) -> f64 {
         match self.traced(t, task) {
-            plc::types::Value::Bool(b) => f64::from(u8::from(b)),
-            plc::types::Value::Int(i) => i as f64,
-            plc::types::Value::Real(x) if t.single_precision() => f64::from(x as f32),
-            plc::types::Value::Real(x) => x,
+            Value::Bool(b) => f64::from(u8::from(b)),
+            Value::Int(i) => i as f64,
+            Value::Real(x) if t.single_precision() => f64::from(x as f32),
+            Value::Real(x) => x,
         }
     }
 
     /// The task engine: tag memory, faults, costs.
-    pub fn controller(&self) -> &plc::Controller {
+    pub fn controller(&self) -> &Controller {
         &self.plc
+    }
+
+    /// Tag memory, to write a tag as a test or a sandbox does.
+    pub fn memory_mut(&mut self) -> &mut Memory {
+        self.plc.step_context().0
     }
 
     /// The function-block instances, in the order the program first calls them.
     pub fn fbs(&self) -> &[FbBinding] {
-        &self.fbs
+        &self.bindings.fbs
     }
 
     /// The `MOTION_INSTRUCTION` tags the program executes with, in the order
     /// the program first uses them.
     pub fn instructions(&self) -> &[InstructionBinding] {
-        &self.instructions
+        &self.bindings.instructions
     }
-}
 
-/// Binds one positional call to the planner: the catalogue names its
-/// family, and the family's file binds it.
-///
-/// # Errors
-/// A message naming the operand at fault, or saying that the instruction is
-/// not simulated.
-pub fn compile_logix(name: &str, operands: &[Expr], ctx: &mut LogixContext<'_>) -> Result<LogixStep, BindError> {
-    let Some(instruction) = catalogue::find(name).filter(|i| i.style == CallStyle::Positional) else {
-        return Err(BindError::from(format!(
-            "{} is a Logix motion instruction the twin does not simulate (it simulates: {})",
-            name.to_ascii_uppercase(),
-            catalogue::positional_mnemonics()
-        )));
-    };
-    let mut bind = Bind::new(instruction, operands, ctx)?;
-    let bound = match instruction.family {
-        Family::Coordinated => coord::bind(&mut bind),
-        Family::Transform => mct::bind(&mut bind),
-        Family::Cam => cam::bind(&mut bind),
-        Family::State => state::bind(&mut bind),
-        Family::PlcOpen => Err(format!(
-            "{} is a function block: call it on an instance with named inputs",
-            instruction.mnemonic
-        )),
-    };
-    bound.map_err(|message| BindError {
-        operand: bind.last_operand(),
-        message,
-    })
+    /// Whether the program calls `instruction` (a step or a routine).
+    pub fn calls(&self, instruction: &Instruction) -> bool {
+        self.bindings.calls(instruction)
+    }
+
+    /// Calls whose constant operands the instruction refuses whenever they
+    /// run, found at load.
+    pub fn warnings(&self) -> &[Diagnostic] {
+        &self.bindings.warnings
+    }
 }

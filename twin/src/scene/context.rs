@@ -1,19 +1,28 @@
 //! The validation context: the scene file's text, and the helpers that turn a
 //! span into a file:line:column error and check a single value.
 
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use toml::Spanned;
 
-use crate::st::ParseError;
+use crate::source::{Diagnostic, FileId, Files, Source, SourceFile, toml_string_map};
 
-use super::{Location, Numbers, Problem, SceneError, TagType};
+use super::{Location, Numbers, Problem, SceneError};
 
 pub(super) struct Ctx<'a> {
     pub(super) file: PathBuf,
     pub(super) text: &'a str,
+    /// The scene file, for the carets of its errors.
+    pub(super) source: Arc<SourceFile>,
+    /// The scene's files: the scene itself ([`Ctx::scene_file`]) and the
+    /// routines read so far.
+    pub(super) files: RefCell<Files>,
+    /// The scene file's id in `files`.
+    pub(super) scene_file: FileId,
 }
 
 /// A name's first declaration: (lower-case name) -> (line, what it is).
@@ -22,7 +31,7 @@ pub(super) type Names = HashMap<String, (usize, NameKind)>;
 #[derive(Clone, Copy)]
 pub(super) enum NameKind {
     Axis,
-    Tag(TagType),
+    Tag,
 }
 
 /// The longest name that output files are named after, in characters.
@@ -55,6 +64,7 @@ impl Ctx<'_> {
             column,
             field: field.into(),
             problem,
+            at: Some((Arc::clone(&self.source), span)),
         }
     }
 
@@ -80,6 +90,7 @@ impl Ctx<'_> {
             table,
             field,
             message,
+            at: e.span().map(|s| (Arc::clone(&self.source), s)),
         }
     }
 
@@ -167,44 +178,19 @@ impl Ctx<'_> {
         current
     }
 
-    /// Maps a 1-based character column inside a string value to the file.
-    pub(super) fn string_location(&self, s: &Spanned<String>, column: usize) -> Location {
-        let span = s.span();
-        let raw = &self.text[span.clone()];
-        let (open, close) = if raw.starts_with("\"\"\"") || raw.starts_with("'''") {
-            (3, 3)
-        } else {
-            (1, 1)
-        };
-        let mut content_start = span.start + open.min(raw.len());
-        if open == 3 {
-            let rest = &self.text[content_start..];
-            if rest.starts_with("\r\n") {
-                content_start += 2;
-            } else if rest.starts_with('\n') {
-                content_start += 1;
-            }
-        }
-        let content_end = span.end.saturating_sub(close).max(content_start);
-        let raw_content = &self.text[content_start..content_end];
-        // Without escapes the decoded value is the raw text; with them this is approximate.
-        let index = column.saturating_sub(1);
-        let byte = raw_content
-            .char_indices()
-            .nth(index)
-            .map_or(raw_content.len(), |(b, _)| b);
-        self.location(content_start + byte)
-    }
-
-    pub(super) fn syntax(&self, s: &Spanned<String>, field: String, source: ParseError) -> SceneError {
-        let Location { line, column } = self.string_location(s, source.column());
-        SceneError::Syntax {
-            file: self.file.clone(),
-            line,
-            column,
-            field,
-            source,
-        }
+    /// Parses a string value of the scene with `parse` as a source that
+    /// sits inside the scene file: errors point into the string, with the
+    /// field named.
+    pub(super) fn parse_in<T>(
+        &self,
+        s: &Spanned<String>,
+        field: &str,
+        parse: impl FnOnce(&Source<'_>) -> Result<T, Box<Diagnostic>>,
+    ) -> Result<T, SceneError> {
+        let map = toml_string_map(self.text, s.span(), s.get_ref());
+        let files = self.files.borrow();
+        let source = Source::embedded(s.get_ref(), &files, self.scene_file, map);
+        parse(&source).map_err(|d| SceneError::Syntax(Box::new((*d).in_field(field))))
     }
 
     pub(super) fn finite(&self, v: &Spanned<f64>, field: &str) -> Result<f64, SceneError> {

@@ -1,11 +1,11 @@
 //! Scene errors: one [`SceneError`] per file problem, displayed as
 //! `FILE:LINE:COLUMN: FIELD: what is wrong`, and the [`Problem`] it names.
 
-use planner::catalogue::{Instruction, Kind, Operand};
+use crate::source::{Diagnostic, Label, SourceFile};
 use std::fmt;
+use std::ops::Range;
 use std::path::PathBuf;
-
-use crate::st::ParseError;
+use std::sync::Arc;
 
 use super::{AxisKind, BaseType, Location, TagType, Units};
 
@@ -87,93 +87,6 @@ pub enum Problem {
     InvalidName {
         /// The name.
         name: String,
-    },
-    /// A tag reference that names no tag or axis.
-    #[error("unknown tag '{name}': not declared in [[tags]] or [[axes]]")]
-    UnknownTag {
-        /// The name.
-        name: String,
-    },
-    /// A bare word that is neither a tag/axis nor one of its operand's
-    /// enumeration words.
-    #[error("unknown tag or enumeration word '{name}' for {}{}", .operand.name, kind_hint(.operand.kind))]
-    UnknownOperand {
-        /// The word.
-        name: String,
-        /// The operand it was given for, as the catalogue describes it
-        /// (its name, what it takes, its enumeration words).
-        operand: &'static Operand,
-    },
-    /// A positional call with more or fewer operands than its instruction.
-    #[error(
-        "{} takes {} operands ({}), got {got}",
-        .instruction.mnemonic,
-        .instruction.operands.len(),
-        .instruction.operand_names()
-    )]
-    OperandCount {
-        /// The instruction.
-        instruction: &'static Instruction,
-        /// How many operands the call has.
-        got: usize,
-    },
-    /// A named input the function block does not have.
-    #[error("{} has no input '{name}' (inputs: {})", .block.mnemonic, .block.operand_names())]
-    UnknownInput {
-        /// The input as written.
-        name: String,
-        /// The block.
-        block: &'static Instruction,
-    },
-    /// A tag or axis called positionally, as a Logix instruction would be.
-    #[error(
-        "'{name}' is {kind}, not a Logix motion instruction; a function-block instance takes named inputs (Input := value)"
-    )]
-    NotAnInstruction {
-        /// The name.
-        name: String,
-        /// What it is (`a MC_MoveModulo tag`, `an axis`).
-        kind: String,
-    },
-    /// A Logix instruction called with named inputs.
-    #[error("{name} is a Logix instruction: call it with its operands in order, {name}(...), not with named inputs")]
-    NamedLogixCall {
-        /// The mnemonic as written.
-        name: String,
-    },
-    /// A Logix motion instruction the twin does not simulate.
-    #[error("{name} is a Logix motion instruction the twin does not simulate (it simulates: {simulated})")]
-    NotSimulated {
-        /// The mnemonic as written.
-        name: String,
-        /// The positional instructions it does simulate.
-        simulated: String,
-    },
-    /// A positional call to something that is not a Logix motion instruction.
-    #[error(
-        "unknown instruction '{name}' (positional calls are Logix motion instructions; function-block instances take named inputs)"
-    )]
-    UnknownInstruction {
-        /// The name.
-        name: String,
-    },
-    /// A named call on something that is not a function-block instance.
-    #[error("'{name}' is {kind}, not a function-block instance, so it cannot be called with named inputs")]
-    NotCallable {
-        /// The name.
-        name: String,
-        /// What it is (`a REAL tag`, `an axis`).
-        kind: String,
-    },
-    /// An index outside an array tag.
-    #[error("index {index} is outside '{name}' (valid: 0..{len})")]
-    IndexOutOfBounds {
-        /// The array tag.
-        name: String,
-        /// The index used.
-        index: i64,
-        /// The array length.
-        len: usize,
     },
     /// A referenced file that does not exist.
     #[error("file '{}' does not exist", path.display())]
@@ -294,6 +207,8 @@ pub enum Problem {
     UnknownAxis {
         /// The name.
         name: String,
+        /// The declared axis nearest to it, for the `help:` line.
+        nearest: Option<String>,
     },
     /// Axis units that do not fit its kind.
     #[error("units '{units}' do not fit a {kind} axis (rotary: deg or rad; linear: m or mm)")]
@@ -420,7 +335,8 @@ pub enum Problem {
 }
 
 /// An error loading a scene. `Display` is one line:
-/// `FILE:LINE:COLUMN: FIELD: what is wrong`.
+/// `FILE:LINE:COLUMN: FIELD: what is wrong`; [`SceneError::diagnostic`]
+/// adds the source line with a caret and the `help:` lines.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum SceneError {
@@ -456,32 +372,12 @@ pub enum SceneError {
         /// The TOML/serde message (for a value of the wrong type: `expected
         /// a number, found "fast"`).
         message: String,
+        /// The scene's text and the bytes the TOML parser points at.
+        at: Option<(Arc<SourceFile>, Range<usize>)>,
     },
-    /// A `call` or `when` string that is not valid Structured Text.
-    Syntax {
-        /// The scene file.
-        file: PathBuf,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column (of the offending character, inside the string).
-        column: usize,
-        /// The field, e.g. `program[3].call`.
-        field: String,
-        /// The parse error.
-        #[source]
-        source: ParseError,
-    },
-    /// A routine file that cannot be read or is not valid Structured Text.
-    Routine {
-        /// The routine file.
-        file: PathBuf,
-        /// 1-based line (0 when the file cannot be read).
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// What is wrong (`expected …, found …`).
-        message: String,
-    },
+    /// A `call`, `when`, trace tag or routine that is not valid Structured
+    /// Text, or a routine file that cannot be read.
+    Syntax(Box<Diagnostic>),
     /// A value that parses but is not allowed.
     Invalid {
         /// The scene file.
@@ -494,6 +390,8 @@ pub enum SceneError {
         field: String,
         /// What is wrong.
         problem: Problem,
+        /// The scene's text and the bytes of the value at fault.
+        at: Option<(Arc<SourceFile>, Range<usize>)>,
     },
 }
 
@@ -505,12 +403,11 @@ impl SceneError {
             SceneError::Read { .. } => None,
             SceneError::NotUtf8 { line, column, .. }
             | SceneError::Toml { line, column, .. }
-            | SceneError::Syntax { line, column, .. }
-            | SceneError::Routine { line, column, .. }
             | SceneError::Invalid { line, column, .. } => Some(Location {
                 line: *line,
                 column: *column,
             }),
+            SceneError::Syntax(d) => d.location().map(|(_, line, column)| Location { line, column }),
         }
     }
 
@@ -518,9 +415,10 @@ impl SceneError {
     #[must_use]
     pub fn field(&self) -> Option<&str> {
         match self {
-            SceneError::Syntax { field, .. } | SceneError::Invalid { field, .. } => Some(field),
+            SceneError::Invalid { field, .. } => Some(field),
+            SceneError::Syntax(d) => d.field.as_deref(),
             SceneError::Toml { table, field, .. } => field.as_deref().or(table.as_deref()),
-            SceneError::Read { .. } | SceneError::NotUtf8 { .. } | SceneError::Routine { .. } => None,
+            SceneError::Read { .. } | SceneError::NotUtf8 { .. } => None,
         }
     }
 
@@ -529,6 +427,82 @@ impl SceneError {
     pub fn problem(&self) -> Option<&Problem> {
         match self {
             SceneError::Invalid { problem, .. } => Some(problem),
+            _ => None,
+        }
+    }
+
+    /// The error as a [`Diagnostic`]: the one-line text, the source line
+    /// with a caret under the value at fault, and `help:` lines.
+    #[must_use]
+    pub fn diagnostic(&self) -> Diagnostic {
+        match self {
+            SceneError::Syntax(d) => (**d).clone(),
+            SceneError::Invalid {
+                file,
+                line,
+                column,
+                field,
+                problem,
+                at,
+            } => {
+                let mut d = Diagnostic::error(problem.to_string()).in_field(field.clone());
+                d = match at {
+                    Some((text, range)) => d.with_label(Label::new(text, range.clone(), problem.label())),
+                    None => d.at_place(file.clone(), *line, *column),
+                };
+                match problem.help() {
+                    Some(help) => d.with_help(help),
+                    None => d,
+                }
+            }
+            SceneError::Toml { file, line, column, at, .. } => {
+                // The one-line text, field and message together, as Display
+                // gives them: the first line stays what scripts grep.
+                let text = self.to_string();
+                let prefix = format!("{}:{line}:{column}: ", file.display());
+                let message = text.strip_prefix(&prefix).unwrap_or(&text).to_owned();
+                let d = Diagnostic::error(message);
+                match at {
+                    Some((source, range)) => d.with_label(Label::new(source, range.clone(), "here")),
+                    None => d.at_place(file.clone(), *line, *column),
+                }
+            }
+            SceneError::NotUtf8 { path, line, column } => {
+                Diagnostic::error("not UTF-8 text (a scene is a TOML text file)").at_place(path.clone(), *line, *column)
+            }
+            SceneError::Read { path, source } => {
+                Diagnostic::error(format!("{}: cannot read the scene file: {source}", path.display()))
+            }
+        }
+    }
+}
+
+impl From<SceneError> for Diagnostic {
+    fn from(e: SceneError) -> Self {
+        e.diagnostic()
+    }
+}
+
+impl Problem {
+    /// What the caret's label says.
+    fn label(&self) -> String {
+        match self {
+            Problem::DuplicateName { .. } => "declared again here".to_owned(),
+            Problem::MissingFile { .. } => "no such file".to_owned(),
+            Problem::UnknownAxis { .. } => "no axis of that name in [[axes]]".to_owned(),
+            _ => String::new(),
+        }
+    }
+
+    /// A `help:` line, where the problem has an obvious fix.
+    fn help(&self) -> Option<String> {
+        match self {
+            Problem::UnknownAxis {
+                nearest: Some(n), ..
+            } => Some(format!("did you mean '{n}'?")),
+            Problem::BothTriggers | Problem::NoTrigger => {
+                Some("give a step at_s = <seconds> or when = \"<tag>.<bit>\"".to_owned())
+            }
             _ => None,
         }
     }
@@ -550,6 +524,7 @@ impl fmt::Display for SceneError {
                 table,
                 field,
                 message,
+                ..
             } => {
                 write!(f, "{}:{line}:{column}: ", file.display())?;
                 if let Some(field) = field {
@@ -560,53 +535,17 @@ impl fmt::Display for SceneError {
                 // serde quotes names with backticks; keep the message on one line.
                 f.write_str(&message.trim().replace('`', "'").replace('\n', " "))
             }
-            SceneError::Syntax {
-                file,
-                line,
-                column,
-                field,
-                source,
-            } => {
-                write!(f, "{}:{line}:{column}: {field}: {source}", file.display())
-            }
+            SceneError::Syntax(d) => d.fmt(f),
             SceneError::Invalid {
                 file,
                 line,
                 column,
                 field,
                 problem,
+                ..
             } => {
                 write!(f, "{}:{line}:{column}: {field}: {problem}", file.display())
             }
-            SceneError::Routine {
-                file, line: 0, message, ..
-            } => write!(f, "{}: {message}", file.display()),
-            SceneError::Routine {
-                file,
-                line,
-                column,
-                message,
-            } => write!(f, "{}:{line}:{column}: {message}", file.display()),
         }
     }
-}
-
-/// The end of an [`Problem::UnknownOperand`] message: the operand's words.
-fn kind_hint(kind: Kind) -> String {
-    let takes = match kind {
-        Kind::Enumeration(words) => {
-            let list: Vec<String> = words.iter().map(|w| format!("{} ({})", w.word, w.code)).collect();
-            return format!(" (its words: {})", list.join(", "));
-        }
-        Kind::Axis => "an axis",
-        Kind::CoordinateSystem => "a COORDINATE_SYSTEM tag",
-        Kind::MotionControl => "a MOTION_INSTRUCTION tag",
-        Kind::Cam => "a CAM array element",
-        Kind::CamProfile => "a CAM_PROFILE tag",
-        Kind::Number | Kind::Count | Kind::Integer => "a number or a numeric tag",
-        Kind::Bool => "TRUE or FALSE",
-        Kind::Values | Kind::Vector3 => "a REAL array element",
-        Kind::OptionalArray => "0 or a REAL array",
-    };
-    format!(" (it takes {takes}, no enumeration words)")
 }

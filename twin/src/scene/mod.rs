@@ -2,28 +2,23 @@
 //! obstacles, tags and the timed program of instruction calls).
 //!
 //! [`load`] reads a file, deserializes it (unknown fields are errors),
-//! parses every `call` and `when` with [`crate::st`], and checks everything
-//! that does not need the URDF: numeric ranges, unique names, that every
-//! tag a call refers to is declared, that the URDF and mesh files exist.
+//! parses every `call`, `when`, trace tag and routine with [`crate::st`]
+//! (their names and operands are the program stage's to check), and checks
+//! everything that does not need the URDF: numeric ranges, unique names,
+//! that the URDF, mesh and routine files exist.
 //! Checks against the URDF (joint names and types) are the integrator's;
 //! [`Scene::invalid`] builds errors for them with the same file:line:column
 //! shape.
 //!
 //! Every [`SceneError`] displays as one line
 //! `FILE:LINE:COLUMN: FIELD: what is wrong`, with 1-based line and column
-//! (in characters) pointing into the scene file, also inside `call` strings.
+//! (in characters) pointing into the scene file, also inside `call` strings;
+//! [`SceneError::diagnostic`] adds the line with a caret under the value.
 //! The format is documented field by field in `scenes/README.md`.
 //!
 //! Choices the specs leave open:
 //! * Names of axes and tags share one namespace and are compared
 //!   case-insensitively, as Logix and IEC 61131-3 do.
-//! * A positional call's name must be a Logix motion instruction the
-//!   twin simulates ([`planner::catalogue`]); another Logix motion
-//!   instruction is refused as not simulated. Its bare-word operands must
-//!   be a declared tag/axis or one of *that operand's* enumeration words.
-//! * A named call's name must be a tag of a function-block type; its
-//!   bare-word inputs must be a tag/axis or an enumeration value of that
-//!   input.
 //!
 //! The stage is split the way the data goes through it: `raw` (serde,
 //! with spans) → `context` (file:line:column errors and single-value
@@ -51,10 +46,11 @@ pub use model::{
     Axis, AxisKind, BaseType, CamPoint, Camera, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS, FunctionBlock,
     Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE,
     MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, Obstacle, PlantMode, Robot, Scene, SegmentType, ServoGains,
-    Shape, Snapshots, Step, Tag, TagType, TagValue, Trigger, Units,
+    Shape, Snapshots, Step, Tag, TagType, TagValue, TraceTag, Trigger, Units,
 };
 pub use tasks::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
 
+use crate::source::Files;
 use context::{Ctx, NameKind, Names};
 use raw::{
     AxisConfiguration, HomeDirectionWord, HomeModeWord, HomeSequenceWord, Numbers, PlantWord, RawAxis, RawCamera,
@@ -67,12 +63,14 @@ impl Scene {
     /// checks done after loading (e.g. against the URDF).
     #[must_use]
     pub fn invalid(&self, at: Location, field: impl Into<String>, problem: Problem) -> SceneError {
+        let file = self.files.get(crate::source::FileId::default());
         SceneError::Invalid {
             file: self.path.clone(),
             line: at.line,
             column: at.column,
             field: field.into(),
             problem,
+            at: Some((std::sync::Arc::clone(file), file.token_at(at.line, at.column))),
         }
     }
 
@@ -120,9 +118,14 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// # Errors
 /// As [`load`], without [`SceneError::Read`].
 pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
+    let mut files = Files::default();
+    let scene_file = files.add(path, text);
     let ctx = Ctx {
         file: path.to_owned(),
         text,
+        source: std::sync::Arc::clone(files.get(scene_file)),
+        files: std::cell::RefCell::new(files),
+        scene_file,
     };
     let raw: RawScene = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
     ctx.validate(raw, path)

@@ -7,7 +7,8 @@ use std::path::PathBuf;
 
 use serde::Deserialize;
 
-use crate::st::{Call, Expr};
+use crate::source::Files;
+use crate::st::ast::{Call, Expr};
 use planner::axis::AxisConfig;
 use planner::coord::CoordinateSystemConfig;
 
@@ -51,9 +52,11 @@ pub struct Scene {
     pub program: Vec<Step>,
     /// Periodic tasks of Structured Text programs (`[[tasks]]`).
     pub tasks: Vec<super::Task>,
-    /// `[trace] tags`: tag references traced as extra columns, as written,
-    /// with where each is written.
-    pub trace_tags: Vec<(String, Location)>,
+    /// `[trace] tags`: tag references traced as extra columns.
+    pub trace_tags: Vec<TraceTag>,
+    /// The files the scene's texts come from: the scene file, then its
+    /// routines; every parsed node's span points into one of them.
+    pub files: Files,
     /// Golden-image frames, if any.
     pub snapshots: Option<Snapshots>,
     /// Collision checking (`[collision]`); off when the table is absent.
@@ -742,7 +745,7 @@ pub enum Trigger {
     },
     /// On the rising edge of a BOOL tag or bit, plus a delay.
     When {
-        /// The reference, e.g. `MoveTable.Done`.
+        /// The condition, e.g. `MoveTable.Done` (the program compiles it).
         condition: Expr,
         /// Delay after the edge, seconds (≥ 0, default: 0).
         delay_s: f64,
@@ -755,15 +758,20 @@ pub enum Trigger {
 pub struct Step {
     /// When the call fires.
     pub trigger: Trigger,
-    /// The parsed call.
+    /// The parsed call (the program compiles it).
     pub call: Call,
-    /// The call as written.
-    pub call_text: String,
     /// Where the `call` string is written.
     pub location: Location,
-    /// Where each operand (positional calls) or input value (named calls)
-    /// is written, in call order: binding errors point there.
-    pub operand_locations: Vec<Location>,
+}
+
+/// A `[trace] tags` entry: a reference traced as an extra column.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct TraceTag {
+    /// The reference as written (the column's name).
+    pub text: String,
+    /// The parsed reference (the program compiles it).
+    pub expr: Expr,
 }
 
 /// `[snapshots]`: frames compared with golden images.

@@ -101,7 +101,7 @@ impl Ctx<'_> {
             let f = |field: &str| format!("{prefix}[{i}].{field}");
             let name = self.identifier(&t.name, &f("name"))?;
             let ty = self.tag_type(&t.ty, &f("type"))?;
-            self.unique(names, &t.name, &f("name"), NameKind::Tag(ty))?;
+            self.unique(names, &t.name, &f("name"), NameKind::Tag)?;
             let value = match &t.value {
                 Some(v) => Some(self.tag_value(v, ty, axes, &f("value"))?),
                 None if ty.base == BaseType::CoordinateSystem => {
@@ -210,6 +210,7 @@ impl Ctx<'_> {
                     None => {
                         let problem = Problem::UnknownAxis {
                             name: m.get_ref().clone(),
+                            nearest: nearest_axis(m.get_ref(), axes),
                         };
                         return Err(self.invalid(m, f("master_axis"), problem));
                     }
@@ -256,7 +257,11 @@ impl Ctx<'_> {
                         return Err(mismatch(expected));
                     };
                     let Some(found) = axes.iter().find(|a| a.name.eq_ignore_ascii_case(axis)) else {
-                        return Err(self.invalid(v, field, Problem::UnknownAxis { name: axis.clone() }));
+                        let problem = Problem::UnknownAxis {
+                            name: axis.clone(),
+                            nearest: nearest_axis(axis, axes),
+                        };
+                        return Err(self.invalid(v, field, problem));
                     };
                     if members.iter().any(|m| m.eq_ignore_ascii_case(axis)) {
                         return Err(mismatch(expected));
@@ -325,4 +330,9 @@ pub(super) fn scalar_value(base: BaseType, value: &toml::Value) -> Option<TagVal
         }
         _ => None,
     }
+}
+
+/// The declared axis nearest to `name`, for a `help:` line.
+fn nearest_axis(name: &str, axes: &[Axis]) -> Option<String> {
+    crate::source::diag::nearest(name, axes.iter().map(|a| a.name.as_str())).map(str::to_owned)
 }

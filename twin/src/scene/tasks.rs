@@ -9,6 +9,7 @@ use toml::Spanned;
 use super::model::Tag;
 use super::raw::{RawProgram, RawRoutine, RawTask};
 use super::{Axis, BaseType, Ctx, Location, NameKind, Names, Problem, SceneError};
+use crate::source::{Diagnostic, Source};
 use crate::st::ast::Routine;
 use crate::st::parse::parse_routine;
 
@@ -191,18 +192,13 @@ impl Ctx<'_> {
         if !path.is_file() {
             return Err(self.invalid(raw, field, Problem::MissingFile { path }));
         }
-        let text = std::fs::read_to_string(&path).map_err(|e| SceneError::Routine {
-            file: path.clone(),
-            line: 0,
-            column: 0,
-            message: format!("cannot read the routine: {e}"),
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            let d = Diagnostic::error(format!("{}: cannot read the routine: {e}", path.display()));
+            SceneError::Syntax(Box::new(d))
         })?;
-        let routine = parse_routine(&text).map_err(|e| SceneError::Routine {
-            file: path.clone(),
-            line: e.pos.line as usize,
-            column: e.pos.column as usize,
-            message: e.message,
-        })?;
+        let id = self.files.borrow_mut().add(path.clone(), text);
+        let files = self.files.borrow();
+        let routine = parse_routine(&Source::file(&files, id)).map_err(SceneError::Syntax)?;
         Ok(RoutineDef {
             name,
             path,

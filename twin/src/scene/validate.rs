@@ -8,7 +8,7 @@ use std::path::Path;
 use toml::Spanned;
 
 use planner::axis::AxisConfig;
-use planner::mah::{HomeDirection, HomeMode, HomeSequence, Homing};
+use planner::homing::{HomeDirection, HomeMode, HomeSequence, Homing};
 use planner::servo::{AxisType, FaultAction};
 
 use super::{
@@ -88,7 +88,7 @@ impl Ctx<'_> {
         let cameras = self.cameras(&raw.cameras, coarse_update_ms)?;
         let obstacles = self.obstacles(&raw.obstacles, base)?;
         let tags = self.tags(&raw.tags, &axes, &mut names, "tags")?;
-        let program = self.program(&raw.program, duration_s, &names)?;
+        let program = self.program(&raw.program, duration_s)?;
         let tasks = self.tasks(&raw.tasks, &axes, &names, base)?;
         let snapshots = match &raw.snapshots {
             Some(s) => Some(self.snapshots(s, &cameras)?),
@@ -117,12 +117,8 @@ impl Ctx<'_> {
             tags,
             program,
             tasks,
-            trace_tags: raw
-                .trace
-                .iter()
-                .flat_map(|t| &t.tags)
-                .map(|s| (s.get_ref().trim().to_owned(), self.loc(s)))
-                .collect(),
+            trace_tags: self.trace_tags(raw.trace.as_ref().map_or(&[], |t| t.tags.as_slice()))?,
+            files: self.files.borrow().clone(),
             snapshots,
         })
     }

@@ -1,7 +1,9 @@
-//! The syntax tree of a Structured Text routine, as written: names are not
-//! resolved and nothing is typed yet (the program stage compiles it).
+//! The syntax tree of Structured Text, as written — a routine, a
+//! `[[program]]` call (a one-statement routine) or an expression: names
+//! are not resolved and nothing is typed yet (the program stage compiles
+//! it). Every node knows its [`Span`] in its file.
 
-pub use super::lex::Pos;
+pub use crate::source::Span;
 
 /// A routine: its statements in order.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,13 +46,14 @@ impl Routine {
     }
 }
 
-/// A statement and where it starts.
+/// A statement and where it is.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stmt {
     /// What it does.
     pub kind: StmtKind,
-    /// Where it starts.
-    pub pos: Pos,
+    /// Its first token (the keyword of an `IF`, a call's name, an
+    /// assignment's target).
+    pub span: Span,
 }
 
 /// The statements of the Logix ST dialect.
@@ -139,15 +142,18 @@ impl CaseLabel {
     }
 }
 
-/// A call statement.
+/// A call: `NAME(operand, …)` (positional, a Logix instruction) or
+/// `Instance(Input := value, …)` (named, a PLCopen function block).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Call {
     /// The instruction or instance name, as written.
     pub name: String,
     /// Where the name is.
-    pub pos: Pos,
-    /// The arguments.
+    pub name_span: Span,
+    /// The arguments; all named or all positional.
     pub args: Vec<Arg>,
+    /// The whole call, name to `)`.
+    pub span: Span,
 }
 
 /// One argument of a call, kept both as written and as an expression: an
@@ -155,14 +161,14 @@ pub struct Call {
 /// from its text once the operand is known.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Arg {
-    /// `Some(input)` for `input := value`.
-    pub name: Option<String>,
-    /// The value's text as written (white space kept).
+    /// `Some(input)` for `input := value`, with where the input's name is.
+    pub name: Option<(String, Span)>,
+    /// The value's text as written (white space trimmed).
     pub text: String,
     /// The value as an expression, when it is one.
     pub expr: Option<Expr>,
-    /// Where the value starts.
-    pub pos: Pos,
+    /// Where the value is.
+    pub span: Span,
 }
 
 /// A reference to a tag, an element, a member or a bit.
@@ -172,8 +178,19 @@ pub struct Ref {
     pub name: String,
     /// What follows the name, in order.
     pub path: Vec<Access>,
-    /// Where the name starts.
-    pub pos: Pos,
+    /// The whole reference.
+    pub span: Span,
+}
+
+impl Ref {
+    /// Where the tag name is.
+    #[must_use]
+    pub fn name_span(&self) -> Span {
+        Span {
+            end: (self.span.start + self.name.len() as u32).min(self.span.end),
+            ..self.span
+        }
+    }
 }
 
 /// One step of a reference.
@@ -181,21 +198,21 @@ pub struct Ref {
 pub enum Access {
     /// `[i]` (one subscript a dimension).
     Index(Vec<Expr>),
-    /// `.Member`.
-    Member(String),
+    /// `.Member`, and where the member's name is.
+    Member(String, Span),
     /// `.5`: a bit by number.
     Bit(u32),
     /// `.[i]`: a bit by expression.
     BitExpr(Box<Expr>),
 }
 
-/// An expression and where it starts.
+/// An expression and where it is.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Expr {
     /// What it is.
     pub kind: ExprKind,
-    /// Where it starts.
-    pub pos: Pos,
+    /// The whole expression.
+    pub span: Span,
 }
 
 /// The expressions of the dialect.
@@ -213,8 +230,9 @@ pub enum ExprKind {
     Unary(UnaryOp, Box<Expr>),
     /// `a op b`.
     Binary(BinaryOp, Box<Expr>, Box<Expr>),
-    /// `NAME(a, …)`: a function (`ABS`, `SIN`, `SIZE` …).
-    Function(String, Vec<Expr>),
+    /// `NAME(a, …)`: a function (`ABS`, `SIN`, `SIZE` …), and where its
+    /// name is.
+    Function(String, Span, Vec<Expr>),
 }
 
 /// Unary operators.

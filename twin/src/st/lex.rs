@@ -1,4 +1,5 @@
-//! Tokens of a Structured Text routine.
+//! Tokens of Structured Text: routines, `[[program]]` calls and scene
+//! expressions all lex the same way.
 //!
 //! Comments (`// …`, `(* … *)`, `/* … */`) and white space are skipped.
 //! Identifiers are ASCII letters, digits and `_`, not starting with a digit;
@@ -7,24 +8,13 @@
 //! `1.5`, `1.0e-3`, `2E6`; `1..5` is `1`, `..`, `5` (a CASE range). A
 //! character that is none of these (`%`, `²`) becomes [`Tok::Other`]: it is
 //! an error everywhere except inside an enumeration word of an instruction
-//! operand (`%ofTime`, `unitspersec²`), which the parser reads as written.
+//! operand (`%ofTime`, `unitspersec²`, `s-curve`), which the parser keeps
+//! as written for the compiler to match against the operand's words.
+//!
+//! Positions are byte offsets into the text ([`Token::start`]); the
+//! [`super::source::Source`] maps them into their file.
 
 use std::fmt;
-
-/// Where a token or node starts: 1-based line and column (characters).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
-pub struct Pos {
-    /// 1-based line.
-    pub line: u32,
-    /// 1-based column, in characters.
-    pub column: u32,
-}
-
-impl fmt::Display for Pos {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}", self.line, self.column)
-    }
-}
 
 /// A token's kind and value.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,7 +26,8 @@ pub enum Tok {
     /// A real literal.
     Real(f64),
     /// Punctuation or an operator: `:=` `(` `)` `[` `]` `,` `;` `.` `..` `:`
-    /// `+` `-` `*` `**` `/` `=` `<>` `<` `<=` `>` `>=` `&`.
+    /// `+` `-` `*` `**` `/` `=` `<>` `<` `<=` `>` `>=` `&` and the C
+    /// comparisons `==` `!=` (read so that they can be refused with a hint).
     Sym(&'static str),
     /// Any other character.
     Other(char),
@@ -52,172 +43,139 @@ impl fmt::Display for Tok {
             Tok::Real(x) => write!(f, "'{x:?}'"),
             Tok::Sym(s) => write!(f, "'{s}'"),
             Tok::Other(c) => write!(f, "'{c}'"),
-            Tok::Eof => f.write_str("end of routine"),
+            Tok::Eof => f.write_str("the end of the text"),
         }
     }
 }
 
-/// A token with its place: character offsets into the text and its line
-/// and column.
+/// A token and its bytes in the text.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Token {
     /// What it is.
     pub tok: Tok,
-    /// Offset of its first character.
+    /// Its first byte.
     pub start: usize,
-    /// Offset one past its last character.
+    /// One past its last byte.
     pub end: usize,
-    /// Line and column of its first character.
-    pub pos: Pos,
 }
 
 /// A lexical error: an unterminated comment or a malformed number.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct LexError {
-    /// Where it starts.
-    pub pos: Pos,
+    /// Its first byte.
+    pub start: usize,
+    /// One past its last byte.
+    pub end: usize,
     /// What is wrong.
     pub message: String,
 }
 
-const SYMBOLS: [&str; 22] = [
-    ":=", "..", "**", "<>", "<=", ">=", "(", ")", "[", "]", ",", ";", ".", ":", "+", "-", "*", "/", "=", "<", ">", "&",
+const SYMBOLS: [&str; 24] = [
+    ":=", "..", "**", "<>", "<=", ">=", "==", "!=", "(", ")", "[", "]", ",", ";", ".", ":", "+", "-", "*", "/", "=",
+    "<", ">", "&",
 ];
 
 const STATUS_FLAGS: [&str; 6] = ["FS", "N", "Z", "V", "C", "MINOR"];
 
-/// Splits a routine into tokens; the last one is [`Tok::Eof`].
+/// Splits a text into tokens; the last one is [`Tok::Eof`].
 ///
 /// # Errors
 /// [`LexError`] for an unterminated block comment or a malformed number.
 pub fn lex(text: &str) -> Result<Vec<Token>, LexError> {
-    let chars: Vec<char> = text.chars().collect();
-    let mut lexer = Lexer {
-        chars: &chars,
-        at: 0,
-        line: 1,
-        column: 1,
-    };
+    let mut lexer = Lexer { text, at: 0 };
     let mut out = Vec::new();
     loop {
         lexer.skip_space_and_comments()?;
         let start = lexer.at;
-        let pos = lexer.pos();
-        let Some(&c) = chars.get(start) else {
+        let Some(c) = lexer.peek(0) else {
             out.push(Token {
                 tok: Tok::Eof,
                 start,
                 end: start,
-                pos,
             });
             return Ok(out);
         };
+        let rest = &text[start..];
         let tok = if c.is_ascii_digit() {
             lexer.number()?
         } else if c.is_ascii_alphabetic() || c == '_' {
             lexer.word()
-        } else if let Some(sym) = SYMBOLS
-            .iter()
-            .find(|s| s.chars().enumerate().all(|(i, sc)| chars.get(start + i) == Some(&sc)))
-        {
-            lexer.advance(sym.chars().count());
+        } else if let Some(sym) = SYMBOLS.iter().find(|s| rest.starts_with(**s)) {
+            lexer.at += sym.len();
             Tok::Sym(sym)
         } else {
-            lexer.advance(1);
+            lexer.at += c.len_utf8();
             Tok::Other(c)
         };
         out.push(Token {
             tok,
             start,
             end: lexer.at,
-            pos,
         });
     }
 }
 
 struct Lexer<'a> {
-    chars: &'a [char],
+    text: &'a str,
     at: usize,
-    line: u32,
-    column: u32,
 }
 
 impl Lexer<'_> {
-    fn pos(&self) -> Pos {
-        Pos {
-            line: self.line,
-            column: self.column,
-        }
-    }
-
     fn peek(&self, ahead: usize) -> Option<char> {
-        self.chars.get(self.at + ahead).copied()
+        self.text[self.at..].chars().nth(ahead)
     }
 
-    fn advance(&mut self, n: usize) {
-        for _ in 0..n {
-            if let Some(c) = self.peek(0) {
-                if c == '\n' {
-                    self.line += 1;
-                    self.column = 1;
-                } else {
-                    self.column += 1;
-                }
-                self.at += 1;
-            }
+    fn bump(&mut self) {
+        if let Some(c) = self.peek(0) {
+            self.at += c.len_utf8();
         }
     }
 
     fn skip_space_and_comments(&mut self) -> Result<(), LexError> {
         loop {
-            match (self.peek(0), self.peek(1)) {
-                (Some(c), _) if c.is_whitespace() => self.advance(1),
-                (Some('/'), Some('/')) => {
-                    while self.peek(0).is_some_and(|c| c != '\n') {
-                        self.advance(1);
-                    }
-                }
-                (Some('('), Some('*')) => self.block_comment("*)")?,
-                (Some('/'), Some('*')) => self.block_comment("*/")?,
-                _ => return Ok(()),
+            let rest = &self.text[self.at..];
+            if rest.starts_with(char::is_whitespace) {
+                self.bump();
+            } else if rest.starts_with("//") {
+                self.at += rest.find('\n').unwrap_or(rest.len());
+            } else if rest.starts_with("(*") {
+                self.block_comment("*)")?;
+            } else if rest.starts_with("/*") {
+                self.block_comment("*/")?;
+            } else {
+                return Ok(());
             }
         }
     }
 
     fn block_comment(&mut self, close: &str) -> Result<(), LexError> {
-        let pos = self.pos();
-        let close: Vec<char> = close.chars().collect();
-        self.advance(2);
-        loop {
-            match (self.peek(0), self.peek(1)) {
-                (Some(a), Some(b)) if a == close[0] && b == close[1] => {
-                    self.advance(2);
-                    return Ok(());
-                }
-                (Some(_), _) => self.advance(1),
-                (None, _) => {
-                    return Err(LexError {
-                        pos,
-                        message: format!("comment not closed: expected '{}'", close.iter().collect::<String>()),
-                    });
-                }
+        let start = self.at;
+        match self.text[start + 2..].find(close) {
+            Some(i) => {
+                self.at = start + 2 + i + close.len();
+                Ok(())
             }
+            None => Err(LexError {
+                start,
+                end: start + 2,
+                message: format!("comment not closed: expected '{close}'"),
+            }),
         }
     }
 
     fn word(&mut self) -> Tok {
         let start = self.at;
         while self.peek(0).is_some_and(|c| c.is_ascii_alphanumeric() || c == '_') {
-            self.advance(1);
+            self.at += 1;
         }
-        let mut word: String = self.chars[start..self.at].iter().collect();
+        let mut word = self.text[start..self.at].to_owned();
         if word.eq_ignore_ascii_case("S") && self.peek(0) == Some(':') {
-            let rest: String = self.chars[self.at + 1..]
-                .iter()
-                .take_while(|c| c.is_ascii_alphabetic())
+            let rest: String = self.text[self.at + 1..]
+                .chars()
+                .take_while(char::is_ascii_alphabetic)
                 .collect();
             if let Some(flag) = STATUS_FLAGS.iter().find(|f| f.eq_ignore_ascii_case(&rest)) {
-                self.advance(1 + rest.len());
+                self.at += 1 + rest.len();
                 word = format!("S:{flag}");
             }
         }
@@ -228,10 +186,10 @@ impl Lexer<'_> {
         let mut out = String::new();
         while let Some(c) = self.peek(0) {
             if c == '_' {
-                self.advance(1);
+                self.at += 1;
             } else if c.is_digit(radix) {
                 out.push(c);
-                self.advance(1);
+                self.at += 1;
             } else {
                 break;
             }
@@ -240,29 +198,28 @@ impl Lexer<'_> {
     }
 
     fn number(&mut self) -> Result<Tok, LexError> {
-        let pos = self.pos();
-        let bad = |message: String| LexError { pos, message };
+        let start = self.at;
         let whole = self.digits(10);
         if self.peek(0) == Some('#') {
             let radix = match whole.as_str() {
                 "2" => 2,
                 "8" => 8,
                 "16" => 16,
-                _ => return Err(bad(format!("'{whole}#': the base of a literal is 2, 8 or 16"))),
+                _ => return Err(self.bad(start, format!("'{whole}#': the base of a literal is 2, 8 or 16"))),
             };
-            self.advance(1);
+            self.at += 1;
             let digits = self.digits(radix);
             if digits.is_empty() || self.peek(0).is_some_and(|c| c.is_ascii_alphanumeric()) {
-                return Err(bad(format!("'{whole}#…': expected base-{radix} digits")));
+                return Err(self.bad(start, format!("'{whole}#…': expected base-{radix} digits")));
             }
             return i128::from_str_radix(&digits, radix)
                 .map(Tok::Int)
-                .map_err(|_| bad(format!("'{whole}#{digits}' is too large")));
+                .map_err(|_| self.bad(start, format!("'{whole}#{digits}' is too large")));
         }
         let mut text = whole;
         let mut real = false;
         if self.peek(0) == Some('.') && self.peek(1).is_some_and(|c| c.is_ascii_digit()) {
-            self.advance(1);
+            self.at += 1;
             text.push('.');
             text.push_str(&self.digits(10));
             real = true;
@@ -275,22 +232,30 @@ impl Lexer<'_> {
                 if signed {
                     text.push(self.peek(1).unwrap_or('+'));
                 }
-                self.advance(digit_at);
+                self.at += digit_at;
                 text.push_str(&self.digits(10));
                 real = true;
             }
         }
         if self.peek(0).is_some_and(|c| c.is_ascii_alphabetic() || c == '_') {
-            return Err(bad(format!("'{text}' is followed by a letter: expected a number")));
+            return Err(self.bad(start, format!("'{text}' is followed by a letter: expected a number")));
         }
         if real {
             text.parse::<f64>()
                 .map(Tok::Real)
-                .map_err(|_| bad(format!("'{text}' is not a number")))
+                .map_err(|_| self.bad(start, format!("'{text}' is not a number")))
         } else {
             text.parse::<i128>()
                 .map(Tok::Int)
-                .map_err(|_| bad(format!("'{text}' is too large")))
+                .map_err(|_| self.bad(start, format!("'{text}' is too large")))
+        }
+    }
+
+    fn bad(&self, start: usize, message: String) -> LexError {
+        LexError {
+            start,
+            end: self.at.max(start + 1),
+            message,
         }
     }
 }
@@ -338,12 +303,13 @@ mod tests {
     }
 
     #[test]
-    fn comments_of_three_kinds_and_positions() {
-        let t = lex("a // x\n(* y\n *) b /* z */ c").unwrap();
-        let names: Vec<_> = t.iter().map(|t| (t.tok.clone(), t.pos.line, t.pos.column)).collect();
-        assert_eq!(names[0], (Tok::Ident("a".into()), 1, 1));
-        assert_eq!(names[1], (Tok::Ident("b".into()), 3, 5));
-        assert_eq!(names[2], (Tok::Ident("c".into()), 3, 15));
+    fn comments_of_three_kinds_and_byte_positions() {
+        let t = lex("a // x\n(* y\n *) b² /* z */ c").unwrap();
+        let at: Vec<_> = t.iter().map(|t| (t.tok.clone(), t.start)).collect();
+        assert_eq!(at[0], (Tok::Ident("a".into()), 0));
+        assert_eq!(at[1], (Tok::Ident("b".into()), 16));
+        assert_eq!(at[2], (Tok::Other('²'), 17));
+        assert_eq!(at[3], (Tok::Ident("c".into()), 28));
         assert!(lex("(* open").is_err());
         assert!(lex("/* open").is_err());
     }
@@ -355,5 +321,6 @@ mod tests {
         assert!(lex("12abc").is_err());
         assert_eq!(toks("%ofTime")[0], Tok::Other('%'));
         assert_eq!(toks("unitspersec²")[1], Tok::Other('²'));
+        assert_eq!(toks("a == b")[1], Tok::Sym("=="));
     }
 }

@@ -1,5 +1,7 @@
-//! The parser of Structured Text routines (recursive descent), with the
-//! Logix operator precedence, highest first:
+//! The parser of Structured Text (recursive descent): routines, the single
+//! calls of `[[program]]` steps (a one-statement routine) and the
+//! expressions a scene holds, with the Logix operator precedence, highest
+//! first:
 //!
 //! | level | operators |
 //! |---|---|
@@ -15,7 +17,15 @@
 //! | 10 | `OR` |
 //!
 //! Operators of one level group left to right. Keywords and identifiers
-//! are case-insensitive; keywords cannot name tags.
+//! are case-insensitive; keywords cannot name tags. `==` and `!=` are
+//! refused with the Structured Text spelling (`=`, `<>`).
+//!
+//! A call's arguments are all positional (Logix instructions, in the
+//! manual's faceplate order) or all named (`Input := value`, PLCopen
+//! function blocks); an input named twice is refused. A space between a
+//! call's name and `(` is allowed (`MCT (a, b)`, as the MCT manual prints
+//! it). An `IF`, `CASE`, `FOR`, `WHILE` or `REPEAT` whose end keyword is
+//! missing is reported at its opening keyword.
 //!
 //! The lexer and parser are written here rather than taken from a parser
 //! library: the dialect's one irregular corner, enumeration words such as
@@ -25,35 +35,11 @@
 //! special-case as well, and the whole fits in two short files.
 
 use super::ast::{Access, Arg, BinaryOp, Call, CaseLabel, Expr, ExprKind, Ref, Routine, Stmt, StmtKind, UnaryOp};
-use super::lex::{LexError, Pos, Tok, Token, lex};
-use std::fmt;
-
-/// A syntax error: where and what was expected.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub struct SyntaxError {
-    /// Where.
-    pub pos: Pos,
-    /// What is wrong (`expected …, found …`).
-    pub message: String,
-}
-
-impl fmt::Display for SyntaxError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.message)
-    }
-}
-
-impl From<LexError> for SyntaxError {
-    fn from(e: LexError) -> Self {
-        SyntaxError {
-            pos: e.pos,
-            message: e.message,
-        }
-    }
-}
+use super::lex::{Tok, Token, lex};
+use crate::source::{Diagnostic, Source, Span};
 
 /// Words that cannot name a tag.
-pub const KEYWORDS: [&str; 22] = [
+pub const KEYWORDS: [&str; 26] = [
     "IF",
     "THEN",
     "ELSIF",
@@ -76,41 +62,26 @@ pub const KEYWORDS: [&str; 22] = [
     "MOD",
     "AND",
     "OR",
+    "XOR",
+    "NOT",
+    "TRUE",
+    "FALSE",
 ];
 
-const MORE_KEYWORDS: [&str; 4] = ["XOR", "NOT", "TRUE", "FALSE"];
+/// The keywords that end a block: a statement list stops at them.
+const CLOSERS: [&str; 8] = [
+    "ELSIF",
+    "ELSE",
+    "END_IF",
+    "END_CASE",
+    "END_FOR",
+    "END_WHILE",
+    "UNTIL",
+    "END_REPEAT",
+];
 
 fn is_keyword(word: &str) -> bool {
-    KEYWORDS
-        .iter()
-        .chain(MORE_KEYWORDS.iter())
-        .any(|k| k.eq_ignore_ascii_case(word))
-}
-
-/// Parses a routine.
-///
-/// # Errors
-/// The first [`SyntaxError`].
-pub fn parse_routine(text: &str) -> Result<Routine, SyntaxError> {
-    let mut p = Parser::new(text)?;
-    let body = p.statements(&[])?;
-    if !p.at_end() {
-        return Err(p.unexpected("a statement"));
-    }
-    Ok(Routine { body })
-}
-
-/// Parses one expression (for `[trace] tags` and tests).
-///
-/// # Errors
-/// The first [`SyntaxError`], also when text follows the expression.
-pub fn parse_expression(text: &str) -> Result<Expr, SyntaxError> {
-    let mut p = Parser::new(text)?;
-    let e = p.expr()?;
-    if !p.at_end() {
-        return Err(p.unexpected("an operator or the end of the expression"));
-    }
-    Ok(e)
+    KEYWORDS.iter().any(|k| k.eq_ignore_ascii_case(word))
 }
 
 /// The deepest nesting a routine may have: statements inside statements,
@@ -120,40 +91,105 @@ pub fn parse_expression(text: &str) -> Result<Expr, SyntaxError> {
 /// overflow the stack; no hand-written routine comes near it.
 pub const MAX_NESTING: usize = 32;
 
-struct Parser {
+type R<T> = Result<T, Box<Diagnostic>>;
+
+/// Parses a routine.
+///
+/// # Errors
+/// The first syntax error, as a [`Diagnostic`] pointing into the file.
+pub fn parse_routine(source: &Source<'_>) -> R<Routine> {
+    let mut p = Parser::new(source)?;
+    let body = p.statements(&[])?;
+    if !p.at_end() {
+        return Err(p.stray_closer());
+    }
+    Ok(Routine { body })
+}
+
+/// Parses one instruction call, as a `[[program]]` step writes it:
+/// `MAM(Axis1, MC2, 0, 90.0, …)` or `MoveTable(Axis := Table, Execute :=
+/// TRUE)`, with an optional trailing `;`.
+///
+/// # Errors
+/// The first syntax error, or text that is not one call.
+pub fn parse_call(source: &Source<'_>) -> R<Call> {
+    let mut p = Parser::new(source)?;
+    let span = p.span(0);
+    let call = match (p.tok(0).clone(), p.tok(1)) {
+        (Tok::Ident(name), Tok::Sym("(")) if !is_keyword(&name) => {
+            p.bump();
+            p.call(name, span)?
+        }
+        _ => return Err(p.unexpected("an instruction call such as MCLM(…) or an instance's Move(Input := …)")),
+    };
+    if p.is_sym(";") {
+        p.bump();
+    }
+    if !p.at_end() {
+        return Err(p.unexpected("the end of the call (only ';' may follow it)"));
+    }
+    Ok(call)
+}
+
+/// Parses one expression (a step's `when`, a traced tag, a scene's
+/// expectation).
+///
+/// # Errors
+/// The first syntax error, also when text follows the expression.
+pub fn parse_expression(source: &Source<'_>) -> R<Expr> {
+    let mut p = Parser::new(source)?;
+    let e = p.expr()?;
+    if !p.at_end() {
+        return Err(p.unexpected("an operator or the end of the expression"));
+    }
+    Ok(e)
+}
+
+struct Parser<'s> {
+    source: &'s Source<'s>,
     tokens: Vec<Token>,
-    chars: Vec<char>,
     at: usize,
     /// Tokens from here on read as the end (a call argument being parsed).
     end: usize,
     /// Nesting levels entered now ([`MAX_NESTING`]).
     depth: usize,
+    /// Open constructs: the keyword and where it is.
+    open: Vec<(&'static str, Span)>,
 }
 
 const EOF: Tok = Tok::Eof;
 
-impl Parser {
-    fn new(text: &str) -> Result<Parser, SyntaxError> {
-        let tokens = lex(text)?;
+impl<'s> Parser<'s> {
+    fn new(source: &'s Source<'s>) -> R<Parser<'s>> {
+        let tokens = lex(source.text).map_err(|e| {
+            let span = source.span(e.start, e.end);
+            Box::new(Diagnostic::error(e.message).with_label(source.label(span, "")))
+        })?;
         let end = tokens.len() - 1;
         Ok(Parser {
+            source,
             tokens,
-            chars: text.chars().collect(),
             at: 0,
             end,
             depth: 0,
+            open: Vec::new(),
         })
     }
 
+    fn error(&self, span: Span, message: impl Into<String>, label: impl Into<String>) -> Box<Diagnostic> {
+        Box::new(Diagnostic::error(message).with_label(self.source.label(span, label)))
+    }
+
     /// Enters one nesting level (`extra` more for an operator chain).
-    fn enter(&mut self, extra: usize) -> Result<(), SyntaxError> {
+    fn enter(&mut self, extra: usize) -> R<()> {
         if self.depth + extra >= MAX_NESTING {
-            return Err(SyntaxError {
-                pos: self.pos(),
-                message: format!(
+            return Err(self.error(
+                self.span(0),
+                format!(
                     "nested deeper than {MAX_NESTING} levels (statements, parentheses, calls and operators together)"
                 ),
-            });
+                "too deep here",
+            ));
         }
         self.depth += 1;
         Ok(())
@@ -164,8 +200,18 @@ impl Parser {
         if i >= self.end { &EOF } else { &self.tokens[i].tok }
     }
 
-    fn pos(&self) -> Pos {
-        self.tokens[self.at.min(self.end)].pos
+    /// The span of the token `ahead` of the current one (the end of the
+    /// text past the last).
+    fn span(&self, ahead: usize) -> Span {
+        let t = &self.tokens[(self.at + ahead).min(self.end)];
+        self.source.span(t.start, t.end)
+    }
+
+    /// The span from token `from` to the token before the current one.
+    fn span_from(&self, from: usize) -> Span {
+        let first = &self.tokens[from.min(self.end)];
+        let last = &self.tokens[self.at.saturating_sub(1).max(from).min(self.end)];
+        self.source.span(first.start, last.end.max(first.start))
     }
 
     fn at_end(&self) -> bool {
@@ -186,14 +232,19 @@ impl Parser {
         matches!(self.tok(0), Tok::Ident(x) if x.eq_ignore_ascii_case(w))
     }
 
-    fn unexpected(&self, expected: &str) -> SyntaxError {
-        SyntaxError {
-            pos: self.pos(),
-            message: format!("expected {expected}, found {}", self.tok(0)),
-        }
+    fn is_closer(&self) -> bool {
+        CLOSERS.iter().any(|w| self.is_word(w))
     }
 
-    fn sym(&mut self, s: &str) -> Result<(), SyntaxError> {
+    fn unexpected(&self, expected: &str) -> Box<Diagnostic> {
+        self.error(
+            self.span(0),
+            format!("expected {expected}, found {}", self.tok(0)),
+            format!("expected {expected}"),
+        )
+    }
+
+    fn sym(&mut self, s: &str) -> R<()> {
         if self.is_sym(s) {
             self.bump();
             Ok(())
@@ -202,7 +253,7 @@ impl Parser {
         }
     }
 
-    fn word(&mut self, w: &str) -> Result<(), SyntaxError> {
+    fn word(&mut self, w: &str) -> R<()> {
         if self.is_word(w) {
             self.bump();
             Ok(())
@@ -211,36 +262,82 @@ impl Parser {
         }
     }
 
+    /// A closing keyword with nothing open to close: `END_IF` without `IF`.
+    fn stray_closer(&self) -> Box<Diagnostic> {
+        if let Tok::Ident(w) = self.tok(0) {
+            let opener = match w.to_ascii_uppercase().as_str() {
+                "ELSIF" | "ELSE" | "END_IF" => "IF",
+                "END_CASE" => "CASE",
+                "END_FOR" => "FOR",
+                "END_WHILE" => "WHILE",
+                "UNTIL" | "END_REPEAT" => "REPEAT",
+                _ => return self.unexpected("a statement"),
+            };
+            return self.error(
+                self.span(0),
+                format!("'{w}' without an open {opener}"),
+                format!("no {opener} is open here"),
+            );
+        }
+        self.unexpected("a statement")
+    }
+
+    /// Opens a construct at the current keyword.
+    fn open(&mut self, keyword: &'static str) {
+        let span = self.span(0);
+        self.open.push((keyword, span));
+        self.bump();
+    }
+
+    /// Closes the innermost construct with `closer` (then `;` follows in
+    /// the statement), or reports it unclosed at its opening keyword.
+    fn close(&mut self, closer: &str) -> R<()> {
+        let (keyword, opened) = self.open.pop().unwrap_or(("", self.span(0)));
+        if self.is_word(closer) {
+            self.bump();
+            return Ok(());
+        }
+        let found = self.tok(0).to_string();
+        Err(Box::new(
+            Diagnostic::error(format!("this {keyword} is never closed: expected {closer}, found {found}"))
+                .with_label(self.source.label(opened, format!("{keyword} opened here")))
+                .with_label(self.source.label(self.span(0), format!("expected {closer} before this")))
+                .with_help(format!("end the {keyword} with {closer}; before {found}")),
+        ))
+    }
+
     /// Statements up to (not including) one of the `until` keywords, a
-    /// CASE label, or the end.
-    fn statements(&mut self, until: &[&str]) -> Result<Vec<Stmt>, SyntaxError> {
+    /// closing keyword, a CASE label inside a CASE, or the end.
+    fn statements(&mut self, until: &[&str]) -> R<Vec<Stmt>> {
         let mut out = Vec::new();
         loop {
-            if self.at_end() || until.iter().any(|w| self.is_word(w)) {
+            if self.at_end() || until.iter().any(|w| self.is_word(w)) || self.is_closer() {
                 return Ok(out);
             }
-            if until.contains(&"END_CASE") && self.at_case_label() {
+            // A CASE label ends the statements of the arm before it, also
+            // those of an IF inside the arm.
+            if self.at_case_label() && self.open.iter().any(|(k, _)| *k == "CASE") {
                 return Ok(out);
             }
             out.push(self.statement()?);
         }
     }
 
-    fn statement(&mut self) -> Result<Stmt, SyntaxError> {
+    fn statement(&mut self) -> R<Stmt> {
         self.enter(0)?;
         let statement = self.statement_inner();
         self.depth -= 1;
         statement
     }
 
-    fn statement_inner(&mut self) -> Result<Stmt, SyntaxError> {
-        let pos = self.pos();
+    fn statement_inner(&mut self) -> R<Stmt> {
+        let span = self.span(0);
         let kind = match self.tok(0).clone() {
             Tok::Sym(";") => {
                 self.bump();
                 return Ok(Stmt {
                     kind: StmtKind::Empty,
-                    pos,
+                    span,
                 });
             }
             Tok::Ident(w) => match w.to_ascii_uppercase().as_str() {
@@ -248,19 +345,22 @@ impl Parser {
                 "CASE" => self.case_statement()?,
                 "FOR" => self.for_statement()?,
                 "WHILE" => {
-                    self.bump();
+                    self.open("WHILE");
                     let condition = self.expr()?;
                     self.word("DO")?;
                     let body = self.statements(&["END_WHILE"])?;
-                    self.word("END_WHILE")?;
+                    self.close("END_WHILE")?;
                     StmtKind::While { condition, body }
                 }
                 "REPEAT" => {
-                    self.bump();
+                    self.open("REPEAT");
                     let body = self.statements(&["UNTIL"])?;
-                    self.word("UNTIL")?;
+                    if !self.is_word("UNTIL") {
+                        self.close("UNTIL")?;
+                    }
+                    self.bump();
                     let until = self.expr()?;
-                    self.word("END_REPEAT")?;
+                    self.close("END_REPEAT")?;
                     StmtKind::Repeat { body, until }
                 }
                 "EXIT" => {
@@ -270,17 +370,17 @@ impl Parser {
                 _ if is_keyword(&w) => return Err(self.unexpected("a statement")),
                 _ if matches!(self.tok(1), Tok::Sym("(")) => {
                     self.bump();
-                    StmtKind::Call(self.call(w, pos)?)
+                    StmtKind::Call(self.call(w, span)?)
                 }
                 _ => self.assignment()?,
             },
             _ => return Err(self.unexpected("a statement")),
         };
         self.sym(";")?;
-        Ok(Stmt { kind, pos })
+        Ok(Stmt { kind, span })
     }
 
-    fn assignment(&mut self) -> Result<StmtKind, SyntaxError> {
+    fn assignment(&mut self) -> R<StmtKind> {
         let target = self.reference()?;
         let retentive = if self.is_sym("[") {
             self.bump();
@@ -301,8 +401,8 @@ impl Parser {
         })
     }
 
-    fn if_statement(&mut self) -> Result<StmtKind, SyntaxError> {
-        self.bump();
+    fn if_statement(&mut self) -> R<StmtKind> {
+        self.open("IF");
         let mut branches = Vec::new();
         loop {
             let condition = self.expr()?;
@@ -321,7 +421,7 @@ impl Parser {
         } else {
             Vec::new()
         };
-        self.word("END_IF")?;
+        self.close("END_IF")?;
         Ok(StmtKind::If { branches, otherwise })
     }
 
@@ -332,7 +432,8 @@ impl Parser {
         )
     }
 
-    fn case_value(&mut self) -> Result<i64, SyntaxError> {
+    fn case_value(&mut self) -> R<i64> {
+        let start = self.at;
         let negative = self.is_sym("-");
         if negative {
             self.bump();
@@ -341,16 +442,18 @@ impl Parser {
             return Err(self.unexpected("an integer CASE label"));
         };
         let v = if negative { -v } else { v };
-        let v = i64::try_from(v).map_err(|_| SyntaxError {
-            pos: self.pos(),
-            message: format!("CASE label {v} is out of range"),
-        })?;
         self.bump();
-        Ok(v)
+        i64::try_from(v).map_err(|_| {
+            self.error(
+                self.span_from(start),
+                format!("CASE label {v} is out of range"),
+                "beyond 64 bits",
+            )
+        })
     }
 
-    fn case_statement(&mut self) -> Result<StmtKind, SyntaxError> {
-        self.bump();
+    fn case_statement(&mut self) -> R<StmtKind> {
+        self.open("CASE");
         let selector = self.expr()?;
         self.word("OF")?;
         let mut arms = Vec::new();
@@ -380,10 +483,10 @@ impl Parser {
         } else {
             Vec::new()
         };
-        if !self.is_word("END_CASE") {
+        if !self.is_word("END_CASE") && !self.at_end() && !self.is_closer() {
             return Err(self.unexpected("a CASE label, ELSE or END_CASE"));
         }
-        self.bump();
+        self.close("END_CASE")?;
         Ok(StmtKind::Case {
             selector,
             arms,
@@ -391,8 +494,8 @@ impl Parser {
         })
     }
 
-    fn for_statement(&mut self) -> Result<StmtKind, SyntaxError> {
-        self.bump();
+    fn for_statement(&mut self) -> R<StmtKind> {
+        self.open("FOR");
         let counter = self.reference()?;
         self.sym(":=")?;
         let from = self.expr()?;
@@ -406,7 +509,7 @@ impl Parser {
         };
         self.word("DO")?;
         let body = self.statements(&["END_FOR"])?;
-        self.word("END_FOR")?;
+        self.close("END_FOR")?;
         Ok(StmtKind::For {
             counter,
             from,
@@ -416,52 +519,114 @@ impl Parser {
         })
     }
 
-    /// `NAME(` has been read up to the name; reads the arguments and `)`.
-    fn call(&mut self, name: String, pos: Pos) -> Result<Call, SyntaxError> {
+    /// `NAME` (at `name_span`) has been read; reads `(`, the arguments and
+    /// `)`.
+    fn call(&mut self, name: String, name_span: Span) -> R<Call> {
+        let open = self.at;
         self.sym("(")?;
-        let mut args = Vec::new();
+        let mut args: Vec<Arg> = Vec::new();
         if self.is_sym(")") {
             self.bump();
-            return Ok(Call { name, pos, args });
+            return Ok(Call {
+                name,
+                name_span,
+                args,
+                span: name_span.to(self.span_from(open)),
+            });
         }
         loop {
             let arg_name = match (self.tok(0), self.tok(1)) {
                 (Tok::Ident(n), Tok::Sym(":=")) => {
                     let n = n.clone();
+                    let span = self.span(0);
                     self.at += 2;
-                    Some(n)
+                    Some((n, span))
+                }
+                // `Input value` among named inputs: the `:=` is missing.
+                (Tok::Ident(n), next)
+                    if args.first().is_some_and(|a| a.name.is_some())
+                        && !matches!(next, Tok::Sym("," | ")" | ";" | "." | "[") | Tok::Eof) =>
+                {
+                    let (n, found) = (n.clone(), next.to_string());
+                    return Err(Box::new(
+                        Diagnostic::error(format!("expected ':=' after input '{n}', found {found}"))
+                            .with_label(self.source.label(self.span(1), "expected ':=' before this"))
+                            .with_help(format!("name the input and its value: {n} := value")),
+                    ));
                 }
                 _ => None,
             };
-            args.push(self.argument(arg_name)?);
+            let arg = self.argument(arg_name, open)?;
+            self.check_argument(&args, &arg)?;
+            args.push(arg);
             if self.is_sym(",") {
                 self.bump();
+            } else if self.is_sym(")") {
+                self.bump();
+                return Ok(Call {
+                    name,
+                    name_span,
+                    args,
+                    span: name_span.to(self.span_from(open)),
+                });
             } else {
-                self.sym(")")?;
-                return Ok(Call { name, pos, args });
+                return Err(self.unexpected("')' or ','"));
             }
         }
     }
 
+    /// Positional and named arguments do not mix; an input is named once.
+    fn check_argument(&self, before: &[Arg], arg: &Arg) -> R<()> {
+        let Some(first) = before.first() else {
+            return Ok(());
+        };
+        match (&first.name, &arg.name) {
+            (Some(_), None) => Err(Box::new(
+                Diagnostic::error("cannot mix positional operands and named inputs in one call")
+                    .with_label(self.source.label(arg.span, "an operand without its input's name"))
+                    .with_help("name every input of a function block: Input := value"),
+            )),
+            (None, Some((_, span))) => Err(Box::new(
+                Diagnostic::error("cannot mix positional operands and named inputs in one call")
+                    .with_label(self.source.label(*span, "a named input after positional operands"))
+                    .with_help("a Logix instruction takes its operands in order, without names"),
+            )),
+            (Some(_), Some((input, span))) => match before
+                .iter()
+                .filter_map(|a| a.name.as_ref())
+                .find(|(n, _)| n.eq_ignore_ascii_case(input))
+            {
+                Some((_, first)) => Err(Box::new(
+                    Diagnostic::error(format!("input '{input}' is given more than once"))
+                        .with_label(self.source.label(*span, "given again here"))
+                        .with_label(self.source.label(*first, "first given here")),
+                )),
+                None => Ok(()),
+            },
+            (None, None) => Ok(()),
+        }
+    }
+
     /// One argument: the tokens up to a `,` or `)` outside brackets.
-    fn argument(&mut self, name: Option<String>) -> Result<Arg, SyntaxError> {
+    fn argument(&mut self, name: Option<(String, Span)>, open: usize) -> R<Arg> {
         let start = self.at;
         let mut depth = 0usize;
         let mut stop = start;
         loop {
             let t = if stop >= self.end { &EOF } else { &self.tokens[stop].tok };
             match t {
-                Tok::Eof => {
+                Tok::Eof | Tok::Sym(";") => {
                     self.at = stop;
-                    return Err(self.unexpected("')'"));
+                    let found = self.tok(0).to_string();
+                    return Err(Box::new(
+                        Diagnostic::error(format!("expected ')' or ',', found {found}: the call's '(' is never closed"))
+                            .with_label(self.source.label(self.span(0), "expected ')' here"))
+                            .with_label(self.source.label(self.span_at(open), "'(' opened here")),
+                    ));
                 }
                 Tok::Sym("(" | "[") => depth += 1,
                 Tok::Sym(")" | "]") if depth > 0 => depth -= 1,
                 Tok::Sym(")" | ",") if depth == 0 => break,
-                Tok::Sym(";") => {
-                    self.at = stop;
-                    return Err(self.unexpected("')'"));
-                }
                 _ => {}
             }
             stop += 1;
@@ -469,23 +634,36 @@ impl Parser {
         if stop == start {
             return Err(self.unexpected("an operand"));
         }
-        let pos = self.tokens[start].pos;
-        let text: String = self.chars[self.tokens[start].start..self.tokens[stop - 1].end]
-            .iter()
-            .collect();
+        let (first, last) = (&self.tokens[start], &self.tokens[stop - 1]);
+        let text = self.source.text[first.start..last.end].to_owned();
+        let span = self.source.span(first.start, last.end);
         let outer_end = self.end;
         self.end = stop;
         let expr = match self.expr() {
             Ok(e) if self.at == stop => Some(e),
+            // Two operands side by side: a comma is missing between them.
+            Ok(_) if matches!(self.tok(0), Tok::Ident(_) | Tok::Int(_) | Tok::Real(_)) => {
+                let found = self.tok(0).to_string();
+                return Err(Box::new(
+                    Diagnostic::error(format!("expected ')' or ',', found {found}"))
+                        .with_label(self.source.label(self.span(0), "expected ',' before this"))
+                        .with_help("separate the operands with commas"),
+                ));
+            }
             _ => None,
         };
         self.end = outer_end;
         self.at = stop;
-        Ok(Arg { name, text, expr, pos })
+        Ok(Arg { name, text, expr, span })
     }
 
-    fn reference(&mut self) -> Result<Ref, SyntaxError> {
-        let pos = self.pos();
+    fn span_at(&self, token: usize) -> Span {
+        let t = &self.tokens[token.min(self.tokens.len() - 1)];
+        self.source.span(t.start, t.end)
+    }
+
+    fn reference(&mut self) -> R<Ref> {
+        let start = self.at;
         let name = match self.tok(0) {
             Tok::Ident(w) if !is_keyword(w) => w.clone(),
             _ => return Err(self.unexpected("a tag name")),
@@ -497,8 +675,9 @@ impl Parser {
                 self.bump();
                 match self.tok(0).clone() {
                     Tok::Ident(m) => {
+                        let span = self.span(0);
                         self.bump();
-                        path.push(Access::Member(m));
+                        path.push(Access::Member(m, span));
                     }
                     Tok::Int(b) => {
                         let bit = u32::try_from(b).map_err(|_| self.unexpected("a bit number"))?;
@@ -523,23 +702,35 @@ impl Parser {
                 self.sym("]")?;
                 path.push(Access::Index(subscripts));
             } else {
-                return Ok(Ref { name, path, pos });
+                return Ok(Ref {
+                    name,
+                    path,
+                    span: self.span_from(start),
+                });
             }
         }
     }
 
     /// An expression (the lowest level, `OR`).
-    fn expr(&mut self) -> Result<Expr, SyntaxError> {
+    fn expr(&mut self) -> R<Expr> {
         self.enter(0)?;
         let e = self.binary(0);
         self.depth -= 1;
         e
     }
 
-    fn level_op(&self, level: usize) -> Option<BinaryOp> {
+    fn level_op(&self, level: usize) -> R<Option<BinaryOp>> {
         let word = |w: &str| self.is_word(w);
         let sym = |s: &str| self.is_sym(s);
-        match level {
+        if level == 3 && (sym("==") || sym("!=")) {
+            let (c, st) = if sym("==") { ("==", "=") } else { ("!=", "<>") };
+            return Err(Box::new(
+                Diagnostic::error(format!("'{c}' is not Structured Text: it compares with '{st}'"))
+                    .with_label(self.source.label(self.span(0), format!("write '{st}'")))
+                    .with_help(format!("replace '{c}' with '{st}'")),
+            ));
+        }
+        Ok(match level {
             0 if word("OR") => Some(BinaryOp::Or),
             1 if word("XOR") => Some(BinaryOp::Xor),
             2 if word("AND") || sym("&") => Some(BinaryOp::And),
@@ -555,33 +746,33 @@ impl Parser {
             6 if sym("/") => Some(BinaryOp::Div),
             6 if word("MOD") => Some(BinaryOp::Mod),
             _ => None,
-        }
+        })
     }
 
-    fn binary(&mut self, level: usize) -> Result<Expr, SyntaxError> {
+    fn binary(&mut self, level: usize) -> R<Expr> {
         if level == 7 {
             return self.unary();
         }
         let mut left = self.binary(level + 1)?;
         let mut chain = 0;
-        while let Some(op) = self.level_op(level) {
+        while let Some(op) = self.level_op(level)? {
             // Each operator of a chain nests the tree one level deeper.
             chain += 1;
             self.enter(chain)?;
             self.depth -= 1;
             self.bump();
             let right = self.binary(level + 1)?;
-            let pos = left.pos;
+            let span = left.span.to(right.span);
             left = Expr {
                 kind: ExprKind::Binary(op, Box::new(left), Box::new(right)),
-                pos,
+                span,
             };
         }
         Ok(left)
     }
 
-    fn unary(&mut self) -> Result<Expr, SyntaxError> {
-        let pos = self.pos();
+    fn unary(&mut self) -> R<Expr> {
+        let span = self.span(0);
         let op = if self.is_sym("-") {
             UnaryOp::Neg
         } else if self.is_word("NOT") {
@@ -593,13 +784,14 @@ impl Parser {
         self.enter(0)?;
         let operand = self.unary();
         self.depth -= 1;
+        let operand = operand?;
         Ok(Expr {
-            kind: ExprKind::Unary(op, Box::new(operand?)),
-            pos,
+            span: span.to(operand.span),
+            kind: ExprKind::Unary(op, Box::new(operand)),
         })
     }
 
-    fn power(&mut self) -> Result<Expr, SyntaxError> {
+    fn power(&mut self) -> R<Expr> {
         let mut left = self.primary()?;
         let mut chain = 0;
         while self.is_sym("**") {
@@ -609,27 +801,27 @@ impl Parser {
             self.bump();
             // A signed primary: `2 ** -1 ** 2` is `(2 ** -1) ** 2`.
             let right = if self.is_sym("-") {
-                let pos = self.pos();
+                let span = self.span(0);
                 self.bump();
                 let operand = self.primary()?;
                 Expr {
+                    span: span.to(operand.span),
                     kind: ExprKind::Unary(UnaryOp::Neg, Box::new(operand)),
-                    pos,
                 }
             } else {
                 self.primary()?
             };
-            let pos = left.pos;
+            let span = left.span.to(right.span);
             left = Expr {
                 kind: ExprKind::Binary(BinaryOp::Pow, Box::new(left), Box::new(right)),
-                pos,
+                span,
             };
         }
         Ok(left)
     }
 
-    fn primary(&mut self) -> Result<Expr, SyntaxError> {
-        let pos = self.pos();
+    fn primary(&mut self) -> R<Expr> {
+        let start = self.at;
         let kind = match self.tok(0).clone() {
             Tok::Int(i) => {
                 self.bump();
@@ -643,13 +835,17 @@ impl Parser {
                 self.bump();
                 let e = self.expr()?;
                 self.sym(")")?;
-                return Ok(Expr { kind: e.kind, pos });
+                return Ok(Expr {
+                    kind: e.kind,
+                    span: self.span_from(start),
+                });
             }
             Tok::Ident(w) if w.eq_ignore_ascii_case("TRUE") || w.eq_ignore_ascii_case("FALSE") => {
                 self.bump();
                 ExprKind::Bool(w.eq_ignore_ascii_case("TRUE"))
             }
             Tok::Ident(w) if !is_keyword(&w) && matches!(self.tok(1), Tok::Sym("(")) => {
+                let name_span = self.span(0);
                 self.at += 2;
                 let mut args = Vec::new();
                 if !self.is_sym(")") {
@@ -660,129 +856,17 @@ impl Parser {
                     }
                 }
                 self.sym(")")?;
-                ExprKind::Function(w, args)
+                ExprKind::Function(w, name_span, args)
             }
             Tok::Ident(w) if !is_keyword(&w) => ExprKind::Ref(self.reference()?),
             _ => return Err(self.unexpected("an operand (number, TRUE/FALSE, tag or '(')")),
         };
-        Ok(Expr { kind, pos })
+        Ok(Expr {
+            kind,
+            span: self.span_from(start),
+        })
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The tree written back with full parentheses, to check grouping.
-    fn show(e: &Expr) -> String {
-        match &e.kind {
-            ExprKind::Int(i) => i.to_string(),
-            ExprKind::Real(x) => format!("{x:?}"),
-            ExprKind::Bool(b) => b.to_string(),
-            ExprKind::Ref(r) => r.name.clone(),
-            ExprKind::Unary(UnaryOp::Neg, a) => format!("(-{})", show(a)),
-            ExprKind::Unary(UnaryOp::Not, a) => format!("(NOT {})", show(a)),
-            ExprKind::Binary(op, a, b) => format!("({} {} {})", show(a), op.symbol(), show(b)),
-            ExprKind::Function(f, args) => format!("{f}({})", args.iter().map(show).collect::<Vec<_>>().join(",")),
-        }
-    }
-
-    fn grouped(text: &str) -> String {
-        show(&parse_expression(text).unwrap())
-    }
-
-    #[test]
-    fn precedence_follows_the_logix_table() {
-        assert_eq!(grouped("1 + 2 * 3"), "(1 + (2 * 3))");
-        assert_eq!(grouped("-2 ** 2"), "(-(2 ** 2))");
-        assert_eq!(grouped("2 ** 3 ** 2"), "((2 ** 3) ** 2)");
-        assert_eq!(grouped("a OR b XOR c AND d"), "(a OR (b XOR (c AND d)))");
-        assert_eq!(grouped("a = b & c <> d"), "((a = b) AND (c <> d))");
-        assert_eq!(grouped("NOT a = b"), "((NOT a) = b)");
-        assert_eq!(grouped("a < b = c > d"), "((a < b) = (c > d))");
-        assert_eq!(grouped("7 MOD 2 * 3"), "((7 MOD 2) * 3)");
-        assert_eq!(grouped("10 - 4 - 3"), "((10 - 4) - 3)");
-        assert_eq!(grouped("ABS(-3) + SIN(x)"), "(ABS((-3)) + SIN(x))");
-        assert_eq!(grouped("2 ** -1"), "(2 ** (-1))");
-        assert_eq!(grouped("2 ** -1 ** 2"), "((2 ** (-1)) ** 2)");
-    }
-
-    #[test]
-    fn statements_of_every_kind() {
-        let r = parse_routine(
-            "x := 1; y [:=] 2;\n\
-             IF a THEN b := 1; ELSIF c THEN b := 2; ELSE b := 3; END_IF;\n\
-             CASE s OF 1: t := 1; 2, 3: t := 2; 4..6, -1: t := 3; ELSE t := 0; END_CASE;\n\
-             FOR i := 0 TO 10 BY 2 DO IF i > 4 THEN EXIT; END_IF; END_FOR;\n\
-             WHILE n < 3 DO n := n + 1; END_WHILE;\n\
-             REPEAT n := n - 1; UNTIL n <= 0 END_REPEAT;\n\
-             MCLM(CS, MC1, 0, Pos[0], 100, unitspersec, 50, %ofMaximum, 50, unitspersec²);\n\
-             Arr[i + 1].3 := TRUE; D.[k] := FALSE; ;",
-        )
-        .unwrap();
-        assert_eq!(r.body.len(), 11);
-        let StmtKind::Case { arms, otherwise, .. } = &r.body[3].kind else {
-            panic!("CASE")
-        };
-        assert_eq!(arms[2].0, vec![CaseLabel::Range(4, 6), CaseLabel::Value(-1)]);
-        assert_eq!(otherwise.len(), 1);
-        let StmtKind::Call(call) = &r.body[7].kind else {
-            panic!("call")
-        };
-        assert_eq!(call.args.len(), 10);
-        assert_eq!(call.args[7].text, "%ofMaximum");
-        assert!(call.args[7].expr.is_none());
-        assert_eq!(call.args[9].text, "unitspersec²");
-        assert!(call.args[3].expr.is_some());
-        let StmtKind::Assign { retentive, .. } = &r.body[1].kind else {
-            panic!("assign")
-        };
-        assert!(!retentive);
-    }
-
-    #[test]
-    fn named_arguments_and_words_with_a_dash() {
-        let r = parse_routine("Move(Axis := Table, Execute := TRUE); MAJ(A, M, 0, 10, s-curve);").unwrap();
-        let StmtKind::Call(c) = &r.body[0].kind else { panic!() };
-        assert_eq!(c.args[0].name.as_deref(), Some("Axis"));
-        let StmtKind::Call(c) = &r.body[1].kind else { panic!() };
-        assert_eq!(c.args[4].text, "s-curve");
-    }
-
-    #[test]
-    fn errors_name_the_place_and_what_was_expected() {
-        let e = parse_routine("x := 1;\nIF a THEN\n  y := ;\nEND_IF;").unwrap_err();
-        assert_eq!((e.pos.line, e.pos.column), (3, 8));
-        assert!(e.message.starts_with("expected an operand"), "{}", e.message);
-        let e = parse_routine("x := 1").unwrap_err();
-        assert_eq!(e.message, "expected ';', found end of routine");
-        let e = parse_routine("IF := 2;").unwrap_err();
-        assert!(e.message.contains("expected"), "{}", e.message);
-        let e = parse_routine("CASE s OF x: END_CASE;").unwrap_err();
-        assert!(e.message.contains("CASE label"), "{}", e.message);
-        assert!(parse_routine("MCLM(a, b").is_err());
-        assert!(parse_routine("f(a,,b);").is_err());
-    }
-
-    #[test]
-    fn a_routine_nested_beyond_the_bound_is_refused_not_a_stack_overflow() {
-        // `VT(VT(VT(…` a thousand deep overflowed a test thread's stack.
-        let deep_calls = format!("X := {}1{};", "VT(".repeat(1000), ")".repeat(1000));
-        let deep_parens = format!("X := {}1{};", "(".repeat(1000), ")".repeat(1000));
-        let deep_not = format!("X := {}TRUE;", "NOT ".repeat(1000));
-        let long_chain = format!("X := 1{};", " + 1".repeat(1000));
-        let deep_ifs = format!("{}X := 1;{}", "IF TRUE THEN ".repeat(1000), " END_IF;".repeat(1000));
-        for text in [deep_calls, deep_parens, deep_not, long_chain, deep_ifs] {
-            let outcome = std::thread::Builder::new()
-                .stack_size(512 * 1024)
-                .spawn(move || parse_routine(&text).map(|_| ()))
-                .unwrap()
-                .join()
-                .unwrap();
-            let e = outcome.unwrap_err();
-            assert!(e.message.starts_with("nested deeper than 32 levels"), "{}", e.message);
-        }
-        // Thirty levels of parentheses are fine.
-        parse_routine(&format!("X := {}1{};", "(".repeat(28), ")".repeat(28))).unwrap();
-    }
-}
+mod tests;

@@ -30,7 +30,7 @@ use std::time::{Duration, Instant};
 use twin::plant::dae::parse_dae;
 use twin::plant::stl::parse_stl;
 use twin::plant::urdf::RobotModel;
-use twin::program::plc::sandbox::Sandbox;
+use twin::program::sandbox::Sandbox;
 
 /// Case `n` is seeded with `SEED + n`.
 pub const SEED: u64 = 0xF022_0000_0000;
@@ -342,7 +342,8 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
                     }
                     Err(e) => {
                         let placed = e
-                            .split_once(':')
+                            .strip_prefix("Main.st:")
+                            .and_then(|rest| rest.split_once(':'))
                             .and_then(|(l, rest)| {
                                 Some((l.parse::<usize>().ok()?, rest.split_once(':')?.0.parse::<usize>().ok()?))
                             })

@@ -71,3 +71,30 @@ fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     task.set_move_modulo_inputs(fb, inputs);
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every word of Direction and BufferMode is a code the block takes.
+    #[test]
+    fn the_inputs_words_are_the_blocks_codes() {
+        for w in MC_DIRECTION {
+            assert!(McDirection::from_code(w.code).is_some(), "{}", w.word);
+        }
+        for w in MC_BUFFER_MODE {
+            assert!(McBufferMode::from_code(w.code).is_some(), "{}", w.word);
+        }
+        let code = |words: &[crate::catalogue::Word], word: &str| {
+            words.iter().find(|w| w.word.eq_ignore_ascii_case(word)).map(|w| w.code)
+        };
+        assert_eq!(
+            code(MC_DIRECTION, "mc_shortest_way").and_then(McDirection::from_code),
+            Some(McDirection::ShortestWay)
+        );
+        assert_eq!(
+            code(MC_BUFFER_MODE, "MC_BlendingHigh").and_then(McBufferMode::from_code),
+            Some(McBufferMode::BlendingHigh)
+        );
+    }
+}

@@ -2,29 +2,54 @@
 //! it reads or writes, and the structure and array operands of
 //! instructions.
 
-use super::{CompileError, Compiler, Result, constant, err, show};
-use crate::program::bind::axis_named;
-use crate::program::coord;
-use crate::program::plc::ir::{
+use super::{Compiler, Error, Result, constant, err, show, suggest};
+use crate::program::ir::{
     AXIS_MEMBERS, ArrayAt, CExpr, CKind, CoordMember, FbMember, Instance, MotionMember, Place,
 };
-use crate::program::plc::memory::{Kind, TagInfo};
-use crate::program::plc::types::{DataType, Structure, Ty, Value};
+use crate::program::memory::{Kind, TagInfo};
+use crate::program::types::{DataType, Structure, Ty, Value};
 use crate::scene::BaseType;
+use crate::source::Span;
 use crate::st::ast::{Access, Arg, Expr, ExprKind, Ref};
 use planner::instruction::MotionInstructionBits;
 
 /// The `MOTION_INSTRUCTION` bits a program names.
 const BIT_NAMES: [&str; 8] = ["EN", "DN", "ER", "IP", "AC", "PC", "ACCEL", "DECEL"];
 
-impl Compiler<'_, '_> {
+impl Compiler<'_, '_, '_> {
+    /// The tag a name resolves to in this scope.
+    pub(super) fn resolve(&self, name: &str) -> Option<usize> {
+        self.mem.resolve(self.program, name)
+    }
+
     pub(super) fn tag(&self, r: &Ref) -> Result<usize> {
+        self.resolve(&r.name).ok_or_else(|| self.unknown_name(&r.name, r.name_span()))
+    }
+
+    /// `'X' is not a tag …`, with the nearest name this scope knows.
+    pub(super) fn unknown_name(&self, name: &str, span: Span) -> Error {
+        let scope = match self.program {
+            Some(_) => "a tag of this program, a controller tag or an axis",
+            None => "a controller tag or an axis",
+        };
+        let d = self.error(span, format!("'{name}' is not {scope}"), "unknown name");
+        suggest(d, name, self.visible_names())
+    }
+
+    /// The names visible in this scope: the program's own tags (short),
+    /// the controller's tags and axes, other programs' as `Program.Tag`.
+    fn visible_names(&self) -> Vec<&str> {
+        let own = self.program.map(|p| format!("{p}."));
         self.mem
-            .resolve(Some(self.program), &r.name)
-            .ok_or_else(|| CompileError {
-                pos: r.pos,
-                message: format!("'{}' is not a tag of this program, a controller tag or an axis", r.name),
+            .tags
+            .iter()
+            .map(|t| match &own {
+                Some(prefix) if t.name.len() > prefix.len() && t.name[..prefix.len()].eq_ignore_ascii_case(prefix) => {
+                    &t.name[prefix.len()..]
+                }
+                _ => t.name.as_str(),
             })
+            .collect()
     }
 
     /// A place that may be written, with its type.
@@ -37,7 +62,8 @@ impl Compiler<'_, '_> {
             | Place::FirstScan
             | Place::MinorInScan
             | Place::MinorFaults => err(
-                r.pos,
+                self,
+                r.span,
                 format!(
                     "'{}' is read-only (axis and coordinate-system members, S:FS, S:MINOR and MinorFaults are the controller's)",
                     show(r)
@@ -45,27 +71,32 @@ impl Compiler<'_, '_> {
             ),
             Place::Motion(_, MotionMember::Bit(_)) => Ok((place, ty)),
             Place::Motion(..) => err(
-                r.pos,
+                self,
+                r.span,
                 format!("'{}' is read-only: the instruction writes its codes", show(r)),
             ),
             _ => Ok((place, ty)),
         }
     }
 
-    /// Compiles a reference (for the trace).
+    /// A reference the trace reads (`State`, `Pos[0]`, `MC1.PC`,
+    /// `Prog.Count`, `Axis.ActualPosition`), subscripts constant.
     ///
     /// # Errors
-    /// A [`CompileError`] when it names nothing readable.
-    pub fn reference(&mut self, r: &Ref) -> Result<(Place, DataType)> {
-        self.place(r)
+    /// A diagnostic when it is not a reference, or names nothing readable.
+    pub fn traced(&mut self, e: &Expr) -> Result<(Place, DataType)> {
+        match &e.kind {
+            ExprKind::Ref(r) => self.place(r),
+            _ => err(self, e.span, "not a tag reference: a trace column reads a tag, an element, a member or a bit"),
+        }
     }
 
     /// `Program.Tag` written from outside the program: the qualified tag.
     pub(super) fn qualified(&self, r: &Ref) -> Option<Ref> {
-        if self.mem.resolve(Some(self.program), &r.name).is_some() {
+        if self.resolve(&r.name).is_some() {
             return None;
         }
-        let Some(Access::Member(m)) = r.path.first() else {
+        let Some(Access::Member(m, _)) = r.path.first() else {
             return None;
         };
         let name = format!("{}.{m}", r.name);
@@ -73,7 +104,7 @@ impl Compiler<'_, '_> {
         Some(Ref {
             name,
             path: r.path[1..].to_vec(),
-            pos: r.pos,
+            span: r.span,
         })
     }
 
@@ -89,8 +120,8 @@ impl Compiler<'_, '_> {
         let info = self.mem.tags[t].clone();
         let mut path = r.path.iter();
         let member = |path: &mut std::slice::Iter<'_, Access>, hint: &str| match path.next() {
-            Some(Access::Member(m)) => Ok(m.clone()),
-            _ => err(r.pos, format!("'{}' is {hint}", r.name)),
+            Some(Access::Member(m, span)) => Ok((m.clone(), *span)),
+            _ => err(self, r.span, format!("'{}' is {hint}", r.name)),
         };
         let (place, ty) = match info.kind {
             Kind::Scalar(_) | Kind::Structure(_) => self.memory_place(r, &info, &mut path)?,
@@ -99,14 +130,14 @@ impl Compiler<'_, '_> {
                     &mut path,
                     &format!("an axis: name a member, e.g. {}.ActualPosition", r.name),
                 )?;
-                self.axis_place(r, &info.name, &m)?
+                self.axis_place(&info.name, &m)?
             }
             Kind::Planner(BaseType::MotionInstruction) => {
                 let m = member(
                     &mut path,
                     &format!("a MOTION_INSTRUCTION: name a member, e.g. {}.PC", r.name),
                 )?;
-                self.motion_place(r, &info.name, &m)?
+                self.motion_place(&info.name, &m)?
             }
             Kind::Planner(BaseType::CoordinateSystem) => {
                 let m = member(&mut path, "a COORDINATE_SYSTEM: name a status bit")?;
@@ -121,7 +152,8 @@ impl Compiler<'_, '_> {
             }
             Kind::Planner(base) => {
                 return err(
-                    r.pos,
+                    self,
+                    r.span,
                     format!(
                         "'{}' is a {} tag: a program does not read it in an expression",
                         r.name,
@@ -135,7 +167,7 @@ impl Compiler<'_, '_> {
             None => (place, ty),
         };
         if path.next().is_some() {
-            return err(r.pos, format!("'{}': too many parts", show(r)));
+            return err(self, r.span, format!("'{}': too many parts", show(r)));
         }
         Ok((place, ty))
     }
@@ -150,11 +182,12 @@ impl Compiler<'_, '_> {
             "S:MINOR" => Some((Place::MinorInScan, DataType::Bool)),
             n if n.starts_with("S:") => {
                 return err(
-                    r.pos,
+                    self,
+                    r.span,
                     format!("status flag {} is not modelled (S:FS and S:MINOR are)", r.name),
                 );
             }
-            "MINORFAULTS" if self.mem.resolve(Some(self.program), &r.name).is_none() => {
+            "MINORFAULTS" if self.resolve(&r.name).is_none() => {
                 Some((Place::MinorFaults, DataType::Dint))
             }
             _ => None,
@@ -172,11 +205,12 @@ impl Compiler<'_, '_> {
         let index = match (info.len, path.as_slice().first()) {
             (Some(len), Some(Access::Index(sub))) => {
                 path.next();
-                Some((self.subscript(sub, r)?, len))
+                Some((self.checked_subscript(sub, r, len)?, len))
             }
             (Some(_), _) => {
                 return err(
-                    r.pos,
+                    self,
+                    r.span,
                     format!("'{}' is an array: name an element, e.g. {}[0]", r.name, r.name),
                 );
             }
@@ -185,9 +219,10 @@ impl Compiler<'_, '_> {
         let (offset, ty, stride) = match info.kind {
             Kind::Scalar(ty) => (0, ty, 1),
             Kind::Structure(s) => {
-                let Some(Access::Member(m)) = path.next() else {
+                let Some(Access::Member(m, span)) = path.next() else {
                     return err(
-                        r.pos,
+                        self,
+                        r.span,
                         format!(
                             "'{}' is a {}: name a member ({})",
                             r.name,
@@ -197,10 +232,13 @@ impl Compiler<'_, '_> {
                     );
                 };
                 let Some((offset, ty)) = s.member(m) else {
-                    return err(
-                        r.pos,
+                    let d = self.error(
+                        *span,
                         format!("{} has no member '{m}' (members: {})", s.name(), s.visible_members()),
+                        "no such member",
                     );
+                    let names = s.visible_members();
+                    return Err(suggest(d, m, names.split(", ")));
                 };
                 (offset, ty, s.size())
             }
@@ -220,26 +258,24 @@ impl Compiler<'_, '_> {
         Ok((place, ty))
     }
 
-    fn axis_place(&mut self, r: &Ref, axis: &str, m: &str) -> Result<(Place, DataType)> {
+    fn axis_place(&mut self, axis: &str, (m, span): &(String, Span)) -> Result<(Place, DataType)> {
         let Some((_, member, ty)) = AXIS_MEMBERS.iter().find(|(n, ..)| n.eq_ignore_ascii_case(m)) else {
             let names: Vec<&str> = AXIS_MEMBERS.iter().map(|a| a.0).collect();
-            return err(
-                r.pos,
+            let d = self.error(
+                *span,
                 format!("axis member '{m}' is not modelled (members: {})", names.join(", ")),
+                "not an axis member",
             );
+            return Err(suggest(d, m, names));
         };
-        let handle = axis_named(self.ctx.task, axis).ok_or_else(|| CompileError {
-            pos: r.pos,
-            message: format!("axis '{axis}' is not in the planner"),
-        })?;
+        let Some(handle) = self.env.axis(axis) else {
+            return err(self, *span, format!("axis '{axis}' is not in the planner"));
+        };
         Ok((Place::Axis(handle, *member), *ty))
     }
 
-    fn motion_place(&mut self, r: &Ref, tag: &str, m: &str) -> Result<(Place, DataType)> {
-        let handle = self
-            .ctx
-            .instruction("Motion Control", &crate::st::Expr::Ident(tag.to_owned()))
-            .map_err(|message| CompileError { pos: r.pos, message })?;
+    fn motion_place(&mut self, tag: &str, (m, span): &(String, Span)) -> Result<(Place, DataType)> {
+        let handle = self.env.control(tag);
         let upper = m.to_ascii_uppercase();
         debug_assert!(MotionInstructionBits::default().bits().len() == BIT_NAMES.len());
         let (member, ty) = match (BIT_NAMES.iter().find(|b| **b == upper), upper.as_str()) {
@@ -249,18 +285,20 @@ impl Compiler<'_, '_> {
             (None, "SEGMENT") => (MotionMember::Segment, DataType::Dint),
             (None, _) => {
                 let members = BIT_NAMES.join(", ");
-                return err(
-                    r.pos,
+                let d = self.error(
+                    *span,
                     format!("MOTION_INSTRUCTION has no member '{m}' (members: {members}, ERR, EXERR, SEGMENT)"),
+                    "no such member",
                 );
+                let known = BIT_NAMES.iter().copied().chain(["ERR", "EXERR", "SEGMENT"]);
+                return Err(suggest(d, m, known));
             }
         };
         Ok((Place::Motion(handle, member), ty))
     }
 
-    fn coord_place(&mut self, r: &Ref, tag: &str, m: &str) -> Result<(Place, DataType)> {
-        let handle = coord::coordinate_system(self.ctx, "Coordinate System", &crate::st::Expr::Ident(tag.to_owned()))
-            .map_err(|message| CompileError { pos: r.pos, message })?;
+    fn coord_place(&mut self, r: &Ref, tag: &str, (m, span): &(String, Span)) -> Result<(Place, DataType)> {
+        let handle = self.system(tag, r.name_span())?;
         let status = planner::coord::CoordStatus::default();
         let member = if let Some((n, _)) = status.bits().into_iter().find(|(n, _)| n.eq_ignore_ascii_case(m)) {
             CoordMember::Status(n)
@@ -270,21 +308,25 @@ impl Compiler<'_, '_> {
             CoordMember::TransformTarget
         } else {
             let names: Vec<&str> = status.bits().into_iter().map(|b| b.0).collect();
-            return err(
-                r.pos,
+            let d = self.error(
+                *span,
                 format!(
                     "COORDINATE_SYSTEM has no member '{m}' (members: {}, TransformSourceStatus, TransformTargetStatus)",
                     names.join(", ")
                 ),
+                "no such member",
             );
+            let known = names.into_iter().chain(["TransformSourceStatus", "TransformTargetStatus"]);
+            return Err(suggest(d, m, known));
         };
         Ok((Place::Coord(handle, member), DataType::Bool))
     }
 
-    fn fb_place(&mut self, r: &Ref, tag: &str, m: &str) -> Result<(Place, DataType)> {
-        let Some(fb) = self.fbs.iter().find(|f| f.name.eq_ignore_ascii_case(tag)) else {
+    fn fb_place(&mut self, r: &Ref, tag: &str, (m, span): &(String, Span)) -> Result<(Place, DataType)> {
+        let Some(fb) = self.env.bindings.fbs.iter().find(|f| f.name.eq_ignore_ascii_case(tag)) else {
             return err(
-                r.pos,
+                self,
+                r.span,
                 format!(
                     "'{}' is never called in an IEC routine or a program step: it has no outputs to read",
                     r.name
@@ -299,10 +341,12 @@ impl Compiler<'_, '_> {
             Some((n, _)) => Ok((Place::Fb(fb.handle, FbMember::Bit(n)), DataType::Bool)),
             None => {
                 let names: Vec<&str> = outputs.bits().into_iter().map(|b| b.0).collect();
-                err(
-                    r.pos,
+                let d = self.error(
+                    *span,
                     format!("function block outputs are {}, ErrorID; not '{m}'", names.join(", ")),
-                )
+                    "no such output",
+                );
+                Err(suggest(d, m, names.into_iter().chain(["ErrorID"])))
             }
         }
     }
@@ -314,14 +358,16 @@ impl Compiler<'_, '_> {
             Access::BitExpr(e) => self.integer(e)?,
             _ => {
                 return err(
-                    r.pos,
+                    self,
+                    r.span,
                     format!("'{}': nothing follows a {} value but a bit number", show(r), ty.name()),
                 );
             }
         };
         if !ty.is_integer() {
             return err(
-                r.pos,
+                self,
+                r.span,
                 format!("'{}': bit access needs an integer, this is {}", show(r), ty.name()),
             );
         }
@@ -329,7 +375,8 @@ impl Compiler<'_, '_> {
             && (b < 0 || b >= i64::from(ty.bits()))
         {
             return err(
-                r.pos,
+                self,
+                r.span,
                 format!("'{}': bit {b} is outside a {} ({} bits)", show(r), ty.name(), ty.bits()),
             );
         }
@@ -345,11 +392,39 @@ impl Compiler<'_, '_> {
     pub(super) fn subscript(&mut self, sub: &[Expr], r: &Ref) -> Result<CExpr> {
         if sub.len() != 1 {
             return err(
-                r.pos,
+                self,
+                r.span,
                 format!("'{}' has one dimension, got {} subscripts", r.name, sub.len()),
             );
         }
         self.integer(&sub[0])
+    }
+
+    /// A subscript of an array of `len` elements: a constant one must lie
+    /// inside it when the text is a `[[program]]` step's or a scene's
+    /// expression (nothing there can fault at run time).
+    pub(super) fn checked_subscript(&mut self, sub: &[Expr], r: &Ref, len: usize) -> Result<CExpr> {
+        let index = self.subscript(sub, r)?;
+        if !self.scanned {
+            match index.kind {
+                CKind::Const(v) if (0..len as i64).contains(&v.as_i64()) => {}
+                CKind::Const(v) => {
+                    return Err(self.error(
+                        sub[0].span,
+                        format!("index {} is outside '{}' (valid: 0..{len})", v.as_i64(), r.name),
+                        format!("'{}' has {len} elements", r.name),
+                    ));
+                }
+                _ => {
+                    return Err(self.error(
+                        sub[0].span,
+                        "a step's or a scene's subscript is a constant",
+                        "not a constant",
+                    ));
+                }
+            }
+        }
+        Ok(index)
     }
 
     /// The reference an operand is and the tag it names, if it is one.
@@ -360,30 +435,30 @@ impl Compiler<'_, '_> {
         else {
             return None;
         };
-        let t = self.mem.resolve(Some(self.program), &r.name)?;
+        let t = self.resolve(&r.name)?;
         Some((r, self.mem.tags[t].clone()))
     }
 
     pub(super) fn instance(&mut self, arg: &Arg, want: &[Structure], what: &str) -> Result<Instance> {
-        let bad = || CompileError {
-            pos: arg.pos,
-            message: format!(
-                "{what} takes a {} tag, got '{}'",
-                want.iter().map(|s| s.name()).collect::<Vec<_>>().join(" or "),
-                arg.text
-            ),
+        let message = format!(
+            "{what} takes a {} tag, got '{}'",
+            want.iter().map(|s| s.name()).collect::<Vec<_>>().join(" or "),
+            arg.text
+        );
+        let bad = |c: &Self| c.error(arg.span, message.clone(), "");
+        let Some((r, info)) = self.tag_arg(arg) else {
+            return Err(bad(self));
         };
-        let (r, info) = self.tag_arg(arg).ok_or_else(bad)?;
         let Kind::Structure(s) = info.kind else {
-            return Err(bad());
+            return Err(bad(self));
         };
         if !want.contains(&s) {
-            return Err(bad());
+            return Err(bad(self));
         }
         let index = match (info.len, r.path.as_slice()) {
             (None, []) => None,
             (Some(len), [Access::Index(sub)]) => Some((self.subscript(sub, r)?, len)),
-            _ => return Err(bad()),
+            _ => return Err(bad(self)),
         };
         Ok(Instance {
             base: info.base,
@@ -394,18 +469,18 @@ impl Compiler<'_, '_> {
     }
 
     pub(super) fn array_at(&mut self, arg: &Arg, what: &str) -> Result<ArrayAt> {
-        let bad = || CompileError {
-            pos: arg.pos,
-            message: format!("{what}: expected an array element such as Tag[0], got '{}'", arg.text),
+        let message = format!("{what}: expected an array element such as Tag[0], got '{}'", arg.text);
+        let bad = |c: &Self| c.error(arg.span, message.clone(), "");
+        let Some((r, info)) = self.tag_arg(arg) else {
+            return Err(bad(self));
         };
-        let (r, info) = self.tag_arg(arg).ok_or_else(bad)?;
         let (Kind::Scalar(ty), Some(len)) = (info.kind, info.len) else {
-            return Err(bad());
+            return Err(bad(self));
         };
         let start = match r.path.as_slice() {
             [Access::Index(sub)] => self.subscript(sub, r)?,
             [] => constant(Value::Int(0), Ty::Dint),
-            _ => return Err(bad()),
+            _ => return Err(bad(self)),
         };
         Ok(ArrayAt {
             base: info.base,

@@ -2,8 +2,8 @@
 //! planner keeps.
 
 use super::Exec;
-use crate::program::plc::ir::{AxisMember, CExpr, CoordMember, FbMember, MotionMember, Place};
-use crate::program::plc::types::{DataType, Value};
+use crate::program::ir::{AxisMember, CExpr, CoordMember, FbMember, MotionMember, Place};
+use crate::program::types::{DataType, Value};
 use planner::instruction::MotionInstructionBits;
 use planner::task::{AxisHandle, MotionTask};
 
@@ -119,7 +119,7 @@ fn set_bit(bits: &mut MotionInstructionBits, name: &str, v: bool) {
 /// The value of a member the planner keeps (a control structure's, an
 /// axis', a coordinate system's, a function block's), as a program reads
 /// it; `None` for places in tag memory.
-pub(in crate::program::plc) fn planner_value(place: &Place, task: &MotionTask) -> Option<Value> {
+pub(in crate::program) fn planner_value(place: &Place, task: &MotionTask) -> Option<Value> {
     Some(match place {
         Place::Motion(h, member) => {
             let bits = task.motion_bits(*h);
@@ -148,7 +148,7 @@ pub(in crate::program::plc) fn planner_value(place: &Place, task: &MotionTask) -
 }
 
 /// An axis member: positions and velocities at REAL precision.
-pub(in crate::program::plc) fn axis_value(task: &MotionTask, h: AxisHandle, m: AxisMember) -> Value {
+pub(in crate::program) fn axis_value(task: &MotionTask, h: AxisHandle, m: AxisMember) -> Value {
     let s = task.axis_state(h);
     let real = |x: f64| Value::Real(f64::from(x as f32));
     match m {

@@ -1,75 +1,85 @@
-//! Compiles a parsed routine against tag memory and the planner: every
+//! The one compiler: a parsed routine, a `[[program]]` step's call or a
+//! scene expression compiled against tag memory and the planner — every
 //! name resolved, every expression typed, every instruction's operands
-//! checked, so that errors name the routine file, line and column at load.
+//! bound by its catalogue entry — so that errors name the file, line and
+//! column at load, with the source line, a caret and a suggestion, and
+//! the interpreter only evaluates what comes out.
 
+use super::bindings::Env;
 use super::ir::{CExpr, CKind, CStmt, Func, Place, SKind};
 use super::memory::Memory;
 use super::types::{Ty, Value};
-use crate::program::FbBinding;
-use crate::program::bind::LogixContext;
 use crate::scene::Dialect;
+use crate::source::{Diagnostic, Span, diag};
 use crate::st::ast::{Access, BinaryOp, Expr, ExprKind, Ref, Stmt, StmtKind, UnaryOp};
-use crate::st::lex::Pos;
 
-/// A compile error: where, and what is wrong.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct CompileError {
-    /// Where.
-    pub pos: Pos,
-    /// What.
-    pub message: String,
-}
+/// A compile error: a diagnostic pointing into the file.
+pub type Error = Box<Diagnostic>;
 
-type Result<T> = std::result::Result<T, CompileError>;
+type Result<T> = std::result::Result<T, Error>;
 
 mod call;
+mod motion;
 mod reference;
 
-pub use call::{named_call, operand_expr, value_expr};
-
-pub(super) fn err<T>(pos: Pos, message: impl Into<String>) -> Result<T> {
-    Err(CompileError {
-        pos,
-        message: message.into(),
-    })
-}
-
-/// What a routine is compiled against.
-pub struct Compiler<'c, 'a> {
+/// What a routine, a call or an expression is compiled against.
+pub struct Compiler<'c, 'e, 's> {
     /// Tag memory (names and layout).
     pub mem: &'c Memory,
-    /// The program the routine belongs to (its tags shadow the
-    /// controller's).
-    pub program: &'c str,
+    /// The program the text belongs to (its tags shadow the controller's);
+    /// `None` for the controller scope (a step, a trace tag, a `when`).
+    pub program: Option<&'c str>,
     /// The program's routines, for `JSR`.
     pub routines: &'c [String],
-    /// The routine's dialect.
+    /// The text's dialect.
     pub dialect: Dialect,
     /// The planner binding (handles are created on first use).
-    pub ctx: &'c mut LogixContext<'a>,
-    /// The program's function-block instances (created on their first call).
-    pub fbs: &'c mut Vec<FbBinding>,
+    pub env: &'c mut Env<'e, 's>,
+    /// Whether the text is a scanned routine (its instructions' rungs are
+    /// the routine's) rather than a one-shot `[[program]]` step.
+    pub scanned: bool,
     /// Loop nesting (for `EXIT`).
     loops: usize,
 }
 
-impl<'c, 'a> Compiler<'c, 'a> {
-    /// A compiler for one routine.
+impl Compiler<'_, '_, '_> {
+    /// An error at `span`: `message`, and `label` under the caret.
+    pub(super) fn error(&self, span: Span, message: impl Into<String>, label: impl Into<String>) -> Error {
+        Box::new(self.env.files.error(span, message, label))
+    }
+}
+
+/// An error at `span` of the compiler's files.
+pub(super) fn err<T>(c: &Compiler<'_, '_, '_>, span: Span, message: impl Into<String>) -> Result<T> {
+    Err(c.error(span, message, ""))
+}
+
+/// Adds `did you mean 'X'?` for the known name nearest to `name`.
+pub(super) fn suggest<'a>(d: Error, name: &str, known: impl IntoIterator<Item = &'a str>) -> Error {
+    match diag::nearest(name, known) {
+        Some(n) => Box::new(d.with_help(format!("did you mean '{n}'?"))),
+        None => d,
+    }
+}
+
+impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
+    /// A compiler for a routine of `program` (`None`: the controller
+    /// scope), `scanned` when it is a routine a task scans.
     pub fn new(
         mem: &'c Memory,
-        program: &'c str,
+        program: Option<&'c str>,
         routines: &'c [String],
         dialect: Dialect,
-        ctx: &'c mut LogixContext<'a>,
-        fbs: &'c mut Vec<FbBinding>,
+        env: &'c mut Env<'e, 's>,
+        scanned: bool,
     ) -> Self {
         Compiler {
             mem,
             program,
             routines,
             dialect,
-            ctx,
-            fbs,
+            env,
+            scanned,
             loops: 0,
         }
     }
@@ -116,10 +126,11 @@ impl<'c, 'a> Compiler<'c, 'a> {
             } => {
                 let sel = self.expr(selector)?;
                 if !sel.ty.is_integer() {
-                    return err(
-                        selector.pos,
+                    return Err(self.error(
+                        selector.span,
                         format!("CASE selector must be an integer, got {}", sel.ty.name()),
-                    );
+                        sel.ty.name(),
+                    ));
                 }
                 let mut out = Vec::with_capacity(arms.len());
                 for (labels, body) in arms {
@@ -128,12 +139,15 @@ impl<'c, 'a> Compiler<'c, 'a> {
                 SKind::Case(sel, out, self.block(otherwise)?)
             }
             StmtKind::For { .. } | StmtKind::While { .. } | StmtKind::Repeat { .. } => self.loop_stmt(&s.kind)?,
-            StmtKind::Exit if self.loops == 0 => return err(s.pos, "EXIT outside FOR, WHILE or REPEAT"),
+            StmtKind::Exit if self.loops == 0 => return err(self, s.span, "EXIT outside FOR, WHILE or REPEAT"),
             StmtKind::Exit => SKind::Exit,
             StmtKind::Call(call) => self.call(call)?,
             StmtKind::Empty => unreachable!("filtered"),
         };
-        Ok(CStmt { kind, line: s.pos.line })
+        Ok(CStmt {
+            kind,
+            line: self.env.files.line_column(s.span).0 as u32,
+        })
     }
 
     /// FOR, WHILE and REPEAT (EXIT is allowed inside them).
@@ -148,10 +162,11 @@ impl<'c, 'a> Compiler<'c, 'a> {
             } => {
                 let (place, ty) = self.writable(counter)?;
                 if !ty.is_integer() {
-                    return err(
-                        counter.pos,
+                    return Err(self.error(
+                        counter.span,
                         format!("FOR counter must be an integer tag, got {}", ty.name()),
-                    );
+                        ty.name(),
+                    ));
                 }
                 let from = self.integer(from)?;
                 let to = self.integer(to)?;
@@ -188,12 +203,23 @@ impl<'c, 'a> Compiler<'c, 'a> {
         })
     }
 
-    fn condition(&mut self, e: &Expr) -> Result<CExpr> {
+    /// A condition: BOOL (or an integer, non-zero is TRUE).
+    ///
+    /// # Errors
+    /// A REAL expression, pointed at.
+    pub fn condition(&mut self, e: &Expr) -> Result<CExpr> {
         let c = self.expr(e)?;
         if c.ty == Ty::Bool || c.ty.is_integer() {
             Ok(c)
         } else {
-            err(e.pos, format!("a condition must be BOOL, got {}", c.ty.name()))
+            Err(Box::new(
+                (*self.error(
+                    e.span,
+                    format!("a condition must be BOOL, got {}", c.ty.name()),
+                    format!("this is {}", c.ty.name()),
+                ))
+                .with_help("compare it, e.g. X > 0.0"),
+            ))
         }
     }
 
@@ -202,7 +228,11 @@ impl<'c, 'a> Compiler<'c, 'a> {
         if c.ty.is_integer() || c.ty == Ty::Bool {
             Ok(c)
         } else {
-            err(e.pos, format!("expected an integer expression, got {}", c.ty.name()))
+            Err(self.error(
+                e.span,
+                format!("expected an integer expression, got {}", c.ty.name()),
+                c.ty.name(),
+            ))
         }
     }
 
@@ -215,7 +245,7 @@ impl<'c, 'a> Compiler<'c, 'a> {
             ExprKind::Int(i) => match i64::try_from(*i) {
                 Ok(v) if i32::try_from(v).is_ok() => constant(Value::Int(v), Ty::Dint),
                 Ok(v) => constant(Value::Int(v), Ty::Lint),
-                Err(_) => return err(e.pos, format!("integer literal {i} is out of range (64 bits)")),
+                Err(_) => return err(self, e.span, format!("integer literal {i} is out of range (64 bits)")),
             },
             ExprKind::Real(x) => constant(Value::Real(f64::from(*x as f32)), Ty::Real),
             ExprKind::Bool(b) => constant(Value::Bool(*b), Ty::Bool),
@@ -230,18 +260,23 @@ impl<'c, 'a> Compiler<'c, 'a> {
             ExprKind::Unary(UnaryOp::Neg, a) => {
                 let a = self.expr(a)?;
                 if a.ty == Ty::Bool {
-                    return err(e.pos, "'-' needs a number, got BOOL");
+                    return err(self, e.span, "'-' needs a number, got BOOL");
                 }
                 let ty = a.ty;
-                CExpr {
-                    kind: CKind::Neg(Box::new(a)),
-                    ty,
+                // A negative literal is a constant (an Immediate operand).
+                match a.kind {
+                    CKind::Const(Value::Int(i)) if i != i64::MIN => constant(Value::Int(-i), ty),
+                    CKind::Const(Value::Real(x)) => constant(Value::Real(-x), ty),
+                    _ => CExpr {
+                        kind: CKind::Neg(Box::new(a)),
+                        ty,
+                    },
                 }
             }
             ExprKind::Unary(UnaryOp::Not, a) => {
                 let a = self.expr(a)?;
                 if a.ty.is_real() {
-                    return err(e.pos, format!("NOT needs BOOL or an integer, got {}", a.ty.name()));
+                    return err(self, e.span, format!("NOT needs BOOL or an integer, got {}", a.ty.name()));
                 }
                 let ty = a.ty;
                 CExpr {
@@ -249,26 +284,28 @@ impl<'c, 'a> Compiler<'c, 'a> {
                     ty,
                 }
             }
-            ExprKind::Binary(op, a, b) => self.binary(*op, a, b, e.pos)?,
-            ExprKind::Function(name, args) => {
+            ExprKind::Binary(op, a, b) => self.binary(*op, a, b, e.span)?,
+            ExprKind::Function(name, name_span, args) => {
                 let Some(f) = Func::parse(name) else {
-                    return err(
-                        e.pos,
-                        format!(
-                            "unknown function '{name}' (functions: ABS, SQRT, SIN, COS, TAN, ASIN, ACOS, ATAN, LN, LOG, DEG, RAD, TRUNC)"
-                        ),
+                    let d = self.error(
+                        *name_span,
+                        format!("unknown function '{name}' (functions: {})", Func::NAMES.join(", ")),
+                        "not a function",
                     );
+                    return Err(suggest(d, name, Func::NAMES));
                 };
                 if args.len() != 1 {
                     return err(
-                        e.pos,
+                        self,
+                        e.span,
                         format!("{} takes 1 argument, got {}", name.to_ascii_uppercase(), args.len()),
                     );
                 }
                 let a = self.expr(&args[0])?;
                 if a.ty == Ty::Bool {
                     return err(
-                        args[0].pos,
+                        self,
+                        args[0].span,
                         format!("{} needs a number, got BOOL", name.to_ascii_uppercase()),
                     );
                 }
@@ -286,7 +323,7 @@ impl<'c, 'a> Compiler<'c, 'a> {
         })
     }
 
-    fn binary(&mut self, op: BinaryOp, a: &Expr, b: &Expr, pos: Pos) -> Result<CExpr> {
+    fn binary(&mut self, op: BinaryOp, a: &Expr, b: &Expr, span: Span) -> Result<CExpr> {
         let x = self.expr(a)?;
         let y = self.expr(b)?;
         let numeric = |t: Ty| if t == Ty::Bool { Ty::Dint } else { t };
@@ -321,7 +358,7 @@ impl<'c, 'a> Compiler<'c, 'a> {
             }
             BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge | BinaryOp::Eq | BinaryOp::Ne => {
                 if (x.ty == Ty::Bool) != (y.ty == Ty::Bool) && !(matches!(op, BinaryOp::Eq | BinaryOp::Ne)) {
-                    return err(pos, format!("'{}' compares numbers, got BOOL", op.symbol()));
+                    return err(self, span, format!("'{}' compares numbers, got BOOL", op.symbol()));
                 }
                 let m = if x.ty == Ty::Bool && y.ty == Ty::Bool {
                     Ty::Dint
@@ -332,7 +369,7 @@ impl<'c, 'a> Compiler<'c, 'a> {
             }
             BinaryOp::And | BinaryOp::Or | BinaryOp::Xor => {
                 if x.ty.is_real() || y.ty.is_real() {
-                    return err(pos, format!("{} needs BOOL or integer operands, got REAL", op.symbol()));
+                    return err(self, span, format!("{} needs BOOL or integer operands, got REAL", op.symbol()));
                 }
                 if x.ty == Ty::Bool && y.ty == Ty::Bool {
                     (Ty::Bool, Ty::Bool)
@@ -375,7 +412,7 @@ fn fold_dint(op: BinaryOp, a: i64, b: i64) -> Option<Value> {
     }
 }
 
-fn constant(v: Value, ty: Ty) -> CExpr {
+pub(super) fn constant(v: Value, ty: Ty) -> CExpr {
     CExpr {
         kind: CKind::Const(v),
         ty,
@@ -383,11 +420,11 @@ fn constant(v: Value, ty: Ty) -> CExpr {
 }
 
 /// A reference written back, for messages.
-fn show(r: &Ref) -> String {
+pub(super) fn show(r: &Ref) -> String {
     let mut s = r.name.clone();
     for a in &r.path {
         match a {
-            Access::Member(m) => {
+            Access::Member(m, _) => {
                 s.push('.');
                 s.push_str(m);
             }
@@ -398,3 +435,6 @@ fn show(r: &Ref) -> String {
     }
     s
 }
+
+#[cfg(test)]
+mod tests;

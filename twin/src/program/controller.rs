@@ -49,26 +49,17 @@
 //! stops at the end of that update. Minor faults are recorded and counted
 //! (`MinorFaults`, `S:MINOR`) and the run goes on.
 
-pub mod compile;
-pub mod exec;
-pub mod ir;
-pub mod memory;
-pub mod sandbox;
-pub mod types;
-
-use super::bind::{LogixContext, TagValues};
-use super::{FbBinding, InstructionBinding};
-use crate::scene::{Scene, Tag, TagValue};
-use compile::{CompileError, Compiler};
-use exec::{Exec, Invocation, NOMINAL_STATEMENT_US, Raised};
-use ir::{Builtin, CStmt, Place, SKind};
-use memory::Memory;
+use super::bindings::Env;
+use super::compile::{self, Compiler};
+use super::exec::{Exec, NOMINAL_STATEMENT_US, Raised, Scratch};
+use super::ir::{Builtin, CStmt, Place, SKind};
+use super::memory::Memory;
+use super::types::{Structure, Value};
+use crate::scene::Scene;
 use planner::instruction::MotionInstructionBits;
 use planner::task::MotionTask;
-use std::borrow::Cow;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
-use types::{Structure, Value};
 
 /// A fault the controller recorded (also as the summary writes it).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -111,20 +102,6 @@ impl std::fmt::Display for Fault {
     }
 }
 
-/// Why a task cannot be compiled.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{}:{line}:{column}: {message}", file.display())]
-pub struct TaskError {
-    /// The routine file.
-    pub file: PathBuf,
-    /// Line.
-    pub line: usize,
-    /// Column.
-    pub column: usize,
-    /// What is wrong.
-    pub message: String,
-}
-
 struct ProgramRun {
     name: String,
     routine_paths: Vec<PathBuf>,
@@ -155,10 +132,7 @@ pub struct TaskStats {
 /// The scene's tasks, compiled, with tag memory and the fault log.
 pub struct Controller {
     mem: Memory,
-    /// The scene with every program's tags added under their qualified
-    /// names (`Program.Tag`), for the binding of motion instructions.
-    view: Scene,
-    mnemonics: Vec<&'static str>,
+    scratch: Scratch,
     tasks: Vec<TaskRun>,
     prescanned: bool,
     major: Option<Fault>,
@@ -181,36 +155,18 @@ impl std::fmt::Debug for Controller {
 /// The most minor faults kept with their text (all are counted).
 pub const MINOR_FAULTS_KEPT: usize = 1000;
 
-impl TagValues for Memory {
-    fn tag_value(&self, name: &str) -> Option<Cow<'_, TagValue>> {
-        self.find(name).and_then(|t| self.value(t)).map(Cow::Owned)
-    }
-}
-
 impl Controller {
-    /// Lays out tag memory (controller tags, then each program's) and
-    /// compiles every routine.
+    /// Compiles every routine of the scene's tasks against tag memory
+    /// and the planner.
     ///
     /// # Errors
-    /// [`TaskError`] naming the routine file, line and column.
-    pub fn new(
-        scene: &Scene,
-        task: &mut MotionTask,
-        instructions: &mut Vec<InstructionBinding>,
-        fbs: &mut Vec<FbBinding>,
-    ) -> Result<Controller, TaskError> {
-        let (mem, view) = layout(scene);
+    /// The first compile error, pointing into its routine.
+    pub fn new(scene: &Scene, mem: Memory, env: &mut Env<'_, '_>) -> Result<Controller, compile::Error> {
         let mut tasks = Vec::with_capacity(scene.tasks.len());
         for t in &scene.tasks {
             let mut programs = Vec::with_capacity(t.programs.len());
             for p in &t.programs {
-                let mut ctx = LogixContext {
-                    scene: &view,
-                    values: &mem,
-                    task,
-                    instructions,
-                };
-                programs.push(compile_program(p, &mem, &mut ctx, fbs)?);
+                programs.push(compile_program(p, &mem, env)?);
             }
             tasks.push(TaskRun {
                 name: t.name.clone(),
@@ -221,18 +177,9 @@ impl Controller {
                 programs,
             });
         }
-        let mut mnemonics = Vec::new();
-        for t in &tasks {
-            for p in &t.programs {
-                for r in &p.routines {
-                    collect_mnemonics(r, &mut mnemonics);
-                }
-            }
-        }
         Ok(Controller {
             mem,
-            view,
-            mnemonics,
+            scratch: Scratch::default(),
             tasks,
             prescanned: false,
             major: None,
@@ -243,12 +190,6 @@ impl Controller {
         })
     }
 
-    /// Whether a routine calls the motion instruction `mnemonic`.
-    #[must_use]
-    pub fn calls(&self, mnemonic: &str) -> bool {
-        self.mnemonics.iter().any(|m| m.eq_ignore_ascii_case(mnemonic))
-    }
-
     /// Whether the scene has any task.
     #[must_use]
     pub fn is_empty(&self) -> bool {
@@ -257,12 +198,7 @@ impl Controller {
 
     /// Runs every trigger due at the planner's current time (module doc,
     /// "Timing"). Nothing runs once a major fault stopped the controller.
-    pub fn scan(
-        &mut self,
-        task: &mut MotionTask,
-        instructions: &mut Vec<InstructionBinding>,
-        fbs: &mut Vec<FbBinding>,
-    ) {
+    pub fn scan(&mut self, task: &mut MotionTask) {
         if self.major.is_some() || self.tasks.is_empty() {
             return;
         }
@@ -281,7 +217,7 @@ impl Controller {
         }
         due.sort_unstable();
         for (at_us, _, i) in due {
-            self.run_task(i, at_us, task, instructions, fbs);
+            self.run_task(i, at_us, task);
             if self.major.is_some() {
                 break;
             }
@@ -289,34 +225,20 @@ impl Controller {
         self.stats.wall += wall.elapsed();
     }
 
-    fn run_task(
-        &mut self,
-        i: usize,
-        at_us: i64,
-        task: &mut MotionTask,
-        instructions: &mut Vec<InstructionBinding>,
-        fbs: &mut Vec<FbBinding>,
-    ) {
+    fn run_task(&mut self, i: usize, at_us: i64, task: &mut MotionTask) {
         let mut statements = 0u64;
         for p in 0..self.tasks[i].programs.len() {
             let t = &mut self.tasks[i];
             let budget = t.budget.saturating_sub(statements);
             let program = &mut t.programs[p];
             let first = std::mem::replace(&mut program.first_scan, false);
-            let mut binding = Binding {
-                scene: &self.view,
-                instructions: &mut *instructions,
-                fbs: &mut *fbs,
-            };
-            let mut runner =
-                |invocation: Invocation<'_>, mem: &Memory, task: &mut MotionTask| binding.run(invocation, mem, task);
             let mut exec = Exec::new(
                 &mut self.mem,
                 task,
                 at_us,
                 first,
                 &program.routines,
-                &mut runner,
+                &mut self.scratch,
                 self.minor_total,
                 budget,
             );
@@ -434,8 +356,8 @@ impl Controller {
         self.minor_total
     }
 
-    /// Motion instructions whose operand values were refused at run time
-    /// (each also set `.ER` with ERR 13).
+    /// Instructions that refused an operand's value at run time (ERR 13,
+    /// also in their control structure) and SSVs that refused a value.
     #[must_use]
     pub fn refusals(&self) -> &[String] {
         &self.refusals
@@ -453,95 +375,33 @@ impl Controller {
         &self.mem
     }
 
+    /// Tag memory, the operand scratch and the refusals, to fire the
+    /// `[[program]]` steps.
+    pub(super) fn step_context(&mut self) -> (&mut Memory, &mut Scratch, &mut Vec<String>) {
+        (&mut self.mem, &mut self.scratch, &mut self.refusals)
+    }
+
     /// Reads a traced place (a slot, an element with a constant subscript,
     /// a bit of one, or a planner member) without side effects.
     #[must_use]
     pub fn peek(&self, place: &Place, task: &MotionTask) -> Value {
         peek(place, &self.mem, task)
     }
-
-    /// Compiles a reference for tracing (`State`, `Pos[0]`, `MC1.PC`,
-    /// `Prog.Count`, `Axis.ActualPosition`).
-    ///
-    /// # Errors
-    /// A message when the text is not a reference the trace can read.
-    pub fn trace_place(
-        &self,
-        text: &str,
-        task: &mut MotionTask,
-        instructions: &mut Vec<InstructionBinding>,
-        fbs: &mut Vec<FbBinding>,
-    ) -> Result<(Place, types::DataType), String> {
-        let e = crate::st::parse::parse_expression(text).map_err(|e| e.message)?;
-        let crate::st::ast::ExprKind::Ref(r) = &e.kind else {
-            return Err(format!("'{text}' is not a tag reference"));
-        };
-        let mut ctx = LogixContext {
-            scene: &self.view,
-            values: &self.mem,
-            task,
-            instructions,
-        };
-        let mut compiler = Compiler::new(&self.mem, "", &[], crate::scene::Dialect::Logix, &mut ctx, fbs);
-        let (place, ty) = compiler.reference(r).map_err(|e| e.message)?;
-        if !constant_place(&place) {
-            return Err(format!("'{text}': a traced element needs a constant subscript"));
-        }
-        Ok((place, ty))
-    }
-}
-
-/// Tag memory (axes, controller tags, then each program's tags under
-/// `Program.Tag`) and the scene as the binding sees it (the program tags
-/// added under the same names).
-fn layout(scene: &Scene) -> (Memory, Scene) {
-    let mut mem = Memory::default();
-    for a in &scene.axes {
-        mem.add_axis(&a.name);
-    }
-    for t in &scene.tags {
-        mem.add(&t.name, t.ty.base, t.ty.array_len, t.value.as_ref());
-    }
-    let mut view = scene.clone();
-    for t in &scene.tasks {
-        for p in &t.programs {
-            for tag in &p.tags {
-                let name = format!("{}.{}", p.name, tag.name);
-                mem.add(&name, tag.ty.base, tag.ty.array_len, tag.value.as_ref());
-                view.tags.push(Tag { name, ..tag.clone() });
-            }
-        }
-    }
-    (mem, view)
 }
 
 /// Compiles a program's routines: its function-block calls first (so that
 /// their outputs compile wherever they are read), then every routine.
-fn compile_program(
-    p: &crate::scene::ProgramDef,
-    mem: &Memory,
-    ctx: &mut LogixContext<'_>,
-    fbs: &mut Vec<FbBinding>,
-) -> Result<ProgramRun, TaskError> {
+fn compile_program(p: &crate::scene::ProgramDef, mem: &Memory, env: &mut Env<'_, '_>) -> Result<ProgramRun, compile::Error> {
     let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
     let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
-    let failed = |def: &crate::scene::RoutineDef| {
-        let file = def.path.clone();
-        move |e: CompileError| TaskError {
-            file,
-            line: e.pos.line as usize,
-            column: e.pos.column as usize,
-            message: e.message,
-        }
-    };
     for def in defs.iter().filter(|d| d.dialect == crate::scene::Dialect::Iec) {
-        let mut compiler = Compiler::new(mem, &p.name, &names, def.dialect, ctx, fbs);
-        compiler.bind_blocks(&def.routine.body).map_err(failed(def))?;
+        let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, env, true);
+        compiler.bind_blocks(&def.routine.body)?;
     }
     let mut routines = Vec::with_capacity(defs.len());
     for def in &defs {
-        let mut compiler = Compiler::new(mem, &p.name, &names, def.dialect, ctx, fbs);
-        routines.push(compiler.block(&def.routine.body).map_err(failed(def))?);
+        let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, env, true);
+        routines.push(compiler.block(&def.routine.body)?);
     }
     Ok(ProgramRun {
         name: p.name.clone(),
@@ -551,78 +411,9 @@ fn compile_program(
     })
 }
 
-/// What a scan's motion instructions and function blocks are bound with.
-struct Binding<'b> {
-    scene: &'b Scene,
-    instructions: &'b mut Vec<InstructionBinding>,
-    fbs: &'b mut Vec<FbBinding>,
-}
-
-impl Binding<'_> {
-    /// Binds an invocation with its operand values and runs it.
-    fn run(
-        &mut self,
-        invocation: Invocation<'_>,
-        mem: &Memory,
-        task: &mut MotionTask,
-    ) -> Result<(), (Option<usize>, String)> {
-        match invocation {
-            Invocation::Logix(call, exprs) => {
-                let mut ctx = LogixContext {
-                    scene: self.scene,
-                    values: mem,
-                    task,
-                    instructions: self.instructions,
-                };
-                let step = super::compile_logix(call.instruction.mnemonic, &exprs, &mut ctx)
-                    .map_err(|e| (e.operand, e.message))?;
-                (step.run)(task);
-            }
-            Invocation::Block(instance, inputs) => {
-                let call = compile::named_call(instance, inputs);
-                let bound =
-                    super::modulo::bind(&call, self.scene, task, self.fbs).map_err(|e| (e.operand, e.message))?;
-                let fb = self.fbs[bound.fb].handle;
-                let mut set = task.move_modulo_inputs(fb);
-                for setting in bound.set {
-                    setting.apply(&mut set);
-                }
-                task.set_move_modulo_inputs(fb, set);
-            }
-        }
-        Ok(())
-    }
-}
-
-fn collect_mnemonics(body: &[CStmt], out: &mut Vec<&'static str>) {
-    for s in body {
-        match &s.kind {
-            SKind::Motion(call) if !out.contains(&call.instruction.mnemonic) => out.push(call.instruction.mnemonic),
-            SKind::If(branches, otherwise) => {
-                branches.iter().for_each(|(_, b)| collect_mnemonics(b, out));
-                collect_mnemonics(otherwise, out);
-            }
-            SKind::Case(_, arms, otherwise) => {
-                arms.iter().for_each(|(_, b)| collect_mnemonics(b, out));
-                collect_mnemonics(otherwise, out);
-            }
-            SKind::For { body, .. } | SKind::While(_, body) | SKind::Repeat(body, _) => collect_mnemonics(body, out),
-            _ => {}
-        }
-    }
-}
-
-fn constant_place(p: &Place) -> bool {
-    match p {
-        Place::Element { index, .. } => matches!(index.kind, ir::CKind::Const(_)),
-        Place::Bit { inner, bit, .. } => constant_place(inner) && matches!(bit.kind, ir::CKind::Const(_)),
-        _ => true,
-    }
-}
-
-fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
-    let constant = |e: &ir::CExpr| match e.kind {
-        ir::CKind::Const(v) => v.as_i64(),
+pub(super) fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
+    let constant = |e: &super::ir::CExpr| match e.kind {
+        super::ir::CKind::Const(v) => v.as_i64(),
         _ => 0,
     };
     match place {
@@ -632,7 +423,7 @@ fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
             .map_or(Value::Int(0), |i| mem.slots[i]),
         Place::Bit { inner, bit, .. } => Value::Bool(peek(inner, mem, task).as_i64() >> constant(bit) & 1 == 1),
         Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Fb(..) => {
-            exec::places::planner_value(place, task).unwrap_or(Value::Int(0))
+            super::exec::places::planner_value(place, task).unwrap_or(Value::Int(0))
         }
         Place::FirstScan | Place::MinorInScan => Value::Bool(false),
         Place::MinorFaults => Value::Int(0),
@@ -661,7 +452,7 @@ fn prescan_block(body: &[CStmt], mem: &mut Memory, task: &mut MotionTask) {
                     index,
                     ..
                 } = target
-                    && let ir::CKind::Const(v) = index.kind
+                    && let super::ir::CKind::Const(v) = index.kind
                     && (0..*len as i64).contains(&v.as_i64())
                 {
                     mem.slots[base + v.as_i64() as usize * stride + offset] = ty.store(Value::Int(0)).0;
@@ -726,5 +517,3 @@ fn prescan_builtin(b: Builtin, base: usize, mem: &mut Memory) {
         Builtin::Ton | Builtin::Tof => set(Structure::IecTimer, "Running", off),
     }
 }
-#[cfg(test)]
-mod tests;

@@ -1,6 +1,8 @@
 //! Executes compiled routines: expressions with the controller's
-//! arithmetic, statements, timers, counters and one-shots, and the motion
-//! instructions through the program's binding.
+//! arithmetic, statements, timers, counters and one-shots, and instruction
+//! calls: their operands evaluated and handed to the instruction
+//! ([`MotionTask::execute`], `motion.rs`). It only evaluates what the
+//! compiler produced: no name is looked up and nothing is parsed here.
 //!
 //! # Arithmetic
 //! * SINT, INT, USINT, UINT and DINT compute in 32 bits; UDINT, LINT and
@@ -22,15 +24,26 @@
 //! * `SQRT` takes the square root of the absolute value, as the
 //!   controller's SQRT does; `TRUNC` gives a DINT.
 
-use super::ir::{ArrayAt, CExpr, CStmt, GsvAttribute, Instance, MotionArg, MotionCall, Place, SKind};
+use super::ir::{ArrayAt, CExpr, CStmt, GsvAttribute, Instance, Place, SKind};
 use super::memory::Memory;
 use super::types::{DataType, Value};
-use planner::instruction::MotionInstructionBits;
 use planner::task::MotionTask;
 
 mod arith;
 mod builtins;
+mod motion;
 pub(super) mod places;
+
+pub use motion::{Scratch, call};
+
+/// The value of a compiled expression now, outside a scan (a step's
+/// `when`, a scene's expression): it reads tag memory and the planner.
+#[must_use]
+pub fn evaluate(mem: &mut Memory, task: &mut MotionTask, scratch: &mut Scratch, e: &CExpr) -> Value {
+    let now_us = (task.time_s() * 1e6).round() as i64;
+    let mut exec = Exec::new(mem, task, now_us, false, &[], scratch, 0, u64::MAX);
+    exec.eval(e)
+}
 
 /// Slots of statements a scan may execute: the watchdog counts each
 /// executed statement (and each loop test) as [`NOMINAL_STATEMENT_US`].
@@ -65,20 +78,6 @@ pub enum Flow {
     Return,
 }
 
-/// What the binding is asked to run.
-pub enum Invocation<'i> {
-    /// A Logix instruction with its operand values in call order.
-    Logix(&'i MotionCall, Vec<crate::st::Expr>),
-    /// A function block: the instance and its named input values.
-    Block(&'i str, Vec<(String, crate::st::Expr)>),
-}
-
-/// Runs motion instructions and function blocks with their operand values
-/// (the program's binding); `Err` carries the refusal and the call
-/// position of the operand at fault.
-pub type MotionRunner<'r> =
-    dyn FnMut(Invocation<'_>, &Memory, &mut MotionTask) -> Result<(), (Option<usize>, String)> + 'r;
-
 /// One scan's state.
 pub struct Exec<'e> {
     /// Tag memory.
@@ -91,13 +90,14 @@ pub struct Exec<'e> {
     pub first_scan: bool,
     /// The program's compiled routines (main first).
     pub routines: &'e [Vec<CStmt>],
-    /// Runs motion instructions.
-    pub motion: &'e mut MotionRunner<'e>,
+    /// Room for the operand values of an instruction call.
+    pub scratch: &'e mut Scratch,
     /// Minor faults recorded in this scan.
     pub minor: Vec<Raised>,
     /// Minor faults recorded since the start (the `MinorFaults` counter).
     pub minor_total: i64,
-    /// Instruction refusals at run time, with their messages.
+    /// Instruction refusals of an operand's value (ERR 13) and SSV
+    /// refusals, with their messages.
     pub refusals: Vec<String>,
     /// Statements executed.
     pub steps: u64,
@@ -125,7 +125,7 @@ impl<'e> Exec<'e> {
         now_us: i64,
         first_scan: bool,
         routines: &'e [Vec<CStmt>],
-        motion: &'e mut MotionRunner<'e>,
+        scratch: &'e mut Scratch,
         minor_total: i64,
         budget: u64,
     ) -> Self {
@@ -135,7 +135,7 @@ impl<'e> Exec<'e> {
             now_us,
             first_scan,
             routines,
-            motion,
+            scratch,
             minor: Vec::new(),
             minor_total,
             refusals: Vec::new(),
@@ -355,18 +355,6 @@ impl<'e> Exec<'e> {
                 }
             }
             SKind::Motion(call) => self.motion_call(call)?,
-            SKind::Block(call) => {
-                let mut inputs = Vec::with_capacity(call.inputs.len());
-                for (name, arg) in &call.inputs {
-                    inputs.push((name.clone(), self.operand(arg, None)));
-                }
-                self.check()?;
-                if let Err((_, message)) = (self.motion)(Invocation::Block(&call.instance, inputs), self.mem, self.task)
-                {
-                    self.refusals
-                        .push(format!("{} (line {}): {message}", call.instance, self.line));
-                }
-            }
             _ => unreachable!("control flow is executed by stmt"),
         }
         Ok(())
@@ -466,50 +454,5 @@ impl<'e> Exec<'e> {
                 len.saturating_sub(1)
             ),
         )
-    }
-
-    /// An operand as the binding reads it (`kind`: the operand's catalogue
-    /// kind, which decides integer or number; `None` keeps the value's own).
-    fn operand(&mut self, arg: &MotionArg, kind: Option<planner::catalogue::Kind>) -> crate::st::Expr {
-        match arg {
-            MotionArg::Name(n) => crate::st::Expr::Ident(n.clone()),
-            MotionArg::Element(n, index) => {
-                let i = self.eval(index).as_i64();
-                crate::st::Expr::Index(Box::new(crate::st::Expr::Ident(n.clone())), i)
-            }
-            MotionArg::Value(e) => {
-                let v = self.eval(e);
-                match kind {
-                    Some(k) => super::compile::operand_expr(k, v),
-                    None => super::compile::value_expr(v),
-                }
-            }
-        }
-    }
-
-    fn motion_call(&mut self, call: &MotionCall) -> R<()> {
-        let mut exprs = Vec::with_capacity(call.args.len());
-        for (spec, arg) in call.instruction.operands.iter().zip(&call.args) {
-            exprs.push(self.operand(arg, Some(spec.kind)));
-        }
-        self.check()?;
-        if let Err((operand, message)) = (self.motion)(Invocation::Logix(call, exprs), self.mem, self.task) {
-            // An operand value the instruction cannot take: ERR 13 with the
-            // operand's faceplate index, as the controller reports it.
-            if let Some(control) = call.control {
-                let exerr = operand
-                    .and_then(|i| call.instruction.operands.get(i))
-                    .map_or(0, |o| o.faceplate.max(0));
-                let mut bits = MotionInstructionBits {
-                    en: true,
-                    ..MotionInstructionBits::default()
-                };
-                bits.set_error(13, exerr, 0);
-                self.task.set_motion_bits(control, bits);
-            }
-            self.refusals
-                .push(format!("{} (line {}): {message}", call.instruction.mnemonic, self.line));
-        }
-        Ok(())
     }
 }

@@ -2,8 +2,8 @@
 //! (their rules: `scenes/README.md`, "Tasks, programs and routines").
 
 use super::Exec;
-use crate::program::plc::ir::Builtin;
-use crate::program::plc::types::{Structure, Value};
+use crate::program::ir::Builtin;
+use crate::program::types::{Structure, Value};
 
 impl Exec<'_> {
     pub(super) fn get(&self, base: usize, s: Structure, member: &str) -> Value {

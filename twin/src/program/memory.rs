@@ -97,6 +97,28 @@ pub fn structure(base: BaseType) -> Option<Structure> {
 }
 
 impl Memory {
+    /// The tag memory of a scene: its axes, its controller tags, then each
+    /// program's tags under `Program.Tag`, with their initial values.
+    #[must_use]
+    pub fn of_scene(scene: &crate::scene::Scene) -> Memory {
+        let mut mem = Memory::default();
+        for a in &scene.axes {
+            mem.add_axis(&a.name);
+        }
+        for t in &scene.tags {
+            mem.add(&t.name, t.ty.base, t.ty.array_len, t.value.as_ref());
+        }
+        for t in &scene.tasks {
+            for p in &t.programs {
+                for tag in &p.tags {
+                    let name = format!("{}.{}", p.name, tag.name);
+                    mem.add(&name, tag.ty.base, tag.ty.array_len, tag.value.as_ref());
+                }
+            }
+        }
+        mem
+    }
+
     /// Adds a tag with its initial value (zeros when it has none) and
     /// returns its index.
     pub fn add(&mut self, name: &str, base: BaseType, len: Option<usize>, value: Option<&TagValue>) -> usize {

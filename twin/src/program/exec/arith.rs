@@ -1,8 +1,8 @@
 //! Expressions: the controller's arithmetic (module doc of [`super`]).
 
 use super::Exec;
-use crate::program::plc::ir::{CExpr, CKind, Func};
-use crate::program::plc::types::{Ty, Value, wide_integer};
+use crate::program::ir::{CExpr, CKind, Func};
+use crate::program::types::{Ty, Value, wide_integer};
 use crate::st::ast::BinaryOp;
 
 impl Exec<'_> {

@@ -1,10 +1,13 @@
-//! The compiled form of a routine: names resolved to slots and planner
-//! handles, every expression typed, so that a scan does no lookups.
+//! The compiled form of a routine, a step's call or a scene expression:
+//! names resolved to slots and planner handles, every expression typed,
+//! every instruction call bound to its catalogue entry with its operands
+//! as values or expressions, so that a scan does no lookups — the
+//! interpreter only evaluates what the compiler produced.
 
 use super::types::{DataType, Structure, Ty, Value};
 use crate::st::ast::{BinaryOp, CaseLabel};
 use planner::catalogue::Instruction;
-use planner::task::{AxisHandle, CoordHandle, FbHandle, InstructionHandle};
+use planner::task::{Arg, AxisHandle, CoordHandle, FbHandle, InstructionHandle};
 
 /// A typed expression.
 #[derive(Debug, Clone)]
@@ -66,6 +69,11 @@ pub enum Func {
 }
 
 impl Func {
+    /// Every function's name, for messages.
+    pub const NAMES: [&'static str; 13] = [
+        "ABS", "SQRT", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "LN", "LOG", "DEG", "RAD", "TRUNC",
+    ];
+
     /// The function called `name` (case-insensitive).
     #[must_use]
     pub fn parse(name: &str) -> Option<Func> {
@@ -338,6 +346,73 @@ pub struct Instance {
     pub name: String,
 }
 
+/// The general (not motion) instructions a routine calls: timers,
+/// counters, one-shots, routine calls, array and system-value
+/// instructions. [`General::find`] is the one lookup of their names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum General {
+    /// A timer, counter, one-shot or edge instruction on its structure.
+    Builtin(Builtin),
+    /// `JSR`.
+    Jsr,
+    /// `SBR`.
+    Sbr,
+    /// `RET`.
+    Ret,
+    /// `COP`.
+    Cop,
+    /// `CPS`.
+    Cps,
+    /// `FLL`.
+    Fll,
+    /// `SIZE`.
+    Size,
+    /// `GSV`.
+    Gsv,
+    /// `SSV`.
+    Ssv,
+}
+
+/// Every general instruction by its name.
+pub const GENERAL: [(&str, General); 19] = [
+    ("TONR", General::Builtin(Builtin::Tonr)),
+    ("TOFR", General::Builtin(Builtin::Tofr)),
+    ("RTOR", General::Builtin(Builtin::Rtor)),
+    ("CTUD", General::Builtin(Builtin::Ctud)),
+    ("OSRI", General::Builtin(Builtin::Osri)),
+    ("OSFI", General::Builtin(Builtin::Osfi)),
+    ("R_TRIG", General::Builtin(Builtin::RTrig)),
+    ("F_TRIG", General::Builtin(Builtin::FTrig)),
+    ("TON", General::Builtin(Builtin::Ton)),
+    ("TOF", General::Builtin(Builtin::Tof)),
+    ("JSR", General::Jsr),
+    ("SBR", General::Sbr),
+    ("RET", General::Ret),
+    ("COP", General::Cop),
+    ("CPS", General::Cps),
+    ("FLL", General::Fll),
+    ("SIZE", General::Size),
+    ("GSV", General::Gsv),
+    ("SSV", General::Ssv),
+];
+
+impl General {
+    /// The general instruction called `name` (case-insensitive).
+    #[must_use]
+    pub fn find(name: &str) -> Option<General> {
+        GENERAL
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
+            .map(|(_, g)| *g)
+    }
+
+    /// Its name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        GENERAL.iter().find(|(_, g)| *g == self).map_or("?", |(n, _)| n)
+    }
+}
+
 /// The timer and edge instructions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Builtin {
@@ -363,6 +438,26 @@ pub enum Builtin {
     Tof,
 }
 
+impl Builtin {
+    /// The structure it works on.
+    #[must_use]
+    pub fn structure(self) -> Structure {
+        match self {
+            Builtin::Tonr | Builtin::Tofr | Builtin::Rtor => Structure::Timer,
+            Builtin::Ctud => Structure::Counter,
+            Builtin::Osri | Builtin::Osfi => Structure::OneShot,
+            Builtin::RTrig | Builtin::FTrig => Structure::Trig,
+            Builtin::Ton | Builtin::Tof => Structure::IecTimer,
+        }
+    }
+
+    /// Whether it is an IEC 61131-3 block Studio 5000 does not have.
+    #[must_use]
+    pub fn iec_only(self) -> bool {
+        matches!(self, Builtin::RTrig | Builtin::FTrig | Builtin::Ton | Builtin::Tof)
+    }
+}
+
 /// An array operand: a tag and its first element.
 #[derive(Debug, Clone)]
 pub struct ArrayAt {
@@ -378,27 +473,47 @@ pub struct ArrayAt {
     pub name: String,
 }
 
-/// One operand of a motion instruction, as the binding will see it.
+/// One operand of an instruction call, in catalogue order: what the call
+/// gives the instruction when it executes.
 #[derive(Debug, Clone)]
-pub enum MotionArg {
-    /// Passed as written: an enumeration word, or the name of an axis or
-    /// of a tag the planner keeps (qualified for program tags).
-    Name(String),
-    /// An array tag from an element: `Pos[i]`.
-    Element(String, CExpr),
-    /// A value computed when the instruction executes.
-    Value(CExpr),
+pub enum Operand {
+    /// Known when the program loads: a handle (axis, coordinate system,
+    /// control structure, cam profile), an enumeration word's code, a
+    /// constant, `0` for an optional array, or an input a named call
+    /// leaves out ([`Arg::Absent`]).
+    Fixed(Arg<'static>),
+    /// A number computed when the instruction executes.
+    Number(CExpr),
+    /// An integer (an integer operand, a code, a count), computed when the
+    /// instruction executes; a REAL rounds half to even, as on assignment.
+    Integer(CExpr),
+    /// A BOOL computed when the instruction executes.
+    Bool(CExpr),
+    /// The elements of a numeric array from a subscript to the array's end.
+    Array(ArrayAt),
+    /// One number where an array is expected (a radius): a one-element array.
+    Scalar(CExpr),
+    /// A CAM array and the element it starts at.
+    Cam(ArrayAt),
+    /// Numbers known at load: a `[[program]]` step's array operand, read
+    /// from the scene's tag values.
+    Values(Vec<f64>),
+    /// CAM elements known at load (a step's Cam operand), the whole array
+    /// and the element the operand starts at.
+    CamPoints(Vec<planner::mccp::CamElement>, usize),
 }
 
-/// A motion instruction call.
+/// An instruction call: its catalogue entry and its operands.
 #[derive(Debug, Clone)]
 pub struct MotionCall {
     /// The catalogue entry.
     pub instruction: &'static Instruction,
-    /// The operands in call order.
-    pub args: Vec<MotionArg>,
-    /// Its control structure.
+    /// The operands, one per catalogue operand.
+    pub operands: Vec<Operand>,
+    /// Its control structure, if it has one.
     pub control: Option<InstructionHandle>,
+    /// The function-block instance a named call runs on.
+    pub instance: Option<FbHandle>,
 }
 
 /// A compiled statement.
@@ -474,20 +589,10 @@ pub enum SKind {
     Gsv(AxisHandle, GsvAttribute, Place, DataType),
     /// `SSV(AXIS, axis, attribute, source)`.
     Ssv(AxisHandle, planner::axis::AxisLimit, CExpr),
-    /// A motion instruction.
+    /// A motion instruction, or a PLCopen function block called on its
+    /// instance with named inputs (IEC dialect; the inputs it names are set
+    /// at every execution).
     Motion(MotionCall),
-    /// A PLCopen function block called on its instance with named inputs
-    /// (IEC dialect): the inputs it names are set at every execution.
-    Block(BlockCall),
-}
-
-/// A function-block call: the instance tag and the inputs it names.
-#[derive(Debug, Clone)]
-pub struct BlockCall {
-    /// The instance tag (qualified for a program tag).
-    pub instance: String,
-    /// Each named input with its value.
-    pub inputs: Vec<(String, MotionArg)>,
 }
 
 /// The `AXIS` attributes `GSV` reads.

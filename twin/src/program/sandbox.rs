@@ -2,18 +2,20 @@
 //! testing routines: declare tags, give the routine's text, scan.
 //!
 //! ```
-//! use twin::program::plc::{sandbox::Sandbox, types::Value};
+//! use twin::program::{sandbox::Sandbox, types::Value};
 //! let mut s = Sandbox::new(&[("A", "DINT"), ("X", "REAL")], "X := 2.5; A := X + 0.5;").unwrap();
 //! s.scan();
 //! assert_eq!(s.value("A"), Some(Value::Int(3)));
 //! ```
 
+use super::Program;
+use super::controller::Controller;
+use super::memory;
 use super::types::Value;
-use super::{Controller, memory};
-use crate::program::{FbBinding, InstructionBinding};
 use crate::scene::{
     Axis, AxisKind, BaseType, Dialect, Location, ProgramDef, Robot, RoutineDef, Scene, Tag, TagType, Task, Units,
 };
+use crate::source::{Files, Source};
 use crate::st::parse::parse_routine;
 use planner::axis::AxisConfig;
 use planner::task::MotionTask;
@@ -21,10 +23,8 @@ use std::path::PathBuf;
 
 /// See the module doc.
 pub struct Sandbox {
-    plc: Controller,
+    program: Program,
     task: MotionTask,
-    instructions: Vec<InstructionBinding>,
-    fbs: Vec<FbBinding>,
 }
 
 impl Sandbox {
@@ -32,8 +32,8 @@ impl Sandbox {
     /// `FBD_TIMER` …; zero initial values) and compiles `routine`.
     ///
     /// # Errors
-    /// `LINE:COLUMN: message` for a routine that does not parse or compile,
-    /// or a message naming an unknown type.
+    /// `Main.st:LINE:COLUMN: message` for a routine that does not parse or
+    /// compile, or a message naming an unknown type.
     pub fn new(tags: &[(&str, &str)], routine: &str) -> Result<Sandbox, String> {
         Sandbox::with_axes(&[], tags, routine)
     }
@@ -79,7 +79,9 @@ impl Sandbox {
                 location: Location::default(),
             });
         }
-        let parsed = parse_routine(routine).map_err(|e| format!("{}: {}", e.pos, e.message))?;
+        let mut files = Files::default();
+        let id = files.add("Main.st", routine);
+        let parsed = parse_routine(&Source::file(&files, id)).map_err(|e| e.to_string())?;
         let main = RoutineDef {
             name: "Main".into(),
             path: PathBuf::from("Main.st"),
@@ -120,6 +122,7 @@ impl Sandbox {
                 location: Location::default(),
             }],
             trace_tags: Vec::new(),
+            files,
             snapshots: None,
             collision: None,
         };
@@ -127,21 +130,13 @@ impl Sandbox {
         for a in &scene.axes {
             task.add_axis(a.config.clone(), 0.0).map_err(|e| e.to_string())?;
         }
-        let mut instructions = Vec::new();
-        let mut fbs = Vec::new();
-        let plc = Controller::new(&scene, &mut task, &mut instructions, &mut fbs)
-            .map_err(|e| format!("{}:{}: {}", e.line, e.column, e.message))?;
-        Ok(Sandbox {
-            plc,
-            task,
-            instructions,
-            fbs,
-        })
+        let program = Program::bind(&scene, &mut task).map_err(|e| e.to_string())?;
+        Ok(Sandbox { program, task })
     }
 
     /// One coarse update with the scan due in it.
     pub fn scan(&mut self) {
-        self.plc.scan(&mut self.task, &mut self.instructions, &mut self.fbs);
+        self.program.scan(&mut self.task);
         self.task.update();
     }
 
@@ -149,7 +144,7 @@ impl Sandbox {
     /// member's (`T1.ACC`).
     #[must_use]
     pub fn value(&self, name: &str) -> Option<Value> {
-        let mem = self.plc.memory();
+        let mem = self.program.controller().memory();
         let (base, rest) = match name.split_once('[') {
             Some((b, r)) => (b, Some(r.trim_end_matches(']'))),
             None => (name, None),
@@ -176,7 +171,7 @@ impl Sandbox {
     /// # Panics
     /// When there is no such scalar tag.
     pub fn set(&mut self, name: &str, value: Value) {
-        let mem = &mut self.plc.mem;
+        let mem = self.program.memory_mut();
         let info = &mem.tags[mem.find(name).unwrap_or_else(|| panic!("no tag {name}"))];
         assert!(matches!(info.kind, memory::Kind::Scalar(_)), "{name} is not a scalar");
         let slot = info.base;
@@ -186,6 +181,12 @@ impl Sandbox {
     /// The controller (faults, statistics).
     #[must_use]
     pub fn controller(&self) -> &Controller {
-        &self.plc
+        self.program.controller()
+    }
+
+    /// The program (its bindings and warnings).
+    #[must_use]
+    pub fn program(&self) -> &Program {
+        &self.program
     }
 }

@@ -1,0 +1,318 @@
+//! Instruction calls: the general instructions (timers, counters,
+//! one-shots, routine calls, array and system-value instructions, looked
+//! up in [`General`]), and the dispatch of every other call to the motion
+//! instructions of the catalogue (`motion.rs`).
+
+use super::{Compiler, Result, err, suggest};
+use crate::program::ir::{
+    AXIS_MEMBERS, CExpr, GENERAL, GSV_ATTRIBUTES, General, GsvAttribute, Place, SKind, SSV_ATTRIBUTES,
+};
+use crate::program::types::{DataType, Ty};
+use crate::scene::Dialect;
+use crate::st::ast::{Arg, Call, Expr, ExprKind, Stmt, StmtKind};
+use planner::task::instructions::{self, INSTRUCTIONS};
+
+impl Compiler<'_, '_, '_> {
+    /// Binds the function-block calls of `stmts` (creating their instances),
+    /// so that a reference to an instance's output compiles wherever it
+    /// stands.
+    ///
+    /// # Errors
+    /// The first error of a call.
+    pub fn bind_blocks(&mut self, stmts: &[Stmt]) -> Result<()> {
+        for s in stmts {
+            match &s.kind {
+                StmtKind::Call(call) if call.args.iter().any(|a| a.name.is_some()) => {
+                    self.call(call)?;
+                }
+                StmtKind::If { branches, otherwise } => {
+                    for (_, b) in branches {
+                        self.bind_blocks(b)?;
+                    }
+                    self.bind_blocks(otherwise)?;
+                }
+                StmtKind::Case { arms, otherwise, .. } => {
+                    for (_, b) in arms {
+                        self.bind_blocks(b)?;
+                    }
+                    self.bind_blocks(otherwise)?;
+                }
+                StmtKind::For { body, .. } | StmtKind::While { body, .. } | StmtKind::Repeat { body, .. } => {
+                    self.bind_blocks(body)?;
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn value_arg(&mut self, arg: &Arg) -> Result<CExpr> {
+        match &arg.expr {
+            Some(e) => self.expr(e),
+            None => Err(self.error(arg.span, format!("'{}' is not an expression", arg.text), "not an expression")),
+        }
+    }
+
+    pub(super) fn target_arg(&mut self, arg: &Arg) -> Result<(Place, DataType)> {
+        match &arg.expr {
+            Some(Expr {
+                kind: ExprKind::Ref(r), ..
+            }) => self.writable(r),
+            _ => Err(self.error(
+                arg.span,
+                format!("expected a tag to write, got '{}'", arg.text),
+                "not a tag",
+            )),
+        }
+    }
+
+    /// A call statement: a general instruction, or a motion instruction or
+    /// function block of the catalogue.
+    pub(super) fn call(&mut self, call: &Call) -> Result<SKind> {
+        let Some(general) = General::find(&call.name) else {
+            return self.motion(call);
+        };
+        let upper = general.name();
+        match general {
+            General::Builtin(b) => {
+                if b.iec_only() && self.dialect != Dialect::Iec {
+                    return err(
+                        self,
+                        call.name_span,
+                        format!(
+                            "{upper} is an IEC 61131-3 block Studio 5000 does not have: use the IEC dialect for this routine ({{ file = \"…\", dialect = \"iec\" }}), or the Logix instructions OSRI/OSFI/TONR/TOFR"
+                        ),
+                    );
+                }
+                self.argc(call, upper, 1)?;
+                Ok(SKind::Builtin(b, self.instance(&call.args[0], &[b.structure()], upper)?))
+            }
+            General::Jsr => self.jsr(call),
+            General::Sbr => {
+                let targets = call
+                    .args
+                    .iter()
+                    .map(|a| self.target_arg(a))
+                    .collect::<Result<Vec<_>>>()?;
+                Ok(SKind::Sbr(targets))
+            }
+            General::Ret => {
+                let values = call
+                    .args
+                    .iter()
+                    .map(|a| self.value_arg(a))
+                    .collect::<Result<Vec<_>>>()?;
+                Ok(SKind::Ret(values))
+            }
+            General::Cop | General::Cps | General::Fll | General::Size => self.data_instruction(call, general),
+            General::Gsv | General::Ssv => self.system_value(call, upper),
+        }
+    }
+
+    /// `COP`, `CPS`, `FLL`, `SIZE`.
+    fn data_instruction(&mut self, call: &Call, general: General) -> Result<SKind> {
+        let upper = general.name();
+        self.argc(call, upper, 3)?;
+        let a = &call.args;
+        match general {
+            General::Fll => {
+                let value = self.value_arg(&a[0])?;
+                let dst = self.array_at(&a[1], "Dest")?;
+                Ok(SKind::Fll(value, dst, self.integer_arg(&a[2])?))
+            }
+            General::Size => {
+                let Some(Expr {
+                    kind: ExprKind::Ref(r), ..
+                }) = &a[0].expr
+                else {
+                    return err(self, a[0].span, "SIZE: expected an array tag");
+                };
+                let t = self.tag(r)?;
+                let Some(len) = self.mem.tags[t].len else {
+                    return err(self, a[0].span, format!("SIZE: '{}' is not an array", r.name));
+                };
+                if a[1].text.trim() != "0" {
+                    return err(self, a[1].span, "SIZE: arrays here have one dimension: Dimension To Vary is 0");
+                }
+                let (place, ty) = self.target_arg(&a[2])?;
+                Ok(SKind::Size(len, place, ty))
+            }
+            _ => {
+                let src = self.array_at(&a[0], "Source")?;
+                let dst = self.array_at(&a[1], "Dest")?;
+                if src.ty != dst.ty {
+                    return err(
+                        self,
+                        a[1].span,
+                        format!(
+                            "{upper} between {} and {}: the twin copies elements of one type (copy across types element by element in a FOR loop)",
+                            src.ty.name(),
+                            dst.ty.name()
+                        ),
+                    );
+                }
+                Ok(SKind::Cop(src, dst, self.integer_arg(&a[2])?))
+            }
+        }
+    }
+
+    pub(super) fn integer_arg(&mut self, arg: &Arg) -> Result<CExpr> {
+        match &arg.expr {
+            Some(e) => self.integer(e),
+            None => err(self, arg.span, format!("expected an integer, got '{}'", arg.text)),
+        }
+    }
+
+    pub(super) fn jsr(&mut self, call: &Call) -> Result<SKind> {
+        let Some(first) = call.args.first() else {
+            return err(self, call.span, "JSR takes a routine name");
+        };
+        let name = first.text.trim();
+        let Some(routine) = self.routines.iter().position(|r| r.eq_ignore_ascii_case(name)) else {
+            let d = self.error(
+                first.span,
+                format!(
+                    "JSR: no routine '{name}' in this program (routines: {})",
+                    self.routines.join(", ")
+                ),
+                "no such routine",
+            );
+            return Err(suggest(d, name, self.routines.iter().map(String::as_str)));
+        };
+        let rest = &call.args[1..];
+        if rest.is_empty() {
+            return Ok(SKind::Jsr {
+                routine,
+                inputs: Vec::new(),
+                returns: Vec::new(),
+            });
+        }
+        let count = match rest[0].expr.as_ref().map(|e| &e.kind) {
+            Some(ExprKind::Int(n)) if (0..=i128::from(u8::MAX)).contains(n) => *n as usize,
+            _ => return err(self, rest[0].span, "JSR: Input Count must be a constant number"),
+        };
+        if rest.len() < 1 + count {
+            return err(
+                self,
+                call.span,
+                format!("JSR: Input Count is {count}, {} inputs given", rest.len() - 1),
+            );
+        }
+        let inputs = rest[1..=count]
+            .iter()
+            .map(|a| self.value_arg(a))
+            .collect::<Result<Vec<_>>>()?;
+        let returns = rest[1 + count..]
+            .iter()
+            .map(|a| self.target_arg(a))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(SKind::Jsr {
+            routine,
+            inputs,
+            returns,
+        })
+    }
+
+    /// `GSV`/`SSV` of the `AXIS` class.
+    fn system_value(&mut self, call: &Call, upper: &str) -> Result<SKind> {
+        let operands = if upper == "GSV" { "Dest" } else { "Source" };
+        if call.args.len() != 4 {
+            return err(
+                self,
+                call.span,
+                format!(
+                    "{upper} takes 4 operands (Class, Instance, Attribute, {operands}), got {}",
+                    call.args.len()
+                ),
+            );
+        }
+        if !call.args[0].text.trim().eq_ignore_ascii_case("AXIS") {
+            return err(self, call.args[0].span, format!("{upper}: the twin models the AXIS class only"));
+        }
+        let name = call.args[1].text.trim();
+        let Some(axis) = self.env.axis(name) else {
+            return Err(self.error(
+                call.args[1].span,
+                format!("{upper}: '{name}' is not an axis"),
+                "not an axis",
+            ));
+        };
+        let attr_name = call.args[2].text.trim();
+        if upper == "SSV" {
+            let Some((_, limit)) = SSV_ATTRIBUTES.iter().find(|(n, _)| n.eq_ignore_ascii_case(attr_name)) else {
+                let names: Vec<&str> = SSV_ATTRIBUTES.iter().map(|a| a.0).collect();
+                let d = self.error(
+                    call.args[2].span,
+                    format!(
+                        "SSV: AXIS attribute '{attr_name}' cannot be set (settable: {})",
+                        names.join(", ")
+                    ),
+                    "not settable",
+                );
+                return Err(suggest(d, attr_name, names));
+            };
+            let value = self.value_arg(&call.args[3])?;
+            if value.ty == Ty::Bool {
+                return err(self, call.args[3].span, "SSV: the Source is a number, not a BOOL");
+            }
+            return Ok(SKind::Ssv(axis, *limit, value));
+        }
+        let attribute = AXIS_MEMBERS
+            .iter()
+            .find(|(n, ..)| n.eq_ignore_ascii_case(attr_name))
+            .map(|(_, m, _)| GsvAttribute::Member(*m))
+            .or_else(|| {
+                GSV_ATTRIBUTES
+                    .iter()
+                    .find(|(n, _)| n.eq_ignore_ascii_case(attr_name))
+                    .map(|(_, a)| *a)
+            });
+        let Some(attribute) = attribute else {
+            let names: Vec<&str> = AXIS_MEMBERS
+                .iter()
+                .map(|a| a.0)
+                .chain(GSV_ATTRIBUTES.iter().map(|a| a.0))
+                .collect();
+            let d = self.error(
+                call.args[2].span,
+                format!(
+                    "GSV: AXIS attribute '{attr_name}' is not modelled (attributes: {})",
+                    names.join(", ")
+                ),
+                "not modelled",
+            );
+            return Err(suggest(d, attr_name, names));
+        };
+        let (place, ty) = self.target_arg(&call.args[3])?;
+        Ok(SKind::Gsv(axis, attribute, place, ty))
+    }
+
+    /// Checks a call's operand count.
+    fn argc(&self, call: &Call, upper: &str, n: usize) -> Result<()> {
+        if call.args.len() == n {
+            Ok(())
+        } else {
+            err(
+                self,
+                call.span,
+                format!("{upper} takes {n} operand(s), got {}", call.args.len()),
+            )
+        }
+    }
+
+    /// `unknown instruction 'X'`, with the nearest name of every
+    /// instruction and block the twin knows.
+    pub(super) fn unknown_instruction(&self, call: &Call) -> super::Error {
+        let d = self.error(
+            call.name_span,
+            format!("unknown instruction '{}'", call.name),
+            "not an instruction the twin knows",
+        );
+        let known = INSTRUCTIONS
+            .iter()
+            .map(|i| i.mnemonic)
+            .chain(GENERAL.iter().map(|(n, _)| *n))
+            .chain(instructions::NOT_SIMULATED.iter().copied());
+        suggest(d, &call.name, known)
+    }
+}

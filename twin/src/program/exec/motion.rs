@@ -1,0 +1,159 @@
+//! Instruction calls: each operand evaluated into the value the catalogue
+//! says the instruction takes ([`planner::task::Arg`]), then the call
+//! handed to the instruction ([`MotionTask::execute`]). Arrays and CAM
+//! arrays are read from tag memory into [`Scratch`], kept from call to
+//! call, so a call builds nothing on the heap once warm.
+//!
+//! An element operand whose subscript lies outside its array is
+//! [`Arg::NoElement`]: the instruction refuses it (ERR 13 with the
+//! operand's faceplate index), as the controller refuses such an operand.
+//! A refusal of an operand's value (ERR 13) is also kept in the scan's
+//! refusals, which the summary lists.
+
+use super::{Exec, R};
+use crate::program::ir::{MotionCall, Operand};
+use crate::program::memory::Memory;
+use crate::program::types::Value;
+use planner::catalogue::Fault;
+use planner::mccp::CamElement;
+use planner::task::{Arg, Args, MotionTask};
+
+/// The most operands an instruction has (MCCM's 25), with room to spare.
+const MAX_OPERANDS: usize = 32;
+
+/// Room for the arrays and CAM elements of an instruction call's operands.
+#[derive(Debug, Default)]
+pub struct Scratch {
+    numbers: Vec<f64>,
+    cams: Vec<CamElement>,
+}
+
+/// Where an array operand's values are in the scratch.
+#[derive(Debug, Clone, Copy)]
+enum Slice {
+    None,
+    Numbers(usize, usize),
+    Cams(usize, usize, usize),
+    NoElement,
+}
+
+impl Exec<'_> {
+    /// Executes an instruction call of a routine.
+    pub(super) fn motion_call(&mut self, call: &MotionCall) -> R<()> {
+        if let Err(fault) = self.execute_call(call)?
+            && fault.err() == 13
+        {
+            let refusal = refusal_text(&fault);
+            self.refusals.push(format!(
+                "{} (line {}): {refusal}",
+                call.instruction.mnemonic, self.line
+            ));
+        }
+        Ok(())
+    }
+
+    /// Evaluates the operands (a fault while evaluating, a subscript out of
+    /// range say, stops the statement) and executes the call: the
+    /// instruction's refusal, if it refused.
+    fn execute_call(&mut self, call: &MotionCall) -> R<Result<(), Fault>> {
+        let n = call.operands.len().min(MAX_OPERANDS);
+        let mut values = [Value::Int(0); MAX_OPERANDS];
+        let mut slices = [Slice::None; MAX_OPERANDS];
+        self.scratch.numbers.clear();
+        self.scratch.cams.clear();
+        for (i, op) in call.operands.iter().take(n).enumerate() {
+            match op {
+                Operand::Fixed(_) | Operand::Values(_) | Operand::CamPoints(..) => {}
+                Operand::Number(e) | Operand::Integer(e) | Operand::Bool(e) => values[i] = self.eval(e),
+                Operand::Scalar(e) => {
+                    let x = self.eval(e).as_f64();
+                    let at = self.scratch.numbers.len();
+                    self.scratch.numbers.push(x);
+                    slices[i] = Slice::Numbers(at, at + 1);
+                }
+                Operand::Array(a) => {
+                    let start = self.eval(&a.start).as_i64();
+                    slices[i] = match usize::try_from(start) {
+                        Ok(s) if s <= a.len => {
+                            let at = self.scratch.numbers.len();
+                            let slots = &self.mem.slots[a.base + s..a.base + a.len];
+                            self.scratch.numbers.extend(slots.iter().map(|v| v.as_f64()));
+                            Slice::Numbers(at, self.scratch.numbers.len())
+                        }
+                        _ => Slice::NoElement,
+                    };
+                }
+                Operand::Cam(a) => {
+                    let start = self.eval(&a.start).as_i64();
+                    let at = self.scratch.cams.len();
+                    read_cam(self.mem, a.base, a.len, &mut self.scratch.cams);
+                    let start = usize::try_from(start).unwrap_or(a.len);
+                    slices[i] = Slice::Cams(at, self.scratch.cams.len(), start);
+                }
+            }
+        }
+        self.check()?;
+        let scratch = &*self.scratch;
+        let mut args = [Arg::Absent; MAX_OPERANDS];
+        for (i, op) in call.operands.iter().take(n).enumerate() {
+            args[i] = match op {
+                Operand::Fixed(a) => *a,
+                Operand::Number(_) => Arg::Number(values[i].as_f64()),
+                Operand::Integer(_) => Arg::Integer(values[i].as_i64()),
+                Operand::Bool(_) => Arg::Bool(values[i].truthy()),
+                Operand::Values(v) => Arg::Array(v),
+                Operand::CamPoints(points, start) => Arg::Cam(points, *start),
+                Operand::Scalar(_) | Operand::Array(_) | Operand::Cam(_) => match slices[i] {
+                    Slice::Numbers(a, b) => Arg::Array(&scratch.numbers[a..b]),
+                    Slice::Cams(a, b, start) => Arg::Cam(&scratch.cams[a..b], start),
+                    Slice::NoElement | Slice::None => Arg::NoElement,
+                },
+            };
+        }
+        let args = Args {
+            values: &args[..n],
+            instance: call.instance,
+        };
+        Ok(self.task.execute(call.instruction, &args))
+    }
+}
+
+/// Executes a `[[program]]` step's call: its operands are constants and
+/// references the compiler checked, read from tag memory now.
+///
+/// # Errors
+/// The instruction's refusal.
+pub fn call(mem: &mut Memory, task: &mut MotionTask, scratch: &mut Scratch, call: &MotionCall) -> Result<(), Fault> {
+    let now_us = (task.time_s() * 1e6).round() as i64;
+    let mut exec = Exec::new(mem, task, now_us, false, &[], scratch, 0, u64::MAX);
+    match exec.execute_call(call) {
+        Ok(result) => result,
+        // A step's operands are constants and references with constant
+        // subscripts the compiler checked: nothing there can fault.
+        Err(raised) => unreachable!("a step's operand faulted: {}", raised.message),
+    }
+}
+
+/// `ERR 13 (parameter out of range) EXERR 3: the planner's sentence`.
+fn refusal_text(fault: &Fault) -> String {
+    format!(
+        "ERR {} ({}) EXERR {}: {fault}",
+        fault.err(),
+        planner::catalogue::err_meaning(fault.err()).unwrap_or("unknown error"),
+        fault.exerr()
+    )
+}
+
+/// The elements of a CAM array in tag memory: master, slave, and the
+/// segment type, 0 linear and any other value cubic (the controller's
+/// MCCP reads the member the same way: zero or not).
+fn read_cam(mem: &Memory, base: usize, len: usize, out: &mut Vec<CamElement>) {
+    for i in 0..len {
+        let at = base + 3 * i;
+        out.push(CamElement {
+            master: mem.slots[at].as_f64(),
+            slave: mem.slots[at + 1].as_f64(),
+            segment_type: i32::from(mem.slots[at + 2].as_i64() != 0),
+        });
+    }
+}
