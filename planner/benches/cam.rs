@@ -7,7 +7,8 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use planner::axis::{AxisConfig, AxisKind};
-use planner::mapc::{CamRequest, Mapc, MapcOperands, PositionCamAxis};
+use planner::mapc::axis::{CamRequest, PositionCamAxis};
+use planner::mapc::{Mapc, MapcOperands};
 use planner::mccp::{CamElement, CamProfile};
 use planner::task::instructions::{maj::MAJ, mapc::MAPC, mccp::MCCP};
 use planner::task::{Arg, Args, MotionTask};
@@ -58,7 +59,7 @@ fn mapc(c: &mut Criterion) {
         Arg::Number(1.0),
         Arg::CamProfile(profile),
     ];
-    task.execute(&MCCP, &Args::new(&mccp)).expect("valid cam");
+    MCCP.execute(&mut task, &Args::new(&mccp)).expect("valid cam");
     // MAJ(Conveyor, MAJ_1, forward, 200, unitspersec, 100, %ofmaximum, 100, %ofmaximum, trapezoidal)
     let jog = task.add_instruction("MAJ_1");
     let maj = [
@@ -73,7 +74,7 @@ fn mapc(c: &mut Criterion) {
         Arg::Integer(1),
         Arg::Integer(0),
     ];
-    task.execute(&MAJ, &Args::new(&maj)).expect("valid jog");
+    MAJ.execute(&mut task, &Args::new(&maj)).expect("valid jog");
     // MAPC(Knife, Conveyor, MAPC_1, same, Knife_Profile, 1, 1, continuous,
     // immediate, 0, 0, newcam, command, bidirectional)
     let pc = task.add_instruction("MAPC_1");
@@ -93,7 +94,7 @@ fn mapc(c: &mut Criterion) {
         Arg::Integer(1),
         Arg::Integer(0),
     ];
-    task.execute(&MAPC, &Args::new(&mapc)).expect("valid cam");
+    MAPC.execute(&mut task, &Args::new(&mapc)).expect("valid cam");
     c.bench_function("task_update_jogged_master_and_cam_slave", |b| b.iter(|| task.update()));
 
     let p = Arc::new(CamProfile::calculate(&points, 1000, 1.0, 1.0).expect("valid cam"));

@@ -7,6 +7,7 @@
 //! "SetPos", continuous through full turns); a modulo axis also reports the
 //! wrapped position through its [`Modulo`] period.
 
+use crate::dynamics;
 use crate::homing::Homing;
 pub use crate::servo::AxisType;
 use crate::servo::FaultAction;
@@ -290,11 +291,7 @@ pub enum AxisConfigError {
 }
 
 fn positive(field: &'static str, value: f64) -> Result<f64, AxisConfigError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(value)
-    } else {
-        Err(AxisConfigError::NotPositive { field, value })
-    }
+    dynamics::positive(value).ok_or(AxisConfigError::NotPositive { field, value })
 }
 
 fn finite(field: &'static str, value: f64) -> Result<f64, AxisConfigError> {

@@ -50,9 +50,6 @@
 //! assert_eq!(units.code_of("%ofTime"), Some(2));
 //! ```
 
-use crate::instruction::LogixFault;
-use crate::task::{Args, MotionTask};
-
 pub mod errors;
 pub mod words;
 
@@ -200,126 +197,6 @@ pub enum CallStyle {
     Named,
 }
 
-/// A refusal of any instruction, as [`Instruction::execute`] returns it.
-pub type Fault = Box<dyn LogixFault>;
-
-/// Runs a call on the motion task with its operand values (see
-/// [`Instruction::execute`]).
-pub type Execute = fn(&mut MotionTask, &Args<'_>) -> Result<(), Fault>;
-
-/// Validates a call whose operands are all known (see
-/// [`Instruction::check`]).
-pub type Check = fn(&MotionTask, &Args<'_>) -> Result<(), Fault>;
-
-/// Prepares the motion task for a call at load (see [`Instruction::load`]).
-pub type Load = fn(&mut MotionTask, &Args<'_>);
-
-/// One instruction the product accepts: its operands, and what it does.
-#[derive(Clone, Copy)]
-pub struct Instruction {
-    /// Mnemonic or block type (`MCCM`, `MC_MoveModulo`).
-    pub mnemonic: &'static str,
-    /// The manual's title.
-    pub title: &'static str,
-    /// What it does, in one line (the docs' table).
-    pub summary: &'static str,
-    /// How it is called.
-    pub style: CallStyle,
-    /// Operands in call order.
-    pub operands: &'static [Operand],
-    /// Executes a call: the operands' values in call order ([`Args`], for
-    /// a named call only the inputs it names). The instruction writes its
-    /// control structure (`.EN`, `.DN`, `.ER` with ERR and EXERR) or its
-    /// block outputs, as on the controller, and returns the refusal too.
-    pub execute: Execute,
-    /// Runs the instruction's validation on a call whose operands are all
-    /// known when the program loads (constants, and the tags the program
-    /// names), against the task's configuration, without executing it:
-    /// the refusal it would give, whatever the state it runs in.
-    pub check: Check,
-    /// What a call of it prepares in the motion task when the program
-    /// loads (with its tag operands; numbers are not known yet).
-    pub load: Load,
-}
-
-impl std::fmt::Debug for Instruction {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Instruction")
-            .field("mnemonic", &self.mnemonic)
-            .field("style", &self.style)
-            .field("operands", &self.operands.len())
-            .finish_non_exhaustive()
-    }
-}
-
-impl PartialEq for Instruction {
-    /// Instructions are the same when their mnemonics are.
-    fn eq(&self, other: &Self) -> bool {
-        self.mnemonic == other.mnemonic
-    }
-}
-
-/// A refusal as a [`Fault`].
-pub fn fault<E: LogixFault>(e: E) -> Fault {
-    Box::new(e)
-}
-
-/// A [`Instruction::check`] that finds nothing to refuse.
-pub fn no_check(_: &MotionTask, _: &Args<'_>) -> Result<(), Fault> {
-    Ok(())
-}
-
-/// A [`Instruction::load`] that prepares nothing.
-pub fn no_load(_: &mut MotionTask, _: &Args<'_>) {}
-
-impl Instruction {
-    /// The operand called `name` (case-insensitive) with its call position.
-    pub fn operand(&self, name: &str) -> Option<(usize, &'static Operand)> {
-        self.operands
-            .iter()
-            .enumerate()
-            .find(|(_, o)| o.name.eq_ignore_ascii_case(name))
-    }
-
-    /// The faceplate index (ERR 13's EXERR) of the operand called `name`,
-    /// exactly as the catalogue spells it. Evaluated at compile time where
-    /// it is used in a constant; a name the instruction lacks fails the
-    /// build there.
-    pub const fn exerr(&self, name: &str) -> i32 {
-        match self.faceplate_of(name) {
-            Some(index) => index,
-            None => panic!("the instruction has no operand of that name"),
-        }
-    }
-
-    /// The call position of the operand called `name`, exactly as the
-    /// catalogue spells it: the index its value has in [`Args`]. Evaluated
-    /// at compile time where it is used in a constant; a name the
-    /// instruction lacks fails the build there.
-    pub const fn index(&self, name: &str) -> usize {
-        let mut i = 0;
-        while i < self.operands.len() {
-            if str_eq(self.operands[i].name, name) {
-                return i;
-            }
-            i += 1;
-        }
-        panic!("the instruction has no operand of that name")
-    }
-
-    /// The faceplate index of the operand called `name` (exact spelling),
-    /// `None` when the instruction has no such operand.
-    pub const fn faceplate_of(&self, name: &str) -> Option<i32> {
-        faceplate_of(self.operands, name)
-    }
-
-    /// The operand names in call order, comma separated.
-    pub fn operand_names(&self) -> String {
-        let names: Vec<&str> = self.operands.iter().map(|o| o.name).collect();
-        names.join(", ")
-    }
-}
-
 /// The faceplate index of the operand called `name` (exact spelling) in an
 /// operand table, for the modules that share one instruction's operands
 /// with its validation; a name the table lacks fails the build where it is
@@ -344,7 +221,7 @@ pub const fn faceplate_of(operands: &[Operand], name: &str) -> Option<i32> {
     None
 }
 
-const fn str_eq(a: &str, b: &str) -> bool {
+pub(crate) const fn str_eq(a: &str, b: &str) -> bool {
     let (a, b) = (a.as_bytes(), b.as_bytes());
     if a.len() != b.len() {
         return false;
@@ -357,43 +234,4 @@ const fn str_eq(a: &str, b: &str) -> bool {
         i += 1;
     }
     true
-}
-
-/// The catalogue as Markdown: per instruction a heading and a table of its
-/// operands (call position, name, data type, Format, faceplate index,
-/// enumeration words with their codes). `scenes/README.md` holds exactly
-/// this text between its `catalogue:begin` and `catalogue:end` markers.
-pub fn markdown(instructions: &[&Instruction]) -> String {
-    let mut out = String::new();
-    for ins in instructions {
-        let call = match ins.style {
-            CallStyle::Positional => "positional",
-            CallStyle::Named => "named inputs, on an instance tag",
-        };
-        out.push_str(&format!("#### `{}` — {} ({call})\n\n", ins.mnemonic, ins.title));
-        out.push_str("| # | operand | data type | format | EXERR | words (code) |\n");
-        out.push_str("| --- | --- | --- | --- | --- | --- |\n");
-        for (i, o) in ins.operands.iter().enumerate() {
-            let exerr = if o.faceplate < 0 {
-                "—".to_string()
-            } else {
-                o.faceplate.to_string()
-            };
-            let words: Vec<String> = o
-                .kind
-                .words()
-                .iter()
-                .map(|w| format!("`{}` ({})", w.word, w.code))
-                .collect();
-            out.push_str(&format!(
-                "| {i} | {} | {} | {} | {exerr} | {} |\n",
-                o.name,
-                o.data_type,
-                o.format.name(),
-                words.join(", ")
-            ));
-        }
-        out.push('\n');
-    }
-    out
 }

@@ -32,6 +32,15 @@ pub trait LogixFault: std::error::Error + Send + Sync + 'static {
     }
 }
 
+/// A refusal of any instruction, as
+/// [`crate::task::instructions::Instruction::execute`] returns it.
+pub type Fault = Box<dyn LogixFault>;
+
+/// A refusal as a [`Fault`].
+pub fn fault<E: LogixFault>(e: E) -> Fault {
+    Box::new(e)
+}
+
 /// Why an instruction refused to execute: the two cases every instruction
 /// shares — an operand out of range (ERR 13) and the state of an axis it
 /// names — and the instruction's own (`E`, a small enum of the

@@ -1,7 +1,7 @@
 //! Motion Axis Position Cam (MAPC): a slave axis follows a master axis
 //! through a calculated cam profile.
 //!
-//! [`Mapc::new`] validates the operands; [`PositionCamAxis`] is the position
+//! [`Mapc::new`] validates the operands; [`axis::PositionCamAxis`] is the position
 //! cam process of one slave axis (its active cam, the cam waiting to start,
 //! and the slave's Position Cam Status / Lock Status / Pending Status). The
 //! [`crate::task::MotionTask`] owns one per axis and drives it each coarse
@@ -46,7 +46,7 @@
 //! * **Master Lock Position** on a modulo (rotary) master is independent of
 //!   the turns count: any `MasterLock + k · period` is a lock position.
 //!   It is compared with master position + the slave's
-//!   master offset ([`PositionCamAxis::shift_master_offset`], a master offset
+//!   master offset ([`axis::PositionCamAxis::shift_master_offset`], a master offset
 //!   move): with offset X the slave locks at master `MasterLock − X`. Every
 //!   non-pending MAPC resets the master offset to 0.
 //! * **Cam Lock Position** must lie in the profile's master range (else ERR 13,
@@ -132,8 +132,7 @@ pub fn peak_slave_speed(peak_slope: f64, mapc: &Mapc, master_max_speed: f64) -> 
     peak_slope * (mapc.slave_scaling / mapc.master_scaling).abs() * master_max_speed
 }
 
-mod axis;
-pub use axis::{CamEvent, CamRequest, PositionCamAxis, SlaveCamStatus};
+pub mod axis;
 
 /// Direction operand.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

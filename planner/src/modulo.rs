@@ -148,7 +148,6 @@ impl McBufferMode {
         })
     }
 
-
     /// The junction velocity (magnitude) between a running command of
     /// velocity `previous` and a new one of velocity `next`, or `None` for
     /// the non-blending modes.

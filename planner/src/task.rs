@@ -26,44 +26,36 @@
 //! same calls give bit-identical setpoints.
 
 use crate::axis::{AxisConfig, AxisConfigError, AxisLimit, AxisState};
-use crate::catalogue::{Fault, Instruction};
 use crate::instruction::{FbOutputs, MotionInstructionBits};
 use crate::modulo::{McBufferMode, MoveModulo, MoveModuloError, MoveModuloInputs};
 use crate::profile::{Profile, Sample, State};
+use state::{
+    AxisSlot, CamState, CoordState, FbSlot, Finish, InstructionSlot, Job, MctState, Need, Origin, Phase, ServoSlot,
+};
 use thiserror::Error;
 
 pub mod args;
-pub use args::{Arg, Args};
-mod cam;
-pub(crate) use cam::RampRun;
-pub use cam::{CamProfileHandle, LimitFlags, MapcCall};
 pub mod instructions;
 
+mod handles;
+mod state;
+
+mod cam;
 mod coord;
-pub use coord::{
-    CoordCall, CoordHandle, CoordInstructionHandle, CoordSetupError, ERR_IDLE_MASTER_SLAVE_MOVING, ERR_PATH_COLLISION,
-    StartedCoordMove,
-};
-mod mct;
-pub use mct::TransformGeometry;
 mod gear;
 mod homing;
+mod mct;
 mod servo;
+mod stop;
 mod superimposed;
 
-/// Handle of an axis in a [`MotionTask`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct AxisHandle(u32);
-
-/// Handle of a function-block instance in a [`MotionTask`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct FbHandle(u32);
-
-/// Handle of a Logix control structure (a `MOTION_INSTRUCTION` tag) in a
-/// [`MotionTask`]. The instruction that executes with the tag writes its
-/// bits; one tag may serve several executions over time, as on a controller.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct InstructionHandle(u32);
+pub use args::{Arg, Args};
+pub use handles::{AxisHandle, CamProfileHandle, CoordHandle, CoordInstructionHandle, FbHandle, InstructionHandle};
+pub(crate) use state::RampRun;
+pub use state::{
+    CoordCall, CoordSetupError, ERR_IDLE_MASTER_SLAVE_MOVING, ERR_PATH_COLLISION, LimitFlags, MapcCall,
+    StartedCoordMove, StopReport, TransformGeometry,
+};
 
 /// Why a task, axis or instance cannot be set up.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -86,68 +78,6 @@ pub enum TaskError {
     },
 }
 
-#[derive(Debug, Clone)]
-struct Job {
-    fb: Option<FbHandle>,
-    command: MoveModulo,
-    profile: Profile,
-    t_s: f64,
-    target: f64,
-    generation_done: bool,
-    /// A stop ramp (see `task/stop.rs`): never blended into.
-    stopping: bool,
-    /// Where a command started from rest or an abort (not a blend
-    /// hand-over) came from, for [`MotionTask::reject_move`].
-    origin: Option<stop::Origin>,
-}
-
-#[derive(Debug, Clone)]
-struct AxisSlot {
-    config: AxisConfig,
-    command: Sample,
-    actual: f64,
-    /// Change of the fed position over the last update, units/s.
-    actual_velocity: f64,
-    fed: bool,
-    last_direction: f64,
-    job: Option<Job>,
-    buffered: Option<(FbHandle, MoveModulo)>,
-    /// Servo state, faults (`task/servo.rs`).
-    servo: servo::ServoSlot,
-    /// A MAM or MAJ running on top of the axis' base motion
-    /// (`task/superimposed.rs`).
-    superimposed: Option<superimposed::SuperRun>,
-    /// MAG gearing of the axis to a master (`task/gear.rs`).
-    gear: Option<gear::GearRun>,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Phase {
-    Idle,
-    Buffered,
-    Active,
-    Finished { at_update: u64 },
-}
-
-#[derive(Debug, Clone)]
-struct FbSlot {
-    name: String,
-    axis: AxisHandle,
-    inputs: MoveModuloInputs,
-    previous_execute: bool,
-    outputs: FbOutputs,
-    phase: Phase,
-}
-
-#[derive(Debug, Clone)]
-struct InstructionSlot {
-    name: String,
-    bits: MotionInstructionBits,
-    /// Executed by a scanned language (Structured Text): its rung does not
-    /// fall by itself after an execution.
-    scanned: bool,
-}
-
 /// A motion task: axes, instances, and the coarse update.
 #[derive(Debug, Clone)]
 pub struct MotionTask {
@@ -157,10 +87,10 @@ pub struct MotionTask {
     fbs: Vec<FbSlot>,
     instructions: Vec<InstructionSlot>,
     /// Coordinate systems and coordinated instructions (`task/coord.rs`).
-    coord: coord::CoordState,
-    cam: cam::CamState,
+    coord: CoordState,
+    cam: CamState,
     /// MCT transforms (`task/mct.rs`).
-    mct: mct::MctState,
+    mct: MctState,
     /// Between [`MotionTask::remove_superimposed`] and
     /// [`MotionTask::add_superimposed`]: commands are bases.
     superimposed_removed: bool,
@@ -181,9 +111,9 @@ impl MotionTask {
             axes: Vec::new(),
             fbs: Vec::new(),
             instructions: Vec::new(),
-            coord: coord::CoordState::default(),
-            cam: cam::CamState::default(),
-            mct: mct::MctState::default(),
+            coord: CoordState::default(),
+            cam: CamState::default(),
+            mct: MctState::default(),
             superimposed_removed: false,
         })
     }
@@ -222,7 +152,7 @@ impl MotionTask {
         }
         config.check_soft_travel_limits(initial_position).map_err(err)?;
         self.axes.push(AxisSlot {
-            servo: servo::ServoSlot::new(&config),
+            servo: ServoSlot::new(&config),
             superimposed: None,
             gear: None,
             config,
@@ -437,54 +367,6 @@ impl MotionTask {
         }
     }
 
-    /// Executes a call of `instruction` with its operand values, in
-    /// catalogue order: the one way a program runs an instruction. The
-    /// instruction writes its control structure or block outputs, and says
-    /// why it refused, if it did.
-    ///
-    /// # Errors
-    /// The instruction's refusal ([`crate::instruction::LogixFault`]: ERR,
-    /// EXERR, SEGMENT and the sentence), also written in its control
-    /// structure.
-    ///
-    /// # Examples
-    /// ```
-    /// use planner::axis::{AxisConfig, AxisKind};
-    /// use planner::task::instructions::mrp::MRP;
-    /// use planner::task::{Arg, Args, MotionTask};
-    /// let mut task = MotionTask::new(0.004).unwrap();
-    /// let x = task.add_axis(AxisConfig::new("X", AxisKind::Linear), 0.0).unwrap();
-    /// let mc = task.add_instruction("MC1");
-    /// // MRP(X, MC1, relative, command, 5.0)
-    /// let args = [Arg::Axis(x), Arg::Control(mc), Arg::Integer(1), Arg::Integer(1), Arg::Number(5.0)];
-    /// task.execute(&MRP, &Args::new(&args)).unwrap();
-    /// assert_eq!(task.axis_state(x).command_position, 5.0);
-    /// // Type 7 is out of range: ERR 13 with the Type operand's faceplate index.
-    /// let bad = [Arg::Axis(x), Arg::Control(mc), Arg::Integer(7), Arg::Integer(1), Arg::Number(5.0)];
-    /// let e = task.execute(&MRP, &Args::new(&bad)).unwrap_err();
-    /// assert_eq!((e.err(), e.exerr()), (13, 2));
-    /// assert!(task.motion_bits(mc).er);
-    /// ```
-    pub fn execute(&mut self, instruction: &Instruction, args: &Args<'_>) -> Result<(), Fault> {
-        (instruction.execute)(self, args)
-    }
-
-    /// Runs `instruction`'s validation on a call whose operands are all
-    /// known when the program loads ([`Instruction::check`]), without
-    /// executing it.
-    ///
-    /// # Errors
-    /// The refusal the call would get whenever it executes.
-    pub fn check(&self, instruction: &Instruction, args: &Args<'_>) -> Result<(), Fault> {
-        (instruction.check)(self, args)
-    }
-
-    /// Prepares the task for a call of `instruction` when the program
-    /// loads ([`Instruction::load`]).
-    pub fn prepare(&mut self, instruction: &Instruction, args: &Args<'_>) {
-        (instruction.load)(self, args);
-    }
-
     /// Runs one coarse update.
     pub fn update(&mut self) {
         self.updates += 1;
@@ -536,7 +418,7 @@ impl MotionTask {
             Ok(c) => c,
             Err(e) => return self.finish(fb, Finish::Error(e)),
         };
-        if let Err(e) = self.check_state(axis, servo::Need::Motion) {
+        if let Err(e) = self.check_state(axis, Need::Motion) {
             return self.finish(fb, Finish::Error(MoveModuloError::AxisNotReady(e)));
         }
         if self.stop_in_progress(axis) {
@@ -595,7 +477,7 @@ impl MotionTask {
             Some(_) => Vec::new(),
             None => replaced.into_iter().flatten().filter(|&b| b != fb).collect(),
         };
-        let origin = elapsed_s.is_none().then_some(stop::Origin {
+        let origin = elapsed_s.is_none().then_some(Origin {
             update: self.updates,
             command: a.command,
             last_direction: a.last_direction,
@@ -760,16 +642,6 @@ impl MotionTask {
     pub fn command_state(&self, axis: AxisHandle) -> State {
         self.axes[axis.0 as usize].command.state()
     }
-}
-
-mod stop;
-pub use stop::StopReport;
-
-#[derive(Debug, Clone, Copy)]
-enum Finish {
-    Done,
-    Aborted,
-    Error(MoveModuloError),
 }
 
 #[cfg(test)]

@@ -11,7 +11,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use std::fmt::Write as _;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
-use twin::plant::collision::{CollisionModel, PathSampler};
+use twin::plant::collision::CollisionModel;
+use twin::plant::collision::sweep::PathSampler;
 use twin::plant::urdf::RobotModel;
 
 const LINKS: usize = 6;

@@ -16,8 +16,8 @@
 
 use crate::plant::{Plant, PlantError};
 use crate::program::Program;
-use crate::source::Diagnostic;
 use crate::scene::Scene;
+use crate::source::Diagnostic;
 use planner::task::{MotionTask, TaskError};
 use std::path::PathBuf;
 use thiserror::Error;

@@ -87,14 +87,30 @@ fn references(module: &str, text: &str, all: &BTreeMap<String, PathBuf>) -> BTre
         base.push(child);
         prefixes.push((format!("{child}::"), base));
     }
+    let inline = inline_modules(text);
     for (prefix, base) in &prefixes {
         for (at, _) in text.match_indices(prefix.as_str()) {
             let preceded = text[..at].chars().next_back();
-            if preceded.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_' || c == ':') {
+            // `pub(in crate::a)` restricts visibility: it imports nothing.
+            if preceded.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_' || c == ':')
+                || text[..at].ends_with("in ")
+            {
                 continue;
             }
+            // In an inline `mod x { … }`, `super::` is the file's module.
+            let base = if prefix == "super::" && inline.iter().any(|r| r.contains(&at)) {
+                &own
+            } else {
+                base
+            };
             let mut path = base.clone();
-            path.extend(path_at(text, at + prefix.len()));
+            let mut rest = path_at(text, at + prefix.len());
+            // `super::super::x`: one level up per `super`.
+            while prefix == "super::" && rest.first() == Some(&"super") {
+                rest.remove(0);
+                path.pop();
+            }
+            path.extend(rest);
             let target = (1..=path.len())
                 .rev()
                 .map(|k| path[..k].join("::"))
@@ -104,6 +120,43 @@ fn references(module: &str, text: &str, all: &BTreeMap<String, PathBuf>) -> BTre
                 && !target.is_empty()
             {
                 out.insert(target);
+            }
+        }
+    }
+    out
+}
+
+/// The byte ranges of the inline modules (`mod x { … }`) of a file.
+fn inline_modules(text: &str) -> Vec<std::ops::Range<usize>> {
+    let mut out = Vec::new();
+    for (at, _) in text.match_indices("mod ") {
+        if text[..at]
+            .chars()
+            .next_back()
+            .is_some_and(|c| c.is_ascii_alphanumeric() || c == '_')
+        {
+            continue;
+        }
+        let rest = &text[at + 4..];
+        let name_end = rest
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(rest.len());
+        if name_end == 0 || !rest[name_end..].trim_start().starts_with('{') {
+            continue;
+        }
+        let open = at + 4 + name_end + rest[name_end..].find('{').unwrap_or(0);
+        let mut depth = 0usize;
+        for (i, c) in text[open..].char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        out.push(open..open + i);
+                        break;
+                    }
+                }
+                _ => {}
             }
         }
     }
@@ -232,6 +285,14 @@ fn the_checker_sees_a_circle_and_a_backward_import() {
         circles(&graph),
         vec![vec!["program::bind".to_owned(), "program::coord".to_owned()]]
     );
+    // `super::` in an inline module is the file's own module; `super::super`
+    // goes up twice.
+    let inline = references(
+        "program::bind",
+        "mod exerr {\n    use super::Thing;\n}\nuse super::super::scene::raw::Y;",
+        &all,
+    );
+    assert_eq!(inline, BTreeSet::from(["scene::raw".to_owned()]));
     // A parent using its child while the child uses the parent's items.
     let parent = references("program", "mod bind;\nuse bind::Bindings;", &all);
     assert_eq!(parent, BTreeSet::from(["program::bind".to_owned()]));

@@ -873,7 +873,7 @@ fn gantry_collision_predicts_the_arc_before_it_moves_and_not_the_line_beneath_th
     );
     // Bound: the sweep settles the first contact to 1e-6 of the path
     // length (the arc's, mm).
-    let tolerance = twin::plant::collision::SWEEP_TOLERANCE * std::f64::consts::PI * 100.0;
+    let tolerance = twin::plant::collision::sweep::SWEEP_TOLERANCE * std::f64::consts::PI * 100.0;
     assert!((p.collision.bound - tolerance).abs() < 1e-9, "{}", p.collision.bound);
     // The live event starts when the plan says, within the drives' tracking
     // lag and one physics step.
@@ -1083,8 +1083,8 @@ fn sphere_into_box_event_starts_within_one_physics_step_of_the_analytic_time() {
         e.start_s
     );
     // At rest at 0.6 m: depth 0.6 + 0.05 − 0.45 = 0.2 m, normal −x.
-    assert!((e.max_depth_m - 0.2).abs() < 1e-3, "depth {}", e.max_depth_m);
-    let n = e.normal_in_world;
+    assert!((e.deepest.depth_m - 0.2).abs() < 1e-3, "depth {}", e.deepest.depth_m);
+    let n = e.deepest.normal_in_world;
     let angle = (-n[0]).clamp(-1.0, 1.0).acos();
     assert!(angle < 1e-3, "normal {n:?}");
     assert_eq!(e.end_s, None);

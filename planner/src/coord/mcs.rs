@@ -1,6 +1,7 @@
 //! MCS, Motion Coordinated Stop: its operands and their verification.
 
-use super::{CoordFault, CoordMoveError, CoordinateSystem, out_of_range};
+use super::operands::{CoordFault, CoordMoveError, out_of_range};
+use super::system::CoordinateSystem;
 use crate::instruction::Refusal;
 use crate::profile::{JerkUnits, jerk_to_units_per_sec3};
 

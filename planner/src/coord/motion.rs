@@ -1,10 +1,11 @@
 //! A verified coordinated move ([`CoordMove`]): the profile along its path,
 //! and the verification steps MCLM and MCCM share.
 
-use super::{
+use super::operands::{
     CoordFault, CoordMoveError, CoordMoveInputs, Driver, LockDirection, Merge, MergeSpeed, MoveContext, MoveType,
-    OperandIndex, PathGeometry, TerminationType, out_of_range,
+    OperandIndex, TerminationType, out_of_range,
 };
+use super::path::PathGeometry;
 use crate::instruction::Refusal;
 use crate::profile::{
     JerkUnits, Limits, LimitsError, Profile, State, jerk_from_percent_of_time, jerk_to_units_per_sec3,

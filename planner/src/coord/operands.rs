@@ -1,7 +1,7 @@
 //! The operands MCLM and MCCM share, their faceplate indices (from the
 //! instruction catalogue) and the ERR/EXERR a move reports.
 
-use super::CoordinateSystem;
+use super::system::CoordinateSystem;
 use crate::catalogue::words::{
     ACCEL_UNITS, INTEGER, JERK_UNITS, LOCK_DIRECTION, MERGE, MERGE_SPEED, NUMERIC, PROFILE, SPEED_UNITS, op,
 };

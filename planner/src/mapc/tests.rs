@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::mccp::{CamElement, CamProfile};
-use axis::cam_value;
+use axis::{CamEvent, CamRequest, PositionCamAxis, SlaveCamStatus, cam_value};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;

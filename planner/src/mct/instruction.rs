@@ -90,23 +90,17 @@
 use super::{ArmSolution, Geometry, GeometryKind, GeometryParams, JointKind, Placement, Vec3};
 use crate::instruction::MotionInstructionBits;
 
+mod axes;
 mod error;
 mod transform;
 
+pub use axes::{AxisId, JointAxis, SystemId};
 pub use error::{MctError, TransformFault};
 use transform::Driven;
 pub use transform::{AxesCommand, Transform};
 
 /// How many transforms may be active at once (EXERR 11 beyond).
 pub const MAX_ACTIVE_TRANSFORMS: usize = 8;
-
-/// A coordinate system, as known to the executor.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct SystemId(pub u32);
-
-/// An axis, as known to the executor.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct AxisId(pub u32);
 
 /// A transform in a [`TransformTable`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -139,18 +133,6 @@ pub struct AxisCondition {
     /// A motion process (jog, move, gear, a coordinated move, …) controls the
     /// axis (EXERR 10).
     pub motion_process: bool,
-}
-
-/// Limits of a target (joint) axis, in axis units (degrees for a revolute
-/// joint, coordinate units for a prismatic one).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct JointAxis {
-    /// Maximum speed, units/s: no joint command is faster.
-    pub max_speed: f64,
-    /// Deceleration of the controlled stop after a fault, units/s².
-    pub max_deceleration: f64,
-    /// Soft travel limits `(min, max)` (default: none).
-    pub limits: Option<(f64, f64)>,
 }
 
 /// The active transforms of a controller.
@@ -411,24 +393,6 @@ impl TransformTable {
         }
         Ok((geometry, placement))
     }
-}
-
-/// The distance [`Transform::stop_step`] travels from speed `v` with speed
-/// steps `dv` per update of `dt_s`: `n` full steps down to the remainder `r`,
-/// then one update from `r` to rest, each update at its mean speed.
-pub(super) fn stop_travel(v: f64, dv: f64, dt_s: f64) -> f64 {
-    let v = v.abs();
-    if v <= dv {
-        return 0.5 * v * dt_s;
-    }
-    let mut n = (v / dv).floor();
-    let mut r = v - n * dv;
-    if r <= 0.0 {
-        // v is a whole number of steps: the last full step ends at rest.
-        n -= 1.0;
-        r = dv;
-    }
-    (n * v - 0.5 * dv * n * n + 0.5 * r) * dt_s
 }
 
 fn check_in_plane(orientation_deg: Vec3, translation: Vec3, dimension: usize) -> Result<(), MctError> {

@@ -21,6 +21,7 @@
 //! driven) belong to master-driven coordinated motion and are not accepted by
 //! these time-based conversions.
 
+use crate::dynamics::positive;
 use thiserror::Error;
 
 /// The unit of a jerk operand.
@@ -71,11 +72,7 @@ pub enum JerkUnitsError {
 }
 
 fn reference(which: &'static str, value: f64) -> Result<f64, JerkUnitsError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(value)
-    } else {
-        Err(JerkUnitsError::BadReference { which, value })
-    }
+    positive(value).ok_or(JerkUnitsError::BadReference { which, value })
 }
 
 /// `j [units/s³] = a² / v · (200 / percent − 1)` for `0 < percent ≤ 100`.
@@ -102,7 +99,7 @@ pub fn jerk_from_percent_of_time(percent: f64, accel: f64, speed: f64) -> Result
 /// [`JerkUnitsError::OutOfRange`] for a jerk that is not finite and > 0,
 /// [`JerkUnitsError::BadReference`] for a non-positive rate.
 pub fn jerk_to_percent_of_time(jerk: f64, accel: f64, speed: f64) -> Result<f64, JerkUnitsError> {
-    if !(jerk.is_finite() && jerk > 0.0) {
+    if positive(jerk).is_none() {
         return Err(JerkUnitsError::OutOfRange {
             units: JerkUnits::UnitsPerSec3,
             value: jerk,
@@ -132,17 +129,11 @@ pub fn jerk_to_units_per_sec3(
     speed: f64,
 ) -> Result<f64, JerkUnitsError> {
     match units {
-        JerkUnits::UnitsPerSec3 => {
-            if value.is_finite() && value > 0.0 {
-                Ok(value)
-            } else {
-                Err(JerkUnitsError::OutOfRange {
-                    units,
-                    value,
-                    allowed: "finite and > 0",
-                })
-            }
-        }
+        JerkUnits::UnitsPerSec3 => positive(value).ok_or(JerkUnitsError::OutOfRange {
+            units,
+            value,
+            allowed: "finite and > 0",
+        }),
         JerkUnits::PercentOfMaximum => {
             if !(value > 0.0 && value <= 100.0) {
                 return Err(JerkUnitsError::OutOfRange {

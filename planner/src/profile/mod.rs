@@ -71,156 +71,14 @@
 //!   profile brakes, reverses, and approaches it from the other side.
 
 mod jerk;
+mod kinematics;
 mod peak;
 mod ramp;
 
 pub use jerk::{JerkUnits, JerkUnitsError, jerk_from_percent_of_time, jerk_to_percent_of_time, jerk_to_units_per_sec3};
-
+pub use kinematics::{Limits, LimitsError, Sample, Shape, State};
 use peak::{PeakRamps, newton_at_most, softened_brake};
 use ramp::{Phase, Ramp, coast_velocity, phase_distance, ramp_distance};
-use thiserror::Error;
-
-/// Kinematic state of one dimension at an instant (units, units/s, units/s²).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct State {
-    /// Position in the dimension's units.
-    pub position: f64,
-    /// Velocity in units/s.
-    pub velocity: f64,
-    /// Acceleration in units/s².
-    pub acceleration: f64,
-}
-
-impl State {
-    /// A state at rest at `position`.
-    pub fn at_rest(position: f64) -> Self {
-        Self {
-            position,
-            velocity: 0.0,
-            acceleration: 0.0,
-        }
-    }
-}
-
-/// A profile sampled at one instant: [`State`] plus the jerk (units/s³).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Sample {
-    /// Position in units.
-    pub position: f64,
-    /// Velocity in units/s.
-    pub velocity: f64,
-    /// Acceleration in units/s².
-    pub acceleration: f64,
-    /// Jerk in units/s³ (0 for trapezoidal profiles).
-    pub jerk: f64,
-}
-
-impl Sample {
-    /// The kinematic state (drops the jerk).
-    pub fn state(&self) -> State {
-        State {
-            position: self.position,
-            velocity: self.velocity,
-            acceleration: self.acceleration,
-        }
-    }
-}
-
-/// Velocity-profile shape.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Shape {
-    /// Constant-acceleration ramps; acceleration changes in steps.
-    Trapezoidal,
-    /// Jerk-limited ramps (units/s³, both > 0 and finite).
-    SCurve {
-        /// Jerk while the speed rises.
-        accel_jerk: f64,
-        /// Jerk while the speed falls.
-        decel_jerk: f64,
-    },
-}
-
-/// Validated dynamic limits of one profile. All values are magnitudes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Limits {
-    velocity: f64,
-    acceleration: f64,
-    deceleration: f64,
-    shape: Shape,
-}
-
-/// Why a set of [`Limits`] cannot be built.
-#[derive(Debug, Clone, Copy, PartialEq, Error)]
-#[non_exhaustive]
-pub enum LimitsError {
-    /// A limit is zero, negative, NaN or infinite.
-    #[error("{which} must be finite and > 0, got {value}")]
-    NotPositive {
-        /// Which limit (`"velocity"`, `"acceleration"`, …).
-        which: &'static str,
-        /// The offending value.
-        value: f64,
-    },
-}
-
-fn positive(which: &'static str, value: f64) -> Result<f64, LimitsError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(value)
-    } else {
-        Err(LimitsError::NotPositive { which, value })
-    }
-}
-
-impl Limits {
-    /// Limits for a trapezoidal profile.
-    ///
-    /// # Errors
-    /// [`LimitsError::NotPositive`] when a value is not finite and > 0.
-    pub fn trapezoidal(velocity: f64, acceleration: f64, deceleration: f64) -> Result<Self, LimitsError> {
-        Ok(Self {
-            velocity: positive("velocity", velocity)?,
-            acceleration: positive("acceleration", acceleration)?,
-            deceleration: positive("deceleration", deceleration)?,
-            shape: Shape::Trapezoidal,
-        })
-    }
-
-    /// Limits for an S-curve profile.
-    ///
-    /// # Errors
-    /// [`LimitsError::NotPositive`] when a value is not finite and > 0.
-    pub fn s_curve(
-        velocity: f64,
-        acceleration: f64,
-        deceleration: f64,
-        accel_jerk: f64,
-        decel_jerk: f64,
-    ) -> Result<Self, LimitsError> {
-        let mut limits = Self::trapezoidal(velocity, acceleration, deceleration)?;
-        limits.shape = Shape::SCurve {
-            accel_jerk: positive("accel jerk", accel_jerk)?,
-            decel_jerk: positive("decel jerk", decel_jerk)?,
-        };
-        Ok(limits)
-    }
-
-    /// Maximum speed (units/s).
-    pub fn velocity(&self) -> f64 {
-        self.velocity
-    }
-    /// Maximum acceleration (units/s²), used while the speed rises.
-    pub fn acceleration(&self) -> f64 {
-        self.acceleration
-    }
-    /// Maximum deceleration (units/s²), used while the speed falls.
-    pub fn deceleration(&self) -> f64 {
-        self.deceleration
-    }
-    /// The profile shape with its jerks.
-    pub fn shape(&self) -> Shape {
-        self.shape
-    }
-}
 
 /// One constant-jerk piece of a profile, starting at `t0_s`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -379,9 +237,9 @@ impl Profile {
             } else if v_free > vf {
                 if a0 < 0.0
                     && v0 <= v_max
-                    && let Some(profile) = softened_brake(start, dir, target_position, vf, dist, limits)
+                    && let Some((first, rest)) = softened_brake(start, dir, vf, dist, limits)
                 {
-                    return profile;
+                    return Profile::in_travel_frame(start, dir, &[&first, &rest], target_position, vf, limits);
                 }
                 // Too close to cruise above the start speed: brake earlier.
                 // Braking straight to `vf` fits because stopping fits.

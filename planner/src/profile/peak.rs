@@ -2,8 +2,8 @@
 //! root finding behind [`Profile::to_position`] (the parent module's doc
 //! describes the shapes).
 
+use super::kinematics::{Limits, Shape, State};
 use super::ramp::{Course, Ramp, Settle, TailFrame, phase_distance, ramp_distance, ramp_limits};
-use super::{Limits, Profile, Shape, State};
 
 /// The time-optimal profile for an axis that is already decelerating
 /// (`dir`-frame acceleration < 0) towards a target beyond its braking point
@@ -12,15 +12,9 @@ use super::{Limits, Profile, Shape, State};
 /// `a1 < 0` with the decel jerk — then brakes to `vf` with the full limits,
 /// never touching zero acceleration in between (no creep). `a1` is the one
 /// whose distance equals the target's; the distance grows with `a1`.
-/// `None` when the planner's other shapes should handle the case.
-pub(super) fn softened_brake(
-    start: State,
-    dir: f64,
-    target_position: f64,
-    vf: f64,
-    dist: f64,
-    limits: &Limits,
-) -> Option<Profile> {
+/// The two ramps, in the travel frame; `None` when the planner's other
+/// shapes should handle the case.
+pub(super) fn softened_brake(start: State, dir: f64, vf: f64, dist: f64, limits: &Limits) -> Option<(Ramp, Ramp)> {
     let Shape::SCurve { decel_jerk: j, .. } = limits.shape else {
         return None;
     };
@@ -43,15 +37,7 @@ pub(super) fn softened_brake(
     } else {
         largest_at_most(a0, 0.0, tol, |a1| excess(a1)[0])
     };
-    let (first, rest) = soften(a1);
-    Some(Profile::in_travel_frame(
-        start,
-        dir,
-        &[&first, &rest],
-        target_position,
-        vf,
-        limits,
-    ))
+    Some(soften(a1))
 }
 
 /// The distance of [`softened_brake`]'s profile with the acceleration

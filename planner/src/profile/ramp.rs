@@ -15,7 +15,7 @@
 //! first ends the deceleration with the decel jerk. So a stop never carries
 //! the speed past the limit where the start state lets it stay within.
 
-use super::{Limits, Shape};
+use super::kinematics::{Limits, Shape};
 
 /// One piece of a ramp. `set_acceleration` is `Some(a)` for trapezoidal
 /// phases, whose acceleration is a step, and `None` for jerk phases.

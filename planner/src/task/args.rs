@@ -1,5 +1,5 @@
 //! The operand values of one call, as the program hands them to an
-//! instruction: by catalogue position ([`crate::catalogue::Instruction`]'s
+//! instruction: by catalogue position ([`crate::task::instructions::Instruction`]'s
 //! `operands`), each a value of the operand's [`crate::catalogue::Kind`].
 //!
 //! The program binds every operand by its kind, so an accessor of another
@@ -9,8 +9,8 @@
 //! cannot take (a position array too short, a count out of range) are its
 //! own ERR 13, with the operand's faceplate index.
 
-use super::{AxisHandle, CamProfileHandle, CoordHandle, FbHandle, InstructionHandle};
 use crate::mccp::CamElement;
+use crate::task::handles::{AxisHandle, CamProfileHandle, CoordHandle, FbHandle, InstructionHandle};
 
 /// One operand's value.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -48,92 +48,19 @@
 //! its own frame, [`MotionTask::position_offset`] away, and the caller
 //! converts between the two.
 
-use super::servo::Need;
-use super::superimposed::SuperKind;
-use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
+use super::MotionTask;
 use crate::instruction::{LogixFault, MotionInstructionBits};
-use crate::mapc::{
-    CamEvent, CamRequest, Mapc, MapcError, MapcOperands, MasterReference, PositionCamAxis, SlaveCamStatus,
-};
+use crate::mapc::axis::{CamEvent, CamRequest, SlaveCamStatus};
+use crate::mapc::{Mapc, MapcError, MasterReference};
 use crate::mccp::{CamElement, CamProfile, CamProfileTag, MccpError};
 use crate::profile::{Limits, Profile, Sample};
+use crate::task::handles::CamProfileHandle;
+use crate::task::handles::{AxisHandle, InstructionHandle};
+use crate::task::state::Finish;
+use crate::task::state::Need;
+use crate::task::state::SuperKind;
+use crate::task::state::{CamAxis, LimitFlags, MapcCall, MasterKey, RampRun, Tag};
 use std::sync::Arc;
-
-/// Handle of a `CAM_PROFILE` tag.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct CamProfileHandle(u32);
-
-/// Whether an axis' last command exceeded its configured limits.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct LimitFlags {
-    /// |command velocity| > `max_velocity`.
-    pub velocity: bool,
-    /// |command acceleration| > max(`max_acceleration`, `max_deceleration`).
-    pub acceleration: bool,
-}
-
-type Tag = (InstructionHandle, CamProfileHandle);
-type MasterKey = (AxisHandle, MasterReference);
-
-/// The axis' ramp: a jog, a MAM move or a stop ramp along a profile.
-#[derive(Debug, Clone)]
-pub(crate) struct RampRun {
-    pub(crate) profile: Profile,
-    pub(crate) t_s: f64,
-    /// The MAJ driving it (`None` for a stop ramp or a move).
-    pub(crate) jog: Option<InstructionHandle>,
-    /// The MAM moving the axis along it (`None` for a jog or a stop ramp).
-    pub(crate) mv: Option<InstructionHandle>,
-    /// The MAS stopping it, if any.
-    pub(crate) stop: Option<InstructionHandle>,
-}
-
-impl RampRun {
-    /// A ramp along `profile` from its start, owned by no instruction.
-    pub(crate) fn new(profile: Profile) -> Self {
-        Self {
-            profile,
-            t_s: 0.0,
-            jog: None,
-            mv: None,
-            stop: None,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Default)]
-pub(crate) struct CamAxis {
-    pub(crate) cam: PositionCamAxis<Tag, MasterKey>,
-    pub(crate) ramp: Option<RampRun>,
-    cam_drove: bool,
-    redefined: f64,
-    limits: LimitFlags,
-    declared_slave: bool,
-}
-
-/// The task's cam-instruction state (profiles, tags, per-axis processes).
-#[derive(Debug, Clone, Default)]
-pub(super) struct CamState {
-    profiles: Vec<(String, CamProfileTag)>,
-    pub(crate) axes: Vec<CamAxis>,
-    /// One-shot rungs: (tag, update count when its scan ran).
-    rung_false: Vec<(InstructionHandle, u64)>,
-}
-
-/// What a MAPC call names besides its numeric operands.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MapcCall {
-    /// Slave axis.
-    pub slave: AxisHandle,
-    /// Master axis.
-    pub master: AxisHandle,
-    /// Motion Control tag.
-    pub motion_control: InstructionHandle,
-    /// Cam Profile tag.
-    pub cam_profile: CamProfileHandle,
-    /// The numeric operands.
-    pub operands: MapcOperands,
-}
 
 impl MotionTask {
     pub(crate) fn cam_axis(&mut self, axis: AxisHandle) -> &mut CamAxis {
@@ -227,7 +154,7 @@ impl MotionTask {
     /// Refuses a call before it executes (an operand its values cannot
     /// give, such as an element outside its array): `.EN`, and `.ER` with
     /// the refusal's ERR and EXERR, as [`MotionTask::instruction`] would.
-    pub(crate) fn refuse_call<E: LogixFault>(&mut self, h: InstructionHandle, e: E) -> crate::catalogue::Fault {
+    pub(crate) fn refuse_call<E: LogixFault>(&mut self, h: InstructionHandle, e: E) -> crate::instruction::Fault {
         self.begin(h);
         self.fail(h, e.err(), e.exerr(), e.segment());
         Box::new(e)

@@ -137,199 +137,17 @@
 //!   master of master-driven moves is set with
 //!   [`MotionTask::set_coordinate_system_master`].
 
-use super::{AxisHandle, InstructionHandle, MotionTask};
-use crate::coord::{
-    CoordConfigError, CoordMove, CoordMoveError, CoordMoveInputs, CoordStatus, CoordinateSystem,
-    CoordinateSystemConfig, LockDirection, McsInputs, MoveContext,
-};
+use super::MotionTask;
+use crate::coord::{CoordMove, CoordMoveError, CoordStatus, CoordinateSystem, CoordinateSystemConfig, MoveContext};
 use crate::instruction::MotionInstructionBits;
-use crate::mccm::MccmInputs;
-use crate::profile::{Profile, Sample};
-use thiserror::Error;
+use crate::task::handles::{AxisHandle, InstructionHandle};
+use crate::task::handles::{CoordHandle, CoordInstructionHandle};
+use crate::task::state::{CoordCall, CoordSetupError, InstrSlot, SystemSlot};
 
 mod advance;
 mod execute;
 
 use advance::{add_displacement, rest_length};
-
-/// ERR of a master-driven coordinated move that would take over from
-/// time-driven motion while the master stands still and the system moves
-/// (Rockwell's MDSC_IDLE_MASTER_AND_SLAVE_MOVING; EXERR 0).
-pub const ERR_IDLE_MASTER_SLAVE_MOVING: i32 = 201;
-
-/// Handle of a coordinate system in a [`MotionTask`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct CoordHandle(u32);
-
-/// Handle of a coordinated instruction (MCLM, MCCM, MCS) in a [`MotionTask`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct CoordInstructionHandle(u32);
-
-/// A coordinated instruction call with its operands.
-#[derive(Debug, Clone, PartialEq)]
-pub enum CoordCall {
-    /// MCLM.
-    Mclm(CoordMoveInputs),
-    /// MCCM.
-    Mccm(MccmInputs),
-    /// MCS.
-    Mcs(McsInputs),
-}
-
-/// Why a coordinate system cannot be added.
-#[derive(Debug, Clone, PartialEq, Error)]
-#[non_exhaustive]
-pub enum CoordSetupError {
-    /// The configuration is invalid.
-    #[error(transparent)]
-    Config(#[from] CoordConfigError),
-    /// The number of axes given differs from the configuration's `axis_count`,
-    /// or an axis appears twice.
-    #[error("coordinate system {name}: {given} axes given for axis_count {expected}, each once")]
-    Axes {
-        /// System name.
-        name: String,
-        /// Axes given.
-        given: usize,
-        /// `axis_count`.
-        expected: usize,
-    },
-}
-
-#[derive(Debug, Clone, Default)]
-pub(super) struct CoordState {
-    systems: Vec<SystemSlot>,
-    instructions: Vec<InstrSlot>,
-    /// The refusal of the execution in progress (its call returns it).
-    refused: Option<CoordMoveError>,
-}
-
-#[derive(Debug, Clone)]
-struct SystemSlot {
-    system: CoordinateSystem,
-    axes: Vec<AxisHandle>,
-    master: Option<AxisHandle>,
-    master_prev: Option<f64>,
-    status: CoordStatus,
-    base: Vec<f64>,
-    components: Vec<Component>,
-    pending: Option<(CoordInstructionHandle, CoordMove)>,
-    stop: Option<CoordInstructionHandle>,
-    queue_end: Vec<f64>,
-    velocity: Vec<f64>,
-    acceleration: Vec<f64>,
-    /// Axes another command took while the system brakes (not written).
-    taken: Vec<AxisHandle>,
-}
-
-#[derive(Debug, Clone)]
-struct Component {
-    instr: Option<CoordInstructionHandle>,
-    mv: CoordMove,
-    profile: Profile,
-    progress: f64,
-    last_delta: f64,
-    blend_at: Option<f64>,
-    successor_started: bool,
-    /// Follow contour (types 4, 5): the profile was replanned to reach the
-    /// end point at the junction speed of the pending move.
-    contour: bool,
-    stopping: bool,
-    lock: Lock,
-    /// When and from what it started (`task/coord/preflight.rs`).
-    start: preflight::Start,
-}
-
-impl Component {
-    fn done(&self) -> bool {
-        if self.progress < self.profile.duration_s() {
-            return false;
-        }
-        let l = self.mv.path().length();
-        self.stopping || self.profile.final_state().position >= l - 1e-12 * (1.0 + l)
-    }
-
-    fn s(&self) -> Sample {
-        let mut s = self.profile.sample(self.progress);
-        s.position = s.position.clamp(0.0, self.mv.path().length());
-        if self.progress >= self.profile.duration_s() {
-            // Past its end: a follow-contour move that ended at its junction
-            // speed hands that speed to its successor.
-            s.velocity = 0.0;
-            s.acceleration = 0.0;
-            s.jerk = 0.0;
-        }
-        s
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-struct Lock {
-    direction: LockDirection,
-    position: f64,
-    engaged: bool,
-    mark: f64,
-    locked: bool,
-}
-
-impl Lock {
-    fn new(direction: LockDirection, position: f64, master_now: f64) -> Self {
-        use LockDirection as L;
-        Self {
-            direction,
-            position,
-            engaged: matches!(direction, L::None | L::ImmediateForwardOnly | L::ImmediateReverseOnly),
-            mark: master_now,
-            locked: matches!(direction, L::ImmediateForwardOnly | L::ImmediateReverseOnly),
-        }
-    }
-
-    /// Path progress (master distance) gained while the master moves from
-    /// `prev` to `now`.
-    fn advance(&mut self, prev: f64, now: f64) -> f64 {
-        use LockDirection as L;
-        let forward = match self.direction {
-            L::None => return now - prev,
-            L::ImmediateForwardOnly | L::PositionForward => true,
-            L::ImmediateReverseOnly | L::PositionReverse => false,
-        };
-        let sign = if forward { 1.0 } else { -1.0 };
-        if !self.engaged {
-            let crossed = sign * (prev - self.position) < 0.0 && sign * (now - self.position) >= 0.0;
-            if !crossed {
-                return 0.0;
-            }
-            self.engaged = true;
-            self.mark = self.position;
-        }
-        let gain = sign * (now - self.mark);
-        if gain > 0.0 {
-            self.mark = now;
-            self.locked = true;
-            gain
-        } else {
-            if sign * (now - prev) < 0.0 {
-                self.locked = false;
-            }
-            0.0
-        }
-    }
-}
-
-#[derive(Debug, Clone)]
-struct InstrSlot {
-    control: InstructionHandle,
-    system: CoordHandle,
-    call: CoordCall,
-    rung: bool,
-    previous_rung: bool,
-    /// Set by a one-shot execution (a program step, not a scanned rung): the
-    /// update count it executed at; the rung goes false two updates later,
-    /// so `.EN` shows for the update of the scan that executed it.
-    one_shot_at: Option<u64>,
-    held: bool,
-    calculated_data: Vec<f64>,
-}
 
 impl MotionTask {
     /// Adds a coordinate system over `axes` (primary axes first, as many as
@@ -599,7 +417,6 @@ impl MotionTask {
 }
 
 mod preflight;
-pub use preflight::{ERR_PATH_COLLISION, StartedCoordMove};
 
 #[cfg(test)]
 mod tests;

@@ -7,25 +7,9 @@
 //! the clutch is slipping, by the clutch velocity instead, which ramps to
 //! `ratio × master velocity` at the clutch acceleration and then locks.
 
-use super::{AxisHandle, InstructionHandle, MotionTask};
-use crate::mapc::MasterReference;
+use super::MotionTask;
 use crate::profile::Sample;
-
-/// The gearing of one slave axis.
-#[derive(Debug, Clone)]
-pub(crate) struct GearRun {
-    pub(crate) control: InstructionHandle,
-    pub(crate) master: AxisHandle,
-    pub(crate) reference: MasterReference,
-    /// Signed slave units per master unit.
-    pub(crate) ratio: f64,
-    /// The master position at the last update (redefinitions taken out).
-    pub(crate) last_master: f64,
-    /// The clutch acceleration while slipping; `None` once locked.
-    pub(crate) clutch: Option<f64>,
-    /// The slave's gearing velocity, units/s.
-    pub(crate) velocity: f64,
-}
+use crate::task::handles::AxisHandle;
 
 impl MotionTask {
     /// Whether `axis` is geared (`GearingStatus`), and locked to its master

@@ -1,10 +1,12 @@
 //! The homing process of an axis, which MAH starts. The rules, and
 //! what the twin does not simulate, are in [`crate::homing`].
 
-use super::servo::Need;
-use super::{AxisHandle, Finish, InstructionHandle, MotionTask};
+use super::MotionTask;
 use crate::homing::HomeMode;
 use crate::servo::StateError;
+use crate::task::handles::{AxisHandle, InstructionHandle};
+use crate::task::state::Finish;
+use crate::task::state::Need;
 
 impl MotionTask {
     /// MAH (Motion Axis Home) on `axis` with its configured homing

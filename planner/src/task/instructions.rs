@@ -12,7 +12,10 @@
 //! coordinated motion, a transform, the servo states), the executor starts
 //! it through the engine (`task/*.rs`), which runs it each coarse update.
 
-use crate::catalogue::{self, CallStyle, Instruction};
+use crate::catalogue::CallStyle;
+
+pub mod entry;
+pub use entry::{Check, Execute, Instruction, Load, no_check, no_load};
 
 /// Declares each instruction module and lists its entry, in the order the
 /// docs show them.
@@ -81,9 +84,43 @@ pub const NOT_SIMULATED: &[&str] = &[
     "MCCD", "MCTP", "MCTO", "MCTPO", "MCPM", "MDCC",
 ];
 
-/// The catalogue of every instruction as Markdown ([`catalogue::markdown`]).
+/// The catalogue of every instruction as Markdown: per instruction a heading and a table of its
+/// operands (call position, name, data type, Format, faceplate index,
+/// enumeration words with their codes). `scenes/README.md` holds exactly
+/// this text between its `catalogue:begin` and `catalogue:end` markers.
 pub fn markdown() -> String {
-    catalogue::markdown(INSTRUCTIONS)
+    let mut out = String::new();
+    for ins in INSTRUCTIONS {
+        let call = match ins.style {
+            CallStyle::Positional => "positional",
+            CallStyle::Named => "named inputs, on an instance tag",
+        };
+        out.push_str(&format!("#### `{}` — {} ({call})\n\n", ins.mnemonic, ins.title));
+        out.push_str("| # | operand | data type | format | EXERR | words (code) |\n");
+        out.push_str("| --- | --- | --- | --- | --- | --- |\n");
+        for (i, o) in ins.operands.iter().enumerate() {
+            let exerr = if o.faceplate < 0 {
+                "—".to_string()
+            } else {
+                o.faceplate.to_string()
+            };
+            let words: Vec<String> = o
+                .kind
+                .words()
+                .iter()
+                .map(|w| format!("`{}` ({})", w.word, w.code))
+                .collect();
+            out.push_str(&format!(
+                "| {i} | {} | {} | {} | {exerr} | {} |\n",
+                o.name,
+                o.data_type,
+                o.format.name(),
+                words.join(", ")
+            ));
+        }
+        out.push('\n');
+    }
+    out
 }
 
 #[cfg(test)]

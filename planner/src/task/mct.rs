@@ -55,58 +55,16 @@
 //! link (ERR 67 on the MCT structure) but not the joint move itself; MRP
 //! outside the limits raises the fault (see [`crate::mrp`]).
 
-use super::{AxisHandle, CoordHandle, InstructionHandle, MotionTask};
+use super::MotionTask;
 use crate::mct::instruction::{
     AxesCommand, AxisCondition, AxisId, JointAxis, Mct, MctError, MctRequest, SystemId, Transform, TransformFault,
-    TransformId, TransformSystem, TransformTable,
+    TransformId, TransformSystem,
 };
 use crate::mct::{GeometryKind, GeometryParams, Vec3};
 use crate::profile::Sample;
 use crate::servo::CipAxisState;
-
-/// The transform-related configuration of a coordinate system.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TransformGeometry {
-    /// Coordinate system type / geometry (default: Cartesian gantry).
-    pub kind: GeometryKind,
-    /// Link lengths, offsets, zero angles (default: all 0).
-    pub params: GeometryParams,
-    /// Transform dimension (default: the number of primary axes).
-    pub transform_dimension: usize,
-}
-
-#[derive(Debug, Clone, Default)]
-pub(super) struct MctState {
-    table: TransformTable,
-    geometries: Vec<(CoordHandle, TransformGeometry)>,
-    instructions: Vec<MctSlot>,
-}
-
-#[derive(Debug, Clone)]
-struct MctSlot {
-    control: InstructionHandle,
-    mct: Mct,
-    source: CoordHandle,
-    /// A transform that faulted and whose joints are still stopping.
-    stopping: Option<TransformId>,
-    /// The rung goes false at the next update (one-shot).
-    release: bool,
-    /// Last joint velocities and accelerations written (for finite
-    /// differences).
-    joint_motion: [(f64, f64); 3],
-    /// The transform and its joint axes' commands as they were before this
-    /// update's [`MotionTask::advance_transforms`] step (see
-    /// [`MotionTask::mct_undo_update`]).
-    before_update: Option<Box<BeforeUpdate>>,
-}
-
-#[derive(Debug, Clone)]
-struct BeforeUpdate {
-    transform: Transform,
-    joint_motion: [(f64, f64); 3],
-    /// Per target axis: command, actual, last direction.
-    axes: Vec<(AxisHandle, Sample, f64, f64)>,
-}
+use crate::task::handles::{AxisHandle, CoordHandle, InstructionHandle};
+use crate::task::state::{BeforeUpdate, MctSlot, TransformGeometry};
 
 fn axis_id(a: AxisHandle) -> AxisId {
     AxisId(a.0)

@@ -17,77 +17,16 @@
 //! off); MCT transforms on the axis are cancelled. While the servo is off
 //! the command follows the fed actual position.
 
-use super::superimposed::SuperKind;
-use super::{AxisHandle, CoordHandle, InstructionHandle, MotionTask};
-use crate::axis::AxisConfig;
+use super::MotionTask;
 use crate::instruction::{MotionInstructionBits, NoFault, Refusal};
 use crate::profile::{Limits, Profile, Sample};
 use crate::servo::{
     AxisFaults, AxisStatusBits, AxisType, CipAxisState, FaultAction, MOVING_FRACTION, MotionFaults,
     SERVO_ENABLE_UPDATES, StateError,
 };
-
-/// Whether the drive of an axis is enabled.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Power {
-    /// Servo off (Stopped).
-    Off,
-    /// MSO in process: the control structure and the updates left.
-    Starting(Option<InstructionHandle>, u32),
-    /// Servo on (Running).
-    On,
-    /// A fault disabled the drive.
-    Faulted,
-    /// Shut down.
-    Shutdown,
-}
-
-/// The state of one axis.
-#[derive(Debug, Clone)]
-pub(super) struct ServoSlot {
-    pub(super) power: Power,
-    pub(super) faults: AxisFaults,
-    /// The soft overtravel exceptions recorded (latched until MAFR/MASR).
-    pub(super) motion_faults: MotionFaults,
-    /// The axis' position error exceeded its tolerance in the last update.
-    pub(super) position_error_exceeded: bool,
-    /// An active MAH waiting for the axis to come to rest (`task/home.rs`).
-    pub(super) homing: Option<InstructionHandle>,
-    /// `AxisHomedStatus`: an MAH completed.
-    pub(super) homed: bool,
-}
-
-impl ServoSlot {
-    pub(super) fn new(config: &AxisConfig) -> Self {
-        let power = match config.axis_type {
-            AxisType::Virtual => Power::On,
-            AxisType::FeedbackOnly => Power::Off,
-            AxisType::Servo if config.start_servo_on => Power::On,
-            AxisType::Servo => Power::Off,
-        };
-        Self {
-            power,
-            faults: AxisFaults::default(),
-            motion_faults: MotionFaults::default(),
-            position_error_exceeded: false,
-            homing: None,
-            homed: false,
-        }
-    }
-}
-
-/// What an instruction asks of an axis' state.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Need {
-    /// A motion process: the servo on.
-    Motion,
-    /// MSO.
-    Enable,
-    /// MSF.
-    Disable,
-    /// MAS, MRP, MASD, MASR: any state but inhibited.
-    Any,
-}
+use crate::task::handles::{AxisHandle, CoordHandle, InstructionHandle};
+use crate::task::state::SuperKind;
+use crate::task::state::{Need, Power};
 
 impl MotionTask {
     /// The axis' `CIPAxisState`.

@@ -41,31 +41,12 @@
 //!   the tool stops on its programmed Cartesian path rather than the joints
 //!   ramping each on its own.
 
-use super::{AxisHandle, FbHandle, Finish, InstructionHandle, Job, MotionTask};
+use super::MotionTask;
 use crate::modulo::MoveModuloError;
-use crate::profile::{Limits, Profile, Sample};
-
-/// The axis state a command started from (not for blend hand-overs).
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Origin {
-    /// [`MotionTask::updates`] of the update the command started in.
-    pub(super) update: u64,
-    /// The axis' command before the command started.
-    pub(super) command: Sample,
-    /// The axis' direction memory before the command started.
-    pub(super) last_direction: f64,
-}
-
-/// What [`MotionTask::stop_all_axes`] did.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct StopReport {
-    /// Axes that were moving (or had a command) and now ramp to rest.
-    pub stopped_axes: Vec<AxisHandle>,
-    /// Instances that got `CommandAborted`, in axis order (running, then buffered).
-    pub aborted: Vec<FbHandle>,
-    /// Logix control structures that were in process (`.IP`), in the order added.
-    pub stopped_instructions: Vec<InstructionHandle>,
-}
+use crate::profile::{Limits, Profile};
+use crate::task::handles::{AxisHandle, FbHandle, InstructionHandle};
+use crate::task::state::StopReport;
+use crate::task::state::{Finish, Job};
 
 impl MotionTask {
     /// Coordinated stop of every axis with its configured deceleration and

@@ -36,30 +36,10 @@
 //! Cams and MC_MoveModulo commands are never superimposed: a coordinated
 //! move ends them on its axes (as before).
 
-use super::{AxisHandle, InstructionHandle, MotionTask};
+use super::MotionTask;
 use crate::profile::{Limits, Profile, Sample, State};
-
-/// What a superimposed run does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum SuperKind {
-    /// A MAJ's velocity ramp.
-    Jog,
-    /// A MAM's move; `.PC` at its end.
-    Move,
-    /// Its own end: a ramp to rest, or the offset held after a move.
-    Hold,
-}
-
-/// One axis' superimposed run.
-#[derive(Debug, Clone)]
-pub(super) struct SuperRun {
-    profile: Profile,
-    t_s: f64,
-    control: Option<InstructionHandle>,
-    kind: SuperKind,
-    /// The offset added to the command by the last update.
-    applied: Sample,
-}
+use crate::task::handles::{AxisHandle, InstructionHandle};
+use crate::task::state::{SuperKind, SuperRun};
 
 impl MotionTask {
     /// The superimposed offset in the axis' command after the last update

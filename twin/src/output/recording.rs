@@ -20,11 +20,11 @@
 //!
 //! # Sinks
 //!
-//! A [`Recorder`] can write to several [`Sink`]s at once (for example `--save`
+//! A [`Recorder`] can write to several [`Sink`](sinks::Sink)s at once (for example `--save`
 //! and `--connect` together); Rerun then tees every message to each of them.
 //!
 //! Choices made here where Rerun leaves room:
-//! - [`Sink::Connect`] checks that something accepts TCP connections at the
+//! - [`Sink::Connect`](sinks::Sink::Connect) checks that something accepts TCP connections at the
 //!   address before the stream is created, and fails with
 //!   [`RecordingError::Connect`] if not. Rerun's own gRPC client would instead
 //!   retry in the background and buffer; once its queue is full, logging
@@ -43,10 +43,43 @@ use crate::plant::mesh::TriMesh;
 
 mod error;
 pub mod run;
-mod sinks;
+pub mod sinks;
 
 pub use error::{MeshDefect, Quantity, RecordingError};
-pub use sinks::{DEFAULT_CONNECT_ADDR, DEFAULT_SERVE_ADDR, OpenSinks, Served, Sink};
+
+/// What [`Recorder::finish`] leaves running: the [`Sink::Serve`](sinks::Sink::Serve) servers,
+/// if any.
+#[derive(Default)]
+pub struct Served {
+    stream: Option<RecordingStream>,
+    addresses: Vec<String>,
+}
+
+impl std::fmt::Debug for Served {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Served")
+            .field("addresses", &self.addresses)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Served {
+    /// The servers' addresses (`rerun+http://host:port/proxy`), for
+    /// `rerun --connect`; empty when nothing is served.
+    pub fn addresses(&self) -> &[String] {
+        &self.addresses
+    }
+
+    /// Serves for as long as the process lives (Ctrl-C ends it); returns at
+    /// once when nothing is served.
+    pub fn wait(self) {
+        if self.stream.is_some() {
+            loop {
+                std::thread::park();
+            }
+        }
+    }
+}
 
 /// Name of the timeline carrying simulated time (a duration timeline).
 pub const SIM_TIME_TIMELINE: &str = "sim_time";
@@ -100,7 +133,7 @@ pub struct Recorder {
     sim_time_ns: Option<i64>,
     /// Human-readable list of the sinks, for errors.
     sink_names: String,
-    /// The addresses of the [`Sink::Serve`] servers.
+    /// The addresses of the [`Sink::Serve`](sinks::Sink::Serve) servers.
     served: Vec<String>,
 }
 
@@ -471,7 +504,7 @@ impl Recorder {
     /// viewer that went away, a full disk, or a timeout of 20 s). The stream
     /// is closed and the file finished either way.
     ///
-    /// With a [`Sink::Serve`] server, the files are finished and the stream
+    /// With a [`Sink::Serve`](sinks::Sink::Serve) server, the files are finished and the stream
     /// stays open: the returned [`Served`] keeps the server up.
     pub fn finish(self) -> Result<Served, RecordingError> {
         let Self {

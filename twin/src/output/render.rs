@@ -48,12 +48,13 @@ mod error;
 mod gpu;
 mod math;
 
-pub use camera::Camera;
-use camera::CameraFrame;
+pub use camera::{Camera, NEAR_PLANE_M};
 pub use error::{CameraProblem, MeshProblem, ReadbackStage, RenderError};
 use gpu::{
-    GpuMesh, GrowBuffer, PipelineBuilder, Target, globals_bytes, line_bytes, push_f32s, read_image, validate_mesh,
+    COLOR_FORMAT, DEPTH_FORMAT, GLOBALS_BYTES, GpuMesh, GrowBuffer, INSTANCE_BYTES, PipelineBuilder, SEGMENT_BYTES,
+    Target, VERTEX_BYTES, globals_bytes, line_bytes, push_f32s, read_image, validate_mesh,
 };
+pub use gpu::{LINE_WIDTH_PX, LineStrip};
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, mpsc};
@@ -64,27 +65,11 @@ use crate::plant::mesh::TriMesh;
 pub const NO_ADAPTER_HINT: &str = "no Vulkan adapter found: frames are not rendered \
      (install Mesa's software driver: apt-get install mesa-vulkan-drivers)";
 
-/// Distance from the eye to the near clipping plane (metres).
-pub const NEAR_PLANE_M: f32 = 0.01;
-
 /// The background colour of every image (sRGB, 8 bits per channel).
 pub const BACKGROUND_RGBA8: [u8; 4] = [206, 211, 217, 255];
 
 /// Samples per pixel when the adapter supports multisampling.
 const MSAA_SAMPLES: u32 = 4;
-/// Colour format of the render target; sRGB so blending happens in linear light.
-const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Bytes per mesh vertex: position and normal, three f32 each.
-const VERTEX_BYTES: u64 = 24;
-/// Bytes per instance: world_from_mesh (4 vec4), normal matrix (3 vec4), colour.
-const INSTANCE_BYTES: u64 = 128;
-/// Bytes per line segment: start and end (3 f32 each) and colour (4 f32).
-const SEGMENT_BYTES: u64 = 40;
-/// Bytes of the `Globals` uniform block in `scene.wgsl`.
-const GLOBALS_BYTES: u64 = 128;
-/// Width of trail lines (pixels).
-pub const LINE_WIDTH_PX: f32 = 2.0;
 
 /// Handle to a mesh uploaded with [`Renderer::upload_mesh`]; only meaningful
 /// for the renderer that issued it.
@@ -114,17 +99,6 @@ pub struct DrawItem {
     /// Optional highlight (e.g. red for a colliding link), sRGB RGBA: its RGB
     /// replaces the colour's in proportion to its alpha (1 = fully tinted).
     pub tint_rgba: Option<[f32; 4]>,
-}
-
-/// A polyline in the world (e.g. a tool-centre trail), drawn
-/// [`LINE_WIDTH_PX`] wide and hidden behind surfaces. Fewer than two points
-/// draw nothing; segments reaching behind the near plane are dropped.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct LineStrip {
-    /// Consecutive points in the world frame (m).
-    pub points_in_world: Vec<[f32; 3]>,
-    /// Line colour, sRGB RGBA in 0..1 (alpha blends).
-    pub color_rgba: [f32; 4],
 }
 
 /// Offscreen renderer with cached pipelines and buffers. See the module docs

@@ -426,7 +426,7 @@ pub struct Summary {
     /// PNG frames written.
     pub frames_written: usize,
     /// Collision events (scenes with `[collision]`), in start order.
-    pub collisions: Vec<crate::plant::collision::CollisionEvent>,
+    pub collisions: Vec<crate::plant::collision::monitor::CollisionEvent>,
     /// Collisions predicted by the pre-flight sweep.
     pub predicted_collisions: Vec<crate::plant::collide::Prediction>,
     /// Per collision body: the smallest clearance over the run, m (null: no obstacle).
@@ -702,13 +702,13 @@ impl Summary {
                 e.a,
                 e.b,
                 e.start_s,
-                e.max_depth_m,
-                e.point_in_world[0],
-                e.point_in_world[1],
-                e.point_in_world[2],
-                e.normal_in_world[0],
-                e.normal_in_world[1],
-                e.normal_in_world[2]
+                e.deepest.depth_m,
+                e.deepest.point_in_world[0],
+                e.deepest.point_in_world[1],
+                e.deepest.point_in_world[2],
+                e.deepest.normal_in_world[0],
+                e.deepest.normal_in_world[1],
+                e.deepest.normal_in_world[2]
             );
         }
         for p in &self.predicted_collisions {

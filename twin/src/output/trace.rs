@@ -52,10 +52,10 @@
 //! short; deterministic, so reruns write identical files.
 
 use crate::program::types::Value;
-use planner::task::instructions::{maj, mafr, mah, mam, masd, masr, mccm, mclm, mcsd, mcsr, mct, msf, mso};
 use crate::run::Twin;
 use planner::coord::CoordStatus;
 use planner::instruction::{FbOutputs, MotionInstructionBits};
+use planner::task::instructions::{mafr, mah, maj, mam, masd, masr, mccm, mclm, mcsd, mcsr, mct, msf, mso};
 
 /// A number as the trace writes it (module doc): Rust's shortest
 /// round-trip text, positional for magnitudes in [1e-5, 1e16) and zero,
@@ -340,9 +340,18 @@ fn superimposes(twin: &Twin) -> bool {
 
 /// Whether the program calls a state instruction.
 fn uses_states(twin: &Twin) -> bool {
-    [&mso::MSO, &msf::MSF, &masd::MASD, &masr::MASR, &mafr::MAFR, &mah::MAH, &mcsd::MCSD, &mcsr::MCSR]
-        .iter()
-        .any(|i| twin.program().calls(i))
+    [
+        &mso::MSO,
+        &msf::MSF,
+        &masd::MASD,
+        &masr::MASR,
+        &mafr::MAFR,
+        &mah::MAH,
+        &mcsd::MCSD,
+        &mcsr::MCSR,
+    ]
+    .iter()
+    .any(|i| twin.program().calls(i))
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@
 //! only axis positions, and nothing else in the twin applies an MRP offset.
 //! The unit factor itself is [`crate::scene::Units::si_per_unit`].
 
-use super::PlantError;
+use super::error::PlantError;
 use super::limits;
 use super::physics::JointDrive;
 use super::servo_drive::ServoGains;

@@ -34,7 +34,7 @@
 //! (the direction that separates the first body, a robot link, from the
 //! obstacle: the obstacle's outward surface normal).
 //!
-//! # Events ([`Monitor`])
+//! # Events ([`monitor::Monitor`])
 //! The live check runs after every physics step: the discrete check of the
 //! step's end pose ([`CollisionModel::check`]: depth, clearance) and the
 //! continuous detection over the step ([`CollisionModel::first_touches`]):
@@ -75,11 +75,10 @@
 //! path that lasts at least `ε` is found, and the reported parameter `s_p`
 //! lies in `[s_c, s_c + ε]` where `s_c` is the first contact (never early);
 //! the report's `step_bound` is `ε`. Past the sample budget
-//! ([`MAX_SWEEP_SAMPLES`] steps, [`MAX_REFINE_SAMPLES`] to settle them) the
+//! ([`sweep::MAX_SWEEP_SAMPLES`] steps, [`sweep::MAX_REFINE_SAMPLES`] to settle them) the
 //! bound is the step `h` again, and `step_bound` says so.
 
 use crate::plant::convert::pose_to_rapier;
-use crate::plant::stl::StlError;
 use crate::plant::urdf::RobotModel;
 use crate::scene::{CollisionSettings, Obstacle};
 use nalgebra::Isometry3;
@@ -89,13 +88,14 @@ use rapier3d_f64::parry::partitioning::{Bvh, BvhBuildStrategy};
 use rapier3d_f64::parry::query;
 use rapier3d_f64::parry::shape::SharedShape;
 
+mod bodies;
 mod build;
 mod live;
-mod monitor;
-mod sweep;
+pub mod monitor;
+pub mod sweep;
+pub use bodies::{Body, CheckResult, CollisionModelError, Contact, ContactPoint};
+use bodies::{LocalSphere, RobotBody};
 use build::{allowed_pairs, obstacle_shapes, reach_of, robot_bodies, self_pairs, vec3};
-pub use monitor::{CollisionEvent, Monitor};
-pub use sweep::{MAX_REFINE_SAMPLES, MAX_SWEEP_SAMPLES, PathSampler, PredictedCollision, SWEEP_TOLERANCE, SweepReport};
 
 /// A contact deeper than this, m, is an overlap whatever the rounding of
 /// the distance query that would confirm it: the body's clearance is 0.
@@ -110,98 +110,6 @@ const BOX_MARGIN_M: f64 = 1e-6;
 fn box_distance(a: &Aabb, b: &Aabb) -> f64 {
     let gap = (a.mins - b.maxs).max(b.mins - a.maxs).max(Vector::ZERO);
     gap.length()
-}
-
-/// One side of a checked pair.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Body {
-    /// A robot body, index into [`CollisionModel::body_names`].
-    Robot(usize),
-    /// An obstacle, index into the scene's `[[obstacles]]`.
-    Obstacle(usize),
-}
-
-/// Why the collision model cannot be built.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum CollisionModelError {
-    /// `collision.tool.link` names no URDF link.
-    #[error("collision.tool.link: the URDF has no link '{link}'")]
-    UnknownToolLink {
-        /// The name.
-        link: String,
-        /// Line of the field.
-        line: usize,
-        /// Column of the field.
-        column: usize,
-    },
-    /// An `allowed_pairs` entry names no body.
-    #[error("collision.allowed_pairs: '{name}' is no collision body (links with <collision>, the tool, obstacles)")]
-    UnknownPairBody {
-        /// The name.
-        name: String,
-        /// Line of the entry.
-        line: usize,
-        /// Column of the entry.
-        column: usize,
-    },
-    /// A mesh has no 3-D convex hull.
-    #[error("{body}: collision mesh has no 3-D convex hull")]
-    DegenerateMesh {
-        /// Link, tool or obstacle name.
-        body: String,
-    },
-    /// A tool or obstacle mesh file cannot be loaded.
-    #[error("{body}: {source}")]
-    Mesh {
-        /// Tool or obstacle name.
-        body: String,
-        /// Why (names the file).
-        #[source]
-        source: StlError,
-    },
-}
-
-/// A contact between two bodies at one pose.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Contact {
-    /// First body (always a robot body).
-    pub a: Body,
-    /// Second body (an obstacle or another robot body).
-    pub b: Body,
-    /// Penetration depth, m (0 when just touching).
-    pub depth_m: f64,
-    /// Contact point in the world, m.
-    pub point_in_world: [f64; 3],
-    /// Unit normal in the world, from `b` into `a`.
-    pub normal_in_world: [f64; 3],
-}
-
-/// The result of one check.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CheckResult {
-    /// Contacts, in pair order (robot bodies, then obstacles, then self pairs).
-    pub contacts: Vec<Contact>,
-    /// Per robot body: the smallest distance to any obstacle, m (0 when
-    /// touching; infinite without obstacles).
-    pub clearance_m: Vec<f64>,
-}
-
-/// A shape's bounding sphere in its own frame: centre and radius, m.
-#[derive(Debug, Clone, Copy)]
-struct LocalSphere {
-    center: Vector,
-    radius: f64,
-}
-
-impl LocalSphere {
-    fn of(shape: &SharedShape) -> Self {
-        let sphere = shape.compute_local_bounding_sphere();
-        LocalSphere {
-            center: sphere.center,
-            radius: sphere.radius,
-        }
-    }
 }
 
 /// Every robot body's shapes placed in the world, in one vector (bodies
@@ -247,25 +155,6 @@ impl<'a> Placed<'a> {
     /// A lower bound of the distance between the two shapes.
     fn lower_bound(&self, other: &Placed<'_>) -> f64 {
         (self.center - other.center).length() - self.radius - other.radius
-    }
-}
-
-#[derive(Debug, Clone)]
-struct RobotBody {
-    name: String,
-    link: usize,
-    shapes: Vec<(Pose, SharedShape)>,
-}
-
-impl RobotBody {
-    /// The radius about the carrying link's origin of the ball that holds
-    /// every shape of the body, given their bounding spheres.
-    fn radius(&self, spheres: &[LocalSphere]) -> f64 {
-        self.shapes
-            .iter()
-            .zip(spheres)
-            .map(|((local, _), sphere)| (*local * sphere.center).length() + sphere.radius)
-            .fold(0.0, f64::max)
     }
 }
 
@@ -462,9 +351,11 @@ impl CollisionModel {
                 contacts.push(Contact {
                     a: Body::Robot(b),
                     b: Body::Obstacle(o),
-                    depth_m,
-                    point_in_world: point,
-                    normal_in_world: normal,
+                    at: ContactPoint {
+                        depth_m,
+                        point_in_world: point,
+                        normal_in_world: normal,
+                    },
                 });
             }
         });
@@ -656,7 +547,7 @@ impl CollisionModel {
                 self.obstacle_contacts(b, body_shapes, &body, &mut contacts);
                 before
             });
-            if found.is_some_and(|before| contacts[before..].iter().any(|c| c.depth_m > CLEAR_OVERLAP_M)) {
+            if found.is_some_and(|before| contacts[before..].iter().any(|c| c.at.depth_m > CLEAR_OVERLAP_M)) {
                 clearance_m[b] = 0.0;
                 continue;
             }
@@ -684,9 +575,11 @@ impl CollisionModel {
                 contacts.push(Contact {
                     a: Body::Robot(a),
                     b: Body::Robot(b),
-                    depth_m,
-                    point_in_world: point,
-                    normal_in_world: normal,
+                    at: ContactPoint {
+                        depth_m,
+                        point_in_world: point,
+                        normal_in_world: normal,
+                    },
                 });
             }
         }

@@ -1,7 +1,7 @@
 //! Tool-centre trails: the world positions of the `tool_link` of each
 //! coordinate system the program uses, one point every 0.5 mm of travel.
 
-use super::PlantError;
+use super::error::PlantError;
 use super::urdf::RobotModel;
 use crate::scene::Scene;
 use planner::task::MotionTask;

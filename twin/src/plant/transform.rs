@@ -13,15 +13,15 @@
 //!   on a revolute URDF joint must have `units = "deg"`; the geometry's
 //!   lengths are in the source system's coordinate units.
 
-use super::PlantError;
 use super::dynamics::Dynamics;
+use super::error::PlantError;
 use super::kinematics_check::{ChainMapping, check, pose_parallel};
 use super::physics::JointDrive;
 use super::urdf::RobotModel;
 use crate::scene::{Scene, TagValue};
 use crate::st::ast::ExprKind;
-use planner::task::instructions::{self, mct::MCT};
 use planner::mct::{Geometry, JointKind};
+use planner::task::instructions::{self, mct::MCT};
 use std::f64::consts::{PI, TAU};
 
 /// Every target system with a `geometry` table that an MCT call of the

@@ -6,7 +6,7 @@
 
 use crate::scene::{BaseType, Scene, Tag, TagValue};
 use crate::source::{Diagnostic, Files};
-use planner::catalogue::Instruction;
+use planner::task::instructions::Instruction;
 use planner::task::{
     AxisHandle, CamProfileHandle, CoordHandle, FbHandle, InstructionHandle, MotionTask, TransformGeometry,
 };
@@ -121,7 +121,12 @@ impl Env<'_, '_> {
     /// The control structure of the `MOTION_INSTRUCTION` tag stored as
     /// `name`, added to the planner on its first use.
     pub fn control(&mut self, name: &str) -> InstructionHandle {
-        if let Some(b) = self.bindings.instructions.iter().find(|b| b.name.eq_ignore_ascii_case(name)) {
+        if let Some(b) = self
+            .bindings
+            .instructions
+            .iter()
+            .find(|b| b.name.eq_ignore_ascii_case(name))
+        {
             return b.handle;
         }
         let handle = self.task.add_instruction(name.to_owned());
@@ -161,14 +166,19 @@ impl Env<'_, '_> {
         };
         let mut axes = Vec::with_capacity(members.len());
         for m in members {
-            axes.push(self.axis(m).ok_or_else(|| format!("axis '{m}' is not in the planner"))?);
+            axes.push(
+                self.axis(m)
+                    .ok_or_else(|| format!("axis '{m}' is not in the planner"))?,
+            );
         }
         let handle = self
             .task
             .add_coordinate_system(settings.system.clone(), &axes)
             .map_err(|e| e.to_string())?;
         if let Some(master) = &settings.master_axis {
-            let master = self.axis(master).ok_or_else(|| format!("axis '{master}' is not in the planner"))?;
+            let master = self
+                .axis(master)
+                .ok_or_else(|| format!("axis '{master}' is not in the planner"))?;
             self.task.set_coordinate_system_master(handle, Some(master));
         }
         if let Some(g) = &tag.geometry {

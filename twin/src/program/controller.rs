@@ -391,7 +391,11 @@ impl Controller {
 
 /// Compiles a program's routines: its function-block calls first (so that
 /// their outputs compile wherever they are read), then every routine.
-fn compile_program(p: &crate::scene::ProgramDef, mem: &Memory, env: &mut Env<'_, '_>) -> Result<ProgramRun, compile::Error> {
+fn compile_program(
+    p: &crate::scene::ProgramDef,
+    mem: &Memory,
+    env: &mut Env<'_, '_>,
+) -> Result<ProgramRun, compile::Error> {
     let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
     let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
     for def in defs.iter().filter(|d| d.dialect == crate::scene::Dialect::Iec) {
@@ -423,7 +427,7 @@ pub(super) fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
             .map_or(Value::Int(0), |i| mem.slots[i]),
         Place::Bit { inner, bit, .. } => Value::Bool(peek(inner, mem, task).as_i64() >> constant(bit) & 1 == 1),
         Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Fb(..) => {
-            super::exec::places::planner_value(place, task).unwrap_or(Value::Int(0))
+            super::exec::members::planner_value(place, task).unwrap_or(Value::Int(0))
         }
         Place::FirstScan | Place::MinorInScan => Value::Bool(false),
         Place::MinorFaults => Value::Int(0),

@@ -6,7 +6,7 @@
 
 use super::types::{DataType, Structure, Ty, Value};
 use crate::st::ast::{BinaryOp, CaseLabel};
-use planner::catalogue::Instruction;
+use planner::task::instructions::Instruction;
 use planner::task::{Arg, AxisHandle, CoordHandle, FbHandle, InstructionHandle};
 
 /// A typed expression.

@@ -52,8 +52,8 @@ use compile::Compiler;
 use controller::Controller;
 use ir::Place;
 use memory::Memory;
-use planner::catalogue::Instruction;
 use planner::task::MotionTask;
+use planner::task::instructions::Instruction;
 use steps::CompiledStep;
 use types::{DataType, Value};
 

@@ -3,155 +3,12 @@
 //! field by field in `scenes/README.md`; names of links are checked against
 //! the URDF by [`crate::collision`].
 
+use super::context::Ctx;
+use super::error::{Problem, SceneError};
+use super::model::{AllowedPair, CollisionSettings, MeshApproximation, Preflight, Reaction, Tool};
+use super::raw::{RawCollision, RawTool};
 use super::validate::ShapeFields;
-use super::{Ctx, Location, Numbers, Problem, SceneError, Shape, ShapeKind};
-use serde::Deserialize;
 use std::path::Path;
-use toml::Spanned;
-
-/// What the twin does when a live check finds a contact.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "lowercase")]
-#[non_exhaustive]
-pub enum Reaction {
-    /// Record the event and keep going (default).
-    #[default]
-    Report,
-    /// Coordinated stop of every axis with its configured deceleration;
-    /// the instances in process get `CommandAborted`.
-    Stop,
-    /// End the run after the physics step of the contact; the `twin`
-    /// binary exits with code 3.
-    Abort,
-}
-
-/// How a mesh collision shape is approximated.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum MeshApproximation {
-    /// One convex hull per mesh (default): fast, conservative (never misses
-    /// a contact the mesh has, may report one in a concavity).
-    #[default]
-    ConvexHull,
-    /// A convex decomposition (parry's VHACD with default parameters): follows
-    /// concave meshes, slower to build and to query.
-    ConvexDecomposition,
-}
-
-/// What the pre-flight sweep does with a predicted collision.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "lowercase")]
-#[non_exhaustive]
-pub enum Preflight {
-    /// No sweep.
-    Off,
-    /// Sweep every started move and report a predicted collision (default).
-    #[default]
-    Report,
-    /// As `report`, and reject the move before the physics runs any of it:
-    /// an MC_MoveModulo instance gets `Error` with ErrorID 16#422C, an
-    /// MCLM/MCCM `.ER` with ERR 200; axes at rest do not move at all
-    /// (`plant/collide.rs`).
-    Reject,
-}
-
-/// A tool or payload shape carried by a link.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub struct Tool {
-    /// Body name in events and trace columns (default: `tool`).
-    pub name: String,
-    /// The URDF link carrying it.
-    pub link: String,
-    /// Where `link` is written.
-    pub link_location: Location,
-    /// The geometry.
-    pub shape: Shape,
-    /// Position in the link frame, metres (default: zeros).
-    pub position_m: [f64; 3],
-    /// Roll, pitch, yaw in the link frame, degrees (default: zeros).
-    pub rpy_deg: [f64; 3],
-}
-
-/// Two bodies allowed to touch (never reported).
-#[derive(Debug, Clone, PartialEq)]
-pub struct AllowedPair {
-    /// First body (link or obstacle or tool name).
-    pub a: String,
-    /// Second body.
-    pub b: String,
-    /// Where the pair is written.
-    pub location: Location,
-}
-
-/// `[collision]`: collision checking is on when the table is present.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub struct CollisionSettings {
-    /// Reaction to a live contact (default: report).
-    pub reaction: Reaction,
-    /// Mesh approximation for URDF and obstacle meshes (default: convex hull).
-    pub meshes: MeshApproximation,
-    /// Check robot bodies against each other, except adjacent links and
-    /// allowed pairs (default: true).
-    pub self_collision: bool,
-    /// Pairs never reported.
-    pub allowed_pairs: Vec<AllowedPair>,
-    /// Pre-flight sweep of started moves (default: report).
-    pub preflight: Preflight,
-    /// Sweep resolution: the largest distance any point of the robot moves
-    /// between two samples once it is near an obstacle, metres (default 0.001).
-    pub sweep_resolution_m: f64,
-    /// Optional tool/payload shape.
-    pub tool: Option<Tool>,
-    /// Where the `[collision]` table is written.
-    pub location: Location,
-}
-
-impl Default for CollisionSettings {
-    /// The settings of an empty `[collision]` table.
-    fn default() -> Self {
-        CollisionSettings {
-            reaction: Reaction::default(),
-            meshes: MeshApproximation::default(),
-            self_collision: true,
-            allowed_pairs: Vec::new(),
-            preflight: Preflight::default(),
-            sweep_resolution_m: 0.001,
-            tool: None,
-            location: Location::default(),
-        }
-    }
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawCollision {
-    reaction: Option<Spanned<Reaction>>,
-    meshes: Option<Spanned<MeshApproximation>>,
-    self_collision: Option<Spanned<bool>>,
-    #[serde(default)]
-    allowed_pairs: Vec<Spanned<[String; 2]>>,
-    preflight: Option<Spanned<Preflight>>,
-    sweep_resolution_m: Option<Spanned<f64>>,
-    tool: Option<RawTool>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawTool {
-    name: Option<Spanned<String>>,
-    link: Spanned<String>,
-    shape: Spanned<ShapeKind>,
-    size: Option<Spanned<Numbers<3>>>,
-    radius: Option<Spanned<f64>>,
-    length: Option<Spanned<f64>>,
-    file: Option<Spanned<String>>,
-    scale: Option<Spanned<Numbers<3>>>,
-    position: Option<Spanned<Numbers<3>>>,
-    rpy_deg: Option<Spanned<Numbers<3>>>,
-}
 
 impl Ctx<'_> {
     pub(super) fn collision(&self, raw: &RawCollision, base: &Path) -> Result<CollisionSettings, SceneError> {
@@ -251,7 +108,7 @@ impl Ctx<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{SceneError, parse};
+    use crate::scene::{Location, SceneError, Shape, parse};
     use std::path::PathBuf;
 
     fn fixtures() -> PathBuf {

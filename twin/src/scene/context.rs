@@ -9,9 +9,10 @@ use std::sync::Arc;
 
 use toml::Spanned;
 
+use super::error::{Problem, SceneError};
+use super::model::Location;
+use super::raw::Numbers;
 use crate::source::{Diagnostic, FileId, Files, Source, SourceFile, toml_string_map};
-
-use super::{Location, Numbers, Problem, SceneError};
 
 pub(super) struct Ctx<'a> {
     pub(super) file: PathBuf,
@@ -63,8 +64,8 @@ impl Ctx<'_> {
             line,
             column,
             field: field.into(),
-            problem,
-            at: Some((Arc::clone(&self.source), span)),
+            problem: Box::new(problem),
+            at: Some(Box::new((Arc::clone(&self.source), span))),
         }
     }
 
@@ -90,7 +91,7 @@ impl Ctx<'_> {
             table,
             field,
             message,
-            at: e.span().map(|s| (Arc::clone(&self.source), s)),
+            at: e.span().map(|s| Box::new((Arc::clone(&self.source), s))),
         }
     }
 

@@ -7,7 +7,7 @@ use std::ops::Range;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use super::{AxisKind, BaseType, Location, TagType, Units};
+use super::model::{AxisKind, BaseType, Location, TagType, Units};
 
 /// What is wrong with a field's value.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -373,7 +373,7 @@ pub enum SceneError {
         /// a number, found "fast"`).
         message: String,
         /// The scene's text and the bytes the TOML parser points at.
-        at: Option<(Arc<SourceFile>, Range<usize>)>,
+        at: Option<Box<(Arc<SourceFile>, Range<usize>)>>,
     },
     /// A `call`, `when`, trace tag or routine that is not valid Structured
     /// Text, or a routine file that cannot be read.
@@ -389,9 +389,9 @@ pub enum SceneError {
         /// The field, e.g. `axes[0].max_velocity`.
         field: String,
         /// What is wrong.
-        problem: Problem,
+        problem: Box<Problem>,
         /// The scene's text and the bytes of the value at fault.
-        at: Option<(Arc<SourceFile>, Range<usize>)>,
+        at: Option<Box<(Arc<SourceFile>, Range<usize>)>>,
     },
 }
 
@@ -426,7 +426,7 @@ impl SceneError {
     #[must_use]
     pub fn problem(&self) -> Option<&Problem> {
         match self {
-            SceneError::Invalid { problem, .. } => Some(problem),
+            SceneError::Invalid { problem, .. } => Some(problem.as_ref()),
             _ => None,
         }
     }
@@ -447,7 +447,7 @@ impl SceneError {
             } => {
                 let mut d = Diagnostic::error(problem.to_string()).in_field(field.clone());
                 d = match at {
-                    Some((text, range)) => d.with_label(Label::new(text, range.clone(), problem.label())),
+                    Some(at) => d.with_label(Label::new(&at.0, at.1.clone(), problem.label())),
                     None => d.at_place(file.clone(), *line, *column),
                 };
                 match problem.help() {
@@ -455,7 +455,9 @@ impl SceneError {
                     None => d,
                 }
             }
-            SceneError::Toml { file, line, column, at, .. } => {
+            SceneError::Toml {
+                file, line, column, at, ..
+            } => {
                 // The one-line text, field and message together, as Display
                 // gives them: the first line stays what scripts grep.
                 let text = self.to_string();
@@ -463,7 +465,7 @@ impl SceneError {
                 let message = text.strip_prefix(&prefix).unwrap_or(&text).to_owned();
                 let d = Diagnostic::error(message);
                 match at {
-                    Some((source, range)) => d.with_label(Label::new(source, range.clone(), "here")),
+                    Some(at) => d.with_label(Label::new(&at.0, at.1.clone(), "here")),
                     None => d.at_place(file.clone(), *line, *column),
                 }
             }
@@ -497,9 +499,7 @@ impl Problem {
     /// A `help:` line, where the problem has an obvious fix.
     fn help(&self) -> Option<String> {
         match self {
-            Problem::UnknownAxis {
-                nearest: Some(n), ..
-            } => Some(format!("did you mean '{n}'?")),
+            Problem::UnknownAxis { nearest: Some(n), .. } => Some(format!("did you mean '{n}'?")),
             Problem::BothTriggers | Problem::NoTrigger => {
                 Some("give a step at_s = <seconds> or when = \"<tag>.<bit>\"".to_owned())
             }

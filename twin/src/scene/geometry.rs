@@ -3,9 +3,13 @@
 //! how its chain maps onto the URDF, for the load-time kinematics check
 //! ([`crate::plant::kinematics_check`]).
 
-use super::{Ctx, Location, Numbers, Problem, SceneError};
+use super::context::Ctx;
+use super::model::GeometrySettings;
+use super::raw::RawGeometry;
+
+use super::error::{Problem, SceneError};
+use super::raw::Numbers;
 use planner::mct::{GeometryKind, GeometryParams};
-use serde::Deserialize;
 use toml::Spanned;
 
 /// The geometry names accepted in `type`, with their kinds.
@@ -19,56 +23,6 @@ pub const GEOMETRY_TYPES: &[(&str, GeometryKind)] = &[
     ("delta_2d", GeometryKind::Delta2d),
     ("scara_delta", GeometryKind::ScaraDelta),
 ];
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawGeometry {
-    #[serde(rename = "type")]
-    kind: Spanned<String>,
-    transform_dimension: Option<Spanned<i64>>,
-    link_lengths: Option<Spanned<Numbers<2>>>,
-    base_offsets: Option<Spanned<Numbers<3>>>,
-    end_effector_offsets: Option<Spanned<Numbers<3>>>,
-    zero_angles_deg: Option<Spanned<Numbers<3>>>,
-    base_link: Option<Spanned<String>>,
-    tool_link: Option<Spanned<String>>,
-    platform_joints: Option<Vec<Spanned<String>>>,
-    forearm_joints: Option<Vec<[Spanned<String>; 2]>>,
-    forearm_tip_links: Option<Vec<Spanned<String>>>,
-    ball_links: Option<Vec<Spanned<String>>>,
-}
-
-/// A `COORDINATE_SYSTEM` tag's `geometry` table.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub struct GeometrySettings {
-    /// `type`: the geometry.
-    pub kind: GeometryKind,
-    /// `transform_dimension` (default: 2 for the SCARA, Delta 2D and SCARA
-    /// Delta geometries, 3 for Delta 3D, else the number of members, at
-    /// most 3).
-    pub transform_dimension: usize,
-    /// `link_lengths` (L1, L2), `base_offsets`, `end_effector_offsets`
-    /// (coordinate units) and `zero_angles_deg` (default: 0).
-    pub params: GeometryParams,
-    /// `base_link`: the URDF link whose frame is the MCT robot frame
-    /// (required for a transform's target; default: none).
-    pub base_link: Option<String>,
-    /// `tool_link`: the URDF link whose origin is the tool point (required
-    /// for a transform's target; default: none).
-    pub tool_link: Option<String>,
-    /// `platform_joints` (parallel geometries; default: none).
-    pub platform_joints: Vec<String>,
-    /// `forearm_joints`: `[yaw, pitch]` per arm (parallel geometries;
-    /// default: none).
-    pub forearm_joints: Vec<[String; 2]>,
-    /// `forearm_tip_links` (parallel geometries; default: none).
-    pub forearm_tip_links: Vec<String>,
-    /// `ball_links` (parallel geometries; default: none).
-    pub ball_links: Vec<String>,
-    /// Where the table is written.
-    pub location: Location,
-}
 
 impl Ctx<'_> {
     pub(super) fn geometry(

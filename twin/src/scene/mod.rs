@@ -39,24 +39,20 @@ mod tags;
 mod tasks;
 mod validate;
 
-pub use collision::{AllowedPair, CollisionSettings, MeshApproximation, Preflight, Reaction, Tool};
 pub use error::{Problem, SceneError};
-pub use geometry::{GEOMETRY_TYPES, GeometrySettings};
+pub use geometry::GEOMETRY_TYPES;
 pub use model::{
-    Axis, AxisKind, BaseType, CamPoint, Camera, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS, FunctionBlock,
-    Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE,
-    MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, Obstacle, PlantMode, Robot, Scene, SegmentType, ServoGains,
-    Shape, Snapshots, Step, Tag, TagType, TagValue, TraceTag, Trigger, Units,
+    AllowedPair, Axis, AxisKind, BaseType, CamPoint, Camera, CollisionSettings, CoordinateSystemSettings,
+    DEFAULT_PHYSICS_SUBSTEPS, DEFAULT_WATCHDOG_MS, Dialect, FunctionBlock, GeometrySettings, Location, MAX_ARRAY_LEN,
+    MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS,
+    MIN_PHYSICS_STEP_MS, MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef, Reaction, Robot,
+    RoutineDef, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType, TagValue, Task, Tool, TraceTag,
+    Trigger, Units,
 };
-pub use tasks::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
 
 use crate::source::Files;
-use context::{Ctx, NameKind, Names};
-use raw::{
-    AxisConfiguration, HomeDirectionWord, HomeModeWord, HomeSequenceWord, Numbers, PlantWord, RawAxis, RawCamera,
-    RawCoordinateSystem, RawDrive, RawMoveOptions, RawObstacle, RawRobot, RawScene, RawSnapshots, RawStep, RawTag,
-    ShapeKind,
-};
+use context::Ctx;
+use raw::RawScene;
 
 impl Scene {
     /// Builds a [`SceneError::Invalid`] pointing into this scene's file, for
@@ -69,8 +65,8 @@ impl Scene {
             line: at.line,
             column: at.column,
             field: field.into(),
-            problem,
-            at: Some((std::sync::Arc::clone(file), file.token_at(at.line, at.column))),
+            problem: Box::new(problem),
+            at: Some(Box::new((std::sync::Arc::clone(file), file.token_at(at.line, at.column)))),
         }
     }
 

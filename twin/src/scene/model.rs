@@ -1,6 +1,8 @@
 //! The validated scene: what the program, plant and output stages read.
 //! Every value here has passed [`super::load`]'s checks.
 
+use crate::st::ast::Routine;
+use planner::mct::{GeometryKind, GeometryParams};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::PathBuf;
@@ -11,8 +13,6 @@ use crate::source::Files;
 use crate::st::ast::{Call, Expr};
 use planner::axis::AxisConfig;
 use planner::coord::CoordinateSystemConfig;
-
-use super::{CollisionSettings, GeometrySettings};
 
 /// A 1-based line and column (in characters) in the scene file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -51,7 +51,7 @@ pub struct Scene {
     /// Program steps, in file order.
     pub program: Vec<Step>,
     /// Periodic tasks of Structured Text programs (`[[tasks]]`).
-    pub tasks: Vec<super::Task>,
+    pub tasks: Vec<Task>,
     /// `[trace] tags`: tag references traced as extra columns.
     pub trace_tags: Vec<TraceTag>,
     /// The files the scene's texts come from: the scene file, then its
@@ -780,4 +780,215 @@ pub struct TraceTag {
 pub struct Snapshots {
     /// Frame indices, sorted, distinct.
     pub frames: Vec<u32>,
+}
+
+/// What the twin does when a live check finds a contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum Reaction {
+    /// Record the event and keep going (default).
+    #[default]
+    Report,
+    /// Coordinated stop of every axis with its configured deceleration;
+    /// the instances in process get `CommandAborted`.
+    Stop,
+    /// End the run after the physics step of the contact; the `twin`
+    /// binary exits with code 3.
+    Abort,
+}
+
+/// How a mesh collision shape is approximated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum MeshApproximation {
+    /// One convex hull per mesh (default): fast, conservative (never misses
+    /// a contact the mesh has, may report one in a concavity).
+    #[default]
+    ConvexHull,
+    /// A convex decomposition (parry's VHACD with default parameters): follows
+    /// concave meshes, slower to build and to query.
+    ConvexDecomposition,
+}
+
+/// What the pre-flight sweep does with a predicted collision.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum Preflight {
+    /// No sweep.
+    Off,
+    /// Sweep every started move and report a predicted collision (default).
+    #[default]
+    Report,
+    /// As `report`, and reject the move before the physics runs any of it:
+    /// an MC_MoveModulo instance gets `Error` with ErrorID 16#422C, an
+    /// MCLM/MCCM `.ER` with ERR 200; axes at rest do not move at all
+    /// (`plant/collide.rs`).
+    Reject,
+}
+
+/// A tool or payload shape carried by a link.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Tool {
+    /// Body name in events and trace columns (default: `tool`).
+    pub name: String,
+    /// The URDF link carrying it.
+    pub link: String,
+    /// Where `link` is written.
+    pub link_location: Location,
+    /// The geometry.
+    pub shape: Shape,
+    /// Position in the link frame, metres (default: zeros).
+    pub position_m: [f64; 3],
+    /// Roll, pitch, yaw in the link frame, degrees (default: zeros).
+    pub rpy_deg: [f64; 3],
+}
+
+/// Two bodies allowed to touch (never reported).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AllowedPair {
+    /// First body (link or obstacle or tool name).
+    pub a: String,
+    /// Second body.
+    pub b: String,
+    /// Where the pair is written.
+    pub location: Location,
+}
+
+/// `[collision]`: collision checking is on when the table is present.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct CollisionSettings {
+    /// Reaction to a live contact (default: report).
+    pub reaction: Reaction,
+    /// Mesh approximation for URDF and obstacle meshes (default: convex hull).
+    pub meshes: MeshApproximation,
+    /// Check robot bodies against each other, except adjacent links and
+    /// allowed pairs (default: true).
+    pub self_collision: bool,
+    /// Pairs never reported.
+    pub allowed_pairs: Vec<AllowedPair>,
+    /// Pre-flight sweep of started moves (default: report).
+    pub preflight: Preflight,
+    /// Sweep resolution: the largest distance any point of the robot moves
+    /// between two samples once it is near an obstacle, metres (default 0.001).
+    pub sweep_resolution_m: f64,
+    /// Optional tool/payload shape.
+    pub tool: Option<Tool>,
+    /// Where the `[collision]` table is written.
+    pub location: Location,
+}
+
+impl Default for CollisionSettings {
+    /// The settings of an empty `[collision]` table.
+    fn default() -> Self {
+        CollisionSettings {
+            reaction: Reaction::default(),
+            meshes: MeshApproximation::default(),
+            self_collision: true,
+            allowed_pairs: Vec::new(),
+            preflight: Preflight::default(),
+            sweep_resolution_m: 0.001,
+            tool: None,
+            location: Location::default(),
+        }
+    }
+}
+
+/// A `COORDINATE_SYSTEM` tag's `geometry` table.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct GeometrySettings {
+    /// `type`: the geometry.
+    pub kind: GeometryKind,
+    /// `transform_dimension` (default: 2 for the SCARA, Delta 2D and SCARA
+    /// Delta geometries, 3 for Delta 3D, else the number of members, at
+    /// most 3).
+    pub transform_dimension: usize,
+    /// `link_lengths` (L1, L2), `base_offsets`, `end_effector_offsets`
+    /// (coordinate units) and `zero_angles_deg` (default: 0).
+    pub params: GeometryParams,
+    /// `base_link`: the URDF link whose frame is the MCT robot frame
+    /// (required for a transform's target; default: none).
+    pub base_link: Option<String>,
+    /// `tool_link`: the URDF link whose origin is the tool point (required
+    /// for a transform's target; default: none).
+    pub tool_link: Option<String>,
+    /// `platform_joints` (parallel geometries; default: none).
+    pub platform_joints: Vec<String>,
+    /// `forearm_joints`: `[yaw, pitch]` per arm (parallel geometries;
+    /// default: none).
+    pub forearm_joints: Vec<[String; 2]>,
+    /// `forearm_tip_links` (parallel geometries; default: none).
+    pub forearm_tip_links: Vec<String>,
+    /// `ball_links` (parallel geometries; default: none).
+    pub ball_links: Vec<String>,
+    /// Where the table is written.
+    pub location: Location,
+}
+
+/// The watchdog of a task that does not set `watchdog_ms`, as on the
+/// controller.
+pub const DEFAULT_WATCHDOG_MS: f64 = 500.0;
+
+/// Which Structured Text a routine is written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Dialect {
+    /// Studio 5000 Logix ST (the default): what verifies on a controller.
+    #[default]
+    Logix,
+    /// IEC 61131-3 / TwinCAT additions: `R_TRIG`, `F_TRIG`, `TON`, `TOF`
+    /// and PLCopen function blocks called with named inputs.
+    Iec,
+}
+
+/// A periodic task.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Task {
+    /// Task name.
+    pub name: String,
+    /// Period, ms (0.1 to 2,000,000).
+    pub period_ms: f64,
+    /// Priority, 1 (highest) to 15.
+    pub priority: u8,
+    /// Watchdog, ms (default 500).
+    pub watchdog_ms: f64,
+    /// Programs in scan order.
+    pub programs: Vec<ProgramDef>,
+    /// Where the task's `name` is written.
+    pub location: Location,
+}
+
+/// A program of a task.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct ProgramDef {
+    /// Program name.
+    pub name: String,
+    /// Program-scoped tags (they shadow controller tags of the same name).
+    pub tags: Vec<Tag>,
+    /// The main routine: the one the task scans.
+    pub main: RoutineDef,
+    /// Further routines, called with `JSR`.
+    pub routines: Vec<RoutineDef>,
+    /// Where the program's `name` is written.
+    pub location: Location,
+}
+
+/// A routine file, parsed.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct RoutineDef {
+    /// Routine name: the file stem.
+    pub name: String,
+    /// The file, relative to the scene's folder resolved.
+    pub path: PathBuf,
+    /// Its dialect.
+    pub dialect: Dialect,
+    /// The parsed routine.
+    pub routine: Routine,
 }

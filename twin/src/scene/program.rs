@@ -6,9 +6,11 @@
 
 use toml::Spanned;
 
+use super::context::Ctx;
+use super::error::{Problem, SceneError};
+use super::model::{Step, Trigger};
+use super::raw::RawStep;
 use crate::st::parse::{parse_call, parse_expression};
-
-use super::{Ctx, Problem, RawStep, SceneError, Step, Trigger};
 
 impl Ctx<'_> {
     pub(super) fn program(&self, raw: &[RawStep], duration_s: f64) -> Result<Vec<Step>, SceneError> {
@@ -59,12 +61,12 @@ impl Ctx<'_> {
     }
 
     /// The `[trace] tags` entries, parsed.
-    pub(super) fn trace_tags(&self, raw: &[Spanned<String>]) -> Result<Vec<super::TraceTag>, SceneError> {
+    pub(super) fn trace_tags(&self, raw: &[Spanned<String>]) -> Result<Vec<super::model::TraceTag>, SceneError> {
         raw.iter()
             .enumerate()
             .map(|(i, s)| {
                 let expr = self.parse_in(s, &format!("trace.tags[{i}]"), parse_expression)?;
-                Ok(super::TraceTag {
+                Ok(super::model::TraceTag {
                     text: s.get_ref().trim().to_owned(),
                     expr,
                 })

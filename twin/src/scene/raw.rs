@@ -1,13 +1,14 @@
 //! The raw (serde) layer: the TOML as written, with spans, before any check.
 //! Unknown fields are errors (`deny_unknown_fields`).
 
+use super::model::{MeshApproximation, Preflight, Reaction};
 use std::collections::BTreeMap;
 
 use serde::Deserialize;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use toml::Spanned;
 
-use super::{AxisKind, MotorGains, Units};
+use super::model::{AxisKind, MotorGains, Units};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -31,7 +32,7 @@ pub(super) struct RawScene {
     pub(super) tasks: Vec<RawTask>,
     pub(super) snapshots: Option<RawSnapshots>,
     pub(super) trace: Option<RawTrace>,
-    pub(super) collision: Option<super::collision::RawCollision>,
+    pub(super) collision: Option<RawCollision>,
     pub(super) plant: Option<PlantWord>,
     pub(super) physics_substeps: Option<Spanned<i64>>,
 }
@@ -241,7 +242,7 @@ pub(super) struct RawTag {
     pub(super) ty: Spanned<String>,
     pub(super) value: Option<Spanned<toml::Value>>,
     pub(super) coordinate_system: Option<Spanned<RawCoordinateSystem>>,
-    pub(super) geometry: Option<Spanned<super::geometry::RawGeometry>>,
+    pub(super) geometry: Option<Spanned<RawGeometry>>,
     pub(super) options: Option<Spanned<RawMoveOptions>>,
 }
 
@@ -363,4 +364,50 @@ impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
         }
         deserializer.deserialize_seq(Exactly::<N>)
     }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawCollision {
+    pub(super) reaction: Option<Spanned<Reaction>>,
+    pub(super) meshes: Option<Spanned<MeshApproximation>>,
+    pub(super) self_collision: Option<Spanned<bool>>,
+    #[serde(default)]
+    pub(super) allowed_pairs: Vec<Spanned<[String; 2]>>,
+    pub(super) preflight: Option<Spanned<Preflight>>,
+    pub(super) sweep_resolution_m: Option<Spanned<f64>>,
+    pub(super) tool: Option<RawTool>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawTool {
+    pub(super) name: Option<Spanned<String>>,
+    pub(super) link: Spanned<String>,
+    pub(super) shape: Spanned<ShapeKind>,
+    pub(super) size: Option<Spanned<Numbers<3>>>,
+    pub(super) radius: Option<Spanned<f64>>,
+    pub(super) length: Option<Spanned<f64>>,
+    pub(super) file: Option<Spanned<String>>,
+    pub(super) scale: Option<Spanned<Numbers<3>>>,
+    pub(super) position: Option<Spanned<Numbers<3>>>,
+    pub(super) rpy_deg: Option<Spanned<Numbers<3>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawGeometry {
+    #[serde(rename = "type")]
+    pub(super) kind: Spanned<String>,
+    pub(super) transform_dimension: Option<Spanned<i64>>,
+    pub(super) link_lengths: Option<Spanned<Numbers<2>>>,
+    pub(super) base_offsets: Option<Spanned<Numbers<3>>>,
+    pub(super) end_effector_offsets: Option<Spanned<Numbers<3>>>,
+    pub(super) zero_angles_deg: Option<Spanned<Numbers<3>>>,
+    pub(super) base_link: Option<Spanned<String>>,
+    pub(super) tool_link: Option<Spanned<String>>,
+    pub(super) platform_joints: Option<Vec<Spanned<String>>>,
+    pub(super) forearm_joints: Option<Vec<[Spanned<String>; 2]>>,
+    pub(super) forearm_tip_links: Option<Vec<Spanned<String>>>,
+    pub(super) ball_links: Option<Vec<Spanned<String>>>,
 }

@@ -1,15 +1,14 @@
 //! Validation of tags: data types (Logix base types, arrays, cam points,
 //! function blocks), initial values and coordinate-system settings.
 
-use toml::Spanned;
-
 use planner::coord::CoordinateSystemConfig;
 use planner::modulo::MoveOptions;
+use toml::Spanned;
 
-use super::{
-    Axis, BaseType, CamPoint, CoordinateSystemSettings, Ctx, FunctionBlock, NameKind, Names, Problem,
-    RawCoordinateSystem, RawMoveOptions, RawTag, SceneError, Tag, TagType, TagValue,
-};
+use super::context::{Ctx, NameKind, Names};
+use super::error::{Problem, SceneError};
+use super::model::{Axis, BaseType, CamPoint, CoordinateSystemSettings, FunctionBlock, Tag, TagType, TagValue};
+use super::raw::{RawCoordinateSystem, RawMoveOptions, RawTag};
 
 impl Ctx<'_> {
     pub(super) fn tag_type(&self, raw: &Spanned<String>, field: &str) -> Result<TagType, SceneError> {

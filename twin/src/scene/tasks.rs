@@ -2,79 +2,17 @@
 //! program's tags and routines (Structured Text files, parsed here so that
 //! a syntax error names the routine file, line and column at load).
 
-use std::path::{Path, PathBuf};
+use super::model::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
+use std::path::Path;
 
 use toml::Spanned;
 
-use super::model::Tag;
+use super::context::{Ctx, NameKind, Names};
+use super::error::{Problem, SceneError};
+use super::model::{Axis, BaseType};
 use super::raw::{RawProgram, RawRoutine, RawTask};
-use super::{Axis, BaseType, Ctx, Location, NameKind, Names, Problem, SceneError};
 use crate::source::{Diagnostic, Source};
-use crate::st::ast::Routine;
 use crate::st::parse::parse_routine;
-
-/// The watchdog of a task that does not set `watchdog_ms`, as on the
-/// controller.
-pub const DEFAULT_WATCHDOG_MS: f64 = 500.0;
-
-/// Which Structured Text a routine is written in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Dialect {
-    /// Studio 5000 Logix ST (the default): what verifies on a controller.
-    #[default]
-    Logix,
-    /// IEC 61131-3 / TwinCAT additions: `R_TRIG`, `F_TRIG`, `TON`, `TOF`
-    /// and PLCopen function blocks called with named inputs.
-    Iec,
-}
-
-/// A periodic task.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub struct Task {
-    /// Task name.
-    pub name: String,
-    /// Period, ms (0.1 to 2,000,000).
-    pub period_ms: f64,
-    /// Priority, 1 (highest) to 15.
-    pub priority: u8,
-    /// Watchdog, ms (default 500).
-    pub watchdog_ms: f64,
-    /// Programs in scan order.
-    pub programs: Vec<ProgramDef>,
-    /// Where the task's `name` is written.
-    pub location: Location,
-}
-
-/// A program of a task.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub struct ProgramDef {
-    /// Program name.
-    pub name: String,
-    /// Program-scoped tags (they shadow controller tags of the same name).
-    pub tags: Vec<Tag>,
-    /// The main routine: the one the task scans.
-    pub main: RoutineDef,
-    /// Further routines, called with `JSR`.
-    pub routines: Vec<RoutineDef>,
-    /// Where the program's `name` is written.
-    pub location: Location,
-}
-
-/// A routine file, parsed.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub struct RoutineDef {
-    /// Routine name: the file stem.
-    pub name: String,
-    /// The file, relative to the scene's folder resolved.
-    pub path: PathBuf,
-    /// Its dialect.
-    pub dialect: Dialect,
-    /// The parsed routine.
-    pub routine: Routine,
-}
 
 impl Ctx<'_> {
     pub(super) fn tasks(

@@ -5,17 +5,19 @@ use std::collections::{BTreeMap, HashMap};
 use std::ops::Range;
 use std::path::Path;
 
-use toml::Spanned;
-
 use planner::axis::AxisConfig;
 use planner::homing::{HomeDirection, HomeMode, HomeSequence, Homing};
 use planner::servo::{AxisType, FaultAction};
+use toml::Spanned;
 
-use super::{
-    Axis, AxisConfiguration, Camera, Ctx, DEFAULT_PHYSICS_SUBSTEPS, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M,
-    MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, NameKind, Names, Numbers, Obstacle, Problem,
-    RawAxis, RawCamera, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, Robot, Scene, SceneError, ServoGains,
-    Shape, ShapeKind, Snapshots,
+use super::context::{Ctx, NameKind, Names};
+use super::error::{Problem, SceneError};
+use super::model::{
+    Axis, Camera, DEFAULT_PHYSICS_SUBSTEPS, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE,
+    MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, Obstacle, Robot, Scene, ServoGains, Shape, Snapshots,
+};
+use super::raw::{
+    AxisConfiguration, Numbers, RawAxis, RawCamera, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, ShapeKind,
 };
 
 impl Ctx<'_> {
@@ -101,8 +103,8 @@ impl Ctx<'_> {
         Ok(Scene {
             physics_substeps,
             plant: match raw.plant {
-                Some(super::PlantWord::Kinematic) => super::PlantMode::Kinematic,
-                Some(super::PlantWord::Physics) | None => super::PlantMode::Physics,
+                Some(super::raw::PlantWord::Kinematic) => super::model::PlantMode::Kinematic,
+                Some(super::raw::PlantWord::Physics) | None => super::model::PlantMode::Physics,
             },
             collision,
             name,
@@ -208,7 +210,7 @@ impl Ctx<'_> {
     /// An axis' homing attributes (`home_*`, axis units): active by
     /// default, passive by default on a feedback-only axis.
     fn homing(&self, a: &RawAxis, axis_type: AxisType, f: &dyn Fn(&str) -> String) -> Result<Homing, SceneError> {
-        use super::{HomeDirectionWord as D, HomeModeWord, HomeSequenceWord};
+        use super::raw::{HomeDirectionWord as D, HomeModeWord, HomeSequenceWord};
         let mode = match &a.home_mode {
             Some(m) if *m.get_ref() == HomeModeWord::Active && axis_type == AxisType::FeedbackOnly => {
                 return Err(self.invalid(m, f("home_mode"), Problem::ActiveHomingWithoutDrive));

@@ -21,7 +21,7 @@
 //! it); colour is plain ANSI, off when stderr is not a terminal or
 //! `NO_COLOR` is set.
 
-use super::SourceFile;
+use super::file::SourceFile;
 use codespan_reporting::diagnostic::{Diagnostic as Report, Label as ReportLabel, LabelStyle, Severity as Level};
 use codespan_reporting::files::SimpleFiles;
 use codespan_reporting::term::{self, Chars, Config, GeneralWriteResult, WriteStyle};
@@ -340,7 +340,10 @@ mod tests {
         );
         let text = d.render(false);
         let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines[0], "error: scene.toml:2:9: program[0].call: unknown instruction 'MCLN'");
+        assert_eq!(
+            lines[0],
+            "error: scene.toml:2:9: program[0].call: unknown instruction 'MCLN'"
+        );
         assert_eq!(lines[1], "  --> scene.toml:2:9");
         assert_eq!(lines[3], "2 | call = \"MCLN(CS1)\"");
         assert_eq!(lines[4], "  |         ^^^^ not an instruction the twin knows");

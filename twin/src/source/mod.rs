@@ -8,71 +8,15 @@
 //! reports a user's input with.
 
 pub mod diag;
+mod file;
 
 pub use diag::{Diagnostic, Label, Severity};
+pub use file::SourceFile;
 
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-
-/// A file the user wrote, as read.
-#[derive(Debug, PartialEq, Eq)]
-pub struct SourceFile {
-    /// Its path, as the user named it (messages print it).
-    pub path: PathBuf,
-    /// Its text.
-    pub text: Arc<str>,
-}
-
-impl SourceFile {
-    /// The 1-based line and column (in characters) of byte `at`.
-    #[must_use]
-    pub fn line_column(&self, at: usize) -> (usize, usize) {
-        let at = floor_char_boundary(&self.text, at.min(self.text.len()));
-        let before = &self.text[..at];
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        (before.matches('\n').count() + 1, before[line_start..].chars().count() + 1)
-    }
-}
-
-impl SourceFile {
-    /// The bytes of the token that starts at 1-based `line` and `column`
-    /// (characters): a quoted string, or the text up to white space, a
-    /// comma or a closing bracket. For a place known only by line and
-    /// column (a check after loading).
-    #[must_use]
-    pub fn token_at(&self, line: usize, column: usize) -> Range<usize> {
-        let text = &*self.text;
-        let line_start = text
-            .split_inclusive('\n')
-            .take(line.saturating_sub(1))
-            .map(str::len)
-            .sum::<usize>()
-            .min(text.len());
-        let rest = &text[line_start..];
-        let start = line_start
-            + rest
-                .char_indices()
-                .nth(column.saturating_sub(1))
-                .map_or(rest.len(), |(i, _)| i);
-        let token = &text[start..];
-        let len = match token.chars().next() {
-            Some(q @ ('"' | '\'')) => token[1..].find(q).map_or(token.len(), |i| i + 2),
-            _ => token
-                .find(|c: char| c.is_whitespace() || matches!(c, ',' | ']' | '}'))
-                .unwrap_or(token.len()),
-        };
-        start..start + len.max(usize::from(!token.is_empty()))
-    }
-}
-
-fn floor_char_boundary(text: &str, mut at: usize) -> usize {
-    while !text.is_char_boundary(at) {
-        at -= 1;
-    }
-    at
-}
 
 /// A file's place in [`Files`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -286,7 +230,9 @@ fn decode_map(file_text: &str, span: Range<usize>, value: &str) -> Option<Arc<[u
                 // A line-ending backslash: the break and the white space
                 // after it are not part of the value.
                 c if c.is_whitespace() => {
-                    let skip = rest[1..].find(|c: char| !c.is_whitespace()).map_or(rest.len(), |i| i + 1);
+                    let skip = rest[1..]
+                        .find(|c: char| !c.is_whitespace())
+                        .map_or(rest.len(), |i| i + 1);
                     (None, skip)
                 }
                 _ => return None,

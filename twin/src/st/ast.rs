@@ -88,13 +88,13 @@ pub enum StmtKind {
     /// `FOR i := a TO b BY s DO … END_FOR;`
     For {
         /// The counter.
-        counter: Ref,
+        counter: Box<Ref>,
         /// Initial value.
-        from: Expr,
+        from: Box<Expr>,
         /// Final value.
-        to: Expr,
+        to: Box<Expr>,
         /// Step (1 when absent).
-        by: Option<Expr>,
+        by: Option<Box<Expr>>,
         /// The body.
         body: Vec<Stmt>,
     },

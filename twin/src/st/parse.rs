@@ -299,10 +299,15 @@ impl<'s> Parser<'s> {
         }
         let found = self.tok(0).to_string();
         Err(Box::new(
-            Diagnostic::error(format!("this {keyword} is never closed: expected {closer}, found {found}"))
-                .with_label(self.source.label(opened, format!("{keyword} opened here")))
-                .with_label(self.source.label(self.span(0), format!("expected {closer} before this")))
-                .with_help(format!("end the {keyword} with {closer}; before {found}")),
+            Diagnostic::error(format!(
+                "this {keyword} is never closed: expected {closer}, found {found}"
+            ))
+            .with_label(self.source.label(opened, format!("{keyword} opened here")))
+            .with_label(
+                self.source
+                    .label(self.span(0), format!("expected {closer} before this")),
+            )
+            .with_help(format!("end the {keyword} with {closer}; before {found}")),
         ))
     }
 
@@ -511,10 +516,10 @@ impl<'s> Parser<'s> {
         let body = self.statements(&["END_FOR"])?;
         self.close("END_FOR")?;
         Ok(StmtKind::For {
-            counter,
-            from,
-            to,
-            by,
+            counter: Box::new(counter),
+            from: Box::new(from),
+            to: Box::new(to),
+            by: by.map(Box::new),
             body,
         })
     }
@@ -619,9 +624,11 @@ impl<'s> Parser<'s> {
                     self.at = stop;
                     let found = self.tok(0).to_string();
                     return Err(Box::new(
-                        Diagnostic::error(format!("expected ')' or ',', found {found}: the call's '(' is never closed"))
-                            .with_label(self.source.label(self.span(0), "expected ')' here"))
-                            .with_label(self.source.label(self.span_at(open), "'(' opened here")),
+                        Diagnostic::error(format!(
+                            "expected ')' or ',', found {found}: the call's '(' is never closed"
+                        ))
+                        .with_label(self.source.label(self.span(0), "expected ')' here"))
+                        .with_label(self.source.label(self.span_at(open), "'(' opened here")),
                     ));
                 }
                 Tok::Sym("(" | "[") => depth += 1,

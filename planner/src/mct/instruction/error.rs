@@ -1,7 +1,7 @@
 //! Why an MCT fails (ERR/EXERR) and why a running transform faults.
 
 use super::super::{GeometryError, PositionError, orientation::PlacementError};
-use super::{AxisId, SystemId};
+use super::axes::{AxisId, SystemId};
 use thiserror::Error;
 
 /// An MCT execution error, with its Logix ERR/EXERR.

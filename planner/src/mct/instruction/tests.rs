@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::mct::{PositionError, SINGULARITY_MARGIN_RAD};
+use transform::stop_travel;
 
 const DT: f64 = 0.004;
 

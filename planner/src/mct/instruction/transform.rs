@@ -2,7 +2,8 @@
 //! and its forward/inverse steps each update.
 
 use super::super::{ArmSolution, Geometry, JointKind, Placement, PositionError, Vec3};
-use super::{AxisId, JointAxis, SystemId, TransformFault, stop_travel};
+use super::axes::{AxisId, JointAxis, SystemId};
+use super::error::TransformFault;
 
 /// Positions and velocities of the transformed axes of one side, in axis
 /// units (and units/s); elements beyond the dimension are 0.
@@ -300,4 +301,22 @@ impl Transform {
         self.stopping = true;
         (self.joints, at_rest)
     }
+}
+
+/// The distance [`Transform::stop_step`] travels from speed `v` with speed
+/// steps `dv` per update of `dt_s`: `n` full steps down to the remainder `r`,
+/// then one update from `r` to rest, each update at its mean speed.
+pub(super) fn stop_travel(v: f64, dv: f64, dt_s: f64) -> f64 {
+    let v = v.abs();
+    if v <= dv {
+        return 0.5 * v * dt_s;
+    }
+    let mut n = (v / dv).floor();
+    let mut r = v - n * dv;
+    if r <= 0.0 {
+        // v is a whole number of steps: the last full step ends at rest.
+        n -= 1.0;
+        r = dv;
+    }
+    (n * v - 0.5 * dv * n * n + 0.5 * r) * dt_s
 }

@@ -4,7 +4,8 @@
 
 use super::*;
 use crate::axis::{AxisConfig, AxisKind};
-use crate::mapc::{MapcOperands, SlaveCamStatus};
+use crate::mapc::MapcOperands;
+use crate::mapc::axis::SlaveCamStatus;
 use crate::mccp::CamElement;
 use crate::modulo::{McBufferMode, McDirection, MoveModuloInputs};
 

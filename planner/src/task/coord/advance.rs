@@ -1,10 +1,11 @@
 //! Running coordinated motion each update: advancing the systems along
 //! their paths, contour junctions, writing the axes, completing moves.
 
-use super::{Component, CoordHandle, CoordInstructionHandle};
 use crate::coord::{CoordMove, CoordMoveError, Driver, TerminationType, primary_of};
 use crate::profile::{Limits, Profile, Sample, State, stopping_distance};
 use crate::task::MotionTask;
+use crate::task::handles::{CoordHandle, CoordInstructionHandle};
+use crate::task::state::Component;
 use crate::vector::{cross, dot, norm, sub};
 
 impl MotionTask {

@@ -2,7 +2,6 @@
 //! MCLM/MCCM/MCS against the system, queueing, merging and stopping.
 
 use super::advance::{add_displacement, rest_length, unwind_rotary_targets};
-use super::{Component, CoordCall, CoordHandle, CoordInstructionHandle, ERR_IDLE_MASTER_SLAVE_MOVING, Lock};
 use crate::axis::AxisKind;
 use crate::coord::{
     CoordFault, CoordMove, CoordMoveError, Driver, Mcs, McsInputs, Merge, MergeSpeed, MoveContext, OperandIndex,
@@ -13,7 +12,11 @@ use crate::instruction::{LogixFault, Refusal};
 use crate::mccm::mccm;
 use crate::mclm::mclm;
 use crate::profile::{Limits, Profile, State, stopping_distance};
-use crate::task::{AxisHandle, Finish, MotionTask};
+use crate::task::MotionTask;
+use crate::task::handles::AxisHandle;
+use crate::task::handles::{CoordHandle, CoordInstructionHandle};
+use crate::task::state::Finish;
+use crate::task::state::{Component, CoordCall, ERR_IDLE_MASTER_SLAVE_MOVING, Lock};
 use crate::vector::norm;
 
 impl MotionTask {

@@ -32,62 +32,11 @@
 //!   system then stands.
 //! * A pending move can be rejected too: it leaves the queue.
 
-use super::{CoordHandle, CoordInstructionHandle, add_displacement, rest_length};
-use crate::coord::CoordMove;
-use crate::profile::{Profile, Sample, State, stopping_distance};
+use super::{add_displacement, rest_length};
+use crate::profile::{Profile, State, stopping_distance};
 use crate::task::MotionTask;
-
-/// ERR of a coordinated move rejected by the pre-flight sweep (EXERR 0).
-pub const ERR_PATH_COLLISION: i32 = 200;
-
-/// When a component started, and the state to restore if it is undone.
-#[derive(Debug, Clone)]
-pub(super) struct Start {
-    /// The update that first advances it: the current one when it starts
-    /// inside [`MotionTask::update`], the next one when it starts in
-    /// [`MotionTask::execute_coordinated`] between updates.
-    update: u64,
-    /// The system was idle: its axes' commands and direction memories, and
-    /// the system's velocity and acceleration memories, before the start.
-    idle: Option<IdleState>,
-}
-
-#[derive(Debug, Clone)]
-struct IdleState {
-    commands: Vec<Sample>,
-    last_direction: Vec<f64>,
-    velocity: Vec<f64>,
-    acceleration: Vec<f64>,
-}
-
-impl IdleState {
-    /// Every axis' command velocity is 0. The acceleration of the last
-    /// sample is not looked at: a move that ended in this update leaves
-    /// the rounding of its profile's last jerk phase there (its velocity is
-    /// exactly 0), and a move started from there starts from rest.
-    fn at_rest(&self) -> bool {
-        self.commands.iter().all(|c| c.velocity == 0.0)
-    }
-}
-
-/// A coordinated move that started in the last update
-/// ([`MotionTask::coord_moves_started`]).
-#[derive(Debug, Clone, Copy)]
-pub struct StartedCoordMove<'a> {
-    /// The MCLM/MCCM instruction.
-    pub instruction: CoordInstructionHandle,
-    /// Its coordinate system.
-    pub system: CoordHandle,
-    /// The verified move: path (from its programmed start point, in
-    /// coordinate units of the system's axes), dynamics, driver.
-    pub mv: &'a CoordMove,
-    /// Its path profile (position = path length from the start), by time
-    /// (s) or, for master-driven moves, by master distance.
-    pub profile: &'a Profile,
-    /// How far into `profile` the last update took it (s or master units;
-    /// 0 when it starts at the next update).
-    pub progress: f64,
-}
+use crate::task::handles::{CoordHandle, CoordInstructionHandle};
+use crate::task::state::{ERR_PATH_COLLISION, IdleState, Start, StartedCoordMove};
 
 impl MotionTask {
     /// The state a component starting now on `cs` would be undone to.

@@ -4,11 +4,12 @@
 
 use super::*;
 use crate::axis::{AxisConfig, AxisKind};
-use crate::coord::{CoordMoveInputs, CoordinateSystemConfig, McsInputs, primary_of};
+use crate::coord::{CoordMoveInputs, CoordinateSystemConfig, LockDirection, McsInputs, primary_of};
 use crate::dynamics::MoveDynamics;
 use crate::mccm::MccmInputs;
 use crate::modulo::{McBufferMode, McDirection, MoveModuloInputs};
-use crate::task::FbHandle;
+use crate::task::handles::FbHandle;
+use crate::task::state::{ERR_IDLE_MASTER_SLAVE_MOVING, Lock};
 use crate::vector::norm;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -40,12 +40,14 @@
 
 use crate::axis::AxisConfig;
 use crate::catalogue::words::{ACTUAL_COMMAND, CLUTCH, JOG_ACCEL_UNITS, MAPC_DIRECTION, RATIO_FORMAT, op};
-use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_load};
+use crate::catalogue::{CallStyle, Format, Kind};
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_load};
 use crate::dynamics::time_rate;
 use crate::instruction::{NoFault, Refusal};
 use crate::mapc::MasterReference;
-use crate::task::gear::GearRun;
-use crate::task::servo::Need;
+use crate::task::state::GearRun;
+use crate::task::state::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
 
 /// Motion Axis Gear.

@@ -6,7 +6,9 @@
 //! `AxisHomedStatus` when the axis is homed.
 
 use crate::catalogue::words::op;
-use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_check, no_load};
+use crate::catalogue::{CallStyle, Format, Kind};
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_check, no_load};
 use crate::task::{Args, MotionTask};
 
 /// Motion Axis Home (how it homes is the axis' configuration).

@@ -23,11 +23,13 @@
 
 use crate::axis::AxisConfig;
 use crate::catalogue::words::{JOG_ACCEL_UNITS, JOG_DIRECTION, JOG_SPEED_UNITS, PROFILE, op};
-use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_load};
+use crate::catalogue::{CallStyle, Format, Kind};
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_load};
 use crate::dynamics::{positive, time_rate};
 use crate::instruction::{NoFault, Refusal};
 use crate::profile::{Limits, Profile};
-use crate::task::servo::Need;
+use crate::task::state::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask, RampRun};
 
 /// Motion Axis Jog (its first ten operands).

@@ -58,11 +58,13 @@ use crate::catalogue::words::{
     INTEGER, JOG_ACCEL_UNITS, JOG_SPEED_UNITS, LOCK_DIRECTION, MAM_MERGE, MERGE_SPEED, NUMERIC, PROFILE,
     TIME_JERK_UNITS, op,
 };
-use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_load};
+use crate::catalogue::{CallStyle, Format, Kind};
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_load};
 use crate::dynamics::{MoveDynamics, time_rate};
 use crate::instruction::{LogixFault, Refusal};
 use crate::profile::{Limits, Profile, State, jerk_from_percent_of_time};
-use crate::task::servo::Need;
+use crate::task::state::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
 use thiserror::Error;
 

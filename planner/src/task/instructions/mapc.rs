@@ -7,7 +7,9 @@
 //! A call declares its slave a cam slave when the program loads, so that
 //! the trace and the recording carry its cam columns from the start.
 
-use crate::catalogue::{CallStyle, Fault, Instruction, fault};
+use crate::catalogue::CallStyle;
+use crate::instruction::{Fault, fault};
+use super::entry::Instruction;
 use crate::mapc::{MAPC_OPERANDS, Mapc, MapcOperands};
 use crate::task::{Args, MapcCall, MotionTask};
 

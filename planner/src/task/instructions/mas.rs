@@ -15,12 +15,14 @@
 use super::maj::rate;
 use crate::axis::AxisConfig;
 use crate::catalogue::words::{JOG_ACCEL_UNITS, MAS_STOP_TYPE, NO_YES, op};
-use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_load};
+use crate::catalogue::{CallStyle, Format, Kind};
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_load};
 use crate::dynamics::positive;
 use crate::instruction::{NoFault, Refusal};
 use crate::profile::{Limits, Profile, Sample, State};
-use crate::task::servo::Need;
-use crate::task::superimposed::SuperKind;
+use crate::task::state::Need;
+use crate::task::state::SuperKind;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask, RampRun};
 
 /// Motion Axis Stop (its first six operands).

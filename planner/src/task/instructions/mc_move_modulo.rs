@@ -11,7 +11,9 @@
 //! input a call sets.
 
 use crate::catalogue::words::{MC_BUFFER_MODE, MC_DIRECTION, op};
-use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, no_check, no_load};
+use crate::catalogue::{CallStyle, Format, Kind};
+use crate::instruction::Fault;
+use super::entry::{Instruction, no_check, no_load};
 use crate::modulo::{McBufferMode, McDirection};
 use crate::task::{Arg, Args, MotionTask};
 

@@ -6,7 +6,9 @@
 //! queues, blends and runs the move, as for MCLM ([`super::mclm`]).
 
 use super::mclm::{MoveIndex, ignore_start_dependent};
-use crate::catalogue::{CallStyle, Fault, Instruction, fault, no_load};
+use crate::catalogue::CallStyle;
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_load};
 use crate::coord::{CoordMoveError, MCCM_OPERANDS, MoveType};
 use crate::instruction::Refusal;
 use crate::mccm::MccmInputs;

@@ -7,7 +7,9 @@
 //! elements from 2); an element outside the array is ERR 13 (EXERR: the
 //! Cam operand). Length is a UINT (0 to 65535, else ERR 13).
 
-use crate::catalogue::{CallStyle, Fault, Instruction, fault, no_load};
+use crate::catalogue::CallStyle;
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_load};
 use crate::instruction::{NoFault, Refusal};
 use crate::mccp::{CamProfile, MCCP_OPERANDS};
 use crate::task::{Args, MotionTask};

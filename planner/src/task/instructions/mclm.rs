@@ -11,7 +11,9 @@
 //! an array) and the calculated values stay in the planner
 //! ([`MotionTask::coord_calculated_data`]).
 
-use crate::catalogue::{CallStyle, Fault, Instruction, fault, no_load};
+use crate::catalogue::CallStyle;
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_load};
 use crate::coord::{CoordMoveError, CoordMoveInputs, MCLM_OPERANDS, MoveType};
 use crate::dynamics::MoveDynamics;
 use crate::instruction::{LogixFault, Refusal};

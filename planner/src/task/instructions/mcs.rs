@@ -5,7 +5,9 @@
 //! the path to rest.
 
 use crate::catalogue::words::{MCS_STOP_TYPE, NO_YES, TIME_DECEL_UNITS, TIME_JERK_UNITS, op};
-use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_load};
+use crate::catalogue::{CallStyle, Format, Kind};
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_load};
 use crate::coord::{Mcs, McsInputs};
 use crate::task::{Args, CoordCall, MotionTask};
 

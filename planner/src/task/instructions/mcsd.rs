@@ -3,7 +3,9 @@
 //! first inhibited axis by its index in the system (EXERR).
 
 use crate::catalogue::words::op;
-use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_check, no_load};
+use crate::catalogue::{CallStyle, Format, Kind};
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_check, no_load};
 use crate::task::{Args, MotionTask};
 
 /// Motion Coordinated Shutdown.

@@ -11,7 +11,9 @@
 //! the operand names; fewer is ERR 13 with the operand's faceplate index.
 
 use crate::catalogue::words::op;
-use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_check, no_load};
+use crate::catalogue::{CallStyle, Format, Kind};
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_check, no_load};
 use crate::instruction::{NoFault, Refusal};
 use crate::task::{Args, MotionTask};
 

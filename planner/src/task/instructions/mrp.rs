@@ -29,9 +29,11 @@
 //! spec allows several coarse updates).
 
 use crate::catalogue::words::{ACTUAL_COMMAND, MRP_TYPE, op};
-use crate::catalogue::{CallStyle, Fault, Format, Instruction, Kind, fault, no_load};
+use crate::catalogue::{CallStyle, Format, Kind};
+use crate::instruction::{Fault, fault};
+use super::entry::{Instruction, no_load};
 use crate::instruction::{NoFault, Refusal};
-use crate::task::servo::Need;
+use crate::task::state::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
 
 /// Motion Redefine Position.

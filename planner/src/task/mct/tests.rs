@@ -10,7 +10,8 @@ use crate::dynamics::MoveDynamics;
 use crate::mccm::MccmInputs;
 use crate::mct::Geometry;
 use crate::mct::Placement;
-use crate::task::{CoordCall, TaskError};
+use crate::task::TaskError;
+use crate::task::state::CoordCall;
 
 const DT: f64 = 0.004;
 

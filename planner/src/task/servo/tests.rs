@@ -3,14 +3,14 @@
 //! EXERR, the fault reaction, and seeded random instruction sequences.
 
 use super::*;
-use crate::axis::AxisKind;
+use crate::axis::{AxisConfig, AxisKind};
 use crate::coord::{CoordMoveInputs, CoordinateSystemConfig};
 use crate::dynamics::MoveDynamics;
 use crate::instruction::LogixFault;
 use crate::modulo::{MoveModuloError, MoveModuloInputs};
-use crate::task::CoordCall;
 use crate::task::instructions::maj::{MajError as JogError, MajOperands};
 use crate::task::instructions::mas::MasOperands;
+use crate::task::state::CoordCall;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

@@ -69,55 +69,26 @@
 //! velocity view; a program view with the instruction bits and traced tags;
 //! the instruction and collision logs; `sim_time` as the active timeline.
 
-use planner::instruction::{FbOutputs, MotionInstructionBits};
-
-use super::{Recorder, RecordingError, Served, Sink, TextLevel, sim_time_ns, urdf_entity_paths, visual_entity_path};
+use super::sinks::Sink;
+use super::{Recorder, RecordingError, Served, TextLevel, sim_time_ns, urdf_entity_paths, visual_entity_path};
 use crate::output::RecordingTargets;
-use crate::plant::mesh::TriMesh;
 use crate::plant::parts::column_major;
 use crate::run::Twin;
 
+mod batch;
 mod layout;
 mod logged;
 
+use batch::{Batch, Item, StaticMesh};
+pub use batch::{FLUSH_UPDATES, IDLE_FLUSH_UPDATES, LIVE_FLUSH};
 pub use layout::blueprint;
 use logged::{Logged, Series, entity_part};
 
 /// The Rerun application id of every twin recording.
 pub const APPLICATION_ID: &str = "twin";
 
-/// Samples gathered for a file are sent to Rerun every this many coarse
-/// updates (and at the end).
-pub const FLUSH_UPDATES: u64 = 16_384;
-
-/// The recording thread, when it has nothing else to do, sends the
-/// samples gathered over at least this many updates at first (so that
-/// little is left to send at the end of a short run), twice as many after
-/// each such flush.
-pub const IDLE_FLUSH_UPDATES: u64 = 512;
-
-/// Samples gathered for a live viewer are sent at least this often (wall
-/// time), so the plots follow the run.
-pub const LIVE_FLUSH: std::time::Duration = std::time::Duration::from_millis(100);
-
 /// Tool trails get a new piece every this many coarse updates.
 const TRAIL_UPDATES: u64 = 100;
-
-/// Colour of the tool trails.
-const TRAIL_RGBA: [f32; 4] = [1.0, 0.45, 0.0, 1.0];
-
-/// One colour per axis, in axis order (repeating); the actual value is
-/// drawn lighter than the command.
-const AXIS_RGBA: [[f32; 4]; 8] = [
-    [0.12, 0.47, 0.71, 1.0],
-    [0.84, 0.15, 0.16, 1.0],
-    [0.17, 0.63, 0.17, 1.0],
-    [0.58, 0.40, 0.74, 1.0],
-    [1.00, 0.50, 0.05, 1.0],
-    [0.55, 0.34, 0.29, 1.0],
-    [0.89, 0.47, 0.76, 1.0],
-    [0.09, 0.75, 0.81, 1.0],
-];
 
 /// Streams a run to Rerun (see the module doc); a no-op when no sink is
 /// asked for.
@@ -202,65 +173,6 @@ pub struct Finished {
     pub failures: Vec<RecordingError>,
 }
 
-/// Updates gathered on the run's thread: per update its time, the world
-/// poses of the links, the scalar values in series order (`None`: no
-/// sample), the function blocks' outputs and the control structures' bits;
-/// and what is logged as it happens, after the update it follows.
-#[derive(Default, Clone)]
-struct Batch {
-    times_ns: Vec<i64>,
-    world_from_link: Vec<([f64; 3], [f64; 4])>,
-    values: Vec<Option<f64>>,
-    fbs: Vec<FbOutputs>,
-    instructions: Vec<MotionInstructionBits>,
-    /// (updates of this batch before it, `sim_time` in ns, what).
-    items: Vec<(usize, i64, Item)>,
-}
-
-/// Something logged as it happens.
-#[derive(Clone)]
-enum Item {
-    Trail {
-        path: String,
-        points: Vec<[f64; 3]>,
-    },
-    Arrows {
-        origins: Vec<[f64; 3]>,
-        vectors: Vec<[f64; 3]>,
-    },
-    Text {
-        path: &'static str,
-        level: TextLevel,
-        text: String,
-    },
-    Clear {
-        path: String,
-    },
-    Mesh {
-        path: String,
-        mesh: TriMesh,
-    },
-}
-
-impl Batch {
-    /// Empties the batch, keeping its buffers. The recording threads give
-    /// their batches back to the run's thread emptied: memory is then
-    /// allocated and freed by the run's thread alone, whose allocator
-    /// arena the simulation would otherwise share, lock and wait for.
-    fn clear(&mut self) {
-        self.times_ns.clear();
-        self.world_from_link.clear();
-        self.values.clear();
-        self.fbs.clear();
-        self.instructions.clear();
-        self.items.clear();
-    }
-}
-
-/// A static mesh logged when the recording thread starts: path, mesh,
-/// colour, parent-from-mesh pose.
-type StaticMesh = (String, TriMesh, [f32; 4], ([f32; 3], [f32; 4], [f32; 3]));
-
 impl Recording {
     /// Opens the sinks asked for (none: a no-op recording) and starts the
     /// recording thread, which logs the static meshes, the series' names
@@ -295,7 +207,7 @@ impl Recording {
             .into_iter()
             .partition(|s| matches!(s, Sink::File(_) | Sink::Stdout));
         let name = Some(twin.scene().name.as_str());
-        let open = |sinks: &[Sink]| -> Result<Option<super::OpenSinks>, RecordingError> {
+        let open = |sinks: &[Sink]| -> Result<Option<super::sinks::OpenSinks>, RecordingError> {
             if sinks.is_empty() {
                 return Ok(None);
             }
@@ -510,11 +422,11 @@ impl Feed {
     fn collisions(&mut self, twin: &Twin, t_ns: i64) {
         let plant = twin.plant();
         let contacts = plant.contacts();
-        let origins: Vec<[f64; 3]> = contacts.iter().map(|c| c.point_in_world).collect();
+        let origins: Vec<[f64; 3]> = contacts.iter().map(|c| c.at.point_in_world).collect();
         // Arrow length: the depth, at least 5 cm so that a touch is visible.
         let vectors: Vec<[f64; 3]> = contacts
             .iter()
-            .map(|c| c.normal_in_world.map(|n| n * c.depth_m.max(0.05)))
+            .map(|c| c.at.normal_in_world.map(|n| n * c.at.depth_m.max(0.05)))
             .collect();
         if (&origins, &vectors) != (&self.contacts.0, &self.contacts.1) {
             self.contacts = (origins.clone(), vectors.clone());
@@ -526,7 +438,7 @@ impl Feed {
             .map(|e| {
                 format!(
                     "collision {} <-> {} at {:.4} s, depth {:.4} m, point {:?}, normal {:?}",
-                    e.a, e.b, e.start_s, e.max_depth_m, e.point_in_world, e.normal_in_world
+                    e.a, e.b, e.start_s, e.deepest.depth_m, e.deepest.point_in_world, e.deepest.normal_in_world
                 )
             })
             .chain(

@@ -7,10 +7,10 @@ use std::net::{SocketAddr, TcpStream, ToSocketAddrs as _};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use rerun::RecordingStreamBuilder;
 use rerun::external::re_uri::ProxyUri;
 use rerun::grpc_server::GrpcServerSink;
 use rerun::sink::{FileSink, FileSinkError, GrpcSink, LogSink};
-use rerun::{RecordingStream, RecordingStreamBuilder};
 
 use super::{ROBOT_ENTITY, Recorder, RecordingError};
 
@@ -45,7 +45,7 @@ pub enum Sink {
     /// [`DEFAULT_SERVE_ADDR`]) that viewers connect to, as Rerun's own
     /// `--serve-grpc` does: `rerun rerun+http://host:port/proxy`.
     /// It keeps up to 1 GiB of the recording for viewers that connect late,
-    /// and goes on serving after the run while [`Served::wait`] waits.
+    /// and goes on serving after the run while [`Served::wait`](super::Served::wait) waits.
     Serve(String),
 }
 
@@ -280,40 +280,6 @@ fn create_file_sink(path: &Path) -> Result<FileSink, RecordingError> {
             source,
         },
     })
-}
-
-/// What [`Recorder::finish`] leaves running: the [`Sink::Serve`] servers,
-/// if any.
-#[derive(Default)]
-pub struct Served {
-    pub(super) stream: Option<RecordingStream>,
-    pub(super) addresses: Vec<String>,
-}
-
-impl std::fmt::Debug for Served {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Served")
-            .field("addresses", &self.addresses)
-            .finish_non_exhaustive()
-    }
-}
-
-impl Served {
-    /// The servers' addresses (`rerun+http://host:port/proxy`), for
-    /// `rerun --connect`; empty when nothing is served.
-    pub fn addresses(&self) -> &[String] {
-        &self.addresses
-    }
-
-    /// Serves for as long as the process lives (Ctrl-C ends it); returns at
-    /// once when nothing is served.
-    pub fn wait(self) {
-        if self.stream.is_some() {
-            loop {
-                std::thread::park();
-            }
-        }
-    }
 }
 
 /// A [`Sink::Serve`] address, `host:port`, as the socket address to bind.

@@ -1,5 +1,6 @@
 use std::path::{Path, PathBuf};
 
+use super::sinks::{DEFAULT_CONNECT_ADDR, Sink};
 use super::*;
 
 fn test_dir() -> PathBuf {

@@ -2,8 +2,11 @@
 
 use glam::Vec3;
 
+use super::error::{CameraProblem, RenderError};
 use super::math::{self, Mat4};
-use super::{CameraProblem, NEAR_PLANE_M, RenderError};
+
+/// Distance from the eye to the near clipping plane (metres).
+pub const NEAR_PLANE_M: f32 = 0.01;
 
 /// A pinhole camera looking from `eye_in_world` towards `target_in_world`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,12 +1,34 @@
 //! GPU-side resources (meshes, targets, growable buffers, pipelines) and
 //! the bytes uploaded to them each frame.
 
+use super::camera::{Camera, CameraFrame};
+use super::error::{MeshProblem, ReadbackStage, RenderError};
 use super::math;
-use super::{
-    COLOR_FORMAT, Camera, CameraFrame, DEPTH_FORMAT, GLOBALS_BYTES, LINE_WIDTH_PX, LineStrip, MeshProblem,
-    ReadbackStage, RenderError, VERTEX_BYTES,
-};
 use crate::plant::mesh::TriMesh;
+
+/// Colour format of the render target; sRGB so blending happens in linear light.
+pub(super) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Bytes per mesh vertex: position and normal, three f32 each.
+pub(super) const VERTEX_BYTES: u64 = 24;
+/// Bytes per instance: world_from_mesh (4 vec4), normal matrix (3 vec4), colour.
+pub(super) const INSTANCE_BYTES: u64 = 128;
+/// Bytes per line segment: start and end (3 f32 each) and colour (4 f32).
+pub(super) const SEGMENT_BYTES: u64 = 40;
+/// Bytes of the `Globals` uniform block in `scene.wgsl`.
+pub(super) const GLOBALS_BYTES: u64 = 128;
+/// Width of trail lines (pixels).
+pub const LINE_WIDTH_PX: f32 = 2.0;
+/// A polyline in the world (e.g. a tool-centre trail), drawn
+/// [`LINE_WIDTH_PX`] wide and hidden behind surfaces. Fewer than two points
+/// draw nothing; segments reaching behind the near plane are dropped.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct LineStrip {
+    /// Consecutive points in the world frame (m).
+    pub points_in_world: Vec<[f32; 3]>,
+    /// Line colour, sRGB RGBA in 0..1 (alpha blends).
+    pub color_rgba: [f32; 4],
+}
 
 /// A mesh as stored by the renderer.
 #[derive(Debug)]

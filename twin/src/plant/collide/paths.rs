@@ -4,7 +4,7 @@
 //! joints' rates along the path.
 
 use super::super::axes::AxisJoint;
-use super::super::collision::PathSampler;
+use super::super::collision::sweep::PathSampler;
 use super::super::transform::ParallelRig;
 use super::super::urdf::RobotModel;
 use planner::coord::{CoordMove, PathGeometry};

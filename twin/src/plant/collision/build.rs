@@ -2,7 +2,7 @@
 //! the robot's bodies, the checked pairs, and each body's reach for the
 //! sweep's bound.
 
-use super::{Body, CollisionModelError, RobotBody};
+use super::bodies::{Body, CollisionModelError, RobotBody};
 use crate::plant::convert::pose_to_rapier;
 use crate::plant::stl::load_stl;
 use crate::plant::urdf::{Geometry, JointKind, RobotModel};

@@ -3,8 +3,9 @@
 //! [`CollisionModel::first_touches`]). The module doc of [`super`] says
 //! what they find and how the step's check reuses the previous one.
 
+use super::bodies::{Body, CheckResult, Contact, ContactPoint};
 use super::build::vec3;
-use super::{Body, CheckResult, CollisionModel, Contact, Placed, Placement, box_distance};
+use super::{CollisionModel, Placed, Placement, box_distance};
 use nalgebra::Isometry3;
 use rapier3d_f64::math::{Pose, Vector};
 use rapier3d_f64::parry::bounding_volume::BoundingVolume;
@@ -232,9 +233,11 @@ impl CollisionModel {
                     Contact {
                         a: Body::Robot(0),
                         b: Body::Robot(0),
-                        depth_m: 0.0,
-                        point_in_world: vec3(mid),
-                        normal_in_world: vec3(c.normal2),
+                        at: ContactPoint {
+                            depth_m: 0.0,
+                            point_in_world: vec3(mid),
+                            normal_in_world: vec3(c.normal2),
+                        },
                     },
                 ));
             }

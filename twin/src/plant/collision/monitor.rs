@@ -6,7 +6,8 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use super::{Body, CheckResult, CollisionModel, Contact};
+use super::CollisionModel;
+use super::bodies::{Body, CheckResult, Contact, ContactPoint};
 
 /// A collision event: one pair in contact over a time interval.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -19,12 +20,9 @@ pub struct CollisionEvent {
     pub a: String,
     /// Second body (an obstacle or robot body).
     pub b: String,
-    /// Largest penetration depth seen, m.
-    pub max_depth_m: f64,
-    /// Contact point at the largest depth, world, m.
-    pub point_in_world: [f64; 3],
-    /// Normal at the largest depth, world, unit (from `b` into `a`).
-    pub normal_in_world: [f64; 3],
+    /// The deepest contact seen.
+    #[serde(flatten)]
+    pub deepest: ContactPoint,
 }
 
 /// Tracks contacts over checks and turns them into events.
@@ -60,9 +58,7 @@ impl Monitor {
             end_s,
             a: model.name(c.a).to_string(),
             b: model.name(c.b).to_string(),
-            max_depth_m: c.depth_m,
-            point_in_world: c.point_in_world,
-            normal_in_world: c.normal_in_world,
+            deepest: c.at,
         };
         // Events that start at this check, with the key of those still open.
         let mut fresh: Vec<(Option<(Body, Body)>, CollisionEvent)> = Vec::new();
@@ -72,10 +68,8 @@ impl Monitor {
             match self.open.get(&key) {
                 Some(&i) => {
                     let e = &mut self.events[i];
-                    if c.depth_m > e.max_depth_m {
-                        e.max_depth_m = c.depth_m;
-                        e.point_in_world = c.point_in_world;
-                        e.normal_in_world = c.normal_in_world;
+                    if c.at.depth_m > e.deepest.depth_m {
+                        e.deepest = c.at;
                     }
                 }
                 None => fresh.push((Some(key), event(c, first(c.a, c.b).unwrap_or(time_s), None))),

@@ -44,13 +44,16 @@ impl CollisionModel {
         if let Some(at) = hit {
             let poses = model.world_from_link(&path.joint_positions(at));
             let check = self.check(&poses);
-            let deepest = check.contacts.iter().max_by(|x, y| x.depth_m.total_cmp(&y.depth_m));
+            let deepest = check
+                .contacts
+                .iter()
+                .max_by(|x, y| x.at.depth_m.total_cmp(&y.at.depth_m));
             report.collision = deepest.map(|c| PredictedCollision {
                 parameter: at,
                 time_s: path.time_s(at),
                 a: self.name(c.a).to_string(),
                 b: self.name(c.b).to_string(),
-                depth_m: c.depth_m,
+                depth_m: c.at.depth_m,
                 bound: report.step_bound,
             });
         }

@@ -1,5 +1,7 @@
 //! Collision model, events and sweep against analytic geometry.
 
+use super::monitor::{CollisionEvent, Monitor};
+use super::sweep::{MAX_REFINE_SAMPLES, MAX_SWEEP_SAMPLES, PathSampler, SWEEP_TOLERANCE};
 use super::*;
 use crate::scene::{AllowedPair, Location, MeshApproximation, Obstacle, Preflight, Reaction, Shape};
 use nalgebra::{Translation3, UnitQuaternion, Vector3};
@@ -91,12 +93,16 @@ fn sphere_meets_box_at_the_analytic_time_depth_and_normal() {
     assert!((e.start_s - analytic_s).abs() <= dt + 1e-12, "start {}", e.start_s);
     assert_eq!(e.end_s, None);
     assert_eq!((e.a.as_str(), e.b.as_str()), ("ball", "fixture"));
-    assert!((e.max_depth_m - 0.01).abs() < 1e-3, "depth {}", e.max_depth_m);
-    let n = Vector3::from(e.normal_in_world);
+    assert!((e.deepest.depth_m - 0.01).abs() < 1e-3, "depth {}", e.deepest.depth_m);
+    let n = Vector3::from(e.deepest.normal_in_world);
     let angle = n.angle(&-Vector3::x());
     assert!(angle < 1e-3, "normal {n:?}");
     // The point lies between the face and the ball's deepest point.
-    assert!((e.point_in_world[0] - 0.455).abs() < 1e-3, "{:?}", e.point_in_world);
+    assert!(
+        (e.deepest.point_in_world[0] - 0.455).abs() < 1e-3,
+        "{:?}",
+        e.deepest.point_in_world
+    );
 }
 
 #[test]
@@ -110,7 +116,7 @@ fn the_event_ends_when_the_pair_separates() {
     }
     let e = &monitor.events()[0];
     assert_eq!((e.start_s, e.end_s), (1.0, Some(3.0)));
-    assert!((e.max_depth_m - 0.09).abs() < 1e-9);
+    assert!((e.deepest.depth_m - 0.09).abs() < 1e-9);
     assert!(monitor.colliding().is_empty());
 }
 
@@ -244,7 +250,7 @@ fn a_tool_is_a_body_of_its_own_adjacent_to_its_link_and_its_neighbours() {
     );
     assert_eq!(result.contacts.len(), 1);
     assert_eq!(world.name(result.contacts[0].a), "gripper");
-    assert!((result.contacts[0].depth_m - 0.01).abs() < 1e-9);
+    assert!((result.contacts[0].at.depth_m - 0.01).abs() < 1e-9);
     s.tool.as_mut().unwrap().link = "nope".into();
     assert!(matches!(
         CollisionModel::new(&model, &post, &s),
@@ -509,7 +515,7 @@ fn the_broad_phase_finds_exactly_what_every_pair_finds() {
                     .contacts
                     .iter()
                     .filter_map(|c| match (c.a, c.b) {
-                        (Body::Robot(x), Body::Obstacle(o)) if x == b => Some((o, c.depth_m)),
+                        (Body::Robot(x), Body::Obstacle(o)) if x == b => Some((o, c.at.depth_m)),
                         _ => None,
                     })
                     .collect();
@@ -566,7 +572,7 @@ fn a_live_step_equals_its_check_and_detection_computed_afresh() {
             still_touching += got
                 .contacts
                 .iter()
-                .filter(|c| c.depth_m > CLEAR_OVERLAP_M)
+                .filter(|c| c.at.depth_m > CLEAR_OVERLAP_M)
                 .filter_map(|c| if let Body::Robot(b) = c.a { Some(b) } else { None })
                 .filter(|&b| checked.clearance_m[b] <= 0.0)
                 .count();
@@ -705,7 +711,11 @@ fn a_small_fast_sphere_cannot_tunnel_through_a_thin_plate() {
     assert_eq!((events[0].a.as_str(), events[0].b.as_str()), ("ball", "plate"));
     assert!(events[0].end_s.is_some_and(|e| e > events[0].start_s));
     // The normal points from the plate into the ball, against the motion.
-    assert!(events[0].normal_in_world[0] < -0.99, "{:?}", events[0].normal_in_world);
+    assert!(
+        events[0].deepest.normal_in_world[0] < -0.99,
+        "{:?}",
+        events[0].deepest.normal_in_world
+    );
     // 2 mm beside the plate's edge: nothing.
     let beside = [obstacle(
         "plate",

@@ -9,7 +9,7 @@ use rapier3d_f64::prelude::{
     JointAxis, MassProperties, MultibodyJointHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
 };
 
-use super::{DEFAULT_INERTIA_RADIUS_M, JointDrive, PhysicsError, PhysicsOptions, ROBOT_GROUP};
+use super::config::{DEFAULT_INERTIA_RADIUS_M, JointDrive, PhysicsError, PhysicsOptions, ROBOT_GROUP};
 use crate::plant::convert::{matrix_to_rapier, pose_to_rapier, vector_to_rapier};
 use crate::plant::urdf::{Geometry, Joint, JointKind, RobotModel};
 

@@ -21,8 +21,7 @@ use std::path::Path;
 
 use nalgebra::{Matrix3, SymmetricEigen};
 
-use super::UrdfError;
-
+use super::error::UrdfError;
 pub use crate::scene::MAX_LENGTH_M;
 
 /// The largest link mass, kg.

@@ -49,7 +49,11 @@ impl Compiler<'_, '_, '_> {
     pub(super) fn value_arg(&mut self, arg: &Arg) -> Result<CExpr> {
         match &arg.expr {
             Some(e) => self.expr(e),
-            None => Err(self.error(arg.span, format!("'{}' is not an expression", arg.text), "not an expression")),
+            None => Err(self.error(
+                arg.span,
+                format!("'{}' is not an expression", arg.text),
+                "not an expression",
+            )),
         }
     }
 
@@ -85,7 +89,10 @@ impl Compiler<'_, '_, '_> {
                     );
                 }
                 self.argc(call, upper, 1)?;
-                Ok(SKind::Builtin(b, self.instance(&call.args[0], &[b.structure()], upper)?))
+                Ok(SKind::Builtin(
+                    b,
+                    self.instance(&call.args[0], &[b.structure()], upper)?,
+                ))
             }
             General::Jsr => self.jsr(call),
             General::Sbr => {
@@ -132,7 +139,11 @@ impl Compiler<'_, '_, '_> {
                     return err(self, a[0].span, format!("SIZE: '{}' is not an array", r.name));
                 };
                 if a[1].text.trim() != "0" {
-                    return err(self, a[1].span, "SIZE: arrays here have one dimension: Dimension To Vary is 0");
+                    return err(
+                        self,
+                        a[1].span,
+                        "SIZE: arrays here have one dimension: Dimension To Vary is 0",
+                    );
                 }
                 let (place, ty) = self.target_arg(&a[2])?;
                 Ok(SKind::Size(len, place, ty))
@@ -227,7 +238,11 @@ impl Compiler<'_, '_, '_> {
             );
         }
         if !call.args[0].text.trim().eq_ignore_ascii_case("AXIS") {
-            return err(self, call.args[0].span, format!("{upper}: the twin models the AXIS class only"));
+            return err(
+                self,
+                call.args[0].span,
+                format!("{upper}: the twin models the AXIS class only"),
+            );
         }
         let name = call.args[1].text.trim();
         let Some(axis) = self.env.axis(name) else {

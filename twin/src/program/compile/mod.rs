@@ -276,7 +276,11 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
             ExprKind::Unary(UnaryOp::Not, a) => {
                 let a = self.expr(a)?;
                 if a.ty.is_real() {
-                    return err(self, e.span, format!("NOT needs BOOL or an integer, got {}", a.ty.name()));
+                    return err(
+                        self,
+                        e.span,
+                        format!("NOT needs BOOL or an integer, got {}", a.ty.name()),
+                    );
                 }
                 let ty = a.ty;
                 CExpr {
@@ -369,7 +373,11 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
             }
             BinaryOp::And | BinaryOp::Or | BinaryOp::Xor => {
                 if x.ty.is_real() || y.ty.is_real() {
-                    return err(self, span, format!("{} needs BOOL or integer operands, got REAL", op.symbol()));
+                    return err(
+                        self,
+                        span,
+                        format!("{} needs BOOL or integer operands, got REAL", op.symbol()),
+                    );
                 }
                 if x.ty == Ty::Bool && y.ty == Ty::Bool {
                     (Ty::Bool, Ty::Bool)

@@ -19,7 +19,7 @@
 //!   array elements with constant subscripts.
 //!
 //! A call whose operands are all known at load is checked against the
-//! instruction's validation ([`planner::catalogue::Instruction::check`]):
+//! instruction's validation ([`planner::task::instructions::Instruction::check`]):
 //! what the instruction would refuse whenever it runs is a warning.
 
 use super::{Compiler, Error, Result, err, suggest};
@@ -29,9 +29,10 @@ use crate::program::types::{DataType, Structure, Ty, Value};
 use crate::scene::{BaseType, SegmentType, TagValue};
 use crate::source::Diagnostic;
 use crate::st::ast::{Access, Arg as ArgText, Call, Expr, ExprKind, Ref};
-use planner::catalogue::{CallStyle, Format, Instruction, Kind, Operand as Spec, err_meaning};
+use planner::catalogue::{CallStyle, Format, Kind, Operand as Spec, err_meaning};
 use planner::mccp::CamElement;
 use planner::task::instructions;
+use planner::task::instructions::Instruction;
 use planner::task::{Arg, Args, CoordHandle};
 
 impl Compiler<'_, '_, '_> {
@@ -87,7 +88,10 @@ impl Compiler<'_, '_, '_> {
             return Err(Box::new(
                 (*self.error(
                     call.name_span,
-                    format!("{} is a function block: call it on its instance with named inputs", i.mnemonic),
+                    format!(
+                        "{} is a function block: call it on its instance with named inputs",
+                        i.mnemonic
+                    ),
                     "a function block",
                 ))
                 .with_help(format!(
@@ -119,17 +123,20 @@ impl Compiler<'_, '_, '_> {
     /// A Logix motion instruction the twin does not simulate, refused.
     fn not_simulated(&self, call: &Call) -> Option<Error> {
         let name = &call.name;
-        instructions::NOT_SIMULATED.iter().any(|m| m.eq_ignore_ascii_case(name)).then(|| {
-            self.error(
-                call.name_span,
-                format!(
-                    "{} is a Logix motion instruction the twin does not simulate (it simulates: {})",
-                    name.to_ascii_uppercase(),
-                    instructions::positional_mnemonics()
-                ),
-                "not simulated",
-            )
-        })
+        instructions::NOT_SIMULATED
+            .iter()
+            .any(|m| m.eq_ignore_ascii_case(name))
+            .then(|| {
+                self.error(
+                    call.name_span,
+                    format!(
+                        "{} is a Logix motion instruction the twin does not simulate (it simulates: {})",
+                        name.to_ascii_uppercase(),
+                        instructions::positional_mnemonics()
+                    ),
+                    "not simulated",
+                )
+            })
     }
 
     /// `MCLM takes 22 operands (…), got 21`, at the first extra operand or
@@ -150,7 +157,10 @@ impl Compiler<'_, '_, '_> {
         let d = self.error(
             at,
             message,
-            format!("{} missing after this", if missing.len() == 1 { "an operand" } else { "operands" }),
+            format!(
+                "{} missing after this",
+                if missing.len() == 1 { "an operand" } else { "operands" }
+            ),
         );
         Box::new(d.with_help(format!("add {}", missing.join(", "))))
     }
@@ -162,7 +172,9 @@ impl Compiler<'_, '_, '_> {
             return Ok(Operand::Fixed(Arg::Integer(code)));
         }
         match spec.kind {
-            Kind::Axis | Kind::DriveAxis => self.axis_operand(instruction, spec, arg).map(|h| Operand::Fixed(Arg::Axis(h))),
+            Kind::Axis | Kind::DriveAxis => self
+                .axis_operand(instruction, spec, arg)
+                .map(|h| Operand::Fixed(Arg::Axis(h))),
             Kind::CoordinateSystem => {
                 let name = self.bare_name(spec, arg, "a COORDINATE_SYSTEM tag")?;
                 Ok(Operand::Fixed(Arg::System(self.system(name, arg.span)?)))
@@ -267,20 +279,38 @@ impl Compiler<'_, '_, '_> {
             kind: ExprKind::Ref(r), ..
         }) = &arg.expr
         else {
-            return err(self, arg.span, format!("{} '{}': expected a CAM_PROFILE tag", spec.name, arg.text));
+            return err(
+                self,
+                arg.span,
+                format!("{} '{}': expected a CAM_PROFILE tag", spec.name, arg.text),
+            );
         };
         match r.path.as_slice() {
             [] => {}
-            [Access::Index(sub)] if matches!(sub.as_slice(), [Expr { kind: ExprKind::Int(0), .. }]) => {}
+            [Access::Index(sub)]
+                if matches!(
+                    sub.as_slice(),
+                    [Expr {
+                        kind: ExprKind::Int(0),
+                        ..
+                    }]
+                ) => {}
             [Access::Index(_)] => {
                 return err(
                     self,
                     arg.span,
-                    format!("{} {}: only element [0] of a CAM_PROFILE array is allowed", spec.name, arg.text),
+                    format!(
+                        "{} {}: only element [0] of a CAM_PROFILE array is allowed",
+                        spec.name, arg.text
+                    ),
                 );
             }
             _ => {
-                return err(self, arg.span, format!("{} '{}': expected a CAM_PROFILE tag", spec.name, arg.text));
+                return err(
+                    self,
+                    arg.span,
+                    format!("{} '{}': expected a CAM_PROFILE tag", spec.name, arg.text),
+                );
             }
         }
         let info = self.planner_tag(spec, arg, &r.name, BaseType::CamProfile)?;
@@ -311,7 +341,10 @@ impl Compiler<'_, '_, '_> {
         let bad = |c: &Self| {
             c.error(
                 arg.span,
-                format!("{} '{}': expected a CAM array or an element of one, e.g. Cam[0]", spec.name, arg.text),
+                format!(
+                    "{} '{}': expected a CAM array or an element of one, e.g. Cam[0]",
+                    spec.name, arg.text
+                ),
                 "not a CAM array",
             )
         };
@@ -395,7 +428,11 @@ impl Compiler<'_, '_, '_> {
         if !self.scanned {
             let x = self.step_number(spec, arg, e)?;
             if x.fract() != 0.0 || x.abs() >= 1e15 {
-                return err(self, arg.span, format!("{} {}: expected an integer, got {x}", spec.name, arg.text));
+                return err(
+                    self,
+                    arg.span,
+                    format!("{} {}: expected an integer, got {x}", spec.name, arg.text),
+                );
             }
             return self.fitting(spec, arg, x as i64);
         }
@@ -414,9 +451,11 @@ impl Compiler<'_, '_, '_> {
             _ => None,
         };
         match range {
-            Some((lo, hi, what)) if !(lo..=hi).contains(&n) => {
-                err(self, arg.span, format!("{} {}: expected {what}, got {n}", spec.name, arg.text))
-            }
+            Some((lo, hi, what)) if !(lo..=hi).contains(&n) => err(
+                self,
+                arg.span,
+                format!("{} {}: expected {what}, got {n}", spec.name, arg.text),
+            ),
             _ => Ok(Operand::Fixed(Arg::Integer(n))),
         }
     }
@@ -428,7 +467,8 @@ impl Compiler<'_, '_, '_> {
         let text = arg.text.trim();
         let word_like = text.chars().all(|c| c.is_alphanumeric() || "_%²³-".contains(c))
             && !text.starts_with(|c: char| c.is_ascii_digit() || c == '-');
-        let names_tag = matches!(&arg.expr, Some(Expr { kind: ExprKind::Ref(r), .. }) if self.resolve(&r.name).is_some());
+        let names_tag =
+            matches!(&arg.expr, Some(Expr { kind: ExprKind::Ref(r), .. }) if self.resolve(&r.name).is_some());
         if word_like && !names_tag {
             return Err(self.unknown_word(spec, arg));
         }
@@ -515,16 +555,26 @@ impl Compiler<'_, '_, '_> {
                 "not TRUE, FALSE or a BOOL tag",
             );
             let d = suggest(d, &r.name, ["TRUE", "FALSE"]);
-            return Err(Box::new(d.with_note(format!("{} takes TRUE, FALSE or a BOOL tag", spec.name))));
+            return Err(Box::new(
+                d.with_note(format!("{} takes TRUE, FALSE or a BOOL tag", spec.name)),
+            ));
         }
         let c = self.expr(e)?;
         if c.ty != Ty::Bool {
-            return err(self, arg.span, format!("{} := {}: expected TRUE or FALSE", spec.name, arg.text));
+            return err(
+                self,
+                arg.span,
+                format!("{} := {}: expected TRUE or FALSE", spec.name, arg.text),
+            );
         }
         Ok(match c.kind {
             CKind::Const(v) => Operand::Fixed(Arg::Bool(v.truthy())),
             _ if !self.scanned => {
-                return err(self, arg.span, format!("{} := {}: expected TRUE or FALSE", spec.name, arg.text));
+                return err(
+                    self,
+                    arg.span,
+                    format!("{} := {}: expected TRUE or FALSE", spec.name, arg.text),
+                );
             }
             _ => Operand::Bool(c),
         })
@@ -533,10 +583,8 @@ impl Compiler<'_, '_, '_> {
     /// An array from an element (`Pos[0]` or `Pos`), `0` for an optional
     /// one, or one number for Via/Center/Radius.
     fn array_operand(&mut self, spec: &Spec, arg: &ArgText) -> Result<Operand> {
-        let zero = matches!(
-            arg.expr.as_ref().map(|e| &e.kind),
-            Some(ExprKind::Int(0))
-        ) || matches!(arg.expr.as_ref().map(|e| &e.kind), Some(ExprKind::Real(x)) if *x == 0.0);
+        let zero = matches!(arg.expr.as_ref().map(|e| &e.kind), Some(ExprKind::Int(0)))
+            || matches!(arg.expr.as_ref().map(|e| &e.kind), Some(ExprKind::Real(x)) if *x == 0.0);
         if spec.kind == Kind::OptionalArray && zero {
             return Ok(Operand::Fixed(Arg::None));
         }
@@ -556,7 +604,10 @@ impl Compiler<'_, '_, '_> {
                     return err(
                         self,
                         arg.span,
-                        format!("{} {}: needs {count} elements from [{start}], '{}' has {len}", spec.name, arg.text, r.name),
+                        format!(
+                            "{} {}: needs {count} elements from [{start}], '{}' has {len}",
+                            spec.name, arg.text, r.name
+                        ),
                     );
                 }
                 return Ok(Operand::Values(values[start..].to_vec()));
@@ -591,7 +642,11 @@ impl Compiler<'_, '_, '_> {
                 return Ok(Operand::Scalar(c));
             }
         }
-        err(self, arg.span, format!("{} {}: expected {expected}", spec.name, arg.text))
+        err(
+            self,
+            arg.span,
+            format!("{} {}: expected {expected}", spec.name, arg.text),
+        )
     }
 
     /// Whether an expression is a number rather than an array reference.
@@ -612,13 +667,20 @@ impl Compiler<'_, '_, '_> {
                 .map(|v| match v {
                     TagValue::Real(x) => Ok(*x),
                     TagValue::Integer(i) => Ok(*i as f64),
-                    _ => err(self, arg.span, format!("{} {}: '{name}' holds non-numeric elements", spec.name, arg.text)),
+                    _ => err(
+                        self,
+                        arg.span,
+                        format!("{} {}: '{name}' holds non-numeric elements", spec.name, arg.text),
+                    ),
                 })
                 .collect(),
             _ => err(
                 self,
                 arg.span,
-                format!("{} {}: '{name}' is not a REAL/DINT array tag with a value", spec.name, arg.text),
+                format!(
+                    "{} {}: '{name}' is not a REAL/DINT array tag with a value",
+                    spec.name, arg.text
+                ),
             ),
         }
     }
@@ -731,7 +793,10 @@ impl Compiler<'_, '_, '_> {
             return err(
                 self,
                 call.name_span,
-                format!("'{name}' is an {} instance; the twin runs the function block MC_MoveModulo", block.name()),
+                format!(
+                    "'{name}' is an {} instance; the twin runs the function block MC_MoveModulo",
+                    block.name()
+                ),
             );
         };
         if self.scanned && self.dialect != crate::scene::Dialect::Iec {
@@ -743,10 +808,18 @@ impl Compiler<'_, '_, '_> {
                 ),
             );
         }
-        let mut operands: Vec<Operand> = instruction.operands.iter().map(|_| Operand::Fixed(Arg::Absent)).collect();
+        let mut operands: Vec<Operand> = instruction
+            .operands
+            .iter()
+            .map(|_| Operand::Fixed(Arg::Absent))
+            .collect();
         for arg in &call.args {
             let Some((input, span)) = &arg.name else {
-                return err(self, arg.span, "a function-block call names every input (Input := value)");
+                return err(
+                    self,
+                    arg.span,
+                    "a function-block call names every input (Input := value)",
+                );
             };
             let Some((i, spec)) = instruction.operand(input) else {
                 let d = self.error(
@@ -810,11 +883,11 @@ impl Compiler<'_, '_, '_> {
             values: &values,
             instance: compiled.instance,
         };
-        self.env.task.prepare(instruction, &args);
+        instruction.prepare(self.env.task, &args);
         if !known || instruction.style == CallStyle::Named {
             return;
         }
-        if let Err(fault) = self.env.task.check(instruction, &args) {
+        if let Err(fault) = instruction.check(self.env.task, &args) {
             let meaning = err_meaning(fault.err()).unwrap_or("unknown error");
             let d = Diagnostic::warning(format!(
                 "{} refuses this call whenever it runs: ERR {} ({meaning}) EXERR {}",

@@ -3,9 +3,7 @@
 //! instructions.
 
 use super::{Compiler, Error, Result, constant, err, show, suggest};
-use crate::program::ir::{
-    AXIS_MEMBERS, ArrayAt, CExpr, CKind, CoordMember, FbMember, Instance, MotionMember, Place,
-};
+use crate::program::ir::{AXIS_MEMBERS, ArrayAt, CExpr, CKind, CoordMember, FbMember, Instance, MotionMember, Place};
 use crate::program::memory::{Kind, TagInfo};
 use crate::program::types::{DataType, Structure, Ty, Value};
 use crate::scene::BaseType;
@@ -23,7 +21,8 @@ impl Compiler<'_, '_, '_> {
     }
 
     pub(super) fn tag(&self, r: &Ref) -> Result<usize> {
-        self.resolve(&r.name).ok_or_else(|| self.unknown_name(&r.name, r.name_span()))
+        self.resolve(&r.name)
+            .ok_or_else(|| self.unknown_name(&r.name, r.name_span()))
     }
 
     /// `'X' is not a tag …`, with the nearest name this scope knows.
@@ -87,7 +86,11 @@ impl Compiler<'_, '_, '_> {
     pub fn traced(&mut self, e: &Expr) -> Result<(Place, DataType)> {
         match &e.kind {
             ExprKind::Ref(r) => self.place(r),
-            _ => err(self, e.span, "not a tag reference: a trace column reads a tag, an element, a member or a bit"),
+            _ => err(
+                self,
+                e.span,
+                "not a tag reference: a trace column reads a tag, an element, a member or a bit",
+            ),
         }
     }
 
@@ -187,9 +190,7 @@ impl Compiler<'_, '_, '_> {
                     format!("status flag {} is not modelled (S:FS and S:MINOR are)", r.name),
                 );
             }
-            "MINORFAULTS" if self.resolve(&r.name).is_none() => {
-                Some((Place::MinorFaults, DataType::Dint))
-            }
+            "MINORFAULTS" if self.resolve(&r.name).is_none() => Some((Place::MinorFaults, DataType::Dint)),
             _ => None,
         })
     }
@@ -316,7 +317,9 @@ impl Compiler<'_, '_, '_> {
                 ),
                 "no such member",
             );
-            let known = names.into_iter().chain(["TransformSourceStatus", "TransformTargetStatus"]);
+            let known = names
+                .into_iter()
+                .chain(["TransformSourceStatus", "TransformTargetStatus"]);
             return Err(suggest(d, m, known));
         };
         Ok((Place::Coord(handle, member), DataType::Bool))

@@ -41,7 +41,11 @@ fn assert_at(d: &Diagnostic, text: &str, needle: &str, field: &str) {
     let path = fixtures().join("case.toml");
     assert_eq!(d.location(), Some((path.as_path(), line, column)), "{d}");
     assert_eq!(d.field.as_deref(), Some(field), "{d}");
-    assert!(d.to_string().starts_with(&format!("{}:{line}:{column}: {field}: ", path.display())), "{d}");
+    assert!(
+        d.to_string()
+            .starts_with(&format!("{}:{line}:{column}: {field}: ", path.display())),
+        "{d}"
+    );
 }
 
 #[test]
@@ -122,14 +126,19 @@ fn instructions_outside_the_catalogue_are_refused_at_load() {
     let d = error_of(&text);
     assert_at(&d, &text, "MDCC", "program[3].call");
     assert!(
-        d.message.starts_with("MDCC is a Logix motion instruction the twin does not simulate (it simulates: MCLM, MCCM,"),
+        d.message
+            .starts_with("MDCC is a Logix motion instruction the twin does not simulate (it simulates: MCLM, MCCM,"),
         "{d}"
     );
     // Named inputs or not.
     let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "MCD(Axis := Table)");
     let d = error_of(&text);
     assert_at(&d, &text, "MCD(", "program[1].call");
-    assert!(d.message.starts_with("MCD is a Logix motion instruction the twin does not simulate"), "{d}");
+    assert!(
+        d.message
+            .starts_with("MCD is a Logix motion instruction the twin does not simulate"),
+        "{d}"
+    );
 }
 
 #[test]
@@ -138,7 +147,11 @@ fn operand_counts_inputs_and_call_styles_are_checked_at_load() {
     let text = edited("0, 0, 0, 0, 0, 0, 0)\"", "0, 0, 0, 0, 0, 0, 0, s-curve)\"");
     let d = error_of(&text);
     assert_at(&d, &text, "s-curve)", "program[2].call");
-    assert!(d.message.starts_with("MCCM takes 25 operands (Coordinate System, Motion Control,"), "{d}");
+    assert!(
+        d.message
+            .starts_with("MCCM takes 25 operands (Coordinate System, Motion Control,"),
+        "{d}"
+    );
     assert!(d.message.ends_with(", got 26"), "{d}");
     // One too few: the error points at the last and names what is missing.
     let text = edited(", 0, 0, 0, 0)\"", ", 0, 0)\"");
@@ -150,16 +163,23 @@ fn operand_counts_inputs_and_call_styles_are_checked_at_load() {
     let d = error_of(&text);
     assert_at(&d, &text, "MoveTable(Table", "program[1].call");
     assert!(
-        d.message.starts_with("'MoveTable' is a MC_MoveModulo tag, not an instruction"),
+        d.message
+            .starts_with("'MoveTable' is a MC_MoveModulo tag, not an instruction"),
         "{d}"
     );
     // A Logix instruction with named inputs.
     let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "MAJ(Axis := Table)");
     let d = error_of(&text);
-    assert!(d.message.starts_with("MAJ is a Logix instruction: call it with its operands in order"), "{d}");
+    assert!(
+        d.message
+            .starts_with("MAJ is a Logix instruction: call it with its operands in order"),
+        "{d}"
+    );
     assert_eq!(
         d.help,
-        ["MAJ(Axis, Motion Control, Direction, Speed, Speed Units, Accel Rate, Accel Units, Decel Rate, Decel Units, Profile)"]
+        [
+            "MAJ(Axis, Motion Control, Direction, Speed, Speed Units, Accel Rate, Accel Units, Decel Rate, Decel Units, Profile)"
+        ]
     );
     // An input the block does not have, named as written.
     let text = edited("Table, Execute := FALSE", "Table, Speed := 180.0");

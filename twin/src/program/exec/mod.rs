@@ -24,17 +24,36 @@
 //! * `SQRT` takes the square root of the absolute value, as the
 //!   controller's SQRT does; `TRUNC` gives a DINT.
 
-use super::ir::{ArrayAt, CExpr, CStmt, GsvAttribute, Instance, Place, SKind};
+use super::ir::{ArrayAt, CExpr, CStmt, GsvAttribute, Instance, MotionCall, Place, SKind};
 use super::memory::Memory;
 use super::types::{DataType, Value};
+use planner::instruction::Fault;
 use planner::task::MotionTask;
 
 mod arith;
 mod builtins;
+pub(super) mod members;
 mod motion;
-pub(super) mod places;
+mod places;
+mod scratch;
 
-pub use motion::{Scratch, call};
+pub use scratch::Scratch;
+
+/// Executes a `[[program]]` step's call: its operands are constants and
+/// references the compiler checked, read from tag memory now.
+///
+/// # Errors
+/// The instruction's refusal.
+pub fn call(mem: &mut Memory, task: &mut MotionTask, scratch: &mut Scratch, call: &MotionCall) -> Result<(), Fault> {
+    let now_us = (task.time_s() * 1e6).round() as i64;
+    let mut exec = Exec::new(mem, task, now_us, false, &[], scratch, 0, u64::MAX);
+    match exec.execute_call(call) {
+        Ok(result) => result,
+        // A step's operands are constants and references with constant
+        // subscripts the compiler checked: nothing there can fault.
+        Err(raised) => unreachable!("a step's operand faulted: {}", raised.message),
+    }
+}
 
 /// The value of a compiled expression now, outside a scan (a step's
 /// `when`, a scene's expression): it reads tag memory and the planner.
@@ -338,7 +357,7 @@ impl<'e> Exec<'e> {
             SKind::Gsv(axis, attribute, place, ty) => {
                 let config = self.task.axis_config(*axis);
                 let v = match attribute {
-                    GsvAttribute::Member(m) => places::axis_value(self.task, *axis, *m),
+                    GsvAttribute::Member(m) => members::axis_value(self.task, *axis, *m),
                     GsvAttribute::MaximumSpeed => Value::Real(config.max_velocity),
                     GsvAttribute::MaximumAcceleration => Value::Real(config.max_acceleration),
                     GsvAttribute::MaximumDeceleration => Value::Real(config.max_deceleration),

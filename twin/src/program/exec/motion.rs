@@ -1,7 +1,7 @@
 //! Instruction calls: each operand evaluated into the value the catalogue
 //! says the instruction takes ([`planner::task::Arg`]), then the call
 //! handed to the instruction ([`MotionTask::execute`]). Arrays and CAM
-//! arrays are read from tag memory into [`Scratch`], kept from call to
+//! arrays are read from tag memory into a [`Scratch`], kept from call to
 //! call, so a call builds nothing on the heap once warm.
 //!
 //! An element operand whose subscript lies outside its array is
@@ -10,23 +10,14 @@
 //! A refusal of an operand's value (ERR 13) is also kept in the scan's
 //! refusals, which the summary lists.
 
+use super::scratch::MAX_OPERANDS;
 use super::{Exec, R};
 use crate::program::ir::{MotionCall, Operand};
 use crate::program::memory::Memory;
 use crate::program::types::Value;
-use planner::catalogue::Fault;
+use planner::instruction::Fault;
 use planner::mccp::CamElement;
-use planner::task::{Arg, Args, MotionTask};
-
-/// The most operands an instruction has (MCCM's 25), with room to spare.
-const MAX_OPERANDS: usize = 32;
-
-/// Room for the arrays and CAM elements of an instruction call's operands.
-#[derive(Debug, Default)]
-pub struct Scratch {
-    numbers: Vec<f64>,
-    cams: Vec<CamElement>,
-}
+use planner::task::{Arg, Args};
 
 /// Where an array operand's values are in the scratch.
 #[derive(Debug, Clone, Copy)]
@@ -44,10 +35,8 @@ impl Exec<'_> {
             && fault.err() == 13
         {
             let refusal = refusal_text(&fault);
-            self.refusals.push(format!(
-                "{} (line {}): {refusal}",
-                call.instruction.mnemonic, self.line
-            ));
+            self.refusals
+                .push(format!("{} (line {}): {refusal}", call.instruction.mnemonic, self.line));
         }
         Ok(())
     }
@@ -55,7 +44,7 @@ impl Exec<'_> {
     /// Evaluates the operands (a fault while evaluating, a subscript out of
     /// range say, stops the statement) and executes the call: the
     /// instruction's refusal, if it refused.
-    fn execute_call(&mut self, call: &MotionCall) -> R<Result<(), Fault>> {
+    pub(super) fn execute_call(&mut self, call: &MotionCall) -> R<Result<(), Fault>> {
         let n = call.operands.len().min(MAX_OPERANDS);
         let mut values = [Value::Int(0); MAX_OPERANDS];
         let mut slices = [Slice::None; MAX_OPERANDS];
@@ -114,23 +103,7 @@ impl Exec<'_> {
             values: &args[..n],
             instance: call.instance,
         };
-        Ok(self.task.execute(call.instruction, &args))
-    }
-}
-
-/// Executes a `[[program]]` step's call: its operands are constants and
-/// references the compiler checked, read from tag memory now.
-///
-/// # Errors
-/// The instruction's refusal.
-pub fn call(mem: &mut Memory, task: &mut MotionTask, scratch: &mut Scratch, call: &MotionCall) -> Result<(), Fault> {
-    let now_us = (task.time_s() * 1e6).round() as i64;
-    let mut exec = Exec::new(mem, task, now_us, false, &[], scratch, 0, u64::MAX);
-    match exec.execute_call(call) {
-        Ok(result) => result,
-        // A step's operands are constants and references with constant
-        // subscripts the compiler checked: nothing there can fault.
-        Err(raised) => unreachable!("a step's operand faulted: {}", raised.message),
+        Ok(call.instruction.execute(self.task, &args))
     }
 }
 

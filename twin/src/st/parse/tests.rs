@@ -126,7 +126,10 @@ fn a_program_call_is_a_one_statement_routine() {
     assert_eq!(call("MCT (a, b, c, d, e)").unwrap().args.len(), 5);
     assert_eq!(call("MSO()").unwrap().args.len(), 0);
     let named = call("MoveTable(Axis := Table, Execute := TRUE, Position := 90.0)").unwrap();
-    assert_eq!(named.args[2].name.as_ref().map(|(n, s)| (n.as_str(), s.range())), Some(("Position", 42..50)));
+    assert_eq!(
+        named.args[2].name.as_ref().map(|(n, s)| (n.as_str(), s.range())),
+        Some(("Position", 42..50))
+    );
     assert_eq!(named.args[0].span.range(), 18..23);
     let e = call("MAM(Axis1); extra").unwrap_err();
     assert_eq!(error(&e).1, 13);
@@ -137,7 +140,14 @@ fn a_program_call_is_a_one_statement_routine() {
 #[test]
 fn arguments_do_not_mix_and_inputs_are_named_once() {
     let e = call("F(A := 1, 2)").unwrap_err();
-    assert_eq!(error(&e), (1, 11, "cannot mix positional operands and named inputs in one call".into()));
+    assert_eq!(
+        error(&e),
+        (
+            1,
+            11,
+            "cannot mix positional operands and named inputs in one call".into()
+        )
+    );
     let e = call("F(1, A := 2)").unwrap_err();
     assert_eq!(error(&e).1, 6);
     let e = call("F(A := 1, a := 2)").unwrap_err();
@@ -167,10 +177,17 @@ fn errors_name_the_place_and_what_was_expected() {
 fn an_unclosed_block_is_reported_at_its_opening_keyword() {
     let e = routine("x := 1;\n  IF a THEN\n  y := 2;\nCASE s OF 1: z := 3; END_CASE;\n").unwrap_err();
     assert_eq!((error(&e).0, error(&e).1), (2, 3), "{e}");
-    assert_eq!(e.message, "this IF is never closed: expected END_IF, found the end of the text");
+    assert_eq!(
+        e.message,
+        "this IF is never closed: expected END_IF, found the end of the text"
+    );
     let e = routine("CASE s OF\n1: IF a THEN b := 1;\n2: b := 2;\nEND_CASE;").unwrap_err();
     assert_eq!((error(&e).0, error(&e).1), (2, 4));
-    assert!(e.message.starts_with("this IF is never closed: expected END_IF, found '2'"), "{e}");
+    assert!(
+        e.message
+            .starts_with("this IF is never closed: expected END_IF, found '2'"),
+        "{e}"
+    );
     let e = routine("FOR i := 1 TO 3 DO\n  x := i;\n").unwrap_err();
     assert_eq!((error(&e).0, error(&e).1), (1, 1));
     let e = routine("WHILE a DO x := 1; END_IF;").unwrap_err();
@@ -178,7 +195,10 @@ fn an_unclosed_block_is_reported_at_its_opening_keyword() {
     let e = routine("x := 1; END_IF;").unwrap_err();
     assert_eq!(e.message, "'END_IF' without an open IF");
     let e = routine("REPEAT x := 1; END_REPEAT;").unwrap_err();
-    assert!(e.message.starts_with("this REPEAT is never closed: expected UNTIL"), "{e}");
+    assert!(
+        e.message.starts_with("this REPEAT is never closed: expected UNTIL"),
+        "{e}"
+    );
     routine("REPEAT x := 1; UNTIL x > 3 END_REPEAT;").unwrap();
 }
 
@@ -216,11 +236,9 @@ fn seeded_random_texts_never_panic_and_errors_point_inside() {
         let text: String = (0..len)
             .map(|_| alphabet[rng.random_range(0..alphabet.len())])
             .collect();
-        for result in [call(&text).err(), routine(&text).err(), expression(&text).err()] {
-            if let Some(e) = result {
-                let l = &e.labels[0];
-                assert!(l.range.end <= text.len(), "{text:?}: {e}");
-            }
+        for e in [call(&text).err(), routine(&text).err(), expression(&text).err()].into_iter().flatten() {
+            let l = &e.labels[0];
+            assert!(l.range.end <= text.len(), "{text:?}: {e}");
         }
     }
 }

@@ -5,7 +5,7 @@
 use planner::instruction::{FbOutputs, MotionInstructionBits};
 
 use super::super::{Recorder, RecordingError, Served, TextLevel};
-use super::{AXIS_RGBA, Batch, FLUSH_UPDATES, IDLE_FLUSH_UPDATES, Item, LIVE_FLUSH, StaticMesh, TRAIL_RGBA};
+use super::batch::{AXIS_RGBA, Batch, FLUSH_UPDATES, IDLE_FLUSH_UPDATES, Item, LIVE_FLUSH, StaticMesh, TRAIL_RGBA};
 use crate::output::COLLISION_TINT_RGBA;
 use crate::output::status::{Status, describe};
 use crate::run::Twin;
