@@ -197,6 +197,17 @@ impl MotionInstructionBits {
         self.decel = false;
     }
 
+    /// Follows a move's ramp: `.ACCEL` / `.DECEL` while it speeds up or
+    /// slows down; when it has `ended`, the motion is over and `.PC` set.
+    pub fn follow_ramp(&mut self, accel: bool, decel: bool, ended: bool) {
+        self.accel = accel && !ended;
+        self.decel = decel && !ended;
+        if ended {
+            self.end_motion();
+            self.pc = true;
+        }
+    }
+
     /// The control bits with their mnemonics, in the order `EN`, `DN`,
     /// `ER`, `IP`, `AC`, `PC`, `ACCEL`, `DECEL` (trace and log order).
     pub fn bits(&self) -> [(&'static str, bool); 8] {

@@ -85,7 +85,7 @@ impl Twin {
     /// # Errors
     /// [`RunError`] naming the scene file and the place that is wrong.
     pub fn new(scene: Scene) -> Result<Twin, RunError> {
-        let mut task = MotionTask::new(scene.coarse_update_ms / 1000.0).map_err(|source| RunError::Planner {
+        let mut task = MotionTask::new(scene.coarse_update_s()).map_err(|source| RunError::Planner {
             scene: scene.path.clone(),
             source,
         })?;
@@ -170,7 +170,7 @@ impl Twin {
 
     /// Number of coarse updates in the scene's duration.
     pub fn total_updates(&self) -> u64 {
-        (self.scene.duration_s / (self.scene.coarse_update_ms / 1000.0)).round() as u64
+        (self.scene.duration_s / self.scene.coarse_update_s()).round() as u64
     }
 
     /// Whether something ended the run before its duration: a collision

@@ -223,7 +223,7 @@ fn indexing_table_runs_end_to_end_and_reruns_identically() {
 fn twin_setpoints_are_the_planners_setpoints() {
     let scene = twin::scene::load(&root().join("scenes/indexing_table.toml")).expect("scene");
     let mut twin = Twin::new(scene.clone()).expect("twin");
-    let mut replay = MotionTask::new(scene.coarse_update_ms / 1000.0).unwrap();
+    let mut replay = MotionTask::new(scene.coarse_update_s()).unwrap();
     let axis = &scene.axes[0];
     let config = axis.config.clone();
     let h = replay.add_axis(config, axis.initial_position).unwrap();
@@ -1063,7 +1063,7 @@ fn sphere_into_box_event_starts_within_one_physics_step_of_the_analytic_time() {
     let path = dir.join("scene.toml");
     std::fs::write(&path, SLIDER_SCENE).unwrap();
     let scene = twin::scene::load(&path).expect("scene");
-    let step_s = scene.physics_step_ms / 1000.0;
+    let step_s = scene.physics_step_s();
     let mut twin = Twin::new(scene).expect("twin");
     for _ in 0..twin.total_updates() {
         twin.step();
@@ -2295,7 +2295,7 @@ fn the_kinematic_plant_gives_every_shipped_scene_the_physics_instruction_outcome
     assert!(scenes.len() >= 15, "{scenes:?}");
     for path in &scenes {
         let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default().to_owned();
-        let update_s = twin::scene::load(path).expect("scene").coarse_update_ms / 1000.0;
+        let update_s = twin::scene::load(path).expect("scene").coarse_update_s();
         let physics = instruction_edges(path, twin::scene::PlantMode::Physics);
         let kinematic = instruction_edges(path, twin::scene::PlantMode::Kinematic);
         if name == "heavy_arm" {

@@ -75,21 +75,41 @@ fn reference(which: &'static str, value: f64) -> Result<f64, JerkUnitsError> {
     positive(value).ok_or(JerkUnitsError::BadReference { which, value })
 }
 
+/// The accel rate and speed a % of Time jerk is relative to.
+fn rates(accel: f64, speed: f64) -> Result<(f64, f64), JerkUnitsError> {
+    Ok((reference("accel", accel)?, reference("speed", speed)?))
+}
+
+/// A jerk in units/s³: finite and > 0.
+fn in_units_per_sec3(value: f64) -> Result<f64, JerkUnitsError> {
+    positive(value).ok_or(JerkUnitsError::OutOfRange {
+        units: JerkUnits::UnitsPerSec3,
+        value,
+        allowed: "finite and > 0",
+    })
+}
+
+/// A jerk in percent (`units`: of Maximum or of Time): 0 < % ≤ 100.
+fn in_percent(units: JerkUnits, value: f64) -> Result<f64, JerkUnitsError> {
+    if value > 0.0 && value <= 100.0 {
+        Ok(value)
+    } else {
+        Err(JerkUnitsError::OutOfRange {
+            units,
+            value,
+            allowed: "0 < % ≤ 100",
+        })
+    }
+}
+
 /// `j [units/s³] = a² / v · (200 / percent − 1)` for `0 < percent ≤ 100`.
 ///
 /// # Errors
 /// [`JerkUnitsError::OutOfRange`] for a percentage outside (0, 100],
 /// [`JerkUnitsError::BadReference`] for a non-positive rate.
 pub fn jerk_from_percent_of_time(percent: f64, accel: f64, speed: f64) -> Result<f64, JerkUnitsError> {
-    if !(percent > 0.0 && percent <= 100.0) {
-        return Err(JerkUnitsError::OutOfRange {
-            units: JerkUnits::PercentOfTime,
-            value: percent,
-            allowed: "0 < % ≤ 100",
-        });
-    }
-    let a = reference("accel", accel)?;
-    let v = reference("speed", speed)?;
+    let percent = in_percent(JerkUnits::PercentOfTime, percent)?;
+    let (a, v) = rates(accel, speed)?;
     Ok(a * a / v * (200.0 / percent - 1.0))
 }
 
@@ -99,15 +119,8 @@ pub fn jerk_from_percent_of_time(percent: f64, accel: f64, speed: f64) -> Result
 /// [`JerkUnitsError::OutOfRange`] for a jerk that is not finite and > 0,
 /// [`JerkUnitsError::BadReference`] for a non-positive rate.
 pub fn jerk_to_percent_of_time(jerk: f64, accel: f64, speed: f64) -> Result<f64, JerkUnitsError> {
-    if positive(jerk).is_none() {
-        return Err(JerkUnitsError::OutOfRange {
-            units: JerkUnits::UnitsPerSec3,
-            value: jerk,
-            allowed: "finite and > 0",
-        });
-    }
-    let a = reference("accel", accel)?;
-    let v = reference("speed", speed)?;
+    let jerk = in_units_per_sec3(jerk)?;
+    let (a, v) = rates(accel, speed)?;
     Ok(200.0 / (1.0 + jerk * v / (a * a)))
 }
 
@@ -129,21 +142,8 @@ pub fn jerk_to_units_per_sec3(
     speed: f64,
 ) -> Result<f64, JerkUnitsError> {
     match units {
-        JerkUnits::UnitsPerSec3 => positive(value).ok_or(JerkUnitsError::OutOfRange {
-            units,
-            value,
-            allowed: "finite and > 0",
-        }),
-        JerkUnits::PercentOfMaximum => {
-            if !(value > 0.0 && value <= 100.0) {
-                return Err(JerkUnitsError::OutOfRange {
-                    units,
-                    value,
-                    allowed: "0 < % ≤ 100",
-                });
-            }
-            Ok(reference("maximum jerk", max_jerk)? * value / 100.0)
-        }
+        JerkUnits::UnitsPerSec3 => in_units_per_sec3(value),
+        JerkUnits::PercentOfMaximum => Ok(reference("maximum jerk", max_jerk)? * in_percent(units, value)? / 100.0),
         JerkUnits::PercentOfTime => jerk_from_percent_of_time(value, accel, speed),
     }
 }

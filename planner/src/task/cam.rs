@@ -59,6 +59,7 @@ use crate::task::handles::{AxisHandle, InstructionHandle};
 use crate::task::state::Finish;
 use crate::task::state::Need;
 use crate::task::state::SuperKind;
+use crate::task::state::Takes;
 use crate::task::state::{CamAxis, LimitFlags, MapcCall, MasterKey, RampRun, Tag};
 use std::sync::Arc;
 
@@ -134,21 +135,17 @@ impl MotionTask {
         }
     }
 
-    pub(super) fn bits(&mut self, h: InstructionHandle) -> &mut MotionInstructionBits {
-        self.motion_bits_mut(h)
-    }
-
     /// Starts an execution: `.EN` set, `.DN .ER .PC .IP .AC` and the codes
     /// cleared.
     pub(super) fn begin(&mut self, h: InstructionHandle) {
-        *self.bits(h) = MotionInstructionBits {
+        *self.motion_bits_mut(h) = MotionInstructionBits {
             en: true,
             ..MotionInstructionBits::default()
         };
     }
 
     pub(super) fn fail(&mut self, h: InstructionHandle, err: i32, exerr: i32, segment: i32) {
-        self.bits(h).set_error(err, exerr, segment);
+        self.motion_bits_mut(h).set_error(err, exerr, segment);
     }
 
     /// Refuses a call before it executes (an operand its values cannot
@@ -234,8 +231,8 @@ impl MotionTask {
                 e => e,
             });
         match &r {
-            Ok(()) => self.bits(motion_control).dn = true,
-            Err(e) => e.write_to(self.bits(motion_control)),
+            Ok(()) => self.motion_bits_mut(motion_control).dn = true,
+            Err(e) => e.write_to(self.motion_bits_mut(motion_control)),
         }
         r
     }
@@ -290,7 +287,7 @@ impl MotionTask {
         let r = self.mapc_inner(call);
         match &r {
             Ok(()) => {
-                let b = self.bits(mi);
+                let b = self.motion_bits_mut(mi);
                 b.dn = true;
                 b.ip = true;
             }
@@ -348,7 +345,16 @@ impl MotionTask {
             }
         };
         if mapc.execution_schedule != crate::mapc::ExecutionSchedule::Pending {
-            self.take_axis_for_cam(call.slave);
+            // A cam takes the axis from a move, a gearing and a jog; the
+            // cams queued on it are its own.
+            self.take_axis(
+                call.slave,
+                Takes {
+                    cams: false,
+                    gear: true,
+                    ramp: true,
+                },
+            );
         }
         self.apply_cam_events(&events);
         Ok(())
@@ -357,13 +363,13 @@ impl MotionTask {
     fn apply_cam_events(&mut self, events: &[CamEvent<Tag>]) {
         for ev in events {
             match *ev {
-                CamEvent::Active((mi, _)) => self.bits(mi).ac = true,
+                CamEvent::Active((mi, _)) => self.motion_bits_mut(mi).ac = true,
                 CamEvent::Overflow((mi, _)) => self.fail(mi, 179, 0, 0),
                 CamEvent::Ended {
                     tag: (mi, profile),
                     complete,
                 } => {
-                    let b = self.bits(mi);
+                    let b = self.motion_bits_mut(mi);
                     b.ip = false;
                     b.ac = false;
                     b.pc = complete;
@@ -373,12 +379,21 @@ impl MotionTask {
         }
     }
 
-    /// A cam takes `axis`: its MoveModulo command is aborted and its jog ends.
-    fn take_axis_for_cam(&mut self, axis: AxisHandle) {
+    /// A new single-axis motion takes `axis`: a jog or MAM superimposed
+    /// on it folds into the command, its MC_MoveModulo commands and its
+    /// coordinated motion abort, and the processes it `takes` end.
+    pub(crate) fn take_axis(&mut self, axis: AxisHandle, takes: Takes) {
         self.fold_superimposed(axis);
         self.abort_move(axis);
-        self.end_ramp(axis);
-        self.end_gear(axis);
+        if takes.cams {
+            self.end_cams(axis);
+        }
+        if takes.gear {
+            self.end_gear(axis);
+        }
+        if takes.ramp {
+            self.end_ramp(axis);
+        }
     }
 
     pub(super) fn abort_move(&mut self, axis: AxisHandle) {
@@ -401,10 +416,10 @@ impl MotionTask {
     pub(crate) fn end_ramp(&mut self, axis: AxisHandle) {
         if let Some(r) = self.cam_axis(axis).ramp.take() {
             for mi in r.jog.into_iter().chain(r.stop) {
-                self.bits(mi).ip = false;
+                self.motion_bits_mut(mi).ip = false;
             }
             if let Some(mi) = r.mv {
-                self.bits(mi).end_motion();
+                self.motion_bits_mut(mi).end_motion();
             }
         }
     }
@@ -544,7 +559,7 @@ impl MotionTask {
                 (None, Some(m)) => self.superimpose_ramp(axis, &r.profile, r.t_s, m, SuperKind::Move),
                 (None, None) => {
                     if let Some(mi) = r.stop {
-                        self.bits(mi).ip = false;
+                        self.motion_bits_mut(mi).ip = false;
                     }
                 }
             }
@@ -567,7 +582,7 @@ impl MotionTask {
             mv: Some(control),
             ..RampRun::new(profile)
         });
-        let b = self.bits(control);
+        let b = self.motion_bits_mut(control);
         b.ip = true;
         b.ac = true;
     }
@@ -610,20 +625,14 @@ impl MotionTask {
             let (accel, decel) = r.profile.accel_decel_at(r.t_s);
             self.set_command(axis, sample);
             if let Some(mi) = move_mi {
-                let b = self.bits(mi);
-                b.accel = accel && !ended;
-                b.decel = decel && !ended;
-                if ended {
-                    b.end_motion();
-                    b.pc = true;
-                }
+                self.motion_bits_mut(mi).follow_ramp(accel, decel, ended);
             }
             let stopped = ended;
             if stopped {
                 self.cam.axes[i].ramp = None;
                 self.axes[i].command.velocity = 0.0;
                 if let Some(mi) = stop_mi {
-                    let b = self.bits(mi);
+                    let b = self.motion_bits_mut(mi);
                     b.ip = false;
                     b.pc = true;
                 }

@@ -26,7 +26,7 @@ impl MotionTask {
     pub(super) fn end_gear(&mut self, axis: AxisHandle) -> bool {
         match self.axes[axis.0 as usize].gear.take() {
             Some(g) => {
-                self.bits(g.control).ip = false;
+                self.motion_bits_mut(g.control).ip = false;
                 true
             }
             None => false,

@@ -569,3 +569,27 @@ pub struct StopReport {
     /// Logix control structures that were in process (`.IP`), in the order added.
     pub stopped_instructions: Vec<InstructionHandle>,
 }
+
+// Handing an axis over (`task/cam.rs`).
+
+/// The processes on an axis a new single-axis motion ends
+/// ([`MotionTask::take_axis`](super::MotionTask::take_axis)), besides the
+/// moves and coordinated motion every one aborts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Takes {
+    /// Its position cams.
+    pub cams: bool,
+    /// Its gearing.
+    pub gear: bool,
+    /// Its jog or move ramp.
+    pub ramp: bool,
+}
+
+impl Takes {
+    /// Every process.
+    pub(crate) const ALL: Takes = Takes {
+        cams: true,
+        gear: true,
+        ramp: true,
+    };
+}

@@ -223,13 +223,7 @@ impl MotionTask {
                 a.last_direction = a.command.velocity.signum();
             }
             if let (Some(mi), SuperKind::Move) = (control, kind) {
-                let b = self.motion_bits_mut(mi);
-                b.accel = accel && !ended;
-                b.decel = decel && !ended;
-                if ended {
-                    b.end_motion();
-                    b.pc = true;
-                }
+                self.motion_bits_mut(mi).follow_ramp(accel, decel, ended);
             }
         }
     }

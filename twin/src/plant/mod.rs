@@ -199,7 +199,7 @@ impl Plant {
         let axis_drives: Vec<Option<usize>> = axes.iter().map(|a| a.drive).collect();
         let rigs = transform::parallel_rigs(scene, &model, &axis_drives, &mut drives, &mut initial)?;
         initial.sort_by(|a, b| a.0.cmp(&b.0));
-        let step_s = scene.physics_step_ms / 1000.0;
+        let step_s = scene.physics_step_s();
         // A parallel robot's virtual joints follow the arms' kinematics:
         // posed, not simulated (see `PhysicsOptions::posed_joints`).
         let posed_joints = rigs
@@ -238,7 +238,7 @@ impl Plant {
         Ok(Plant {
             brakes: vec![None; axes.len()],
             substeps: (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize,
-            update_s: scene.coarse_update_ms / 1000.0,
+            update_s: scene.coarse_update_s(),
             model,
             parts,
             sim,
@@ -509,7 +509,7 @@ mod tests {
         // integrate would.
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/indexing_table.toml");
         let scene = crate::scene::load(&path).unwrap();
-        let mut task = MotionTask::new(scene.coarse_update_ms / 1000.0).unwrap();
+        let mut task = MotionTask::new(scene.coarse_update_s()).unwrap();
         let mut plant = Plant::new(&scene, &mut task).unwrap();
         let axis = plant.axes[0].handle;
         task.update();

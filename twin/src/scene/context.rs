@@ -264,6 +264,21 @@ impl Ctx<'_> {
     }
 
     /// Three finite values, each > 0.
+    /// An optional [`Ctx::positive`] field: `default` when absent.
+    pub(super) fn positive_or(&self, v: &Option<Spanned<f64>>, field: &str, default: f64) -> Result<f64, SceneError> {
+        v.as_ref().map_or(Ok(default), |v| self.positive(v, field))
+    }
+
+    /// An optional [`Ctx::non_negative`] field: `default` when absent.
+    pub(super) fn non_negative_or(
+        &self,
+        v: &Option<Spanned<f64>>,
+        field: &str,
+        default: f64,
+    ) -> Result<f64, SceneError> {
+        v.as_ref().map_or(Ok(default), |v| self.non_negative(v, field))
+    }
+
     pub(super) fn positive_array(&self, v: &Spanned<Numbers<3>>, field: &str) -> Result<[f64; 3], SceneError> {
         let values = self.finite_array(v, field)?;
         match values.iter().find(|x| **x <= 0.0) {

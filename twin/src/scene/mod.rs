@@ -66,7 +66,10 @@ impl Scene {
             column: at.column,
             field: field.into(),
             problem: Box::new(problem),
-            at: Some(Box::new((std::sync::Arc::clone(file), file.token_at(at.line, at.column)))),
+            at: Some(Box::new((
+                std::sync::Arc::clone(file),
+                file.token_at(at.line, at.column),
+            ))),
         }
     }
 

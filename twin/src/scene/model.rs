@@ -564,6 +564,18 @@ impl BaseType {
 }
 
 impl Scene {
+    /// The coarse update period, s (the scene writes ms).
+    #[must_use]
+    pub fn coarse_update_s(&self) -> f64 {
+        self.coarse_update_ms / 1000.0
+    }
+
+    /// The physics step, s (the scene writes ms).
+    #[must_use]
+    pub fn physics_step_s(&self) -> f64 {
+        self.physics_step_ms / 1000.0
+    }
+
     /// Every file the scene reads: the scene itself, the URDF, every
     /// routine, every obstacle mesh (the URDF's own meshes are the
     /// plant's). Outputs must not be written over any of them.

@@ -178,14 +178,8 @@ impl Ctx<'_> {
             Some(p) => self.int_in_range(p, &f("primary_axes"), 1, default_primary as i64)? as usize,
             None => default_primary,
         };
-        let pos = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
-            Some(v) => self.positive(v, &f(name)),
-            None => Ok(default),
-        };
-        let non_neg = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
-            Some(v) => self.non_negative(v, &f(name)),
-            None => Ok(default),
-        };
+        let pos = |v: &Option<Spanned<f64>>, name: &str, default: f64| self.positive_or(v, &f(name), default);
+        let non_neg = |v: &Option<Spanned<f64>>, name: &str, default: f64| self.non_negative_or(v, &f(name), default);
         let system = CoordinateSystemConfig {
             primary_axes,
             max_speed: pos(&r.max_speed, "max_speed", defaults.max_speed)?,

@@ -254,14 +254,9 @@ impl Ctx<'_> {
     fn servo_gains(&self, d: &RawDrive, f: &dyn Fn(&str) -> String) -> Result<ServoGains, SceneError> {
         let g = ServoGains::default();
         let field = |name: &str| f(&format!("drive.{name}"));
-        let positive = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
-            Some(v) => self.positive(v, &field(name)),
-            None => Ok(default),
-        };
-        let non_negative = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
-            Some(v) => self.non_negative(v, &field(name)),
-            None => Ok(default),
-        };
+        let positive = |v: &Option<Spanned<f64>>, name: &str, default: f64| self.positive_or(v, &field(name), default);
+        let non_negative =
+            |v: &Option<Spanned<f64>>, name: &str, default: f64| self.non_negative_or(v, &field(name), default);
         let torque_limit_negative = match &d.torque_limit_negative {
             Some(v) => {
                 let x = self.finite(v, &field("torque_limit_negative"))?;

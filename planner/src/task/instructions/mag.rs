@@ -290,7 +290,7 @@ impl MotionTask {
         let current_sign = previous.as_ref().map(|g| g.ratio.signum());
         let velocity = match &previous {
             Some(g) => {
-                self.bits(g.control).ip = false;
+                self.motion_bits_mut(g.control).ip = false;
                 g.velocity
             }
             None => {
@@ -314,7 +314,7 @@ impl MotionTask {
             clutch: mag.clutch_accel,
             velocity,
         });
-        let b = self.bits(control);
+        let b = self.motion_bits_mut(control);
         b.dn = true;
         b.ip = true;
         Ok(())

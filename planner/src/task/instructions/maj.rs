@@ -21,6 +21,7 @@
 //! The jog runs as the axis' ramp in the engine (`task/cam.rs`), which a
 //! MAS, a move or a cam ends; `.DN` and `.IP` at once.
 
+use crate::task::state::Takes;
 use crate::axis::AxisConfig;
 use crate::catalogue::words::{JOG_ACCEL_UNITS, JOG_DIRECTION, JOG_SPEED_UNITS, PROFILE, op};
 use crate::catalogue::{CallStyle, Format, Kind};
@@ -224,17 +225,13 @@ impl MotionTask {
             if jog.velocity != 0.0 {
                 task.check_overtravel(axis, jog.velocity)?;
             }
-            task.fold_superimposed(axis);
-            task.abort_move(axis);
-            task.end_cams(axis);
-            task.end_gear(axis);
-            task.end_ramp(axis);
+            task.take_axis(axis, Takes::ALL);
             let state = task.axes[axis.0 as usize].command.state();
             task.cam_axis(axis).ramp = Some(RampRun {
                 jog: Some(motion_control),
                 ..RampRun::new(Profile::to_velocity(state, jog.velocity, &jog.limits))
             });
-            let b = task.bits(motion_control);
+            let b = task.motion_bits_mut(motion_control);
             b.dn = true;
             b.ip = true;
             Ok(())

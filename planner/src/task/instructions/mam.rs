@@ -53,6 +53,7 @@
 //!   between), as Logix does. Superimposing a MAM on a jog is not
 //!   simulated: it ends the jog as a merge does.
 
+use crate::task::state::Takes;
 use crate::axis::AxisConfig;
 use crate::catalogue::words::{
     INTEGER, JOG_ACCEL_UNITS, JOG_SPEED_UNITS, LOCK_DIRECTION, MAM_MERGE, MERGE_SPEED, NUMERIC, PROFILE,
@@ -451,7 +452,7 @@ impl MotionTask {
             Ok::<_, MamError>((m, target))
         })?;
         let start = self.axes[axis.0 as usize].command.state();
-        self.bits(control).dn = true;
+        self.motion_bits_mut(control).dn = true;
         let base_driven = self.cam_drives(axis) || self.coordinated_motion_status(axis);
         if !mam.merge && base_driven {
             // Superimposed on the cam or the coordinated motion.
@@ -460,10 +461,13 @@ impl MotionTask {
         }
         // Every other single-axis motion on the axis ends (see the module
         // doc on merge); a MAM it replaces loses `.IP`.
-        self.fold_superimposed(axis);
-        self.abort_move(axis);
-        self.end_cams(axis);
-        self.end_gear(axis);
+        self.take_axis(
+            axis,
+            Takes {
+                ramp: false,
+                ..Takes::ALL
+            },
+        );
         let start = self.axes[axis.0 as usize].command.state();
         let profile = Profile::to_position(start, target, 0.0, &mam.limits);
         self.start_move_ramp(axis, profile, control);

@@ -210,7 +210,7 @@ impl MotionTask {
         if sup_named {
             self.stop_superimposed(axis);
         }
-        self.bits(motion_control).dn = true;
+        self.motion_bits_mut(motion_control).dn = true;
         let state = self.axes[axis.0 as usize].command.state();
         if !stops || state.velocity == 0.0 {
             if stops {
@@ -219,7 +219,7 @@ impl MotionTask {
                     ..Sample::default()
                 };
             }
-            self.bits(motion_control).pc = true;
+            self.motion_bits_mut(motion_control).pc = true;
             return Ok(());
         }
         let vmax = self.axes[axis.0 as usize].config.max_velocity.max(state.velocity.abs());
@@ -234,7 +234,7 @@ impl MotionTask {
             stop: Some(motion_control),
             ..RampRun::new(Profile::to_velocity(state, 0.0, &limits))
         });
-        self.bits(motion_control).ip = true;
+        self.motion_bits_mut(motion_control).ip = true;
         Ok(())
     }
 }

@@ -170,7 +170,7 @@ impl MotionTask {
             // redefinition outside the limits raises the exception at once.
             let overtravel = crate::servo::MotionFaults::beyond(a.config.soft_travel_limits, a.actual + delta);
             task.redefine_position(axis, delta);
-            task.bits(motion_control).dn = true;
+            task.motion_bits_mut(motion_control).dn = true;
             if let Some(bit) = overtravel {
                 task.raise_soft_overtravel(axis, bit);
             }

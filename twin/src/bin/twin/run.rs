@@ -286,7 +286,7 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     let mut stats = twin::output::session::Stats::new(&twin);
 
     let total = twin.total_updates();
-    let mut progress = Progress::new(total, twin.scene().coarse_update_ms / 1000.0);
+    let mut progress = Progress::new(total, twin.scene().coarse_update_s());
     let mut sinks = UpdateSinks {
         frames: &mut frames,
         recording: &mut recording,

@@ -21,7 +21,7 @@ fn edited(from: &str, to: &str) -> String {
 /// The diagnostic binding the program of `text` gives.
 fn error_of(text: &str) -> Diagnostic {
     let scene = scene::parse(&fixtures().join("case.toml"), text).expect("the scene loads");
-    let mut task = MotionTask::new(scene.coarse_update_ms / 1000.0).expect("planner");
+    let mut task = MotionTask::new(scene.coarse_update_s()).expect("planner");
     for a in &scene.axes {
         task.add_axis(a.config.clone(), 0.0).expect("axis");
     }

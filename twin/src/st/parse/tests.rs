@@ -236,7 +236,10 @@ fn seeded_random_texts_never_panic_and_errors_point_inside() {
         let text: String = (0..len)
             .map(|_| alphabet[rng.random_range(0..alphabet.len())])
             .collect();
-        for e in [call(&text).err(), routine(&text).err(), expression(&text).err()].into_iter().flatten() {
+        for e in [call(&text).err(), routine(&text).err(), expression(&text).err()]
+            .into_iter()
+            .flatten()
+        {
             let l = &e.labels[0];
             assert!(l.range.end <= text.len(), "{text:?}: {e}");
         }
