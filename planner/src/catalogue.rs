@@ -53,7 +53,7 @@
 pub mod errors;
 pub mod words;
 
-pub use errors::{ERRORS, ErrorCode, err_meaning};
+pub use errors::{ERRORS, ErrorCode, err_meaning, err_text};
 
 /// How an operand may be given, as the manual's Format column says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -44,6 +44,19 @@ pub enum RunError {
     Program(#[from] Box<Diagnostic>),
 }
 
+impl RunError {
+    /// The error as a diagnostic (see [`Diagnostic::render`]): the
+    /// program's own, or the plant's with the scene line it points at.
+    #[must_use]
+    pub fn diagnostic(&self) -> Diagnostic {
+        match self {
+            RunError::Program(d) => (**d).clone(),
+            RunError::Plant(e) => e.diagnostic(),
+            RunError::Planner { .. } => Diagnostic::error(self.to_string()),
+        }
+    }
+}
+
 /// A loaded, bound scene, ready to step.
 pub struct Twin {
     scene: Scene,

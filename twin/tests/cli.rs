@@ -33,16 +33,22 @@ fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-/// Runs `twin check` on an edited scene; asserts exit code 65 and one
-/// line of stderr holding the file, `line:column` and `needle`.
+/// Runs `twin check` on an edited scene; asserts exit code 65 and a first
+/// line of stderr holding the file, `line:column` and `needle` (the
+/// rendering with the source line follows it).
 fn check_rejects(name: &str, edits: &[(&str, &str)], place: &str, needle: &str) {
     let path = edited(name, edits);
     let out = twin().arg("check").arg(&path).output().expect("run twin");
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(65), "{name}: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{name}: one line: {err}");
-    assert!(err.contains(&format!("{}:{place}: ", path.display())), "{name}: {err}");
-    assert!(err.contains(needle), "{name}: expected {needle:?} in {err}");
+    let first = err.lines().next().unwrap_or_default();
+    assert!(first.starts_with("error: "), "{name}: {err}");
+    assert!(first.contains(&format!("{}:{place}: ", path.display())), "{name}: {err}");
+    assert!(first.contains(needle), "{name}: expected {needle:?} in {first}");
+    assert!(
+        err.lines().nth(1).is_some_and(|l| l.trim_start().starts_with("--> ")),
+        "{name}: the source line follows: {err}"
+    );
 }
 
 #[test]

@@ -58,6 +58,16 @@ pub fn err_meaning(code: i32) -> Option<&'static str> {
     ERRORS.iter().find(|e| e.code == code).map(|e| e.meaning)
 }
 
+/// `ERR 49 (circular: radius too small for the end point) EXERR 0`: the
+/// codes with the error's meaning, as the summary, the console and the
+/// recording print them (without one for a code the catalogue lacks).
+pub fn err_text(err: i32, exerr: i32) -> String {
+    match err_meaning(err) {
+        Some(meaning) => format!("ERR {err} ({meaning}) EXERR {exerr}"),
+        None => format!("ERR {err} EXERR {exerr}"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -67,5 +77,10 @@ mod tests {
         assert!(ERRORS.windows(2).all(|w| w[0].code < w[1].code));
         assert_eq!(err_meaning(49), Some("circular: radius too small for the end point"));
         assert_eq!(err_meaning(0), None);
+        assert_eq!(
+            err_text(49, 0),
+            "ERR 49 (circular: radius too small for the end point) EXERR 0"
+        );
+        assert_eq!(err_text(99, 3), "ERR 99 EXERR 3");
     }
 }

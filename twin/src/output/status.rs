@@ -84,9 +84,9 @@ pub(crate) fn describe<S: Status>(status: S) -> String {
     }
 }
 
-/// `ERR e EXERR x`, and `SEGMENT s` for a path segment.
+/// `ERR e (its meaning) EXERR x`, and `SEGMENT s` for a path segment.
 pub(crate) fn error_codes(b: MotionInstructionBits) -> String {
-    let mut s = format!("ERR {} EXERR {}", b.err, b.exerr);
+    let mut s = planner::catalogue::err_text(b.err, b.exerr);
     if b.segment != 0 {
         let _ = write!(s, " SEGMENT {}", b.segment);
     }

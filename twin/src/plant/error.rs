@@ -4,6 +4,7 @@ use super::collision::CollisionModelError;
 use super::physics::PhysicsError;
 use super::stl::StlError;
 use super::urdf::UrdfError;
+use crate::source::Diagnostic;
 use planner::task::TaskError;
 use std::path::PathBuf;
 use thiserror::Error;
@@ -112,4 +113,42 @@ pub enum PlantError {
         #[source]
         source: CollisionModelError,
     },
+}
+
+impl PlantError {
+    /// The error as a diagnostic: where it has a place in the scene file,
+    /// the rendering shows that line with a caret under the value. The
+    /// first line is the error's own text.
+    #[must_use]
+    pub fn diagnostic(&self) -> Diagnostic {
+        let text = self.to_string();
+        let place = match self {
+            PlantError::Joint {
+                scene, line, column, ..
+            }
+            | PlantError::ObstacleMesh {
+                scene, line, column, ..
+            }
+            | PlantError::Kinematics {
+                scene, line, column, ..
+            }
+            | PlantError::ToolLink {
+                scene, line, column, ..
+            }
+            | PlantError::Collision {
+                scene, line, column, ..
+            } => Some((scene, *line, *column)),
+            PlantError::Urdf { .. } | PlantError::Physics { .. } | PlantError::Planner { .. } => None,
+        };
+        match place {
+            Some((scene, line, column)) => {
+                let prefix = format!("{}:{line}:{column}: ", scene.display());
+                let message = text.strip_prefix(&prefix).unwrap_or(&text).to_owned();
+                Diagnostic::error(message)
+                    .at_place(scene.clone(), line, column)
+                    .labelled_from_file()
+            }
+            None => Diagnostic::error(text),
+        }
+    }
 }

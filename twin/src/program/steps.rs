@@ -45,6 +45,7 @@ pub fn compile(scene: &Scene, mem: &Memory, env: &mut Env<'_, '_>) -> Result<Vec
     let mut steps = Vec::with_capacity(scene.program.len());
     for (index, step) in scene.program.iter().enumerate() {
         let field = |f: &str| format!("program[{index}].{f}");
+        let warned = env.bindings.warnings.len();
         let mut compiler = Compiler::new(mem, None, &[], Dialect::Logix, env, false);
         let call = compiler
             .instruction_call(&step.call)
@@ -58,6 +59,9 @@ pub fn compile(scene: &Scene, mem: &Memory, env: &mut Env<'_, '_>) -> Result<Vec
                 delay_s: *delay_s,
             },
         };
+        for w in &mut env.bindings.warnings[warned..] {
+            w.field = Some(field("call"));
+        }
         steps.push(CompiledStep {
             trigger,
             call,
@@ -109,10 +113,10 @@ pub fn fire(
             && fault.err() == 13
         {
             refusals.push(format!(
-                "{} (program[{}]): ERR 13 EXERR {}: {fault}",
+                "{} (program[{}]): {}: {fault}",
                 step.call.instruction.mnemonic,
                 step.index,
-                fault.exerr()
+                planner::catalogue::err_text(fault.err(), fault.exerr())
             ));
         }
     }

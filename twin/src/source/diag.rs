@@ -129,6 +129,34 @@ impl Diagnostic {
         self
     }
 
+    /// When it knows only a file, line and column (a check after
+    /// loading), labels the token there, the file's text read from disk,
+    /// so the rendering shows the line; unchanged when the file cannot be
+    /// read.
+    #[must_use]
+    pub fn labelled_from_file(mut self) -> Self {
+        if !self.labels.is_empty() {
+            return self;
+        }
+        let Some((path, line, column)) = self.place.clone() else {
+            return self;
+        };
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            return self;
+        };
+        let file = Arc::new(SourceFile {
+            path,
+            text: text.into(),
+        });
+        let range = file.token_at(line, column);
+        if file.line_column(range.start) != (line, column) {
+            return self;
+        }
+        self.place = None;
+        self.labels.push(Label::new(&file, range, ""));
+        self
+    }
+
     /// Adds a `help:` line.
     #[must_use]
     pub fn with_help(mut self, help: impl Into<String>) -> Self {

@@ -298,17 +298,20 @@ impl<'s> Parser<'s> {
             return Ok(());
         }
         let found = self.tok(0).to_string();
-        Err(Box::new(
-            Diagnostic::error(format!(
-                "this {keyword} is never closed: expected {closer}, found {found}"
-            ))
-            .with_label(self.source.label(opened, format!("{keyword} opened here")))
-            .with_label(
+        let d = Diagnostic::error(format!(
+            "this {keyword} is never closed: expected {closer}, found {found}"
+        ))
+        .with_label(self.source.label(opened, format!("{keyword} opened here")));
+        // At the end of the text there is nothing more to point at.
+        Err(Box::new(if matches!(self.tok(0), Tok::Eof) {
+            d.with_help(format!("end the {keyword} with {closer};"))
+        } else {
+            d.with_label(
                 self.source
                     .label(self.span(0), format!("expected {closer} before this")),
             )
-            .with_help(format!("end the {keyword} with {closer}; before {found}")),
-        ))
+            .with_help(format!("end the {keyword} with {closer}; before {found}"))
+        }))
     }
 
     /// Statements up to (not including) one of the `until` keywords, a

@@ -8,6 +8,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use twin::run::Twin;
 use twin::scene;
+use twin::source::Diagnostic;
+use twin::source::diag::stderr_wants_color;
 
 mod bench;
 mod run;
@@ -194,6 +196,11 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(e) => {
+            // A scene or program error renders with its source line.
+            if let Some(d) = diagnostic(&e) {
+                eprint!("{}", d.render(stderr_wants_color()));
+                return ExitCode::from(exit_code(&e));
+            }
             // The error and its causes on one line, each cause once.
             let mut text = String::new();
             for cause in e.chain() {
@@ -264,9 +271,31 @@ fn exit_code(e: &anyhow::Error) -> u8 {
     exit::OUTPUT
 }
 
+/// The diagnostic of an error that is a scene's or a program's (not one
+/// wrapped in a context: its chain prints as one line).
+fn diagnostic(e: &anyhow::Error) -> Option<Diagnostic> {
+    if let Some(s) = e.downcast_ref::<scene::SceneError>() {
+        return Some(s.diagnostic());
+    }
+    e.downcast_ref::<twin::run::RunError>()
+        .map(twin::run::RunError::diagnostic)
+}
+
+/// Loads a scene and binds its program, printing the program's warnings
+/// (calls the instruction refuses whatever the state) to stderr.
 fn load(path: &Path) -> Result<Twin> {
     let scene = scene::load(path)?;
-    Ok(Twin::new(scene)?)
+    let twin = Twin::new(scene)?;
+    print_warnings(&twin);
+    Ok(twin)
+}
+
+/// The program's load-time warnings, rendered, on stderr.
+pub(crate) fn print_warnings(twin: &Twin) {
+    let color = stderr_wants_color();
+    for w in twin.program().warnings() {
+        eprint!("{}", w.render(color));
+    }
 }
 
 fn check(path: &Path) -> Result<ExitCode> {

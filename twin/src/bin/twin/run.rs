@@ -245,6 +245,7 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     }
     check_output_paths(args, &scene.input_files())?;
     let mut twin = Twin::new(scene)?;
+    crate::print_warnings(&twin);
     for (flag, path) in [
         ("--trace", &args.trace),
         ("--summary", &args.summary),

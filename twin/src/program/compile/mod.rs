@@ -373,11 +373,16 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
             }
             BinaryOp::And | BinaryOp::Or | BinaryOp::Xor => {
                 if x.ty.is_real() || y.ty.is_real() {
-                    return err(
-                        self,
-                        span,
-                        format!("{} needs BOOL or integer operands, got REAL", op.symbol()),
+                    let (real, ty) = if x.ty.is_real() { (a, x.ty) } else { (b, y.ty) };
+                    let d = self.error(
+                        real.span,
+                        format!("{} needs BOOL or integer operands, got {}", op.symbol(), ty.name()),
+                        format!("this is {}", ty.name()),
                     );
+                    return Err(Box::new(d.with_help(format!(
+                        "{} works on bits: make it an integer first (TRUNC(x), or assign it to a DINT, which rounds)",
+                        op.symbol()
+                    ))));
                 }
                 if x.ty == Ty::Bool && y.ty == Ty::Bool {
                     (Ty::Bool, Ty::Bool)

@@ -29,7 +29,7 @@ use crate::program::types::{DataType, Structure, Ty, Value};
 use crate::scene::{BaseType, SegmentType, TagValue};
 use crate::source::Diagnostic;
 use crate::st::ast::{Access, Arg as ArgText, Call, Expr, ExprKind, Ref};
-use planner::catalogue::{CallStyle, Format, Kind, Operand as Spec, err_meaning};
+use planner::catalogue::{CallStyle, Format, Kind, Operand as Spec, err_text};
 use planner::mccp::CamElement;
 use planner::task::instructions;
 use planner::task::instructions::Instruction;
@@ -188,7 +188,9 @@ impl Compiler<'_, '_, '_> {
             Kind::Cam => self.cam_operand(spec, arg),
             Kind::Number => self.number_operand(spec, arg),
             Kind::Count | Kind::Integer => self.integer_operand(spec, arg),
-            Kind::Enumeration(_) => self.code_operand(spec, arg),
+            Kind::Enumeration(_) => self
+                .code_operand(spec, arg)
+                .map_err(|d| word_elsewhere(instruction, spec, arg, d)),
             Kind::Bool => self.bool_operand(spec, arg),
             Kind::Values | Kind::Vector3 | Kind::OptionalArray => self.array_operand(spec, arg),
         }
@@ -888,12 +890,10 @@ impl Compiler<'_, '_, '_> {
             return;
         }
         if let Err(fault) = instruction.check(self.env.task, &args) {
-            let meaning = err_meaning(fault.err()).unwrap_or("unknown error");
             let d = Diagnostic::warning(format!(
-                "{} refuses this call whenever it runs: ERR {} ({meaning}) EXERR {}",
+                "{} refuses this call whenever it runs: {}",
                 instruction.mnemonic,
-                fault.err(),
-                fault.exerr()
+                err_text(fault.err(), fault.exerr())
             ))
             .with_label(self.env.files.label(call.name_span, "its operands are constants"))
             .with_note(format!("the instruction says: {fault}"));
@@ -914,4 +914,27 @@ fn describe(info: &TagInfo) -> String {
         Some(n) => format!("a {ty}[{n}] tag"),
         None => format!("a {ty} tag"),
     }
+}
+
+/// A word refused for one operand that is a word of another operand of the
+/// same instruction (`%ofTime` in Accel Units: a Jerk Units word) says so.
+fn word_elsewhere(instruction: &Instruction, spec: &Spec, arg: &ArgText, d: Error) -> Error {
+    let text = arg.text.trim();
+    if !d.message.starts_with(&format!("'{text}' is not a word of ")) {
+        return d;
+    }
+    let owners: Vec<&str> = instruction
+        .operands
+        .iter()
+        .filter(|o| o.name != spec.name && o.code_of(text).is_some())
+        .map(|o| o.name)
+        .collect();
+    if owners.is_empty() {
+        return d;
+    }
+    Box::new((*d).with_note(format!(
+        "'{text}' is a word of {} of {}",
+        owners.join(" and "),
+        instruction.mnemonic
+    )))
 }

@@ -115,9 +115,10 @@ fn enumeration_words_belong_to_their_operand() {
     let d = error_of(&text);
     assert_at(&d, &text, "%oftime, 50", "program[2].call");
     assert_eq!(d.message, "'%oftime' is not a word of Accel Units and not a tag");
-    assert_eq!(d.notes.len(), 1);
+    assert_eq!(d.notes.len(), 2);
     assert!(d.notes[0].starts_with("Accel Units takes "), "{:?}", d.notes);
     assert!(d.notes[0].contains("%ofmaximum (1)"), "{:?}", d.notes);
+    assert_eq!(d.notes[1], "'%oftime' is a word of Jerk Units of MCCM");
 }
 
 #[test]

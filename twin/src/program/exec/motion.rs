@@ -109,12 +109,7 @@ impl Exec<'_> {
 
 /// `ERR 13 (parameter out of range) EXERR 3: the planner's sentence`.
 fn refusal_text(fault: &Fault) -> String {
-    format!(
-        "ERR {} ({}) EXERR {}: {fault}",
-        fault.err(),
-        planner::catalogue::err_meaning(fault.err()).unwrap_or("unknown error"),
-        fault.exerr()
-    )
+    format!("{}: {fault}", planner::catalogue::err_text(fault.err(), fault.exerr()))
 }
 
 /// The elements of a CAM array in tag memory: master, slave, and the

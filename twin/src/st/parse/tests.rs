@@ -181,6 +181,7 @@ fn an_unclosed_block_is_reported_at_its_opening_keyword() {
         e.message,
         "this IF is never closed: expected END_IF, found the end of the text"
     );
+    assert_eq!(e.labels.len(), 1, "at the end of the text only the IF is pointed at");
     let e = routine("CASE s OF\n1: IF a THEN b := 1;\n2: b := 2;\nEND_CASE;").unwrap_err();
     assert_eq!((error(&e).0, error(&e).1), (2, 4));
     assert!(
@@ -188,6 +189,7 @@ fn an_unclosed_block_is_reported_at_its_opening_keyword() {
             .starts_with("this IF is never closed: expected END_IF, found '2'"),
         "{e}"
     );
+    assert_eq!(e.labels.len(), 2, "the IF and what came instead of END_IF");
     let e = routine("FOR i := 1 TO 3 DO\n  x := i;\n").unwrap_err();
     assert_eq!((error(&e).0, error(&e).1), (1, 1));
     let e = routine("WHILE a DO x := 1; END_IF;").unwrap_err();
