@@ -260,6 +260,26 @@ fn twin_stages_import_only_the_stages_before_them() {
 }
 
 #[test]
+fn the_interpreter_does_not_import_the_compiler() {
+    // What runs each scan (the interpreter, the task engine, the steps)
+    // works on the compiled form alone.
+    let graph = graph(&crate_src("twin"));
+    let runtime = |m: &str| m.starts_with("program::exec") || m == "program::controller" || m == "program::steps";
+    let wrong: Vec<String> = graph
+        .iter()
+        .filter(|(m, _)| runtime(m))
+        .flat_map(|(m, targets)| {
+            targets
+                .iter()
+                .filter(|t| t.starts_with("program::compile"))
+                .map(move |t| format!("{m} imports {t}"))
+        })
+        .collect();
+    assert!(graph.keys().any(|m| m == "program::exec"), "the interpreter is found");
+    assert!(wrong.is_empty(), "{wrong:#?}");
+}
+
+#[test]
 fn the_checker_sees_a_circle_and_a_backward_import() {
     let all: BTreeMap<String, PathBuf> = ["scene", "scene::raw", "program", "program::bind", "program::coord"]
         .iter()

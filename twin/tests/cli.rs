@@ -43,7 +43,10 @@ fn check_rejects(name: &str, edits: &[(&str, &str)], place: &str, needle: &str) 
     assert_eq!(out.status.code(), Some(65), "{name}: {err}");
     let first = err.lines().next().unwrap_or_default();
     assert!(first.starts_with("error: "), "{name}: {err}");
-    assert!(first.contains(&format!("{}:{place}: ", path.display())), "{name}: {err}");
+    assert!(
+        first.contains(&format!("{}:{place}: ", path.display())),
+        "{name}: {err}"
+    );
     assert!(first.contains(needle), "{name}: expected {needle:?} in {first}");
     assert!(
         err.lines().nth(1).is_some_and(|l| l.trim_start().starts_with("--> ")),

@@ -2179,7 +2179,10 @@ fn a_second_mct_on_the_delta_runs_and_a_virtual_joint_driven_twice_is_refused_at
             ),
         "{stderr}"
     );
-    assert!(stderr.lines().next().is_some_and(|l| l.starts_with("error: ")), "{stderr}");
+    assert!(
+        stderr.lines().next().is_some_and(|l| l.starts_with("error: ")),
+        "{stderr}"
+    );
 }
 
 /// Guards against a Delta linked by MCT from a Structured Text routine

@@ -89,7 +89,8 @@ impl MotionTask {
     }
 
     /// Writes a profile's Status (a program writing `Profile[0].Status`).
-    pub fn set_cam_profile_status(&mut self, h: CamProfileHandle, status: u32) {
+    #[cfg(test)]
+    pub(crate) fn set_cam_profile_status(&mut self, h: CamProfileHandle, status: u32) {
         self.cam.profiles[h.0 as usize].1.set_status(status);
     }
 
@@ -104,7 +105,7 @@ impl MotionTask {
 
     /// Declares `axis` a position cam slave (for traces that list the slave
     /// status only for such axes).
-    pub fn declare_cam_slave(&mut self, axis: AxisHandle) {
+    pub(crate) fn declare_cam_slave(&mut self, axis: AxisHandle) {
         self.cam_axis(axis).declared_slave = true;
     }
 
@@ -118,7 +119,7 @@ impl MotionTask {
     /// in the update that executed it), which clears `.EN` there, or at the
     /// first update after that which finds `.DN` or `.ER` set (see
     /// [`MotionTask::rung_false`]). A new execution replaces a pending one.
-    pub fn rung_false_next_scan(&mut self, h: InstructionHandle) {
+    pub(crate) fn rung_false_next_scan(&mut self, h: InstructionHandle) {
         if self.is_scanned(h) {
             return;
         }
@@ -128,7 +129,7 @@ impl MotionTask {
     }
 
     /// The rung went false: `.EN` is cleared if `.DN` or `.ER` is set.
-    pub fn rung_false(&mut self, h: InstructionHandle) {
+    pub(crate) fn rung_false(&mut self, h: InstructionHandle) {
         let b = self.motion_bits_mut(h);
         if b.dn || b.er {
             b.en = false;
@@ -191,7 +192,8 @@ impl MotionTask {
 
     /// MCCP: calculates `profile` from the first `length` elements of `cam`.
     /// Returns the error also written into the tag.
-    pub fn mccp(
+    #[cfg(test)]
+    pub(crate) fn mccp(
         &mut self,
         motion_control: InstructionHandle,
         cam: &[CamElement],
@@ -208,7 +210,7 @@ impl MotionTask {
     /// ERR 26's EXERR is the size of the whole array (the spec: "the number
     /// of cams in the Cam Tag provided"), not the count from `start`.
     #[allow(clippy::too_many_arguments)]
-    pub fn mccp_from(
+    pub(crate) fn mccp_from(
         &mut self,
         motion_control: InstructionHandle,
         cam_array: &[CamElement],
@@ -252,36 +254,7 @@ impl MotionTask {
     ///
     /// # Errors
     /// ERR 13 (operand, EXERR = number), 30 (profile Status 1), 32 (Status 0).
-    ///
-    /// # Examples
-    /// ```
-    /// use planner::axis::{AxisConfig, AxisKind};
-    /// use planner::mapc::MapcOperands;
-    /// use planner::mccp::CamElement;
-    /// use planner::task::{MapcCall, MotionTask};
-    ///
-    /// let mut task = MotionTask::new(0.004)?;
-    /// let conveyor = task.add_axis(AxisConfig::new("Conveyor", AxisKind::Linear), 0.0)?;
-    /// let knife = task.add_axis(AxisConfig::new("Knife", AxisKind::Rotary), 0.0)?;
-    /// let cam = [
-    ///     CamElement { master: 0.0, slave: 0.0, segment_type: 0 },
-    ///     CamElement { master: 300.0, slave: 360.0, segment_type: 0 },
-    /// ];
-    /// let profile = task.add_cam_profile("KnifeProfile", 2);
-    /// let mccp = task.add_instruction("MCCP_1");
-    /// task.mccp(mccp, &cam, 2, 0.0, 0.0, profile).expect("valid cam");
-    /// let mapc = task.add_instruction("MAPC_1");
-    /// let operands = MapcOperands { execution_mode: 1, ..MapcOperands::default() };
-    /// task.mapc(MapcCall { slave: knife, master: conveyor, motion_control: mapc, cam_profile: profile, operands })
-    ///     .expect("calculated profile");
-    /// assert_eq!(task.cam_profile(profile).status(), 3); // in use by one cam
-    /// // The conveyor's measured position drives the knife (Master Reference Actual).
-    /// task.feed_actual_position(conveyor, 450.0);
-    /// task.update();
-    /// assert!((task.axis_state(knife).command_position - 540.0).abs() < 1e-9);
-    /// # Ok::<(), planner::task::TaskError>(())
-    /// ```
-    pub fn mapc(&mut self, call: MapcCall) -> Result<(), MapcError> {
+    pub(crate) fn mapc(&mut self, call: MapcCall) -> Result<(), MapcError> {
         let mi = call.motion_control;
         self.begin(mi);
         let r = self.mapc_inner(call);
@@ -475,7 +448,8 @@ impl MotionTask {
 
     /// A master offset move on the slave `axis`: its cams see their master
     /// `delta` further (the profile shifts by −`delta` along the master).
-    pub fn shift_master_offset(&mut self, axis: AxisHandle, delta: f64) {
+    #[cfg(test)]
+    pub(crate) fn shift_master_offset(&mut self, axis: AxisHandle, delta: f64) {
         self.cam_axis(axis).cam.shift_master_offset(delta);
     }
 

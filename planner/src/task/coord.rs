@@ -287,30 +287,10 @@ impl MotionTask {
     /// structure serves one instruction at a time, as on a controller: a
     /// new call with the same tag replaces the operands it executes with.
     ///
-    /// # Examples
-    /// ```
-    /// use planner::axis::{AxisConfig, AxisKind};
-    /// use planner::coord::{CoordMoveInputs, CoordinateSystemConfig};
-    /// use planner::task::{CoordCall, MotionTask};
-    /// let mut task = MotionTask::new(0.004).unwrap();
-    /// let x = task.add_axis(AxisConfig::new("X", AxisKind::Linear), 0.0).unwrap();
-    /// let y = task.add_axis(AxisConfig::new("Y", AxisKind::Linear), 0.0).unwrap();
-    /// let config = CoordinateSystemConfig { axis_count: 2, primary_axes: 2, ..CoordinateSystemConfig::new("CS") };
-    /// let cs = task.add_coordinate_system(config, &[x, y]).unwrap();
-    /// let mc = task.add_instruction("MC1");
-    /// let line = CoordMoveInputs { position: vec![0.3, 0.4], ..Default::default() };
-    /// task.execute_coordinated(cs, mc, CoordCall::Mclm(line));
-    /// assert!(task.motion_bits(mc).dn && task.motion_bits(mc).ip);
-    /// while !task.motion_bits(mc).pc {
-    ///     task.update();
-    /// }
-    /// assert_eq!(task.axis_state(y).command_position, 0.4);
-    /// ```
-    ///
     /// # Errors
     /// The refusal when the instruction fails in this call (a move queued
     /// behind a full queue is verified when it is taken, later).
-    pub fn execute_coordinated(
+    pub(crate) fn execute_coordinated(
         &mut self,
         system: CoordHandle,
         control: InstructionHandle,

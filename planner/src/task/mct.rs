@@ -121,7 +121,7 @@ impl MotionTask {
     /// # Errors
     /// The refusal, also in the control structure (ERR 61 with its EXERR,
     /// ERR 13, ERR 67).
-    pub fn execute_mct(
+    pub(crate) fn execute_mct(
         &mut self,
         control: InstructionHandle,
         source: CoordHandle,

@@ -49,10 +49,8 @@
 //! stops at the end of that update. Minor faults are recorded and counted
 //! (`MinorFaults`, `S:MINOR`) and the run goes on.
 
-use super::bindings::Env;
-use super::compile::{self, Compiler};
 use super::exec::{Exec, NOMINAL_STATEMENT_US, Raised, Scratch};
-use super::ir::{Builtin, CStmt, Place, SKind};
+use super::ir::{Builtin, CStmt, CompiledProgram, Place, SKind};
 use super::memory::Memory;
 use super::types::{Structure, Value};
 use crate::scene::Scene;
@@ -109,6 +107,17 @@ struct ProgramRun {
     first_scan: bool,
 }
 
+impl ProgramRun {
+    fn new(p: CompiledProgram) -> ProgramRun {
+        ProgramRun {
+            name: p.name,
+            routine_paths: p.routine_paths,
+            routines: p.routines,
+            first_scan: true,
+        }
+    }
+}
+
 struct TaskRun {
     name: String,
     period_us: i64,
@@ -156,28 +165,25 @@ impl std::fmt::Debug for Controller {
 pub const MINOR_FAULTS_KEPT: usize = 1000;
 
 impl Controller {
-    /// Compiles every routine of the scene's tasks against tag memory
-    /// and the planner.
-    ///
-    /// # Errors
-    /// The first compile error, pointing into its routine.
-    pub fn new(scene: &Scene, mem: Memory, env: &mut Env<'_, '_>) -> Result<Controller, compile::Error> {
-        let mut tasks = Vec::with_capacity(scene.tasks.len());
-        for t in &scene.tasks {
-            let mut programs = Vec::with_capacity(t.programs.len());
-            for p in &t.programs {
-                programs.push(compile_program(p, &mem, env)?);
-            }
-            tasks.push(TaskRun {
+    /// The task engine over tag memory, with each task's programs as
+    /// [`crate::program::compile::scene::program`] compiled them (`programs[t]`:
+    /// the scene's task `t`'s, in order).
+    #[must_use]
+    pub fn new(scene: &Scene, mem: Memory, programs: Vec<Vec<CompiledProgram>>) -> Controller {
+        let tasks = scene
+            .tasks
+            .iter()
+            .zip(programs)
+            .map(|(t, programs)| TaskRun {
                 name: t.name.clone(),
                 period_us: (t.period_ms * 1000.0).round().max(1.0) as i64,
                 priority: t.priority,
                 budget: (t.watchdog_ms * 1000.0 / NOMINAL_STATEMENT_US) as u64,
                 next_us: 0,
-                programs,
-            });
-        }
-        Ok(Controller {
+                programs: programs.into_iter().map(ProgramRun::new).collect(),
+            })
+            .collect();
+        Controller {
             mem,
             scratch: Scratch::default(),
             tasks,
@@ -187,7 +193,7 @@ impl Controller {
             minor_total: 0,
             refusals: Vec::new(),
             stats: TaskStats::default(),
-        })
+        }
     }
 
     /// Whether the scene has any task.
@@ -375,6 +381,11 @@ impl Controller {
         &self.mem
     }
 
+    /// Tag memory, to write a tag as a test or a sandbox does.
+    pub fn memory_mut(&mut self) -> &mut Memory {
+        &mut self.mem
+    }
+
     /// Tag memory, the operand scratch and the refusals, to fire the
     /// `[[program]]` steps.
     pub(super) fn step_context(&mut self) -> (&mut Memory, &mut Scratch, &mut Vec<String>) {
@@ -387,32 +398,6 @@ impl Controller {
     pub fn peek(&self, place: &Place, task: &MotionTask) -> Value {
         peek(place, &self.mem, task)
     }
-}
-
-/// Compiles a program's routines: its function-block calls first (so that
-/// their outputs compile wherever they are read), then every routine.
-fn compile_program(
-    p: &crate::scene::ProgramDef,
-    mem: &Memory,
-    env: &mut Env<'_, '_>,
-) -> Result<ProgramRun, compile::Error> {
-    let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
-    let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
-    for def in defs.iter().filter(|d| d.dialect == crate::scene::Dialect::Iec) {
-        let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, env, true);
-        compiler.bind_blocks(&def.routine.body)?;
-    }
-    let mut routines = Vec::with_capacity(defs.len());
-    for def in &defs {
-        let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, env, true);
-        routines.push(compiler.block(&def.routine.body)?);
-    }
-    Ok(ProgramRun {
-        name: p.name.clone(),
-        routine_paths: defs.iter().map(|d| d.path.clone()).collect(),
-        routines,
-        first_scan: true,
-    })
 }
 
 pub(super) fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {

@@ -621,3 +621,40 @@ pub const GSV_ATTRIBUTES: [(&str, GsvAttribute); 3] = [
     ("MaximumAcceleration", GsvAttribute::MaximumAcceleration),
     ("MaximumDeceleration", GsvAttribute::MaximumDeceleration),
 ];
+
+/// A program's routines, compiled (main first), with the files they came
+/// from.
+#[derive(Debug, Clone)]
+pub struct CompiledProgram {
+    /// The program's name.
+    pub name: String,
+    /// Each routine's file.
+    pub routine_paths: Vec<std::path::PathBuf>,
+    /// Each routine's statements.
+    pub routines: Vec<Vec<CStmt>>,
+}
+
+/// A `[[program]]` step, compiled: when it fires and the call it executes.
+#[derive(Debug, Clone)]
+pub struct CompiledStep {
+    /// When it fires.
+    pub trigger: StepTrigger,
+    /// The call it executes.
+    pub call: MotionCall,
+    /// Its index in the scene's `[[program]]`.
+    pub index: usize,
+}
+
+/// When a step fires.
+#[derive(Debug, Clone)]
+pub enum StepTrigger {
+    /// At a time, s.
+    At(f64),
+    /// `delay_s` after its condition is first TRUE (once armed).
+    When {
+        /// The condition.
+        condition: CExpr,
+        /// Delay, s.
+        delay_s: f64,
+    },
+}

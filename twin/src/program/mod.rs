@@ -54,13 +54,13 @@ use ir::Place;
 use memory::Memory;
 use planner::task::MotionTask;
 use planner::task::instructions::Instruction;
-use steps::CompiledStep;
+use steps::Step;
 use types::{DataType, Value};
 
 /// The scene's program bound to the planner.
 pub struct Program {
     bindings: Bindings,
-    steps: Vec<CompiledStep>,
+    steps: Vec<Step>,
     plc: Controller,
     traced: Vec<TracedTag>,
 }
@@ -110,8 +110,19 @@ impl Program {
             task,
             bindings: &mut bindings,
         };
-        let plc = Controller::new(scene, mem, &mut env)?;
-        let steps = steps::compile(scene, plc.memory(), &mut env)?;
+        let mut programs = Vec::with_capacity(scene.tasks.len());
+        for t in &scene.tasks {
+            let mut compiled = Vec::with_capacity(t.programs.len());
+            for p in &t.programs {
+                compiled.push(compile::scene::program(p, &mem, &mut env)?);
+            }
+            programs.push(compiled);
+        }
+        let steps = compile::scene::steps(scene, &mem, &mut env)?
+            .into_iter()
+            .map(Step::new)
+            .collect();
+        let plc = Controller::new(scene, mem, programs);
         let mut traced = Vec::with_capacity(scene.trace_tags.len());
         for (index, t) in scene.trace_tags.iter().enumerate() {
             let mut compiler = Compiler::new(plc.memory(), None, &[], Dialect::Logix, &mut env, false);
@@ -171,7 +182,7 @@ impl Program {
 
     /// Tag memory, to write a tag as a test or a sandbox does.
     pub fn memory_mut(&mut self) -> &mut Memory {
-        self.plc.step_context().0
+        self.plc.memory_mut()
     }
 
     /// The function-block instances, in the order the program first calls them.
@@ -196,3 +207,6 @@ impl Program {
         &self.bindings.warnings
     }
 }
+
+#[cfg(test)]
+mod tests;

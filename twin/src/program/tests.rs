@@ -47,6 +47,16 @@ pub(crate) fn scene_of(tags: &str, routines: &[(&str, &str)], program: &str, per
     scene::parse(&path, &text).map_err(|e| e.to_string())
 }
 
+/// The task engine of `scene`, bound to a planner with its axes.
+pub(crate) fn bound(scene: &Scene) -> Result<(Controller, MotionTask), String> {
+    let mut task = MotionTask::new(scene.coarse_update_s()).map_err(|e| e.to_string())?;
+    for a in &scene.axes {
+        task.add_axis(a.config.clone(), 0.0).map_err(|e| e.to_string())?;
+    }
+    let program = Program::bind(scene, &mut task).map_err(|e| e.to_string())?;
+    Ok((program.plc, task))
+}
+
 pub(crate) struct Run {
     pub(crate) plc: Controller,
     pub(crate) task: MotionTask,
@@ -55,20 +65,14 @@ pub(crate) struct Run {
 impl Run {
     pub(crate) fn new(tags: &str, routine: &str) -> Result<Run, String> {
         let scene = scene_with(tags, routine, 4.0)?;
-        let mut task = MotionTask::new(0.004).map_err(|e| e.to_string())?;
-        for a in &scene.axes {
-            task.add_axis(a.config.clone(), 0.0).map_err(|e| e.to_string())?;
-        }
-        let mut instructions = Vec::new();
-        let plc = Controller::new(&scene, &mut task, &mut instructions, &mut Vec::new()).map_err(|e| e.to_string())?;
+        let (plc, task) = bound(&scene)?;
         Ok(Run { plc, task })
     }
 
     /// Runs `n` scans, one per coarse update.
     pub(crate) fn scans(&mut self, n: usize) -> &mut Self {
-        let mut instructions = Vec::new();
         for _ in 0..n {
-            self.plc.scan(&mut self.task, &mut instructions, &mut Vec::new());
+            self.plc.scan(&mut self.task);
             self.task.update();
         }
         self
@@ -291,8 +295,8 @@ fn tofr_and_rtor_histories() {
     run.scans(3);
     assert_eq!(run.member("T1", "DN"), Value::Bool(true), "TOFR on at once");
     assert_eq!(int(run.member("T2", "ACC")), 8);
-    let on = run.plc.mem.tags[run.plc.mem.find("On").unwrap()].base;
-    run.plc.mem.slots[on] = Value::Bool(false);
+    let on = run.plc.memory().tags[run.plc.memory().find("On").unwrap()].base;
+    run.plc.memory_mut().slots[on] = Value::Bool(false);
     run.scans(3);
     assert_eq!(run.member("T1", "DN"), Value::Bool(true), "TOFR times the off delay");
     assert_eq!(int(run.member("T2", "ACC")), 8, "RTOR keeps ACC");
@@ -341,12 +345,10 @@ fn jsr_passes_parameters_and_returns_values() {
         ("Twice", "SBR(C); D := C * 2; RET(D);"),
     ];
     let scene = scene_of(&tags, &routines, "", 4.0).unwrap();
-    let mut task = MotionTask::new(0.004).unwrap();
-    let mut instructions = Vec::new();
-    let mut plc = Controller::new(&scene, &mut task, &mut instructions, &mut Vec::new()).unwrap();
-    plc.scan(&mut task, &mut instructions, &mut Vec::new());
-    let a = plc.mem.find("A").unwrap();
-    assert_eq!(plc.mem.slots[plc.mem.tags[a].base], Value::Int(42));
+    let (mut plc, mut task) = bound(&scene).unwrap();
+    plc.scan(&mut task);
+    let a = plc.memory().find("A").unwrap();
+    assert_eq!(plc.memory().slots[plc.memory().tags[a].base], Value::Int(42));
 }
 
 #[test]
@@ -372,11 +374,9 @@ fn cop_fll_and_size() {
 fn program_tags_shadow_controller_tags() {
     let program_tag = "[[tasks.programs.tags]]\nname = \"A\"\ntype = \"DINT\"\n";
     let scene = scene_of(&tag("A", "DINT"), &[("Main", "A := 5;")], program_tag, 4.0).unwrap();
-    let mut task = MotionTask::new(0.004).unwrap();
-    let mut instructions = Vec::new();
-    let mut plc = Controller::new(&scene, &mut task, &mut instructions, &mut Vec::new()).unwrap();
-    plc.scan(&mut task, &mut instructions, &mut Vec::new());
-    let read = |n: &str| plc.mem.slots[plc.mem.tags[plc.mem.find(n).unwrap()].base];
+    let (mut plc, mut task) = bound(&scene).unwrap();
+    plc.scan(&mut task);
+    let read = |n: &str| plc.memory().slots[plc.memory().tags[plc.memory().find(n).unwrap()].base];
     assert_eq!(read("P.A"), Value::Int(5));
     assert_eq!(read("A"), Value::Int(0));
 }
@@ -406,18 +406,17 @@ fn major_faults_stop_the_controller_with_type_code_and_line() {
 fn a_routine_calling_itself_overflows_the_stack() {
     let routines = [("Main", "JSR(Deeper);"), ("Deeper", "N := N + 1;\nJSR(Deeper);")];
     let scene = scene_of(&tag("N", "DINT"), &routines, "", 4.0).unwrap();
-    let mut task = MotionTask::new(0.004).unwrap();
-    let mut plc = Controller::new(&scene, &mut task, &mut Vec::new(), &mut Vec::new()).unwrap();
-    plc.scan(&mut task, &mut Vec::new(), &mut Vec::new());
+    let (mut plc, mut task) = bound(&scene).unwrap();
+    plc.scan(&mut task);
     let f = plc.major_fault().expect("stack overflow");
     assert_eq!((f.fault_type, f.code, f.line), (4, 84, 2));
     assert!(
         f.routine.ends_with("Deeper.st") && f.message.starts_with("stack overflow"),
         "{f}"
     );
-    let n = plc.mem.find("N").unwrap();
+    let n = plc.memory().find("N").unwrap();
     assert_eq!(
-        plc.mem.slots[plc.mem.tags[n].base],
+        plc.memory().slots[plc.memory().tags[n].base],
         Value::Int(exec::MAX_JSR_DEPTH as i64)
     );
 }
@@ -484,18 +483,17 @@ fn iec_ton_tof_and_triggers_in_the_iec_dialect() {
         .unwrap()
         .replace("main = \"Main.st\"", "main = { file = \"Main.st\", dialect = \"iec\" }");
     let scene = scene::parse(&scene.path, &text).unwrap();
-    let mut task = MotionTask::new(0.004).unwrap();
-    let mut plc = Controller::new(&scene, &mut task, &mut Vec::new(), &mut Vec::new()).unwrap();
+    let (mut plc, mut task) = bound(&scene).unwrap();
     let member = |plc: &Controller, t: &str, m: &str| {
-        let info = &plc.mem.tags[plc.mem.find(t).unwrap()];
+        let info = &plc.memory().tags[plc.memory().find(t).unwrap()];
         let memory::Kind::Structure(s) = info.kind else {
             panic!()
         };
-        plc.mem.slots[info.base + s.offset(m)]
+        plc.memory().slots[info.base + s.offset(m)]
     };
     let mut q = Vec::new();
     for _ in 0..10 {
-        plc.scan(&mut task, &mut Vec::new(), &mut Vec::new());
+        plc.scan(&mut task);
         task.update();
         q.push((
             member(&plc, "T1", "Q").truthy(),

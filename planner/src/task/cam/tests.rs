@@ -1564,3 +1564,46 @@ fn the_peak_slope_is_the_steepest_anywhere_in_the_profile() {
         profile.peak_slope()
     );
 }
+
+/// A conveyor's measured position drives a knife through a calculated
+/// profile (Master Reference Actual): the profile is in use by one cam.
+#[test]
+fn a_measured_master_drives_its_cam_slave() {
+    let mut task = MotionTask::new(0.004).unwrap();
+    let conveyor = task
+        .add_axis(AxisConfig::new("Conveyor", AxisKind::Linear), 0.0)
+        .unwrap();
+    let knife = task.add_axis(AxisConfig::new("Knife", AxisKind::Rotary), 0.0).unwrap();
+    let cam = [
+        CamElement {
+            master: 0.0,
+            slave: 0.0,
+            segment_type: 0,
+        },
+        CamElement {
+            master: 300.0,
+            slave: 360.0,
+            segment_type: 0,
+        },
+    ];
+    let profile = task.add_cam_profile("KnifeProfile", 2);
+    let mccp = task.add_instruction("MCCP_1");
+    task.mccp(mccp, &cam, 2, 0.0, 0.0, profile).expect("valid cam");
+    let mapc = task.add_instruction("MAPC_1");
+    let operands = MapcOperands {
+        execution_mode: 1,
+        ..MapcOperands::default()
+    };
+    task.mapc(MapcCall {
+        slave: knife,
+        master: conveyor,
+        motion_control: mapc,
+        cam_profile: profile,
+        operands,
+    })
+    .expect("calculated profile");
+    assert_eq!(task.cam_profile(profile).status(), 3);
+    task.feed_actual_position(conveyor, 450.0);
+    task.update();
+    assert!((task.axis_state(knife).command_position - 540.0).abs() < 1e-9);
+}

@@ -1563,3 +1563,29 @@ fn a_move_executed_while_an_mcs_stops_clears_stopping_status_and_starts_where_th
     assert!(task.motion_bits(s).pc);
     assert_eq!(positions(&task, &axes), vec![0.0, 10.0]);
 }
+
+/// One MCLM executed on a one-shot rung: `.DN .IP` at once, `.PC` when the
+/// line ends at its position.
+#[test]
+fn a_line_executes_on_a_one_shot_rung_and_ends_at_its_position() {
+    let mut task = MotionTask::new(0.004).unwrap();
+    let x = task.add_axis(AxisConfig::new("X", AxisKind::Linear), 0.0).unwrap();
+    let y = task.add_axis(AxisConfig::new("Y", AxisKind::Linear), 0.0).unwrap();
+    let config = CoordinateSystemConfig {
+        axis_count: 2,
+        primary_axes: 2,
+        ..CoordinateSystemConfig::new("CS")
+    };
+    let cs = task.add_coordinate_system(config, &[x, y]).unwrap();
+    let mc = task.add_instruction("MC1");
+    let line = CoordMoveInputs {
+        position: vec![0.3, 0.4],
+        ..Default::default()
+    };
+    task.execute_coordinated(cs, mc, CoordCall::Mclm(line)).unwrap();
+    assert!(task.motion_bits(mc).dn && task.motion_bits(mc).ip);
+    while !task.motion_bits(mc).pc {
+        task.update();
+    }
+    assert_eq!(task.axis_state(y).command_position, 0.4);
+}

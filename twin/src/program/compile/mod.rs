@@ -16,11 +16,13 @@ use crate::st::ast::{Access, BinaryOp, Expr, ExprKind, Ref, Stmt, StmtKind, Unar
 /// A compile error: a diagnostic pointing into the file.
 pub type Error = Box<Diagnostic>;
 
-type Result<T> = std::result::Result<T, Error>;
+/// A compile result.
+pub type Result<T> = std::result::Result<T, Error>;
 
 mod call;
 mod motion;
 mod reference;
+pub mod scene;
 
 /// What a routine, a call or an expression is compiled against.
 pub struct Compiler<'c, 'e, 's> {

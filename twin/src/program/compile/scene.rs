@@ -1,0 +1,64 @@
+//! Compiling a scene's program: every task's routines, then every
+//! `[[program]]` step's call and trigger.
+
+use super::{Compiler, Result};
+use crate::program::bindings::Env;
+use crate::program::ir::{CompiledProgram, CompiledStep, StepTrigger};
+use crate::program::memory::Memory;
+use crate::scene::{Dialect, ProgramDef, Scene, Trigger};
+
+/// Compiles a program's routines: its function-block calls first (so that
+/// their outputs compile wherever they are read), then every routine.
+///
+/// # Errors
+/// The first compile error, pointing into its routine.
+pub fn program(p: &ProgramDef, mem: &Memory, env: &mut Env<'_, '_>) -> Result<CompiledProgram> {
+    let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
+    let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
+    for def in defs.iter().filter(|d| d.dialect == Dialect::Iec) {
+        let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, env, true);
+        compiler.bind_blocks(&def.routine.body)?;
+    }
+    let mut routines = Vec::with_capacity(defs.len());
+    for def in &defs {
+        let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, env, true);
+        routines.push(compiler.block(&def.routine.body)?);
+    }
+    Ok(CompiledProgram {
+        name: p.name.clone(),
+        routine_paths: defs.iter().map(|d| d.path.clone()).collect(),
+        routines,
+    })
+}
+
+/// Compiles every step of the scene: its call, then its `when`, in order
+/// (a `when` may read the outputs of the instances earlier calls bound).
+/// The warnings a call gives are about its `call` field.
+///
+/// # Errors
+/// The first error, pointing into the step's string.
+pub fn steps(scene: &Scene, mem: &Memory, env: &mut Env<'_, '_>) -> Result<Vec<CompiledStep>> {
+    let mut steps = Vec::with_capacity(scene.program.len());
+    for (index, step) in scene.program.iter().enumerate() {
+        let field = |f: &str| format!("program[{index}].{f}");
+        let warned = env.bindings.warnings.len();
+        let mut compiler = Compiler::new(mem, None, &[], Dialect::Logix, env, false);
+        let call = compiler
+            .instruction_call(&step.call)
+            .map_err(|d| Box::new((*d).in_field(field("call"))))?;
+        let trigger = match &step.trigger {
+            Trigger::At { time_s } => StepTrigger::At(*time_s),
+            Trigger::When { condition, delay_s } => StepTrigger::When {
+                condition: compiler
+                    .condition(condition)
+                    .map_err(|d| Box::new((*d).in_field(field("when"))))?,
+                delay_s: *delay_s,
+            },
+        };
+        for w in &mut env.bindings.warnings[warned..] {
+            w.field = Some(field("call"));
+        }
+        steps.push(CompiledStep { trigger, call, index });
+    }
+    Ok(steps)
+}
