@@ -29,7 +29,7 @@ use crate::axis::{AxisConfig, AxisConfigError, AxisLimit, AxisState};
 use crate::instruction::{FbOutputs, MotionInstructionBits};
 use crate::modulo::{McBufferMode, MoveModulo, MoveModuloError, MoveModuloInputs};
 use crate::profile::{Profile, Sample, State};
-use state::{
+use engine::{
     AxisSlot, CamState, CoordState, FbSlot, Finish, InstructionSlot, Job, MctState, Need, Origin, Phase, ServoSlot,
 };
 use thiserror::Error;
@@ -37,12 +37,11 @@ use thiserror::Error;
 pub mod args;
 pub mod instructions;
 
+mod engine;
 mod handles;
-mod state;
 
 mod cam;
 mod coord;
-mod gear;
 mod homing;
 mod mct;
 mod servo;
@@ -50,12 +49,12 @@ mod stop;
 mod superimposed;
 
 pub use args::{Arg, Args};
-pub use handles::{AxisHandle, CamProfileHandle, CoordHandle, CoordInstructionHandle, FbHandle, InstructionHandle};
-pub(crate) use state::RampRun;
-pub use state::{
-    CoordCall, CoordSetupError, ERR_IDLE_MASTER_SLAVE_MOVING, ERR_PATH_COLLISION, LimitFlags, MapcCall,
+pub(crate) use engine::RampRun;
+pub use engine::{
+    CoordCall, CoordSetupError, ERR_IDLE_MASTER_SLAVE_MOVING, ERR_PATH_COLLISION, LimitFlags, MapcCall, MotionTask,
     StartedCoordMove, StopReport, TransformGeometry,
 };
+pub use handles::{AxisHandle, CamProfileHandle, CoordHandle, CoordInstructionHandle, FbHandle, InstructionHandle};
 
 /// Why a task, axis or instance cannot be set up.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -76,24 +75,6 @@ pub enum TaskError {
         #[source]
         source: AxisConfigError,
     },
-}
-
-/// A motion task: axes, instances, and the coarse update.
-#[derive(Debug, Clone)]
-pub struct MotionTask {
-    dt_s: f64,
-    updates: u64,
-    axes: Vec<AxisSlot>,
-    fbs: Vec<FbSlot>,
-    instructions: Vec<InstructionSlot>,
-    /// Coordinate systems and coordinated instructions (`task/coord.rs`).
-    coord: CoordState,
-    cam: CamState,
-    /// MCT transforms (`task/mct.rs`).
-    mct: MctState,
-    /// Between [`MotionTask::remove_superimposed`] and
-    /// [`MotionTask::add_superimposed`]: commands are bases.
-    superimposed_removed: bool,
 }
 
 impl MotionTask {
@@ -365,27 +346,6 @@ impl MotionTask {
         for fb in job_fb.into_iter().chain(buffered_fb) {
             self.finish(fb, Finish::Aborted);
         }
-    }
-
-    /// Runs one coarse update.
-    pub fn update(&mut self) {
-        self.updates += 1;
-        for i in 0..self.fbs.len() {
-            self.evaluate_inputs(FbHandle(i as u32));
-        }
-        self.evaluate_coord_instructions();
-        self.evaluate_mct_instructions();
-        self.remove_superimposed();
-        for i in 0..self.axes.len() {
-            self.advance_axis(AxisHandle(i as u32));
-        }
-        self.advance_coordinate_systems();
-        self.advance_cams_and_jogs();
-        self.advance_gears();
-        self.advance_transforms();
-        self.add_superimposed();
-        self.advance_homing();
-        self.advance_servo_states();
     }
 
     fn evaluate_inputs(&mut self, fb: FbHandle) {

@@ -1755,32 +1755,30 @@ fn a_collision_stop_under_mct_brings_the_tool_to_rest_on_its_path_and_keeps_the_
     assert!((r - 0.25).abs() < 1e-3, "{p:?} r {r}");
 }
 
-/// The operand lists in `scenes/README.md` are the instruction catalogue's,
-/// word for word (`UPDATE_DOCS=1 cargo test` rewrites them).
+/// The docs' instruction lists are the catalogue's, word for word: the
+/// operand lists in `scenes/README.md` and the table of calls in
+/// `README.md` (`UPDATE_DOCS=1 cargo test -p twin --test scenes docs`
+/// rewrites both).
 #[test]
-fn scenes_readme_operand_lists_equal_the_catalogue() {
-    let path = root().join("scenes/README.md");
-    let text = std::fs::read_to_string(&path).expect("scenes/README.md");
-    let (begin, end) = ("<!-- catalogue:begin -->\n", "<!-- catalogue:end -->");
-    let start = text.find(begin).expect("begin marker") + begin.len();
-    let stop = text.find(end).expect("end marker");
-    let expected = planner::task::instructions::markdown();
-    if std::env::var_os("UPDATE_DOCS").is_some() && std::env::var_os("CI").is_none() {
-        let updated = format!("{}{expected}{}", &text[..start], &text[stop..]);
-        std::fs::write(&path, updated).expect("rewrite scenes/README.md");
-        return;
-    }
-    assert!(
-        text[start..stop] == expected,
-        "scenes/README.md's instruction list differs from planner::task::instructions; run UPDATE_DOCS=1 cargo test -p twin --test scenes scenes_readme"
-    );
-    // Every catalogued mnemonic is also in the README's table of calls.
-    let readme = std::fs::read_to_string(root().join("README.md")).expect("README.md");
-    for ins in planner::task::instructions::INSTRUCTIONS {
+fn docs_instruction_lists_equal_the_catalogue() {
+    let update = std::env::var_os("UPDATE_DOCS").is_some() && std::env::var_os("CI").is_none();
+    for (file, marker, expected) in [
+        ("scenes/README.md", "catalogue", planner::task::instructions::markdown()),
+        ("README.md", "calls", planner::task::instructions::calls_markdown()),
+    ] {
+        let path = root().join(file);
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|_| panic!("{file}"));
+        let (begin, end) = (format!("<!-- {marker}:begin -->\n"), format!("<!-- {marker}:end -->"));
+        let start = text.find(&begin).unwrap_or_else(|| panic!("{file}: begin marker")) + begin.len();
+        let stop = text.find(&end).unwrap_or_else(|| panic!("{file}: end marker"));
+        if update {
+            let updated = format!("{}{expected}{}", &text[..start], &text[stop..]);
+            std::fs::write(&path, updated).unwrap_or_else(|_| panic!("rewrite {file}"));
+            continue;
+        }
         assert!(
-            readme.contains(&format!("`{}`", ins.mnemonic)),
-            "README.md lacks {}",
-            ins.mnemonic
+            text[start..stop] == expected,
+            "{file}'s instruction list differs from planner::task::instructions; run UPDATE_DOCS=1 cargo test -p twin --test scenes docs"
         );
     }
 }

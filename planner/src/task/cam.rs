@@ -54,13 +54,13 @@ use crate::mapc::axis::{CamEvent, CamRequest, SlaveCamStatus};
 use crate::mapc::{Mapc, MapcError, MasterReference};
 use crate::mccp::{CamElement, CamProfile, CamProfileTag, MccpError};
 use crate::profile::{Limits, Profile, Sample};
+use crate::task::engine::Finish;
+use crate::task::engine::Need;
+use crate::task::engine::SuperKind;
+use crate::task::engine::Takes;
+use crate::task::engine::{CamAxis, LimitFlags, MapcCall, MasterKey, RampRun, Tag};
 use crate::task::handles::CamProfileHandle;
 use crate::task::handles::{AxisHandle, InstructionHandle};
-use crate::task::state::Finish;
-use crate::task::state::Need;
-use crate::task::state::SuperKind;
-use crate::task::state::Takes;
-use crate::task::state::{CamAxis, LimitFlags, MapcCall, MasterKey, RampRun, Tag};
 use std::sync::Arc;
 
 impl MotionTask {

@@ -140,9 +140,9 @@
 use super::MotionTask;
 use crate::coord::{CoordMove, CoordMoveError, CoordStatus, CoordinateSystem, CoordinateSystemConfig, MoveContext};
 use crate::instruction::MotionInstructionBits;
+use crate::task::engine::{CoordCall, CoordSetupError, InstrSlot, SystemSlot};
 use crate::task::handles::{AxisHandle, InstructionHandle};
 use crate::task::handles::{CoordHandle, CoordInstructionHandle};
-use crate::task::state::{CoordCall, CoordSetupError, InstrSlot, SystemSlot};
 
 mod advance;
 mod execute;

@@ -4,9 +4,9 @@
 use super::MotionTask;
 use crate::homing::HomeMode;
 use crate::servo::StateError;
+use crate::task::engine::Finish;
+use crate::task::engine::Need;
 use crate::task::handles::{AxisHandle, InstructionHandle};
-use crate::task::state::Finish;
-use crate::task::state::Need;
 
 impl MotionTask {
     /// MAH (Motion Axis Home) on `axis` with its configured homing

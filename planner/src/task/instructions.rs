@@ -26,6 +26,10 @@ macro_rules! instructions {
         /// Every instruction the product accepts, in the order the docs
         /// list them.
         pub static INSTRUCTIONS: &[&Instruction] = &[$(&$module::$entry),*];
+
+        /// Each instruction's unit (its module's name), as
+        /// [`INSTRUCTIONS`] lists them.
+        static UNITS: &[&str] = &[$(stringify!($module)),*];
     };
 }
 
@@ -84,8 +88,40 @@ pub const NOT_SIMULATED: &[&str] = &[
     "MCCD", "MCTP", "MCTO", "MCTPO", "MCPM", "MDCC",
 ];
 
-/// The catalogue of every instruction as Markdown: per instruction a heading and a table of its
-/// operands (call position, name, data type, Format, faceplate index,
+/// The file of `instruction`'s unit, from the planner's root
+/// (`src/task/instructions/mag.rs`).
+pub fn unit_file(instruction: &Instruction) -> String {
+    let unit = INSTRUCTIONS
+        .iter()
+        .position(|i| *i == instruction)
+        .map_or("?", |k| UNITS[k]);
+    format!("src/task/instructions/{unit}.rs")
+}
+
+/// The instructions a program can call, as the Markdown table the
+/// project's `README.md` holds between its `calls:begin` and `calls:end`
+/// markers: call, what it does, its unit, its specification, whether a
+/// routine may call it.
+pub fn calls_markdown() -> String {
+    let mut out = String::from("| call | what it does | unit (`planner/`) | specification | in routines |\n");
+    out.push_str("| --- | --- | --- | --- | --- |\n");
+    for ins in INSTRUCTIONS {
+        let (call, routines) = match ins.style {
+            CallStyle::Positional => (format!("`{}`", ins.mnemonic), "yes"),
+            CallStyle::Named => (format!("`{}` (named inputs)", ins.mnemonic), "IEC dialect"),
+        };
+        out.push_str(&format!(
+            "| {call} | {} | `{}` | {} | {routines} |\n",
+            ins.summary,
+            unit_file(ins),
+            ins.reference
+        ));
+    }
+    out
+}
+
+/// The catalogue of every instruction as Markdown: per instruction a
+/// heading and a table of its operands (call position, name, data type, Format, faceplate index,
 /// enumeration words with their codes). `scenes/README.md` holds exactly
 /// this text between its `catalogue:begin` and `catalogue:end` markers.
 pub fn markdown() -> String {

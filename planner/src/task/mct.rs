@@ -63,8 +63,8 @@ use crate::mct::instruction::{
 use crate::mct::{GeometryKind, GeometryParams, Vec3};
 use crate::profile::Sample;
 use crate::servo::CipAxisState;
+use crate::task::engine::{BeforeUpdate, MctSlot, TransformGeometry};
 use crate::task::handles::{AxisHandle, CoordHandle, InstructionHandle};
-use crate::task::state::{BeforeUpdate, MctSlot, TransformGeometry};
 
 fn axis_id(a: AxisHandle) -> AxisId {
     AxisId(a.0)

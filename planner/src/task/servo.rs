@@ -24,9 +24,9 @@ use crate::servo::{
     AxisFaults, AxisStatusBits, AxisType, CipAxisState, FaultAction, MOVING_FRACTION, MotionFaults,
     SERVO_ENABLE_UPDATES, StateError,
 };
+use crate::task::engine::SuperKind;
+use crate::task::engine::{Need, Power};
 use crate::task::handles::{AxisHandle, CoordHandle, InstructionHandle};
-use crate::task::state::SuperKind;
-use crate::task::state::{Need, Power};
 
 impl MotionTask {
     /// The axis' `CIPAxisState`.

@@ -44,9 +44,9 @@
 use super::MotionTask;
 use crate::modulo::MoveModuloError;
 use crate::profile::{Limits, Profile};
+use crate::task::engine::StopReport;
+use crate::task::engine::{Finish, Job};
 use crate::task::handles::{AxisHandle, FbHandle, InstructionHandle};
-use crate::task::state::StopReport;
-use crate::task::state::{Finish, Job};
 
 impl MotionTask {
     /// Coordinated stop of every axis with its configured deceleration and

@@ -38,8 +38,8 @@
 
 use super::MotionTask;
 use crate::profile::{Limits, Profile, Sample, State};
+use crate::task::engine::{SuperKind, SuperRun};
 use crate::task::handles::{AxisHandle, InstructionHandle};
-use crate::task::state::{SuperKind, SuperRun};
 
 impl MotionTask {
     /// The superimposed offset in the axis' command after the last update

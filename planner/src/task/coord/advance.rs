@@ -4,8 +4,8 @@
 use crate::coord::{CoordMove, CoordMoveError, Driver, TerminationType, primary_of};
 use crate::profile::{Limits, Profile, Sample, State, stopping_distance};
 use crate::task::MotionTask;
+use crate::task::engine::Component;
 use crate::task::handles::{CoordHandle, CoordInstructionHandle};
-use crate::task::state::Component;
 use crate::vector::{cross, dot, norm, sub};
 
 impl MotionTask {

@@ -13,10 +13,10 @@ use crate::mccm::mccm;
 use crate::mclm::mclm;
 use crate::profile::{Limits, Profile, State, stopping_distance};
 use crate::task::MotionTask;
+use crate::task::engine::Finish;
+use crate::task::engine::{Component, CoordCall, ERR_IDLE_MASTER_SLAVE_MOVING, Lock};
 use crate::task::handles::AxisHandle;
 use crate::task::handles::{CoordHandle, CoordInstructionHandle};
-use crate::task::state::Finish;
-use crate::task::state::{Component, CoordCall, ERR_IDLE_MASTER_SLAVE_MOVING, Lock};
 use crate::vector::norm;
 
 impl MotionTask {

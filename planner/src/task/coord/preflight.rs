@@ -35,8 +35,8 @@
 use super::{add_displacement, rest_length};
 use crate::profile::{Profile, State, stopping_distance};
 use crate::task::MotionTask;
+use crate::task::engine::{ERR_PATH_COLLISION, IdleState, Start, StartedCoordMove};
 use crate::task::handles::{CoordHandle, CoordInstructionHandle};
-use crate::task::state::{ERR_PATH_COLLISION, IdleState, Start, StartedCoordMove};
 
 impl MotionTask {
     /// The state a component starting now on `cs` would be undone to.

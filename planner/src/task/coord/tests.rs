@@ -8,8 +8,8 @@ use crate::coord::{CoordMoveInputs, CoordinateSystemConfig, LockDirection, McsIn
 use crate::dynamics::MoveDynamics;
 use crate::mccm::MccmInputs;
 use crate::modulo::{McBufferMode, McDirection, MoveModuloInputs};
+use crate::task::engine::{ERR_IDLE_MASTER_SLAVE_MOVING, Lock};
 use crate::task::handles::FbHandle;
-use crate::task::state::{ERR_IDLE_MASTER_SLAVE_MOVING, Lock};
 use crate::vector::norm;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -27,6 +27,9 @@ pub struct Instruction {
     pub title: &'static str,
     /// What it does, in one line (the docs' table).
     pub summary: &'static str,
+    /// Where its behaviour is specified: a document of `shared/spec/`
+    /// (`000_…`) or the Logix manual whose rules it follows.
+    pub reference: &'static str,
     /// How it is called.
     pub style: CallStyle,
     /// Operands in call order.

@@ -13,6 +13,7 @@ pub const MAFR: Instruction = Instruction {
     mnemonic: "MAFR",
     title: "Motion Axis Fault Reset",
     summary: "clears an axis' faults; an axis a fault disabled is servo-off",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),

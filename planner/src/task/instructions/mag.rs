@@ -1,6 +1,7 @@
 //! MAG (Motion Axis Gear): electronic gearing of a slave axis to a master
-//! axis at a ratio. The gearing runs in the engine (`task/gear.rs`), which
-//! moves the slave each coarse update.
+//! axis at a ratio. The gearing is a process of the engine: its state is
+//! an axis' `GearRun` (`task/engine.rs`), and its step each coarse update
+//! (`advance_gears`, below) moves the slave.
 //!
 //! `MAG(SlaveAxis, MasterAxis, MotionControl, Direction, Ratio, SlaveCounts,
 //! MasterCounts, MasterReference, RatioFormat, Clutch, AccelRate,
@@ -46,8 +47,9 @@ use super::entry::{Instruction, no_load};
 use crate::dynamics::time_rate;
 use crate::instruction::{NoFault, Refusal};
 use crate::mapc::MasterReference;
-use crate::task::state::GearRun;
-use crate::task::state::Need;
+use crate::profile::Sample;
+use crate::task::engine::GearRun;
+use crate::task::engine::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
 
 /// Motion Axis Gear.
@@ -55,6 +57,7 @@ pub const MAG: Instruction = Instruction {
     mnemonic: "MAG",
     title: "Motion Axis Gear",
     summary: "electronic gearing: real or fractional ratio, direction (same, opposite, reverse, unchanged), master actual or command, clutch; a MAM with Merge Disabled rides on it; MAS Gear or All stops it",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Slave Axis", "AXIS", Format::Tag, Kind::Axis, 0),
@@ -318,6 +321,78 @@ impl MotionTask {
         b.dn = true;
         b.ip = true;
         Ok(())
+    }
+}
+
+// The gearing process. Each coarse update, after jogs, moves and cams
+// have advanced, a geared slave's command moves by `ratio × Δmaster` (the
+// master's actual or command position, its MRP redefinitions taken out, as
+// for a cam); while the clutch is slipping, by the clutch velocity instead,
+// which ramps to `ratio × master velocity` at the clutch acceleration and
+// then locks.
+impl MotionTask {
+    /// Whether `axis` is geared (`GearingStatus`), and locked to its master
+    /// (`GearingLockStatus`: not while the clutch slips).
+    pub fn gearing_status(&self, axis: AxisHandle) -> (bool, bool) {
+        match &self.axes[axis.0 as usize].gear {
+            Some(g) => (true, g.clutch.is_none()),
+            None => (false, false),
+        }
+    }
+
+    /// Ends the gearing of `axis` (`.IP` clears; the command keeps its
+    /// state for whatever takes the axis next).
+    pub(crate) fn end_gear(&mut self, axis: AxisHandle) -> bool {
+        match self.axes[axis.0 as usize].gear.take() {
+            Some(g) => {
+                self.motion_bits_mut(g.control).ip = false;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Step of an update: every geared slave follows its master.
+    pub(crate) fn advance_gears(&mut self) {
+        let dt = self.dt_s;
+        for i in 0..self.axes.len() {
+            let Some(mut g) = self.axes[i].gear.take() else {
+                continue;
+            };
+            let m = self.cam_master_position((g.master, g.reference));
+            let dm = m - g.last_master;
+            g.last_master = m;
+            let geared_velocity = g.ratio * dm / dt;
+            let dp = match g.clutch {
+                None => g.ratio * dm,
+                Some(accel) => {
+                    let step = accel * dt;
+                    let dv = geared_velocity - g.velocity;
+                    if dv.abs() <= step {
+                        g.clutch = None;
+                        g.ratio * dm
+                    } else {
+                        g.velocity += step.copysign(dv);
+                        g.velocity * dt
+                    }
+                }
+            };
+            let old = self.axes[i].command;
+            let v = dp / dt;
+            if g.clutch.is_none() {
+                g.velocity = v;
+            }
+            self.axes[i].gear = Some(g);
+            self.set_command(
+                AxisHandle(i as u32),
+                Sample {
+                    position: old.position + dp,
+                    velocity: v,
+                    acceleration: (v - old.velocity) / dt,
+                    jerk: 0.0,
+                },
+            );
+        }
     }
 }
 

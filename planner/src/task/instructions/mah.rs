@@ -16,6 +16,7 @@ pub const MAH: Instruction = Instruction {
     mnemonic: "MAH",
     title: "Motion Axis Home",
     summary: "homes an axis as its `home_*` attributes say (active or passive, immediate sequence); sets `AxisHomedStatus`",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),

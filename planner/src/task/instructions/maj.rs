@@ -21,7 +21,7 @@
 //! The jog runs as the axis' ramp in the engine (`task/cam.rs`), which a
 //! MAS, a move or a cam ends; `.DN` and `.IP` at once.
 
-use crate::task::state::Takes;
+use crate::task::engine::Takes;
 use crate::axis::AxisConfig;
 use crate::catalogue::words::{JOG_ACCEL_UNITS, JOG_DIRECTION, JOG_SPEED_UNITS, PROFILE, op};
 use crate::catalogue::{CallStyle, Format, Kind};
@@ -30,7 +30,7 @@ use super::entry::{Instruction, no_load};
 use crate::dynamics::{positive, time_rate};
 use crate::instruction::{NoFault, Refusal};
 use crate::profile::{Limits, Profile};
-use crate::task::state::Need;
+use crate::task::engine::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask, RampRun};
 
 /// Motion Axis Jog (its first ten operands).
@@ -38,6 +38,7 @@ pub const MAJ: Instruction = Instruction {
     mnemonic: "MAJ",
     title: "Motion Axis Jog",
     summary: "velocity jog, chiefly to drive cam masters (a master must move for a slave to follow)",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),

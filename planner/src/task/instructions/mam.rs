@@ -53,7 +53,7 @@
 //!   between), as Logix does. Superimposing a MAM on a jog is not
 //!   simulated: it ends the jog as a merge does.
 
-use crate::task::state::Takes;
+use crate::task::engine::Takes;
 use crate::axis::AxisConfig;
 use crate::catalogue::words::{
     INTEGER, JOG_ACCEL_UNITS, JOG_SPEED_UNITS, LOCK_DIRECTION, MAM_MERGE, MERGE_SPEED, NUMERIC, PROFILE,
@@ -65,7 +65,7 @@ use super::entry::{Instruction, no_load};
 use crate::dynamics::{MoveDynamics, time_rate};
 use crate::instruction::{LogixFault, Refusal};
 use crate::profile::{Limits, Profile, State, jerk_from_percent_of_time};
-use crate::task::state::Need;
+use crate::task::engine::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
 use thiserror::Error;
 
@@ -74,6 +74,7 @@ pub const MAM: Instruction = Instruction {
     mnemonic: "MAM",
     title: "Motion Axis Move",
     summary: "single-axis move: absolute, incremental, rotary shortest path / positive / negative, trapezoidal or S-curve with jerk units, merge and merge speed; a second MAM replaces the running one",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),

@@ -18,6 +18,7 @@ pub const MAPC: Instruction = Instruction {
     mnemonic: "MAPC",
     title: "Motion Axis Position Cam",
     summary: "position cam of a slave on a master (modes, schedules, cam types, slip clutch)",
+    reference: "`004_…` (MAPC)",
     style: CallStyle::Positional,
     operands: MAPC_OPERANDS,
     execute,

@@ -21,8 +21,8 @@ use super::entry::{Instruction, no_load};
 use crate::dynamics::positive;
 use crate::instruction::{NoFault, Refusal};
 use crate::profile::{Limits, Profile, Sample, State};
-use crate::task::state::Need;
-use crate::task::state::SuperKind;
+use crate::task::engine::Need;
+use crate::task::engine::SuperKind;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask, RampRun};
 
 /// Motion Axis Stop (its first six operands).
@@ -30,6 +30,7 @@ pub const MAS: Instruction = Instruction {
     mnemonic: "MAS",
     title: "Motion Axis Stop",
     summary: "stops what its Stop Type names on an axis (jogs, moves, position cams, gearing) with a ramp to rest",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),

@@ -13,6 +13,7 @@ pub const MASD: Instruction = Instruction {
     mnemonic: "MASD",
     title: "Motion Axis Shutdown",
     summary: "ends the motion of an axis, disables its drive and shuts it down",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),

@@ -13,6 +13,7 @@ pub const MASR: Instruction = Instruction {
     mnemonic: "MASR",
     title: "Motion Axis Shutdown Reset",
     summary: "takes an axis out of Shutdown (servo off; a virtual axis on)",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),

@@ -23,6 +23,7 @@ pub const MC_MOVE_MODULO: Instruction = Instruction {
     mnemonic: "MC_MoveModulo",
     title: "Modulo positioning",
     summary: "modulo positioning of a rotary axis, all BufferModes (PLCopen function block, named inputs on an instance)",
+    reference: "`003_…` (MC_MoveModulo)",
     style: CallStyle::Named,
     operands: &[
         op("Axis", "AXIS_REF", Format::Tag, Kind::Axis, -1),

@@ -19,6 +19,7 @@ pub const MCCM: Instruction = Instruction {
     mnemonic: "MCCM",
     title: "Motion Coordinated Circular Move",
     summary: "coordinated circular move of a `COORDINATE_SYSTEM`: 2D and 3D arcs, every circle type, termination types 0–6 with blending, merge, master-driven mode",
+    reference: "`000_…` (MCCM)",
     style: CallStyle::Positional,
     operands: MCCM_OPERANDS,
     execute,

@@ -19,6 +19,7 @@ pub const MCCP: Instruction = Instruction {
     mnemonic: "MCCP",
     title: "Motion Calculate Cam Profile",
     summary: "calculates a `CAM_PROFILE` from a `CAM` array (linear and clamped-cubic segments)",
+    reference: "`002_…` (MCCP)",
     style: CallStyle::Positional,
     operands: MCCP_OPERANDS,
     execute,

@@ -24,6 +24,7 @@ pub const MCLM: Instruction = Instruction {
     mnemonic: "MCLM",
     title: "Motion Coordinated Linear Move",
     summary: "coordinated linear move of a `COORDINATE_SYSTEM`, termination types 0–6 with blending, merge, master-driven mode",
+    reference: "`000_…` (MCCM)",
     style: CallStyle::Positional,
     operands: &MCLM_OPERANDS,
     execute,

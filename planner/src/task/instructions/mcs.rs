@@ -16,6 +16,7 @@ pub const MCS: Instruction = Instruction {
     mnemonic: "MCS",
     title: "Motion Coordinated Stop",
     summary: "coordinated stop: stops a system and cancels its queue",
+    reference: "`000_…` (MCCM)",
     style: CallStyle::Positional,
     operands: &[
         op("Coordinate System", "COORDINATE_SYSTEM", Format::Tag, Kind::CoordinateSystem, 0),

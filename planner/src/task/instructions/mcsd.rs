@@ -13,6 +13,7 @@ pub const MCSD: Instruction = Instruction {
     mnemonic: "MCSD",
     title: "Motion Coordinated Shutdown",
     summary: "MASD on every axis of a coordinate system; its coordinated motion is cancelled",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Coordinate System", "COORDINATE_SYSTEM", Format::Tag, Kind::CoordinateSystem, 0),

@@ -13,6 +13,7 @@ pub const MCSR: Instruction = Instruction {
     mnemonic: "MCSR",
     title: "Motion Coordinated Shutdown Reset",
     summary: "MASR on every axis of a coordinate system",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Coordinate System", "COORDINATE_SYSTEM", Format::Tag, Kind::CoordinateSystem, 0),

@@ -22,6 +22,7 @@ pub const MCT: Instruction = Instruction {
     mnemonic: "MCT",
     title: "Motion Coordinated Transform",
     summary: "coordinate transform: a Cartesian system drives a robot's joint system (Cartesian gantry/H-bot, articulated, SCARA, Delta 3D/2D, SCARA Delta), bidirectional, with orientation and translation",
+    reference: "`001_…` (MCT)",
     style: CallStyle::Positional,
     operands: &[
         op("Source System", "COORDINATE_SYSTEM", Format::Tag, Kind::CoordinateSystem, 0),

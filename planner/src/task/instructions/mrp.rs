@@ -33,7 +33,7 @@ use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
 use super::entry::{Instruction, no_load};
 use crate::instruction::{NoFault, Refusal};
-use crate::task::state::Need;
+use crate::task::engine::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
 
 /// Motion Redefine Position.
@@ -41,6 +41,7 @@ pub const MRP: Instruction = Instruction {
     mnemonic: "MRP",
     title: "Motion Redefine Position",
     summary: "redefines an axis position, no motion",
+    reference: "`004_…` (MAPC, with MRP)",
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),

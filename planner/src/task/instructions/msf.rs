@@ -14,6 +14,7 @@ pub const MSF: Instruction = Instruction {
     mnemonic: "MSF",
     title: "Motion Servo Off",
     summary: "opens the servo loop of an axis and disables its drive; its motion ends",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS_CIP_DRIVE", Format::Tag, Kind::DriveAxis, 0),

@@ -15,6 +15,7 @@ pub const MSO: Instruction = Instruction {
     mnemonic: "MSO",
     title: "Motion Servo On",
     summary: "closes the servo loop of an axis (a drive: virtual axes are always on); `.DN` once it is closed",
+    reference: "Logix motion reference",
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS_CIP_DRIVE", Format::Tag, Kind::DriveAxis, 0),

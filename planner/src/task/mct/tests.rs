@@ -11,7 +11,7 @@ use crate::mccm::MccmInputs;
 use crate::mct::Geometry;
 use crate::mct::Placement;
 use crate::task::TaskError;
-use crate::task::state::CoordCall;
+use crate::task::engine::CoordCall;
 
 const DT: f64 = 0.004;
 

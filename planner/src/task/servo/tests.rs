@@ -8,9 +8,9 @@ use crate::coord::{CoordMoveInputs, CoordinateSystemConfig};
 use crate::dynamics::MoveDynamics;
 use crate::instruction::LogixFault;
 use crate::modulo::{MoveModuloError, MoveModuloInputs};
+use crate::task::engine::CoordCall;
 use crate::task::instructions::maj::{MajError as JogError, MajOperands};
 use crate::task::instructions::mas::MasOperands;
-use crate::task::state::CoordCall;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

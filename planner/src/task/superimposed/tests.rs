@@ -7,11 +7,11 @@ use crate::coord::CoordMoveInputs;
 use crate::dynamics::MoveDynamics;
 use crate::mapc::MapcOperands;
 use crate::mccp::CamElement;
+use crate::task::engine::{CoordCall, MapcCall};
 use crate::task::handles::CoordHandle;
 use crate::task::instructions::maj::MajOperands;
 use crate::task::instructions::mam::MamOperands;
 use crate::task::instructions::mas::MasOperands;
-use crate::task::state::{CoordCall, MapcCall};
 
 const DT: f64 = 0.004;
 

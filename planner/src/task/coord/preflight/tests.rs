@@ -6,8 +6,8 @@ use crate::axis::{AxisConfig, AxisKind};
 use crate::coord::{CoordMoveInputs, CoordinateSystemConfig};
 use crate::dynamics::MoveDynamics;
 use crate::mccm::MccmInputs;
+use crate::task::engine::CoordCall;
 use crate::task::handles::AxisHandle;
-use crate::task::state::CoordCall;
 
 const DT: f64 = 0.004;
 

@@ -1,8 +1,11 @@
-//! What the motion engine holds, and the reports and calls its methods
-//! take and return: per axis, per function-block instance, per control
-//! structure, per coordinate system, cam and transform. The engine's
-//! behaviour is in the other files of `task/`, each an `impl MotionTask`
-//! over this state; nothing here refers to them.
+//! The motion engine: [`MotionTask`], what it holds — per axis, per
+//! function-block instance, per control structure, per coordinate system,
+//! cam and transform — and the order of the processes in one coarse
+//! update ([`MotionTask::update`]); with the reports and calls its methods
+//! take and return. Each process's behaviour is an `impl MotionTask` in
+//! its own file of `task/` (or, for an instruction's own process such as
+//! MAG's gearing, in the instruction's unit), called from here by method;
+//! nothing here names those files.
 
 use super::handles::{AxisHandle, CamProfileHandle, CoordHandle, CoordInstructionHandle, FbHandle, InstructionHandle};
 use crate::axis::AxisConfig;
@@ -21,6 +24,47 @@ use crate::modulo::{MoveModulo, MoveModuloError, MoveModuloInputs};
 use crate::profile::{Profile, Sample};
 use crate::servo::{AxisFaults, AxisType, MotionFaults};
 use thiserror::Error;
+
+/// A motion task: axes, instances, and the coarse update.
+#[derive(Debug, Clone)]
+pub struct MotionTask {
+    pub(super) dt_s: f64,
+    pub(super) updates: u64,
+    pub(super) axes: Vec<AxisSlot>,
+    pub(super) fbs: Vec<FbSlot>,
+    pub(super) instructions: Vec<InstructionSlot>,
+    /// Coordinate systems and coordinated instructions (`task/coord.rs`).
+    pub(super) coord: CoordState,
+    pub(super) cam: CamState,
+    /// MCT transforms (`task/mct.rs`).
+    pub(super) mct: MctState,
+    /// Between [`MotionTask::remove_superimposed`](MotionTask::remove_superimposed) and
+    /// [`MotionTask::add_superimposed`](MotionTask::add_superimposed): commands are bases.
+    pub(super) superimposed_removed: bool,
+}
+
+impl MotionTask {
+    /// Runs one coarse update.
+    pub fn update(&mut self) {
+        self.updates += 1;
+        for i in 0..self.fbs.len() {
+            self.evaluate_inputs(FbHandle(i as u32));
+        }
+        self.evaluate_coord_instructions();
+        self.evaluate_mct_instructions();
+        self.remove_superimposed();
+        for i in 0..self.axes.len() {
+            self.advance_axis(AxisHandle(i as u32));
+        }
+        self.advance_coordinate_systems();
+        self.advance_cams_and_jogs();
+        self.advance_gears();
+        self.advance_transforms();
+        self.add_superimposed();
+        self.advance_homing();
+        self.advance_servo_states();
+    }
+}
 
 // The task itself: axes, function-block instances, control structures.
 
@@ -55,7 +99,7 @@ pub(super) struct AxisSlot {
     /// A MAM or MAJ running on top of the axis' base motion
     /// (`task/superimposed.rs`).
     pub(super) superimposed: Option<SuperRun>,
-    /// MAG gearing of the axis to a master (`task/gear.rs`).
+    /// MAG gearing of the axis to a master (`task/instructions/mag.rs`).
     pub(super) gear: Option<GearRun>,
 }
 
@@ -466,7 +510,7 @@ pub(super) struct ServoSlot {
     pub(super) motion_faults: MotionFaults,
     /// The axis' position error exceeded its tolerance in the last update.
     pub(super) position_error_exceeded: bool,
-    /// An active MAH waiting for the axis to come to rest (`task/home.rs`).
+    /// An active MAH waiting for the axis to come to rest (`task/homing.rs`).
     pub(super) homing: Option<InstructionHandle>,
     /// `AxisHomedStatus`: an MAH completed.
     pub(super) homed: bool,
@@ -528,7 +572,7 @@ pub(super) struct SuperRun {
     pub(super) applied: Sample,
 }
 
-// Gearing (`task/gear.rs`).
+// Gearing (MAG, `task/instructions/mag.rs`).
 
 /// The gearing of one slave axis.
 #[derive(Debug, Clone)]
