@@ -30,6 +30,12 @@ pub trait LogixFault: std::error::Error + Send + Sync + 'static {
     fn segment(&self) -> i32 {
         0
     }
+    /// What the `ERR` code means, from the catalogue
+    /// ([`crate::catalogue::ERRORS`]); the `Display` text is the
+    /// instruction's own sentence about this call.
+    fn meaning(&self) -> Option<&'static str> {
+        crate::catalogue::err_meaning(self.err())
+    }
 }
 
 /// A refusal of any instruction, as

@@ -100,6 +100,7 @@ impl Instruction {
     /// let bad = [Arg::Axis(x), Arg::Control(mc), Arg::Integer(7), Arg::Integer(1), Arg::Number(5.0)];
     /// let e = MRP.execute(&mut task, &Args::new(&bad)).unwrap_err();
     /// assert_eq!((e.err(), e.exerr()), (13, 2));
+    /// assert_eq!(e.meaning(), Some("parameter out of range"));
     /// assert!(task.motion_bits(mc).er);
     /// ```
     pub fn execute(&self, task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
