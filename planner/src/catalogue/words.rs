@@ -17,6 +17,50 @@ pub const fn op(name: &'static str, data_type: &'static str, format: Format, kin
     }
 }
 
+/// The operands of an axis-state instruction (MAFR, MAH, MASD, MASR): the
+/// axis and its control structure.
+pub const AXIS_AND_CONTROL: &[Operand] = &[
+    op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),
+    op(
+        "Motion Control",
+        "MOTION_INSTRUCTION",
+        Format::Tag,
+        Kind::MotionControl,
+        1,
+    ),
+];
+
+/// The operands of a drive's servo instruction (MSO, MSF): an axis with a
+/// drive and its control structure.
+pub const DRIVE_AXIS_AND_CONTROL: &[Operand] = &[
+    op("Axis", "AXIS_CIP_DRIVE", Format::Tag, Kind::DriveAxis, 0),
+    op(
+        "Motion Control",
+        "MOTION_INSTRUCTION",
+        Format::Tag,
+        Kind::MotionControl,
+        1,
+    ),
+];
+
+/// The operands of a coordinate system's state instruction (MCSD, MCSR).
+pub const SYSTEM_AND_CONTROL: &[Operand] = &[
+    op(
+        "Coordinate System",
+        "COORDINATE_SYSTEM",
+        Format::Tag,
+        Kind::CoordinateSystem,
+        0,
+    ),
+    op(
+        "Motion Control",
+        "MOTION_INSTRUCTION",
+        Format::Tag,
+        Kind::MotionControl,
+        1,
+    ),
+];
+
 /// An enumeration word and its code.
 pub const fn w(word: &'static str, code: i64) -> Word {
     Word { word, code }

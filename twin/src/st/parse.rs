@@ -533,16 +533,9 @@ impl<'s> Parser<'s> {
         let open = self.at;
         self.sym("(")?;
         let mut args: Vec<Arg> = Vec::new();
-        if self.is_sym(")") {
-            self.bump();
-            return Ok(Call {
-                name,
-                name_span,
-                args,
-                span: name_span.to(self.span_from(open)),
-            });
-        }
-        loop {
+        // `()`, or arguments separated by commas up to `)` (after a comma
+        // an argument must follow).
+        while !self.is_sym(")") || !args.is_empty() {
             let arg_name = match (self.tok(0), self.tok(1)) {
                 (Tok::Ident(n), Tok::Sym(":=")) => {
                     let n = n.clone();
@@ -551,16 +544,11 @@ impl<'s> Parser<'s> {
                     Some((n, span))
                 }
                 // `Input value` among named inputs: the `:=` is missing.
-                (Tok::Ident(n), next)
+                (Tok::Ident(_), next)
                     if args.first().is_some_and(|a| a.name.is_some())
                         && !matches!(next, Tok::Sym("," | ")" | ";" | "." | "[") | Tok::Eof) =>
                 {
-                    let (n, found) = (n.clone(), next.to_string());
-                    return Err(Box::new(
-                        Diagnostic::error(format!("expected ':=' after input '{n}', found {found}"))
-                            .with_label(self.source.label(self.span(1), "expected ':=' before this"))
-                            .with_help(format!("name the input and its value: {n} := value")),
-                    ));
+                    return Err(self.missing_assign());
                 }
                 _ => None,
             };
@@ -570,17 +558,18 @@ impl<'s> Parser<'s> {
             if self.is_sym(",") {
                 self.bump();
             } else if self.is_sym(")") {
-                self.bump();
-                return Ok(Call {
-                    name,
-                    name_span,
-                    args,
-                    span: name_span.to(self.span_from(open)),
-                });
+                break;
             } else {
                 return Err(self.unexpected("')' or ','"));
             }
         }
+        self.bump();
+        Ok(Call {
+            name,
+            name_span,
+            args,
+            span: name_span.to(self.span_from(open)),
+        })
     }
 
     /// Positional and named arguments do not mix; an input is named once.
@@ -615,6 +604,48 @@ impl<'s> Parser<'s> {
         }
     }
 
+    // The errors of a call, built outside the functions that recurse (a
+    // debug build gives every local of a function a slot in its frame).
+
+    /// `f(a, b` without its `)`.
+    #[cold]
+    #[inline(never)]
+    fn unclosed_call(&self, open: usize) -> Box<Diagnostic> {
+        let found = self.tok(0).to_string();
+        Box::new(
+            Diagnostic::error(format!(
+                "expected ')' or ',', found {found}: the call's '(' is never closed"
+            ))
+            .with_label(self.source.label(self.span(0), "expected ')' here"))
+            .with_label(self.source.label(self.span_at(open), "'(' opened here")),
+        )
+    }
+
+    /// Two operands side by side (`f(a b)`).
+    #[cold]
+    #[inline(never)]
+    fn missing_comma(&self) -> Box<Diagnostic> {
+        let found = self.tok(0).to_string();
+        Box::new(
+            Diagnostic::error(format!("expected ')' or ',', found {found}"))
+                .with_label(self.source.label(self.span(0), "expected ',' before this"))
+                .with_help("separate the operands with commas"),
+        )
+    }
+
+    /// `Input value` among named inputs: the `:=` is missing.
+    #[cold]
+    #[inline(never)]
+    fn missing_assign(&self) -> Box<Diagnostic> {
+        let (input, found) = (self.tok(0).to_string(), self.tok(1).to_string());
+        let input = input.trim_matches('\'');
+        Box::new(
+            Diagnostic::error(format!("expected ':=' after input '{input}', found {found}"))
+                .with_label(self.source.label(self.span(1), "expected ':=' before this"))
+                .with_help(format!("name the input and its value: {input} := value")),
+        )
+    }
+
     /// One argument: the tokens up to a `,` or `)` outside brackets.
     fn argument(&mut self, name: Option<(String, Span)>, open: usize) -> R<Arg> {
         let start = self.at;
@@ -625,14 +656,7 @@ impl<'s> Parser<'s> {
             match t {
                 Tok::Eof | Tok::Sym(";") => {
                     self.at = stop;
-                    let found = self.tok(0).to_string();
-                    return Err(Box::new(
-                        Diagnostic::error(format!(
-                            "expected ')' or ',', found {found}: the call's '(' is never closed"
-                        ))
-                        .with_label(self.source.label(self.span(0), "expected ')' here"))
-                        .with_label(self.source.label(self.span_at(open), "'(' opened here")),
-                    ));
+                    return Err(self.unclosed_call(open));
                 }
                 Tok::Sym("(" | "[") => depth += 1,
                 Tok::Sym(")" | "]") if depth > 0 => depth -= 1,
@@ -653,12 +677,7 @@ impl<'s> Parser<'s> {
             Ok(e) if self.at == stop => Some(e),
             // Two operands side by side: a comma is missing between them.
             Ok(_) if matches!(self.tok(0), Tok::Ident(_) | Tok::Int(_) | Tok::Real(_)) => {
-                let found = self.tok(0).to_string();
-                return Err(Box::new(
-                    Diagnostic::error(format!("expected ')' or ',', found {found}"))
-                        .with_label(self.source.label(self.span(0), "expected ',' before this"))
-                        .with_help("separate the operands with commas"),
-                ));
+                return Err(self.missing_comma());
             }
             _ => None,
         };
@@ -729,43 +748,69 @@ impl<'s> Parser<'s> {
         e
     }
 
-    fn level_op(&self, level: usize) -> R<Option<BinaryOp>> {
+    /// The binary operator at the current token and its precedence level
+    /// (0 `OR` … 6 `*`, `/`, `MOD`: the Logix table), if one is there.
+    fn binary_op(&self) -> R<Option<(BinaryOp, usize)>> {
         let word = |w: &str| self.is_word(w);
         let sym = |s: &str| self.is_sym(s);
-        if level == 3 && (sym("==") || sym("!=")) {
-            let (c, st) = if sym("==") { ("==", "=") } else { ("!=", "<>") };
-            return Err(Box::new(
-                Diagnostic::error(format!("'{c}' is not Structured Text: it compares with '{st}'"))
-                    .with_label(self.source.label(self.span(0), format!("write '{st}'")))
-                    .with_help(format!("replace '{c}' with '{st}'")),
-            ));
+        if sym("==") || sym("!=") {
+            return Err(self.c_comparison());
         }
-        Ok(match level {
-            0 if word("OR") => Some(BinaryOp::Or),
-            1 if word("XOR") => Some(BinaryOp::Xor),
-            2 if word("AND") || sym("&") => Some(BinaryOp::And),
-            3 if sym("=") => Some(BinaryOp::Eq),
-            3 if sym("<>") => Some(BinaryOp::Ne),
-            4 if sym("<") => Some(BinaryOp::Lt),
-            4 if sym("<=") => Some(BinaryOp::Le),
-            4 if sym(">") => Some(BinaryOp::Gt),
-            4 if sym(">=") => Some(BinaryOp::Ge),
-            5 if sym("+") => Some(BinaryOp::Add),
-            5 if sym("-") => Some(BinaryOp::Sub),
-            6 if sym("*") => Some(BinaryOp::Mul),
-            6 if sym("/") => Some(BinaryOp::Div),
-            6 if word("MOD") => Some(BinaryOp::Mod),
-            _ => None,
-        })
+        Ok(Some(if word("OR") {
+            (BinaryOp::Or, 0)
+        } else if word("XOR") {
+            (BinaryOp::Xor, 1)
+        } else if word("AND") || sym("&") {
+            (BinaryOp::And, 2)
+        } else if sym("=") {
+            (BinaryOp::Eq, 3)
+        } else if sym("<>") {
+            (BinaryOp::Ne, 3)
+        } else if sym("<") {
+            (BinaryOp::Lt, 4)
+        } else if sym("<=") {
+            (BinaryOp::Le, 4)
+        } else if sym(">") {
+            (BinaryOp::Gt, 4)
+        } else if sym(">=") {
+            (BinaryOp::Ge, 4)
+        } else if sym("+") {
+            (BinaryOp::Add, 5)
+        } else if sym("-") {
+            (BinaryOp::Sub, 5)
+        } else if sym("*") {
+            (BinaryOp::Mul, 6)
+        } else if sym("/") {
+            (BinaryOp::Div, 6)
+        } else if word("MOD") {
+            (BinaryOp::Mod, 6)
+        } else {
+            return Ok(None);
+        }))
     }
 
-    fn binary(&mut self, level: usize) -> R<Expr> {
-        if level == 7 {
-            return self.unary();
-        }
-        let mut left = self.binary(level + 1)?;
+    /// `==` or `!=`, which C writes and Structured Text does not.
+    #[cold]
+    #[inline(never)]
+    fn c_comparison(&self) -> Box<Diagnostic> {
+        let (c, st) = if self.is_sym("==") { ("==", "=") } else { ("!=", "<>") };
+        Box::new(
+            Diagnostic::error(format!("'{c}' is not Structured Text: it compares with '{st}'"))
+                .with_label(self.source.label(self.span(0), format!("write '{st}'")))
+                .with_help(format!("replace '{c}' with '{st}'")),
+        )
+    }
+
+    /// The operators of level `min` and above, left-associative
+    /// (precedence climbing: one frame a level of the tree, not one a
+    /// level of the table).
+    fn binary(&mut self, min: usize) -> R<Expr> {
+        let mut left = self.unary()?;
         let mut chain = 0;
-        while let Some(op) = self.level_op(level)? {
+        while let Some((op, level)) = self.binary_op()? {
+            if level < min {
+                break;
+            }
             // Each operator of a chain nests the tree one level deeper.
             chain += 1;
             self.enter(chain)?;

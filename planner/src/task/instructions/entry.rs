@@ -4,8 +4,8 @@
 //! defines its entry; the registry ([`super::INSTRUCTIONS`]) lists them.
 
 use crate::catalogue::{CallStyle, Operand, faceplate_of, str_eq};
-use crate::instruction::Fault;
-use crate::task::{Args, MotionTask};
+use crate::instruction::{Fault, LogixFault, fault};
+use crate::task::{Args, InstructionHandle, MotionTask};
 
 /// Runs a call on the motion task with its operand values (see
 /// [`Instruction::execute`]).
@@ -75,6 +75,30 @@ pub fn no_check(_: &MotionTask, _: &Args<'_>) -> Result<(), Fault> {
 pub fn no_load(_: &mut MotionTask, _: &Args<'_>) {}
 
 impl Instruction {
+    /// A Logix instruction (operands by position) with nothing to check
+    /// or prepare when the program loads: the axis- and system-state
+    /// instructions, whose operands are tags.
+    pub const fn positional(
+        mnemonic: &'static str,
+        title: &'static str,
+        summary: &'static str,
+        reference: &'static str,
+        operands: &'static [Operand],
+        execute: Execute,
+    ) -> Instruction {
+        Instruction {
+            mnemonic,
+            title,
+            summary,
+            reference,
+            style: CallStyle::Positional,
+            operands,
+            execute,
+            check: no_check,
+            load: no_load,
+        }
+    }
+
     /// Executes a call with its operand values, in catalogue order: the
     /// one way a program runs an instruction. The instruction writes its
     /// control structure or block outputs, and says why it refused, if it
@@ -168,4 +192,17 @@ impl Instruction {
         let names: Vec<&str> = self.operands.iter().map(|o| o.name).collect();
         names.join(", ")
     }
+}
+
+/// One execution of a Logix instruction on a one-shot rung: the
+/// instruction's `run`, then its rung goes false from the next scan
+/// (`MotionTask::rung_false_next_scan`); its refusal as a [`Fault`].
+pub(crate) fn one_shot<E: LogixFault>(
+    task: &mut MotionTask,
+    control: InstructionHandle,
+    run: impl FnOnce(&mut MotionTask) -> Result<(), E>,
+) -> Result<(), Fault> {
+    let result = run(task);
+    task.rung_false_next_scan(control);
+    result.map_err(fault)
 }

@@ -43,7 +43,7 @@ use crate::axis::AxisConfig;
 use crate::catalogue::words::{ACTUAL_COMMAND, CLUTCH, JOG_ACCEL_UNITS, MAPC_DIRECTION, RATIO_FORMAT, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, no_load};
+use super::entry::{Instruction, one_shot, no_load};
 use crate::dynamics::time_rate;
 use crate::instruction::{NoFault, Refusal};
 use crate::mapc::MasterReference;
@@ -253,9 +253,7 @@ impl Mag {
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(2);
-    let result = MagOperands::bind(args).and_then(|o| task.mag(args.axis(0), args.axis(1), control, &o));
-    task.rung_false_next_scan(control);
-    result.map_err(fault)
+    one_shot(task, control, |task| MagOperands::bind(args).and_then(|o| task.mag(args.axis(0), args.axis(1), control, &o)))
 }
 
 fn check(task: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {

@@ -26,7 +26,7 @@ use crate::axis::AxisConfig;
 use crate::catalogue::words::{JOG_ACCEL_UNITS, JOG_DIRECTION, JOG_SPEED_UNITS, PROFILE, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, no_load};
+use super::entry::{Instruction, one_shot, no_load};
 use crate::dynamics::{positive, time_rate};
 use crate::instruction::{NoFault, Refusal};
 use crate::profile::{Limits, Profile};
@@ -196,9 +196,7 @@ impl Jog {
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(1);
-    let result = task.maj(args.axis(0), control, &MajOperands::bind(args));
-    task.rung_false_next_scan(control);
-    result.map_err(fault)
+    one_shot(task, control, |task| task.maj(args.axis(0), control, &MajOperands::bind(args)))
 }
 
 fn check(task: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {

@@ -61,7 +61,7 @@ use crate::catalogue::words::{
 };
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, no_load};
+use super::entry::{Instruction, one_shot, no_load};
 use crate::dynamics::{MoveDynamics, time_rate};
 use crate::instruction::{LogixFault, Refusal};
 use crate::profile::{Limits, Profile, State, jerk_from_percent_of_time};
@@ -412,9 +412,7 @@ impl Mam {
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(1);
-    let result = task.mam(args.axis(0), control, &MamOperands::bind(args));
-    task.rung_false_next_scan(control);
-    result.map_err(fault)
+    one_shot(task, control, |task| task.mam(args.axis(0), control, &MamOperands::bind(args)))
 }
 
 /// The operands' validation against the axis at rest.

@@ -9,7 +9,7 @@
 
 use crate::catalogue::CallStyle;
 use crate::instruction::{Fault, fault};
-use super::entry::Instruction;
+use super::entry::{Instruction, one_shot};
 use crate::mapc::{MAPC_OPERANDS, Mapc, MapcOperands};
 use crate::task::{Args, MapcCall, MotionTask};
 
@@ -50,9 +50,7 @@ fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
         cam_profile: args.cam_profile(4),
         operands: operands(args),
     };
-    let r = task.mapc(call);
-    task.rung_false_next_scan(control);
-    r.map_err(fault)
+    one_shot(task, control, |task| task.mapc(call))
 }
 
 fn check(_: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {

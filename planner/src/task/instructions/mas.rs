@@ -17,7 +17,7 @@ use crate::axis::AxisConfig;
 use crate::catalogue::words::{JOG_ACCEL_UNITS, MAS_STOP_TYPE, NO_YES, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, no_load};
+use super::entry::{Instruction, one_shot, no_load};
 use crate::dynamics::positive;
 use crate::instruction::{NoFault, Refusal};
 use crate::profile::{Limits, Profile, Sample, State};
@@ -145,9 +145,7 @@ impl Stop {
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(1);
-    let result = task.mas(args.axis(0), control, &MasOperands::bind(args));
-    task.rung_false_next_scan(control);
-    result.map_err(fault)
+    one_shot(task, control, |task| task.mas(args.axis(0), control, &MasOperands::bind(args)))
 }
 
 fn check(task: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {

@@ -9,7 +9,7 @@
 
 use crate::catalogue::CallStyle;
 use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, no_load};
+use super::entry::{Instruction, one_shot, no_load};
 use crate::instruction::{NoFault, Refusal};
 use crate::mccp::{CamProfile, MCCP_OPERANDS};
 use crate::task::{Args, MotionTask};
@@ -43,9 +43,7 @@ fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
         return Err(task.refuse_call(control, e));
     }
     let length = length(args).map_err(|e| task.refuse_call(control, e))?;
-    let r = task.mccp_from(control, cam, start, length, args.number(3), args.number(4), args.cam_profile(5));
-    task.rung_false_next_scan(control);
-    r.map_err(fault)
+    one_shot(task, control, |task| task.mccp_from(control, cam, start, length, args.number(3), args.number(4), args.cam_profile(5)))
 }
 
 /// The profile a CAM array with constant points gives (masters not

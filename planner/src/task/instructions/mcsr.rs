@@ -2,31 +2,22 @@
 //! coordinate system. ERR 53 names the first inhibited axis by its index in
 //! the system (EXERR).
 
-use crate::catalogue::words::op;
-use crate::catalogue::{CallStyle, Format, Kind};
-use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, no_check, no_load};
+use crate::catalogue::words::SYSTEM_AND_CONTROL;
+use crate::instruction::Fault;
+use super::entry::{Instruction, one_shot};
 use crate::task::{Args, MotionTask};
 
 /// Motion Coordinated Shutdown Reset.
-pub const MCSR: Instruction = Instruction {
-    mnemonic: "MCSR",
-    title: "Motion Coordinated Shutdown Reset",
-    summary: "MASR on every axis of a coordinate system",
-    reference: "Logix motion reference",
-    style: CallStyle::Positional,
-    operands: &[
-        op("Coordinate System", "COORDINATE_SYSTEM", Format::Tag, Kind::CoordinateSystem, 0),
-        op("Motion Control", "MOTION_INSTRUCTION", Format::Tag, Kind::MotionControl, 1),
-    ],
+pub const MCSR: Instruction = Instruction::positional(
+    "MCSR",
+    "Motion Coordinated Shutdown Reset",
+    "MASR on every axis of a coordinate system",
+    "Logix motion reference",
+    SYSTEM_AND_CONTROL,
     execute,
-    check: no_check,
-    load: no_load,
-};
+);
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(1);
-    let result = task.mcsr(args.system(0), control).map_err(fault);
-    task.rung_false_next_scan(control);
-    result
+    one_shot(task, control, |task| task.mcsr(args.system(0), control))
 }

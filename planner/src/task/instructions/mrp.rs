@@ -31,7 +31,7 @@
 use crate::catalogue::words::{ACTUAL_COMMAND, MRP_TYPE, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, no_load};
+use super::entry::{Instruction, one_shot, no_load};
 use crate::instruction::{NoFault, Refusal};
 use crate::task::engine::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
@@ -138,9 +138,7 @@ impl Mrp {
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(1);
-    let result = task.mrp(args.axis(0), control, args.code(2), args.code(3), args.number(4));
-    task.rung_false_next_scan(control);
-    result.map_err(fault)
+    one_shot(task, control, |task| task.mrp(args.axis(0), control, args.code(2), args.code(3), args.number(4)))
 }
 
 fn check(_: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {
