@@ -1,7 +1,8 @@
 //! The instruction catalogue's vocabulary: how each instruction the
 //! product accepts is described, once.
 //!
-//! Each [`Instruction`] lists its operands in the order a Structured Text
+//! Each instruction's entry ([`crate::task::instructions::Instruction`])
+//! lists its operands in the order a Structured Text
 //! call writes them, and for each operand:
 //! * its name, data type and **Format** column as the manual prints them
 //!   ([`Format`] decides whether a bad value is refused when the program is
@@ -17,16 +18,15 @@
 //!   and Merge Speed before the jerks (its document's EXERR table gives
 //!   Termination Type 14).
 //!
-//! An entry also carries what the instruction does: [`Instruction::execute`]
-//! runs a call on the motion task with its operand values, bound by
-//! catalogue position; [`Instruction::check`] runs its validation on a call
-//! whose operands are all known when the program loads. Each entry lives in
-//! its instruction's module under `task/instructions/`, and the registry
-//! there ([`crate::task::instructions::INSTRUCTIONS`]) lists them all: the
-//! Structured Text compiler, the binding of operands, the EXERR numbers,
-//! error messages and the operand lists in `scenes/README.md`
-//! ([`markdown`]) all derive from the entries. [`errors`] gives the meaning
-//! of every ERR code.
+//! An entry also carries what the instruction does (it executes a call on
+//! the motion task with its operand values, bound by catalogue position,
+//! and checks a call whose operands are all known when the program loads).
+//! Each entry lives in its instruction's module under `task/instructions/`,
+//! and the registry there ([`crate::task::instructions::INSTRUCTIONS`])
+//! lists them all: the Structured Text compiler, the binding of operands,
+//! the EXERR numbers, error messages and the operand lists in
+//! `scenes/README.md` ([`crate::task::instructions::markdown`]) all derive
+//! from the entries. [`errors`] gives the meaning of every ERR code.
 //!
 //! # Choices where the documents are silent
 //! * MCS, MAJ and MAS are not among the specification documents; their

@@ -11,7 +11,8 @@
 //!   MOTION_INSTRUCTION bits and the PLCopen function-block outputs; the
 //!   refusals ([`instruction::LogixFault`], [`instruction::Refusal`]).
 //! * [`task`] — the coarse-update executor (the motion engine) that owns
-//!   axes and commands: [`task::MotionTask::execute`] runs a call.
+//!   axes and commands; a call runs through its instruction's entry,
+//!   [`task::instructions::Instruction::execute`].
 //! * [`profile`] — trapezoidal and S-curve profiles, jerk units;
 //!   [`dynamics`] — the rates and units moves share.
 //! * [`axis`] — axis configuration (linear, rotary, modulo) and axis state.

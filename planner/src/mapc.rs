@@ -88,8 +88,8 @@
 //! ([`operand`]); ERR 32 (Cam Profile Not Calculated) for a profile with
 //! Status 0 and ERR 30 (Cam Profile Being Calculated) for Status 1 — the
 //! spec's "0, 1: not calculated yet". The spec's `.SEGMENT` errors 28/29/179
-//! on a cam profile cannot arise here: a [`CamProfile`] is validated when it
-//! is built (MCCP, or [`CamProfile::from_elements`] for a profile written
+//! on a cam profile cannot arise here: a [`crate::mccp::CamProfile`] is validated when it
+//! is built (MCCP, or [`crate::mccp::CamProfile::from_elements`] for a profile written
 //! element by element, which reports them with SEGMENT).
 //! One case of 179 remains at run time (a choice): a running cam whose slave
 //! position is no longer a finite number (Slave/Master Scaling and master

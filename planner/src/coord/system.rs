@@ -156,7 +156,7 @@ impl CoordinateSystem {
 /// * `move_pending`, `move_pending_queue_full` — a move waits in the queue
 ///   (one place, so both are always equal, as the spec says).
 /// * `coord_motion_lock` — a master-driven move follows its master (see
-///   [`LockDirection`]); never set for lock direction none.
+///   [`super::LockDirection`]); never set for lock direction none.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct CoordStatus {
     /// `MotionStatus`.

@@ -109,7 +109,7 @@ impl MotionTask {
         self.cam_axis(axis).declared_slave = true;
     }
 
-    /// Whether [`MotionTask::declare_cam_slave`] was called for `axis`.
+    /// Whether `axis` was declared a cam slave (MAPC on it, at load).
     pub fn is_cam_slave(&self, axis: AxisHandle) -> bool {
         self.cam.axes.get(axis.0 as usize).is_some_and(|c| c.declared_slave)
     }

@@ -2,7 +2,7 @@
 //! a module here — its catalogue entry (operands, formats, words,
 //! faceplate indices), its typed operands bound from the call by catalogue
 //! position, its validation, its refusals and its executor — and one line
-//! of [`instructions!`] below, which declares the module and lists its
+//! of `instructions!` below, which declares the module and lists its
 //! entry in [`INSTRUCTIONS`]. The program (the twin's compiler), the docs
 //! (`scenes/README.md`, [`markdown`]) and the ERR 13 EXERR numbers read
 //! the entries; nothing else names an instruction.

@@ -60,7 +60,7 @@
 //! and the point and normal at that depth.
 //!
 //! # Pre-flight sweep ([`CollisionModel::sweep`])
-//! Conservative advancement along a [`PathSampler`]: each body's points move
+//! Conservative advancement along a [`sweep::PathSampler`]: each body's points move
 //! at most `L_b · Δs` for a parameter step `Δs`, where `L_b = Σ_j
 //! |dq_j/ds|max · R_jb` sums over the joints above the body (`R_jb`: an upper
 //! bound of the distance from joint `j`'s origin to any point of the body in

@@ -22,7 +22,7 @@
 //! * timers use the scan's own trigger time.
 //!
 //! A scan's nominal duration is its executed statements (and loop tests)
-//! × [`exec::NOMINAL_STATEMENT_US`]. Past `watchdog_ms` the watchdog
+//! × [`super::exec::NOMINAL_STATEMENT_US`]. Past `watchdog_ms` the watchdog
 //! expires (major fault type 6, code 1); past `period_ms` the next trigger
 //! finds the task still running (minor fault type 6, code 2, overlap).
 //!
@@ -40,7 +40,7 @@
 //! | kind | type | code | when |
 //! |---|---|---|---|
 //! | major | 4 | 20 | array subscript or bit number out of range |
-//! | major | 4 | 84 | `JSR` nested deeper than [`exec::MAX_JSR_DEPTH`] |
+//! | major | 4 | 84 | `JSR` nested deeper than [`super::exec::MAX_JSR_DEPTH`] |
 //! | major | 6 | 1 | task watchdog expired |
 //! | minor | 4 | 4 | arithmetic overflow, division by zero, a value that does not fit its tag |
 //! | minor | 6 | 2 | periodic task overlap |

@@ -3,7 +3,8 @@
 //! **In:** the scene's `[[program]]` steps and `[[tasks]]` (parsed by
 //! [`crate::st`]), its tags and axes, and the planner its axes were added
 //! to. **Out:** instruction calls into the planner
-//! ([`planner::task::MotionTask::execute`]), live tag values, faults.
+//! ([`planner::task::instructions::Instruction::execute`]), live tag
+//! values, faults.
 //!
 //! The stage is one compiler and one interpreter for everything a user
 //! writes in Structured Text:

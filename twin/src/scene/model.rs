@@ -29,7 +29,7 @@ pub struct Location {
 pub struct Scene {
     /// Scene name (default: the file stem).
     pub name: String,
-    /// The scene file as given to [`load`].
+    /// The scene file as given to [`super::load`].
     pub path: PathBuf,
     /// Simulated run time, seconds (> 0, at most [`MAX_DURATION_S`]).
     pub duration_s: f64,

@@ -12,7 +12,7 @@
 //! as written for the compiler to match against the operand's words.
 //!
 //! Positions are byte offsets into the text ([`Token::start`]); the
-//! [`super::source::Source`] maps them into their file.
+//! [`crate::source::Source`] maps them into their file.
 
 use std::fmt;
 

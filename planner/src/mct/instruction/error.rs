@@ -177,7 +177,7 @@ impl MctError {
 }
 
 /// Why a running transform stopped following (ERR 67); the executor brings
-/// the joints to a controlled stop with [`Transform::stop_step`].
+/// the joints to a controlled stop with [`super::Transform::stop_step`].
 #[derive(Debug, Clone, Copy, PartialEq, Error)]
 #[non_exhaustive]
 pub enum TransformFault {

@@ -72,8 +72,8 @@ impl MotionTask {
     }
 
     /// The coordinated moves that started in the last [`MotionTask::update`]
-    /// (a move executed with [`MotionTask::execute_coordinated`] between two
-    /// updates counts as started in the second), in system order.
+    /// (a move executed between two updates counts as started in the
+    /// second), in system order.
     pub fn coord_moves_started(&self) -> Vec<StartedCoordMove<'_>> {
         let mut v = Vec::new();
         for (i, sys) in self.coord.systems.iter().enumerate() {

@@ -183,7 +183,7 @@ impl Mag {
     /// Validates the operands against the slave's configuration.
     ///
     /// # Errors
-    /// [`MagError::ParameterOutOfRange`] naming the first operand at fault.
+    /// ERR 13 ([`Refusal::Operand`]) naming the first operand at fault.
     pub fn new(o: &MagOperands, slave: &AxisConfig) -> Result<Self, MagError> {
         let bad = |name: &str, value: f64| Refusal::operand(MAG.exerr(name), value);
         let direction = match o.direction {

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use rerun::RecordingStreamError;
 use rerun::sink::{FileSinkError, SinkFlushError};
 
-/// What is wrong with a mesh handed to [`Recorder::log_link_mesh_static`].
+/// What is wrong with a mesh handed to [`super::Recorder::log_link_mesh_static`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum MeshDefect {
@@ -51,11 +51,11 @@ pub enum Quantity {
     ColumnLength,
 }
 
-/// Failures of [`Recorder`].
+/// Failures of [`super::Recorder`].
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum RecordingError {
-    /// [`Recorder::new`] was given no sink.
+    /// [`super::Recorder::new`] was given no sink.
     #[error("no recording sink given")]
     NoSinks,
     /// The application id is empty.
@@ -88,23 +88,23 @@ pub enum RecordingError {
         #[source]
         source: FileSinkError,
     },
-    /// A [`Sink::Connect`] address is neither `host:port` nor a Rerun proxy URL.
+    /// A [`super::sinks::Sink::Connect`] address is neither `host:port` nor a Rerun proxy URL.
     #[error("invalid Rerun viewer address {addr:?}")]
     InvalidAddress {
         /// The address as given.
         addr: String,
     },
-    /// [`Sink::Spawn`] could not start a viewer.
+    /// [`super::sinks::Sink::Spawn`] could not start a viewer.
     #[error("cannot start a Rerun viewer (is the `rerun` executable on PATH? `pip install rerun-sdk==0.36.3`)")]
     Spawn {
         /// Rerun's error.
         #[source]
         source: rerun::SpawnError,
     },
-    /// [`Sink::Stdout`] with standard output a terminal.
+    /// [`super::sinks::Sink::Stdout`] with standard output a terminal.
     #[error("standard output is a terminal: pipe it into a viewer (`twin run SCENE --stdout | rerun -`)")]
     StdoutIsTerminal,
-    /// Nothing accepted a connection at a [`Sink::Connect`] address.
+    /// Nothing accepted a connection at a [`super::sinks::Sink::Connect`] address.
     #[error("cannot connect to a Rerun viewer at {addr} (is `rerun` running?)")]
     Connect {
         /// The address as given.
@@ -137,7 +137,7 @@ pub enum RecordingError {
         /// Which input.
         quantity: Quantity,
     },
-    /// A mesh handed to [`Recorder::log_link_mesh_static`] is malformed.
+    /// A mesh handed to [`super::Recorder::log_link_mesh_static`] is malformed.
     #[error("invalid mesh for Rerun entity {entity_path}: {defect:?}")]
     InvalidMesh {
         /// The entity path.
@@ -145,7 +145,7 @@ pub enum RecordingError {
         /// What is wrong.
         defect: MeshDefect,
     },
-    /// A [`super::Sink::Serve`] address cannot be listened on (in use, not
+    /// A [`super::sinks::Sink::Serve`] address cannot be listened on (in use, not
     /// this machine's, not allowed).
     #[error("cannot serve a recording at {addr}")]
     Serve {

@@ -77,7 +77,7 @@ pub enum ReadbackStage {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum RenderError {
-    /// No Vulkan adapter exists (no GPU driver and no lavapipe); see [`NO_ADAPTER_HINT`].
+    /// No Vulkan adapter exists (no GPU driver and no lavapipe); see [`super::NO_ADAPTER_HINT`].
     #[error("no Vulkan adapter found")]
     NoAdapter,
     /// The adapter exists but refused to open a device.

@@ -30,7 +30,7 @@ pub enum UrdfError {
         #[source]
         source: urdf_rs::UrdfError,
     },
-    /// A physical quantity no robot can have (see [`checks`]).
+    /// A physical quantity no robot can have (see [`super::checks`]).
     #[error("{path}:{}: {owner}: <{element}>: {problem}", line.map_or_else(|| "?".to_owned(), |l| l.to_string()))]
     Physical {
         /// The URDF file.

@@ -89,7 +89,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
     /// Compiles statements.
     ///
     /// # Errors
-    /// The first [`CompileError`].
+    /// The first compile [`Error`].
     pub fn block(&mut self, stmts: &[Stmt]) -> Result<Vec<CStmt>> {
         stmts
             .iter()
@@ -241,7 +241,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
     /// Compiles an expression.
     ///
     /// # Errors
-    /// A [`CompileError`] at the offending part.
+    /// A compile [`Error`] at the offending part.
     pub fn expr(&mut self, e: &Expr) -> Result<CExpr> {
         Ok(match &e.kind {
             ExprKind::Int(i) => match i64::try_from(*i) {

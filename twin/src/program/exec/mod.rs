@@ -1,7 +1,7 @@
 //! Executes compiled routines: expressions with the controller's
 //! arithmetic, statements, timers, counters and one-shots, and instruction
 //! calls: their operands evaluated and handed to the instruction
-//! ([`MotionTask::execute`], `motion.rs`). It only evaluates what the
+//! ([`planner::task::instructions::Instruction::execute`], `motion.rs`). It only evaluates what the
 //! compiler produced: no name is looked up and nothing is parsed here.
 //!
 //! # Arithmetic
