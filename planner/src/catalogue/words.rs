@@ -144,10 +144,6 @@ pub const JOG_DIRECTION: &[Word] = &[w("forward", 0), w("reverse", 1)];
 pub const JOG_SPEED_UNITS: &[Word] = &[w("unitspersec", 0), w("%ofmaximum", 1)];
 /// Accel and Decel Units of a single-axis move, jog or stop.
 pub const JOG_ACCEL_UNITS: &[Word] = &[w("unitspersec²", 0), w("unitspersec2", 0), w("%ofmaximum", 1)];
-/// MAG's Ratio Format.
-pub const RATIO_FORMAT: &[Word] = &[w("real", 0), w("fraction_slave_master_counts", 1)];
-/// MAG's Clutch.
-pub const CLUTCH: &[Word] = &[w("enabled", 0), w("disabled", 1)];
 /// MAM's Merge.
 pub const MAM_MERGE: &[Word] = &[w("disabled", 0), w("enabled", 1)];
 /// MAS's Stop Type.

@@ -68,10 +68,10 @@ pub fn fire(
             && fault.err() == 13
         {
             refusals.push(format!(
-                "{} (program[{}]): {}: {fault}",
+                "{} (program[{}]): {}",
                 step.call.instruction.mnemonic,
                 step.index,
-                planner::catalogue::err_text(fault.err(), fault.exerr())
+                exec::motion::refusal_text(&step.call, &fault)
             ));
         }
     }

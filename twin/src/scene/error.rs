@@ -464,9 +464,13 @@ impl SceneError {
                 let prefix = format!("{}:{line}:{column}: ", file.display());
                 let message = text.strip_prefix(&prefix).unwrap_or(&text).to_owned();
                 let d = Diagnostic::error(message);
-                match at {
+                let d = match at {
                     Some(at) => d.with_label(Label::new(&at.0, at.1.clone(), "here")),
                     None => d.at_place(file.clone(), *line, *column),
+                };
+                match unknown_field_nearest(&text) {
+                    Some(n) => d.with_help(format!("did you mean '{n}'?")),
+                    None => d,
                 }
             }
             SceneError::NotUtf8 { path, line, column } => {
@@ -500,6 +504,12 @@ impl Problem {
     fn help(&self) -> Option<String> {
         match self {
             Problem::UnknownAxis { nearest: Some(n), .. } => Some(format!("did you mean '{n}'?")),
+            Problem::UnknownTagType { type_name } => {
+                let names = BaseType::all_names();
+                let base = type_name.split('[').next().unwrap_or_default();
+                crate::source::diag::nearest(base, names.iter().copied())
+                    .map(|n| format!("did you mean '{}'?", type_name.replacen(base, n, 1)))
+            }
             Problem::BothTriggers | Problem::NoTrigger => {
                 Some("give a step at_s = <seconds> or when = \"<tag>.<bit>\"".to_owned())
             }
@@ -548,4 +558,14 @@ impl fmt::Display for SceneError {
             }
         }
     }
+}
+
+/// For serde's `unknown field 'x', expected one of 'a', 'b', …` (quotes as
+/// the one-line text has them), the expected field nearest to `x`.
+fn unknown_field_nearest(text: &str) -> Option<String> {
+    let rest = &text[text.find("unknown field '")? + "unknown field '".len()..];
+    let (field, rest) = rest.split_once('\'')?;
+    let expected = &rest[rest.find("expected one of ")? + "expected one of ".len()..];
+    let known: Vec<&str> = expected.split(", ").map(|k| k.trim_matches('\'')).collect();
+    crate::source::diag::nearest(field, known).map(str::to_owned)
 }

@@ -280,7 +280,8 @@ pub fn nearest<'a>(name: &str, known: impl IntoIterator<Item = &'a str>) -> Opti
         .into_iter()
         .map(|k| (strsim::damerau_levenshtein(&lower, &k.to_lowercase()), k))
         .filter(|(d, k)| *d <= allowed && *d > 0 || (*d == 0 && *k != name))
-        .min_by_key(|(d, _)| *d)
+        // At equal distance, a name the slip is the start of (`L` → `L1`).
+        .min_by_key(|(d, k)| (*d, !k.to_lowercase().starts_with(&lower)))
         .map(|(_, k)| k)
 }
 
@@ -393,5 +394,6 @@ mod tests {
         assert_eq!(nearest("mccm", known), Some("MCCM"));
         assert_eq!(nearest("XYZW", known), None);
         assert_eq!(nearest("Tabel", ["Table", "Cam"]), Some("Table"));
+        assert_eq!(nearest("L", ["X", "L1"]), Some("L1"), "a name it starts");
     }
 }

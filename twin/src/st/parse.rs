@@ -398,6 +398,8 @@ impl<'s> Parser<'s> {
         } else if self.is_sym(":=") {
             self.bump();
             true
+        } else if self.is_sym("=") {
+            return Err(self.equals_assignment());
         } else {
             return Err(self.unexpected("':=' or '[:=]'"));
         };
@@ -626,10 +628,26 @@ impl<'s> Parser<'s> {
     #[inline(never)]
     fn missing_comma(&self) -> Box<Diagnostic> {
         let found = self.tok(0).to_string();
+        let label = if self.is_sym(";") {
+            "write ',' here"
+        } else {
+            "expected ',' before this"
+        };
         Box::new(
             Diagnostic::error(format!("expected ')' or ',', found {found}"))
-                .with_label(self.source.label(self.span(0), "expected ',' before this"))
+                .with_label(self.source.label(self.span(0), label))
                 .with_help("separate the operands with commas"),
+        )
+    }
+
+    /// `X = 1;`: an assignment written with the comparison.
+    #[cold]
+    #[inline(never)]
+    fn equals_assignment(&self) -> Box<Diagnostic> {
+        Box::new(
+            Diagnostic::error("expected ':=' or '[:=]', found '=': '=' compares")
+                .with_label(self.source.label(self.span(0), "write ':='"))
+                .with_help("assign with ':='"),
         )
     }
 
@@ -656,6 +674,13 @@ impl<'s> Parser<'s> {
             match t {
                 Tok::Eof | Tok::Sym(";") => {
                     self.at = stop;
+                    // `f(a; b)`: a `;` where a `,` belongs, the `(` closed later.
+                    let closed_later = self.tokens[stop..self.end.min(self.tokens.len())]
+                        .iter()
+                        .any(|t| t.tok == Tok::Sym(")"));
+                    if matches!(t, Tok::Sym(";")) && closed_later {
+                        return Err(self.missing_comma());
+                    }
                     return Err(self.unclosed_call(open));
                 }
                 Tok::Sym("(" | "[") => depth += 1,

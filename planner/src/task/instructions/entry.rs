@@ -187,6 +187,26 @@ impl Instruction {
         faceplate_of(self.operands, name)
     }
 
+    /// The operand whose faceplate index is `exerr` (the EXERR of its
+    /// ERR 13), with its call position.
+    pub fn operand_at_faceplate(&self, exerr: i32) -> Option<(usize, &'static Operand)> {
+        self.operands
+            .iter()
+            .enumerate()
+            .find(|(_, o)| o.faceplate == exerr && exerr >= 0)
+    }
+
+    /// `ERR 13 (parameter out of range) EXERR 15 (Decel Jerk)`: a refusal's
+    /// codes with the ERR's meaning, and for ERR 13 the operand its EXERR
+    /// names.
+    pub fn refusal_codes(&self, err: i32, exerr: i32) -> String {
+        let codes = crate::catalogue::err_text(err, exerr);
+        match self.operand_at_faceplate(exerr) {
+            Some((_, operand)) if err == 13 => format!("{codes} ({})", operand.name),
+            _ => codes,
+        }
+    }
+
     /// The operand names in call order, comma separated.
     pub fn operand_names(&self) -> String {
         let names: Vec<&str> = self.operands.iter().map(|o| o.name).collect();

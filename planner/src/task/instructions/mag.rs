@@ -40,7 +40,8 @@
 //! the Master Axis operand.
 
 use crate::axis::AxisConfig;
-use crate::catalogue::words::{ACTUAL_COMMAND, CLUTCH, JOG_ACCEL_UNITS, MAPC_DIRECTION, RATIO_FORMAT, op};
+use crate::catalogue::Word;
+use crate::catalogue::words::{ACTUAL_COMMAND, JOG_ACCEL_UNITS, MAPC_DIRECTION, op, w};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
 use super::entry::{Instruction, one_shot, no_load};
@@ -51,6 +52,11 @@ use crate::profile::Sample;
 use crate::task::engine::GearRun;
 use crate::task::engine::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
+
+/// Ratio Format's words (MAG's own).
+pub const RATIO_FORMAT: &[Word] = &[w("real", 0), w("fraction_slave_master_counts", 1)];
+/// Clutch's words (MAG's own).
+pub const CLUTCH: &[Word] = &[w("enabled", 0), w("disabled", 1)];
 
 /// Motion Axis Gear.
 pub const MAG: Instruction = Instruction {
@@ -258,12 +264,24 @@ fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
 
 fn check(task: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let o = MagOperands::bind(args).map_err(fault)?;
-    Mag::new(&o, task.axis_config(args.axis(0))).map(|_| ()).map_err(fault)
+    Mag::new(&o, task.axis_config(args.axis(0))).map_err(fault)?;
+    same_axes(args.axis(0), args.axis(1)).map_err(fault)
+}
+
+/// An axis geared to itself: ERR 13 on the Master Axis.
+fn same_axes(slave: AxisHandle, master: AxisHandle) -> Result<(), MagError> {
+    if slave == master {
+        return Err(Refusal::Operand {
+            exerr: MAG.exerr("Master Axis"),
+            value: None,
+        });
+    }
+    Ok(())
 }
 
 impl MotionTask {
-    /// MAG: gears `slave` to `master` at the operands' ratio (module doc of
-    /// the module doc). A MAG on a slave already geared supersedes the
+    /// MAG: gears `slave` to `master` at the operands' ratio (see the
+    /// module doc). A MAG on a slave already geared supersedes the
     /// running one (its `.IP` clears); the clutch then starts from the
     /// gearing velocity it had.
     ///
@@ -279,13 +297,11 @@ impl MotionTask {
     ) -> Result<(), MagError> {
         let mag = self.instruction(control, |task| {
             let m = Mag::new(operands, &task.axes[slave.0 as usize].config)?;
-            if slave == master {
-                return Err(Refusal::operand(MAG.exerr("Master Axis"), f64::from(master.0)));
-            }
+            same_axes(slave, master)?;
             task.check_state(slave, Need::Motion)?;
             // The master decides the direction: either side counts.
             task.check_overtravel(slave, 0.0)?;
-            Ok(m)
+            Ok::<_, MagError>(m)
         })?;
         let previous = self.axes[slave.0 as usize].gear.take();
         let current_sign = previous.as_ref().map(|g| g.ratio.signum());

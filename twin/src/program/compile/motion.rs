@@ -29,7 +29,7 @@ use crate::program::types::{DataType, Structure, Ty, Value};
 use crate::scene::{BaseType, SegmentType, TagValue};
 use crate::source::Diagnostic;
 use crate::st::ast::{Access, Arg as ArgText, Call, Expr, ExprKind, Ref};
-use planner::catalogue::{CallStyle, Format, Kind, Operand as Spec, err_text};
+use planner::catalogue::{CallStyle, Format, Kind, Operand as Spec};
 use planner::mccp::CamElement;
 use planner::task::instructions;
 use planner::task::instructions::Instruction;
@@ -247,7 +247,7 @@ impl Compiler<'_, '_, '_> {
             return err(
                 self,
                 arg.span,
-                format!("{} {name}: is {}, expected {}", spec.name, describe(&info), base.name()),
+                format!("{} {name} is {}, expected {}", spec.name, describe(&info), base.name()),
             );
         }
         Ok(info)
@@ -384,7 +384,12 @@ impl Compiler<'_, '_, '_> {
             CKind::Const(v) if (0..len as i64).contains(&v.as_i64()) => Ok(v.as_i64() as usize),
             CKind::Const(v) => Err(self.error(
                 e.span,
-                format!("index {} is outside '{}' (valid: 0..{len})", v.as_i64(), r.name),
+                format!(
+                    "index {} is outside '{}' (valid: 0 to {})",
+                    v.as_i64(),
+                    r.name,
+                    len.saturating_sub(1)
+                ),
                 format!("'{}' has {len} elements", r.name),
             )),
             _ => err(self, e.span, "a step's subscript is a constant"),
@@ -626,6 +631,14 @@ impl Compiler<'_, '_, '_> {
                 name: info.name,
             }));
         }
+        // A name that is no tag at all: say so, with the nearest.
+        if let Some(Expr {
+            kind: ExprKind::Ref(r), ..
+        }) = &arg.expr
+            && self.resolve(&r.name).is_none()
+        {
+            return Err(self.unknown_name(&r.name, r.name_span()));
+        }
         let expected = match spec.kind {
             Kind::OptionalArray => "0 or a REAL array tag",
             Kind::Vector3 => "a REAL array element, three from there (REAL[3])",
@@ -690,11 +703,24 @@ impl Compiler<'_, '_, '_> {
     /// The operand's expression.
     fn operand_expr<'a>(&self, spec: &Spec, arg: &'a ArgText) -> Result<&'a Expr> {
         arg.expr.as_ref().ok_or_else(|| {
-            let d = self.error(
-                arg.span,
-                format!("{} '{}': not an operand", spec.name, arg.text),
-                "not an expression",
-            );
+            // Structured Text has no string operands here.
+            let quoted = arg.text.starts_with(['\'', '"']);
+            let d = if quoted {
+                self.error(
+                    arg.span,
+                    format!(
+                        "{}: a string is no operand of a motion instruction, found {}",
+                        spec.name, arg.text
+                    ),
+                    "a string",
+                )
+            } else {
+                self.error(
+                    arg.span,
+                    format!("{} '{}': not an operand", spec.name, arg.text),
+                    "not an expression",
+                )
+            };
             match spec.kind.words() {
                 [] => d,
                 _ => Box::new(d.with_note(format!("{} takes {}", spec.name, spec.word_list()))),
@@ -893,11 +919,21 @@ impl Compiler<'_, '_, '_> {
             let d = Diagnostic::warning(format!(
                 "{} refuses this call whenever it runs: {}",
                 instruction.mnemonic,
-                err_text(fault.err(), fault.exerr())
-            ))
-            .with_label(self.env.files.label(call.name_span, "its operands are constants"))
-            .with_note(format!("the instruction says: {fault}"));
-            self.env.bindings.warnings.push(d);
+                instruction.refusal_codes(fault.err(), fault.exerr())
+            ));
+            // ERR 13 names its operand: point there.
+            let operand = (fault.err() == 13)
+                .then(|| instruction.operand_at_faceplate(fault.exerr()))
+                .flatten()
+                .and_then(|(i, o)| call.args.get(i).map(|a| (a.span, o.name)));
+            let d = match operand {
+                Some((span, name)) => d.with_label(self.env.files.label(span, format!("{name} out of range"))),
+                None => d.with_label(self.env.files.label(call.name_span, "its operands are constants")),
+            };
+            self.env
+                .bindings
+                .warnings
+                .push(d.with_note(format!("the instruction says: {fault}")));
         }
     }
 }

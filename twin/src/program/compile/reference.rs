@@ -414,7 +414,12 @@ impl Compiler<'_, '_, '_> {
                 CKind::Const(v) => {
                     return Err(self.error(
                         sub[0].span,
-                        format!("index {} is outside '{}' (valid: 0..{len})", v.as_i64(), r.name),
+                        format!(
+                            "index {} is outside '{}' (valid: 0 to {})",
+                            v.as_i64(),
+                            r.name,
+                            len.saturating_sub(1)
+                        ),
                         format!("'{}' has {len} elements", r.name),
                     ));
                 }

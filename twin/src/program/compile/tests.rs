@@ -105,7 +105,7 @@ fn an_unknown_enumeration_word_and_a_constant_index_out_of_bounds() {
     let text = edited("Pos[0], 1", "Pos[2], 1");
     let d = error_of(&text);
     assert_at(&d, &text, "2], 1", "program[2].call");
-    assert_eq!(d.message, "index 2 is outside 'Pos' (valid: 0..2)");
+    assert_eq!(d.message, "index 2 is outside 'Pos' (valid: 0 to 1)");
 }
 
 #[test]

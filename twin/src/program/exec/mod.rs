@@ -33,7 +33,7 @@ use planner::task::MotionTask;
 mod arith;
 mod builtins;
 pub(super) mod members;
-mod motion;
+pub(super) mod motion;
 mod places;
 mod scratch;
 

@@ -34,7 +34,7 @@ impl Exec<'_> {
         if let Err(fault) = self.execute_call(call)?
             && fault.err() == 13
         {
-            let refusal = refusal_text(&fault);
+            let refusal = refusal_text(call, &fault);
             self.refusals
                 .push(format!("{} (line {}): {refusal}", call.instruction.mnemonic, self.line));
         }
@@ -107,9 +107,13 @@ impl Exec<'_> {
     }
 }
 
-/// `ERR 13 (parameter out of range) EXERR 3: the planner's sentence`.
-fn refusal_text(fault: &Fault) -> String {
-    format!("{}: {fault}", planner::catalogue::err_text(fault.err(), fault.exerr()))
+/// `ERR 13 (parameter out of range) EXERR 9 (Profile): the planner's
+/// sentence`.
+pub(in crate::program) fn refusal_text(call: &MotionCall, fault: &Fault) -> String {
+    format!(
+        "{}: {fault}",
+        call.instruction.refusal_codes(fault.err(), fault.exerr())
+    )
 }
 
 /// The elements of a CAM array in tag memory: master, slave, and the

@@ -324,3 +324,33 @@ fn ratio_formats_directions_and_clutch_units() {
     };
     assert_eq!(unchanged.effective_ratio(Some(-1.0)), -1.0 / 3.0);
 }
+
+/// A MAG gearing an axis to itself is refused at load (its check) as it is
+/// when it executes: ERR 13 on the Master Axis, which carries no value.
+#[test]
+fn an_axis_geared_to_itself_is_refused_by_the_check() {
+    use crate::task::{Arg, Args};
+    let mut task = MotionTask::new(0.004).unwrap();
+    let x = task.add_axis(AxisConfig::new("X", AxisKind::Linear), 0.0).unwrap();
+    let mc = task.add_instruction("MC1");
+    // MAG(X, X, MC1, same, 2.0, 1, 1, actual, real, disabled, 0, unitspersec2)
+    let args = [
+        Arg::Axis(x),
+        Arg::Axis(x),
+        Arg::Control(mc),
+        Arg::Integer(0),
+        Arg::Number(2.0),
+        Arg::Integer(1),
+        Arg::Integer(1),
+        Arg::Integer(0),
+        Arg::Integer(0),
+        Arg::Integer(1),
+        Arg::Number(0.0),
+        Arg::Integer(0),
+    ];
+    let e = MAG.check(&task, &Args::new(&args)).unwrap_err();
+    assert_eq!((e.err(), e.exerr()), (13, MAG.exerr("Master Axis")));
+    assert!(!e.to_string().contains('='), "no value: {e}");
+    let e = MAG.execute(&mut task, &Args::new(&args)).unwrap_err();
+    assert_eq!((e.err(), e.exerr()), (13, 1));
+}
