@@ -176,6 +176,26 @@ impl Twin {
         (&mut self.plant, &self.task)
     }
 
+    /// Compiles an expression of the scene in controller scope, naming
+    /// `columns` too ([`Program::compile_expression`]).
+    ///
+    /// # Errors
+    /// A diagnostic pointing into the expression.
+    pub fn compile_expression(
+        &mut self,
+        expr: &crate::st::ast::Expr,
+        columns: &[crate::program::ir::Column],
+    ) -> Result<crate::program::ir::CExpr, Box<Diagnostic>> {
+        self.program
+            .compile_expression(&self.scene, &mut self.task, expr, columns)
+    }
+
+    /// The value of an expression [`Twin::compile_expression`] compiled,
+    /// now, with the trace columns' values `columns`.
+    pub fn evaluate(&mut self, e: &crate::program::ir::CExpr, columns: &[f64]) -> crate::program::types::Value {
+        self.program.evaluate(&mut self.task, e, columns)
+    }
+
     /// Simulated time of the last update, seconds.
     pub fn time_s(&self) -> f64 {
         self.task.time_s()

@@ -13,10 +13,12 @@ fn twin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_twin"))
 }
 
-/// `scenes/indexing_table.toml` with `edits` applied, written under
-/// `target/cli/<name>/` (the URDF path made absolute).
+/// `scenes/indexing_table.toml` without its own expectations (the tables
+/// from its `# What this run must show` comment on) and with `edits`
+/// applied, written under `target/cli/<name>/` (the URDF path made
+/// absolute).
 fn edited(name: &str, edits: &[(&str, &str)]) -> PathBuf {
-    let mut text = std::fs::read_to_string(root().join("scenes/indexing_table.toml")).expect("scene");
+    let mut text = common::shipped_scene_text(&root().join("scenes/indexing_table.toml"));
     for (from, to) in edits {
         let edited = text.replacen(from, to, 1);
         assert_ne!(edited, text, "'{from}' is not in the scene");
@@ -27,6 +29,12 @@ fn edited(name: &str, edits: &[(&str, &str)]) -> PathBuf {
     let path = fresh_dir("cli", name).join("scene.toml");
     std::fs::write(&path, text).expect("write scene");
     path
+}
+
+/// The indexing table without its own expectations (a run cut short by
+/// `--duration` would fail them), under `target/cli/<name>/`.
+fn plain_scene(name: &str) -> PathBuf {
+    edited(name, &[])
 }
 
 fn stderr(out: &Output) -> String {
@@ -129,7 +137,7 @@ fn usage_errors_exit_64_and_suggest_the_near_miss() {
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(64), "{err}");
     assert!(err.contains("check"), "a did-you-mean for check: {err}");
-    let scene = root().join("scenes/indexing_table.toml");
+    let scene = plain_scene("plain_137");
     for bad in ["0", "-1", "abc", "inf", "NaN", "1e7"] {
         let out = twin()
             .arg("run")
@@ -154,7 +162,7 @@ fn an_output_that_cannot_be_written_exits_74_naming_the_flag() {
     // A file where a folder is needed.
     let blocker = dir.join("file");
     std::fs::write(&blocker, "").expect("write");
-    let scene = root().join("scenes/indexing_table.toml");
+    let scene = plain_scene("plain_162");
     for flag in ["--trace", "--summary", "--save"] {
         let out = twin()
             .arg("run")
@@ -187,7 +195,7 @@ fn an_output_that_cannot_be_written_exits_74_naming_the_flag() {
 #[test]
 fn duration_overrides_the_scenes_run_length() {
     let dir = fresh_dir("cli", "duration");
-    let scene = root().join("scenes/indexing_table.toml");
+    let scene = plain_scene("plain_195");
     let out = twin()
         .arg("run")
         .arg(&scene)
@@ -205,7 +213,7 @@ fn duration_overrides_the_scenes_run_length() {
 fn check_prints_what_the_scene_resolved_to() {
     let out = twin()
         .arg("check")
-        .arg(root().join("scenes/indexing_table.toml"))
+        .arg(plain_scene("plain_213"))
         .output()
         .expect("run twin");
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
@@ -227,7 +235,7 @@ fn rendering_without_a_runtime_dir_prints_no_mesa_noise() {
     let dir = fresh_dir("cli", "runtime_dir");
     let out = twin()
         .arg("run")
-        .arg(root().join("scenes/indexing_table.toml"))
+        .arg(plain_scene("plain_235"))
         .args(["--duration", "0.04", "--frames"])
         .arg(dir.join("frames"))
         .env_remove("XDG_RUNTIME_DIR")
@@ -250,7 +258,7 @@ fn free_port() -> u16 {
 fn serve_refuses_a_busy_port_and_goes_on_serving_after_the_run() {
     use std::io::BufRead as _;
 
-    let scene = root().join("scenes/indexing_table.toml");
+    let scene = plain_scene("plain_258");
     let busy = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
     let addr = busy.local_addr().expect("address").to_string();
     let out = twin()
@@ -349,7 +357,7 @@ fn two_outputs_on_one_path_or_an_output_on_an_input_are_refused() {
 #[test]
 fn a_failing_output_names_its_flag_and_keeps_the_others() {
     let dir = fresh_dir("cli", "failing_output");
-    let scene = root().join("scenes/indexing_table.toml");
+    let scene = plain_scene("plain_357");
     if std::path::Path::new("/dev/full").exists() {
         let summary = dir.join("summary.json");
         let out = twin()
@@ -405,7 +413,7 @@ fn connect_to_another_machine_warns() {
     let port = free_port();
     let out = twin()
         .arg("run")
-        .arg(root().join("scenes/indexing_table.toml"))
+        .arg(plain_scene("plain_413"))
         .args(["--no-render", "--connect", &format!("0.0.0.0:{port}")])
         .output()
         .expect("run twin");
@@ -414,7 +422,7 @@ fn connect_to_another_machine_warns() {
     assert!(err.contains("not this machine"), "{err}");
     let out = twin()
         .arg("run")
-        .arg(root().join("scenes/indexing_table.toml"))
+        .arg(plain_scene("plain_422"))
         .args(["--no-render", "--connect", &format!("127.0.0.1:{port}")])
         .output()
         .expect("run twin");
@@ -428,7 +436,7 @@ fn frames_left_by_an_earlier_longer_run_are_named() {
     std::fs::write(dir.join("notes.png"), b"not a frame of ours").expect("write");
     let out = twin()
         .arg("run")
-        .arg(root().join("scenes/indexing_table.toml"))
+        .arg(plain_scene("plain_436"))
         .args(["--duration", "0.5", "--frames"])
         .arg(&dir)
         .output()
@@ -462,7 +470,7 @@ fn a_viewer_that_accepts_but_never_reads_costs_no_other_output() {
     let started = std::time::Instant::now();
     let out = twin()
         .arg("run")
-        .arg(root().join("scenes/indexing_table.toml"))
+        .arg(plain_scene("plain_470"))
         .args(["--no-render", "--connect", &addr, "--trace"])
         .arg(&trace)
         .arg("--summary")
@@ -578,4 +586,438 @@ fn bench_prints_a_row_per_scene_with_the_bare_simulation_and_the_kinematic_plant
         .expect("run twin");
     assert!(!none.status.success());
     assert!(stderr(&none).contains("no scene to measure"), "{}", stderr(&none));
+}
+
+/// `scenes/indexing_table.toml` with `extra` appended, written under
+/// `target/cli/<name>/scene.toml`; returns the path and the line the
+/// first appended line has.
+fn with_appended(name: &str, extra: &str) -> (PathBuf, usize) {
+    let path = edited(name, &[]);
+    let mut text = std::fs::read_to_string(&path).expect("scene");
+    if !text.ends_with('\n') {
+        text.push('\n');
+    }
+    let first_line = text.lines().count() + 1;
+    text.push_str(extra);
+    std::fs::write(&path, text).expect("write scene");
+    (path, first_line)
+}
+
+/// The summary JSON of `twin run SCENE --no-render` and its exit code.
+fn run_summary(path: &std::path::Path, extra: &[&str]) -> (Option<i32>, serde_json::Value, String) {
+    let summary = path.with_file_name("summary.json");
+    let out = twin()
+        .arg("run")
+        .arg(path)
+        .args(["--no-render", "--summary"])
+        .arg(&summary)
+        .args(extra)
+        .output()
+        .expect("run twin");
+    let text = std::fs::read_to_string(&summary).unwrap_or_default();
+    (
+        out.status.code(),
+        serde_json::from_str(&text).unwrap_or(serde_json::Value::Null),
+        format!("{}{}", String::from_utf8_lossy(&out.stdout), stderr(&out)),
+    )
+}
+
+/// An expectation's entry in a summary.
+fn expectation<'a>(summary: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
+    summary["expectations"]
+        .as_array()
+        .and_then(|a| a.iter().find(|e| e["name"] == name))
+        .unwrap_or_else(|| panic!("no expectation {name} in {summary}"))
+}
+
+#[test]
+fn a_failed_expectation_exits_6_and_names_time_values_and_worst() {
+    let (path, _) = with_appended(
+        "expect_broken",
+        "[[expect]]\nname = \"broken\"\nalways = \"Table.ActualPosition < 10.0\"\n",
+    );
+    let (code, summary, out) = run_summary(&path, &[]);
+    assert_eq!(code, Some(6), "{out}");
+    let e = expectation(&summary, "broken");
+    assert_eq!(e["passed"], false);
+    assert_eq!(e["kind"], "always");
+    let message = e["message"].as_str().unwrap_or_default();
+    // The table leaves 10° during the first move (0 → 90° from t = 0).
+    assert!(
+        message.starts_with("expect 'broken' failed at ")
+            && message.contains("Table.ActualPosition = ")
+            && message.contains("(< 10.0)")
+            && message.contains("false in ")
+            && message.contains(", worst "),
+        "{message}"
+    );
+    let t = e["time_s"].as_f64().expect("a failing time");
+    assert!(t > 0.0 && t < 1.5, "{t}");
+    assert!(out.contains("FAIL expect 'broken' failed at"), "{out}");
+    assert!(out.contains("error: 1 of 1 expectations failed"), "{out}");
+}
+
+#[test]
+fn each_kind_of_expectation_passes_and_fails_on_the_indexing_table() {
+    // MoveA: 0 → 90° from t = 0, done before 1 s; the buffered last move
+    // ends at 135°, two turns on (the trace and the axis members unwind).
+    // MoveA.CommandAborted rises once, when MoveB re-targets.
+    let (path, _) = with_appended(
+        "expect_kinds",
+        r#"[[expect]]
+name = "never an error"
+never = "MoveA.Error OR MoveB.Error"
+
+[[expect]]
+name = "first move done by 1.5 s"
+eventually = "MoveA.Done AND ABS(Table.ActualPosition - 90.0) < 0.5"
+by_s = 1.5
+
+[[expect]]
+name = "ends at 135"
+at_end = "ABS(Table.act_pos - 855.0) < 0.5 AND MoveA.Done"
+
+[[expect]]
+name = "aborted after the first done"
+sequence = ["MoveA.Done", "MoveB.Busy", "MoveA.CommandAborted"]
+within_s = 9.0
+
+[[expect]]
+name = "following error while moving"
+always = "ABS(Table.cmd_pos - Table.act_pos) < 5.0"
+while = "MoveA.Busy OR MoveB.Busy"
+from_s = 0.0
+to_s = 9.0
+
+[[expect]]
+name = "never reaches 200 too early"
+eventually = "Table.cmd_pos > 1000.0"
+
+[[expect]]
+name = "busy cycles"
+cycle = "MoveA.Busy"
+min_s = 0.5
+max_s = 1.0
+count = 2
+
+[[expect]]
+name = "reversed order"
+sequence = ["MoveA.CommandAborted", "MoveA.Done"]
+
+[[expect]]
+name = "time is a column"
+at_end = "time_s >= 8.999"
+"#,
+    );
+    let (code, summary, out) = run_summary(&path, &[]);
+    assert_eq!(code, Some(6), "{out}");
+    for name in ["never an error", "first move done by 1.5 s", "ends at 135", "aborted after the first done", "following error while moving", "time is a column"] {
+        let e = expectation(&summary, name);
+        assert_eq!(e["passed"], true, "{name}: {e}");
+    }
+    let never = expectation(&summary, "never reaches 200 too early");
+    assert_eq!(never["passed"], false);
+    let m = never["message"].as_str().unwrap_or_default();
+    assert!(m.contains("was never TRUE from 0 s to 9 s") && m.contains("best "), "{m}");
+    let cycle = expectation(&summary, "busy cycles");
+    assert_eq!(cycle["passed"], false, "{cycle}");
+    assert!(cycle["message"].as_str().unwrap_or_default().contains("outside [0.5 s, 1 s]"), "{cycle}");
+    let reversed = expectation(&summary, "reversed order");
+    assert_eq!(reversed["passed"], false);
+    assert!(
+        reversed["message"].as_str().unwrap_or_default().contains("rose before step 1"),
+        "{reversed}"
+    );
+}
+
+#[test]
+fn bad_expectations_and_variants_name_file_line_column_and_field() {
+    let cases: [(&str, &str, usize, &str); 14] = [
+        ("unknown_name", "[[expect]]\nname = \"x\"\nalways = \"Tabel.ActualPosition > 0.0\"\n", 3, "expect[0].always: 'Tabel' is not a controller tag or an axis"),
+        ("not_bool", "[[expect]]\nname = \"x\"\nalways = \"Table.act_pos\"\n", 3, "expect[0].always: the condition is LREAL: compare it"),
+        ("c_equals", "[[expect]]\nname = \"x\"\nalways = \"MoveA.Done == TRUE\"\n", 3, "expect[0].always: "),
+        ("two_kinds", "[[expect]]\nname = \"x\"\nalways = \"MoveA.Done\"\nnever = \"MoveB.Done\"\n", 4, "expect[0]: give exactly one of always, never, eventually, at_end, sequence, cycle (found always and never)"),
+        ("no_kind", "[[expect]]\nname = \"x\"\n", 2, "expect[0]: give exactly one of"),
+        ("empty_sequence", "[[expect]]\nname = \"x\"\nsequence = []\n", 3, "expect[0].sequence: a sequence needs at least one condition"),
+        ("by_past_end", "[[expect]]\nname = \"x\"\neventually = \"MoveA.Done\"\nby_s = 12.0\n", 4, "expect[0].by_s: by_s = 12 is after the end of the run (duration_s = 9)"),
+        ("option_of_another_kind", "[[expect]]\nname = \"x\"\nat_end = \"MoveA.Done\"\nwithin_s = 1.0\n", 4, "expect[0].within_s: 'within_s' does not apply to 'at_end'"),
+        ("window_order", "[[expect]]\nname = \"x\"\nalways = \"MoveA.Done\"\nfrom_s = 5.0\nto_s = 2.0\n", 5, "expect[0].to_s: from_s = 5 is after to_s = 2"),
+        ("duplicate_name", "[[expect]]\nname = \"x\"\nat_end = \"MoveA.Done\"\n[[expect]]\nname = \"X\"\nat_end = \"MoveA.Done\"\n", 5, "expect[1].name: duplicate name 'X'"),
+        ("unknown_variant_tag", "[[variants]]\nname = \"v\"\ntags = { Speed = 3.0 }\n", 3, "variants[0].tags.Speed: unknown tag 'Speed'"),
+        ("variant_tag_type", "[[tags]]\nname = \"Speed\"\ntype = \"DINT\"\nvalue = 1\n[[variants]]\nname = \"v\"\ntags = { Speed = 2.5 }\n", 7, "variants[0].tags.Speed: value does not fit type DINT"),
+        ("bad_exit_code", "[test]\nexit_code = 7\n", 2, "test.exit_code: exit code 7 is not one a run ends with"),
+        ("count_zero", "[[expect]]\nname = \"x\"\ncycle = \"MoveA.Busy\"\ncount = 0\n", 4, "expect[0].count: must be between 1 and"),
+    ];
+    for (name, extra, line, needle) in cases {
+        let (path, first) = with_appended(&format!("bad_expect_{name}"), extra);
+        let out = twin().arg("check").arg(&path).output().expect("run twin");
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(65), "{name}: {err}");
+        let head = err.lines().next().unwrap_or_default();
+        let place = format!("{}:{}:", path.display(), first + line - 1);
+        assert!(head.starts_with("error: ") && head.contains(&place), "{name}: expected {place} in {head}");
+        assert!(head.contains(needle), "{name}: expected {needle:?} in {head}");
+    }
+}
+
+#[test]
+fn a_tag_that_is_also_a_trace_column_is_refused_naming_both() {
+    let (path, first) = with_appended(
+        "expect_column_clash",
+        "[[tags]]\nname = \"time_s\"\ntype = \"REAL\"\nvalue = 0.0\n[[expect]]\nname = \"x\"\nalways = \"time_s >= 0.0\"\n",
+    );
+    let out = twin().arg("check").arg(&path).output().expect("run twin");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(65), "{err}");
+    let head = err.lines().next().unwrap_or_default();
+    assert!(
+        head.contains(&format!("{}:{}:11: expect[0].always: 'time_s' names both the tag 'time_s' and the trace column 'time_s'", path.display(), first + 6)),
+        "{head}"
+    );
+}
+
+#[test]
+fn variants_change_tags_duration_and_expectations() {
+    let (path, _) = with_appended(
+        "expect_variants",
+        r#"[[tags]]
+name = "Limit"
+type = "REAL"
+value = 100.0
+
+[[expect]]
+name = "under the limit"
+always = "Table.cmd_pos < Limit"
+
+[[variants]]
+name = "short high"
+tags = { Limit = 1000.0 }
+duration_s = 1.0
+
+[[variants.expect]]
+name = "moving"
+eventually = "MoveA.Busy"
+"#,
+    );
+    let (code, summary, out) = run_summary(&path, &[]);
+    assert_eq!(code, Some(6), "{out}");
+    assert_eq!(expectation(&summary, "under the limit")["passed"], false);
+    let (code, summary, out) = run_summary(&path, &["--variant", "short high"]);
+    assert_eq!(code, Some(0), "{out}");
+    assert_eq!(summary["variant"], "short high");
+    assert!((summary["simulated_s"].as_f64().unwrap_or_default() - 1.0).abs() < 1e-9);
+    assert_eq!(expectation(&summary, "under the limit")["passed"], true);
+    assert_eq!(expectation(&summary, "moving")["passed"], true);
+    let out = twin()
+        .arg("run")
+        .arg(&path)
+        .args(["--no-render", "--variant", "nope"])
+        .output()
+        .expect("run twin");
+    assert_eq!(out.status.code(), Some(64), "{}", stderr(&out));
+    assert!(stderr(&out).contains("the variants short high"), "{}", stderr(&out));
+}
+
+/// A folder of scenes for `twin test`: the indexing table with a variant,
+/// with a broken expectation, one that does not load, and one that runs
+/// far longer than the timeout.
+fn suite(name: &str) -> PathBuf {
+    let dir = fresh_dir("cli", name);
+    let base = std::fs::read_to_string(edited(&format!("{name}_base"), &[])).expect("scene");
+    let good = format!(
+        "{base}\n[[expect]]\nname = \"first move\"\neventually = \"MoveA.Done\"\nby_s = 1.5\n\n[[variants]]\nname = \"short\"\nduration_s = 2.0\n"
+    );
+    std::fs::write(dir.join("a_good.toml"), good.replace("duration_s = 9.0", "duration_s = 3.0")).expect("write");
+    std::fs::write(
+        dir.join("b_broken.toml"),
+        format!("{base}\n[[expect]]\nname = \"broken\"\nalways = \"Table.ActualPosition < 10.0\"\n")
+            .replace("duration_s = 9.0", "duration_s = 2.0"),
+    )
+    .expect("write");
+    std::fs::write(dir.join("c_bad.toml"), base.replace("max_velocity = 360.0", "max_velocity = -1.0")).expect("write");
+    std::fs::write(dir.join("d_hangs.toml"), base.replace("duration_s = 9.0", "duration_s = 100000.0")).expect("write");
+    dir
+}
+
+#[test]
+fn twin_test_reports_failures_errors_and_timeouts_in_junit() {
+    let dir = suite("suite");
+    let junit = dir.join("out/junit.xml");
+    let artifacts = dir.join("out/failures");
+    let out = twin()
+        .arg("test")
+        .arg(&dir)
+        .args(["-j", "2", "--timeout", "4", "--no-render", "--junit"])
+        .arg(&junit)
+        .arg("--artifacts")
+        .arg(&artifacts)
+        .output()
+        .expect("run twin test");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{stdout}{}", stderr(&out));
+    let last = stdout.lines().last().unwrap_or_default();
+    assert!(last.starts_with("2 passed, 3 failed"), "{stdout}");
+    for line in ["PASS ", "FAIL ", "ERROR "] {
+        assert!(stdout.contains(line), "{line}: {stdout}");
+    }
+    assert!(stdout.contains("timed out: killed after 4 s"), "{stdout}");
+    assert!(stdout.contains("max_velocity"), "the load error's message: {stdout}");
+
+    let xml = std::fs::read_to_string(&junit).expect("junit written");
+    let report = quick_junit::Report::deserialize_from_str(&xml).expect("quick-junit reads the report");
+    assert_eq!(report.test_suites.len(), 4, "a suite per scene file");
+    let cases: Vec<&quick_junit::TestCase> = report.test_suites.iter().flat_map(|s| &s.test_cases).collect();
+    let find = |class: &str, name: &str| {
+        cases
+            .iter()
+            .find(|c| c.classname.as_ref().is_some_and(|k| k.as_str().ends_with(class)) && c.name.as_str() == name)
+            .unwrap_or_else(|| panic!("no test case {class} {name} in {xml}"))
+    };
+    let broken = find("b_broken.toml", "broken");
+    match &broken.status {
+        quick_junit::TestCaseStatus::NonSuccess { kind, message, ty, .. } => {
+            assert_eq!(*kind, quick_junit::NonSuccessKind::Failure);
+            assert_eq!(ty.as_ref().map(|t| t.as_str()), Some("expectation"));
+            let m = message.as_ref().map(|m| m.as_str()).unwrap_or_default();
+            assert!(m.contains("failed at") && m.contains("Table.ActualPosition = "), "{m}");
+        }
+        other => panic!("broken: {other:?}"),
+    }
+    assert!(matches!(find("a_good.toml", "first move").status, quick_junit::TestCaseStatus::Success { .. }));
+    assert!(matches!(find("a_good.toml[short]", "run").status, quick_junit::TestCaseStatus::Success { .. }));
+    for errored in ["c_bad.toml", "d_hangs.toml"] {
+        match &find(errored, "run").status {
+            quick_junit::TestCaseStatus::NonSuccess { kind, .. } => {
+                assert_eq!(*kind, quick_junit::NonSuccessKind::Error, "{errored}");
+            }
+            other => panic!("{errored}: {other:?}"),
+        }
+    }
+    // The failed run's artifacts: summary, trace and recording.
+    let failed_dir = std::fs::read_dir(&artifacts)
+        .expect("artifacts")
+        .filter_map(Result::ok)
+        .find(|e| e.file_name().to_string_lossy().contains("b_broken"))
+        .expect("the broken run's folder")
+        .path();
+    for file in ["summary.json", "trace.csv", "run.rrd"] {
+        assert!(failed_dir.join(file).is_file(), "{file} in {}", failed_dir.display());
+    }
+    assert!(xml.contains("[[ATTACHMENT|"), "{xml}");
+}
+
+#[test]
+fn a_failed_expectation_attaches_a_picture_of_every_camera() {
+    let dir = fresh_dir("cli", "suite_picture");
+    let base = std::fs::read_to_string(edited("suite_picture_base", &[])).expect("scene");
+    std::fs::write(
+        dir.join("broken.toml"),
+        format!("{base}\n[[expect]]\nname = \"broken\"\nalways = \"Table.ActualPosition < 10.0\"\n")
+            .replace("duration_s = 9.0", "duration_s = 1.0"),
+    )
+    .expect("write");
+    let junit = dir.join("junit.xml");
+    let artifacts = dir.join("failures");
+    let out = twin()
+        .arg("test")
+        .arg(dir.join("broken.toml"))
+        .arg("--junit")
+        .arg(&junit)
+        .arg("--artifacts")
+        .arg(&artifacts)
+        .output()
+        .expect("run twin test");
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let xml = std::fs::read_to_string(&junit).expect("junit");
+    let picture = xml
+        .split("[[ATTACHMENT|")
+        .skip(1)
+        .filter_map(|s| s.split("]]").next())
+        .find(|p| p.ends_with(".png"));
+    match picture {
+        Some(p) => {
+            assert!(std::path::Path::new(p).is_file(), "{p}");
+            assert!(p.contains("iso-t"), "named after the camera and the time: {p}");
+        }
+        None => {
+            // No Vulkan adapter: the run says so; CI has lavapipe.
+            assert!(std::env::var_os("CI").is_none(), "no picture in CI: {xml}");
+            eprintln!("SKIPPED the picture check: no frames rendered ({xml})");
+        }
+    }
+}
+
+#[test]
+fn shards_run_every_run_exactly_once() {
+    let list = |shard: &str| -> Vec<String> {
+        let out = twin()
+            .args(["test", "--list", "--shard", shard])
+            .arg(root().join("scenes"))
+            .output()
+            .expect("twin test --list");
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        String::from_utf8_lossy(&out.stdout).lines().map(str::to_owned).collect()
+    };
+    let all = list("1/1");
+    assert!(all.len() >= 15, "{all:?}");
+    let mut union: Vec<String> = ["1/3", "2/3", "3/3"].iter().flat_map(|s| list(s)).collect();
+    union.sort();
+    let mut expected = all.clone();
+    expected.sort();
+    assert_eq!(union, expected, "three shards together run every run exactly once");
+    for bad in ["0/3", "4/3", "1/0", "auto"] {
+        let out = twin()
+            .args(["test", "--list", "--shard", bad])
+            .arg(root().join("scenes"))
+            .env_remove("CI_NODE_INDEX")
+            .env_remove("JOB_COMPLETION_INDEX")
+            .output()
+            .expect("twin test");
+        assert_eq!(out.status.code(), Some(64), "{bad}: {}", stderr(&out));
+    }
+    let out = twin()
+        .args(["test", "--list", "--shard", "auto", "--shards", "3"])
+        .arg(root().join("scenes"))
+        .env_remove("CI_NODE_INDEX")
+        .env("JOB_COMPLETION_INDEX", "1")
+        .output()
+        .expect("twin test");
+    assert_eq!(String::from_utf8_lossy(&out.stdout).lines().map(str::to_owned).collect::<Vec<_>>(), list("2/3"));
+}
+
+#[test]
+fn an_unwritable_junit_exits_74_before_anything_runs() {
+    let dir = fresh_dir("cli", "suite_unwritable");
+    let out = twin()
+        .args(["test", "--junit", "/proc/twin/junit.xml"])
+        .arg(root().join("scenes/indexing_table.toml"))
+        .output()
+        .expect("twin test");
+    assert_eq!(out.status.code(), Some(74), "{}", stderr(&out));
+    assert!(String::from_utf8_lossy(&out.stdout).is_empty(), "nothing ran");
+    let _ = dir;
+}
+
+#[test]
+fn repeat_compares_the_traces_of_deterministic_runs() {
+    let (path, _) = with_appended("suite_repeat", "");
+    let text = std::fs::read_to_string(&path).expect("scene").replace("duration_s = 9.0", "duration_s = 0.5");
+    std::fs::write(&path, text).expect("write");
+    let durations = path.with_file_name("durations.json");
+    std::fs::write(&durations, "{\"elsewhere.toml\": 3.5}").expect("write");
+    let out = twin()
+        .arg("test")
+        .arg(&path)
+        .args(["--repeat", "2", "--no-render", "--durations"])
+        .arg(&durations)
+        .output()
+        .expect("twin test");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{}", stderr(&out));
+    assert!(stdout.lines().last().unwrap_or_default().starts_with("1 passed, 0 failed"), "{stdout}");
+    // The durations file keeps the other entries and gains this run's.
+    let read: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&durations).expect("durations")).expect("JSON");
+    assert_eq!(read["elsewhere.toml"], 3.5);
+    assert!(read[path.display().to_string()].as_f64().is_some_and(|s| s > 0.0), "{read}");
 }

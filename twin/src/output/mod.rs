@@ -13,6 +13,7 @@
 pub mod recording;
 #[cfg(feature = "render")]
 pub mod render;
+pub mod expect;
 pub mod session;
 #[cfg(feature = "render")]
 pub mod snapshot;

@@ -71,6 +71,9 @@ struct FramesInner {
     meshes: Vec<crate::output::render::MeshId>,
     dir: PathBuf,
     cameras: Vec<(String, crate::output::render::Camera, f64, u64)>,
+    /// [`Frames::only_at`]: one picture per camera at the first update at
+    /// or after this time, and no other; cleared once taken.
+    at_s: Option<f64>,
 }
 
 impl Frames {
@@ -139,6 +142,7 @@ impl Frames {
                     meshes,
                     dir: dir.to_path_buf(),
                     cameras,
+                    at_s: None,
                 }),
                 written: 0,
             })
@@ -151,6 +155,21 @@ impl Frames {
         }
     }
 
+    /// Instead of every camera's frames at its fps, one picture of each
+    /// camera at the first update at or after `time_s`, written as
+    /// `<camera>-t<time>.png` (`twin run --frames-at`, `twin test
+    /// --artifacts`).
+    #[must_use]
+    pub fn only_at(mut self, time_s: f64) -> Frames {
+        #[cfg(feature = "render")]
+        if let Some(inner) = self.inner.as_mut() {
+            inner.at_s = Some(time_s);
+        }
+        #[cfg(not(feature = "render"))]
+        let _ = time_s;
+        self
+    }
+
     /// Renders the cameras whose next frame time has come (frame `k` of a
     /// camera is due at `k / fps` seconds: the first update at or after it).
     ///
@@ -161,7 +180,12 @@ impl Frames {
         if let Some(inner) = self.inner.as_mut() {
             let t = twin.time_s();
             let eps = 1e-9;
-            let due = |next: u64, fps: f64| next as f64 / fps <= t + eps;
+            let picture = match inner.at_s {
+                Some(at) if t + eps >= at => true,
+                Some(_) => return Ok(()),
+                None => false,
+            };
+            let due = |next: u64, fps: f64| picture || next as f64 / fps <= t + eps;
             if !inner.cameras.iter().any(|(_, _, fps, next)| due(*next, *fps)) {
                 return Ok(());
             }
@@ -200,13 +224,21 @@ impl Frames {
                         path: inner.dir.clone(),
                         message: e.to_string(),
                     })?;
-                let path = inner.dir.join(format!("{name}-{next:05}.png"));
+                let path = if picture {
+                    inner.dir.join(format!("{name}-t{}.png", crate::output::trace::number(t)))
+                } else {
+                    inner.dir.join(format!("{name}-{next:05}.png"))
+                };
                 write_png(&path, &image).map_err(|e| OutputError::Frame {
                     path: path.clone(),
                     message: e.to_string(),
                 })?;
                 *next += 1;
                 self.written += 1;
+            }
+            if picture {
+                // Taken: no frame after it.
+                inner.at_s = Some(f64::INFINITY);
             }
         }
         #[cfg(not(feature = "render"))]
@@ -447,6 +479,12 @@ pub struct Summary {
     /// faults.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tasks: Option<TasksSummary>,
+    /// The variant that ran (`twin run --variant`), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub variant: Option<String>,
+    /// Each `[[expect]]`'s result (empty: the scene has none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub expectations: Vec<crate::output::expect::Outcome>,
 }
 
 /// The task engine's part of the summary.
@@ -628,6 +666,8 @@ impl Stats {
                     refused: c.refusals().to_vec(),
                 }
             }),
+            variant: twin.scene().variant.clone(),
+            expectations: Vec::new(),
         }
     }
 }
@@ -636,6 +676,11 @@ impl Summary {
     /// Whether any instance reported an error during the run.
     pub fn any_error(&self) -> bool {
         self.instructions.iter().any(|i| i.errors > 0)
+    }
+
+    /// How many expectations failed.
+    pub fn failed_expectations(&self) -> usize {
+        self.expectations.iter().filter(|e| !e.passed).count()
     }
 
     /// The summary as pretty JSON.
@@ -650,8 +695,13 @@ impl Summary {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            "scene {}: {:.3} s simulated in {:.3} s wall, real-time factor {:.2} ({} updates)",
-            self.scene, self.simulated_s, self.wall_s, self.real_time_factor, self.updates
+            "scene {}{}: {:.3} s simulated in {:.3} s wall, real-time factor {:.2} ({} updates)",
+            self.scene,
+            self.variant.as_ref().map_or(String::new(), |v| format!("[{v}]")),
+            self.simulated_s,
+            self.wall_s,
+            self.real_time_factor,
+            self.updates
         );
         if self.plant != crate::scene::PlantMode::Physics.name() {
             let _ = writeln!(
@@ -782,6 +832,17 @@ impl Summary {
             }
         }
         let _ = writeln!(s, "  frames written: {}", self.frames_written);
+        if !self.expectations.is_empty() {
+            let failed = self.failed_expectations();
+            let _ = writeln!(
+                s,
+                "expectations: {} passed, {failed} failed",
+                self.expectations.len() - failed
+            );
+            for e in &self.expectations {
+                let _ = writeln!(s, "  {} {}", if e.passed { "PASS" } else { "FAIL" }, e.message);
+            }
+        }
         s
     }
 }

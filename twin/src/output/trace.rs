@@ -51,7 +51,7 @@
 //! and from 1e16 in magnitude (`1.5e-20`) so that values near zero stay
 //! short; deterministic, so reruns write identical files.
 
-use crate::program::types::Value;
+use crate::program::types::{DataType, Value};
 use crate::run::Twin;
 use planner::coord::CoordStatus;
 use planner::instruction::{FbOutputs, MotionInstructionBits};
@@ -192,8 +192,67 @@ pub fn row(twin: &Twin) -> Vec<String> {
 /// Appends one update's row to `line`, cells separated by commas, without
 /// the line's end. No cell holds a comma: numbers, integers and bits.
 pub fn write_row(twin: &Twin, line: &mut String) {
+    write_cells(twin, &mut Row { line, cells: 0 });
+}
+
+/// What a row's cells are written into: text for the CSV ([`write_row`]),
+/// numbers for the expectations ([`Values`]).
+pub trait Cells {
+    /// A number (f64).
+    fn number(&mut self, x: f64);
+    /// A single-precision number (a REAL tag).
+    fn real32(&mut self, x: f32);
+    /// A bit.
+    fn bit(&mut self, b: bool);
+    /// An integer.
+    fn int(&mut self, i: i64);
+}
+
+/// One update's row as numbers at full precision, with each column's
+/// type: what an expectation reads a trace column from.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Values {
+    /// A value per [`header`] column.
+    pub values: Vec<f64>,
+    /// A type per column: BOOL for bits, DINT for integers, REAL for a
+    /// REAL tag, LREAL for the other numbers.
+    pub types: Vec<DataType>,
+}
+
+impl Values {
+    /// Fills the row with `twin`'s values now.
+    pub fn read(&mut self, twin: &Twin) {
+        self.values.clear();
+        self.types.clear();
+        write_cells(twin, self);
+    }
+}
+
+impl Cells for Values {
+    fn number(&mut self, x: f64) {
+        self.values.push(x);
+        self.types.push(DataType::Lreal);
+    }
+
+    fn real32(&mut self, x: f32) {
+        self.values.push(f64::from(x));
+        self.types.push(DataType::Real);
+    }
+
+    fn bit(&mut self, b: bool) {
+        self.values.push(f64::from(u8::from(b)));
+        self.types.push(DataType::Bool);
+    }
+
+    fn int(&mut self, i: i64) {
+        self.values.push(i as f64);
+        self.types.push(DataType::Dint);
+    }
+}
+
+/// Writes one update's row into `row`, a cell per [`header`] column.
+pub fn write_cells(twin: &Twin, row: &mut impl Cells) {
     let (task, program, plant) = (twin.task(), twin.program(), twin.plant());
-    let mut row = Row { line, cells: 0 };
     row.number(twin.time_s());
     for a in plant.axes() {
         let s = task.axis_state(a.handle);
@@ -209,15 +268,15 @@ pub fn write_row(twin: &Twin, line: &mut String) {
     for fb in program.fbs() {
         let o = task.outputs(fb.handle);
         o.bits().into_iter().for_each(|(_, b)| row.bit(b));
-        row.int(o.error_id);
+        row.int(i64::from(o.error_id));
     }
     for ins in program.instructions() {
         let b = task.motion_bits(ins.handle);
         b.bits().into_iter().for_each(|(_, x)| row.bit(x));
-        b.codes().into_iter().for_each(|(_, code)| row.int(code));
+        b.codes().into_iter().for_each(|(_, code)| row.int(i64::from(code)));
     }
     if plant.collision_enabled() {
-        row.int(plant.collision_events().len());
+        row.int(plant.collision_events().len() as i64);
         plant.clearance_m().into_iter().for_each(|x| row.number(x));
     }
     for a in plant.axes().iter().filter(|a| task.is_cam_slave(a.handle)) {
@@ -227,7 +286,7 @@ pub fn write_row(twin: &Twin, line: &mut String) {
             row.bit(b);
         }
     }
-    coord_row(twin, &mut row);
+    coord_row(twin, row);
     if uses_mct(twin) {
         for cs in task.coord_handles() {
             row.bit(task.transform_source_status(cs));
@@ -247,13 +306,13 @@ pub fn write_row(twin: &Twin, line: &mut String) {
     }
     if uses_states(twin) {
         for a in plant.axes() {
-            row.int(task.cip_axis_state(a.handle).code());
-            row.int(task.axis_faults(a.handle).0);
+            row.int(i64::from(task.cip_axis_state(a.handle).code()));
+            row.int(i64::from(task.axis_faults(a.handle).0));
         }
     }
     for a in plant.axes() {
         if task.axis_config(a.handle).soft_travel_limits.is_some() {
-            row.int(task.motion_faults(a.handle).0);
+            row.int(i64::from(task.motion_faults(a.handle).0));
         }
     }
     for k in 0..plant.axes().len() {
@@ -268,10 +327,7 @@ pub fn write_row(twin: &Twin, line: &mut String) {
         match program.traced(t, task) {
             Value::Bool(b) => row.bit(b),
             Value::Int(i) => row.int(i),
-            Value::Real(x) if t.single_precision() => {
-                let x = x as f32;
-                write_shortest(row.cell(), x, f64::from(x));
-            }
+            Value::Real(x) if t.single_precision() => row.real32(x as f32),
             Value::Real(x) => row.number(x),
         }
     }
@@ -296,23 +352,29 @@ impl Row<'_> {
         self.cells += 1;
         self.line
     }
+}
 
+impl Cells for Row<'_> {
     fn number(&mut self, x: f64) {
         write_shortest(self.cell(), x, x);
+    }
+
+    fn real32(&mut self, x: f32) {
+        write_shortest(self.cell(), x, f64::from(x));
     }
 
     fn bit(&mut self, b: bool) {
         self.cell().push(if b { '1' } else { '0' });
     }
 
-    fn int(&mut self, i: impl std::fmt::Display) {
+    fn int(&mut self, i: i64) {
         use std::fmt::Write;
         // Writing to a String cannot fail.
         let _ = write!(self.cell(), "{i}");
     }
 }
 
-fn coord_row(twin: &Twin, row: &mut Row<'_>) {
+fn coord_row(twin: &Twin, row: &mut impl Cells) {
     let (task, plant) = (twin.task(), twin.plant());
     let links = plant.world_from_link();
     for cs in task.coord_handles() {

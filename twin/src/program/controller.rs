@@ -416,6 +416,7 @@ pub(super) fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
         }
         Place::FirstScan | Place::MinorInScan => Value::Bool(false),
         Place::MinorFaults => Value::Int(0),
+        Place::Column { .. } => Value::Int(0),
     }
 }
 

@@ -142,6 +142,29 @@ pub enum Place {
     MinorInScan,
     /// The `MinorFaults` counter.
     MinorFaults,
+    /// A trace column an expectation reads (`J1.act_pos`), by its index
+    /// in the values the caller passes ([`crate::output::trace::Values`]).
+    Column {
+        /// The column's index.
+        index: usize,
+        /// How its number reads: BOOL 0/1, an integer, a real.
+        ty: DataType,
+    },
+}
+
+/// A name an expression may read besides the program's: a trace column.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    /// The column's name (`J1.act_pos`, `collision.count`).
+    pub name: String,
+    /// Its type.
+    pub ty: DataType,
+    /// Whether the part before its last dot names the tag (axis,
+    /// coordinate system, instruction, block, traced tag) the column
+    /// belongs to (`J1.cmd_pos`, `MC1.PC`), rather than something that is
+    /// not a tag (`time_s`, `collision.count`, `tool.clearance_m`): a tag
+    /// of that name then means something else.
+    pub of_tag: bool,
 }
 
 impl Place {

@@ -202,6 +202,40 @@ impl Program {
         self.bindings.calls(instruction)
     }
 
+    /// Compiles a scene expression in controller scope that may also name
+    /// `columns` (an expectation): tags, `Program.Tag`, axis and
+    /// coordinate-system members, instruction bits, functions, and the
+    /// trace columns.
+    ///
+    /// # Errors
+    /// A diagnostic pointing into the expression.
+    pub fn compile_expression(
+        &mut self,
+        scene: &Scene,
+        task: &mut MotionTask,
+        expr: &crate::st::ast::Expr,
+        columns: &[ir::Column],
+    ) -> Result<ir::CExpr, Box<Diagnostic>> {
+        let decls = Declarations::of(scene);
+        let mut env = Env {
+            scene,
+            decls: &decls,
+            files: &scene.files,
+            task,
+            bindings: &mut self.bindings,
+        };
+        let mut compiler = Compiler::new(self.plc.memory(), None, &[], Dialect::Logix, &mut env, false);
+        compiler.columns = columns;
+        compiler.expr(expr)
+    }
+
+    /// The value of an expression [`Program::compile_expression`]
+    /// compiled, now, reading the trace columns from `columns`.
+    pub fn evaluate(&mut self, task: &mut MotionTask, e: &ir::CExpr, columns: &[f64]) -> Value {
+        let (mem, scratch, _) = self.plc.step_context();
+        exec::evaluate_with_columns(mem, task, scratch, e, columns)
+    }
+
     /// Calls whose constant operands the instruction refuses whenever they
     /// run, found at load.
     pub fn warnings(&self) -> &[Diagnostic] {

@@ -332,6 +332,63 @@ pub enum Problem {
         /// The joint.
         joint: String,
     },
+    /// An `[[expect]]` with no kind, or with more than one.
+    #[error("give exactly one of always, never, eventually, at_end, sequence, cycle{}", if found.is_empty() { String::new() } else { format!(" (found {})", found.join(" and ")) })]
+    ExpectKinds {
+        /// The kinds given.
+        found: Vec<&'static str>,
+    },
+    /// An option of another kind of expectation.
+    #[error("'{option}' does not apply to '{kind}' ({kind} takes {takes})")]
+    ExpectOption {
+        /// The option given.
+        option: &'static str,
+        /// The expectation's kind.
+        kind: &'static str,
+        /// The options the kind takes.
+        takes: &'static str,
+    },
+    /// A `sequence` with no condition.
+    #[error("a sequence needs at least one condition")]
+    EmptySequence,
+    /// A time past the end of the run.
+    #[error("{option} = {value} is after the end of the run (duration_s = {duration_s}{})", if let Some(v) = variant { format!(" in variant '{v}'") } else { String::new() })]
+    PastEnd {
+        /// The option.
+        option: &'static str,
+        /// Its value, s.
+        value: f64,
+        /// The run's duration, s.
+        duration_s: f64,
+        /// The variant whose duration it is, if any.
+        variant: Option<String>,
+    },
+    /// A window whose start is after its end.
+    #[error("{low} = {low_s} is after {high} = {high_s}")]
+    WindowOrder {
+        /// The start's option.
+        low: &'static str,
+        /// The start, s.
+        low_s: f64,
+        /// The end's option.
+        high: &'static str,
+        /// The end, s.
+        high_s: f64,
+    },
+    /// A variant setting a tag the scene does not declare.
+    #[error("unknown tag '{name}': a variant sets a declared tag's initial value (a controller tag, or Program.Tag)")]
+    UnknownVariantTag {
+        /// The name.
+        name: String,
+        /// The declared tag nearest to it, for the `help:` line.
+        nearest: Option<String>,
+    },
+    /// An expected exit code that a run does not end with.
+    #[error("exit code {code} is not one a run ends with: 0 (ran to its end), 2 (an instruction error), 3 (a collision abort), 4 (a major fault) or 5 (a physics fault)")]
+    NotRunExitCode {
+        /// The code.
+        code: i64,
+    },
 }
 
 /// An error loading a scene. `Display` is one line:
@@ -503,7 +560,9 @@ impl Problem {
     /// A `help:` line, where the problem has an obvious fix.
     fn help(&self) -> Option<String> {
         match self {
-            Problem::UnknownAxis { nearest: Some(n), .. } => Some(format!("did you mean '{n}'?")),
+            Problem::UnknownAxis { nearest: Some(n), .. } | Problem::UnknownVariantTag { nearest: Some(n), .. } => {
+                Some(format!("did you mean '{n}'?"))
+            }
             Problem::UnknownTagType { type_name } => {
                 let names = BaseType::all_names();
                 let base = type_name.split('[').next().unwrap_or_default();

@@ -33,6 +33,7 @@ mod model;
 mod raw;
 
 mod collision;
+mod expect;
 mod geometry;
 mod program;
 mod tags;
@@ -42,7 +43,8 @@ mod validate;
 pub use error::{Problem, SceneError};
 pub use geometry::GEOMETRY_TYPES;
 pub use model::{
-    AllowedPair, Axis, AxisKind, BaseType, CamPoint, Camera, CollisionSettings, CoordinateSystemSettings,
+    AllowedPair, Axis, AxisKind, BaseType, CamPoint, Camera, CollisionSettings, Condition, CoordinateSystemSettings,
+    ExpectKind, Expectation, RUN_EXIT_CODES, TestSettings, Variant,
     DEFAULT_PHYSICS_SUBSTEPS, DEFAULT_WATCHDOG_MS, Dialect, FunctionBlock, GeometrySettings, Location, MAX_ARRAY_LEN,
     MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS,
     MIN_PHYSICS_STEP_MS, MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef, Reaction, Robot,
@@ -77,6 +79,46 @@ impl Scene {
     #[must_use]
     pub fn axis(&self, name: &str) -> Option<&Axis> {
         self.axes.iter().find(|a| a.name.eq_ignore_ascii_case(name))
+    }
+
+    /// The scene as its variant `name` runs it: the variant's initial tag
+    /// values, duration, plant and expected exit code, and its
+    /// expectations after the scene's. `None` when there is no such
+    /// variant.
+    #[must_use]
+    pub fn with_variant(&self, name: &str) -> Option<Scene> {
+        let v = self.variants.iter().find(|v| v.name == name)?;
+        let mut scene = self.clone();
+        for (tag, value) in &v.tags {
+            let slot = match tag.split_once('.') {
+                _ if scene.tags.iter().any(|t| t.name.eq_ignore_ascii_case(tag)) => {
+                    scene.tags.iter_mut().find(|t| t.name.eq_ignore_ascii_case(tag))
+                }
+                Some((program, short)) => scene
+                    .tasks
+                    .iter_mut()
+                    .flat_map(|t| &mut t.programs)
+                    .find(|p| p.name.eq_ignore_ascii_case(program))
+                    .and_then(|p| p.tags.iter_mut().find(|t| t.name.eq_ignore_ascii_case(short))),
+                None => None,
+            };
+            // The load checked that each names a declared tag.
+            if let Some(t) = slot {
+                t.value = Some(value.clone());
+            }
+        }
+        if let Some(d) = v.duration_s {
+            scene.duration_s = d;
+        }
+        if let Some(p) = v.plant {
+            scene.plant = p;
+        }
+        if let Some(c) = v.exit_code {
+            scene.test.exit_code = c;
+        }
+        scene.expectations.extend(v.expectations.iter().cloned());
+        scene.variant = Some(v.name.clone());
+        Some(scene)
     }
 
     /// The tag called `name` (case-insensitive).

@@ -67,6 +67,163 @@ pub struct Scene {
     /// rapier steps per physics step (`physics_substeps`, 1 to
     /// [`MAX_PHYSICS_SUBSTEPS`], default [`DEFAULT_PHYSICS_SUBSTEPS`]).
     pub physics_substeps: usize,
+    /// `[[expect]]`, in file order (a variant's own follow the scene's).
+    pub expectations: Vec<Expectation>,
+    /// `[test]`: what `twin test` expects of the run as a whole.
+    pub test: TestSettings,
+    /// `[[variants]]`, in file order ([`Scene::with_variant`] applies one).
+    pub variants: Vec<Variant>,
+    /// The variant applied, if any.
+    pub variant: Option<String>,
+}
+
+/// `[[expect]]`: a named condition on the run, checked on every trace row.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Expectation {
+    /// Its name (unique in the scene and its variant).
+    pub name: String,
+    /// What is expected.
+    pub kind: ExpectKind,
+    /// The entry's field path (`expect[3]`, `variants[0].expect[1]`).
+    pub field: String,
+    /// Where its `name` is written.
+    pub location: Location,
+}
+
+/// A BOOL expression of an expectation, parsed, with its text.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Condition {
+    /// The expression as written (trimmed).
+    pub text: String,
+    /// The parsed expression (the run compiles it in controller scope).
+    pub expr: Expr,
+    /// Its field path (`expect[3].always`, `expect[0].sequence[2]`).
+    pub field: String,
+}
+
+/// The kinds of [`Expectation`] (README, "Expectations").
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum ExpectKind {
+    /// `always` (or, with `never`, its negation) holds at every row in
+    /// [`from_s`, `to_s`] where `guard` (`while`) is TRUE.
+    Always {
+        /// The condition.
+        condition: Condition,
+        /// `never`: the condition must stay FALSE instead.
+        never: bool,
+        /// Start of the window, s (default 0).
+        from_s: f64,
+        /// End of the window, s (default: the end of the run).
+        to_s: Option<f64>,
+        /// `while`: rows where it is FALSE are not checked.
+        guard: Option<Condition>,
+    },
+    /// `eventually`: TRUE at some row in [`after_s`, `by_s`].
+    Eventually {
+        /// The condition.
+        condition: Condition,
+        /// Start of the window, s (default 0).
+        after_s: f64,
+        /// End of the window, s (default: the end of the run).
+        by_s: Option<f64>,
+    },
+    /// `at_end`: TRUE at the last row.
+    AtEnd {
+        /// The condition.
+        condition: Condition,
+    },
+    /// `sequence`: each condition rises (FALSE → TRUE, or TRUE at t = 0),
+    /// its first rise not before the previous one's, all within
+    /// `within_s` of the first.
+    Sequence {
+        /// The conditions, in order (at least one).
+        steps: Vec<Condition>,
+        /// The most time from the first rise to the last, s.
+        within_s: Option<f64>,
+    },
+    /// `cycle`: the time between consecutive rises lies in [`min_s`,
+    /// `max_s`], and there are at least `count` such cycles.
+    Cycle {
+        /// The condition.
+        condition: Condition,
+        /// Shortest cycle, s (default 0).
+        min_s: f64,
+        /// Longest cycle, s (default: no limit).
+        max_s: Option<f64>,
+        /// Fewest cycles (default 1).
+        count: u32,
+    },
+}
+
+impl ExpectKind {
+    /// The kind's name as the scene writes it.
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        match self {
+            ExpectKind::Always { never: false, .. } => "always",
+            ExpectKind::Always { never: true, .. } => "never",
+            ExpectKind::Eventually { .. } => "eventually",
+            ExpectKind::AtEnd { .. } => "at_end",
+            ExpectKind::Sequence { .. } => "sequence",
+            ExpectKind::Cycle { .. } => "cycle",
+        }
+    }
+
+    /// Every condition of the expectation, the guard included.
+    pub fn conditions(&self) -> impl Iterator<Item = &Condition> {
+        let (first, rest): (Option<&Condition>, &[Condition]) = match self {
+            ExpectKind::Always { condition, .. }
+            | ExpectKind::Eventually { condition, .. }
+            | ExpectKind::AtEnd { condition }
+            | ExpectKind::Cycle { condition, .. } => (Some(condition), &[]),
+            ExpectKind::Sequence { steps, .. } => (None, steps.as_slice()),
+        };
+        let guard = match self {
+            ExpectKind::Always { guard, .. } => guard.as_ref(),
+            _ => None,
+        };
+        first.into_iter().chain(rest).chain(guard)
+    }
+}
+
+/// `[test]`: what `twin test` expects of the run as a whole.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[non_exhaustive]
+pub struct TestSettings {
+    /// The exit code the run should end with without its expectations: 0
+    /// (default), 2 an instruction error, 3 a collision abort, 4 a major
+    /// fault, 5 a physics fault.
+    pub exit_code: u8,
+    /// Wall-clock limit of the run under `twin test`, s (`None`: its
+    /// `--timeout`).
+    pub timeout_s: Option<f64>,
+}
+
+/// The exit codes a run ends with, before its expectations (README,
+/// "Errors and exit codes"): what `[test] exit_code` may expect.
+pub const RUN_EXIT_CODES: [u8; 5] = [0, 2, 3, 4, 5];
+
+/// `[[variants]]`: the scene with other initial values, duration, plant,
+/// expected exit code and more expectations.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Variant {
+    /// Its name (unique in the scene): the run is `SCENE[NAME]`.
+    pub name: String,
+    /// Initial values: the tag (controller `Name` or `Program.Name`) and
+    /// its value, checked against the tag's type.
+    pub tags: Vec<(String, TagValue)>,
+    /// Its `duration_s`, if it changes the scene's.
+    pub duration_s: Option<f64>,
+    /// Its `plant`, if it changes the scene's.
+    pub plant: Option<PlantMode>,
+    /// Its `exit_code`, if it changes the scene's `[test]` one.
+    pub exit_code: Option<u8>,
+    /// Expectations added to the scene's.
+    pub expectations: Vec<Expectation>,
 }
 
 /// rapier steps per physics step when the scene does not say: the fewest

@@ -35,6 +35,58 @@ pub(super) struct RawScene {
     pub(super) collision: Option<RawCollision>,
     pub(super) plant: Option<PlantWord>,
     pub(super) physics_substeps: Option<Spanned<i64>>,
+    #[serde(default)]
+    pub(super) expect: Vec<RawExpect>,
+    pub(super) test: Option<RawTest>,
+    #[serde(default)]
+    pub(super) variants: Vec<RawVariant>,
+}
+
+/// `[[expect]]`: a name and exactly one kind, with that kind's options
+/// (`scene/expect.rs` checks which go together).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawExpect {
+    pub(super) name: Spanned<String>,
+    pub(super) always: Option<Spanned<String>>,
+    pub(super) never: Option<Spanned<String>>,
+    pub(super) eventually: Option<Spanned<String>>,
+    pub(super) at_end: Option<Spanned<String>>,
+    pub(super) sequence: Option<Spanned<Vec<Spanned<String>>>>,
+    pub(super) cycle: Option<Spanned<String>>,
+    pub(super) from_s: Option<Spanned<f64>>,
+    pub(super) to_s: Option<Spanned<f64>>,
+    #[serde(rename = "while")]
+    pub(super) guard: Option<Spanned<String>>,
+    pub(super) after_s: Option<Spanned<f64>>,
+    pub(super) by_s: Option<Spanned<f64>>,
+    pub(super) within_s: Option<Spanned<f64>>,
+    pub(super) min_s: Option<Spanned<f64>>,
+    pub(super) max_s: Option<Spanned<f64>>,
+    pub(super) count: Option<Spanned<i64>>,
+}
+
+/// `[test]`: what `twin test` expects of the run as a whole.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawTest {
+    pub(super) exit_code: Option<Spanned<i64>>,
+    pub(super) timeout_s: Option<Spanned<f64>>,
+}
+
+/// `[[variants]]`: the scene run again with other initial tag values, a
+/// duration, a plant, an expected exit code and more expectations.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawVariant {
+    pub(super) name: Spanned<String>,
+    #[serde(default)]
+    pub(super) tags: BTreeMap<String, Spanned<toml::Value>>,
+    pub(super) duration_s: Option<Spanned<f64>>,
+    pub(super) plant: Option<Spanned<PlantWord>>,
+    pub(super) exit_code: Option<Spanned<i64>>,
+    #[serde(default)]
+    pub(super) expect: Vec<RawExpect>,
 }
 
 /// `plant`: the plant modes.

@@ -100,6 +100,19 @@ impl Ctx<'_> {
             Some(c) => Some(self.collision(c, base)?),
             None => None,
         };
+        let trace_tags = self.trace_tags(raw.trace.as_ref().map_or(&[], |t| t.tags.as_slice()))?;
+        let expectations = self.expectations(&raw.expect, "expect", duration_s, None, &[])?;
+        let test = self.test_settings(raw.test.as_ref())?;
+        let variants = self.variants(
+            &raw.variants,
+            &super::expect::VariantScope {
+                tags: &tags,
+                tasks: &tasks,
+                axes: &axes,
+                duration_s,
+                expectations: &expectations,
+            },
+        )?;
         Ok(Scene {
             physics_substeps,
             plant: match raw.plant {
@@ -119,9 +132,13 @@ impl Ctx<'_> {
             tags,
             program,
             tasks,
-            trace_tags: self.trace_tags(raw.trace.as_ref().map_or(&[], |t| t.tags.as_slice()))?,
+            trace_tags,
             files: self.files.borrow().clone(),
             snapshots,
+            expectations,
+            test,
+            variants,
+            variant: None,
         })
     }
 

@@ -22,3 +22,16 @@ pub fn fresh_dir(group: &str, name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).expect("create test output dir");
     dir
 }
+
+/// A shipped scene's text without its own expectations: the tables from its
+/// `# What this run must show` comment on. A test that edits the scene
+/// (its program, its duration) checks other things than the expectations
+/// of the scene as shipped.
+#[allow(dead_code)]
+pub fn shipped_scene_text(path: &Path) -> String {
+    let mut text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    if let Some(at) = text.find("# What this run must show") {
+        text.truncate(at);
+    }
+    text
+}

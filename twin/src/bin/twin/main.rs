@@ -13,6 +13,7 @@ use twin::source::diag::stderr_wants_color;
 
 mod bench;
 mod run;
+mod test;
 
 const EXAMPLES: &str = "\
 Examples:
@@ -24,8 +25,10 @@ Examples:
 
 Exit codes:
   0 success; 2 an instruction reported an error; 3 a collision aborted the run;
-  4 a major controller fault stopped it; 64 usage error; 65 invalid input
-  (scene, routine, URDF, mesh); 74 an output cannot be written or a viewer reached";
+  4 a major controller fault stopped it; 5 the physics became non-finite;
+  6 an expectation ([[expect]]) failed and none of 2-5 happened; 64 usage
+  error; 65 invalid input (scene, routine, URDF, mesh); 74 an output cannot
+  be written or a viewer reached (it outweighs the others)";
 
 /// Exit codes (README, "Errors and exit codes"): 2, 3 and 4 are what a run reports,
 /// the others follow sysexits.h.
@@ -38,6 +41,9 @@ mod exit {
     pub const MAJOR_FAULT: u8 = 4;
     /// The physics state became non-finite and stopped the run.
     pub const PHYSICS_FAULT: u8 = 5;
+    /// The run went to its end with none of 2–5, and an `[[expect]]`
+    /// failed.
+    pub const EXPECTATION_FAILED: u8 = 6;
     /// Unknown flag or subcommand, a bad flag value, a flag this build lacks.
     pub const USAGE: u8 = 64;
     /// The scene, a routine, the URDF or a mesh is invalid.
@@ -70,7 +76,26 @@ enum Command {
     /// run with every output spends its time.
     #[command(after_help = BENCH_HELP)]
     Bench(BenchArgs),
+    /// Run scenes as tests: every scene and variant in a child process,
+    /// several at a time; their expectations, exit codes and snapshots
+    /// checked; a console report, JUnit, failure artifacts, sharding.
+    #[command(after_help = TEST_HELP)]
+    Test(test::TestArgs),
 }
+
+const TEST_HELP: &str = "\
+A run is a scene or one of its [[variants]] (`scenes/knife_cut.toml[250 mm]`).
+It passes when it exits as its [test] exit_code says (default 0), every
+[[expect]] holds and its [snapshots] match.
+
+Exit codes:
+  0 every run passed; 1 a run failed or errored; 64 usage (`--shard 4/3`);
+  74 --junit or --artifacts cannot be written (checked before anything runs)
+
+Examples:
+  twin test scenes/ -j 2 --junit target/junit.xml
+  twin test scenes/ --shard 2/3 --artifacts target/failures
+  twin test scenes/ --shard auto --shards 4      # a Kubernetes Indexed Job";
 
 const BENCH_HELP: &str = "\
 Columns, per scene (best of --runs plain runs; one more run records the
@@ -109,6 +134,10 @@ struct RunArgs {
     /// Write PNG frames of every camera into DIR (`<camera>-<frame>.png`).
     #[arg(long, value_name = "DIR")]
     frames: Option<PathBuf>,
+    /// With --frames: only one picture per camera, at the first update at
+    /// or after S seconds (`<camera>-t<time>.png`).
+    #[arg(long, value_name = "S", requires = "frames", value_parser = parse_time)]
+    frames_at: Option<f64>,
     /// Save a Rerun recording to FILE.rrd.
     #[arg(long, value_name = "FILE.rrd")]
     save: Option<PathBuf>,
@@ -141,6 +170,10 @@ struct RunArgs {
     /// `duration_s` (steps after the end are not reached).
     #[arg(long, value_name = "S", value_parser = parse_duration)]
     duration: Option<f64>,
+    /// Run the scene's variant NAME (`[[variants]]`): its initial tag
+    /// values, duration, plant and expectations.
+    #[arg(long, value_name = "NAME")]
+    variant: Option<String>,
     /// How the plant moves the joints, instead of the scene's `plant`:
     /// `physics` (drives, gravity, contacts) or `kinematic` (the joints
     /// follow the setpoints exactly, as a CIP axis in Controller Loop Back
@@ -156,6 +189,14 @@ fn parse_plant(text: &str) -> Result<scene::PlantMode, String> {
         .find(|(name, _)| *name == text.trim())
         .map(|(_, mode)| *mode)
         .ok_or_else(|| format!("expected physics or kinematic, found {text:?}"))
+}
+
+/// A `--frames-at`: seconds, zero or more, finite.
+fn parse_time(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(s) if s >= 0.0 && s.is_finite() => Ok(s),
+        _ => Err(format!("expected seconds (zero or more), found {text:?}")),
+    }
 }
 
 /// A `--duration`: seconds, positive, finite, at most 10⁶ (11.6 days).
@@ -183,7 +224,7 @@ fn main() -> ExitCode {
     let renders = match &cli.command {
         Command::Run(args) => args.frames.is_some() && !args.no_render,
         Command::Bench(args) => !args.no_render,
-        Command::Check { .. } => false,
+        Command::Check { .. } | Command::Test(_) => false,
     };
     if renders && let Some(code) = rerun_with_runtime_dir() {
         return code;
@@ -192,6 +233,7 @@ fn main() -> ExitCode {
         Command::Check { scene } => check(&scene),
         Command::Run(args) => run::run(&args),
         Command::Bench(args) => bench::bench(&args),
+        Command::Test(args) => test::test(&args),
     };
     match result {
         Ok(code) => code,
@@ -281,12 +323,14 @@ fn diagnostic(e: &anyhow::Error) -> Option<Diagnostic> {
         .map(twin::run::RunError::diagnostic)
 }
 
-/// Loads a scene and binds its program, printing the program's warnings
-/// (calls the instruction refuses whatever the state) to stderr.
+/// Loads a scene, binds its program and compiles its expectations,
+/// printing the program's warnings (calls the instruction refuses
+/// whatever the state) to stderr.
 fn load(path: &Path) -> Result<Twin> {
     let scene = scene::load(path)?;
-    let twin = Twin::new(scene)?;
+    let mut twin = Twin::new(scene)?;
     print_warnings(&twin);
+    twin::output::expect::Expectations::new(&mut twin).map_err(twin::run::RunError::Program)?;
     Ok(twin)
 }
 

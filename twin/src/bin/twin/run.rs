@@ -8,6 +8,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
+use twin::output::expect::Expectations;
 use twin::run::Twin;
 use twin::scene;
 
@@ -203,7 +204,7 @@ fn same_file(path: &Path) -> PathBuf {
 
 /// Flags that cannot go together (exit code 64).
 #[derive(Debug)]
-pub(crate) struct Refused(String);
+pub(crate) struct Refused(pub(crate) String);
 
 impl std::fmt::Display for Refused {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -237,6 +238,24 @@ fn parent_dir(flag: &str, path: &Path) -> Result<()> {
 pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     let wall = Instant::now();
     let mut scene = scene::load(&args.scene)?;
+    if let Some(name) = &args.variant {
+        scene = match scene.with_variant(name) {
+            Some(v) => v,
+            None => {
+                let names: Vec<&str> = scene.variants.iter().map(|v| v.name.as_str()).collect();
+                return Err(Refused(format!(
+                    "--variant {name}: {} has {}",
+                    args.scene.display(),
+                    if names.is_empty() {
+                        "no [[variants]]".to_owned()
+                    } else {
+                        format!("the variants {}", names.join(", "))
+                    }
+                ))
+                .into());
+            }
+        };
+    }
     if let Some(s) = args.duration {
         scene.duration_s = s;
     }
@@ -246,6 +265,7 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     check_output_paths(args, &scene.input_files())?;
     let mut twin = Twin::new(scene)?;
     crate::print_warnings(&twin);
+    let mut expectations = Expectations::new(&mut twin).map_err(twin::run::RunError::Program)?;
     for (flag, path) in [
         ("--trace", &args.trace),
         ("--summary", &args.summary),
@@ -262,11 +282,13 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
         Some(p) => Some(Trace::create(p, &twin)?),
         None => None,
     };
-    let mut frames = Some(twin::output::session::Frames::new(
-        &twin,
-        args.frames.as_deref(),
-        !args.no_render,
-    )?);
+    let mut frames = Some({
+        let f = twin::output::session::Frames::new(&twin, args.frames.as_deref(), !args.no_render)?;
+        match args.frames_at {
+            Some(at) => f.only_at(at),
+            None => f,
+        }
+    });
     let rrd = args.save.as_deref().map(|p| OutputFile::new("--save", p));
     let targets = twin::output::RecordingTargets {
         save: rrd.as_ref().map(|f| f.writing().to_path_buf()),
@@ -295,10 +317,12 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
         failures: &mut failures,
     };
     sinks.write(&twin);
+    expectations.observe(&mut twin);
     for _ in 0..total {
         twin.step();
         stats.observe(&twin);
         sinks.write(&twin);
+        expectations.observe(&mut twin);
         progress.tick(twin.task().updates(), &wall);
         if twin.stopped() {
             break;
@@ -339,7 +363,8 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
             );
         }
     }
-    let summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), written);
+    let mut summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), written);
+    summary.expectations = expectations.outcomes();
     if args.stdout {
         // Standard output carries the recording.
         eprint!("{}", summary.human());
@@ -367,6 +392,13 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     } else if summary.any_error() {
         eprintln!("error: an instruction reported an error (see the summary above)");
         exit::INSTRUCTION_ERROR
+    } else if summary.failed_expectations() > 0 {
+        eprintln!(
+            "error: {} of {} expectations failed (see above)",
+            summary.failed_expectations(),
+            summary.expectations.len()
+        );
+        exit::EXPECTATION_FAILED
     } else {
         0
     };

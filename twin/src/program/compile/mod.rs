@@ -40,6 +40,9 @@ pub struct Compiler<'c, 'e, 's> {
     /// Whether the text is a scanned routine (its instructions' rungs are
     /// the routine's) rather than a one-shot `[[program]]` step.
     pub scanned: bool,
+    /// Trace columns the text may also name (an expectation's); empty
+    /// for a program's texts.
+    pub columns: &'c [super::ir::Column],
     /// Loop nesting (for `EXIT`).
     loops: usize,
 }
@@ -82,6 +85,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
             dialect,
             env,
             scanned,
+            columns: &[],
             loops: 0,
         }
     }

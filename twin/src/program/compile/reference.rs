@@ -36,7 +36,8 @@ impl Compiler<'_, '_, '_> {
     }
 
     /// The names visible in this scope: the program's own tags (short),
-    /// the controller's tags and axes, other programs' as `Program.Tag`.
+    /// the controller's tags and axes, other programs' as `Program.Tag`,
+    /// and the trace columns the compiler has.
     fn visible_names(&self) -> Vec<&str> {
         let own = self.program.map(|p| format!("{p}."));
         self.mem
@@ -48,6 +49,7 @@ impl Compiler<'_, '_, '_> {
                 }
                 _ => t.name.as_str(),
             })
+            .chain(self.columns.iter().map(|c| c.name.as_str()))
             .collect()
     }
 
@@ -60,7 +62,8 @@ impl Compiler<'_, '_, '_> {
             | Place::Fb(..)
             | Place::FirstScan
             | Place::MinorInScan
-            | Place::MinorFaults => err(
+            | Place::MinorFaults
+            | Place::Column { .. } => err(
                 self,
                 r.span,
                 format!(
@@ -111,10 +114,45 @@ impl Compiler<'_, '_, '_> {
         })
     }
 
-    /// Resolves a reference.
+    /// Resolves a reference: a tag's place or, where the compiler has
+    /// trace columns, a column of that name (a tag's member where it is
+    /// one, `MC1.PC`). A column that is not a tag's (`collision.count`)
+    /// named through a tag of the same name is refused, naming both.
     pub(super) fn place(&mut self, r: &Ref) -> Result<(Place, DataType)> {
+        if self.columns.is_empty() {
+            return self.tag_place(r);
+        }
+        let column = column_name(r).and_then(|name| {
+            self.columns
+                .iter()
+                .position(|c| c.name.eq_ignore_ascii_case(&name))
+        });
+        match column {
+            Some(i) if !self.columns[i].of_tag && (self.resolve(&r.name).is_some() || self.qualified(r).is_some()) => err(
+                self,
+                r.span,
+                format!(
+                    "'{}' names both the tag '{}' and the trace column '{}': rename the tag",
+                    show(r),
+                    r.name,
+                    self.columns[i].name
+                ),
+            ),
+            Some(index) => match self.tag_place(r) {
+                Ok(found) => Ok(found),
+                Err(_) => {
+                    let ty = self.columns[index].ty;
+                    Ok((Place::Column { index, ty }, ty))
+                }
+            },
+            None => self.tag_place(r),
+        }
+    }
+
+    /// Resolves a reference to a tag's place.
+    fn tag_place(&mut self, r: &Ref) -> Result<(Place, DataType)> {
         if let Some(q) = self.qualified(r) {
-            return self.place(&q);
+            return self.tag_place(&q);
         }
         if let Some(flag) = self.status_flag(r)? {
             return Ok(flag);
@@ -498,4 +536,13 @@ impl Compiler<'_, '_, '_> {
             name: info.name,
         })
     }
+}
+
+/// A reference as a trace column's name (`J1.act_pos`): its name and
+/// members joined by dots; `None` with a subscript or a bit.
+fn column_name(r: &Ref) -> Option<String> {
+    r.path
+        .iter()
+        .all(|a| matches!(a, Access::Member(..)))
+        .then(|| show(r))
 }

@@ -64,6 +64,23 @@ pub fn evaluate(mem: &mut Memory, task: &mut MotionTask, scratch: &mut Scratch, 
     exec.eval(e)
 }
 
+/// The value of an expectation's compiled expression now: it reads tag
+/// memory, the planner and `columns`, the trace row's values
+/// ([`Place::Column`]). What it records (a minor fault) is dropped.
+#[must_use]
+pub fn evaluate_with_columns(
+    mem: &mut Memory,
+    task: &mut MotionTask,
+    scratch: &mut Scratch,
+    e: &CExpr,
+    columns: &[f64],
+) -> Value {
+    let now_us = (task.time_s() * 1e6).round() as i64;
+    let mut exec = Exec::new(mem, task, now_us, false, &[], scratch, 0, u64::MAX);
+    exec.columns = columns;
+    exec.eval(e)
+}
+
 /// Slots of statements a scan may execute: the watchdog counts each
 /// executed statement (and each loop test) as [`NOMINAL_STATEMENT_US`].
 pub const NOMINAL_STATEMENT_US: f64 = 1.0;
@@ -130,6 +147,9 @@ pub struct Exec<'e> {
     /// A fault raised while evaluating: the statement stops at its next
     /// check, before any further side effect.
     fault: Option<Box<Raised>>,
+    /// The trace columns an expectation reads ([`Place::Column`]); empty
+    /// in a scan.
+    pub columns: &'e [f64],
 }
 
 /// Faults are boxed: the happy path carries a `Value`-sized result.
@@ -166,6 +186,7 @@ impl<'e> Exec<'e> {
             params: Vec::new(),
             returns: Vec::new(),
             fault: None,
+            columns: &[],
         }
     }
 

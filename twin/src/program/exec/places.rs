@@ -56,6 +56,14 @@ impl Exec<'_> {
             Place::FirstScan => Value::Bool(self.first_scan),
             Place::MinorInScan => Value::Bool(!self.minor.is_empty()),
             Place::MinorFaults => Value::Int(self.minor_total.min(i64::from(i32::MAX))),
+            Place::Column { index, ty } => {
+                let x = self.columns.get(*index).copied().unwrap_or(0.0);
+                match ty {
+                    DataType::Bool => Value::Bool(x != 0.0),
+                    DataType::Real | DataType::Lreal => Value::Real(x),
+                    _ => Value::Int(x as i64),
+                }
+            }
             Place::Slot(_) | Place::Element { .. } => unreachable!("slots read above"),
         }
     }
