@@ -46,7 +46,7 @@ fn num(s: &str) -> f64 {
 /// relative paths made absolute.
 fn variant(scene: &str, name: &str, edits: &[(&str, &str)]) -> PathBuf {
     let scenes = root().join("scenes");
-    let mut text = std::fs::read_to_string(scenes.join(scene)).expect("scene");
+    let mut text = common::shipped_scene_text(&scenes.join(scene));
     for (from, to) in edits {
         assert!(text.contains(from), "{scene} has no '{from}'");
         text = text.replacen(from, to, 1);
