@@ -1021,3 +1021,44 @@ fn repeat_compares_the_traces_of_deterministic_runs() {
     assert_eq!(read["elsewhere.toml"], 3.5);
     assert!(read[path.display().to_string()].as_f64().is_some_and(|s| s > 0.0), "{read}");
 }
+
+#[test]
+fn shipped_scenes_with_expected_faults_pass_and_their_junit_reads_back() {
+    // fault_demo must end with a major fault (exit code 4) and servo_states
+    // with instruction errors (2): their [test] exit codes say so.
+    let dir = fresh_dir("cli", "suite_shipped");
+    let junit = dir.join("junit.xml");
+    let out = twin()
+        .current_dir(root())
+        .args([
+            "test",
+            "scenes/fault_demo.toml",
+            "scenes/servo_states.toml",
+            "scenes/collision_cell_near_miss.toml",
+            "--no-render",
+            "--junit",
+        ])
+        .arg(&junit)
+        .output()
+        .expect("twin test");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(out.status.code(), Some(0), "{stdout}{}", stderr(&out));
+    assert!(stdout.lines().last().unwrap_or_default().starts_with("3 passed, 0 failed, 1 skipped"), "{stdout}");
+    let xml = std::fs::read_to_string(&junit).expect("junit");
+    let report = quick_junit::Report::deserialize_from_str(&xml).expect("quick-junit reads the report");
+    let names: Vec<String> = report
+        .test_suites
+        .iter()
+        .flat_map(|s| &s.test_cases)
+        .map(|c| format!("{}::{}", c.classname.as_ref().map_or("", |k| k.as_str()), c.name.as_str()))
+        .collect();
+    for expected in [
+        "scenes/fault_demo.toml::run",
+        "scenes/fault_demo.toml::the major fault ends the run early",
+        "scenes/servo_states.toml::MCT is refused with ERR 61 EXERR 13",
+        "scenes/collision_cell_near_miss.toml::the gripper keeps 19 mm",
+        "scenes/collision_cell_near_miss.toml::snapshots",
+    ] {
+        assert!(names.iter().any(|n| n == expected), "{expected} in {names:?}");
+    }
+}

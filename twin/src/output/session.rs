@@ -74,6 +74,9 @@ struct FramesInner {
     /// [`Frames::only_at`]: one picture per camera at the first update at
     /// or after this time, and no other; cleared once taken.
     at_s: Option<f64>,
+    /// [`Frames::only_numbers`]: the frame numbers rendered (the others
+    /// are passed over).
+    only: Option<Vec<u64>>,
 }
 
 impl Frames {
@@ -143,6 +146,7 @@ impl Frames {
                     dir: dir.to_path_buf(),
                     cameras,
                     at_s: None,
+                    only: None,
                 }),
                 written: 0,
             })
@@ -170,6 +174,20 @@ impl Frames {
         self
     }
 
+    /// Only the frames numbered `numbers` (of every camera) are rendered,
+    /// under their usual names; the others are passed over (`twin run
+    /// --frames-only`, what `twin test` asks for a scene's `[snapshots]`).
+    #[must_use]
+    pub fn only_numbers(mut self, numbers: &[u64]) -> Frames {
+        #[cfg(feature = "render")]
+        if let Some(inner) = self.inner.as_mut() {
+            inner.only = Some(numbers.to_vec());
+        }
+        #[cfg(not(feature = "render"))]
+        let _ = numbers;
+        self
+    }
+
     /// Renders the cameras whose next frame time has come (frame `k` of a
     /// camera is due at `k / fps` seconds: the first update at or after it).
     ///
@@ -186,6 +204,17 @@ impl Frames {
                 None => false,
             };
             let due = |next: u64, fps: f64| picture || next as f64 / fps <= t + eps;
+            if let Some(only) = &inner.only
+                && !picture
+            {
+                // At most one frame of a camera is due at an update (its fps
+                // is at most the update rate): pass over one not asked for.
+                for (_, _, fps, next) in &mut inner.cameras {
+                    if due(*next, *fps) && !only.contains(next) {
+                        *next += 1;
+                    }
+                }
+            }
             if !inner.cameras.iter().any(|(_, _, fps, next)| due(*next, *fps)) {
                 return Ok(());
             }

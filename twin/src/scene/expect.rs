@@ -267,7 +267,20 @@ impl Ctx<'_> {
             let name = self.nonempty_name(&v.name, &format!("{field}.name"))?;
             self.unique(&mut seen, &v.name, &format!("{field}.name"), ())?;
             let mut tags = Vec::with_capacity(v.tags.len());
-            for (tag_name, value) in &v.tags {
+            // `Program.Tag = 1` unquoted is a table `Program` in TOML: its
+            // entries are that program's tags.
+            let mut entries: Vec<(String, Spanned<toml::Value>)> = Vec::with_capacity(v.tags.len());
+            for (key, value) in &v.tags {
+                match value.get_ref() {
+                    toml::Value::Table(inner) if variant_tag(scope, key).is_none() => {
+                        for (sub, x) in inner {
+                            entries.push((format!("{key}.{sub}"), Spanned::new(value.span(), x.clone())));
+                        }
+                    }
+                    _ => entries.push((key.clone(), value.clone())),
+                }
+            }
+            for (tag_name, value) in &entries {
                 let tag_field = format!("{field}.tags.{tag_name}");
                 let Some(tag) = variant_tag(scope, tag_name) else {
                     let names = scope

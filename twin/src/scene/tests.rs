@@ -818,3 +818,30 @@ fn a_camera_looking_straight_down_names_its_target() {
     assert_place(&e, find(&text, "[0.0, 0.0, 0.2]"), "cameras[0].target");
     assert!(e.to_string().contains("straight up or down"), "{e}");
 }
+
+#[test]
+fn a_variant_sets_a_program_tag_written_either_way() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/scara_pallet.toml");
+    let shipped = std::fs::read_to_string(&path).expect("scene");
+    for key in ["Pallet.Pitch", "\"Pallet.Pitch\""] {
+        let text = format!("{shipped}\n[[variants]]\nname = \"wide\"\ntags = {{ {key} = 0.125 }}\n");
+        let scene = parse(&path, &text).expect("scene loads");
+        let pitch = |s: &Scene| {
+            s.tasks
+                .iter()
+                .flat_map(|t| &t.programs)
+                .flat_map(|p| &p.tags)
+                .find(|t| t.name == "Pitch")
+                .and_then(|t| t.value.clone())
+        };
+        assert_ne!(pitch(&scene), Some(TagValue::Real(0.125)), "{key}");
+        let wide = scene.with_variant("wide").expect("the variant");
+        assert_eq!(pitch(&wide), Some(TagValue::Real(0.125)), "{key}");
+        assert_eq!(wide.variant.as_deref(), Some("wide"));
+        assert!(scene.with_variant("narrow").is_none());
+    }
+    let text = format!("{shipped}\n[[variants]]\nname = \"x\"\ntags = {{ Pallet.Pich = 0.125 }}\n");
+    let e = parse(&path, &text).expect_err("unknown tag");
+    assert!(e.to_string().contains("variants[0].tags.Pallet.Pich: unknown tag 'Pallet.Pich'"), "{e}");
+    assert!(e.diagnostic().render(false).contains("did you mean 'Pallet.Pitch'?"), "{}", e.diagnostic().render(false));
+}

@@ -138,6 +138,10 @@ struct RunArgs {
     /// or after S seconds (`<camera>-t<time>.png`).
     #[arg(long, value_name = "S", requires = "frames", value_parser = parse_time)]
     frames_at: Option<f64>,
+    /// With --frames: only the frames numbered N,N,… of every camera
+    /// (`<camera>-<N>.png`), the others not rendered.
+    #[arg(long, value_name = "N,N,…", requires = "frames", value_delimiter = ',')]
+    frames_only: Option<Vec<u64>>,
     /// Save a Rerun recording to FILE.rrd.
     #[arg(long, value_name = "FILE.rrd")]
     save: Option<PathBuf>,

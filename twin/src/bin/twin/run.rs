@@ -284,6 +284,10 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     };
     let mut frames = Some({
         let f = twin::output::session::Frames::new(&twin, args.frames.as_deref(), !args.no_render)?;
+        let f = match &args.frames_only {
+            Some(numbers) => f.only_numbers(numbers),
+            None => f,
+        };
         match args.frames_at {
             Some(at) => f.only_at(at),
             None => f,

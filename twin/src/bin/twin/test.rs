@@ -163,7 +163,7 @@ struct Run {
 
 /// What happened to one run.
 #[derive(Debug, Clone, Default)]
-struct Result1 {
+struct RunResult {
     wall_s: f64,
     /// The run's exit code, if it exited.
     exit: Option<i32>,
@@ -188,7 +188,7 @@ enum Snapshots {
     Skipped(String),
 }
 
-impl Result1 {
+impl RunResult {
     fn passed(&self) -> bool {
         self.error.is_none()
             && self.run_failure.is_none()
@@ -384,7 +384,7 @@ pub(crate) fn test(args: &TestArgs) -> Result<ExitCode> {
         let key = |r: &Run| durations.get(&r.name).copied().unwrap_or(r.duration_s);
         key(&runs[b]).total_cmp(&key(&runs[a]))
     });
-    let mut results: Vec<Result1> = vec![Result1::default(); runs.len()];
+    let mut results: Vec<RunResult> = vec![RunResult::default(); runs.len()];
     let mut queue: std::collections::VecDeque<(usize, u32)> = order
         .iter()
         .flat_map(|&i| (0..args.repeat).map(move |k| (i, k)))
@@ -396,6 +396,10 @@ pub(crate) fn test(args: &TestArgs) -> Result<ExitCode> {
         while running.len() < jobs
             && let Some((index, attempt)) = queue.pop_front()
         {
+            // A run that errored before it started is reported once.
+            if left[index] == 0 {
+                continue;
+            }
             let run = &runs[index];
             if let Some(e) = &run.load_error {
                 results[index].error = Some(e.clone());
@@ -414,8 +418,15 @@ pub(crate) fn test(args: &TestArgs) -> Result<ExitCode> {
             if args.repeat > 1 {
                 cmd.arg("--trace").arg(dir.join("trace.csv"));
             }
-            if render && attempt == 0 && run.snapshots.is_some() {
-                cmd.arg("--frames").arg(dir.join("frames"));
+            if render
+                && attempt == 0
+                && let Some((_, _, frames)) = &run.snapshots
+            {
+                let numbers: Vec<String> = frames.iter().map(u32::to_string).collect();
+                cmd.arg("--frames")
+                    .arg(dir.join("frames"))
+                    .arg("--frames-only")
+                    .arg(numbers.join(","));
             } else {
                 cmd.arg("--no-render");
             }
@@ -494,7 +505,7 @@ pub(crate) fn test(args: &TestArgs) -> Result<ExitCode> {
     }
 
     // The report.
-    let failed: Vec<(&Run, &Result1)> = runs.iter().zip(&results).filter(|(_, r)| !r.passed()).collect();
+    let failed: Vec<(&Run, &RunResult)> = runs.iter().zip(&results).filter(|(_, r)| !r.passed()).collect();
     if !failed.is_empty() {
         println!();
     }
@@ -547,7 +558,7 @@ pub(crate) fn test(args: &TestArgs) -> Result<ExitCode> {
 }
 
 /// The run's line on the console as it ends.
-fn report_line(run: &Run, r: &Result1) {
+fn report_line(run: &Run, r: &RunResult) {
     let word = if r.error.is_some() {
         "ERROR"
     } else if r.passed() {
@@ -567,7 +578,7 @@ fn report_line(run: &Run, r: &Result1) {
 
 /// Reads what one attempt left: its summary's expectations, its exit code
 /// against the expected one, its snapshots.
-fn finish_attempt(run: &Run, result: &mut Result1, dir: &Path, args: &TestArgs, render: bool) {
+fn finish_attempt(run: &Run, result: &mut RunResult, dir: &Path, args: &TestArgs, render: bool) {
     let stderr = fs::read_to_string(dir.join("stderr.txt")).unwrap_or_default();
     result.stderr_tail = tail(&stderr, 20);
     if result.timed_out {
@@ -711,7 +722,7 @@ fn digest(bytes: &[u8]) -> u64 {
 }
 
 /// `--repeat`: the attempts' traces must be identical.
-fn compare_repeats(result: &mut Result1, work: &Path, index: usize, repeat: u32) {
+fn compare_repeats(result: &mut RunResult, work: &Path, index: usize, repeat: u32) {
     let read = |k: u32| fs::read(attempt_dir(work, index, k).join("trace.csv")).unwrap_or_default();
     let first = read(0);
     for k in 1..repeat {
@@ -755,7 +766,7 @@ fn compare_repeats(result: &mut Result1, work: &Path, index: usize, repeat: u32)
 
 /// Re-runs a failed run with every output, the pictures at its first
 /// failing update, into `root/<run>/`.
-fn artifacts(exe: &Path, run: &Run, result: &mut Result1, root: &Path, render: bool) {
+fn artifacts(exe: &Path, run: &Run, result: &mut RunResult, root: &Path, render: bool) {
     let safe: String = run
         .name
         .chars()
@@ -765,11 +776,14 @@ fn artifacts(exe: &Path, run: &Run, result: &mut Result1, root: &Path, render: b
     if fs::create_dir_all(&dir).is_err() {
         return;
     }
+    // The earliest failure of any expectation (the end of the run when
+    // none has a time: an exit code, a snapshot).
     let at_s = result
         .expectations
         .iter()
-        .find(|e| !e.1)
-        .and_then(|e| e.3)
+        .filter(|e| !e.1)
+        .filter_map(|e| e.3)
+        .min_by(f64::total_cmp)
         .unwrap_or(run.duration_s);
     let mut cmd = Command::new(exe);
     cmd.arg("run").arg(&run.scene);
@@ -815,7 +829,7 @@ fn artifacts(exe: &Path, run: &Run, result: &mut Result1, root: &Path, render: b
 }
 
 /// The lines that explain a failed run.
-fn failure_lines(run: &Run, r: &Result1) -> Vec<String> {
+fn failure_lines(run: &Run, r: &RunResult) -> Vec<String> {
     let mut out = Vec::new();
     if let Some(e) = &r.error {
         out.push(e.clone());
@@ -874,7 +888,7 @@ fn xml_text(text: &str) -> String {
 
 /// The JUnit report: a `<testsuite>` per scene file, its runs' testcases
 /// (`run`, each expectation, `snapshots`) with `classname` the run.
-fn junit(runs: &[Run], results: &[Result1], wall_s: f64) -> String {
+fn junit(runs: &[Run], results: &[RunResult], wall_s: f64) -> String {
     struct Case {
         classname: String,
         name: String,
