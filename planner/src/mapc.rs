@@ -116,7 +116,7 @@
 //!   error, torque) act below it.
 
 use crate::catalogue::words::{
-    ACTUAL_COMMAND, CAM_TYPE, EXECUTION_MODE, EXECUTION_SCHEDULE, MAPC_DIRECTION, MASTER_DIRECTION, op,
+    ACTUAL_COMMAND, CAM_TYPE, EXECUTION_MODE, EXECUTION_SCHEDULE, MAPC_DIRECTION, MASTER_DIRECTION, motion_control, op,
 };
 use crate::catalogue::{Format, Kind, Operand};
 use thiserror::Error;
@@ -258,13 +258,7 @@ impl Default for MapcOperands {
 pub const MAPC_OPERANDS: &[Operand] = &[
     op("Slave Axis", "AXIS", Format::Tag, Kind::Axis, 0),
     op("Master Axis", "AXIS", Format::Tag, Kind::Axis, 1),
-    op(
-        "Motion Control",
-        "MOTION_INSTRUCTION",
-        Format::Tag,
-        Kind::MotionControl,
-        2,
-    ),
+    motion_control(2),
     op(
         "Direction",
         "DINT",

@@ -50,7 +50,7 @@
 //!   (179) is reported before a bad type (28), before a non-ascending master
 //!   (29).
 
-use crate::catalogue::words::op;
+use crate::catalogue::words::{motion_control, op};
 use crate::catalogue::{Format, Kind, Operand, faceplate};
 use crate::instruction::MotionInstructionBits;
 use std::sync::Arc;
@@ -137,13 +137,7 @@ pub struct CamProfile {
 /// MCCP's operands (its catalogue entry is `task/instructions/mccp.rs`;
 /// they are here beside the validation that names them).
 pub const MCCP_OPERANDS: &[Operand] = &[
-    op(
-        "Motion Control",
-        "MOTION_INSTRUCTION",
-        Format::Tag,
-        Kind::MotionControl,
-        0,
-    ),
+    motion_control(0),
     op("Cam", "CAM", Format::Array, Kind::Cam, 1),
     op("Length", "UINT", Format::ImmediateOrTag, Kind::Count, 2),
     op("Start Slope", "REAL", Format::ImmediateOrTag, Kind::Number, 3),

@@ -17,30 +17,27 @@ pub const fn op(name: &'static str, data_type: &'static str, format: Format, kin
     }
 }
 
-/// The operands of an axis-state instruction (MAFR, MAH, MASD, MASR): the
-/// axis and its control structure.
-pub const AXIS_AND_CONTROL: &[Operand] = &[
-    op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),
+/// The `Motion Control` operand (a `MOTION_INSTRUCTION` tag) at faceplate
+/// index `faceplate`: every Logix motion instruction has one.
+pub const fn motion_control(faceplate: i32) -> Operand {
     op(
         "Motion Control",
         "MOTION_INSTRUCTION",
         Format::Tag,
         Kind::MotionControl,
-        1,
-    ),
-];
+        faceplate,
+    )
+}
+
+/// The operands of an axis-state instruction (MAFR, MAH, MASD, MASR): the
+/// axis and its control structure.
+pub const AXIS_AND_CONTROL: &[Operand] = &[op("Axis", "AXIS", Format::Tag, Kind::Axis, 0), motion_control(1)];
 
 /// The operands of a drive's servo instruction (MSO, MSF): an axis with a
 /// drive and its control structure.
 pub const DRIVE_AXIS_AND_CONTROL: &[Operand] = &[
     op("Axis", "AXIS_CIP_DRIVE", Format::Tag, Kind::DriveAxis, 0),
-    op(
-        "Motion Control",
-        "MOTION_INSTRUCTION",
-        Format::Tag,
-        Kind::MotionControl,
-        1,
-    ),
+    motion_control(1),
 ];
 
 /// The operands of a coordinate system's state instruction (MCSD, MCSR).
@@ -52,13 +49,7 @@ pub const SYSTEM_AND_CONTROL: &[Operand] = &[
         Kind::CoordinateSystem,
         0,
     ),
-    op(
-        "Motion Control",
-        "MOTION_INSTRUCTION",
-        Format::Tag,
-        Kind::MotionControl,
-        1,
-    ),
+    motion_control(1),
 ];
 
 /// An enumeration word and its code.

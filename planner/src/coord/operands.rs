@@ -3,7 +3,8 @@
 
 use super::system::CoordinateSystem;
 use crate::catalogue::words::{
-    ACCEL_UNITS, INTEGER, JERK_UNITS, LOCK_DIRECTION, MERGE, MERGE_SPEED, NUMERIC, PROFILE, SPEED_UNITS, op,
+    ACCEL_UNITS, INTEGER, JERK_UNITS, LOCK_DIRECTION, MERGE, MERGE_SPEED, NUMERIC, PROFILE, SPEED_UNITS,
+    motion_control, op,
 };
 use crate::catalogue::{self, Format, Kind, Operand};
 use crate::dynamics::MoveDynamics;
@@ -176,13 +177,7 @@ pub const MCCM_OPERANDS: &[Operand] = &[
         Kind::CoordinateSystem,
         0,
     ),
-    op(
-        "Motion Control",
-        "MOTION_INSTRUCTION",
-        Format::Tag,
-        Kind::MotionControl,
-        1,
-    ),
+    motion_control(1),
     op("Move Type", INTEGER, Format::ImmediateOrTag, Kind::Integer, 2),
     op("Position", "REAL array", Format::Array, Kind::Values, 3),
     op("Circle Type", INTEGER, Format::ImmediateOrTag, Kind::Integer, 4),

@@ -41,7 +41,7 @@
 
 use crate::axis::AxisConfig;
 use crate::catalogue::Word;
-use crate::catalogue::words::{ACTUAL_COMMAND, JOG_ACCEL_UNITS, MAPC_DIRECTION, op, w};
+use crate::catalogue::words::{motion_control, ACTUAL_COMMAND, JOG_ACCEL_UNITS, MAPC_DIRECTION, op, w};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
 use super::entry::{Instruction, one_shot, no_load};
@@ -68,7 +68,7 @@ pub const MAG: Instruction = Instruction {
     operands: &[
         op("Slave Axis", "AXIS", Format::Tag, Kind::Axis, 0),
         op("Master Axis", "AXIS", Format::Tag, Kind::Axis, 1),
-        op("Motion Control", "MOTION_INSTRUCTION", Format::Tag, Kind::MotionControl, 2),
+        motion_control(2),
         op("Direction", "DINT", Format::Immediate, Kind::Enumeration(MAPC_DIRECTION), 3),
         op("Ratio", "REAL", Format::ImmediateOrTag, Kind::Number, 4),
         op("Slave Counts", "DINT", Format::ImmediateOrTag, Kind::Integer, 5),

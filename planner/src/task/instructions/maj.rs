@@ -23,7 +23,7 @@
 
 use crate::task::engine::Takes;
 use crate::axis::AxisConfig;
-use crate::catalogue::words::{JOG_ACCEL_UNITS, JOG_DIRECTION, JOG_SPEED_UNITS, PROFILE, op};
+use crate::catalogue::words::{motion_control, JOG_ACCEL_UNITS, JOG_DIRECTION, JOG_SPEED_UNITS, PROFILE, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
 use super::entry::{Instruction, one_shot, no_load};
@@ -42,7 +42,7 @@ pub const MAJ: Instruction = Instruction {
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),
-        op("Motion Control", "MOTION_INSTRUCTION", Format::Tag, Kind::MotionControl, 1),
+        motion_control(1),
         op("Direction", "DINT", Format::Immediate, Kind::Enumeration(JOG_DIRECTION), 2),
         op("Speed", "REAL", Format::ImmediateOrTag, Kind::Number, 3),
         op("Speed Units", "DINT", Format::Immediate, Kind::Enumeration(JOG_SPEED_UNITS), 4),

@@ -55,7 +55,7 @@
 
 use crate::task::engine::Takes;
 use crate::axis::AxisConfig;
-use crate::catalogue::words::{
+use crate::catalogue::words::{motion_control, 
     INTEGER, JOG_ACCEL_UNITS, JOG_SPEED_UNITS, LOCK_DIRECTION, MAM_MERGE, MERGE_SPEED, NUMERIC, PROFILE,
     TIME_JERK_UNITS, op,
 };
@@ -78,7 +78,7 @@ pub const MAM: Instruction = Instruction {
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),
-        op("Motion Control", "MOTION_INSTRUCTION", Format::Tag, Kind::MotionControl, 1),
+        motion_control(1),
         op("Move Type", INTEGER, Format::ImmediateOrTag, Kind::Integer, 2),
         op("Position", NUMERIC, Format::ImmediateOrTag, Kind::Number, 3),
         op("Speed", NUMERIC, Format::ImmediateOrTag, Kind::Number, 4),

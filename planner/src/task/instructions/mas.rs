@@ -14,7 +14,7 @@
 
 use super::maj::rate;
 use crate::axis::AxisConfig;
-use crate::catalogue::words::{JOG_ACCEL_UNITS, MAS_STOP_TYPE, NO_YES, op};
+use crate::catalogue::words::{motion_control, JOG_ACCEL_UNITS, MAS_STOP_TYPE, NO_YES, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
 use super::entry::{Instruction, one_shot, no_load};
@@ -34,7 +34,7 @@ pub const MAS: Instruction = Instruction {
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),
-        op("Motion Control", "MOTION_INSTRUCTION", Format::Tag, Kind::MotionControl, 1),
+        motion_control(1),
         op("Stop Type", "DINT", Format::Immediate, Kind::Enumeration(MAS_STOP_TYPE), 2),
         op("Change Decel", "DINT", Format::Immediate, Kind::Enumeration(NO_YES), 3),
         op("Decel Rate", "REAL", Format::ImmediateOrTag, Kind::Number, 4),

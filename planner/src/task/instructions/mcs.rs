@@ -4,7 +4,7 @@
 //! are [`crate::coord::McsInputs`]'s; the engine (`task/coord.rs`) ramps
 //! the path to rest.
 
-use crate::catalogue::words::{MCS_STOP_TYPE, NO_YES, TIME_DECEL_UNITS, TIME_JERK_UNITS, op};
+use crate::catalogue::words::{motion_control, MCS_STOP_TYPE, NO_YES, TIME_DECEL_UNITS, TIME_JERK_UNITS, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
 use super::entry::{Instruction, no_load};
@@ -20,7 +20,7 @@ pub const MCS: Instruction = Instruction {
     style: CallStyle::Positional,
     operands: &[
         op("Coordinate System", "COORDINATE_SYSTEM", Format::Tag, Kind::CoordinateSystem, 0),
-        op("Motion Control", "MOTION_INSTRUCTION", Format::Tag, Kind::MotionControl, 1),
+        motion_control(1),
         op("Stop Type", "DINT", Format::Immediate, Kind::Enumeration(MCS_STOP_TYPE), 2),
         op("Change Decel", "DINT", Format::Immediate, Kind::Enumeration(NO_YES), 3),
         op("Decel Rate", "REAL", Format::ImmediateOrTag, Kind::Number, 4),

@@ -10,7 +10,7 @@
 //! Orientation and Translation are `REAL[3]`: three elements from the one
 //! the operand names; fewer is ERR 13 with the operand's faceplate index.
 
-use crate::catalogue::words::op;
+use crate::catalogue::words::{motion_control, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
 use super::entry::{Instruction, no_check, no_load};
@@ -27,7 +27,7 @@ pub const MCT: Instruction = Instruction {
     operands: &[
         op("Source System", "COORDINATE_SYSTEM", Format::Tag, Kind::CoordinateSystem, 0),
         op("Target System", "COORDINATE_SYSTEM", Format::Tag, Kind::CoordinateSystem, 1),
-        op("Motion Control", "MOTION_INSTRUCTION", Format::Tag, Kind::MotionControl, 2),
+        motion_control(2),
         op("Orientation", "REAL[3]", Format::Array, Kind::Vector3, 3),
         op("Translation", "REAL[3]", Format::Array, Kind::Vector3, 4),
     ],

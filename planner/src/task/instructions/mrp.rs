@@ -28,7 +28,7 @@
 //! Choice: the redefinition completes inside the call (`.DN` at once; the
 //! spec allows several coarse updates).
 
-use crate::catalogue::words::{ACTUAL_COMMAND, MRP_TYPE, op};
+use crate::catalogue::words::{motion_control, ACTUAL_COMMAND, MRP_TYPE, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
 use super::entry::{Instruction, one_shot, no_load};
@@ -45,7 +45,7 @@ pub const MRP: Instruction = Instruction {
     style: CallStyle::Positional,
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),
-        op("Motion Control", "MOTION_INSTRUCTION", Format::Tag, Kind::MotionControl, 1),
+        motion_control(1),
         op("Type", "BOOLEAN", Format::Immediate, Kind::Enumeration(MRP_TYPE), 2),
         op(
             "Position Select",
