@@ -386,6 +386,13 @@ impl Gen<'_> {
 
     fn lit(&mut self, v: i64) -> Ex {
         let text = self.int_text(v);
+        // A based literal is a bit pattern: 16#8000_0000 is the DINT
+        // -2147483648 (a 32-bit pattern), no overflow.
+        let v = if text.contains('#') && (i64::from(i32::MAX) + 1..=i64::from(u32::MAX)).contains(&v) {
+            i64::from(v as u32 as i32)
+        } else {
+            v
+        };
         Ex::Int(v, text)
     }
 

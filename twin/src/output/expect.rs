@@ -342,7 +342,11 @@ fn compile_condition(twin: &mut Twin, c: &Condition, cols: &[Column]) -> Result<
         let d = twin
             .scene()
             .files
-            .error(c.expr.span, format!("the condition is {ty}: compare it"), format!("this is {ty}"))
+            .error(
+                c.expr.span,
+                format!("the condition is {ty}: compare it"),
+                format!("this is {ty}"),
+            )
             .with_help(format!("an expectation is a BOOL expression, e.g. {} > 0", c.text));
         return Err(in_field(Box::new(d)));
     }
@@ -358,7 +362,11 @@ fn compile_condition(twin: &mut Twin, c: &Condition, cols: &[Column]) -> Result<
         names.push((text, e));
     }
     let comparison = match &c.expr.kind {
-        ExprKind::Binary(op @ (BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge | BinaryOp::Eq | BinaryOp::Ne), l, r) => {
+        ExprKind::Binary(l, rest)
+            if let [
+                (op @ (BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge | BinaryOp::Eq | BinaryOp::Ne), r),
+            ] = rest.as_slice() =>
+        {
             let left = twin.compile_expression(l, cols).map_err(in_field)?;
             let right = twin.compile_expression(r, cols).map_err(in_field)?;
             let constant = |e: &CExpr| matches!(e.kind, CKind::Const(_));
@@ -376,7 +384,7 @@ fn compile_condition(twin: &mut Twin, c: &Condition, cols: &[Column]) -> Result<
                 (false, false) if left.ty != crate::program::types::Ty::Bool => {
                     // L - R, compiled from the two sides.
                     let diff = Expr {
-                        kind: ExprKind::Binary(BinaryOp::Sub, l.clone(), r.clone()),
+                        kind: ExprKind::Binary(l.clone(), vec![(BinaryOp::Sub, r.clone())]),
                         span: c.expr.span,
                     };
                     twin.compile_expression(&diff, cols).ok().map(|tracked| Comparison {
@@ -423,9 +431,9 @@ fn collect_refs<'a>(e: &'a Expr, out: &mut Vec<&'a Expr>) {
             }
         }
         ExprKind::Unary(_, a) => collect_refs(a, out),
-        ExprKind::Binary(_, a, b) => {
-            collect_refs(a, out);
-            collect_refs(b, out);
+        ExprKind::Binary(first, rest) => {
+            collect_refs(first, out);
+            rest.iter().for_each(|(_, b)| collect_refs(b, out));
         }
         ExprKind::Function(_, _, args) => args.iter().for_each(|a| collect_refs(a, out)),
         ExprKind::Int(_) | ExprKind::Real(_) | ExprKind::Bool(_) => {}
@@ -634,7 +642,12 @@ fn outcome(check: &Check, last_s: f64) -> Outcome {
                 Some(f) => {
                     let values = match (&c.comparison, c.names.as_slice()) {
                         (Some(Comparison { bound: Some(b), .. }), [_]) => format!("{} ({b})", show_names(&f.values)),
-                        _ => format!("{} ({} is {})", show_names(&f.values), c.text, if *never { "TRUE" } else { "FALSE" }),
+                        _ => format!(
+                            "{} ({} is {})",
+                            show_names(&f.values),
+                            c.text,
+                            if *never { "TRUE" } else { "FALSE" }
+                        ),
                     };
                     let state = if *never { "true" } else { "false" };
                     let updates = if f.rows == 1 { "update" } else { "updates" };
@@ -686,11 +699,20 @@ fn outcome(check: &Check, last_s: f64) -> Outcome {
         State::AtEnd { last } => {
             let c = &check.conditions[0];
             match last {
-                Some((t, true, _)) => (true, Some(*t), format!("{head} held at the end ({}): {}", time(*t), c.text)),
+                Some((t, true, _)) => (
+                    true,
+                    Some(*t),
+                    format!("{head} held at the end ({}): {}", time(*t), c.text),
+                ),
                 Some((t, false, values)) => (
                     false,
                     Some(*t),
-                    format!("{head} failed at {} (the end): {} ({} is FALSE)", time(*t), show_names(values), c.text),
+                    format!(
+                        "{head} failed at {} (the end): {} ({} is FALSE)",
+                        time(*t),
+                        show_names(values),
+                        c.text
+                    ),
                 ),
                 None => (false, None, format!("{head} failed: the run has no row")),
             }
@@ -710,11 +732,7 @@ fn outcome(check: &Check, last_s: f64) -> Outcome {
             ..
         } => {
             let c = &check.conditions[0];
-            let range = format!(
-                "[{}, {}]",
-                time(*min_s),
-                max_s.map_or("∞".to_owned(), time)
-            );
+            let range = format!("[{}, {}]", time(*min_s), max_s.map_or("∞".to_owned(), time));
             if let Some((k, from, to)) = violation {
                 (
                     false,
@@ -739,7 +757,11 @@ fn outcome(check: &Check, last_s: f64) -> Outcome {
                     ),
                 )
             } else {
-                (true, None, format!("{head} held: {cycles} cycles of {}, each in {range}", c.text))
+                (
+                    true,
+                    None,
+                    format!("{head} held: {cycles} cycles of {}, each in {range}", c.text),
+                )
             }
         }
     };
@@ -773,7 +795,11 @@ fn sequence_outcome(
                 Some((p, t)) => format!(" after '{}' rose at {}", conditions[p].text, time(t)),
                 None => String::new(),
             };
-            return (false, None, format!("{head} failed: step {} {}{after}", k + 1, never_rose(k)));
+            return (
+                false,
+                None,
+                format!("{head} failed: step {} {}{after}", k + 1, never_rose(k)),
+            );
         };
         if k > 0 {
             match first_rise[k - 1] {

@@ -254,7 +254,9 @@ impl Frames {
                         message: e.to_string(),
                     })?;
                 let path = if picture {
-                    inner.dir.join(format!("{name}-t{}.png", crate::output::trace::number(t)))
+                    inner
+                        .dir
+                        .join(format!("{name}-t{}.png", crate::output::trace::number(t)))
                 } else {
                     inner.dir.join(format!("{name}-{next:05}.png"))
                 };
@@ -533,6 +535,9 @@ pub struct TasksSummary {
     pub minor_fault_count: i64,
     /// The first minor faults, in order.
     pub minor_faults: Vec<crate::program::controller::Fault>,
+    /// Major faults a program's fault routine cleared, in order.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub cleared_faults: Vec<crate::program::controller::Fault>,
     /// Motion instructions whose operand values were refused at run time.
     pub refused: Vec<String>,
 }
@@ -692,6 +697,7 @@ impl Stats {
                     major_fault: c.major_fault().cloned(),
                     minor_fault_count: c.minor_fault_count(),
                     minor_faults: c.minor_faults().to_vec(),
+                    cleared_faults: c.cleared_faults().to_vec(),
                     refused: c.refusals().to_vec(),
                 }
             }),
@@ -831,6 +837,20 @@ impl Summary {
                 let _ = writeln!(
                     s,
                     "  MAJOR FAULT type {} code {} at {:.3} s: task {}, program {}, {}:{}: {}",
+                    f.fault_type,
+                    f.code,
+                    f.time_s,
+                    f.task,
+                    f.program,
+                    f.routine.display(),
+                    f.line,
+                    f.message
+                );
+            }
+            for f in &t.cleared_faults {
+                let _ = writeln!(
+                    s,
+                    "  cleared fault type {} code {} at {:.3} s: task {}, program {}, {}:{}: {}",
                     f.fault_type,
                     f.code,
                     f.time_s,

@@ -1,30 +1,42 @@
 //! The task engine: the scene's `[[tasks]]` scanned against the planner,
-//! the way a Logix controller runs periodic tasks of Structured Text
-//! programs.
+//! the way a Logix controller (a 5580) runs periodic, continuous and event
+//! tasks of Structured Text programs (1756-PM005).
 //!
 //! **In:** the scene's tasks (parsed routines), its tags and axes, the
 //! planner. **Out:** live tag values, motion instructions executed into the
-//! planner, faults.
+//! planner, faults, the system objects' values (`super::system`).
 //!
 //! # Timing
-//! Task *k*-th trigger is at `k × period_ms` from the start (the first at
-//! 0). The twin runs the program stage once per coarse update, at the
-//! update's start time `t`: every trigger in `(t − coarse_update, t]` runs
-//! then, in time order (higher priority, the lower number, first at equal
-//! times; then in file order). Tasks are not phase-locked to the coarse
-//! update, as on the controller, so:
-//! * a motion instruction a scan executes takes effect at the next coarse
-//!   update (the one starting at `t`), whatever the scan's own time;
-//! * `ActualPosition` (and every axis member) is the value of the last
-//!   coarse update: up to one coarse update old, as the controller's;
-//! * a task faster than the coarse update runs several scans back to back
-//!   at one update, each seeing the same axis values;
-//! * timers use the scan's own trigger time.
+//! The controller has one clock (ns); each executed statement and loop
+//! test advances it by `[controller] statement_us`. The program stage of
+//! the coarse update starting at `t` (Δ the coarse update period):
+//! * releases the triggers up to `t` at their times: periodic triggers
+//!   (`k × period_ms`), the motion group execution (at `t`), event
+//!   timeouts, and `EVENT(Task)` at the statement that executes it. A
+//!   trigger whose task is still running or waiting is an overlap: ignored,
+//!   counted (`OverlapCount`, `Status` bit 2), minor fault 6/2;
+//! * runs the highest-priority ready task; a trigger of a higher priority
+//!   stops the running scan before its next statement (the interpreter
+//!   keeps where it was, `exec::Paused`) and the scan resumes when the
+//!   controller is free again; equal priorities alternate in
+//!   [`TIME_SLICE_NS`] slices, the one waiting longest first; the
+//!   continuous task runs when no other is ready, scan after scan;
+//! * while a scan runs past `t`, the clock goes on, releasing the triggers
+//!   it passes, up to `t + Δ`: there the coarse update interrupts whatever
+//!   runs, which resumes in the next stage after the planner's update (an
+//!   idle controller waits for the next stage instead).
 //!
-//! A scan's nominal duration is its executed statements (and loop tests)
-//! × [`super::exec::NOMINAL_STATEMENT_US`]. Past `watchdog_ms` the watchdog
-//! expires (major fault type 6, code 1); past `period_ms` the next trigger
-//! finds the task still running (minor fault type 6, code 2, overlap).
+//! So a motion instruction takes effect at its stage's planner update;
+//! axis members are the last update's; a scan spanning an update sees them
+//! change there; a task faster than the coarse update runs its scans at
+//! their trigger times within one stage; timers measure with the scan's
+//! trigger time. With short scans (an idle controller between them) this
+//! is the order of triggers in `(t − Δ, t]`, in time order, higher
+//! priority first at equal times: every shipped scene's trace is what it
+//! was before preemption existed.
+//!
+//! The watchdog (`watchdog_ms`, major fault 6/1) counts from a scan's start
+//! to its end on this clock, preemptions and coarse updates included.
 //!
 //! # Prescan and first scan
 //! Before the first scan every routine of every program is prescanned:
@@ -36,24 +48,29 @@
 //! set (`OSRI`: a TRUE input on the first scan gives no pulse; `OSFI`: a
 //! FALSE one none either; `CTUD`: an enable already TRUE does not count).
 //!
-//! # Faults
+//! # Faults (1756-PM014)
 //! | kind | type | code | when |
 //! |---|---|---|---|
-//! | major | 4 | 20 | array subscript or bit number out of range |
+//! | major | 4 | 20 | array subscript, bit number or copied range out of range |
+//! | major | 4 | 31 | a JSR passes fewer inputs than the SBR takes, or gets fewer return values than it has |
 //! | major | 4 | 84 | `JSR` nested deeper than [`super::exec::MAX_JSR_DEPTH`] |
 //! | major | 6 | 1 | task watchdog expired |
-//! | minor | 4 | 4 | arithmetic overflow, division by zero, a value that does not fit its tag |
-//! | minor | 6 | 2 | periodic task overlap |
+//! | minor | 4 | 4 | arithmetic overflow, division by zero, a value that does not fit its tag (`report_overflow_faults`) |
+//! | minor | 6 | 2 | task overlap |
 //!
-//! A major fault stops every task (the controller is faulted); the run
-//! stops at the end of that update. Minor faults are recorded and counted
-//! (`MinorFaults`, `S:MINOR`) and the run goes on.
+//! A major fault of type 4 in a program with a fault routine runs it; if it
+//! clears the program's `MajorFaultRecord` the scan goes on after the
+//! faulted statement (`exec`). A major fault nothing cleared stops every
+//! task (the controller is faulted); the run stops at the end of that
+//! update. Minor faults are recorded and counted (`MinorFaults`, `S:MINOR`,
+//! FAULTLOG) and the run goes on.
 
-use super::exec::{Exec, NOMINAL_STATEMENT_US, Raised, Scratch};
+use super::exec::{Exec, Paused, Progress, Raised, Scratch};
 use super::ir::{Builtin, CStmt, CompiledProgram, Place, SKind};
 use super::memory::Memory;
+use super::system::{ProgramStatus, STATUS_EVENT, STATUS_OVERLAP, STATUS_TIMEOUT, System, TaskStatus};
 use super::types::{Structure, Value};
-use crate::scene::Scene;
+use crate::scene::{EventTrigger, Scene, TaskKind};
 use planner::instruction::MotionInstructionBits;
 use planner::task::MotionTask;
 use std::path::PathBuf;
@@ -80,6 +97,10 @@ pub struct Fault {
     pub line: u32,
     /// Scan time, s.
     pub time_s: f64,
+    /// A major fault the program's fault routine cleared: the scan went on
+    /// after the faulted statement.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub cleared: bool,
 }
 
 impl std::fmt::Display for Fault {
@@ -96,7 +117,11 @@ impl std::fmt::Display for Fault {
             self.routine.display(),
             self.line,
             self.message
-        )
+        )?;
+        if self.cleared {
+            f.write_str(" (cleared by the fault routine)")?;
+        }
+        Ok(())
     }
 }
 
@@ -104,27 +129,53 @@ struct ProgramRun {
     name: String,
     routine_paths: Vec<PathBuf>,
     routines: Vec<Vec<CStmt>>,
+    fault_routine: Option<usize>,
     first_scan: bool,
+    /// Its index in [`System::programs`].
+    index: usize,
 }
 
-impl ProgramRun {
-    fn new(p: CompiledProgram) -> ProgramRun {
-        ProgramRun {
-            name: p.name,
-            routine_paths: p.routine_paths,
-            routines: p.routines,
-            first_scan: true,
-        }
-    }
+/// A scan started and not ended: running, preempted, or stopped at a
+/// coarse update.
+#[derive(Debug, Clone)]
+struct ActiveScan {
+    /// The trigger's time, µs (what timers measure with).
+    trigger_us: i64,
+    /// When it started, on the controller's clock, ns.
+    start_ns: i64,
+    /// The program it is in.
+    program: usize,
+    /// When that program's scan started, ns.
+    program_start_ns: i64,
+    /// Where that program stopped, if it did.
+    paused: Option<Paused>,
+    /// Statements executed.
+    statements: u64,
 }
 
 struct TaskRun {
     name: String,
-    period_us: i64,
+    kind: TaskKind,
     priority: u8,
-    budget: u64,
-    next_us: i64,
+    watchdog_ns: i64,
+    watchdog_us: f64,
+    /// A periodic task's period, an event task's timeout, ns.
+    period_ns: Option<i64>,
+    /// The next periodic trigger or timeout, ns.
+    next_ns: i64,
+    /// A trigger released and its scan not started: its time, µs, and
+    /// the `Status` bits it sets.
+    pending: Option<(i64, i64)>,
+    active: Option<ActiveScan>,
+    /// Where it stands among the tasks of its priority (lower first).
+    queued: u64,
     programs: Vec<ProgramRun>,
+}
+
+impl TaskRun {
+    fn busy(&self) -> bool {
+        self.pending.is_some() || self.active.is_some()
+    }
 }
 
 /// What the tasks cost and did, for the summary.
@@ -143,12 +194,27 @@ pub struct Controller {
     mem: Memory,
     scratch: Scratch,
     tasks: Vec<TaskRun>,
+    sys: System,
     prescanned: bool,
     major: Option<Fault>,
     minor: Vec<Fault>,
+    cleared: Vec<Fault>,
+    /// Every fault recorded, in order (minor ones while fewer than
+    /// [`MINOR_FAULTS_KEPT`] are kept).
+    log: Vec<Fault>,
     minor_total: i64,
     refusals: Vec<String>,
     stats: TaskStats,
+    /// The controller's clock, ns.
+    clock_ns: i64,
+    /// The coarse update period, ns.
+    update_ns: i64,
+    statement_ns: i64,
+    report_overflow: bool,
+    /// Triggers due this update, in time order: (time ns, task, the
+    /// `Status` bits they set).
+    releases: Vec<(i64, usize, i64)>,
+    queue_seq: u64,
 }
 
 impl std::fmt::Debug for Controller {
@@ -164,35 +230,103 @@ impl std::fmt::Debug for Controller {
 /// The most minor faults kept with their text (all are counted).
 pub const MINOR_FAULTS_KEPT: usize = 1000;
 
+/// Equal-priority tasks alternate in slices of this much of the
+/// controller's time, ns (1756-PM005: "tasks of equal priority ... each
+/// run for 1 ms").
+pub const TIME_SLICE_NS: i64 = 1_000_000;
+
 impl Controller {
     /// The task engine over tag memory, with each task's programs as
     /// [`crate::program::compile::scene::program`] compiled them (`programs[t]`:
     /// the scene's task `t`'s, in order).
     #[must_use]
     pub fn new(scene: &Scene, mem: Memory, programs: Vec<Vec<CompiledProgram>>) -> Controller {
-        let tasks = scene
-            .tasks
-            .iter()
-            .zip(programs)
-            .map(|(t, programs)| TaskRun {
+        let ns = |ms: f64| (ms * 1e6).round().max(1.0) as i64;
+        let mut sys = System {
+            start_time_us: scene.controller.start_time_us,
+            coarse_update_us: (scene.coarse_update_ms * 1000.0).round() as i64,
+            ..System::default()
+        };
+        let mut tasks = Vec::with_capacity(scene.tasks.len());
+        for ((i, t), compiled) in scene.tasks.iter().enumerate().zip(programs) {
+            let period_ns = match t.kind {
+                TaskKind::Periodic { period_ms } => Some(ns(period_ms)),
+                TaskKind::Event { timeout_ms, .. } => timeout_ms.map(ns),
+                TaskKind::Continuous => None,
+            };
+            sys.tasks.push(TaskStatus {
                 name: t.name.clone(),
-                period_us: (t.period_ms * 1000.0).round().max(1.0) as i64,
+                priority: if t.kind == TaskKind::Continuous {
+                    0
+                } else {
+                    i64::from(t.priority)
+                },
+                rate_us: period_ns.map_or(0, |p| p / 1000),
+                watchdog_us: (t.watchdog_ms * 1000.0).round() as i64,
+                enable_timeout: matches!(
+                    t.kind,
+                    TaskKind::Event {
+                        timeout_ms: Some(_),
+                        ..
+                    }
+                ),
+                inhibit: t.inhibit,
+                ..TaskStatus::default()
+            });
+            let mut runs = Vec::with_capacity(compiled.len());
+            for (def, p) in t.programs.iter().zip(compiled) {
+                sys.programs.push(ProgramStatus {
+                    name: p.name.clone(),
+                    task: i,
+                    disabled: def.disabled,
+                    ..ProgramStatus::default()
+                });
+                runs.push(ProgramRun {
+                    name: p.name,
+                    routine_paths: p.routine_paths,
+                    routines: p.routines,
+                    // The fault routine is one of `routines`, after main.
+                    fault_routine: def.fault_routine.map(|k| k + 1),
+                    first_scan: true,
+                    index: sys.programs.len() - 1,
+                });
+            }
+            tasks.push(TaskRun {
+                name: t.name.clone(),
+                kind: t.kind,
                 priority: t.priority,
-                budget: (t.watchdog_ms * 1000.0 / NOMINAL_STATEMENT_US) as u64,
-                next_us: 0,
-                programs: programs.into_iter().map(ProgramRun::new).collect(),
-            })
-            .collect();
+                watchdog_ns: ns(t.watchdog_ms),
+                watchdog_us: t.watchdog_ms * 1000.0,
+                period_ns,
+                next_ns: match t.kind {
+                    TaskKind::Periodic { .. } => 0,
+                    _ => period_ns.unwrap_or(i64::MAX),
+                },
+                pending: None,
+                active: None,
+                queued: 0,
+                programs: runs,
+            });
+        }
         Controller {
             mem,
             scratch: Scratch::default(),
             tasks,
+            sys,
             prescanned: false,
             major: None,
             minor: Vec::new(),
+            cleared: Vec::new(),
+            log: Vec::new(),
             minor_total: 0,
             refusals: Vec::new(),
             stats: TaskStats::default(),
+            clock_ns: 0,
+            update_ns: ns(scene.coarse_update_ms),
+            statement_ns: ((scene.controller.statement_us * 1000.0).round() as i64).max(1),
+            report_overflow: scene.controller.report_overflow_faults,
+            releases: Vec::new(),
+            queue_seq: 0,
         }
     }
 
@@ -202,8 +336,9 @@ impl Controller {
         self.tasks.is_empty()
     }
 
-    /// Runs every trigger due at the planner's current time (module doc,
-    /// "Timing"). Nothing runs once a major fault stopped the controller.
+    /// Runs the controller for the coarse update starting at the planner's
+    /// current time `t` (module doc, "Timing"). Nothing runs once a major
+    /// fault stopped the controller.
     pub fn scan(&mut self, task: &mut MotionTask) {
         if self.major.is_some() || self.tasks.is_empty() {
             return;
@@ -213,53 +348,294 @@ impl Controller {
             self.prescan(task);
             self.prescanned = true;
         }
-        let now_us = (task.time_s() * 1e6).round() as i64;
-        let mut due: Vec<(i64, u8, usize)> = Vec::new();
-        for (i, t) in self.tasks.iter_mut().enumerate() {
-            while t.next_us <= now_us {
-                due.push((t.next_us, t.priority, i));
-                t.next_us += t.period_us;
+        let now_ns = (task.time_s() * 1e6).round() as i64 * 1000;
+        let horizon_ns = now_ns + self.update_ns;
+        self.collect_releases(now_ns, horizon_ns);
+        let mut next = 0;
+        loop {
+            while let Some(&(at, i, status)) = self.releases.get(next)
+                && at <= self.clock_ns
+            {
+                self.release(i, at, status);
+                next += 1;
             }
-        }
-        due.sort_unstable();
-        for (at_us, _, i) in due {
-            self.run_task(i, at_us, task);
+            let Some(i) = self.pick() else {
+                // Idle: until the next trigger up to `t`; a later one waits
+                // for the next update.
+                match self.releases.get(next) {
+                    Some(&(at, ..)) if at <= now_ns => self.clock_ns = self.clock_ns.max(at),
+                    _ => break,
+                }
+                continue;
+            };
+            if self.clock_ns >= horizon_ns {
+                break;
+            }
+            // Run it until it ends, until a trigger that may preempt it,
+            // until its slice ends, or until the coarse update.
+            let priority = self.tasks[i].priority;
+            let mut stop = horizon_ns;
+            if let Some(&(at, ..)) = self.releases[next..]
+                .iter()
+                .find(|&&(_, j, _)| self.tasks[j].priority <= priority)
+            {
+                stop = stop.min(at);
+            }
+            let shared = self
+                .tasks
+                .iter()
+                .enumerate()
+                .any(|(j, t)| j != i && t.priority == priority && t.busy());
+            let slice_end = if shared {
+                self.clock_ns + TIME_SLICE_NS
+            } else {
+                i64::MAX
+            };
+            let ended = self.run_task(i, stop.min(slice_end), task);
             if self.major.is_some() {
                 break;
+            }
+            if !ended && self.clock_ns >= slice_end {
+                // Its slice ended: behind the others of its priority.
+                self.queue_seq += 1;
+                self.tasks[i].queued = self.queue_seq;
             }
         }
         self.stats.wall += wall.elapsed();
     }
 
-    fn run_task(&mut self, i: usize, at_us: i64, task: &mut MotionTask) {
-        let mut statements = 0u64;
-        for p in 0..self.tasks[i].programs.len() {
+    /// The triggers before `horizon`, in time order: periodic triggers,
+    /// event timeouts, and the motion group's execution at `now`. Those
+    /// the clock does not reach in this update are collected again in the
+    /// next.
+    fn collect_releases(&mut self, now_ns: i64, horizon_ns: i64) {
+        self.releases.clear();
+        for (i, t) in self.tasks.iter().enumerate() {
+            match t.kind {
+                TaskKind::Periodic { .. } => {
+                    let period = t.period_ns.unwrap_or(i64::MAX);
+                    let mut at = t.next_ns;
+                    while at < horizon_ns {
+                        self.releases.push((at, i, 0));
+                        at = at.saturating_add(period);
+                    }
+                }
+                TaskKind::Event { trigger, .. } => {
+                    if t.next_ns < horizon_ns {
+                        self.releases.push((t.next_ns, i, STATUS_TIMEOUT));
+                    }
+                    if trigger == EventTrigger::MotionGroupExecution {
+                        self.releases.push((now_ns, i, 0));
+                    }
+                }
+                TaskKind::Continuous => {}
+            }
+        }
+        // In time order; at equal times the higher priority, then the
+        // scene's order.
+        let tasks = &self.tasks;
+        self.releases.sort_by_key(|&(at, i, _)| (at, tasks[i].priority, i));
+    }
+
+    /// A trigger of task `i` at `at_ns` (`status`: the `Status` bits it
+    /// sets): the task is ready to scan, or, when its previous trigger has
+    /// not finished (or not started), the trigger is an overlap: ignored,
+    /// counted, minor fault 6/2. An event task's trigger restarts its
+    /// timeout.
+    fn release(&mut self, i: usize, at_ns: i64, status: i64) {
+        let t = &mut self.tasks[i];
+        match t.kind {
+            TaskKind::Periodic { .. } => t.next_ns = at_ns.saturating_add(t.period_ns.unwrap_or(i64::MAX)),
+            TaskKind::Event { .. } => {
+                if status == STATUS_TIMEOUT && t.next_ns != at_ns {
+                    // A trigger came first and restarted the timeout.
+                    return;
+                }
+                t.next_ns = t.period_ns.map_or(i64::MAX, |timeout| at_ns + timeout);
+            }
+            TaskKind::Continuous => {}
+        }
+        if self.sys.tasks[i].inhibit {
+            return;
+        }
+        if t.busy() {
+            self.sys.tasks[i].overlap_count += 1;
+            self.sys.tasks[i].status |= STATUS_OVERLAP;
+            let (program, routine) = t
+                .programs
+                .first()
+                .map(|p| (p.name.clone(), p.routine_paths[0].clone()))
+                .unwrap_or_default();
+            let overlap = Fault {
+                major: false,
+                fault_type: 6,
+                code: 2,
+                message: format!(
+                    "task overlap: the trigger at {:.3} ms found the task's previous scan {}; it is ignored",
+                    at_ns as f64 / 1e6,
+                    if t.active.is_some() {
+                        "still running"
+                    } else {
+                        "still waiting to run"
+                    }
+                ),
+                task: t.name.clone(),
+                program,
+                routine,
+                line: 0,
+                time_s: at_ns as f64 / 1e9,
+                cleared: false,
+            };
+            self.minor_total += 1;
+            self.sys.minor_events += 1;
+            self.sys.minor_fault_bits |= 1 << 6;
+            self.keep_minor(overlap);
+            return;
+        }
+        self.queue_seq += 1;
+        t.queued = self.queue_seq;
+        t.pending = Some((at_ns.div_euclid(1000), status));
+    }
+
+    /// The task to run now: the highest priority among those with a scan
+    /// to run or resume (the longest waiting first at equal priority), else
+    /// the continuous task.
+    fn pick(&mut self) -> Option<usize> {
+        let best = self
+            .tasks
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.busy())
+            .min_by_key(|(_, t)| (t.priority, t.queued))
+            .map(|(i, _)| i);
+        if best.is_some() {
+            return best;
+        }
+        let i = self.tasks.iter().position(|t| t.kind == TaskKind::Continuous)?;
+        if self.sys.tasks[i].inhibit {
+            return None;
+        }
+        self.tasks[i].pending = Some((self.clock_ns.div_euclid(1000), 0));
+        Some(i)
+    }
+
+    /// Runs task `i`'s scan (starting it if it is pending) until it ends or
+    /// the clock reaches `stop_ns`; `true` when it ended.
+    fn run_task(&mut self, i: usize, stop_ns: i64, task: &mut MotionTask) -> bool {
+        if self.tasks[i].active.is_none() {
+            let (trigger_us, status) = self.tasks[i].pending.take().expect("a task to start");
+            let wall_us = self.sys.wall_clock_us(self.clock_ns);
+            let st = &mut self.sys.tasks[i];
+            if let Some(last) = st.last_start_ns {
+                let interval = (self.clock_ns - last) / 1000;
+                st.max_interval_us = st.max_interval_us.max(interval);
+                st.min_interval_us = if st.scans == 1 {
+                    interval
+                } else {
+                    st.min_interval_us.min(interval)
+                };
+            }
+            st.last_start_ns = Some(self.clock_ns);
+            st.start_time_us = wall_us;
+            st.status = (st.status & STATUS_OVERLAP) | status;
+            st.scans += 1;
+            self.tasks[i].active = Some(ActiveScan {
+                trigger_us,
+                start_ns: self.clock_ns,
+                program: 0,
+                program_start_ns: self.clock_ns,
+                paused: None,
+                statements: 0,
+            });
+        }
+        loop {
             let t = &mut self.tasks[i];
-            let budget = t.budget.saturating_sub(statements);
+            let scan = t.active.as_mut().expect("an active scan");
+            let p = scan.program;
+            if p >= t.programs.len() {
+                let elapsed_us = (self.clock_ns - scan.start_ns) / 1000;
+                t.active = None;
+                let st = &mut self.sys.tasks[i];
+                st.last_scan_us = elapsed_us;
+                st.max_scan_us = st.max_scan_us.max(elapsed_us);
+                return true;
+            }
             let program = &mut t.programs[p];
-            let first = std::mem::replace(&mut program.first_scan, false);
+            if self.sys.programs[program.index].disabled {
+                scan.program += 1;
+                scan.program_start_ns = self.clock_ns;
+                continue;
+            }
+            let first = scan.paused.is_none() && std::mem::replace(&mut program.first_scan, false);
             let mut exec = Exec::new(
                 &mut self.mem,
                 task,
-                at_us,
+                scan.trigger_us,
                 first,
                 &program.routines,
                 &mut self.scratch,
                 self.minor_total,
-                budget,
             );
-            let result = exec.run_main();
-            statements += exec.steps;
+            exec.clock_ns = self.clock_ns;
+            exec.stop_ns = stop_ns;
+            exec.statement_ns = self.statement_ns;
+            exec.watchdog_ns = scan.start_ns + t.watchdog_ns;
+            exec.watchdog_us = t.watchdog_us;
+            exec.report_overflow = self.report_overflow;
+            exec.fault_routine = program.fault_routine;
+            exec.system = Some((&mut self.sys, i, program.index));
+            match scan.paused.take() {
+                Some(paused) => exec.resume(paused),
+                None => exec.start(),
+            }
+            let result = exec.run();
+            self.clock_ns = exec.clock_ns;
+            scan.statements += exec.steps;
+            self.stats.statements += exec.steps;
             let minor = std::mem::take(&mut exec.minor);
             self.minor_total = exec.minor_total;
             let refusals = std::mem::take(&mut exec.refusals);
-            self.stats.scans += 1;
-            self.stats.statements += exec.steps;
-            if !self.record(i, p, at_us, minor, refusals, result) {
-                return;
+            let events = std::mem::take(&mut exec.events);
+            let cleared = std::mem::take(&mut exec.cleared);
+            drop(exec);
+            let index = program.index;
+            let ended = match &result {
+                Ok(Progress::Done) => true,
+                Ok(Progress::Paused(_)) => false,
+                Err(_) => true,
+            };
+            if ended {
+                self.stats.scans += 1;
+                let ps = &mut self.sys.programs[index];
+                ps.last_scan_us = (self.clock_ns - scan.program_start_ns) / 1000;
+                ps.max_scan_us = ps.max_scan_us.max(ps.last_scan_us);
+                scan.program += 1;
+                scan.program_start_ns = self.clock_ns;
+            }
+            let trigger_us = scan.trigger_us;
+            let result = result.map(|progress| match progress {
+                Progress::Paused(paused) => {
+                    if let Some(scan) = self.tasks[i].active.as_mut() {
+                        scan.paused = Some(paused);
+                    }
+                    false
+                }
+                Progress::Done => true,
+            });
+            let outcome = result.as_ref().map(|_| ()).map_err(Clone::clone);
+            if !self.record(i, p, trigger_us, (minor, cleared), refusals, outcome) {
+                return true;
+            }
+            for e in events {
+                self.release(e, self.clock_ns, STATUS_EVENT);
+            }
+            match result {
+                Ok(true) => {}
+                // Stopped at `stop_ns`, or after an EVENT: the scheduler
+                // decides what runs next.
+                _ => return false,
             }
         }
-        self.check_overlap(i, at_us, statements);
     }
 
     /// Records a program scan's faults and refusals; `false` when a major
@@ -269,16 +645,17 @@ impl Controller {
         i: usize,
         p: usize,
         at_us: i64,
-        minor: Vec<Raised>,
+        (minor, cleared): (Vec<Raised>, Vec<Raised>),
         refusals: Vec<String>,
         result: Result<(), Box<Raised>>,
     ) -> bool {
         self.refusals.extend(refusals);
-        if minor.is_empty() && result.is_ok() {
+        if minor.is_empty() && cleared.is_empty() && result.is_ok() {
             return true;
         }
         let (task_name, program_name) = (self.tasks[i].name.clone(), self.tasks[i].programs[p].name.clone());
         let paths = self.tasks[i].programs[p].routine_paths.clone();
+        let index = self.tasks[i].programs[p].index;
         let fault = |r: Raised, major: bool| Fault {
             major,
             fault_type: r.fault_type,
@@ -289,47 +666,36 @@ impl Controller {
             routine: paths[r.routine].clone(),
             line: r.line,
             time_s: at_us as f64 / 1e6,
+            cleared: false,
         };
         for r in minor {
             self.keep_minor(fault(r, false));
         }
+        for r in cleared {
+            let f = Fault {
+                cleared: true,
+                ..fault(r, true)
+            };
+            self.log.push(f.clone());
+            self.cleared.push(f);
+        }
         match result {
             Ok(()) => true,
             Err(r) => {
-                self.major = Some(fault(*r, true));
+                self.sys.major_events += 1;
+                self.sys.major_fault_bits |= 1 << r.fault_type;
+                self.sys.programs[index].major_record = self.sys.record(self.clock_ns, r.fault_type, r.code);
+                let f = fault(*r, true);
+                self.log.push(f.clone());
+                self.major = Some(f);
                 false
             }
         }
     }
 
-    /// A minor fault 6/2 when the task's scan ran longer than its period.
-    fn check_overlap(&mut self, i: usize, at_us: i64, statements: u64) {
-        let t = &self.tasks[i];
-        let nominal_us = statements as f64 * NOMINAL_STATEMENT_US;
-        if nominal_us > t.period_us as f64 {
-            let program = t.programs.first().map(|p| (p.name.clone(), p.routine_paths[0].clone()));
-            let (program, routine) = program.unwrap_or_default();
-            let overlap = Fault {
-                major: false,
-                fault_type: 6,
-                code: 2,
-                message: format!(
-                    "periodic task overlap: the scan took {nominal_us:.0} µs (nominal), longer than its period of {} µs",
-                    t.period_us
-                ),
-                task: t.name.clone(),
-                program,
-                routine,
-                line: 0,
-                time_s: at_us as f64 / 1e6,
-            };
-            self.minor_total += 1;
-            self.keep_minor(overlap);
-        }
-    }
-
     fn keep_minor(&mut self, f: Fault) {
         if self.minor.len() < MINOR_FAULTS_KEPT {
+            self.log.push(f.clone());
             self.minor.push(f);
         }
     }
@@ -354,6 +720,20 @@ impl Controller {
     #[must_use]
     pub fn minor_faults(&self) -> &[Fault] {
         &self.minor
+    }
+
+    /// The major faults fault routines cleared, in order.
+    #[must_use]
+    pub fn cleared_faults(&self) -> &[Fault] {
+        &self.cleared
+    }
+
+    /// Every fault recorded, in order: minor ones (the first
+    /// [`MINOR_FAULTS_KEPT`]), the major ones fault routines cleared, the
+    /// major fault that stopped the controller.
+    #[must_use]
+    pub fn fault_log(&self) -> &[Fault] {
+        &self.log
     }
 
     /// How many minor faults were recorded.
@@ -414,7 +794,7 @@ pub(super) fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
         Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Fb(..) => {
             super::exec::members::planner_value(place, task).unwrap_or(Value::Int(0))
         }
-        Place::FirstScan | Place::MinorInScan => Value::Bool(false),
+        Place::FirstScan | Place::MinorInScan | Place::MathFlag => Value::Bool(false),
         Place::MinorFaults => Value::Int(0),
         Place::Column { .. } => Value::Int(0),
     }

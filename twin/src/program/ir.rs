@@ -4,6 +4,7 @@
 //! as values or expressions, so that a scan does no lookups — the
 //! interpreter only evaluates what the compiler produced.
 
+use super::system::Attribute;
 use super::types::{DataType, Structure, Ty, Value};
 use crate::st::ast::{BinaryOp, CaseLabel};
 use planner::task::instructions::Instruction;
@@ -33,8 +34,24 @@ pub enum CKind {
     Not(Box<CExpr>),
     /// `a op b`, both operands computed in `math`.
     Binary(BinaryOp, Box<CExpr>, Box<CExpr>, Ty),
+    /// `a op b op c …` (two operations or more), applied left to right:
+    /// the source's operator chain kept flat, so that a sum of a thousand
+    /// terms is one loop, not a thousand nested calls.
+    Chain(Box<CExpr>, Box<[Link]>),
     /// A function of one argument.
     Func(Func, Box<CExpr>),
+}
+
+/// One operation of a [`CKind::Chain`]: the value so far `op` the operand,
+/// both computed in `math`.
+#[derive(Debug, Clone)]
+pub struct Link {
+    /// The operator.
+    pub op: BinaryOp,
+    /// The right operand.
+    pub operand: CExpr,
+    /// The type both sides are computed in (`Bool` for logic).
+    pub math: Ty,
 }
 
 /// The functions of the dialect.
@@ -140,6 +157,9 @@ pub enum Place {
     FirstScan,
     /// `S:MINOR` (a minor fault was recorded in this scan).
     MinorInScan,
+    /// `S:N`, `S:Z`, `S:V`, `S:C`: set by ladder only, FALSE in
+    /// Structured Text.
+    MathFlag,
     /// The `MinorFaults` counter.
     MinorFaults,
     /// A trace column an expectation reads (`J1.act_pos`), by its index
@@ -394,10 +414,12 @@ pub enum General {
     Gsv,
     /// `SSV`.
     Ssv,
+    /// `EVENT`.
+    Event,
 }
 
 /// Every general instruction by its name.
-pub const GENERAL: [(&str, General); 19] = [
+pub const GENERAL: [(&str, General); 20] = [
     ("TONR", General::Builtin(Builtin::Tonr)),
     ("TOFR", General::Builtin(Builtin::Tofr)),
     ("RTOR", General::Builtin(Builtin::Rtor)),
@@ -417,6 +439,7 @@ pub const GENERAL: [(&str, General); 19] = [
     ("SIZE", General::Size),
     ("GSV", General::Gsv),
     ("SSV", General::Ssv),
+    ("EVENT", General::Event),
 ];
 
 impl General {
@@ -612,10 +635,39 @@ pub enum SKind {
     Gsv(AxisHandle, GsvAttribute, Place, DataType),
     /// `SSV(AXIS, axis, attribute, source)`.
     Ssv(AxisHandle, planner::axis::AxisLimit, CExpr),
+    /// `GSV` of a system object (TASK, PROGRAM, WALLCLOCKTIME, FAULTLOG,
+    /// MOTIONGROUP) into a tag.
+    SysGet(&'static Attribute, Object, SysData),
+    /// `SSV` of a system object from a tag or value.
+    SysSet(&'static Attribute, Object, SysData),
+    /// `EVENT(Task)`: triggers an event task (its index).
+    Event(usize),
     /// A motion instruction, or a PLCopen function block called on its
     /// instance with named inputs (IEC dialect; the inputs it names are set
     /// at every execution).
     Motion(MotionCall),
+}
+
+/// The object a system `GSV`/`SSV` names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Object {
+    /// `THIS`: the scanning task or program.
+    This,
+    /// A task's or program's index.
+    Index(usize),
+    /// The class' one object.
+    Single,
+}
+
+/// Where a system attribute's value goes to or comes from.
+#[derive(Debug, Clone)]
+pub enum SysData {
+    /// One value into a tag (GSV).
+    Target(Place, DataType),
+    /// One value from an expression (SSV).
+    Value(CExpr),
+    /// Several DINTs from an array element on (both).
+    Words(ArrayAt),
 }
 
 /// The `AXIS` attributes `GSV` reads.

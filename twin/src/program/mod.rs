@@ -44,6 +44,7 @@ pub mod ir;
 pub mod memory;
 pub mod sandbox;
 pub mod steps;
+pub mod system;
 pub mod types;
 
 use crate::scene::{Dialect, Scene};

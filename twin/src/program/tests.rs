@@ -391,11 +391,18 @@ fn major_faults_stop_the_controller_with_type_code_and_line() {
     assert!(f.message.contains("Arr[3]"), "{}", f.message);
     assert_eq!(int(run.get("I")), 3, "no scan after the fault");
 
+    // The endless scan stops at every coarse update (4 ms) and resumes at
+    // the next; the 500 ms watchdog expires in the 126th update.
     let mut run = Run::new(&tag("I", "DINT"), "WHILE TRUE DO I := I + 1; END_WHILE;").unwrap();
+    run.scans(125);
+    assert!(run.plc.major_fault().is_none(), "{:?}", run.plc.major_fault());
     run.scans(1);
     let f = run.plc.major_fault().expect("watchdog");
     assert_eq!((f.fault_type, f.code), (6, 1));
     assert!(f.message.starts_with("task watchdog expired"), "{}", f.message);
+    // Statements and loop tests at 1 µs: the WHILE, then 2 µs a pass; the
+    // test that would start pass 250,000 is past 500 ms.
+    assert_eq!(int(run.get("I")), 249_999);
 
     let mut run = Run::new(&tag("A", "DINT"), "A := A + 1; A.[A + 40] := TRUE;").unwrap();
     run.scans(1);
@@ -423,11 +430,15 @@ fn a_routine_calling_itself_overflows_the_stack() {
 
 #[test]
 fn a_scan_longer_than_the_period_is_an_overlap() {
+    // 5,002 statements and tests: 5 ms on a 4 ms task. The trigger at 4 ms
+    // finds the scan running and is ignored; the one at 8 ms starts the next.
     let mut run = Run::new(&tag("I", "DINT"), "FOR I := 1 TO 5000 DO END_FOR;").unwrap();
-    run.scans(2);
+    run.scans(3);
     let f = &run.plc.minor_faults()[0];
     assert_eq!((f.fault_type, f.code), (6, 2));
-    assert!(f.message.starts_with("periodic task overlap"), "{}", f.message);
+    assert!(f.message.starts_with("task overlap"), "{}", f.message);
+    assert_eq!(run.plc.minor_faults().len(), 1);
+    assert_eq!(run.plc.stats().scans, 1, "the second scan is still running");
     assert!(run.plc.major_fault().is_none());
 }
 

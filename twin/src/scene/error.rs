@@ -196,6 +196,56 @@ pub enum Problem {
         /// The routine name.
         name: String,
     },
+    /// A word that is not one of a field's words.
+    #[error("unknown {what} '{word}', expected {expected}")]
+    UnknownWord {
+        /// What the field names.
+        what: &'static str,
+        /// The word as written.
+        word: String,
+        /// The accepted words.
+        expected: String,
+    },
+    /// A task field that does not apply to the task's type.
+    #[error("'{field}' does not apply to {kind} tasks")]
+    TaskFieldNotApplicable {
+        /// The field.
+        field: &'static str,
+        /// The task type.
+        kind: &'static str,
+    },
+    /// A task field its type needs.
+    #[error("{kind} tasks need '{field}'{hint}")]
+    TaskFieldRequired {
+        /// The field.
+        field: &'static str,
+        /// The task type.
+        kind: &'static str,
+        /// What to write.
+        hint: &'static str,
+    },
+    /// A second continuous task.
+    #[error("a controller has at most one continuous task (the first is '{first}')")]
+    SecondContinuousTask {
+        /// The first one.
+        first: String,
+    },
+    /// A fault routine that is not one of the program's routines.
+    #[error("no routine '{name}' in this program: the fault routine is one of its 'routines' (not 'main'){}", if routines.is_empty() { String::new() } else { format!("; routines: {routines}") })]
+    UnknownFaultRoutine {
+        /// The name.
+        name: String,
+        /// The program's routines.
+        routines: String,
+    },
+    /// A date and time not written as RFC 3339 UTC.
+    #[error("'{text}' is not a UTC date and time such as 2026-11-27T08:00:00Z ({why})")]
+    BadDateTime {
+        /// As written.
+        text: String,
+        /// What is wrong.
+        why: &'static str,
+    },
     /// A routine dialect other than `logix` or `iec`.
     #[error("unknown dialect '{name}', expected \"logix\" or \"iec\"")]
     UnknownDialect {
@@ -384,7 +434,9 @@ pub enum Problem {
         nearest: Option<String>,
     },
     /// An expected exit code that a run does not end with.
-    #[error("exit code {code} is not one a run ends with: 0 (ran to its end), 2 (an instruction error), 3 (a collision abort), 4 (a major fault) or 5 (a physics fault)")]
+    #[error(
+        "exit code {code} is not one a run ends with: 0 (ran to its end), 2 (an instruction error), 3 (a collision abort), 4 (a major fault) or 5 (a physics fault)"
+    )]
     NotRunExitCode {
         /// The code.
         code: i64,

@@ -50,8 +50,10 @@ pub struct Scene {
     pub tags: Vec<Tag>,
     /// Program steps, in file order.
     pub program: Vec<Step>,
-    /// Periodic tasks of Structured Text programs (`[[tasks]]`).
+    /// Tasks of Structured Text programs (`[[tasks]]`).
     pub tasks: Vec<Task>,
+    /// `[controller]`.
+    pub controller: ControllerSettings,
     /// `[trace] tags`: tag references traced as extra columns.
     pub trace_tags: Vec<TraceTag>,
     /// The files the scene's texts come from: the scene file, then its
@@ -1114,22 +1116,101 @@ pub enum Dialect {
     Iec,
 }
 
-/// A periodic task.
+/// A task: what starts its scans, its priority and watchdog, its
+/// programs (1756-PM005).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct Task {
     /// Task name.
     pub name: String,
-    /// Period, ms (0.1 to 2,000,000).
-    pub period_ms: f64,
-    /// Priority, 1 (highest) to 15.
+    /// What starts a scan.
+    pub kind: TaskKind,
+    /// Priority, 1 (highest) to 15; a continuous task has none and runs
+    /// below every other ([`CONTINUOUS_PRIORITY`]).
     pub priority: u8,
     /// Watchdog, ms (default 500).
     pub watchdog_ms: f64,
+    /// `inhibit`: the task is not scanned (its triggers are ignored).
+    pub inhibit: bool,
     /// Programs in scan order.
     pub programs: Vec<ProgramDef>,
     /// Where the task's `name` is written.
     pub location: Location,
+}
+
+/// The priority a continuous task runs at: below every periodic and
+/// event task (1 ..= 15).
+pub const CONTINUOUS_PRIORITY: u8 = 16;
+
+/// What starts a task's scans.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TaskKind {
+    /// `type = "periodic"` (the default with `period_ms`): every period.
+    Periodic {
+        /// Period, ms (0.1 to 2,000,000).
+        period_ms: f64,
+    },
+    /// `type = "continuous"`: scanned again as soon as a scan ends, in the
+    /// time the other tasks leave.
+    Continuous,
+    /// `type = "event"`: by its trigger, or by its timeout.
+    Event {
+        /// What triggers it.
+        trigger: EventTrigger,
+        /// `timeout_ms`: a scan when no trigger came within it.
+        timeout_ms: Option<f64>,
+    },
+}
+
+/// An event task's trigger.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventTrigger {
+    /// `"event_instruction"`: an `EVENT(Task)` a routine executes.
+    EventInstruction,
+    /// `"motion_group_execution"`: every coarse update, after the motion
+    /// planner.
+    MotionGroupExecution,
+}
+
+impl EventTrigger {
+    /// Every trigger by its scene word.
+    pub const WORDS: [(&'static str, EventTrigger); 2] = [
+        ("event_instruction", EventTrigger::EventInstruction),
+        ("motion_group_execution", EventTrigger::MotionGroupExecution),
+    ];
+}
+
+/// `[controller]`: the controller's own properties.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct ControllerSettings {
+    /// `report_overflow_faults` (Controller Properties, Advanced: "Report
+    /// Overflow Faults"): an arithmetic overflow records minor fault 4/4.
+    pub report_overflow_faults: bool,
+    /// `statement_us`: the nominal time of one executed statement (and one
+    /// loop test), µs.
+    pub statement_us: f64,
+    /// `start_time`: the wall clock when the run starts, µs since
+    /// 1970-01-01T00:00:00Z (`WALLCLOCKTIME`).
+    pub start_time_us: i64,
+}
+
+/// The nominal time of one statement unless `[controller] statement_us`
+/// says otherwise, µs.
+pub const DEFAULT_STATEMENT_US: f64 = 1.0;
+
+/// The wall clock at the start of a run unless `[controller] start_time`
+/// says otherwise: 2000-01-01T00:00:00Z, µs since 1970.
+pub const DEFAULT_START_TIME_US: i64 = 946_684_800_000_000;
+
+impl Default for ControllerSettings {
+    fn default() -> Self {
+        ControllerSettings {
+            report_overflow_faults: true,
+            statement_us: DEFAULT_STATEMENT_US,
+            start_time_us: DEFAULT_START_TIME_US,
+        }
+    }
 }
 
 /// A program of a task.
@@ -1144,6 +1225,11 @@ pub struct ProgramDef {
     pub main: RoutineDef,
     /// Further routines, called with `JSR`.
     pub routines: Vec<RoutineDef>,
+    /// `fault_routine`: the routine (an index into `routines`) that runs
+    /// when an instruction in the program raises a major fault.
+    pub fault_routine: Option<usize>,
+    /// `disabled`: the program is not scanned (`DisableFlag`).
+    pub disabled: bool,
     /// Where the program's `name` is written.
     pub location: Location,
 }

@@ -30,6 +30,7 @@ pub(super) struct RawScene {
     pub(super) program: Vec<RawStep>,
     #[serde(default)]
     pub(super) tasks: Vec<RawTask>,
+    pub(super) controller: Option<RawController>,
     pub(super) snapshots: Option<RawSnapshots>,
     pub(super) trace: Option<RawTrace>,
     pub(super) collision: Option<RawCollision>,
@@ -341,9 +342,14 @@ pub(super) struct RawStep {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawTask {
     pub(super) name: Spanned<String>,
-    pub(super) period_ms: Spanned<f64>,
-    pub(super) priority: Spanned<i64>,
+    #[serde(rename = "type")]
+    pub(super) kind: Option<Spanned<String>>,
+    pub(super) period_ms: Option<Spanned<f64>>,
+    pub(super) priority: Option<Spanned<i64>>,
     pub(super) watchdog_ms: Option<Spanned<f64>>,
+    pub(super) trigger: Option<Spanned<String>>,
+    pub(super) timeout_ms: Option<Spanned<f64>>,
+    pub(super) inhibit: Option<bool>,
     #[serde(default)]
     pub(super) programs: Vec<RawProgram>,
 }
@@ -357,6 +363,17 @@ pub(super) struct RawProgram {
     pub(super) routines: Vec<Spanned<RawRoutine>>,
     #[serde(default)]
     pub(super) tags: Vec<RawTag>,
+    pub(super) fault_routine: Option<Spanned<String>>,
+    pub(super) disabled: Option<bool>,
+}
+
+/// `[controller]`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawController {
+    pub(super) report_overflow_faults: Option<bool>,
+    pub(super) statement_us: Option<Spanned<f64>>,
+    pub(super) start_time: Option<Spanned<String>>,
 }
 
 /// A routine: a path, or `{ file = "…", dialect = "iec" }`.

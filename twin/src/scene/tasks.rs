@@ -2,7 +2,10 @@
 //! program's tags and routines (Structured Text files, parsed here so that
 //! a syntax error names the routine file, line and column at load).
 
-use super::model::{DEFAULT_WATCHDOG_MS, Dialect, ProgramDef, RoutineDef, Task};
+use super::model::{
+    CONTINUOUS_PRIORITY, ControllerSettings, DEFAULT_WATCHDOG_MS, Dialect, EventTrigger, ProgramDef, RoutineDef, Task,
+    TaskKind,
+};
 use std::path::Path;
 
 use toml::Spanned;
@@ -10,11 +13,35 @@ use toml::Spanned;
 use super::context::{Ctx, NameKind, Names};
 use super::error::{Problem, SceneError};
 use super::model::{Axis, BaseType};
-use super::raw::{RawProgram, RawRoutine, RawTask};
+use super::raw::{RawController, RawProgram, RawRoutine, RawTask};
 use crate::source::{Diagnostic, Source};
 use crate::st::parse::parse_routine;
 
 impl Ctx<'_> {
+    /// `[controller]`.
+    pub(super) fn controller_settings(&self, raw: Option<&RawController>) -> Result<ControllerSettings, SceneError> {
+        let mut settings = ControllerSettings::default();
+        let Some(raw) = raw else {
+            return Ok(settings);
+        };
+        if let Some(r) = raw.report_overflow_faults {
+            settings.report_overflow_faults = r;
+        }
+        if let Some(s) = &raw.statement_us {
+            settings.statement_us = self.in_range(s, "controller.statement_us", 0.001, 1000.0)?;
+        }
+        if let Some(t) = &raw.start_time {
+            settings.start_time_us = utc_micros(t.get_ref()).map_err(|why| {
+                let problem = Problem::BadDateTime {
+                    text: t.get_ref().clone(),
+                    why,
+                };
+                self.invalid(t, "controller.start_time", problem)
+            })?;
+        }
+        Ok(settings)
+    }
+
     pub(super) fn tasks(
         &self,
         raw: &[RawTask],
@@ -29,8 +56,7 @@ impl Ctx<'_> {
             let f = |field: &str| format!("tasks[{i}].{field}");
             let name = self.identifier(&t.name, &f("name"))?;
             self.unique(&mut task_names, &t.name, &f("name"), NameKind::Axis)?;
-            let period_ms = self.in_range(&t.period_ms, &f("period_ms"), 0.1, 2_000_000.0)?;
-            let priority = self.int_in_range(&t.priority, &f("priority"), 1, 15)?;
+            let (kind, priority) = self.task_kind(t, i, &tasks)?;
             let watchdog_ms = match &t.watchdog_ms {
                 Some(w) => self.in_range(w, &f("watchdog_ms"), 0.1, 2_000_000.0)?,
                 None => DEFAULT_WATCHDOG_MS,
@@ -47,14 +73,112 @@ impl Ctx<'_> {
             }
             tasks.push(Task {
                 name,
-                period_ms,
-                priority: priority as u8,
+                kind,
+                priority,
                 watchdog_ms,
+                inhibit: t.inhibit.unwrap_or(false),
                 programs,
                 location: self.loc(&t.name),
             });
         }
         Ok(tasks)
+    }
+
+    /// A task's type and what it needs: a periodic task its period and
+    /// priority, an event task its trigger and priority, a continuous task
+    /// neither (at most one, below every other task).
+    fn task_kind(&self, t: &RawTask, i: usize, before: &[Task]) -> Result<(TaskKind, u8), SceneError> {
+        let f = |field: &str| format!("tasks[{i}].{field}");
+        let word = match &t.kind {
+            None => "periodic".to_owned(),
+            Some(k) => k.get_ref().to_ascii_lowercase(),
+        };
+        let kind: &'static str = match word.as_str() {
+            "periodic" => "periodic",
+            "continuous" => "continuous",
+            "event" => "event",
+            _ => {
+                let problem = Problem::UnknownWord {
+                    what: "task type",
+                    word,
+                    expected: "\"periodic\", \"continuous\" or \"event\"".to_owned(),
+                };
+                return Err(self.invalid(t.kind.as_ref().expect("a type was written"), f("type"), problem));
+            }
+        };
+        let not_here = |at: std::ops::Range<usize>, field: &'static str| {
+            self.invalid_at(at, f(field), Problem::TaskFieldNotApplicable { field, kind })
+        };
+        let required = |field: &'static str, hint: &'static str| {
+            self.invalid(&t.name, f(field), Problem::TaskFieldRequired { field, kind, hint })
+        };
+        if kind != "periodic"
+            && let Some(p) = &t.period_ms
+        {
+            return Err(not_here(p.span(), "period_ms"));
+        }
+        if kind != "event" {
+            if let Some(x) = &t.trigger {
+                return Err(not_here(x.span(), "trigger"));
+            }
+            if let Some(x) = &t.timeout_ms {
+                return Err(not_here(x.span(), "timeout_ms"));
+            }
+        }
+        let priority = match (&t.priority, kind) {
+            (Some(p), "continuous") => return Err(not_here(p.span(), "priority")),
+            (None, "continuous") => CONTINUOUS_PRIORITY,
+            (Some(p), _) => self.int_in_range(p, &f("priority"), 1, 15)? as u8,
+            (None, _) => return Err(required("priority", " (1, the highest, to 15)")),
+        };
+        let kind = match kind {
+            "periodic" => match &t.period_ms {
+                Some(p) => TaskKind::Periodic {
+                    period_ms: self.in_range(p, &f("period_ms"), 0.1, 2_000_000.0)?,
+                },
+                None => {
+                    return Err(required(
+                        "period_ms",
+                        " (a task with no period is type = \"continuous\")",
+                    ));
+                }
+            },
+            "continuous" => {
+                if let Some(first) = before.iter().find(|x| x.kind == TaskKind::Continuous) {
+                    let problem = Problem::SecondContinuousTask {
+                        first: first.name.clone(),
+                    };
+                    return Err(self.invalid(t.kind.as_ref().unwrap_or(&t.name), f("type"), problem));
+                }
+                TaskKind::Continuous
+            }
+            _ => {
+                let Some(trigger) = &t.trigger else {
+                    return Err(required(
+                        "trigger",
+                        " (\"event_instruction\" or \"motion_group_execution\")",
+                    ));
+                };
+                let word = trigger.get_ref().to_ascii_lowercase();
+                let Some((_, trig)) = EventTrigger::WORDS.iter().find(|(w, _)| *w == word) else {
+                    let problem = Problem::UnknownWord {
+                        what: "event trigger",
+                        word,
+                        expected: "\"event_instruction\" or \"motion_group_execution\"".to_owned(),
+                    };
+                    return Err(self.invalid(trigger, f("trigger"), problem));
+                };
+                let timeout_ms = match &t.timeout_ms {
+                    Some(x) => Some(self.in_range(x, &f("timeout_ms"), 0.1, 2_000_000.0)?),
+                    None => None,
+                };
+                TaskKind::Event {
+                    trigger: *trig,
+                    timeout_ms,
+                }
+            }
+        };
+        Ok((kind, priority))
     }
 
     fn program_def(
@@ -95,11 +219,29 @@ impl Ctx<'_> {
             }
             routines.push(def);
         }
+        let fault_routine = match &p.fault_routine {
+            None => None,
+            Some(name) => match routines
+                .iter()
+                .position(|r| r.name.eq_ignore_ascii_case(name.get_ref()))
+            {
+                Some(k) => Some(k),
+                None => {
+                    let problem = Problem::UnknownFaultRoutine {
+                        name: name.get_ref().clone(),
+                        routines: routines.iter().map(|r| r.name.as_str()).collect::<Vec<_>>().join(", "),
+                    };
+                    return Err(self.invalid(name, format!("{prefix}.fault_routine"), problem));
+                }
+            },
+        };
         Ok(ProgramDef {
             name,
             tags,
             main,
             routines,
+            fault_routine,
+            disabled: p.disabled.unwrap_or(false),
             location: self.loc(&p.name),
         })
     }
@@ -143,5 +285,76 @@ impl Ctx<'_> {
             dialect,
             routine,
         })
+    }
+}
+
+/// `YYYY-MM-DDTHH:MM:SS[.ffffff]Z` (RFC 3339 in UTC) as µs since
+/// 1970-01-01T00:00:00Z; years 1970 to 9999.
+pub(super) fn utc_micros(text: &str) -> Result<i64, &'static str> {
+    let b = text.as_bytes();
+    if b.len() < 20 || b[4] != b'-' || b[7] != b'-' || !matches!(b[10], b'T' | b't') || b[13] != b':' || b[16] != b':' {
+        return Err("expected YYYY-MM-DDTHH:MM:SSZ");
+    }
+    if !matches!(b[b.len() - 1], b'Z' | b'z') {
+        return Err("the time must be UTC, ending in Z");
+    }
+    let num = |r: std::ops::Range<usize>| -> Result<i64, &'static str> {
+        let s = text.get(r).ok_or("expected digits")?;
+        if s.bytes().all(|c| c.is_ascii_digit()) {
+            s.parse().map_err(|_| "expected digits")
+        } else {
+            Err("expected digits")
+        }
+    };
+    let (year, month, day) = (num(0..4)?, num(5..7)?, num(8..10)?);
+    let (hour, minute, second) = (num(11..13)?, num(14..16)?, num(17..19)?);
+    let fraction = &text[19..text.len() - 1];
+    let micros = match fraction.strip_prefix('.') {
+        None if fraction.is_empty() => 0,
+        Some(f) if (1..=6).contains(&f.len()) && f.bytes().all(|c| c.is_ascii_digit()) => {
+            f.parse::<i64>().map_err(|_| "expected digits")? * 10_i64.pow(6 - f.len() as u32)
+        }
+        _ => return Err("at most six digits of a second after '.'"),
+    };
+    if !(1970..=9999).contains(&year) {
+        return Err("the year is 1970 to 9999");
+    }
+    let leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
+    let days_in = [31, if leap { 29 } else { 28 }, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31];
+    if !(1..=12).contains(&month) || day < 1 || day > days_in[month as usize - 1] {
+        return Err("no such date");
+    }
+    if hour > 23 || minute > 59 || second > 59 {
+        return Err("no such time of day");
+    }
+    // Days since 1970-01-01 (the civil-from-days inverse, proleptic
+    // Gregorian).
+    let (y, m) = if month <= 2 {
+        (year - 1, month + 9)
+    } else {
+        (year, month - 3)
+    };
+    let era = y.div_euclid(400);
+    let yoe = y - era * 400;
+    let doy = (153 * m + 2) / 5 + day - 1;
+    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    let days = era * 146_097 + doe - 719_468;
+    Ok(((days * 24 + hour) * 60 + minute) * 60_000_000 + second * 1_000_000 + micros)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::utc_micros;
+
+    #[test]
+    fn utc_dates_count_microseconds_since_1970() {
+        assert_eq!(utc_micros("1970-01-01T00:00:00Z"), Ok(0));
+        assert_eq!(utc_micros("2000-01-01T00:00:00Z"), Ok(946_684_800_000_000));
+        assert_eq!(utc_micros("2024-02-29T12:34:56.5Z"), Ok(1_709_210_096_500_000));
+        assert_eq!(utc_micros("2026-11-27T08:00:00.000001Z"), Ok(1_795_766_400_000_001));
+        assert!(utc_micros("2023-02-29T00:00:00Z").is_err());
+        assert!(utc_micros("2026-11-27T08:00:00+01:00").is_err());
+        assert!(utc_micros("2026-11-27 08:00").is_err());
+        assert!(utc_micros("2026-13-01T00:00:00Z").is_err());
     }
 }

@@ -92,6 +92,7 @@ impl Ctx<'_> {
         let tags = self.tags(&raw.tags, &axes, &mut names, "tags")?;
         let program = self.program(&raw.program, duration_s)?;
         let tasks = self.tasks(&raw.tasks, &axes, &names, base)?;
+        let controller = self.controller_settings(raw.controller.as_ref())?;
         let snapshots = match &raw.snapshots {
             Some(s) => Some(self.snapshots(s, &cameras)?),
             None => None,
@@ -132,6 +133,7 @@ impl Ctx<'_> {
             tags,
             program,
             tasks,
+            controller,
             trace_tags,
             files: self.files.borrow().clone(),
             snapshots,

@@ -228,8 +228,10 @@ pub enum ExprKind {
     Ref(Ref),
     /// `-x`, `NOT x`.
     Unary(UnaryOp, Box<Expr>),
-    /// `a op b`.
-    Binary(BinaryOp, Box<Expr>, Box<Expr>),
+    /// `a op b op c …`: operators of one precedence level applied left to
+    /// right (`((a op b) op c) …`), at least one. A chain is one level of
+    /// nesting however long it is, so no traversal recurses per operator.
+    Binary(Box<Expr>, Vec<(BinaryOp, Expr)>),
     /// `NAME(a, …)`: a function (`ABS`, `SIN`, `SIZE` …), and where its
     /// name is.
     Function(String, Span, Vec<Expr>),

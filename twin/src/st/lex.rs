@@ -213,7 +213,7 @@ impl Lexer<'_> {
                 return Err(self.bad(start, format!("'{whole}#…': expected base-{radix} digits")));
             }
             return i128::from_str_radix(&digits, radix)
-                .map(Tok::Int)
+                .map(|v| Tok::Int(bit_pattern(v)))
                 .map_err(|_| self.bad(start, format!("'{whole}#{digits}' is too large")));
         }
         let mut text = whole;
@@ -257,6 +257,19 @@ impl Lexer<'_> {
             end: self.at.max(start + 1),
             message,
         }
+    }
+}
+
+/// A based literal (`16#…`, `8#…`, `2#…`) is a bit pattern: one of 32
+/// bits is the DINT with those bits (`16#FFFF_FFFF` is −1), one of 64 the
+/// LINT, as the controller stores it; no overflow is recorded.
+fn bit_pattern(v: i128) -> i128 {
+    if (i128::from(i32::MAX) + 1..=i128::from(u32::MAX)).contains(&v) {
+        i128::from(v as u32 as i32)
+    } else if (i128::from(i64::MAX) + 1..=i128::from(u64::MAX)).contains(&v) {
+        i128::from(v as u64 as i64)
+    } else {
+        v
     }
 }
 

@@ -85,7 +85,8 @@ fn is_keyword(word: &str) -> bool {
 }
 
 /// The deepest nesting a routine may have: statements inside statements,
-/// parentheses, calls, unary operators and operator chains together. The
+/// parentheses, calls and unary operators together. An operator chain
+/// (`a + b - c + …`, any length) is one level: it is held flat. The
 /// parser and the compiler recurse per level, so without a bound a
 /// mutated or generated routine (`VT(VT(VT(…` a thousand times) would
 /// overflow the stack; no hand-written routine comes near it.
@@ -180,13 +181,13 @@ impl<'s> Parser<'s> {
         Box::new(Diagnostic::error(message).with_label(self.source.label(span, label)))
     }
 
-    /// Enters one nesting level (`extra` more for an operator chain).
-    fn enter(&mut self, extra: usize) -> R<()> {
-        if self.depth + extra >= MAX_NESTING {
+    /// Enters one nesting level.
+    fn enter(&mut self) -> R<()> {
+        if self.depth >= MAX_NESTING {
             return Err(self.error(
                 self.span(0),
                 format!(
-                    "nested deeper than {MAX_NESTING} levels (statements, parentheses, calls and operators together)"
+                    "nested deeper than {MAX_NESTING} levels (statements, parentheses, calls and unary operators together)"
                 ),
                 "too deep here",
             ));
@@ -332,7 +333,7 @@ impl<'s> Parser<'s> {
     }
 
     fn statement(&mut self) -> R<Stmt> {
-        self.enter(0)?;
+        self.enter()?;
         let statement = self.statement_inner();
         self.depth -= 1;
         statement
@@ -554,6 +555,23 @@ impl<'s> Parser<'s> {
                 }
                 _ => None,
             };
+            // GSV/SSV of a class with one object leave the instance empty:
+            // `GSV(WALLCLOCKTIME, , DateTime, Now[0])`.
+            let empty_instance = args.len() == 1
+                && arg_name.is_none()
+                && self.is_sym(",")
+                && (name.eq_ignore_ascii_case("GSV") || name.eq_ignore_ascii_case("SSV"));
+            if empty_instance {
+                let at = self.tokens[self.at].start;
+                args.push(Arg {
+                    name: None,
+                    text: String::new(),
+                    expr: None,
+                    span: self.source.span(at, at),
+                });
+                self.bump();
+                continue;
+            }
             let arg = self.argument(arg_name, open)?;
             self.check_argument(&args, &arg)?;
             args.push(arg);
@@ -767,7 +785,7 @@ impl<'s> Parser<'s> {
 
     /// An expression (the lowest level, `OR`).
     fn expr(&mut self) -> R<Expr> {
-        self.enter(0)?;
+        self.enter()?;
         let e = self.binary(0);
         self.depth -= 1;
         e
@@ -827,26 +845,34 @@ impl<'s> Parser<'s> {
     }
 
     /// The operators of level `min` and above, left-associative
-    /// (precedence climbing: one frame a level of the tree, not one a
-    /// level of the table).
+    /// (precedence climbing: one frame a level of the table). The
+    /// operators of one level that follow each other form one chain
+    /// ([`ExprKind::Binary`]), so a sum of any number of terms nests one
+    /// level, not one per term.
     fn binary(&mut self, min: usize) -> R<Expr> {
         let mut left = self.unary()?;
-        let mut chain = 0;
+        let mut chain: Option<usize> = None;
         while let Some((op, level)) = self.binary_op()? {
             if level < min {
                 break;
             }
-            // Each operator of a chain nests the tree one level deeper.
-            chain += 1;
-            self.enter(chain)?;
-            self.depth -= 1;
             self.bump();
             let right = self.binary(level + 1)?;
             let span = left.span.to(right.span);
-            left = Expr {
-                kind: ExprKind::Binary(op, Box::new(left), Box::new(right)),
-                span,
+            left = match (chain == Some(level), left.kind) {
+                (true, ExprKind::Binary(first, mut rest)) => {
+                    rest.push((op, right));
+                    Expr {
+                        kind: ExprKind::Binary(first, rest),
+                        span,
+                    }
+                }
+                (_, kind) => Expr {
+                    kind: ExprKind::Binary(Box::new(Expr { kind, span: left.span }), vec![(op, right)]),
+                    span,
+                },
             };
+            chain = Some(level);
         }
         Ok(left)
     }
@@ -861,7 +887,7 @@ impl<'s> Parser<'s> {
             return self.power();
         };
         self.bump();
-        self.enter(0)?;
+        self.enter()?;
         let operand = self.unary();
         self.depth -= 1;
         let operand = operand?;
@@ -872,12 +898,9 @@ impl<'s> Parser<'s> {
     }
 
     fn power(&mut self) -> R<Expr> {
-        let mut left = self.primary()?;
-        let mut chain = 0;
+        let left = self.primary()?;
+        let mut rest = Vec::new();
         while self.is_sym("**") {
-            chain += 1;
-            self.enter(chain)?;
-            self.depth -= 1;
             self.bump();
             // A signed primary: `2 ** -1 ** 2` is `(2 ** -1) ** 2`.
             let right = if self.is_sym("-") {
@@ -891,13 +914,15 @@ impl<'s> Parser<'s> {
             } else {
                 self.primary()?
             };
-            let span = left.span.to(right.span);
-            left = Expr {
-                kind: ExprKind::Binary(BinaryOp::Pow, Box::new(left), Box::new(right)),
-                span,
-            };
+            rest.push((BinaryOp::Pow, right));
         }
-        Ok(left)
+        Ok(match rest.last() {
+            None => left,
+            Some((_, last)) => Expr {
+                span: left.span.to(last.span),
+                kind: ExprKind::Binary(Box::new(left), rest),
+            },
+        })
     }
 
     fn primary(&mut self) -> R<Expr> {

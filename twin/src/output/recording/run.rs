@@ -22,6 +22,7 @@
 //! | `collisions/clearance/<body>` | clearance, m (infinite while nothing is in range) | when it changes |
 //! | `collisions/contacts` | contact normals scaled by depth | when the contacts change |
 //! | `collisions/log` | collision events and pre-flight predictions | as they happen |
+//! | `controller/log` | each fault record: time, type, code, task, program, routine, line (minor, cleared, the major that stopped the controller) | at the update they happen in |
 //! | `robot/…/collision_highlight` | red copies of colliding links | while they collide |
 //!
 //! A series is logged where its value changes, and also at the update
@@ -136,6 +137,7 @@ struct Feed {
     contacts: (Vec<[f64; 3]>, Vec<[f64; 3]>),
     logged_events: usize,
     logged_predictions: usize,
+    logged_faults: usize,
     highlighted: Vec<usize>,
     link_paths: Vec<String>,
     /// With a live viewer: when the last batch was sent.
@@ -291,6 +293,7 @@ impl Recording {
                 contacts: (Vec::new(), Vec::new()),
                 logged_events: 0,
                 logged_predictions: 0,
+                logged_faults: 0,
                 highlighted: Vec::new(),
                 link_paths,
                 live: targets.live().then(std::time::Instant::now),
@@ -391,6 +394,31 @@ impl Feed {
         }
         if plant.collision_enabled() {
             self.collisions(twin, t);
+        }
+        let log = program.controller().fault_log();
+        if log.len() > self.logged_faults {
+            let new: Vec<(TextLevel, String)> = log[self.logged_faults..]
+                .iter()
+                .map(|f| {
+                    let level = if f.major && !f.cleared {
+                        TextLevel::Error
+                    } else {
+                        TextLevel::Warn
+                    };
+                    (level, f.to_string())
+                })
+                .collect();
+            self.logged_faults = log.len();
+            for (level, text) in new {
+                self.push(
+                    t,
+                    Item::Text {
+                        path: "controller/log",
+                        level,
+                        text,
+                    },
+                );
+            }
         }
     }
 

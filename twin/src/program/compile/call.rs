@@ -5,10 +5,13 @@
 
 use super::{Compiler, Result, err, suggest};
 use crate::program::ir::{
-    AXIS_MEMBERS, CExpr, GENERAL, GSV_ATTRIBUTES, General, GsvAttribute, Place, SKind, SSV_ATTRIBUTES,
+    AXIS_MEMBERS, CExpr, CKind, GENERAL, GSV_ATTRIBUTES, General, GsvAttribute, Object, Place, SKind, SSV_ATTRIBUTES,
+    SysData,
 };
+use crate::program::system::{self, Class};
 use crate::program::types::{DataType, Ty};
 use crate::scene::Dialect;
+use crate::scene::{EventTrigger, TaskKind};
 use crate::st::ast::{Arg, Call, Expr, ExprKind, Stmt, StmtKind};
 use planner::task::instructions::{self, INSTRUCTIONS};
 
@@ -113,6 +116,7 @@ impl Compiler<'_, '_, '_> {
             }
             General::Cop | General::Cps | General::Fll | General::Size => self.data_instruction(call, general),
             General::Gsv | General::Ssv => self.system_value(call, upper),
+            General::Event => self.event(call),
         }
     }
 
@@ -237,12 +241,23 @@ impl Compiler<'_, '_, '_> {
                 ),
             );
         }
-        if !call.args[0].text.trim().eq_ignore_ascii_case("AXIS") {
-            return err(
-                self,
-                call.args[0].span,
-                format!("{upper}: the twin models the AXIS class only"),
-            );
+        let class_name = call.args[0].text.trim();
+        if !class_name.eq_ignore_ascii_case("AXIS") {
+            let Some(class) = Class::find(class_name) else {
+                let names: Vec<&str> = std::iter::once("AXIS")
+                    .chain(Class::NAMES.iter().map(|c| c.0))
+                    .collect();
+                let d = self.error(
+                    call.args[0].span,
+                    format!(
+                        "{upper}: class '{class_name}' is not modelled (classes: {})",
+                        names.join(", ")
+                    ),
+                    "not modelled",
+                );
+                return Err(suggest(d, class_name, names));
+            };
+            return self.system_object(call, upper, class);
         }
         let name = call.args[1].text.trim();
         let Some(axis) = self.env.axis(name) else {
@@ -300,6 +315,153 @@ impl Compiler<'_, '_, '_> {
         };
         let (place, ty) = self.target_arg(&call.args[3])?;
         Ok(SKind::Gsv(axis, attribute, place, ty))
+    }
+
+    /// `GSV`/`SSV` of a system object (module doc of
+    /// [`crate::program::system`]): the class, the instance (`THIS`, a task
+    /// or program name; anything for a class of one object), the attribute
+    /// and its access, and the tag: a scalar for one value, an array
+    /// element of a DINT array for several.
+    fn system_object(&mut self, call: &Call, upper: &str, class: Class) -> Result<SKind> {
+        let a = &call.args;
+        let instance_name = a[1].text.trim();
+        let object = if !class.has_instances() {
+            Object::Single
+        } else if instance_name.eq_ignore_ascii_case("THIS") {
+            Object::This
+        } else {
+            let names: Vec<String> = match class {
+                Class::Task => self.env.scene.tasks.iter().map(|t| t.name.clone()).collect(),
+                _ => self
+                    .env
+                    .scene
+                    .tasks
+                    .iter()
+                    .flat_map(|t| t.programs.iter().map(|p| p.name.clone()))
+                    .collect(),
+            };
+            match names.iter().position(|n| n.eq_ignore_ascii_case(instance_name)) {
+                Some(k) => Object::Index(k),
+                None => {
+                    let d = self.error(
+                        a[1].span,
+                        format!(
+                            "{upper}: no {} '{instance_name}' (THIS{}{})",
+                            class.name().to_ascii_lowercase(),
+                            if names.is_empty() { "" } else { ", " },
+                            names.join(", ")
+                        ),
+                        "no such object",
+                    );
+                    return Err(suggest(d, instance_name, names.iter().map(String::as_str)));
+                }
+            }
+        };
+        if object == Object::This && !self.scanned {
+            return err(
+                self,
+                a[1].span,
+                format!("{upper}: THIS names the task or program of a routine"),
+            );
+        }
+        let attr_name = a[2].text.trim();
+        let Some(attribute) = system::find(class, attr_name) else {
+            let names = system::names(class);
+            let d = self.error(
+                a[2].span,
+                format!(
+                    "{upper}: {} attribute '{attr_name}' is not modelled (attributes: {})",
+                    class.name(),
+                    names.join(", ")
+                ),
+                "not modelled",
+            );
+            return Err(suggest(d, attr_name, names));
+        };
+        if upper == "SSV" && attribute.access == system::Access::Get {
+            return err(
+                self,
+                a[2].span,
+                format!(
+                    "SSV: {}.{} is read-only (GSV only, 1756-RM003)",
+                    class.name(),
+                    attribute.name
+                ),
+            );
+        }
+        let data = if attribute.words > 1 {
+            let at = self.array_at(&a[3], if upper == "GSV" { "Dest" } else { "Source" })?;
+            if at.ty != DataType::Dint {
+                return err(
+                    self,
+                    a[3].span,
+                    format!(
+                        "{upper}: {}.{} is {}: give an element of a DINT array",
+                        class.name(),
+                        attribute.name,
+                        attribute.ty
+                    ),
+                );
+            }
+            if let CKind::Const(v) = at.start.kind
+                && v.as_i64() + attribute.words as i64 > at.len as i64
+            {
+                return err(
+                    self,
+                    a[3].span,
+                    format!(
+                        "{upper}: {}.{} takes {} DINTs; {} has {} from element {}",
+                        class.name(),
+                        attribute.name,
+                        attribute.words,
+                        at.name,
+                        at.len as i64 - v.as_i64(),
+                        v.as_i64()
+                    ),
+                );
+            }
+            SysData::Words(at)
+        } else if upper == "GSV" {
+            let (place, ty) = self.target_arg(&a[3])?;
+            SysData::Target(place, ty)
+        } else {
+            SysData::Value(self.value_arg(&a[3])?)
+        };
+        Ok(if upper == "GSV" {
+            SKind::SysGet(attribute, object, data)
+        } else {
+            SKind::SysSet(attribute, object, data)
+        })
+    }
+
+    /// `EVENT(Task)`: the task must be an event task triggered by the
+    /// EVENT instruction.
+    fn event(&mut self, call: &Call) -> Result<SKind> {
+        self.argc(call, "EVENT", 1)?;
+        let name = call.args[0].text.trim();
+        let tasks = &self.env.scene.tasks;
+        let Some(k) = tasks.iter().position(|t| t.name.eq_ignore_ascii_case(name)) else {
+            let names: Vec<&str> = tasks.iter().map(|t| t.name.as_str()).collect();
+            let d = self.error(call.args[0].span, format!("EVENT: no task '{name}'"), "no such task");
+            return Err(suggest(d, name, names));
+        };
+        if !matches!(
+            tasks[k].kind,
+            TaskKind::Event {
+                trigger: EventTrigger::EventInstruction,
+                ..
+            }
+        ) {
+            return err(
+                self,
+                call.args[0].span,
+                format!(
+                    "EVENT: task '{}' is not an event task triggered by the EVENT instruction (type = \"event\", trigger = \"event_instruction\")",
+                    tasks[k].name
+                ),
+            );
+        }
+        Ok(SKind::Event(k))
     }
 
     /// Checks a call's operand count.

@@ -6,7 +6,7 @@
 //! the interpreter only evaluates what comes out.
 
 use super::bindings::Env;
-use super::ir::{CExpr, CKind, CStmt, Func, Place, SKind};
+use super::ir::{CExpr, CKind, CStmt, Func, Link, Place, SKind};
 use super::memory::Memory;
 use super::types::{Ty, Value};
 use crate::scene::Dialect;
@@ -271,7 +271,11 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
                 let ty = a.ty;
                 // A negative literal is a constant (an Immediate operand).
                 match a.kind {
-                    CKind::Const(Value::Int(i)) if i != i64::MIN => constant(Value::Int(-i), ty),
+                    // (A DINT -(-2147483648), `-16#8000_0000`, overflows:
+                    // left to the scan, which records it.)
+                    CKind::Const(Value::Int(i)) if i != i64::MIN && (ty != Ty::Dint || i != i64::from(i32::MIN)) => {
+                        constant(Value::Int(-i), ty)
+                    }
                     CKind::Const(Value::Real(x)) => constant(Value::Real(-x), ty),
                     _ => CExpr {
                         kind: CKind::Neg(Box::new(a)),
@@ -294,7 +298,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
                     ty,
                 }
             }
-            ExprKind::Binary(op, a, b) => self.binary(*op, a, b, e.span)?,
+            ExprKind::Binary(first, rest) => self.chain(first, rest)?,
             ExprKind::Function(name, name_span, args) => {
                 let Some(f) = Func::parse(name) else {
                     let d = self.error(
@@ -333,9 +337,50 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
         })
     }
 
-    fn binary(&mut self, op: BinaryOp, a: &Expr, b: &Expr, span: Span) -> Result<CExpr> {
-        let x = self.expr(a)?;
-        let y = self.expr(b)?;
+    /// An operator chain, left to right: each operation typed from the
+    /// value so far and its operand, constants folded while the chain
+    /// starts with them.
+    fn chain(&mut self, first: &Expr, rest: &[(BinaryOp, Expr)]) -> Result<CExpr> {
+        let mut acc = self.expr(first)?;
+        let mut acc_span = first.span;
+        let mut head: Option<CExpr> = None;
+        let mut links: Vec<Link> = Vec::new();
+        for (op, b) in rest {
+            let y = self.expr(b)?;
+            let (math, result) = self.operation_types(*op, acc.ty, y.ty, acc_span, b.span)?;
+            acc_span = acc_span.to(b.span);
+            if head.is_none()
+                && let (CKind::Const(p), CKind::Const(q), Ty::Dint) = (&acc.kind, &y.kind, math)
+                && let Some(v) = fold_dint(*op, p.as_i64(), q.as_i64())
+            {
+                acc = constant(v, result);
+                continue;
+            }
+            if head.is_none() {
+                head = Some(std::mem::replace(&mut acc, constant(Value::Int(0), result)));
+            }
+            acc.ty = result;
+            links.push(Link {
+                op: *op,
+                operand: y,
+                math,
+            });
+        }
+        let Some(first) = head else {
+            return Ok(acc);
+        };
+        let kind = if links.len() == 1 {
+            let Link { op, operand, math } = links.pop().expect("one link");
+            CKind::Binary(op, Box::new(first), Box::new(operand), math)
+        } else {
+            CKind::Chain(Box::new(first), links.into_boxed_slice())
+        };
+        Ok(CExpr { kind, ty: acc.ty })
+    }
+
+    /// The type `x op y` computes in and the type of its result.
+    fn operation_types(&mut self, op: BinaryOp, x: Ty, y: Ty, a: Span, b: Span) -> Result<(Ty, Ty)> {
+        let span = a.to(b);
         let numeric = |t: Ty| if t == Ty::Bool { Ty::Dint } else { t };
         let arith = |x: Ty, y: Ty| {
             let (x, y) = (numeric(x), numeric(y));
@@ -355,7 +400,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
         };
         let (math, result) = match op {
             BinaryOp::Pow => {
-                let m = if arith(x.ty, y.ty) == Ty::Lreal || arith(x.ty, y.ty) == Ty::Lint {
+                let m = if arith(x, y) == Ty::Lreal || arith(x, y) == Ty::Lint {
                     Ty::Lreal
                 } else {
                     Ty::Real
@@ -363,25 +408,25 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
                 (m, m)
             }
             BinaryOp::Mul | BinaryOp::Div | BinaryOp::Mod | BinaryOp::Add | BinaryOp::Sub => {
-                let m = arith(x.ty, y.ty);
+                let m = arith(x, y);
                 (m, m)
             }
             BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge | BinaryOp::Eq | BinaryOp::Ne => {
-                if (x.ty == Ty::Bool) != (y.ty == Ty::Bool) && !(matches!(op, BinaryOp::Eq | BinaryOp::Ne)) {
+                if (x == Ty::Bool) != (y == Ty::Bool) && !(matches!(op, BinaryOp::Eq | BinaryOp::Ne)) {
                     return err(self, span, format!("'{}' compares numbers, got BOOL", op.symbol()));
                 }
-                let m = if x.ty == Ty::Bool && y.ty == Ty::Bool {
+                let m = if x == Ty::Bool && y == Ty::Bool {
                     Ty::Dint
                 } else {
-                    arith(x.ty, y.ty)
+                    arith(x, y)
                 };
                 (m, Ty::Bool)
             }
             BinaryOp::And | BinaryOp::Or | BinaryOp::Xor => {
-                if x.ty.is_real() || y.ty.is_real() {
-                    let (real, ty) = if x.ty.is_real() { (a, x.ty) } else { (b, y.ty) };
+                if x.is_real() || y.is_real() {
+                    let (real, ty) = if x.is_real() { (a, x) } else { (b, y) };
                     let d = self.error(
-                        real.span,
+                        real,
                         format!("{} needs BOOL or integer operands, got {}", op.symbol(), ty.name()),
                         format!("this is {}", ty.name()),
                     );
@@ -390,23 +435,15 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
                         op.symbol()
                     ))));
                 }
-                if x.ty == Ty::Bool && y.ty == Ty::Bool {
+                if x == Ty::Bool && y == Ty::Bool {
                     (Ty::Bool, Ty::Bool)
                 } else {
-                    let m = arith(x.ty, y.ty);
+                    let m = arith(x, y);
                     (m, m)
                 }
             }
         };
-        if let (CKind::Const(a), CKind::Const(b), Ty::Dint) = (&x.kind, &y.kind, math)
-            && let Some(v) = fold_dint(op, a.as_i64(), b.as_i64())
-        {
-            return Ok(constant(v, result));
-        }
-        Ok(CExpr {
-            kind: CKind::Binary(op, Box::new(x), Box::new(y), math),
-            ty: result,
-        })
+        Ok((math, result))
     }
 }
 

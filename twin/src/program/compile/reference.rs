@@ -62,12 +62,13 @@ impl Compiler<'_, '_, '_> {
             | Place::Fb(..)
             | Place::FirstScan
             | Place::MinorInScan
+            | Place::MathFlag
             | Place::MinorFaults
             | Place::Column { .. } => err(
                 self,
                 r.span,
                 format!(
-                    "'{}' is read-only (axis and coordinate-system members, S:FS, S:MINOR and MinorFaults are the controller's)",
+                    "'{}' is read-only (axis and coordinate-system members, the S: status flags and MinorFaults are the controller's)",
                     show(r)
                 ),
             ),
@@ -122,22 +123,21 @@ impl Compiler<'_, '_, '_> {
         if self.columns.is_empty() {
             return self.tag_place(r);
         }
-        let column = column_name(r).and_then(|name| {
-            self.columns
-                .iter()
-                .position(|c| c.name.eq_ignore_ascii_case(&name))
-        });
+        let column =
+            column_name(r).and_then(|name| self.columns.iter().position(|c| c.name.eq_ignore_ascii_case(&name)));
         match column {
-            Some(i) if !self.columns[i].of_tag && (self.resolve(&r.name).is_some() || self.qualified(r).is_some()) => err(
-                self,
-                r.span,
-                format!(
-                    "'{}' names both the tag '{}' and the trace column '{}': rename the tag",
-                    show(r),
-                    r.name,
-                    self.columns[i].name
-                ),
-            ),
+            Some(i) if !self.columns[i].of_tag && (self.resolve(&r.name).is_some() || self.qualified(r).is_some()) => {
+                err(
+                    self,
+                    r.span,
+                    format!(
+                        "'{}' names both the tag '{}' and the trace column '{}': rename the tag",
+                        show(r),
+                        r.name,
+                        self.columns[i].name
+                    ),
+                )
+            }
             Some(index) => match self.tag_place(r) {
                 Ok(found) => Ok(found),
                 Err(_) => {
@@ -214,18 +214,36 @@ impl Compiler<'_, '_, '_> {
     }
 
     /// `S:FS`, `S:MINOR` and the `MinorFaults` counter.
-    fn status_flag(&self, r: &Ref) -> Result<Option<(Place, DataType)>> {
+    ///
+    /// The math status flags `S:N`, `S:Z`, `S:V`, `S:C` are set by ladder
+    /// instructions only on a 5580 (1756-RM003, "Math Status Flags"):
+    /// Structured Text never sets them, so here they read FALSE, and a
+    /// routine reading one gets a warning.
+    fn status_flag(&mut self, r: &Ref) -> Result<Option<(Place, DataType)>> {
         if !r.path.is_empty() {
             return Ok(None);
         }
         Ok(match r.name.to_ascii_uppercase().as_str() {
             "S:FS" => Some((Place::FirstScan, DataType::Bool)),
             "S:MINOR" => Some((Place::MinorInScan, DataType::Bool)),
+            "S:N" | "S:Z" | "S:V" | "S:C" => {
+                let d = crate::source::Diagnostic::warning(format!(
+                    "{} is a math status flag: on a 5580 only ladder instructions set it, Structured Text never does, so it reads FALSE here",
+                    r.name.to_ascii_uppercase()
+                ))
+                .with_label(self.env.files.label(r.span, "always FALSE in Structured Text"))
+                .with_help("test the value itself (X < 0 for S:N, X = 0 for S:Z); overflow is counted in MinorFaults and S:MINOR");
+                self.env.bindings.warnings.push(d);
+                Some((Place::MathFlag, DataType::Bool))
+            }
             n if n.starts_with("S:") => {
                 return err(
                     self,
                     r.span,
-                    format!("status flag {} is not modelled (S:FS and S:MINOR are)", r.name),
+                    format!(
+                        "status flag {} is not modelled (S:FS, S:MINOR, S:N, S:Z, S:V and S:C are)",
+                        r.name
+                    ),
                 );
             }
             "MINORFAULTS" if self.resolve(&r.name).is_none() => Some((Place::MinorFaults, DataType::Dint)),
@@ -541,8 +559,5 @@ impl Compiler<'_, '_, '_> {
 /// A reference as a trace column's name (`J1.act_pos`): its name and
 /// members joined by dots; `None` with a subscript or a bit.
 fn column_name(r: &Ref) -> Option<String> {
-    r.path
-        .iter()
-        .all(|a| matches!(a, Access::Member(..)))
-        .then(|| show(r))
+    r.path.iter().all(|a| matches!(a, Access::Member(..))).then(|| show(r))
 }

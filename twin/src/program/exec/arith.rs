@@ -31,23 +31,36 @@ impl Exec<'_> {
             }
             CKind::Binary(op, a, b, math) => {
                 let x = self.leaf(a);
-                if *math == Ty::Bool {
-                    let y = self.leaf(b);
-                    return Value::Bool(match op {
-                        BinaryOp::And => x.truthy() && y.truthy(),
-                        BinaryOp::Or => x.truthy() || y.truthy(),
-                        BinaryOp::Xor => x.truthy() != y.truthy(),
-                        _ => unreachable!("BOOL math is logic only"),
-                    });
-                }
                 let y = self.leaf(b);
-                self.binary(*op, x, y, *math)
+                self.operation(*op, x, y, *math)
+            }
+            CKind::Chain(first, links) => {
+                let mut x = self.leaf(first);
+                for l in links {
+                    let y = self.leaf(&l.operand);
+                    x = self.operation(l.op, x, y, l.math);
+                }
+                x
             }
             CKind::Func(f, a) => {
                 let v = self.eval(a);
                 self.function(*f, v, a.ty, e.ty)
             }
         }
+    }
+
+    /// `x op y` computed in `math` (logic when it is `Bool`).
+    #[inline]
+    fn operation(&mut self, op: BinaryOp, x: Value, y: Value, math: Ty) -> Value {
+        if math == Ty::Bool {
+            return Value::Bool(match op {
+                BinaryOp::And => x.truthy() && y.truthy(),
+                BinaryOp::Or => x.truthy() || y.truthy(),
+                BinaryOp::Xor => x.truthy() != y.truthy(),
+                _ => unreachable!("BOOL math is logic only"),
+            });
+        }
+        self.binary(op, x, y, math)
     }
 
     pub(super) fn dint_result(&mut self, r: i64, what: &str) -> Value {

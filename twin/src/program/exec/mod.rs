@@ -4,6 +4,19 @@
 //! ([`planner::task::instructions::Instruction::execute`], `motion.rs`). It only evaluates what the
 //! compiler produced: no name is looked up and nothing is parsed here.
 //!
+//! # Scans that stop and resume
+//! Statements run from a stack of frames (a block and its next statement,
+//! a loop between passes, a JSR's return, a fault routine), not by
+//! recursion, so a scan can stop before any statement when the clock
+//! reaches the scheduler's stop time ([`Exec::run`] gives a [`Paused`]:
+//! each frame as indices into the compiled routines) and resume there
+//! ([`Exec::resume`]). An instruction fault (type 4) in a program with a
+//! fault routine runs that routine on top of the frames; when it clears
+//! the program's `MajorFaultRecord` (Type and Code 0) the scan goes on with
+//! the statement after the faulted one (1756-PM014, *Recover from a major
+//! fault*), else the fault stops the scan, as does any fault raised inside
+//! the fault routine.
+//!
 //! # Arithmetic
 //! * SINT, INT, USINT, UINT and DINT compute in 32 bits; UDINT, LINT and
 //!   ULINT in 64. A result that does not fit wraps (two's complement) and
@@ -24,8 +37,9 @@
 //! * `SQRT` takes the square root of the absolute value, as the
 //!   controller's SQRT does; `TRUNC` gives a DINT.
 
-use super::ir::{ArrayAt, CExpr, CStmt, GsvAttribute, Instance, MotionCall, Place, SKind};
+use super::ir::{ArrayAt, CExpr, CStmt, GsvAttribute, Instance, MotionCall, Object, Place, SKind, SysData};
 use super::memory::Memory;
+use super::system::{Attribute, Class, System};
 use super::types::{DataType, Value};
 use planner::instruction::Fault;
 use planner::task::MotionTask;
@@ -45,8 +59,7 @@ pub use scratch::Scratch;
 /// # Errors
 /// The instruction's refusal.
 pub fn call(mem: &mut Memory, task: &mut MotionTask, scratch: &mut Scratch, call: &MotionCall) -> Result<(), Fault> {
-    let now_us = (task.time_s() * 1e6).round() as i64;
-    let mut exec = Exec::new(mem, task, now_us, false, &[], scratch, 0, u64::MAX);
+    let mut exec = Exec::outside(mem, task, scratch);
     match exec.execute_call(call) {
         Ok(result) => result,
         // A step's operands are constants and references with constant
@@ -59,9 +72,7 @@ pub fn call(mem: &mut Memory, task: &mut MotionTask, scratch: &mut Scratch, call
 /// `when`, a scene's expression): it reads tag memory and the planner.
 #[must_use]
 pub fn evaluate(mem: &mut Memory, task: &mut MotionTask, scratch: &mut Scratch, e: &CExpr) -> Value {
-    let now_us = (task.time_s() * 1e6).round() as i64;
-    let mut exec = Exec::new(mem, task, now_us, false, &[], scratch, 0, u64::MAX);
-    exec.eval(e)
+    Exec::outside(mem, task, scratch).eval(e)
 }
 
 /// The value of an expectation's compiled expression now: it reads tag
@@ -75,15 +86,14 @@ pub fn evaluate_with_columns(
     e: &CExpr,
     columns: &[f64],
 ) -> Value {
-    let now_us = (task.time_s() * 1e6).round() as i64;
-    let mut exec = Exec::new(mem, task, now_us, false, &[], scratch, 0, u64::MAX);
+    let mut exec = Exec::outside(mem, task, scratch);
     exec.columns = columns;
     exec.eval(e)
 }
 
-/// Slots of statements a scan may execute: the watchdog counts each
-/// executed statement (and each loop test) as [`NOMINAL_STATEMENT_US`].
-pub const NOMINAL_STATEMENT_US: f64 = 1.0;
+/// The nominal time of one executed statement (and one loop test) unless
+/// `[controller] statement_us` says otherwise, µs.
+pub const NOMINAL_STATEMENT_US: f64 = crate::scene::DEFAULT_STATEMENT_US;
 
 /// The deepest `JSR` nesting before the controller's stack overflows.
 pub const MAX_JSR_DEPTH: usize = 32;
@@ -103,15 +113,71 @@ pub struct Raised {
     pub line: u32,
 }
 
-/// How a block ended.
+/// Where a running scan is: one entry per block, loop and routine call it
+/// is inside, innermost last. The interpreter runs them in a loop, not by
+/// recursion, so that a scan can stop between any two statements (a
+/// higher-priority task, a coarse update) and resume there ([`Paused`]).
+#[derive(Debug, Clone, Copy)]
+enum Frame<'r> {
+    /// A block's statements, `pc` the next one; `sub` is which block of
+    /// the statement holding it this is (of a routine: the routine).
+    Block { stmts: &'r [CStmt], pc: usize, sub: u32 },
+    /// A FOR, WHILE or REPEAT between passes (`started`: after its first).
+    Loop { stmt: &'r CStmt, started: bool },
+    /// A JSR into a routine: the caller's routine and line to return to,
+    /// and where the values its RET hands back go.
+    Call {
+        caller: usize,
+        line: u32,
+        returns: &'r [(Place, DataType)],
+    },
+    /// The program's fault routine, running for `fault` (raised at the
+    /// caller's routine and line).
+    FaultRoutine { caller: usize, line: u32 },
+}
+
+/// A [`Frame`] without its references: which statement and block, to
+/// find them again in the same compiled routines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Flow {
-    /// Normally.
-    Next,
-    /// By `EXIT`.
-    Exit,
-    /// By `RET`.
-    Return,
+enum Saved {
+    Block { pc: usize, sub: u32 },
+    Loop { started: bool },
+    Call { caller: usize, line: u32 },
+    FaultRoutine { caller: usize, line: u32 },
+}
+
+/// A program's scan stopped between two statements, to resume where it
+/// stopped.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Paused {
+    frames: Vec<Saved>,
+    routine: usize,
+    line: u32,
+    depth: usize,
+    params: Vec<Value>,
+    returns: Vec<Value>,
+    fault: Option<Box<Raised>>,
+}
+
+/// How far a scan got.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Progress {
+    /// The program's scan ended.
+    Done,
+    /// It stopped at its stop time, between two statements.
+    Paused(Paused),
+}
+
+/// The statement of a block of statement `s` (IF and CASE: each branch,
+/// then ELSE; a loop: its body).
+fn sub_block(s: &CStmt, sub: u32) -> &[CStmt] {
+    let sub = sub as usize;
+    match &s.kind {
+        SKind::If(branches, otherwise) => branches.get(sub).map_or(otherwise.as_slice(), |(_, b)| b.as_slice()),
+        SKind::Case(_, arms, otherwise) => arms.get(sub).map_or(otherwise.as_slice(), |(_, b)| b.as_slice()),
+        SKind::For { body, .. } | SKind::While(_, body) | SKind::Repeat(body, _) => body,
+        _ => &[],
+    }
 }
 
 /// One scan's state.
@@ -120,7 +186,8 @@ pub struct Exec<'e> {
     pub mem: &'e mut Memory,
     /// The planner.
     pub task: &'e mut MotionTask,
-    /// The scan's time, µs since the start.
+    /// The scan's time (its trigger's), µs since the start: what timers
+    /// measure with.
     pub now_us: i64,
     /// `S:FS`.
     pub first_scan: bool,
@@ -137,13 +204,41 @@ pub struct Exec<'e> {
     pub refusals: Vec<String>,
     /// Statements executed.
     pub steps: u64,
-    /// The watchdog, in statements.
-    pub budget: u64,
+    /// The controller's clock, ns: each statement and loop test advances
+    /// it by `statement_ns`.
+    pub clock_ns: i64,
+    /// Where the scan stops (before the next statement) to let the
+    /// scheduler run something else.
+    pub stop_ns: i64,
+    /// The nominal time of one statement, ns.
+    pub statement_ns: i64,
+    /// The watchdog expires when the clock passes this.
+    pub watchdog_ns: i64,
+    /// The watchdog's time, for its message.
+    pub watchdog_us: f64,
+    /// Whether an overflow records minor fault 4/4
+    /// (`report_overflow_faults`).
+    pub report_overflow: bool,
+    /// The program's fault routine, if it has one.
+    pub fault_routine: Option<usize>,
+    /// The system objects, with the scan's task and program (their
+    /// indices); `None` outside a scan.
+    pub system: Option<(&'e mut System, usize, usize)>,
+    /// Event tasks an `EVENT` triggered (their indices), for the
+    /// scheduler.
+    pub events: Vec<usize>,
+    /// Major faults the fault routine cleared in this run.
+    pub cleared: Vec<Raised>,
+    frames: Vec<Frame<'e>>,
     routine: usize,
     line: u32,
     depth: usize,
     params: Vec<Value>,
     returns: Vec<Value>,
+    /// The fault the fault routine is running for.
+    handling: Option<Box<Raised>>,
+    /// The fault routine left its fault standing: it stops the scan.
+    uncleared: bool,
     /// A fault raised while evaluating: the statement stops at its next
     /// check, before any further side effect.
     fault: Option<Box<Raised>>,
@@ -156,7 +251,14 @@ pub struct Exec<'e> {
 type R<T> = Result<T, Box<Raised>>;
 
 impl<'e> Exec<'e> {
-    /// A scan of one program.
+    /// An executor outside any scan: a step's call, an expression.
+    pub fn outside(mem: &'e mut Memory, task: &'e mut MotionTask, scratch: &'e mut Scratch) -> Self {
+        let now_us = (task.time_s() * 1e6).round() as i64;
+        Exec::new(mem, task, now_us, false, &[], scratch, 0)
+    }
+
+    /// A scan of one program, starting at its main routine (or where
+    /// [`Exec::resume`] puts it), its clock at 0 until the caller sets it.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         mem: &'e mut Memory,
@@ -166,8 +268,8 @@ impl<'e> Exec<'e> {
         routines: &'e [Vec<CStmt>],
         scratch: &'e mut Scratch,
         minor_total: i64,
-        budget: u64,
     ) -> Self {
+        let statement_ns = (NOMINAL_STATEMENT_US * 1000.0) as i64;
         Exec {
             mem,
             task,
@@ -179,12 +281,24 @@ impl<'e> Exec<'e> {
             minor_total,
             refusals: Vec::new(),
             steps: 0,
-            budget,
+            clock_ns: 0,
+            stop_ns: i64::MAX,
+            statement_ns,
+            watchdog_ns: i64::MAX,
+            watchdog_us: f64::INFINITY,
+            report_overflow: true,
+            fault_routine: None,
+            system: None,
+            events: Vec::new(),
+            cleared: Vec::new(),
+            frames: Vec::new(),
             routine: 0,
             line: 0,
             depth: 0,
             params: Vec::new(),
             returns: Vec::new(),
+            handling: None,
+            uncleared: false,
             fault: None,
             columns: &[],
         }
@@ -216,50 +330,295 @@ impl<'e> Exec<'e> {
     }
 
     fn overflow(&mut self, what: &str) {
+        if !self.report_overflow {
+            return;
+        }
         let r = self.raise(4, 4, format!("arithmetic overflow: {what}"));
         self.minor.push(*r);
         self.minor_total += 1;
+        let clock_ns = self.clock_ns;
+        if let Some((sys, _, program)) = self.system.as_mut() {
+            sys.minor_events += 1;
+            sys.minor_fault_bits |= 1 << 4;
+            sys.programs[*program].minor_record = sys.record(clock_ns, 4, 4);
+        }
     }
 
+    /// One statement (or loop test) executed: the clock advances and the
+    /// watchdog is checked.
     fn tick(&mut self) -> R<()> {
         self.check()?;
         self.steps += 1;
-        if self.steps > self.budget {
+        self.clock_ns += self.statement_ns;
+        if self.clock_ns > self.watchdog_ns {
             return Err(self.raise(
                 6,
                 1,
                 format!(
-                    "task watchdog expired: the scan ran past {} statements ({} µs nominal)",
-                    self.budget,
-                    self.budget as f64 * NOMINAL_STATEMENT_US
+                    "task watchdog expired: the scan ran longer than {} µs (statements at {} µs nominal, higher-priority tasks and coarse updates included)",
+                    self.watchdog_us,
+                    self.statement_ns as f64 / 1000.0
                 ),
             ));
         }
         Ok(())
     }
 
-    /// Runs the program's main routine.
+    /// Runs the program's main routine from its start, to its end.
     ///
     /// # Errors
     /// The major fault that stopped it.
     pub fn run_main(&mut self) -> R<()> {
-        self.routine = 0;
-        self.block(&self.routines[0]).map(|_| ())
+        self.start();
+        match self.run()? {
+            Progress::Done => Ok(()),
+            Progress::Paused(_) => unreachable!("a scan with no stop time runs to its end"),
+        }
     }
 
-    fn block(&mut self, stmts: &[CStmt]) -> R<Flow> {
-        for s in stmts {
-            self.line = s.line;
-            self.tick()?;
-            let flow = self.stmt(s)?;
-            if flow != Flow::Next {
-                return Ok(flow);
+    /// Puts the scan at the start of the main routine.
+    pub fn start(&mut self) {
+        self.frames.clear();
+        self.routine = 0;
+        self.depth = 0;
+        if let Some(main) = self.routines.first() {
+            self.frames.push(Frame::Block {
+                stmts: main,
+                pc: 0,
+                sub: 0,
+            });
+        }
+    }
+
+    /// Puts the scan where `paused` stopped.
+    pub fn resume(&mut self, paused: Paused) {
+        self.frames.clear();
+        let routines = self.routines;
+        let mut frames: Vec<Frame<'e>> = Vec::with_capacity(paused.frames.len());
+        for saved in &paused.frames {
+            // The statement that holds the next frame: the one before the
+            // enclosing block's `pc`.
+            let holder = match frames.last() {
+                Some(Frame::Block { stmts, pc, .. }) => pc.checked_sub(1).map(|i| &stmts[i]),
+                Some(Frame::Loop { stmt, .. }) => Some(*stmt),
+                _ => None,
+            };
+            let frame = match *saved {
+                Saved::Block { pc, sub } => {
+                    let stmts: &'e [CStmt] = match holder {
+                        Some(s) if !matches!(frames.last(), Some(Frame::Call { .. } | Frame::FaultRoutine { .. })) => {
+                            sub_block(s, sub)
+                        }
+                        _ => &routines[sub as usize],
+                    };
+                    Frame::Block { stmts, pc, sub }
+                }
+                Saved::Loop { started } => Frame::Loop {
+                    stmt: holder.expect("a loop sits in a block"),
+                    started,
+                },
+                Saved::Call { caller, line } => {
+                    let returns: &'e [(Place, DataType)] = match holder.map(|s| &s.kind) {
+                        Some(SKind::Jsr { returns, .. }) => returns,
+                        _ => &[],
+                    };
+                    Frame::Call { caller, line, returns }
+                }
+                Saved::FaultRoutine { caller, line } => Frame::FaultRoutine { caller, line },
+            };
+            frames.push(frame);
+        }
+        self.frames = frames;
+        self.routine = paused.routine;
+        self.line = paused.line;
+        self.depth = paused.depth;
+        self.params = paused.params;
+        self.returns = paused.returns;
+        self.handling = paused.fault;
+    }
+
+    fn pause(&mut self) -> Paused {
+        Paused {
+            frames: self
+                .frames
+                .iter()
+                .map(|f| match *f {
+                    Frame::Block { pc, sub, .. } => Saved::Block { pc, sub },
+                    Frame::Loop { started, .. } => Saved::Loop { started },
+                    Frame::Call { caller, line, .. } => Saved::Call { caller, line },
+                    Frame::FaultRoutine { caller, line } => Saved::FaultRoutine { caller, line },
+                })
+                .collect(),
+            routine: self.routine,
+            line: self.line,
+            depth: self.depth,
+            params: std::mem::take(&mut self.params),
+            returns: std::mem::take(&mut self.returns),
+            fault: self.handling.take(),
+        }
+    }
+
+    /// Runs the scan until its end, or until the clock reaches `stop_ns`
+    /// (it then stops before its next statement).
+    ///
+    /// # Errors
+    /// The major fault that stopped it (an instruction fault the fault
+    /// routine did not clear, a watchdog).
+    pub fn run(&mut self) -> R<Progress> {
+        loop {
+            let (block, at) = match self.frames.last() {
+                None => return Ok(Progress::Done),
+                Some(Frame::Block { stmts, pc, .. }) => (Some(*stmts), *pc),
+                Some(Frame::Loop { .. }) => (None, 0),
+                Some(Frame::Call { .. } | Frame::FaultRoutine { .. }) => {
+                    unreachable!("a routine's block sits above its call")
+                }
+            };
+            if let Some(stmts) = block {
+                let Some(s) = stmts.get(at) else {
+                    self.frames.pop();
+                    if let Err(raised) = self.block_ended() {
+                        self.fault_raised(raised)?;
+                    }
+                    continue;
+                };
+                if self.clock_ns >= self.stop_ns {
+                    return Ok(Progress::Paused(self.pause()));
+                }
+                if let Some(Frame::Block { pc, .. }) = self.frames.last_mut() {
+                    *pc += 1;
+                }
+                self.line = s.line;
+                if let Err(raised) = self.tick().and_then(|()| self.stmt(s)) {
+                    self.fault_raised(raised)?;
+                }
+            } else {
+                if self.clock_ns >= self.stop_ns {
+                    return Ok(Progress::Paused(self.pause()));
+                }
+                let Some(Frame::Loop { stmt, started }) = self.frames.last_mut() else {
+                    unreachable!("a loop frame")
+                };
+                let (stmt, started): (&'e CStmt, bool) = (*stmt, std::mem::replace(started, true));
+                self.line = stmt.line;
+                if let Err(raised) = self.loop_pass(stmt, started) {
+                    self.fault_raised(raised)?;
+                }
             }
         }
-        Ok(Flow::Next)
     }
 
-    fn stmt(&mut self, s: &CStmt) -> R<Flow> {
+    /// A statement raised `raised`: an instruction fault (type 4) runs the
+    /// program's fault routine, once; anything else stops the scan.
+    fn fault_raised(&mut self, raised: Box<Raised>) -> R<()> {
+        let Some(fr) = self.fault_routine else {
+            return Err(raised);
+        };
+        if raised.fault_type != 4 || self.handling.is_some() || std::mem::take(&mut self.uncleared) {
+            return Err(raised);
+        }
+        self.fault = None;
+        let clock_ns = self.clock_ns;
+        if let Some((sys, _, program)) = self.system.as_mut() {
+            sys.programs[*program].major_record = sys.record(clock_ns, raised.fault_type, raised.code);
+        }
+        self.frames.push(Frame::FaultRoutine {
+            caller: self.routine,
+            line: self.line,
+        });
+        self.frames.push(Frame::Block {
+            stmts: &self.routines[fr],
+            pc: 0,
+            sub: fr as u32,
+        });
+        self.handling = Some(raised);
+        self.routine = fr;
+        Ok(())
+    }
+
+    /// A block ran to its end: what holds it goes on.
+    fn block_ended(&mut self) -> R<()> {
+        match self.frames.last() {
+            Some(Frame::Call { .. }) => self.return_from_call(None),
+            Some(Frame::FaultRoutine { .. }) => self.fault_routine_ended(),
+            _ => Ok(()),
+        }
+    }
+
+    /// Leaves the routine of the innermost call (`values`: what its RET
+    /// handed back; `None` when it ran to its end).
+    fn return_from_call(&mut self, values: Option<Vec<Value>>) -> R<()> {
+        let Some(Frame::Call { caller, line, returns }) = self.frames.pop() else {
+            unreachable!("returning from a call")
+        };
+        self.depth -= 1;
+        let called = self.routine;
+        self.routine = caller;
+        let values = values.unwrap_or_default();
+        if values.len() < returns.len() {
+            // 1756-RM003, JSR: a RET with fewer return parameters than the
+            // JSR has is major fault 4/31 (more are ignored).
+            let line = self.line;
+            self.routine = called;
+            let f = self.raise(
+                4,
+                31,
+                format!(
+                    "invalid JSR parameter: the JSR takes {} return value(s), the routine returned {}{}",
+                    returns.len(),
+                    values.len(),
+                    if values.is_empty() {
+                        " (it ended without a RET that returns them)"
+                    } else {
+                        ""
+                    }
+                ),
+            );
+            self.routine = caller;
+            self.line = line;
+            return Err(f);
+        }
+        self.line = line;
+        for ((place, ty), v) in returns.iter().zip(values) {
+            self.store(place, *ty, v);
+            self.check()?;
+        }
+        Ok(())
+    }
+
+    /// The fault routine ran to its end (or its RET): the fault is
+    /// cleared when it zeroed the program's major fault record's type and
+    /// code; then the scan resumes after the faulted statement, else the
+    /// fault stands.
+    fn fault_routine_ended(&mut self) -> R<()> {
+        let Some(Frame::FaultRoutine { caller, line }) = self.frames.pop() else {
+            unreachable!("leaving the fault routine")
+        };
+        self.routine = caller;
+        self.line = line;
+        let raised = self.handling.take().expect("a fault is being handled");
+        if self.fault_cleared() {
+            if let Some((sys, ..)) = self.system.as_mut() {
+                sys.major_events += 1;
+                sys.major_fault_bits |= 1 << raised.fault_type;
+            }
+            self.cleared.push(*raised);
+            Ok(())
+        } else {
+            self.uncleared = true;
+            Err(raised)
+        }
+    }
+
+    /// Whether the fault routine cleared the fault: the program's
+    /// `MajorFaultRecord` has Type and Code 0 (its word 2).
+    fn fault_cleared(&self) -> bool {
+        self.system
+            .as_ref()
+            .is_some_and(|(sys, _, program)| sys.programs[*program].major_record[2] == 0)
+    }
+
+    fn stmt(&mut self, s: &'e CStmt) -> R<()> {
         match &s.kind {
             SKind::Assign { target, ty, value, .. } => {
                 let v = self.eval(value);
@@ -268,68 +627,138 @@ impl<'e> Exec<'e> {
                 self.check()?;
             }
             SKind::If(branches, otherwise) => {
-                for (c, body) in branches {
+                let mut sub = branches.len();
+                for (k, (c, _)) in branches.iter().enumerate() {
                     let taken = self.eval(c).truthy();
                     self.check()?;
                     if taken {
-                        return self.block(body);
+                        sub = k;
+                        break;
                     }
                 }
-                return self.block(otherwise);
+                let stmts = branches.get(sub).map_or(otherwise.as_slice(), |(_, b)| b.as_slice());
+                self.enter(stmts, sub);
             }
             SKind::Case(sel, arms, otherwise) => {
                 let x = self.eval(sel).as_i64();
                 self.check()?;
-                for (labels, body) in arms {
-                    if labels.iter().any(|l| l.matches(x)) {
-                        return self.block(body);
+                let sub = arms
+                    .iter()
+                    .position(|(labels, _)| labels.iter().any(|l| l.matches(x)))
+                    .unwrap_or(arms.len());
+                let stmts = arms.get(sub).map_or(otherwise.as_slice(), |(_, b)| b.as_slice());
+                self.enter(stmts, sub);
+            }
+            SKind::For { counter, ty, from, .. } => {
+                let start = self.eval(from);
+                self.check()?;
+                self.store(counter, *ty, start);
+                self.check()?;
+                self.frames.push(Frame::Loop {
+                    stmt: s,
+                    started: false,
+                });
+            }
+            SKind::While(..) | SKind::Repeat(..) => self.frames.push(Frame::Loop {
+                stmt: s,
+                started: false,
+            }),
+            SKind::Exit => {
+                while let Some(f) = self.frames.pop() {
+                    if matches!(f, Frame::Loop { .. }) {
+                        break;
                     }
                 }
-                return self.block(otherwise);
             }
+            SKind::Ret(values) => {
+                let values: Vec<Value> = values.iter().map(|v| self.eval(v)).collect();
+                self.check()?;
+                // Leave every block and loop of this routine.
+                while matches!(self.frames.last(), Some(Frame::Block { .. } | Frame::Loop { .. })) {
+                    self.frames.pop();
+                }
+                match self.frames.last() {
+                    Some(Frame::Call { .. }) => self.return_from_call(Some(values))?,
+                    Some(Frame::FaultRoutine { .. }) => self.fault_routine_ended()?,
+                    _ => {}
+                }
+            }
+            SKind::Jsr {
+                routine,
+                inputs,
+                returns,
+            } => self.jsr(*routine, inputs, returns)?,
+            other => self.instruction(other)?,
+        }
+        Ok(())
+    }
+
+    /// Enters a block of the statement being executed (empty blocks too:
+    /// the loop leaves them at once).
+    fn enter(&mut self, stmts: &'e [CStmt], sub: usize) {
+        if !stmts.is_empty() {
+            self.frames.push(Frame::Block {
+                stmts,
+                pc: 0,
+                sub: sub as u32,
+            });
+        }
+    }
+
+    /// One pass of a loop: its test (counted as a statement) and its body,
+    /// or its end.
+    fn loop_pass(&mut self, stmt: &'e CStmt, started: bool) -> R<()> {
+        let more = match &stmt.kind {
             SKind::For {
-                counter,
-                ty,
-                from,
-                to,
-                by,
-                body,
-            } => return self.for_loop(counter, *ty, from, to, by, body),
-            SKind::While(c, body) => loop {
+                counter, ty, to, by, ..
+            } => {
+                if started {
+                    let step = self.eval(by).as_i64();
+                    let i = self.load(counter).as_i64();
+                    self.check()?;
+                    self.store(counter, *ty, Value::Int(i.wrapping_add(step)));
+                    self.check()?;
+                }
+                self.tick()?;
+                let i = self.load(counter).as_i64();
+                let end = self.eval(to).as_i64();
+                let step = self.eval(by).as_i64();
+                self.check()?;
+                !((step >= 0 && i > end) || (step < 0 && i < end))
+            }
+            SKind::While(c, _) => {
                 self.tick()?;
                 let more = self.eval(c).truthy();
                 self.check()?;
-                if !more {
-                    break;
-                }
-                match self.block(body)? {
-                    Flow::Exit => break,
-                    Flow::Return => return Ok(Flow::Return),
-                    Flow::Next => {}
-                }
-            },
-            SKind::Repeat(body, until) => loop {
-                self.tick()?;
-                match self.block(body)? {
-                    Flow::Exit => break,
-                    Flow::Return => return Ok(Flow::Return),
-                    Flow::Next => {}
-                }
-                let done = self.eval(until).truthy();
-                self.check()?;
-                if done {
-                    break;
-                }
-            },
-            SKind::Exit => return Ok(Flow::Exit),
-            SKind::Ret(values) => {
-                self.returns = values.iter().map(|v| self.eval(v)).collect();
-                self.check()?;
-                return Ok(Flow::Return);
+                more
             }
-            other => self.instruction(other)?,
+            SKind::Repeat(_, until) => {
+                if started {
+                    let done = self.eval(until).truthy();
+                    self.check()?;
+                    if done {
+                        false
+                    } else {
+                        self.tick()?;
+                        true
+                    }
+                } else {
+                    self.tick()?;
+                    true
+                }
+            }
+            _ => unreachable!("only loops are Loop frames"),
+        };
+        if more {
+            self.frames.push(Frame::Block {
+                stmts: sub_block(stmt, 0),
+                pc: 0,
+                sub: 0,
+            });
+        } else {
+            self.frames.pop();
         }
-        Ok(Flow::Next)
+        Ok(())
     }
 
     /// The instructions that are not control flow.
@@ -340,13 +769,22 @@ impl<'e> Exec<'e> {
                 self.check()?;
                 self.builtin(*b, base);
             }
-            SKind::Jsr {
-                routine,
-                inputs,
-                returns,
-            } => self.jsr(*routine, inputs, returns)?,
             SKind::Sbr(targets) => {
                 let params = std::mem::take(&mut self.params);
+                if self.depth > 0 && params.len() < targets.len() {
+                    // 1756-RM003, JSR: fewer input parameters than the SBR
+                    // takes is major fault 4/31 (extra ones are not
+                    // received).
+                    return Err(self.raise(
+                        4,
+                        31,
+                        format!(
+                            "invalid JSR parameter: the SBR takes {} input(s), the JSR passed {}",
+                            targets.len(),
+                            params.len()
+                        ),
+                    ));
+                }
                 for ((place, ty), v) in targets.iter().zip(params) {
                     self.store(place, *ty, v);
                     self.check()?;
@@ -394,62 +832,109 @@ impl<'e> Exec<'e> {
                     self.refusals.push(format!("SSV {name} (line {}): {e}", self.line));
                 }
             }
+            SKind::SysGet(attribute, object, data) => self.system_get(attribute, *object, data)?,
+            SKind::SysSet(attribute, object, data) => self.system_set(attribute, *object, data)?,
+            SKind::Event(k) => {
+                // The scheduler releases it now: the scan stops before its
+                // next statement so that a higher-priority event task runs
+                // at once.
+                self.events.push(*k);
+                self.stop_ns = self.clock_ns;
+            }
             SKind::Motion(call) => self.motion_call(call)?,
             _ => unreachable!("control flow is executed by stmt"),
         }
         Ok(())
     }
 
-    fn for_loop(
-        &mut self,
-        counter: &Place,
-        ty: DataType,
-        from: &CExpr,
-        to: &CExpr,
-        by: &CExpr,
-        body: &[CStmt],
-    ) -> R<Flow> {
-        let start = self.eval(from);
-        self.check()?;
-        self.store(counter, ty, start);
-        loop {
-            self.tick()?;
-            let i = self.load(counter).as_i64();
-            let end = self.eval(to).as_i64();
-            let step = self.eval(by).as_i64();
-            self.check()?;
-            if (step >= 0 && i > end) || (step < 0 && i < end) {
-                return Ok(Flow::Next);
-            }
-            match self.block(body)? {
-                Flow::Exit => return Ok(Flow::Next),
-                Flow::Return => return Ok(Flow::Return),
-                Flow::Next => {}
-            }
-            let i = self.load(counter).as_i64();
-            self.store(counter, ty, Value::Int(i.wrapping_add(step)));
-        }
-    }
-
-    fn jsr(&mut self, routine: usize, inputs: &[CExpr], returns: &[(Place, DataType)]) -> R<()> {
+    fn jsr(&mut self, routine: usize, inputs: &[CExpr], returns: &'e [(Place, DataType)]) -> R<()> {
         if self.depth >= MAX_JSR_DEPTH {
             return Err(self.raise(4, 84, format!("stack overflow: JSR nested deeper than {MAX_JSR_DEPTH}")));
         }
         self.params = inputs.iter().map(|e| self.eval(e)).collect();
         self.check()?;
-        self.returns.clear();
-        let (caller, line) = (self.routine, self.line);
+        self.frames.push(Frame::Call {
+            caller: self.routine,
+            line: self.line,
+            returns,
+        });
         self.depth += 1;
         self.routine = routine;
-        let flow = self.block(&self.routines[routine]);
-        self.depth -= 1;
-        self.routine = caller;
-        self.line = line;
-        flow?;
-        let values = std::mem::take(&mut self.returns);
-        for ((place, ty), v) in returns.iter().zip(values) {
-            self.store(place, *ty, v);
-            self.check()?;
+        self.frames.push(Frame::Block {
+            stmts: &self.routines[routine],
+            pc: 0,
+            sub: routine as u32,
+        });
+        Ok(())
+    }
+
+    /// The index of a system object in its class.
+    fn object(&self, class: Class, object: Object) -> usize {
+        match (object, &self.system) {
+            (Object::Index(k), _) => k,
+            (Object::This, Some((_, task, program))) if class == Class::Task => *task,
+            (Object::This, Some((_, _, program))) => *program,
+            _ => 0,
+        }
+    }
+
+    fn system_get(&mut self, attribute: &Attribute, object: Object, data: &SysData) -> R<()> {
+        let k = self.object(attribute.class, object);
+        let mut words = [0i64; 11];
+        let clock_ns = self.clock_ns;
+        let Some((sys, ..)) = self.system.as_ref() else {
+            return Ok(());
+        };
+        sys.get(
+            attribute.class,
+            attribute.attr,
+            k,
+            clock_ns,
+            &mut words[..attribute.words],
+        );
+        match data {
+            SysData::Target(place, ty) => {
+                self.store(place, *ty, Value::Int(words[0]));
+                self.check()?;
+            }
+            SysData::Words(at) => {
+                let d = self.array_range(at, attribute.words as i64)?;
+                for (slot, w) in self.mem.slots[d..d + attribute.words].iter_mut().zip(words) {
+                    *slot = Value::Int(w);
+                }
+            }
+            SysData::Value(_) => unreachable!("GSV writes a tag"),
+        }
+        Ok(())
+    }
+
+    fn system_set(&mut self, attribute: &Attribute, object: Object, data: &SysData) -> R<()> {
+        let k = self.object(attribute.class, object);
+        let mut words = [0i64; 11];
+        match data {
+            SysData::Value(e) => {
+                let v = self.eval(e);
+                self.check()?;
+                let (stored, bad) = if attribute.ty == "INT" {
+                    DataType::Int.store(v)
+                } else {
+                    DataType::Dint.store(v)
+                };
+                if bad {
+                    self.overflow(&format!("the value does not fit {}", attribute.ty));
+                }
+                words[0] = stored.as_i64();
+            }
+            SysData::Words(at) => {
+                let s = self.array_range(at, attribute.words as i64)?;
+                for (w, slot) in words.iter_mut().zip(&self.mem.slots[s..s + attribute.words]) {
+                    *w = slot.as_i64();
+                }
+            }
+            SysData::Target(..) => unreachable!("SSV reads a value"),
+        }
+        if let Some((sys, ..)) = self.system.as_mut() {
+            sys.set(attribute.class, attribute.attr, k, &words[..attribute.words]);
         }
         Ok(())
     }

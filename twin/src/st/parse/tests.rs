@@ -31,7 +31,9 @@ fn show(e: &Expr) -> String {
         ExprKind::Ref(r) => r.name.clone(),
         ExprKind::Unary(UnaryOp::Neg, a) => format!("(-{})", show(a)),
         ExprKind::Unary(UnaryOp::Not, a) => format!("(NOT {})", show(a)),
-        ExprKind::Binary(op, a, b) => format!("({} {} {})", show(a), op.symbol(), show(b)),
+        ExprKind::Binary(first, rest) => rest.iter().fold(show(first), |left, (op, right)| {
+            format!("({left} {} {})", op.symbol(), show(right))
+        }),
         ExprKind::Function(f, _, args) => format!("{f}({})", args.iter().map(show).collect::<Vec<_>>().join(",")),
     }
 }
@@ -67,7 +69,8 @@ fn spans_cover_what_they_name() {
     let (f, id) = files("A.B[1] + ABS(x)");
     let e = parse_expression(&Source::file(&f, id)).unwrap();
     assert_eq!(e.span.range(), 0..15);
-    let ExprKind::Binary(_, a, b) = &e.kind else { panic!() };
+    let ExprKind::Binary(a, rest) = &e.kind else { panic!() };
+    let [(_, b)] = rest.as_slice() else { panic!() };
     assert_eq!(a.span.range(), 0..6);
     assert_eq!(b.span.range(), 9..15);
     let ExprKind::Ref(r) = &a.kind else { panic!() };
@@ -210,9 +213,8 @@ fn a_routine_nested_beyond_the_bound_is_refused_not_a_stack_overflow() {
     let deep_calls = format!("X := {}1{};", "VT(".repeat(1000), ")".repeat(1000));
     let deep_parens = format!("X := {}1{};", "(".repeat(1000), ")".repeat(1000));
     let deep_not = format!("X := {}TRUE;", "NOT ".repeat(1000));
-    let long_chain = format!("X := 1{};", " + 1".repeat(1000));
     let deep_ifs = format!("{}X := 1;{}", "IF TRUE THEN ".repeat(1000), " END_IF;".repeat(1000));
-    for text in [deep_calls, deep_parens, deep_not, long_chain, deep_ifs] {
+    for text in [deep_calls, deep_parens, deep_not, deep_ifs] {
         let outcome = std::thread::Builder::new()
             .stack_size(512 * 1024)
             .spawn(move || routine(&text).map(|_| ()).map_err(|e| e.message.clone()))
@@ -224,6 +226,30 @@ fn a_routine_nested_beyond_the_bound_is_refused_not_a_stack_overflow() {
     }
     // Thirty levels of parentheses are fine.
     routine(&format!("X := {}1{};", "(".repeat(28), ")".repeat(28))).unwrap();
+}
+
+#[test]
+fn operator_chains_of_any_length_parse_flat_on_a_small_stack() {
+    // A sum of 33 terms was refused as nested too deeply; a chain is one
+    // level however long (1756-RM003 sets no limit on an expression's terms).
+    let chains = [
+        format!("X := 1{};", " + 1".repeat(20_000)),
+        format!("X := A{};", " - B * C / D".repeat(5_000)),
+        format!("X := 2{};", " ** 1".repeat(5_000)),
+        format!("X := A < B{};", " OR C AND D".repeat(5_000)),
+    ];
+    for text in chains {
+        let outcome = std::thread::Builder::new()
+            .stack_size(256 * 1024)
+            .spawn(move || routine(&text).map(|r| r.body.len()).map_err(|e| e.message.clone()))
+            .unwrap()
+            .join()
+            .unwrap();
+        assert_eq!(outcome, Ok(1));
+    }
+    let e = expression("1 + 2 - 3 + 4 * 5 * 6").unwrap();
+    let ExprKind::Binary(_, rest) = &e.kind else { panic!() };
+    assert_eq!(rest.len(), 3, "one chain of + and -, its last term a chain of *");
 }
 
 #[test]

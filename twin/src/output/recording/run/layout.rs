@@ -93,6 +93,14 @@ pub fn blueprint(twin: &Twin) -> rerun::blueprint::Blueprint {
             .with_contents(["/instructions/log"])
             .into(),
     ];
+    if !twin.scene().tasks.is_empty() {
+        logs.push(
+            TextLogView::new("Controller log")
+                .with_origin("/controller/log")
+                .with_contents(["/controller/log"])
+                .into(),
+        );
+    }
     if plant.collision_enabled() {
         state.push(
             TimeSeriesView::new("Clearance")

@@ -1,0 +1,648 @@
+//! The controller around the routines: task types and preemption
+//! (1756-PM005), fault routines and JSR parameters (1756-PM014,
+//! 1756-RM003), the system objects read with GSV and set with SSV
+//! (1756-RM003), and the small semantics of literals, operator chains and
+//! overflow reporting. Each test builds a scene, binds its program to a
+//! planner without a plant and runs coarse updates of 4 ms.
+
+use std::path::{Path, PathBuf};
+use twin::program::Program;
+use twin::program::types::Value;
+
+mod common;
+use common::root;
+
+/// A scene in `target/controller-tests/<name>/`: the indexing table's
+/// axes, then `body` (tags, tasks, `[controller]`), with `routines`
+/// written beside it as `<name>.st`.
+fn scene(name: &str, body: &str, routines: &[(&str, &str)]) -> PathBuf {
+    let dir = common::fresh_dir("controller-tests", name);
+    for (file, text) in routines {
+        std::fs::write(dir.join(format!("{file}.st")), text).expect("routine");
+    }
+    let urdf = root().join("twin/tests/fixtures/robots/indexing_table.urdf");
+    let text = format!(
+        "duration_s = 2.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n\
+         [robot]\nurdf = {urdf:?}\n\
+         [[axes]]\nname = \"Table\"\njoint = \"platter_joint\"\nkind = \"rotary\"\nunits = \"deg\"\n\
+         max_velocity = 720.0\nmax_acceleration = 3600.0\nmax_deceleration = 3600.0\nmax_jerk = 36000.0\n\
+         in_position_window = 0.1\nmotor = {{ stiffness = 35530.6, damping = 377.0 }}\n\
+         {body}"
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).expect("scene");
+    path
+}
+
+/// A program bound to a planner with the scene's axes, run update by
+/// update (no plant: the axes are at their command positions).
+struct Bench {
+    program: Program,
+    task: planner::task::MotionTask,
+}
+
+impl Bench {
+    fn load(path: &Path) -> Bench {
+        Bench::try_load(path).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    fn try_load(path: &Path) -> Result<Bench, String> {
+        let scene = twin::scene::load(path).map_err(|e| e.to_string())?;
+        let mut task = planner::task::MotionTask::new(scene.coarse_update_s()).map_err(|e| e.to_string())?;
+        for a in &scene.axes {
+            task.add_axis(a.config.clone(), 0.0).map_err(|e| e.to_string())?;
+        }
+        let program = Program::bind(&scene, &mut task).map_err(|e| e.to_string())?;
+        Ok(Bench { program, task })
+    }
+
+    fn updates(&mut self, n: usize) -> &mut Self {
+        for _ in 0..n {
+            self.program.scan(&mut self.task);
+            self.task.update();
+        }
+        self
+    }
+
+    fn int(&self, name: &str) -> i64 {
+        self.value(name).as_i64()
+    }
+
+    fn value(&self, name: &str) -> Value {
+        let mem = self.program.controller().memory();
+        let (base, index) = match name.split_once('[') {
+            Some((b, i)) => (b, i.trim_end_matches(']').parse::<usize>().expect("index")),
+            None => (name, 0),
+        };
+        let t = mem.find(base).unwrap_or_else(|| panic!("no tag {base}"));
+        mem.slots[mem.tags[t].base + index]
+    }
+
+    fn minor(&self, fault_type: u8, code: u8) -> usize {
+        let c = self.program.controller();
+        c.minor_faults()
+            .iter()
+            .filter(|f| f.fault_type == fault_type && f.code == code)
+            .count()
+    }
+}
+
+fn tag(name: &str, ty: &str) -> String {
+    format!("[[tags]]\nname = \"{name}\"\ntype = \"{ty}\"\n")
+}
+
+fn tags(list: &[(&str, &str)]) -> String {
+    list.iter().map(|(n, t)| tag(n, t)).collect()
+}
+
+fn task(name: &str, head: &str, program: &str, main: &str, extra: &str) -> String {
+    format!(
+        "[[tasks]]\nname = \"{name}\"\n{head}\n[[tasks.programs]]\nname = \"{program}\"\nmain = \"{main}.st\"\n{extra}\n"
+    )
+}
+
+/// 1756-PM005, "Manage Tasks" (priorities, overlap): a 2 ms priority-3
+/// task beside a 50 ms priority-10 task whose scan takes 60 ms nominal.
+/// The fast task interrupts the slow scan at the statement where each
+/// trigger falls and sees its intermediate values; the slow task runs 10
+/// scans in 1 s, and its 10 other triggers find it running: ignored,
+/// counted in `OverlapCount`, minor fault 6/2 each.
+#[test]
+fn a_fast_task_preempts_a_long_slow_scan_whose_overlapping_triggers_are_ignored() {
+    let fast = "FastScans := FastScans + 1;\n\
+                IF Phase = 1 THEN SawOne := SawOne + 1; END_IF;\n\
+                IF Phase = 2 THEN SawTwo := SawTwo + 1; END_IF;\n";
+    // 1 + 29,999 + 1 + 29,998 + 4 statements and loop tests: 60,003 µs.
+    let slow = "Phase := 1;\nFOR I := 1 TO 29997 DO END_FOR;\nPhase := 2;\nFOR J := 1 TO 29996 DO END_FOR;\n\
+                Phase := 0;\nSlowScans := SlowScans + 1;\nGSV(TASK, THIS, OverlapCount, Overlaps);\n\
+                GSV(TASK, THIS, LastScanTime, LastScan);\nGSV(TASK, Fast, OverlapCount, FastOverlaps);\n";
+    let body = tags(&[
+        ("FastScans", "DINT"),
+        ("SawOne", "DINT"),
+        ("SawTwo", "DINT"),
+        ("Phase", "DINT"),
+        ("I", "DINT"),
+        ("J", "DINT"),
+        ("SlowScans", "DINT"),
+        ("Overlaps", "DINT"),
+        ("LastScan", "DINT"),
+        ("FastOverlaps", "DINT"),
+    ]) + &task("Fast", "period_ms = 2.0\npriority = 3", "F", "Fast", "")
+        + &task("Slow", "period_ms = 50.0\npriority = 10", "S", "Slow", "");
+    let path = scene("preemption", &body, &[("Fast", fast), ("Slow", slow)]);
+    let mut b = Bench::load(&path);
+    b.updates(250);
+    assert_eq!(b.int("SlowScans"), 10, "scans started at 0, 100, …, 900 ms");
+    assert_eq!(
+        b.int("Overlaps"),
+        10,
+        "the 10th scan reads it at 960 ms, after the trigger at 950 ms"
+    );
+    assert_eq!(b.minor(6, 2), 10, "the triggers at 50, 150, …, 950 ms");
+    assert!(
+        b.int("SawOne") >= 140 && b.int("SawTwo") >= 140,
+        "{} {}",
+        b.int("SawOne"),
+        b.int("SawTwo")
+    );
+    // Each fast scan is 4 statements here and there: 4 µs; about 30 of them
+    // interrupt a slow scan.
+    let last = b.int("LastScan");
+    assert!((60_050..60_250).contains(&last), "LastScanTime {last} µs");
+    assert_eq!(b.int("FastOverlaps"), 0);
+    // Triggers at 0, 2, …, 996 ms: the one at 998 ms waits for the update
+    // at 1000 ms.
+    assert_eq!(b.int("FastScans"), 499);
+}
+
+/// 1756-PM005, "Continuous task": no period, below every other task,
+/// scanned again as soon as a scan ends. With a 10 ms task of 1,000
+/// statements and a continuous task of 100, the continuous task gets the
+/// rest: 9 ms of every 10.
+#[test]
+fn a_continuous_task_runs_in_the_time_the_others_leave() {
+    let periodic = "FOR I := 1 TO 998 DO END_FOR;\nN := N + 1;\n";
+    let continuous = "FOR J := 1 TO 98 DO END_FOR;\nC := C + 1;\nGSV(TASK, THIS, Priority, Prio);\n";
+    let body = tags(&[
+        ("I", "DINT"),
+        ("J", "DINT"),
+        ("N", "DINT"),
+        ("C", "DINT"),
+        ("Prio", "DINT"),
+    ]) + &task("Main", "type = \"continuous\"", "Cont", "Cont", "")
+        + &task("Timed", "period_ms = 10.0\npriority = 8", "Per", "Per", "");
+    let path = scene("continuous", &body, &[("Per", periodic), ("Cont", continuous)]);
+    let mut b = Bench::load(&path);
+    b.updates(250);
+    // 1,001 µs every 10 ms for the periodic task (100 scans), the other
+    // 899.9 ms for 102-µs continuous scans: 8,822 of them, the 8,823rd
+    // under way.
+    assert_eq!(b.int("N"), 100);
+    assert_eq!(b.int("C"), 8_822);
+    assert_eq!(b.int("Prio"), 0, "a continuous task has no priority");
+}
+
+/// 1756-PM005, "Event task": triggered by an EVENT instruction (a higher
+/// priority one runs at once, before the statement after the EVENT), by
+/// each motion group execution, and by its timeout when no trigger comes
+/// (`Status` bit 1).
+#[test]
+fn event_tasks_run_on_event_on_motion_group_execution_and_on_timeout() {
+    let main = "Stage := 1;\nEVENT(Urgent);\nStage := 2;\nM := M + 1;\n";
+    let urgent = "SeenStage := Stage;\nE := E + 1;\nGSV(TASK, THIS, Status, UrgentStatus);\n";
+    let motion = "G := G + 1;\n";
+    let idle = "T := T + 1;\nGSV(TASK, THIS, Status, IdleStatus);\n";
+    let body = tags(&[
+        ("Stage", "DINT"),
+        ("SeenStage", "DINT"),
+        ("M", "DINT"),
+        ("E", "DINT"),
+        ("G", "DINT"),
+        ("T", "DINT"),
+        ("UrgentStatus", "DINT"),
+        ("IdleStatus", "DINT"),
+    ]) + &task("Main", "period_ms = 20.0\npriority = 10", "P", "Main", "")
+        + &task(
+            "Urgent",
+            "type = \"event\"\ntrigger = \"event_instruction\"\npriority = 2",
+            "U",
+            "Urgent",
+            "",
+        )
+        + &task(
+            "Motion",
+            "type = \"event\"\ntrigger = \"motion_group_execution\"\npriority = 1",
+            "MG",
+            "Motion",
+            "",
+        )
+        + &task(
+            "Idle",
+            "type = \"event\"\ntrigger = \"event_instruction\"\npriority = 12\ntimeout_ms = 30.0",
+            "Id",
+            "Idle",
+            "",
+        );
+    let path = scene(
+        "events",
+        &body,
+        &[("Main", main), ("Urgent", urgent), ("Motion", motion), ("Idle", idle)],
+    );
+    let mut b = Bench::load(&path);
+    b.updates(50);
+    assert_eq!(b.int("M"), 10, "the 20 ms task over 200 ms");
+    assert_eq!(b.int("E"), 10, "one EVENT a scan");
+    assert_eq!(
+        b.int("SeenStage"),
+        1,
+        "the event task ran between the EVENT and the next statement"
+    );
+    assert_eq!(b.int("UrgentStatus") & 1, 1, "Status bit 0: an EVENT triggered it");
+    assert_eq!(b.int("G"), 50, "once a coarse update");
+    // No EVENT(Idle): its 30 ms timeout triggers it at 30, 60, …, 180 ms.
+    assert_eq!(b.int("T"), 6);
+    assert_eq!(b.int("IdleStatus") & 2, 2, "Status bit 1: the timeout triggered it");
+}
+
+/// 1756-PM005: tasks of equal priority share the controller in 1 ms
+/// slices: two 4.5 ms scans triggered together start 1 ms apart and end
+/// about 0.5 ms apart, after 9 ms; without slices the first would end
+/// at 4.5 ms.
+#[test]
+fn equal_priorities_alternate_every_millisecond() {
+    let routine = |me: &str| {
+        format!(
+            "FOR I{me} := 1 TO 1499 DO X{me} := X{me} + 1; Y{me} := X{me}; END_FOR;\n\
+             GSV(TASK, THIS, StartTime, Start{me}[0]);\nGSV(WALLCLOCKTIME, , CurrentValue, End{me}[0]);\n"
+        )
+    };
+    let mut declared = Vec::new();
+    for me in ["A", "B"] {
+        for (n, t) in [
+            ("I", "DINT"),
+            ("X", "DINT"),
+            ("Y", "DINT"),
+            ("Start", "DINT[2]"),
+            ("End", "DINT[2]"),
+        ] {
+            declared.push((format!("{n}{me}"), t));
+        }
+    }
+    let list: Vec<(&str, &str)> = declared.iter().map(|(n, t)| (n.as_str(), *t)).collect();
+    let body = tags(&list)
+        + "[controller]\nstart_time = \"1970-01-01T00:00:00Z\"\n"
+        + &task("A", "period_ms = 20.0\npriority = 6", "PA", "A", "")
+        + &task("B", "period_ms = 20.0\npriority = 6", "PB", "B", "");
+    let (a, b_text) = (routine("A"), routine("B"));
+    let path = scene("equal-priority", &body, &[("A", a.as_str()), ("B", b_text.as_str())]);
+    let mut b = Bench::load(&path);
+    b.updates(5);
+    // 1 + 1,500 tests + 1,499 × 2 statements + 1: 4,500 µs each.
+    assert_eq!((b.int("StartA[0]"), b.int("StartB[0]")), (0, 1000));
+    let (end_a, end_b) = (b.int("EndA[0]"), b.int("EndB[0]"));
+    assert!((8_400..=8_600).contains(&end_a), "A ended at {end_a} µs");
+    assert!((8_900..=9_100).contains(&end_b), "B ended at {end_b} µs");
+}
+
+/// 1756-PM005, "Inhibit a task" and program `DisableFlag`: an inhibited
+/// task is not scanned; a disabled program is skipped; SSV sets both.
+#[test]
+fn inhibited_tasks_and_disabled_programs_are_not_scanned() {
+    let main =
+        "N := N + 1;\nIF N = 5 THEN SSV(TASK, Other, InhibitTask, 1); SSV(PROGRAM, Second, DisableFlag, 1); END_IF;\n";
+    let body = tags(&[
+        ("N", "DINT"),
+        ("O", "DINT"),
+        ("Never", "DINT"),
+        ("S", "DINT"),
+        ("D", "DINT"),
+    ]) + &task("Main", "period_ms = 4.0\npriority = 5", "P", "Main", "")
+        + &task("Other", "period_ms = 4.0\npriority = 6", "First", "Other", "")
+        + "[[tasks.programs]]\nname = \"Second\"\nmain = \"Second.st\"\n"
+        + "[[tasks.programs]]\nname = \"Off\"\nmain = \"Off.st\"\ndisabled = true\n"
+        + &task(
+            "Asleep",
+            "period_ms = 4.0\npriority = 7\ninhibit = true",
+            "Sleeper",
+            "Asleep",
+            "",
+        );
+    let path = scene(
+        "inhibit",
+        &body,
+        &[
+            ("Main", main),
+            ("Other", "O := O + 1;\n"),
+            ("Second", "S := S + 1;\n"),
+            ("Off", "D := D + 1;\n"),
+            ("Asleep", "Never := 1;\n"),
+        ],
+    );
+    let mut b = Bench::load(&path);
+    b.updates(10);
+    assert_eq!(b.int("N"), 10);
+    // The 5th scan of Main inhibits Other after Other's 5th trigger (it
+    // still runs, its program Second already disabled), then no more.
+    assert_eq!((b.int("O"), b.int("S")), (5, 4));
+    assert_eq!((b.int("D"), b.int("Never")), (0, 0));
+}
+
+/// 1756-PM005, "Watchdog": from the start of a scan to its end,
+/// higher-priority tasks included.
+#[test]
+fn the_watchdog_counts_the_time_higher_priority_tasks_take() {
+    let slow = "FOR I := 1 TO 1999 DO END_FOR;\nDone := Done + 1;\n";
+    let fast = "FOR J := 1 TO 599 DO END_FOR;\n";
+    let body = tags(&[("I", "DINT"), ("J", "DINT"), ("Done", "DINT")])
+        + &task(
+            "Slow",
+            "period_ms = 20.0\npriority = 10\nwatchdog_ms = 3.0",
+            "S",
+            "Slow",
+            "",
+        )
+        + &task("Fast", "period_ms = 1.0\npriority = 2", "F", "Fast", "");
+    let path = scene("watchdog", &body, &[("Slow", slow), ("Fast", fast)]);
+    let mut b = Bench::load(&path);
+    b.updates(2);
+    // 2,001 µs of its own, and 600 µs of every millisecond taken by the
+    // fast task: past 3 ms before it ends.
+    let f = b.program.controller().major_fault().expect("watchdog").clone();
+    assert_eq!((f.fault_type, f.code, f.task.as_str()), (6, 1, "Slow"));
+    assert_eq!(b.int("Done"), 0);
+}
+
+/// 1756-PM014, "Create a fault routine for a program": an instruction
+/// fault in the program runs its fault routine; clearing Type and Code in
+/// `MajorFaultRecord` skips the faulted statement and resumes with the
+/// next; a fault left uncleared stops the controller.
+#[test]
+fn a_fault_routine_clears_an_out_of_range_subscript_and_the_scan_goes_on() {
+    let main = "I := I + 1;\nArr[I] := 7;\nAfter := After + 1;\n";
+    let handler = "GSV(PROGRAM, THIS, MajorFaultRecord, Rec[0]);\nFaultType := Rec[2] MOD 65536;\n\
+                   FaultCode := Rec[2] / 65536;\nI := 0;\nRec[2] := 0;\nSSV(PROGRAM, THIS, MajorFaultRecord, Rec[0]);\n\
+                   Handled := Handled + 1;\n";
+    let body = tags(&[
+        ("I", "DINT"),
+        ("Arr", "DINT[3]"),
+        ("After", "DINT"),
+        ("Rec", "DINT[11]"),
+        ("FaultType", "DINT"),
+        ("FaultCode", "DINT"),
+        ("Handled", "DINT"),
+        ("Majors", "DINT"),
+    ]) + &task(
+        "T",
+        "period_ms = 4.0\npriority = 5",
+        "P",
+        "Main",
+        "routines = [\"Recover.st\"]\nfault_routine = \"Recover\"",
+    );
+    let path = scene("fault-routine", &body, &[("Main", main), ("Recover", handler)]);
+    let mut b = Bench::load(&path);
+    b.updates(8);
+    assert!(b.program.controller().major_fault().is_none());
+    // I: 1, 2, 3 (fault, reset to 0), 1, 2, 3 (fault), 1, 2.
+    assert_eq!(b.int("Handled"), 2);
+    assert_eq!((b.int("FaultType"), b.int("FaultCode")), (4, 20));
+    assert_eq!(
+        b.int("After"),
+        8,
+        "the statement after the faulted one ran in every scan"
+    );
+    assert_eq!(b.int("Arr[1]"), 7);
+
+    // A fault routine that does not clear the record: the fault stands.
+    let keep = "Handled := Handled + 1;\n";
+    let path = scene("fault-routine-keeps", &body, &[("Main", main), ("Recover", keep)]);
+    let mut b = Bench::load(&path);
+    b.updates(8);
+    let f = b.program.controller().major_fault().expect("uncleared").clone();
+    assert_eq!((f.fault_type, f.code, f.line), (4, 20, 2));
+    assert_eq!((b.int("Handled"), b.int("After")), (1, 2));
+}
+
+/// 1756-RM003, JSR: fewer input parameters than the SBR takes, or a RET
+/// with fewer return parameters than the JSR has, is major fault 4/31;
+/// extra ones are not received.
+#[test]
+fn jsr_parameter_counts_that_fall_short_are_major_fault_4_31() {
+    let cases = [
+        ("JSR(Sub, 1, 5);", "SBR(A, B);\nRET();", Some((4, 31, 1))),
+        ("JSR(Sub, 1, 5, R1, R2);", "SBR(A);\nRET(A * 2);", Some((4, 31, 2))),
+        ("JSR(Sub, 0, R1);", "A := 3;", Some((4, 31, 1))),
+        ("JSR(Sub, 3, 5, 6, 7, R1);", "SBR(A, B);\nRET(A + B, 99);", None),
+    ];
+    for (k, (call, sub, fault)) in cases.into_iter().enumerate() {
+        let body = tags(&[("A", "DINT"), ("B", "DINT"), ("R1", "DINT"), ("R2", "DINT")])
+            + &task(
+                "T",
+                "period_ms = 4.0\npriority = 5",
+                "P",
+                "Main",
+                "routines = [\"Sub.st\"]",
+            );
+        let path = scene(&format!("jsr-{k}"), &body, &[("Main", call), ("Sub", sub)]);
+        let mut b = Bench::load(&path);
+        b.updates(1);
+        let got = b
+            .program
+            .controller()
+            .major_fault()
+            .map(|f| (f.fault_type, f.code, f.line));
+        assert_eq!(got, fault, "{call} into {sub}");
+        if fault.is_none() {
+            assert_eq!(b.int("R1"), 11, "extra inputs and returns are not received");
+        }
+    }
+}
+
+/// 1756-RM003, GSV/SSV objects: TASK, PROGRAM, WALLCLOCKTIME, FAULTLOG,
+/// MOTIONGROUP.
+#[test]
+fn system_objects_read_the_controller_and_settable_attributes_take_effect() {
+    let main = "FOR I := 1 TO 98 DO END_FOR;\n\
+                GSV(TASK, THIS, LastScanTime, Scan);\nGSV(TASK, THIS, Rate, Rate);\nGSV(TASK, THIS, Watchdog, Dog);\n\
+                GSV(TASK, THIS, Priority, Prio);\nGSV(TASK, Other, Instance, Inst);\n\
+                GSV(PROGRAM, THIS, LastScanTime, PScan);\n\
+                GSV(WALLCLOCKTIME, , DateTime, Date[0]);\nGSV(WALLCLOCKTIME, , CurrentValue, Now[0]);\n\
+                GSV(MOTIONGROUP, , CoarseUpdatePeriod, Coarse);\n\
+                D := 2147483647 + 1;\nGSV(FAULTLOG, , MinorEvents, Minors);\nGSV(FAULTLOG, , MinorFaultBits, MinorBits);\n\
+                GSV(TASK, THIS, MaxScanTime, Max);\nIF Max > 0 THEN SSV(TASK, THIS, MaxScanTime, 0); END_IF;\n\
+                GSV(TASK, THIS, MaxScanTime, Max2);\n";
+    let body = tags(&[
+        ("I", "DINT"),
+        ("Scan", "DINT"),
+        ("Rate", "DINT"),
+        ("Dog", "DINT"),
+        ("Prio", "INT"),
+        ("Inst", "DINT"),
+        ("PScan", "DINT"),
+        ("Date", "DINT[7]"),
+        ("Now", "DINT[2]"),
+        ("Coarse", "DINT"),
+        ("D", "DINT"),
+        ("Minors", "INT"),
+        ("MinorBits", "DINT"),
+        ("Max", "DINT"),
+        ("Max2", "DINT"),
+    ]) + "[controller]\nstart_time = \"2026-11-27T08:00:00Z\"\n"
+        + &task(
+            "T",
+            "period_ms = 10.0\npriority = 7\nwatchdog_ms = 50.0",
+            "P",
+            "Main",
+            "",
+        )
+        + &task("Other", "period_ms = 10.0\npriority = 8", "Second", "Other", "");
+    let path = scene("gsv", &body, &[("Main", main), ("Other", ";")]);
+    let mut b = Bench::load(&path);
+    // Triggers at 0 and 10 ms (the update at 12 ms runs the second).
+    b.updates(4);
+    // The first scan: the FOR (1 + 99 tests), 15 statements, no SSV.
+    assert_eq!(b.int("Scan"), 115);
+    assert_eq!(
+        (b.int("Rate"), b.int("Dog"), b.int("Prio"), b.int("Inst")),
+        (10_000, 50_000, 7, 2)
+    );
+    assert_eq!(b.int("Coarse"), 4000);
+    assert_eq!(b.int("PScan"), 115);
+    let date: Vec<i64> = (0..7).map(|k| b.int(&format!("Date[{k}]"))).collect();
+    // The second scan starts at 10 ms: its 107th statement reads the date.
+    assert_eq!(date, [2026, 11, 27, 8, 0, 0, 10_107]);
+    let now = (b.int("Now[1]") << 32) | (b.int("Now[0]") & 0xFFFF_FFFF);
+    assert_eq!(now, 1_795_766_400_000_000 + 10_108);
+    assert_eq!(b.int("Minors"), 2, "an overflow each scan");
+    assert_eq!(b.int("MinorBits"), 1 << 4);
+    assert_eq!((b.int("Max"), b.int("Max2")), (115, 0), "SSV resets it");
+}
+
+/// `[controller] report_overflow_faults = false` records no minor fault
+/// 4/4 on overflow (Controller Properties, Advanced); a hex literal keeps
+/// its bit pattern (`16#FFFF_FFFF` is −1 in a DINT, no fault); operator
+/// chains of any length compute; S:N, S:Z, S:V and S:C read FALSE in
+/// Structured Text (1756-RM003, math status flags: ladder only).
+#[test]
+fn literals_chains_and_overflow_reporting() {
+    let sum = (1..=40).map(|k| k.to_string()).collect::<Vec<_>>().join(" + ");
+    let main = format!(
+        "D := 16#FFFF_FFFF;\nE := 16#8000_0000;\nSum := {sum};\nW := 2147483647;\nW := W + 1;\nFlags := S:N OR S:Z OR S:V OR S:C;\n"
+    );
+    let body = tags(&[
+        ("D", "DINT"),
+        ("E", "DINT"),
+        ("Sum", "DINT"),
+        ("W", "DINT"),
+        ("Flags", "BOOL"),
+    ]) + &task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "");
+    let path = scene("literals", &body, &[("Main", &main)]);
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    assert_eq!((b.int("D"), b.int("E"), b.int("Sum")), (-1, -2_147_483_648, 820));
+    assert_eq!(b.int("W"), -2_147_483_648);
+    assert_eq!(b.value("Flags"), Value::Bool(false));
+    assert_eq!(b.minor(4, 4), 1, "only W + 1 overflows");
+    let warned: Vec<String> = b.program.warnings().iter().map(|w| w.message.clone()).collect();
+    assert_eq!(warned.len(), 4, "{warned:?}");
+    assert!(warned[0].starts_with("S:N is a math status flag"), "{warned:?}");
+
+    let quiet = body.replace("[[tasks]]", "[controller]\nreport_overflow_faults = false\n\n[[tasks]]");
+    let path = scene("literals-quiet", &quiet, &[("Main", &main)]);
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    assert_eq!(b.int("W"), -2_147_483_648);
+    assert_eq!(b.minor(4, 4), 0);
+}
+
+/// Bad input: each a one-line message naming the file, line, column and
+/// field (scene) or the routine's line and column.
+#[test]
+fn bad_controller_input_is_refused_with_its_place() {
+    let t = |head: &str| task("T", head, "P", "Main", "");
+    let rows: Vec<(String, &str, &str)> = vec![
+        (
+            t("priority = 5"),
+            "A := 1;",
+            "tasks[0].period_ms: periodic tasks need 'period_ms'",
+        ),
+        (
+            t("type = \"continuous\"") + &task("U", "type = \"continuous\"", "Q", "Main", ""),
+            "A := 1;",
+            "tasks[1].type: a controller has at most one continuous task (the first is 'T')",
+        ),
+        (
+            t("type = \"event\"\npriority = 4"),
+            "A := 1;",
+            "tasks[0].trigger: event tasks need 'trigger'",
+        ),
+        (
+            t("type = \"continuous\"\nperiod_ms = 10.0"),
+            "A := 1;",
+            "tasks[0].period_ms: 'period_ms' does not apply to continuous tasks",
+        ),
+        (
+            t("type = \"continuous\"\npriority = 3"),
+            "A := 1;",
+            "tasks[0].priority: 'priority' does not apply to continuous tasks",
+        ),
+        (
+            t("type = \"event\"\ntrigger = \"io\"\npriority = 3"),
+            "A := 1;",
+            "tasks[0].trigger: unknown event trigger 'io'",
+        ),
+        (
+            t("type = \"cyclic\"\npriority = 3"),
+            "A := 1;",
+            "tasks[0].type: unknown task type 'cyclic'",
+        ),
+        (
+            t("period_ms = 4.0\npriority = 5\ntrigger = \"event_instruction\""),
+            "A := 1;",
+            "tasks[0].trigger: 'trigger' does not apply to periodic tasks",
+        ),
+        (
+            task(
+                "T",
+                "period_ms = 4.0\npriority = 5",
+                "P",
+                "Main",
+                "fault_routine = \"Nope\"",
+            ),
+            "A := 1;",
+            "fault_routine: no routine 'Nope' in this program",
+        ),
+        (
+            "[controller]\nstart_time = \"2026-02-30T00:00:00Z\"\n".to_owned() + &t("period_ms = 4.0\npriority = 5"),
+            "A := 1;",
+            "controller.start_time: '2026-02-30T00:00:00Z' is not a UTC date and time",
+        ),
+        (
+            t("period_ms = 4.0\npriority = 5"),
+            "GSV(TASK, THIS, Speed, A);",
+            "Main.st:1:17: GSV: TASK attribute 'Speed' is not modelled",
+        ),
+        (
+            t("period_ms = 4.0\npriority = 5"),
+            "SSV(TASK, THIS, Rate, A);",
+            "Main.st:1:17: SSV: TASK.Rate is read-only",
+        ),
+        (
+            t("period_ms = 4.0\npriority = 5"),
+            "GSV(MODULE, X, Mode, A);",
+            "Main.st:1:5: GSV: class 'MODULE' is not modelled",
+        ),
+        (
+            t("period_ms = 4.0\npriority = 5"),
+            "GSV(TASK, Nope, Rate, A);",
+            "Main.st:1:11: GSV: no task 'Nope'",
+        ),
+        (
+            t("period_ms = 4.0\npriority = 5"),
+            "GSV(PROGRAM, THIS, MajorFaultRecord, Short[0]);",
+            "Main.st:1:38: GSV: PROGRAM.MajorFaultRecord takes 11 DINTs; Short has 4 from element 0",
+        ),
+        (
+            t("period_ms = 4.0\npriority = 5"),
+            "EVENT(T);",
+            "Main.st:1:7: EVENT: task 'T' is not an event task",
+        ),
+        (
+            t("period_ms = 4.0\npriority = 5"),
+            "SSV(WALLCLOCKTIME, , CurrentValue, Short[0]);",
+            "Main.st:1:22: SSV: WALLCLOCKTIME.CurrentValue is read-only",
+        ),
+    ];
+    for (k, (body, routine, want)) in rows.iter().enumerate() {
+        let body = tags(&[("A", "DINT"), ("Short", "DINT[4]")]) + body;
+        let path = scene(&format!("bad-{k}"), &body, &[("Main", routine)]);
+        let e = Bench::try_load(&path)
+            .err()
+            .unwrap_or_else(|| panic!("row {k} loads: {want}"));
+        assert!(e.contains(want), "row {k}: {e}");
+        let first = e.lines().next().unwrap_or_default();
+        assert!(
+            first.contains("scene.toml:") || first.contains("Main.st:"),
+            "row {k} names no place: {e}"
+        );
+    }
+}
