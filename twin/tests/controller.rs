@@ -632,6 +632,39 @@ fn bad_controller_input_is_refused_with_its_place() {
             "Main.st:1:22: SSV: WALLCLOCKTIME.CurrentValue is read-only",
         ),
     ];
+    let array = |ty: &str, value: &str| {
+        format!("[[tags]]\nname = \"M\"\ntype = \"{ty}\"\n{value}\n") + &t("period_ms = 4.0\npriority = 5")
+    };
+    let rows: Vec<(String, &str, &str)> = rows
+        .into_iter()
+        .chain([
+            (
+                array("REAL[0,3]", ""),
+                "A := 1;",
+                "tags[2].type: array length in 'REAL[0,3]' must be a whole number",
+            ),
+            (
+                array("REAL[2,2,2,2]", ""),
+                "A := 1;",
+                "tags[2].type: 'REAL[2,2,2,2]' has 4 dimensions: Logix arrays have one to three",
+            ),
+            (
+                array("DINT[2,3]", "value = [[1, 2, 3], [4, 5]]"),
+                "A := 1;",
+                "tags[2].value: value does not fit type DINT[2,3]",
+            ),
+            (
+                array("DINT[2,3]", ""),
+                "A := M[1];",
+                "Main.st:1:6: 'M' has 2 dimensions, got 1 subscript",
+            ),
+            (
+                array("CAM[2,3]", ""),
+                "A := 1;",
+                "tags[2].type: 'CAM[2,3]' has 2 dimensions",
+            ),
+        ])
+        .collect();
     for (k, (body, routine, want)) in rows.iter().enumerate() {
         let body = tags(&[("A", "DINT"), ("Short", "DINT[4]")]) + body;
         let path = scene(&format!("bad-{k}"), &body, &[("Main", routine)]);
@@ -645,4 +678,73 @@ fn bad_controller_input_is_refused_with_its_place() {
             "row {k} names no place: {e}"
         );
     }
+}
+
+/// 1756-RM003 (arrays) and 1756-PM005: arrays of one to three dimensions,
+/// row-major, a scene value flat or nested; each subscript checked against
+/// its own dimension (major fault 4/20); SIZE of any dimension; arrays of
+/// MOTION_INSTRUCTION with constant and computed subscripts.
+#[test]
+fn arrays_of_two_and_three_dimensions_and_of_control_structures() {
+    let main = "Sum := 0;\nFOR I := 0 TO 5 DO FOR J := 0 TO 2 DO Sum := Sum + Grid[I, J]; END_FOR; END_FOR;\n\
+                Cube[1, 2, 3] := 7;\nFlat := Cube[1, 2, 3];\nSIZE(Grid, 0, Rows);\nSIZE(Grid, 1, Cols);\n\
+                IF S:FS THEN MAM(Table, Mvs[1], 1, 10, 100, UnitsPerSec, 1000, UnitsPerSec2, 1000, UnitsPerSec2, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0); END_IF;\n\
+                K := 2;\nIF Mvs[1].PC AND NOT Mvs[K].EN THEN\n  MAM(Table, Mvs[K], 1, 5, 100, UnitsPerSec, 1000, UnitsPerSec2, 1000, UnitsPerSec2, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);\nEND_IF;\n\
+                Both := Mvs[1].PC AND Mvs[K].PC;\nPos := Table.CommandPosition;\n";
+    let grid: Vec<String> = (0..6)
+        .map(|i| format!("[{}, {}, {}]", i * 3, i * 3 + 1, i * 3 + 2))
+        .collect();
+    let body = tags(&[
+        ("I", "DINT"),
+        ("J", "DINT"),
+        ("K", "DINT"),
+        ("Sum", "DINT"),
+        ("Flat", "DINT"),
+        ("Cube", "DINT[2,3,4]"),
+        ("Rows", "DINT"),
+        ("Cols", "DINT"),
+        ("Both", "BOOL"),
+        ("Pos", "REAL"),
+        ("Mvs", "MOTION_INSTRUCTION[3]"),
+    ]) + &format!(
+        "[[tags]]\nname = \"Grid\"\ntype = \"DINT[6,3]\"\nvalue = [{}]\n",
+        grid.join(", ")
+    ) + &task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "");
+    let path = scene("arrays", &body, &[("Main", main)]);
+    let mut b = Bench::load(&path);
+    b.updates(100);
+    assert_eq!(b.int("Sum"), (0..18).sum::<i64>());
+    // [1, 2, 3] of [2, 3, 4]: 1·12 + 2·4 + 3 = 23.
+    assert_eq!((b.int("Cube[23]"), b.int("Flat")), (7, 7));
+    assert_eq!((b.int("Rows"), b.int("Cols")), (6, 3));
+    assert_eq!(b.value("Both"), Value::Bool(true), "both moves completed");
+    assert_eq!(b.value("Pos"), Value::Real(15.0), "10 then 5 degrees");
+    let names: Vec<&str> = b.program.instructions().iter().map(|i| i.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["Mvs[1]", "Mvs[0]", "Mvs[2]"],
+        "each element is a control structure"
+    );
+
+    // A subscript outside its own dimension faults even when the element
+    // index would lie inside the array: Grid[0, 5] is element 5.
+    let path = scene("arrays-fault", &body, &[("Main", "J := 5;\nSum := Grid[0, J];\n")]);
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    let f = b.program.controller().major_fault().expect("4/20").clone();
+    assert_eq!((f.fault_type, f.code, f.line), (4, 20, 2));
+    assert!(
+        f.message.contains("Grid[0,5]") && f.message.contains("dimension 1 is 0..=2"),
+        "{}",
+        f.message
+    );
+    let path = scene(
+        "arrays-control-fault",
+        &body,
+        &[("Main", "K := 3;\nBoth := Mvs[K].DN;\n")],
+    );
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    let f = b.program.controller().major_fault().expect("4/20").clone();
+    assert_eq!((f.fault_type, f.code, f.line), (4, 20, 2));
 }

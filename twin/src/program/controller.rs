@@ -592,48 +592,56 @@ impl Controller {
             self.clock_ns = exec.clock_ns;
             scan.statements += exec.steps;
             self.stats.statements += exec.steps;
-            let minor = std::mem::take(&mut exec.minor);
             self.minor_total = exec.minor_total;
-            let refusals = std::mem::take(&mut exec.refusals);
-            let events = std::mem::take(&mut exec.events);
-            let cleared = std::mem::take(&mut exec.cleared);
+            // What the scan left besides its progress (usually nothing).
+            let extra = !(exec.minor.is_empty()
+                && exec.refusals.is_empty()
+                && exec.events.is_empty()
+                && exec.cleared.is_empty());
+            let taken = extra.then(|| {
+                (
+                    std::mem::take(&mut exec.minor),
+                    std::mem::take(&mut exec.cleared),
+                    std::mem::take(&mut exec.refusals),
+                    std::mem::take(&mut exec.events),
+                )
+            });
             drop(exec);
-            let index = program.index;
-            let ended = match &result {
-                Ok(Progress::Done) => true,
-                Ok(Progress::Paused(_)) => false,
-                Err(_) => true,
+            let (ended, paused, fault) = match result {
+                Ok(Progress::Done) => (true, None, None),
+                Ok(Progress::Paused(paused)) => (false, Some(paused), None),
+                Err(raised) => (true, None, Some(raised)),
             };
             if ended {
                 self.stats.scans += 1;
-                let ps = &mut self.sys.programs[index];
+                let ps = &mut self.sys.programs[program.index];
                 ps.last_scan_us = (self.clock_ns - scan.program_start_ns) / 1000;
                 ps.max_scan_us = ps.max_scan_us.max(ps.last_scan_us);
                 scan.program += 1;
                 scan.program_start_ns = self.clock_ns;
             }
+            scan.paused = paused;
+            let stopped = scan.paused.is_some();
             let trigger_us = scan.trigger_us;
-            let result = result.map(|progress| match progress {
-                Progress::Paused(paused) => {
-                    if let Some(scan) = self.tasks[i].active.as_mut() {
-                        scan.paused = Some(paused);
-                    }
-                    false
+            if taken.is_some() || fault.is_some() {
+                let (minor, cleared, refusals, events) = taken.unwrap_or_default();
+                let outcome = fault.map_or(Ok(()), Err);
+                if !self.record(i, p, trigger_us, (minor, cleared), refusals, outcome) {
+                    return true;
                 }
-                Progress::Done => true,
-            });
-            let outcome = result.as_ref().map(|_| ()).map_err(Clone::clone);
-            if !self.record(i, p, trigger_us, (minor, cleared), refusals, outcome) {
-                return true;
+                for e in &events {
+                    self.release(*e, self.clock_ns, STATUS_EVENT);
+                }
+                if !events.is_empty() {
+                    // An event task may preempt: the scheduler decides
+                    // what runs next (this scan resumes where it is).
+                    return false;
+                }
             }
-            for e in events {
-                self.release(e, self.clock_ns, STATUS_EVENT);
-            }
-            match result {
-                Ok(true) => {}
+            if stopped {
                 // Stopped at `stop_ns`, or after an EVENT: the scheduler
                 // decides what runs next.
-                _ => return false,
+                return false;
             }
         }
     }
@@ -794,6 +802,11 @@ pub(super) fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
         Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Fb(..) => {
             super::exec::members::planner_value(place, task).unwrap_or(Value::Int(0))
         }
+        Place::MotionAt(handles, index, member, _) => usize::try_from(constant(index))
+            .ok()
+            .and_then(|k| handles.get(k))
+            .and_then(|h| super::exec::members::planner_value(&Place::Motion(*h, *member), task))
+            .unwrap_or(Value::Int(0)),
         Place::FirstScan | Place::MinorInScan | Place::MathFlag => Value::Bool(false),
         Place::MinorFaults => Value::Int(0),
         Place::Column { .. } => Value::Int(0),
@@ -849,7 +862,11 @@ fn prescan_block(body: &[CStmt], mem: &mut Memory, task: &mut MotionTask) {
                 }
             }
             SKind::Motion(call) => {
-                if let Some(control) = call.control {
+                let elements = call.operands.iter().flat_map(|o| match o {
+                    super::ir::Operand::ControlAt(handles, ..) => handles.iter().copied(),
+                    _ => [].iter().copied(),
+                });
+                for control in call.control.into_iter().chain(elements) {
                     let bits = task.motion_bits(control);
                     task.set_motion_bits(
                         control,

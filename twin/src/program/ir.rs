@@ -40,6 +40,9 @@ pub enum CKind {
     Chain(Box<CExpr>, Box<[Link]>),
     /// A function of one argument.
     Func(Func, Box<CExpr>),
+    /// The element index of several subscripts, each with its dimension
+    /// (row-major), checked one by one; the array's name for the fault.
+    Subscripts(Box<[(CExpr, usize)]>, String),
 }
 
 /// One operation of a [`CKind::Chain`]: the value so far `op` the operand,
@@ -147,6 +150,10 @@ pub enum Place {
     },
     /// A member of a `MOTION_INSTRUCTION` tag (bits writable, codes not).
     Motion(InstructionHandle, MotionMember),
+    /// A member of the element of a `MOTION_INSTRUCTION` array a computed
+    /// subscript names: every element's handle, the element index, the
+    /// array's name for the fault.
+    MotionAt(Box<[InstructionHandle]>, Box<CExpr>, MotionMember, String),
     /// An axis member (read-only).
     Axis(AxisHandle, AxisMember),
     /// A coordinate-system status bit (read-only).
@@ -547,6 +554,9 @@ pub enum Operand {
     /// CAM elements known at load (a step's Cam operand), the whole array
     /// and the element the operand starts at.
     CamPoints(Vec<planner::mccp::CamElement>, usize),
+    /// The element of a `MOTION_INSTRUCTION` array a computed subscript
+    /// names: every element's handle, the element index, the array's name.
+    ControlAt(Box<[InstructionHandle]>, CExpr, String),
 }
 
 /// An instruction call: its catalogue entry and its operands.

@@ -9,7 +9,7 @@
 //! `Program.Tag`; inside its program the short name finds it first.
 
 use super::types::{DataType, Structure, Value};
-use crate::scene::{BaseType, CamPoint, SegmentType, TagValue};
+use crate::scene::{BaseType, CamPoint, SegmentType, TagType, TagValue};
 use std::collections::HashMap;
 
 /// What a tag is, for the compiler.
@@ -37,9 +37,19 @@ pub struct TagInfo {
     pub base: usize,
     /// `Some(n)` for an array of `n` elements.
     pub len: Option<usize>,
+    /// An array's dimensions, first to last (0 past the last; all 0 for
+    /// a scalar): element `[i, j, k]` is `i·d1·d2 + j·d2 + k`.
+    pub dims: [usize; 3],
 }
 
 impl TagInfo {
+    /// The dimensions that are there (none for a scalar).
+    #[must_use]
+    pub fn dimensions(&self) -> &[usize] {
+        let n = self.dims.iter().take_while(|d| **d > 0).count();
+        &self.dims[..n]
+    }
+
     /// Slots one element takes.
     #[must_use]
     pub fn stride(&self) -> usize {
@@ -106,13 +116,13 @@ impl Memory {
             mem.add_axis(&a.name);
         }
         for t in &scene.tags {
-            mem.add(&t.name, t.ty.base, t.ty.array_len, t.value.as_ref());
+            mem.add(&t.name, t.ty, t.value.as_ref());
         }
         for t in &scene.tasks {
             for p in &t.programs {
                 for tag in &p.tags {
                     let name = format!("{}.{}", p.name, tag.name);
-                    mem.add(&name, tag.ty.base, tag.ty.array_len, tag.value.as_ref());
+                    mem.add(&name, tag.ty, tag.value.as_ref());
                 }
             }
         }
@@ -121,7 +131,8 @@ impl Memory {
 
     /// Adds a tag with its initial value (zeros when it has none) and
     /// returns its index.
-    pub fn add(&mut self, name: &str, base: BaseType, len: Option<usize>, value: Option<&TagValue>) -> usize {
+    pub fn add(&mut self, name: &str, ty: TagType, value: Option<&TagValue>) -> usize {
+        let (base, len) = (ty.base, ty.array_len);
         let kind = match (scalar(base), structure(base)) {
             (Some(t), _) => Kind::Scalar(t),
             (_, Some(s)) => Kind::Structure(s),
@@ -133,6 +144,7 @@ impl Memory {
             kind,
             base: start,
             len,
+            dims: ty.dims,
         };
         let count = len.unwrap_or(1) * info.stride();
         match kind {
@@ -182,6 +194,7 @@ impl Memory {
             kind: Kind::Axis,
             base: self.slots.len(),
             len: None,
+            dims: [0; 3],
         });
         self.by_name.insert(name.to_ascii_lowercase(), self.tags.len() - 1);
     }

@@ -71,7 +71,7 @@ impl Sandbox {
             let base = BaseType::parse(base).ok_or_else(|| format!("unknown type {ty}"))?;
             declared.push(Tag {
                 name: (*name).to_owned(),
-                ty: TagType { base, array_len: len },
+                ty: TagType::new(base, len),
                 value: None,
                 coordinate_system: None,
                 geometry: None,

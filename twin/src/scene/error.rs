@@ -123,6 +123,15 @@ pub enum Problem {
         /// The type as written.
         type_name: String,
     },
+    /// An array of more than three dimensions (or a CAM array of more than
+    /// one).
+    #[error("'{type_name}' has {count} dimensions: Logix arrays have one to three (CAM and CAM_PROFILE arrays one)")]
+    TooManyDimensions {
+        /// The type as written.
+        type_name: String,
+        /// How many were written.
+        count: usize,
+    },
     /// An array longer than its type allows.
     #[error("'{type_name}' has more than {max} elements ({why})")]
     ArrayTooLong {

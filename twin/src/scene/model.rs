@@ -795,20 +795,47 @@ impl BaseType {
     }
 }
 
-/// A tag's type: an element type, optionally an array `TYPE[N]`.
+/// A tag's type: an element type, optionally an array of one to three
+/// dimensions, `TYPE[N]`, `TYPE[N,M]`, `TYPE[N,M,K]` (row-major: the last
+/// subscript varies fastest).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct TagType {
     /// Element type.
     pub base: BaseType,
-    /// `Some(N)` for arrays of N (> 0) elements.
+    /// `Some(N)` for arrays of N (> 0) elements in all.
     pub array_len: Option<usize>,
+    /// The dimensions, first to last; 0 past the last one (all 0 for a
+    /// scalar).
+    pub dims: [usize; 3],
+}
+
+impl TagType {
+    /// A scalar, or a one-dimensional array of `len` elements.
+    #[must_use]
+    pub fn new(base: BaseType, len: Option<usize>) -> TagType {
+        TagType {
+            base,
+            array_len: len,
+            dims: [len.unwrap_or(0), 0, 0],
+        }
+    }
+
+    /// The dimensions that are there.
+    #[must_use]
+    pub fn dimensions(&self) -> &[usize] {
+        let n = self.dims.iter().take_while(|d| **d > 0).count();
+        &self.dims[..n]
+    }
 }
 
 impl fmt::Display for TagType {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.array_len {
-            Some(n) => write!(f, "{}[{n}]", self.base.name()),
-            None => f.write_str(self.base.name()),
+        match self.dimensions() {
+            [] => f.write_str(self.base.name()),
+            dims => {
+                let dims: Vec<String> = dims.iter().map(usize::to_string).collect();
+                write!(f, "{}[{}]", self.base.name(), dims.join(","))
+            }
         }
     }
 }

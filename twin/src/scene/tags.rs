@@ -13,26 +13,40 @@ use super::raw::{RawCoordinateSystem, RawMoveOptions, RawTag};
 impl Ctx<'_> {
     pub(super) fn tag_type(&self, raw: &Spanned<String>, field: &str) -> Result<TagType, SceneError> {
         let written = raw.get_ref().trim();
-        let (base_name, array_len) = match written.split_once('[') {
+        let (base_name, dims) = match written.split_once('[') {
             Some((base, rest)) => {
-                let bad = || {
-                    self.invalid(
-                        raw,
-                        field,
-                        Problem::BadArrayLength {
-                            type_name: written.to_owned(),
-                        },
-                    )
+                let bad = |problem: Problem| self.invalid(raw, field, problem);
+                let bad_len = || {
+                    bad(Problem::BadArrayLength {
+                        type_name: written.to_owned(),
+                    })
                 };
-                let len_text = rest.strip_suffix(']').ok_or_else(bad)?.trim();
-                let len: usize = len_text.parse().map_err(|_| bad())?;
-                if len == 0 {
-                    return Err(bad());
+                let list = rest.strip_suffix(']').ok_or_else(bad_len)?;
+                let parts: Vec<&str> = list.split(',').map(str::trim).collect();
+                if parts.len() > 3 {
+                    return Err(bad(Problem::TooManyDimensions {
+                        type_name: written.to_owned(),
+                        count: parts.len(),
+                    }));
                 }
-                (base.trim(), Some(len))
+                let mut dims = [0usize; 3];
+                for (k, part) in parts.iter().enumerate() {
+                    let len: usize = part.parse().map_err(|_| bad_len())?;
+                    if len == 0 {
+                        return Err(bad_len());
+                    }
+                    dims[k] = len;
+                }
+                (base.trim(), dims)
             }
-            None => (written, None),
+            None => (written, [0; 3]),
         };
+        let array_len = (dims[0] > 0).then(|| {
+            dims.iter()
+                .filter(|d| **d > 0)
+                .try_fold(1usize, |n, d| n.checked_mul(*d))
+                .unwrap_or(usize::MAX)
+        });
         let Some(base) = BaseType::parse(base_name) else {
             return Err(self.invalid(
                 raw,
@@ -60,7 +74,18 @@ impl Ctx<'_> {
             };
             return Err(self.invalid(raw, field, problem));
         }
-        Ok(TagType { base, array_len })
+        if dims[1] > 0 && matches!(base, BaseType::Cam | BaseType::CamProfile) {
+            // MCCP's Cam and Cam Profile operands are one-dimensional.
+            return Err(self.invalid(
+                raw,
+                field,
+                Problem::TooManyDimensions {
+                    type_name: written.to_owned(),
+                    count: 2,
+                },
+            ));
+        }
+        Ok(TagType { base, array_len, dims })
     }
 
     /// An MC_MoveModulo instance's `Options` (module doc of
@@ -285,15 +310,21 @@ impl Ctx<'_> {
                 Ok(TagValue::CamPoints(points))
             }
             (base, Some(len)) => {
-                let expected = "an array of exactly N elements of the element type";
+                let expected = if ty.dimensions().len() > 1 {
+                    "an array of all the elements in row-major order (the last subscript fastest), flat or nested by dimension"
+                } else {
+                    "an array of exactly N elements of the element type"
+                };
                 let toml::Value::Array(items) = v.get_ref() else {
                     return Err(mismatch(expected));
                 };
-                if items.len() != len {
+                let mut flat: Vec<&toml::Value> = Vec::with_capacity(len);
+                if items.len() == len && items.iter().all(|i| !i.is_array()) {
+                    flat.extend(items);
+                } else if !flatten(items, ty.dimensions(), &mut flat) {
                     return Err(mismatch(expected));
                 }
-                items
-                    .iter()
+                flat.iter()
                     .map(|item| scalar_value(base, item).ok_or_else(|| mismatch(expected)))
                     .collect::<Result<_, _>>()
                     .map(TagValue::Array)
@@ -308,6 +339,30 @@ impl Ctx<'_> {
             }
         }
     }
+}
+
+/// Nested arrays of exactly the shape `dims` (outermost first), their
+/// scalars appended in row-major order; `false` for any other shape.
+fn flatten<'v>(items: &'v [toml::Value], dims: &[usize], out: &mut Vec<&'v toml::Value>) -> bool {
+    let Some((&n, inner)) = dims.split_first() else {
+        return false;
+    };
+    if items.len() != n {
+        return false;
+    }
+    for item in items {
+        match (item, inner.is_empty()) {
+            (toml::Value::Array(sub), false) => {
+                if !flatten(sub, inner, out) {
+                    return false;
+                }
+            }
+            (toml::Value::Array(_), true) => return false,
+            (scalar, true) => out.push(scalar),
+            (_, false) => return false,
+        }
+    }
+    true
 }
 
 /// A scalar initial value of `base`, if `value` fits it.

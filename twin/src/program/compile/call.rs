@@ -139,18 +139,30 @@ impl Compiler<'_, '_, '_> {
                     return err(self, a[0].span, "SIZE: expected an array tag");
                 };
                 let t = self.tag(r)?;
-                let Some(len) = self.mem.tags[t].len else {
+                if self.mem.tags[t].len.is_none() {
                     return err(self, a[0].span, format!("SIZE: '{}' is not an array", r.name));
-                };
-                if a[1].text.trim() != "0" {
-                    return err(
-                        self,
-                        a[1].span,
-                        "SIZE: arrays here have one dimension: Dimension To Vary is 0",
-                    );
                 }
+                let dims = self.mem.tags[t].dimensions().to_vec();
+                let dim = match &a[1].expr {
+                    Some(Expr {
+                        kind: ExprKind::Int(d), ..
+                    }) if (0..dims.len() as i128).contains(d) => *d as usize,
+                    _ => {
+                        return err(
+                            self,
+                            a[1].span,
+                            format!(
+                                "SIZE: Dimension To Vary is a constant from 0 to {} ('{}' has {} dimension{})",
+                                dims.len() - 1,
+                                r.name,
+                                dims.len(),
+                                if dims.len() == 1 { "" } else { "s" }
+                            ),
+                        );
+                    }
+                };
                 let (place, ty) = self.target_arg(&a[2])?;
-                Ok(SKind::Size(len, place, ty))
+                Ok(SKind::Size(dims[dim], place, ty))
             }
             _ => {
                 let src = self.array_at(&a[0], "Source")?;

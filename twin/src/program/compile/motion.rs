@@ -22,6 +22,7 @@
 //! instruction's validation ([`planner::task::instructions::Instruction::check`]):
 //! what the instruction would refuse whenever it runs is a warning.
 
+use super::reference::ControlRef;
 use super::{Compiler, Error, Result, err, suggest};
 use crate::program::ir::{ArrayAt, CExpr, CKind, MotionCall, Operand, SKind};
 use crate::program::memory::{Kind as TagKind, TagInfo};
@@ -63,10 +64,14 @@ impl Compiler<'_, '_, '_> {
             Operand::Fixed(Arg::Control(h)) => Some(*h),
             _ => None,
         });
-        if self.scanned
-            && let Some(control) = control
-        {
-            self.env.task.set_scanned(control);
+        if self.scanned {
+            for o in &operands {
+                match o {
+                    Operand::Fixed(Arg::Control(h)) => self.env.task.set_scanned(*h),
+                    Operand::ControlAt(handles, ..) => handles.iter().for_each(|h| self.env.task.set_scanned(*h)),
+                    _ => {}
+                }
+            }
         }
         let compiled = MotionCall {
             instruction,
@@ -179,11 +184,7 @@ impl Compiler<'_, '_, '_> {
                 let name = self.bare_name(spec, arg, "a COORDINATE_SYSTEM tag")?;
                 Ok(Operand::Fixed(Arg::System(self.system(name, arg.span)?)))
             }
-            Kind::MotionControl => {
-                let name = self.bare_name(spec, arg, "a MOTION_INSTRUCTION tag")?;
-                let info = self.planner_tag(spec, arg, name, BaseType::MotionInstruction)?;
-                Ok(Operand::Fixed(Arg::Control(self.env.control(&info.name))))
-            }
+            Kind::MotionControl => self.control_operand(spec, arg),
             Kind::CamProfile => self.cam_profile_operand(spec, arg),
             Kind::Cam => self.cam_operand(spec, arg),
             Kind::Number => self.number_operand(spec, arg),
@@ -194,6 +195,28 @@ impl Compiler<'_, '_, '_> {
             Kind::Bool => self.bool_operand(spec, arg),
             Kind::Values | Kind::Vector3 | Kind::OptionalArray => self.array_operand(spec, arg),
         }
+    }
+
+    /// A Motion Control operand: a `MOTION_INSTRUCTION` tag, or an element
+    /// of an array of them (`Mvs[1]`, `Mvs[I]`).
+    fn control_operand(&mut self, spec: &Spec, arg: &ArgText) -> Result<Operand> {
+        if let Some(Expr {
+            kind: ExprKind::Ref(r), ..
+        }) = &arg.expr
+            && let [Access::Index(sub)] = r.path.as_slice()
+            && let Some(t) = self.resolve(&r.name)
+            && self.mem.tags[t].kind == TagKind::Planner(BaseType::MotionInstruction)
+            && self.mem.tags[t].len.is_some()
+        {
+            let info = self.mem.tags[t].clone();
+            return Ok(match self.control_element(r, &info, sub)? {
+                ControlRef::One(h) => Operand::Fixed(Arg::Control(h)),
+                ControlRef::At(handles, index) => Operand::ControlAt(handles, index, info.name.clone()),
+            });
+        }
+        let name = self.bare_name(spec, arg, "a MOTION_INSTRUCTION tag")?;
+        let info = self.planner_tag(spec, arg, name, BaseType::MotionInstruction)?;
+        Ok(Operand::Fixed(Arg::Control(self.env.control(&info.name))))
     }
 
     /// The name an operand that takes a tag writes bare.

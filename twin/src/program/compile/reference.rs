@@ -72,8 +72,8 @@ impl Compiler<'_, '_, '_> {
                     show(r)
                 ),
             ),
-            Place::Motion(_, MotionMember::Bit(_)) => Ok((place, ty)),
-            Place::Motion(..) => err(
+            Place::Motion(_, MotionMember::Bit(_)) | Place::MotionAt(_, _, MotionMember::Bit(_), _) => Ok((place, ty)),
+            Place::Motion(..) | Place::MotionAt(..) => err(
                 self,
                 r.span,
                 format!("'{}' is read-only: the instruction writes its codes", show(r)),
@@ -174,11 +174,42 @@ impl Compiler<'_, '_, '_> {
                 self.axis_place(&info.name, &m)?
             }
             Kind::Planner(BaseType::MotionInstruction) => {
-                let m = member(
-                    &mut path,
-                    &format!("a MOTION_INSTRUCTION: name a member, e.g. {}.PC", r.name),
-                )?;
-                self.motion_place(&info.name, &m)?
+                let element = match (info.len, path.as_slice().first()) {
+                    (None, _) => None,
+                    (Some(_), Some(Access::Index(sub))) => {
+                        path.next();
+                        Some(self.control_element(r, &info, sub)?)
+                    }
+                    (Some(_), _) => {
+                        return err(
+                            self,
+                            r.span,
+                            format!("'{}' is an array: name an element, e.g. {}[0].PC", r.name, r.name),
+                        );
+                    }
+                };
+                let m = match path.next() {
+                    Some(Access::Member(m, span)) => (m.clone(), *span),
+                    _ => {
+                        return err(
+                            self,
+                            r.span,
+                            format!(
+                                "'{}' is a MOTION_INSTRUCTION: name a member, e.g. {}.PC",
+                                show(r),
+                                show(r)
+                            ),
+                        );
+                    }
+                };
+                let (member, ty) = self.motion_member(&m)?;
+                match element {
+                    None => (Place::Motion(self.env.control(&info.name), member), ty),
+                    Some(ControlRef::One(h)) => (Place::Motion(h, member), ty),
+                    Some(ControlRef::At(handles, index)) => {
+                        (Place::MotionAt(handles, Box::new(index), member, info.name.clone()), ty)
+                    }
+                }
             }
             Kind::Planner(BaseType::CoordinateSystem) => {
                 let m = member(&mut path, "a COORDINATE_SYSTEM: name a status bit")?;
@@ -262,7 +293,7 @@ impl Compiler<'_, '_, '_> {
         let index = match (info.len, path.as_slice().first()) {
             (Some(len), Some(Access::Index(sub))) => {
                 path.next();
-                Some((self.checked_subscript(sub, r, len)?, len))
+                Some((self.checked_subscript(sub, r, info)?, len))
             }
             (Some(_), _) => {
                 return err(
@@ -331,11 +362,11 @@ impl Compiler<'_, '_, '_> {
         Ok((Place::Axis(handle, *member), *ty))
     }
 
-    fn motion_place(&mut self, tag: &str, (m, span): &(String, Span)) -> Result<(Place, DataType)> {
-        let handle = self.env.control(tag);
+    /// A `MOTION_INSTRUCTION` member by its name.
+    fn motion_member(&self, (m, span): &(String, Span)) -> Result<(MotionMember, DataType)> {
         let upper = m.to_ascii_uppercase();
         debug_assert!(MotionInstructionBits::default().bits().len() == BIT_NAMES.len());
-        let (member, ty) = match (BIT_NAMES.iter().find(|b| **b == upper), upper.as_str()) {
+        Ok(match (BIT_NAMES.iter().find(|b| **b == upper), upper.as_str()) {
             (Some(b), _) => (MotionMember::Bit(b), DataType::Bool),
             (None, "ERR") => (MotionMember::Err, DataType::Int),
             (None, "EXERR") => (MotionMember::Exerr, DataType::Sint),
@@ -350,8 +381,25 @@ impl Compiler<'_, '_, '_> {
                 let known = BIT_NAMES.iter().copied().chain(["ERR", "EXERR", "SEGMENT"]);
                 return Err(suggest(d, m, known));
             }
-        };
-        Ok((Place::Motion(handle, member), ty))
+        })
+    }
+
+    /// The element of a `MOTION_INSTRUCTION` array that subscripts `sub`
+    /// name: its handle for constant subscripts inside the array, else
+    /// every element's handle and the element index the scan computes
+    /// (and checks: major fault 4/20). Each element is a control structure
+    /// of its own, named `Tag[i]` (`Tag[i,j]`) in the trace.
+    pub(super) fn control_element(&mut self, r: &Ref, info: &TagInfo, sub: &[Expr]) -> Result<ControlRef> {
+        let index = self.checked_subscript(sub, r, info)?;
+        let len = info.len.unwrap_or(0);
+        if let CKind::Const(v) = index.kind
+            && (0..len as i64).contains(&v.as_i64())
+        {
+            let name = element_name(info, v.as_i64() as usize);
+            return Ok(ControlRef::One(self.env.control(&name)));
+        }
+        let handles: Vec<_> = (0..len).map(|k| self.env.control(&element_name(info, k))).collect();
+        Ok(ControlRef::At(handles.into_boxed_slice(), index))
     }
 
     fn coord_place(&mut self, r: &Ref, tag: &str, (m, span): &(String, Span)) -> Result<(Place, DataType)> {
@@ -448,35 +496,79 @@ impl Compiler<'_, '_, '_> {
         Ok((place, DataType::Bool))
     }
 
-    pub(super) fn subscript(&mut self, sub: &[Expr], r: &Ref) -> Result<CExpr> {
-        if sub.len() != 1 {
+    /// The element an array's subscripts name, as its index in the array
+    /// (row-major: `[i, j, k]` is `i·d1·d2 + j·d2 + k`). One subscript per
+    /// dimension; with several, each is checked against its own dimension
+    /// when the scan evaluates it (major fault 4/20).
+    pub(super) fn subscript(&mut self, sub: &[Expr], r: &Ref, info: &TagInfo) -> Result<CExpr> {
+        let dims = info.dimensions();
+        if sub.len() != dims.len().max(1) {
             return err(
                 self,
                 r.span,
-                format!("'{}' has one dimension, got {} subscripts", r.name, sub.len()),
+                format!(
+                    "'{}' has {} dimension{}, got {} subscript{}",
+                    r.name,
+                    dims.len(),
+                    if dims.len() == 1 { "" } else { "s" },
+                    sub.len(),
+                    if sub.len() == 1 { "" } else { "s" }
+                ),
             );
         }
-        self.integer(&sub[0])
+        if dims.len() <= 1 {
+            return self.integer(&sub[0]);
+        }
+        let mut parts = Vec::with_capacity(dims.len());
+        for (e, &d) in sub.iter().zip(dims) {
+            parts.push((self.integer(e)?, d));
+        }
+        let constant_in_range = parts.iter().all(|(e, d)| match e.kind {
+            CKind::Const(v) => (0..*d as i64).contains(&v.as_i64()),
+            _ => false,
+        });
+        if constant_in_range {
+            let linear = parts.iter().fold(0i64, |acc, (e, d)| match e.kind {
+                CKind::Const(v) => acc * *d as i64 + v.as_i64(),
+                _ => acc,
+            });
+            return Ok(constant(Value::Int(linear), Ty::Dint));
+        }
+        Ok(CExpr {
+            kind: CKind::Subscripts(parts.into_boxed_slice(), info.name.clone()),
+            ty: Ty::Dint,
+        })
     }
 
-    /// A subscript of an array of `len` elements: a constant one must lie
-    /// inside it when the text is a `[[program]]` step's or a scene's
-    /// expression (nothing there can fault at run time).
-    pub(super) fn checked_subscript(&mut self, sub: &[Expr], r: &Ref, len: usize) -> Result<CExpr> {
-        let index = self.subscript(sub, r)?;
+    /// A subscript of an array: a constant one must lie inside it when the
+    /// text is a `[[program]]` step's or a scene's expression (nothing
+    /// there can fault at run time).
+    pub(super) fn checked_subscript(&mut self, sub: &[Expr], r: &Ref, info: &TagInfo) -> Result<CExpr> {
+        let index = self.subscript(sub, r, info)?;
+        let len = info.len.unwrap_or(0);
         if !self.scanned {
+            let shown = || {
+                if sub.len() == 1 {
+                    format!("0 to {}", len.saturating_sub(1))
+                } else {
+                    let dims: Vec<String> = info.dimensions().iter().map(|d| format!("0..{}", d - 1)).collect();
+                    format!("[{}]", dims.join(", "))
+                }
+            };
             match index.kind {
                 CKind::Const(v) if (0..len as i64).contains(&v.as_i64()) => {}
                 CKind::Const(v) => {
                     return Err(self.error(
                         sub[0].span,
-                        format!(
-                            "index {} is outside '{}' (valid: 0 to {})",
-                            v.as_i64(),
-                            r.name,
-                            len.saturating_sub(1)
-                        ),
+                        format!("index {} is outside '{}' (valid: {})", v.as_i64(), r.name, shown()),
                         format!("'{}' has {len} elements", r.name),
+                    ));
+                }
+                CKind::Subscripts(..) if sub.iter().all(|e| matches!(e.kind, ExprKind::Int(_))) => {
+                    return Err(self.error(
+                        sub[0].span,
+                        format!("a subscript is outside '{}' (valid: {})", r.name, shown()),
+                        format!("'{}' is {}", r.name, dims_text(info)),
                     ));
                 }
                 _ => {
@@ -521,7 +613,7 @@ impl Compiler<'_, '_, '_> {
         }
         let index = match (info.len, r.path.as_slice()) {
             (None, []) => None,
-            (Some(len), [Access::Index(sub)]) => Some((self.subscript(sub, r)?, len)),
+            (Some(len), [Access::Index(sub)]) => Some((self.subscript(sub, r, &info)?, len)),
             _ => return Err(bad(self)),
         };
         Ok(Instance {
@@ -542,7 +634,7 @@ impl Compiler<'_, '_, '_> {
             return Err(bad(self));
         };
         let start = match r.path.as_slice() {
-            [Access::Index(sub)] => self.subscript(sub, r)?,
+            [Access::Index(sub)] => self.subscript(sub, r, &info)?,
             [] => constant(Value::Int(0), Ty::Dint),
             _ => return Err(bad(self)),
         };
@@ -554,6 +646,38 @@ impl Compiler<'_, '_, '_> {
             name: info.name,
         })
     }
+}
+
+/// A control structure the compiler bound: one, or one of an array's
+/// elements chosen when the scan runs.
+pub(super) enum ControlRef {
+    /// The handle.
+    One(planner::task::InstructionHandle),
+    /// Every element's handle and the element index.
+    At(Box<[planner::task::InstructionHandle]>, CExpr),
+}
+
+/// The name of element `k` (row-major) of an array tag: `Tag[k]`, or
+/// `Tag[i,j]` for two dimensions.
+pub(super) fn element_name(info: &TagInfo, k: usize) -> String {
+    let dims = info.dimensions();
+    let mut rest = k;
+    let mut subs = vec![0usize; dims.len().max(1)];
+    for (slot, d) in subs.iter_mut().zip(dims).rev() {
+        *slot = rest % d;
+        rest /= d;
+    }
+    if dims.len() <= 1 {
+        subs[0] = k;
+    }
+    let subs: Vec<String> = subs.iter().map(usize::to_string).collect();
+    format!("{}[{}]", info.name, subs.join(","))
+}
+
+/// An array's dimensions as written: `DINT[6,3]`.
+fn dims_text(info: &TagInfo) -> String {
+    let dims: Vec<String> = info.dimensions().iter().map(usize::to_string).collect();
+    format!("[{}]", dims.join(","))
 }
 
 /// A reference as a trace column's name (`J1.act_pos`): its name and

@@ -46,11 +46,36 @@ impl Exec<'_> {
                 let v = self.eval(a);
                 self.function(*f, v, a.ty, e.ty)
             }
+            CKind::Subscripts(parts, name) => {
+                let mut linear = 0i64;
+                let mut values = [0i64; 3];
+                for (k, (sub, dim)) in parts.iter().enumerate() {
+                    let i = self.leaf(sub).as_i64();
+                    values[k] = i;
+                    if !(0..*dim as i64).contains(&i) {
+                        let written: Vec<String> = values[..=k].iter().map(i64::to_string).collect();
+                        let f = self.raise(
+                            4,
+                            20,
+                            format!(
+                                "array subscript out of range: {name}[{}{}] (dimension {k} is 0..={})",
+                                written.join(","),
+                                if k + 1 < parts.len() { ",…" } else { "" },
+                                dim - 1
+                            ),
+                        );
+                        self.fail(f);
+                        return Value::Int(-1);
+                    }
+                    linear = linear * *dim as i64 + i;
+                }
+                Value::Int(linear)
+            }
         }
     }
 
     /// `x op y` computed in `math` (logic when it is `Bool`).
-    #[inline]
+    #[inline(always)]
     fn operation(&mut self, op: BinaryOp, x: Value, y: Value, math: Ty) -> Value {
         if math == Ty::Bool {
             return Value::Bool(match op {

@@ -46,11 +46,13 @@ use planner::task::MotionTask;
 
 mod arith;
 mod builtins;
+mod frame;
 pub(super) mod members;
 pub(super) mod motion;
 mod places;
 mod scratch;
 
+use frame::{Frame, recycle};
 pub use scratch::Scratch;
 
 /// Executes a `[[program]]` step's call: its operands are constants and
@@ -111,29 +113,6 @@ pub struct Raised {
     pub routine: usize,
     /// The line of the statement.
     pub line: u32,
-}
-
-/// Where a running scan is: one entry per block, loop and routine call it
-/// is inside, innermost last. The interpreter runs them in a loop, not by
-/// recursion, so that a scan can stop between any two statements (a
-/// higher-priority task, a coarse update) and resume there ([`Paused`]).
-#[derive(Debug, Clone, Copy)]
-enum Frame<'r> {
-    /// A block's statements, `pc` the next one; `sub` is which block of
-    /// the statement holding it this is (of a routine: the routine).
-    Block { stmts: &'r [CStmt], pc: usize, sub: u32 },
-    /// A FOR, WHILE or REPEAT between passes (`started`: after its first).
-    Loop { stmt: &'r CStmt, started: bool },
-    /// A JSR into a routine: the caller's routine and line to return to,
-    /// and where the values its RET hands back go.
-    Call {
-        caller: usize,
-        line: u32,
-        returns: &'r [(Place, DataType)],
-    },
-    /// The program's fault routine, running for `fault` (raised at the
-    /// caller's routine and line).
-    FaultRoutine { caller: usize, line: u32 },
 }
 
 /// A [`Frame`] without its references: which statement and block, to
@@ -247,6 +226,15 @@ pub struct Exec<'e> {
     pub columns: &'e [f64],
 }
 
+impl Drop for Exec<'_> {
+    /// Gives the frame stack's allocation back to the scratch.
+    fn drop(&mut self) {
+        if self.frames.capacity() > 0 {
+            self.scratch.frames = recycle(std::mem::take(&mut self.frames));
+        }
+    }
+}
+
 /// Faults are boxed: the happy path carries a `Value`-sized result.
 type R<T> = Result<T, Box<Raised>>;
 
@@ -270,6 +258,11 @@ impl<'e> Exec<'e> {
         minor_total: i64,
     ) -> Self {
         let statement_ns = (NOMINAL_STATEMENT_US * 1000.0) as i64;
+        let frames = if scratch.frames.capacity() == 0 {
+            Vec::new()
+        } else {
+            recycle(std::mem::take(&mut scratch.frames))
+        };
         Exec {
             mem,
             task,
@@ -291,7 +284,7 @@ impl<'e> Exec<'e> {
             system: None,
             events: Vec::new(),
             cleared: Vec::new(),
-            frames: Vec::new(),
+            frames,
             routine: 0,
             line: 0,
             depth: 0,
@@ -346,22 +339,29 @@ impl<'e> Exec<'e> {
 
     /// One statement (or loop test) executed: the clock advances and the
     /// watchdog is checked.
+    #[inline(always)]
     fn tick(&mut self) -> R<()> {
         self.check()?;
         self.steps += 1;
         self.clock_ns += self.statement_ns;
         if self.clock_ns > self.watchdog_ns {
-            return Err(self.raise(
-                6,
-                1,
-                format!(
-                    "task watchdog expired: the scan ran longer than {} µs (statements at {} µs nominal, higher-priority tasks and coarse updates included)",
-                    self.watchdog_us,
-                    self.statement_ns as f64 / 1000.0
-                ),
-            ));
+            return Err(self.watchdog());
         }
         Ok(())
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn watchdog(&self) -> Box<Raised> {
+        self.raise(
+            6,
+            1,
+            format!(
+                "task watchdog expired: the scan ran longer than {} µs (statements at {} µs nominal, higher-priority tasks and coarse updates included)",
+                self.watchdog_us,
+                self.statement_ns as f64 / 1000.0
+            ),
+        )
     }
 
     /// Runs the program's main routine from its start, to its end.
@@ -466,45 +466,79 @@ impl<'e> Exec<'e> {
     /// routine did not clear, a watchdog).
     pub fn run(&mut self) -> R<Progress> {
         loop {
-            let (block, at) = match self.frames.last() {
+            let depth = self.frames.len();
+            let (stmts, at) = match self.frames.last() {
                 None => return Ok(Progress::Done),
-                Some(Frame::Block { stmts, pc, .. }) => (Some(*stmts), *pc),
-                Some(Frame::Loop { .. }) => (None, 0),
+                Some(Frame::Block { stmts, pc, .. }) => (*stmts, *pc),
+                Some(Frame::Loop { .. }) => {
+                    if self.clock_ns >= self.stop_ns {
+                        return Ok(Progress::Paused(self.pause()));
+                    }
+                    let Some(Frame::Loop { stmt, started }) = self.frames.last_mut() else {
+                        unreachable!("a loop frame")
+                    };
+                    let (stmt, started): (&'e CStmt, bool) = (*stmt, std::mem::replace(started, true));
+                    self.line = stmt.line;
+                    if let Err(raised) = self.loop_pass(stmt, started) {
+                        self.fault_raised(raised)?;
+                    }
+                    continue;
+                }
                 Some(Frame::Call { .. } | Frame::FaultRoutine { .. }) => {
                     unreachable!("a routine's block sits above its call")
                 }
             };
-            if let Some(stmts) = block {
+            // The block's statements, its frame's `pc` written back only
+            // when the loop leaves it; entering and leaving nested blocks
+            // stays in this loop.
+            let mut depth = depth;
+            let (mut stmts, mut at) = (stmts, at);
+            loop {
                 let Some(s) = stmts.get(at) else {
                     self.frames.pop();
+                    if let Some(&Frame::Block { stmts: outer, pc, .. }) = self.frames.last() {
+                        (stmts, at, depth) = (outer, pc, depth - 1);
+                        continue;
+                    }
                     if let Err(raised) = self.block_ended() {
                         self.fault_raised(raised)?;
                     }
-                    continue;
+                    break;
                 };
                 if self.clock_ns >= self.stop_ns {
+                    self.set_pc(depth, at);
                     return Ok(Progress::Paused(self.pause()));
                 }
-                if let Some(Frame::Block { pc, .. }) = self.frames.last_mut() {
-                    *pc += 1;
-                }
+                at += 1;
                 self.line = s.line;
-                if let Err(raised) = self.tick().and_then(|()| self.stmt(s)) {
+                let result = self.tick().and_then(|()| self.stmt(s));
+                let now = self.frames.len();
+                if now == depth && result.is_ok() {
+                    continue;
+                }
+                // It entered a block, a loop or a routine, or left this
+                // block (EXIT, RET), or faulted.
+                if now >= depth {
+                    self.set_pc(depth, at);
+                }
+                if let Err(raised) = result {
                     self.fault_raised(raised)?;
+                } else if now > depth
+                    && let Some(&Frame::Block { stmts: inner, pc, .. }) = self.frames.last()
+                {
+                    (stmts, at, depth) = (inner, pc, now);
+                    continue;
                 }
-            } else {
-                if self.clock_ns >= self.stop_ns {
-                    return Ok(Progress::Paused(self.pause()));
-                }
-                let Some(Frame::Loop { stmt, started }) = self.frames.last_mut() else {
-                    unreachable!("a loop frame")
-                };
-                let (stmt, started): (&'e CStmt, bool) = (*stmt, std::mem::replace(started, true));
-                self.line = stmt.line;
-                if let Err(raised) = self.loop_pass(stmt, started) {
-                    self.fault_raised(raised)?;
-                }
+                break;
             }
+        }
+    }
+
+    /// Writes `pc` into the block frame at `depth - 1`.
+    #[inline]
+    fn set_pc(&mut self, depth: usize, at: usize) {
+        if let Some(Frame::Block { pc, .. }) = self.frames.get_mut(depth - 1) {
+            *pc = at;
         }
     }
 

@@ -54,6 +54,13 @@ impl Exec<'_> {
             match op {
                 Operand::Fixed(_) | Operand::Values(_) | Operand::CamPoints(..) => {}
                 Operand::Number(e) | Operand::Integer(e) | Operand::Bool(e) => values[i] = self.eval(e),
+                Operand::ControlAt(handles, index, name) => {
+                    // Outside the array: the fault stops the statement below.
+                    let k = self
+                        .control_at(handles, index, name)
+                        .map_or(0, |h| handles.iter().position(|x| *x == h).unwrap_or(0));
+                    values[i] = Value::Int(k as i64);
+                }
                 Operand::Scalar(e) => {
                     let x = self.eval(e).as_f64();
                     let at = self.scratch.numbers.len();
@@ -87,6 +94,7 @@ impl Exec<'_> {
         for (i, op) in call.operands.iter().take(n).enumerate() {
             args[i] = match op {
                 Operand::Fixed(a) => *a,
+                Operand::ControlAt(handles, ..) => Arg::Control(handles[values[i].as_i64() as usize]),
                 Operand::Number(_) => Arg::Number(values[i].as_f64()),
                 Operand::Integer(_) => Arg::Integer(values[i].as_i64()),
                 Operand::Bool(_) => Arg::Bool(values[i].truthy()),

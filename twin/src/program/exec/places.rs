@@ -26,6 +26,25 @@ impl Exec<'_> {
         }
     }
 
+    /// The element of a `MOTION_INSTRUCTION` array the subscript names
+    /// (`None` when it lies outside, which records the fault).
+    pub(super) fn control_at(
+        &mut self,
+        handles: &[planner::task::InstructionHandle],
+        index: &CExpr,
+        name: &str,
+    ) -> Option<planner::task::InstructionHandle> {
+        let i = self.leaf(index).as_i64();
+        match usize::try_from(i).ok().and_then(|k| handles.get(k)) {
+            Some(h) => Some(*h),
+            None => {
+                let f = self.subscript_fault(name, i, handles.len());
+                self.fail(f);
+                None
+            }
+        }
+    }
+
     pub(super) fn bit_number(&mut self, bit: &CExpr, width: u32) -> Option<u32> {
         let b = self.leaf(bit).as_i64();
         if b < 0 || b >= i64::from(width) {
@@ -53,6 +72,10 @@ impl Exec<'_> {
             Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Fb(..) => {
                 planner_value(place, self.task).unwrap_or(Value::Int(0))
             }
+            Place::MotionAt(handles, index, member, name) => match self.control_at(handles, index, name) {
+                Some(h) => planner_value(&Place::Motion(h, *member), self.task).unwrap_or(Value::Int(0)),
+                None => Value::Int(0),
+            },
             Place::FirstScan => Value::Bool(self.first_scan),
             Place::MinorInScan => Value::Bool(!self.minor.is_empty()),
             Place::MathFlag => Value::Bool(false),
@@ -105,6 +128,13 @@ impl Exec<'_> {
                 let mut bits = self.task.motion_bits(*h);
                 set_bit(&mut bits, name, stored.truthy());
                 self.task.set_motion_bits(*h, bits);
+            }
+            Place::MotionAt(handles, index, MotionMember::Bit(bit), name) => {
+                if let Some(h) = self.control_at(handles, index, name) {
+                    let mut bits = self.task.motion_bits(h);
+                    set_bit(&mut bits, bit, stored.truthy());
+                    self.task.set_motion_bits(h, bits);
+                }
             }
             _ => unreachable!("the compiler refuses writes to read-only places"),
         }
