@@ -748,3 +748,70 @@ fn arrays_of_two_and_three_dimensions_and_of_control_structures() {
     let f = b.program.controller().major_fault().expect("4/20").clone();
     assert_eq!((f.fault_type, f.code, f.line), (4, 20, 2));
 }
+
+/// 1756-PM014, "Create a routine for the Controller Fault Handler": a
+/// major fault no program fault routine cleared (here a watchdog, which no
+/// fault routine handles) runs the handler's program; when it clears its
+/// `MajorFaultRecord` the faulted scan ends there and the task runs again
+/// at its next trigger (PM014 does not say where execution resumes after
+/// the handler; the twin ends the faulted scan). A handler that does not
+/// clear it leaves the controller faulted.
+#[test]
+fn the_controller_fault_handler_clears_a_watchdog_and_the_task_runs_again() {
+    let main = "N := N + 1;\nIF N = 2 THEN WHILE TRUE DO ; END_WHILE; END_IF;\nAfter := After + 1;\n";
+    let handler = "GSV(PROGRAM, THIS, MajorFaultRecord, Rec[0]);\nSeen := Rec[2];\nIF Rec[2] = 6 + 65536 THEN Rec[2] := 0; SSV(PROGRAM, THIS, MajorFaultRecord, Rec[0]); END_IF;\nHandled := Handled + 1;\n";
+    let body = |clear: bool| {
+        tags(&[
+            ("N", "DINT"),
+            ("After", "DINT"),
+            ("Rec", "DINT[11]"),
+            ("Seen", "DINT"),
+            ("Handled", "DINT"),
+        ]) + &task(
+            "T",
+            "period_ms = 10.0\npriority = 5\nwatchdog_ms = 5.0",
+            "P",
+            "Main",
+            "",
+        ) + &format!(
+            "[controller.fault_handler]\nname = \"Handler\"\nmain = \"{}.st\"\n",
+            if clear { "Handler" } else { "Keep" }
+        )
+    };
+    let path = scene(
+        "fault-handler",
+        &body(true),
+        &[
+            ("Main", main),
+            ("Handler", handler),
+            ("Keep", "Handled := Handled + 1;\n"),
+        ],
+    );
+    let mut b = Bench::load(&path);
+    b.updates(10);
+    assert!(b.program.controller().major_fault().is_none());
+    assert_eq!((b.int("Seen"), b.int("Handled")), (6 + 65536, 1));
+    // Scans at 0, 10 (watchdog, cleared, ended), 20, 30: N counts 4, After 3.
+    assert_eq!((b.int("N"), b.int("After")), (4, 3));
+    let cleared = b.program.controller().cleared_faults();
+    assert_eq!(cleared.len(), 1);
+    assert_eq!(
+        (cleared[0].fault_type, cleared[0].code, cleared[0].cleared),
+        (6, 1, true)
+    );
+
+    let path = scene(
+        "fault-handler-keeps",
+        &body(false),
+        &[
+            ("Main", main),
+            ("Handler", handler),
+            ("Keep", "Handled := Handled + 1;\n"),
+        ],
+    );
+    let mut b = Bench::load(&path);
+    b.updates(10);
+    let f = b.program.controller().major_fault().expect("not cleared").clone();
+    assert_eq!((f.fault_type, f.code), (6, 1));
+    assert_eq!((b.int("Handled"), b.int("N")), (1, 2));
+}

@@ -76,11 +76,9 @@ impl<'s> Declarations<'s> {
         for t in &scene.tags {
             by_name.insert(t.name.to_lowercase(), t);
         }
-        for task in &scene.tasks {
-            for p in &task.programs {
-                for t in &p.tags {
-                    by_name.insert(format!("{}.{}", p.name, t.name).to_lowercase(), t);
-                }
+        for p in scene.programs() {
+            for t in &p.tags {
+                by_name.insert(format!("{}.{}", p.name, t.name).to_lowercase(), t);
             }
         }
         Declarations { by_name }

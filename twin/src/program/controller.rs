@@ -194,6 +194,8 @@ pub struct Controller {
     mem: Memory,
     scratch: Scratch,
     tasks: Vec<TaskRun>,
+    /// The Controller Fault Handler's program.
+    fault_handler: Option<ProgramRun>,
     sys: System,
     prescanned: bool,
     major: Option<Fault>,
@@ -240,7 +242,12 @@ impl Controller {
     /// [`crate::program::compile::scene::program`] compiled them (`programs[t]`:
     /// the scene's task `t`'s, in order).
     #[must_use]
-    pub fn new(scene: &Scene, mem: Memory, programs: Vec<Vec<CompiledProgram>>) -> Controller {
+    pub fn new(
+        scene: &Scene,
+        mem: Memory,
+        programs: Vec<Vec<CompiledProgram>>,
+        fault_handler: Option<CompiledProgram>,
+    ) -> Controller {
         let ns = |ms: f64| (ms * 1e6).round().max(1.0) as i64;
         let mut sys = System {
             start_time_us: scene.controller.start_time_us,
@@ -308,10 +315,26 @@ impl Controller {
                 programs: runs,
             });
         }
+        let fault_handler = fault_handler.map(|p| {
+            sys.programs.push(ProgramStatus {
+                name: p.name.clone(),
+                task: usize::MAX,
+                ..ProgramStatus::default()
+            });
+            ProgramRun {
+                name: p.name,
+                routine_paths: p.routine_paths,
+                routines: p.routines,
+                fault_routine: None,
+                first_scan: true,
+                index: sys.programs.len() - 1,
+            }
+        });
         Controller {
             mem,
             scratch: Scratch::default(),
             tasks,
+            fault_handler,
             sys,
             prescanned: false,
             major: None,
@@ -624,7 +647,31 @@ impl Controller {
             let stopped = scan.paused.is_some();
             let trigger_us = scan.trigger_us;
             if taken.is_some() || fault.is_some() {
-                let (minor, cleared, refusals, events) = taken.unwrap_or_default();
+                let (minor, mut cleared, refusals, events) = taken.unwrap_or_default();
+                let fault = match fault {
+                    Some(raised) if self.fault_handler.is_some() => {
+                        match self.run_fault_handler(i, &raised, trigger_us, task) {
+                            Ok(()) => {
+                                // Cleared: the faulted scan ends here; the task
+                                // runs again at its next trigger.
+                                cleared.push(*raised);
+                                if let Some(scan) = self.tasks[i].active.take() {
+                                    let elapsed_us = (self.clock_ns - scan.start_ns) / 1000;
+                                    let st = &mut self.sys.tasks[i];
+                                    st.last_scan_us = elapsed_us;
+                                    st.max_scan_us = st.max_scan_us.max(elapsed_us);
+                                }
+                                let _ = self.record(i, p, trigger_us, (minor, cleared), refusals, Ok(()));
+                                return true;
+                            }
+                            Err(Some(standing)) => Some(standing),
+                            // The handler itself faulted: recorded, the
+                            // controller stopped.
+                            Err(None) => return true,
+                        }
+                    }
+                    other => other,
+                };
                 let outcome = fault.map_or(Ok(()), Err);
                 if !self.record(i, p, trigger_us, (minor, cleared), refusals, outcome) {
                     return true;
@@ -643,6 +690,83 @@ impl Controller {
                 // decides what runs next.
                 return false;
             }
+        }
+    }
+
+    /// Runs the Controller Fault Handler's program for the major fault
+    /// `raised` of task `i` (its `MajorFaultRecord` holds it): to its end,
+    /// with the faulted task's watchdog. `Ok` when it cleared the record's
+    /// Type and Code; else `Some` fault that stands, or `None` when the
+    /// handler itself faulted (recorded: the controller is stopped).
+    fn run_fault_handler(
+        &mut self,
+        i: usize,
+        raised: &Raised,
+        trigger_us: i64,
+        task: &mut MotionTask,
+    ) -> Result<(), Option<Box<Raised>>> {
+        let Some(handler) = self.fault_handler.as_mut() else {
+            return Err(Some(Box::new(raised.clone())));
+        };
+        let index = handler.index;
+        self.sys.programs[index].major_record = self.sys.record(self.clock_ns, raised.fault_type, raised.code);
+        let first = std::mem::replace(&mut handler.first_scan, false);
+        let mut exec = Exec::new(
+            &mut self.mem,
+            task,
+            trigger_us,
+            first,
+            &handler.routines,
+            &mut self.scratch,
+            self.minor_total,
+        );
+        exec.clock_ns = self.clock_ns;
+        exec.statement_ns = self.statement_ns;
+        exec.watchdog_ns = self.clock_ns + self.tasks[i].watchdog_ns;
+        exec.watchdog_us = self.tasks[i].watchdog_us;
+        exec.report_overflow = self.report_overflow;
+        exec.system = Some((&mut self.sys, i, index));
+        exec.start();
+        let result = exec.run();
+        self.clock_ns = exec.clock_ns;
+        self.stats.statements += exec.steps;
+        self.stats.scans += 1;
+        self.minor_total = exec.minor_total;
+        let minor = std::mem::take(&mut exec.minor);
+        drop(exec);
+        let handler = self.fault_handler.as_ref().expect("the handler ran");
+        let fault = |r: Raised, major: bool| Fault {
+            major,
+            fault_type: r.fault_type,
+            code: r.code,
+            message: r.message,
+            task: "(controller fault handler)".to_owned(),
+            program: handler.name.clone(),
+            routine: handler.routine_paths[r.routine].clone(),
+            line: r.line,
+            time_s: trigger_us as f64 / 1e6,
+            cleared: false,
+        };
+        let minor: Vec<Fault> = minor.into_iter().map(|r| fault(r, false)).collect();
+        let own = result.as_ref().err().map(|r| fault((**r).clone(), true));
+        for f in minor {
+            self.keep_minor(f);
+        }
+        match (result, own) {
+            (Ok(_), _) if self.sys.programs[index].major_record[2] == 0 => {
+                self.sys.major_events += 1;
+                self.sys.major_fault_bits |= 1 << raised.fault_type;
+                Ok(())
+            }
+            (Ok(_), _) => Err(Some(Box::new(raised.clone()))),
+            (Err(r), Some(f)) => {
+                self.sys.major_events += 1;
+                self.sys.major_fault_bits |= 1 << r.fault_type;
+                self.log.push(f.clone());
+                self.major = Some(f);
+                Err(None)
+            }
+            (Err(r), None) => Err(Some(r)),
         }
     }
 

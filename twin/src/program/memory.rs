@@ -118,12 +118,10 @@ impl Memory {
         for t in &scene.tags {
             mem.add(&t.name, t.ty, t.value.as_ref());
         }
-        for t in &scene.tasks {
-            for p in &t.programs {
-                for tag in &p.tags {
-                    let name = format!("{}.{}", p.name, tag.name);
-                    mem.add(&name, tag.ty, tag.value.as_ref());
-                }
+        for p in scene.programs() {
+            for tag in &p.tags {
+                let name = format!("{}.{}", p.name, tag.name);
+                mem.add(&name, tag.ty, tag.value.as_ref());
             }
         }
         mem

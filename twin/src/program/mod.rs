@@ -120,11 +120,15 @@ impl Program {
             }
             programs.push(compiled);
         }
+        let handler = match &scene.controller.fault_handler {
+            Some(p) => Some(compile::scene::program(p, &mem, &mut env)?),
+            None => None,
+        };
         let steps = compile::scene::steps(scene, &mem, &mut env)?
             .into_iter()
             .map(Step::new)
             .collect();
-        let plc = Controller::new(scene, mem, programs);
+        let plc = Controller::new(scene, mem, programs, handler);
         let mut traced = Vec::with_capacity(scene.trace_tags.len());
         for (index, t) in scene.trace_tags.iter().enumerate() {
             let mut compiler = Compiler::new(plc.memory(), None, &[], Dialect::Logix, &mut env, false);

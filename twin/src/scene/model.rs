@@ -723,6 +723,15 @@ impl BaseType {
 }
 
 impl Scene {
+    /// Every program: each task's, in order, then the controller fault
+    /// handler's.
+    pub fn programs(&self) -> impl Iterator<Item = &ProgramDef> {
+        self.tasks
+            .iter()
+            .flat_map(|t| &t.programs)
+            .chain(self.controller.fault_handler.as_ref())
+    }
+
     /// The coarse update period, s (the scene writes ms).
     #[must_use]
     pub fn coarse_update_s(&self) -> f64 {
@@ -1220,6 +1229,10 @@ pub struct ControllerSettings {
     /// `start_time`: the wall clock when the run starts, µs since
     /// 1970-01-01T00:00:00Z (`WALLCLOCKTIME`).
     pub start_time_us: i64,
+    /// `[controller.fault_handler]`: the program of the Controller Fault
+    /// Handler, scanned when a major fault no program's fault routine
+    /// cleared would stop the controller.
+    pub fault_handler: Option<ProgramDef>,
 }
 
 /// The nominal time of one statement unless `[controller] statement_us`
@@ -1236,6 +1249,7 @@ impl Default for ControllerSettings {
             report_overflow_faults: true,
             statement_us: DEFAULT_STATEMENT_US,
             start_time_us: DEFAULT_START_TIME_US,
+            fault_handler: None,
         }
     }
 }

@@ -374,6 +374,7 @@ pub(super) struct RawController {
     pub(super) report_overflow_faults: Option<bool>,
     pub(super) statement_us: Option<Spanned<f64>>,
     pub(super) start_time: Option<Spanned<String>>,
+    pub(super) fault_handler: Option<RawProgram>,
 }
 
 /// A routine: a path, or `{ file = "…", dialect = "iec" }`.

@@ -19,7 +19,12 @@ use crate::st::parse::parse_routine;
 
 impl Ctx<'_> {
     /// `[controller]`.
-    pub(super) fn controller_settings(&self, raw: Option<&RawController>) -> Result<ControllerSettings, SceneError> {
+    pub(super) fn controller_settings(
+        &self,
+        raw: Option<&RawController>,
+        (axes, controller, base): (&[Axis], &Names, &Path),
+        tasks: &[Task],
+    ) -> Result<ControllerSettings, SceneError> {
         let mut settings = ControllerSettings::default();
         let Some(raw) = raw else {
             return Ok(settings);
@@ -38,6 +43,15 @@ impl Ctx<'_> {
                 };
                 self.invalid(t, "controller.start_time", problem)
             })?;
+        }
+        if let Some(p) = &raw.fault_handler {
+            let field = "controller.fault_handler";
+            let mut taken = controller.clone();
+            for q in tasks.iter().flat_map(|t| &t.programs) {
+                taken.insert(q.name.to_lowercase(), (q.location.line, NameKind::Axis));
+            }
+            self.unique(&mut taken, &p.name, &format!("{field}.name"), NameKind::Axis)?;
+            settings.fault_handler = Some(self.program_def(p, axes, controller, base, field)?);
         }
         Ok(settings)
     }

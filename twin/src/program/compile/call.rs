@@ -344,13 +344,7 @@ impl Compiler<'_, '_, '_> {
         } else {
             let names: Vec<String> = match class {
                 Class::Task => self.env.scene.tasks.iter().map(|t| t.name.clone()).collect(),
-                _ => self
-                    .env
-                    .scene
-                    .tasks
-                    .iter()
-                    .flat_map(|t| t.programs.iter().map(|p| p.name.clone()))
-                    .collect(),
+                _ => self.env.scene.programs().map(|p| p.name.clone()).collect(),
             };
             match names.iter().position(|n| n.eq_ignore_ascii_case(instance_name)) {
                 Some(k) => Object::Index(k),
