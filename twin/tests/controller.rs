@@ -631,6 +631,24 @@ fn bad_controller_input_is_refused_with_its_place() {
             "SSV(WALLCLOCKTIME, , CurrentValue, Short[0]);",
             "Main.st:1:22: SSV: WALLCLOCKTIME.CurrentValue is read-only",
         ),
+        (
+            "[[tags]]\nname = \"U\"\ntype = \"DINT\"\nusage = \"input\"\n".to_owned()
+                + &t("period_ms = 4.0\npriority = 5"),
+            "A := 1;",
+            "tags[2].usage: usage applies to program tags",
+        ),
+        (
+            t("period_ms = 4.0\npriority = 5")
+                + "[[tasks.programs.tags]]\nname = \"X\"\ntype = \"DINT\"\nusage = \"inout\"\n",
+            "A := 1;",
+            "tasks[0].programs[0].tags[0].connection: an InOut parameter needs a connection",
+        ),
+        (
+            t("period_ms = 4.0\npriority = 5")
+                + "[[tasks.programs.tags]]\nname = \"X\"\ntype = \"REAL\"\nusage = \"input\"\nconnection = \"A\"\n",
+            "A := 1;",
+            "tasks[0].programs[0].tags[0].connection: connection 'A': A is DINT, the parameter X is REAL",
+        ),
     ];
     let array = |ty: &str, value: &str| {
         format!("[[tags]]\nname = \"M\"\ntype = \"{ty}\"\n{value}\n") + &t("period_ms = 4.0\npriority = 5")
@@ -814,4 +832,62 @@ fn the_controller_fault_handler_clears_a_watchdog_and_the_task_runs_again() {
     let f = b.program.controller().major_fault().expect("not cleared").clone();
     assert_eq!((f.fault_type, f.code), (6, 1));
     assert_eq!((b.int("Handled"), b.int("N")), (1, 2));
+}
+
+/// 1756-PM021, program parameters: an Input takes its connection's value
+/// when its program's scan starts, an Output writes its connection when
+/// the scan ends, an InOut stands for its connection, and other programs
+/// reach Input, Output and Public parameters as `\Program.Param` only.
+#[test]
+fn program_parameters_copy_alias_and_are_the_only_way_between_programs() {
+    let a = "Out := Out + 1;\nSeen := In;\nRef := Ref + 1.0;\nPub := Pub + 10;\n";
+    let b = "Got := Cmd;\nFromA := \\A.Pub;\n\\A.Seen := 0;\n";
+    let param = |name: &str, ty: &str, usage: &str, connection: &str| {
+        let c = if connection.is_empty() {
+            String::new()
+        } else {
+            format!("connection = '{connection}'\n")
+        };
+        format!("[[tasks.programs.tags]]\nname = \"{name}\"\ntype = \"{ty}\"\nusage = \"{usage}\"\n{c}")
+    };
+    let body = format!(
+        "{}{}{}{}{}{}{}{}{}",
+        "[[tags]]\nname = \"Speed\"\ntype = \"REAL\"\nvalue = 50.0\n",
+        task("TA", "period_ms = 10.0\npriority = 5", "A", "A", ""),
+        param("In", "REAL", "input", "Speed"),
+        param("Out", "DINT", "output", "\\B.Cmd"),
+        param("Ref", "REAL", "inout", "Speed"),
+        param("Pub", "DINT", "public", ""),
+        param("Seen", "REAL", "output", ""),
+        task("TB", "period_ms = 10.0\npriority = 6", "B", "B", ""),
+        param("Cmd", "DINT", "input", "")
+            + "[[tasks.programs.tags]]\nname = \"Got\"\ntype = \"DINT\"\n[[tasks.programs.tags]]\nname = \"FromA\"\ntype = \"DINT\"\n",
+    );
+    let path = scene("parameters", &body, &[("A", a), ("B", b)]);
+    let mut b_ = Bench::load(&path);
+    b_.updates(9);
+    // Scans at 0, 10, 20, 30 ms: A before B each time.
+    assert_eq!(b_.int("B.Got"), 4, "A's Output reached B's Input when A's scan ended");
+    assert_eq!(b_.value("Speed"), Value::Real(54.0), "the InOut wrote its connection");
+    // In took Speed at each scan's start, before Ref added to it.
+    assert_eq!(b_.value("A.Seen"), Value::Real(0.0), "B wrote A's Output parameter");
+    assert_eq!(b_.int("B.FromA"), 40);
+
+    for (k, (routine, want)) in [
+        (
+            "Got := A.Pub;",
+            "'A.Pub' is a tag of program A: a program reads another program's Input, Output and Public parameters only",
+        ),
+        ("Got := \\A.Ref;", "'\\A.Ref' is an InOut parameter"),
+        ("Got := \\A.Nope;", "'\\A.Nope' is not a tag of a program A"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let path = scene(&format!("parameters-bad-{k}"), &body, &[("A", a), ("B", routine)]);
+        let e = Bench::try_load(&path)
+            .err()
+            .unwrap_or_else(|| panic!("{routine} loads"));
+        assert!(e.contains("B.st:1:") && e.contains(want), "{routine}: {e}");
+    }
 }

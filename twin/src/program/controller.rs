@@ -133,6 +133,36 @@ struct ProgramRun {
     first_scan: bool,
     /// Its index in [`System::programs`].
     index: usize,
+    /// Input parameters: (its first slot, its connection's, slots), copied
+    /// when the program's scan starts.
+    inputs: Vec<(usize, usize, usize)>,
+    /// Output parameters: (the connection's first slot, its own, slots),
+    /// copied when the program's scan ends.
+    outputs: Vec<(usize, usize, usize)>,
+}
+
+/// The copies a program's Input and Output parameters make (1756-PM021):
+/// (destination slot, source slot, slots) each.
+fn parameter_copies(def: &crate::scene::ProgramDef, mem: &Memory) -> [Vec<(usize, usize, usize)>; 2] {
+    let mut copies = [Vec::new(), Vec::new()];
+    for tag in &def.tags {
+        let (Some(c), Some(own)) = (
+            &tag.connection,
+            mem.find_declared(&format!("{}.{}", def.name, tag.name)),
+        ) else {
+            continue;
+        };
+        let Some(other) = mem.find(&c.stored_name()) else {
+            continue;
+        };
+        let (a, b, n) = (mem.tags[own].base, mem.tags[other].base, mem.slot_count(own));
+        match tag.usage {
+            crate::scene::Usage::Input => copies[0].push((a, b, n)),
+            crate::scene::Usage::Output => copies[1].push((b, a, n)),
+            _ => {}
+        }
+    }
+    copies
 }
 
 /// A scan started and not ended: running, preempted, or stopped at a
@@ -288,6 +318,7 @@ impl Controller {
                     disabled: def.disabled,
                     ..ProgramStatus::default()
                 });
+                let [inputs, outputs] = parameter_copies(def, &mem);
                 runs.push(ProgramRun {
                     name: p.name,
                     routine_paths: p.routine_paths,
@@ -296,6 +327,8 @@ impl Controller {
                     fault_routine: def.fault_routine.map(|k| k + 1),
                     first_scan: true,
                     index: sys.programs.len() - 1,
+                    inputs,
+                    outputs,
                 });
             }
             tasks.push(TaskRun {
@@ -315,7 +348,13 @@ impl Controller {
                 programs: runs,
             });
         }
+        let handler_copies = scene
+            .controller
+            .fault_handler
+            .as_ref()
+            .map(|def| parameter_copies(def, &mem));
         let fault_handler = fault_handler.map(|p| {
+            let [inputs, outputs] = handler_copies.unwrap_or_default();
             sys.programs.push(ProgramStatus {
                 name: p.name.clone(),
                 task: usize::MAX,
@@ -328,6 +367,8 @@ impl Controller {
                 fault_routine: None,
                 first_scan: true,
                 index: sys.programs.len() - 1,
+                inputs,
+                outputs,
             }
         });
         Controller {
@@ -589,7 +630,13 @@ impl Controller {
                 scan.program_start_ns = self.clock_ns;
                 continue;
             }
-            let first = scan.paused.is_none() && std::mem::replace(&mut program.first_scan, false);
+            let starting = scan.paused.is_none();
+            let first = starting && std::mem::replace(&mut program.first_scan, false);
+            if starting {
+                for &(to, from, n) in &program.inputs {
+                    self.mem.slots.copy_within(from..from + n, to);
+                }
+            }
             let mut exec = Exec::new(
                 &mut self.mem,
                 task,
@@ -636,6 +683,9 @@ impl Controller {
                 Err(raised) => (true, None, Some(raised)),
             };
             if ended {
+                for &(to, from, n) in &program.outputs {
+                    self.mem.slots.copy_within(from..from + n, to);
+                }
                 self.stats.scans += 1;
                 let ps = &mut self.sys.programs[program.index];
                 ps.last_scan_us = (self.clock_ns - scan.program_start_ns) / 1000;
@@ -711,6 +761,9 @@ impl Controller {
         let index = handler.index;
         self.sys.programs[index].major_record = self.sys.record(self.clock_ns, raised.fault_type, raised.code);
         let first = std::mem::replace(&mut handler.first_scan, false);
+        for &(to, from, n) in &handler.inputs {
+            self.mem.slots.copy_within(from..from + n, to);
+        }
         let mut exec = Exec::new(
             &mut self.mem,
             task,
@@ -735,6 +788,9 @@ impl Controller {
         let minor = std::mem::take(&mut exec.minor);
         drop(exec);
         let handler = self.fault_handler.as_ref().expect("the handler ran");
+        for &(to, from, n) in &handler.outputs {
+            self.mem.slots.copy_within(from..from + n, to);
+        }
         let fault = |r: Raised, major: bool| Fault {
             major,
             fault_type: r.fault_type,

@@ -9,7 +9,7 @@
 //! `Program.Tag`; inside its program the short name finds it first.
 
 use super::types::{DataType, Structure, Value};
-use crate::scene::{BaseType, CamPoint, SegmentType, TagType, TagValue};
+use crate::scene::{BaseType, CamPoint, SegmentType, TagType, TagValue, Usage};
 use std::collections::HashMap;
 
 /// What a tag is, for the compiler.
@@ -40,6 +40,11 @@ pub struct TagInfo {
     /// An array's dimensions, first to last (0 past the last; all 0 for
     /// a scalar): element `[i, j, k]` is `i·d1·d2 + j·d2 + k`.
     pub dims: [usize; 3],
+    /// A program tag's usage (local or a parameter).
+    pub usage: Usage,
+    /// An InOut parameter: the tag it stands for (every name of it finds
+    /// that tag).
+    pub alias: Option<usize>,
 }
 
 impl TagInfo {
@@ -121,7 +126,21 @@ impl Memory {
         for p in scene.programs() {
             for tag in &p.tags {
                 let name = format!("{}.{}", p.name, tag.name);
-                mem.add(&name, tag.ty, tag.value.as_ref());
+                let t = mem.add(&name, tag.ty, tag.value.as_ref());
+                mem.tags[t].usage = tag.usage;
+            }
+        }
+        // InOut parameters stand for their connections (checked at load).
+        for p in scene.programs() {
+            for tag in p.tags.iter().filter(|t| t.usage == Usage::InOut) {
+                let own = mem.find_declared(&format!("{}.{}", p.name, tag.name));
+                let target = tag
+                    .connection
+                    .as_ref()
+                    .and_then(|c| mem.find_declared(&c.stored_name()));
+                if let (Some(own), Some(target)) = (own, target) {
+                    mem.tags[own].alias = Some(target);
+                }
             }
         }
         mem
@@ -143,6 +162,8 @@ impl Memory {
             base: start,
             len,
             dims: ty.dims,
+            usage: Usage::Local,
+            alias: None,
         };
         let count = len.unwrap_or(1) * info.stride();
         match kind {
@@ -193,14 +214,31 @@ impl Memory {
             base: self.slots.len(),
             len: None,
             dims: [0; 3],
+            usage: Usage::Local,
+            alias: None,
         });
         self.by_name.insert(name.to_ascii_lowercase(), self.tags.len() - 1);
     }
 
-    /// The tag called `name` (case-insensitive), as stored.
+    /// The tag called `name` (case-insensitive), as stored; an InOut
+    /// parameter's name finds the tag it stands for.
     #[must_use]
     pub fn find(&self, name: &str) -> Option<usize> {
+        let t = self.find_declared(name)?;
+        Some(self.tags[t].alias.unwrap_or(t))
+    }
+
+    /// The tag declared as `name` (an InOut parameter itself).
+    #[must_use]
+    pub fn find_declared(&self, name: &str) -> Option<usize> {
         self.by_name.get(&name.to_ascii_lowercase()).copied()
+    }
+
+    /// Slots a tag takes.
+    #[must_use]
+    pub fn slot_count(&self, tag: usize) -> usize {
+        let info = &self.tags[tag];
+        info.len.unwrap_or(1) * info.stride()
     }
 
     /// The tag `name` as seen from `program`: its own tag first, then the

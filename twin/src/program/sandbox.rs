@@ -76,6 +76,8 @@ impl Sandbox {
                 coordinate_system: None,
                 geometry: None,
                 move_options: Default::default(),
+                usage: Default::default(),
+                connection: None,
                 location: Location::default(),
             });
         }

@@ -233,6 +233,26 @@ pub enum Problem {
         /// What to write.
         hint: &'static str,
     },
+    /// `usage` on a controller tag.
+    #[error("usage applies to program tags: a controller tag is every program's already")]
+    UsageOnControllerTag,
+    /// A `connection` on a tag that is not an Input, Output or InOut
+    /// parameter.
+    #[error(
+        "a connection belongs to an Input, Output or InOut parameter: give usage = \"input\", \"output\" or \"inout\""
+    )]
+    ConnectionWithoutParameter,
+    /// An InOut parameter without its connection.
+    #[error("an InOut parameter needs a connection: the tag it stands for (1756-PM021)")]
+    InOutNeedsConnection,
+    /// A connection that cannot be made.
+    #[error("connection '{text}': {why}")]
+    BadConnection {
+        /// As written.
+        text: String,
+        /// Why not.
+        why: String,
+    },
     /// A second continuous task.
     #[error("a controller has at most one continuous task (the first is '{first}')")]
     SecondContinuousTask {

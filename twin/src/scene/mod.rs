@@ -44,12 +44,13 @@ pub use error::{Problem, SceneError};
 pub use geometry::GEOMETRY_TYPES;
 pub use model::{
     AllowedPair, Axis, AxisKind, BaseType, CONTINUOUS_PRIORITY, CamPoint, Camera, CollisionSettings, Condition,
-    ControllerSettings, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS, DEFAULT_START_TIME_US,
+    Connection, ControllerSettings, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS, DEFAULT_START_TIME_US,
     DEFAULT_STATEMENT_US, DEFAULT_WATCHDOG_MS, Dialect, EventTrigger, ExpectKind, Expectation, FunctionBlock,
     GeometrySettings, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M,
     MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MeshApproximation, MotorGains, Obstacle, PlantMode,
     Preflight, ProgramDef, RUN_EXIT_CODES, Reaction, Robot, RoutineDef, Scene, SegmentType, ServoGains, Shape,
-    Snapshots, Step, Tag, TagType, TagValue, Task, TaskKind, TestSettings, Tool, TraceTag, Trigger, Units, Variant,
+    Snapshots, Step, Tag, TagType, TagValue, Task, TaskKind, TestSettings, Tool, TraceTag, Trigger, Units, Usage,
+    Variant,
 };
 
 use crate::source::Files;

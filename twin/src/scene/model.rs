@@ -917,8 +917,86 @@ pub struct Tag {
     /// `MC_MoveModulo` instances: the `Options` input their declaration
     /// sets (`ST_MoveOptions`; all off when the table is absent).
     pub move_options: planner::modulo::MoveOptions,
+    /// A program tag's `usage` (1756-PM021): local, or a program
+    /// parameter.
+    pub usage: Usage,
+    /// A parameter's `connection`, if it has one.
+    pub connection: Option<Connection>,
     /// Where the entry's `name` is written.
     pub location: Location,
+}
+
+/// What a program tag is to other programs (1756-PM021, *Program
+/// Parameters*).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Usage {
+    /// A local tag (the default): its program's only.
+    #[default]
+    Local,
+    /// An Input parameter: takes its connection's value when its
+    /// program's scan starts; other programs read it as `\Program.Tag`.
+    Input,
+    /// An Output parameter: writes its value to its connection when its
+    /// program's scan ends; other programs read it as `\Program.Tag`.
+    Output,
+    /// An InOut parameter: an alias of its connection (required); not
+    /// reachable from other programs.
+    InOut,
+    /// A Public parameter: other programs read and write it as
+    /// `\Program.Tag`.
+    Public,
+}
+
+impl Usage {
+    /// Every usage by its scene word.
+    pub const WORDS: [(&'static str, Usage); 5] = [
+        ("local", Usage::Local),
+        ("input", Usage::Input),
+        ("output", Usage::Output),
+        ("inout", Usage::InOut),
+        ("public", Usage::Public),
+    ];
+
+    /// Its scene word.
+    #[must_use]
+    pub fn word(self) -> &'static str {
+        Usage::WORDS
+            .iter()
+            .find(|(_, u)| *u == self)
+            .map_or("local", |(w, _)| w)
+    }
+
+    /// Whether another program may name it as `\Program.Tag`.
+    #[must_use]
+    pub fn reachable(self) -> bool {
+        matches!(self, Usage::Input | Usage::Output | Usage::Public)
+    }
+}
+
+/// A parameter's connection: a controller tag, or another program's
+/// parameter (`\Program.Param`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Connection {
+    /// A controller tag, by name.
+    Controller(String),
+    /// Another program's parameter.
+    Parameter {
+        /// The program.
+        program: String,
+        /// The parameter.
+        param: String,
+    },
+}
+
+impl Connection {
+    /// The tag it names as tag memory stores it (`Tag`, `Program.Param`).
+    #[must_use]
+    pub fn stored_name(&self) -> String {
+        match self {
+            Connection::Controller(t) => t.clone(),
+            Connection::Parameter { program, param } => format!("{program}.{param}"),
+        }
+    }
 }
 
 /// The `coordinate_system` table of a `COORDINATE_SYSTEM` tag (its

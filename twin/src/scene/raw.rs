@@ -297,6 +297,8 @@ pub(super) struct RawTag {
     pub(super) coordinate_system: Option<Spanned<RawCoordinateSystem>>,
     pub(super) geometry: Option<Spanned<RawGeometry>>,
     pub(super) options: Option<Spanned<RawMoveOptions>>,
+    pub(super) usage: Option<Spanned<String>>,
+    pub(super) connection: Option<Spanned<String>>,
 }
 
 /// An `MC_MoveModulo` instance's `Options` input (`ST_MoveOptions`), as

@@ -7,7 +7,9 @@ use toml::Spanned;
 
 use super::context::{Ctx, NameKind, Names};
 use super::error::{Problem, SceneError};
-use super::model::{Axis, BaseType, CamPoint, CoordinateSystemSettings, FunctionBlock, Tag, TagType, TagValue};
+use super::model::{
+    Axis, BaseType, CamPoint, Connection, CoordinateSystemSettings, FunctionBlock, Tag, TagType, TagValue, Usage,
+};
 use super::raw::{RawCoordinateSystem, RawMoveOptions, RawTag};
 
 impl Ctx<'_> {
@@ -86,6 +88,67 @@ impl Ctx<'_> {
             ));
         }
         Ok(TagType { base, array_len, dims })
+    }
+
+    /// A tag's `usage`: program tags only (`prefix` names a program's
+    /// tags); `local` unless given.
+    fn usage(&self, t: &RawTag, prefix: &str, f: &dyn Fn(&str) -> String) -> Result<Usage, SceneError> {
+        let Some(raw) = &t.usage else {
+            if let Some(c) = &t.connection {
+                return Err(self.invalid(c, f("connection"), Problem::ConnectionWithoutParameter));
+            }
+            return Ok(Usage::Local);
+        };
+        if prefix == "tags" {
+            return Err(self.invalid(raw, f("usage"), Problem::UsageOnControllerTag));
+        }
+        let word = raw.get_ref().to_ascii_lowercase();
+        let Some((_, usage)) = Usage::WORDS.iter().find(|(w, _)| *w == word) else {
+            let problem = Problem::UnknownWord {
+                what: "usage",
+                word,
+                expected: "\"local\", \"input\", \"output\", \"inout\" or \"public\"".to_owned(),
+            };
+            return Err(self.invalid(raw, f("usage"), problem));
+        };
+        match (usage, &t.connection) {
+            (Usage::InOut, None) => Err(self.invalid(raw, f("connection"), Problem::InOutNeedsConnection)),
+            (Usage::Local | Usage::Public, Some(c)) => {
+                Err(self.invalid(c, f("connection"), Problem::ConnectionWithoutParameter))
+            }
+            _ => Ok(*usage),
+        }
+    }
+
+    /// A `connection`: `Tag` (a controller tag) or `\Program.Param`.
+    fn connection(&self, raw: &Spanned<String>, field: &str) -> Result<Connection, SceneError> {
+        let text = raw.get_ref().trim();
+        let ident = |s: &str| {
+            let mut chars = s.chars();
+            chars.next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+                && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+        };
+        let bad = || {
+            self.invalid(
+                raw,
+                field,
+                Problem::BadConnection {
+                    text: text.to_owned(),
+                    why: "write a controller tag (Tag) or another program's parameter (\\Program.Param)".to_owned(),
+                },
+            )
+        };
+        match text.strip_prefix('\\') {
+            Some(rest) => match rest.split_once('.') {
+                Some((program, param)) if ident(program) && ident(param) => Ok(Connection::Parameter {
+                    program: program.to_owned(),
+                    param: param.to_owned(),
+                }),
+                _ => Err(bad()),
+            },
+            None if ident(text) => Ok(Connection::Controller(text.to_owned())),
+            None => Err(bad()),
+        }
     }
 
     /// An MC_MoveModulo instance's `Options` (module doc of
@@ -169,6 +232,11 @@ impl Ctx<'_> {
                 coordinate_system,
                 geometry,
                 move_options,
+                usage: self.usage(t, prefix, &f)?,
+                connection: match &t.connection {
+                    Some(c) => Some(self.connection(c, &f("connection"))?),
+                    None => None,
+                },
                 location: self.loc(&t.name),
             });
         }

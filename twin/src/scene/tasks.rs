@@ -1,10 +1,11 @@
-//! `[[tasks]]`: periodic tasks, their programs in scan order, each
-//! program's tags and routines (Structured Text files, parsed here so that
+//! `[[tasks]]`: periodic, continuous and event tasks, their programs in
+//! scan order, each program's tags (and its parameters' connections) and
+//! routines (Structured Text files, parsed here so that
 //! a syntax error names the routine file, line and column at load).
 
 use super::model::{
-    CONTINUOUS_PRIORITY, ControllerSettings, DEFAULT_WATCHDOG_MS, Dialect, EventTrigger, ProgramDef, RoutineDef, Task,
-    TaskKind,
+    CONTINUOUS_PRIORITY, Connection, ControllerSettings, DEFAULT_WATCHDOG_MS, Dialect, EventTrigger, ProgramDef,
+    RoutineDef, Tag, Task, TaskKind, Usage,
 };
 use std::path::Path;
 
@@ -60,7 +61,7 @@ impl Ctx<'_> {
         &self,
         raw: &[RawTask],
         axes: &[Axis],
-        controller: &Names,
+        (controller, controller_tags): (&Names, &[Tag]),
         base: &Path,
     ) -> Result<Vec<Task>, SceneError> {
         let mut task_names: Names = Names::new();
@@ -95,7 +96,76 @@ impl Ctx<'_> {
                 location: self.loc(&t.name),
             });
         }
+        self.connections(raw, &tasks, controller_tags)?;
         Ok(tasks)
+    }
+
+    /// Every parameter's connection names a controller tag or another
+    /// program's Input, Output or Public parameter, of the parameter's
+    /// type (1756-PM021).
+    fn connections(&self, raw: &[RawTask], tasks: &[Task], controller_tags: &[Tag]) -> Result<(), SceneError> {
+        let programs: Vec<&ProgramDef> = tasks.iter().flat_map(|t| &t.programs).collect();
+        for (i, (rt, t)) in raw.iter().zip(tasks).enumerate() {
+            for (j, (rp, p)) in rt.programs.iter().zip(&t.programs).enumerate() {
+                for (k, (rtag, tag)) in rp.tags.iter().zip(&p.tags).enumerate() {
+                    let (Some(c), Some(at)) = (&tag.connection, &rtag.connection) else {
+                        continue;
+                    };
+                    let bad = |why: String| {
+                        let field = format!("tasks[{i}].programs[{j}].tags[{k}].connection");
+                        let problem = Problem::BadConnection {
+                            text: at.get_ref().trim().to_owned(),
+                            why,
+                        };
+                        self.invalid(at, field, problem)
+                    };
+                    let target = match c {
+                        Connection::Controller(name) => controller_tags
+                            .iter()
+                            .find(|x| x.name.eq_ignore_ascii_case(name))
+                            .ok_or_else(|| bad(format!("no controller tag '{name}'")))?,
+                        Connection::Parameter { program, param } => {
+                            if program.eq_ignore_ascii_case(&p.name) {
+                                return Err(bad("a parameter connects to a tag outside its own program".to_owned()));
+                            }
+                            let other = programs
+                                .iter()
+                                .find(|q| q.name.eq_ignore_ascii_case(program))
+                                .ok_or_else(|| bad(format!("no program '{program}'")))?;
+                            let target = other
+                                .tags
+                                .iter()
+                                .find(|x| x.name.eq_ignore_ascii_case(param))
+                                .ok_or_else(|| bad(format!("program '{}' has no tag '{param}'", other.name)))?;
+                            if !target.usage.reachable() {
+                                return Err(bad(format!(
+                                    "{}.{} is {} {}: only Input, Output and Public parameters are reachable from another program",
+                                    other.name,
+                                    target.name,
+                                    if target.usage == Usage::InOut { "an" } else { "a" },
+                                    if target.usage == Usage::InOut {
+                                        "InOut parameter"
+                                    } else {
+                                        "local tag"
+                                    }
+                                )));
+                            }
+                            target
+                        }
+                    };
+                    if target.ty != tag.ty {
+                        return Err(bad(format!(
+                            "{} is {}, the parameter {} is {}",
+                            c.stored_name(),
+                            target.ty,
+                            tag.name,
+                            tag.ty
+                        )));
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// A task's type and what it needs: a periodic task its period and

@@ -91,7 +91,7 @@ impl Ctx<'_> {
         let obstacles = self.obstacles(&raw.obstacles, base)?;
         let tags = self.tags(&raw.tags, &axes, &mut names, "tags")?;
         let program = self.program(&raw.program, duration_s)?;
-        let tasks = self.tasks(&raw.tasks, &axes, &names, base)?;
+        let tasks = self.tasks(&raw.tasks, &axes, (&names, &tags), base)?;
         let controller = self.controller_settings(raw.controller.as_ref(), (&axes, &names, base), &tasks)?;
         let snapshots = match &raw.snapshots {
             Some(s) => Some(self.snapshots(s, &cameras)?),

@@ -4,7 +4,8 @@
 //! Comments (`// …`, `(* … *)`, `/* … */`) and white space are skipped.
 //! Identifiers are ASCII letters, digits and `_`, not starting with a digit;
 //! the Logix status flags `S:FS`, `S:N`, `S:Z`, `S:V`, `S:C`, `S:MINOR` lex
-//! as one identifier. Numbers: `123`, `1_000`, `16#FF`, `8#17`, `2#1010`,
+//! as one identifier, and so does `\\Program` (a program parameter's
+//! `\\Program.Param`). Numbers: `123`, `1_000`, `16#FF`, `8#17`, `2#1010`,
 //! `1.5`, `1.0e-3`, `2E6`; `1..5` is `1`, `..`, `5` (a CASE range). A
 //! character that is none of these (`%`, `²`) becomes [`Tok::Other`]: it is
 //! an error everywhere except inside an enumeration word of an instruction
@@ -100,6 +101,13 @@ pub fn lex(text: &str) -> Result<Vec<Token>, LexError> {
             lexer.number()?
         } else if c.is_ascii_alphabetic() || c == '_' {
             lexer.word()
+        } else if c == '\\' && lexer.peek(1).is_some_and(|d| d.is_ascii_alphabetic() || d == '_') {
+            // `\Program.Param`: another program's parameter (1756-PM021).
+            lexer.at += 1;
+            match lexer.word() {
+                Tok::Ident(w) => Tok::Ident(format!("\\{w}")),
+                other => other,
+            }
         } else if let Some(sym) = SYMBOLS.iter().find(|s| rest.starts_with(**s)) {
             lexer.at += sym.len();
             Tok::Sym(sym)

@@ -149,9 +149,72 @@ impl Compiler<'_, '_, '_> {
         }
     }
 
+    /// `\\Program.Param`: another program's Input, Output or Public
+    /// parameter (1756-PM021); its InOut parameters and local tags are not
+    /// reachable.
+    fn parameter_place(&mut self, r: &Ref, program: &str) -> Result<(Place, DataType)> {
+        let Some(Access::Member(param, span)) = r.path.first() else {
+            return err(
+                self,
+                r.span,
+                format!("'{}': name a parameter, \\{program}.Param", r.name),
+            );
+        };
+        let stored = format!("{program}.{param}");
+        let Some(t) = self.mem.find_declared(&stored) else {
+            return err(
+                self,
+                r.span,
+                format!("'\\{stored}' is not a tag of a program {program}"),
+            );
+        };
+        let usage = self.mem.tags[t].usage;
+        if !usage.reachable() {
+            return Err(self.error(
+                *span,
+                format!(
+                    "'\\{stored}' is {}: only Input, Output and Public parameters are reachable from another program",
+                    if usage == crate::scene::Usage::InOut {
+                        "an InOut parameter"
+                    } else {
+                        "a local tag"
+                    }
+                ),
+                "not reachable from here",
+            ));
+        }
+        self.tag_place(&Ref {
+            name: stored,
+            path: r.path[1..].to_vec(),
+            span: r.span,
+        })
+    }
+
     /// Resolves a reference to a tag's place.
     fn tag_place(&mut self, r: &Ref) -> Result<(Place, DataType)> {
+        if let Some(program) = r.name.strip_prefix('\\') {
+            return self.parameter_place(r, program);
+        }
         if let Some(q) = self.qualified(r) {
+            if self.scanned
+                && let Some(own) = self.program
+                && let Some((other, _)) = q.name.split_once('.')
+                && !other.eq_ignore_ascii_case(own)
+            {
+                let d = self.error(
+                    r.span,
+                    format!(
+                        "'{}' is a tag of program {other}: a program reads another program's Input, Output and Public parameters only, as \\{}",
+                        show(r),
+                        show(r)
+                    ),
+                    "another program's tag",
+                );
+                return Err(Box::new(d.with_help(format!(
+                    "make it a parameter of {other} (usage = \"output\" or \"public\") and write \\{}, or connect an Input parameter of this program to it",
+                    show(r)
+                ))));
+            }
             return self.tag_place(&q);
         }
         if let Some(flag) = self.status_flag(r)? {
