@@ -649,6 +649,29 @@ fn bad_controller_input_is_refused_with_its_place() {
             "A := 1;",
             "tasks[0].programs[0].tags[0].connection: connection 'A': A is DINT, the parameter X is REAL",
         ),
+        (
+            "[[tags]]\nname = \"K\"\ntype = \"DINT[3]\"\nconstant = true\ndescription = \"recipe\"\nexternal_access = \"read_only\"\n".to_owned()
+                + &t("period_ms = 4.0\npriority = 5"),
+            "A := K[1];\nK[2] := A;",
+            "Main.st:2:1: 'K[…]' is a constant tag (constant = true): a routine does not write it",
+        ),
+        (
+            "[[tags]]\nname = \"K\"\ntype = \"DINT[3]\"\nconstant = true\n".to_owned() + &t("period_ms = 4.0\npriority = 5"),
+            "COP(Short[0], K[0], 3);",
+            "Main.st:1:15: 'K[…]' is a constant tag",
+        ),
+        (
+            "[[tags]]\nname = \"M\"\ntype = \"MOTION_INSTRUCTION\"\nconstant = true\n".to_owned()
+                + &t("period_ms = 4.0\npriority = 5"),
+            "A := 1;",
+            "tags[2].constant: MOTION_INSTRUCTION tags cannot be constant",
+        ),
+        (
+            "[[tags]]\nname = \"M\"\ntype = \"DINT\"\nexternal_access = \"hidden\"\n".to_owned()
+                + &t("period_ms = 4.0\npriority = 5"),
+            "A := 1;",
+            "tags[2].external_access: unknown external access 'hidden'",
+        ),
     ];
     let array = |ty: &str, value: &str| {
         format!("[[tags]]\nname = \"M\"\ntype = \"{ty}\"\n{value}\n") + &t("period_ms = 4.0\npriority = 5")

@@ -45,6 +45,8 @@ pub struct TagInfo {
     /// An InOut parameter: the tag it stands for (every name of it finds
     /// that tag).
     pub alias: Option<usize>,
+    /// `constant = true`: no routine writes it.
+    pub constant: bool,
 }
 
 impl TagInfo {
@@ -121,13 +123,15 @@ impl Memory {
             mem.add_axis(&a.name);
         }
         for t in &scene.tags {
-            mem.add(&t.name, t.ty, t.value.as_ref());
+            let k = mem.add(&t.name, t.ty, t.value.as_ref());
+            mem.tags[k].constant = t.constant;
         }
         for p in scene.programs() {
             for tag in &p.tags {
                 let name = format!("{}.{}", p.name, tag.name);
                 let t = mem.add(&name, tag.ty, tag.value.as_ref());
                 mem.tags[t].usage = tag.usage;
+                mem.tags[t].constant = tag.constant;
             }
         }
         // InOut parameters stand for their connections (checked at load).
@@ -164,6 +168,7 @@ impl Memory {
             dims: ty.dims,
             usage: Usage::Local,
             alias: None,
+            constant: false,
         };
         let count = len.unwrap_or(1) * info.stride();
         match kind {
@@ -216,6 +221,7 @@ impl Memory {
             dims: [0; 3],
             usage: Usage::Local,
             alias: None,
+            constant: false,
         });
         self.by_name.insert(name.to_ascii_lowercase(), self.tags.len() - 1);
     }

@@ -78,6 +78,9 @@ impl Sandbox {
                 move_options: Default::default(),
                 usage: Default::default(),
                 connection: None,
+                constant: false,
+                description: String::new(),
+                external_access: Default::default(),
                 location: Location::default(),
             });
         }

@@ -233,6 +233,12 @@ pub enum Problem {
         /// What to write.
         hint: &'static str,
     },
+    /// `constant = true` on a tag the planner keeps.
+    #[error("{ty} tags cannot be constant: the instructions write them")]
+    ConstantNotAllowed {
+        /// The type.
+        ty: TagType,
+    },
     /// `usage` on a controller tag.
     #[error("usage applies to program tags: a controller tag is every program's already")]
     UsageOnControllerTag,

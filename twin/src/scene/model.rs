@@ -708,6 +708,28 @@ impl BaseType {
             .collect()
     }
 
+    /// Whether its values live in tag memory (numbers, BOOL, CAM points),
+    /// not in the planner (control structures, coordinate systems, cam
+    /// profiles, function blocks) or in an instruction's structure.
+    #[must_use]
+    pub fn in_tag_memory(self) -> bool {
+        matches!(
+            self,
+            BaseType::Bool
+                | BaseType::Sint
+                | BaseType::Int
+                | BaseType::Dint
+                | BaseType::Lint
+                | BaseType::Usint
+                | BaseType::Uint
+                | BaseType::Udint
+                | BaseType::Ulint
+                | BaseType::Real
+                | BaseType::Lreal
+                | BaseType::Cam
+        )
+    }
+
     pub(super) fn integer_range(self) -> Option<(i64, i64)> {
         match self {
             BaseType::Sint => Some((i8::MIN.into(), i8::MAX.into())),
@@ -922,8 +944,37 @@ pub struct Tag {
     pub usage: Usage,
     /// A parameter's `connection`, if it has one.
     pub connection: Option<Connection>,
+    /// `constant = true`: no routine writes it (a write is refused at
+    /// load).
+    pub constant: bool,
+    /// `description`: the tag's description, as Studio 5000 shows it.
+    pub description: String,
+    /// `external_access`: what HMIs and other controllers may do with it.
+    pub external_access: ExternalAccess,
     /// Where the entry's `name` is written.
     pub location: Location,
+}
+
+/// A tag's External Access (1756-PM004): recorded; the twin has no HMI or
+/// other controller reading its tags.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ExternalAccess {
+    /// `"read_write"` (the default).
+    #[default]
+    ReadWrite,
+    /// `"read_only"`.
+    ReadOnly,
+    /// `"none"`.
+    None,
+}
+
+impl ExternalAccess {
+    /// Every value by its scene word.
+    pub const WORDS: [(&'static str, ExternalAccess); 3] = [
+        ("read_write", ExternalAccess::ReadWrite),
+        ("read_only", ExternalAccess::ReadOnly),
+        ("none", ExternalAccess::None),
+    ];
 }
 
 /// What a program tag is to other programs (1756-PM021, *Program

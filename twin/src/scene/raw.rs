@@ -299,6 +299,9 @@ pub(super) struct RawTag {
     pub(super) options: Option<Spanned<RawMoveOptions>>,
     pub(super) usage: Option<Spanned<String>>,
     pub(super) connection: Option<Spanned<String>>,
+    pub(super) constant: Option<Spanned<bool>>,
+    pub(super) description: Option<String>,
+    pub(super) external_access: Option<Spanned<String>>,
 }
 
 /// An `MC_MoveModulo` instance's `Options` input (`ST_MoveOptions`), as

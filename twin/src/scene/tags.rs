@@ -8,7 +8,8 @@ use toml::Spanned;
 use super::context::{Ctx, NameKind, Names};
 use super::error::{Problem, SceneError};
 use super::model::{
-    Axis, BaseType, CamPoint, Connection, CoordinateSystemSettings, FunctionBlock, Tag, TagType, TagValue, Usage,
+    Axis, BaseType, CamPoint, Connection, CoordinateSystemSettings, ExternalAccess, FunctionBlock, Tag, TagType,
+    TagValue, Usage,
 };
 use super::raw::{RawCoordinateSystem, RawMoveOptions, RawTag};
 
@@ -233,6 +234,32 @@ impl Ctx<'_> {
                 geometry,
                 move_options,
                 usage: self.usage(t, prefix, &f)?,
+                constant: match &t.constant {
+                    Some(c) if *c.get_ref() && !ty.base.in_tag_memory() => {
+                        let problem = Problem::ConstantNotAllowed { ty };
+                        return Err(self.invalid(c, f("constant"), problem));
+                    }
+                    Some(c) => *c.get_ref(),
+                    None => false,
+                },
+                description: t.description.clone().unwrap_or_default(),
+                external_access: match &t.external_access {
+                    None => ExternalAccess::ReadWrite,
+                    Some(w) => {
+                        let word = w.get_ref().to_ascii_lowercase();
+                        match ExternalAccess::WORDS.iter().find(|(x, _)| *x == word) {
+                            Some((_, a)) => *a,
+                            None => {
+                                let problem = Problem::UnknownWord {
+                                    what: "external access",
+                                    word,
+                                    expected: "\"read_write\", \"read_only\" or \"none\"".to_owned(),
+                                };
+                                return Err(self.invalid(w, f("external_access"), problem));
+                            }
+                        }
+                    }
+                },
                 connection: match &t.connection {
                     Some(c) => Some(self.connection(c, &f("connection"))?),
                     None => None,

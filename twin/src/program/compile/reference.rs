@@ -53,8 +53,33 @@ impl Compiler<'_, '_, '_> {
             .collect()
     }
 
+    /// A write to a `constant = true` tag, refused.
+    pub(super) fn refuse_constant(&self, r: &Ref) -> Result<()> {
+        let t = match r.name.strip_prefix('\\') {
+            Some(program) => match r.path.first() {
+                Some(Access::Member(m, _)) => self.mem.find(&format!("{program}.{m}")),
+                _ => None,
+            },
+            None => self
+                .resolve(&r.name)
+                .or_else(|| self.qualified(r).and_then(|q| self.mem.find(&q.name))),
+        };
+        match t {
+            Some(t) if self.mem.tags[t].constant => Err(self.error(
+                r.span,
+                format!(
+                    "'{}' is a constant tag (constant = true): a routine does not write it",
+                    show(r)
+                ),
+                "constant",
+            )),
+            _ => Ok(()),
+        }
+    }
+
     /// A place that may be written, with its type.
     pub(super) fn writable(&mut self, r: &Ref) -> Result<(Place, DataType)> {
+        self.refuse_constant(r)?;
         let (place, ty) = self.place(r)?;
         match place {
             Place::Axis(..)
@@ -693,6 +718,9 @@ impl Compiler<'_, '_, '_> {
         let Some((r, info)) = self.tag_arg(arg) else {
             return Err(bad(self));
         };
+        if what == "Dest" {
+            self.refuse_constant(r)?;
+        }
         let (Kind::Scalar(ty), Some(len)) = (info.kind, info.len) else {
             return Err(bad(self));
         };
