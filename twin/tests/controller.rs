@@ -10,7 +10,6 @@ use twin::program::Program;
 use twin::program::types::Value;
 
 mod common;
-use common::root;
 
 /// A scene in `target/controller-tests/<name>/`: the indexing table's
 /// axes, then `body` (tags, tasks, `[controller]`), with `routines`
@@ -20,15 +19,7 @@ fn scene(name: &str, body: &str, routines: &[(&str, &str)]) -> PathBuf {
     for (file, text) in routines {
         std::fs::write(dir.join(format!("{file}.st")), text).expect("routine");
     }
-    let urdf = root().join("twin/tests/fixtures/robots/indexing_table.urdf");
-    let text = format!(
-        "duration_s = 2.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n\
-         [robot]\nurdf = {urdf:?}\n\
-         [[axes]]\nname = \"Table\"\njoint = \"platter_joint\"\nkind = \"rotary\"\nunits = \"deg\"\n\
-         max_velocity = 720.0\nmax_acceleration = 3600.0\nmax_deceleration = 3600.0\nmax_jerk = 36000.0\n\
-         in_position_window = 0.1\nmotor = {{ stiffness = 35530.6, damping = 377.0 }}\n\
-         {body}"
-    );
+    let text = format!("{}{body}", common::indexing_table_head());
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).expect("scene");
     path

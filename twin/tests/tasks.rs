@@ -170,20 +170,15 @@ fn out_dir_path(name: &str) -> PathBuf {
 fn scene(name: &str, tags: &str, routine: &str, period_ms: f64) -> PathBuf {
     let dir = out_dir(name);
     std::fs::write(dir.join("Main.st"), routine).expect("routine");
-    let urdf = root().join("twin/tests/fixtures/robots/indexing_table.urdf");
     let text = format!(
-        "duration_s = 2.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n\
-         [robot]\nurdf = {urdf:?}\n\
-         [[axes]]\nname = \"Table\"\njoint = \"platter_joint\"\nkind = \"rotary\"\nunits = \"deg\"\n\
-         max_velocity = 720.0\nmax_acceleration = 3600.0\nmax_deceleration = 3600.0\nmax_jerk = 36000.0\n\
-         in_position_window = 0.1\nmotor = {{ stiffness = 35530.6, damping = 377.0 }}\n\
-         [[axes]]\nname = \"Slide\"\njoint = \"slide_joint\"\nkind = \"linear\"\nunits = \"mm\"\n\
+        "{}[[axes]]\nname = \"Slide\"\njoint = \"slide_joint\"\nkind = \"linear\"\nunits = \"mm\"\n\
          max_velocity = 500.0\nmax_acceleration = 5000.0\nmax_deceleration = 5000.0\nmax_jerk = 50000.0\n\
          in_position_window = 0.05\n\
          [[tags]]\nname = \"XY\"\ntype = \"COORDINATE_SYSTEM\"\nvalue = [\"Table\", \"Slide\"]\n\
          {tags}\n\
          [[tasks]]\nname = \"T\"\nperiod_ms = {period_ms:?}\npriority = 5\n\
-         [[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\n"
+         [[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\n",
+        common::indexing_table_head()
     );
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).expect("scene");

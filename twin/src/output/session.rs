@@ -833,10 +833,10 @@ impl Summary {
                 t.task_wall_s,
                 100.0 * t.task_share
             );
-            if let Some(f) = &t.major_fault {
+            let fault_line = |s: &mut String, what: &str, f: &crate::program::controller::Fault| {
                 let _ = writeln!(
                     s,
-                    "  MAJOR FAULT type {} code {} at {:.3} s: task {}, program {}, {}:{}: {}",
+                    "  {what} type {} code {} at {:.3} s: task {}, program {}, {}:{}: {}",
                     f.fault_type,
                     f.code,
                     f.time_s,
@@ -846,20 +846,12 @@ impl Summary {
                     f.line,
                     f.message
                 );
+            };
+            if let Some(f) = &t.major_fault {
+                fault_line(&mut s, "MAJOR FAULT", f);
             }
             for f in &t.cleared_faults {
-                let _ = writeln!(
-                    s,
-                    "  cleared fault type {} code {} at {:.3} s: task {}, program {}, {}:{}: {}",
-                    f.fault_type,
-                    f.code,
-                    f.time_s,
-                    f.task,
-                    f.program,
-                    f.routine.display(),
-                    f.line,
-                    f.message
-                );
+                fault_line(&mut s, "cleared fault", f);
             }
             if t.minor_fault_count > 0 {
                 let _ = writeln!(s, "  minor faults: {}", t.minor_fault_count);

@@ -35,3 +35,18 @@ pub fn shipped_scene_text(path: &Path) -> String {
     }
     text
 }
+
+/// The head of a test scene on the indexing table fixture: 4 ms coarse
+/// updates, 2 s, and its rotary `Table` axis on a spring drive. Tests add
+/// their axes, tags and tasks after it.
+#[allow(dead_code)]
+pub fn indexing_table_head() -> String {
+    let urdf = root().join("twin/tests/fixtures/robots/indexing_table.urdf");
+    format!(
+        "duration_s = 2.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n\
+         [robot]\nurdf = {urdf:?}\n\
+         [[axes]]\nname = \"Table\"\njoint = \"platter_joint\"\nkind = \"rotary\"\nunits = \"deg\"\n\
+         max_velocity = 720.0\nmax_acceleration = 3600.0\nmax_deceleration = 3600.0\nmax_jerk = 36000.0\n\
+         in_position_window = 0.1\nmotor = {{ stiffness = 35530.6, damping = 377.0 }}\n"
+    )
+}
