@@ -171,6 +171,18 @@ fn a_continuous_task_runs_in_the_time_the_others_leave() {
     assert_eq!(b.int("N"), 100);
     assert_eq!(b.int("C"), 8_822);
     assert_eq!(b.int("Prio"), 0, "a continuous task has no priority");
+
+    // A continuous task whose routine executes nothing still lets the
+    // clock move on (a statement's time a scan), and the run ends.
+    let body = tags(&[("N", "DINT")]) + &task("Main", "type = \"continuous\"", "Cont", "Cont", "");
+    let path = scene("continuous-empty", &body, &[("Cont", "(* nothing *)\n")]);
+    let mut b = Bench::load(&path);
+    b.updates(3);
+    assert_eq!(
+        b.program.controller().stats().scans,
+        12_000,
+        "4,000 empty scans an update"
+    );
 }
 
 /// 1756-PM005, "Event task": triggered by an EVENT instruction (a higher

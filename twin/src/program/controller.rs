@@ -617,6 +617,12 @@ impl Controller {
             let scan = t.active.as_mut().expect("an active scan");
             let p = scan.program;
             if p >= t.programs.len() {
+                if t.kind == TaskKind::Continuous && self.clock_ns == scan.start_ns {
+                    // A continuous scan that executed nothing (its programs
+                    // empty or disabled) still takes a statement's time, so
+                    // that the controller's clock moves on.
+                    self.clock_ns += self.statement_ns;
+                }
                 let elapsed_us = (self.clock_ns - scan.start_ns) / 1000;
                 t.active = None;
                 let st = &mut self.sys.tasks[i];
