@@ -164,6 +164,7 @@ impl Frames {
     /// `<camera>-t<time>.png` (`twin run --frames-at`, `twin test
     /// --artifacts`).
     #[must_use]
+    #[cfg_attr(not(feature = "render"), allow(unused_mut))]
     pub fn only_at(mut self, time_s: f64) -> Frames {
         #[cfg(feature = "render")]
         if let Some(inner) = self.inner.as_mut() {
@@ -178,6 +179,7 @@ impl Frames {
     /// under their usual names; the others are passed over (`twin run
     /// --frames-only`, what `twin test` asks for a scene's `[snapshots]`).
     #[must_use]
+    #[cfg_attr(not(feature = "render"), allow(unused_mut))]
     pub fn only_numbers(mut self, numbers: &[u64]) -> Frames {
         #[cfg(feature = "render")]
         if let Some(inner) = self.inner.as_mut() {

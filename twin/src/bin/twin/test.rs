@@ -182,6 +182,8 @@ struct RunResult {
 }
 
 #[derive(Debug, Clone)]
+// Without the renderer (the lean build) no frame is compared.
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 enum Snapshots {
     Passed(usize),
     Failed(Vec<String>),
