@@ -159,6 +159,11 @@ fn fault_demo_records_the_minor_fault_and_stops_on_the_major_with_exit_code_4() 
         summary.contains("\"major_fault\"") && summary.contains("\"code\": 20"),
         "{summary}"
     );
+    // 55 scans of the 20 ms Logger, the last one the fault's, none overlapping.
+    assert!(
+        summary.contains("\"name\": \"Logger\",\n        \"scans\": 55,\n        \"overlaps\": 0"),
+        "{summary}"
+    );
 }
 
 fn out_dir_path(name: &str) -> PathBuf {

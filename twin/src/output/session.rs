@@ -520,6 +520,21 @@ pub struct Summary {
     pub expectations: Vec<crate::output::expect::Outcome>,
 }
 
+/// One task's part of the summary (its `TASK` object's values at the end).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TaskSummary {
+    /// The task.
+    pub name: String,
+    /// Scans started.
+    pub scans: i64,
+    /// Triggers ignored because the task was still running or waiting.
+    pub overlaps: i64,
+    /// The last scan's elapsed time, µs.
+    pub last_scan_us: i64,
+    /// The longest scan's elapsed time, µs.
+    pub max_scan_us: i64,
+}
+
 /// The task engine's part of the summary.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TasksSummary {
@@ -540,6 +555,8 @@ pub struct TasksSummary {
     /// Major faults a program's fault routine cleared, in order.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub cleared_faults: Vec<crate::program::controller::Fault>,
+    /// Each task's scans, scan times and overlaps, in scene order.
+    pub per_task: Vec<TaskSummary>,
     /// Motion instructions whose operand values were refused at run time.
     pub refused: Vec<String>,
 }
@@ -700,6 +717,18 @@ impl Stats {
                     minor_fault_count: c.minor_fault_count(),
                     minor_faults: c.minor_faults().to_vec(),
                     cleared_faults: c.cleared_faults().to_vec(),
+                    per_task: c
+                        .system()
+                        .tasks
+                        .iter()
+                        .map(|t| TaskSummary {
+                            name: t.name.clone(),
+                            scans: t.scans,
+                            overlaps: t.overlap_count,
+                            last_scan_us: t.last_scan_us,
+                            max_scan_us: t.max_scan_us,
+                        })
+                        .collect(),
                     refused: c.refusals().to_vec(),
                 }
             }),

@@ -949,6 +949,13 @@ impl Controller {
         &self.stats
     }
 
+    /// The system objects: each task's and program's status (scans, scan
+    /// times, overlaps), the fault log's counts.
+    #[must_use]
+    pub fn system(&self) -> &System {
+        &self.sys
+    }
+
     /// Tag memory.
     #[must_use]
     pub fn memory(&self) -> &Memory {

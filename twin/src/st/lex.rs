@@ -4,8 +4,8 @@
 //! Comments (`// …`, `(* … *)`, `/* … */`) and white space are skipped.
 //! Identifiers are ASCII letters, digits and `_`, not starting with a digit;
 //! the Logix status flags `S:FS`, `S:N`, `S:Z`, `S:V`, `S:C`, `S:MINOR` lex
-//! as one identifier, and so does `\\Program` (a program parameter's
-//! `\\Program.Param`). Numbers: `123`, `1_000`, `16#FF`, `8#17`, `2#1010`,
+//! as one identifier, and so does `\Program` (a program parameter's
+//! `\Program.Param`). Numbers: `123`, `1_000`, `16#FF`, `8#17`, `2#1010`,
 //! `1.5`, `1.0e-3`, `2E6`; `1..5` is `1`, `..`, `5` (a CASE range). A
 //! character that is none of these (`%`, `²`) becomes [`Tok::Other`]: it is
 //! an error everywhere except inside an enumeration word of an instruction
@@ -304,6 +304,33 @@ mod tests {
                 Tok::Eof
             ]
         );
+    }
+
+    #[test]
+    fn based_literals_are_bit_patterns_of_32_or_64_bits() {
+        assert_eq!(
+            toks("16#FFFF_FFFF 16#8000_0000 16#7FFF_FFFF 16#1_0000_0000 16#FFFF_FFFF_FFFF_FFFF 2#1 4294967295"),
+            [
+                Tok::Int(-1),
+                Tok::Int(i128::from(i32::MIN)),
+                Tok::Int(i128::from(i32::MAX)),
+                Tok::Int(1 << 32),
+                Tok::Int(-1),
+                Tok::Int(1),
+                // A decimal literal is its value.
+                Tok::Int(4_294_967_295),
+                Tok::Eof
+            ]
+        );
+    }
+
+    #[test]
+    fn a_program_parameter_reference_lexes_its_backslash_into_the_name() {
+        assert_eq!(
+            toks("\\Cell.Speed"),
+            [Tok::Ident("\\Cell".into()), Tok::Sym("."), Tok::Ident("Speed".into()), Tok::Eof]
+        );
+        assert_eq!(toks("\\ 1"), [Tok::Other('\\'), Tok::Int(1), Tok::Eof]);
     }
 
     #[test]

@@ -174,7 +174,7 @@ impl Compiler<'_, '_, '_> {
         }
     }
 
-    /// `\\Program.Param`: another program's Input, Output or Public
+    /// `\Program.Param`: another program's Input, Output or Public
     /// parameter (1756-PM021); its InOut parameters and local tags are not
     /// reachable.
     fn parameter_place(&mut self, r: &Ref, program: &str) -> Result<(Place, DataType)> {
