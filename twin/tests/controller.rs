@@ -330,6 +330,37 @@ fn inhibited_tasks_and_disabled_programs_are_not_scanned() {
     assert_eq!((b.int("D"), b.int("Never")), (0, 0));
 }
 
+/// A program disabled (SSV `DisableFlag`) by a higher-priority task while
+/// its scan is stopped at a coarse update: the rest of that scan is
+/// skipped, and the task's next program starts from its beginning.
+#[test]
+fn a_program_disabled_while_its_scan_is_stopped_skips_the_rest_of_it() {
+    let long = "First := First + 1;\nFOR I := 1 TO 9999 DO END_FOR;\nLongDone := LongDone + 1;\n";
+    let next = "IF J = 0 THEN Second := Second + 1; END_IF;\n";
+    let switch = "T := T + 1;\nIF T = 2 THEN SSV(PROGRAM, Long, DisableFlag, 1); END_IF;\n";
+    let body = tags(&[
+        ("First", "DINT"),
+        ("I", "DINT"),
+        ("J", "DINT"),
+        ("LongDone", "DINT"),
+        ("Second", "DINT"),
+        ("T", "DINT"),
+    ]) + &task("Slow", "period_ms = 100.0\npriority = 10", "Long", "Long", "")
+        + "[[tasks.programs]]\nname = \"Next\"\nmain = \"Next.st\"\n"
+        + &task("Fast", "period_ms = 4.0\npriority = 2", "Switch", "Switch", "");
+    let path = scene(
+        "disable-while-stopped",
+        &body,
+        &[("Long", long), ("Next", next), ("Switch", switch)],
+    );
+    let mut b = Bench::load(&path);
+    b.updates(10);
+    // The long scan (20 ms) stopped at 4 ms; at 4 ms the fast task disabled
+    // it: it never finishes, and Next runs its own routine from the start.
+    assert_eq!((b.int("First"), b.int("LongDone"), b.int("Second")), (1, 0, 1));
+    assert!(b.program.controller().major_fault().is_none());
+}
+
 /// 1756-PM005, "Watchdog": from the start of a scan to its end,
 /// higher-priority tasks included.
 #[test]

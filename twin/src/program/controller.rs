@@ -632,6 +632,9 @@ impl Controller {
             }
             let program = &mut t.programs[p];
             if self.sys.programs[program.index].disabled {
+                // Disabled before its scan (or while it was stopped, by a
+                // higher-priority SSV): the rest of it is skipped.
+                scan.paused = None;
                 scan.program += 1;
                 scan.program_start_ns = self.clock_ns;
                 continue;

@@ -328,7 +328,12 @@ mod tests {
     fn a_program_parameter_reference_lexes_its_backslash_into_the_name() {
         assert_eq!(
             toks("\\Cell.Speed"),
-            [Tok::Ident("\\Cell".into()), Tok::Sym("."), Tok::Ident("Speed".into()), Tok::Eof]
+            [
+                Tok::Ident("\\Cell".into()),
+                Tok::Sym("."),
+                Tok::Ident("Speed".into()),
+                Tok::Eof
+            ]
         );
         assert_eq!(toks("\\ 1"), [Tok::Other('\\'), Tok::Int(1), Tok::Eof]);
     }
