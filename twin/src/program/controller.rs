@@ -103,6 +103,25 @@ pub struct Fault {
     pub cleared: bool,
 }
 
+impl Fault {
+    /// The record of `r`, raised in a routine of `routine_paths`, in a scan
+    /// triggered at `at_us`.
+    fn of(r: Raised, major: bool, task: &str, program: &str, routine_paths: &[PathBuf], at_us: i64) -> Fault {
+        Fault {
+            major,
+            fault_type: r.fault_type,
+            code: r.code,
+            message: r.message,
+            task: task.to_owned(),
+            program: program.to_owned(),
+            routine: routine_paths[r.routine].clone(),
+            line: r.line,
+            time_s: at_us as f64 / 1e6,
+            cleared: false,
+        }
+    }
+}
+
 impl std::fmt::Display for Fault {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
@@ -139,6 +158,14 @@ struct ProgramRun {
     /// Output parameters: (the connection's first slot, its own, slots),
     /// copied when the program's scan ends.
     outputs: Vec<(usize, usize, usize)>,
+}
+
+/// Makes a program's parameter copies (destination slot, source slot,
+/// slots) in tag memory.
+fn copy_parameters(mem: &mut Memory, copies: &[(usize, usize, usize)]) {
+    for &(to, from, n) in copies {
+        mem.slots.copy_within(from..from + n, to);
+    }
 }
 
 /// The copies a program's Input and Output parameters make (1756-PM021):
@@ -625,9 +652,7 @@ impl Controller {
                 }
                 let elapsed_us = (self.clock_ns - scan.start_ns) / 1000;
                 t.active = None;
-                let st = &mut self.sys.tasks[i];
-                st.last_scan_us = elapsed_us;
-                st.max_scan_us = st.max_scan_us.max(elapsed_us);
+                self.sys.tasks[i].scan_ended(elapsed_us);
                 return true;
             }
             let program = &mut t.programs[p];
@@ -642,9 +667,7 @@ impl Controller {
             let starting = scan.paused.is_none();
             let first = starting && std::mem::replace(&mut program.first_scan, false);
             if starting {
-                for &(to, from, n) in &program.inputs {
-                    self.mem.slots.copy_within(from..from + n, to);
-                }
+                copy_parameters(&mut self.mem, &program.inputs);
             }
             let mut exec = Exec::new(
                 &mut self.mem,
@@ -692,13 +715,9 @@ impl Controller {
                 Err(raised) => (true, None, Some(raised)),
             };
             if ended {
-                for &(to, from, n) in &program.outputs {
-                    self.mem.slots.copy_within(from..from + n, to);
-                }
+                copy_parameters(&mut self.mem, &program.outputs);
                 self.stats.scans += 1;
-                let ps = &mut self.sys.programs[program.index];
-                ps.last_scan_us = (self.clock_ns - scan.program_start_ns) / 1000;
-                ps.max_scan_us = ps.max_scan_us.max(ps.last_scan_us);
+                self.sys.programs[program.index].scan_ended((self.clock_ns - scan.program_start_ns) / 1000);
                 scan.program += 1;
                 scan.program_start_ns = self.clock_ns;
             }
@@ -715,10 +734,7 @@ impl Controller {
                                 // runs again at its next trigger.
                                 cleared.push(*raised);
                                 if let Some(scan) = self.tasks[i].active.take() {
-                                    let elapsed_us = (self.clock_ns - scan.start_ns) / 1000;
-                                    let st = &mut self.sys.tasks[i];
-                                    st.last_scan_us = elapsed_us;
-                                    st.max_scan_us = st.max_scan_us.max(elapsed_us);
+                                    self.sys.tasks[i].scan_ended((self.clock_ns - scan.start_ns) / 1000);
                                 }
                                 let _ = self.record(i, p, trigger_us, (minor, cleared), refusals, Ok(()));
                                 return true;
@@ -770,9 +786,7 @@ impl Controller {
         let index = handler.index;
         self.sys.programs[index].major_record = self.sys.record(self.clock_ns, raised.fault_type, raised.code);
         let first = std::mem::replace(&mut handler.first_scan, false);
-        for &(to, from, n) in &handler.inputs {
-            self.mem.slots.copy_within(from..from + n, to);
-        }
+        copy_parameters(&mut self.mem, &handler.inputs);
         let mut exec = Exec::new(
             &mut self.mem,
             task,
@@ -797,20 +811,16 @@ impl Controller {
         let minor = std::mem::take(&mut exec.minor);
         drop(exec);
         let handler = self.fault_handler.as_ref().expect("the handler ran");
-        for &(to, from, n) in &handler.outputs {
-            self.mem.slots.copy_within(from..from + n, to);
-        }
-        let fault = |r: Raised, major: bool| Fault {
-            major,
-            fault_type: r.fault_type,
-            code: r.code,
-            message: r.message,
-            task: "(controller fault handler)".to_owned(),
-            program: handler.name.clone(),
-            routine: handler.routine_paths[r.routine].clone(),
-            line: r.line,
-            time_s: trigger_us as f64 / 1e6,
-            cleared: false,
+        copy_parameters(&mut self.mem, &handler.outputs);
+        let fault = |r: Raised, major: bool| {
+            Fault::of(
+                r,
+                major,
+                "(controller fault handler)",
+                &handler.name,
+                &handler.routine_paths,
+                trigger_us,
+            )
         };
         let minor: Vec<Fault> = minor.into_iter().map(|r| fault(r, false)).collect();
         let own = result.as_ref().err().map(|r| fault((**r).clone(), true));
@@ -853,18 +863,7 @@ impl Controller {
         let (task_name, program_name) = (self.tasks[i].name.clone(), self.tasks[i].programs[p].name.clone());
         let paths = self.tasks[i].programs[p].routine_paths.clone();
         let index = self.tasks[i].programs[p].index;
-        let fault = |r: Raised, major: bool| Fault {
-            major,
-            fault_type: r.fault_type,
-            code: r.code,
-            message: r.message,
-            task: task_name.clone(),
-            program: program_name.clone(),
-            routine: paths[r.routine].clone(),
-            line: r.line,
-            time_s: at_us as f64 / 1e6,
-            cleared: false,
-        };
+        let fault = |r: Raised, major: bool| Fault::of(r, major, &task_name, &program_name, &paths, at_us);
         for r in minor {
             self.keep_minor(fault(r, false));
         }

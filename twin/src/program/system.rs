@@ -539,6 +539,14 @@ pub struct TaskStatus {
     pub last_start_ns: Option<i64>,
 }
 
+impl TaskStatus {
+    /// A scan that took `elapsed_us` ended: `LastScanTime`, `MaxScanTime`.
+    pub fn scan_ended(&mut self, elapsed_us: i64) {
+        self.last_scan_us = elapsed_us;
+        self.max_scan_us = self.max_scan_us.max(elapsed_us);
+    }
+}
+
 /// A program's status.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ProgramStatus {
@@ -556,6 +564,14 @@ pub struct ProgramStatus {
     pub minor_record: [i64; 11],
     /// `DisableFlag`.
     pub disabled: bool,
+}
+
+impl ProgramStatus {
+    /// A scan that took `elapsed_us` ended: `LastScanTime`, `MaxScanTime`.
+    pub fn scan_ended(&mut self, elapsed_us: i64) {
+        self.last_scan_us = elapsed_us;
+        self.max_scan_us = self.max_scan_us.max(elapsed_us);
+    }
 }
 
 /// The system objects' state.

@@ -203,6 +203,28 @@ impl Ctx<'_> {
         }
     }
 
+    /// One of a field's `words` (case-insensitive), as its value; another
+    /// word is [`Problem::UnknownWord`], listing them.
+    pub(super) fn word<T: Copy>(
+        &self,
+        raw: &Spanned<String>,
+        field: &str,
+        what: &'static str,
+        words: &[(&'static str, T)],
+    ) -> Result<T, SceneError> {
+        let word = raw.get_ref().to_ascii_lowercase();
+        if let Some((_, v)) = words.iter().find(|(w, _)| *w == word) {
+            return Ok(*v);
+        }
+        let quoted: Vec<String> = words.iter().map(|(w, _)| format!("\"{w}\"")).collect();
+        let expected = match quoted.split_last() {
+            Some((last, [])) => last.clone(),
+            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+            None => String::new(),
+        };
+        Err(self.invalid(raw, field, Problem::UnknownWord { what, word, expected }))
+    }
+
     /// A finite value within `min..=max`.
     pub(super) fn in_range(&self, v: &Spanned<f64>, field: &str, min: f64, max: f64) -> Result<f64, SceneError> {
         let value = self.finite(v, field)?;

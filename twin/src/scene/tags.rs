@@ -103,21 +103,13 @@ impl Ctx<'_> {
         if prefix == "tags" {
             return Err(self.invalid(raw, f("usage"), Problem::UsageOnControllerTag));
         }
-        let word = raw.get_ref().to_ascii_lowercase();
-        let Some((_, usage)) = Usage::WORDS.iter().find(|(w, _)| *w == word) else {
-            let problem = Problem::UnknownWord {
-                what: "usage",
-                word,
-                expected: "\"local\", \"input\", \"output\", \"inout\" or \"public\"".to_owned(),
-            };
-            return Err(self.invalid(raw, f("usage"), problem));
-        };
+        let usage = self.word(raw, &f("usage"), "usage", &Usage::WORDS)?;
         match (usage, &t.connection) {
             (Usage::InOut, None) => Err(self.invalid(raw, f("connection"), Problem::InOutNeedsConnection)),
             (Usage::Local | Usage::Public, Some(c)) => {
                 Err(self.invalid(c, f("connection"), Problem::ConnectionWithoutParameter))
             }
-            _ => Ok(*usage),
+            _ => Ok(usage),
         }
     }
 
@@ -245,20 +237,7 @@ impl Ctx<'_> {
                 description: t.description.clone().unwrap_or_default(),
                 external_access: match &t.external_access {
                     None => ExternalAccess::ReadWrite,
-                    Some(w) => {
-                        let word = w.get_ref().to_ascii_lowercase();
-                        match ExternalAccess::WORDS.iter().find(|(x, _)| *x == word) {
-                            Some((_, a)) => *a,
-                            None => {
-                                let problem = Problem::UnknownWord {
-                                    what: "external access",
-                                    word,
-                                    expected: "\"read_write\", \"read_only\" or \"none\"".to_owned(),
-                                };
-                                return Err(self.invalid(w, f("external_access"), problem));
-                            }
-                        }
-                    }
+                    Some(w) => self.word(w, &f("external_access"), "external access", &ExternalAccess::WORDS)?,
                 },
                 connection: match &t.connection {
                     Some(c) => Some(self.connection(c, &f("connection"))?),

@@ -173,22 +173,14 @@ impl Ctx<'_> {
     /// neither (at most one, below every other task).
     fn task_kind(&self, t: &RawTask, i: usize, before: &[Task]) -> Result<(TaskKind, u8), SceneError> {
         let f = |field: &str| format!("tasks[{i}].{field}");
-        let word = match &t.kind {
-            None => "periodic".to_owned(),
-            Some(k) => k.get_ref().to_ascii_lowercase(),
-        };
-        let kind: &'static str = match word.as_str() {
-            "periodic" => "periodic",
-            "continuous" => "continuous",
-            "event" => "event",
-            _ => {
-                let problem = Problem::UnknownWord {
-                    what: "task type",
-                    word,
-                    expected: "\"periodic\", \"continuous\" or \"event\"".to_owned(),
-                };
-                return Err(self.invalid(t.kind.as_ref().expect("a type was written"), f("type"), problem));
-            }
+        const TYPES: [(&str, &str); 3] = [
+            ("periodic", "periodic"),
+            ("continuous", "continuous"),
+            ("event", "event"),
+        ];
+        let kind: &'static str = match &t.kind {
+            None => "periodic",
+            Some(k) => self.word(k, &f("type"), "task type", &TYPES)?,
         };
         let not_here = |at: std::ops::Range<usize>, field: &'static str| {
             self.invalid_at(at, f(field), Problem::TaskFieldNotApplicable { field, kind })
@@ -243,21 +235,13 @@ impl Ctx<'_> {
                         " (\"event_instruction\" or \"motion_group_execution\")",
                     ));
                 };
-                let word = trigger.get_ref().to_ascii_lowercase();
-                let Some((_, trig)) = EventTrigger::WORDS.iter().find(|(w, _)| *w == word) else {
-                    let problem = Problem::UnknownWord {
-                        what: "event trigger",
-                        word,
-                        expected: "\"event_instruction\" or \"motion_group_execution\"".to_owned(),
-                    };
-                    return Err(self.invalid(trigger, f("trigger"), problem));
-                };
+                let trig = self.word(trigger, &f("trigger"), "event trigger", &EventTrigger::WORDS)?;
                 let timeout_ms = match &t.timeout_ms {
                     Some(x) => Some(self.in_range(x, &f("timeout_ms"), 0.1, 2_000_000.0)?),
                     None => None,
                 };
                 TaskKind::Event {
-                    trigger: *trig,
+                    trigger: trig,
                     timeout_ms,
                 }
             }
