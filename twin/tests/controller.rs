@@ -948,3 +948,115 @@ fn program_parameters_copy_alias_and_are_the_only_way_between_programs() {
         assert!(e.contains("B.st:1:") && e.contains(want), "{routine}: {e}");
     }
 }
+
+/// A data type with nested types, member arrays and BOOLs
+/// (`[[data_types]]`), initial values by member, and paths with computed
+/// subscripts at every level (1756-PM001 user-defined data types).
+const CELL_TYPES: &str = r#"
+[[data_types]]
+name = "Station"
+members = [
+  { name = "Busy", type = "BOOL" },
+  { name = "Done", type = "BOOL" },
+  { name = "Count", type = "DINT" },
+  { name = "Pos", type = "REAL", dimension = 3 },
+  { name = "Label", type = "STRING" },
+]
+
+[[data_types]]
+name = "Cell"
+description = "the whole cell"
+members = [
+  { name = "Mode", type = "SINT" },
+  { name = "Stations", type = "Station", dimension = 2 },
+  { name = "Total", type = "LINT" },
+]
+"#;
+
+#[test]
+fn data_types_nest_and_take_computed_subscripts_at_every_level() {
+    let main = "I := 1; J := 2;\n\
+                Line.Stations[I].Pos[J] := 2.5;\n\
+                Line.Stations[I].Count := Line.Stations[I].Count + 1;\n\
+                Line.Stations[0].Busy := TRUE;\n\
+                Line.Total := Line.Total + Line.Stations[1].Count;\n\
+                Got := Line.Stations[I].Pos[J];\n\
+                First := Line.Stations[0].Count;\n\
+                Len := Line.Stations[0].Label.LEN;\n\
+                Ch := Line.Stations[0].Label.DATA[1];\n\
+                Mode := Cells[1].Mode;\n\
+                Bit := Cells[1].Stations[1].Count.2;\n";
+    let body = format!(
+        "{CELL_TYPES}{}[[tags]]\nname = \"Line\"\ntype = \"Cell\"\nvalue = {{ Mode = 3, Stations = [{{ Count = 10, Label = \"AB\" }}, {{ Pos = [1.0, 2.0, 3.0] }}] }}\n\
+         [[tags]]\nname = \"Cells\"\ntype = \"Cell[2]\"\nvalue = [{{ Mode = 1 }}, {{ Mode = 2, Stations = [{{}}, {{ Count = 4 }}] }}]\n{}",
+        tags(&[
+            ("I", "DINT"),
+            ("J", "DINT"),
+            ("Got", "REAL"),
+            ("First", "DINT"),
+            ("Len", "DINT"),
+            ("Ch", "SINT"),
+            ("Mode", "DINT"),
+            ("Bit", "BOOL"),
+        ]),
+        task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "")
+    );
+    let path = scene("udt", &body, &[("Main", main)]);
+    let mut b = Bench::load(&path);
+    b.updates(3);
+    assert_eq!(b.value("Got"), Value::Real(2.5));
+    assert_eq!((b.int("First"), b.int("Len"), b.int("Ch")), (10, 2, i64::from(b'B')));
+    assert_eq!((b.int("Mode"), b.value("Bit")), (2, Value::Bool(true)));
+    // The subscript out of its member array faults naming the member.
+    let path = scene("udt-fault", &body, &[("Main", "J := 3;\nGot := Line.Stations[0].Pos[J];\n")]);
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    let f = b.program.controller().major_fault().expect("4/20").clone();
+    assert_eq!((f.fault_type, f.code, f.line), (4, 20, 2));
+    assert!(f.message.contains("Line.Stations.Pos[3]"), "{}", f.message);
+}
+
+/// 1756-RM003, COP/CPS: Length counts Dest elements, and the bytes copied
+/// are Length × a Dest element's size, read from the Source's bytes as
+/// the controller lays them out (a REAL's bits into a DINT, a DINT into
+/// four SINTs, a whole structure, one element of an array of them).
+#[test]
+fn cop_copies_bytes_through_the_logix_layout() {
+    let main = "One := 1.0;\nCOP(One, Bits, 1);\n\
+                Word := 16#04030201;\nCOP(Word, Bytes[0], 4);\n\
+                COP(Line, Copy, 1);\n\
+                COP(Line.Stations[1], Cells[1].Stations[0], 1);\n\
+                A := Copy.Stations[0].Count; B := Cells[1].Stations[0].Pos[2];\n\
+                C := Copy.Mode; D := Copy.Stations[0].Label.LEN;\n\
+                E := Bytes[0] + Bytes[1] * 10 + Bytes[3] * 100;\n";
+    let body = format!(
+        "{CELL_TYPES}{}[[tags]]\nname = \"Line\"\ntype = \"Cell\"\nvalue = {{ Mode = 3, Stations = [{{ Count = 10, Label = \"AB\" }}, {{ Pos = [1.0, 2.0, 3.0] }}] }}\n{}",
+        tags(&[
+            ("One", "REAL"),
+            ("Bits", "DINT"),
+            ("Word", "DINT"),
+            ("Bytes", "SINT[4]"),
+            ("Copy", "Cell"),
+            ("Cells", "Cell[2]"),
+            ("A", "DINT"),
+            ("B", "REAL"),
+            ("C", "DINT"),
+            ("D", "DINT"),
+            ("E", "DINT"),
+        ]),
+        task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "")
+    );
+    let path = scene("cop-bytes", &body, &[("Main", main)]);
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    assert_eq!(b.int("Bits"), 0x3F80_0000, "a REAL's bits");
+    assert_eq!(b.int("E"), 1 + 20 + 400, "little-endian bytes");
+    assert_eq!((b.int("A"), b.int("C"), b.int("D")), (10, 3, 2));
+    assert_eq!(b.value("B"), Value::Real(3.0));
+    // Past the end of the destination: major fault 4/20.
+    let path = scene("cop-past-end", &body, &[("Main", "COP(Line, Cells[1], 2);\n")]);
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    let f = b.program.controller().major_fault().expect("4/20").clone();
+    assert_eq!((f.fault_type, f.code), (4, 20), "{}", f.message);
+}

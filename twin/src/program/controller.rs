@@ -993,6 +993,17 @@ pub(super) fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
         Place::Element { index, .. } => place
             .element_slot(constant(index))
             .map_or(Value::Int(0), |i| mem.slots[i]),
+        Place::Path { base, terms } => {
+            let mut slot = *base;
+            for t in terms {
+                let i = constant(&t.index);
+                if !(0..t.len as i64).contains(&i) {
+                    return Value::Int(0);
+                }
+                slot += i as usize * t.slots;
+            }
+            mem.slots[slot]
+        }
         Place::Bit { inner, bit, .. } => Value::Bool(peek(inner, mem, task).as_i64() >> constant(bit) & 1 == 1),
         Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Fb(..) => {
             super::exec::members::planner_value(place, task).unwrap_or(Value::Int(0))

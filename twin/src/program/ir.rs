@@ -137,6 +137,15 @@ pub enum Place {
         /// The tag name, for the fault message.
         name: String,
     },
+    /// A place inside a structure reached through computed subscripts
+    /// (`Cell.Station[I].Pos[J]`): `base + Σ index × slots`, each index
+    /// checked against its own length.
+    Path {
+        /// The slot with every constant offset folded in.
+        base: usize,
+        /// The computed subscripts, outermost first.
+        terms: Box<[Term]>,
+    },
     /// A bit of an integer place.
     Bit {
         /// The integer.
@@ -177,6 +186,46 @@ pub enum Place {
         /// How its number reads: BOOL 0/1, an integer, a real.
         ty: DataType,
     },
+}
+
+/// A computed subscript on a path through structures.
+#[derive(Debug, Clone)]
+pub struct Term {
+    /// The element index.
+    pub index: CExpr,
+    /// Elements (the index must be below it: major fault 4/20).
+    pub len: usize,
+    /// Slots an element takes.
+    pub slots: usize,
+    /// Bytes an element takes (for `COP`/`CPS`).
+    pub bytes: usize,
+    /// The array's name as written, for the fault message.
+    pub name: String,
+}
+
+/// Where a `COP`/`CPS` operand starts: in which tag, at which slot and
+/// byte of it (constant part, then the computed subscripts), and what
+/// element type is there.
+#[derive(Debug, Clone)]
+pub struct DataAt {
+    /// The tag's first slot.
+    pub tag_base: usize,
+    /// Its slots and bytes in all.
+    pub tag_slots: usize,
+    /// Bytes the whole tag takes.
+    pub tag_bytes: usize,
+    /// The tag's element type and element count.
+    pub tag_elem: crate::program::layout::Elem,
+    /// Its element count.
+    pub tag_len: usize,
+    /// Constant byte offset of the operand inside the tag.
+    pub byte: usize,
+    /// Computed subscripts (their `bytes` give the offset).
+    pub terms: Box<[Term]>,
+    /// The element type at the operand (Length counts Dest's elements).
+    pub elem: crate::program::layout::Elem,
+    /// The tag's name, for messages.
+    pub name: String,
 }
 
 /// A name an expression may read besides the program's: a trace column.
@@ -637,6 +686,9 @@ pub enum SKind {
     Ret(Vec<CExpr>),
     /// `COP`/`CPS`: copies `len` elements.
     Cop(ArrayAt, ArrayAt, CExpr),
+    /// `COP`/`CPS` across types or of structures: copies Length × the
+    /// destination element's bytes, through the controller's byte layout.
+    CopBytes(Box<DataAt>, Box<DataAt>, CExpr),
     /// `FLL`: fills `len` elements with a value.
     Fll(CExpr, ArrayAt, CExpr),
     /// `SIZE(array, 0, dest)`.

@@ -2,12 +2,14 @@
 //! in slots, with the name table the compiler resolves references with.
 //!
 //! Scalars take one slot, arrays one slot an element, structures
-//! ([`Structure`]) one slot a member. Tags the planner owns
+//! ([`Structure`]) one slot a member, data types ([`Layouts`]) one slot
+//! a scalar member, members of members included. Tags the planner owns
 //! (`MOTION_INSTRUCTION`, `COORDINATE_SYSTEM`, `CAM_PROFILE`, axes) take
 //! no slots: their members are read from (and for `MOTION_INSTRUCTION`
 //! written to) the planner. A program-scoped tag is stored under
 //! `Program.Tag`; inside its program the short name finds it first.
 
+use super::layout::{Elem, Layouts};
 use super::types::{DataType, Structure, Value};
 use crate::scene::{BaseType, CamPoint, SegmentType, TagType, TagValue, Usage};
 use std::collections::HashMap;
@@ -24,6 +26,9 @@ pub enum Kind {
     Planner(BaseType),
     /// An axis (`[[axes]]`).
     Axis,
+    /// A data type (`[[data_types]]`, `STRING`, a user string type) in
+    /// slots, by its index in [`Memory::layouts`] (or an array of them).
+    User(u16),
 }
 
 /// One tag's place in memory.
@@ -47,6 +52,10 @@ pub struct TagInfo {
     pub alias: Option<usize>,
     /// `constant = true`: no routine writes it.
     pub constant: bool,
+    /// Slots one element takes.
+    pub stride: usize,
+    /// The element type's name (`REAL`, `STRING`, a data type's).
+    pub type_name: &'static str,
 }
 
 impl TagInfo {
@@ -60,10 +69,16 @@ impl TagInfo {
     /// Slots one element takes.
     #[must_use]
     pub fn stride(&self) -> usize {
+        self.stride
+    }
+
+    /// The element type of a tag kept in slots as scalars or a data type.
+    #[must_use]
+    pub fn elem(&self) -> Option<Elem> {
         match self.kind {
-            Kind::Structure(s) => s.size(),
-            Kind::Scalar(_) => 1,
-            Kind::Planner(_) | Kind::Axis => 0,
+            Kind::Scalar(t) => Some(Elem::Scalar(t)),
+            Kind::User(id) => Some(Elem::User(id)),
+            _ => None,
         }
     }
 }
@@ -77,6 +92,8 @@ pub struct Memory {
     pub types: Vec<DataType>,
     /// Tags, in declaration order.
     pub tags: Vec<TagInfo>,
+    /// The data types' layouts (`STRING` first).
+    pub layouts: Layouts,
     by_name: HashMap<String, usize>,
 }
 
@@ -118,7 +135,10 @@ impl Memory {
     /// program's tags under `Program.Tag`, with their initial values.
     #[must_use]
     pub fn of_scene(scene: &crate::scene::Scene) -> Memory {
-        let mut mem = Memory::default();
+        let mut mem = Memory {
+            layouts: Layouts::of(&scene.data_types),
+            ..Memory::default()
+        };
         for a in &scene.axes {
             mem.add_axis(&a.name);
         }
@@ -154,13 +174,22 @@ impl Memory {
     /// returns its index.
     pub fn add(&mut self, name: &str, ty: TagType, value: Option<&TagValue>) -> usize {
         let (base, len) = (ty.base, ty.array_len);
-        let kind = match (scalar(base), structure(base)) {
-            (Some(t), _) => Kind::Scalar(t),
-            (_, Some(s)) => Kind::Structure(s),
+        let kind = match (scalar(base), structure(base), base) {
+            (Some(t), ..) => Kind::Scalar(t),
+            (_, Some(s), _) => Kind::Structure(s),
+            (.., BaseType::User(u)) => Kind::User(u.index),
             _ => Kind::Planner(base),
         };
         let start = self.slots.len();
+        let stride = match kind {
+            Kind::Structure(s) => s.size(),
+            Kind::Scalar(_) => 1,
+            Kind::User(id) => self.layouts.get(id).slots,
+            Kind::Planner(_) | Kind::Axis => 0,
+        };
         let info = TagInfo {
+            stride,
+            type_name: base.name(),
             name: name.to_owned(),
             kind,
             base: start,
@@ -187,9 +216,21 @@ impl Memory {
                     }
                 }
             }
+            Kind::User(id) => {
+                for _ in 0..len.unwrap_or(1) {
+                    self.push_zeros(Elem::User(id));
+                }
+            }
             Kind::Planner(_) | Kind::Axis => {}
         }
         match (kind, value) {
+            (Kind::User(id), Some(TagValue::Array(items))) => {
+                let each = self.layouts.get(id).slots;
+                for (i, v) in items.iter().enumerate() {
+                    self.write_initial(Elem::User(id), start + i * each, v);
+                }
+            }
+            (Kind::User(id), Some(v)) => self.write_initial(Elem::User(id), start, v),
             (Kind::Scalar(t), Some(TagValue::Array(items))) => {
                 for (i, v) in items.iter().enumerate() {
                     self.slots[start + i] = t.store(initial(v)).0;
@@ -211,9 +252,72 @@ impl Memory {
         self.tags.len() - 1
     }
 
+    /// Appends the zero slots of one element of `e`.
+    fn push_zeros(&mut self, e: Elem) {
+        match e {
+            Elem::Scalar(t) => {
+                self.slots.push(t.store(Value::Int(0)).0);
+                self.types.push(t);
+            }
+            Elem::User(id) => {
+                let members: Vec<(Elem, usize)> = self
+                    .layouts
+                    .get(id)
+                    .members
+                    .iter()
+                    .map(|m| (m.elem, m.len.unwrap_or(1)))
+                    .collect();
+                for (elem, n) in members {
+                    for _ in 0..n {
+                        self.push_zeros(elem);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Writes a scene value (checked at load against the type) into the
+    /// slots of one element of `e` starting at `slot`.
+    fn write_initial(&mut self, e: Elem, slot: usize, v: &TagValue) {
+        match (e, v) {
+            (Elem::Scalar(t), v) => self.slots[slot] = t.store(initial(v)).0,
+            (Elem::User(id), TagValue::Text(text)) => {
+                let capacity = self.layouts.get(id).string.unwrap_or(0);
+                let bytes = &text.as_bytes()[..text.len().min(capacity)];
+                self.slots[slot] = Value::Int(bytes.len() as i64);
+                for (k, b) in bytes.iter().enumerate() {
+                    self.slots[slot + 1 + k] = Value::Int(i64::from(*b as i8));
+                }
+            }
+            (Elem::User(id), TagValue::Struct(values)) => {
+                let members: Vec<(Elem, usize, usize)> = self
+                    .layouts
+                    .get(id)
+                    .members
+                    .iter()
+                    .map(|m| (m.elem, m.slot, self.layouts.slots(m.elem)))
+                    .collect();
+                for ((elem, at, each), v) in members.into_iter().zip(values) {
+                    match v {
+                        Some(TagValue::Array(items)) => {
+                            for (i, item) in items.iter().enumerate() {
+                                self.write_initial(elem, slot + at + i * each, item);
+                            }
+                        }
+                        Some(v) => self.write_initial(elem, slot + at, v),
+                        None => {}
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+
     /// Adds an axis name (no slots).
     pub fn add_axis(&mut self, name: &str) {
         self.tags.push(TagInfo {
+            stride: 0,
+            type_name: "AXIS",
             name: name.to_owned(),
             kind: Kind::Axis,
             base: self.slots.len(),

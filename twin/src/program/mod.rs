@@ -41,6 +41,7 @@ pub mod compile;
 pub mod controller;
 pub mod exec;
 pub mod ir;
+pub mod layout;
 pub mod memory;
 pub mod sandbox;
 pub mod steps;

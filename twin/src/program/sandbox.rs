@@ -110,6 +110,7 @@ impl Sandbox {
             axes,
             cameras: Vec::new(),
             obstacles: Vec::new(),
+            data_types: vec![crate::scene::DataTypeDef::string()],
             tags: declared,
             program: Vec::new(),
             controller: Default::default(),

@@ -24,6 +24,9 @@ pub(super) struct Ctx<'a> {
     pub(super) files: RefCell<Files>,
     /// The scene file's id in `files`.
     pub(super) scene_file: FileId,
+    /// The data types known so far: `STRING`, then `[[data_types]]`
+    /// (names first, members once checked).
+    pub(super) data_types: RefCell<Vec<super::model::DataTypeDef>>,
 }
 
 /// A name's first declaration: (lower-case name) -> (line, what it is).

@@ -111,8 +111,58 @@ pub enum Problem {
         /// The run duration, s.
         duration_s: f64,
     },
+    /// A data type that contains itself, directly or through others.
+    #[error("data type {cycle} contains itself: a structure cannot hold its own type")]
+    RecursiveDataType {
+        /// The chain, `A → B → A`.
+        cycle: String,
+    },
+    /// A data type named like a predefined type.
+    #[error("'{name}' is a predefined data type: name the data type otherwise")]
+    PredefinedTypeName {
+        /// The name.
+        name: String,
+    },
+    /// A data type with neither members nor `string_length`, or both.
+    #[error("a data type has members (a structure) or string_length (a string type): {what}")]
+    DataTypeShape {
+        /// What was given.
+        what: &'static str,
+    },
+    /// A member type a data type cannot hold.
+    #[error("a data type's member is a number, BOOL, a string type or another data type, not {base} (declare {base} tags instead)")]
+    MemberTypeNotAllowed {
+        /// The type's name.
+        base: &'static str,
+    },
+    /// A member array of more than one dimension.
+    #[error("'{type_name}': a member array has one dimension (Logix); give it as dimension = N")]
+    MemberDimensions {
+        /// The type as written.
+        type_name: String,
+    },
+    /// A value naming a member its data type does not have.
+    #[error("{ty} has no member '{member}' (members: {members})")]
+    UnknownMember {
+        /// The data type.
+        ty: &'static str,
+        /// The name written.
+        member: String,
+        /// The members it has.
+        members: String,
+    },
+    /// A string value longer than its type holds, or not ASCII.
+    #[error("'{text}' does not fit {ty}: {why}")]
+    BadString {
+        /// The string type.
+        ty: &'static str,
+        /// The value (shortened).
+        text: String,
+        /// What is wrong.
+        why: String,
+    },
     /// A tag type not in the known list.
-    #[error("unknown tag type '{type_name}', expected one of {}, optionally as an array TYPE[N]", BaseType::all_names().join(", "))]
+    #[error("unknown tag type '{type_name}', expected one of {}, or a [[data_types]] name, optionally as an array TYPE[N]", BaseType::all_names().join(", "))]
     UnknownTagType {
         /// The type as written.
         type_name: String,

@@ -36,6 +36,7 @@ mod collision;
 mod expect;
 mod geometry;
 mod program;
+mod data_types;
 mod tags;
 mod tasks;
 mod validate;
@@ -43,7 +44,7 @@ mod validate;
 pub use error::{Problem, SceneError};
 pub use geometry::GEOMETRY_TYPES;
 pub use model::{
-    AllowedPair, Axis, AxisKind, BaseType, CONTINUOUS_PRIORITY, CamPoint, Camera, CollisionSettings, Condition,
+    AllowedPair, Axis, AxisKind, BaseType, DataTypeDef, MAX_STRING_LENGTH, MemberDef, STRING_LENGTH, STRING_TYPE, UserType, CONTINUOUS_PRIORITY, CamPoint, Camera, CollisionSettings, Condition,
     Connection, ControllerSettings, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS, DEFAULT_START_TIME_US,
     DEFAULT_STATEMENT_US, DEFAULT_WATCHDOG_MS, Dialect, EventTrigger, ExpectKind, Expectation, FunctionBlock,
     GeometrySettings, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M,
@@ -168,6 +169,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
         source: std::sync::Arc::clone(files.get(scene_file)),
         files: std::cell::RefCell::new(files),
         scene_file,
+        data_types: std::cell::RefCell::new(vec![model::DataTypeDef::string()]),
     };
     let raw: RawScene = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
     ctx.validate(raw, path)

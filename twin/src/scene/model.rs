@@ -46,6 +46,9 @@ pub struct Scene {
     pub cameras: Vec<Camera>,
     /// Static obstacles, in file order.
     pub obstacles: Vec<Obstacle>,
+    /// Data types: `STRING` first, then `[[data_types]]` in file order
+    /// ([`BaseType::User`] indexes them).
+    pub data_types: Vec<DataTypeDef>,
     /// Declared tags, in file order.
     pub tags: Vec<Tag>,
     /// Program steps, in file order.
@@ -646,6 +649,94 @@ pub enum BaseType {
     CamProfile,
     /// A PLCopen function-block instance.
     FunctionBlock(FunctionBlock),
+    /// A `[[data_types]]` structure, or a string type (`STRING` and the
+    /// user string types).
+    User(UserType),
+}
+
+/// A data type of the scene's [`Scene::data_types`]: its index there and
+/// its name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct UserType {
+    /// Index in [`Scene::data_types`] (`STRING` is 0).
+    pub index: u16,
+    /// The name as declared.
+    pub name: &'static str,
+}
+
+/// The predefined `STRING` type's index in [`Scene::data_types`].
+pub const STRING_TYPE: UserType = UserType {
+    index: 0,
+    name: "STRING",
+};
+
+/// The characters a `STRING` holds (`DATA` is `SINT[82]`).
+pub const STRING_LENGTH: usize = 82;
+
+/// The longest user string type, characters.
+pub const MAX_STRING_LENGTH: usize = 65_535;
+
+/// `name` with a `'static` lifetime, so that [`BaseType`] stays `Copy`
+/// with a data type's name in it. Each distinct name is kept once for the
+/// life of the process (a scene declares a handful).
+pub(crate) fn intern(name: &str) -> &'static str {
+    use std::collections::BTreeSet;
+    use std::sync::{Mutex, PoisonError};
+    static NAMES: Mutex<BTreeSet<&'static str>> = Mutex::new(BTreeSet::new());
+    let mut names = NAMES.lock().unwrap_or_else(PoisonError::into_inner);
+    if let Some(known) = names.get(name) {
+        return known;
+    }
+    let kept: &'static str = Box::leak(name.to_owned().into_boxed_str());
+    names.insert(kept);
+    kept
+}
+
+/// `[[data_types]]`: a user-defined structure (UDT), or a string type
+/// (`string_length`). `STRING` itself is [`Scene::data_types`]`[0]`.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct DataTypeDef {
+    /// The type's name.
+    pub name: String,
+    /// `description`.
+    pub description: String,
+    /// The members, in declaration order (none for a string type).
+    pub members: Vec<MemberDef>,
+    /// A string type's `DATA` length in characters (`LEN` DINT, `DATA`
+    /// SINT[n]).
+    pub string_length: Option<usize>,
+    /// Where the entry's `name` is written (line 0 for `STRING`).
+    pub location: Location,
+}
+
+impl DataTypeDef {
+    /// The predefined `STRING`.
+    #[must_use]
+    pub fn string() -> DataTypeDef {
+        DataTypeDef {
+            name: "STRING".to_owned(),
+            description: "the predefined string type: LEN DINT, DATA SINT[82]".to_owned(),
+            members: Vec::new(),
+            string_length: Some(STRING_LENGTH),
+            location: Location { line: 0, column: 0 },
+        }
+    }
+}
+
+/// One member of a [`DataTypeDef`].
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct MemberDef {
+    /// The member's name.
+    pub name: String,
+    /// Its type: a scalar, a string type or another data type; one
+    /// dimension at most (`dimension`).
+    pub ty: TagType,
+    /// `description`.
+    pub description: String,
+    /// Where the member's `name` is written.
+    pub location: Location,
 }
 
 impl BaseType {
@@ -677,8 +768,10 @@ impl BaseType {
     /// The type name as written in a scene.
     #[must_use]
     pub fn name(self) -> &'static str {
-        if let BaseType::FunctionBlock(fb) = self {
-            return fb.name();
+        match self {
+            BaseType::FunctionBlock(fb) => return fb.name(),
+            BaseType::User(u) => return u.name,
+            _ => {}
         }
         Self::NAMED.iter().find(|(_, t)| *t == self).map_or("?", |(n, _)| n)
     }
@@ -705,6 +798,7 @@ impl BaseType {
             .iter()
             .map(|(n, _)| *n)
             .chain(FunctionBlock::ALL.iter().map(|fb| fb.name()))
+            .chain(["STRING"])
             .collect()
     }
 
@@ -727,6 +821,7 @@ impl BaseType {
                 | BaseType::Real
                 | BaseType::Lreal
                 | BaseType::Cam
+                | BaseType::User(_)
         )
     }
 
@@ -917,6 +1012,11 @@ pub enum TagValue {
     CamPoints(Vec<CamPoint>),
     /// `COORDINATE_SYSTEM`: the member axis names (1 to 6, declared, distinct).
     Axes(Vec<String>),
+    /// A string type's characters (ASCII, at most its length).
+    Text(String),
+    /// A data type's members by index in [`DataTypeDef::members`]
+    /// (`None`: zero).
+    Struct(Vec<Option<TagValue>>),
 }
 
 /// `[[tags]]`: a tag the program refers to.

@@ -25,6 +25,8 @@ pub(super) struct RawScene {
     #[serde(default)]
     pub(super) obstacles: Vec<RawObstacle>,
     #[serde(default)]
+    pub(super) data_types: Vec<RawDataType>,
+    #[serde(default)]
     pub(super) tags: Vec<RawTag>,
     #[serde(default)]
     pub(super) program: Vec<RawStep>,
@@ -285,6 +287,27 @@ pub(super) struct RawObstacle {
     pub(super) position: Spanned<Numbers<3>>,
     pub(super) rpy_deg: Option<Spanned<Numbers<3>>>,
     pub(super) color: Option<Spanned<Numbers<4>>>,
+}
+
+/// `[[data_types]]`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawDataType {
+    pub(super) name: Spanned<String>,
+    pub(super) description: Option<String>,
+    pub(super) members: Option<Spanned<Vec<RawMember>>>,
+    pub(super) string_length: Option<Spanned<i64>>,
+}
+
+/// One of a data type's `members`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawMember {
+    pub(super) name: Spanned<String>,
+    #[serde(rename = "type")]
+    pub(super) ty: Spanned<String>,
+    pub(super) dimension: Option<Spanned<i64>>,
+    pub(super) description: Option<String>,
 }
 
 #[derive(Deserialize)]

@@ -8,8 +8,8 @@ use toml::Spanned;
 use super::context::{Ctx, NameKind, Names};
 use super::error::{Problem, SceneError};
 use super::model::{
-    Axis, BaseType, CamPoint, Connection, CoordinateSystemSettings, ExternalAccess, FunctionBlock, Tag, TagType,
-    TagValue, Usage,
+    Axis, BaseType, CamPoint, Connection, CoordinateSystemSettings, ExternalAccess, FunctionBlock, MAX_ARRAY_LEN, Tag,
+    TagType, TagValue, Usage,
 };
 use super::raw::{RawCoordinateSystem, RawMoveOptions, RawTag};
 
@@ -50,7 +50,7 @@ impl Ctx<'_> {
                 .try_fold(1usize, |n, d| n.checked_mul(*d))
                 .unwrap_or(usize::MAX)
         });
-        let Some(base) = BaseType::parse(base_name) else {
+        let Some(base) = BaseType::parse(base_name).or_else(|| self.find_data_type(base_name)) else {
             return Err(self.invalid(
                 raw,
                 field,
@@ -74,6 +74,16 @@ impl Ctx<'_> {
                 type_name: written.to_owned(),
                 max: base.max_array_len(),
                 why,
+            };
+            return Err(self.invalid(raw, field, problem));
+        }
+        if let (BaseType::User(_), Some(len)) = (base, array_len)
+            && len.saturating_mul(self.leaves(base)) > MAX_ARRAY_LEN
+        {
+            let problem = Problem::ArrayTooLong {
+                type_name: written.to_owned(),
+                max: MAX_ARRAY_LEN,
+                why: "the twin's limit for the values one tag holds, elements × members",
             };
             return Err(self.invalid(raw, field, problem));
         }
@@ -382,6 +392,24 @@ impl Ctx<'_> {
                     points.push(point);
                 }
                 Ok(TagValue::CamPoints(points))
+            }
+            (BaseType::User(u), None) => self.user_value(v, v.get_ref(), u, field),
+            (BaseType::User(u), Some(len)) => {
+                let expected = "an array of all the elements in row-major order (the last subscript fastest), flat or nested by dimension";
+                let toml::Value::Array(items) = v.get_ref() else {
+                    return Err(mismatch(expected));
+                };
+                let mut flat: Vec<&toml::Value> = Vec::with_capacity(len);
+                if items.len() == len && items.iter().all(|i| !i.is_array()) {
+                    flat.extend(items);
+                } else if !flatten(items, ty.dimensions(), &mut flat) {
+                    return Err(mismatch(expected));
+                }
+                flat.iter()
+                    .enumerate()
+                    .map(|(k, item)| self.user_value(v, item, u, &format!("{field}[{k}]")))
+                    .collect::<Result<_, _>>()
+                    .map(TagValue::Array)
             }
             (base, Some(len)) => {
                 let expected = if ty.dimensions().len() > 1 {

@@ -89,6 +89,7 @@ impl Ctx<'_> {
         let axes = self.axes(&raw.axes, &robot, &mut names)?;
         let cameras = self.cameras(&raw.cameras, coarse_update_ms)?;
         let obstacles = self.obstacles(&raw.obstacles, base)?;
+        let data_types = self.data_types(&raw.data_types)?;
         let tags = self.tags(&raw.tags, &axes, &mut names, "tags")?;
         let program = self.program(&raw.program, duration_s)?;
         let tasks = self.tasks(&raw.tasks, &axes, (&names, &tags), base)?;
@@ -130,6 +131,7 @@ impl Ctx<'_> {
             axes,
             cameras,
             obstacles,
+            data_types,
             tags,
             program,
             tasks,

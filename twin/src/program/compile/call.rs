@@ -165,20 +165,16 @@ impl Compiler<'_, '_, '_> {
                 Ok(SKind::Size(dims[dim], place, ty))
             }
             _ => {
-                let src = self.array_at(&a[0], "Source")?;
-                let dst = self.array_at(&a[1], "Dest")?;
-                if src.ty != dst.ty {
-                    return err(
-                        self,
-                        a[1].span,
-                        format!(
-                            "{upper} between {} and {}: the twin copies elements of one type (copy across types element by element in a FOR loop)",
-                            src.ty.name(),
-                            dst.ty.name()
-                        ),
-                    );
+                // Two arrays of one scalar type copy element by element;
+                // anything else goes through the controller's bytes.
+                if let (Ok(src), Ok(dst)) = (self.array_at(&a[0], "Source"), self.array_at(&a[1], "Dest"))
+                    && src.ty == dst.ty
+                {
+                    return Ok(SKind::Cop(src, dst, self.integer_arg(&a[2])?));
                 }
-                Ok(SKind::Cop(src, dst, self.integer_arg(&a[2])?))
+                let src = self.data_at(&a[0], upper, "Source")?;
+                let dst = self.data_at(&a[1], upper, "Dest")?;
+                Ok(SKind::CopBytes(Box::new(src), Box::new(dst), self.integer_arg(&a[2])?))
             }
         }
     }

@@ -968,6 +968,7 @@ fn describe(info: &TagInfo) -> String {
         TagKind::Scalar(t) => t.name().to_owned(),
         TagKind::Structure(s) => s.name().to_owned(),
         TagKind::Planner(b) => b.name().to_owned(),
+        TagKind::User(_) => info.type_name.to_owned(),
     };
     match info.len {
         Some(n) => format!("a {ty}[{n}] tag"),

@@ -3,7 +3,10 @@
 //! instructions.
 
 use super::{Compiler, Error, Result, constant, err, show, suggest};
-use crate::program::ir::{AXIS_MEMBERS, ArrayAt, CExpr, CKind, CoordMember, FbMember, Instance, MotionMember, Place};
+use crate::program::ir::{
+    AXIS_MEMBERS, ArrayAt, CExpr, CKind, CoordMember, DataAt, FbMember, Instance, MotionMember, Place, Term,
+};
+use crate::program::layout::Elem;
 use crate::program::memory::{Kind, TagInfo};
 use crate::program::types::{DataType, Structure, Ty, Value};
 use crate::scene::BaseType;
@@ -253,7 +256,7 @@ impl Compiler<'_, '_, '_> {
             _ => err(self, r.span, format!("'{}' is {hint}", r.name)),
         };
         let (place, ty) = match info.kind {
-            Kind::Scalar(_) | Kind::Structure(_) => self.memory_place(r, &info, &mut path)?,
+            Kind::Scalar(_) | Kind::Structure(_) | Kind::User(_) => self.memory_place(r, &info, &mut path)?,
             Kind::Axis => {
                 let m = member(
                     &mut path,
@@ -378,6 +381,9 @@ impl Compiler<'_, '_, '_> {
         info: &TagInfo,
         path: &mut std::slice::Iter<'_, Access>,
     ) -> Result<(Place, DataType)> {
+        let Kind::Structure(s) = info.kind else {
+            return self.data_place(r, info, path);
+        };
         let index = match (info.len, path.as_slice().first()) {
             (Some(len), Some(Access::Index(sub))) => {
                 path.next();
@@ -392,39 +398,32 @@ impl Compiler<'_, '_, '_> {
             }
             (None, _) => None,
         };
-        let (offset, ty, stride) = match info.kind {
-            Kind::Scalar(ty) => (0, ty, 1),
-            Kind::Structure(s) => {
-                let Some(Access::Member(m, span)) = path.next() else {
-                    return err(
-                        self,
-                        r.span,
-                        format!(
-                            "'{}' is a {}: name a member ({})",
-                            r.name,
-                            s.name(),
-                            s.visible_members()
-                        ),
-                    );
-                };
-                let Some((offset, ty)) = s.member(m) else {
-                    let d = self.error(
-                        *span,
-                        format!("{} has no member '{m}' (members: {})", s.name(), s.visible_members()),
-                        "no such member",
-                    );
-                    let names = s.visible_members();
-                    return Err(suggest(d, m, names.split(", ")));
-                };
-                (offset, ty, s.size())
-            }
-            _ => unreachable!("memory places only"),
+        let Some(Access::Member(m, span)) = path.next() else {
+            return err(
+                self,
+                r.span,
+                format!(
+                    "'{}' is a {}: name a member ({})",
+                    r.name,
+                    s.name(),
+                    s.visible_members()
+                ),
+            );
+        };
+        let Some((offset, ty)) = s.member(m) else {
+            let d = self.error(
+                *span,
+                format!("{} has no member '{m}' (members: {})", s.name(), s.visible_members()),
+                "no such member",
+            );
+            let names = s.visible_members();
+            return Err(suggest(d, m, names.split(", ")));
         };
         let place = match index {
             Some((index, len)) => Place::Element {
                 base: info.base,
                 len,
-                stride,
+                stride: s.size(),
                 offset,
                 index,
                 name: info.name.clone(),
@@ -432,6 +431,158 @@ impl Compiler<'_, '_, '_> {
             None => Place::Slot(info.base + offset),
         };
         Ok((place, ty))
+    }
+
+    /// A scalar tag, an element of a scalar array, or a scalar member of a
+    /// data type (`Cell.Station[I].Pos[J]`), down to a scalar.
+    fn data_place(
+        &mut self,
+        r: &Ref,
+        info: &TagInfo,
+        path: &mut std::slice::Iter<'_, Access>,
+    ) -> Result<(Place, DataType)> {
+        let at = self.locate(r, info, path)?;
+        let shown = show_upto(r, path);
+        if at.array.is_some() {
+            return err(
+                self,
+                r.span,
+                format!("'{shown}' is an array: name an element, e.g. {shown}[0]"),
+            );
+        }
+        let ty = match at.elem {
+            Elem::Scalar(ty) => ty,
+            Elem::User(id) => {
+                let l = self.mem.layouts.get(id);
+                let how = if l.string.is_some() {
+                    "name a member (LEN, DATA[i]) or pass it to a string instruction"
+                } else {
+                    "name a member, or copy it whole with COP"
+                };
+                return err(
+                    self,
+                    r.span,
+                    format!("'{shown}' is a {}: {how} (members: {})", l.name, l.member_names()),
+                );
+            }
+        };
+        let place = match (at.terms.len(), at.tag_term) {
+            (0, _) => Place::Slot(info.base + at.slot),
+            (1, true) => {
+                let t = at.terms.into_iter().next().expect("one term");
+                Place::Element {
+                    base: info.base,
+                    len: t.len,
+                    stride: t.slots,
+                    offset: at.slot,
+                    index: t.index,
+                    name: t.name,
+                }
+            }
+            _ => Place::Path {
+                base: info.base + at.slot,
+                terms: at.terms.into_boxed_slice(),
+            },
+        };
+        Ok((place, ty))
+    }
+
+    /// Walks a reference through a tag kept as scalars or a data type:
+    /// the tag's own subscripts, then members and their subscripts, as far
+    /// as the path goes (the rest, a bit number, is the caller's).
+    pub(super) fn locate(
+        &mut self,
+        r: &Ref,
+        info: &TagInfo,
+        path: &mut std::slice::Iter<'_, Access>,
+    ) -> Result<Located> {
+        let mem = self.mem;
+        let Some(elem) = info.elem() else {
+            return err(
+                self,
+                r.span,
+                format!("'{}' is a {} tag, not data in tag memory", r.name, info.type_name),
+            );
+        };
+        let mut at = Located {
+            slot: 0,
+            byte: 0,
+            terms: Vec::new(),
+            elem,
+            array: None,
+            tag_term: false,
+        };
+        if let Some(len) = info.len {
+            let Some(Access::Index(sub)) = path.as_slice().first() else {
+                at.array = Some(len);
+                return Ok(at);
+            };
+            path.next();
+            let index = self.checked_subscript(sub, r, info)?;
+            let bytes = mem.layouts.bytes(elem);
+            at.tag_term = self.push_term(&mut at, index, len, info.stride, bytes, &info.name);
+        }
+        let mut shown = info.name.clone();
+        while let (Elem::User(id), Some(Access::Member(m, span))) = (at.elem, path.as_slice().first()) {
+            path.next();
+            let layout = mem.layouts.get(id);
+            let Some(member) = layout.member(m) else {
+                let d = self.error(
+                    *span,
+                    format!("{} has no member '{m}' (members: {})", layout.name, layout.member_names()),
+                    "no such member",
+                );
+                return Err(suggest(d, m, layout.members.iter().map(|m| m.name.as_str())));
+            };
+            at.slot += member.slot;
+            at.byte += member.byte;
+            at.elem = member.elem;
+            shown = format!("{shown}.{}", member.name);
+            let Some(len) = member.len else { continue };
+            let Some(Access::Index(sub)) = path.as_slice().first() else {
+                at.array = Some(len);
+                break;
+            };
+            path.next();
+            if sub.len() != 1 {
+                return err(
+                    self,
+                    r.span,
+                    format!("'{shown}' has 1 dimension, got {} subscripts", sub.len()),
+                );
+            }
+            let index = self.integer(&sub[0])?;
+            if !self.scanned && !matches!(index.kind, CKind::Const(v) if (0..len as i64).contains(&v.as_i64())) {
+                return Err(self.error(
+                    sub[0].span,
+                    format!("a step's or a scene's subscript is a constant inside the array (valid: 0 to {})", len - 1),
+                    format!("'{shown}' has {len} elements"),
+                ));
+            }
+            let (slots, bytes) = (mem.layouts.slots(at.elem), mem.layouts.bytes(at.elem));
+            self.push_term(&mut at, index, len, slots, bytes, &shown);
+        }
+        Ok(at)
+    }
+
+    /// Folds a constant subscript inside the array into the offsets, else
+    /// adds a computed one; whether it added one.
+    fn push_term(&self, at: &mut Located, index: CExpr, len: usize, slots: usize, bytes: usize, name: &str) -> bool {
+        if let CKind::Const(v) = index.kind
+            && (0..len as i64).contains(&v.as_i64())
+        {
+            at.slot += v.as_i64() as usize * slots;
+            at.byte += v.as_i64() as usize * bytes;
+            return false;
+        }
+        at.terms.push(Term {
+            index,
+            len,
+            slots,
+            bytes,
+            name: name.to_owned(),
+        });
+        true
     }
 
     fn axis_place(&mut self, axis: &str, (m, span): &(String, Span)) -> Result<(Place, DataType)> {
@@ -712,6 +863,54 @@ impl Compiler<'_, '_, '_> {
         })
     }
 
+    /// A `COP`/`CPS` operand: any tag, element or member in tag memory
+    /// but BOOL (1756-RM003: SINT to LREAL, string types, structures).
+    pub(super) fn data_at(&mut self, arg: &Arg, upper: &str, what: &str) -> Result<DataAt> {
+        let bad = |c: &Self, why: &str| {
+            c.error(
+                arg.span,
+                format!("{upper} {what}: {why}, got '{}'", arg.text.trim()),
+                "",
+            )
+        };
+        let Some((r, info)) = self.tag_arg(arg) else {
+            return Err(bad(self, "expected a tag, an element or a member"));
+        };
+        if what == "Dest" {
+            self.refuse_constant(r)?;
+        }
+        let Some(tag_elem) = info.elem() else {
+            return Err(bad(
+                self,
+                "expected a number, a string type or a structure in tag memory",
+            ));
+        };
+        let mut path = r.path.iter();
+        let at = self.locate(r, &info, &mut path)?;
+        if path.next().is_some() {
+            return Err(bad(self, "a bit is not an operand of a copy"));
+        }
+        if at.elem == Elem::Scalar(DataType::Bool) || tag_elem == Elem::Scalar(DataType::Bool) {
+            return Err(bad(
+                self,
+                "BOOL is not a copy operand (SINT to LREAL, string types and structures are)",
+            ));
+        }
+        let layouts = &self.mem.layouts;
+        let tag_len = info.len.unwrap_or(1);
+        Ok(DataAt {
+            tag_base: info.base,
+            tag_slots: tag_len * info.stride,
+            tag_bytes: tag_len * layouts.bytes(tag_elem),
+            tag_elem,
+            tag_len,
+            byte: at.byte,
+            terms: at.terms.into_boxed_slice(),
+            elem: at.elem,
+            name: info.name,
+        })
+    }
+
     pub(super) fn array_at(&mut self, arg: &Arg, what: &str) -> Result<ArrayAt> {
         let message = format!("{what}: expected an array element such as Tag[0], got '{}'", arg.text);
         let bad = |c: &Self| c.error(arg.span, message.clone(), "");
@@ -737,6 +936,32 @@ impl Compiler<'_, '_, '_> {
             name: info.name,
         })
     }
+}
+
+/// A reference walked through tag memory ([`Compiler::locate`]).
+pub(super) struct Located {
+    /// Slot offset from the tag's first slot (constant part).
+    pub slot: usize,
+    /// Byte offset inside the tag (constant part).
+    pub byte: usize,
+    /// The computed subscripts.
+    pub terms: Vec<Term>,
+    /// The element type reached.
+    pub elem: Elem,
+    /// `Some(n)`: the path ends on an array of `n` without a subscript.
+    pub array: Option<usize>,
+    /// Whether the first computed subscript is the tag's own.
+    pub tag_term: bool,
+}
+
+/// The reference as written up to what `rest` leaves (`Cell.Pos`).
+fn show_upto(r: &Ref, rest: &std::slice::Iter<'_, Access>) -> String {
+    let used = r.path.len() - rest.as_slice().len();
+    show(&Ref {
+        name: r.name.clone(),
+        path: r.path[..used].to_vec(),
+        span: r.span,
+    })
 }
 
 /// A control structure the compiler bound: one, or one of an array's

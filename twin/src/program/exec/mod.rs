@@ -37,7 +37,7 @@
 //! * `SQRT` takes the square root of the absolute value, as the
 //!   controller's SQRT does; `TRUNC` gives a DINT.
 
-use super::ir::{ArrayAt, CExpr, CStmt, GsvAttribute, Instance, MotionCall, Object, Place, SKind, SysData};
+use super::ir::{ArrayAt, CExpr, CStmt, DataAt, GsvAttribute, Instance, MotionCall, Object, Place, SKind, SysData};
 use super::memory::Memory;
 use super::system::{Attribute, Class, System};
 use super::types::{DataType, Value};
@@ -831,6 +831,11 @@ impl<'e> Exec<'e> {
                 let values: Vec<Value> = self.mem.slots[s..s + n as usize].to_vec();
                 self.mem.slots[d..d + n as usize].copy_from_slice(&values);
             }
+            SKind::CopBytes(src, dst, len) => {
+                let n = self.eval(len).as_i64();
+                self.check()?;
+                self.copy_bytes(src, dst, n)?;
+            }
             SKind::Fll(value, dst, len) => {
                 let n = self.eval(len).as_i64();
                 self.check()?;
@@ -987,6 +992,56 @@ impl<'e> Exec<'e> {
             ));
         }
         Ok(a.base + start as usize)
+    }
+
+    /// The byte offset of a copy operand inside its tag (its computed
+    /// subscripts checked: major fault 4/20).
+    fn data_offset(&mut self, d: &DataAt) -> R<usize> {
+        let mut byte = d.byte;
+        for t in &d.terms {
+            let i = self.eval(&t.index).as_i64();
+            self.check()?;
+            if !(0..t.len as i64).contains(&i) {
+                return Err(self.subscript_fault(&t.name, i, t.len));
+            }
+            byte += i as usize * t.bytes;
+        }
+        Ok(byte)
+    }
+
+    /// `COP`/`CPS` through the controller's bytes (1756-RM003): Length ×
+    /// the destination element's bytes, from the source's bytes as the
+    /// layout lays them out. A copy that would read or write past the end
+    /// of its tag is major fault 4/20 (the twin has no memory beyond a tag).
+    fn copy_bytes(&mut self, src: &DataAt, dst: &DataAt, n: i64) -> R<()> {
+        let (from, to) = (self.data_offset(src)?, self.data_offset(dst)?);
+        let count = usize::try_from(n)
+            .ok()
+            .and_then(|n| n.checked_mul(self.mem.layouts.bytes(dst.elem)));
+        let fits = |at: usize, d: &DataAt| count.is_some_and(|c| at.checked_add(c).is_some_and(|end| end <= d.tag_bytes));
+        if !fits(from, src) || !fits(to, dst) {
+            return Err(self.raise(
+                4,
+                20,
+                format!(
+                    "COP/CPS past the end of a tag: {n} element(s) of {} bytes from byte {from} of {} ({} bytes) to byte {to} of {} ({} bytes)",
+                    self.mem.layouts.bytes(dst.elem),
+                    src.name,
+                    src.tag_bytes,
+                    dst.name,
+                    dst.tag_bytes
+                ),
+            ));
+        }
+        let count = count.unwrap_or(0);
+        let mem = &mut *self.mem;
+        let (mut a, mut b) = (Vec::with_capacity(src.tag_bytes), Vec::with_capacity(dst.tag_bytes));
+        mem.layouts.encode(src.tag_elem, src.tag_len, &mem.slots, src.tag_base, &mut a);
+        mem.layouts.encode(dst.tag_elem, dst.tag_len, &mem.slots, dst.tag_base, &mut b);
+        b[to..to + count].copy_from_slice(&a[from..from + count]);
+        let slots = &mut mem.slots[..dst.tag_base + dst.tag_slots];
+        mem.layouts.decode(dst.tag_elem, dst.tag_len, &b, 0, slots, dst.tag_base);
+        Ok(())
     }
 
     fn instance_base(&mut self, inst: &Instance) -> usize {

@@ -22,6 +22,19 @@ impl Exec<'_> {
                 }
                 slot
             }
+            Place::Path { base, terms } => {
+                let mut slot = *base;
+                for t in terms {
+                    let i = self.leaf(&t.index).as_i64();
+                    if !(0..t.len as i64).contains(&i) {
+                        let f = self.subscript_fault(&t.name, i, t.len);
+                        self.fail(f);
+                        return None;
+                    }
+                    slot += i as usize * t.slots;
+                }
+                Some(slot)
+            }
             _ => None,
         }
     }
@@ -60,7 +73,7 @@ impl Exec<'_> {
         if let Place::Slot(i) = place {
             return self.mem.slots[*i];
         }
-        if let Place::Element { .. } = place {
+        if let Place::Element { .. } | Place::Path { .. } = place {
             return self.slot(place).map_or(Value::Int(0), |i| self.mem.slots[i]);
         }
         match place {
@@ -88,7 +101,7 @@ impl Exec<'_> {
                     _ => Value::Int(x as i64),
                 }
             }
-            Place::Slot(_) | Place::Element { .. } => unreachable!("slots read above"),
+            Place::Slot(_) | Place::Element { .. } | Place::Path { .. } => unreachable!("slots read above"),
         }
     }
 
@@ -110,7 +123,7 @@ impl Exec<'_> {
             self.mem.slots[*i] = stored;
             return;
         }
-        if let Place::Element { .. } = place {
+        if let Place::Element { .. } | Place::Path { .. } = place {
             if let Some(i) = self.slot(place) {
                 self.mem.slots[i] = stored;
             }
