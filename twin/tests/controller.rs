@@ -1060,3 +1060,83 @@ fn cop_copies_bytes_through_the_logix_layout() {
     let f = b.program.controller().major_fault().expect("4/20").clone();
     assert_eq!((f.fault_type, f.code), (4, 20), "{}", f.message);
 }
+
+/// 1756-RM003, ASCII string and conversion instructions on `STRING` and
+/// a user string type of 5 characters: results, comparison, and the
+/// faults (4/51 a result too long, 4/52 a number's text too long, 4/53 a
+/// value beyond its type, 4/56 a Start outside the source).
+#[test]
+fn string_instructions_convert_cut_join_compare_and_fault() {
+    let main = "CONCAT(Hello, World, Msg);\n\
+                MID(Msg, 3, 2, Part);\n\
+                FIND(Msg, World, 1, Where);\n\
+                INSERT(Hello, Dash, 3, Ins);\n\
+                DELETE(Msg, 2, 1, Del);\n\
+                UPPER(Msg, Up);\nLOWER(Up, Low);\n\
+                N := -1234;\nDTOS(N, Num);\nSTOD(Num, Back);\n\
+                X := 2.5;\nRTOS(X, Real);\nSTOR(Real, Y);\n\
+                Same := Low = Msg;\nLess := Hello < World;\nMore := Msg > Hello;\n\
+                Len := Msg.LEN;\n";
+    let body = format!(
+        "[[data_types]]\nname = \"Short\"\nstring_length = 5\n\
+         [[tags]]\nname = \"Hello\"\ntype = \"STRING\"\nvalue = \"hello\"\n\
+         [[tags]]\nname = \"World\"\ntype = \"Short\"\nvalue = \"world\"\n\
+         [[tags]]\nname = \"Dash\"\ntype = \"Short\"\nvalue = \"--\"\n{}{}",
+        tags(&[
+            ("Msg", "STRING"),
+            ("Part", "Short"),
+            ("Ins", "STRING"),
+            ("Del", "STRING"),
+            ("Up", "STRING"),
+            ("Low", "STRING"),
+            ("Num", "STRING"),
+            ("Real", "STRING"),
+            ("N", "DINT"),
+            ("Back", "DINT"),
+            ("Where", "DINT"),
+            ("X", "REAL"),
+            ("Y", "REAL"),
+            ("Same", "BOOL"),
+            ("Less", "BOOL"),
+            ("More", "BOOL"),
+            ("Len", "DINT"),
+        ]),
+        task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "")
+    );
+    let path = scene("strings", &body, &[("Main", main)]);
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    let text = |b: &Bench, name: &str| {
+        let mem = b.program.controller().memory();
+        let t = mem.find(name).expect("tag");
+        let base = mem.tags[t].base;
+        let len = mem.slots[base].as_i64() as usize;
+        (0..len).map(|k| mem.slots[base + 1 + k].as_i64() as u8 as char).collect::<String>()
+    };
+    assert_eq!(text(&b, "Msg"), "helloworld");
+    assert_eq!(text(&b, "Part"), "ell");
+    assert_eq!(text(&b, "Ins"), "he--llo");
+    assert_eq!(text(&b, "Del"), "lloworld");
+    assert_eq!((text(&b, "Up"), text(&b, "Low")), ("HELLOWORLD".into(), "helloworld".into()));
+    assert_eq!((text(&b, "Num"), b.int("Back")), ("-1234".into(), -1234));
+    assert_eq!((text(&b, "Real"), b.value("Y")), ("2.500000".into(), Value::Real(2.5)));
+    assert_eq!((b.int("Where"), b.int("Len")), (6, 10));
+    assert_eq!(
+        (b.value("Same"), b.value("Less"), b.value("More")),
+        (Value::Bool(true), Value::Bool(true), Value::Bool(true))
+    );
+    for (name, routine, code) in [
+        ("concat-long", "CONCAT(Hello, World, Part);\n", 51),
+        ("dtos-long", "N := 123456;\nDTOS(N, Part);\n", 52),
+        ("stod-range", "STOD(Big, S);\n", 53),
+        ("mid-start", "MID(Hello, 2, 82, Part);\n", 56),
+        ("len-bad", "Msg.LEN := 83;\nUPPER(Msg, Up);\n", 51),
+    ] {
+        let extra = "[[tags]]\nname = \"Big\"\ntype = \"STRING\"\nvalue = \"300\"\n[[tags]]\nname = \"S\"\ntype = \"SINT\"\n";
+        let path = scene(&format!("strings-{name}"), &format!("{body}{extra}"), &[("Main", routine)]);
+        let mut b = Bench::load(&path);
+        b.updates(1);
+        let f = b.program.controller().major_fault().unwrap_or_else(|| panic!("{name}: no fault")).clone();
+        assert_eq!((f.fault_type, f.code), (4, code), "{name}: {}", f.message);
+    }
+}

@@ -43,6 +43,8 @@ pub enum CKind {
     /// The element index of several subscripts, each with its dimension
     /// (row-major), checked one by one; the array's name for the fault.
     Subscripts(Box<[(CExpr, usize)]>, String),
+    /// A comparison of two strings (BOOL).
+    StrCmp(BinaryOp, Box<(StrAt, StrAt)>),
 }
 
 /// One operation of a [`CKind::Chain`]: the value so far `op` the operand,
@@ -472,10 +474,72 @@ pub enum General {
     Ssv,
     /// `EVENT`.
     Event,
+    /// A string instruction (1756-RM003, ASCII string and conversion
+    /// instructions).
+    Str(StrOp),
+}
+
+/// The string instructions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StrOp {
+    /// `CONCAT(SourceA, SourceB, Dest)`.
+    Concat,
+    /// `MID(Source, Qty, Start, Dest)`.
+    Mid,
+    /// `FIND(Source, Search, Start, Result)`.
+    Find,
+    /// `INSERT(SourceA, SourceB, Start, Dest)`.
+    Insert,
+    /// `DELETE(Source, Qty, Start, Dest)`.
+    Delete,
+    /// `UPPER(Source, Dest)`.
+    Upper,
+    /// `LOWER(Source, Dest)`.
+    Lower,
+    /// `DTOS(Source, Dest)`.
+    Dtos,
+    /// `STOD(Source, Dest)`.
+    Stod,
+    /// `RTOS(Source, Dest)`.
+    Rtos,
+    /// `STOR(Source, Dest)`.
+    Stor,
+}
+
+/// A string operand: where its `LEN` is (constant part, then the computed
+/// subscripts) and how many characters its `DATA` holds.
+#[derive(Debug, Clone)]
+pub struct StrAt {
+    /// The slot of `LEN`, constant offsets folded in (`DATA[i]` follows at
+    /// `+ 1 + i`).
+    pub base: usize,
+    /// Computed subscripts on the way.
+    pub terms: Box<[Term]>,
+    /// `DATA`'s length.
+    pub capacity: usize,
+    /// The operand as written, for messages.
+    pub name: String,
+}
+
+/// The operands of a string instruction.
+#[derive(Debug, Clone)]
+pub enum StrArgs {
+    /// `CONCAT(A, B, Dest)`; `INSERT(A, B, Start, Dest)` with its Start.
+    Join(StrAt, StrAt, Option<CExpr>, StrAt),
+    /// `MID` and `DELETE`: Source, Qty, Start, Dest.
+    Cut(StrAt, CExpr, CExpr, StrAt),
+    /// `FIND(Source, Search, Start, Result)`.
+    Find(StrAt, StrAt, CExpr, Place, DataType),
+    /// `UPPER`, `LOWER`: Source, Dest.
+    Case(StrAt, StrAt),
+    /// `DTOS`, `RTOS`: a number into a string.
+    FromNumber(CExpr, StrAt),
+    /// `STOD`, `STOR`: a string into a number.
+    ToNumber(StrAt, Place, DataType),
 }
 
 /// Every general instruction by its name.
-pub const GENERAL: [(&str, General); 20] = [
+pub const GENERAL: [(&str, General); 31] = [
     ("TONR", General::Builtin(Builtin::Tonr)),
     ("TOFR", General::Builtin(Builtin::Tofr)),
     ("RTOR", General::Builtin(Builtin::Rtor)),
@@ -496,6 +560,17 @@ pub const GENERAL: [(&str, General); 20] = [
     ("GSV", General::Gsv),
     ("SSV", General::Ssv),
     ("EVENT", General::Event),
+    ("CONCAT", General::Str(StrOp::Concat)),
+    ("MID", General::Str(StrOp::Mid)),
+    ("FIND", General::Str(StrOp::Find)),
+    ("INSERT", General::Str(StrOp::Insert)),
+    ("DELETE", General::Str(StrOp::Delete)),
+    ("UPPER", General::Str(StrOp::Upper)),
+    ("LOWER", General::Str(StrOp::Lower)),
+    ("DTOS", General::Str(StrOp::Dtos)),
+    ("STOD", General::Str(StrOp::Stod)),
+    ("RTOS", General::Str(StrOp::Rtos)),
+    ("STOR", General::Str(StrOp::Stor)),
 ];
 
 impl General {
@@ -686,6 +761,8 @@ pub enum SKind {
     Ret(Vec<CExpr>),
     /// `COP`/`CPS`: copies `len` elements.
     Cop(ArrayAt, ArrayAt, CExpr),
+    /// A string instruction.
+    Str(StrOp, Box<StrArgs>),
     /// `COP`/`CPS` across types or of structures: copies Length × the
     /// destination element's bytes, through the controller's byte layout.
     CopBytes(Box<DataAt>, Box<DataAt>, CExpr),

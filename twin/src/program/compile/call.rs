@@ -117,6 +117,7 @@ impl Compiler<'_, '_, '_> {
             General::Cop | General::Cps | General::Fll | General::Size => self.data_instruction(call, general),
             General::Gsv | General::Ssv => self.system_value(call, upper),
             General::Event => self.event(call),
+            General::Str(op) => self.string_instruction(call, op, upper),
         }
     }
 
@@ -467,7 +468,7 @@ impl Compiler<'_, '_, '_> {
     }
 
     /// Checks a call's operand count.
-    fn argc(&self, call: &Call, upper: &str, n: usize) -> Result<()> {
+    pub(super) fn argc(&self, call: &Call, upper: &str, n: usize) -> Result<()> {
         if call.args.len() == n {
             Ok(())
         } else {

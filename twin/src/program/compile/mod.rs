@@ -23,6 +23,7 @@ mod call;
 mod motion;
 mod reference;
 pub mod scene;
+mod strings;
 
 /// What a routine, a call or an expression is compiled against.
 pub struct Compiler<'c, 'e, 's> {
@@ -298,7 +299,10 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
                     ty,
                 }
             }
-            ExprKind::Binary(first, rest) => self.chain(first, rest)?,
+            ExprKind::Binary(first, rest) => match self.string_comparison(first, rest)? {
+                Some(c) => c,
+                None => self.chain(first, rest)?,
+            },
             ExprKind::Function(name, name_span, args) => {
                 let Some(f) = Func::parse(name) else {
                     let d = self.error(

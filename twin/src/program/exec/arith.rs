@@ -46,6 +46,7 @@ impl Exec<'_> {
                 let v = self.eval(a);
                 self.function(*f, v, a.ty, e.ty)
             }
+            CKind::StrCmp(op, pair) => self.compare_strings(*op, &pair.0, &pair.1),
             CKind::Subscripts(parts, name) => {
                 let mut linear = 0i64;
                 let mut values = [0i64; 3];

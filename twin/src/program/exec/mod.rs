@@ -51,6 +51,7 @@ pub(super) mod members;
 pub(super) mod motion;
 mod places;
 mod scratch;
+mod strings;
 
 use frame::{Frame, recycle};
 pub use scratch::Scratch;
@@ -831,6 +832,7 @@ impl<'e> Exec<'e> {
                 let values: Vec<Value> = self.mem.slots[s..s + n as usize].to_vec();
                 self.mem.slots[d..d + n as usize].copy_from_slice(&values);
             }
+            SKind::Str(op, args) => self.string_instruction(*op, args)?,
             SKind::CopBytes(src, dst, len) => {
                 let n = self.eval(len).as_i64();
                 self.check()?;
