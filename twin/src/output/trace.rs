@@ -206,6 +206,8 @@ pub trait Cells {
     fn bit(&mut self, b: bool);
     /// An integer.
     fn int(&mut self, i: i64);
+    /// A string's text (escaped: no comma, [`crate::program::Program::traced_text`]).
+    fn text(&mut self, s: &str);
 }
 
 /// One update's row as numbers at full precision, with each column's
@@ -247,6 +249,12 @@ impl Cells for Values {
     fn int(&mut self, i: i64) {
         self.values.push(i as f64);
         self.types.push(DataType::Dint);
+    }
+
+    /// Text is not a number: an expectation reads a string's members.
+    fn text(&mut self, _: &str) {
+        self.values.push(f64::NAN);
+        self.types.push(DataType::Lreal);
     }
 }
 
@@ -324,6 +332,10 @@ pub fn write_cells(twin: &Twin, row: &mut impl Cells) {
         row.bit(task.profile_overshoot(a.handle));
     }
     for t in program.traced_tags() {
+        if let Some(text) = program.traced_text(t) {
+            row.text(&text);
+            continue;
+        }
         match program.traced(t, task) {
             Value::Bool(b) => row.bit(b),
             Value::Int(i) => row.int(i),
@@ -371,6 +383,10 @@ impl Cells for Row<'_> {
         use std::fmt::Write;
         // Writing to a String cannot fail.
         let _ = write!(self.cell(), "{i}");
+    }
+
+    fn text(&mut self, s: &str) {
+        self.cell().push_str(s);
     }
 }
 

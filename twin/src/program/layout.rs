@@ -206,12 +206,31 @@ impl Layouts {
     }
 }
 
+/// The scalar type of a scene base type, if it is one.
+#[must_use]
+pub fn scalar(base: BaseType) -> Option<DataType> {
+    Some(match base {
+        BaseType::Bool => DataType::Bool,
+        BaseType::Sint => DataType::Sint,
+        BaseType::Int => DataType::Int,
+        BaseType::Dint => DataType::Dint,
+        BaseType::Lint => DataType::Lint,
+        BaseType::Usint => DataType::Usint,
+        BaseType::Uint => DataType::Uint,
+        BaseType::Udint => DataType::Udint,
+        BaseType::Ulint => DataType::Ulint,
+        BaseType::Real => DataType::Real,
+        BaseType::Lreal => DataType::Lreal,
+        _ => return None,
+    })
+}
+
 /// The element type of a scene base type kept in slots.
 #[must_use]
 pub fn elem_of(base: BaseType) -> Option<Elem> {
     match base {
         BaseType::User(u) => Some(Elem::User(u.index)),
-        b => super::memory::scalar(b).map(Elem::Scalar),
+        b => scalar(b).map(Elem::Scalar),
     }
 }
 

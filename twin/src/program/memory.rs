@@ -9,6 +9,7 @@
 //! written to) the planner. A program-scoped tag is stored under
 //! `Program.Tag`; inside its program the short name finds it first.
 
+pub use super::layout::scalar;
 use super::layout::{Elem, Layouts};
 use super::types::{DataType, Structure, Value};
 use crate::scene::{BaseType, CamPoint, SegmentType, TagType, TagValue, Usage};
@@ -95,25 +96,6 @@ pub struct Memory {
     /// The data types' layouts (`STRING` first).
     pub layouts: Layouts,
     by_name: HashMap<String, usize>,
-}
-
-/// The scalar type of a scene base type, if it is one.
-#[must_use]
-pub fn scalar(base: BaseType) -> Option<DataType> {
-    Some(match base {
-        BaseType::Bool => DataType::Bool,
-        BaseType::Sint => DataType::Sint,
-        BaseType::Int => DataType::Int,
-        BaseType::Dint => DataType::Dint,
-        BaseType::Lint => DataType::Lint,
-        BaseType::Usint => DataType::Usint,
-        BaseType::Uint => DataType::Uint,
-        BaseType::Udint => DataType::Udint,
-        BaseType::Ulint => DataType::Ulint,
-        BaseType::Real => DataType::Real,
-        BaseType::Lreal => DataType::Lreal,
-        _ => return None,
-    })
 }
 
 /// The structure kept in slots for a scene base type, if it is one.

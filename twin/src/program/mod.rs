@@ -84,13 +84,20 @@ pub struct TracedTag {
     pub name: String,
     place: Place,
     ty: DataType,
+    /// A string (STRING or a user string type), traced as its text.
+    text: Option<ir::StrAt>,
 }
 
 impl TracedTag {
     /// Whether the tag is a REAL (single precision), whose value the trace
     /// writes rounded to `f32`.
     pub fn single_precision(&self) -> bool {
-        self.ty == DataType::Real
+        self.ty == DataType::Real && self.text.is_none()
+    }
+
+    /// Whether it is a string, which the trace writes as text.
+    pub fn is_text(&self) -> bool {
+        self.text.is_some()
     }
 }
 
@@ -133,13 +140,22 @@ impl Program {
         let mut traced = Vec::with_capacity(scene.trace_tags.len());
         for (index, t) in scene.trace_tags.iter().enumerate() {
             let mut compiler = Compiler::new(plc.memory(), None, &[], Dialect::Logix, &mut env, false);
-            let (place, ty) = compiler
-                .traced(&t.expr)
-                .map_err(|d| Box::new((*d).in_field(format!("trace.tags[{index}]"))))?;
+            let in_field = |d: Box<Diagnostic>| Box::new((*d).in_field(format!("trace.tags[{index}]")));
+            if let Some(text) = compiler.traced_string(&t.expr) {
+                traced.push(TracedTag {
+                    name: t.text.clone(),
+                    place: Place::MathFlag,
+                    ty: DataType::Sint,
+                    text: Some(text.map_err(in_field)?),
+                });
+                continue;
+            }
+            let (place, ty) = compiler.traced(&t.expr).map_err(in_field)?;
             traced.push(TracedTag {
                 name: t.text.clone(),
                 place,
                 ty,
+                text: None,
             });
         }
         Ok(Program {
@@ -166,9 +182,33 @@ impl Program {
         &self.traced
     }
 
-    /// A traced tag's value now.
+    /// A traced tag's value now (a string's: its LEN).
     pub fn traced(&self, t: &TracedTag, task: &MotionTask) -> Value {
-        self.plc.peek(&t.place, task)
+        match &t.text {
+            Some(s) => self.plc.memory().slots[s.base],
+            None => self.plc.peek(&t.place, task),
+        }
+    }
+
+    /// A traced string's text now, as the trace writes it: Logix's `$`
+    /// escapes for `$`, `'` and the characters outside printable ASCII
+    /// (`$0D`), and `$2C` for a comma, so that no trace cell holds one;
+    /// `None` for a tag that is not a string.
+    pub fn traced_text(&self, t: &TracedTag) -> Option<String> {
+        let s = t.text.as_ref()?;
+        let slots = &self.plc.memory().slots;
+        let len = usize::try_from(slots[s.base].as_i64()).unwrap_or(0).min(s.capacity);
+        let mut out = String::with_capacity(len);
+        for k in 0..len {
+            match slots[s.base + 1 + k].as_i64() as u8 {
+                b'$' => out.push_str("$$"),
+                b'\'' => out.push_str("$'"),
+                b',' => out.push_str("$2C"),
+                c @ 0x20..=0x7E => out.push(char::from(c)),
+                c => out.push_str(&format!("${c:02X}")),
+            }
+        }
+        Some(out)
     }
 
     /// A traced tag's value now as the number the trace writes: BOOL 0/1,

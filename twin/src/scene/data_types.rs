@@ -24,7 +24,21 @@ use super::tags::scalar_value;
 
 /// Whether a member may have this type.
 fn member_type_allowed(base: BaseType) -> bool {
-    matches!(base, BaseType::User(_)) || crate::program::memory::scalar(base).is_some()
+    matches!(
+        base,
+        BaseType::User(_)
+            | BaseType::Bool
+            | BaseType::Sint
+            | BaseType::Int
+            | BaseType::Dint
+            | BaseType::Lint
+            | BaseType::Usint
+            | BaseType::Uint
+            | BaseType::Udint
+            | BaseType::Ulint
+            | BaseType::Real
+            | BaseType::Lreal
+    )
 }
 
 impl Ctx<'_> {

@@ -17,7 +17,7 @@
 //! | `instructions/<fb>/Done` … `Error`, `ErrorID` | function-block outputs | when they change |
 //! | `instructions/<tag>/EN` … `DECEL`, `ERR`, `EXERR`, `SEGMENT` | control-structure bits and codes | when they change |
 //! | `instructions/log` | one line per change of an instruction's status | on change |
-//! | `tags/<reference>` | each `[trace] tags` entry, as the trace writes it | when it changes |
+//! | `tags/<reference>` | each `[trace] tags` entry, as the trace writes it (a string as a text log line) | when it changes |
 //! | `tool_trails/<system>/<k>` | the tool-centre path, piece `k` (m, world; systems sharing a tool link share the first one's trail) | every 100 updates and at the end, the new part only |
 //! | `collisions/clearance/<body>` | clearance, m (infinite while nothing is in range) | when it changes |
 //! | `collisions/contacts` | contact normals scaled by depth | when the contacts change |
@@ -138,6 +138,8 @@ struct Feed {
     logged_events: usize,
     logged_predictions: usize,
     logged_faults: usize,
+    /// Each traced string's text last logged (`None` for other tags).
+    logged_texts: Vec<Option<String>>,
     highlighted: Vec<usize>,
     link_paths: Vec<String>,
     /// With a live viewer: when the last batch was sent.
@@ -294,6 +296,7 @@ impl Recording {
                 logged_events: 0,
                 logged_predictions: 0,
                 logged_faults: 0,
+                logged_texts: Vec::new(),
                 highlighted: Vec::new(),
                 link_paths,
                 live: targets.live().then(std::time::Instant::now),
@@ -381,7 +384,7 @@ impl Feed {
             b.values.push(plant.drive_torque(k));
         }
         for tag in program.traced_tags() {
-            b.values.push(Some(program.traced_number(tag, task)));
+            b.values.push((!tag.is_text()).then(|| program.traced_number(tag, task)));
         }
         if plant.collision_enabled() {
             b.values.extend(plant.clearance_m().into_iter().map(Some));
@@ -395,6 +398,7 @@ impl Feed {
         if plant.collision_enabled() {
             self.collisions(twin, t);
         }
+        self.texts(twin, t);
         let log = program.controller().fault_log();
         if log.len() > self.logged_faults {
             let new: Vec<(TextLevel, String)> = log[self.logged_faults..]
@@ -413,12 +417,36 @@ impl Feed {
                 self.push(
                     t,
                     Item::Text {
-                        path: "controller/log",
+                        path: "controller/log".into(),
                         level,
                         text,
                     },
                 );
             }
+        }
+    }
+
+    /// A traced string's text, logged at `tags/<reference>` when it
+    /// changes (its text as the trace writes it).
+    fn texts(&mut self, twin: &Twin, t_ns: i64) {
+        let program = twin.program();
+        let tags = program.traced_tags();
+        self.logged_texts.resize(tags.len(), None);
+        for (k, tag) in tags.iter().enumerate() {
+            let Some(text) = program.traced_text(tag) else { continue };
+            if self.logged_texts[k].as_deref() == Some(text.as_str()) {
+                continue;
+            }
+            self.logged_texts[k] = Some(text.clone());
+            let path = format!("tags/{}", entity_part(&tag.name));
+            self.push(
+                t_ns,
+                Item::Text {
+                    path: path.into(),
+                    level: TextLevel::Info,
+                    text,
+                },
+            );
         }
     }
 
@@ -493,7 +521,7 @@ impl Feed {
             self.push(
                 t_ns,
                 Item::Text {
-                    path: "collisions/log",
+                    path: "collisions/log".into(),
                     level: TextLevel::Warn,
                     text,
                 },

@@ -155,6 +155,16 @@ impl Compiler<'_, '_, '_> {
         })
     }
 
+    /// A `[trace] tags` reference that names a whole string: its operand
+    /// (`None` when it is not a string).
+    pub fn traced_string(&mut self, e: &Expr) -> Option<Result<StrAt>> {
+        let ExprKind::Ref(r) = &e.kind else { return None };
+        if !self.is_string(r) {
+            return None;
+        }
+        Some(self.string_at(r, "a traced string"))
+    }
+
     /// `A = B` and the other comparisons of two strings, `None` when `e`
     /// is not one.
     pub(super) fn string_comparison(&mut self, first: &Expr, rest: &[(BinaryOp, Expr)]) -> Result<Option<CExpr>> {

@@ -63,7 +63,7 @@ pub(super) enum Item {
         vectors: Vec<[f64; 3]>,
     },
     Text {
-        path: &'static str,
+        path: std::borrow::Cow<'static, str>,
         level: TextLevel,
         text: String,
     },

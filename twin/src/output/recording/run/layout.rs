@@ -101,6 +101,14 @@ pub fn blueprint(twin: &Twin) -> rerun::blueprint::Blueprint {
                 .into(),
         );
     }
+    if twin.program().traced_tags().iter().any(|t| t.is_text()) {
+        logs.push(
+            TextLogView::new("Strings")
+                .with_origin("/tags")
+                .with_contents(["/tags/**"])
+                .into(),
+        );
+    }
     if plant.collision_enabled() {
         state.push(
             TimeSeriesView::new("Clearance")

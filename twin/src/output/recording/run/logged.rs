@@ -246,7 +246,7 @@ impl Logged {
             Item::Arrows { origins, vectors } => {
                 r.log_arrows("collisions/contacts", &origins, &vectors, COLLISION_TINT_RGBA)
             }
-            Item::Text { path, level, text } => r.log_text(path, level, &text),
+            Item::Text { path, level, text } => r.log_text(&path, level, &text),
             Item::Clear { path } => r.log_clear(&path),
             Item::Mesh { path, mesh } => r.log_mesh_timed(&path, &mesh, COLLISION_TINT_RGBA),
         }
