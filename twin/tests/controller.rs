@@ -739,6 +739,7 @@ fn bad_controller_input_is_refused_with_its_place() {
                 "tags[2].type: 'CAM[2,3]' has 2 dimensions",
             ),
         ])
+        .chain(data_type_rows(&t("period_ms = 4.0\npriority = 5")))
         .collect();
     for (k, (body, routine, want)) in rows.iter().enumerate() {
         let body = tags(&[("A", "DINT"), ("Short", "DINT[4]")]) + body;
@@ -753,6 +754,70 @@ fn bad_controller_input_is_refused_with_its_place() {
             "row {k} names no place: {e}"
         );
     }
+}
+
+/// Bad data types, string values and string or structure operands: each
+/// refused at load with its place.
+fn data_type_rows(t: &str) -> Vec<(String, &'static str, &'static str)> {
+    let types = |text: &str| format!("{text}\n{t}");
+    let udt = "[[data_types]]\nname = \"Pt\"\nmembers = [{ name = \"X\", type = \"REAL\" }, { name = \"Tag\", type = \"STRING\" }]\n\
+               [[tags]]\nname = \"Pnt\"\ntype = \"Pt\"\n[[tags]]\nname = \"Txt\"\ntype = \"STRING\"\n";
+    vec![
+        (
+            types("[[data_types]]\nname = \"A\"\nmembers = [{ name = \"B\", type = \"B\" }]\n[[data_types]]\nname = \"B\"\nmembers = [{ name = \"A\", type = \"A\", dimension = 2 }]"),
+            "A := 1;",
+            "data_types[1].members[0].type: data type A → B → A contains itself",
+        ),
+        (
+            types("[[data_types]]\nname = \"A\"\nmembers = [{ name = \"B\", type = \"Widget\" }]"),
+            "A := 1;",
+            "data_types[0].members[0].type: unknown tag type 'Widget'",
+        ),
+        (
+            types("[[data_types]]\nname = \"A\"\nmembers = [{ name = \"M\", type = \"MOTION_INSTRUCTION\" }]"),
+            "A := 1;",
+            "data_types[0].members[0].type: a data type's member is a number, BOOL, a string type or another data type, not MOTION_INSTRUCTION",
+        ),
+        (
+            types("[[data_types]]\nname = \"A\"\nmembers = [{ name = \"M\", type = \"REAL[2,2]\" }]"),
+            "A := 1;",
+            "data_types[0].members[0].type: 'REAL[2,2]': a member array has one dimension",
+        ),
+        (
+            types("[[data_types]]\nname = \"Dint\"\nmembers = [{ name = \"M\", type = \"REAL\" }]"),
+            "A := 1;",
+            "data_types[0].name: 'Dint' is a predefined data type",
+        ),
+        (
+            types("[[data_types]]\nname = \"S\"\nstring_length = 10\nmembers = [{ name = \"M\", type = \"REAL\" }]"),
+            "A := 1;",
+            "data_types[0].string_length: a data type has members (a structure) or string_length (a string type): this one has both",
+        ),
+        (
+            types("[[data_types]]\nname = \"S\"\nstring_length = 4\n[[tags]]\nname = \"M\"\ntype = \"S\"\nvalue = \"hello\""),
+            "A := 1;",
+            "tags[2].value: 'hello' does not fit S: it has 5 characters, DATA holds 4",
+        ),
+        (
+            types(&format!("{udt}[[tags]]\nname = \"Q\"\ntype = \"Pt\"\nvalue = {{ Y = 1.0 }}")),
+            "A := 1;",
+            "tags[4].value: Pt has no member 'Y' (members: X, Tag)",
+        ),
+        (
+            types(&format!("{udt}[[tags]]\nname = \"Q\"\ntype = \"Pt\"\nvalue = {{ Tag = 5 }}")),
+            "A := 1;",
+            "tags[4].value.Tag: value does not fit type STRING: expected a string of ASCII characters",
+        ),
+        (types(udt), "A := Pnt.Y;", "Main.st:1:10: Pt has no member 'Y' (members: X, Tag)"),
+        (types(udt), "A := Pnt;", "Main.st:1:6: 'Pnt' is a Pt: name a member, or copy it whole with COP"),
+        (types(udt), "CONCAT(Txt, Pnt, Txt);", "Main.st:1:13: CONCAT Source B: 'Pnt' is not a string"),
+        (
+            types(udt),
+            "COP(Pnt.Tag.LEN.0, A, 1);",
+            "Main.st:1:5: COP Source: a bit is not an operand of a copy",
+        ),
+        (types(udt), "IF Txt = A THEN A := 1; END_IF;", "Main.st:1:10: '=' compares: 'A' is not a string"),
+    ]
 }
 
 /// 1756-RM003 (arrays) and 1756-PM005: arrays of one to three dimensions,
