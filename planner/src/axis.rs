@@ -282,6 +282,9 @@ pub enum AxisConfigError {
         /// Upper limit.
         max: f64,
     },
+    /// A soft travel limit set on an axis configured without them.
+    #[error("the axis has no soft travel limits to change (give soft_travel_limits in its configuration)")]
+    NoSoftTravelLimits,
     /// The initial position is not finite.
     #[error("axis initial position must be finite, got {value}")]
     InitialPosition {
@@ -310,8 +313,9 @@ fn non_negative(field: &'static str, value: f64) -> Result<f64, AxisConfigError>
     }
 }
 
-/// A dynamic limit of an axis a program may change at run time
-/// ([`crate::task::MotionTask::set_axis_limit`]).
+/// A configuration attribute of an axis a program may read and change at
+/// run time (Logix SSV; [`crate::task::MotionTask::set_axis_limit`]), in
+/// axis units.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AxisLimit {
     /// `max_velocity` (`MaximumSpeed`).
@@ -320,6 +324,79 @@ pub enum AxisLimit {
     Acceleration,
     /// `max_deceleration` (`MaximumDeceleration`).
     Deceleration,
+    /// `max_jerk` (`MaximumAccelerationJerk` and `MaximumDecelerationJerk`:
+    /// the planner has one jerk limit; 0 is none).
+    Jerk,
+    /// `position_error_tolerance` (`PositionErrorTolerance`; 0: not
+    /// checked).
+    PositionErrorTolerance,
+    /// The upper soft travel limit (`SoftTravelLimitPositive`).
+    SoftTravelLimitPositive,
+    /// The lower soft travel limit (`SoftTravelLimitNegative`).
+    SoftTravelLimitNegative,
+    /// `homing.position` (`HomePosition`).
+    HomePosition,
+    /// `homing.offset` (`HomeOffset`).
+    HomeOffset,
+    /// `homing.speed` (`HomeSpeed`).
+    HomeSpeed,
+    /// `homing.return_speed` (`HomeReturnSpeed`).
+    HomeReturnSpeed,
+}
+
+impl AxisConfig {
+    /// The value of a settable attribute (a missing soft travel limit and
+    /// an unchecked position error tolerance read 0).
+    #[must_use]
+    pub fn limit(&self, limit: AxisLimit) -> f64 {
+        match limit {
+            AxisLimit::Velocity => self.max_velocity,
+            AxisLimit::Acceleration => self.max_acceleration,
+            AxisLimit::Deceleration => self.max_deceleration,
+            AxisLimit::Jerk => self.max_jerk,
+            AxisLimit::PositionErrorTolerance => self.position_error_tolerance.unwrap_or(0.0),
+            AxisLimit::SoftTravelLimitPositive => self.soft_travel_limits.map_or(0.0, |l| l.1),
+            AxisLimit::SoftTravelLimitNegative => self.soft_travel_limits.map_or(0.0, |l| l.0),
+            AxisLimit::HomePosition => self.homing.position,
+            AxisLimit::HomeOffset => self.homing.offset,
+            AxisLimit::HomeSpeed => self.homing.speed,
+            AxisLimit::HomeReturnSpeed => self.homing.return_speed,
+        }
+    }
+
+    /// This configuration with `limit` set to `value`, validated.
+    ///
+    /// # Errors
+    /// The value breaks a rule of [`AxisConfig::validate`], or it sets a
+    /// soft travel limit of an axis that has none.
+    pub fn with_limit(&self, limit: AxisLimit, value: f64) -> Result<AxisConfig, AxisConfigError> {
+        let mut c = self.clone();
+        match limit {
+            AxisLimit::Velocity => c.max_velocity = value,
+            AxisLimit::Acceleration => c.max_acceleration = value,
+            AxisLimit::Deceleration => c.max_deceleration = value,
+            AxisLimit::Jerk => c.max_jerk = value,
+            AxisLimit::PositionErrorTolerance => {
+                c.position_error_tolerance = (value != 0.0).then_some(value);
+            }
+            AxisLimit::SoftTravelLimitPositive | AxisLimit::SoftTravelLimitNegative => {
+                let Some((min, max)) = c.soft_travel_limits else {
+                    return Err(AxisConfigError::NoSoftTravelLimits);
+                };
+                c.soft_travel_limits = Some(if limit == AxisLimit::SoftTravelLimitPositive {
+                    (min, value)
+                } else {
+                    (value, max)
+                });
+            }
+            AxisLimit::HomePosition => c.homing.position = value,
+            AxisLimit::HomeOffset => c.homing.offset = value,
+            AxisLimit::HomeSpeed => c.homing.speed = value,
+            AxisLimit::HomeReturnSpeed => c.homing.return_speed = value,
+        }
+        c.validate()?;
+        Ok(c)
+    }
 }
 
 /// What an axis reports after a coarse update.

@@ -265,22 +265,18 @@ impl MotionTask {
         &self.axes[axis.0 as usize].config
     }
 
-    /// Sets one of an axis' dynamic limits, as a program's SSV of
-    /// `MaximumSpeed`, `MaximumAcceleration` or `MaximumDeceleration` does:
-    /// instructions started afterwards plan with it (and `% of maximum`
-    /// rates refer to it); motion already planned keeps its profile.
+    /// Sets one of an axis' configuration attributes, as a program's SSV
+    /// does. The dynamic limits take effect for instructions started
+    /// afterwards (and `% of maximum` rates refer to them); motion already
+    /// planned keeps its profile. The position error tolerance and the soft
+    /// travel limits are checked against from the next update on; the
+    /// homing attributes are read by the next MAH.
     ///
     /// # Errors
-    /// [`AxisConfigError`] when the value is not positive and finite; the
-    /// axis keeps its limit.
+    /// [`AxisConfigError`] when the value breaks the configuration's rules
+    /// ([`AxisConfig::with_limit`]); the axis keeps its value.
     pub fn set_axis_limit(&mut self, axis: AxisHandle, limit: AxisLimit, value: f64) -> Result<(), AxisConfigError> {
-        let mut config = self.axes[axis.0 as usize].config.clone();
-        match limit {
-            AxisLimit::Velocity => config.max_velocity = value,
-            AxisLimit::Acceleration => config.max_acceleration = value,
-            AxisLimit::Deceleration => config.max_deceleration = value,
-        }
-        config.validate()?;
+        let config = self.axes[axis.0 as usize].config.with_limit(limit, value)?;
         self.axes[axis.0 as usize].config = config;
         Ok(())
     }

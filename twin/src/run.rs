@@ -128,6 +128,9 @@ impl Twin {
             }
         };
         self.program.scan(&mut self.task);
+        for (axis, gains) in self.program.take_drive_changes() {
+            self.plant.set_servo_gains(axis, gains);
+        }
         lap(|t| &mut t.program_s);
         self.task.update();
         lap(|t| &mut t.planner_s);

@@ -1205,3 +1205,105 @@ fn string_instructions_convert_cut_join_compare_and_fault() {
         assert_eq!((f.fault_type, f.code), (4, code), "{name}: {}", f.message);
     }
 }
+
+/// MOTION-RM003, CIP axis attributes: GSV reads the configuration the
+/// twin models, SSV sets what the Access column allows, a planner
+/// attribute takes effect at once (a MAM started afterwards runs at the new
+/// MaximumSpeed), a value the attribute does not take is refused and kept.
+#[test]
+fn axis_attributes_read_and_set_as_rm003_allows() {
+    let main = "IF S:FS THEN\n\
+                  GSV(AXIS, Table, MaximumSpeed, Speed0);\n\
+                  SSV(AXIS, Table, MaximumSpeed, 90.0);\n\
+                  SSV(AXIS, Table, HomePosition, 12.5);\n\
+                  SSV(AXIS, Table, PositionErrorTolerance, 3.0);\n\
+                  SSV(AXIS, Table, SoftTravelLimitPositive, 10.0);\n\
+                  SSV(AXIS, Table, MaximumAcceleration, -1.0);\n\
+                  MAM(Table, Mv, 0, 90, 100, %ofMaximum, 100, %ofMaximum, 100, %ofMaximum, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);\n\
+                END_IF;\n\
+                GSV(AXIS, Table, MaximumSpeed, Speed1);\n\
+                GSV(AXIS, Table, HomePosition, Home);\n\
+                GSV(AXIS, Table, PositionErrorTolerance, Tol);\n\
+                GSV(AXIS, Table, MaximumAcceleration, Acc);\n\
+                GSV(AXIS, Table, PositionScalingNumerator, Scale);\n\
+                GSV(AXIS, Table, HomeMode, Mode);\n\
+                GSV(AXIS, Table, CommandVelocity, Vel);\n\
+                IF Vel > Peak THEN Peak := Vel; END_IF;\n";
+    let body = tags(&[
+        ("Speed0", "REAL"),
+        ("Speed1", "REAL"),
+        ("Home", "REAL"),
+        ("Tol", "REAL"),
+        ("Acc", "REAL"),
+        ("Scale", "REAL"),
+        ("Mode", "DINT"),
+        ("Vel", "REAL"),
+        ("Peak", "REAL"),
+        ("Mv", "MOTION_INSTRUCTION"),
+    ]) + &task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "");
+    let path = scene("axis-attributes", &body, &[("Main", main)]);
+    let mut b = Bench::load(&path);
+    b.updates(400);
+    assert_eq!((b.value("Speed0"), b.value("Speed1")), (Value::Real(720.0), Value::Real(90.0)));
+    assert_eq!((b.value("Home"), b.value("Tol")), (Value::Real(12.5), Value::Real(3.0)));
+    assert_eq!(b.value("Acc"), Value::Real(3600.0), "a negative acceleration is refused and the value kept");
+    assert_eq!((b.value("Scale"), b.int("Mode")), (Value::Real(360.0), 1));
+    assert!(b.value("Peak").as_f64() <= 90.0 + 1e-9, "the move ran at the new maximum");
+    assert!(b.value("Peak").as_f64() > 80.0, "{:?}", b.value("Peak"));
+    let refused = b.program.controller().refusals().join("\n");
+    assert!(refused.contains("no soft travel limits"), "{refused}");
+    assert!(refused.contains("max_acceleration"), "{refused}");
+
+    let bad = |name: &str, routine: &str| {
+        let path = scene(name, &body, &[("Main", routine)]);
+        Bench::try_load(&path).err().unwrap_or_else(|| panic!("{name} loads"))
+    };
+    let e = bad("axis-ssv-read-only", "SSV(AXIS, Table, HomeMode, 0);\n");
+    assert!(e.contains("'HomeMode' is read-only"), "{e}");
+    let e = bad("axis-ssv-status", "SSV(AXIS, Table, ActualPosition, 0.0);\n");
+    assert!(e.contains("GSV reads it, SSV does not set it"), "{e}");
+    let e = bad("axis-gsv-drive", "GSV(AXIS, Table, PositionLoopBandwidth, Tol);\n");
+    assert!(e.contains("has no servo drive"), "{e}");
+    let e = bad("axis-gsv-unknown", "GSV(AXIS, Table, MaximumSped, Tol);\n");
+    assert!(e.contains("AXIS attribute 'MaximumSped' is not modelled"), "{e}");
+}
+
+/// MOTION-RM003: SSV of a drive attribute reaches the plant's servo drive
+/// from the next coarse update; a torque limit set to 1 N·m holds the
+/// drive's torque under it from then on.
+#[test]
+fn drive_attributes_set_by_ssv_reach_the_plant() {
+    let head = common::indexing_table_head().replace(
+        "motor = { stiffness = 35530.6, damping = 377.0 }",
+        "drive = { position_loop_bandwidth_hz = 20.0 }",
+    );
+    let dir = common::fresh_dir("controller-tests", "drive-attributes");
+    std::fs::write(
+        dir.join("Main.st"),
+        "GSV(AXIS, Table, PositionLoopBandwidth, Bw);\n\
+         IF S:FS THEN\n  SSV(AXIS, Table, TorqueLimitPositive, 1.0);\n  SSV(AXIS, Table, TorqueLimitNegative, -1.0);\n  SSV(AXIS, Table, VelocityLoopBandwidth, 0.0);\n\
+           MAM(Table, Mv, 0, 90, 100, %ofMaximum, 100, %ofMaximum, 100, %ofMaximum, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);\nEND_IF;\n\
+         GSV(AXIS, Table, TorqueLimitPositive, Limit);\n",
+    )
+    .expect("routine");
+    let text = format!(
+        "{head}{}{}",
+        tags(&[("Bw", "REAL"), ("Limit", "REAL"), ("Mv", "MOTION_INSTRUCTION")]),
+        task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "")
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).expect("scene");
+    let scene = twin::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mut twin = twin::run::Twin::new(scene).unwrap_or_else(|e| panic!("{e}"));
+    for _ in 0..100 {
+        twin.step();
+    }
+    let mem = twin.program().controller().memory();
+    let read = |name: &str| mem.slots[mem.tags[mem.find(name).expect("tag")].base];
+    assert_eq!((read("Bw"), read("Limit")), (Value::Real(20.0), Value::Real(1.0)));
+    let refused = twin.program().controller().refusals().join("\n");
+    assert!(refused.contains("not a positive bandwidth"), "{refused}");
+    let peak = twin.plant().drive_peak_torque(0).expect("a servo drive");
+    assert!(peak <= 1.0 + 1e-9, "the new torque limit holds: peak {peak} N·m");
+    assert!(peak > 0.5, "the drive pushes against it: peak {peak} N·m");
+}

@@ -56,6 +56,14 @@ impl Dynamics {
         }
     }
 
+    /// A servo drive's new gains and limits (physics only: the kinematic
+    /// plant has no loops).
+    pub(crate) fn set_servo_gains(&mut self, drive: usize, gains: crate::scene::ServoGains) {
+        if let Self::Physics(sim) = self {
+            sim.set_servo_gains(drive, gains);
+        }
+    }
+
     /// The servo drives' inertias for the current pose (physics only).
     pub(crate) fn refresh_servo_inertias(&mut self, model: &RobotModel) {
         if let Self::Physics(sim) = self {

@@ -404,6 +404,15 @@ impl Plant {
         trails::record(&mut self.trails, &self.world_from_link);
     }
 
+    /// Sets axis `axis_index`'s servo drive gains and limits (a program's
+    /// SSV of a drive attribute), used from the next physics step; no
+    /// effect on an axis without a servo drive.
+    pub fn set_servo_gains(&mut self, axis_index: usize, gains: crate::scene::ServoGains) {
+        if let Some(d) = self.axes[axis_index].drive {
+            self.sim.set_servo_gains(d, gains);
+        }
+    }
+
     /// Axis `axis_index`'s servo drive torque in the last physics substep
     /// (N·m or N, 0 while the drive is off); `None` for an axis without a
     /// servo drive (virtual, or a spring `motor`).

@@ -368,6 +368,22 @@ impl RobotSim {
         self.apply_motor_targets(0.0);
     }
 
+    /// Changes a servo drive's gains and limits, from the next substep on
+    /// (a program's SSV of a drive attribute); a `SystemInertia` replaces
+    /// the inertia of the pose. No effect on a spring drive.
+    ///
+    /// # Panics
+    /// If `drive_index >= drive_count()`.
+    pub fn set_servo_gains(&mut self, drive_index: usize, gains: crate::scene::ServoGains) {
+        if let Some(servo) = self.drives[drive_index].servo.as_mut() {
+            servo.control.set_gains(gains);
+            if let Some(inertia) = gains.system_inertia {
+                servo.control.set_inertia(inertia.max(1e-9));
+                servo.pose_inertia = false;
+            }
+        }
+    }
+
     /// The torque (N·m or N) a servo drive applied in the last substep
     /// (0 while it is off or braked); `None` for a spring drive.
     ///

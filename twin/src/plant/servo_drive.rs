@@ -74,6 +74,12 @@ impl ServoLoop {
         }
     }
 
+    /// Changes the gains and limits (an SSV of a drive attribute); the
+    /// integrators keep what they hold.
+    pub fn set_gains(&mut self, gains: ServoGains) {
+        self.gains = gains;
+    }
+
     /// Changes the inertia the loops scale by (kg·m² or kg, > 0).
     pub fn set_inertia(&mut self, inertia: f64) {
         self.inertia = inertia;

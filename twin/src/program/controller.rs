@@ -309,6 +309,7 @@ impl Controller {
         let mut sys = System {
             start_time_us: scene.controller.start_time_us,
             coarse_update_us: (scene.coarse_update_ms * 1000.0).round() as i64,
+            drives: scene.axes.iter().map(|a| a.servo).collect(),
             ..System::default()
         };
         let mut tasks = Vec::with_capacity(scene.tasks.len());
@@ -956,6 +957,16 @@ impl Controller {
     #[must_use]
     pub fn system(&self) -> &System {
         &self.sys
+    }
+
+    /// The drive attributes SSV changed since the last call, by axis
+    /// index in the scene, for the plant to take.
+    pub fn take_drive_changes(&mut self) -> Vec<(usize, crate::scene::ServoGains)> {
+        let changed = std::mem::take(&mut self.sys.drive_changes);
+        changed
+            .into_iter()
+            .filter_map(|k| self.sys.drives.get(k).copied().flatten().map(|g| (k, g)))
+            .collect()
     }
 
     /// Tag memory.

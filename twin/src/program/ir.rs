@@ -773,7 +773,7 @@ pub enum SKind {
     /// `GSV(AXIS, axis, attribute, dest)`.
     Gsv(AxisHandle, GsvAttribute, Place, DataType),
     /// `SSV(AXIS, axis, attribute, source)`.
-    Ssv(AxisHandle, planner::axis::AxisLimit, CExpr),
+    Ssv(AxisHandle, SsvAttribute, CExpr),
     /// `GSV` of a system object (TASK, PROGRAM, WALLCLOCKTIME, FAULTLOG,
     /// MOTIONGROUP) into a tag.
     SysGet(&'static Attribute, Object, SysData),
@@ -809,32 +809,28 @@ pub enum SysData {
     Words(ArrayAt),
 }
 
-/// The `AXIS` attributes `GSV` reads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// What `GSV` of an `AXIS` attribute reads
+/// ([`crate::program::axis_attributes`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum GsvAttribute {
     /// A member also readable as `Axis.Member`.
     Member(AxisMember),
-    /// `MaximumSpeed` (the axis' max velocity).
-    MaximumSpeed,
-    /// `MaximumAcceleration`.
-    MaximumAcceleration,
-    /// `MaximumDeceleration`.
-    MaximumDeceleration,
+    /// A planner configuration attribute.
+    Config(planner::axis::AxisLimit),
+    /// A fixed property, known at load.
+    Const(Value),
+    /// A drive attribute of the axis at this index of the scene's axes.
+    Drive(usize, crate::program::axis_attributes::DriveAttr),
 }
 
-/// The `AXIS` attributes `SSV` sets.
-pub const SSV_ATTRIBUTES: [(&str, planner::axis::AxisLimit); 3] = [
-    ("MaximumSpeed", planner::axis::AxisLimit::Velocity),
-    ("MaximumAcceleration", planner::axis::AxisLimit::Acceleration),
-    ("MaximumDeceleration", planner::axis::AxisLimit::Deceleration),
-];
-
-/// Every GSV `AXIS` attribute the twin models, for parsing and docs.
-pub const GSV_ATTRIBUTES: [(&str, GsvAttribute); 3] = [
-    ("MaximumSpeed", GsvAttribute::MaximumSpeed),
-    ("MaximumAcceleration", GsvAttribute::MaximumAcceleration),
-    ("MaximumDeceleration", GsvAttribute::MaximumDeceleration),
-];
+/// What `SSV` of an `AXIS` attribute sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SsvAttribute {
+    /// A planner configuration attribute.
+    Config(planner::axis::AxisLimit),
+    /// A drive attribute of the axis at this index of the scene's axes.
+    Drive(usize, crate::program::axis_attributes::DriveAttr),
+}
 
 /// A program's routines, compiled (main first), with the files they came
 /// from.

@@ -41,6 +41,7 @@ pub mod compile;
 pub mod controller;
 pub mod exec;
 pub mod ir;
+pub mod axis_attributes;
 pub mod layout;
 pub mod memory;
 pub mod sandbox;
@@ -220,6 +221,12 @@ impl Program {
             Value::Real(x) if t.single_precision() => f64::from(x as f32),
             Value::Real(x) => x,
         }
+    }
+
+    /// The servo drive attributes the program's SSVs changed since the
+    /// last call: (axis index in the scene, the drive's attributes now).
+    pub fn take_drive_changes(&mut self) -> Vec<(usize, crate::scene::ServoGains)> {
+        self.plc.take_drive_changes()
     }
 
     /// The task engine: tag memory, faults, costs.

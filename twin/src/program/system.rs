@@ -593,6 +593,12 @@ pub struct System {
     pub start_time_us: i64,
     /// The coarse update period, µs.
     pub coarse_update_us: i64,
+    /// Each axis' servo drive attributes as the controller last set them
+    /// (scene order; `None` for an axis without a servo drive).
+    pub drives: Vec<Option<crate::scene::ServoGains>>,
+    /// The axes whose drive attributes an SSV changed since the plant last
+    /// took them ([`crate::program::Program::take_drive_changes`]).
+    pub drive_changes: Vec<usize>,
 }
 
 impl System {

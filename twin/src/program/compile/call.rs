@@ -5,11 +5,12 @@
 
 use super::{Compiler, Result, err, suggest};
 use crate::program::ir::{
-    AXIS_MEMBERS, CExpr, CKind, GENERAL, GSV_ATTRIBUTES, General, GsvAttribute, Object, Place, SKind, SSV_ATTRIBUTES,
+    AXIS_MEMBERS, CExpr, CKind, GENERAL, General, GsvAttribute, Object, Place, SKind, SsvAttribute,
     SysData,
 };
+use crate::program::axis_attributes::{self, AXIS_ATTRIBUTES, AxisAttr, Fixed};
 use crate::program::system::{self, Class};
-use crate::program::types::{DataType, Ty};
+use crate::program::types::{DataType, Ty, Value};
 use crate::scene::Dialect;
 use crate::scene::{EventTrigger, TaskKind};
 use crate::st::ast::{Arg, Call, Expr, ExprKind, Stmt, StmtKind};
@@ -277,53 +278,104 @@ impl Compiler<'_, '_, '_> {
             ));
         };
         let attr_name = call.args[2].text.trim();
+        let member = AXIS_MEMBERS.iter().find(|(n, ..)| n.eq_ignore_ascii_case(attr_name));
+        let found = axis_attributes::find(attr_name);
+        let Some(row) = found else {
+            if let (Some((_, m, _)), "GSV") = (member, upper) {
+                let (place, ty) = self.target_arg(&call.args[3])?;
+                return Ok(SKind::Gsv(axis, GsvAttribute::Member(*m), place, ty));
+            }
+            let names: Vec<&str> = AXIS_ATTRIBUTES
+                .iter()
+                .filter(|a| upper == "GSV" || a.settable)
+                .map(|a| a.name)
+                .chain(AXIS_MEMBERS.iter().map(|a| a.0).filter(|_| upper == "GSV"))
+                .collect();
+            let why = if member.is_some() {
+                "is a status the controller keeps: GSV reads it, SSV does not set it"
+            } else {
+                "is not modelled"
+            };
+            let d = self.error(
+                call.args[2].span,
+                format!("{upper}: AXIS attribute '{attr_name}' {why} (see scenes/README.md, AXIS attributes)"),
+                if member.is_some() { "read-only" } else { "not modelled" },
+            );
+            return Err(suggest(d, attr_name, names));
+        };
+        let index = self.env.scene.axes.iter().position(|a| a.name.eq_ignore_ascii_case(name));
+        if let AxisAttr::Drive(_) = row.attr
+            && index.and_then(|k| self.env.scene.axes[k].servo).is_none()
+        {
+            return err(
+                self,
+                call.args[1].span,
+                format!(
+                    "{upper}: {} is a servo drive attribute, and axis '{name}' has no servo drive (it is virtual, or its joint has a spring motor)",
+                    row.name
+                ),
+            );
+        }
+        let k = index.unwrap_or(0);
         if upper == "SSV" {
-            let Some((_, limit)) = SSV_ATTRIBUTES.iter().find(|(n, _)| n.eq_ignore_ascii_case(attr_name)) else {
-                let names: Vec<&str> = SSV_ATTRIBUTES.iter().map(|a| a.0).collect();
-                let d = self.error(
+            if !row.settable {
+                return err(
+                    self,
                     call.args[2].span,
                     format!(
-                        "SSV: AXIS attribute '{attr_name}' cannot be set (settable: {})",
-                        names.join(", ")
+                        "SSV: AXIS attribute '{}' is read-only (MOTION-RM003 access: GSV); it comes from the scene's [[axes]] entry",
+                        row.name
                     ),
-                    "not settable",
                 );
-                return Err(suggest(d, attr_name, names));
-            };
+            }
             let value = self.value_arg(&call.args[3])?;
             if value.ty == Ty::Bool {
                 return err(self, call.args[3].span, "SSV: the Source is a number, not a BOOL");
             }
-            return Ok(SKind::Ssv(axis, *limit, value));
+            let target = match row.attr {
+                AxisAttr::Config(limit) => SsvAttribute::Config(limit),
+                AxisAttr::Drive(d) => SsvAttribute::Drive(k, d),
+                AxisAttr::Fixed(_) => unreachable!("fixed attributes are not settable"),
+            };
+            return Ok(SKind::Ssv(axis, target, value));
         }
-        let attribute = AXIS_MEMBERS
-            .iter()
-            .find(|(n, ..)| n.eq_ignore_ascii_case(attr_name))
-            .map(|(_, m, _)| GsvAttribute::Member(*m))
-            .or_else(|| {
-                GSV_ATTRIBUTES
-                    .iter()
-                    .find(|(n, _)| n.eq_ignore_ascii_case(attr_name))
-                    .map(|(_, a)| *a)
-            });
-        let Some(attribute) = attribute else {
-            let names: Vec<&str> = AXIS_MEMBERS
-                .iter()
-                .map(|a| a.0)
-                .chain(GSV_ATTRIBUTES.iter().map(|a| a.0))
-                .collect();
-            let d = self.error(
-                call.args[2].span,
-                format!(
-                    "GSV: AXIS attribute '{attr_name}' is not modelled (attributes: {})",
-                    names.join(", ")
-                ),
-                "not modelled",
-            );
-            return Err(suggest(d, attr_name, names));
+        let attribute = match row.attr {
+            AxisAttr::Config(limit) => GsvAttribute::Config(limit),
+            AxisAttr::Drive(d) => GsvAttribute::Drive(k, d),
+            AxisAttr::Fixed(f) => GsvAttribute::Const(self.fixed_axis_value(k, f)),
         };
         let (place, ty) = self.target_arg(&call.args[3])?;
         Ok(SKind::Gsv(axis, attribute, place, ty))
+    }
+
+    /// A fixed `AXIS` attribute of the scene's axis `k`.
+    fn fixed_axis_value(&self, k: usize, f: Fixed) -> Value {
+        let Some(a) = self.env.scene.axes.get(k) else {
+            return Value::Int(0);
+        };
+        let c = &a.config;
+        match f {
+            Fixed::ScalingNumerator => {
+                let per_si = 1.0 / a.units.si_per_unit();
+                Value::Real(match a.kind {
+                    crate::scene::AxisKind::Rotary => std::f64::consts::TAU * per_si,
+                    crate::scene::AxisKind::Linear => per_si,
+                })
+            }
+            Fixed::ScalingDenominator | Fixed::UnwindDenominator => Value::Real(1.0),
+            Fixed::UnwindNumerator => Value::Real(c.modulo_period.unwrap_or(0.0)),
+            Fixed::HomeMode => Value::Int(match c.homing.mode {
+                planner::homing::HomeMode::Passive => 0,
+                planner::homing::HomeMode::Active => 1,
+            }),
+            Fixed::HomeDirection => Value::Int(match c.homing.direction {
+                planner::homing::HomeDirection::UnidirectionalForward => 0,
+                planner::homing::HomeDirection::BidirectionalForward => 1,
+                planner::homing::HomeDirection::UnidirectionalReverse => 2,
+                planner::homing::HomeDirection::BidirectionalReverse => 3,
+            }),
+            Fixed::HomeSequence => Value::Int(0),
+        }
     }
 
     /// `GSV`/`SSV` of a system object (module doc of

@@ -37,7 +37,9 @@
 //! * `SQRT` takes the square root of the absolute value, as the
 //!   controller's SQRT does; `TRUNC` gives a DINT.
 
-use super::ir::{ArrayAt, CExpr, CStmt, DataAt, GsvAttribute, Instance, MotionCall, Object, Place, SKind, SysData};
+use super::ir::{
+    ArrayAt, CExpr, CStmt, DataAt, GsvAttribute, Instance, MotionCall, Object, Place, SKind, SsvAttribute, SysData,
+};
 use super::memory::Memory;
 use super::system::{Attribute, Class, System};
 use super::types::{DataType, Value};
@@ -855,20 +857,39 @@ impl<'e> Exec<'e> {
                 self.check()?;
             }
             SKind::Gsv(axis, attribute, place, ty) => {
-                let config = self.task.axis_config(*axis);
                 let v = match attribute {
                     GsvAttribute::Member(m) => members::axis_value(self.task, *axis, *m),
-                    GsvAttribute::MaximumSpeed => Value::Real(config.max_velocity),
-                    GsvAttribute::MaximumAcceleration => Value::Real(config.max_acceleration),
-                    GsvAttribute::MaximumDeceleration => Value::Real(config.max_deceleration),
+                    GsvAttribute::Config(limit) => Value::Real(self.task.axis_config(*axis).limit(*limit)),
+                    GsvAttribute::Const(v) => *v,
+                    GsvAttribute::Drive(k, d) => {
+                        let gains = self.system.as_ref().and_then(|(sys, ..)| sys.drives.get(*k).copied().flatten());
+                        Value::Real(gains.map_or(0.0, |g| d.get(&g)))
+                    }
                 };
                 self.store(place, *ty, v);
                 self.check()?;
             }
-            SKind::Ssv(axis, limit, value) => {
+            SKind::Ssv(axis, target, value) => {
                 let v = self.eval(value).as_f64();
                 self.check()?;
-                if let Err(e) = self.task.set_axis_limit(*axis, *limit, v) {
+                let refused = match target {
+                    SsvAttribute::Config(limit) => self.task.set_axis_limit(*axis, *limit, v).err().map(|e| e.to_string()),
+                    SsvAttribute::Drive(k, d) => match self.system.as_mut() {
+                        Some((sys, ..)) => match sys.drives.get(*k).copied().flatten().map(|g| d.set(&g, v)) {
+                            Some(Ok(g)) => {
+                                sys.drives[*k] = Some(g);
+                                if !sys.drive_changes.contains(k) {
+                                    sys.drive_changes.push(*k);
+                                }
+                                None
+                            }
+                            Some(Err(why)) => Some(why),
+                            None => Some("the axis has no servo drive".to_owned()),
+                        },
+                        None => Some("a drive attribute is set by a task's routine, not a program step".to_owned()),
+                    },
+                };
+                if let Some(e) = refused {
                     let name = self.task.axis_config(*axis).name.clone();
                     self.refusals.push(format!("SSV {name} (line {}): {e}", self.line));
                 }
