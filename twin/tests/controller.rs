@@ -764,7 +764,9 @@ fn data_type_rows(t: &str) -> Vec<(String, &'static str, &'static str)> {
                [[tags]]\nname = \"Pnt\"\ntype = \"Pt\"\n[[tags]]\nname = \"Txt\"\ntype = \"STRING\"\n";
     vec![
         (
-            types("[[data_types]]\nname = \"A\"\nmembers = [{ name = \"B\", type = \"B\" }]\n[[data_types]]\nname = \"B\"\nmembers = [{ name = \"A\", type = \"A\", dimension = 2 }]"),
+            types(
+                "[[data_types]]\nname = \"A\"\nmembers = [{ name = \"B\", type = \"B\" }]\n[[data_types]]\nname = \"B\"\nmembers = [{ name = \"A\", type = \"A\", dimension = 2 }]",
+            ),
             "A := 1;",
             "data_types[1].members[0].type: data type A → B → A contains itself",
         ),
@@ -794,29 +796,51 @@ fn data_type_rows(t: &str) -> Vec<(String, &'static str, &'static str)> {
             "data_types[0].string_length: a data type has members (a structure) or string_length (a string type): this one has both",
         ),
         (
-            types("[[data_types]]\nname = \"S\"\nstring_length = 4\n[[tags]]\nname = \"M\"\ntype = \"S\"\nvalue = \"hello\""),
+            types(
+                "[[data_types]]\nname = \"S\"\nstring_length = 4\n[[tags]]\nname = \"M\"\ntype = \"S\"\nvalue = \"hello\"",
+            ),
             "A := 1;",
             "tags[2].value: 'hello' does not fit S: it has 5 characters, DATA holds 4",
         ),
         (
-            types(&format!("{udt}[[tags]]\nname = \"Q\"\ntype = \"Pt\"\nvalue = {{ Y = 1.0 }}")),
+            types(&format!(
+                "{udt}[[tags]]\nname = \"Q\"\ntype = \"Pt\"\nvalue = {{ Y = 1.0 }}"
+            )),
             "A := 1;",
             "tags[4].value: Pt has no member 'Y' (members: X, Tag)",
         ),
         (
-            types(&format!("{udt}[[tags]]\nname = \"Q\"\ntype = \"Pt\"\nvalue = {{ Tag = 5 }}")),
+            types(&format!(
+                "{udt}[[tags]]\nname = \"Q\"\ntype = \"Pt\"\nvalue = {{ Tag = 5 }}"
+            )),
             "A := 1;",
             "tags[4].value.Tag: value does not fit type STRING: expected a string of ASCII characters",
         ),
-        (types(udt), "A := Pnt.Y;", "Main.st:1:10: Pt has no member 'Y' (members: X, Tag)"),
-        (types(udt), "A := Pnt;", "Main.st:1:6: 'Pnt' is a Pt: name a member, or copy it whole with COP"),
-        (types(udt), "CONCAT(Txt, Pnt, Txt);", "Main.st:1:13: CONCAT Source B: 'Pnt' is not a string"),
+        (
+            types(udt),
+            "A := Pnt.Y;",
+            "Main.st:1:10: Pt has no member 'Y' (members: X, Tag)",
+        ),
+        (
+            types(udt),
+            "A := Pnt;",
+            "Main.st:1:6: 'Pnt' is a Pt: name a member, or copy it whole with COP",
+        ),
+        (
+            types(udt),
+            "CONCAT(Txt, Pnt, Txt);",
+            "Main.st:1:13: CONCAT Source B: 'Pnt' is not a string",
+        ),
         (
             types(udt),
             "COP(Pnt.Tag.LEN.0, A, 1);",
             "Main.st:1:5: COP Source: a bit is not an operand of a copy",
         ),
-        (types(udt), "IF Txt = A THEN A := 1; END_IF;", "Main.st:1:10: '=' compares: 'A' is not a string"),
+        (
+            types(udt),
+            "IF Txt = A THEN A := 1; END_IF;",
+            "Main.st:1:10: '=' compares: 'A' is not a string",
+        ),
     ]
 }
 
@@ -1073,7 +1097,11 @@ fn data_types_nest_and_take_computed_subscripts_at_every_level() {
     assert_eq!((b.int("First"), b.int("Len"), b.int("Ch")), (10, 2, i64::from(b'B')));
     assert_eq!((b.int("Mode"), b.value("Bit")), (2, Value::Bool(true)));
     // The subscript out of its member array faults naming the member.
-    let path = scene("udt-fault", &body, &[("Main", "J := 3;\nGot := Line.Stations[0].Pos[J];\n")]);
+    let path = scene(
+        "udt-fault",
+        &body,
+        &[("Main", "J := 3;\nGot := Line.Stations[0].Pos[J];\n")],
+    );
     let mut b = Bench::load(&path);
     b.updates(1);
     let f = b.program.controller().major_fault().expect("4/20").clone();
@@ -1176,13 +1204,18 @@ fn string_instructions_convert_cut_join_compare_and_fault() {
         let t = mem.find(name).expect("tag");
         let base = mem.tags[t].base;
         let len = mem.slots[base].as_i64() as usize;
-        (0..len).map(|k| mem.slots[base + 1 + k].as_i64() as u8 as char).collect::<String>()
+        (0..len)
+            .map(|k| mem.slots[base + 1 + k].as_i64() as u8 as char)
+            .collect::<String>()
     };
     assert_eq!(text(&b, "Msg"), "helloworld");
     assert_eq!(text(&b, "Part"), "ell");
     assert_eq!(text(&b, "Ins"), "he--llo");
     assert_eq!(text(&b, "Del"), "lloworld");
-    assert_eq!((text(&b, "Up"), text(&b, "Low")), ("HELLOWORLD".into(), "helloworld".into()));
+    assert_eq!(
+        (text(&b, "Up"), text(&b, "Low")),
+        ("HELLOWORLD".into(), "helloworld".into())
+    );
     assert_eq!((text(&b, "Num"), b.int("Back")), ("-1234".into(), -1234));
     assert_eq!((text(&b, "Real"), b.value("Y")), ("2.500000".into(), Value::Real(2.5)));
     assert_eq!((b.int("Where"), b.int("Len")), (6, 10));
@@ -1197,11 +1230,21 @@ fn string_instructions_convert_cut_join_compare_and_fault() {
         ("mid-start", "MID(Hello, 2, 82, Part);\n", 56),
         ("len-bad", "Msg.LEN := 83;\nUPPER(Msg, Up);\n", 51),
     ] {
-        let extra = "[[tags]]\nname = \"Big\"\ntype = \"STRING\"\nvalue = \"300\"\n[[tags]]\nname = \"S\"\ntype = \"SINT\"\n";
-        let path = scene(&format!("strings-{name}"), &format!("{body}{extra}"), &[("Main", routine)]);
+        let extra =
+            "[[tags]]\nname = \"Big\"\ntype = \"STRING\"\nvalue = \"300\"\n[[tags]]\nname = \"S\"\ntype = \"SINT\"\n";
+        let path = scene(
+            &format!("strings-{name}"),
+            &format!("{body}{extra}"),
+            &[("Main", routine)],
+        );
         let mut b = Bench::load(&path);
         b.updates(1);
-        let f = b.program.controller().major_fault().unwrap_or_else(|| panic!("{name}: no fault")).clone();
+        let f = b
+            .program
+            .controller()
+            .major_fault()
+            .unwrap_or_else(|| panic!("{name}: no fault"))
+            .clone();
         assert_eq!((f.fault_type, f.code), (4, code), "{name}: {}", f.message);
     }
 }
@@ -1244,11 +1287,21 @@ fn axis_attributes_read_and_set_as_rm003_allows() {
     let path = scene("axis-attributes", &body, &[("Main", main)]);
     let mut b = Bench::load(&path);
     b.updates(400);
-    assert_eq!((b.value("Speed0"), b.value("Speed1")), (Value::Real(720.0), Value::Real(90.0)));
+    assert_eq!(
+        (b.value("Speed0"), b.value("Speed1")),
+        (Value::Real(720.0), Value::Real(90.0))
+    );
     assert_eq!((b.value("Home"), b.value("Tol")), (Value::Real(12.5), Value::Real(3.0)));
-    assert_eq!(b.value("Acc"), Value::Real(3600.0), "a negative acceleration is refused and the value kept");
+    assert_eq!(
+        b.value("Acc"),
+        Value::Real(3600.0),
+        "a negative acceleration is refused and the value kept"
+    );
     assert_eq!((b.value("Scale"), b.int("Mode")), (Value::Real(360.0), 1));
-    assert!(b.value("Peak").as_f64() <= 90.0 + 1e-9, "the move ran at the new maximum");
+    assert!(
+        b.value("Peak").as_f64() <= 90.0 + 1e-9,
+        "the move ran at the new maximum"
+    );
     assert!(b.value("Peak").as_f64() > 80.0, "{:?}", b.value("Peak"));
     let refused = b.program.controller().refusals().join("\n");
     assert!(refused.contains("no soft travel limits"), "{refused}");

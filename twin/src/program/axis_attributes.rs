@@ -187,7 +187,8 @@ const fn row(
 use AxisAttr::{Config, Drive, Fixed as F};
 use DataType::{Real, Usint};
 
-/// Every `AXIS` configuration attribute the twin models.
+/// Every `AXIS` configuration attribute the twin models (one row a line).
+#[rustfmt::skip]
 pub const AXIS_ATTRIBUTES: [AxisAttribute; 28] = [
     row("MaximumSpeed", Config(AxisLimit::Velocity), Real, "units/s", true, "`max_velocity`: the speed `% of maximum` refers to, and the most an instruction may ask"),
     row("MaximumAcceleration", Config(AxisLimit::Acceleration), Real, "units/s²", true, "`max_acceleration`"),
@@ -228,7 +229,8 @@ pub fn find(name: &str) -> Option<&'static AxisAttribute> {
 /// The table of the catalogue as `scenes/README.md` writes it.
 #[must_use]
 pub fn markdown_table() -> String {
-    let mut out = String::from("| attribute | type | unit | access | what it holds |\n| --- | --- | --- | --- | --- |\n");
+    let mut out =
+        String::from("| attribute | type | unit | access | what it holds |\n| --- | --- | --- | --- | --- |\n");
     for a in &AXIS_ATTRIBUTES {
         out.push_str(&format!(
             "| `{}` | {} | {} | {} | {} |\n",
@@ -263,7 +265,8 @@ mod tests {
 
     #[test]
     fn names_are_unique_and_drive_values_round_trip() {
-        let names: std::collections::HashSet<String> = AXIS_ATTRIBUTES.iter().map(|a| a.name.to_ascii_lowercase()).collect();
+        let names: std::collections::HashSet<String> =
+            AXIS_ATTRIBUTES.iter().map(|a| a.name.to_ascii_lowercase()).collect();
         assert_eq!(names.len(), AXIS_ATTRIBUTES.len());
         let g = ServoGains::default();
         for a in &AXIS_ATTRIBUTES {

@@ -71,7 +71,11 @@ impl Layout {
     /// The member names, for messages.
     #[must_use]
     pub fn member_names(&self) -> String {
-        self.members.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", ")
+        self.members
+            .iter()
+            .map(|m| m.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -394,7 +398,10 @@ mod tests {
         let types = vec![
             DataTypeDef::string(),
             // SINT, DINT: the DINT at 4, 8 bytes.
-            udt("A", vec![member("s", BaseType::Sint, None), member("d", BaseType::Dint, None)]),
+            udt(
+                "A",
+                vec![member("s", BaseType::Sint, None), member("d", BaseType::Dint, None)],
+            ),
             // Nine BOOLs: two hidden SINTs, then an INT at 2; 4 bytes.
             udt(
                 "B",
@@ -404,9 +411,15 @@ mod tests {
                     .collect(),
             ),
             // BOOL, LREAL: 8-byte alignment, 16 bytes.
-            udt("C", vec![member("b", BaseType::Bool, None), member("x", BaseType::Lreal, None)]),
+            udt(
+                "C",
+                vec![member("b", BaseType::Bool, None), member("x", BaseType::Lreal, None)],
+            ),
             // BOOL[40] after a SINT: words from 4, 12 bytes.
-            udt("D", vec![member("s", BaseType::Sint, None), member("f", BaseType::Bool, Some(40))]),
+            udt(
+                "D",
+                vec![member("s", BaseType::Sint, None), member("f", BaseType::Bool, Some(40))],
+            ),
             // SINT then a nested C (8-aligned) and a STRING.
             udt(
                 "E",

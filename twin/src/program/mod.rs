@@ -36,12 +36,12 @@
 //! expression of the controller's scope: a control-structure bit
 //! (`MC1.PC`), a function-block output (`MoveTable.Done`), a tag.
 
+pub mod axis_attributes;
 pub mod bindings;
 pub mod compile;
 pub mod controller;
 pub mod exec;
 pub mod ir;
-pub mod axis_attributes;
 pub mod layout;
 pub mod memory;
 pub mod sandbox;

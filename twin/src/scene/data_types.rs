@@ -266,7 +266,11 @@ impl Ctx<'_> {
                 let shown: String = text.chars().take(40).collect();
                 let problem = Problem::BadString {
                     ty: u.name,
-                    text: if shown.len() < text.len() { format!("{shown}…") } else { shown },
+                    text: if shown.len() < text.len() {
+                        format!("{shown}…")
+                    } else {
+                        shown
+                    },
                     why,
                 };
                 self.invalid(at, field, problem)
@@ -288,7 +292,12 @@ impl Ctx<'_> {
                 let problem = Problem::UnknownMember {
                     ty: u.name,
                     member: key.clone(),
-                    members: def.members.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", "),
+                    members: def
+                        .members
+                        .iter()
+                        .map(|m| m.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", "),
                 };
                 return Err(self.invalid(at, field, problem));
             };

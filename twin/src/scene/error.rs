@@ -130,7 +130,9 @@ pub enum Problem {
         what: &'static str,
     },
     /// A member type a data type cannot hold.
-    #[error("a data type's member is a number, BOOL, a string type or another data type, not {base} (declare {base} tags instead)")]
+    #[error(
+        "a data type's member is a number, BOOL, a string type or another data type, not {base} (declare {base} tags instead)"
+    )]
     MemberTypeNotAllowed {
         /// The type's name.
         base: &'static str,

@@ -33,10 +33,10 @@ mod model;
 mod raw;
 
 mod collision;
+mod data_types;
 mod expect;
 mod geometry;
 mod program;
-mod data_types;
 mod tags;
 mod tasks;
 mod validate;
@@ -44,14 +44,14 @@ mod validate;
 pub use error::{Problem, SceneError};
 pub use geometry::GEOMETRY_TYPES;
 pub use model::{
-    AllowedPair, Axis, AxisKind, BaseType, DataTypeDef, MAX_STRING_LENGTH, MemberDef, STRING_LENGTH, STRING_TYPE, UserType, CONTINUOUS_PRIORITY, CamPoint, Camera, CollisionSettings, Condition,
+    AllowedPair, Axis, AxisKind, BaseType, CONTINUOUS_PRIORITY, CamPoint, Camera, CollisionSettings, Condition,
     Connection, ControllerSettings, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS, DEFAULT_START_TIME_US,
-    DEFAULT_STATEMENT_US, DEFAULT_WATCHDOG_MS, Dialect, EventTrigger, ExpectKind, Expectation, FunctionBlock,
-    GeometrySettings, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M,
-    MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MeshApproximation, MotorGains, Obstacle, PlantMode,
-    Preflight, ProgramDef, RUN_EXIT_CODES, Reaction, Robot, RoutineDef, Scene, SegmentType, ServoGains, Shape,
-    Snapshots, Step, Tag, TagType, TagValue, Task, TaskKind, TestSettings, Tool, TraceTag, Trigger, Units, Usage,
-    Variant,
+    DEFAULT_STATEMENT_US, DEFAULT_WATCHDOG_MS, DataTypeDef, Dialect, EventTrigger, ExpectKind, Expectation,
+    FunctionBlock, GeometrySettings, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX,
+    MAX_LENGTH_M, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MAX_STRING_LENGTH, MIN_PHYSICS_STEP_MS, MemberDef,
+    MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef, RUN_EXIT_CODES, Reaction, Robot,
+    RoutineDef, STRING_LENGTH, STRING_TYPE, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType,
+    TagValue, Task, TaskKind, TestSettings, Tool, TraceTag, Trigger, Units, Usage, UserType, Variant,
 };
 
 use crate::source::Files;

@@ -384,7 +384,8 @@ impl Feed {
             b.values.push(plant.drive_torque(k));
         }
         for tag in program.traced_tags() {
-            b.values.push((!tag.is_text()).then(|| program.traced_number(tag, task)));
+            b.values
+                .push((!tag.is_text()).then(|| program.traced_number(tag, task)));
         }
         if plant.collision_enabled() {
             b.values.extend(plant.clearance_m().into_iter().map(Some));

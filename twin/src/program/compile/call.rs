@@ -4,11 +4,10 @@
 //! instructions of the catalogue (`motion.rs`).
 
 use super::{Compiler, Result, err, suggest};
-use crate::program::ir::{
-    AXIS_MEMBERS, CExpr, CKind, GENERAL, General, GsvAttribute, Object, Place, SKind, SsvAttribute,
-    SysData,
-};
 use crate::program::axis_attributes::{self, AXIS_ATTRIBUTES, AxisAttr, Fixed};
+use crate::program::ir::{
+    AXIS_MEMBERS, CExpr, CKind, GENERAL, General, GsvAttribute, Object, Place, SKind, SsvAttribute, SysData,
+};
 use crate::program::system::{self, Class};
 use crate::program::types::{DataType, Ty, Value};
 use crate::scene::Dialect;
@@ -303,7 +302,12 @@ impl Compiler<'_, '_, '_> {
             );
             return Err(suggest(d, attr_name, names));
         };
-        let index = self.env.scene.axes.iter().position(|a| a.name.eq_ignore_ascii_case(name));
+        let index = self
+            .env
+            .scene
+            .axes
+            .iter()
+            .position(|a| a.name.eq_ignore_ascii_case(name));
         if let AxisAttr::Drive(_) = row.attr
             && index.and_then(|k| self.env.scene.axes[k].servo).is_none()
         {

@@ -529,7 +529,11 @@ impl Compiler<'_, '_, '_> {
             let Some(member) = layout.member(m) else {
                 let d = self.error(
                     *span,
-                    format!("{} has no member '{m}' (members: {})", layout.name, layout.member_names()),
+                    format!(
+                        "{} has no member '{m}' (members: {})",
+                        layout.name,
+                        layout.member_names()
+                    ),
                     "no such member",
                 );
                 return Err(suggest(d, m, layout.members.iter().map(|m| m.name.as_str())));
@@ -555,7 +559,10 @@ impl Compiler<'_, '_, '_> {
             if !self.scanned && !matches!(index.kind, CKind::Const(v) if (0..len as i64).contains(&v.as_i64())) {
                 return Err(self.error(
                     sub[0].span,
-                    format!("a step's or a scene's subscript is a constant inside the array (valid: 0 to {})", len - 1),
+                    format!(
+                        "a step's or a scene's subscript is a constant inside the array (valid: 0 to {})",
+                        len - 1
+                    ),
                     format!("'{shown}' has {len} elements"),
                 ));
             }

@@ -128,7 +128,11 @@ impl Compiler<'_, '_, '_> {
             return err(
                 self,
                 r.span,
-                format!("{what}: '{}' is a {} tag, expected a string type", show(&r), info.type_name),
+                format!(
+                    "{what}: '{}' is a {} tag, expected a string type",
+                    show(&r),
+                    info.type_name
+                ),
             );
         }
         let mut path = r.path.iter();

@@ -862,7 +862,10 @@ impl<'e> Exec<'e> {
                     GsvAttribute::Config(limit) => Value::Real(self.task.axis_config(*axis).limit(*limit)),
                     GsvAttribute::Const(v) => *v,
                     GsvAttribute::Drive(k, d) => {
-                        let gains = self.system.as_ref().and_then(|(sys, ..)| sys.drives.get(*k).copied().flatten());
+                        let gains = self
+                            .system
+                            .as_ref()
+                            .and_then(|(sys, ..)| sys.drives.get(*k).copied().flatten());
                         Value::Real(gains.map_or(0.0, |g| d.get(&g)))
                     }
                 };
@@ -873,7 +876,9 @@ impl<'e> Exec<'e> {
                 let v = self.eval(value).as_f64();
                 self.check()?;
                 let refused = match target {
-                    SsvAttribute::Config(limit) => self.task.set_axis_limit(*axis, *limit, v).err().map(|e| e.to_string()),
+                    SsvAttribute::Config(limit) => {
+                        self.task.set_axis_limit(*axis, *limit, v).err().map(|e| e.to_string())
+                    }
                     SsvAttribute::Drive(k, d) => match self.system.as_mut() {
                         Some((sys, ..)) => match sys.drives.get(*k).copied().flatten().map(|g| d.set(&g, v)) {
                             Some(Ok(g)) => {
@@ -1041,7 +1046,8 @@ impl<'e> Exec<'e> {
         let count = usize::try_from(n)
             .ok()
             .and_then(|n| n.checked_mul(self.mem.layouts.bytes(dst.elem)));
-        let fits = |at: usize, d: &DataAt| count.is_some_and(|c| at.checked_add(c).is_some_and(|end| end <= d.tag_bytes));
+        let fits =
+            |at: usize, d: &DataAt| count.is_some_and(|c| at.checked_add(c).is_some_and(|end| end <= d.tag_bytes));
         if !fits(from, src) || !fits(to, dst) {
             return Err(self.raise(
                 4,
@@ -1059,11 +1065,14 @@ impl<'e> Exec<'e> {
         let count = count.unwrap_or(0);
         let mem = &mut *self.mem;
         let (mut a, mut b) = (Vec::with_capacity(src.tag_bytes), Vec::with_capacity(dst.tag_bytes));
-        mem.layouts.encode(src.tag_elem, src.tag_len, &mem.slots, src.tag_base, &mut a);
-        mem.layouts.encode(dst.tag_elem, dst.tag_len, &mem.slots, dst.tag_base, &mut b);
+        mem.layouts
+            .encode(src.tag_elem, src.tag_len, &mem.slots, src.tag_base, &mut a);
+        mem.layouts
+            .encode(dst.tag_elem, dst.tag_len, &mem.slots, dst.tag_base, &mut b);
         b[to..to + count].copy_from_slice(&a[from..from + count]);
         let slots = &mut mem.slots[..dst.tag_base + dst.tag_slots];
-        mem.layouts.decode(dst.tag_elem, dst.tag_len, &b, 0, slots, dst.tag_base);
+        mem.layouts
+            .decode(dst.tag_elem, dst.tag_len, &b, 0, slots, dst.tag_base);
         Ok(())
     }
 

@@ -17,7 +17,7 @@
 //!   Start/Quantity rule allows); DELETE removes what lies inside `LEN`;
 //!   INSERT puts Source B's first character at Start (past the end of A:
 //!   at its end); FIND of an empty Search gives 0.
-//! * RTOS writes six decimals (`3.141590`), or a six-decimal mantissa and
+//! * RTOS writes six decimals (`2.718500`), or a six-decimal mantissa and
 //!   a three-digit exponent (`1.234560e+008`) below 0.0001 and from 10⁷
 //!   up; non-finite values write `1.#INF`, `-1.#INF` or `1.#QNAN`.
 //! * STOD skips leading characters until a digit (or a minus sign before
@@ -58,7 +58,9 @@ impl Exec<'_> {
                 format!("{}.LEN is {len}: outside its DATA of {} characters", s.name, s.capacity),
             ));
         }
-        Ok((0..len as usize).map(|k| self.mem.slots[at + 1 + k].as_i64() as u8).collect())
+        Ok((0..len as usize)
+            .map(|k| self.mem.slots[at + 1 + k].as_i64() as u8)
+            .collect())
     }
 
     /// Writes `text` as the string's `LEN` and first characters; `code`
@@ -196,11 +198,7 @@ impl Exec<'_> {
                     return Err(self.raise(
                         4,
                         53,
-                        format!(
-                            "'{}' is beyond {}",
-                            String::from_utf8_lossy(&text),
-                            ty.name()
-                        ),
+                        format!("'{}' is beyond {}", String::from_utf8_lossy(&text), ty.name()),
                     ));
                 }
                 self.store(place, *ty, value);
@@ -303,7 +301,7 @@ mod tests {
 
     #[test]
     fn rtos_text() {
-        assert_eq!(real_text(3.141_59), "3.141590");
+        assert_eq!(real_text(2.718_5), "2.718500");
         assert_eq!(real_text(0.0), "0.000000");
         assert_eq!(real_text(-2.5), "-2.500000");
         assert_eq!(real_text(123_456_000.0), "1.234560e+008");
