@@ -250,14 +250,8 @@ mod tests {
 
     #[test]
     fn the_scene_readme_lists_every_axis_attribute_as_the_catalogue_has_it() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/README.md");
-        let readme = std::fs::read_to_string(path).expect("scenes/README.md");
-        let start = readme.find("<!-- axis-attributes:").expect("the table's start marker");
-        let body = &readme[start..];
-        let body = &body[body.find('\n').expect("a line") + 1..];
-        let end = body.find("<!-- /axis-attributes -->").expect("the table's end marker");
         assert_eq!(
-            &body[..end],
+            crate::program::scene_readme_block("axis-attributes"),
             markdown_table(),
             "scenes/README.md's AXIS attribute table is out of date"
         );

@@ -296,5 +296,19 @@ impl Program {
     }
 }
 
+/// The lines of `scenes/README.md` between `<!-- NAME: … -->` and
+/// `<!-- /NAME -->`: a table generated from a catalogue, which a test
+/// keeps equal to it.
+#[cfg(test)]
+pub(crate) fn scene_readme_block(name: &str) -> String {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/README.md");
+    let readme = std::fs::read_to_string(path).expect("scenes/README.md");
+    let start = readme.find(&format!("<!-- {name}:")).expect("the block's start marker");
+    let body = &readme[start..];
+    let body = &body[body.find('\n').expect("a line") + 1..];
+    let end = body.find(&format!("<!-- /{name} -->")).expect("the block's end marker");
+    body[..end].to_owned()
+}
+
 #[cfg(test)]
 mod tests;

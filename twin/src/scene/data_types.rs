@@ -22,23 +22,10 @@ use super::model::{
 use super::raw::RawDataType;
 use super::tags::scalar_value;
 
-/// Whether a member may have this type.
+/// Whether a member may have this type: a scalar, a string type or a data
+/// type (what tag memory keeps, but a cam point).
 fn member_type_allowed(base: BaseType) -> bool {
-    matches!(
-        base,
-        BaseType::User(_)
-            | BaseType::Bool
-            | BaseType::Sint
-            | BaseType::Int
-            | BaseType::Dint
-            | BaseType::Lint
-            | BaseType::Usint
-            | BaseType::Uint
-            | BaseType::Udint
-            | BaseType::Ulint
-            | BaseType::Real
-            | BaseType::Lreal
-    )
+    base.in_tag_memory() && base != BaseType::Cam
 }
 
 impl Ctx<'_> {

@@ -394,25 +394,8 @@ impl Ctx<'_> {
                 Ok(TagValue::CamPoints(points))
             }
             (BaseType::User(u), None) => self.user_value(v, v.get_ref(), u, field),
-            (BaseType::User(u), Some(len)) => {
-                let expected = "an array of all the elements in row-major order (the last subscript fastest), flat or nested by dimension";
-                let toml::Value::Array(items) = v.get_ref() else {
-                    return Err(mismatch(expected));
-                };
-                let mut flat: Vec<&toml::Value> = Vec::with_capacity(len);
-                if items.len() == len && items.iter().all(|i| !i.is_array()) {
-                    flat.extend(items);
-                } else if !flatten(items, ty.dimensions(), &mut flat) {
-                    return Err(mismatch(expected));
-                }
-                flat.iter()
-                    .enumerate()
-                    .map(|(k, item)| self.user_value(v, item, u, &format!("{field}[{k}]")))
-                    .collect::<Result<_, _>>()
-                    .map(TagValue::Array)
-            }
             (base, Some(len)) => {
-                let expected = if ty.dimensions().len() > 1 {
+                let expected = if ty.dimensions().len() > 1 || matches!(base, BaseType::User(_)) {
                     "an array of all the elements in row-major order (the last subscript fastest), flat or nested by dimension"
                 } else {
                     "an array of exactly N elements of the element type"
@@ -427,7 +410,11 @@ impl Ctx<'_> {
                     return Err(mismatch(expected));
                 }
                 flat.iter()
-                    .map(|item| scalar_value(base, item).ok_or_else(|| mismatch(expected)))
+                    .enumerate()
+                    .map(|(k, item)| match base {
+                        BaseType::User(u) => self.user_value(v, item, u, &format!("{field}[{k}]")),
+                        _ => scalar_value(base, item).ok_or_else(|| mismatch(expected)),
+                    })
                     .collect::<Result<_, _>>()
                     .map(TagValue::Array)
             }

@@ -39,6 +39,7 @@
 
 use super::ir::{
     ArrayAt, CExpr, CStmt, DataAt, GsvAttribute, Instance, MotionCall, Object, Place, SKind, SsvAttribute, SysData,
+    Term,
 };
 use super::memory::Memory;
 use super::system::{Attribute, Class, System};
@@ -1022,19 +1023,24 @@ impl<'e> Exec<'e> {
         Ok(a.base + start as usize)
     }
 
-    /// The byte offset of a copy operand inside its tag (its computed
-    /// subscripts checked: major fault 4/20).
-    fn data_offset(&mut self, d: &DataAt) -> R<usize> {
-        let mut byte = d.byte;
-        for t in &d.terms {
-            let i = self.eval(&t.index).as_i64();
+    /// The offset computed subscripts add, `each` slots or bytes an
+    /// element of each (every subscript checked: major fault 4/20).
+    pub(super) fn term_offset(&mut self, terms: &[Term], each: fn(&Term) -> usize) -> R<usize> {
+        let mut offset = 0;
+        for t in terms {
+            let i = self.leaf(&t.index).as_i64();
             self.check()?;
             if !(0..t.len as i64).contains(&i) {
                 return Err(self.subscript_fault(&t.name, i, t.len));
             }
-            byte += i as usize * t.bytes;
+            offset += i as usize * each(t);
         }
-        Ok(byte)
+        Ok(offset)
+    }
+
+    /// The byte offset of a copy operand inside its tag.
+    fn data_offset(&mut self, d: &DataAt) -> R<usize> {
+        Ok(d.byte + self.term_offset(&d.terms, |t| t.bytes)?)
     }
 
     /// `COP`/`CPS` through the controller's bytes (1756-RM003): Length ×

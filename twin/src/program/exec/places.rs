@@ -22,19 +22,13 @@ impl Exec<'_> {
                 }
                 slot
             }
-            Place::Path { base, terms } => {
-                let mut slot = *base;
-                for t in terms {
-                    let i = self.leaf(&t.index).as_i64();
-                    if !(0..t.len as i64).contains(&i) {
-                        let f = self.subscript_fault(&t.name, i, t.len);
-                        self.fail(f);
-                        return None;
-                    }
-                    slot += i as usize * t.slots;
+            Place::Path { base, terms } => match self.term_offset(terms, |t| t.slots) {
+                Ok(offset) => Some(base + offset),
+                Err(f) => {
+                    self.fail(f);
+                    None
                 }
-                Some(slot)
-            }
+            },
             _ => None,
         }
     }

@@ -35,16 +35,7 @@ use crate::st::ast::BinaryOp;
 impl Exec<'_> {
     /// The slot of a string's `LEN` (computed subscripts checked).
     fn str_slot(&mut self, s: &StrAt) -> R<usize> {
-        let mut slot = s.base;
-        for t in &s.terms {
-            let i = self.eval(&t.index).as_i64();
-            self.check()?;
-            if !(0..t.len as i64).contains(&i) {
-                return Err(self.subscript_fault(&t.name, i, t.len));
-            }
-            slot += i as usize * t.slots;
-        }
-        Ok(slot)
+        Ok(s.base + self.term_offset(&s.terms, |t| t.slots)?)
     }
 
     /// A string's `LEN` characters (4/51 when `LEN` is out of range).
