@@ -778,7 +778,7 @@ fn data_type_rows(t: &str) -> Vec<(String, &'static str, &'static str)> {
         (
             types("[[data_types]]\nname = \"A\"\nmembers = [{ name = \"M\", type = \"MOTION_INSTRUCTION\" }]"),
             "A := 1;",
-            "data_types[0].members[0].type: a data type's member is a number, BOOL, a string type or another data type, not MOTION_INSTRUCTION",
+            "data_types[0].members[0].type: a data type's member is a number, BOOL, a string type, another data type or an instruction's structure (FBD_TIMER …), not MOTION_INSTRUCTION",
         ),
         (
             types("[[data_types]]\nname = \"A\"\nmembers = [{ name = \"M\", type = \"REAL[2,2]\" }]"),
@@ -1359,4 +1359,51 @@ fn drive_attributes_set_by_ssv_reach_the_plant() {
     let peak = twin.plant().drive_peak_torque(0).expect("a servo drive");
     assert!(peak <= 1.0 + 1e-9, "the new torque limit holds: peak {peak} N·m");
     assert!(peak > 0.5, "the drive pushes against it: peak {peak} N·m");
+}
+
+/// An instruction's structure as a member of a data type (a station's
+/// delay timer, 1756-PM001 user-defined types): TONR runs on
+/// `Stations[I].Delay`, its members read and written by path, EnableIn
+/// TRUE from the start; an `FBD_TIMER[2,2]` array takes two subscripts.
+#[test]
+fn timers_live_inside_data_types_and_two_dimensional_arrays() {
+    let main = "FOR I := 0 TO 1 DO\n\
+                  Line[I].Delay.PRE := 20 * (I + 1);\n\
+                  Line[I].Delay.TimerEnable := TRUE;\n\
+                  TONR(Line[I].Delay);\n\
+                  Line[I].Ready := Line[I].Delay.DN;\n\
+                END_FOR;\n\
+                Grid[1, 1].PRE := 8; Grid[1, 1].TimerEnable := TRUE;\n\
+                TONR(Grid[1, 1]);\n\
+                A := Line[0].Delay.ACC; B := Line[1].Delay.ACC; G := Grid[1, 1].ACC;\n\
+                R0 := Line[0].Ready; R1 := Line[1].Ready; En := Line[1].Delay.EnableIn;\n";
+    let body = format!(
+        "[[data_types]]\nname = \"Stn\"\nmembers = [{{ name = \"Ready\", type = \"BOOL\" }}, {{ name = \"Delay\", type = \"FBD_TIMER\" }}]\n{}{}",
+        tags(&[
+            ("Line", "Stn[2]"),
+            ("Grid", "FBD_TIMER[2,2]"),
+            ("I", "DINT"),
+            ("A", "DINT"),
+            ("B", "DINT"),
+            ("G", "DINT"),
+            ("R0", "BOOL"),
+            ("R1", "BOOL"),
+            ("En", "BOOL"),
+        ]),
+        task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "")
+    );
+    let path = scene("udt-timer", &body, &[("Main", main)]);
+    let mut b = Bench::load(&path);
+    b.updates(8);
+    // Eight scans 4 ms apart: 28 ms since the first.
+    assert_eq!((b.int("A"), b.int("B"), b.int("G")), (20, 28, 8));
+    assert_eq!((b.value("R0"), b.value("R1")), (Value::Bool(true), Value::Bool(false)));
+    assert_eq!(b.value("En"), Value::Bool(true));
+    let path = scene(
+        "udt-timer-value",
+        &body.replace("type = \"Stn[2]\"", "type = \"Stn[2]\"\nvalue = [{ Delay = 1 }, {}]"),
+        &[("Main", main)],
+    );
+    let e = Bench::try_load(&path).err().expect("a value for a timer member");
+    assert!(e.contains("FBD_TIMER tags take no initial value"), "{e}");
 }

@@ -443,6 +443,8 @@ pub struct Instance {
     pub structure: Structure,
     /// `(subscript, length)` for an element of an array.
     pub index: Option<(CExpr, usize)>,
+    /// The computed subscripts of a member of a data type (`Station[I].Delay`).
+    pub terms: Box<[Term]>,
     /// The tag name, for fault messages.
     pub name: String,
 }

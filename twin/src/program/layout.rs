@@ -15,8 +15,8 @@
 //! * A string type is `LEN` DINT then `DATA` SINT[n]: `STRING` is 4 + 82
 //!   bytes, rounded to 88.
 
-use super::types::{DataType, Value};
-use crate::scene::{BaseType, DataTypeDef};
+use super::types::{DataType, Structure, Value};
+use crate::scene::{BaseType, DataTypeDef, MemberDef, TagType};
 
 /// The element type of a member, or of a tag of a data type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -59,6 +59,10 @@ pub struct Layout {
     pub align: usize,
     /// A string type's `DATA` length.
     pub string: Option<usize>,
+    /// An instruction's structure (`FBD_TIMER` …) as a data type's member:
+    /// its members are the structure's, in its order, the hidden ones
+    /// included (a program names the visible ones only).
+    pub builtin: Option<Structure>,
 }
 
 impl Layout {
@@ -94,12 +98,21 @@ pub fn scalar_bytes(t: DataType) -> usize {
 }
 
 impl Layouts {
-    /// The layouts of a scene's data types (checked acyclic at load).
+    /// The layouts of a scene's data types (checked acyclic at load),
+    /// then one for each instruction structure a member may be
+    /// ([`Structure::ALL`], at [`builtin_index`]).
     #[must_use]
     pub fn of(types: &[DataTypeDef]) -> Layouts {
-        let mut done: Vec<Option<Layout>> = vec![None; types.len()];
-        for k in 0..types.len() {
-            lay_out(k, types, &mut done);
+        let mut all: Vec<DataTypeDef> = types.to_vec();
+        all.extend(Structure::ALL.iter().map(|s| structure_def(*s)));
+        let mut done: Vec<Option<Layout>> = vec![None; all.len()];
+        for k in 0..all.len() {
+            lay_out(k, &all, types.len(), &mut done);
+        }
+        for (k, s) in Structure::ALL.iter().enumerate() {
+            if let Some(l) = done[types.len() + k].as_mut() {
+                l.builtin = Some(*s);
+            }
         }
         Layouts(done.into_iter().map(|l| l.expect("every type laid out")).collect())
     }
@@ -229,16 +242,77 @@ pub fn scalar(base: BaseType) -> Option<DataType> {
     })
 }
 
-/// The element type of a scene base type kept in slots.
+/// The structure kept in slots for a scene base type, if it is one.
 #[must_use]
-pub fn elem_of(base: BaseType) -> Option<Elem> {
+pub fn structure(base: BaseType) -> Option<Structure> {
+    Some(match base {
+        BaseType::FbdTimer => Structure::Timer,
+        BaseType::FbdCounter => Structure::Counter,
+        BaseType::FbdOneshot => Structure::OneShot,
+        BaseType::Cam => Structure::Cam,
+        BaseType::RTrig | BaseType::FTrig => Structure::Trig,
+        BaseType::Ton | BaseType::Tof => Structure::IecTimer,
+        _ => return None,
+    })
+}
+
+/// The element type of a scene base type kept in slots as a member: a
+/// scalar, a data type, or an instruction structure (whose layout follows
+/// the scene's `user_types` data types).
+#[must_use]
+pub fn elem_of(base: BaseType, user_types: usize) -> Option<Elem> {
     match base {
         BaseType::User(u) => Some(Elem::User(u.index)),
-        b => scalar(b).map(Elem::Scalar),
+        b => scalar(b)
+            .map(Elem::Scalar)
+            .or_else(|| structure(b).map(|s| Elem::User(builtin_index(s, user_types)))),
     }
 }
 
-fn lay_out(k: usize, types: &[DataTypeDef], done: &mut Vec<Option<Layout>>) {
+/// Where an instruction structure's layout is, after `user_types` data
+/// types.
+#[must_use]
+pub fn builtin_index(s: Structure, user_types: usize) -> u16 {
+    let k = Structure::ALL.iter().position(|x| *x == s).unwrap_or(0);
+    (user_types + k) as u16
+}
+
+/// An instruction structure as a data type of its members (each scalar).
+fn structure_def(s: Structure) -> DataTypeDef {
+    let mut d = DataTypeDef::string();
+    d.name = s.name().to_owned();
+    d.string_length = None;
+    d.members = s
+        .members()
+        .iter()
+        .map(|(name, t, _)| MemberDef {
+            name: (*name).to_owned(),
+            ty: TagType::new(base_of(*t), None),
+            description: String::new(),
+            location: crate::scene::Location::default(),
+        })
+        .collect();
+    d
+}
+
+/// The scene base type of a scalar type.
+fn base_of(t: DataType) -> BaseType {
+    match t {
+        DataType::Bool => BaseType::Bool,
+        DataType::Sint => BaseType::Sint,
+        DataType::Int => BaseType::Int,
+        DataType::Dint => BaseType::Dint,
+        DataType::Lint => BaseType::Lint,
+        DataType::Usint => BaseType::Usint,
+        DataType::Uint => BaseType::Uint,
+        DataType::Udint => BaseType::Udint,
+        DataType::Ulint => BaseType::Ulint,
+        DataType::Real => BaseType::Real,
+        DataType::Lreal => BaseType::Lreal,
+    }
+}
+
+fn lay_out(k: usize, types: &[DataTypeDef], user_types: usize, done: &mut Vec<Option<Layout>>) {
     if done[k].is_some() {
         return;
     }
@@ -268,12 +342,13 @@ fn lay_out(k: usize, types: &[DataTypeDef], done: &mut Vec<Option<Layout>>) {
             bytes: round_up(4 + n, 4),
             align: 4,
             string: Some(n),
+            builtin: None,
         });
         return;
     }
     for m in &def.members {
-        if let BaseType::User(u) = m.ty.base {
-            lay_out(usize::from(u.index), types, done);
+        if let Some(Elem::User(id)) = elem_of(m.ty.base, user_types) {
+            lay_out(usize::from(id), types, user_types, done);
         }
     }
     let (mut byte, mut slot, mut align) = (0usize, 0usize, 4usize);
@@ -281,7 +356,7 @@ fn lay_out(k: usize, types: &[DataTypeDef], done: &mut Vec<Option<Layout>>) {
     let mut host: Option<(usize, u8)> = None;
     let mut members = Vec::with_capacity(def.members.len());
     for m in &def.members {
-        let elem = elem_of(m.ty.base).expect("members are scalars or data types (checked at load)");
+        let elem = elem_of(m.ty.base, user_types).expect("members are kept in slots (checked at load)");
         let n = m.ty.array_len.unwrap_or(1);
         let (at, bit) = match (elem, m.ty.array_len) {
             (Elem::Scalar(DataType::Bool), None) => match host {
@@ -339,6 +414,7 @@ fn lay_out(k: usize, types: &[DataTypeDef], done: &mut Vec<Option<Layout>>) {
         bytes: round_up(byte.max(1), align),
         align,
         string: None,
+        builtin: None,
     });
 }
 
@@ -369,7 +445,7 @@ fn read_scalar(t: DataType, b: &[u8]) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{DataTypeDef, MemberDef, TagType, UserType};
+    use crate::scene::UserType;
 
     fn member(name: &str, base: BaseType, len: Option<usize>) -> MemberDef {
         MemberDef {

@@ -9,8 +9,8 @@
 //! written to) the planner. A program-scoped tag is stored under
 //! `Program.Tag`; inside its program the short name finds it first.
 
-pub use super::layout::scalar;
 use super::layout::{Elem, Layouts};
+pub use super::layout::{scalar, structure};
 use super::types::{DataType, Structure, Value};
 use crate::scene::{BaseType, CamPoint, SegmentType, TagType, TagValue, Usage};
 use std::collections::HashMap;
@@ -96,20 +96,6 @@ pub struct Memory {
     /// The data types' layouts (`STRING` first).
     pub layouts: Layouts,
     by_name: HashMap<String, usize>,
-}
-
-/// The structure kept in slots for a scene base type, if it is one.
-#[must_use]
-pub fn structure(base: BaseType) -> Option<Structure> {
-    Some(match base {
-        BaseType::FbdTimer => Structure::Timer,
-        BaseType::FbdCounter => Structure::Counter,
-        BaseType::FbdOneshot => Structure::OneShot,
-        BaseType::Cam => Structure::Cam,
-        BaseType::RTrig | BaseType::FTrig => Structure::Trig,
-        BaseType::Ton | BaseType::Tof => Structure::IecTimer,
-        _ => return None,
-    })
 }
 
 impl Memory {
@@ -242,17 +228,21 @@ impl Memory {
                 self.types.push(t);
             }
             Elem::User(id) => {
-                let members: Vec<(Elem, usize)> = self
-                    .layouts
-                    .get(id)
-                    .members
-                    .iter()
-                    .map(|m| (m.elem, m.len.unwrap_or(1)))
-                    .collect();
+                let start = self.slots.len();
+                let layout = self.layouts.get(id);
+                let builtin = layout.builtin;
+                let members: Vec<(Elem, usize)> = layout.members.iter().map(|m| (m.elem, m.len.unwrap_or(1))).collect();
                 for (elem, n) in members {
                     for _ in 0..n {
                         self.push_zeros(elem);
                     }
+                }
+                // An instruction's structure starts with EnableIn TRUE, as a
+                // tag of its own does.
+                if let Some(s) = builtin
+                    && s.members().iter().any(|m| m.0 == "EnableIn")
+                {
+                    self.slots[start + s.offset("EnableIn")] = Value::Bool(true);
                 }
             }
         }

@@ -342,6 +342,16 @@ const IEC_TIMER: [(&str, DataType, bool); 6] = [
 ];
 
 impl Structure {
+    /// Every structure kept in slots.
+    pub const ALL: [Structure; 6] = [
+        Structure::Timer,
+        Structure::Counter,
+        Structure::OneShot,
+        Structure::Cam,
+        Structure::Trig,
+        Structure::IecTimer,
+    ];
+
     /// The type name.
     #[must_use]
     pub fn name(self) -> &'static str {

@@ -5,10 +5,11 @@
 //! further down; a data type that contains itself, directly or through
 //! others, is refused naming the chain. A member is a number, a BOOL, a
 //! string type or another data type, with one dimension at most
-//! (`dimension = N`), as in Logix Designer's data type editor. Tags that
-//! the planner keeps (`MOTION_INSTRUCTION`, `COORDINATE_SYSTEM`,
-//! `CAM_PROFILE`, PLCopen blocks) and the instruction structures
-//! (`FBD_TIMER` …) are declared as tags of their own, not as members.
+//! (`dimension = N`), as in Logix Designer's data type editor; an
+//! instruction's structure (`FBD_TIMER`, `FBD_COUNTER`, `FBD_ONESHOT`, the
+//! IEC blocks) is a member too. Tags that the planner keeps
+//! (`MOTION_INSTRUCTION`, `COORDINATE_SYSTEM`, `CAM_PROFILE`, PLCopen
+//! blocks) are declared as tags of their own, not as members.
 
 use std::collections::HashMap;
 
@@ -22,10 +23,25 @@ use super::model::{
 use super::raw::RawDataType;
 use super::tags::scalar_value;
 
-/// Whether a member may have this type: a scalar, a string type or a data
-/// type (what tag memory keeps, but a cam point).
+/// Whether a member may have this type: a scalar, a string type, a data
+/// type, or an instruction's structure (`FBD_TIMER` …); not a cam point.
 fn member_type_allowed(base: BaseType) -> bool {
-    base.in_tag_memory() && base != BaseType::Cam
+    (base.in_tag_memory() || is_instruction_structure(base)) && base != BaseType::Cam
+}
+
+/// The structures of the timer, counter, one-shot and edge instructions,
+/// which keep their state in tag memory and take no initial value.
+fn is_instruction_structure(base: BaseType) -> bool {
+    matches!(
+        base,
+        BaseType::FbdTimer
+            | BaseType::FbdCounter
+            | BaseType::FbdOneshot
+            | BaseType::RTrig
+            | BaseType::FTrig
+            | BaseType::Ton
+            | BaseType::Tof
+    )
 }
 
 impl Ctx<'_> {
@@ -217,6 +233,11 @@ impl Ctx<'_> {
     /// its length and LEN; a data type its members', recursively), capped
     /// past [`MAX_ARRAY_LEN`].
     pub(super) fn leaves(&self, base: BaseType) -> usize {
+        if is_instruction_structure(base) {
+            // The largest instruction structure's slots (FBD_TIMER's 13),
+            // rounded up: a bound, not a layout.
+            return 16;
+        }
         let BaseType::User(u) = base else { return 1 };
         let types = self.data_types.borrow();
         let def = &types[usize::from(u.index)];
@@ -305,6 +326,13 @@ impl Ctx<'_> {
     ) -> Result<TagValue, SceneError> {
         let one = |v: &toml::Value, f: &str| match ty.base {
             BaseType::User(inner) => self.user_value(at, v, inner, f),
+            base if is_instruction_structure(base) => Err(self.invalid(
+                at,
+                f,
+                Problem::ValueNotAllowed {
+                    ty: TagType::new(base, None),
+                },
+            )),
             base => scalar_value(base, v).ok_or_else(|| {
                 self.invalid(
                     at,

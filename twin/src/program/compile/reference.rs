@@ -452,6 +452,14 @@ impl Compiler<'_, '_, '_> {
         }
         let ty = match at.elem {
             Elem::Scalar(ty) => ty,
+            Elem::User(id) if self.mem.layouts.get(id).builtin.is_some() => {
+                let s = self.mem.layouts.get(id).builtin.expect("a structure");
+                return err(
+                    self,
+                    r.span,
+                    format!("'{shown}' is a {}: name a member ({})", s.name(), s.visible_members()),
+                );
+            }
             Elem::User(id) => {
                 let l = self.mem.layouts.get(id);
                 let how = if l.string.is_some() {
@@ -526,6 +534,22 @@ impl Compiler<'_, '_, '_> {
         while let (Elem::User(id), Some(Access::Member(m, span))) = (at.elem, path.as_slice().first()) {
             path.next();
             let layout = mem.layouts.get(id);
+            if let Some(s) = layout.builtin {
+                // An instruction's structure: its visible members only.
+                let Some((offset, ty)) = s.member(m) else {
+                    let d = self.error(
+                        *span,
+                        format!("{} has no member '{m}' (members: {})", s.name(), s.visible_members()),
+                        "no such member",
+                    );
+                    let names = s.visible_members();
+                    return Err(suggest(d, m, names.split(", ")));
+                };
+                at.slot += offset;
+                at.byte += layout.members[offset].byte;
+                at.elem = Elem::Scalar(ty);
+                break;
+            }
             let Some(member) = layout.member(m) else {
                 let d = self.error(
                     *span,
@@ -851,6 +875,25 @@ impl Compiler<'_, '_, '_> {
         let Some((r, info)) = self.tag_arg(arg) else {
             return Err(bad(self));
         };
+        if let Kind::User(_) = info.kind {
+            // A member of a data type (`Station[I].Delay`).
+            let mut path = r.path.iter();
+            let at = self.locate(r, &info, &mut path)?;
+            let s = match at.elem {
+                Elem::User(id) if path.as_slice().is_empty() && at.array.is_none() => self.mem.layouts.get(id).builtin,
+                _ => None,
+            };
+            let Some(s) = s.filter(|s| want.contains(s)) else {
+                return Err(bad(self));
+            };
+            return Ok(Instance {
+                base: info.base + at.slot,
+                structure: s,
+                index: None,
+                terms: at.terms.into_boxed_slice(),
+                name: show(r),
+            });
+        }
         let Kind::Structure(s) = info.kind else {
             return Err(bad(self));
         };
@@ -866,6 +909,7 @@ impl Compiler<'_, '_, '_> {
             base: info.base,
             structure: s,
             index,
+            terms: Box::new([]),
             name: info.name,
         })
     }

@@ -1083,6 +1083,15 @@ impl<'e> Exec<'e> {
     }
 
     fn instance_base(&mut self, inst: &Instance) -> usize {
+        if !inst.terms.is_empty() {
+            return match self.term_offset(&inst.terms, |t| t.slots) {
+                Ok(offset) => inst.base + offset,
+                Err(f) => {
+                    self.fail(f);
+                    inst.base
+                }
+            };
+        }
         match &inst.index {
             None => inst.base,
             Some((index, len)) => {
