@@ -1407,3 +1407,40 @@ fn timers_live_inside_data_types_and_two_dimensional_arrays() {
     let e = Bench::try_load(&path).err().expect("a value for a timer member");
     assert!(e.contains("FBD_TIMER tags take no initial value"), "{e}");
 }
+
+/// 1756-RM003, FLL and SIZE on data types: FLL into a member array
+/// converts the Source to the element type, FLL of 0 clears a whole
+/// structure (its bytes), SIZE gives a member array's length.
+#[test]
+fn fll_fills_members_and_clears_structures_and_size_measures_member_arrays() {
+    let main = "FLL(2.5, Line.Stations[1].Pos[0], 3);\n\
+                FLL(7, Cells[0].Stations[0].Pos[1], 2);\n\
+                A := Cells[0].Stations[0].Pos[2];\n\
+                B := Line.Stations[1].Pos[2];\n\
+                FLL(0, Copy, 1);\n\
+                C := Copy.Mode + Copy.Stations[0].Count + Copy.Stations[0].Label.LEN;\n\
+                SIZE(Line.Stations, 0, N);\nSIZE(Line.Stations[0].Pos, 0, M);\n";
+    let value = "{ Mode = 3, Stations = [{ Count = 10, Label = \"AB\" }, {}] }";
+    let body = format!(
+        "{CELL_TYPES}[[tags]]\nname = \"Line\"\ntype = \"Cell\"\n[[tags]]\nname = \"Copy\"\ntype = \"Cell\"\nvalue = {value}\n{}{}",
+        tags(&[
+            ("Cells", "Cell[2]"),
+            ("A", "REAL"),
+            ("B", "REAL"),
+            ("C", "DINT"),
+            ("N", "DINT"),
+            ("M", "DINT"),
+        ]),
+        task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "")
+    );
+    let path = scene("fll-bytes", &body, &[("Main", main)]);
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    assert_eq!((b.value("A"), b.value("B")), (Value::Real(7.0), Value::Real(2.5)));
+    assert_eq!((b.int("C"), b.int("N"), b.int("M")), (0, 2, 3));
+    let path = scene("fll-past-end", &body, &[("Main", "FLL(0, Cells[1], 2);\n")]);
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    let f = b.program.controller().major_fault().expect("4/20").clone();
+    assert_eq!((f.fault_type, f.code), (4, 20), "{}", f.message);
+}

@@ -770,6 +770,10 @@ pub enum SKind {
     CopBytes(Box<DataAt>, Box<DataAt>, CExpr),
     /// `FLL`: fills `len` elements with a value.
     Fll(CExpr, ArrayAt, CExpr),
+    /// `FLL` into a structure, a member array or across types: the
+    /// Source's bytes (as its type stores them) repeated over Length × the
+    /// destination element's bytes.
+    FllBytes(CExpr, Box<DataAt>, CExpr),
     /// `SIZE(array, 0, dest)`.
     Size(usize, Place, DataType),
     /// `GSV(AXIS, axis, attribute, dest)`.

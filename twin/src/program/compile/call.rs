@@ -3,7 +3,7 @@
 //! up in [`General`]), and the dispatch of every other call to the motion
 //! instructions of the catalogue (`motion.rs`).
 
-use super::{Compiler, Result, err, suggest};
+use super::{Compiler, Result, err, show, suggest};
 use crate::program::axis_attributes::{self, AXIS_ATTRIBUTES, AxisAttr, Fixed};
 use crate::program::ir::{
     AXIS_MEMBERS, CExpr, CKind, GENERAL, General, GsvAttribute, Object, Place, SKind, SsvAttribute, SysData,
@@ -129,7 +129,20 @@ impl Compiler<'_, '_, '_> {
         match general {
             General::Fll => {
                 let value = self.value_arg(&a[0])?;
-                let dst = self.array_at(&a[1], "Dest")?;
+                if value.ty == Ty::Bool {
+                    return err(
+                        self,
+                        a[0].span,
+                        "FLL: the Source is a number (SINT to LREAL), not a BOOL",
+                    );
+                }
+                let dst = match self.array_at(&a[1], "Dest") {
+                    Ok(dst) => dst,
+                    Err(_) => {
+                        let dst = self.data_at(&a[1], upper, "Dest")?;
+                        return Ok(SKind::FllBytes(value, Box::new(dst), self.integer_arg(&a[2])?));
+                    }
+                };
                 Ok(SKind::Fll(value, dst, self.integer_arg(&a[2])?))
             }
             General::Size => {
@@ -140,10 +153,20 @@ impl Compiler<'_, '_, '_> {
                     return err(self, a[0].span, "SIZE: expected an array tag");
                 };
                 let t = self.tag(r)?;
-                if self.mem.tags[t].len.is_none() {
-                    return err(self, a[0].span, format!("SIZE: '{}' is not an array", r.name));
+                let info = self.mem.tags[t].clone();
+                let dims = if r.path.is_empty() {
+                    info.dimensions().to_vec()
+                } else {
+                    // A member array (`SIZE(Line.Pos, 0, N)`).
+                    let mut path = r.path.iter();
+                    match self.locate(r, &info, &mut path)? {
+                        at if path.as_slice().is_empty() => at.array.into_iter().collect(),
+                        _ => Vec::new(),
+                    }
+                };
+                if dims.is_empty() {
+                    return err(self, a[0].span, format!("SIZE: '{}' is not an array", show(r)));
                 }
-                let dims = self.mem.tags[t].dimensions().to_vec();
                 let dim = match &a[1].expr {
                     Some(Expr {
                         kind: ExprKind::Int(d), ..

@@ -41,6 +41,7 @@ use super::ir::{
     ArrayAt, CExpr, CStmt, DataAt, GsvAttribute, Instance, MotionCall, Object, Place, SKind, SsvAttribute, SysData,
     Term,
 };
+use super::layout::Elem;
 use super::memory::Memory;
 use super::system::{Attribute, Class, System};
 use super::types::{DataType, Value};
@@ -841,6 +842,27 @@ impl<'e> Exec<'e> {
                 self.check()?;
                 self.copy_bytes(src, dst, n)?;
             }
+            SKind::FllBytes(value, dst, len) => {
+                let n = self.eval(len).as_i64();
+                self.check()?;
+                let v = self.eval(value);
+                self.check()?;
+                // Into numbers the Source converts to their type first (as
+                // FLL into an array does); into a structure its own bytes go.
+                let source = match dst.elem {
+                    Elem::Scalar(t) => t,
+                    Elem::User(_) => value.ty.data_type(),
+                };
+                let (stored, bad) = source.store(v);
+                if bad {
+                    self.overflow("FLL source does not fit the destination");
+                }
+                let mut pattern = Vec::with_capacity(8);
+                self.mem
+                    .layouts
+                    .encode(Elem::Scalar(source), 1, &[stored], 0, &mut pattern);
+                self.fill_bytes(dst, n, &pattern)?;
+            }
             SKind::Fll(value, dst, len) => {
                 let n = self.eval(len).as_i64();
                 self.check()?;
@@ -1041,6 +1063,39 @@ impl<'e> Exec<'e> {
     /// The byte offset of a copy operand inside its tag.
     fn data_offset(&mut self, d: &DataAt) -> R<usize> {
         Ok(d.byte + self.term_offset(&d.terms, |t| t.bytes)?)
+    }
+
+    /// `FLL` through the controller's bytes: `pattern` repeated over
+    /// `n` destination elements (past the tag's end: major fault 4/20).
+    fn fill_bytes(&mut self, dst: &DataAt, n: i64, pattern: &[u8]) -> R<()> {
+        let to = self.data_offset(dst)?;
+        let count = usize::try_from(n)
+            .ok()
+            .and_then(|n| n.checked_mul(self.mem.layouts.bytes(dst.elem)))
+            .filter(|c| to.checked_add(*c).is_some_and(|end| end <= dst.tag_bytes));
+        let Some(count) = count else {
+            return Err(self.raise(
+                4,
+                20,
+                format!(
+                    "FLL past the end of {}: {n} element(s) of {} bytes from byte {to} ({} bytes)",
+                    dst.name,
+                    self.mem.layouts.bytes(dst.elem),
+                    dst.tag_bytes
+                ),
+            ));
+        };
+        let mem = &mut *self.mem;
+        let mut b = Vec::with_capacity(dst.tag_bytes);
+        mem.layouts
+            .encode(dst.tag_elem, dst.tag_len, &mem.slots, dst.tag_base, &mut b);
+        for (k, byte) in b[to..to + count].iter_mut().enumerate() {
+            *byte = pattern[k % pattern.len()];
+        }
+        let slots = &mut mem.slots[..dst.tag_base + dst.tag_slots];
+        mem.layouts
+            .decode(dst.tag_elem, dst.tag_len, &b, 0, slots, dst.tag_base);
+        Ok(())
     }
 
     /// `COP`/`CPS` through the controller's bytes (1756-RM003): Length ×
