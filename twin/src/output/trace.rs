@@ -190,7 +190,8 @@ pub fn row(twin: &Twin) -> Vec<String> {
 }
 
 /// Appends one update's row to `line`, cells separated by commas, without
-/// the line's end. No cell holds a comma: numbers, integers and bits.
+/// the line's end. No cell holds a comma: numbers, integers, bits, and
+/// strings escaped ([`crate::program::Program::traced_text`]).
 pub fn write_row(twin: &Twin, line: &mut String) {
     write_cells(twin, &mut Row { line, cells: 0 });
 }
