@@ -432,6 +432,29 @@ fn resolved(twin: &Twin) -> String {
             c.name, c.width, c.height, c.fps, c.fov_deg, c.position_m, c.target_m
         );
     }
+    if scene.data_types.len() > 1 {
+        let _ = writeln!(s, "data types (bytes as the controller lays them out):");
+    }
+    let layouts = twin::program::layout::Layouts::of(&scene.data_types);
+    for (k, d) in scene.data_types.iter().enumerate().skip(1) {
+        let l = layouts.get(k as u16);
+        let what = match d.string_length {
+            Some(n) => format!("string of {n} characters"),
+            None => {
+                let members: Vec<String> = d
+                    .members
+                    .iter()
+                    .zip(&l.members)
+                    .map(|(m, at)| match (m.ty.base, m.ty.array_len) {
+                        (twin::scene::BaseType::Bool, None) => format!("{} BOOL @{}.{}", m.name, at.byte, at.bit),
+                        _ => format!("{} {} @{}", m.name, m.ty, at.byte),
+                    })
+                    .collect();
+                members.join(", ")
+            }
+        };
+        let _ = writeln!(s, "  {}: {} bytes; {what}", d.name, l.bytes);
+    }
     if !scene.tags.is_empty() {
         let _ = writeln!(s, "tags:");
     }
