@@ -776,9 +776,9 @@ fn data_type_rows(t: &str) -> Vec<(String, &'static str, &'static str)> {
             "data_types[0].members[0].type: unknown tag type 'Widget'",
         ),
         (
-            types("[[data_types]]\nname = \"A\"\nmembers = [{ name = \"M\", type = \"MOTION_INSTRUCTION\" }]"),
+            types("[[data_types]]\nname = \"A\"\nmembers = [{ name = \"M\", type = \"COORDINATE_SYSTEM\" }]"),
             "A := 1;",
-            "data_types[0].members[0].type: a data type's member is a number, BOOL, a string type, another data type or an instruction's structure (FBD_TIMER …), not MOTION_INSTRUCTION",
+            "data_types[0].members[0].type: a data type's member is a number, BOOL, a string type, another data type, an instruction's structure (FBD_TIMER …) or a MOTION_INSTRUCTION, not COORDINATE_SYSTEM",
         ),
         (
             types("[[data_types]]\nname = \"A\"\nmembers = [{ name = \"M\", type = \"REAL[2,2]\" }]"),
@@ -1443,4 +1443,39 @@ fn fll_fills_members_and_clears_structures_and_size_measures_member_arrays() {
     b.updates(1);
     let f = b.program.controller().major_fault().expect("4/20").clone();
     assert_eq!((f.fault_type, f.code), (4, 20), "{}", f.message);
+}
+
+/// A `MOTION_INSTRUCTION` member of a data type (an axis structure with
+/// its move's control structure): MAM takes `Cmd[I].Move` with a computed
+/// subscript, its bits read by path, each element a control structure of
+/// its own named by its path.
+#[test]
+fn motion_instructions_live_inside_data_types() {
+    let main = "IF S:FS THEN\n  I := 1;\n  MAM(Table, Cmd[I].Move, 1, Cmd[I].Target, 100, %ofMaximum, 100, %ofMaximum, 100, %ofMaximum, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);\nEND_IF;\n\
+                Done := Cmd[I].Move.PC;\nOther := Cmd[0].Move.EN;\nPos := Table.CommandPosition;\n";
+    let body = format!(
+        "[[data_types]]\nname = \"AxisCmd\"\nmembers = [{{ name = \"Move\", type = \"MOTION_INSTRUCTION\" }}, {{ name = \"Target\", type = \"REAL\" }}]\n\
+         [[tags]]\nname = \"Cmd\"\ntype = \"AxisCmd[2]\"\nvalue = [{{ Target = 10.0 }}, {{ Target = 45.0 }}]\n{}{}",
+        tags(&[("I", "DINT"), ("Done", "BOOL"), ("Other", "BOOL"), ("Pos", "REAL")]),
+        task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "")
+    );
+    let path = scene("udt-motion", &body, &[("Main", main)]);
+    let mut b = Bench::load(&path);
+    b.updates(200);
+    assert_eq!(
+        (b.value("Done"), b.value("Other")),
+        (Value::Bool(true), Value::Bool(false))
+    );
+    assert_eq!(b.value("Pos"), Value::Real(45.0));
+    let names: Vec<&str> = b.program.instructions().iter().map(|i| i.name.as_str()).collect();
+    assert_eq!(names, ["Cmd[0].Move", "Cmd[1].Move"]);
+    let path = scene(
+        "udt-motion-fault",
+        &body,
+        &[("Main", "I := 2;\nDone := Cmd[I].Move.PC;\n")],
+    );
+    let mut b = Bench::load(&path);
+    b.updates(1);
+    let f = b.program.controller().major_fault().expect("4/20").clone();
+    assert_eq!((f.fault_type, f.code, f.line), (4, 20, 2), "{}", f.message);
 }

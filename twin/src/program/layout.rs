@@ -14,6 +14,9 @@
 //!   and its size is rounded up to that alignment.
 //! * A string type is `LEN` DINT then `DATA` SINT[n]: `STRING` is 4 + 82
 //!   bytes, rounded to 88.
+//! * A `MOTION_INSTRUCTION` member is the planner's (a control structure
+//!   per concrete member, `Axes[2].Move`): it takes no slot and, in the
+//!   twin's layout, no byte, so COP does not copy it.
 
 use super::types::{DataType, Structure, Value};
 use crate::scene::{BaseType, DataTypeDef, MemberDef, TagType};
@@ -25,6 +28,9 @@ pub enum Elem {
     Scalar(DataType),
     /// A data type, by its index in [`Layouts`].
     User(u16),
+    /// A `MOTION_INSTRUCTION`: the planner keeps it (one control structure
+    /// per concrete member, named by its path); no slots, no bytes.
+    Control,
 }
 
 /// One member of a data type.
@@ -129,6 +135,7 @@ impl Layouts {
         match e {
             Elem::Scalar(_) => 1,
             Elem::User(id) => self.get(id).slots,
+            Elem::Control => 0,
         }
     }
 
@@ -138,6 +145,7 @@ impl Layouts {
         match e {
             Elem::Scalar(t) => scalar_bytes(t),
             Elem::User(id) => self.get(id).bytes,
+            Elem::Control => 0,
         }
     }
 
@@ -145,6 +153,7 @@ impl Layouts {
     /// appended to `out` (an array of BOOL packs 32 to a word).
     pub fn encode(&self, e: Elem, count: usize, slots: &[Value], slot: usize, out: &mut Vec<u8>) {
         match e {
+            Elem::Control => {}
             Elem::Scalar(DataType::Bool) if count > 1 => {
                 let start = out.len();
                 out.resize(start + count.div_ceil(32) * 4, 0);
@@ -191,6 +200,7 @@ impl Layouts {
     /// bytes `bytes` starting at `at` (the inverse of [`Layouts::encode`]).
     pub fn decode(&self, e: Elem, count: usize, bytes: &[u8], at: usize, slots: &mut [Value], slot: usize) {
         match e {
+            Elem::Control => {}
             Elem::Scalar(DataType::Bool) if count > 1 => {
                 for i in 0..count {
                     slots[slot + i] = Value::Bool(bytes[at + i / 8] >> (i % 8) & 1 == 1);
@@ -263,6 +273,7 @@ pub fn structure(base: BaseType) -> Option<Structure> {
 pub fn elem_of(base: BaseType, user_types: usize) -> Option<Elem> {
     match base {
         BaseType::User(u) => Some(Elem::User(u.index)),
+        BaseType::MotionInstruction => Some(Elem::Control),
         b => scalar(b)
             .map(Elem::Scalar)
             .or_else(|| structure(b).map(|s| Elem::User(builtin_index(s, user_types)))),
@@ -384,6 +395,7 @@ fn lay_out(k: usize, types: &[DataTypeDef], user_types: usize, done: &mut Vec<Op
                 byte = at + size * n;
                 (at, 0)
             }
+            (Elem::Control, _) => (byte, 0),
             (Elem::User(id), _) => {
                 host = None;
                 let inner = done[usize::from(id)].as_ref().expect("laid out above");
@@ -396,6 +408,7 @@ fn lay_out(k: usize, types: &[DataTypeDef], user_types: usize, done: &mut Vec<Op
         let slots_each = match elem {
             Elem::Scalar(_) => 1,
             Elem::User(id) => done[usize::from(id)].as_ref().map_or(0, |l| l.slots),
+            Elem::Control => 0,
         };
         members.push(Member {
             name: m.name.clone(),

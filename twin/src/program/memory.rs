@@ -223,6 +223,7 @@ impl Memory {
     /// Appends the zero slots of one element of `e`.
     fn push_zeros(&mut self, e: Elem) {
         match e {
+            Elem::Control => {}
             Elem::Scalar(t) => {
                 self.slots.push(t.store(Value::Int(0)).0);
                 self.types.push(t);

@@ -7,8 +7,9 @@
 //! string type or another data type, with one dimension at most
 //! (`dimension = N`), as in Logix Designer's data type editor; an
 //! instruction's structure (`FBD_TIMER`, `FBD_COUNTER`, `FBD_ONESHOT`, the
-//! IEC blocks) is a member too. Tags that the planner keeps
-//! (`MOTION_INSTRUCTION`, `COORDINATE_SYSTEM`, `CAM_PROFILE`, PLCopen
+//! IEC blocks) is a member too, and so is a `MOTION_INSTRUCTION` (the
+//! planner keeps one control structure per concrete member). The other
+//! tags the planner keeps (`COORDINATE_SYSTEM`, `CAM_PROFILE`, PLCopen
 //! blocks) are declared as tags of their own, not as members.
 
 use std::collections::HashMap;
@@ -26,7 +27,8 @@ use super::tags::scalar_value;
 /// Whether a member may have this type: a scalar, a string type, a data
 /// type, or an instruction's structure (`FBD_TIMER` …); not a cam point.
 fn member_type_allowed(base: BaseType) -> bool {
-    (base.in_tag_memory() || is_instruction_structure(base)) && base != BaseType::Cam
+    (base.in_tag_memory() || is_instruction_structure(base) || base == BaseType::MotionInstruction)
+        && base != BaseType::Cam
 }
 
 /// The structures of the timer, counter, one-shot and edge instructions,
@@ -326,7 +328,7 @@ impl Ctx<'_> {
     ) -> Result<TagValue, SceneError> {
         let one = |v: &toml::Value, f: &str| match ty.base {
             BaseType::User(inner) => self.user_value(at, v, inner, f),
-            base if is_instruction_structure(base) => Err(self.invalid(
+            base if is_instruction_structure(base) || base == BaseType::MotionInstruction => Err(self.invalid(
                 at,
                 f,
                 Problem::ValueNotAllowed {

@@ -131,7 +131,7 @@ pub enum Problem {
     },
     /// A member type a data type cannot hold.
     #[error(
-        "a data type's member is a number, BOOL, a string type, another data type or an instruction's structure (FBD_TIMER …), not {base} (declare {base} tags instead)"
+        "a data type's member is a number, BOOL, a string type, another data type, an instruction's structure (FBD_TIMER …) or a MOTION_INSTRUCTION, not {base} (declare {base} tags instead)"
     )]
     MemberTypeNotAllowed {
         /// The type's name.

@@ -214,6 +214,29 @@ impl Compiler<'_, '_, '_> {
                 ControlRef::At(handles, index) => Operand::ControlAt(handles, index, info.name.clone()),
             });
         }
+        if let Some(Expr {
+            kind: ExprKind::Ref(r), ..
+        }) = &arg.expr
+            && !r.path.is_empty()
+            && let Some(t) = self.resolve(&r.name)
+            && matches!(self.mem.tags[t].kind, TagKind::User(_))
+        {
+            // A member of a data type (`Axes[I].Move`).
+            let info = self.mem.tags[t].clone();
+            let mut path = r.path.iter();
+            let at = self.locate(r, &info, &mut path)?;
+            if at.elem != crate::program::layout::Elem::Control || at.array.is_some() || !path.as_slice().is_empty() {
+                return err(
+                    self,
+                    arg.span,
+                    format!("{} '{}': expected a MOTION_INSTRUCTION", spec.name, arg.text.trim()),
+                );
+            }
+            return Ok(match self.control_in_structure(&info, at, r.span)? {
+                ControlRef::One(h) => Operand::Fixed(Arg::Control(h)),
+                ControlRef::At(handles, index) => Operand::ControlAt(handles, index, super::show(r)),
+            });
+        }
         let name = self.bare_name(spec, arg, "a MOTION_INSTRUCTION tag")?;
         let info = self.planner_tag(spec, arg, name, BaseType::MotionInstruction)?;
         Ok(Operand::Fixed(Arg::Control(self.env.control(&info.name))))

@@ -452,6 +452,21 @@ impl Compiler<'_, '_, '_> {
         }
         let ty = match at.elem {
             Elem::Scalar(ty) => ty,
+            Elem::Control => {
+                let Some(Access::Member(m, span)) = path.next() else {
+                    return err(
+                        self,
+                        r.span,
+                        format!("'{shown}' is a MOTION_INSTRUCTION: name a member, e.g. {shown}.PC"),
+                    );
+                };
+                let (member, ty) = self.motion_member(&(m.clone(), *span))?;
+                let place = match self.control_in_structure(info, at, r.span)? {
+                    ControlRef::One(h) => Place::Motion(h, member),
+                    ControlRef::At(handles, index) => Place::MotionAt(handles, Box::new(index), member, shown),
+                };
+                return Ok((place, ty));
+            }
             Elem::User(id) if self.mem.layouts.get(id).builtin.is_some() => {
                 let s = self.mem.layouts.get(id).builtin.expect("a structure");
                 return err(
@@ -519,16 +534,25 @@ impl Compiler<'_, '_, '_> {
             elem,
             array: None,
             tag_term: false,
+            parts: Vec::new(),
         };
         if let Some(len) = info.len {
             let Some(Access::Index(sub)) = path.as_slice().first() else {
                 at.array = Some(len);
+                at.parts.push(NamePart::Text(info.name.clone()));
                 return Ok(at);
             };
             path.next();
             let index = self.checked_subscript(sub, r, info)?;
             let bytes = mem.layouts.bytes(elem);
+            let constant = constant_of(&index);
             at.tag_term = self.push_term(&mut at, index, len, info.stride, bytes, &info.name);
+            at.parts.push(match (at.tag_term, constant) {
+                (false, Some(k)) => NamePart::Text(element_name(info, k as usize)),
+                _ => NamePart::TagElement,
+            });
+        } else {
+            at.parts.push(NamePart::Text(info.name.clone()));
         }
         let mut shown = info.name.clone();
         while let (Elem::User(id), Some(Access::Member(m, span))) = (at.elem, path.as_slice().first()) {
@@ -566,6 +590,7 @@ impl Compiler<'_, '_, '_> {
             at.byte += member.byte;
             at.elem = member.elem;
             shown = format!("{shown}.{}", member.name);
+            at.parts.push(NamePart::Text(format!(".{}", member.name)));
             let Some(len) = member.len else { continue };
             let Some(Access::Index(sub)) = path.as_slice().first() else {
                 at.array = Some(len);
@@ -591,9 +616,79 @@ impl Compiler<'_, '_, '_> {
                 ));
             }
             let (slots, bytes) = (mem.layouts.slots(at.elem), mem.layouts.bytes(at.elem));
-            self.push_term(&mut at, index, len, slots, bytes, &shown);
+            let constant = constant_of(&index);
+            let added = self.push_term(&mut at, index, len, slots, bytes, &shown);
+            at.parts.push(match (added, constant) {
+                (false, Some(k)) => NamePart::Text(format!("[{k}]")),
+                _ => NamePart::Index,
+            });
         }
         Ok(at)
+    }
+
+    /// The control structure a path through data types ends on (a
+    /// `MOTION_INSTRUCTION` member, `Axes[I].Move`): its handle when every
+    /// subscript is a constant, else every element's handle, in the
+    /// row-major order of the computed subscripts, and the element index
+    /// the scan computes (each subscript checked: major fault 4/20). Each
+    /// is named by its full path (`Axes[2].Move`) in the trace.
+    pub(super) fn control_in_structure(&mut self, info: &TagInfo, at: Located, span: Span) -> Result<ControlRef> {
+        let Located { terms, parts, .. } = at;
+        let render = |values: &[usize]| {
+            let mut name = String::new();
+            let mut k = 0;
+            for p in &parts {
+                match p {
+                    NamePart::Text(t) => name.push_str(t),
+                    NamePart::TagElement => {
+                        name.push_str(&element_name(info, values[k]));
+                        k += 1;
+                    }
+                    NamePart::Index => {
+                        name.push_str(&format!("[{}]", values[k]));
+                        k += 1;
+                    }
+                }
+            }
+            name
+        };
+        if terms.is_empty() {
+            return Ok(ControlRef::One(self.env.control(&render(&[]))));
+        }
+        let count = terms.iter().try_fold(1usize, |n, t| n.checked_mul(t.len));
+        let Some(count) = count.filter(|n| *n <= MAX_CONTROL_ELEMENTS) else {
+            return err(
+                self,
+                span,
+                format!(
+                    "'{}' reaches more than {MAX_CONTROL_ELEMENTS} control structures through computed subscripts: use constant subscripts for some",
+                    render(&vec![0; terms.len()])
+                ),
+            );
+        };
+        let mut handles = Vec::with_capacity(count);
+        let mut values = vec![0usize; terms.len()];
+        for _ in 0..count {
+            handles.push(self.env.control(&render(&values)));
+            for d in (0..terms.len()).rev() {
+                values[d] += 1;
+                if values[d] < terms[d].len {
+                    break;
+                }
+                values[d] = 0;
+            }
+        }
+        let name = render(&vec![0; terms.len()]);
+        let index = if terms.len() == 1 {
+            terms.into_iter().next().expect("one term").index
+        } else {
+            let parts: Vec<(CExpr, usize)> = terms.into_iter().map(|t| (t.index, t.len)).collect();
+            CExpr {
+                kind: CKind::Subscripts(parts.into_boxed_slice(), name.clone()),
+                ty: Ty::Dint,
+            }
+        };
+        Ok(ControlRef::At(handles.into_boxed_slice(), index))
     }
 
     /// Folds a constant subscript inside the array into the offsets, else
@@ -941,6 +1036,9 @@ impl Compiler<'_, '_, '_> {
         if path.next().is_some() {
             return Err(bad(self, "a bit is not an operand of a copy"));
         }
+        if at.elem == Elem::Control {
+            return Err(bad(self, "a MOTION_INSTRUCTION is the planner's, not data to copy"));
+        }
         if at.elem == Elem::Scalar(DataType::Bool) || tag_elem == Elem::Scalar(DataType::Bool) {
             return Err(bad(
                 self,
@@ -1003,6 +1101,32 @@ pub(super) struct Located {
     pub array: Option<usize>,
     /// Whether the first computed subscript is the tag's own.
     pub tag_term: bool,
+    /// The path as written, constant subscripts in it, to name a control
+    /// structure a path ends on.
+    pub parts: Vec<NamePart>,
+}
+
+/// A piece of a path's name ([`Located::parts`]).
+#[derive(Debug, Clone)]
+pub(super) enum NamePart {
+    /// Text as it is (`Axes[2]`, `.Move`, `[0]`).
+    Text(String),
+    /// The tag's element a computed subscript names (`Axes[i]`, `Grid[i,j]`).
+    TagElement,
+    /// A member array's element a computed subscript names (`[k]`).
+    Index,
+}
+
+/// The most control structures one reference reaches through computed
+/// subscripts (each is bound in the planner when the program loads).
+const MAX_CONTROL_ELEMENTS: usize = 10_000;
+
+/// The value of a constant subscript.
+fn constant_of(e: &CExpr) -> Option<i64> {
+    match e.kind {
+        CKind::Const(v) => Some(v.as_i64()),
+        _ => None,
+    }
 }
 
 /// The reference as written up to what `rest` leaves (`Cell.Pos`).

@@ -851,7 +851,7 @@ impl<'e> Exec<'e> {
                 // FLL into an array does); into a structure its own bytes go.
                 let source = match dst.elem {
                     Elem::Scalar(t) => t,
-                    Elem::User(_) => value.ty.data_type(),
+                    Elem::User(_) | Elem::Control => value.ty.data_type(),
                 };
                 let (stored, bad) = source.store(v);
                 if bad {
