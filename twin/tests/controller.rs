@@ -734,9 +734,12 @@ fn bad_controller_input_is_refused_with_its_place() {
                 "Main.st:1:6: 'M' has 2 dimensions, got 1 subscript",
             ),
             (
-                array("CAM[2,3]", ""),
+                array(
+                    "CAM[2,3]",
+                    "value = [[{ master = 0.0, slave = 0.0 }], [{ master = 0.0, slave = 0.0 }], [{ master = 0.0, slave = 0.0 }]]",
+                ),
                 "A := 1;",
-                "tags[2].type: 'CAM[2,3]' has 2 dimensions",
+                "tags[2].value: value does not fit type CAM[2,3]: expected an array of at most N rows",
             ),
         ])
         .chain(data_type_rows(&t("period_ms = 4.0\npriority = 5")))
@@ -840,6 +843,11 @@ fn data_type_rows(t: &str) -> Vec<(String, &'static str, &'static str)> {
             types(udt),
             "IF Txt = A THEN A := 1; END_IF;",
             "Main.st:1:10: '=' compares: 'A' is not a string",
+        ),
+        (
+            types(udt),
+            "STOR(Txt, A);",
+            "Main.st:1:11: STOR Dest: expected a REAL, got DINT 'A'",
         ),
     ]
 }
@@ -1445,10 +1453,10 @@ fn fll_fills_members_and_clears_structures_and_size_measures_member_arrays() {
     assert_eq!((f.fault_type, f.code), (4, 20), "{}", f.message);
 }
 
-/// A `MOTION_INSTRUCTION` member of a data type (an axis structure with
-/// its move's control structure): MAM takes `Cmd[I].Move` with a computed
-/// subscript, its bits read by path, each element a control structure of
-/// its own named by its path.
+/// A `MOTION_INSTRUCTION` member of a data type (1756-PM001, user-defined
+/// data types; MOTION-RM002, MAM's Motion Control operand): MAM takes
+/// `Cmd[I].Move` with a computed subscript, its bits read by path, each
+/// element a control structure of its own named by its path.
 #[test]
 fn motion_instructions_live_inside_data_types() {
     let main = "IF S:FS THEN\n  I := 1;\n  MAM(Table, Cmd[I].Move, 1, Cmd[I].Target, 100, %ofMaximum, 100, %ofMaximum, 100, %ofMaximum, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);\nEND_IF;\n\
@@ -1478,4 +1486,41 @@ fn motion_instructions_live_inside_data_types() {
     b.updates(1);
     let f = b.program.controller().major_fault().expect("4/20").clone();
     assert_eq!((f.fault_type, f.code, f.line), (4, 20, 2), "{}", f.message);
+}
+
+/// Arrays of two dimensions of CAM and CAM_PROFILE (1756-RM003 arrays,
+/// MOTION-RM002 MCCP): a CAM[2,4]'s second row is a cam of its own
+/// (`Cams[1,0]`), calculated into the second row of a CAM_PROFILE[2,4]
+/// (`Profiles[1,0]`), which the computed-subscript MCCP call fills as
+/// well.
+#[test]
+fn cams_and_cam_profiles_of_two_dimensions_take_a_row_each() {
+    let main = "IF S:FS THEN\n  MCCP(Calc, Cams[1,0], 3, 0.0, 0.0, Profiles[1,0]);\n  R := 0;\n  MCCP(Calc0, Cams[R,0], 2, 0.0, 0.0, Profiles[0,0]);\nEND_IF;\n\
+                Done := Calc.DN AND Calc0.DN;\nErr := Calc.ERR + Calc0.ERR;\nM := Cams[1,2].Master;\n";
+    let body = format!(
+        "[[tags]]\nname = \"Cams\"\ntype = \"CAM[2,4]\"\nvalue = [[{{ master = 0.0, slave = 0.0 }}, {{ master = 1.0, slave = 2.0 }}], \
+         [{{ master = 0.0, slave = 0.0 }}, {{ master = 5.0, slave = 1.0 }}, {{ master = 10.0, slave = 4.0 }}]]\n{}{}",
+        tags(&[
+            ("Profiles", "CAM_PROFILE[2,4]"),
+            ("Calc", "MOTION_INSTRUCTION"),
+            ("Calc0", "MOTION_INSTRUCTION"),
+            ("R", "DINT"),
+            ("Done", "BOOL"),
+            ("Err", "DINT"),
+            ("M", "REAL"),
+        ]),
+        task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "")
+    );
+    let path = scene("cam-rows", &body, &[("Main", main)]);
+    let mut b = Bench::load(&path);
+    b.updates(5);
+    assert_eq!((b.value("Done"), b.int("Err")), (Value::Bool(true), 0));
+    assert_eq!(b.value("M"), Value::Real(10.0));
+    let path = scene(
+        "cam-rows-bad",
+        &body,
+        &[("Main", "MCCP(Calc, Cams[1,0], 3, 0.0, 0.0, Profiles[R,0]);\n")],
+    );
+    let e = Bench::try_load(&path).err().expect("a computed profile row");
+    assert!(e.contains("a CAM_PROFILE row is named by constant subscripts"), "{e}");
 }

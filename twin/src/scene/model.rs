@@ -994,6 +994,17 @@ impl CamPoint {
     pub(super) fn default_segment() -> SegmentType {
         SegmentType::Cubic
     }
+
+    /// A point a `CAM` tag's value leaves out: the controller's initial
+    /// one (master 0, slave 0, linear).
+    #[must_use]
+    pub fn initial() -> CamPoint {
+        CamPoint {
+            master: 0.0,
+            slave: 0.0,
+            segment_type: SegmentType::Linear,
+        }
+    }
 }
 
 /// A tag's initial value, already checked against its type.

@@ -87,17 +87,6 @@ impl Ctx<'_> {
             };
             return Err(self.invalid(raw, field, problem));
         }
-        if dims[1] > 0 && matches!(base, BaseType::Cam | BaseType::CamProfile) {
-            // MCCP's Cam and Cam Profile operands are one-dimensional.
-            return Err(self.invalid(
-                raw,
-                field,
-                Problem::TooManyDimensions {
-                    type_name: written.to_owned(),
-                    count: 2,
-                },
-            ));
-        }
         Ok(TagType { base, array_len, dims })
     }
 
@@ -377,21 +366,31 @@ impl Ctx<'_> {
                 let toml::Value::Array(items) = v.get_ref() else {
                     return Err(mismatch(expected));
                 };
-                if items.len() > len.unwrap_or(1) || items.is_empty() {
-                    return Err(mismatch("between 1 and N cam points"));
-                }
-                let mut points: Vec<CamPoint> = Vec::with_capacity(items.len());
-                for (index, item) in items.iter().enumerate() {
-                    let point: CamPoint = item.clone().try_into().map_err(|_| mismatch(expected))?;
-                    if !point.master.is_finite() || !point.slave.is_finite() {
-                        return Err(mismatch(expected));
+                let dims = ty.dimensions();
+                if dims.len() > 1 {
+                    // One cam a row (the last dimension): an array of rows,
+                    // each as a one-dimensional CAM's value; the points a row
+                    // leaves out are the controller's initial ones.
+                    let row_len = dims[dims.len() - 1];
+                    let rows = len.unwrap_or(1) / row_len;
+                    if items.is_empty() || items.len() > rows {
+                        return Err(mismatch(
+                            "an array of at most N rows (the leading dimensions), each an array of cam points",
+                        ));
                     }
-                    if points.last().is_some_and(|p| p.master >= point.master) {
-                        return Err(self.invalid(v, field, Problem::CamNotIncreasing { index }));
+                    let mut points: Vec<CamPoint> = Vec::with_capacity(items.len() * row_len);
+                    for (k, row) in items.iter().enumerate() {
+                        let toml::Value::Array(row) = row else {
+                            return Err(mismatch("an array of rows, each an array of cam points"));
+                        };
+                        let mut these = self.cam_points(v, row, row_len, &format!("{field}[{k}]"))?;
+                        these.resize(row_len, CamPoint::initial());
+                        points.extend(these);
                     }
-                    points.push(point);
+                    return Ok(TagValue::CamPoints(points));
                 }
-                Ok(TagValue::CamPoints(points))
+                self.cam_points(v, items, len.unwrap_or(1), field)
+                    .map(TagValue::CamPoints)
             }
             (BaseType::User(u), None) => self.user_value(v, v.get_ref(), u, field),
             (base, Some(len)) => {
@@ -427,6 +426,36 @@ impl Ctx<'_> {
                 scalar_value(base, v.get_ref()).ok_or_else(|| mismatch(expected))
             }
         }
+    }
+}
+
+impl Ctx<'_> {
+    /// 1 to `max` cam points, masters strictly increasing.
+    fn cam_points(
+        &self,
+        v: &Spanned<toml::Value>,
+        items: &[toml::Value],
+        max: usize,
+        field: &str,
+    ) -> Result<Vec<CamPoint>, SceneError> {
+        let expected = "an array of { master = .., slave = .., segment_type = \"linear\" | \"cubic\" } tables";
+        let ty = TagType::new(BaseType::Cam, Some(max));
+        let mismatch = |expected| self.invalid(v, field, Problem::ValueMismatch { ty, expected });
+        if items.len() > max || items.is_empty() {
+            return Err(mismatch("between 1 and N cam points"));
+        }
+        let mut points: Vec<CamPoint> = Vec::with_capacity(items.len());
+        for (index, item) in items.iter().enumerate() {
+            let point: CamPoint = item.clone().try_into().map_err(|_| mismatch(expected))?;
+            if !point.master.is_finite() || !point.slave.is_finite() {
+                return Err(mismatch(expected));
+            }
+            if points.last().is_some_and(|p| p.master >= point.master) {
+                return Err(self.invalid(v, field, Problem::CamNotIncreasing { index }));
+            }
+            points.push(point);
+        }
+        Ok(points)
     }
 }
 

@@ -333,17 +333,55 @@ impl Compiler<'_, '_, '_> {
                 format!("{} '{}': expected a CAM_PROFILE tag", spec.name, arg.text),
             );
         };
-        match r.path.as_slice() {
-            [] => {}
-            [Access::Index(sub)]
+        let info = self.planner_tag(spec, arg, &r.name, BaseType::CamProfile)?;
+        let dims = info.dimensions().to_vec();
+        let len = info.len.unwrap_or(1);
+        // A one-dimensional array (or a bare tag) is one profile; an array
+        // of two or three dimensions is one profile per row, named by the
+        // row's first element (`Profiles[1,0]`), the last dimension long.
+        let (name, len) = match (r.path.as_slice(), dims.len()) {
+            ([], 0 | 1) => (info.name.clone(), len),
+            ([Access::Index(sub)], 1)
                 if matches!(
                     sub.as_slice(),
                     [Expr {
                         kind: ExprKind::Int(0),
                         ..
                     }]
-                ) => {}
-            [Access::Index(_)] => {
+                ) =>
+            {
+                (info.name.clone(), len)
+            }
+            ([Access::Index(sub)], n) if n > 1 && sub.len() == n => {
+                let constants: Option<Vec<usize>> = sub
+                    .iter()
+                    .zip(&dims)
+                    .map(|(e, d)| match e.kind {
+                        ExprKind::Int(i) if (0..*d as i128).contains(&i) => Some(i as usize),
+                        _ => None,
+                    })
+                    .collect();
+                match constants {
+                    Some(c) if c.last() == Some(&0) => {
+                        let linear = c.iter().zip(&dims).fold(0usize, |acc, (i, d)| acc * d + i);
+                        (super::reference::element_name(&info, linear), dims[n - 1])
+                    }
+                    _ => {
+                        return err(
+                            self,
+                            arg.span,
+                            format!(
+                                "{} {}: a CAM_PROFILE row is named by constant subscripts inside the array, the last one 0 (e.g. {}[{}0])",
+                                spec.name,
+                                arg.text,
+                                r.name,
+                                "0,".repeat(n - 1)
+                            ),
+                        );
+                    }
+                }
+            }
+            ([Access::Index(_)], _) => {
                 return err(
                     self,
                     arg.span,
@@ -360,10 +398,8 @@ impl Compiler<'_, '_, '_> {
                     format!("{} '{}': expected a CAM_PROFILE tag", spec.name, arg.text),
                 );
             }
-        }
-        let info = self.planner_tag(spec, arg, &r.name, BaseType::CamProfile)?;
-        let len = info.len.unwrap_or(1);
-        Ok(Operand::Fixed(Arg::CamProfile(self.env.cam_profile(&info.name, len))))
+        };
+        Ok(Operand::Fixed(Arg::CamProfile(self.env.cam_profile(&name, len))))
     }
 
     /// A reference to a whole array tag or one of its elements: the tag
@@ -384,7 +420,8 @@ impl Compiler<'_, '_, '_> {
         }
     }
 
-    /// A `CAM` array or an element of one.
+    /// A `CAM` array or an element of one: its first point (any number
+    /// of subscripts, row-major for an array of two or three dimensions).
     fn cam_operand(&mut self, spec: &Spec, arg: &ArgText) -> Result<Operand> {
         let bad = |c: &Self| {
             c.error(
@@ -396,24 +433,34 @@ impl Compiler<'_, '_, '_> {
                 "not a CAM array",
             )
         };
-        let Some((r, info, index)) = self.array_reference(arg) else {
+        let Some(Expr {
+            kind: ExprKind::Ref(r), ..
+        }) = &arg.expr
+        else {
             return Err(bad(self));
         };
-        if info.kind != TagKind::Structure(Structure::Cam) {
+        let Some(t) = self.resolve(&r.name) else {
+            return Err(bad(self));
+        };
+        let info = self.mem.tags[t].clone();
+        if info.kind != TagKind::Structure(Structure::Cam) || info.len.is_none() {
             return Err(bad(self));
         }
         let len = info.len.unwrap_or(1);
+        let start = match r.path.as_slice() {
+            [] => super::constant(Value::Int(0), Ty::Dint),
+            [Access::Index(sub)] => self.checked_subscript(sub, r, &info)?,
+            _ => return Err(bad(self)),
+        };
         if !self.scanned {
-            let start = match index {
-                Some(e) => self.constant_index(e, r, len)?,
-                None => 0,
+            // A step's subscripts are constants inside the array (checked
+            // above).
+            let start = match start.kind {
+                CKind::Const(v) => v.as_i64() as usize,
+                _ => 0,
             };
             return Ok(Operand::CamPoints(self.scene_cam(&info.name, len), start));
         }
-        let start = match index {
-            Some(e) => self.integer(e)?,
-            None => super::constant(Value::Int(0), Ty::Dint),
-        };
         Ok(Operand::Cam(ArrayAt {
             base: info.base,
             len,

@@ -73,6 +73,27 @@ impl Compiler<'_, '_, '_> {
                 self.argc(call, upper, 2)?;
                 let source = self.string_arg(&a[0], upper, "Source")?;
                 let (place, ty) = self.number_dest(&a[1], upper, "Dest")?;
+                let fits = if op == StrOp::Stod {
+                    ty.is_integer()
+                } else {
+                    matches!(ty, DataType::Real | DataType::Lreal)
+                };
+                if !fits {
+                    let want = if op == StrOp::Stod {
+                        "an integer (SINT, INT, DINT …)"
+                    } else {
+                        "a REAL"
+                    };
+                    return err(
+                        self,
+                        a[1].span,
+                        format!(
+                            "{upper} Dest: expected {want}, got {} '{}'",
+                            ty.name(),
+                            a[1].text.trim()
+                        ),
+                    );
+                }
                 StrArgs::ToNumber(source, place, ty)
             }
         };

@@ -177,13 +177,12 @@ impl Exec<'_> {
                 } else {
                     real_in(&text)
                 };
+                // STOD writes an integer, STOR a REAL (checked at load).
                 let fits = match (value, ty) {
-                    (Value::Int(i), t) if t.is_integer() => t.wrap(i128::from(i)) == i,
+                    (Value::Int(i), t) => t.wrap(i128::from(i)) == i,
                     (Value::Real(x), DataType::Real) => x.is_finite() && (x as f32).is_finite(),
-                    (Value::Real(x), t) if t.is_integer() => {
-                        x.is_finite() && t.wrap(x.trunc() as i128) as f64 == x.trunc()
-                    }
-                    _ => true,
+                    (Value::Real(x), _) => x.is_finite(),
+                    (Value::Bool(_), _) => true,
                 };
                 if !fits {
                     return Err(self.raise(
