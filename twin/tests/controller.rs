@@ -1129,7 +1129,8 @@ fn cop_copies_bytes_through_the_logix_layout() {
                 COP(Line.Stations[1], Cells[1].Stations[0], 1);\n\
                 A := Copy.Stations[0].Count; B := Cells[1].Stations[0].Pos[2];\n\
                 C := Copy.Mode; D := Copy.Stations[0].Label.LEN;\n\
-                E := Bytes[0] + Bytes[1] * 10 + Bytes[3] * 100;\n";
+                E := Bytes[0] + Bytes[1] * 10 + Bytes[3] * 100;\n\
+                COP(Word, Mid[1], 2);\nF := Mid[0] + Mid[1] * 10 + Mid[2] * 100 + Mid[3] * 1000;\n";
     let body = format!(
         "{CELL_TYPES}{}[[tags]]\nname = \"Line\"\ntype = \"Cell\"\nvalue = {{ Mode = 3, Stations = [{{ Count = 10, Label = \"AB\" }}, {{ Pos = [1.0, 2.0, 3.0] }}] }}\n{}",
         tags(&[
@@ -1144,6 +1145,8 @@ fn cop_copies_bytes_through_the_logix_layout() {
             ("C", "DINT"),
             ("D", "DINT"),
             ("E", "DINT"),
+            ("Mid", "SINT[4]"),
+            ("F", "DINT"),
         ]),
         task("T", "period_ms = 4.0\npriority = 5", "P", "Main", "")
     );
@@ -1152,6 +1155,7 @@ fn cop_copies_bytes_through_the_logix_layout() {
     b.updates(1);
     assert_eq!(b.int("Bits"), 0x3F80_0000, "a REAL's bits");
     assert_eq!(b.int("E"), 1 + 20 + 400, "little-endian bytes");
+    assert_eq!(b.int("F"), 10 + 200, "two bytes into the middle of an array");
     assert_eq!((b.int("A"), b.int("C"), b.int("D")), (10, 3, 2));
     assert_eq!(b.value("B"), Value::Real(3.0));
     // Past the end of the destination: major fault 4/20.

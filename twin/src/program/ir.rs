@@ -212,8 +212,6 @@ pub struct Term {
 pub struct DataAt {
     /// The tag's first slot.
     pub tag_base: usize,
-    /// Its slots and bytes in all.
-    pub tag_slots: usize,
     /// Bytes the whole tag takes.
     pub tag_bytes: usize,
     /// The tag's element type and element count.

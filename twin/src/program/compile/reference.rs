@@ -1049,7 +1049,6 @@ impl Compiler<'_, '_, '_> {
         let tag_len = info.len.unwrap_or(1);
         Ok(DataAt {
             tag_base: info.base,
-            tag_slots: tag_len * info.stride,
             tag_bytes: tag_len * layouts.bytes(tag_elem),
             tag_elem,
             tag_len,

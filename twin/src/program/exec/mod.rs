@@ -1085,16 +1085,21 @@ impl<'e> Exec<'e> {
                 ),
             ));
         };
+        if count == 0 {
+            return Ok(());
+        }
+        let (first, n) = window(&self.mem.layouts, dst, to, count);
         let mem = &mut *self.mem;
-        let mut b = Vec::with_capacity(dst.tag_bytes);
+        let each = (mem.layouts.bytes(dst.tag_elem), mem.layouts.slots(dst.tag_elem));
+        let mut b = Vec::with_capacity(n * each.0);
         mem.layouts
-            .encode(dst.tag_elem, dst.tag_len, &mem.slots, dst.tag_base, &mut b);
-        for (k, byte) in b[to..to + count].iter_mut().enumerate() {
+            .encode(dst.tag_elem, n, &mem.slots, dst.tag_base + first * each.1, &mut b);
+        let at = to - first * each.0;
+        for (k, byte) in b[at..at + count].iter_mut().enumerate() {
             *byte = pattern[k % pattern.len()];
         }
-        let slots = &mut mem.slots[..dst.tag_base + dst.tag_slots];
         mem.layouts
-            .decode(dst.tag_elem, dst.tag_len, &b, 0, slots, dst.tag_base);
+            .decode(dst.tag_elem, n, &b, 0, &mut mem.slots, dst.tag_base + first * each.1);
         Ok(())
     }
 
@@ -1124,16 +1129,24 @@ impl<'e> Exec<'e> {
             ));
         }
         let count = count.unwrap_or(0);
+        if count == 0 {
+            return Ok(());
+        }
+        // Only the elements the copy touches are turned into bytes and back.
+        let layouts = &self.mem.layouts;
+        let ((fa, na), (fb, nb)) = (window(layouts, src, from, count), window(layouts, dst, to, count));
         let mem = &mut *self.mem;
-        let (mut a, mut b) = (Vec::with_capacity(src.tag_bytes), Vec::with_capacity(dst.tag_bytes));
+        let src_each = (mem.layouts.bytes(src.tag_elem), mem.layouts.slots(src.tag_elem));
+        let dst_each = (mem.layouts.bytes(dst.tag_elem), mem.layouts.slots(dst.tag_elem));
+        let (mut a, mut b) = (Vec::with_capacity(na * src_each.0), Vec::with_capacity(nb * dst_each.0));
         mem.layouts
-            .encode(src.tag_elem, src.tag_len, &mem.slots, src.tag_base, &mut a);
+            .encode(src.tag_elem, na, &mem.slots, src.tag_base + fa * src_each.1, &mut a);
         mem.layouts
-            .encode(dst.tag_elem, dst.tag_len, &mem.slots, dst.tag_base, &mut b);
+            .encode(dst.tag_elem, nb, &mem.slots, dst.tag_base + fb * dst_each.1, &mut b);
+        let (from, to) = (from - fa * src_each.0, to - fb * dst_each.0);
         b[to..to + count].copy_from_slice(&a[from..from + count]);
-        let slots = &mut mem.slots[..dst.tag_base + dst.tag_slots];
         mem.layouts
-            .decode(dst.tag_elem, dst.tag_len, &b, 0, slots, dst.tag_base);
+            .decode(dst.tag_elem, nb, &b, 0, &mut mem.slots, dst.tag_base + fb * dst_each.1);
         Ok(())
     }
 
@@ -1171,4 +1184,13 @@ impl<'e> Exec<'e> {
             ),
         )
     }
+}
+
+/// The elements of a copy operand's tag that bytes `at .. at + count` (> 0)
+/// fall in: the first and how many.
+fn window(layouts: &super::layout::Layouts, d: &DataAt, at: usize, count: usize) -> (usize, usize) {
+    let each = layouts.bytes(d.tag_elem).max(1);
+    let first = at / each;
+    let end = (at + count).div_ceil(each).min(d.tag_len);
+    (first, end.saturating_sub(first).max(1))
 }
