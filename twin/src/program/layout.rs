@@ -395,7 +395,11 @@ fn lay_out(k: usize, types: &[DataTypeDef], user_types: usize, done: &mut Vec<Op
                 byte = at + size * n;
                 (at, 0)
             }
-            (Elem::Control, _) => (byte, 0),
+            (Elem::Control, _) => {
+                // A structure on the controller: it ends a run of BOOLs.
+                host = None;
+                (byte, 0)
+            }
             (Elem::User(id), _) => {
                 host = None;
                 let inner = done[usize::from(id)].as_ref().expect("laid out above");
