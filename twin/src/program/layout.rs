@@ -541,6 +541,26 @@ mod tests {
     }
 
     #[test]
+    fn a_motion_instruction_member_takes_no_slot_and_ends_a_run_of_bools() {
+        let types = vec![
+            DataTypeDef::string(),
+            udt(
+                "A",
+                vec![
+                    member("a", BaseType::Bool, None),
+                    member("mv", BaseType::MotionInstruction, None),
+                    member("b", BaseType::Bool, None),
+                ],
+            ),
+        ];
+        let l = Layouts::of(&types);
+        let a = l.get(1);
+        assert_eq!(a.members[1].elem, Elem::Control);
+        assert_eq!((a.members[2].byte, a.members[2].bit), (1, 0), "b starts a new hidden SINT");
+        assert_eq!((a.slots, a.bytes), (2, 4));
+    }
+
+    #[test]
     fn bytes_round_trip() {
         let types = vec![
             DataTypeDef::string(),
