@@ -556,7 +556,11 @@ mod tests {
         let l = Layouts::of(&types);
         let a = l.get(1);
         assert_eq!(a.members[1].elem, Elem::Control);
-        assert_eq!((a.members[2].byte, a.members[2].bit), (1, 0), "b starts a new hidden SINT");
+        assert_eq!(
+            (a.members[2].byte, a.members[2].bit),
+            (1, 0),
+            "b starts a new hidden SINT"
+        );
         assert_eq!((a.slots, a.bytes), (2, 4));
     }
 

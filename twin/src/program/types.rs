@@ -478,14 +478,7 @@ mod tests {
 
     #[test]
     fn every_structure_names_its_history_members() {
-        for s in [
-            Structure::Timer,
-            Structure::Counter,
-            Structure::OneShot,
-            Structure::Cam,
-            Structure::Trig,
-            Structure::IecTimer,
-        ] {
+        for s in Structure::ALL {
             assert!(s.size() > 0);
             assert_eq!(s.member("nonsense"), None);
         }

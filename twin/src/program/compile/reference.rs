@@ -410,15 +410,7 @@ impl Compiler<'_, '_, '_> {
                 ),
             );
         };
-        let Some((offset, ty)) = s.member(m) else {
-            let d = self.error(
-                *span,
-                format!("{} has no member '{m}' (members: {})", s.name(), s.visible_members()),
-                "no such member",
-            );
-            let names = s.visible_members();
-            return Err(suggest(d, m, names.split(", ")));
-        };
+        let (offset, ty) = self.structure_member(s, m, *span)?;
         let place = match index {
             Some((index, len)) => Place::Element {
                 base: info.base,
@@ -431,6 +423,20 @@ impl Compiler<'_, '_, '_> {
             None => Place::Slot(info.base + offset),
         };
         Ok((place, ty))
+    }
+
+    /// A member a program may name of an instruction's structure: its slot
+    /// offset and type.
+    fn structure_member(&self, s: Structure, m: &str, span: Span) -> Result<(usize, DataType)> {
+        s.member(m).ok_or_else(|| {
+            let d = self.error(
+                span,
+                format!("{} has no member '{m}' (members: {})", s.name(), s.visible_members()),
+                "no such member",
+            );
+            let names = s.visible_members();
+            suggest(d, m, names.split(", "))
+        })
     }
 
     /// A scalar tag, an element of a scalar array, or a scalar member of a
@@ -560,15 +566,7 @@ impl Compiler<'_, '_, '_> {
             let layout = mem.layouts.get(id);
             if let Some(s) = layout.builtin {
                 // An instruction's structure: its visible members only.
-                let Some((offset, ty)) = s.member(m) else {
-                    let d = self.error(
-                        *span,
-                        format!("{} has no member '{m}' (members: {})", s.name(), s.visible_members()),
-                        "no such member",
-                    );
-                    let names = s.visible_members();
-                    return Err(suggest(d, m, names.split(", ")));
-                };
+                let (offset, ty) = self.structure_member(s, m, *span)?;
                 at.slot += offset;
                 at.byte += layout.members[offset].byte;
                 at.elem = Elem::Scalar(ty);
