@@ -330,8 +330,9 @@ fn inhibited_tasks_and_disabled_programs_are_not_scanned() {
     assert_eq!((b.int("D"), b.int("Never")), (0, 0));
 }
 
-/// A program disabled (SSV `DisableFlag`) by a higher-priority task while
-/// its scan is stopped at a coarse update: the rest of that scan is
+/// 1756-PM005 (*Inhibit a task*, program *Disable*) and 1756-RM003 (GSV/SSV
+/// PROGRAM `DisableFlag`): a program disabled by a higher-priority task
+/// while its scan is stopped at a coarse update: the rest of that scan is
 /// skipped, and the task's next program starts from its beginning.
 #[test]
 fn a_program_disabled_while_its_scan_is_stopped_skips_the_rest_of_it() {
@@ -568,8 +569,10 @@ fn literals_chains_and_overflow_reporting() {
     assert_eq!(b.minor(4, 4), 0);
 }
 
-/// Bad input: each a one-line message naming the file, line, column and
-/// field (scene) or the routine's line and column.
+/// Bad input (the load errors of 1756-PM005 task settings, 1756-PM021
+/// parameters, 1756-PM001 data types and 1756-RM003 operands): each a
+/// one-line message naming the file, line, column and field (scene) or the
+/// routine's line and column.
 #[test]
 fn bad_controller_input_is_refused_with_its_place() {
     let t = |head: &str| task("T", head, "P", "Main", "");
@@ -1047,8 +1050,7 @@ fn program_parameters_copy_alias_and_are_the_only_way_between_programs() {
 }
 
 /// A data type with nested types, member arrays and BOOLs
-/// (`[[data_types]]`), initial values by member, and paths with computed
-/// subscripts at every level (1756-PM001 user-defined data types).
+/// (`[[data_types]]`), shared by the data type tests.
 const CELL_TYPES: &str = r#"
 [[data_types]]
 name = "Station"
@@ -1070,6 +1072,10 @@ members = [
 ]
 "#;
 
+/// 1756-PM001, *Create a user-defined data type*: a UDT of UDTs with
+/// member arrays, BOOLs and a STRING; scene values by member; reads and
+/// writes through computed subscripts at every level, and a subscript out
+/// of its member array is major fault 4/20 (1756-PM014) naming the member.
 #[test]
 fn data_types_nest_and_take_computed_subscripts_at_every_level() {
     let main = "I := 1; J := 2;\n\
