@@ -1088,18 +1088,11 @@ impl<'e> Exec<'e> {
         if count == 0 {
             return Ok(());
         }
-        let (first, n) = window(&self.mem.layouts, dst, to, count);
-        let mem = &mut *self.mem;
-        let each = (mem.layouts.bytes(dst.tag_elem), mem.layouts.slots(dst.tag_elem));
-        let mut b = Vec::with_capacity(n * each.0);
-        mem.layouts
-            .encode(dst.tag_elem, n, &mem.slots, dst.tag_base + first * each.1, &mut b);
-        let at = to - first * each.0;
+        let (mut b, at, first) = window_bytes(self.mem, dst, to, count);
         for (k, byte) in b[at..at + count].iter_mut().enumerate() {
             *byte = pattern[k % pattern.len()];
         }
-        mem.layouts
-            .decode(dst.tag_elem, n, &b, 0, &mut mem.slots, dst.tag_base + first * each.1);
+        store_window(self.mem, dst, first, &b);
         Ok(())
     }
 
@@ -1132,21 +1125,10 @@ impl<'e> Exec<'e> {
         if count == 0 {
             return Ok(());
         }
-        // Only the elements the copy touches are turned into bytes and back.
-        let layouts = &self.mem.layouts;
-        let ((fa, na), (fb, nb)) = (window(layouts, src, from, count), window(layouts, dst, to, count));
-        let mem = &mut *self.mem;
-        let src_each = (mem.layouts.bytes(src.tag_elem), mem.layouts.slots(src.tag_elem));
-        let dst_each = (mem.layouts.bytes(dst.tag_elem), mem.layouts.slots(dst.tag_elem));
-        let (mut a, mut b) = (Vec::with_capacity(na * src_each.0), Vec::with_capacity(nb * dst_each.0));
-        mem.layouts
-            .encode(src.tag_elem, na, &mem.slots, src.tag_base + fa * src_each.1, &mut a);
-        mem.layouts
-            .encode(dst.tag_elem, nb, &mem.slots, dst.tag_base + fb * dst_each.1, &mut b);
-        let (from, to) = (from - fa * src_each.0, to - fb * dst_each.0);
+        let (a, from, _) = window_bytes(self.mem, src, from, count);
+        let (mut b, to, first) = window_bytes(self.mem, dst, to, count);
         b[to..to + count].copy_from_slice(&a[from..from + count]);
-        mem.layouts
-            .decode(dst.tag_elem, nb, &b, 0, &mut mem.slots, dst.tag_base + fb * dst_each.1);
+        store_window(self.mem, dst, first, &b);
         Ok(())
     }
 
@@ -1186,11 +1168,23 @@ impl<'e> Exec<'e> {
     }
 }
 
-/// The elements of a copy operand's tag that bytes `at .. at + count` (> 0)
-/// fall in: the first and how many.
-fn window(layouts: &super::layout::Layouts, d: &DataAt, at: usize, count: usize) -> (usize, usize) {
-    let each = layouts.bytes(d.tag_elem).max(1);
+/// The bytes of the elements of a copy operand's tag that bytes `at ..
+/// at + count` (count > 0) fall in, only those being turned into bytes:
+/// the bytes, where `at` lies in them, and the first element.
+fn window_bytes(mem: &Memory, d: &DataAt, at: usize, count: usize) -> (Vec<u8>, usize, usize) {
+    let each = mem.layouts.bytes(d.tag_elem).max(1);
     let first = at / each;
     let end = (at + count).div_ceil(each).min(d.tag_len);
-    (first, end.saturating_sub(first).max(1))
+    let n = end.saturating_sub(first).max(1);
+    let mut bytes = Vec::with_capacity(n * each);
+    let slot = d.tag_base + first * mem.layouts.slots(d.tag_elem);
+    mem.layouts.encode(d.tag_elem, n, &mem.slots, slot, &mut bytes);
+    (bytes, at - first * each, first)
+}
+
+/// Writes back the elements [`window_bytes`] read, from `first` on.
+fn store_window(mem: &mut Memory, d: &DataAt, first: usize, bytes: &[u8]) {
+    let n = bytes.len() / mem.layouts.bytes(d.tag_elem).max(1);
+    let slot = d.tag_base + first * mem.layouts.slots(d.tag_elem);
+    mem.layouts.decode(d.tag_elem, n, bytes, 0, &mut mem.slots, slot);
 }
