@@ -7,7 +7,7 @@ pub use crate::output::recording::Served;
 pub use crate::output::recording::run::{Finished, Recording};
 use crate::output::status::{describe, error_codes};
 #[cfg(feature = "render")]
-use crate::plant::parts::{column_major, world_from_part};
+use crate::plant::visuals::{column_major, world_from_visual};
 use crate::run::Twin;
 use planner::instruction::MotionInstructionBits;
 use serde::Serialize;
@@ -118,7 +118,7 @@ impl Frames {
             })?;
             let meshes = twin
                 .plant()
-                .parts()
+                .visuals()
                 .iter()
                 .map(|p| renderer.upload_mesh(&p.mesh))
                 .collect();
@@ -224,12 +224,12 @@ impl Frames {
             let colliding = twin.plant().colliding_links();
             let items: Vec<crate::output::render::DrawItem> = twin
                 .plant()
-                .parts()
+                .visuals()
                 .iter()
                 .zip(&inner.meshes)
                 .map(|(p, id)| crate::output::render::DrawItem {
                     mesh: *id,
-                    world_from_mesh: column_major(&world_from_part(p, links)),
+                    world_from_mesh: column_major(&world_from_visual(p, links)),
                     color_rgba: p.color_rgba,
                     tint_rgba: p.link.filter(|l| colliding.contains(l)).map(|_| COLLISION_TINT_RGBA),
                 })

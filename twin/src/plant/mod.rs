@@ -19,7 +19,7 @@
 //! * [`collision`] is the parry collision model; [`collide`] runs its live
 //!   checks after every physics step and the pre-flight sweep of every move
 //!   that starts.
-//! * [`parts`] are the drawable pieces (URDF visuals and obstacles),
+//! * [`visuals`] are the drawable pieces (URDF visuals and obstacles),
 //!   [`trails`] the tool-centre trails.
 //!
 //! # Timing
@@ -42,7 +42,7 @@ pub mod kinematic;
 pub mod kinematics_check;
 pub mod limits;
 pub mod mesh;
-pub mod parts;
+pub mod visuals;
 pub mod physics;
 pub mod servo_drive;
 pub mod stl;
@@ -55,7 +55,7 @@ use axes::{AxisBinding, BoundAxes};
 use collision::CollisionModelError;
 use dynamics::Dynamics;
 pub use error::PlantError;
-use parts::{Part, scene_parts};
+use visuals::{Visual, scene_visuals};
 use physics::{PhysicsError, PhysicsOptions, RobotSim};
 use planner::task::MotionTask;
 use trails::ToolTrail;
@@ -66,7 +66,7 @@ use urdf::RobotModel;
 /// collision checks and tool trails.
 pub struct Plant {
     model: RobotModel,
-    parts: Vec<Part>,
+    visuals: Vec<Visual>,
     sim: Dynamics,
     axes: Vec<AxisBinding>,
     /// Parallel robots' virtual joints posed from MCT kinematics.
@@ -181,7 +181,7 @@ impl Plant {
             scene: path.clone(),
             source: Box::new(source),
         })?;
-        let parts = scene_parts(&model, scene).map_err(|e| {
+        let visuals = scene_visuals(&model, scene).map_err(|e| {
             let o = &scene.obstacles[e.obstacle];
             PlantError::ObstacleMesh {
                 scene: path.clone(),
@@ -240,7 +240,7 @@ impl Plant {
             substeps: (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize,
             update_s: scene.coarse_update_s(),
             model,
-            parts,
+            visuals,
             sim,
             axes,
             rigs,
@@ -432,8 +432,8 @@ impl Plant {
     }
 
     /// Every drawable piece: URDF visuals and obstacles, meshes loaded once.
-    pub fn parts(&self) -> &[Part] {
-        &self.parts
+    pub fn visuals(&self) -> &[Visual] {
+        &self.visuals
     }
 
     /// The bound axes, in scene order.

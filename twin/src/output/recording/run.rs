@@ -73,7 +73,7 @@
 use super::sinks::Sink;
 use super::{Recorder, RecordingError, Served, TextLevel, sim_time_ns, urdf_entity_paths, visual_entity_path};
 use crate::output::RecordingTargets;
-use crate::plant::parts::column_major;
+use crate::plant::visuals::column_major;
 use crate::run::Twin;
 
 mod batch;
@@ -233,7 +233,7 @@ impl Recording {
         let mut count = vec![0usize; model.links.len()];
         let meshes: Vec<StaticMesh> = twin
             .plant()
-            .parts()
+            .visuals()
             .iter()
             .map(|part| {
                 let path = match part.link {
@@ -542,7 +542,7 @@ impl Feed {
                 if self.highlighted.contains(&l) {
                     continue;
                 }
-                for (k, part) in plant.parts().iter().filter(|p| p.link == Some(l)).enumerate() {
+                for (k, part) in plant.visuals().iter().filter(|p| p.link == Some(l)).enumerate() {
                     let mesh = part.mesh.transformed(&column_major(&part.parent_from_mesh));
                     let path = format!("{}/collision_highlight/{k}", self.link_paths[l]);
                     self.push(t_ns, Item::Mesh { path, mesh });

@@ -15,7 +15,7 @@ const SEGMENTS: u32 = 48;
 
 /// One drawable piece: a mesh, what it hangs on, its fixed offset, colour.
 #[derive(Debug, Clone)]
-pub struct Part {
+pub struct Visual {
     /// The triangles (already scaled for URDF mesh scale).
     pub mesh: TriMesh,
     /// The link it belongs to (`None`: fixed in the world).
@@ -66,11 +66,11 @@ fn scaled(mesh: &TriMesh, scale: [f64; 3]) -> TriMesh {
 ///
 /// # Errors
 /// [`ObstacleMeshError`] when an obstacle's mesh cannot be loaded.
-pub fn scene_parts(model: &RobotModel, scene: &Scene) -> Result<Vec<Part>, ObstacleMeshError> {
-    let mut parts = Vec::new();
+pub fn scene_visuals(model: &RobotModel, scene: &Scene) -> Result<Vec<Visual>, ObstacleMeshError> {
+    let mut visuals = Vec::new();
     for (i, link) in model.links.iter().enumerate() {
         for visual in &link.visuals {
-            parts.push(Part {
+            visuals.push(Visual {
                 mesh: geometry_mesh(&visual.geometry),
                 link: Some(i),
                 parent_from_mesh: visual.link_from_visual,
@@ -97,7 +97,7 @@ pub fn scene_parts(model: &RobotModel, scene: &Scene) -> Result<Vec<Part>, Obsta
             Translation3::new(o.position_m[0], o.position_m[1], o.position_m[2]),
             UnitQuaternion::from_euler_angles(r, p, y),
         );
-        parts.push(Part {
+        visuals.push(Visual {
             mesh,
             link: None,
             parent_from_mesh: pose,
@@ -105,20 +105,20 @@ pub fn scene_parts(model: &RobotModel, scene: &Scene) -> Result<Vec<Part>, Obsta
             name: o.name.clone(),
         });
     }
-    Ok(parts)
+    Ok(visuals)
 }
 
-/// `world_from_mesh` of a part, given the link poses (translation, xyzw quaternion).
-pub fn world_from_part(part: &Part, links: &[([f64; 3], [f64; 4])]) -> Isometry3<f64> {
-    match part.link.and_then(|i| links.get(i)) {
+/// `world_from_mesh` of a visual, given the link poses (translation, xyzw quaternion).
+pub fn world_from_visual(visual: &Visual, links: &[([f64; 3], [f64; 4])]) -> Isometry3<f64> {
+    match visual.link.and_then(|i| links.get(i)) {
         Some((t, q)) => {
             let world_from_link = Isometry3::from_parts(
                 Translation3::new(t[0], t[1], t[2]),
                 UnitQuaternion::from_quaternion(Quaternion::new(q[3], q[0], q[1], q[2])),
             );
-            world_from_link * part.parent_from_mesh
+            world_from_link * visual.parent_from_mesh
         }
-        None => part.parent_from_mesh,
+        None => visual.parent_from_mesh,
     }
 }
 
