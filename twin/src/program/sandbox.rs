@@ -136,6 +136,7 @@ impl Sandbox {
             test: Default::default(),
             variants: Vec::new(),
             variant: None,
+            cell: Default::default(),
             files,
             snapshots: None,
             collision: None,

@@ -7,7 +7,7 @@ use super::context::Ctx;
 use super::error::{Problem, SceneError};
 use super::model::{AllowedPair, CollisionSettings, MeshApproximation, Preflight, Reaction, Tool};
 use super::raw::{RawCollision, RawTool};
-use super::validate::ShapeFields;
+use super::context::ShapeFields;
 use std::path::Path;
 
 impl Ctx<'_> {

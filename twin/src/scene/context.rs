@@ -11,7 +11,7 @@ use toml::Spanned;
 
 use super::error::{Problem, SceneError};
 use super::model::Location;
-use super::raw::Numbers;
+use super::raw::{Numbers, ShapeKind};
 use crate::source::{Diagnostic, FileId, Files, Source, SourceFile, toml_string_map};
 
 pub(super) struct Ctx<'a> {
@@ -453,4 +453,15 @@ pub(super) fn plain_type_message(message: &str) -> Option<String> {
         other => other,
     };
     Some(format!("expected {expected}, found {found}"))
+}
+
+/// The shape fields of an obstacle or the tool, as written.
+#[derive(Clone, Copy)]
+pub(super) struct ShapeFields<'a> {
+    pub(super) kind: &'a Spanned<ShapeKind>,
+    pub(super) size: &'a Option<Spanned<Numbers<3>>>,
+    pub(super) radius: &'a Option<Spanned<f64>>,
+    pub(super) length: &'a Option<Spanned<f64>>,
+    pub(super) file: &'a Option<Spanned<String>>,
+    pub(super) scale: &'a Option<Spanned<Numbers<3>>>,
 }

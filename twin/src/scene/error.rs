@@ -73,6 +73,13 @@ pub enum Problem {
     /// An empty name.
     #[error("must not be empty")]
     Empty,
+    /// A rule of a table's fields that no other problem states (which
+    /// fields go together, what a device needs).
+    #[error("{why}")]
+    Rule {
+        /// The rule, in words.
+        why: String,
+    },
     /// A name that becomes part of an output file's name but could leave
     /// its folder or hide the file.
     #[error("'{name}' cannot be part of a file name: {why}")]

@@ -31,7 +31,10 @@ mod context;
 mod error;
 mod model;
 mod raw;
+mod shape;
 
+mod cell;
+mod cell_model;
 mod collision;
 mod data_types;
 mod expect;
@@ -41,6 +44,10 @@ mod tags;
 mod tasks;
 mod validate;
 
+pub use cell_model::{
+    Cell, Conveyor, ConveyorDrive, Detect, DeviceFault, FaultKind, IoDirection, IoKind, IoTag, Jitter, MAX_LIVE_PARTS,
+    PartType, Sensor, SensorKind, Sink, SinkOutcome, Source, SourceTrigger, Vfd,
+};
 pub use error::{Problem, SceneError};
 pub use geometry::GEOMETRY_TYPES;
 pub use model::{

@@ -14,14 +14,7 @@ use crate::st::ast::{Call, Expr};
 use planner::axis::AxisConfig;
 use planner::coord::CoordinateSystemConfig;
 
-/// A 1-based line and column (in characters) in the scene file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub struct Location {
-    /// 1-based line.
-    pub line: usize,
-    /// 1-based column, counted in characters.
-    pub column: usize,
-}
+pub use super::shape::{Location, Shape};
 
 /// A validated scene.
 #[derive(Debug, Clone, PartialEq)]
@@ -80,6 +73,8 @@ pub struct Scene {
     pub variants: Vec<Variant>,
     /// The variant applied, if any.
     pub variant: Option<String>,
+    /// Parts, sources, sinks, conveyors and sensors (empty without them).
+    pub cell: super::cell_model::Cell,
 }
 
 /// `[[expect]]`: a named condition on the run, checked on every trace row.
@@ -488,38 +483,11 @@ pub struct Camera {
     pub height: u32,
     /// Frames per simulated second (> 0).
     pub fps: f64,
+    /// Draw the beams and rays of the sensors, coloured by state
+    /// (`show_sensors`, default false).
+    pub show_sensors: bool,
     /// Where the entry's `name` is written.
     pub location: Location,
-}
-
-/// The geometry of an obstacle, metres.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub enum Shape {
-    /// Axis-aligned box (in the obstacle frame) with full edge lengths.
-    Box {
-        /// Full size along x, y, z, metres.
-        size_m: [f64; 3],
-    },
-    /// Cylinder along the obstacle frame's z axis.
-    Cylinder {
-        /// Radius, metres.
-        radius_m: f64,
-        /// Full length, metres.
-        length_m: f64,
-    },
-    /// Sphere.
-    Sphere {
-        /// Radius, metres.
-        radius_m: f64,
-    },
-    /// A mesh file (resolved relative to the scene file), scaled per axis.
-    Mesh {
-        /// The mesh file.
-        path: PathBuf,
-        /// Scale factors along x, y, z.
-        scale: [f64; 3],
-    },
 }
 
 /// `[[obstacles]]`: a fixed body in the world.

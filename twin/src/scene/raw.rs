@@ -43,6 +43,17 @@ pub(super) struct RawScene {
     pub(super) test: Option<RawTest>,
     #[serde(default)]
     pub(super) variants: Vec<RawVariant>,
+    #[serde(default)]
+    pub(super) part_types: Vec<RawPartType>,
+    #[serde(default)]
+    pub(super) sources: Vec<RawSource>,
+    #[serde(default)]
+    pub(super) sinks: Vec<RawSink>,
+    #[serde(default)]
+    pub(super) conveyors: Vec<RawConveyor>,
+    #[serde(default)]
+    pub(super) sensors: Vec<RawSensor>,
+    pub(super) parts_step_ms: Option<Spanned<f64>>,
 }
 
 /// `[[expect]]`: a name and exactly one kind, with that kind's options
@@ -252,6 +263,7 @@ pub(super) struct RawCamera {
     pub(super) width: Spanned<u32>,
     pub(super) height: Spanned<u32>,
     pub(super) fps: Spanned<f64>,
+    pub(super) show_sensors: Option<Spanned<bool>>,
 }
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
@@ -508,4 +520,128 @@ pub(super) struct RawGeometry {
     pub(super) forearm_joints: Option<Vec<[Spanned<String>; 2]>>,
     pub(super) forearm_tip_links: Option<Vec<Spanned<String>>>,
     pub(super) ball_links: Option<Vec<Spanned<String>>>,
+}
+
+/// `[[part_types]]`: a workpiece's shape (as an obstacle's) and material.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawPartType {
+    pub(super) name: Spanned<String>,
+    pub(super) shape: Spanned<ShapeKind>,
+    pub(super) size: Option<Spanned<Numbers<3>>>,
+    pub(super) radius: Option<Spanned<f64>>,
+    pub(super) length: Option<Spanned<f64>>,
+    pub(super) file: Option<Spanned<String>>,
+    pub(super) scale: Option<Spanned<Numbers<3>>>,
+    pub(super) mass_kg: Spanned<f64>,
+    pub(super) friction: Option<Spanned<f64>>,
+    pub(super) restitution: Option<Spanned<f64>>,
+    pub(super) color: Option<Spanned<Numbers<4>>>,
+    pub(super) material: Option<Spanned<String>>,
+    pub(super) type_id: Option<Spanned<i64>>,
+}
+
+/// A device's `faults = [{ kind, from_s, to_s }]` entry.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawFault {
+    pub(super) kind: Spanned<String>,
+    pub(super) from_s: Spanned<f64>,
+    pub(super) to_s: Option<Spanned<f64>>,
+}
+
+/// A source's `jitter` table.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawJitter {
+    pub(super) time_s: Option<Spanned<f64>>,
+    pub(super) position_m: Option<Spanned<Numbers<3>>>,
+    pub(super) yaw_deg: Option<Spanned<f64>>,
+    pub(super) seed: Option<Spanned<i64>>,
+}
+
+/// `[[sources]]`: where and when parts appear.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawSource {
+    pub(super) name: Spanned<String>,
+    pub(super) part_type: Spanned<String>,
+    pub(super) position: Spanned<Numbers<3>>,
+    pub(super) rpy_deg: Option<Spanned<Numbers<3>>>,
+    pub(super) every_s: Option<Spanned<f64>>,
+    pub(super) start_s: Option<Spanned<f64>>,
+    pub(super) on: Option<Spanned<String>>,
+    pub(super) at_s: Option<Spanned<Vec<Spanned<f64>>>>,
+    pub(super) count: Option<Spanned<i64>>,
+    pub(super) jitter: Option<Spanned<RawJitter>>,
+    pub(super) skip: Option<Spanned<Vec<Spanned<i64>>>>,
+}
+
+/// `[[sinks]]`: a box that removes the parts whose centre enters it.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawSink {
+    pub(super) name: Spanned<String>,
+    pub(super) position: Spanned<Numbers<3>>,
+    pub(super) rpy_deg: Option<Spanned<Numbers<3>>>,
+    pub(super) size: Spanned<Numbers<3>>,
+    #[serde(rename = "as")]
+    pub(super) outcome: Option<Spanned<String>>,
+}
+
+/// `[[conveyors]]`: a belt (a box running along its local +x).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawConveyor {
+    pub(super) name: Spanned<String>,
+    pub(super) position: Spanned<Numbers<3>>,
+    pub(super) rpy_deg: Option<Spanned<Numbers<3>>>,
+    pub(super) size: Spanned<Numbers<3>>,
+    pub(super) friction: Option<Spanned<f64>>,
+    pub(super) color: Option<Spanned<Numbers<4>>>,
+    pub(super) axis: Option<Spanned<String>>,
+    pub(super) run: Option<Spanned<String>>,
+    pub(super) reverse: Option<Spanned<String>>,
+    pub(super) speed: Option<Spanned<String>>,
+    pub(super) max_speed_mps: Option<Spanned<f64>>,
+    pub(super) accel_mps2: Option<Spanned<f64>>,
+    pub(super) running_tag: Option<Spanned<String>>,
+    pub(super) encoder_tag: Option<Spanned<String>>,
+    pub(super) counts_per_m: Option<Spanned<f64>>,
+    #[serde(default)]
+    pub(super) faults: Vec<RawFault>,
+}
+
+/// `[[sensors]]`: one entry for every kind; `scene/cell.rs` checks which
+/// fields a kind takes.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawSensor {
+    pub(super) name: Spanned<String>,
+    pub(super) kind: Spanned<String>,
+    pub(super) tag: Spanned<String>,
+    pub(super) link: Option<Spanned<String>>,
+    pub(super) position: Option<Spanned<Numbers<3>>>,
+    pub(super) rpy_deg: Option<Spanned<Numbers<3>>>,
+    pub(super) detects: Option<Spanned<Vec<Spanned<String>>>>,
+    pub(super) invert: Option<Spanned<bool>>,
+    pub(super) on_delay_ms: Option<Spanned<f64>>,
+    pub(super) off_delay_ms: Option<Spanned<f64>>,
+    pub(super) rpi_ms: Option<Spanned<f64>>,
+    pub(super) cos: Option<Spanned<bool>>,
+    pub(super) from: Option<Spanned<Numbers<3>>>,
+    pub(super) to: Option<Spanned<Numbers<3>>>,
+    pub(super) count: Option<Spanned<i64>>,
+    pub(super) pitch_m: Option<Spanned<f64>>,
+    pub(super) value_tag: Option<Spanned<String>>,
+    pub(super) range_m: Option<Spanned<f64>>,
+    pub(super) scale: Option<Spanned<[Numbers<2>; 2]>>,
+    pub(super) shape: Option<Spanned<ShapeKind>>,
+    pub(super) size: Option<Spanned<Numbers<3>>>,
+    pub(super) radius: Option<Spanned<f64>>,
+    pub(super) length: Option<Spanned<f64>>,
+    pub(super) materials: Option<Spanned<Vec<Spanned<String>>>>,
+    pub(super) count_tag: Option<Spanned<String>>,
+    #[serde(default)]
+    pub(super) faults: Vec<RawFault>,
 }

@@ -10,14 +10,14 @@ use planner::homing::{HomeDirection, HomeMode, HomeSequence, Homing};
 use planner::servo::{AxisType, FaultAction};
 use toml::Spanned;
 
-use super::context::{Ctx, NameKind, Names};
+use super::context::{Ctx, NameKind, Names, ShapeFields};
 use super::error::{Problem, SceneError};
 use super::model::{
     Axis, Camera, DEFAULT_PHYSICS_SUBSTEPS, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE,
     MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, Obstacle, Robot, Scene, ServoGains, Shape, Snapshots,
 };
 use super::raw::{
-    AxisConfiguration, Numbers, RawAxis, RawCamera, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, ShapeKind,
+    AxisConfiguration, RawAxis, RawCamera, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, ShapeKind,
 };
 
 impl Ctx<'_> {
@@ -102,6 +102,17 @@ impl Ctx<'_> {
             Some(c) => Some(self.collision(c, base)?),
             None => None,
         };
+        let cell = self.cell(
+            &raw,
+            base,
+            &super::cell::CellTiming {
+                coarse_update_ms,
+                physics_step_ms,
+                duration_s,
+                axes: &axes,
+                obstacles: &obstacles,
+            },
+        )?;
         let trace_tags = self.trace_tags(raw.trace.as_ref().map_or(&[], |t| t.tags.as_slice()))?;
         let expectations = self.expectations(&raw.expect, "expect", duration_s, None, &[])?;
         let test = self.test_settings(raw.test.as_ref())?;
@@ -143,6 +154,7 @@ impl Ctx<'_> {
             test,
             variants,
             variant: None,
+            cell,
         })
     }
 
@@ -570,6 +582,7 @@ impl Ctx<'_> {
                 width: *c.width.get_ref(),
                 height: *c.height.get_ref(),
                 fps,
+                show_sensors: c.show_sensors.as_ref().is_some_and(|v| *v.get_ref()),
                 location: self.loc(&c.name),
             });
         }
@@ -722,17 +735,6 @@ impl Ctx<'_> {
         frames.sort_unstable();
         Ok(Snapshots { frames })
     }
-}
-
-/// The shape fields of an obstacle or the tool, as written.
-#[derive(Clone, Copy)]
-pub(super) struct ShapeFields<'a> {
-    pub(super) kind: &'a Spanned<ShapeKind>,
-    pub(super) size: &'a Option<Spanned<Numbers<3>>>,
-    pub(super) radius: &'a Option<Spanned<f64>>,
-    pub(super) length: &'a Option<Spanned<f64>>,
-    pub(super) file: &'a Option<Spanned<String>>,
-    pub(super) scale: &'a Option<Spanned<Numbers<3>>>,
 }
 
 /// An axis' drive and state options, validated.
