@@ -96,6 +96,7 @@ pub mod sweep;
 pub use bodies::{Body, CheckResult, CollisionModelError, Contact, ContactPoint};
 use bodies::{LocalSphere, RobotBody};
 use build::{allowed_pairs, obstacle_shapes, reach_of, robot_bodies, self_pairs, vec3};
+pub(crate) use build::{pose_from_xyz_rpy_deg, scene_shape, shape_of};
 
 /// A contact deeper than this, m, is an overlap whatever the rounding of
 /// the distance query that would confirm it: the body's clearance is 0.

@@ -68,6 +68,15 @@ pub fn matrix_to_rapier(m: &Matrix3<f64>) -> Matrix {
     )
 }
 
+/// Plain arrays (translation m, quaternion `[x, y, z, w]`) as an isometry:
+/// the inverse of [`isometry_to_arrays`].
+pub fn isometry_from_arrays((t, q): &([f64; 3], [f64; 4])) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(t[0], t[1], t[2]),
+        UnitQuaternion::from_quaternion(Quaternion::new(q[3], q[0], q[1], q[2])),
+    )
+}
+
 /// An isometry as plain arrays: translation in metres and the rotation as a
 /// unit quaternion `[x, y, z, w]`, the layout Rerun and most renderers take.
 pub fn isometry_to_arrays(iso: &Isometry3<f64>) -> ([f64; 3], [f64; 4]) {

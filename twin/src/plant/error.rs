@@ -113,6 +113,21 @@ pub enum PlantError {
         #[source]
         source: CollisionModelError,
     },
+    /// A cell device (a sensor, a part type) names a link the URDF lacks,
+    /// or a shape of it cannot be built.
+    #[error("{scene}:{line}:{column}: {field}: {message}")]
+    Cell {
+        /// Scene file.
+        scene: PathBuf,
+        /// Line of the field.
+        line: usize,
+        /// Column of the field.
+        column: usize,
+        /// The field (`sensors[2].link`).
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
 }
 
 impl PlantError {
@@ -136,6 +151,9 @@ impl PlantError {
                 scene, line, column, ..
             }
             | PlantError::Collision {
+                scene, line, column, ..
+            }
+            | PlantError::Cell {
                 scene, line, column, ..
             } => Some((scene, *line, *column)),
             PlantError::Urdf { .. } | PlantError::Physics { .. } | PlantError::Planner { .. } => None,

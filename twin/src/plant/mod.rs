@@ -41,26 +41,28 @@ mod error;
 pub mod kinematic;
 pub mod kinematics_check;
 pub mod limits;
+pub mod material;
 pub mod mesh;
-pub mod visuals;
 pub mod physics;
+pub mod sensors;
 pub mod servo_drive;
 pub mod stl;
 pub mod trails;
 pub mod transform;
 pub mod urdf;
+pub mod visuals;
 pub mod xml;
 
 use axes::{AxisBinding, BoundAxes};
 use collision::CollisionModelError;
 use dynamics::Dynamics;
 pub use error::PlantError;
-use visuals::{Visual, scene_visuals};
 use physics::{PhysicsError, PhysicsOptions, RobotSim};
 use planner::task::MotionTask;
 use trails::ToolTrail;
 use transform::ParallelRig;
 use urdf::RobotModel;
+use visuals::{Visual, scene_visuals};
 
 /// The simulated machine: robot model, physics, axes bound to joints,
 /// collision checks and tool trails.
@@ -94,6 +96,22 @@ pub struct Plant {
     /// `twin bench`: every physics step's drive commands, and the plant's
     /// wall time by stage.
     bench: Option<(Vec<Vec<physics::DriveCommand>>, PlantTimes)>,
+    /// The cell's parts world and sensors (`None` without a cell).
+    cell: Option<Cell>,
+}
+
+/// The cell: the parts world, its sensors, and the parts step.
+struct Cell {
+    material: material::Material,
+    sensors: Vec<sensors::SensorSim>,
+    /// Physics steps a parts step.
+    physics_per_parts_step: usize,
+    /// Physics steps since the last parts step.
+    since_parts_step: usize,
+    /// The links' poses at the start of the parts step.
+    links_at_start: Vec<nalgebra::Isometry3<f64>>,
+    /// The scene (the sources' and part types' settings).
+    scene: crate::scene::Scene,
 }
 
 /// What a physics simulation is built from: drives, initial joint
@@ -108,6 +126,10 @@ pub struct PlantTimes {
     pub physics_s: f64,
     /// The live collision checks after each step, s.
     pub collision_s: f64,
+    /// The parts world's steps (spawns, belts, parts, sinks), s.
+    pub parts_s: f64,
+    /// The sensors' checks, s.
+    pub sensors_s: f64,
 }
 
 /// A run's physics, recorded to be replayed on a bare simulation: the same
@@ -235,7 +257,9 @@ impl Plant {
             .map(|a| (task.axis_state(a.handle).command_position, 0.0))
             .collect();
         let world_from_link = sim.world_from_link();
+        let cell = build_cell(scene, &model, &sim)?;
         Ok(Plant {
+            cell,
             brakes: vec![None; axes.len()],
             substeps: (scene.coarse_update_ms / scene.physics_step_ms).round().max(1.0) as usize,
             update_s: scene.coarse_update_s(),
@@ -281,7 +305,8 @@ impl Plant {
         let n = self.substeps;
         let started = self.bench.is_some().then(std::time::Instant::now);
         let mut collision_s = 0.0;
-        if self.sim.is_kinematic() && self.collision.is_none() {
+        self.set_axis_belts(task);
+        if self.sim.is_kinematic() && self.collision.is_none() && self.cell.is_none() {
             // Nothing looks between the updates: the joints go to the
             // command at once.
             self.set_setpoints(&now, 1.0, 1.0);
@@ -303,6 +328,7 @@ impl Plant {
                 if let Some(t) = checked {
                     collision_s += t.elapsed().as_secs_f64();
                 }
+                self.cell_after_physics_step();
                 if self.collision_abort() {
                     break;
                 }
@@ -328,6 +354,68 @@ impl Plant {
         }
         self.world_from_link = world_from_link;
         self.record_trails();
+    }
+
+    /// The belts that follow an axis take its actual velocity (m/s).
+    fn set_axis_belts(&mut self, task: &MotionTask) {
+        let Some(cell) = self.cell.as_mut() else { return };
+        for c in cell.material.conveyors_mut() {
+            if let Some(a) = c.axis() {
+                let axis = &self.axes[a];
+                c.set_axis_speed(axis.to_si(task.axis_state(axis.handle).actual_velocity));
+            }
+        }
+    }
+
+    /// After a physics step: a parts step when one is due (the parts world
+    /// and the sensors over it, with the links' poses at its start and end).
+    fn cell_after_physics_step(&mut self) {
+        let Some(cell) = self.cell.as_mut() else { return };
+        cell.since_parts_step += 1;
+        if cell.since_parts_step < cell.physics_per_parts_step {
+            return;
+        }
+        cell.since_parts_step = 0;
+        let t1 = self.sim.time_s();
+        let t0 = t1 - cell.material.step_s();
+        let links = self.sim.world_from_link_isometries();
+        let timed = self.bench.is_some().then(std::time::Instant::now);
+        cell.material.step(&cell.scene, t1, &links);
+        let parts_done = timed.map(|t| (t, std::time::Instant::now()));
+        sensors::step(
+            &mut cell.sensors,
+            &cell.material,
+            (t0, t1),
+            &cell.links_at_start,
+            &links,
+        );
+        let sensors_done = timed.map(|_| std::time::Instant::now());
+        cell.material.finish_step();
+        cell.links_at_start = links;
+        if let (Some((t, p)), Some(s), Some((_, times))) = (parts_done, sensors_done, self.bench.as_mut()) {
+            times.parts_s += (p - t).as_secs_f64() + s.elapsed().as_secs_f64();
+            times.sensors_s += (s - p).as_secs_f64();
+        }
+    }
+
+    /// The parts world, if the scene has a cell.
+    pub fn material(&self) -> Option<&material::Material> {
+        self.cell.as_ref().map(|c| &c.material)
+    }
+
+    /// The parts world, to set its devices' commands.
+    pub fn material_mut(&mut self) -> Option<&mut material::Material> {
+        self.cell.as_mut().map(|c| &mut c.material)
+    }
+
+    /// The sensors, in scene order.
+    pub fn sensors(&self) -> &[sensors::SensorSim] {
+        self.cell.as_ref().map_or(&[], |c| c.sensors.as_slice())
+    }
+
+    /// The sensors, to read their tags.
+    pub fn sensors_mut(&mut self) -> &mut [sensors::SensorSim] {
+        self.cell.as_mut().map_or(&mut [], |c| c.sensors.as_mut_slice())
     }
 
     /// Each drive's mode for this update from its axis' state: an enabled
@@ -476,6 +564,39 @@ impl Plant {
     pub fn tool_trails(&self) -> &[ToolTrail] {
         &self.trails
     }
+}
+
+/// The cell of a scene that has one: its parts world and sensors.
+fn build_cell(scene: &crate::scene::Scene, model: &RobotModel, sim: &Dynamics) -> Result<Option<Cell>, PlantError> {
+    if scene.cell.is_empty() {
+        return Ok(None);
+    }
+    let links = sim.world_from_link_isometries();
+    let material = material::Material::new(scene, model, &links).map_err(|e| PlantError::Cell {
+        scene: scene.path.clone(),
+        line: 1,
+        column: 1,
+        field: "part_types".to_owned(),
+        message: e.to_string(),
+    })?;
+    let sensors = sensors::build(scene, model).map_err(|(index, field, message)| {
+        let at = scene.cell.sensors[index].location;
+        PlantError::Cell {
+            scene: scene.path.clone(),
+            line: at.line,
+            column: at.column,
+            field,
+            message,
+        }
+    })?;
+    Ok(Some(Cell {
+        material,
+        sensors,
+        physics_per_parts_step: (scene.cell.parts_step_ms / scene.physics_step_ms).round().max(1.0) as usize,
+        since_parts_step: 0,
+        links_at_start: links,
+        scene: scene.clone(),
+    }))
 }
 
 /// Per URDF joint, the scene's initial position (0 where it gives none).

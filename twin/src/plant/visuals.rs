@@ -80,32 +80,50 @@ pub fn scene_visuals(model: &RobotModel, scene: &Scene) -> Result<Vec<Visual>, O
         }
     }
     for (index, o) in scene.obstacles.iter().enumerate() {
-        let mesh = match &o.shape {
-            Shape::Box { size_m } => TriMesh::cuboid([size_m[0] as f32, size_m[1] as f32, size_m[2] as f32]),
-            Shape::Cylinder { radius_m, length_m } => TriMesh::cylinder(*radius_m as f32, *length_m as f32, SEGMENTS),
-            Shape::Sphere { radius_m } => TriMesh::sphere(*radius_m as f32, SEGMENTS / 2, SEGMENTS),
-            Shape::Mesh { path, scale } => {
-                let mesh = load_stl(path).map_err(|source| ObstacleMeshError {
-                    obstacle: index,
-                    source,
-                })?;
-                scaled(&mesh, *scale)
-            }
-        };
-        let [r, p, y] = o.rpy_deg.map(f64::to_radians);
-        let pose = Isometry3::from_parts(
-            Translation3::new(o.position_m[0], o.position_m[1], o.position_m[2]),
-            UnitQuaternion::from_euler_angles(r, p, y),
-        );
+        let mesh = shape_mesh(&o.shape).map_err(|source| ObstacleMeshError {
+            obstacle: index,
+            source,
+        })?;
         visuals.push(Visual {
             mesh,
             link: None,
-            parent_from_mesh: pose,
+            parent_from_mesh: placed(o.position_m, o.rpy_deg),
             color_rgba: o.color.map(|c| c as f32),
             name: o.name.clone(),
         });
     }
+    for c in &scene.cell.conveyors {
+        visuals.push(Visual {
+            mesh: shape_mesh(&Shape::Box { size_m: c.size_m }).unwrap_or_default(),
+            link: None,
+            parent_from_mesh: placed(c.position_m, c.rpy_deg),
+            color_rgba: c.color.map(|x| x as f32),
+            name: c.name.clone(),
+        });
+    }
     Ok(visuals)
+}
+
+/// A pose from a position (m) and roll, pitch, yaw (degrees).
+fn placed(position_m: [f64; 3], rpy_deg: [f64; 3]) -> Isometry3<f64> {
+    let [r, p, y] = rpy_deg.map(f64::to_radians);
+    Isometry3::from_parts(
+        Translation3::new(position_m[0], position_m[1], position_m[2]),
+        UnitQuaternion::from_euler_angles(r, p, y),
+    )
+}
+
+/// A scene shape's triangles (an STL file's, loaded and scaled).
+///
+/// # Errors
+/// [`StlError`] when a mesh file cannot be loaded.
+pub fn shape_mesh(shape: &Shape) -> Result<TriMesh, StlError> {
+    Ok(match shape {
+        Shape::Box { size_m } => TriMesh::cuboid([size_m[0] as f32, size_m[1] as f32, size_m[2] as f32]),
+        Shape::Cylinder { radius_m, length_m } => TriMesh::cylinder(*radius_m as f32, *length_m as f32, SEGMENTS),
+        Shape::Sphere { radius_m } => TriMesh::sphere(*radius_m as f32, SEGMENTS / 2, SEGMENTS),
+        Shape::Mesh { path, scale } => scaled(&load_stl(path)?, *scale),
+    })
 }
 
 /// `world_from_mesh` of a visual, given the link poses (translation, xyzw quaternion).

@@ -15,7 +15,7 @@ pub(super) fn vec3(v: Vector) -> [f64; 3] {
     [v.x, v.y, v.z]
 }
 
-pub(super) fn shape_of(
+pub(crate) fn shape_of(
     geometry: &Geometry,
     meshes: MeshApproximation,
     body: &str,
@@ -69,7 +69,7 @@ pub(super) fn mesh_shape(
     }
 }
 
-pub(super) fn scene_shape(shape: &Shape, body: &str) -> Result<Geometry, CollisionModelError> {
+pub(crate) fn scene_shape(shape: &Shape, body: &str) -> Result<Geometry, CollisionModelError> {
     Ok(match shape {
         Shape::Box { size_m } => Geometry::Box { size: *size_m },
         Shape::Cylinder { radius_m, length_m } => Geometry::Cylinder {
@@ -107,7 +107,7 @@ pub(super) fn obstacle_shapes(
         .collect()
 }
 
-pub(super) fn pose_from_xyz_rpy_deg(position_m: [f64; 3], rpy_deg: [f64; 3]) -> Isometry3<f64> {
+pub(crate) fn pose_from_xyz_rpy_deg(position_m: [f64; 3], rpy_deg: [f64; 3]) -> Isometry3<f64> {
     let [r, p, y] = rpy_deg.map(f64::to_radians);
     Isometry3::from_parts(
         Translation3::new(position_m[0], position_m[1], position_m[2]),

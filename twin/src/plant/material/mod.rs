@@ -1,0 +1,598 @@
+//! Material flow: workpieces (parts) as dynamic bodies in a rapier world
+//! of their own, the sources that spawn them, the sinks that take them
+//! out, the conveyors that carry them.
+//!
+//! # The parts world
+//! Stepped every `parts_step_ms` (default: the coarse update), gravity
+//! along world −z. In it:
+//! * each part is a dynamic body with its type's shape, mass, friction and
+//!   restitution;
+//! * the robot's links that have collision shapes are kinematic bodies
+//!   placed each step at the pose the robot's own simulation (physics or
+//!   kinematic) gave them at the step's end: they push parts, nothing
+//!   pushes them;
+//! * obstacles and conveyors are fixed.
+//!
+//! # Conveyors
+//! A belt is a fixed box whose contacts are given a tangent velocity
+//! (rapier's `SolverContact::tangent_velocity`, set in a contact
+//! modification hook): friction drives a part towards the belt's speed,
+//! so parts slip when pushed against a stopper and queue behind one
+//! another. A belt follows a linear axis' actual velocity, or a VFD: the
+//! `run` output (with `reverse`) and `speed` (% of `max_speed_mps`), ramped
+//! at `accel_mps2`. Its `encoder_tag` counts belt travel at
+//! `counts_per_m`, wrapping as a DINT does.
+//!
+//! # Sources and sinks
+//! A source spawns at its times (`every_s`, `at_s`, with seeded jitter),
+//! or at each rise of its `on` output, up to `count` parts; a spawn whose
+//! part would overlap a part already there waits until the place is free
+//! (an occupied source waits). `skip` leaves out the listed spawns (a
+//! missing part, for bad-case tests). A part whose centre enters a sink's
+//! box is removed as `delivered` or `rejected`; a part 1 m below the
+//! lowest surface of the cell (and of z = 0) is `lost`. Part ids are
+//! 1, 2, … in spawn order. At most [`MAX_LIVE_PARTS`] parts live at once:
+//! past that the sources stop and the summary says so.
+
+mod conveyor;
+mod spawn;
+
+use std::collections::HashMap;
+
+pub use conveyor::ConveyorState;
+use nalgebra::Isometry3;
+use rapier3d_f64::math::{Pose, Vector};
+use rapier3d_f64::parry::bounding_volume::BoundingVolume;
+use rapier3d_f64::parry::shape::SharedShape;
+use rapier3d_f64::prelude::{
+    ActiveHooks, ColliderBuilder, ColliderHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
+};
+use spawn::SourceState;
+
+use crate::plant::collision::{pose_from_xyz_rpy_deg, scene_shape, shape_of};
+use crate::plant::convert::pose_to_rapier;
+use crate::plant::urdf::RobotModel;
+use crate::scene::{MAX_LIVE_PARTS, MeshApproximation, Scene, SinkOutcome};
+
+/// How far below the lowest surface a part is lost, m.
+const LOST_BELOW_M: f64 = 1.0;
+
+/// The most part events the summary keeps.
+pub const MAX_PART_EVENTS: usize = 1000;
+
+/// A part type's collision shape, built once.
+#[derive(Clone)]
+pub struct PartShape {
+    /// The shape.
+    pub shape: SharedShape,
+    /// The shape's pose in the part frame (a cylinder turned onto z).
+    pub part_from_shape: Pose,
+    /// Material (lower case; empty when none is given).
+    pub material: String,
+}
+
+/// A part in the cell.
+#[derive(Debug, Clone)]
+pub struct LivePart {
+    /// Id: 1, 2, … in spawn order.
+    pub id: u64,
+    /// Index into the scene's part types.
+    pub part_type: usize,
+    /// The source that spawned it.
+    pub source: usize,
+    /// When it was spawned, s.
+    pub spawned_s: f64,
+    body: RigidBodyHandle,
+}
+
+/// A robot link's body in the parts world.
+struct LinkBody {
+    link: usize,
+    body: RigidBodyHandle,
+    /// Its collision shapes, in the link frame.
+    shapes: Vec<(Pose, SharedShape)>,
+}
+
+/// What happened to a part.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PartEvent {
+    /// When, s.
+    pub time_s: f64,
+    /// The part's id.
+    pub part: u64,
+    /// `spawned`, `delivered`, `rejected` or `lost`.
+    pub event: &'static str,
+    /// The source or sink (empty for `lost`).
+    pub at: String,
+}
+
+/// The parts' counts over the run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PartCounts {
+    /// Parts spawned.
+    pub spawned: u64,
+    /// Parts that reached a `delivered` sink.
+    pub delivered: u64,
+    /// Parts that reached a `rejected` sink.
+    pub rejected: u64,
+    /// Parts dropped by a gripper.
+    pub dropped: u64,
+    /// Parts that fell out of the cell.
+    pub lost: u64,
+    /// Per sink, the parts it took.
+    pub per_sink: Vec<u64>,
+    /// Sum of the delivered parts' times in the cell, s.
+    pub delivered_flow_s: f64,
+    /// Whether a source stopped at [`MAX_LIVE_PARTS`].
+    pub capped: bool,
+}
+
+/// A fixed sink box.
+struct SinkBox {
+    world_from_sink: Isometry3<f64>,
+    half_m: [f64; 3],
+    outcome: SinkOutcome,
+    name: String,
+}
+
+/// The parts world and its devices.
+pub struct Material {
+    world: PhysicsWorld,
+    step_s: f64,
+    shapes: Vec<PartShape>,
+    parts: Vec<LivePart>,
+    links: Vec<LinkBody>,
+    sources: Vec<SourceState>,
+    sinks: Vec<SinkBox>,
+    conveyors: Vec<ConveyorState>,
+    /// Each belt's collider, by conveyor index.
+    belt_colliders: Vec<ColliderHandle>,
+    /// Obstacles' shapes in the world, by obstacle index (for sensors).
+    obstacles: Vec<(Pose, SharedShape)>,
+    lost_below_z: f64,
+    next_id: u64,
+    counts: PartCounts,
+    events: Vec<PartEvent>,
+    time_s: f64,
+    /// Part poses at the start of the last step, by id.
+    previous: HashMap<u64, Pose>,
+}
+
+impl std::fmt::Debug for Material {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Material")
+            .field("parts", &self.parts.len())
+            .field("time_s", &self.time_s)
+            .finish_non_exhaustive()
+    }
+}
+
+/// A part type's or obstacle's shape could not be built.
+#[derive(Debug, thiserror::Error)]
+#[error("{what}: {source}")]
+pub struct MaterialError {
+    /// The part type or obstacle, named.
+    pub what: String,
+    /// Why.
+    #[source]
+    pub source: crate::plant::collision::CollisionModelError,
+}
+
+impl Material {
+    /// The parts world of `scene`'s cell: its obstacles and belts fixed,
+    /// the links of `model` with collision shapes kinematic at `world_from_link`.
+    ///
+    /// # Errors
+    /// [`MaterialError`] when a shape (an STL part type, an obstacle's
+    /// mesh) cannot be built.
+    pub fn new(
+        scene: &Scene,
+        model: &RobotModel,
+        world_from_link: &[Isometry3<f64>],
+    ) -> Result<Material, MaterialError> {
+        let cell = &scene.cell;
+        let mut world = PhysicsWorld::new();
+        world.gravity = Vector::new(0.0, 0.0, -9.81);
+        let step_s = cell.parts_step_ms / 1000.0;
+        world.integration_parameters.dt = step_s;
+        let shapes = cell
+            .part_types
+            .iter()
+            .map(|p| {
+                let geometry = scene_shape(&p.shape, &p.name).map_err(|source| MaterialError {
+                    what: format!("part type {}", p.name),
+                    source,
+                })?;
+                let (local, shape) = shape_of(&geometry, MeshApproximation::ConvexHull, &p.name)
+                    .map_err(|source| MaterialError {
+                        what: format!("part type {}", p.name),
+                        source,
+                    })?
+                    .ok_or_else(|| MaterialError {
+                        what: format!("part type {}", p.name),
+                        source: crate::plant::collision::CollisionModelError::DegenerateMesh { body: p.name.clone() },
+                    })?;
+                Ok(PartShape {
+                    shape,
+                    part_from_shape: pose_to_rapier(&local),
+                    material: p.material.clone(),
+                })
+            })
+            .collect::<Result<Vec<_>, MaterialError>>()?;
+        let mut lowest = 0.0_f64;
+        let mut obstacles = Vec::with_capacity(scene.obstacles.len());
+        for o in &scene.obstacles {
+            let fail = |source| MaterialError {
+                what: format!("obstacle {}", o.name),
+                source,
+            };
+            let geometry = scene_shape(&o.shape, &o.name).map_err(fail)?;
+            let Some((local, shape)) = shape_of(&geometry, MeshApproximation::ConvexHull, &o.name).map_err(fail)?
+            else {
+                continue;
+            };
+            let pose = pose_to_rapier(&(pose_from_xyz_rpy_deg(o.position_m, o.rpy_deg) * local));
+            lowest = lowest.min(shape.compute_aabb(&pose).mins.z);
+            world.insert_collider(ColliderBuilder::new(shape.clone()).position(pose), None);
+            obstacles.push((pose, shape));
+        }
+        let mut belt_colliders = Vec::with_capacity(cell.conveyors.len());
+        let mut conveyors = Vec::with_capacity(cell.conveyors.len());
+        for c in &cell.conveyors {
+            let world_from_belt = pose_from_xyz_rpy_deg(c.position_m, c.rpy_deg);
+            let shape = SharedShape::cuboid(c.size_m[0] / 2.0, c.size_m[1] / 2.0, c.size_m[2] / 2.0);
+            let pose = pose_to_rapier(&world_from_belt);
+            lowest = lowest.min(shape.compute_aabb(&pose).mins.z);
+            let collider = ColliderBuilder::new(shape)
+                .position(pose)
+                .friction(c.friction)
+                .active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS);
+            belt_colliders.push(world.insert_collider(collider, None));
+            conveyors.push(ConveyorState::new(c, world_from_belt));
+        }
+        let mut links = Vec::new();
+        for (l, link) in model.links.iter().enumerate() {
+            let mut link_shapes = Vec::new();
+            for c in &link.collisions {
+                if let Ok(Some((local, shape))) = shape_of(&c.geometry, MeshApproximation::ConvexHull, &link.name) {
+                    link_shapes.push((pose_to_rapier(&(c.link_from_collision * local)), shape));
+                }
+            }
+            if link_shapes.is_empty() {
+                continue;
+            }
+            let pose = pose_to_rapier(&world_from_link[l]);
+            let body = world.insert_body(RigidBodyBuilder::kinematic_position_based().pose(pose));
+            for (local, shape) in &link_shapes {
+                world.insert_collider(ColliderBuilder::new(shape.clone()).position(*local), Some(body));
+            }
+            links.push(LinkBody {
+                link: l,
+                body,
+                shapes: link_shapes,
+            });
+        }
+        let sinks = cell
+            .sinks
+            .iter()
+            .map(|s| SinkBox {
+                world_from_sink: pose_from_xyz_rpy_deg(s.position_m, s.rpy_deg),
+                half_m: s.size_m.map(|x| x / 2.0),
+                outcome: s.outcome,
+                name: s.name.clone(),
+            })
+            .collect();
+        let sources = cell
+            .sources
+            .iter()
+            .enumerate()
+            .map(|(k, s)| SourceState::new(s, k))
+            .collect();
+        Ok(Material {
+            world,
+            step_s,
+            shapes,
+            parts: Vec::new(),
+            links,
+            sources,
+            sinks,
+            conveyors,
+            belt_colliders,
+            obstacles,
+            lost_below_z: lowest - LOST_BELOW_M,
+            next_id: 1,
+            counts: PartCounts {
+                per_sink: vec![0; cell.sinks.len()],
+                ..PartCounts::default()
+            },
+            events: Vec::new(),
+            time_s: 0.0,
+            previous: HashMap::new(),
+        })
+    }
+
+    /// The step, s.
+    #[must_use]
+    pub fn step_s(&self) -> f64 {
+        self.step_s
+    }
+
+    /// A source's `on` output, read after an update's scans: a rise asks
+    /// for a part.
+    pub fn set_source_trigger(&mut self, source: usize, on: bool) {
+        self.sources[source].set_trigger(on);
+    }
+
+    /// The conveyors, in scene order.
+    #[must_use]
+    pub fn conveyors(&self) -> &[ConveyorState] {
+        &self.conveyors
+    }
+
+    /// The conveyors, to set their commands.
+    pub fn conveyors_mut(&mut self) -> &mut [ConveyorState] {
+        &mut self.conveyors
+    }
+
+    /// One parts step to `t1`: spawns what is due, moves the links to
+    /// `world_from_link` (their poses at `t1`), steps the world; then
+    /// [`Material::finish_step`] removes what left the cell.
+    pub fn step(&mut self, scene: &Scene, t1: f64, world_from_link: &[Isometry3<f64>]) {
+        let t0 = self.time_s;
+        self.spawn_due(scene, t0);
+        self.previous.clear();
+        for p in &self.parts {
+            self.previous.insert(p.id, *self.world.bodies[p.body].position());
+        }
+        for l in &self.links {
+            let pose = pose_to_rapier(&world_from_link[l.link]);
+            self.world.bodies[l.body].set_next_kinematic_position(pose);
+        }
+        for c in &mut self.conveyors {
+            c.advance(t0, self.step_s);
+        }
+        let belts: Vec<(ColliderHandle, Vector)> = self
+            .belt_colliders
+            .iter()
+            .zip(&self.conveyors)
+            .map(|(h, c)| (*h, c.belt_velocity()))
+            .collect();
+        self.world.step_with_events(&conveyor::BeltHooks { belts: &belts }, &());
+        self.time_s = t1;
+    }
+
+    /// After the sensors saw the step: removes the parts in a sink or lost.
+    pub fn finish_step(&mut self) {
+        let t = self.time_s;
+        let mut k = 0;
+        while k < self.parts.len() {
+            let p = &self.parts[k];
+            let at = *self.world.bodies[p.body].position();
+            let centre = nalgebra::Point3::new(at.translation.x, at.translation.y, at.translation.z);
+            let sink = self.sinks.iter().position(|s| {
+                let local = s.world_from_sink.inverse_transform_point(&centre);
+                (0..3).all(|i| local[i].abs() <= s.half_m[i])
+            });
+            let lost = at.translation.z < self.lost_below_z;
+            if sink.is_none() && !lost {
+                k += 1;
+                continue;
+            }
+            let part = self.parts.remove(k);
+            self.world.remove_body_with_colliders(part.body, true);
+            let (event, name) = match sink {
+                Some(s) => {
+                    self.counts.per_sink[s] += 1;
+                    match self.sinks[s].outcome {
+                        SinkOutcome::Delivered => {
+                            self.counts.delivered += 1;
+                            self.counts.delivered_flow_s += t - part.spawned_s;
+                        }
+                        SinkOutcome::Rejected => self.counts.rejected += 1,
+                    }
+                    (self.sinks[s].outcome.word(), self.sinks[s].name.clone())
+                }
+                None => {
+                    self.counts.lost += 1;
+                    ("lost", String::new())
+                }
+            };
+            self.event(t, part.id, event, name);
+        }
+    }
+
+    fn event(&mut self, time_s: f64, part: u64, event: &'static str, at: String) {
+        if self.events.len() < MAX_PART_EVENTS {
+            self.events.push(PartEvent {
+                time_s,
+                part,
+                event,
+                at,
+            });
+        }
+    }
+
+    /// Spawns the parts due at `t`.
+    fn spawn_due(&mut self, scene: &Scene, t: f64) {
+        for k in 0..self.sources.len() {
+            while let Some((pose, number)) = self.sources[k].due(&scene.cell.sources[k], t) {
+                if self.parts.len() >= MAX_LIVE_PARTS {
+                    self.counts.capped = true;
+                    self.sources[k].stop();
+                    break;
+                }
+                let source = &scene.cell.sources[k];
+                let shape = &self.shapes[source.part_type];
+                if self.occupied(&shape.shape, &(pose * shape.part_from_shape)) {
+                    // Wait for the place to clear; the spawn stays due.
+                    break;
+                }
+                self.sources[k].spawned(source);
+                if source.skip.contains(&number) {
+                    continue;
+                }
+                let part_type = &scene.cell.part_types[source.part_type];
+                let body = self
+                    .world
+                    .insert_body(RigidBodyBuilder::dynamic().pose(pose).can_sleep(false));
+                let collider = ColliderBuilder::new(shape.shape.clone())
+                    .position(shape.part_from_shape)
+                    .mass(part_type.mass_kg)
+                    .friction(part_type.friction)
+                    .restitution(part_type.restitution);
+                self.world.insert_collider(collider, Some(body));
+                let id = self.next_id;
+                self.next_id += 1;
+                self.parts.push(LivePart {
+                    id,
+                    part_type: source.part_type,
+                    source: k,
+                    spawned_s: t,
+                    body,
+                });
+                self.counts.spawned += 1;
+                self.event(t, id, "spawned", source.name.clone());
+            }
+        }
+    }
+
+    /// Whether a shape at `pose` would overlap a live part.
+    fn occupied(&self, shape: &SharedShape, pose: &Pose) -> bool {
+        let aabb = shape.compute_aabb(pose);
+        self.parts.iter().any(|p| {
+            let s = &self.shapes[p.part_type];
+            let at = *self.world.bodies[p.body].position() * s.part_from_shape;
+            s.shape.compute_aabb(&at).intersects(&aabb)
+                && crate::plant::sensors::field::overlaps(shape.as_ref(), pose, s.shape.as_ref(), &at)
+        })
+    }
+
+    /// The live parts, in spawn order.
+    #[must_use]
+    pub fn parts(&self) -> &[LivePart] {
+        &self.parts
+    }
+
+    /// A part's pose now (its frame: the part type's shape centred on it).
+    #[must_use]
+    pub fn part_pose(&self, part: &LivePart) -> Pose {
+        *self.world.bodies[part.body].position()
+    }
+
+    /// A part's pose at the start of the last step (its spawn pose for a
+    /// part spawned then).
+    #[must_use]
+    pub fn part_pose_before(&self, part: &LivePart) -> Pose {
+        self.previous
+            .get(&part.id)
+            .copied()
+            .unwrap_or_else(|| self.part_pose(part))
+    }
+
+    /// The part types' shapes.
+    #[must_use]
+    pub fn shapes(&self) -> &[PartShape] {
+        &self.shapes
+    }
+
+    /// The robot links with collision shapes: (link index, shapes in the
+    /// link frame).
+    pub fn link_shapes(&self) -> impl Iterator<Item = (usize, &[(Pose, SharedShape)])> {
+        self.links.iter().map(|l| (l.link, l.shapes.as_slice()))
+    }
+
+    /// The obstacles' shapes in the world, by obstacle index.
+    #[must_use]
+    pub fn obstacle_shapes(&self) -> &[(Pose, SharedShape)] {
+        &self.obstacles
+    }
+
+    /// The counts so far.
+    #[must_use]
+    pub fn counts(&self) -> &PartCounts {
+        &self.counts
+    }
+
+    /// The first [`MAX_PART_EVENTS`] part events.
+    #[must_use]
+    pub fn events(&self) -> &[PartEvent] {
+        &self.events
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)] // a failed unwrap is a failed test
+mod tests {
+    use super::*;
+
+    /// A scene with one belt along x (top at z = 0.8), a box source above
+    /// its start and a sink at its end.
+    fn belt_scene(extra: &str) -> Scene {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+        let text = format!(
+            r#"
+name = "belt"
+duration_s = 10.0
+coarse_update_ms = 4.0
+physics_step_ms = 2.0
+[robot]
+urdf = "robots/indexing_table/indexing_table.urdf"
+[[part_types]]
+name = "Box"
+shape = "box"
+size = [0.1, 0.08, 0.06]
+mass_kg = 0.5
+[[sources]]
+name = "In"
+part_type = "Box"
+position = [-1.0, 1.0, 0.831]
+at_s = [0.0]
+[[conveyors]]
+name = "Belt"
+position = [0.0, 1.0, 0.75]
+size = [3.0, 0.3, 0.1]
+axis = "Feed"
+{extra}
+"#
+        );
+        let path = dir.join("_belt_test.toml");
+        crate::scene::parse(&path, &text).unwrap()
+    }
+
+    #[test]
+    fn a_belt_carries_a_part_at_its_speed() {
+        let scene = belt_scene(
+            r#"[[axes]]
+name = "Feed"
+kind = "linear"
+units = "m"
+max_velocity = 1.0
+max_acceleration = 10.0
+max_deceleration = 10.0
+max_jerk = 100.0
+in_position_window = 0.001
+initial_position = 0.0"#,
+        );
+        let model = RobotModel::load(&scene.robot.urdf).unwrap();
+        let links = vec![Isometry3::identity(); model.links.len()];
+        let mut m = Material::new(&scene, &model, &links).unwrap();
+        m.conveyors_mut()[0].set_axis_speed(0.25);
+        let mut t = 0.0;
+        for _ in 0..500 {
+            t += m.step_s();
+            m.step(&scene, t, &links);
+            m.finish_step();
+        }
+        let p = &m.parts()[0];
+        let pose = m.part_pose(p);
+        assert!(
+            (pose.translation.z - 0.83).abs() < 2e-3,
+            "resting on the belt: {pose:?}"
+        );
+        // 2 s at 0.25 m/s, less the time to take up the speed.
+        let travelled = pose.translation.x + 1.0;
+        assert!(travelled > 0.45 && travelled < 0.5, "{travelled}");
+        let v = m.world.bodies[p.body].linvel();
+        assert!((v.x - 0.25).abs() < 1e-3, "{v:?}");
+    }
+}

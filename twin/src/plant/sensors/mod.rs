@@ -1,0 +1,436 @@
+//! The cell's sensors: what each sees in the parts world, step by step,
+//! and the signal it gives the program.
+//!
+//! Each parts step, a sensor's field (sensor frame, carried by its `link`
+//! or fixed in the world) is checked against the bodies it `detects`:
+//! parts (all, or some types; an inductive proximity sensor only those of
+//! its `materials`), robot links (their collision shapes), obstacles.
+//! [`field`] finds when inside the step each body is in the field, from
+//! the bodies' motion; the union of those intervals is the detection, whose
+//! changes go through [`signal`] (faults, invert, delays, input module).
+//!
+//! | kind | field | `tag` (BOOL) | `value_tag` / `count_tag` |
+//! |---|---|---|---|
+//! | `beam` | the segment `from`–`to` | a body breaks the beam | — |
+//! | `beam` + `count`, `pitch_m` | `count` segments, beam `i` moved `i · pitch_m` along the sensor's z | any beam broken | DINT: bit `i` set while beam `i` is broken |
+//! | `diffuse` | the ray from the sensor along its +x, `range_m` long | a body within range | REAL: the distance, m, or linearly scaled by `scale`; `range_m` (scaled) when nothing is seen |
+//! | `proximity` | a box, sphere or cylinder (z-axis) | a body in the field | — |
+//! | `zone` | a box, sphere or cylinder | occupied | DINT: bodies inside (a part, a link, an obstacle: one each) |
+//!
+//! Values (`value_tag`, `count_tag`) are measured at the end of each parts
+//! step and taken by the input module at its updates (as the BOOL; with
+//! COS, every step).
+
+pub mod field;
+pub mod signal;
+
+use nalgebra::Isometry3;
+use rapier3d_f64::math::{Pose, Vector};
+use rapier3d_f64::parry::bounding_volume::{Aabb, BoundingVolume};
+use rapier3d_f64::parry::query::Ray;
+use rapier3d_f64::parry::shape::{Segment, SharedShape};
+
+use crate::plant::collision::{pose_from_xyz_rpy_deg, shape_of};
+use crate::plant::convert::pose_to_rapier;
+use crate::plant::material::Material;
+use crate::plant::urdf::{Geometry, RobotModel};
+use crate::scene::{Detect, MeshApproximation, Scene, SensorKind, Shape};
+use field::{Moving, changes_of, overlap_in_step};
+pub use signal::{Signal, SignalStats};
+
+/// What a sensor detects, resolved.
+#[derive(Debug, Clone, Default)]
+struct Targets {
+    all_parts: bool,
+    part_types: Vec<usize>,
+    robot: bool,
+    links: Vec<usize>,
+    obstacles: Vec<usize>,
+}
+
+/// A sensor's field, in the sensor frame.
+#[derive(Clone)]
+enum FieldShape {
+    /// Through-beams (one, or a curtain's).
+    Beams(Vec<Segment>),
+    /// A diffuse eye's ray along +x.
+    Ray { range_m: f64, scale: Option<[[f64; 2]; 2]> },
+    /// A proximity field or a zone: the shape, its pose in the sensor frame.
+    Volume {
+        shape: SharedShape,
+        local: Pose,
+        materials: Vec<String>,
+    },
+}
+
+/// One sensor running.
+#[derive(Clone)]
+pub struct SensorSim {
+    /// Its name.
+    pub name: String,
+    field: FieldShape,
+    mount: Option<usize>,
+    mount_from_sensor: Isometry3<f64>,
+    targets: Targets,
+    signal: Signal,
+    /// Detected at the end of the last step.
+    detected: bool,
+    /// The value measured at the end of the last step (curtain bitmask,
+    /// distance, count).
+    value: f64,
+    /// The value the input module last took.
+    value_taken: f64,
+}
+
+/// A body the sensors can see, over one step.
+struct Body<'a> {
+    moving: Moving<'a>,
+    /// Swept box.
+    aabb: Aabb,
+    /// What it is.
+    what: Seen,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Seen {
+    Part { part_type: usize, id: u64 },
+    Link(usize),
+    Obstacle(usize),
+}
+
+impl SensorSim {
+    fn sees(&self, what: Seen, material: &Material) -> bool {
+        let t = &self.targets;
+        let by_target = match what {
+            Seen::Part { part_type, .. } => t.all_parts || t.part_types.contains(&part_type),
+            Seen::Link(l) => t.robot || t.links.contains(&l),
+            Seen::Obstacle(o) => t.obstacles.contains(&o),
+        };
+        if !by_target {
+            return false;
+        }
+        match (&self.field, what) {
+            (FieldShape::Volume { materials, .. }, Seen::Part { part_type, .. }) if !materials.is_empty() => {
+                materials.contains(&material.shapes()[part_type].material)
+            }
+            _ => true,
+        }
+    }
+
+    /// The sensor's world pose given the link poses.
+    fn world_from_sensor(&self, links: &[Isometry3<f64>]) -> Isometry3<f64> {
+        match self.mount {
+            Some(l) => links[l] * self.mount_from_sensor,
+            None => self.mount_from_sensor,
+        }
+    }
+
+    /// Whether it rides on a link.
+    #[must_use]
+    pub fn on_link(&self) -> bool {
+        self.mount.is_some()
+    }
+
+    /// The output now (after the last step).
+    #[must_use]
+    pub fn output(&self) -> bool {
+        self.signal.output()
+    }
+
+    /// The statistics at `t`.
+    #[must_use]
+    pub fn stats(&self, t: f64) -> SignalStats {
+        self.signal.stats(t)
+    }
+
+    /// The tag's value for a scan at `t` (module [`signal`]).
+    pub fn tag_at(&mut self, t: f64) -> bool {
+        self.signal.tag_at(t)
+    }
+
+    /// The lines to draw for it at link poses `links`, in the world: a
+    /// beam's segments, a diffuse eye's ray (a zone or proximity field:
+    /// none).
+    #[must_use]
+    pub fn lines_in_world(&self, links: &[Isometry3<f64>]) -> Vec<([f64; 3], [f64; 3])> {
+        let pose = self.world_from_sensor(links);
+        let at = |v: Vector| {
+            let p = pose * nalgebra::Point3::new(v.x, v.y, v.z);
+            [p.x, p.y, p.z]
+        };
+        match &self.field {
+            FieldShape::Beams(beams) => beams.iter().map(|b| (at(b.a), at(b.b))).collect(),
+            FieldShape::Ray { range_m, .. } => vec![(at(Vector::ZERO), at(Vector::new(*range_m, 0.0, 0.0)))],
+            FieldShape::Volume { .. } => Vec::new(),
+        }
+    }
+
+    /// The output's changes so far: (time s, new value).
+    #[must_use]
+    pub fn edges(&self) -> &[(f64, bool)] {
+        self.signal.log()
+    }
+
+    /// The value the input module holds (bitmask, distance, count).
+    #[must_use]
+    pub fn value_taken(&self) -> f64 {
+        self.value_taken
+    }
+}
+
+/// A sensor's field shape as placed in the sensor frame.
+fn volume(shape: &Shape, name: &str) -> Option<(Pose, SharedShape)> {
+    let geometry = match shape {
+        Shape::Box { size_m } => Geometry::Box { size: *size_m },
+        Shape::Cylinder { radius_m, length_m } => Geometry::Cylinder {
+            radius: *radius_m,
+            length: *length_m,
+        },
+        Shape::Sphere { radius_m } => Geometry::Sphere { radius: *radius_m },
+        _ => return None,
+    };
+    shape_of(&geometry, MeshApproximation::ConvexHull, name)
+        .ok()
+        .flatten()
+        .map(|(local, s)| (pose_to_rapier(&local), s))
+}
+
+/// The scene's sensors, built against the robot's links.
+///
+/// # Errors
+/// `(index, field, message)` for a sensor whose `link` or a `detects` link
+/// the URDF lacks.
+pub fn build(scene: &Scene, model: &RobotModel) -> Result<Vec<SensorSim>, (usize, String, String)> {
+    let update_s = scene.coarse_update_s();
+    let mut out = Vec::with_capacity(scene.cell.sensors.len());
+    for (i, s) in scene.cell.sensors.iter().enumerate() {
+        let link_index = |name: &str| model.links.iter().position(|l| l.name == name);
+        let known = || {
+            model
+                .links
+                .iter()
+                .map(|l| l.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let mount = match &s.link {
+            Some((name, _)) => Some(link_index(name).ok_or_else(|| {
+                (
+                    i,
+                    format!("sensors[{i}].link"),
+                    format!("the URDF has no link '{name}' (links: {})", known()),
+                )
+            })?),
+            None => None,
+        };
+        let mut targets = Targets::default();
+        for (k, d) in s.detects.iter().enumerate() {
+            match d {
+                Detect::Parts => targets.all_parts = true,
+                Detect::PartType(p) => targets.part_types.push(*p),
+                Detect::Robot => targets.robot = true,
+                Detect::Obstacle(o) => targets.obstacles.push(*o),
+                Detect::Link(name) => targets.links.push(link_index(name).ok_or_else(|| {
+                    (
+                        i,
+                        format!("sensors[{i}].detects[{k}]"),
+                        format!(
+                            "'{name}' is not 'parts', 'robot', a part type, an obstacle or a URDF link (links: {})",
+                            known()
+                        ),
+                    )
+                })?),
+            }
+        }
+        let field = match &s.kind {
+            SensorKind::Beam { from_m, to_m, curtain } => {
+                let (count, pitch) = curtain.unwrap_or((1, 0.0));
+                FieldShape::Beams(
+                    (0..count)
+                        .map(|b| {
+                            let dz = f64::from(b) * pitch;
+                            Segment::new(
+                                Vector::new(from_m[0], from_m[1], from_m[2] + dz),
+                                Vector::new(to_m[0], to_m[1], to_m[2] + dz),
+                            )
+                        })
+                        .collect(),
+                )
+            }
+            SensorKind::Diffuse { range_m, scale } => FieldShape::Ray {
+                range_m: *range_m,
+                scale: *scale,
+            },
+            SensorKind::Proximity { field, materials } => {
+                let (local, shape) = volume(field, &s.name)
+                    .ok_or_else(|| (i, format!("sensors[{i}].shape"), "the field has no volume".to_owned()))?;
+                FieldShape::Volume {
+                    shape,
+                    local,
+                    materials: materials.clone(),
+                }
+            }
+            SensorKind::Zone { field } => {
+                let (local, shape) = volume(field, &s.name)
+                    .ok_or_else(|| (i, format!("sensors[{i}].shape"), "the zone has no volume".to_owned()))?;
+                FieldShape::Volume {
+                    shape,
+                    local,
+                    materials: Vec::new(),
+                }
+            }
+        };
+        let idle_value = match &field {
+            FieldShape::Ray { range_m, scale } => scaled(*range_m, *scale),
+            _ => 0.0,
+        };
+        out.push(SensorSim {
+            name: s.name.clone(),
+            field,
+            mount,
+            mount_from_sensor: pose_from_xyz_rpy_deg(s.position_m, s.rpy_deg),
+            targets,
+            signal: Signal::new(
+                s.invert,
+                (s.on_delay_s, s.off_delay_s),
+                s.rpi_s.unwrap_or(update_s),
+                s.cos,
+                s.faults.clone(),
+            ),
+            detected: false,
+            value: idle_value,
+            value_taken: idle_value,
+        });
+    }
+    Ok(out)
+}
+
+/// A diffuse eye's distance through its `scale`.
+fn scaled(distance_m: f64, scale: Option<[[f64; 2]; 2]>) -> f64 {
+    match scale {
+        Some([[d0, v0], [d1, v1]]) => v0 + (distance_m - d0) * (v1 - v0) / (d1 - d0),
+        None => distance_m,
+    }
+}
+
+/// Every body the sensors can see over the step `(t0, t1]`.
+fn bodies<'a>(material: &'a Material, links0: &[Isometry3<f64>], links1: &[Isometry3<f64>]) -> Vec<Body<'a>> {
+    let mut out = Vec::new();
+    let mut push = |shape: &'a SharedShape, start: Pose, end: Pose, what: Seen| {
+        let aabb = shape.compute_aabb(&start).merged(&shape.compute_aabb(&end));
+        out.push(Body {
+            moving: Moving {
+                shape: shape.as_ref(),
+                start,
+                end,
+            },
+            aabb,
+            what,
+        });
+    };
+    for p in material.parts() {
+        let s = &material.shapes()[p.part_type];
+        push(
+            &s.shape,
+            material.part_pose_before(p) * s.part_from_shape,
+            material.part_pose(p) * s.part_from_shape,
+            Seen::Part {
+                part_type: p.part_type,
+                id: p.id,
+            },
+        );
+    }
+    for (link, shapes) in material.link_shapes() {
+        let (a, b) = (pose_to_rapier(&links0[link]), pose_to_rapier(&links1[link]));
+        for (local, shape) in shapes {
+            push(shape, a * *local, b * *local, Seen::Link(link));
+        }
+    }
+    for (k, (pose, shape)) in material.obstacle_shapes().iter().enumerate() {
+        push(shape, *pose, *pose, Seen::Obstacle(k));
+    }
+    out
+}
+
+/// One parts step `(t0, t1]` for every sensor: the links at `links0` at
+/// its start and `links1` at its end.
+pub fn step(
+    sensors: &mut [SensorSim],
+    material: &Material,
+    (t0, t1): (f64, f64),
+    links0: &[Isometry3<f64>],
+    links1: &[Isometry3<f64>],
+) {
+    if sensors.is_empty() {
+        return;
+    }
+    let all = bodies(material, links0, links1);
+    let dt = t1 - t0;
+    for s in sensors.iter_mut() {
+        let a = pose_to_rapier(&s.world_from_sensor(links0));
+        let b = pose_to_rapier(&s.world_from_sensor(links1));
+        let candidates: Vec<&Body<'_>> = all.iter().filter(|x| s.sees(x.what, material)).collect();
+        let mut intervals = Vec::new();
+        let mut value = 0.0;
+        let mut seen_at_end: Vec<Seen> = Vec::new();
+        let mut overlap_with = |shape: &dyn rapier3d_f64::parry::shape::Shape, local: Pose| {
+            let field = Moving {
+                shape,
+                start: a * local,
+                end: b * local,
+            };
+            let field_box = shape.compute_aabb(&field.start).merged(&shape.compute_aabb(&field.end));
+            let mut any_at_end = false;
+            for body in &candidates {
+                if !field_box.intersects(&body.aabb) {
+                    continue;
+                }
+                if let Some((enter, leave)) = overlap_in_step(&field, &body.moving) {
+                    intervals.push((enter, leave));
+                    if leave >= 1.0 {
+                        any_at_end = true;
+                        if !seen_at_end.contains(&body.what) {
+                            seen_at_end.push(body.what);
+                        }
+                    }
+                }
+            }
+            any_at_end
+        };
+        match &s.field {
+            FieldShape::Beams(beams) => {
+                let mut mask = 0u32;
+                for (k, beam) in beams.iter().enumerate() {
+                    if overlap_with(beam, Pose::IDENTITY) {
+                        mask |= 1 << k;
+                    }
+                }
+                value = f64::from(mask);
+            }
+            FieldShape::Ray { range_m, scale } => {
+                let segment = Segment::new(Vector::ZERO, Vector::new(*range_m, 0.0, 0.0));
+                overlap_with(&segment, Pose::IDENTITY);
+                let ray = Ray::new(b.translation, b.rotation * Vector::X);
+                let nearest = candidates
+                    .iter()
+                    .filter_map(|body| body.moving.shape.cast_ray(&body.moving.end, &ray, *range_m, true))
+                    .fold(*range_m, f64::min);
+                value = scaled(nearest, *scale);
+            }
+            FieldShape::Volume { shape, local, .. } => {
+                overlap_with(shape.as_ref(), *local);
+            }
+        }
+        if let FieldShape::Volume { .. } = s.field {
+            value = seen_at_end.len() as f64;
+        }
+        let (changes, detected) = changes_of(intervals, s.detected);
+        s.detected = detected;
+        s.value = value;
+        let absolute: Vec<(f64, bool)> = changes.iter().map(|&(f, d)| (t0 + f * dt, d)).collect();
+        s.signal.feed(t0, t1, &absolute);
+        if s.signal.updated_in(t0, t1) {
+            s.value_taken = s.value;
+        }
+    }
+}
