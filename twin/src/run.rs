@@ -63,6 +63,7 @@ pub struct Twin {
     task: MotionTask,
     program: Program,
     plant: Plant,
+    io: CellIo,
     /// `twin bench`: wall time by stage.
     times: Option<StageTimes>,
 }
@@ -103,13 +104,15 @@ impl Twin {
             source,
         })?;
         let mut plant = Plant::new(&scene, &mut task)?;
-        let program = Program::bind(&scene, &mut task)?;
+        let mut program = Program::bind(&scene, &mut task)?;
         plant.bind_tool_trails(&scene, &task)?;
+        let io = CellIo::bind(&scene, &mut task, &mut program)?;
         Ok(Twin {
             scene,
             task,
             program,
             plant,
+            io,
             times: None,
         })
     }
@@ -127,10 +130,12 @@ impl Twin {
                 *at = now;
             }
         };
+        self.io.inputs(self.task.time_s(), &mut self.plant, &mut self.program);
         self.program.scan(&mut self.task);
         for (axis, gains) in self.program.take_drive_changes() {
             self.plant.set_servo_gains(axis, gains);
         }
+        self.io.outputs(&self.program, &mut self.plant);
         lap(|t| &mut t.program_s);
         self.task.update();
         lap(|t| &mut t.planner_s);
@@ -199,6 +204,11 @@ impl Twin {
         self.program.evaluate(&mut self.task, e, columns)
     }
 
+    /// The routines' assignments to input tags: (`routine:line:col`, tag).
+    pub fn input_writes(&mut self) -> Vec<(String, String)> {
+        self.program.input_writes(&self.scene, &mut self.task)
+    }
+
     /// Simulated time of the last update, seconds.
     pub fn time_s(&self) -> f64 {
         self.task.time_s()
@@ -216,5 +226,147 @@ impl Twin {
         self.plant.collision_abort()
             || self.program.controller().major_fault().is_some()
             || self.plant.physics_fault().is_some()
+    }
+}
+
+/// The cell's devices bound to tag memory: what `run.rs` copies into the
+/// program before each update's scans (inputs) and out of it after them
+/// (outputs), so that the plant never sees the program.
+#[derive(Debug, Default)]
+struct CellIo {
+    sensors: Vec<SensorIo>,
+    conveyors: Vec<ConveyorIo>,
+    /// Per source, its `on` output.
+    sources: Vec<Option<IoPoint>>,
+}
+
+#[derive(Debug)]
+struct SensorIo {
+    tag: IoPoint,
+    value: Option<(IoPoint, IoKind)>,
+    count: Option<IoPoint>,
+}
+
+#[derive(Debug, Default)]
+struct ConveyorIo {
+    run: Option<IoPoint>,
+    reverse: Option<IoPoint>,
+    speed: Option<IoPoint>,
+    running: Option<IoPoint>,
+    encoder: Option<(IoPoint, f64)>,
+}
+
+use crate::program::io::{IoEntry, IoPoint};
+use crate::program::types::Value;
+use crate::scene::{ConveyorDrive, IoDirection, IoKind, IoTag, SensorKind, SourceTrigger};
+
+impl CellIo {
+    /// Binds every device's tags, inputs first in scene order.
+    fn bind(scene: &Scene, task: &mut MotionTask, program: &mut Program) -> Result<CellIo, RunError> {
+        let mut bind = |tag: &IoTag, kind: IoKind, direction: IoDirection, device: &str, role: &str| {
+            let entry = IoEntry {
+                tag: tag.text.clone(),
+                direction,
+                device: device.to_owned(),
+                role: role.to_owned(),
+                field: tag.field.clone(),
+            };
+            program.bind_io(scene, task, tag, kind, entry)
+        };
+        let mut io = CellIo::default();
+        for s in &scene.cell.sensors {
+            let role = s.kind.word();
+            let tag = bind(&s.tag, IoKind::Bool, IoDirection::Input, &s.name, role)?;
+            let value_kind = match s.kind {
+                SensorKind::Diffuse { .. } => IoKind::Real,
+                _ => IoKind::Dint,
+            };
+            let value = match &s.value_tag {
+                Some(t) => Some((bind(t, value_kind, IoDirection::Input, &s.name, "value")?, value_kind)),
+                None => None,
+            };
+            let count = match &s.count_tag {
+                Some(t) => Some(bind(t, IoKind::Dint, IoDirection::Input, &s.name, "count")?),
+                None => None,
+            };
+            io.sensors.push(SensorIo { tag, value, count });
+        }
+        for c in &scene.cell.conveyors {
+            let mut cio = ConveyorIo::default();
+            if let ConveyorDrive::Vfd(v) = &c.drive {
+                cio.run = Some(bind(&v.run, IoKind::Bool, IoDirection::Output, &c.name, "run")?);
+                if let Some(t) = &v.reverse {
+                    cio.reverse = Some(bind(t, IoKind::Bool, IoDirection::Output, &c.name, "reverse")?);
+                }
+                if let Some(t) = &v.speed {
+                    cio.speed = Some(bind(t, IoKind::Real, IoDirection::Output, &c.name, "speed %")?);
+                }
+                if let Some(t) = &v.running_tag {
+                    cio.running = Some(bind(t, IoKind::Bool, IoDirection::Input, &c.name, "running")?);
+                }
+                if let Some(t) = &v.encoder_tag {
+                    cio.encoder = Some((
+                        bind(t, IoKind::Dint, IoDirection::Input, &c.name, "encoder")?,
+                        v.counts_per_m,
+                    ));
+                }
+            }
+            io.conveyors.push(cio);
+        }
+        for s in &scene.cell.sources {
+            io.sources.push(match &s.trigger {
+                SourceTrigger::On(t) => Some(bind(t, IoKind::Bool, IoDirection::Output, &s.name, "spawn")?),
+                _ => None,
+            });
+        }
+        Ok(io)
+    }
+
+    /// Before the scans at `t`: the inputs into tag memory.
+    fn inputs(&self, t: f64, plant: &mut Plant, program: &mut Program) {
+        for (k, s) in self.sensors.iter().enumerate() {
+            let sensor = &mut plant.sensors_mut()[k];
+            let on = sensor.tag_at(t);
+            let value = sensor.value_taken();
+            program.write_input(s.tag, Value::Bool(on));
+            match s.value {
+                Some((p, IoKind::Real)) => program.write_input(p, Value::Real(value)),
+                Some((p, _)) => program.write_input(p, Value::Int(value as i64)),
+                None => {}
+            }
+            if let Some(p) = s.count {
+                program.write_input(p, Value::Int(value as i64));
+            }
+        }
+        let Some(material) = plant.material() else { return };
+        for (c, io) in material.conveyors().iter().zip(&self.conveyors) {
+            if let Some(p) = io.running {
+                program.write_input(p, Value::Bool(c.speed_mps().abs() > 1e-9));
+            }
+            if let Some((p, counts_per_m)) = io.encoder {
+                // A DINT counter wraps; the travel in counts is exact to
+                // 2^53.
+                let counts = (c.travel_m() * counts_per_m).floor() as i64;
+                program.write_input(p, Value::Int(counts));
+            }
+        }
+    }
+
+    /// After the scans: the outputs to the devices.
+    fn outputs(&self, program: &Program, plant: &mut Plant) {
+        let Some(material) = plant.material_mut() else { return };
+        let bool_of = |p: Option<IoPoint>| p.is_some_and(|p| program.read_output(p).truthy());
+        for (k, io) in self.conveyors.iter().enumerate() {
+            if io.run.is_none() {
+                continue;
+            }
+            let speed = io.speed.map_or(100.0, |p| program.read_output(p).as_f64());
+            material.conveyors_mut()[k].set_vfd(bool_of(io.run), bool_of(io.reverse), speed);
+        }
+        for (k, on) in self.sources.iter().enumerate() {
+            if let Some(p) = on {
+                material.set_source_trigger(k, program.read_output(*p).truthy());
+            }
+        }
     }
 }

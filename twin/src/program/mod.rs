@@ -41,6 +41,7 @@ pub mod bindings;
 pub mod compile;
 pub mod controller;
 pub mod exec;
+pub mod io;
 pub mod ir;
 pub mod layout;
 pub mod memory;
@@ -67,6 +68,7 @@ pub struct Program {
     steps: Vec<Step>,
     plc: Controller,
     traced: Vec<TracedTag>,
+    io: io::IoMap,
 }
 
 impl std::fmt::Debug for Program {
@@ -164,6 +166,7 @@ impl Program {
             steps,
             plc,
             traced,
+            io: io::IoMap::default(),
         })
     }
 
@@ -293,6 +296,117 @@ impl Program {
     /// run, found at load.
     pub fn warnings(&self) -> &[Diagnostic] {
         &self.bindings.warnings
+    }
+}
+
+impl Program {
+    /// Binds a device's tag ([`io`]): resolved, its type checked against
+    /// `kind`, an input checked against the inputs bound before it.
+    ///
+    /// # Errors
+    /// A diagnostic at the reference, in its field.
+    pub fn bind_io(
+        &mut self,
+        scene: &Scene,
+        task: &mut MotionTask,
+        tag: &crate::scene::IoTag,
+        kind: crate::scene::IoKind,
+        entry: io::IoEntry,
+    ) -> Result<io::IoPoint, Box<Diagnostic>> {
+        let in_field = |d: Box<Diagnostic>| Box::new((*d).in_field(tag.field.clone()));
+        let decls = Declarations::of(scene);
+        let mut env = Env {
+            scene,
+            decls: &decls,
+            files: &scene.files,
+            task,
+            bindings: &mut self.bindings,
+        };
+        let mem = self.plc.memory();
+        let mut compiler = Compiler::new(mem, None, &[], Dialect::Logix, &mut env, false);
+        let (place, _) = compiler.traced(&tag.expr).map_err(in_field)?;
+        let fail = |message: String| {
+            Box::new(
+                scene
+                    .files
+                    .error(tag.expr.span, message, "")
+                    .in_field(tag.field.clone()),
+            )
+        };
+        let Some(point) = io::point_of(&place, mem) else {
+            return Err(fail(format!(
+                "'{}' is not a point of tag memory: an I/O tag is a tag, an element or member with constant subscripts, or a bit of one",
+                tag.text
+            )));
+        };
+        if !point.fits(kind) {
+            return Err(fail(format!(
+                "'{}' is {}; this needs {}",
+                tag.text,
+                point.describe(),
+                kind.describe()
+            )));
+        }
+        self.io.add(point, entry, &tag.text).map_err(fail)?;
+        Ok(point)
+    }
+
+    /// Writes an input into tag memory ([`io`]).
+    pub fn write_input(&mut self, point: io::IoPoint, value: Value) {
+        point.write(self.plc.memory_mut(), value);
+    }
+
+    /// Reads an output from tag memory.
+    #[must_use]
+    pub fn read_output(&self, point: io::IoPoint) -> Value {
+        point.read(self.plc.memory())
+    }
+
+    /// The I/O points bound, for `twin check`.
+    #[must_use]
+    pub fn io(&self) -> &io::IoMap {
+        &self.io
+    }
+
+    /// The routines' assignments to input tags (a routine may write one,
+    /// as on a controller; the next input update overwrites it), for
+    /// `twin check`: (`routine:line:col`, the tag as the device names it).
+    pub fn input_writes(&mut self, scene: &Scene, task: &mut MotionTask) -> Vec<(String, String)> {
+        let decls = Declarations::of(scene);
+        let mut env = Env {
+            scene,
+            decls: &decls,
+            files: &scene.files,
+            task,
+            bindings: &mut self.bindings,
+        };
+        let mem = self.plc.memory();
+        let mut out = Vec::new();
+        for p in scene.tasks.iter().flat_map(|t| &t.programs) {
+            let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
+            let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
+            for def in &defs {
+                let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, &mut env, false);
+                for target in def.routine.assignment_targets() {
+                    let expr = crate::st::ast::Expr {
+                        kind: crate::st::ast::ExprKind::Ref(target.clone()),
+                        span: target.span,
+                    };
+                    let Ok((place, _)) = compiler.traced(&expr) else {
+                        continue;
+                    };
+                    let Some(point) = io::point_of(&place, mem) else {
+                        continue;
+                    };
+                    if let Some(e) = self.io.input_at(point) {
+                        let (line, column) = scene.files.line_column(target.span);
+                        let file = scene.files.path(target.span.file).display().to_string();
+                        out.push((format!("{file}:{line}:{column}"), e.tag.clone()));
+                    }
+                }
+            }
+        }
+        out
     }
 }
 

@@ -17,32 +17,52 @@ impl Routine {
     /// and loops included, in text order.
     #[must_use]
     pub fn calls(&self) -> Vec<&Call> {
-        fn collect<'a>(statements: &'a [Stmt], out: &mut Vec<&'a Call>) {
-            for s in statements {
-                match &s.kind {
-                    StmtKind::Call(c) => out.push(c),
-                    StmtKind::If { branches, otherwise } => {
-                        for (_, body) in branches {
-                            collect(body, out);
-                        }
-                        collect(otherwise, out);
-                    }
-                    StmtKind::Case { arms, otherwise, .. } => {
-                        for (_, body) in arms {
-                            collect(body, out);
-                        }
-                        collect(otherwise, out);
-                    }
-                    StmtKind::For { body, .. } | StmtKind::While { body, .. } | StmtKind::Repeat { body, .. } => {
-                        collect(body, out);
-                    }
-                    _ => {}
-                }
-            }
-        }
         let mut out = Vec::new();
-        collect(&self.body, &mut out);
+        visit(&self.body, &mut |s| {
+            if let StmtKind::Call(c) = &s.kind {
+                out.push(c);
+            }
+        });
         out
+    }
+
+    /// Every assignment's target, those inside `IF`, `CASE` and loops
+    /// included, in text order.
+    #[must_use]
+    pub fn assignment_targets(&self) -> Vec<&Ref> {
+        let mut out = Vec::new();
+        visit(&self.body, &mut |s| {
+            if let StmtKind::Assign { target, .. } = &s.kind {
+                out.push(target);
+            }
+        });
+        out
+    }
+}
+
+/// Calls `f` on every statement, nested ones after the statement holding
+/// them, in text order.
+fn visit<'a>(statements: &'a [Stmt], f: &mut dyn FnMut(&'a Stmt)) {
+    for s in statements {
+        f(s);
+        match &s.kind {
+            StmtKind::If { branches, otherwise } => {
+                for (_, body) in branches {
+                    visit(body, f);
+                }
+                visit(otherwise, f);
+            }
+            StmtKind::Case { arms, otherwise, .. } => {
+                for (_, body) in arms {
+                    visit(body, f);
+                }
+                visit(otherwise, f);
+            }
+            StmtKind::For { body, .. } | StmtKind::While { body, .. } | StmtKind::Repeat { body, .. } => {
+                visit(body, f);
+            }
+            _ => {}
+        }
     }
 }
 

@@ -347,7 +347,7 @@ pub(crate) fn print_warnings(twin: &Twin) {
 }
 
 fn check(path: &Path) -> Result<ExitCode> {
-    let twin = load(path)?;
+    let mut twin = load(path)?;
     let scene = twin.scene();
     println!(
         "{}: ok ({} axes, {} program steps, {} tasks, {} cameras, {:.3} s)",
@@ -359,7 +359,35 @@ fn check(path: &Path) -> Result<ExitCode> {
         scene.duration_s
     );
     print!("{}", resolved(&twin));
+    print!("{}", io_list(&mut twin));
     Ok(ExitCode::SUCCESS)
+}
+
+/// The cell's I/O list (tag, direction, device, kind) and the routines'
+/// writes to input tags.
+fn io_list(twin: &mut Twin) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let entries: Vec<_> = twin.program().io().entries().cloned().collect();
+    if entries.is_empty() {
+        return s;
+    }
+    let width = entries.iter().map(|e| e.tag.len()).max().unwrap_or(0);
+    let _ = writeln!(s, "I/O (tag, direction, device, kind):");
+    for e in &entries {
+        let direction = match e.direction {
+            scene::IoDirection::Input => "input ",
+            _ => "output",
+        };
+        let _ = writeln!(s, "  {:width$}  {direction}  {}  {}", e.tag, e.device, e.role);
+    }
+    for (at, tag) in twin.input_writes() {
+        let _ = writeln!(
+            s,
+            "  note: {at} writes the input tag {tag}; the next input update overwrites it"
+        );
+    }
+    s
 }
 
 /// What a scene resolved to: the robot, each axis with its joint, units

@@ -527,7 +527,10 @@ pub(crate) fn test(args: &TestArgs) -> Result<ExitCode> {
         let _ = write!(last, ", {skipped} skipped");
     }
     let summed: f64 = results.iter().map(|r| r.wall_s).sum();
-    println!("{last} ({} runs in {total_wall_s:.2} s wall; {summed:.2} s of runs)", runs.len());
+    println!(
+        "{last} ({} runs in {total_wall_s:.2} s wall; {summed:.2} s of runs)",
+        runs.len()
+    );
 
     let mut write_failures = Vec::new();
     if let Some(j) = &args.junit {
@@ -556,7 +559,11 @@ pub(crate) fn test(args: &TestArgs) -> Result<ExitCode> {
         }
         return Ok(ExitCode::from(exit::OUTPUT));
     }
-    Ok(ExitCode::from(if failed.is_empty() { code::PASSED } else { code::FAILED }))
+    Ok(ExitCode::from(if failed.is_empty() {
+        code::PASSED
+    } else {
+        code::FAILED
+    }))
 }
 
 /// The run's line on the console as it ends.
@@ -613,7 +620,9 @@ fn finish_attempt(run: &Run, result: &mut RunResult, dir: &Path, args: &TestArgs
         ));
     }
     // Exit code 6 is the expectations'; the run itself then ended with 0.
-    let code = result.exit.map(|c| if c == i32::from(exit::EXPECTATION_FAILED) { 0 } else { c });
+    let code = result
+        .exit
+        .map(|c| if c == i32::from(exit::EXPECTATION_FAILED) { 0 } else { c });
     if code != Some(i32::from(run.exit_code)) {
         let first_error = stderr.lines().find(|l| l.starts_with("error")).unwrap_or("");
         result.run_failure = Some(format!(
@@ -740,15 +749,8 @@ fn compare_repeats(result: &mut RunResult, work: &Path, index: usize, repeat: u3
             .enumerate()
             .find(|(_, (x, y))| x != y)
             .map(|(row, (x, y))| {
-                let col = x
-                    .split(',')
-                    .zip(y.split(','))
-                    .position(|(p, q)| p != q)
-                    .unwrap_or(0);
-                let (p, q) = (
-                    x.split(',').nth(col).unwrap_or(""),
-                    y.split(',').nth(col).unwrap_or(""),
-                );
+                let col = x.split(',').zip(y.split(',')).position(|(p, q)| p != q).unwrap_or(0);
+                let (p, q) = (x.split(',').nth(col).unwrap_or(""), y.split(',').nth(col).unwrap_or(""));
                 format!(
                     "row {row} (time_s {}), column {}: {p} then {q}",
                     x.split(',').next().unwrap_or(""),
@@ -772,7 +774,13 @@ fn artifacts(exe: &Path, run: &Run, result: &mut RunResult, root: &Path, render:
     let safe: String = run
         .name
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '.' | '-' | '_') { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '-' | '_') {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect();
     let dir = root.join(safe.trim_start_matches('.'));
     if fs::create_dir_all(&dir).is_err() {
@@ -950,7 +958,11 @@ fn junit(runs: &[Run], results: &[RunResult], wall_s: f64) -> String {
         if let Some(s) = &r.snapshots {
             let (outcome, skipped, out) = match s {
                 Snapshots::Passed(n) => (None, None, format!("{n} frames match their golden images")),
-                Snapshots::Failed(f) => (Some(("failure", "snapshot".to_owned(), f.join("\n"))), None, String::new()),
+                Snapshots::Failed(f) => (
+                    Some(("failure", "snapshot".to_owned(), f.join("\n"))),
+                    None,
+                    String::new(),
+                ),
                 Snapshots::Skipped(why) => (None, Some(why.clone()), String::new()),
             };
             cases.push(Case {
@@ -963,15 +975,24 @@ fn junit(runs: &[Run], results: &[RunResult], wall_s: f64) -> String {
             });
         }
     }
-    let count = |cases: &[Case], kind: &str| cases.iter().filter(|c| c.outcome.as_ref().is_some_and(|o| o.0 == kind)).count();
+    let count = |cases: &[Case], kind: &str| {
+        cases
+            .iter()
+            .filter(|c| c.outcome.as_ref().is_some_and(|o| o.0 == kind))
+            .count()
+    };
     let all: Vec<&Case> = suites.values().flat_map(|(c, _)| c).collect();
     let mut s = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = writeln!(
         s,
         "<testsuites name=\"twin test\" tests=\"{}\" failures=\"{}\" errors=\"{}\" time=\"{wall_s:.3}\">",
         all.len(),
-        all.iter().filter(|c| c.outcome.as_ref().is_some_and(|o| o.0 == "failure")).count(),
-        all.iter().filter(|c| c.outcome.as_ref().is_some_and(|o| o.0 == "error")).count(),
+        all.iter()
+            .filter(|c| c.outcome.as_ref().is_some_and(|o| o.0 == "failure"))
+            .count(),
+        all.iter()
+            .filter(|c| c.outcome.as_ref().is_some_and(|o| o.0 == "error"))
+            .count(),
     );
     for (file, (cases, props)) in &suites {
         let time: f64 = cases.iter().map(|c| c.time_s).sum();
