@@ -67,10 +67,14 @@ pub struct Frames {
 #[cfg(feature = "render")]
 struct FramesInner {
     renderer: crate::output::render::Renderer,
-    /// GPU meshes of [`Twin::parts`], in the same order.
+    /// GPU meshes of the plant's visuals, in the same order.
     meshes: Vec<crate::output::render::MeshId>,
+    /// GPU meshes of the part types, in scene order.
+    part_meshes: Vec<crate::output::render::MeshId>,
     dir: PathBuf,
-    cameras: Vec<(String, crate::output::render::Camera, f64, u64)>,
+    /// Per camera: name, camera, fps, next frame, whether it draws the
+    /// sensors.
+    cameras: Vec<(String, crate::output::render::Camera, f64, u64, bool)>,
     /// [`Frames::only_at`]: one picture per camera at the first update at
     /// or after this time, and no other; cleared once taken.
     at_s: Option<f64>,
@@ -122,6 +126,13 @@ impl Frames {
                 .iter()
                 .map(|p| renderer.upload_mesh(&p.mesh))
                 .collect();
+            let part_meshes = twin
+                .scene()
+                .cell
+                .part_types
+                .iter()
+                .map(|p| renderer.upload_mesh(&crate::plant::visuals::shape_mesh(&p.shape).unwrap_or_default()))
+                .collect();
             let f32x3 = |v: [f64; 3]| v.map(|x| x as f32);
             let cameras = twin
                 .scene()
@@ -136,13 +147,14 @@ impl Frames {
                         width_px: c.width,
                         height_px: c.height,
                     };
-                    (c.name.clone(), cam, c.fps, 0u64)
+                    (c.name.clone(), cam, c.fps, 0u64, c.show_sensors)
                 })
                 .collect();
             Ok(Frames {
                 inner: Some(FramesInner {
                     renderer,
                     meshes,
+                    part_meshes,
                     dir: dir.to_path_buf(),
                     cameras,
                     at_s: None,
@@ -211,13 +223,13 @@ impl Frames {
             {
                 // At most one frame of a camera is due at an update (its fps
                 // is at most the update rate): pass over one not asked for.
-                for (_, _, fps, next) in &mut inner.cameras {
+                for (_, _, fps, next, _) in &mut inner.cameras {
                     if due(*next, *fps) && !only.contains(next) {
                         *next += 1;
                     }
                 }
             }
-            if !inner.cameras.iter().any(|(_, _, fps, next)| due(*next, *fps)) {
+            if !inner.cameras.iter().any(|(_, _, fps, next, _)| due(*next, *fps)) {
                 return Ok(());
             }
             let links = twin.plant().world_from_link();
@@ -244,13 +256,41 @@ impl Frames {
                     color_rgba: [1.0, 0.45, 0.0, 1.0],
                 })
                 .collect();
-            for (name, cam, fps, next) in &mut inner.cameras {
+            let mut items = items;
+            if let Some(m) = twin.plant().material() {
+                let types = &twin.scene().cell.part_types;
+                items.extend(m.parts().iter().map(|p| crate::output::render::DrawItem {
+                    mesh: inner.part_meshes[p.part_type],
+                    world_from_mesh: column_major(&crate::plant::convert::pose_from_rapier(&m.part_pose(p))),
+                    color_rgba: types[p.part_type].color.map(|c| c as f32),
+                    tint_rgba: None,
+                }));
+            }
+            // The sensors' beams and rays: green clear, red detecting.
+            let isometries: Vec<nalgebra::Isometry3<f64>> =
+                links.iter().map(crate::plant::convert::isometry_from_arrays).collect();
+            let mut sensor_lines = lines.clone();
+            for s in twin.plant().sensors() {
+                let color = if s.output() {
+                    [0.9, 0.1, 0.1, 1.0]
+                } else {
+                    [0.1, 0.8, 0.2, 1.0]
+                };
+                for (a, b) in s.lines_in_world(&isometries) {
+                    sensor_lines.push(crate::output::render::LineStrip {
+                        points_in_world: vec![a.map(|x| x as f32), b.map(|x| x as f32)],
+                        color_rgba: color,
+                    });
+                }
+            }
+            for (name, cam, fps, next, show_sensors) in &mut inner.cameras {
                 if !due(*next, *fps) {
                     continue;
                 }
+                let drawn = if *show_sensors { &sensor_lines } else { &lines };
                 let image = inner
                     .renderer
-                    .render(cam, &items, &lines)
+                    .render(cam, &items, drawn)
                     .map_err(|e| OutputError::Frame {
                         path: inner.dir.clone(),
                         message: e.to_string(),
@@ -300,7 +340,7 @@ impl Frames {
                     let Some(file) = p.file_name().and_then(|f| f.to_str()) else {
                         return false;
                     };
-                    inner.cameras.iter().any(|(name, _, _, next)| {
+                    inner.cameras.iter().any(|(name, _, _, next, _)| {
                         file.strip_prefix(name.as_str())
                             .and_then(|rest| rest.strip_prefix('-'))
                             .and_then(|rest| rest.strip_suffix(".png"))
@@ -518,6 +558,57 @@ pub struct Summary {
     /// Each `[[expect]]`'s result (empty: the scene has none).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub expectations: Vec<crate::output::expect::Outcome>,
+    /// Scenes with parts: what became of them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parts: Option<PartsSummary>,
+    /// Per sensor: its output's edges, time on and missed pulses.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sensors: Vec<SensorSummary>,
+}
+
+/// The parts' part of the summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PartsSummary {
+    /// Parts spawned.
+    pub spawned: u64,
+    /// Parts taken by a `delivered` sink.
+    pub delivered: u64,
+    /// Parts taken by a `rejected` sink.
+    pub rejected: u64,
+    /// Parts a gripper dropped.
+    pub dropped: u64,
+    /// Parts that fell out of the cell (1 m under its lowest surface).
+    pub lost: u64,
+    /// Parts still in the cell at the end.
+    pub in_process: u64,
+    /// Delivered parts per minute of simulated time.
+    pub throughput_per_min: f64,
+    /// Mean time from spawn to delivery, s (null: none delivered).
+    pub flow_time_s: Option<f64>,
+    /// The largest offset of a held part from the gripper's TCP at its
+    /// pick, mm (null: nothing was picked).
+    pub max_pick_offset_mm: Option<f64>,
+    /// Per sink: name and parts taken.
+    pub per_sink: Vec<(String, u64)>,
+    /// Set when a source stopped at the live-part limit.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub capped: bool,
+    /// The first part events (at most 1,000).
+    pub events: Vec<crate::plant::material::PartEvent>,
+}
+
+/// One sensor's part of the summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SensorSummary {
+    /// The sensor.
+    pub name: String,
+    /// Rising edges of its output.
+    pub edges: u64,
+    /// Time its output was on, s.
+    pub on_s: f64,
+    /// Output pulses no input update saw (a design fault: raise the RPI
+    /// rate, use COS, or stretch the pulse).
+    pub missed_pulses: u64,
 }
 
 /// One task's part of the summary (its `TASK` object's values at the end).
@@ -734,6 +825,52 @@ impl Stats {
             }),
             variant: twin.scene().variant.clone(),
             expectations: Vec::new(),
+            parts: twin
+                .plant()
+                .material()
+                .filter(|_| !twin.scene().cell.part_types.is_empty())
+                .map(|m| {
+                    let c = m.counts();
+                    PartsSummary {
+                        spawned: c.spawned,
+                        delivered: c.delivered,
+                        rejected: c.rejected,
+                        dropped: c.dropped,
+                        lost: c.lost,
+                        in_process: m.parts().len() as u64,
+                        throughput_per_min: if twin.time_s() > 0.0 {
+                            c.delivered as f64 * 60.0 / twin.time_s()
+                        } else {
+                            0.0
+                        },
+                        flow_time_s: (c.delivered > 0).then(|| c.delivered_flow_s / c.delivered as f64),
+                        max_pick_offset_mm: None,
+                        per_sink: twin
+                            .scene()
+                            .cell
+                            .sinks
+                            .iter()
+                            .zip(&c.per_sink)
+                            .map(|(s, n)| (s.name.clone(), *n))
+                            .collect(),
+                        capped: c.capped,
+                        events: m.events().to_vec(),
+                    }
+                }),
+            sensors: twin
+                .plant()
+                .sensors()
+                .iter()
+                .map(|s| {
+                    let st = s.stats(twin.time_s());
+                    SensorSummary {
+                        name: s.name.clone(),
+                        edges: st.edges,
+                        on_s: st.on_s,
+                        missed_pulses: st.missed_pulses,
+                    }
+                })
+                .collect(),
         }
     }
 }
@@ -902,6 +1039,42 @@ impl Summary {
             for r in &t.refused {
                 let _ = writeln!(s, "  refused at run time: {r}");
             }
+        }
+        if let Some(p) = &self.parts {
+            let _ = writeln!(
+                s,
+                "  parts: {} spawned, {} delivered, {} rejected, {} dropped, {} lost, {} in process; {:.1} per min{}",
+                p.spawned,
+                p.delivered,
+                p.rejected,
+                p.dropped,
+                p.lost,
+                p.in_process,
+                p.throughput_per_min,
+                p.flow_time_s
+                    .map_or(String::new(), |f| format!(", mean flow time {f:.3} s"))
+            );
+            if p.capped {
+                let _ = writeln!(
+                    s,
+                    "  parts: a source stopped at the {} live-part limit",
+                    crate::scene::MAX_LIVE_PARTS
+                );
+            }
+        }
+        for x in &self.sensors {
+            let _ = writeln!(
+                s,
+                "  sensor {}: {} edges, on {:.3} s{}",
+                x.name,
+                x.edges,
+                x.on_s,
+                if x.missed_pulses > 0 {
+                    format!(", {} pulses missed by the input module", x.missed_pulses)
+                } else {
+                    String::new()
+                }
+            );
         }
         let _ = writeln!(s, "  frames written: {}", self.frames_written);
         if !self.expectations.is_empty() {

@@ -39,6 +39,10 @@
 //!   jerk, a speed lowered mid-move), or past its target, to which it comes
 //!   back (the overshoot the MCCM document warns of when the deceleration is
 //!   decreased while a move decelerates);
+//! * with a cell: per sensor `<sensor>.state`, its output (after invert
+//!   and delays; the tag is the input module's copy of it); with a parts
+//!   world, per conveyor `<conveyor>.speed_mps` (the belt's speed, negative
+//!   backwards), then `parts.in_cell` (live parts) and `parts.delivered`;
 //! * each `[trace] tags` entry, named as written (`State`, `Pos[0]`,
 //!   `Pick.Count`, `MC1.PC`): BOOL as 0/1, integers in full, REAL at single
 //!   precision;
@@ -166,6 +170,18 @@ pub fn header(twin: &Twin) -> Vec<String> {
     }
     for a in plant.axes() {
         h.push(format!("{}.overshoot", a.name));
+    }
+    h.extend(plant.sensors().iter().map(|s| format!("{}.state", s.name)));
+    if plant.material().is_some() {
+        h.extend(
+            twin.scene()
+                .cell
+                .conveyors
+                .iter()
+                .map(|c| format!("{}.speed_mps", c.name)),
+        );
+        h.push("parts.in_cell".to_string());
+        h.push("parts.delivered".to_string());
     }
     h.extend(program.traced_tags().iter().map(|t| t.name.clone()));
     if twin.scene().plant == crate::scene::PlantMode::Kinematic {
@@ -331,6 +347,14 @@ pub fn write_cells(twin: &Twin, row: &mut impl Cells) {
     }
     for a in plant.axes() {
         row.bit(task.profile_overshoot(a.handle));
+    }
+    for s in plant.sensors() {
+        row.bit(s.output());
+    }
+    if let Some(m) = plant.material() {
+        m.conveyors().iter().for_each(|c| row.number(c.speed_mps()));
+        row.int(m.parts().len() as i64);
+        row.int(m.counts().delivered as i64);
     }
     for t in program.traced_tags() {
         if let Some(text) = program.traced_text(t) {

@@ -73,6 +73,7 @@
 use super::sinks::Sink;
 use super::{Recorder, RecordingError, Served, TextLevel, sim_time_ns, urdf_entity_paths, visual_entity_path};
 use crate::output::RecordingTargets;
+use crate::plant::mesh::TriMesh;
 use crate::plant::visuals::column_major;
 use crate::run::Twin;
 
@@ -90,6 +91,9 @@ pub const APPLICATION_ID: &str = "twin";
 
 /// Tool trails get a new piece every this many coarse updates.
 const TRAIL_UPDATES: u64 = 100;
+
+/// Updates between two logs of the parts' poses.
+const PART_UPDATES: u64 = 5;
 
 /// Streams a run to Rerun (see the module doc); a no-op when no sink is
 /// asked for.
@@ -142,6 +146,13 @@ struct Feed {
     logged_texts: Vec<Option<String>>,
     highlighted: Vec<usize>,
     link_paths: Vec<String>,
+    /// The parts logged so far (ids, ascending): a part gone from the cell
+    /// is cleared.
+    logged_parts: Vec<u64>,
+    /// Each sensor's state last logged.
+    logged_sensors: Vec<Option<bool>>,
+    /// The part types' meshes and colours.
+    part_meshes: Vec<(TriMesh, [f32; 4])>,
     /// With a live viewer: when the last batch was sent.
     live: Option<std::time::Instant>,
 }
@@ -299,6 +310,20 @@ impl Recording {
                 logged_texts: Vec::new(),
                 highlighted: Vec::new(),
                 link_paths,
+                logged_parts: Vec::new(),
+                logged_sensors: Vec::new(),
+                part_meshes: twin
+                    .scene()
+                    .cell
+                    .part_types
+                    .iter()
+                    .map(|p| {
+                        (
+                            crate::plant::visuals::shape_mesh(&p.shape).unwrap_or_default(),
+                            p.color.map(|c| c as f32),
+                        )
+                    })
+                    .collect(),
                 live: targets.live().then(std::time::Instant::now),
             }),
         })
@@ -399,6 +424,10 @@ impl Feed {
         if plant.collision_enabled() {
             self.collisions(twin, t);
         }
+        if task.updates().is_multiple_of(PART_UPDATES) {
+            self.parts(twin, t);
+        }
+        self.sensors(twin, t);
         self.texts(twin, t);
         let log = program.controller().fault_log();
         if log.len() > self.logged_faults {
@@ -424,6 +453,80 @@ impl Feed {
                     },
                 );
             }
+        }
+    }
+
+    /// The live parts' poses at `parts/<id>` (with the mesh the first
+    /// time); a part that left the cell is cleared.
+    fn parts(&mut self, twin: &Twin, t_ns: i64) {
+        let Some(m) = twin.plant().material() else { return };
+        let live: Vec<u64> = m.parts().iter().map(|p| p.id).collect();
+        for id in std::mem::take(&mut self.logged_parts) {
+            if live.binary_search(&id).is_err() {
+                self.push(
+                    t_ns,
+                    Item::Clear {
+                        path: format!("parts/{id}"),
+                    },
+                );
+            } else {
+                self.logged_parts.push(id);
+            }
+        }
+        for p in m.parts() {
+            let pose =
+                crate::plant::convert::isometry_to_arrays(&crate::plant::convert::pose_from_rapier(&m.part_pose(p)));
+            let new = self.logged_parts.binary_search(&p.id).is_err();
+            if new {
+                self.logged_parts.push(p.id);
+            }
+            let mesh = new.then(|| self.part_meshes.get(p.part_type).cloned()).flatten();
+            self.push(
+                t_ns,
+                Item::Part {
+                    path: format!("parts/{}", p.id),
+                    mesh,
+                    pose,
+                },
+            );
+        }
+        self.logged_parts.sort_unstable();
+    }
+
+    /// Each sensor's beams or ray at `sensors/<name>` when its state
+    /// changes (a sensor on a link: every time the parts are logged).
+    fn sensors(&mut self, twin: &Twin, t_ns: i64) {
+        let plant = twin.plant();
+        let sensors = plant.sensors();
+        if sensors.is_empty() {
+            return;
+        }
+        self.logged_sensors.resize(sensors.len(), None);
+        let links: Vec<nalgebra::Isometry3<f64>> = plant
+            .world_from_link()
+            .iter()
+            .map(crate::plant::convert::isometry_from_arrays)
+            .collect();
+        let moving = twin.task().updates().is_multiple_of(PART_UPDATES);
+        for (k, s) in sensors.iter().enumerate() {
+            let on = s.output();
+            if self.logged_sensors[k] == Some(on) && !(moving && s.on_link()) {
+                continue;
+            }
+            self.logged_sensors[k] = Some(on);
+            let segments = s.lines_in_world(&links);
+            if segments.is_empty() {
+                continue;
+            }
+            let color = if on { [0.9, 0.1, 0.1, 1.0] } else { [0.1, 0.8, 0.2, 1.0] };
+            self.push(
+                t_ns,
+                Item::Lines {
+                    path: format!("sensors/{}", entity_part(&s.name)),
+                    segments,
+                    color,
+                },
+            );
         }
     }
 

@@ -74,6 +74,18 @@ pub(super) enum Item {
         path: String,
         mesh: TriMesh,
     },
+    /// A part's pose; with its mesh and colour the first time.
+    Part {
+        path: String,
+        mesh: Option<(TriMesh, [f32; 4])>,
+        pose: ([f64; 3], [f64; 4]),
+    },
+    /// A sensor's beams or ray, coloured by its state.
+    Lines {
+        path: String,
+        segments: Vec<([f64; 3], [f64; 3])>,
+        color: [f32; 4],
+    },
 }
 
 impl Batch {

@@ -249,6 +249,18 @@ impl Logged {
             Item::Text { path, level, text } => r.log_text(&path, level, &text),
             Item::Clear { path } => r.log_clear(&path),
             Item::Mesh { path, mesh } => r.log_mesh_timed(&path, &mesh, COLLISION_TINT_RGBA),
+            Item::Part { path, mesh, pose } => {
+                if let Some((mesh, color)) = mesh {
+                    r.log_mesh_timed(&path, &mesh, color)?;
+                }
+                r.log_transform(&path, pose.0, pose.1)
+            }
+            Item::Lines { path, segments, color } => {
+                for (k, (a, b)) in segments.iter().enumerate() {
+                    r.log_line_strip(&format!("{path}/{k}"), &[*a, *b], color)?;
+                }
+                Ok(())
+            }
         }
     }
 
