@@ -1,0 +1,415 @@
+//! The cell: parts, sources, sinks, conveyors and sensors against analytic
+//! answers — free fall through a beam and a zone, a diffuse eye's
+//! distance, a pulse shorter than the RPI, injected faults, a VFD's ramp
+//! and encoder — and bad inputs, each refused with its place and field.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use twin::run::Twin;
+
+const G: f64 = 9.81;
+
+/// A scene on the indexing table fixture with `body` after the head; the
+/// routine `Main` (if given) runs in a 4 ms task.
+fn scene(name: &str, body: &str, routine: Option<&str>) -> PathBuf {
+    let dir = common::fresh_dir("cell-tests", name);
+    // Top-level keys go before the head's tables.
+    let (root, body) = match body.strip_prefix("parts_step_ms") {
+        Some(rest) => {
+            let end = rest.find('\n').map_or(rest.len(), |k| k + 1);
+            (format!("parts_step_ms{}", &rest[..end]), &rest[end..])
+        }
+        None => (String::new(), body),
+    };
+    let mut text = root + &common::indexing_table_head() + body;
+    if let Some(r) = routine {
+        std::fs::write(dir.join("Main.st"), r).expect("routine");
+        text += "[[tasks]]\nname = \"T\"\nperiod_ms = 4.0\npriority = 5\n[[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\n";
+    }
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).expect("scene");
+    path
+}
+
+fn twin(path: &Path) -> Twin {
+    let scene = twin::scene::load(path).unwrap_or_else(|e| panic!("{e}"));
+    Twin::new(scene).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The error loading and binding `path` gives, as its text.
+fn refusal(path: &Path) -> String {
+    match twin::scene::load(path) {
+        Err(e) => e.to_string(),
+        Ok(scene) => match Twin::new(scene) {
+            Err(e) => e.diagnostic().render(false),
+            Ok(_) => panic!("{} loads", path.display()),
+        },
+    }
+}
+
+fn run_for(t: &mut Twin, seconds: f64) {
+    let n = (seconds / 0.004).round() as usize;
+    for _ in 0..n {
+        t.step();
+    }
+}
+
+fn sensor<'a>(t: &'a Twin, name: &str) -> &'a twin::plant::sensors::SensorSim {
+    t.plant()
+        .sensors()
+        .iter()
+        .find(|s| s.name == name)
+        .unwrap_or_else(|| panic!("no sensor {name}"))
+}
+
+fn tag_value(t: &Twin, name: &str) -> twin::program::types::Value {
+    let mem = t.program().controller().memory();
+    let k = mem.find(name).unwrap_or_else(|| panic!("no tag {name}"));
+    mem.slots[mem.tags[k].base]
+}
+
+const CUBE: &str = "[[part_types]]\nname = \"Cube\"\nshape = \"box\"\nsize = [0.01, 0.01, 0.01]\nmass_kg = 0.01\n";
+
+fn tags(list: &[(&str, &str)]) -> String {
+    list.iter()
+        .map(|(n, t)| format!("[[tags]]\nname = \"{n}\"\ntype = \"{t}\"\n"))
+        .collect()
+}
+
+/// A 10 mm cube dropped from rest at z0 = 1 m falls through a beam at
+/// z = 0.5 m and a zone 0.3–0.4 m: the bottom face reaches a height h at
+/// t = √(2 (z0 − 0.005 − h) / g). Each edge is within one parts step
+/// (4 ms) of that instant (rapier's symplectic Euler lags by half a step).
+#[test]
+fn a_falling_part_crosses_a_beam_and_a_zone_at_the_analytic_times() {
+    let body = tags(&[("Eye", "BOOL"), ("Inside", "BOOL"), ("Count", "DINT")])
+        + CUBE
+        + "[[sources]]\nname = \"Drop\"\npart_type = \"Cube\"\nposition = [0.0, 0.0, 1.0]\nat_s = [0.0]\n\
+           [[sensors]]\nname = \"Beam\"\nkind = \"beam\"\ntag = \"Eye\"\nfrom = [0.0, -0.2, 0.5]\nto = [0.0, 0.2, 0.5]\n\
+           [[sensors]]\nname = \"Zone\"\nkind = \"zone\"\ntag = \"Inside\"\ncount_tag = \"Count\"\nshape = \"box\"\n\
+           size = [0.2, 0.2, 0.1]\nposition = [0.0, 0.0, 0.35]\n";
+    let mut t = twin(&scene("fall", &body, None));
+    run_for(&mut t, 0.4);
+    let at = |h: f64| (2.0 * h / G).sqrt();
+    let beam = sensor(&t, "Beam").edges().to_vec();
+    assert_eq!(beam.len(), 2, "{beam:?}");
+    let (rise, fall) = (beam[0], beam[1]);
+    assert!(rise.1 && !fall.1);
+    let step = 0.004;
+    assert!(
+        (rise.0 - at(0.495)).abs() < step,
+        "beam on at {} vs {}",
+        rise.0,
+        at(0.495)
+    );
+    assert!(
+        (fall.0 - at(0.505)).abs() < step,
+        "beam off at {} vs {}",
+        fall.0,
+        at(0.505)
+    );
+    let zone = sensor(&t, "Zone").edges().to_vec();
+    assert_eq!(zone.len(), 2, "{zone:?}");
+    assert!((zone[0].0 - at(1.0 - 0.005 - 0.4)).abs() < step, "zone entry {zone:?}");
+    assert!((zone[1].0 - at(1.0 + 0.005 - 0.3)).abs() < step, "zone exit {zone:?}");
+    // Between the two, the count is 1: the tag at a scan inside.
+    let mut t = twin(&scene("fall-count", &body, None));
+    run_for(&mut t, (at(0.595) + at(0.705)) / 2.0);
+    t.step();
+    assert_eq!(tag_value(&t, "Count").as_i64(), 1);
+    assert!(tag_value(&t, "Inside").truthy());
+}
+
+/// A part at rest on a block, seen by a diffuse eye along +x: the distance
+/// is the gap to its face, within 1e-6 m, scaled through `scale`; with
+/// nothing in range it is the range.
+#[test]
+fn a_diffuse_eye_reports_the_distance_to_the_face_it_sees() {
+    let body = tags(&[("Seen", "BOOL"), ("Dist", "REAL"), ("Raw", "BOOL"), ("RawDist", "REAL")])
+        + CUBE
+        + "[[obstacles]]\nname = \"Block\"\nshape = \"box\"\nsize = [0.2, 0.2, 0.1]\nposition = [0.3, 0.0, 0.05]\n\
+           [[sources]]\nname = \"Put\"\npart_type = \"Cube\"\nposition = [0.3, 0.0, 0.1051]\nat_s = [0.0]\n\
+           [[sensors]]\nname = \"Eye\"\nkind = \"diffuse\"\ntag = \"Seen\"\nvalue_tag = \"Dist\"\nposition = [0.0, 0.0, 0.105]\n\
+           range_m = 0.5\nscale = [[0.0, 4.0], [0.5, 20.0]]\n\
+           [[sensors]]\nname = \"Eye2\"\nkind = \"diffuse\"\ntag = \"Raw\"\nvalue_tag = \"RawDist\"\nposition = [0.0, 0.0, 0.105]\n\
+           range_m = 0.2\n";
+    let mut t = twin(&scene("diffuse", &body, None));
+    run_for(&mut t, 0.3);
+    t.step();
+    let gap = 0.3 - 0.005;
+    let dist = tag_value(&t, "Dist").as_f64();
+    let want = 4.0 + gap * 16.0 / 0.5;
+    assert!((dist - want).abs() < 1e-3 * 32.0, "scaled {dist} vs {want}");
+    assert!(tag_value(&t, "Seen").truthy());
+    // The second eye's range ends before the part.
+    assert!(!tag_value(&t, "Raw").truthy());
+    assert!((tag_value(&t, "RawDist").as_f64() - 0.2).abs() < 1e-7);
+    // The part's face where the physics put it.
+    let m = t.plant().material().expect("a parts world");
+    let x = m.part_pose(&m.parts()[0]).translation.x;
+    let exact = x - 0.005;
+    let unscaled = (dist - 4.0) * 0.5 / 16.0;
+    assert!((unscaled - exact).abs() < 1e-6, "{unscaled} vs {exact}");
+}
+
+/// A 10 mm cube falling at about 5 m/s through a beam: a 2 ms pulse. An
+/// input module updating every 10 ms (no COS) sees no update inside it: a
+/// missed pulse, and the tag never turns on. With COS the module takes it
+/// (a scan sees it only if one falls inside the pulse).
+#[test]
+fn a_pulse_shorter_than_the_rpi_is_missed_without_cos() {
+    // The bottom reaches z = 0 at t = 0.5125 s (+ half a step).
+    let drop = 0.5 * G * 0.5125_f64.powi(2);
+    let body = |cos: bool| {
+        tags(&[("Eye", "BOOL"), ("Seen", "DINT")])
+            + CUBE
+            + &format!(
+                "[[sources]]\nname = \"Drop\"\npart_type = \"Cube\"\nposition = [0.0, 0.0, {}]\nat_s = [0.0]\n\
+                 [[sensors]]\nname = \"Beam\"\nkind = \"beam\"\ntag = \"Eye\"\nfrom = [0.0, -0.2, 0.0]\nto = [0.0, 0.2, 0.0]\n\
+                 rpi_ms = 10.0\ncos = {cos}\n",
+                drop + 0.005
+            )
+    };
+    let routine = "IF Eye THEN Seen := Seen + 1; END_IF;\n";
+    let mut t = twin(&scene("pulse", &body(false), Some(routine)));
+    run_for(&mut t, 0.6);
+    let edges = sensor(&t, "Beam").edges().to_vec();
+    assert_eq!(edges.len(), 2, "{edges:?}");
+    let width = edges[1].0 - edges[0].0;
+    assert!((0.0015..0.0025).contains(&width), "pulse {width} s");
+    assert_eq!(sensor(&t, "Beam").stats(t.time_s()).missed_pulses, 1);
+    assert_eq!(tag_value(&t, "Seen").as_i64(), 0, "no scan saw it");
+
+    let mut c = twin(&scene("pulse-cos", &body(true), Some(routine)));
+    run_for(&mut c, 0.6);
+    assert_eq!(sensor(&c, "Beam").stats(c.time_s()).missed_pulses, 0, "COS took the pulse");
+}
+
+/// Each fault kind: `stuck_on` and `stuck_off` override a sensor for their
+/// window; `stalled` stops a belt whatever its VFD is told.
+#[test]
+fn injected_faults_override_what_the_devices_do() {
+    let body = tags(&[("A", "BOOL"), ("B", "BOOL"), ("Run", "BOOL")])
+        + CUBE
+        + "[[sources]]\nname = \"Put\"\npart_type = \"Cube\"\nposition = [-0.4, 0.0, 0.556]\nat_s = [0.0]\n\
+           [[conveyors]]\nname = \"Belt\"\nposition = [0.0, 0.0, 0.5]\nsize = [1.0, 0.2, 0.1]\nrun = \"Run\"\nmax_speed_mps = 0.5\n\
+           faults = [{ kind = \"stalled\", from_s = 0.2, to_s = 0.6 }]\n\
+           [[sensors]]\nname = \"On\"\nkind = \"zone\"\ntag = \"A\"\nshape = \"sphere\"\nradius = 0.01\nposition = [2.0, 0.0, 2.0]\n\
+           faults = [{ kind = \"stuck_on\", from_s = 0.1, to_s = 0.3 }]\n\
+           [[sensors]]\nname = \"Off\"\nkind = \"zone\"\ntag = \"B\"\nshape = \"box\"\nsize = [2.0, 1.0, 1.0]\nposition = [0.0, 0.0, 0.5]\n\
+           faults = [{ kind = \"stuck_off\", from_s = 0.5 }]\n";
+    let mut t = twin(&scene("faults", &body, Some("Run := TRUE;\n")));
+    run_for(&mut t, 0.3);
+    let x0 = {
+        let m = t.plant().material().expect("parts");
+        m.part_pose(&m.parts()[0]).translation.x
+    };
+    run_for(&mut t, 0.2);
+    let x1 = {
+        let m = t.plant().material().expect("parts");
+        m.part_pose(&m.parts()[0]).translation.x
+    };
+    assert!((x1 - x0).abs() < 0.005, "a stalled belt carries nothing: {x0} → {x1}");
+    assert_eq!(t.plant().material().expect("parts").conveyors()[0].speed_mps(), 0.0);
+    run_for(&mut t, 0.3);
+    let on = sensor(&t, "On").edges().to_vec();
+    assert_eq!(on.len(), 2, "{on:?}");
+    assert!((on[0].0 - 0.1).abs() < 1e-9 && (on[1].0 - 0.3).abs() < 1e-9, "{on:?}");
+    let off = sensor(&t, "Off").edges().to_vec();
+    assert_eq!(off.len(), 2, "the part is seen, then stuck off at 0.5 s: {off:?}");
+    assert!((off[1].0 - 0.5).abs() < 1e-9, "{off:?}");
+    assert!(!tag_value(&t, "B").truthy());
+    let belt_moved = t.plant().material().expect("parts").conveyors()[0].speed_mps();
+    assert_eq!(belt_moved, 0.5, "the belt runs again after the stall");
+}
+
+/// A VFD belt ramps at accel_mps2 to speed % of max_speed_mps, reports
+/// running, and counts its travel in encoder counts.
+#[test]
+fn a_vfd_belt_ramps_and_counts_its_travel() {
+    let body = tags(&[
+        ("Run", "BOOL"),
+        ("Rev", "BOOL"),
+        ("Pct", "REAL"),
+        ("Moving", "BOOL"),
+        ("Enc", "DINT"),
+    ]) + "[[conveyors]]\nname = \"Belt\"\nposition = [0.0, 0.0, 0.5]\nsize = [1.0, 0.2, 0.1]\nrun = \"Run\"\nreverse = \"Rev\"\n\
+           speed = \"Pct\"\nmax_speed_mps = 0.8\naccel_mps2 = 2.0\nrunning_tag = \"Moving\"\nencoder_tag = \"Enc\"\ncounts_per_m = 10000\n";
+    let mut t = twin(&scene("vfd", &body, Some("Run := TRUE;\nPct := 50.0;\n")));
+    t.step();
+    assert!(!tag_value(&t, "Moving").truthy(), "still at the first scan");
+    run_for(&mut t, 1.0);
+    let belt = &t.plant().material().expect("parts").conveyors()[0];
+    assert_eq!(belt.speed_mps(), 0.4);
+    // The first scan's outputs act from its update on: a 0.2 s ramp to
+    // 0.4 m/s (0.04 m), then 0.4 m/s.
+    let travel = belt.travel_m();
+    let want = 0.04 + 0.4 * (t.time_s() - 0.2);
+    assert!((travel - want).abs() < 1e-9, "{travel} vs {want}");
+    t.step();
+    assert!(tag_value(&t, "Moving").truthy());
+    let enc = tag_value(&t, "Enc").as_i64();
+    let counts = (t.plant().material().expect("parts").conveyors()[0].travel_m() * 10000.0).floor() as i64;
+    assert!((enc - counts).abs() <= 20, "{enc} vs {counts} (one update behind)");
+}
+
+/// Sources: `every_s` with `count`, `skip`, seeded jitter (the same seed,
+/// the same parts); sinks count delivered and rejected parts; a part that
+/// falls off the cell is lost.
+#[test]
+fn sources_sinks_and_lost_parts_are_counted_and_repeatable() {
+    let body = CUBE.to_owned()
+        + "[[sources]]\nname = \"Every\"\npart_type = \"Cube\"\nposition = [0.0, 0.0, 0.3]\nevery_s = 0.1\ncount = 5\nskip = [2]\n\
+           jitter = { time_s = 0.02, position_m = [0.01, 0.01, 0.0], yaw_deg = 10.0, seed = 7 }\n\
+           [[sources]]\nname = \"Miss\"\npart_type = \"Cube\"\nposition = [3.0, 0.0, 0.3]\nat_s = [0.0]\n\
+           [[sinks]]\nname = \"Good\"\nposition = [0.0, 0.0, 0.05]\nsize = [0.5, 0.5, 0.1]\n\
+           [[sinks]]\nname = \"Bad\"\nposition = [5.0, 0.0, 0.05]\nsize = [0.5, 0.5, 0.1]\nas = \"rejected\"\n";
+    let path = scene("sources", &body, None);
+    let mut a = twin(&path);
+    run_for(&mut a, 1.6);
+    let counts = a.plant().material().expect("parts").counts().clone();
+    assert_eq!(counts.spawned, 5, "5 spawns of Every less the skipped one, and Miss");
+    assert_eq!(counts.delivered, 4);
+    assert_eq!(counts.rejected, 0);
+    assert_eq!(counts.lost, 1, "Miss falls past 1 m under the lowest surface");
+    let mut b = twin(&path);
+    run_for(&mut b, 1.6);
+    assert_eq!(
+        a.plant().material().expect("parts").events(),
+        b.plant().material().expect("parts").events(),
+        "seeded: the same run twice"
+    );
+    let spawn_times: Vec<f64> = a
+        .plant()
+        .material()
+        .expect("parts")
+        .events()
+        .iter()
+        .filter(|e| e.event == "spawned" && e.at == "Every")
+        .map(|e| e.time_s)
+        .collect();
+    assert_eq!(spawn_times.len(), 4);
+    for (k, t) in spawn_times.iter().enumerate() {
+        let nominal = [0.0, 0.2, 0.3, 0.4][k];
+        assert!((t - nominal).abs() <= 0.02 + 0.004 + 1e-9, "spawn {k} at {t}");
+    }
+}
+
+/// Bad cell inputs: each refused with one line naming the file, line,
+/// column and field.
+#[test]
+fn bad_cell_inputs_name_their_place_and_field() {
+    let eye = tags(&[("Eye", "BOOL"), ("N", "DINT"), ("R", "REAL"), ("DI", "DINT")]);
+    let beam = |extra: &str| {
+        format!(
+            "{eye}[[sensors]]\nname = \"B\"\nkind = \"beam\"\ntag = \"Eye\"\nfrom = [0.0, 0.0, 0.0]\nto = [0.0, 1.0, 0.0]\n{extra}"
+        )
+    };
+    let rows: Vec<(String, &str)> = vec![
+        (
+            beam("").replace("tag = \"Eye\"", "tag = \"Nope\""),
+            "sensors[0].tag: 'Nope' is not a controller tag",
+        ),
+        (
+            beam("").replace("tag = \"Eye\"", "tag = \"R\""),
+            "sensors[0].tag: 'R' is REAL; this needs a BOOL",
+        ),
+        (
+            beam(
+                "[[sensors]]\nname = \"C\"\nkind = \"beam\"\ntag = \"Eye\"\nfrom = [0.0, 0.0, 0.0]\nto = [1.0, 0.0, 0.0]\n",
+            ),
+            "sensors[1].tag: 'Eye' is written by beam 'B' already",
+        ),
+        (
+            beam("").replace("tag = \"Eye\"", "tag = \"DI.3\"")
+                + "[[sensors]]\nname = \"C\"\nkind = \"beam\"\ntag = \"DI\"\nfrom = [0.0, 0.0, 0.0]\nto = [1.0, 0.0, 0.0]\n",
+            "sensors[1].tag: 'DI' is DINT; this needs a BOOL",
+        ),
+        (
+            beam("").replace("kind = \"beam\"", "kind = \"laser\""),
+            "sensors[0].kind: unknown sensor kind 'laser'",
+        ),
+        (
+            beam("range_m = 1.0\n"),
+            "sensors[0].range_m: 'range_m' does not apply to a beam sensor",
+        ),
+        (
+            beam("").replace("to = [0.0, 1.0, 0.0]", "to = [0.0, 0.0, 0.0]"),
+            "sensors[0].to: the beam's 'to' must differ",
+        ),
+        (
+            beam("value_tag = \"N\"\n"),
+            "sensors[0].value_tag: a beam's value_tag is a light curtain's bitmask",
+        ),
+        (
+            beam("link = \"no_such_link\"\n"),
+            "sensors[0].link: the URDF has no link 'no_such_link'",
+        ),
+        (beam("rpi_ms = 0.0\n"), "sensors[0].rpi_ms: must be between 0.2 and 750"),
+        (
+            beam("faults = [{ kind = \"stalled\", from_s = 0.1 }]\n"),
+            "sensors[0].faults[0].kind: unknown fault kind for this device 'stalled'",
+        ),
+        (
+            beam("faults = [{ kind = \"stuck_on\", from_s = 0.5, to_s = 0.1 }]\n"),
+            "sensors[0].faults[0].to_s: from_s = 0.5 is after to_s = 0.1",
+        ),
+        (
+            CUBE.replace("mass_kg = 0.01", "mass_kg = -1.0"),
+            "part_types[0].mass_kg: must be greater than 0",
+        ),
+        (
+            CUBE.to_owned()
+                + "[[sources]]\nname = \"S\"\npart_type = \"Sphere\"\nposition = [0.0, 0.0, 1.0]\nevery_s = 1.0\n",
+            "sources[0].part_type: unknown part type 'Sphere'",
+        ),
+        (
+            CUBE.to_owned() + "[[sources]]\nname = \"S\"\npart_type = \"Cube\"\nposition = [0.0, 0.0, 1.0]\n",
+            "sources[0].name: give one of every_s, on or at_s",
+        ),
+        (
+            CUBE.to_owned()
+                + "[[sources]]\nname = \"S\"\npart_type = \"Cube\"\nposition = [0.0, 0.0, 1.0]\nat_s = [0.5, 0.2]\n",
+            "sources[0].at_s[1]: the times must not decrease",
+        ),
+        (
+            "[[sinks]]\nname = \"K\"\nposition = [0.0, 0.0, 0.0]\nsize = [1.0, 1.0, 1.0]\nas = \"scrap\"\n".to_owned(),
+            "sinks[0].as: unknown sink outcome 'scrap'",
+        ),
+        (
+            "[[conveyors]]\nname = \"C\"\nposition = [0.0, 0.0, 0.0]\nsize = [1.0, 0.2, 0.1]\n".to_owned(),
+            "conveyors[0].name: give 'axis'",
+        ),
+        (
+            "[[conveyors]]\nname = \"C\"\nposition = [0.0, 0.0, 0.0]\nsize = [1.0, 0.2, 0.1]\naxis = \"Table\"\n"
+                .to_owned(),
+            "conveyors[0].axis: a conveyor follows a linear axis",
+        ),
+        (
+            eye.clone()
+                + "[[conveyors]]\nname = \"C\"\nposition = [0.0, 0.0, 0.0]\nsize = [1.0, 0.2, 0.1]\nrun = \"Eye\"\n",
+            "conveyors[0].max_speed_mps: a VFD conveyor needs max_speed_mps",
+        ),
+        (
+            eye.clone()
+                + "[[conveyors]]\nname = \"C\"\nposition = [0.0, 0.0, 0.0]\nsize = [1.0, 0.2, 0.1]\nrun = \"Eye\"\nmax_speed_mps = 1.0\nspeed = \"N\"\n",
+            "conveyors[0].speed: 'N' is DINT; this needs a REAL",
+        ),
+        (
+            "parts_step_ms = 3.0\n".to_owned(),
+            "parts_step_ms: must be a multiple of physics_step_ms",
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (k, (body, want)) in rows.iter().enumerate() {
+        let path = scene(&format!("bad-{k}"), body, None);
+        let e = refusal(&path);
+        let first = e.lines().next().unwrap_or_default();
+        let field = want.split(':').next().unwrap_or_default();
+        if !e.contains(want) || !first.contains("scene.toml:") || !first.contains(field) {
+            failures.push(format!("row {k}: want '{want}', got: {first}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
