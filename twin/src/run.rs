@@ -173,6 +173,11 @@ impl Twin {
         &self.program
     }
 
+    /// The bound program, to set a tag as an operator would.
+    pub fn program_mut(&mut self) -> &mut Program {
+        &mut self.program
+    }
+
     /// The plant.
     pub fn plant(&self) -> &Plant {
         &self.plant
@@ -238,6 +243,18 @@ struct CellIo {
     conveyors: Vec<ConveyorIo>,
     /// Per source, its `on` output.
     sources: Vec<Option<IoPoint>>,
+    cylinders: Vec<ActuatorIo>,
+    grippers: Vec<ActuatorIo>,
+}
+
+/// A cylinder's or a gripper's points: two outputs (extend and retract,
+/// grip and release) and up to two inputs (extended and retracted,
+/// holding).
+#[derive(Debug, Default)]
+struct ActuatorIo {
+    first: Option<IoPoint>,
+    second: Option<IoPoint>,
+    status: [Option<IoPoint>; 2],
 }
 
 #[derive(Debug)]
@@ -319,6 +336,27 @@ impl CellIo {
                 _ => None,
             });
         }
+        let mut optional = |t: &Option<IoTag>, direction: IoDirection, device: &str, role: &str| match t {
+            Some(t) => bind(t, IoKind::Bool, direction, device, role).map(Some),
+            None => Ok(None),
+        };
+        for c in &scene.cell.cylinders {
+            io.cylinders.push(ActuatorIo {
+                first: optional(&Some(c.extend.clone()), IoDirection::Output, &c.name, "extend")?,
+                second: optional(&c.retract, IoDirection::Output, &c.name, "retract")?,
+                status: [
+                    optional(&c.extended_tag, IoDirection::Input, &c.name, "extended")?,
+                    optional(&c.retracted_tag, IoDirection::Input, &c.name, "retracted")?,
+                ],
+            });
+        }
+        for g in &scene.cell.grippers {
+            io.grippers.push(ActuatorIo {
+                first: optional(&Some(g.grip.clone()), IoDirection::Output, &g.name, "grip")?,
+                second: optional(&g.release, IoDirection::Output, &g.name, "release")?,
+                status: [optional(&g.holding_tag, IoDirection::Input, &g.name, "holding")?, None],
+            });
+        }
         Ok(io)
     }
 
@@ -339,6 +377,18 @@ impl CellIo {
             }
         }
         let Some(material) = plant.material() else { return };
+        for (c, io) in material.cylinders().zip(&self.cylinders) {
+            for (point, on) in io.status.iter().zip([c.extended(), c.retracted()]) {
+                if let Some(p) = point {
+                    program.write_input(*p, Value::Bool(on));
+                }
+            }
+        }
+        for (g, io) in material.grippers().iter().zip(&self.grippers) {
+            if let Some(p) = io.status[0] {
+                program.write_input(p, Value::Bool(g.part() != 0));
+            }
+        }
         for (c, io) in material.conveyors().iter().zip(&self.conveyors) {
             if let Some(p) = io.running {
                 program.write_input(p, Value::Bool(c.speed_mps().abs() > 1e-9));
@@ -367,6 +417,14 @@ impl CellIo {
             if let Some(p) = on {
                 material.set_source_trigger(k, program.read_output(*p).truthy());
             }
+        }
+        for (k, io) in self.cylinders.iter().enumerate() {
+            material
+                .cylinder_mut(k)
+                .set_valve(bool_of(io.first), bool_of(io.second));
+        }
+        for (k, io) in self.grippers.iter().enumerate() {
+            material.grippers_mut()[k].set_outputs(bool_of(io.first), bool_of(io.second));
         }
     }
 }

@@ -183,7 +183,11 @@ fn a_pulse_shorter_than_the_rpi_is_missed_without_cos() {
 
     let mut c = twin(&scene("pulse-cos", &body(true), Some(routine)));
     run_for(&mut c, 0.6);
-    assert_eq!(sensor(&c, "Beam").stats(c.time_s()).missed_pulses, 0, "COS took the pulse");
+    assert_eq!(
+        sensor(&c, "Beam").stats(c.time_s()).missed_pulses,
+        0,
+        "COS took the pulse"
+    );
 }
 
 /// Each fault kind: `stuck_on` and `stuck_off` override a sensor for their
@@ -412,4 +416,148 @@ fn bad_cell_inputs_name_their_place_and_field() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The gantry fixture: X, Y, Z prismatic axes in mm, the tool's TCP at
+/// z = 0.21 m + Z, and a table (obstacle) whose top is at z = 0.05 m.
+fn gantry_scene(name: &str, body: &str, routine: &str) -> PathBuf {
+    let dir = common::fresh_dir("cell-tests", name);
+    let urdf = common::root().join("scenes/robots/gantry/gantry.urdf");
+    let axis = |n: &str, j: &str| {
+        format!(
+            "[[axes]]\nname = \"{n}\"\njoint = \"{j}\"\nkind = \"linear\"\nunits = \"mm\"\nmax_velocity = 500.0\n\
+             max_acceleration = 5000.0\nmax_deceleration = 5000.0\nmax_jerk = 50000.0\nin_position_window = 0.2\n\
+             motor = {{ stiffness = 142122.3, damping = 754.0 }}\n"
+        )
+    };
+    let text = format!(
+        "duration_s = 3.0\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n[robot]\nurdf = {urdf:?}\n{}{}{}\
+         [[obstacles]]\nname = \"Table\"\nshape = \"box\"\nsize = [0.7, 0.7, 0.05]\nposition = [0.0, 0.0, 0.025]\n\
+         [[part_types]]\nname = \"Block\"\nshape = \"box\"\nsize = [0.04, 0.04, 0.04]\nmass_kg = 0.1\n\
+         [[sources]]\nname = \"Put\"\npart_type = \"Block\"\nposition = [0.003, 0.0, 0.0705]\nat_s = [0.0]\n\
+         [[tags]]\nname = \"Grip\"\ntype = \"BOOL\"\n[[tags]]\nname = \"Holding\"\ntype = \"BOOL\"\n\
+         [[tags]]\nname = \"State\"\ntype = \"DINT\"\n[[tags]]\nname = \"MZ\"\ntype = \"MOTION_INSTRUCTION\"\n\
+         [[tags]]\nname = \"MX\"\ntype = \"MOTION_INSTRUCTION\"\n{body}\
+         [[tasks]]\nname = \"T\"\nperiod_ms = 4.0\npriority = 5\n[[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\n",
+        axis("X", "x_joint"),
+        axis("Y", "y_joint"),
+        axis("Z", "z_joint"),
+    );
+    std::fs::write(dir.join("Main.st"), routine).expect("routine");
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).expect("scene");
+    path
+}
+
+const GRIPPER: &str = "[[grippers]]\nname = \"Cup\"\nkind = \"vacuum\"\nlink = \"tool\"\ngrip = \"Grip\"\nholding_tag = \"Holding\"\n\
+                       build_up_ms = 40.0\nreach_m = 0.003\n";
+
+/// Down to 2 mm over the block, vacuum on, up 100 mm, across 200 mm,
+/// down, vacuum off.
+const PICK: &str = "CASE State OF\n\
+  0: MAM(Z, MZ, 0, -118, 200, UnitsPerSec, 2000, UnitsPerSec2, 2000, UnitsPerSec2, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0); State := 1;\n\
+  1: IF MZ.PC THEN Grip := TRUE; State := 2; END_IF;\n\
+  2: IF Holding THEN MAM(Z, MZ, 0, 0, 200, UnitsPerSec, 2000, UnitsPerSec2, 2000, UnitsPerSec2, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0); State := 3; END_IF;\n\
+  3: IF MZ.PC THEN MAM(X, MX, 0, 200, 200, UnitsPerSec, 2000, UnitsPerSec2, 2000, UnitsPerSec2, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0); State := 4; END_IF;\n\
+  4: IF MX.PC THEN MAM(Z, MZ, 0, -100, 200, UnitsPerSec, 2000, UnitsPerSec2, 2000, UnitsPerSec2, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0); State := 5; END_IF;\n\
+  5: IF MZ.PC THEN Grip := FALSE; State := 6; END_IF;\n\
+END_CASE;\n";
+
+/// A vacuum cup picks the block where it lies (3 mm off the TCP's axis:
+/// held there, not snapped), carries it and places it 200 mm on; the
+/// holding tag follows; the pick offset is recorded.
+#[test]
+fn a_vacuum_gripper_picks_carries_and_places_a_part_where_it_holds_it() {
+    let mut t = twin(&gantry_scene("gripper", GRIPPER, PICK));
+    let mut held_at = None;
+    let mut lifted = 0.0_f64;
+    for _ in 0..1100 {
+        t.step();
+        let m = t.plant().material().expect("parts");
+        if held_at.is_none() && m.grippers()[0].part() != 0 {
+            held_at = Some(t.time_s());
+        }
+        lifted = lifted.max(m.part_pose(&m.parts()[0]).translation.z);
+    }
+    assert!(held_at.is_some(), "picked");
+    let (header, row) = (twin::output::trace::header(&t), twin::output::trace::row(&t));
+    assert_eq!(header.len(), row.len(), "a cell per column");
+    assert!(header.iter().any(|h| h == "Cup.part"));
+    let m = t.plant().material().expect("parts");
+    assert_eq!(m.grippers()[0].part(), 0, "placed");
+    assert!(lifted > 0.0705 + 0.115, "lifted with the tool: {lifted}");
+    let pose = m.part_pose(&m.parts()[0]);
+    assert!(
+        (pose.translation.x - 0.203).abs() < 0.002,
+        "placed 200 mm on, keeping its offset: {pose:?}"
+    );
+    assert!(
+        (pose.translation.z - 0.07).abs() < 0.002,
+        "resting on the table: {pose:?}"
+    );
+    let offset = m.counts().max_pick_offset_m.expect("one pick");
+    assert!((offset - 0.003).abs() < 5e-4, "pick offset {offset}");
+    assert_eq!(m.counts().dropped, 0);
+}
+
+/// A part heavier than the grip holds is dropped; so is one whose vacuum
+/// fails (`no_vacuum`).
+#[test]
+fn a_weak_grip_or_a_lost_vacuum_drops_the_part() {
+    let weak = GRIPPER.to_owned() + "max_force_n = 0.5\n";
+    let mut t = twin(&gantry_scene("gripper-weak", &weak, PICK));
+    run_for(&mut t, 1.5);
+    let m = t.plant().material().expect("parts");
+    assert_eq!(m.counts().dropped, 1, "0.98 N of weight on a 0.5 N grip");
+    let lost = GRIPPER.to_owned() + "faults = [{ kind = \"no_vacuum\", from_s = 0.8 }]\n";
+    let mut t = twin(&gantry_scene("gripper-vacuum", &lost, PICK));
+    run_for(&mut t, 2.0);
+    let m = t.plant().material().expect("parts");
+    assert_eq!(m.counts().dropped, 1, "{:?}", m.events());
+    assert!(
+        m.events()
+            .iter()
+            .any(|e| e.event == "dropped" && (e.time_s - 0.8).abs() < 0.005)
+    );
+}
+
+/// A stopper cylinder holds parts back on a running belt (they slip and
+/// queue), reports its ends, and lets them go when it retracts.
+#[test]
+fn a_stopper_holds_parts_on_a_running_belt_until_it_retracts() {
+    let body = tags(&[("Run", "BOOL"), ("Up", "BOOL"), ("IsUp", "BOOL"), ("IsDown", "BOOL")])
+        + CUBE
+        + "[[sources]]\nname = \"Feed\"\npart_type = \"Cube\"\nposition = [-0.4, 0.0, 0.556]\nevery_s = 0.2\ncount = 3\n\
+           [[conveyors]]\nname = \"Belt\"\nposition = [0.0, 0.0, 0.5]\nsize = [1.0, 0.2, 0.1]\nrun = \"Run\"\nmax_speed_mps = 0.5\n\
+           [[cylinders]]\nname = \"Stop\"\nposition = [0.2, 0.0, 0.48]\nrpy_deg = [0.0, -90.0, 0.0]\nsize = [0.1, 0.2, 0.02]\n\
+           stroke_m = 0.06\nextend_ms = 60.0\nretract_ms = 30.0\nextend = \"Up\"\nextended_tag = \"IsUp\"\nretracted_tag = \"IsDown\"\n";
+    let routine = "Run := TRUE;\nUp := Latch;\n";
+    let mut t = twin(&scene("stopper", &(tags(&[("Latch", "BOOL")]) + &body), Some(routine)));
+    // Up from the start.
+    let latch = {
+        let mem = t.program().controller().memory();
+        mem.tags[mem.find("Latch").expect("Latch")].base
+    };
+    t.program_mut().memory_mut().slots[latch] = twin::program::types::Value::Bool(true);
+    run_for(&mut t, 0.1);
+    assert!(tag_value(&t, "IsUp").truthy() && !tag_value(&t, "IsDown").truthy());
+    run_for(&mut t, 2.0);
+    let m = t.plant().material().expect("parts");
+    let xs: Vec<f64> = m.parts().iter().map(|p| m.part_pose(p).translation.x).collect();
+    assert_eq!(xs.len(), 3);
+    // The stopper's face is at x = 0.19: the cubes queue behind it, 10 mm apart.
+    for (k, x) in xs.iter().enumerate() {
+        let want = 0.19 - 0.005 - 0.01 * k as f64;
+        assert!((x - want).abs() < 0.002, "cube {k} at {x}, want {want}: {xs:?}");
+    }
+    t.program_mut().memory_mut().slots[latch] = twin::program::types::Value::Bool(false);
+    run_for(&mut t, 0.04);
+    assert!(tag_value(&t, "IsDown").truthy(), "retracted in 30 ms");
+    run_for(&mut t, 1.0);
+    let m = t.plant().material().expect("parts");
+    assert!(
+        m.parts()
+            .iter()
+            .all(|p| m.part_pose(p).translation.x > 0.3 || m.part_pose(p).translation.z < 0.4)
+    );
 }

@@ -69,7 +69,7 @@ struct FramesInner {
     renderer: crate::output::render::Renderer,
     /// GPU meshes of the plant's visuals, in the same order.
     meshes: Vec<crate::output::render::MeshId>,
-    /// GPU meshes of the part types, in scene order.
+    /// GPU meshes of the part types, then of the cylinders, in scene order.
     part_meshes: Vec<crate::output::render::MeshId>,
     dir: PathBuf,
     /// Per camera: name, camera, fps, next frame, whether it draws the
@@ -131,7 +131,15 @@ impl Frames {
                 .cell
                 .part_types
                 .iter()
-                .map(|p| renderer.upload_mesh(&crate::plant::visuals::shape_mesh(&p.shape).unwrap_or_default()))
+                .map(|p| p.shape.clone())
+                .chain(
+                    twin.scene()
+                        .cell
+                        .cylinders
+                        .iter()
+                        .map(|c| crate::scene::Shape::Box { size_m: c.size_m }),
+                )
+                .map(|shape| renderer.upload_mesh(&crate::plant::visuals::shape_mesh(&shape).unwrap_or_default()))
                 .collect();
             let f32x3 = |v: [f64; 3]| v.map(|x| x as f32);
             let cameras = twin
@@ -264,6 +272,15 @@ impl Frames {
                     world_from_mesh: column_major(&crate::plant::convert::pose_from_rapier(&m.part_pose(p))),
                     color_rgba: types[p.part_type].color.map(|c| c as f32),
                     tint_rgba: None,
+                }));
+                let cylinders = &twin.scene().cell.cylinders;
+                items.extend(m.cylinders().zip(cylinders).enumerate().map(|(k, (c, def))| {
+                    crate::output::render::DrawItem {
+                        mesh: inner.part_meshes[types.len() + k],
+                        world_from_mesh: column_major(&c.world_from_box()),
+                        color_rgba: def.color.map(|x| x as f32),
+                        tint_rgba: None,
+                    }
                 }));
             }
             // The sensors' beams and rays: green clear, red detecting.
@@ -844,7 +861,7 @@ impl Stats {
                             0.0
                         },
                         flow_time_s: (c.delivered > 0).then(|| c.delivered_flow_s / c.delivered as f64),
-                        max_pick_offset_mm: None,
+                        max_pick_offset_mm: c.max_pick_offset_m.map(|m| m * 1000.0),
                         per_sink: twin
                             .scene()
                             .cell

@@ -42,7 +42,10 @@
 //! * with a cell: per sensor `<sensor>.state`, its output (after invert
 //!   and delays; the tag is the input module's copy of it); with a parts
 //!   world, per conveyor `<conveyor>.speed_mps` (the belt's speed, negative
-//!   backwards), then `parts.in_cell` (live parts) and `parts.delivered`;
+//!   backwards), per gripper `<gripper>.part` (the id of the part it holds,
+//!   0 for none), per cylinder `<cylinder>.position_m` (its travel from
+//!   the retracted end), then `parts.in_cell` (live parts) and
+//!   `parts.delivered`;
 //! * each `[trace] tags` entry, named as written (`State`, `Pos[0]`,
 //!   `Pick.Count`, `MC1.PC`): BOOL as 0/1, integers in full, REAL at single
 //!   precision;
@@ -180,6 +183,9 @@ pub fn header(twin: &Twin) -> Vec<String> {
                 .iter()
                 .map(|c| format!("{}.speed_mps", c.name)),
         );
+        let cell = &twin.scene().cell;
+        h.extend(cell.grippers.iter().map(|g| format!("{}.part", g.name)));
+        h.extend(cell.cylinders.iter().map(|c| format!("{}.position_m", c.name)));
         h.push("parts.in_cell".to_string());
         h.push("parts.delivered".to_string());
     }
@@ -353,6 +359,8 @@ pub fn write_cells(twin: &Twin, row: &mut impl Cells) {
     }
     if let Some(m) = plant.material() {
         m.conveyors().iter().for_each(|c| row.number(c.speed_mps()));
+        m.grippers().iter().for_each(|g| row.int(g.part() as i64));
+        m.cylinders().for_each(|c| row.number(c.position_m()));
         row.int(m.parts().len() as i64);
         row.int(m.counts().delivered as i64);
     }

@@ -114,6 +114,14 @@ impl Dynamics {
         }
     }
 
+    /// The held parts' mass properties on their links (physics plant; the
+    /// kinematic plant has no dynamics to carry them).
+    pub(crate) fn set_payloads(&mut self, payloads: &[(usize, rapier3d_f64::prelude::MassProperties)]) {
+        if let Dynamics::Physics(sim) = self {
+            sim.set_payloads(payloads);
+        }
+    }
+
     pub(crate) fn world_from_link(&self) -> Vec<([f64; 3], [f64; 4])> {
         match self {
             Self::Physics(sim) => sim.world_from_link(),

@@ -392,6 +392,9 @@ impl Plant {
         let sensors_done = timed.map(|_| std::time::Instant::now());
         cell.material.finish_step();
         cell.links_at_start = links;
+        if cell.material.take_payload_changed() {
+            self.sim.set_payloads(&cell.material.payloads());
+        }
         if let (Some((t, p)), Some(s), Some((_, times))) = (parts_done, sensors_done, self.bench.as_mut()) {
             times.parts_s += (p - t).as_secs_f64() + s.elapsed().as_secs_f64();
             times.sensors_s += (s - p).as_secs_f64();
@@ -572,12 +575,21 @@ fn build_cell(scene: &crate::scene::Scene, model: &RobotModel, sim: &Dynamics) -
         return Ok(None);
     }
     let links = sim.world_from_link_isometries();
-    let material = material::Material::new(scene, model, &links).map_err(|e| PlantError::Cell {
-        scene: scene.path.clone(),
-        line: 1,
-        column: 1,
-        field: "part_types".to_owned(),
-        message: e.to_string(),
+    let material = material::Material::new(scene, model, &links).map_err(|e| {
+        let (at, field) = match &e {
+            material::MaterialError::UnknownLink { gripper, .. } => (
+                scene.cell.grippers[*gripper].link.1,
+                format!("grippers[{gripper}].link"),
+            ),
+            _ => (crate::scene::Location { line: 1, column: 1 }, "part_types".to_owned()),
+        };
+        PlantError::Cell {
+            scene: scene.path.clone(),
+            line: at.line,
+            column: at.column,
+            field,
+            message: e.to_string(),
+        }
     })?;
     let sensors = sensors::build(scene, model).map_err(|(index, field, message)| {
         let at = scene.cell.sensors[index].location;

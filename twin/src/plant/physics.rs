@@ -134,6 +134,9 @@ pub struct RobotSim {
     substeps: usize,
     steps: u64,
     default_link_mass_kg: f64,
+    /// Per body carrying a payload now or before: its mass properties
+    /// without payload.
+    unloaded: Vec<(RigidBodyHandle, rapier3d_f64::prelude::MassProperties)>,
 }
 
 impl std::fmt::Debug for RobotSim {
@@ -233,6 +236,7 @@ impl RobotSim {
             substeps: options.substeps,
             default_link_mass_kg: options.default_link_mass_kg,
             steps: 0,
+            unloaded: Vec::new(),
         };
         sim.place_at_rest(model, drives, &driven, &joint_handles, &q0);
         Ok(sim)
@@ -551,6 +555,33 @@ impl RobotSim {
         }
         self.apply_motor_targets(0.0);
         self.steps += 1;
+    }
+
+    /// Sets the payloads the links carry: (link, mass properties in the
+    /// link frame); a link left out carries none. A payload adds to its
+    /// link's body (a link merged into an ancestor's body: to that body,
+    /// at the link's offset), so the joints' motors carry it.
+    pub fn set_payloads(&mut self, payloads: &[(usize, rapier3d_f64::prelude::MassProperties)]) {
+        let mut total: Vec<(RigidBodyHandle, rapier3d_f64::prelude::MassProperties)> = Vec::new();
+        for (link, mass) in payloads {
+            let frame = &self.link_frames[*link];
+            let on_body = frame.body_from_link.map_or(*mass, |offset| mass.transform_by(&offset));
+            match total.iter_mut().find(|(b, _)| *b == frame.body) {
+                Some((_, m)) => *m += on_body,
+                None => total.push((frame.body, on_body)),
+            }
+        }
+        for (body, _) in &total {
+            if !self.unloaded.iter().any(|(b, _)| b == body) {
+                let base = self.world.bodies[*body].mass_properties().local_mprops;
+                self.unloaded.push((*body, base));
+            }
+        }
+        for (body, base) in &self.unloaded {
+            let extra = total.iter().find(|(b, _)| b == body).map(|(_, m)| *m);
+            let props = extra.map_or(*base, |m| *base + m);
+            self.world.bodies[*body].set_additional_mass_properties(props, true);
+        }
     }
 
     /// Simulated time since construction, s (steps taken × `step_s`).

@@ -9,13 +9,16 @@ use std::path::Path;
 use toml::Spanned;
 
 use super::cell_model::{
-    Cell, Conveyor, ConveyorDrive, Detect, DeviceFault, FaultKind, IoTag, Jitter, PartType, Sensor, SensorKind, Sink,
-    SinkOutcome, Source, SourceTrigger, Vfd,
+    Cell, Conveyor, ConveyorDrive, Cylinder, Detect, DeviceFault, FaultKind, Gripper, GripperKind, IoTag, Jitter,
+    PartType, Sensor, SensorKind, Sink, SinkOutcome, Source, SourceTrigger, Vfd,
 };
 use super::context::{Ctx, ShapeFields};
 use super::error::{Problem, SceneError};
 use super::model::{Axis, AxisKind, MAX_LENGTH_M, Obstacle, Shape, Units};
-use super::raw::{Numbers, RawConveyor, RawFault, RawPartType, RawScene, RawSensor, RawSink, RawSource, ShapeKind};
+use super::raw::{
+    Numbers, RawConveyor, RawCylinder, RawFault, RawGripper, RawPartType, RawScene, RawSensor, RawSink, RawSource,
+    ShapeKind,
+};
 use crate::st::parse::parse_expression;
 
 /// The most parts a source may be asked for, and the most `at_s` entries.
@@ -57,12 +60,16 @@ impl Ctx<'_> {
         let sinks = self.sinks(&raw.sinks)?;
         let conveyors = self.conveyors(&raw.conveyors, timing)?;
         let sensors = self.sensors(&raw.sensors, &part_types, timing)?;
+        let cylinders = self.cylinders(&raw.cylinders)?;
+        let grippers = self.grippers(&raw.grippers)?;
         Ok(Cell {
             part_types,
             sources,
             sinks,
             conveyors,
             sensors,
+            cylinders,
+            grippers,
             parts_step_ms,
         })
     }
@@ -689,5 +696,90 @@ impl Ctx<'_> {
             return Ok(Detect::Obstacle(k));
         }
         Ok(Detect::Link(word.to_owned()))
+    }
+
+    fn cylinders(&self, raw: &[RawCylinder]) -> Result<Vec<Cylinder>, SceneError> {
+        let mut seen = HashMap::new();
+        let mut out = Vec::with_capacity(raw.len());
+        for (i, c) in raw.iter().enumerate() {
+            let f = |field: &str| format!("cylinders[{i}].{field}");
+            let name = self.nonempty_name(&c.name, &f("name"))?;
+            self.unique(&mut seen, &c.name, &f("name"), ())?;
+            let extend_s = self.positive(&c.extend_ms, &f("extend_ms"))? / 1000.0;
+            out.push(Cylinder {
+                name,
+                position_m: self.position(&c.position, &f("position"))?,
+                rpy_deg: self.rpy(&c.rpy_deg, &f("rpy_deg"))?,
+                size_m: self.bounded_array(&c.size, &f("size"), MAX_LENGTH_M)?,
+                stroke_m: self.bounded(&c.stroke_m, &f("stroke_m"), MAX_LENGTH_M)?,
+                extend_s,
+                retract_s: self.positive_or(&c.retract_ms, &f("retract_ms"), extend_s * 1000.0)? / 1000.0,
+                extend: self.io_tag(&c.extend, &f("extend"))?,
+                retract: self.optional_io_tag(&c.retract, &f("retract"))?,
+                extended_tag: self.optional_io_tag(&c.extended_tag, &f("extended_tag"))?,
+                retracted_tag: self.optional_io_tag(&c.retracted_tag, &f("retracted_tag"))?,
+                color: self.color_or(&c.color, &f("color"), [0.75, 0.75, 0.8, 1.0])?,
+                faults: self.faults(&c.faults, &f("faults"), &[("stalled", FaultKind::Stalled)])?,
+                location: self.loc(&c.name),
+            });
+        }
+        Ok(out)
+    }
+
+    fn grippers(&self, raw: &[RawGripper]) -> Result<Vec<Gripper>, SceneError> {
+        let mut seen = HashMap::new();
+        let mut out = Vec::with_capacity(raw.len());
+        for (i, g) in raw.iter().enumerate() {
+            let f = |field: &str| format!("grippers[{i}].{field}");
+            let name = self.nonempty_name(&g.name, &f("name"))?;
+            self.unique(&mut seen, &g.name, &f("name"), ())?;
+            let kind = self.word(
+                &g.kind,
+                &f("kind"),
+                "gripper kind",
+                &[("vacuum", GripperKind::Vacuum), ("fingers", GripperKind::Fingers)],
+            )?;
+            let (own, other) = match kind {
+                GripperKind::Vacuum => ((&g.build_up_ms, "build_up_ms"), (&g.close_ms, "close_ms")),
+                GripperKind::Fingers => ((&g.close_ms, "close_ms"), (&g.build_up_ms, "build_up_ms")),
+            };
+            if let Some(v) = other.0 {
+                let why = format!(
+                    "'{}' applies to {} grippers; a {} gripper takes '{}'",
+                    other.1,
+                    if kind == GripperKind::Vacuum {
+                        "fingers"
+                    } else {
+                        "vacuum"
+                    },
+                    kind.word(),
+                    own.1
+                );
+                return Err(self.invalid(v, f(other.1), Problem::Rule { why }));
+            }
+            let faults: &[(&'static str, FaultKind)] = match kind {
+                GripperKind::Vacuum => &[("no_vacuum", FaultKind::NoVacuum)],
+                GripperKind::Fingers => &[],
+            };
+            out.push(Gripper {
+                name,
+                kind,
+                link: (g.link.get_ref().trim().to_owned(), self.loc(&g.link)),
+                position_m: match &g.position {
+                    Some(p) => self.position(p, &f("position"))?,
+                    None => [0.0; 3],
+                },
+                rpy_deg: self.rpy(&g.rpy_deg, &f("rpy_deg"))?,
+                grip: self.io_tag(&g.grip, &f("grip"))?,
+                release: self.optional_io_tag(&g.release, &f("release"))?,
+                holding_tag: self.optional_io_tag(&g.holding_tag, &f("holding_tag"))?,
+                engage_s: self.non_negative_or(own.0, &f(own.1), 50.0)? / 1000.0,
+                reach_m: self.positive_or(&g.reach_m, &f("reach_m"), 0.005)?,
+                max_force_n: self.positive_or(&g.max_force_n, &f("max_force_n"), f64::INFINITY)?,
+                faults: self.faults(&g.faults, &f("faults"), faults)?,
+                location: self.loc(&g.name),
+            });
+        }
+        Ok(out)
     }
 }

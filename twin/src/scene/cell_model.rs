@@ -24,6 +24,10 @@ pub struct Cell {
     pub conveyors: Vec<Conveyor>,
     /// `[[sensors]]`, in file order.
     pub sensors: Vec<Sensor>,
+    /// `[[cylinders]]`, in file order.
+    pub cylinders: Vec<Cylinder>,
+    /// `[[grippers]]`, in file order.
+    pub grippers: Vec<Gripper>,
     /// The parts world's step, ms (`parts_step_ms`, default the coarse
     /// update): a multiple of `physics_step_ms` that divides
     /// `coarse_update_ms`.
@@ -34,7 +38,11 @@ impl Cell {
     /// Whether the scene has no cell at all (no parts world is built).
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.part_types.is_empty() && self.conveyors.is_empty() && self.sensors.is_empty()
+        self.part_types.is_empty()
+            && self.conveyors.is_empty()
+            && self.sensors.is_empty()
+            && self.cylinders.is_empty()
+            && self.grippers.is_empty()
     }
 }
 
@@ -219,8 +227,11 @@ pub enum FaultKind {
     StuckOn,
     /// A sensor reads clear whatever it sees.
     StuckOff,
-    /// A conveyor's belt stands still whatever it is told.
+    /// A conveyor's belt or a cylinder stands still whatever it is told.
     Stalled,
+    /// A vacuum gripper has no vacuum: it picks nothing and drops what it
+    /// holds.
+    NoVacuum,
 }
 
 impl FaultKind {
@@ -231,6 +242,7 @@ impl FaultKind {
             FaultKind::StuckOn => "stuck_on",
             FaultKind::StuckOff => "stuck_off",
             FaultKind::Stalled => "stalled",
+            FaultKind::NoVacuum => "no_vacuum",
         }
     }
 }
@@ -410,6 +422,95 @@ pub struct Sensor {
     /// Change of state: an edge updates the tag at once.
     pub cos: bool,
     /// Injected faults (`stuck_on`, `stuck_off`).
+    pub faults: Vec<DeviceFault>,
+    /// Where its name is written.
+    pub location: Location,
+}
+
+/// `[[cylinders]]`: a kinematic box (stopper, pusher, diverter) that moves
+/// `stroke_m` along its local +x.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Cylinder {
+    /// Name.
+    pub name: String,
+    /// The box's centre when retracted, m.
+    pub position_m: [f64; 3],
+    /// Orientation, degrees.
+    pub rpy_deg: [f64; 3],
+    /// Full size, m.
+    pub size_m: [f64; 3],
+    /// Travel along the local +x, m.
+    pub stroke_m: f64,
+    /// Time to extend, s.
+    pub extend_s: f64,
+    /// Time to retract, s.
+    pub retract_s: f64,
+    /// Output BOOL: extend.
+    pub extend: IoTag,
+    /// Output BOOL: retract (double-acting); without it the cylinder is
+    /// spring-returned.
+    pub retract: Option<IoTag>,
+    /// Input BOOL: at the extended end.
+    pub extended_tag: Option<IoTag>,
+    /// Input BOOL: at the retracted end.
+    pub retracted_tag: Option<IoTag>,
+    /// RGBA.
+    pub color: [f64; 4],
+    /// Injected faults (`stalled`).
+    pub faults: Vec<DeviceFault>,
+    /// Where its name is written.
+    pub location: Location,
+}
+
+/// What a gripper is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum GripperKind {
+    /// A vacuum cup: holds after `build_up_ms`.
+    Vacuum,
+    /// Fingers: hold after `close_ms`.
+    Fingers,
+}
+
+impl GripperKind {
+    /// The kind's word.
+    #[must_use]
+    pub fn word(self) -> &'static str {
+        match self {
+            GripperKind::Vacuum => "vacuum",
+            GripperKind::Fingers => "fingers",
+        }
+    }
+}
+
+/// `[[grippers]]`.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Gripper {
+    /// Name.
+    pub name: String,
+    /// Vacuum or fingers.
+    pub kind: GripperKind,
+    /// The URDF link it is mounted on (checked when the plant is built).
+    pub link: (String, Location),
+    /// The TCP on the link, m.
+    pub position_m: [f64; 3],
+    /// The TCP's orientation, degrees (its z points out of the gripper).
+    pub rpy_deg: [f64; 3],
+    /// Output BOOL: grip.
+    pub grip: IoTag,
+    /// Output BOOL: release (blow-off, open).
+    pub release: Option<IoTag>,
+    /// Input BOOL: a part is held.
+    pub holding_tag: Option<IoTag>,
+    /// Time from `grip` to holding, s (`build_up_ms` or `close_ms`).
+    pub engage_s: f64,
+    /// A part within this distance of the TCP is picked, m.
+    pub reach_m: f64,
+    /// The most the grip holds (weight plus inertial force), N.
+    pub max_force_n: f64,
+    /// Injected faults (`no_vacuum`).
     pub faults: Vec<DeviceFault>,
     /// Where its name is written.
     pub location: Location,

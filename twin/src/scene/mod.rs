@@ -45,7 +45,7 @@ mod tasks;
 mod validate;
 
 pub use cell_model::{
-    Cell, Conveyor, ConveyorDrive, Detect, DeviceFault, FaultKind, IoDirection, IoKind, IoTag, Jitter, MAX_LIVE_PARTS,
+    Cell, Conveyor, ConveyorDrive, Cylinder, Detect, DeviceFault, FaultKind, Gripper, GripperKind, IoDirection, IoKind, IoTag, Jitter, MAX_LIVE_PARTS,
     PartType, Sensor, SensorKind, Sink, SinkOutcome, Source, SourceTrigger, Vfd,
 };
 pub use error::{Problem, SceneError};

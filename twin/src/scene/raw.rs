@@ -53,6 +53,10 @@ pub(super) struct RawScene {
     pub(super) conveyors: Vec<RawConveyor>,
     #[serde(default)]
     pub(super) sensors: Vec<RawSensor>,
+    #[serde(default)]
+    pub(super) cylinders: Vec<RawCylinder>,
+    #[serde(default)]
+    pub(super) grippers: Vec<RawGripper>,
     pub(super) parts_step_ms: Option<Spanned<f64>>,
 }
 
@@ -642,6 +646,46 @@ pub(super) struct RawSensor {
     pub(super) length: Option<Spanned<f64>>,
     pub(super) materials: Option<Spanned<Vec<Spanned<String>>>>,
     pub(super) count_tag: Option<Spanned<String>>,
+    #[serde(default)]
+    pub(super) faults: Vec<RawFault>,
+}
+
+/// `[[cylinders]]`: a pneumatic stopper, pusher or diverter.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawCylinder {
+    pub(super) name: Spanned<String>,
+    pub(super) position: Spanned<Numbers<3>>,
+    pub(super) rpy_deg: Option<Spanned<Numbers<3>>>,
+    pub(super) size: Spanned<Numbers<3>>,
+    pub(super) stroke_m: Spanned<f64>,
+    pub(super) extend_ms: Spanned<f64>,
+    pub(super) retract_ms: Option<Spanned<f64>>,
+    pub(super) extend: Spanned<String>,
+    pub(super) retract: Option<Spanned<String>>,
+    pub(super) extended_tag: Option<Spanned<String>>,
+    pub(super) retracted_tag: Option<Spanned<String>>,
+    pub(super) color: Option<Spanned<Numbers<4>>>,
+    #[serde(default)]
+    pub(super) faults: Vec<RawFault>,
+}
+
+/// `[[grippers]]`: a vacuum cup or fingers on a link.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawGripper {
+    pub(super) name: Spanned<String>,
+    pub(super) kind: Spanned<String>,
+    pub(super) link: Spanned<String>,
+    pub(super) position: Option<Spanned<Numbers<3>>>,
+    pub(super) rpy_deg: Option<Spanned<Numbers<3>>>,
+    pub(super) grip: Spanned<String>,
+    pub(super) release: Option<Spanned<String>>,
+    pub(super) holding_tag: Option<Spanned<String>>,
+    pub(super) build_up_ms: Option<Spanned<f64>>,
+    pub(super) close_ms: Option<Spanned<f64>>,
+    pub(super) reach_m: Option<Spanned<f64>>,
+    pub(super) max_force_n: Option<Spanned<f64>>,
     #[serde(default)]
     pub(super) faults: Vec<RawFault>,
 }

@@ -151,6 +151,8 @@ struct Feed {
     logged_parts: Vec<u64>,
     /// Each sensor's state last logged.
     logged_sensors: Vec<Option<bool>>,
+    /// Each cylinder's travel last logged, m.
+    logged_cylinders: Vec<f64>,
     /// The part types' meshes and colours.
     part_meshes: Vec<(TriMesh, [f32; 4])>,
     /// With a live viewer: when the last batch was sent.
@@ -312,6 +314,7 @@ impl Recording {
                 link_paths,
                 logged_parts: Vec::new(),
                 logged_sensors: Vec::new(),
+                logged_cylinders: Vec::new(),
                 part_meshes: twin
                     .scene()
                     .cell
@@ -472,6 +475,33 @@ impl Feed {
             } else {
                 self.logged_parts.push(id);
             }
+        }
+        let cylinders = &twin.scene().cell.cylinders;
+        for (k, (c, def)) in m.cylinders().zip(cylinders).enumerate() {
+            let first = self.logged_cylinders.len() <= k;
+            if !first && self.logged_cylinders[k] == c.position_m() {
+                continue;
+            }
+            if first {
+                self.logged_cylinders.push(c.position_m());
+            } else {
+                self.logged_cylinders[k] = c.position_m();
+            }
+            let mesh = first.then(|| {
+                let shape = crate::scene::Shape::Box { size_m: def.size_m };
+                (
+                    crate::plant::visuals::shape_mesh(&shape).unwrap_or_default(),
+                    def.color.map(|x| x as f32),
+                )
+            });
+            self.push(
+                t_ns,
+                Item::Part {
+                    path: format!("cylinders/{}", entity_part(&def.name)),
+                    mesh,
+                    pose: crate::plant::convert::isometry_to_arrays(&c.world_from_box()),
+                },
+            );
         }
         for p in m.parts() {
             let pose =

@@ -35,17 +35,22 @@
 //! past that the sources stop and the summary says so.
 
 mod conveyor;
+mod cylinder;
+mod gripper;
 mod spawn;
 
 use std::collections::HashMap;
 
 pub use conveyor::ConveyorState;
+pub use cylinder::CylinderState;
+pub use gripper::GripperState;
 use nalgebra::Isometry3;
+use nalgebra::Vector3;
 use rapier3d_f64::math::{Pose, Vector};
 use rapier3d_f64::parry::bounding_volume::BoundingVolume;
 use rapier3d_f64::parry::shape::SharedShape;
 use rapier3d_f64::prelude::{
-    ActiveHooks, ColliderBuilder, ColliderHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
+    ActiveHooks, ColliderBuilder, ColliderHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
 };
 use spawn::SourceState;
 
@@ -125,6 +130,9 @@ pub struct PartCounts {
     pub delivered_flow_s: f64,
     /// Whether a source stopped at [`MAX_LIVE_PARTS`].
     pub capped: bool,
+    /// The largest pick offset (the part centre's distance from the TCP's
+    /// z axis), m (`None`: nothing was picked).
+    pub max_pick_offset_m: Option<f64>,
 }
 
 /// A fixed sink box.
@@ -147,6 +155,10 @@ pub struct Material {
     conveyors: Vec<ConveyorState>,
     /// Each belt's collider, by conveyor index.
     belt_colliders: Vec<ColliderHandle>,
+    cylinders: Vec<(CylinderState, RigidBodyHandle)>,
+    grippers: Vec<GripperState>,
+    /// Every link's pose at the start of the next step.
+    links_now: Vec<Isometry3<f64>>,
     /// Obstacles' shapes in the world, by obstacle index (for sensors).
     obstacles: Vec<(Pose, SharedShape)>,
     lost_below_z: f64,
@@ -156,6 +168,8 @@ pub struct Material {
     time_s: f64,
     /// Part poses at the start of the last step, by id.
     previous: HashMap<u64, Pose>,
+    /// A pick or a release changed a link's payload.
+    payload_changed: bool,
 }
 
 impl std::fmt::Debug for Material {
@@ -167,15 +181,29 @@ impl std::fmt::Debug for Material {
     }
 }
 
-/// A part type's or obstacle's shape could not be built.
+/// Why the parts world cannot be built.
 #[derive(Debug, thiserror::Error)]
-#[error("{what}: {source}")]
-pub struct MaterialError {
-    /// The part type or obstacle, named.
-    pub what: String,
-    /// Why.
-    #[source]
-    pub source: crate::plant::collision::CollisionModelError,
+#[non_exhaustive]
+pub enum MaterialError {
+    /// A part type's or obstacle's shape cannot be built.
+    #[error("{what}: {source}")]
+    Shape {
+        /// The part type or obstacle, named.
+        what: String,
+        /// Why.
+        #[source]
+        source: crate::plant::collision::CollisionModelError,
+    },
+    /// A gripper's link is not in the URDF.
+    #[error("the URDF has no link '{link}' (links: {known})")]
+    UnknownLink {
+        /// The gripper's index.
+        gripper: usize,
+        /// The name given.
+        link: String,
+        /// The URDF's links.
+        known: String,
+    },
 }
 
 impl Material {
@@ -199,18 +227,15 @@ impl Material {
             .part_types
             .iter()
             .map(|p| {
-                let geometry = scene_shape(&p.shape, &p.name).map_err(|source| MaterialError {
+                let fail = |source| MaterialError::Shape {
                     what: format!("part type {}", p.name),
                     source,
-                })?;
+                };
+                let geometry = scene_shape(&p.shape, &p.name).map_err(fail)?;
                 let (local, shape) = shape_of(&geometry, MeshApproximation::ConvexHull, &p.name)
-                    .map_err(|source| MaterialError {
-                        what: format!("part type {}", p.name),
-                        source,
-                    })?
-                    .ok_or_else(|| MaterialError {
-                        what: format!("part type {}", p.name),
-                        source: crate::plant::collision::CollisionModelError::DegenerateMesh { body: p.name.clone() },
+                    .map_err(fail)?
+                    .ok_or_else(|| {
+                        fail(crate::plant::collision::CollisionModelError::DegenerateMesh { body: p.name.clone() })
                     })?;
                 Ok(PartShape {
                     shape,
@@ -222,7 +247,7 @@ impl Material {
         let mut lowest = 0.0_f64;
         let mut obstacles = Vec::with_capacity(scene.obstacles.len());
         for o in &scene.obstacles {
-            let fail = |source| MaterialError {
+            let fail = |source| MaterialError::Shape {
                 what: format!("obstacle {}", o.name),
                 source,
             };
@@ -249,6 +274,39 @@ impl Material {
                 .active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS);
             belt_colliders.push(world.insert_collider(collider, None));
             conveyors.push(ConveyorState::new(c, world_from_belt));
+        }
+        let mut cylinders = Vec::with_capacity(cell.cylinders.len());
+        for c in &cell.cylinders {
+            let state = CylinderState::new(c, pose_from_xyz_rpy_deg(c.position_m, c.rpy_deg));
+            let body = world.insert_body(
+                RigidBodyBuilder::kinematic_position_based().pose(pose_to_rapier(&state.world_from_box())),
+            );
+            let shape = SharedShape::cuboid(c.size_m[0] / 2.0, c.size_m[1] / 2.0, c.size_m[2] / 2.0);
+            world.insert_collider(ColliderBuilder::new(shape), Some(body));
+            cylinders.push((state, body));
+        }
+        let mut grippers = Vec::with_capacity(cell.grippers.len());
+        for (k, g) in cell.grippers.iter().enumerate() {
+            let link =
+                model
+                    .links
+                    .iter()
+                    .position(|l| l.name == g.link.0)
+                    .ok_or_else(|| MaterialError::UnknownLink {
+                        gripper: k,
+                        link: g.link.0.clone(),
+                        known: model
+                            .links
+                            .iter()
+                            .map(|l| l.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })?;
+            grippers.push(GripperState::new(
+                g,
+                link,
+                pose_from_xyz_rpy_deg(g.position_m, g.rpy_deg),
+            ));
         }
         let mut links = Vec::new();
         for (l, link) in model.links.iter().enumerate() {
@@ -298,6 +356,9 @@ impl Material {
             sinks,
             conveyors,
             belt_colliders,
+            cylinders,
+            grippers,
+            links_now: world_from_link.to_vec(),
             obstacles,
             lost_below_z: lowest - LOST_BELOW_M,
             next_id: 1,
@@ -308,6 +369,7 @@ impl Material {
             events: Vec::new(),
             time_s: 0.0,
             previous: HashMap::new(),
+            payload_changed: false,
         })
     }
 
@@ -351,6 +413,11 @@ impl Material {
         for c in &mut self.conveyors {
             c.advance(t0, self.step_s);
         }
+        for (c, body) in &mut self.cylinders {
+            c.advance(t0, self.step_s);
+            self.world.bodies[*body].set_next_kinematic_position(pose_to_rapier(&c.world_from_box()));
+        }
+        self.grip(t0, world_from_link);
         let belts: Vec<(ColliderHandle, Vector)> = self
             .belt_colliders
             .iter()
@@ -359,6 +426,161 @@ impl Material {
             .collect();
         self.world.step_with_events(&conveyor::BeltHooks { belts: &belts }, &());
         self.time_s = t1;
+        self.links_now.clear();
+        self.links_now.extend_from_slice(world_from_link);
+    }
+
+    /// The grippers over the step from `t0`, the links ending at
+    /// `links1`: picks, drops, places, and the held parts moved with their
+    /// links (module [`gripper`]).
+    fn grip(&mut self, t0: f64, links1: &[Isometry3<f64>]) {
+        let dt = self.step_s;
+        for k in 0..self.grippers.len() {
+            let engaged = self.grippers[k].engaged(t0);
+            let g = &mut self.grippers[k];
+            if !engaged {
+                g.engaged_since = None;
+            } else if g.engaged_since.is_none() {
+                g.engaged_since = Some(t0);
+            }
+            let ready = g.engaged_since.is_some_and(|since| t0 - since >= g.engage_s - 1e-12);
+            if let Some(held) = g.held {
+                if !engaged {
+                    let dropped = self.grippers[k].grip && !self.grippers[k].release;
+                    self.let_go(k, held, if dropped { "dropped" } else { "placed" });
+                    continue;
+                }
+            } else if ready && !g.dropped {
+                self.pick(k);
+            }
+            let Some(mut held) = self.grippers[k].held else {
+                continue;
+            };
+            let Some(index) = self.parts.iter().position(|p| p.id == held.part) else {
+                self.grippers[k].held = None;
+                continue;
+            };
+            let body = self.parts[index].body;
+            let link = self.grippers[k].link;
+            let next = links1[link] * held.link_from_part;
+            let now = crate::plant::convert::pose_from_rapier(self.world.bodies[body].position());
+            let velocity = (next.translation.vector - now.translation.vector) / dt;
+            let acceleration = (velocity - held.velocity) / dt;
+            let mass = self.world.bodies[body].mass();
+            let force = mass * (acceleration - nalgebra::Vector3::new(0.0, 0.0, -9.81)).norm();
+            if held.steps >= 2 && force > self.grippers[k].max_force_n {
+                self.let_go(k, held, "dropped");
+                continue;
+            }
+            held.velocity = velocity;
+            held.steps += 1;
+            self.grippers[k].held = Some(held);
+            self.world.bodies[body].set_next_kinematic_position(pose_to_rapier(&next));
+        }
+    }
+
+    /// Gripper `k` picks the part nearest its TCP within reach, if any.
+    fn pick(&mut self, k: usize) {
+        let g = &self.grippers[k];
+        let world_from_link = self.links_now[g.link];
+        let tcp = world_from_link * g.link_from_tcp;
+        let point = Vector::new(tcp.translation.x, tcp.translation.y, tcp.translation.z);
+        let held_by_others: Vec<u64> = self.grippers.iter().filter_map(|o| o.held.map(|h| h.part)).collect();
+        let mut best: Option<(f64, usize)> = None;
+        for (i, p) in self.parts.iter().enumerate() {
+            if held_by_others.contains(&p.id) {
+                continue;
+            }
+            let s = &self.shapes[p.part_type];
+            let at = *self.world.bodies[p.body].position() * s.part_from_shape;
+            let d = s.shape.distance_to_point(&at, point, true);
+            if d <= g.reach_m && best.is_none_or(|(b, _)| d < b) {
+                best = Some((d, i));
+            }
+        }
+        let Some((_, i)) = best else { return };
+        let body = self.parts[i].body;
+        let world_from_part = crate::plant::convert::pose_from_rapier(self.world.bodies[body].position());
+        let offset = world_from_part.translation.vector - tcp.translation.vector;
+        let z = tcp.rotation * Vector3::z();
+        let lateral = (offset - z * offset.dot(&z)).norm();
+        self.counts.max_pick_offset_m = Some(self.counts.max_pick_offset_m.map_or(lateral, |m| m.max(lateral)));
+        let rb = &mut self.world.bodies[body];
+        rb.set_body_type(RigidBodyType::KinematicPositionBased, true);
+        self.grippers[k].held = Some(gripper::Held {
+            part: self.parts[i].id,
+            link_from_part: world_from_link.inverse() * world_from_part,
+            velocity: Vector3::zeros(),
+            steps: 0,
+        });
+        self.payload_changed = true;
+    }
+
+    /// Gripper `k` lets its part go: a dynamic body again with the
+    /// velocity it had; a drop is counted.
+    fn let_go(&mut self, k: usize, held: gripper::Held, how: &'static str) {
+        self.grippers[k].held = None;
+        self.payload_changed = true;
+        let Some(p) = self.parts.iter().find(|p| p.id == held.part) else {
+            return;
+        };
+        let body = p.body;
+        let rb = &mut self.world.bodies[body];
+        rb.set_body_type(RigidBodyType::Dynamic, true);
+        rb.set_linvel(crate::plant::convert::vector_to_rapier(&held.velocity), true);
+        if how == "dropped" {
+            self.grippers[k].dropped = true;
+            self.counts.dropped += 1;
+            let t = self.time_s;
+            self.event(t, held.part, "dropped", String::new());
+        }
+    }
+
+    /// Whether a pick or a release changed the links' payloads since the
+    /// last call.
+    pub fn take_payload_changed(&mut self) -> bool {
+        std::mem::take(&mut self.payload_changed)
+    }
+
+    /// Each link's payload now: (link, the held parts' mass properties in
+    /// the link frame), links without one left out.
+    #[must_use]
+    pub fn payloads(&self) -> Vec<(usize, rapier3d_f64::prelude::MassProperties)> {
+        let mut out: Vec<(usize, rapier3d_f64::prelude::MassProperties)> = Vec::new();
+        for g in &self.grippers {
+            let Some(h) = g.held else { continue };
+            let Some(p) = self.parts.iter().find(|p| p.id == h.part) else {
+                continue;
+            };
+            let local = self.world.bodies[p.body].mass_properties().local_mprops;
+            let in_link = local.transform_by(&pose_to_rapier(&h.link_from_part));
+            match out.iter_mut().find(|(l, _)| *l == g.link) {
+                Some((_, m)) => *m += in_link,
+                None => out.push((g.link, in_link)),
+            }
+        }
+        out
+    }
+
+    /// The grippers, in scene order.
+    #[must_use]
+    pub fn grippers(&self) -> &[GripperState] {
+        &self.grippers
+    }
+
+    /// The grippers, to set their outputs.
+    pub fn grippers_mut(&mut self) -> &mut [GripperState] {
+        &mut self.grippers
+    }
+
+    /// The cylinders, in scene order.
+    pub fn cylinders(&self) -> impl Iterator<Item = &CylinderState> {
+        self.cylinders.iter().map(|(c, _)| c)
+    }
+
+    /// Cylinder `k`, to set its valve.
+    pub fn cylinder_mut(&mut self, k: usize) -> &mut CylinderState {
+        &mut self.cylinders[k].0
     }
 
     /// After the sensors saw the step: removes the parts in a sink or lost.
