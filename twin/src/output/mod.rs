@@ -9,11 +9,11 @@
 //! `rerun`) and the golden-image comparison of the snapshot tests
 //! ([`snapshot`]).
 
-pub mod expect;
 #[cfg(feature = "rerun")]
 pub mod recording;
 #[cfg(feature = "render")]
 pub mod render;
+pub mod expect;
 pub mod session;
 #[cfg(feature = "render")]
 pub mod snapshot;
