@@ -561,3 +561,34 @@ fn a_stopper_holds_parts_on_a_running_belt_until_it_retracts() {
             .all(|p| m.part_pose(p).translation.x > 0.3 || m.part_pose(p).translation.z < 0.4)
     );
 }
+
+/// The shipped `conveyor_pick` (issue acceptance): 20 boxes spawned and
+/// delivered, none rejected, dropped or lost, every pick within 2 mm of the
+/// TCP's axis; a rerun's trace is byte-identical. Its kinematic variant
+/// (`twin test`) checks the counts on the other plant.
+#[test]
+fn conveyor_pick_delivers_every_box_within_two_millimetres_and_reruns_identically() {
+    let path = common::root().join("scenes/conveyor_pick.toml");
+    let run = || {
+        let mut t = twin(&path);
+        let mut trace = String::new();
+        for _ in 0..t.total_updates() {
+            t.step();
+            twin::output::trace::write_row(&t, &mut trace);
+            trace.push('\n');
+        }
+        (t, trace)
+    };
+    let (t, first) = run();
+    let (_, second) = run();
+    assert!(first == second, "the rerun's trace differs");
+    let m = t.plant().material().expect("parts");
+    let c = m.counts();
+    assert_eq!(
+        (c.spawned, c.delivered, c.rejected, c.dropped, c.lost),
+        (20, 20, 0, 0, 0)
+    );
+    assert!(m.parts().is_empty());
+    let offset_mm = c.max_pick_offset_m.expect("picks") * 1000.0;
+    assert!(offset_mm <= 2.0, "largest pick offset {offset_mm} mm");
+}

@@ -44,8 +44,9 @@
 //!   world, per conveyor `<conveyor>.speed_mps` (the belt's speed, negative
 //!   backwards), per gripper `<gripper>.part` (the id of the part it holds,
 //!   0 for none), per cylinder `<cylinder>.position_m` (its travel from
-//!   the retracted end), then `parts.in_cell` (live parts) and
-//!   `parts.delivered`;
+//!   the retracted end), then `parts.in_cell` (live parts),
+//!   `parts.delivered`, `parts.rejected`, `parts.dropped` and `parts.lost`
+//!   (counts so far);
 //! * each `[trace] tags` entry, named as written (`State`, `Pos[0]`,
 //!   `Pick.Count`, `MC1.PC`): BOOL as 0/1, integers in full, REAL at single
 //!   precision;
@@ -186,8 +187,9 @@ pub fn header(twin: &Twin) -> Vec<String> {
         let cell = &twin.scene().cell;
         h.extend(cell.grippers.iter().map(|g| format!("{}.part", g.name)));
         h.extend(cell.cylinders.iter().map(|c| format!("{}.position_m", c.name)));
-        h.push("parts.in_cell".to_string());
-        h.push("parts.delivered".to_string());
+        for c in ["in_cell", "delivered", "rejected", "dropped", "lost"] {
+            h.push(format!("parts.{c}"));
+        }
     }
     h.extend(program.traced_tags().iter().map(|t| t.name.clone()));
     if twin.scene().plant == crate::scene::PlantMode::Kinematic {
@@ -361,8 +363,11 @@ pub fn write_cells(twin: &Twin, row: &mut impl Cells) {
         m.conveyors().iter().for_each(|c| row.number(c.speed_mps()));
         m.grippers().iter().for_each(|g| row.int(g.part() as i64));
         m.cylinders().for_each(|c| row.number(c.position_m()));
+        let c = m.counts();
         row.int(m.parts().len() as i64);
-        row.int(m.counts().delivered as i64);
+        for n in [c.delivered, c.rejected, c.dropped, c.lost] {
+            row.int(n as i64);
+        }
     }
     for t in program.traced_tags() {
         if let Some(text) = program.traced_text(t) {
