@@ -38,6 +38,7 @@ pub mod mclm;
 pub mod mct;
 pub mod modulo;
 pub mod profile;
+pub mod registration;
 pub mod servo;
 pub mod task;
 mod vector;

@@ -147,6 +147,7 @@ impl MotionTask {
             last_direction: 1.0,
             job: None,
             buffered: None,
+            registration: Default::default(),
         });
         Ok(AxisHandle(self.axes.len() as u32 - 1))
     }

@@ -27,6 +27,7 @@ pub const ERRORS: &[ErrorCode] = &[
     e(8, "axis type not servo"),
     e(9, "overtravel condition: beyond a soft travel limit"),
     e(11, "axis not configured"),
+    e(12, "servo message failure"),
     e(13, "parameter out of range"),
     e(16, "homing in process"),
     e(17, "axis mode not rotary"),

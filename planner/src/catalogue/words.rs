@@ -98,6 +98,10 @@ pub const LOCK_DIRECTION: &[Word] = &[
 ];
 /// MCS's Stop Type.
 pub const MCS_STOP_TYPE: &[Word] = &[w("all", 0), w("coordinatedmove", 1), w("coordinatedtransform", 2)];
+/// MAR's Trigger Condition.
+pub const MAR_TRIGGER: &[Word] = &[w("positive_edge", 0), w("negative_edge", 1)];
+/// MAR's Windowed Registration.
+pub const MAR_WINDOW: &[Word] = &[w("disabled", 0), w("enabled", 1)];
 /// No / Yes (Change Decel, Change Decel Jerk).
 pub const NO_YES: &[Word] = &[w("no", 0), w("yes", 1)];
 /// Decel Units of a time-driven stop.

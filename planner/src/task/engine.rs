@@ -101,6 +101,8 @@ pub(super) struct AxisSlot {
     pub(super) superimposed: Option<SuperRun>,
     /// MAG gearing of the axis to a master (`task/instructions/mag.rs`).
     pub(super) gear: Option<GearRun>,
+    /// Registration inputs 1 and 2 (`task/instructions/mar.rs`).
+    pub(super) registration: [crate::registration::RegistrationInput<InstructionHandle>; 2],
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -41,6 +41,8 @@ instructions! {
     mccp::MCCP,
     mapc::MAPC,
     mrp::MRP,
+    mar::MAR,
+    mdr::MDR,
     maj::MAJ,
     mas::MAS,
     mam::MAM,
@@ -83,7 +85,7 @@ pub const NOT_SIMULATED: &[&str] = &[
     "MDO", "MDF", "MDS", // Motion move
     "MCD", "MCSV", "MATC", "MDAC", // Motion group
     "MGS", "MGSD", "MGSR", "MGSP", // Motion event
-    "MAW", "MDW", "MAR", "MDR", "MAOC", "MDOC", // Motion configuration
+    "MAW", "MDW", "MAOC", "MDOC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
     "MCCD", "MCTP", "MCTO", "MCTPO", "MCPM", "MDCC",
 ];

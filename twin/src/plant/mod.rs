@@ -112,6 +112,11 @@ struct Cell {
     links_at_start: Vec<nalgebra::Isometry3<f64>>,
     /// The scene (the sources' and part types' settings).
     scene: crate::scene::Scene,
+    /// Per axis, its position at the end of the last parts step (axis
+    /// units), for the registration latches inside the next one.
+    axis_positions: Vec<f64>,
+    /// Per axis, its command position at the start of this update.
+    commands_at_start: Vec<f64>,
 }
 
 /// What a physics simulation is built from: drives, initial joint
@@ -257,7 +262,7 @@ impl Plant {
             .map(|a| (task.axis_state(a.handle).command_position, 0.0))
             .collect();
         let world_from_link = sim.world_from_link();
-        let cell = build_cell(scene, &model, &sim)?;
+        let cell = build_cell(scene, &model, &sim, &axes, task)?;
         Ok(Plant {
             cell,
             brakes: vec![None; axes.len()],
@@ -328,7 +333,7 @@ impl Plant {
                 if let Some(t) = checked {
                     collision_s += t.elapsed().as_secs_f64();
                 }
-                self.cell_after_physics_step();
+                self.cell_after_physics_step(task, (j + 1) as f64 / n as f64);
                 if self.collision_abort() {
                     break;
                 }
@@ -339,6 +344,13 @@ impl Plant {
             times.collision_s += collision_s;
         }
         self.previous_command = now;
+        if let Some(cell) = self.cell.as_mut() {
+            cell.commands_at_start = self
+                .axes
+                .iter()
+                .map(|a| task.axis_state(a.handle).command_position)
+                .collect();
+        }
         let world_from_link = self.sim.world_from_link();
         if let Some(what) = self.non_finite(&world_from_link) {
             self.physics_fault = Some(PhysicsFault {
@@ -369,12 +381,23 @@ impl Plant {
 
     /// After a physics step: a parts step when one is due (the parts world
     /// and the sensors over it, with the links' poses at its start and end).
-    fn cell_after_physics_step(&mut self) {
+    fn cell_after_physics_step(&mut self, task: &mut MotionTask, fraction: f64) {
         let Some(cell) = self.cell.as_mut() else { return };
         cell.since_parts_step += 1;
         if cell.since_parts_step < cell.physics_per_parts_step {
             return;
         }
+        // Each axis' position now: a driven axis' joint, a virtual axis'
+        // command interpolated inside the update.
+        let positions: Vec<f64> = self
+            .axes
+            .iter()
+            .zip(&cell.commands_at_start)
+            .map(|(a, start)| match a.drive {
+                Some(d) => a.axis_position(task, self.sim.joint_position(d)),
+                None => start + (task.axis_state(a.handle).command_position - start) * fraction,
+            })
+            .collect();
         cell.since_parts_step = 0;
         let t1 = self.sim.time_s();
         let t0 = t1 - cell.material.step_s();
@@ -390,6 +413,17 @@ impl Plant {
             &links,
         );
         let sensors_done = timed.map(|_| std::time::Instant::now());
+        // Registration: each edge of a wired sensor latches the axis'
+        // position at its instant, interpolated inside the parts step.
+        for s in &cell.sensors {
+            let Some((axis, input)) = s.registration else { continue };
+            for &(t, rising) in s.step_edges() {
+                let f = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
+                let p = cell.axis_positions[axis] + (positions[axis] - cell.axis_positions[axis]) * f;
+                task.registration_edge(self.axes[axis].handle, input, rising, p);
+            }
+        }
+        cell.axis_positions = positions;
         cell.material.finish_step();
         cell.links_at_start = links;
         if cell.material.take_payload_changed() {
@@ -570,7 +604,13 @@ impl Plant {
 }
 
 /// The cell of a scene that has one: its parts world and sensors.
-fn build_cell(scene: &crate::scene::Scene, model: &RobotModel, sim: &Dynamics) -> Result<Option<Cell>, PlantError> {
+fn build_cell(
+    scene: &crate::scene::Scene,
+    model: &RobotModel,
+    sim: &Dynamics,
+    axes: &[AxisBinding],
+    task: &MotionTask,
+) -> Result<Option<Cell>, PlantError> {
     if scene.cell.is_empty() {
         return Ok(None);
     }
@@ -608,6 +648,17 @@ fn build_cell(scene: &crate::scene::Scene, model: &RobotModel, sim: &Dynamics) -
         since_parts_step: 0,
         links_at_start: links,
         scene: scene.clone(),
+        axis_positions: axes
+            .iter()
+            .map(|a| match a.drive {
+                Some(d) => a.axis_position(task, sim.joint_position(d)),
+                None => task.axis_state(a.handle).command_position,
+            })
+            .collect(),
+        commands_at_start: axes
+            .iter()
+            .map(|a| task.axis_state(a.handle).command_position)
+            .collect(),
     }))
 }
 

@@ -227,6 +227,11 @@ struct TaskRun {
     /// Where it stands among the tasks of its priority (lower first).
     queued: u64,
     programs: Vec<ProgramRun>,
+    /// A registration-triggered event task: the events seen so far.
+    registrations_seen: u64,
+    /// A registration event happened since the last update: a trigger at
+    /// the start of this one.
+    registration_due: bool,
 }
 
 impl TaskRun {
@@ -373,6 +378,8 @@ impl Controller {
                 pending: None,
                 active: None,
                 queued: 0,
+                registrations_seen: 0,
+                registration_due: false,
                 programs: runs,
             });
         }
@@ -442,6 +449,21 @@ impl Controller {
         }
         let now_ns = (task.time_s() * 1e6).round() as i64 * 1000;
         let horizon_ns = now_ns + self.update_ns;
+        for t in &mut self.tasks {
+            if let TaskKind::Event {
+                trigger: EventTrigger::AxisRegistration { axis, input },
+                ..
+            } = t.kind
+            {
+                let events = task
+                    .axis_handles()
+                    .nth(axis)
+                    .and_then(|h| task.registration(h, input))
+                    .map_or(0, |r| r.events);
+                t.registration_due = events > t.registrations_seen;
+                t.registrations_seen = events;
+            }
+        }
         self.collect_releases(now_ns, horizon_ns);
         let mut next = 0;
         loop {
@@ -516,7 +538,7 @@ impl Controller {
                     if t.next_ns < horizon_ns {
                         self.releases.push((t.next_ns, i, STATUS_TIMEOUT));
                     }
-                    if trigger == EventTrigger::MotionGroupExecution {
+                    if trigger == EventTrigger::MotionGroupExecution || t.registration_due {
                         self.releases.push((now_ns, i, 0));
                     }
                 }

@@ -349,10 +349,17 @@ pub enum AxisMember {
     SoftTravelLimitPositive,
     /// `SoftTravelLimitNegative`, axis units (0 without limits).
     SoftTravelLimitNegative,
+    /// `RegistrationNPosition`: the actual position latched by input N's
+    /// last registration event (MAR).
+    RegistrationPosition(u8),
+    /// `RegEventNStatus`: input N's registration event occurred.
+    RegEventStatus(u8),
+    /// `RegEventNArmedStatus`: input N is armed.
+    RegEventArmedStatus(u8),
 }
 
 /// Every axis member, with its name and type, for parsing and docs.
-pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 30] = [
+pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 36] = [
     ("ActualPosition", AxisMember::ActualPosition, DataType::Real),
     ("CommandPosition", AxisMember::CommandPosition, DataType::Real),
     ("ActualVelocity", AxisMember::ActualVelocity, DataType::Real),
@@ -418,6 +425,28 @@ pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 30] = [
         "SoftTravelLimitNegative",
         AxisMember::SoftTravelLimitNegative,
         DataType::Real,
+    ),
+    (
+        "Registration1Position",
+        AxisMember::RegistrationPosition(1),
+        DataType::Real,
+    ),
+    (
+        "Registration2Position",
+        AxisMember::RegistrationPosition(2),
+        DataType::Real,
+    ),
+    ("RegEvent1Status", AxisMember::RegEventStatus(1), DataType::Bool),
+    ("RegEvent2Status", AxisMember::RegEventStatus(2), DataType::Bool),
+    (
+        "RegEvent1ArmedStatus",
+        AxisMember::RegEventArmedStatus(1),
+        DataType::Bool,
+    ),
+    (
+        "RegEvent2ArmedStatus",
+        AxisMember::RegEventArmedStatus(2),
+        DataType::Bool,
     ),
 ];
 

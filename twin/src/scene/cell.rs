@@ -641,9 +641,41 @@ impl Ctx<'_> {
                 Some(v) => Some(self.in_range(v, &f("rpi_ms"), 0.2, 750.0)? / 1000.0),
                 None => None,
             };
+            let registration = match &s.registration {
+                Some(r) => {
+                    if kind_word == 3 {
+                        let why =
+                            "a zone has no registration output: wire a beam, diffuse or proximity sensor".to_owned();
+                        return Err(self.invalid(r, f("registration"), Problem::Rule { why }));
+                    }
+                    let raw = r.get_ref();
+                    let axis = timing
+                        .axes
+                        .iter()
+                        .position(|a| a.name.eq_ignore_ascii_case(raw.axis.get_ref().trim()))
+                        .ok_or_else(|| {
+                            let problem = Problem::UnknownAxis {
+                                name: raw.axis.get_ref().clone(),
+                                nearest: None,
+                            };
+                            self.invalid(&raw.axis, f("registration.axis"), problem)
+                        })?;
+                    let input = self.int_in_range(&raw.input, &f("registration.input"), 1, 2)? as u8;
+                    if let Some(other) = out.iter().find(|o: &&Sensor| o.registration == Some((axis, input))) {
+                        let why = format!(
+                            "registration input {input} of '{}' is wired to sensor '{}' already",
+                            timing.axes[axis].name, other.name
+                        );
+                        return Err(self.invalid(&raw.input, f("registration.input"), Problem::Rule { why }));
+                    }
+                    Some((axis, input))
+                }
+                None => None,
+            };
             out.push(Sensor {
                 name,
                 kind,
+                registration,
                 tag: self.io_tag(&s.tag, &f("tag"))?,
                 value_tag: self.optional_io_tag(&s.value_tag, &f("value_tag"))?,
                 count_tag: self.optional_io_tag(&s.count_tag, &f("count_tag"))?,

@@ -423,6 +423,8 @@ pub struct Sensor {
     pub cos: bool,
     /// Injected faults (`stuck_on`, `stuck_off`).
     pub faults: Vec<DeviceFault>,
+    /// Wired to a registration input: (axis index, input 1 or 2).
+    pub registration: Option<(usize, u8)>,
     /// Where its name is written.
     pub location: Location,
 }

@@ -45,8 +45,8 @@ mod tasks;
 mod validate;
 
 pub use cell_model::{
-    Cell, Conveyor, ConveyorDrive, Cylinder, Detect, DeviceFault, FaultKind, Gripper, GripperKind, IoDirection, IoKind, IoTag, Jitter, MAX_LIVE_PARTS,
-    PartType, Sensor, SensorKind, Sink, SinkOutcome, Source, SourceTrigger, Vfd,
+    Cell, Conveyor, ConveyorDrive, Cylinder, Detect, DeviceFault, FaultKind, Gripper, GripperKind, IoDirection, IoKind,
+    IoTag, Jitter, MAX_LIVE_PARTS, PartType, Sensor, SensorKind, Sink, SinkOutcome, Source, SourceTrigger, Vfd,
 };
 pub use error::{Problem, SceneError};
 pub use geometry::GEOMETRY_TYPES;

@@ -1414,6 +1414,14 @@ pub enum EventTrigger {
     /// `"motion_group_execution"`: every coarse update, after the motion
     /// planner.
     MotionGroupExecution,
+    /// `"axis_registration_1"` / `"axis_registration_2"` with `axis`: each
+    /// registration event of that input of that axis.
+    AxisRegistration {
+        /// The axis (index into the scene's axes).
+        axis: usize,
+        /// The input, 1 or 2.
+        input: u8,
+    },
 }
 
 impl EventTrigger {

@@ -392,6 +392,7 @@ pub(super) struct RawTask {
     pub(super) priority: Option<Spanned<i64>>,
     pub(super) watchdog_ms: Option<Spanned<f64>>,
     pub(super) trigger: Option<Spanned<String>>,
+    pub(super) axis: Option<Spanned<String>>,
     pub(super) timeout_ms: Option<Spanned<f64>>,
     pub(super) inhibit: Option<bool>,
     #[serde(default)]
@@ -646,8 +647,17 @@ pub(super) struct RawSensor {
     pub(super) length: Option<Spanned<f64>>,
     pub(super) materials: Option<Spanned<Vec<Spanned<String>>>>,
     pub(super) count_tag: Option<Spanned<String>>,
+    pub(super) registration: Option<Spanned<RawRegistration>>,
     #[serde(default)]
     pub(super) faults: Vec<RawFault>,
+}
+
+/// A sensor's `registration = { axis, input }`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawRegistration {
+    pub(super) axis: Spanned<String>,
+    pub(super) input: Spanned<i64>,
 }
 
 /// `[[cylinders]]`: a pneumatic stopper, pusher or diverter.

@@ -71,7 +71,7 @@ impl Ctx<'_> {
             let f = |field: &str| format!("tasks[{i}].{field}");
             let name = self.identifier(&t.name, &f("name"))?;
             self.unique(&mut task_names, &t.name, &f("name"), NameKind::Axis)?;
-            let (kind, priority) = self.task_kind(t, i, &tasks)?;
+            let (kind, priority) = self.task_kind(t, i, &tasks, axes)?;
             let watchdog_ms = match &t.watchdog_ms {
                 Some(w) => self.in_range(w, &f("watchdog_ms"), 0.1, 2_000_000.0)?,
                 None => DEFAULT_WATCHDOG_MS,
@@ -171,7 +171,7 @@ impl Ctx<'_> {
     /// A task's type and what it needs: a periodic task its period and
     /// priority, an event task its trigger and priority, a continuous task
     /// neither (at most one, below every other task).
-    fn task_kind(&self, t: &RawTask, i: usize, before: &[Task]) -> Result<(TaskKind, u8), SceneError> {
+    fn task_kind(&self, t: &RawTask, i: usize, before: &[Task], axes: &[Axis]) -> Result<(TaskKind, u8), SceneError> {
         let f = |field: &str| format!("tasks[{i}].{field}");
         const TYPES: [(&str, &str); 3] = [
             ("periodic", "periodic"),
@@ -196,6 +196,9 @@ impl Ctx<'_> {
         if kind != "event" {
             if let Some(x) = &t.trigger {
                 return Err(not_here(x.span(), "trigger"));
+            }
+            if let Some(x) = &t.axis {
+                return Err(not_here(x.span(), "axis"));
             }
             if let Some(x) = &t.timeout_ms {
                 return Err(not_here(x.span(), "timeout_ms"));
@@ -232,10 +235,46 @@ impl Ctx<'_> {
                 let Some(trigger) = &t.trigger else {
                     return Err(required(
                         "trigger",
-                        " (\"event_instruction\" or \"motion_group_execution\")",
+                        " (\"event_instruction\", \"motion_group_execution\", \"axis_registration_1\" or \"axis_registration_2\")",
                     ));
                 };
-                let trig = self.word(trigger, &f("trigger"), "event trigger", &EventTrigger::WORDS)?;
+                let registration = match trigger.get_ref().to_ascii_lowercase().as_str() {
+                    "axis_registration_1" => Some(1),
+                    "axis_registration_2" => Some(2),
+                    _ => None,
+                };
+                let trig = match (registration, &t.axis) {
+                    (Some(input), Some(axis)) => EventTrigger::AxisRegistration {
+                        axis: axes
+                            .iter()
+                            .position(|a| a.name.eq_ignore_ascii_case(axis.get_ref().trim()))
+                            .ok_or_else(|| {
+                                let problem = Problem::UnknownAxis {
+                                    name: axis.get_ref().clone(),
+                                    nearest: None,
+                                };
+                                self.invalid(axis, f("axis"), problem)
+                            })?,
+                        input,
+                    },
+                    (Some(_), None) => {
+                        let why = "a registration trigger names its axis: axis = \"…\"".to_owned();
+                        return Err(self.invalid(trigger, f("axis"), Problem::Rule { why }));
+                    }
+                    (None, Some(axis)) => {
+                        let why = "'axis' applies to the axis_registration_1 and _2 triggers".to_owned();
+                        return Err(self.invalid(axis, f("axis"), Problem::Rule { why }));
+                    }
+                    (None, None) => {
+                        const WORDS: [(&str, EventTrigger); 4] = [
+                            ("event_instruction", EventTrigger::EventInstruction),
+                            ("motion_group_execution", EventTrigger::MotionGroupExecution),
+                            ("axis_registration_1", EventTrigger::EventInstruction),
+                            ("axis_registration_2", EventTrigger::EventInstruction),
+                        ];
+                        self.word(trigger, &f("trigger"), "event trigger", &WORDS)?
+                    }
+                };
                 let timeout_ms = match &t.timeout_ms {
                     Some(x) => Some(self.in_range(x, &f("timeout_ms"), 0.1, 2_000_000.0)?),
                     None => None,

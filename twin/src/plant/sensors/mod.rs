@@ -80,6 +80,8 @@ pub struct SensorSim {
     value: f64,
     /// The value the input module last took.
     value_taken: f64,
+    /// The registration input it is wired to: (axis index, input 1 or 2).
+    pub registration: Option<(usize, u8)>,
 }
 
 /// A body the sensors can see, over one step.
@@ -163,6 +165,12 @@ impl SensorSim {
             FieldShape::Ray { range_m, .. } => vec![(at(Vector::ZERO), at(Vector::new(*range_m, 0.0, 0.0)))],
             FieldShape::Volume { .. } => Vec::new(),
         }
+    }
+
+    /// The output's changes in the last parts step: (time s, new value).
+    #[must_use]
+    pub fn step_edges(&self) -> &[(f64, bool)] {
+        self.signal.step_changes()
     }
 
     /// The output's changes so far: (time s, new value).
@@ -300,6 +308,7 @@ pub fn build(scene: &Scene, model: &RobotModel) -> Result<Vec<SensorSim>, (usize
             detected: false,
             value: idle_value,
             value_taken: idle_value,
+            registration: s.registration,
         });
     }
     Ok(out)

@@ -56,6 +56,8 @@ pub struct Signal {
     stats: SignalStats,
     /// Every output change (time, new value), up to [`MAX_LOGGED_EDGES`].
     log: Vec<(f64, bool)>,
+    /// Where the last fed step's changes start in `changes`.
+    step_from: usize,
 }
 
 /// The most output changes a sensor keeps for the recording and tests.
@@ -94,6 +96,7 @@ impl Signal {
             rose_s: None,
             stats: SignalStats::default(),
             log: Vec::new(),
+            step_from: 0,
         };
         let sensed = s.sensed(0.0);
         s.output = sensed;
@@ -122,6 +125,7 @@ impl Signal {
     /// (time-ordered, each the new detected state), then runs the delays to
     /// `t1`.
     pub fn feed(&mut self, t0: f64, t1: f64, detections: &[(f64, bool)]) {
+        self.step_from = self.changes.len();
         // The fault windows' ends are changes of the sensed state too.
         let mut events: Vec<(f64, Option<bool>)> = detections.iter().map(|&(t, d)| (t, Some(d))).collect();
         for f in &self.faults {
@@ -213,6 +217,7 @@ impl Signal {
             self.base = v;
         }
         self.changes.drain(..keep_from);
+        self.step_from = self.changes.len();
         self.tag
     }
 
@@ -226,6 +231,12 @@ impl Signal {
     #[must_use]
     pub fn updated_in(&self, t0: f64, t1: f64) -> bool {
         self.cos || (t1 / self.rpi_s + 1e-9).floor() * self.rpi_s > t0 + 1e-12
+    }
+
+    /// The output's changes in the last fed step (time s, new value).
+    #[must_use]
+    pub fn step_changes(&self) -> &[(f64, bool)] {
+        &self.changes[self.step_from.min(self.changes.len())..]
     }
 
     /// The output's changes so far (time s, new value), the first

@@ -72,5 +72,8 @@ pub(in crate::program) fn axis_value(task: &MotionTask, h: AxisHandle, m: AxisMe
         AxisMember::SoftTravelLimitChecking => Value::Bool(task.axis_config(h).soft_travel_limits.is_some()),
         AxisMember::SoftTravelLimitPositive => real(task.axis_config(h).soft_travel_limits.map_or(0.0, |l| l.1)),
         AxisMember::SoftTravelLimitNegative => real(task.axis_config(h).soft_travel_limits.map_or(0.0, |l| l.0)),
+        AxisMember::RegistrationPosition(n) => real(task.registration(h, n).map_or(0.0, |r| r.position)),
+        AxisMember::RegEventStatus(n) => Value::Bool(task.registration(h, n).is_some_and(|r| r.event)),
+        AxisMember::RegEventArmedStatus(n) => Value::Bool(task.registration(h, n).is_some_and(|r| r.armed())),
     }
 }
