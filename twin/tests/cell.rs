@@ -592,3 +592,132 @@ fn conveyor_pick_delivers_every_box_within_two_millimetres_and_reruns_identicall
     let offset_mm = c.max_pick_offset_m.expect("picks") * 1000.0;
     assert!(offset_mm <= 2.0, "largest pick offset {offset_mm} mm");
 }
+
+/// MOTION-RM002, MAR: a sensor wired to registration input 1 of a jogging
+/// axis latches the axis' position at the instant the part's bottom face
+/// crosses the beam (found from the part's own simulated motion, linear
+/// inside a parts step) within 1e-4 s; `.PC`, `RegEvent1Status` and the
+/// event task on `axis_registration_1` follow.
+#[test]
+fn a_registration_sensor_latches_the_axis_position_at_the_crossing() {
+    let axis = "[[axes]]\nname = \"Conv\"\nkind = \"linear\"\nunits = \"mm\"\nmax_velocity = 1000.0\nmax_acceleration = 10000.0\n\
+                max_deceleration = 10000.0\nmax_jerk = 1000000.0\nin_position_window = 0.1\n";
+    let body = axis.to_owned()
+        + &tags(&[
+            ("Eye", "BOOL"),
+            ("Latched", "REAL"),
+            ("Events", "DINT"),
+            ("State", "DINT"),
+        ])
+        + "[[tags]]\nname = \"R\"\ntype = \"MOTION_INSTRUCTION\"\n[[tags]]\nname = \"J\"\ntype = \"MOTION_INSTRUCTION\"\n"
+        + CUBE
+        + "[[sources]]\nname = \"Drop\"\npart_type = \"Cube\"\nposition = [0.0, 0.0, 1.0]\nat_s = [0.2]\n\
+           [[sensors]]\nname = \"RegEye\"\nkind = \"beam\"\ntag = \"Eye\"\nfrom = [0.0, -0.2, 0.5]\nto = [0.0, 0.2, 0.5]\n\
+           registration = { axis = \"Conv\", input = 1 }\n\
+           [[tasks]]\nname = \"OnReg\"\ntype = \"event\"\ntrigger = \"axis_registration_1\"\naxis = \"Conv\"\npriority = 4\n\
+           [[tasks.programs]]\nname = \"Count\"\nmain = \"Count.st\"\n";
+    let routine = "CASE State OF\n\
+                   0: MAJ(Conv, J, forward, 300.0, unitspersec, 10000.0, unitspersec2, 10000.0, unitspersec2, trapezoidal);\n\
+                      MAR(Conv, R, positive_edge, disabled, 0.0, 0.0, 1);\n\
+                      State := 1;\n\
+                   1: IF R.PC THEN Latched := Conv.Registration1Position; State := 2; END_IF;\n\
+                   END_CASE;\n";
+    let path = scene("registration", &body, Some(routine));
+    std::fs::write(path.with_file_name("Count.st"), "Events := Events + 1;\n").expect("routine");
+    let mut t = twin(&path);
+    let mut samples = Vec::new();
+    for _ in 0..200 {
+        t.step();
+        let m = t.plant().material().expect("parts");
+        if let Some(p) = m.parts().first() {
+            let z = m.part_pose(p).translation.z;
+            let conv = t.task().axis_state(t.plant().axes()[1].handle).command_position;
+            samples.push((t.time_s(), z - 0.005, conv));
+        }
+    }
+    // The bottom face reaches z = 0.5 between two samples: linear inside.
+    let k = samples.iter().position(|s| s.1 <= 0.5).expect("the part crossed");
+    let (a, b) = (samples[k - 1], samples[k]);
+    let f = (a.1 - 0.5) / (a.1 - b.1);
+    let crossing_s = a.0 + f * (b.0 - a.0);
+    let conv_at_crossing = a.2 + f * (b.2 - a.2);
+    let edge_s = sensor(&t, "RegEye").edges()[0].0;
+    assert!(
+        (edge_s - crossing_s).abs() < 1e-4,
+        "edge at {edge_s} s, crossing at {crossing_s} s"
+    );
+    let reg = *t.task().registration(t.plant().axes()[1].handle, 1).expect("input 1");
+    assert!(reg.event && !reg.armed());
+    assert!(
+        (reg.position - conv_at_crossing).abs() < 300.0 * 1e-4,
+        "latched {} mm, the axis was at {conv_at_crossing} mm",
+        reg.position
+    );
+    assert!(
+        (tag_value(&t, "Latched").as_f64() - reg.position).abs() < 1e-3,
+        "the routine read it"
+    );
+    assert_eq!(tag_value(&t, "Events").as_i64(), 1, "the event task ran once");
+}
+
+/// Where each cut of `knife_registration` (or its variant) lands behind its
+/// sheet's leading edge, mm: the knife's actual angle passing 180° (mod
+/// 360°) against the sheet under the knife (x = 0) at that instant, both
+/// interpolated between updates.
+fn knife_cuts(variant: Option<&str>) -> Vec<f64> {
+    let path = common::root().join("scenes/knife_registration.toml");
+    let scene = twin::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = match variant {
+        Some(v) => scene.with_variant(v).expect("the variant"),
+        None => scene,
+    };
+    let mut t = Twin::new(scene).unwrap_or_else(|e| panic!("{e}"));
+    let knife = t.plant().axes()[1].handle;
+    let sheets = |t: &Twin| -> Vec<(u64, f64)> {
+        let m = t.plant().material().expect("parts");
+        m.parts().iter().map(|p| (p.id, m.part_pose(p).translation.x)).collect()
+    };
+    let mut before = (t.time_s(), t.task().axis_state(knife).actual_position, sheets(&t));
+    let mut cuts = Vec::new();
+    for _ in 0..t.total_updates() {
+        t.step();
+        let now = (t.time_s(), t.task().axis_state(knife).actual_position, sheets(&t));
+        let (a0, a1) = (before.1, now.1);
+        let k = ((a1 - 180.0) / 360.0).floor();
+        let blade = 180.0 + 360.0 * k;
+        if a0 < blade && a1 >= blade {
+            let f = (blade - a0) / (a1 - a0);
+            for (id, x1) in &now.2 {
+                let Some((_, x0)) = before.2.iter().find(|(i, _)| i == id) else {
+                    continue;
+                };
+                let centre = x0 + f * (x1 - x0);
+                if (centre - 0.0).abs() < 0.15 {
+                    cuts.push((centre + 0.15) * 1000.0);
+                }
+            }
+        }
+        before = now;
+    }
+    cuts
+}
+
+/// The issue's acceptance for `knife_registration`: with MAR every cut
+/// lands within 0.5 mm of 100 mm behind its sheet's edge at 300 mm/s;
+/// scanning the eye's tag instead (4 ms RPI, 4 ms task) misses by up to
+/// 300 mm/s × 8 ms = 2.4 mm.
+#[test]
+fn registration_cuts_land_within_half_a_millimetre_and_scanned_ones_do_not() {
+    let latched = knife_cuts(None);
+    assert_eq!(latched.len(), 5, "{latched:?}");
+    for c in &latched {
+        assert!((c - 100.0).abs() <= 0.5, "a cut at {c} mm from the edge: {latched:?}");
+    }
+    let scanned = knife_cuts(Some("scanned"));
+    assert_eq!(scanned.len(), 5, "{scanned:?}");
+    let worst = scanned.iter().map(|c| (c - 100.0).abs()).fold(0.0, f64::max);
+    assert!(
+        worst > 0.5 && worst <= 2.4 + 0.5,
+        "scanned cuts miss by {worst} mm: {scanned:?}"
+    );
+}
