@@ -65,6 +65,10 @@ struct BenchRow {
     /// The live collision checks per physics step, µs (scenes with
     /// `[collision]`).
     collision_us: Option<f64>,
+    /// The parts world and the sensors per parts step, µs (scenes with a
+    /// cell; sensors: with sensors).
+    parts_us: Option<f64>,
+    sensors_us: Option<f64>,
     /// Shares of the outputs run: program, planner, sweep, physics,
     /// collision, trace, recording, frames.
     split: [f64; 8],
@@ -98,6 +102,12 @@ fn bench_scene(path: &Path, runs: u32, render: bool) -> Result<BenchRow> {
     let simulated = twin.time_s();
     let collision_us = (twin.scene().collision.is_some() && steps > 0.0)
         .then(|| 1e6 * twin.plant().times().unwrap_or_default().collision_s / steps);
+    let times = twin.plant().times().unwrap_or_default();
+    let parts_steps = twin.plant().material().map(|m| (simulated / m.step_s()).round());
+    let parts_us = parts_steps.filter(|n| *n > 0.0).map(|n| 1e6 * times.parts_s / n);
+    let sensors_us = parts_steps
+        .filter(|n| *n > 0.0 && !twin.plant().sensors().is_empty())
+        .map(|n| 1e6 * times.sensors_s / n);
     // The kinematic plant.
     let mut kinematic = f64::INFINITY;
     for _ in 0..runs {
@@ -165,6 +175,8 @@ fn bench_scene(path: &Path, runs: u32, render: bool) -> Result<BenchRow> {
         bare_steps_per_s: (steps > 0.0).then(|| steps / bare),
         kinematic_rtf: simulated / kinematic,
         collision_us,
+        parts_us,
+        sensors_us,
         split: [
             share(stages.program_s),
             share(stages.planner_s),
@@ -181,10 +193,10 @@ fn bench_scene(path: &Path, runs: u32, render: bool) -> Result<BenchRow> {
 pub(crate) fn bench(args: &BenchArgs) -> Result<ExitCode> {
     let scenes = bench_scenes(&args.scenes)?;
     println!(
-        "| scene | physics xRT | steps/s | bare steps/s | twin/bare | kinematic xRT | collision µs | program | planner | sweep | physics | collision | trace | recording | frames |"
+        "| scene | physics xRT | steps/s | bare steps/s | twin/bare | kinematic xRT | collision µs | parts µs | sensors µs | program | planner | sweep | physics | collision | trace | recording | frames |"
     );
     println!(
-        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     );
     for path in &scenes {
         let row = bench_scene(path, args.runs, !args.no_render)?;
@@ -194,8 +206,10 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<ExitCode> {
         };
         let split: Vec<String> = row.split.iter().map(|x| format!("{:.0} %", 100.0 * x)).collect();
         let collision = row.collision_us.map_or_else(|| "-".to_string(), |c| format!("{c:.2}"));
+        let parts = row.parts_us.map_or_else(|| "-".to_string(), |c| format!("{c:.1}"));
+        let sensors = row.sensors_us.map_or_else(|| "-".to_string(), |c| format!("{c:.1}"));
         println!(
-            "| {} | {:.1} | {:.0} | {bare} | {ratio} | {:.0} | {collision} | {} |",
+            "| {} | {:.1} | {:.0} | {bare} | {ratio} | {:.0} | {collision} | {parts} | {sensors} | {} |",
             row.name,
             row.physics_rtf,
             row.steps_per_s,

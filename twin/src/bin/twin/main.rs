@@ -108,6 +108,9 @@ drive commands and times the collision checks; the outputs run once):
   kinematic xRT   simulated / wall time of the kinematic plant (--plant kinematic)
   collision µs    the live collision checks (discrete and continuous) per
                   physics step, µs, no outputs (- without [collision])
+  parts µs        the parts world per parts step (spawns, belts, cylinders,
+                  grippers, rapier, sinks), µs (- without a cell)
+  sensors µs      the sensors' checks per parts step, µs (- without sensors)
   then the share of a run with a trace, a recording and frames spent in the
   program, the planner, the pre-flight sweeps, the physics, the live collision
   checks, the trace, the recording and the frames (the rest: bookkeeping).
