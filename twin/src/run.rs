@@ -135,7 +135,7 @@ impl Twin {
         for (axis, gains) in self.program.take_drive_changes() {
             self.plant.set_servo_gains(axis, gains);
         }
-        self.io.outputs(&self.program, &mut self.plant);
+        self.io.outputs(self.task.time_s(), &self.program, &mut self.plant);
         lap(|t| &mut t.program_s);
         self.task.update();
         lap(|t| &mut t.planner_s);
@@ -262,6 +262,16 @@ struct SensorIo {
     tag: IoPoint,
     value: Option<(IoPoint, IoKind)>,
     count: Option<IoPoint>,
+    vision: Option<VisionIo>,
+}
+
+/// A camera's points: its trigger (output) and its results (inputs).
+#[derive(Debug)]
+struct VisionIo {
+    trigger: IoPoint,
+    position: Option<IoPoint>,
+    angle: Option<IoPoint>,
+    type_id: Option<IoPoint>,
 }
 
 #[derive(Debug, Default)]
@@ -295,7 +305,7 @@ impl CellIo {
             let role = s.kind.word();
             let tag = bind(&s.tag, IoKind::Bool, IoDirection::Input, &s.name, role)?;
             let value_kind = match s.kind {
-                SensorKind::Diffuse { .. } => IoKind::Real,
+                SensorKind::Diffuse { .. } | SensorKind::Clearance { .. } => IoKind::Real,
                 _ => IoKind::Dint,
             };
             let value = match &s.value_tag {
@@ -306,7 +316,30 @@ impl CellIo {
                 Some(t) => Some(bind(t, IoKind::Dint, IoDirection::Input, &s.name, "count")?),
                 None => None,
             };
-            io.sensors.push(SensorIo { tag, value, count });
+            let vision = match &s.kind {
+                SensorKind::Vision(spec) => Some(VisionIo {
+                    trigger: bind(&spec.trigger, IoKind::Bool, IoDirection::Output, &s.name, "trigger")?,
+                    position: match &spec.position_tag {
+                        Some(t) => Some(bind(t, IoKind::Real3, IoDirection::Input, &s.name, "position")?),
+                        None => None,
+                    },
+                    angle: match &spec.angle_tag {
+                        Some(t) => Some(bind(t, IoKind::Real, IoDirection::Input, &s.name, "angle")?),
+                        None => None,
+                    },
+                    type_id: match &spec.type_tag {
+                        Some(t) => Some(bind(t, IoKind::Dint, IoDirection::Input, &s.name, "type")?),
+                        None => None,
+                    },
+                }),
+                _ => None,
+            };
+            io.sensors.push(SensorIo {
+                tag,
+                value,
+                count,
+                vision,
+            });
         }
         for c in &scene.cell.conveyors {
             let mut cio = ConveyorIo::default();
@@ -364,6 +397,19 @@ impl CellIo {
     fn inputs(&self, t: f64, plant: &mut Plant, program: &mut Program) {
         for (k, s) in self.sensors.iter().enumerate() {
             let sensor = &mut plant.sensors_mut()[k];
+            if let (Some(v), Some(r)) = (&s.vision, sensor.vision_result(t)) {
+                program.write_input(s.tag, Value::Bool(r.found));
+                if let Some(p) = v.position {
+                    program.write_inputs3(p, r.position);
+                }
+                if let Some(p) = v.angle {
+                    program.write_input(p, Value::Real(r.angle_deg));
+                }
+                if let Some(p) = v.type_id {
+                    program.write_input(p, Value::Int(i64::from(r.type_id)));
+                }
+                continue;
+            }
             let on = sensor.tag_at(t);
             let value = sensor.value_taken();
             program.write_input(s.tag, Value::Bool(on));
@@ -402,8 +448,13 @@ impl CellIo {
         }
     }
 
-    /// After the scans: the outputs to the devices.
-    fn outputs(&self, program: &Program, plant: &mut Plant) {
+    /// After the scans at `t`: the outputs to the devices.
+    fn outputs(&self, t: f64, program: &Program, plant: &mut Plant) {
+        for (k, s) in self.sensors.iter().enumerate() {
+            if let Some(v) = &s.vision {
+                plant.vision_trigger(k, program.read_output(v.trigger).truthy(), t);
+            }
+        }
         let Some(material) = plant.material_mut() else { return };
         let bool_of = |p: Option<IoPoint>| p.is_some_and(|p| program.read_output(p).truthy());
         for (k, io) in self.conveyors.iter().enumerate() {

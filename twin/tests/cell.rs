@@ -404,6 +404,16 @@ fn bad_cell_inputs_name_their_place_and_field() {
             "parts_step_ms = 3.0\n".to_owned(),
             "parts_step_ms: must be a multiple of physics_step_ms",
         ),
+        (
+            eye.clone()
+                + "[[sensors]]\nname = \"G\"\nkind = \"clearance\"\ntag = \"Eye\"\nbetween = [[\"parts\"], [\"robot\"]]\n",
+            "sensors[0].below_m: a clearance sensor needs 'below_m'",
+        ),
+        (
+            eye.clone()
+                + "[[sensors]]\nname = \"V\"\nkind = \"vision\"\ntag = \"Eye\"\ntrigger = \"DI.0\"\nshape = \"sphere\"\nradius = 0.1\nposition_tag = \"R\"\n",
+            "sensors[0].position_tag: 'R' is REAL; this needs the first of three REALs",
+        ),
     ];
     let mut failures = Vec::new();
     for (k, (body, want)) in rows.iter().enumerate() {
@@ -720,4 +730,65 @@ fn registration_cuts_land_within_half_a_millimetre_and_scanned_ones_do_not() {
         worst > 0.5 && worst <= 2.4 + 0.5,
         "scanned cuts miss by {worst} mm: {scanned:?}"
     );
+}
+
+/// A clearance sensor between the parts and an obstacle gives their
+/// distance (within 1e-6 m of the gap between the cube's face and the
+/// wall's, from the cube's simulated pose) and sets its BOOL below
+/// `below_m`.
+#[test]
+fn a_clearance_sensor_measures_the_gap_between_two_groups() {
+    let body = tags(&[("Close", "BOOL"), ("Gap", "REAL")])
+        + CUBE
+        + "[[obstacles]]\nname = \"Block\"\nshape = \"box\"\nsize = [0.2, 0.2, 0.1]\nposition = [0.3, 0.0, 0.05]\n\
+           [[obstacles]]\nname = \"Wall\"\nshape = \"box\"\nsize = [0.02, 0.2, 0.1]\nposition = [0.35, 0.0, 0.15]\n\
+           [[sources]]\nname = \"Put\"\npart_type = \"Cube\"\nposition = [0.3, 0.0, 0.1051]\nat_s = [0.0]\n\
+           [[sensors]]\nname = \"Gauge\"\nkind = \"clearance\"\ntag = \"Close\"\nvalue_tag = \"Gap\"\n\
+           between = [[\"parts\"], [\"Wall\"]]\nbelow_m = 0.05\n";
+    let mut t = twin(&scene("clearance", &body, None));
+    run_for(&mut t, 0.3);
+    t.step();
+    let m = t.plant().material().expect("parts");
+    let x = m.part_pose(&m.parts()[0]).translation.x;
+    let exact = (0.35 - 0.01) - (x + 0.005);
+    let gap = tag_value(&t, "Gap").as_f64();
+    assert!((gap - exact).abs() < 1e-6, "{gap} vs {exact}");
+    assert!(tag_value(&t, "Close").truthy(), "{gap} m < 0.05 m");
+}
+
+/// A camera triggered by the program reports, `latency_ms` later, the part
+/// nearest its field's centre: found, its position in a link's frame (mm,
+/// within 0.1 mm of its simulated pose), its angle about z and its
+/// `type_id`.
+#[test]
+fn a_vision_sensor_reports_the_part_after_its_latency() {
+    let body = tags(&[("Snap", "BOOL"), ("Found", "BOOL"), ("Angle", "REAL"), ("Kind", "DINT")])
+        + "[[tags]]\nname = \"Pos\"\ntype = \"REAL[3]\"\n"
+        + &CUBE.replace("mass_kg = 0.01", "mass_kg = 0.01\ntype_id = 7")
+        + "[[obstacles]]\nname = \"Block\"\nshape = \"box\"\nsize = [0.2, 0.2, 0.1]\nposition = [0.3, 0.0, 0.05]\n\
+           [[sources]]\nname = \"Put\"\npart_type = \"Cube\"\nposition = [0.31, -0.02, 0.1051]\nrpy_deg = [0.0, 0.0, 30.0]\nat_s = [0.0]\n\
+           [[sensors]]\nname = \"Cam\"\nkind = \"vision\"\ntag = \"Found\"\ntrigger = \"Snap\"\nposition = [0.3, 0.0, 0.5]\n\
+           shape = \"box\"\nsize = [0.2, 0.2, 1.0]\nlatency_ms = 40.0\nposition_tag = \"Pos[0]\"\nangle_tag = \"Angle\"\ntype_tag = \"Kind\"\nunits = \"mm\"\n";
+    let routine = "Snap := T >= 100;\nT := T + 1;\n";
+    let mut t = twin(&scene("vision", &(tags(&[("T", "DINT")]) + &body), Some(routine)));
+    // The trigger rises at the scan of update 100 (t = 0.4 s).
+    run_for(&mut t, 0.4 + 0.036);
+    assert!(!tag_value(&t, "Found").truthy(), "not before its latency");
+    run_for(&mut t, 0.008);
+    assert!(tag_value(&t, "Found").truthy(), "40 ms after the trigger");
+    let m = t.plant().material().expect("parts");
+    let pose = m.part_pose(&m.parts()[0]);
+    let mem = t.program().controller().memory();
+    let base = mem.tags[mem.find("Pos").expect("Pos")].base;
+    let pos: Vec<f64> = (0..3).map(|k| mem.slots[base + k].as_f64()).collect();
+    let want = [
+        pose.translation.x * 1000.0,
+        pose.translation.y * 1000.0,
+        pose.translation.z * 1000.0,
+    ];
+    for k in 0..3 {
+        assert!((pos[k] - want[k]).abs() < 0.1, "{pos:?} vs {want:?}");
+    }
+    assert!((tag_value(&t, "Angle").as_f64() - 30.0).abs() < 0.05);
+    assert_eq!(tag_value(&t, "Kind").as_i64(), 7);
 }

@@ -445,6 +445,16 @@ impl Plant {
         self.cell.as_mut().map(|c| &mut c.material)
     }
 
+    /// A vision sensor's trigger output after the scans at `t`
+    /// ([`sensors::SensorSim::vision_trigger`]): the camera sees the cell
+    /// as the last update left it.
+    pub fn vision_trigger(&mut self, sensor: usize, on: bool, t: f64) {
+        let Some(cell) = self.cell.as_mut() else { return };
+        let links = self.sim.world_from_link_isometries();
+        let types: Vec<i32> = cell.scene.cell.part_types.iter().map(|p| p.type_id).collect();
+        cell.sensors[sensor].vision_trigger(on, t, &cell.material, &links, &types);
+    }
+
     /// The sensors, in scene order.
     pub fn sensors(&self) -> &[sensors::SensorSim] {
         self.cell.as_ref().map_or(&[], |c| c.sensors.as_slice())

@@ -37,8 +37,19 @@ impl IoPoint {
         match kind {
             IoKind::Bool => self.bit.is_some() || self.ty == DataType::Bool,
             IoKind::Dint => self.bit.is_none() && self.ty == DataType::Dint,
-            IoKind::Real => self.bit.is_none() && self.ty == DataType::Real,
+            IoKind::Real | IoKind::Real3 => self.bit.is_none() && self.ty == DataType::Real,
         }
+    }
+
+    /// The point `k` slots after this one (the elements after `Pos[0]`).
+    #[must_use]
+    pub fn next(&self, k: usize, mem: &Memory) -> Option<IoPoint> {
+        let slot = self.slot + k;
+        (self.bit.is_none() && slot < mem.types.len()).then(|| IoPoint {
+            slot,
+            bit: None,
+            ty: mem.types[slot],
+        })
     }
 
     /// The point's type in words (`a bit`, `DINT`).

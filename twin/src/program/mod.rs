@@ -339,7 +339,9 @@ impl Program {
                 tag.text
             )));
         };
-        if !point.fits(kind) {
+        let three = kind != crate::scene::IoKind::Real3
+            || (1..3).all(|k| point.next(k, mem).is_some_and(|p| p.fits(crate::scene::IoKind::Real)));
+        if !point.fits(kind) || !three {
             return Err(fail(format!(
                 "'{}' is {}; this needs {}",
                 tag.text,
@@ -349,6 +351,15 @@ impl Program {
         }
         self.io.add(point, entry, &tag.text).map_err(fail)?;
         Ok(point)
+    }
+
+    /// Writes three REALs from `point` on (a `Real3` point).
+    pub fn write_inputs3(&mut self, point: io::IoPoint, values: [f64; 3]) {
+        for (k, v) in values.into_iter().enumerate() {
+            if let Some(p) = point.next(k, self.plc.memory()) {
+                p.write(self.plc.memory_mut(), Value::Real(v));
+            }
+        }
     }
 
     /// Writes an input into tag memory ([`io`]).

@@ -10,7 +10,7 @@ use toml::Spanned;
 
 use super::cell_model::{
     Cell, Conveyor, ConveyorDrive, Cylinder, Detect, DeviceFault, FaultKind, Gripper, GripperKind, IoTag, Jitter,
-    PartType, Sensor, SensorKind, Sink, SinkOutcome, Source, SourceTrigger, Vfd,
+    PartType, Sensor, SensorKind, Sink, SinkOutcome, Source, SourceTrigger, Vfd, VisionSpec,
 };
 use super::context::{Ctx, ShapeFields};
 use super::error::{Problem, SceneError};
@@ -489,17 +489,47 @@ impl Ctx<'_> {
                 &s.kind,
                 &f("kind"),
                 "sensor kind",
-                &[("beam", 0u8), ("diffuse", 1), ("proximity", 2), ("zone", 3)],
+                &[
+                    ("beam", 0u8),
+                    ("diffuse", 1),
+                    ("proximity", 2),
+                    ("zone", 3),
+                    ("clearance", 4),
+                    ("vision", 5),
+                ],
             )?;
-            let kind_name = ["beam", "diffuse", "proximity", "zone"][usize::from(kind_word)];
+            let kind_name = ["beam", "diffuse", "proximity", "zone", "clearance", "vision"][usize::from(kind_word)];
             // Which of the kind-specific fields each kind takes.
             let takes: &[&str] = match kind_word {
                 0 => &["from", "to", "count", "pitch_m", "value_tag"],
                 1 => &["range_m", "value_tag", "scale"],
                 2 => &["shape", "size", "radius", "length", "materials"],
-                _ => &["shape", "size", "radius", "length", "count_tag"],
+                3 => &["shape", "size", "radius", "length", "count_tag"],
+                4 => &["between", "below_m", "value_tag"],
+                _ => &[
+                    "shape",
+                    "size",
+                    "radius",
+                    "length",
+                    "trigger",
+                    "latency_ms",
+                    "position_tag",
+                    "angle_tag",
+                    "type_tag",
+                    "frame",
+                    "units",
+                ],
             };
-            let specific: [(&str, Option<std::ops::Range<usize>>); 13] = [
+            let specific: [(&str, Option<std::ops::Range<usize>>); 22] = [
+                ("between", s.between.as_ref().map(Spanned::span)),
+                ("below_m", s.below_m.as_ref().map(Spanned::span)),
+                ("trigger", s.trigger.as_ref().map(Spanned::span)),
+                ("latency_ms", s.latency_ms.as_ref().map(Spanned::span)),
+                ("position_tag", s.position_tag.as_ref().map(Spanned::span)),
+                ("angle_tag", s.angle_tag.as_ref().map(Spanned::span)),
+                ("type_tag", s.type_tag.as_ref().map(Spanned::span)),
+                ("frame", s.frame.as_ref().map(Spanned::span)),
+                ("units", s.units.as_ref().map(Spanned::span)),
                 ("from", s.from.as_ref().map(Spanned::span)),
                 ("to", s.to.as_ref().map(Spanned::span)),
                 ("count", s.count.as_ref().map(Spanned::span)),
@@ -615,9 +645,47 @@ impl Ctx<'_> {
                         materials,
                     }
                 }
-                _ => SensorKind::Zone {
+                3 => SensorKind::Zone {
                     field: field_shape(self)?,
                 },
+                4 => {
+                    let between_at = s.between.as_ref().ok_or_else(|| missing("between"))?;
+                    let mut groups: [Vec<Detect>; 2] = [Vec::new(), Vec::new()];
+                    for (g, list) in between_at.get_ref().iter().enumerate() {
+                        for (k, d) in list.iter().enumerate() {
+                            groups[g].push(self.detect(
+                                d,
+                                &format!("sensors[{i}].between[{g}][{k}]"),
+                                part_types,
+                                timing.obstacles,
+                            )?);
+                        }
+                        if groups[g].is_empty() {
+                            return Err(self.invalid(between_at, format!("sensors[{i}].between[{g}]"), Problem::Empty));
+                        }
+                    }
+                    if let Some(d) = &s.detects {
+                        let why = "a clearance sensor's groups are its 'between'".to_owned();
+                        return Err(self.invalid(d, f("detects"), Problem::Rule { why }));
+                    }
+                    SensorKind::Clearance {
+                        between: groups,
+                        below_m: self.positive(s.below_m.as_ref().ok_or_else(|| missing("below_m"))?, &f("below_m"))?,
+                    }
+                }
+                _ => SensorKind::Vision(Box::new(VisionSpec {
+                    field: field_shape(self)?,
+                    trigger: self.io_tag(s.trigger.as_ref().ok_or_else(|| missing("trigger"))?, &f("trigger"))?,
+                    latency_s: self.non_negative_or(&s.latency_ms, &f("latency_ms"), 50.0)? / 1000.0,
+                    position_tag: self.optional_io_tag(&s.position_tag, &f("position_tag"))?,
+                    angle_tag: self.optional_io_tag(&s.angle_tag, &f("angle_tag"))?,
+                    type_tag: self.optional_io_tag(&s.type_tag, &f("type_tag"))?,
+                    frame: s.frame.as_ref().map(|l| (l.get_ref().trim().to_owned(), self.loc(l))),
+                    millimetres: match &s.units {
+                        Some(u) => self.word(u, &f("units"), "units", &[("m", false), ("mm", true)])?,
+                        None => false,
+                    },
+                })),
             };
             let detects = match &s.detects {
                 Some(list) => {
@@ -643,9 +711,10 @@ impl Ctx<'_> {
             };
             let registration = match &s.registration {
                 Some(r) => {
-                    if kind_word == 3 {
-                        let why =
-                            "a zone has no registration output: wire a beam, diffuse or proximity sensor".to_owned();
+                    if kind_word >= 3 {
+                        let why = format!(
+                            "a {kind_name} sensor has no registration output: wire a beam, diffuse or proximity sensor"
+                        );
                         return Err(self.invalid(r, f("registration"), Problem::Rule { why }));
                     }
                     let raw = r.get_ref();

@@ -73,6 +73,8 @@ pub enum IoKind {
     Dint,
     /// A REAL (an analog value, a speed in %).
     Real,
+    /// Three REALs in a row: the first of them (`Pos[0]`).
+    Real3,
 }
 
 impl IoKind {
@@ -83,6 +85,7 @@ impl IoKind {
             IoKind::Bool => "a BOOL or a bit of an integer (DI.3)",
             IoKind::Dint => "a DINT",
             IoKind::Real => "a REAL",
+            IoKind::Real3 => "the first of three REALs (Pos[0] of a REAL[3])",
         }
     }
 }
@@ -372,6 +375,17 @@ pub enum SensorKind {
         /// The zone.
         field: Shape,
     },
+    /// The smallest distance between two groups of bodies (`between`); the
+    /// BOOL is set while it is below `below_m`.
+    Clearance {
+        /// The two groups.
+        between: [Vec<Detect>; 2],
+        /// The threshold, m.
+        below_m: f64,
+    },
+    /// A camera: `latency_ms` after its `trigger` output rises, the part
+    /// nearest its field's centre.
+    Vision(Box<VisionSpec>),
 }
 
 impl SensorKind {
@@ -385,8 +399,32 @@ impl SensorKind {
             SensorKind::Proximity { materials, .. } if !materials.is_empty() => "inductive proximity",
             SensorKind::Proximity { .. } => "proximity",
             SensorKind::Zone { .. } => "zone",
+            SensorKind::Clearance { .. } => "clearance",
+            SensorKind::Vision(_) => "vision",
         }
     }
+}
+
+/// A vision sensor's own fields.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct VisionSpec {
+    /// The field of view (a box, sphere or cylinder).
+    pub field: Shape,
+    /// The trigger output (BOOL).
+    pub trigger: IoTag,
+    /// From trigger to result, s.
+    pub latency_s: f64,
+    /// Where the position goes: the first of three REALs (`Pos[0]`).
+    pub position_tag: Option<IoTag>,
+    /// The part's angle about the frame's z, degrees (REAL).
+    pub angle_tag: Option<IoTag>,
+    /// The part type's `type_id` (DINT).
+    pub type_tag: Option<IoTag>,
+    /// The link whose frame the position is in (`None`: the world).
+    pub frame: Option<(String, Location)>,
+    /// Position in millimetres (else metres).
+    pub millimetres: bool,
 }
 
 /// `[[sensors]]`.

@@ -47,6 +47,7 @@ mod validate;
 pub use cell_model::{
     Cell, Conveyor, ConveyorDrive, Cylinder, Detect, DeviceFault, FaultKind, Gripper, GripperKind, IoDirection, IoKind,
     IoTag, Jitter, MAX_LIVE_PARTS, PartType, Sensor, SensorKind, Sink, SinkOutcome, Source, SourceTrigger, Vfd,
+    VisionSpec,
 };
 pub use error::{Problem, SceneError};
 pub use geometry::GEOMETRY_TYPES;

@@ -648,6 +648,15 @@ pub(super) struct RawSensor {
     pub(super) materials: Option<Spanned<Vec<Spanned<String>>>>,
     pub(super) count_tag: Option<Spanned<String>>,
     pub(super) registration: Option<Spanned<RawRegistration>>,
+    pub(super) between: Option<Spanned<[Vec<Spanned<String>>; 2]>>,
+    pub(super) below_m: Option<Spanned<f64>>,
+    pub(super) trigger: Option<Spanned<String>>,
+    pub(super) latency_ms: Option<Spanned<f64>>,
+    pub(super) position_tag: Option<Spanned<String>>,
+    pub(super) angle_tag: Option<Spanned<String>>,
+    pub(super) type_tag: Option<Spanned<String>>,
+    pub(super) frame: Option<Spanned<String>>,
+    pub(super) units: Option<Spanned<String>>,
     #[serde(default)]
     pub(super) faults: Vec<RawFault>,
 }

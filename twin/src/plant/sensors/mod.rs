@@ -61,6 +61,38 @@ enum FieldShape {
         local: Pose,
         materials: Vec<String>,
     },
+    /// The distance between two groups of bodies.
+    Clearance { groups: Box<[Targets; 2]>, below_m: f64 },
+    /// A camera's field of view.
+    Vision(Box<Vision>),
+}
+
+/// A vision sensor's settings and its last result.
+#[derive(Clone)]
+struct Vision {
+    shape: SharedShape,
+    local: Pose,
+    latency_s: f64,
+    /// The link whose frame the position is in.
+    frame: Option<usize>,
+    millimetres: bool,
+    trigger_was: bool,
+    /// A result on its way: (when it arrives, s; what it says).
+    pending: Option<(f64, VisionResult)>,
+    result: VisionResult,
+}
+
+/// What a camera reports.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct VisionResult {
+    /// A part was in the field.
+    pub found: bool,
+    /// Its centre in the frame (m, or mm with `units = "mm"`).
+    pub position: [f64; 3],
+    /// Its angle about the frame's z, degrees in (−180, 180].
+    pub angle_deg: f64,
+    /// Its type's `type_id`.
+    pub type_id: i32,
 }
 
 /// One sensor running.
@@ -102,13 +134,7 @@ enum Seen {
 
 impl SensorSim {
     fn sees(&self, what: Seen, material: &Material) -> bool {
-        let t = &self.targets;
-        let by_target = match what {
-            Seen::Part { part_type, .. } => t.all_parts || t.part_types.contains(&part_type),
-            Seen::Link(l) => t.robot || t.links.contains(&l),
-            Seen::Obstacle(o) => t.obstacles.contains(&o),
-        };
-        if !by_target {
+        if !names(&self.targets, what) {
             return false;
         }
         match (&self.field, what) {
@@ -117,6 +143,71 @@ impl SensorSim {
             }
             _ => true,
         }
+    }
+
+    /// A vision sensor's trigger output at `t` (after the scans): at its
+    /// rise the camera takes the part nearest its field's centre, and the
+    /// result arrives `latency` later ([`SensorSim::vision_result`]).
+    pub fn vision_trigger(&mut self, on: bool, t: f64, material: &Material, links: &[Isometry3<f64>], types: &[i32]) {
+        let world_from_sensor = self.world_from_sensor(links);
+        let all_parts = self.targets.all_parts;
+        let part_types = self.targets.part_types.clone();
+        let FieldShape::Vision(v) = &mut self.field else { return };
+        let rose = on && !v.trigger_was;
+        v.trigger_was = on;
+        if !rose {
+            return;
+        }
+        let field = pose_to_rapier(&world_from_sensor) * v.local;
+        let centre = field.translation;
+        let mut best: Option<(f64, &crate::plant::material::LivePart)> = None;
+        for p in material.parts() {
+            let seen = all_parts || part_types.contains(&p.part_type);
+            let at = material.part_pose(p).translation;
+            if !seen || !v.shape.contains_point(&field, at) {
+                continue;
+            }
+            let d = (at - centre).length();
+            if best.is_none_or(|(b, _)| d < b) {
+                best = Some((d, p));
+            }
+        }
+        let result = match best {
+            None => VisionResult::default(),
+            Some((_, p)) => {
+                let frame = v.frame.map_or_else(Isometry3::identity, |l| links[l]);
+                let part = crate::plant::convert::pose_from_rapier(&material.part_pose(p));
+                let relative = frame.inverse() * part;
+                let scale = if v.millimetres { 1000.0 } else { 1.0 };
+                let x = relative.rotation * nalgebra::Vector3::x();
+                VisionResult {
+                    found: true,
+                    position: [
+                        relative.translation.x * scale,
+                        relative.translation.y * scale,
+                        relative.translation.z * scale,
+                    ],
+                    angle_deg: x.y.atan2(x.x).to_degrees(),
+                    type_id: types[p.part_type],
+                }
+            }
+        };
+        v.pending = Some((t + v.latency_s, result));
+    }
+
+    /// A vision sensor's result as it stands at `t` (the last one that
+    /// arrived); `None` for another kind.
+    pub fn vision_result(&mut self, t: f64) -> Option<VisionResult> {
+        let FieldShape::Vision(v) = &mut self.field else {
+            return None;
+        };
+        if let Some((at, r)) = v.pending
+            && at <= t + 1e-12
+        {
+            v.result = r;
+            v.pending = None;
+        }
+        Some(v.result)
     }
 
     /// The sensor's world pose given the link poses.
@@ -133,10 +224,13 @@ impl SensorSim {
         self.mount.is_some()
     }
 
-    /// The output now (after the last step).
+    /// The output now (after the last step; a camera's: found).
     #[must_use]
     pub fn output(&self) -> bool {
-        self.signal.output()
+        match &self.field {
+            FieldShape::Vision(v) => v.result.found,
+            _ => self.signal.output(),
+        }
     }
 
     /// The statistics at `t`.
@@ -163,7 +257,7 @@ impl SensorSim {
         match &self.field {
             FieldShape::Beams(beams) => beams.iter().map(|b| (at(b.a), at(b.b))).collect(),
             FieldShape::Ray { range_m, .. } => vec![(at(Vector::ZERO), at(Vector::new(*range_m, 0.0, 0.0)))],
-            FieldShape::Volume { .. } => Vec::new(),
+            FieldShape::Volume { .. } | FieldShape::Clearance { .. } | FieldShape::Vision(_) => Vec::new(),
         }
     }
 
@@ -231,25 +325,10 @@ pub fn build(scene: &Scene, model: &RobotModel) -> Result<Vec<SensorSim>, (usize
             })?),
             None => None,
         };
-        let mut targets = Targets::default();
-        for (k, d) in s.detects.iter().enumerate() {
-            match d {
-                Detect::Parts => targets.all_parts = true,
-                Detect::PartType(p) => targets.part_types.push(*p),
-                Detect::Robot => targets.robot = true,
-                Detect::Obstacle(o) => targets.obstacles.push(*o),
-                Detect::Link(name) => targets.links.push(link_index(name).ok_or_else(|| {
-                    (
-                        i,
-                        format!("sensors[{i}].detects[{k}]"),
-                        format!(
-                            "'{name}' is not 'parts', 'robot', a part type, an obstacle or a URDF link (links: {})",
-                            known()
-                        ),
-                    )
-                })?),
-            }
-        }
+        let targets = targets_of(&s.detects, &link_index, &known, |k| {
+            format!("sensors[{i}].detects[{k}]")
+        })
+        .map_err(|(field, message)| (i, field, message))?;
         let field = match &s.kind {
             SensorKind::Beam { from_m, to_m, curtain } => {
                 let (count, pitch) = curtain.unwrap_or((1, 0.0));
@@ -287,6 +366,53 @@ pub fn build(scene: &Scene, model: &RobotModel) -> Result<Vec<SensorSim>, (usize
                     materials: Vec::new(),
                 }
             }
+            SensorKind::Clearance { between, below_m } => {
+                let mut groups = [Targets::default(), Targets::default()];
+                for (g, list) in between.iter().enumerate() {
+                    groups[g] = targets_of(list, &link_index, &known, |k| format!("sensors[{i}].between[{g}][{k}]"))
+                        .map_err(|(field, message)| (i, field, message))?;
+                }
+                FieldShape::Clearance {
+                    groups: Box::new(groups),
+                    below_m: *below_m,
+                }
+            }
+            SensorKind::Vision(v) => {
+                let crate::scene::VisionSpec {
+                    field,
+                    latency_s,
+                    frame,
+                    millimetres,
+                    ..
+                } = &**v;
+                let (local, shape) = volume(field, &s.name).ok_or_else(|| {
+                    (
+                        i,
+                        format!("sensors[{i}].shape"),
+                        "the field of view has no volume".to_owned(),
+                    )
+                })?;
+                let frame = match frame {
+                    Some((name, _)) => Some(link_index(name).ok_or_else(|| {
+                        (
+                            i,
+                            format!("sensors[{i}].frame"),
+                            format!("the URDF has no link '{name}' (links: {})", known()),
+                        )
+                    })?),
+                    None => None,
+                };
+                FieldShape::Vision(Box::new(Vision {
+                    shape,
+                    local,
+                    latency_s: *latency_s,
+                    frame,
+                    millimetres: *millimetres,
+                    trigger_was: false,
+                    pending: None,
+                    result: VisionResult::default(),
+                }))
+            }
         };
         let idle_value = match &field {
             FieldShape::Ray { range_m, scale } => scaled(*range_m, *scale),
@@ -312,6 +438,44 @@ pub fn build(scene: &Scene, model: &RobotModel) -> Result<Vec<SensorSim>, (usize
         });
     }
     Ok(out)
+}
+
+/// What a `detects` list (or a clearance group) names, resolved; a link
+/// the URDF lacks is `(field, message)`.
+fn targets_of(
+    list: &[Detect],
+    link_index: &dyn Fn(&str) -> Option<usize>,
+    known: &dyn Fn() -> String,
+    field: impl Fn(usize) -> String,
+) -> Result<Targets, (String, String)> {
+    let mut targets = Targets::default();
+    for (k, d) in list.iter().enumerate() {
+        match d {
+            Detect::Parts => targets.all_parts = true,
+            Detect::PartType(p) => targets.part_types.push(*p),
+            Detect::Robot => targets.robot = true,
+            Detect::Obstacle(o) => targets.obstacles.push(*o),
+            Detect::Link(name) => targets.links.push(link_index(name).ok_or_else(|| {
+                (
+                    field(k),
+                    format!(
+                        "'{name}' is not 'parts', 'robot', a part type, an obstacle or a URDF link (links: {})",
+                        known()
+                    ),
+                )
+            })?),
+        }
+    }
+    Ok(targets)
+}
+
+/// Whether `targets` names a body.
+fn names(targets: &Targets, what: Seen) -> bool {
+    match what {
+        Seen::Part { part_type, .. } => targets.all_parts || targets.part_types.contains(&part_type),
+        Seen::Link(l) => targets.robot || targets.links.contains(&l),
+        Seen::Obstacle(o) => targets.obstacles.contains(&o),
+    }
 }
 
 /// A diffuse eye's distance through its `scale`.
@@ -376,6 +540,25 @@ pub fn step(
     let all = bodies(material, links0, links1);
     let dt = t1 - t0;
     for s in sensors.iter_mut() {
+        if let FieldShape::Vision(_) = s.field {
+            continue;
+        }
+        if let FieldShape::Clearance { groups, below_m } = &s.field {
+            let distance = clearance(&all, groups);
+            let below = distance < *below_m;
+            let changes: Vec<(f64, bool)> = if below == s.detected {
+                Vec::new()
+            } else {
+                vec![(t1, below)]
+            };
+            s.detected = below;
+            s.value = distance;
+            s.signal.feed(t0, t1, &changes);
+            if s.signal.updated_in(t0, t1) {
+                s.value_taken = s.value;
+            }
+            continue;
+        }
         let a = pose_to_rapier(&s.world_from_sensor(links0));
         let b = pose_to_rapier(&s.world_from_sensor(links1));
         let candidates: Vec<&Body<'_>> = all.iter().filter(|x| s.sees(x.what, material)).collect();
@@ -429,6 +612,7 @@ pub fn step(
             FieldShape::Volume { shape, local, .. } => {
                 overlap_with(shape.as_ref(), *local);
             }
+            FieldShape::Clearance { .. } | FieldShape::Vision(_) => {}
         }
         if let FieldShape::Volume { .. } = s.field {
             value = seen_at_end.len() as f64;
@@ -442,4 +626,32 @@ pub fn step(
             s.value_taken = s.value;
         }
     }
+}
+
+/// The smallest distance between a body of one group and a body of the
+/// other (a body in both is not measured against itself), at the step's
+/// end, m; infinite when a group is empty.
+fn clearance(all: &[Body<'_>], groups: &[Targets; 2]) -> f64 {
+    let a: Vec<&Body<'_>> = all.iter().filter(|x| names(&groups[0], x.what)).collect();
+    let b: Vec<&Body<'_>> = all.iter().filter(|x| names(&groups[1], x.what)).collect();
+    let mut best = f64::INFINITY;
+    for x in &a {
+        let xa = x.moving.shape.compute_aabb(&x.moving.end);
+        for y in &b {
+            if x.what == y.what {
+                continue;
+            }
+            let ya = y.moving.shape.compute_aabb(&y.moving.end);
+            let gap = (xa.mins - ya.maxs).max(ya.mins - xa.maxs).max(Vector::ZERO).length();
+            if gap >= best {
+                continue;
+            }
+            if let Ok(d) =
+                rapier3d_f64::parry::query::distance(&x.moving.end, x.moving.shape, &y.moving.end, y.moving.shape)
+            {
+                best = best.min(d.distance);
+            }
+        }
+    }
+    best
 }
