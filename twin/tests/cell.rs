@@ -792,3 +792,31 @@ fn a_vision_sensor_reports_the_part_after_its_latency() {
     assert!((tag_value(&t, "Angle").as_f64() - 30.0).abs() < 0.05);
     assert_eq!(tag_value(&t, "Kind").as_i64(), 7);
 }
+
+/// `twin check`'s I/O list: each device's tags with their direction, and a
+/// routine's assignment to an input tag named by file, line and column.
+#[test]
+fn the_io_list_names_each_point_and_the_routines_writing_inputs() {
+    let body = tags(&[("Eye", "BOOL"), ("DI", "DINT"), ("Run", "BOOL")])
+        + "[[conveyors]]\nname = \"Belt\"\nposition = [0.0, 0.0, 0.5]\nsize = [1.0, 0.2, 0.1]\nrun = \"Run\"\nmax_speed_mps = 0.5\n\
+           [[sensors]]\nname = \"PE\"\nkind = \"beam\"\ntag = \"DI.2\"\nfrom = [0.0, -0.2, 0.6]\nto = [0.0, 0.2, 0.6]\n";
+    let routine = "Run := TRUE;\nIF Eye THEN\n  DI := 0;\nEND_IF;\n";
+    let path = scene("io-list", &body, Some(routine));
+    let mut t = twin(&path);
+    let entries: Vec<_> = t.program().io().entries().cloned().collect();
+    let list: Vec<(String, twin::scene::IoDirection, String)> = entries
+        .iter()
+        .map(|e| (e.tag.clone(), e.direction, e.device.clone()))
+        .collect();
+    assert_eq!(
+        list,
+        vec![
+            ("DI.2".to_owned(), twin::scene::IoDirection::Input, "PE".to_owned()),
+            ("Run".to_owned(), twin::scene::IoDirection::Output, "Belt".to_owned()),
+        ]
+    );
+    let writes = t.input_writes();
+    assert_eq!(writes.len(), 1, "{writes:?}");
+    assert!(writes[0].0.ends_with("Main.st:3:3"), "{writes:?}");
+    assert_eq!(writes[0].1, "DI.2");
+}

@@ -314,17 +314,8 @@ impl Program {
         entry: io::IoEntry,
     ) -> Result<io::IoPoint, Box<Diagnostic>> {
         let in_field = |d: Box<Diagnostic>| Box::new((*d).in_field(tag.field.clone()));
-        let decls = Declarations::of(scene);
-        let mut env = Env {
-            scene,
-            decls: &decls,
-            files: &scene.files,
-            task,
-            bindings: &mut self.bindings,
-        };
+        let (place, _) = self.resolve(scene, task, None, &tag.expr).map_err(in_field)?;
         let mem = self.plc.memory();
-        let mut compiler = Compiler::new(mem, None, &[], Dialect::Logix, &mut env, false);
-        let (place, _) = compiler.traced(&tag.expr).map_err(in_field)?;
         let fail = |message: String| {
             Box::new(
                 scene
@@ -373,6 +364,29 @@ impl Program {
         point.read(self.plc.memory())
     }
 
+    /// A reference resolved to its place and type, in controller scope or
+    /// in a program's (`scope`: the program, its routines' names, the
+    /// routine's dialect).
+    fn resolve(
+        &mut self,
+        scene: &Scene,
+        task: &mut MotionTask,
+        scope: Option<(&str, &[String], Dialect)>,
+        expr: &crate::st::ast::Expr,
+    ) -> Result<(Place, DataType), Box<Diagnostic>> {
+        let decls = Declarations::of(scene);
+        let mut env = Env {
+            scene,
+            decls: &decls,
+            files: &scene.files,
+            task,
+            bindings: &mut self.bindings,
+        };
+        let (program, routines, dialect) = scope.map_or((None, &[][..], Dialect::Logix), |(p, r, d)| (Some(p), r, d));
+        let mut compiler = Compiler::new(self.plc.memory(), program, routines, dialect, &mut env, false);
+        compiler.traced(expr)
+    }
+
     /// The I/O points bound, for `twin check`.
     #[must_use]
     pub fn io(&self) -> &io::IoMap {
@@ -383,30 +397,21 @@ impl Program {
     /// as on a controller; the next input update overwrites it), for
     /// `twin check`: (`routine:line:col`, the tag as the device names it).
     pub fn input_writes(&mut self, scene: &Scene, task: &mut MotionTask) -> Vec<(String, String)> {
-        let decls = Declarations::of(scene);
-        let mut env = Env {
-            scene,
-            decls: &decls,
-            files: &scene.files,
-            task,
-            bindings: &mut self.bindings,
-        };
-        let mem = self.plc.memory();
         let mut out = Vec::new();
         for p in scene.tasks.iter().flat_map(|t| &t.programs) {
             let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
             let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
             for def in &defs {
-                let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, &mut env, false);
                 for target in def.routine.assignment_targets() {
                     let expr = crate::st::ast::Expr {
                         kind: crate::st::ast::ExprKind::Ref(target.clone()),
                         span: target.span,
                     };
-                    let Ok((place, _)) = compiler.traced(&expr) else {
+                    let scope = Some((p.name.as_str(), names.as_slice(), def.dialect));
+                    let Ok((place, _)) = self.resolve(scene, task, scope, &expr) else {
                         continue;
                     };
-                    let Some(point) = io::point_of(&place, mem) else {
+                    let Some(point) = io::point_of(&place, self.plc.memory()) else {
                         continue;
                     };
                     if let Some(e) = self.io.input_at(point) {

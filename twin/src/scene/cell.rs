@@ -89,7 +89,7 @@ impl Ctx<'_> {
         s.as_ref().map(|s| self.io_tag(s, field)).transpose()
     }
 
-    fn color_or(
+    pub(super) fn color_or(
         &self,
         c: &Option<Spanned<Numbers<4>>>,
         field: &str,

@@ -611,22 +611,7 @@ impl Ctx<'_> {
                 Some(r) => self.finite_array(r, &f("rpy_deg"))?,
                 None => [0.0; 3],
             };
-            let color = match &o.color {
-                Some(c) => {
-                    let rgba = self.finite_array(c, &f("color"))?;
-                    if let Some(&value) = rgba.iter().find(|x| !(0.0..=1.0).contains(*x)) {
-                        let problem = Problem::OutOfRange {
-                            value,
-                            min: 0.0,
-                            max: 1.0,
-                            exclusive: false,
-                        };
-                        return Err(self.invalid(c, f("color"), problem));
-                    }
-                    rgba
-                }
-                None => [0.6, 0.6, 0.6, 1.0],
-            };
+            let color = self.color_or(&o.color, &f("color"), [0.6, 0.6, 0.6, 1.0])?;
             obstacles.push(Obstacle {
                 name,
                 shape,
