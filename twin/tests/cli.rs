@@ -565,14 +565,15 @@ fn bench_prints_a_row_per_scene_with_the_bare_simulation_and_the_kinematic_plant
     );
     for (line, scene) in lines[2..4].iter().zip(["fault_demo", "knife_cut"]) {
         let cells: Vec<&str> = line.trim_matches('|').split('|').map(str::trim).collect();
-        assert_eq!(cells.len(), 15, "{line}");
+        assert_eq!(cells.len(), 17, "{line}");
         assert_eq!(cells[0], scene);
         for c in &cells[1..6] {
             let x: f64 = c.parse().unwrap_or_else(|_| panic!("{c} in {line}"));
             assert!(x > 0.0 && x.is_finite(), "{line}");
         }
         assert_eq!(cells[6], "-", "no [collision] in {scene}");
-        let shares: f64 = cells[7..]
+        assert_eq!((cells[7], cells[8]), ("-", "-"), "no cell in {scene}");
+        let shares: f64 = cells[9..]
             .iter()
             .map(|c| c.trim_end_matches(" %").parse::<f64>().expect("a share"))
             .sum();
@@ -711,21 +712,40 @@ at_end = "time_s >= 8.999"
     );
     let (code, summary, out) = run_summary(&path, &[]);
     assert_eq!(code, Some(6), "{out}");
-    for name in ["never an error", "first move done by 1.5 s", "ends at 135", "aborted after the first done", "following error while moving", "time is a column"] {
+    for name in [
+        "never an error",
+        "first move done by 1.5 s",
+        "ends at 135",
+        "aborted after the first done",
+        "following error while moving",
+        "time is a column",
+    ] {
         let e = expectation(&summary, name);
         assert_eq!(e["passed"], true, "{name}: {e}");
     }
     let never = expectation(&summary, "never reaches 200 too early");
     assert_eq!(never["passed"], false);
     let m = never["message"].as_str().unwrap_or_default();
-    assert!(m.contains("was never TRUE from 0 s to 9 s") && m.contains("best "), "{m}");
+    assert!(
+        m.contains("was never TRUE from 0 s to 9 s") && m.contains("best "),
+        "{m}"
+    );
     let cycle = expectation(&summary, "busy cycles");
     assert_eq!(cycle["passed"], false, "{cycle}");
-    assert!(cycle["message"].as_str().unwrap_or_default().contains("outside [0.5 s, 1 s]"), "{cycle}");
+    assert!(
+        cycle["message"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("outside [0.5 s, 1 s]"),
+        "{cycle}"
+    );
     let reversed = expectation(&summary, "reversed order");
     assert_eq!(reversed["passed"], false);
     assert!(
-        reversed["message"].as_str().unwrap_or_default().contains("rose before step 1"),
+        reversed["message"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("rose before step 1"),
         "{reversed}"
     );
 }
@@ -733,20 +753,90 @@ at_end = "time_s >= 8.999"
 #[test]
 fn bad_expectations_and_variants_name_file_line_column_and_field() {
     let cases: [(&str, &str, usize, &str); 14] = [
-        ("unknown_name", "[[expect]]\nname = \"x\"\nalways = \"Tabel.ActualPosition > 0.0\"\n", 3, "expect[0].always: 'Tabel' is not a controller tag or an axis"),
-        ("not_bool", "[[expect]]\nname = \"x\"\nalways = \"Table.act_pos\"\n", 3, "expect[0].always: the condition is LREAL: compare it"),
-        ("c_equals", "[[expect]]\nname = \"x\"\nalways = \"MoveA.Done == TRUE\"\n", 3, "expect[0].always: "),
-        ("two_kinds", "[[expect]]\nname = \"x\"\nalways = \"MoveA.Done\"\nnever = \"MoveB.Done\"\n", 4, "expect[0]: give exactly one of always, never, eventually, at_end, sequence, cycle (found always and never)"),
-        ("no_kind", "[[expect]]\nname = \"x\"\n", 2, "expect[0]: give exactly one of"),
-        ("empty_sequence", "[[expect]]\nname = \"x\"\nsequence = []\n", 3, "expect[0].sequence: a sequence needs at least one condition"),
-        ("by_past_end", "[[expect]]\nname = \"x\"\neventually = \"MoveA.Done\"\nby_s = 12.0\n", 4, "expect[0].by_s: by_s = 12 is after the end of the run (duration_s = 9)"),
-        ("option_of_another_kind", "[[expect]]\nname = \"x\"\nat_end = \"MoveA.Done\"\nwithin_s = 1.0\n", 4, "expect[0].within_s: 'within_s' does not apply to 'at_end'"),
-        ("window_order", "[[expect]]\nname = \"x\"\nalways = \"MoveA.Done\"\nfrom_s = 5.0\nto_s = 2.0\n", 5, "expect[0].to_s: from_s = 5 is after to_s = 2"),
-        ("duplicate_name", "[[expect]]\nname = \"x\"\nat_end = \"MoveA.Done\"\n[[expect]]\nname = \"X\"\nat_end = \"MoveA.Done\"\n", 5, "expect[1].name: duplicate name 'X'"),
-        ("unknown_variant_tag", "[[variants]]\nname = \"v\"\ntags = { Speed = 3.0 }\n", 3, "variants[0].tags.Speed: unknown tag 'Speed'"),
-        ("variant_tag_type", "[[tags]]\nname = \"Speed\"\ntype = \"DINT\"\nvalue = 1\n[[variants]]\nname = \"v\"\ntags = { Speed = 2.5 }\n", 7, "variants[0].tags.Speed: value does not fit type DINT"),
-        ("bad_exit_code", "[test]\nexit_code = 7\n", 2, "test.exit_code: exit code 7 is not one a run ends with"),
-        ("count_zero", "[[expect]]\nname = \"x\"\ncycle = \"MoveA.Busy\"\ncount = 0\n", 4, "expect[0].count: must be between 1 and"),
+        (
+            "unknown_name",
+            "[[expect]]\nname = \"x\"\nalways = \"Tabel.ActualPosition > 0.0\"\n",
+            3,
+            "expect[0].always: 'Tabel' is not a controller tag or an axis",
+        ),
+        (
+            "not_bool",
+            "[[expect]]\nname = \"x\"\nalways = \"Table.act_pos\"\n",
+            3,
+            "expect[0].always: the condition is LREAL: compare it",
+        ),
+        (
+            "c_equals",
+            "[[expect]]\nname = \"x\"\nalways = \"MoveA.Done == TRUE\"\n",
+            3,
+            "expect[0].always: ",
+        ),
+        (
+            "two_kinds",
+            "[[expect]]\nname = \"x\"\nalways = \"MoveA.Done\"\nnever = \"MoveB.Done\"\n",
+            4,
+            "expect[0]: give exactly one of always, never, eventually, at_end, sequence, cycle (found always and never)",
+        ),
+        (
+            "no_kind",
+            "[[expect]]\nname = \"x\"\n",
+            2,
+            "expect[0]: give exactly one of",
+        ),
+        (
+            "empty_sequence",
+            "[[expect]]\nname = \"x\"\nsequence = []\n",
+            3,
+            "expect[0].sequence: a sequence needs at least one condition",
+        ),
+        (
+            "by_past_end",
+            "[[expect]]\nname = \"x\"\neventually = \"MoveA.Done\"\nby_s = 12.0\n",
+            4,
+            "expect[0].by_s: by_s = 12 is after the end of the run (duration_s = 9)",
+        ),
+        (
+            "option_of_another_kind",
+            "[[expect]]\nname = \"x\"\nat_end = \"MoveA.Done\"\nwithin_s = 1.0\n",
+            4,
+            "expect[0].within_s: 'within_s' does not apply to 'at_end'",
+        ),
+        (
+            "window_order",
+            "[[expect]]\nname = \"x\"\nalways = \"MoveA.Done\"\nfrom_s = 5.0\nto_s = 2.0\n",
+            5,
+            "expect[0].to_s: from_s = 5 is after to_s = 2",
+        ),
+        (
+            "duplicate_name",
+            "[[expect]]\nname = \"x\"\nat_end = \"MoveA.Done\"\n[[expect]]\nname = \"X\"\nat_end = \"MoveA.Done\"\n",
+            5,
+            "expect[1].name: duplicate name 'X'",
+        ),
+        (
+            "unknown_variant_tag",
+            "[[variants]]\nname = \"v\"\ntags = { Speed = 3.0 }\n",
+            3,
+            "variants[0].tags.Speed: unknown tag 'Speed'",
+        ),
+        (
+            "variant_tag_type",
+            "[[tags]]\nname = \"Speed\"\ntype = \"DINT\"\nvalue = 1\n[[variants]]\nname = \"v\"\ntags = { Speed = 2.5 }\n",
+            7,
+            "variants[0].tags.Speed: value does not fit type DINT",
+        ),
+        (
+            "bad_exit_code",
+            "[test]\nexit_code = 7\n",
+            2,
+            "test.exit_code: exit code 7 is not one a run ends with",
+        ),
+        (
+            "count_zero",
+            "[[expect]]\nname = \"x\"\ncycle = \"MoveA.Busy\"\ncount = 0\n",
+            4,
+            "expect[0].count: must be between 1 and",
+        ),
     ];
     for (name, extra, line, needle) in cases {
         let (path, first) = with_appended(&format!("bad_expect_{name}"), extra);
@@ -755,7 +845,10 @@ fn bad_expectations_and_variants_name_file_line_column_and_field() {
         assert_eq!(out.status.code(), Some(65), "{name}: {err}");
         let head = err.lines().next().unwrap_or_default();
         let place = format!("{}:{}:", path.display(), first + line - 1);
-        assert!(head.starts_with("error: ") && head.contains(&place), "{name}: expected {place} in {head}");
+        assert!(
+            head.starts_with("error: ") && head.contains(&place),
+            "{name}: expected {place} in {head}"
+        );
         assert!(head.contains(needle), "{name}: expected {needle:?} in {head}");
     }
 }
@@ -771,7 +864,11 @@ fn a_tag_that_is_also_a_trace_column_is_refused_naming_both() {
     assert_eq!(out.status.code(), Some(65), "{err}");
     let head = err.lines().next().unwrap_or_default();
     assert!(
-        head.contains(&format!("{}:{}:11: expect[0].always: 'time_s' names both the tag 'time_s' and the trace column 'time_s'", path.display(), first + 6)),
+        head.contains(&format!(
+            "{}:{}:11: expect[0].always: 'time_s' names both the tag 'time_s' and the trace column 'time_s'",
+            path.display(),
+            first + 6
+        )),
         "{head}"
     );
 }
@@ -827,15 +924,27 @@ fn suite(name: &str) -> PathBuf {
     let good = format!(
         "{base}\n[[expect]]\nname = \"first move\"\neventually = \"MoveA.Done\"\nby_s = 1.5\n\n[[variants]]\nname = \"short\"\nduration_s = 2.0\n"
     );
-    std::fs::write(dir.join("a_good.toml"), good.replace("duration_s = 9.0", "duration_s = 3.0")).expect("write");
+    std::fs::write(
+        dir.join("a_good.toml"),
+        good.replace("duration_s = 9.0", "duration_s = 3.0"),
+    )
+    .expect("write");
     std::fs::write(
         dir.join("b_broken.toml"),
         format!("{base}\n[[expect]]\nname = \"broken\"\nalways = \"Table.ActualPosition < 10.0\"\n")
             .replace("duration_s = 9.0", "duration_s = 2.0"),
     )
     .expect("write");
-    std::fs::write(dir.join("c_bad.toml"), base.replace("max_velocity = 360.0", "max_velocity = -1.0")).expect("write");
-    std::fs::write(dir.join("d_hangs.toml"), base.replace("duration_s = 9.0", "duration_s = 100000.0")).expect("write");
+    std::fs::write(
+        dir.join("c_bad.toml"),
+        base.replace("max_velocity = 360.0", "max_velocity = -1.0"),
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("d_hangs.toml"),
+        base.replace("duration_s = 9.0", "duration_s = 100000.0"),
+    )
+    .expect("write");
     dir
 }
 
@@ -883,8 +992,14 @@ fn twin_test_reports_failures_errors_and_timeouts_in_junit() {
         }
         other => panic!("broken: {other:?}"),
     }
-    assert!(matches!(find("a_good.toml", "first move").status, quick_junit::TestCaseStatus::Success { .. }));
-    assert!(matches!(find("a_good.toml[short]", "run").status, quick_junit::TestCaseStatus::Success { .. }));
+    assert!(matches!(
+        find("a_good.toml", "first move").status,
+        quick_junit::TestCaseStatus::Success { .. }
+    ));
+    assert!(matches!(
+        find("a_good.toml[short]", "run").status,
+        quick_junit::TestCaseStatus::Success { .. }
+    ));
     for errored in ["c_bad.toml", "d_hangs.toml"] {
         match &find(errored, "run").status {
             quick_junit::TestCaseStatus::NonSuccess { kind, .. } => {
@@ -956,7 +1071,10 @@ fn shards_run_every_run_exactly_once() {
             .output()
             .expect("twin test --list");
         assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-        String::from_utf8_lossy(&out.stdout).lines().map(str::to_owned).collect()
+        String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .map(str::to_owned)
+            .collect()
     };
     let all = list("1/1");
     assert!(all.len() >= 15, "{all:?}");
@@ -982,7 +1100,13 @@ fn shards_run_every_run_exactly_once() {
         .env("JOB_COMPLETION_INDEX", "1")
         .output()
         .expect("twin test");
-    assert_eq!(String::from_utf8_lossy(&out.stdout).lines().map(str::to_owned).collect::<Vec<_>>(), list("2/3"));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .map(str::to_owned)
+            .collect::<Vec<_>>(),
+        list("2/3")
+    );
 }
 
 #[test]
@@ -1001,7 +1125,9 @@ fn an_unwritable_junit_exits_74_before_anything_runs() {
 #[test]
 fn repeat_compares_the_traces_of_deterministic_runs() {
     let (path, _) = with_appended("suite_repeat", "");
-    let text = std::fs::read_to_string(&path).expect("scene").replace("duration_s = 9.0", "duration_s = 0.5");
+    let text = std::fs::read_to_string(&path)
+        .expect("scene")
+        .replace("duration_s = 9.0", "duration_s = 0.5");
     std::fs::write(&path, text).expect("write");
     let durations = path.with_file_name("durations.json");
     std::fs::write(&durations, "{\"elsewhere.toml\": 3.5}").expect("write");
@@ -1014,12 +1140,22 @@ fn repeat_compares_the_traces_of_deterministic_runs() {
         .expect("twin test");
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{stdout}{}", stderr(&out));
-    assert!(stdout.lines().last().unwrap_or_default().starts_with("1 passed, 0 failed"), "{stdout}");
+    assert!(
+        stdout
+            .lines()
+            .last()
+            .unwrap_or_default()
+            .starts_with("1 passed, 0 failed"),
+        "{stdout}"
+    );
     // The durations file keeps the other entries and gains this run's.
     let read: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&durations).expect("durations")).expect("JSON");
     assert_eq!(read["elsewhere.toml"], 3.5);
-    assert!(read[path.display().to_string()].as_f64().is_some_and(|s| s > 0.0), "{read}");
+    assert!(
+        read[path.display().to_string()].as_f64().is_some_and(|s| s > 0.0),
+        "{read}"
+    );
 }
 
 #[test]
@@ -1043,14 +1179,27 @@ fn shipped_scenes_with_expected_faults_pass_and_their_junit_reads_back() {
         .expect("twin test");
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     assert_eq!(out.status.code(), Some(0), "{stdout}{}", stderr(&out));
-    assert!(stdout.lines().last().unwrap_or_default().starts_with("3 passed, 0 failed, 1 skipped"), "{stdout}");
+    assert!(
+        stdout
+            .lines()
+            .last()
+            .unwrap_or_default()
+            .starts_with("3 passed, 0 failed, 1 skipped"),
+        "{stdout}"
+    );
     let xml = std::fs::read_to_string(&junit).expect("junit");
     let report = quick_junit::Report::deserialize_from_str(&xml).expect("quick-junit reads the report");
     let names: Vec<String> = report
         .test_suites
         .iter()
         .flat_map(|s| &s.test_cases)
-        .map(|c| format!("{}::{}", c.classname.as_ref().map_or("", |k| k.as_str()), c.name.as_str()))
+        .map(|c| {
+            format!(
+                "{}::{}",
+                c.classname.as_ref().map_or("", |k| k.as_str()),
+                c.name.as_str()
+            )
+        })
         .collect();
     for expected in [
         "scenes/fault_demo.toml::run",

@@ -24,8 +24,11 @@ pub struct Visual {
     pub parent_from_mesh: Isometry3<f64>,
     /// sRGB colour and alpha.
     pub color_rgba: [f32; 4],
-    /// Name for logs (link or obstacle name).
+    /// Name for logs (link, obstacle or conveyor name).
     pub name: String,
+    /// What a world-fixed piece is, for its recording path
+    /// (`obstacles`, `conveyors`; links: empty).
+    pub group: &'static str,
 }
 
 fn geometry_mesh(geometry: &Geometry) -> TriMesh {
@@ -76,6 +79,7 @@ pub fn scene_visuals(model: &RobotModel, scene: &Scene) -> Result<Vec<Visual>, O
                 parent_from_mesh: visual.link_from_visual,
                 color_rgba: visual.color_rgba.unwrap_or(DEFAULT_VISUAL_RGBA),
                 name: link.name.clone(),
+                group: "",
             });
         }
     }
@@ -90,6 +94,7 @@ pub fn scene_visuals(model: &RobotModel, scene: &Scene) -> Result<Vec<Visual>, O
             parent_from_mesh: placed(o.position_m, o.rpy_deg),
             color_rgba: o.color.map(|c| c as f32),
             name: o.name.clone(),
+            group: "obstacles",
         });
     }
     for c in &scene.cell.conveyors {
@@ -99,6 +104,7 @@ pub fn scene_visuals(model: &RobotModel, scene: &Scene) -> Result<Vec<Visual>, O
             parent_from_mesh: placed(c.position_m, c.rpy_deg),
             color_rgba: c.color.map(|x| x as f32),
             name: c.name.clone(),
+            group: "conveyors",
         });
     }
     Ok(visuals)

@@ -254,7 +254,7 @@ impl Recording {
                         count[i] += 1;
                         visual_entity_path(&link_paths[i], count[i] - 1)
                     }
-                    None => format!("obstacles/{}", part.name),
+                    None => format!("{}/{}", part.group, part.name),
                 };
                 let pose = part.parent_from_mesh;
                 let t = pose.translation.vector;

@@ -20,6 +20,10 @@ pub fn blueprint(twin: &Twin) -> rerun::blueprint::Blueprint {
         "/obstacles/**",
         "/tool_trails/**",
         "/collisions/contacts",
+        "/conveyors/**",
+        "/parts/**",
+        "/cylinders/**",
+        "/sensors/**",
     ]);
 
     // Axis groups: each coordinate system, then the axes in none.
