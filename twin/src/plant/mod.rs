@@ -110,8 +110,6 @@ struct Cell {
     since_parts_step: usize,
     /// The links' poses at the start of the parts step.
     links_at_start: Vec<nalgebra::Isometry3<f64>>,
-    /// The scene (the sources' and part types' settings).
-    scene: crate::scene::Scene,
     /// Per axis, its position at the end of the last parts step (axis
     /// units), for the registration latches inside the next one.
     axis_positions: Vec<f64>,
@@ -387,23 +385,28 @@ impl Plant {
         if cell.since_parts_step < cell.physics_per_parts_step {
             return;
         }
-        // Each axis' position now: a driven axis' joint, a virtual axis'
-        // command interpolated inside the update.
-        let positions: Vec<f64> = self
-            .axes
-            .iter()
-            .zip(&cell.commands_at_start)
-            .map(|(a, start)| match a.drive {
-                Some(d) => a.axis_position(task, self.sim.joint_position(d)),
-                None => start + (task.axis_state(a.handle).command_position - start) * fraction,
-            })
-            .collect();
+        // Each axis' position now, for the registration latches (a scene
+        // without a registration sensor needs none): a driven axis' joint,
+        // a virtual axis' command interpolated inside the update.
+        let wired = cell.sensors.iter().any(|s| s.registration.is_some());
+        let positions: Vec<f64> = if wired {
+            self.axes
+                .iter()
+                .zip(&cell.commands_at_start)
+                .map(|(a, start)| match a.drive {
+                    Some(d) => a.axis_position(task, self.sim.joint_position(d)),
+                    None => start + (task.axis_state(a.handle).command_position - start) * fraction,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         cell.since_parts_step = 0;
         let t1 = self.sim.time_s();
         let t0 = t1 - cell.material.step_s();
         let links = self.sim.world_from_link_isometries();
         let timed = self.bench.is_some().then(std::time::Instant::now);
-        cell.material.step(&cell.scene, t1, &links);
+        cell.material.step(t1, &cell.links_at_start, &links);
         let parts_done = timed.map(|t| (t, std::time::Instant::now()));
         sensors::step(
             &mut cell.sensors,
@@ -423,7 +426,9 @@ impl Plant {
                 task.registration_edge(self.axes[axis].handle, input, rising, p);
             }
         }
-        cell.axis_positions = positions;
+        if wired {
+            cell.axis_positions = positions;
+        }
         cell.material.finish_step();
         cell.links_at_start = links;
         if cell.material.take_payload_changed() {
@@ -450,9 +455,11 @@ impl Plant {
     /// as the last update left it.
     pub fn vision_trigger(&mut self, sensor: usize, on: bool, t: f64) {
         let Some(cell) = self.cell.as_mut() else { return };
+        if !cell.sensors[sensor].vision_rises(on) {
+            return;
+        }
         let links = self.sim.world_from_link_isometries();
-        let types: Vec<i32> = cell.scene.cell.part_types.iter().map(|p| p.type_id).collect();
-        cell.sensors[sensor].vision_trigger(on, t, &cell.material, &links, &types);
+        cell.sensors[sensor].vision_capture(t, &cell.material, &links);
     }
 
     /// The sensors, in scene order.
@@ -657,7 +664,6 @@ fn build_cell(
         physics_per_parts_step: (scene.cell.parts_step_ms / scene.physics_step_ms).round().max(1.0) as usize,
         since_parts_step: 0,
         links_at_start: links,
-        scene: scene.clone(),
         axis_positions: axes
             .iter()
             .map(|a| match a.drive {

@@ -39,8 +39,6 @@ mod cylinder;
 mod gripper;
 mod spawn;
 
-use std::collections::HashMap;
-
 pub use conveyor::ConveyorState;
 pub use cylinder::CylinderState;
 pub use gripper::GripperState;
@@ -57,7 +55,7 @@ use spawn::SourceState;
 use crate::plant::collision::{pose_from_xyz_rpy_deg, scene_shape, shape_of};
 use crate::plant::convert::pose_to_rapier;
 use crate::plant::urdf::RobotModel;
-use crate::scene::{MAX_LIVE_PARTS, MeshApproximation, Scene, SinkOutcome};
+use crate::scene::{MAX_LIVE_PARTS, MeshApproximation, Scene, SinkOutcome, Source};
 
 /// How far below the lowest surface a part is lost, m.
 const LOST_BELOW_M: f64 = 1.0;
@@ -88,6 +86,9 @@ pub struct LivePart {
     /// When it was spawned, s.
     pub spawned_s: f64,
     body: RigidBodyHandle,
+    /// Its pose at the start of the last step (where it was spawned, for
+    /// a part spawned then).
+    before: Pose,
 }
 
 /// A robot link's body in the parts world.
@@ -157,8 +158,9 @@ pub struct Material {
     belt_colliders: Vec<ColliderHandle>,
     cylinders: Vec<(CylinderState, RigidBodyHandle)>,
     grippers: Vec<GripperState>,
-    /// Every link's pose at the start of the next step.
-    links_now: Vec<Isometry3<f64>>,
+    /// The scene's sources and part types (what spawns take).
+    sources_def: Vec<Source>,
+    part_types: Vec<crate::scene::PartType>,
     /// Obstacles' shapes in the world, by obstacle index (for sensors).
     obstacles: Vec<(Pose, SharedShape)>,
     lost_below_z: f64,
@@ -166,8 +168,6 @@ pub struct Material {
     counts: PartCounts,
     events: Vec<PartEvent>,
     time_s: f64,
-    /// Part poses at the start of the last step, by id.
-    previous: HashMap<u64, Pose>,
     /// A pick or a release changed a link's payload.
     payload_changed: bool,
 }
@@ -363,7 +363,8 @@ impl Material {
             belt_colliders,
             cylinders,
             grippers,
-            links_now: world_from_link.to_vec(),
+            sources_def: cell.sources.clone(),
+            part_types: cell.part_types.clone(),
             obstacles,
             lost_below_z: lowest - LOST_BELOW_M,
             next_id: 1,
@@ -373,7 +374,6 @@ impl Material {
             },
             events: Vec::new(),
             time_s: 0.0,
-            previous: HashMap::new(),
             payload_changed: false,
         })
     }
@@ -401,15 +401,15 @@ impl Material {
         &mut self.conveyors
     }
 
-    /// One parts step to `t1`: spawns what is due, moves the links to
-    /// `world_from_link` (their poses at `t1`), steps the world; then
-    /// [`Material::finish_step`] removes what left the cell.
-    pub fn step(&mut self, scene: &Scene, t1: f64, world_from_link: &[Isometry3<f64>]) {
+    /// One parts step to `t1`, the links at `links0` at its start: spawns
+    /// what is due, moves the links to `world_from_link` (their poses at
+    /// `t1`), steps the world; then [`Material::finish_step`] removes what
+    /// left the cell.
+    pub fn step(&mut self, t1: f64, links0: &[Isometry3<f64>], world_from_link: &[Isometry3<f64>]) {
         let t0 = self.time_s;
-        self.spawn_due(scene, t0);
-        self.previous.clear();
-        for p in &self.parts {
-            self.previous.insert(p.id, *self.world.bodies[p.body].position());
+        self.spawn_due(t0);
+        for p in &mut self.parts {
+            p.before = *self.world.bodies[p.body].position();
         }
         for l in &self.links {
             let pose = pose_to_rapier(&world_from_link[l.link]);
@@ -422,7 +422,7 @@ impl Material {
             c.advance(t0, self.step_s);
             self.world.bodies[*body].set_next_kinematic_position(pose_to_rapier(&c.world_from_box()));
         }
-        self.grip(t0, world_from_link);
+        self.grip(t0, links0, world_from_link);
         let belts: Vec<(ColliderHandle, Vector)> = self
             .belt_colliders
             .iter()
@@ -431,14 +431,12 @@ impl Material {
             .collect();
         self.world.step_with_events(&conveyor::BeltHooks { belts: &belts }, &());
         self.time_s = t1;
-        self.links_now.clear();
-        self.links_now.extend_from_slice(world_from_link);
     }
 
     /// The grippers over the step from `t0`, the links ending at
     /// `links1`: picks, drops, places, and the held parts moved with their
     /// links (module [`gripper`]).
-    fn grip(&mut self, t0: f64, links1: &[Isometry3<f64>]) {
+    fn grip(&mut self, t0: f64, links0: &[Isometry3<f64>], links1: &[Isometry3<f64>]) {
         let dt = self.step_s;
         for k in 0..self.grippers.len() {
             let engaged = self.grippers[k].engaged(t0);
@@ -456,7 +454,8 @@ impl Material {
                     continue;
                 }
             } else if ready && !g.dropped {
-                self.pick(k);
+                let link = g.link;
+                self.pick(k, &links0[link]);
             }
             let Some(mut held) = self.grippers[k].held else {
                 continue;
@@ -484,10 +483,11 @@ impl Material {
         }
     }
 
-    /// Gripper `k` picks the part nearest its TCP within reach, if any.
-    fn pick(&mut self, k: usize) {
+    /// Gripper `k`, its link at `world_from_link`, picks the part nearest
+    /// its TCP within reach, if any.
+    fn pick(&mut self, k: usize, world_from_link: &Isometry3<f64>) {
         let g = &self.grippers[k];
-        let world_from_link = self.links_now[g.link];
+        let world_from_link = *world_from_link;
         let tcp = world_from_link * g.link_from_tcp;
         let point = Vector::new(tcp.translation.x, tcp.translation.y, tcp.translation.z);
         let held_by_others: Vec<u64> = self.grippers.iter().filter_map(|o| o.held.map(|h| h.part)).collect();
@@ -640,15 +640,15 @@ impl Material {
     }
 
     /// Spawns the parts due at `t`.
-    fn spawn_due(&mut self, scene: &Scene, t: f64) {
+    fn spawn_due(&mut self, t: f64) {
         for k in 0..self.sources.len() {
-            while let Some((pose, number)) = self.sources[k].due(&scene.cell.sources[k], t) {
+            while let Some((pose, number)) = self.sources[k].due(&self.sources_def[k], t) {
                 if self.parts.len() >= MAX_LIVE_PARTS {
                     self.counts.capped = true;
                     self.sources[k].stop();
                     break;
                 }
-                let source = &scene.cell.sources[k];
+                let source = &self.sources_def[k];
                 let shape = &self.shapes[source.part_type];
                 if self.occupied(&shape.shape, &(pose * shape.part_from_shape)) {
                     // Wait for the place to clear; the spawn stays due.
@@ -658,7 +658,7 @@ impl Material {
                 if source.skip.contains(&number) {
                     continue;
                 }
-                let part_type = &scene.cell.part_types[source.part_type];
+                let part_type = &self.part_types[source.part_type];
                 let body = self
                     .world
                     .insert_body(RigidBodyBuilder::dynamic().pose(pose).can_sleep(false));
@@ -676,9 +676,11 @@ impl Material {
                     source: k,
                     spawned_s: t,
                     body,
+                    before: pose,
                 });
                 self.counts.spawned += 1;
-                self.event(t, id, "spawned", source.name.clone());
+                let name = source.name.clone();
+                self.event(t, id, "spawned", name);
             }
         }
     }
@@ -710,10 +712,13 @@ impl Material {
     /// part spawned then).
     #[must_use]
     pub fn part_pose_before(&self, part: &LivePart) -> Pose {
-        self.previous
-            .get(&part.id)
-            .copied()
-            .unwrap_or_else(|| self.part_pose(part))
+        part.before
+    }
+
+    /// Part type `k`'s `type_id`.
+    #[must_use]
+    pub fn type_id(&self, k: usize) -> i32 {
+        self.part_types[k].type_id
     }
 
     /// The part types' shapes.
@@ -807,7 +812,7 @@ initial_position = 0.0"#,
         let mut t = 0.0;
         for _ in 0..500 {
             t += m.step_s();
-            m.step(&scene, t, &links);
+            m.step(t, &links, &links);
             m.finish_step();
         }
         let p = &m.parts()[0];

@@ -145,19 +145,26 @@ impl SensorSim {
         }
     }
 
-    /// A vision sensor's trigger output at `t` (after the scans): at its
-    /// rise the camera takes the part nearest its field's centre, and the
-    /// result arrives `latency` later ([`SensorSim::vision_result`]).
-    pub fn vision_trigger(&mut self, on: bool, t: f64, material: &Material, links: &[Isometry3<f64>], types: &[i32]) {
+    /// A vision sensor's trigger output after the scans: whether it rose
+    /// (then [`SensorSim::vision_capture`] takes the picture). Another
+    /// kind never rises.
+    pub fn vision_rises(&mut self, on: bool) -> bool {
+        let FieldShape::Vision(v) = &mut self.field else {
+            return false;
+        };
+        let rose = on && !v.trigger_was;
+        v.trigger_was = on;
+        rose
+    }
+
+    /// A vision sensor's picture at `t`: the part nearest its field's
+    /// centre; the result arrives `latency` later
+    /// ([`SensorSim::vision_result`]).
+    pub fn vision_capture(&mut self, t: f64, material: &Material, links: &[Isometry3<f64>]) {
         let world_from_sensor = self.world_from_sensor(links);
         let all_parts = self.targets.all_parts;
         let part_types = self.targets.part_types.clone();
         let FieldShape::Vision(v) = &mut self.field else { return };
-        let rose = on && !v.trigger_was;
-        v.trigger_was = on;
-        if !rose {
-            return;
-        }
         let field = pose_to_rapier(&world_from_sensor) * v.local;
         let centre = field.translation;
         let mut best: Option<(f64, &crate::plant::material::LivePart)> = None;
@@ -188,7 +195,7 @@ impl SensorSim {
                         relative.translation.z * scale,
                     ],
                     angle_deg: x.y.atan2(x.x).to_degrees(),
-                    type_id: types[p.part_type],
+                    type_id: material.type_id(p.part_type),
                 }
             }
         };
