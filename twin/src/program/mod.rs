@@ -272,17 +272,7 @@ impl Program {
         expr: &crate::st::ast::Expr,
         columns: &[ir::Column],
     ) -> Result<ir::CExpr, Box<Diagnostic>> {
-        let decls = Declarations::of(scene);
-        let mut env = Env {
-            scene,
-            decls: &decls,
-            files: &scene.files,
-            task,
-            bindings: &mut self.bindings,
-        };
-        let mut compiler = Compiler::new(self.plc.memory(), None, &[], Dialect::Logix, &mut env, false);
-        compiler.columns = columns;
-        compiler.expr(expr)
+        self.with_compiler(scene, task, None, columns, |compiler| compiler.expr(expr))
     }
 
     /// The value of an expression [`Program::compile_expression`]
@@ -374,6 +364,21 @@ impl Program {
         scope: Option<(&str, &[String], Dialect)>,
         expr: &crate::st::ast::Expr,
     ) -> Result<(Place, DataType), Box<Diagnostic>> {
+        self.with_compiler(scene, task, scope, &[], |compiler| compiler.traced(expr))
+    }
+
+    /// Runs `f` with a compiler over tag memory, in controller scope or in
+    /// a program's (`scope`: the program, its routines' names, the
+    /// routine's dialect), that may also name the trace `columns`, binding
+    /// what it names into the program.
+    fn with_compiler<R>(
+        &mut self,
+        scene: &Scene,
+        task: &mut MotionTask,
+        scope: Option<(&str, &[String], Dialect)>,
+        columns: &[ir::Column],
+        f: impl FnOnce(&mut Compiler<'_, '_, '_>) -> R,
+    ) -> R {
         let decls = Declarations::of(scene);
         let mut env = Env {
             scene,
@@ -384,7 +389,8 @@ impl Program {
         };
         let (program, routines, dialect) = scope.map_or((None, &[][..], Dialect::Logix), |(p, r, d)| (Some(p), r, d));
         let mut compiler = Compiler::new(self.plc.memory(), program, routines, dialect, &mut env, false);
-        compiler.traced(expr)
+        compiler.columns = columns;
+        f(&mut compiler)
     }
 
     /// The I/O points bound, for `twin check`.
