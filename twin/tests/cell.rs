@@ -258,6 +258,126 @@ fn a_vfd_belt_ramps_and_counts_its_travel() {
     assert!((enc - counts).abs() <= 20, "{enc} vs {counts} (one update behind)");
 }
 
+/// A belt with a VFD (`Run`, `Pct` of 0.5 m/s, ramping at `accel_mps2`),
+/// a 10 mm cube dropped on it at rest, a beam across it at x = 0.2 m and a
+/// sink past its end; `extra` goes on the conveyor.
+fn riding_scene(name: &str, accel_mps2: f64, extra: &str, routine: &str) -> PathBuf {
+    let body = tags(&[("Run", "BOOL"), ("Pct", "REAL"), ("Eye", "BOOL")])
+        + CUBE
+        + "[[sources]]\nname = \"Feed\"\npart_type = \"Cube\"\nposition = [-0.45, 0.0, 0.5555]\nat_s = [0.0]\n"
+        + &format!(
+            "[[conveyors]]\nname = \"Belt\"\nposition = [0.0, 0.0, 0.5]\nsize = [1.0, 0.2, 0.1]\nrun = \"Run\"\n\
+             speed = \"Pct\"\nmax_speed_mps = 0.5\naccel_mps2 = {accel_mps2}\n{extra}"
+        )
+        + "[[sensors]]\nname = \"Beam\"\nkind = \"beam\"\ntag = \"Eye\"\nfrom = [0.2, -0.2, 0.555]\nto = [0.2, 0.2, 0.555]\n\
+           [[sinks]]\nname = \"End\"\nposition = [0.7, 0.0, 0.2]\nsize = [0.3, 0.4, 0.3]\n";
+    scene(name, &body, Some(routine))
+}
+
+/// What [`ride_record`] saw.
+struct RideRecord {
+    /// Every 0.1 s: the part's x, m, and whether it rode.
+    xs: Vec<(f64, bool)>,
+    /// The beam's edges: time, s, and state.
+    edges: Vec<(f64, bool)>,
+    /// When the part was delivered, s.
+    delivered: Vec<f64>,
+}
+
+/// Runs `path` for 3 s.
+fn ride_record(path: &Path) -> RideRecord {
+    let mut t = twin(path);
+    let mut xs = Vec::new();
+    for _ in 0..30 {
+        run_for(&mut t, 0.1);
+        let m = t.plant().material().expect("parts");
+        if let Some(p) = m.parts().first() {
+            xs.push((m.part_pose(p).translation.x, m.rides(p)));
+        }
+    }
+    let m = t.plant().material().expect("parts");
+    let delivered = m
+        .events()
+        .iter()
+        .filter(|e| e.event == "delivered")
+        .map(|e| e.time_s)
+        .collect();
+    RideRecord {
+        xs,
+        edges: sensor(&t, "Beam").edges().to_vec(),
+        delivered,
+    }
+}
+
+/// A part at rest on a running belt rides it (a kinematic body, no
+/// contacts to solve) and moves as the solver moves it with `ride =
+/// false`: within 0.1 mm all along (40 µm here), its beam edges and its
+/// delivery within one parts step. It boards once it has settled (at the belt's
+/// 2 m/s² ramp, well inside friction's 0.6 g) and alights before the
+/// belt's end, falling into the sink.
+#[test]
+fn a_part_riding_a_belt_moves_as_the_solver_moves_it() {
+    let routine = "Run := TRUE;\nPct := 100.0;\n";
+    let riding = ride_record(&riding_scene("ride", 2.0, "", routine));
+    let solved = ride_record(&riding_scene("ride-off", 2.0, "ride = false\n", routine));
+    assert!(riding.xs.iter().any(|(_, r)| *r), "it rode: {:?}", riding.xs);
+    assert!(solved.xs.iter().all(|(_, r)| !*r), "ride = false: never");
+    assert_eq!(riding.xs.len(), solved.xs.len(), "{:?} vs {:?}", riding.xs, solved.xs);
+    for ((a, _), (b, _)) in riding.xs.iter().zip(&solved.xs) {
+        assert!((a - b).abs() < 1e-4, "x {a} riding vs {b} solved");
+    }
+    assert_eq!(riding.edges.len(), 2, "{:?}", riding.edges);
+    assert_eq!(riding.edges.len(), solved.edges.len());
+    for (a, b) in riding.edges.iter().zip(&solved.edges) {
+        assert!(a.1 == b.1 && (a.0 - b.0).abs() <= 0.004 + 1e-9, "edge {a:?} vs {b:?}");
+    }
+    assert_eq!(riding.delivered.len(), 1, "delivered");
+    assert_eq!(solved.delivered.len(), 1);
+    assert!((riding.delivered[0] - solved.delivered[0]).abs() <= 0.004 + 1e-9);
+}
+
+/// A belt that speeds up faster than friction can follow (20 m/s² against
+/// 0.6 g) makes its riding part alight and slip; one that ramps at
+/// 1 m/s² carries it through the ramp. Either way the part ends where the
+/// solver alone puts it.
+#[test]
+fn a_belt_speeding_up_faster_than_friction_follows_makes_its_part_slip() {
+    // 10 % until 0.3 s, then 100 %.
+    let routine = "Run := TRUE;\nIF Clock < 75 THEN Clock := Clock + 1; Pct := 10.0; ELSE Pct := 100.0; END_IF;\n";
+    for (accel, rides_through) in [(20.0, false), (1.0, true)] {
+        let head = tags(&[("Clock", "DINT")]);
+        let ride = |name: &str, extra: &str| {
+            let path = riding_scene(name, accel, extra, routine);
+            let text = std::fs::read_to_string(&path).expect("scene");
+            let text = text.replacen("[[tags]]", &(head.clone() + "[[tags]]"), 1);
+            std::fs::write(&path, text).expect("scene");
+            let mut t = twin(&path);
+            run_for(&mut t, 0.29);
+            let m = t.plant().material().expect("parts");
+            assert_eq!(
+                m.rides(&m.parts()[0]),
+                extra.is_empty(),
+                "riding at 10 % (accel {accel})"
+            );
+            let mut rode_through = true;
+            for _ in 0..60 {
+                t.step();
+                let m = t.plant().material().expect("parts");
+                rode_through &= m.rides(&m.parts()[0]);
+            }
+            let m = t.plant().material().expect("parts");
+            (rode_through, m.part_pose(&m.parts()[0]).translation.x)
+        };
+        let (rode_through, x) = ride(&format!("slip-{accel}"), "");
+        assert_eq!(rode_through, rides_through, "accel {accel}");
+        let (_, solved) = ride(&format!("slip-{accel}-off"), "ride = false\n");
+        assert!(
+            (x - solved).abs() < 1e-4,
+            "accel {accel}: x {x} riding vs {solved} solved"
+        );
+    }
+}
+
 /// Sources: `every_s` with `count`, `skip`, seeded jitter (the same seed,
 /// the same parts); sinks count delivered and rejected parts; a part that
 /// falls off the cell is lost.
@@ -555,6 +675,9 @@ fn a_stopper_holds_parts_on_a_running_belt_until_it_retracts() {
     let m = t.plant().material().expect("parts");
     let xs: Vec<f64> = m.parts().iter().map(|p| m.part_pose(p).translation.x).collect();
     assert_eq!(xs.len(), 3);
+    // Queued against the stopper (within 5 cm of it or of one another),
+    // none rides the belt: the solver holds them back.
+    assert!(m.parts().iter().all(|p| !m.rides(p)));
     // The stopper's face is at x = 0.19: the cubes queue behind it, 10 mm apart.
     for (k, x) in xs.iter().enumerate() {
         let want = 0.19 - 0.005 - 0.01 * k as f64;

@@ -466,6 +466,7 @@ impl Ctx<'_> {
                 },
                 color: self.color_or(&c.color, &f("color"), [0.2, 0.2, 0.22, 1.0])?,
                 drive,
+                ride: c.ride.as_ref().is_none_or(|v| *v.get_ref()),
                 faults: self.faults(&c.faults, &f("faults"), &[("stalled", FaultKind::Stalled)])?,
                 location: self.loc(&c.name),
             });

@@ -320,6 +320,9 @@ pub struct Conveyor {
     pub color: [f64; 4],
     /// What moves it.
     pub drive: ConveyorDrive,
+    /// Parts at rest on it ride it as kinematic bodies (`ride`, default
+    /// true; `plant/material/ride.rs`).
+    pub ride: bool,
     /// Injected faults (`stalled`).
     pub faults: Vec<DeviceFault>,
     /// Where its name is written.

@@ -613,6 +613,7 @@ pub(super) struct RawConveyor {
     pub(super) running_tag: Option<Spanned<String>>,
     pub(super) encoder_tag: Option<Spanned<String>>,
     pub(super) counts_per_m: Option<Spanned<f64>>,
+    pub(super) ride: Option<Spanned<bool>>,
     #[serde(default)]
     pub(super) faults: Vec<RawFault>,
 }

@@ -23,6 +23,8 @@ pub struct ConveyorState {
     command_mps: f64,
     /// The belt's speed now, m/s.
     speed_mps: f64,
+    /// Its speed over the step before, m/s.
+    previous_speed_mps: f64,
     /// The belt's travel since the start, m.
     travel_m: f64,
 }
@@ -41,6 +43,7 @@ impl ConveyorState {
             faults: c.faults.clone(),
             command_mps: 0.0,
             speed_mps: 0.0,
+            previous_speed_mps: 0.0,
             travel_m: 0.0,
         }
     }
@@ -81,6 +84,7 @@ impl ConveyorState {
             self.command_mps
         };
         let before = self.speed_mps;
+        self.previous_speed_mps = before;
         let dv = self.accel_mps2 * dt;
         self.speed_mps = if (target - self.speed_mps).abs() <= dv {
             target
@@ -94,6 +98,19 @@ impl ConveyorState {
     #[must_use]
     pub fn speed_mps(&self) -> f64 {
         self.speed_mps
+    }
+
+    /// Its speed over the step before the one [`ConveyorState::advance`]
+    /// last set, m/s.
+    #[must_use]
+    pub fn previous_speed_mps(&self) -> f64 {
+        self.previous_speed_mps
+    }
+
+    /// The belt's direction of travel in the world.
+    #[must_use]
+    pub fn direction(&self) -> Vector3<f64> {
+        self.direction
     }
 
     /// The belt's travel since the start, m.

@@ -18,7 +18,10 @@
 //! (rapier's `SolverContact::tangent_velocity`, set in a contact
 //! modification hook): friction drives a part towards the belt's speed,
 //! so parts slip when pushed against a stopper and queue behind one
-//! another. A belt follows a linear axis' actual velocity, or a VFD: the
+//! another. A part at rest on a running belt with nothing near *rides* it
+//! (module [`ride`]): it moves with the belt as a kinematic body until
+//! something could change that, which spares the solver most of a busy
+//! belt's parts. A belt follows a linear axis' actual velocity, or a VFD: the
 //! `run` output (with `reverse`) and `speed` (% of `max_speed_mps`), ramped
 //! at `accel_mps2`. Its `encoder_tag` counts belt travel at
 //! `counts_per_m`, wrapping as a DINT does.
@@ -37,6 +40,7 @@
 mod conveyor;
 mod cylinder;
 mod gripper;
+mod ride;
 mod spawn;
 
 pub use conveyor::ConveyorState;
@@ -72,6 +76,9 @@ pub struct PartShape {
     pub part_from_shape: Pose,
     /// Material (lower case; empty when none is given).
     pub material: String,
+    /// The radius of a sphere about the part frame's origin that holds
+    /// the shape, m.
+    pub radius_m: f64,
 }
 
 /// A part in the cell.
@@ -154,8 +161,8 @@ pub struct Material {
     sources: Vec<SourceState>,
     sinks: Vec<SinkBox>,
     conveyors: Vec<ConveyorState>,
-    /// Each belt's collider, by conveyor index.
-    belt_colliders: Vec<ColliderHandle>,
+    /// Each belt's box, by conveyor index.
+    belts: Vec<ride::BeltBox>,
     cylinders: Vec<(CylinderState, RigidBodyHandle)>,
     grippers: Vec<GripperState>,
     /// The scene's sources and part types (what spawns take).
@@ -228,6 +235,12 @@ impl Material {
         // (the cell tests' tolerances hold), for about half the solver's
         // time.
         world.integration_parameters.num_solver_iterations = 2;
+        // rapier recycles a contact pair's points, normal included, while
+        // the pair has moved less than this since they were computed; at
+        // its default (5 cm) a part kept the side contact of a stopper that
+        // had dropped below the belt and stayed behind it. 1 mm is what
+        // parry's own manifold update allows.
+        world.integration_parameters.normalized_contact_recycle_distance = 0.001;
         let shapes = cell
             .part_types
             .iter()
@@ -242,9 +255,12 @@ impl Material {
                     .ok_or_else(|| {
                         fail(crate::plant::collision::CollisionModelError::DegenerateMesh { body: p.name.clone() })
                     })?;
+                let part_from_shape = pose_to_rapier(&local);
+                let sphere = shape.compute_bounding_sphere(&part_from_shape);
                 Ok(PartShape {
+                    radius_m: sphere.center().length() + sphere.radius(),
                     shape,
-                    part_from_shape: pose_to_rapier(&local),
+                    part_from_shape,
                     material: p.material.clone(),
                 })
             })
@@ -266,7 +282,7 @@ impl Material {
             world.insert_collider(ColliderBuilder::new(shape.clone()).position(pose), None);
             obstacles.push((pose, shape));
         }
-        let mut belt_colliders = Vec::with_capacity(cell.conveyors.len());
+        let mut belts = Vec::with_capacity(cell.conveyors.len());
         let mut conveyors = Vec::with_capacity(cell.conveyors.len());
         for c in &cell.conveyors {
             let world_from_belt = pose_from_xyz_rpy_deg(c.position_m, c.rpy_deg);
@@ -277,7 +293,15 @@ impl Material {
                 .position(pose)
                 .friction(c.friction)
                 .active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS);
-            belt_colliders.push(world.insert_collider(collider, None));
+            belts.push(ride::BeltBox {
+                collider: world.insert_collider(collider, None),
+                world_from_belt,
+                half_m: Vector3::from(c.size_m) / 2.0,
+                friction: c.friction,
+                ride: c.ride,
+                before_mps: Vector3::zeros(),
+                now_mps: Vector3::zeros(),
+            });
             conveyors.push(ConveyorState::new(c, world_from_belt));
         }
         let mut cylinders = Vec::with_capacity(cell.cylinders.len());
@@ -360,7 +384,7 @@ impl Material {
             sources,
             sinks,
             conveyors,
-            belt_colliders,
+            belts,
             cylinders,
             grippers,
             sources_def: cell.sources.clone(),
@@ -423,14 +447,37 @@ impl Material {
             self.world.bodies[*body].set_next_kinematic_position(pose_to_rapier(&c.world_from_box()));
         }
         self.grip(t0, links0, world_from_link);
+        self.ride();
         let belts: Vec<(ColliderHandle, Vector)> = self
-            .belt_colliders
+            .belts
             .iter()
             .zip(&self.conveyors)
-            .map(|(h, c)| (*h, c.belt_velocity()))
+            .map(|(b, c)| (b.collider, c.belt_velocity()))
             .collect();
         self.world.step_with_events(&conveyor::BeltHooks { belts: &belts }, &());
         self.time_s = t1;
+    }
+
+    /// Before a step, the belts' speeds for it set: the parts that ride
+    /// belts (module [`ride`]).
+    fn ride(&mut self) {
+        for (belt, c) in self.belts.iter_mut().zip(&self.conveyors) {
+            belt.before_mps = c.direction() * c.previous_speed_mps();
+            belt.now_mps = c.direction() * c.speed_mps();
+        }
+        let held: Vec<u64> = self.grippers.iter().filter_map(|g| g.held.map(|h| h.part)).collect();
+        for p in &self.parts {
+            if held.contains(&p.id) {
+                ride::forget(&mut self.world, p.body);
+                continue;
+            }
+            let rider = ride::Rider {
+                body: p.body,
+                friction: self.part_types[p.part_type].friction,
+                radius_m: self.shapes[p.part_type].radius_m,
+            };
+            ride::update(&mut self.world, &self.belts, &rider, self.step_s);
+        }
     }
 
     /// The grippers over the step from `t0`, the links ending at
@@ -659,9 +706,12 @@ impl Material {
                     continue;
                 }
                 let part_type = &self.part_types[source.part_type];
-                let body = self
-                    .world
-                    .insert_body(RigidBodyBuilder::dynamic().pose(pose).can_sleep(false));
+                let body = self.world.insert_body(
+                    RigidBodyBuilder::dynamic()
+                        .pose(pose)
+                        .can_sleep(false)
+                        .user_data(ride::PART_BODY),
+                );
                 let collider = ColliderBuilder::new(shape.shape.clone())
                     .position(shape.part_from_shape)
                     .mass(part_type.mass_kg)
@@ -706,6 +756,12 @@ impl Material {
     #[must_use]
     pub fn part_pose(&self, part: &LivePart) -> Pose {
         *self.world.bodies[part.body].position()
+    }
+
+    /// Whether a part rides a belt now (module [`ride`]).
+    #[must_use]
+    pub fn rides(&self, part: &LivePart) -> bool {
+        ride::rides(&self.world, part.body)
     }
 
     /// A part's pose at the start of the last step (its spawn pose for a
