@@ -378,6 +378,56 @@ fn a_belt_speeding_up_faster_than_friction_follows_makes_its_part_slip() {
     }
 }
 
+/// A source with `on` spawns at each rise of its output, up to `count`, in
+/// the parts step that follows the scan raising it; a cylinder stalled by a
+/// fault stands still whatever its valve does, and moves on after.
+#[test]
+fn a_source_spawns_on_each_rise_and_a_stalled_cylinder_stands_still() {
+    let body = tags(&[("Feed", "BOOL"), ("Tick", "DINT"), ("Out", "BOOL")])
+        + CUBE
+        + "[[sources]]\nname = \"OnDemand\"\npart_type = \"Cube\"\nposition = [0.0, 0.0, 0.3]\non = \"Feed\"\ncount = 3\n\
+           [[sinks]]\nname = \"Floor\"\nposition = [0.0, 0.0, 0.05]\nsize = [0.5, 0.5, 0.1]\n\
+           [[cylinders]]\nname = \"Push\"\nposition = [1.0, 0.0, 0.5]\nsize = [0.05, 0.05, 0.05]\nstroke_m = 0.1\n\
+           extend_ms = 100.0\nextend = \"Out\"\nfaults = [{ kind = \"stalled\", from_s = 0.04, to_s = 0.2 }]\n";
+    // Feed rises every 25 scans (0.1 s): at 0, 0.1, 0.2, 0.3 and 0.4 s.
+    let routine = "Feed := (Tick MOD 25) < 5;\nTick := Tick + 1;\nOut := TRUE;\n";
+    let mut t = twin(&scene("source-on", &body, Some(routine)));
+    run_for(&mut t, 0.1);
+    let stalled_at = t
+        .plant()
+        .material()
+        .expect("parts")
+        .cylinders()
+        .next()
+        .expect("cylinder")
+        .position_m();
+    run_for(&mut t, 0.08);
+    let m = t.plant().material().expect("parts");
+    let cylinder = m.cylinders().next().expect("cylinder");
+    assert_eq!(cylinder.position_m(), stalled_at, "stalled from 0.04 s to 0.2 s");
+    assert!((stalled_at - 0.04).abs() < 0.005, "1 m/s for 0.04 s: {stalled_at}");
+    run_for(&mut t, 0.42);
+    let m = t.plant().material().expect("parts");
+    assert!(
+        m.cylinders().next().expect("cylinder").extended(),
+        "moves on after the stall"
+    );
+    let spawns: Vec<f64> = m
+        .events()
+        .iter()
+        .filter(|e| e.event == "spawned")
+        .map(|e| e.time_s)
+        .collect();
+    assert_eq!(spawns.len(), 3, "count = 3 of five rises: {spawns:?}");
+    for (k, at) in spawns.iter().enumerate() {
+        let rise = 0.1 * k as f64;
+        assert!(
+            *at >= rise && *at <= rise + 0.008 + 1e-9,
+            "spawn {k} at {at}, rise at {rise}"
+        );
+    }
+}
+
 /// Sources: `every_s` with `count`, `skip`, seeded jitter (the same seed,
 /// the same parts); sinks count delivered and rejected parts; a part that
 /// falls off the cell is lost.
