@@ -336,6 +336,51 @@ fn a_part_riding_a_belt_moves_as_the_solver_moves_it() {
     assert!((riding.delivered[0] - solved.delivered[0]).abs() <= 0.004 + 1e-9);
 }
 
+/// On a belt climbing at 5°, the pull of gravity along it (0.86 m/s²) is
+/// well inside half of friction's grip, and the part rides; at 20° (3.4
+/// m/s² against 2.8) it is solved all the way, though friction (0.7 for
+/// the solver, tan 20° = 0.36) still carries it. Either way it climbs as
+/// the solver alone moves it.
+#[test]
+fn a_part_rides_a_gently_climbing_belt_and_is_solved_on_a_steep_one() {
+    for (pitch_deg, rides) in [(5.0_f64, true), (20.0, false)] {
+        let run = |name: &str, extra: &str| {
+            let (sin, cos) = pitch_deg.to_radians().sin_cos();
+            // 0.3 m down the belt, 0.5 mm above its top face.
+            let (x, z) = (-0.3 * cos - 0.0555 * sin, 0.5 - 0.3 * sin + 0.0555 * cos);
+            let body = tags(&[("Run", "BOOL")])
+                + CUBE
+                + &format!(
+                    "[[sources]]\nname = \"Feed\"\npart_type = \"Cube\"\nposition = [{x}, 0.0, {z}]\nat_s = [0.0]\n\
+                     [[conveyors]]\nname = \"Belt\"\nposition = [0.0, 0.0, 0.5]\nrpy_deg = [0.0, {pitch}, 0.0]\n\
+                     size = [1.0, 0.2, 0.1]\nrun = \"Run\"\nmax_speed_mps = 0.2\naccel_mps2 = 1.0\n{extra}",
+                    pitch = -pitch_deg,
+                );
+            let mut t = twin(&scene(name, &body, Some("Run := TRUE;\n")));
+            let mut rode = false;
+            for _ in 0..250 {
+                t.step();
+                let m = t.plant().material().expect("parts");
+                rode |= m.rides(&m.parts()[0]);
+            }
+            let m = t.plant().material().expect("parts");
+            (rode, m.part_pose(&m.parts()[0]).translation)
+        };
+        let (rode, at) = run(&format!("climb-{pitch_deg}"), "");
+        let (_, solved) = run(&format!("climb-{pitch_deg}-off"), "ride = false\n");
+        assert_eq!(rode, rides, "{pitch_deg}°");
+        assert!(
+            (at - solved).length() < 1e-4,
+            "{pitch_deg}°: {at:?} riding vs {solved:?} solved"
+        );
+        let start_z = 0.5 - 0.3 * pitch_deg.to_radians().sin() + 0.0555 * pitch_deg.to_radians().cos();
+        assert!(
+            at.z > start_z + 0.1 * pitch_deg.to_radians().sin(),
+            "{pitch_deg}°: it climbed to {at:?}"
+        );
+    }
+}
+
 /// A belt that speeds up faster than friction can follow (20 m/s² against
 /// 0.6 g) makes its riding part alight and slip; one that ramps at
 /// 1 m/s² carries it through the ramp. Either way the part ends where the
