@@ -546,6 +546,12 @@ fn bad_cell_inputs_name_their_place_and_field() {
             "sensors[1].tag: 'DI' is DINT; this needs a BOOL",
         ),
         (
+            beam(
+                "[[conveyors]]\nname = \"C\"\nposition = [0.0, 0.0, 0.0]\nsize = [1.0, 0.2, 0.1]\nrun = \"Eye\"\nmax_speed_mps = 1.0\n",
+            ),
+            "conveyors[0].run: 'Eye' is an input already (sensors[0].tag of 'B'): a tag is an input or an output, not both",
+        ),
+        (
             beam("").replace("kind = \"beam\"", "kind = \"laser\""),
             "sensors[0].kind: unknown sensor kind 'laser'",
         ),

@@ -7,9 +7,10 @@
 //! (`Cell.Eyes[2]`, `Line.Infeed.Run`), or a DINT or REAL for a value.
 //! The binding refuses, each as a diagnostic at the reference with its
 //! field: a name that is not a tag, a computed subscript, a type the device
-//! cannot use, and two devices writing the same bit (or one writing a
-//! whole integer another writes a bit of). Several devices may read one
-//! output.
+//! cannot use, two devices writing the same bit (or one writing a whole
+//! integer another writes a bit of), and a tag that is both an input and
+//! an output (the input update would overwrite the program's output every
+//! update). Several devices may read one output.
 //!
 //! Inputs are written straight into tag memory by `run.rs` before the
 //! scans of an update (a routine may write an input tag too, as on a
@@ -119,19 +120,29 @@ pub struct IoEntry {
 }
 
 impl IoMap {
-    /// Adds a point; an input that overlaps an input bound before is
-    /// refused with the message saying which.
+    /// Adds a point. Refused, with the message saying which: an input
+    /// that overlaps an input bound before (one input, one device), and an
+    /// input and an output that overlap (the input update would overwrite
+    /// what the program writes for the output every update).
     pub(super) fn add(&mut self, point: IoPoint, entry: IoEntry, text: &str) -> Result<(), String> {
-        if entry.direction == IoDirection::Input
-            && let Some((_, other)) = self
-                .points
-                .iter()
-                .find(|(p, e)| e.direction == IoDirection::Input && p.overlaps(&point))
-        {
-            return Err(format!(
-                "'{text}' is written by {} '{}' already ({}: '{}'): one input, one device",
-                other.role, other.device, other.field, other.tag
-            ));
+        let clash = self.points.iter().find(|(p, e)| {
+            p.overlaps(&point) && (e.direction == IoDirection::Input || entry.direction == IoDirection::Input)
+        });
+        if let Some((_, other)) = clash {
+            return Err(if other.direction == entry.direction {
+                format!(
+                    "'{text}' is written by {} '{}' already ({}: '{}'): one input, one device",
+                    other.role, other.device, other.field, other.tag
+                )
+            } else {
+                format!(
+                    "'{text}' is an {} already ({} of '{}'): a tag is an input or an output, not both \
+                     (each input update would overwrite the program's output)",
+                    direction_word(other.direction),
+                    other.field,
+                    other.device
+                )
+            });
         }
         self.points.push((point, entry));
         Ok(())
@@ -149,6 +160,13 @@ impl IoMap {
     /// Every point bound, in binding order.
     pub fn entries(&self) -> impl Iterator<Item = &IoEntry> {
         self.points.iter().map(|(_, e)| e)
+    }
+}
+
+fn direction_word(d: IoDirection) -> &'static str {
+    match d {
+        IoDirection::Input => "input",
+        IoDirection::Output => "output",
     }
 }
 
