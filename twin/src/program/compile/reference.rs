@@ -24,8 +24,31 @@ impl Compiler<'_, '_, '_> {
     }
 
     pub(super) fn tag(&self, r: &Ref) -> Result<usize> {
-        self.resolve(&r.name)
-            .ok_or_else(|| self.unknown_name(&r.name, r.name_span()))
+        self.resolve(&r.name).ok_or_else(|| match r.path.first() {
+            Some(Access::Member(m, span)) if self.is_program(&r.name) => self.unknown_program_tag(&r.name, m, *span),
+            _ => self.unknown_name(&r.name, r.name_span()),
+        })
+    }
+
+    /// Whether `name` is a program with tags (`Program.Tag` in memory).
+    fn is_program(&self, name: &str) -> bool {
+        self.mem.tags.iter().any(|t| program_member(&t.name, name).is_some())
+    }
+
+    /// `Program.X` where the program has no tag `X`, with its nearest tag.
+    fn unknown_program_tag(&self, program: &str, member: &str, span: Span) -> Error {
+        let d = self.error(
+            span,
+            format!("program '{program}' has no tag '{member}'"),
+            "not a tag of the program",
+        );
+        let own: Vec<&str> = self
+            .mem
+            .tags
+            .iter()
+            .filter_map(|t| program_member(&t.name, program))
+            .collect();
+        suggest(d, member, own)
     }
 
     /// `'X' is not a tag …`, with the nearest name this scope knows.
@@ -1172,4 +1195,11 @@ fn dims_text(info: &TagInfo) -> String {
 /// members joined by dots; `None` with a subscript or a bit.
 fn column_name(r: &Ref) -> Option<String> {
     r.path.iter().all(|a| matches!(a, Access::Member(..))).then(|| show(r))
+}
+
+/// The tag name in `Program.Tag` when `stored` is a tag of `program`
+/// (names compare case-insensitively, as Logix names do).
+fn program_member<'a>(stored: &'a str, program: &str) -> Option<&'a str> {
+    let rest = stored.get(program.len()..)?.strip_prefix('.')?;
+    (stored.get(..program.len())?.eq_ignore_ascii_case(program) && !rest.is_empty()).then_some(rest)
 }
