@@ -351,7 +351,7 @@ fn a_part_rides_a_gently_climbing_belt_and_is_solved_on_a_steep_one() {
             let body = tags(&[("Run", "BOOL")])
                 + CUBE
                 + &format!(
-                    "[[sources]]\nname = \"Feed\"\npart_type = \"Cube\"\nposition = [{x}, 0.0, {z}]\nat_s = [0.0]\n\
+                    "[[sources]]\nname = \"Feed\"\npart_type = \"Cube\"\nposition = [{x}, 0.0, {z}]\nrpy_deg = [0.0, {pitch}, 0.0]\nat_s = [0.0]\n\
                      [[conveyors]]\nname = \"Belt\"\nposition = [0.0, 0.0, 0.5]\nrpy_deg = [0.0, {pitch}, 0.0]\n\
                      size = [1.0, 0.2, 0.1]\nrun = \"Run\"\nmax_speed_mps = 0.2\naccel_mps2 = 1.0\n{extra}",
                     pitch = -pitch_deg,
@@ -592,6 +592,13 @@ fn bad_cell_inputs_name_their_place_and_field() {
         (
             CUBE.to_owned() + "[[sources]]\nname = \"S\"\npart_type = \"Cube\"\nposition = [0.0, 0.0, 1.0]\n",
             "sources[0].name: give one of every_s, on or at_s",
+        ),
+        (
+            eye.clone()
+                + CUBE
+                + "[[sources]]\nname = \"S\"\npart_type = \"Cube\"\nposition = [0.0, 0.0, 0.5]\nevery_s = 1.0\n\
+                   [[conveyors]]\nname = \"C\"\nposition = [0.0, 0.0, 0.5]\nsize = [1.0, 0.2, 0.1]\nrun = \"Eye\"\nmax_speed_mps = 1.0\n",
+            "sources[0].position: a Cube spawned here would be 55.0 mm inside conveyor 'C'",
         ),
         (
             CUBE.to_owned()

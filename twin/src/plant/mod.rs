@@ -638,6 +638,10 @@ fn build_cell(
                 scene.cell.grippers[*gripper].link.1,
                 format!("grippers[{gripper}].link"),
             ),
+            material::MaterialError::SpawnsInside { source_index, .. } => (
+                scene.cell.sources[*source_index].location,
+                format!("sources[{source_index}].position"),
+            ),
             _ => (crate::scene::Location { line: 1, column: 1 }, "part_types".to_owned()),
         };
         PlantError::Cell {

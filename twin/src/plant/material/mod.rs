@@ -201,6 +201,21 @@ pub enum MaterialError {
         #[source]
         source: crate::plant::collision::CollisionModelError,
     },
+    /// A source's part, at its nominal spawn pose, would be inside a fixed
+    /// body of the cell (rapier would throw it out).
+    #[error(
+        "a {part_type} spawned here would be {depth_mm:.1} mm inside {what}; move the source clear of it (a part may touch it)"
+    )]
+    SpawnsInside {
+        /// The source's index.
+        source_index: usize,
+        /// The part type's name.
+        part_type: String,
+        /// What it would be inside (`conveyor 'Belt'`).
+        what: String,
+        /// How deep, mm.
+        depth_mm: f64,
+    },
     /// A gripper's link is not in the URDF.
     #[error("the URDF has no link '{link}' (links: {known})")]
     UnknownLink {
@@ -266,6 +281,9 @@ impl Material {
             })
             .collect::<Result<Vec<_>, MaterialError>>()?;
         let mut lowest = 0.0_f64;
+        // The cell's fixed bodies (obstacles, belts, cylinders retracted),
+        // named, for the spawn check.
+        let mut solids: Vec<(String, Pose, SharedShape)> = Vec::new();
         let mut obstacles = Vec::with_capacity(scene.obstacles.len());
         for o in &scene.obstacles {
             let fail = |source| MaterialError::Shape {
@@ -280,6 +298,7 @@ impl Material {
             let pose = pose_to_rapier(&(pose_from_xyz_rpy_deg(o.position_m, o.rpy_deg) * local));
             lowest = lowest.min(shape.compute_aabb(&pose).mins.z);
             world.insert_collider(ColliderBuilder::new(shape.clone()).position(pose), None);
+            solids.push((format!("obstacle '{}'", o.name), pose, shape.clone()));
             obstacles.push((pose, shape));
         }
         let mut belts = Vec::with_capacity(cell.conveyors.len());
@@ -289,6 +308,7 @@ impl Material {
             let shape = SharedShape::cuboid(c.size_m[0] / 2.0, c.size_m[1] / 2.0, c.size_m[2] / 2.0);
             let pose = pose_to_rapier(&world_from_belt);
             lowest = lowest.min(shape.compute_aabb(&pose).mins.z);
+            solids.push((format!("conveyor '{}'", c.name), pose, shape.clone()));
             let collider = ColliderBuilder::new(shape)
                 .position(pose)
                 .friction(c.friction)
@@ -311,9 +331,15 @@ impl Material {
                 RigidBodyBuilder::kinematic_position_based().pose(pose_to_rapier(&state.world_from_box())),
             );
             let shape = SharedShape::cuboid(c.size_m[0] / 2.0, c.size_m[1] / 2.0, c.size_m[2] / 2.0);
+            solids.push((
+                format!("cylinder '{}' (retracted)", c.name),
+                pose_to_rapier(&state.world_from_box()),
+                shape.clone(),
+            ));
             world.insert_collider(ColliderBuilder::new(shape), Some(body));
             cylinders.push((state, body));
         }
+        spawns_clear(&cell.sources, &cell.part_types, &shapes, &solids)?;
         let mut grippers = Vec::with_capacity(cell.grippers.len());
         for (k, g) in cell.grippers.iter().enumerate() {
             let link =
@@ -806,6 +832,38 @@ impl Material {
     pub fn events(&self) -> &[PartEvent] {
         &self.events
     }
+}
+
+/// How deep a source's part may start inside a fixed body, m: a part put
+/// down touching a belt is fine; one spawned into it is a scene mistake.
+const SPAWN_OVERLAP_M: f64 = 1e-4;
+
+/// Each source's part at its nominal spawn pose is clear of `solids`
+/// (within [`SPAWN_OVERLAP_M`]).
+fn spawns_clear(
+    sources: &[Source],
+    part_types: &[crate::scene::PartType],
+    shapes: &[PartShape],
+    solids: &[(String, Pose, SharedShape)],
+) -> Result<(), MaterialError> {
+    for (k, s) in sources.iter().enumerate() {
+        let shape = &shapes[s.part_type];
+        let at = pose_to_rapier(&pose_from_xyz_rpy_deg(s.position_m, s.rpy_deg)) * shape.part_from_shape;
+        for (what, pose, solid) in solids {
+            let contact = rapier3d_f64::parry::query::contact(&at, shape.shape.as_ref(), pose, solid.as_ref(), 0.0);
+            if let Ok(Some(c)) = contact
+                && c.dist < -SPAWN_OVERLAP_M
+            {
+                return Err(MaterialError::SpawnsInside {
+                    source_index: k,
+                    part_type: part_types[s.part_type].name.clone(),
+                    what: what.clone(),
+                    depth_mm: -c.dist * 1000.0,
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
