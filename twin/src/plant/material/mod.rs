@@ -18,7 +18,7 @@
 //! (rapier's `SolverContact::tangent_velocity`, set in a contact
 //! modification hook): friction drives a part towards the belt's speed,
 //! so parts slip when pushed against a stopper and queue behind one
-//! another. A part at rest on a running belt with nothing near *rides* it
+//! another. A part at rest on a belt with nothing near *rides* it
 //! (module [`ride`]): it moves with the belt as a kinematic body until
 //! something could change that, which spares the solver most of a busy
 //! belt's parts. A belt follows a linear axis' actual velocity, or a VFD: the

@@ -1,5 +1,5 @@
-//! Riding: a part at rest on a running belt moves with the belt instead of
-//! being solved.
+//! Riding: a part at rest on a belt (running or standing) moves with the
+//! belt instead of being solved.
 //!
 //! A part resting on a belt, touching nothing else and moving at the
 //! belt's velocity, is carried by static friction: its motion is the
