@@ -738,6 +738,42 @@ fn a_vacuum_gripper_picks_carries_and_places_a_part_where_it_holds_it() {
     assert_eq!(m.counts().dropped, 0);
 }
 
+/// A held part weighs on the robot: with the block lifted and Z standing
+/// while X carries it, Z's servo drive (the default one, no `motor`)
+/// pushes harder by the extra weight when the block is 2 kg instead of
+/// 0.1 kg: 1.9 kg × g = 18.6 N, within 1 % (18.64 here).
+#[test]
+fn a_held_part_adds_its_weight_to_the_drive_that_carries_it() {
+    let z_force = |name: &str, mass: &str| {
+        let path = gantry_scene(name, GRIPPER, PICK);
+        let text = std::fs::read_to_string(&path).expect("scene");
+        let text = text
+            .replace("mass_kg = 0.1", mass)
+            .replace("motor = { stiffness = 142122.3, damping = 754.0 }\n", "");
+        std::fs::write(&path, text).expect("scene");
+        let mut t = twin(&path);
+        for _ in 0..1100 {
+            t.step();
+            if tag_value(&t, "State").as_i64() == 4 {
+                // X is moving; Z stands at the top with the block.
+                run_for(&mut t, 0.1);
+                let m = t.plant().material().expect("parts");
+                assert_ne!(m.grippers()[0].part(), 0, "held");
+                return t.plant().drive_torque(2).expect("Z's servo drive");
+            }
+        }
+        panic!("{name}: never carried");
+    };
+    let light = z_force("payload-light", "mass_kg = 0.1");
+    let heavy = z_force("payload-heavy", "mass_kg = 2.0");
+    let want = 1.9 * G;
+    let extra = heavy - light;
+    assert!(
+        (extra - want).abs() < 0.05 * want,
+        "Z pushes {extra} N more, want {want}: {light} vs {heavy}"
+    );
+}
+
 /// A part heavier than the grip holds is dropped; so is one whose vacuum
 /// fails (`no_vacuum`).
 #[test]
