@@ -100,17 +100,17 @@ impl ConveyorState {
         self.speed_mps
     }
 
-    /// Its speed over the step before the one [`ConveyorState::advance`]
-    /// last set, m/s.
+    /// The belt's velocity in the world now, m/s.
     #[must_use]
-    pub fn previous_speed_mps(&self) -> f64 {
-        self.previous_speed_mps
+    pub fn velocity_mps(&self) -> Vector3<f64> {
+        self.direction * self.speed_mps
     }
 
-    /// The belt's direction of travel in the world.
+    /// Its velocity over the step before the one [`ConveyorState::advance`]
+    /// last set, m/s.
     #[must_use]
-    pub fn direction(&self) -> Vector3<f64> {
-        self.direction
+    pub fn previous_velocity_mps(&self) -> Vector3<f64> {
+        self.direction * self.previous_speed_mps
     }
 
     /// The belt's travel since the start, m.
@@ -120,7 +120,7 @@ impl ConveyorState {
     }
 
     pub(super) fn belt_velocity(&self) -> Vector {
-        vector_to_rapier(&(self.direction * self.speed_mps))
+        vector_to_rapier(&self.velocity_mps())
     }
 }
 

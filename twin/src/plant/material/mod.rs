@@ -319,8 +319,6 @@ impl Material {
                 half_m: Vector3::from(c.size_m) / 2.0,
                 friction: c.friction,
                 ride: c.ride,
-                before_mps: Vector3::zeros(),
-                now_mps: Vector3::zeros(),
             });
             conveyors.push(ConveyorState::new(c, world_from_belt));
         }
@@ -487,10 +485,6 @@ impl Material {
     /// Before a step, the belts' speeds for it set: the parts that ride
     /// belts (module [`ride`]).
     fn ride(&mut self) {
-        for (belt, c) in self.belts.iter_mut().zip(&self.conveyors) {
-            belt.before_mps = c.direction() * c.previous_speed_mps();
-            belt.now_mps = c.direction() * c.speed_mps();
-        }
         let held: Vec<u64> = self.grippers.iter().filter_map(|g| g.held.map(|h| h.part)).collect();
         for p in &self.parts {
             if held.contains(&p.id) {
@@ -502,7 +496,7 @@ impl Material {
                 friction: self.part_types[p.part_type].friction,
                 radius_m: self.shapes[p.part_type].radius_m,
             };
-            ride::update(&mut self.world, &self.belts, &rider, self.step_s);
+            ride::update(&mut self.world, &self.belts, &self.conveyors, &rider, self.step_s);
         }
     }
 

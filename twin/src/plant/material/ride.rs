@@ -35,6 +35,7 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use rapier3d_f64::parry::bounding_volume::BoundingVolume;
 use rapier3d_f64::prelude::{ColliderHandle, PhysicsWorld, QueryFilter, RigidBodyHandle, RigidBodyType};
 
+use super::conveyor::ConveyorState;
 use crate::plant::convert::{pose_from_rapier, vector_from_rapier, vector_to_rapier};
 
 /// What comes this near a riding part's bounding box, unless it is a part
@@ -77,10 +78,6 @@ pub(super) struct BeltBox {
     pub(super) friction: f64,
     /// Parts may ride it (the conveyor's `ride`).
     pub(super) ride: bool,
-    /// Its velocity over the last step, m/s.
-    pub(super) before_mps: Vector3<f64>,
-    /// Its velocity over the next step, m/s.
-    pub(super) now_mps: Vector3<f64>,
 }
 
 /// A part that may ride: its body (dynamic or riding), its friction and
@@ -91,19 +88,20 @@ pub(super) struct Rider {
     pub(super) radius_m: f64,
 }
 
-/// Before a step of `dt`, the belts' velocities for it set: a riding part
-/// follows its belt or alights; a resting one boards.
-pub(super) fn update(world: &mut PhysicsWorld, belts: &[BeltBox], part: &Rider, dt: f64) {
+/// Before a step of `dt`, the belts' velocities for it set (`conveyors`,
+/// by the same index as `belts`): a riding part follows its belt or
+/// alights; a resting one boards.
+pub(super) fn update(world: &mut PhysicsWorld, belts: &[BeltBox], conveyors: &[ConveyorState], part: &Rider, dt: f64) {
     match riding_of(world.bodies[part.body].user_data) {
         Some(b) => {
-            if !keeps_riding(world, belts, part, b, dt) {
+            if !keeps_riding(world, belts, conveyors, part, b, dt) {
                 set_riding(world, part.body, None);
                 world.bodies[part.body].set_body_type(RigidBodyType::Dynamic, true);
             }
         }
         None => {
-            if let Some(b) = at_rest_on(world, belts, part.body)
-                && keeps_riding(world, belts, part, b, dt)
+            if let Some(b) = at_rest_on(world, belts, conveyors, part.body)
+                && keeps_riding(world, belts, conveyors, part, b, dt)
             {
                 let body = &mut world.bodies[part.body];
                 body.set_body_type(RigidBodyType::KinematicVelocityBased, true);
@@ -126,7 +124,12 @@ pub(super) fn forget(world: &mut PhysicsWorld, body: RigidBodyHandle) {
 
 /// The belt `body` (dynamic) rests on, flat and at the belt's last step's
 /// velocity, touching nothing else.
-fn at_rest_on(world: &PhysicsWorld, belts: &[BeltBox], body: RigidBodyHandle) -> Option<usize> {
+fn at_rest_on(
+    world: &PhysicsWorld,
+    belts: &[BeltBox],
+    conveyors: &[ConveyorState],
+    body: RigidBodyHandle,
+) -> Option<usize> {
     let rb = &world.bodies[body];
     if !rb.is_dynamic() {
         return None;
@@ -160,17 +163,25 @@ fn at_rest_on(world: &PhysicsWorld, belts: &[BeltBox], body: RigidBodyHandle) ->
     let b = on?;
     let v = vector_from_rapier(rb.linvel());
     let w = vector_from_rapier(rb.angvel());
-    ((v - belts[b].before_mps).norm() < REST_SPEED_MPS && w.norm() < REST_SPIN_RADPS).then_some(b)
+    ((v - conveyors[b].previous_velocity_mps()).norm() < REST_SPEED_MPS && w.norm() < REST_SPIN_RADPS).then_some(b)
 }
 
 /// Whether `part`, moving with belt `b` over the last step, rides it
 /// through the next; if so its velocity becomes the belt's.
-fn keeps_riding(world: &mut PhysicsWorld, belts: &[BeltBox], part: &Rider, b: usize, dt: f64) -> bool {
+fn keeps_riding(
+    world: &mut PhysicsWorld,
+    belts: &[BeltBox],
+    conveyors: &[ConveyorState],
+    part: &Rider,
+    b: usize,
+    dt: f64,
+) -> bool {
     let belt = &belts[b];
+    let (before, now) = (conveyors[b].previous_velocity_mps(), conveyors[b].velocity_mps());
     let up = belt.world_from_belt.rotation * Vector3::z();
     let mu = belt.friction.min(part.friction);
     let gravity_along = GRAVITY - up * up.dot(&GRAVITY);
-    let needed = (belt.now_mps - belt.before_mps) / dt - gravity_along;
+    let needed = (now - before) / dt - gravity_along;
     let grip = FRICTION_SHARE * mu * (-up.dot(&GRAVITY)).max(0.0);
     if needed.norm() > grip {
         return false;
@@ -179,30 +190,29 @@ fn keeps_riding(world: &mut PhysicsWorld, belts: &[BeltBox], part: &Rider, b: us
     let centre = belt
         .world_from_belt
         .inverse_transform_point(&Point3::from(at.translation.vector));
-    let reach = part.radius_m + belt.now_mps.norm() * dt;
+    let reach = part.radius_m + now.norm() * dt;
     if centre.z <= belt.half_m.z || centre.x.abs() + reach > belt.half_m.x || centre.y.abs() + reach > belt.half_m.y {
         return false;
     }
-    if near(world, belts, part.body, b) {
+    if near(world, belts[b].collider, before, part.body, b) {
         return false;
     }
-    world.bodies[part.body].set_linvel(vector_to_rapier(&belt.now_mps), true);
+    world.bodies[part.body].set_linvel(vector_to_rapier(&now), true);
     true
 }
 
-/// Whether something other than belt `b` and the parts moving with it
-/// comes near `body`.
-fn near(world: &PhysicsWorld, belts: &[BeltBox], body: RigidBodyHandle, b: usize) -> bool {
+/// Whether something other than belt `b` (its collider, its velocity over
+/// the last step) and the parts moving with it comes near `body`.
+fn near(world: &PhysicsWorld, belt: ColliderHandle, velocity: Vector3<f64>, body: RigidBodyHandle, b: usize) -> bool {
     let Some(&collider) = world.bodies[body].colliders().first() else {
         return false;
     };
     let aabb = world.colliders[collider].compute_aabb();
     let wide = aabb.loosened(NEAR_M);
     let close = aabb.loosened(CLOSE_M);
-    let belt = &belts[b];
     let filter = QueryFilter::default().exclude_collider(collider);
     world.intersect_aabb_conservative(wide, filter).any(|(h, co)| {
-        if h == belt.collider {
+        if h == belt {
             return false;
         }
         let other_aabb = co.compute_aabb();
@@ -218,7 +228,7 @@ fn near(world: &PhysicsWorld, belts: &[BeltBox], body: RigidBodyHandle, b: usize
                 Some(r) => r == b,
                 None => {
                     other.is_dynamic()
-                        && (vector_from_rapier(other.linvel()) - belt.before_mps).norm() < REST_SPEED_MPS
+                        && (vector_from_rapier(other.linvel()) - velocity).norm() < REST_SPEED_MPS
                         && vector_from_rapier(other.angvel()).norm() < REST_SPIN_RADPS
                 }
             }
