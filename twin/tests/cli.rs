@@ -924,27 +924,21 @@ fn suite(name: &str) -> PathBuf {
     let good = format!(
         "{base}\n[[expect]]\nname = \"first move\"\neventually = \"MoveA.Done\"\nby_s = 1.5\n\n[[variants]]\nname = \"short\"\nduration_s = 2.0\n"
     );
-    std::fs::write(
-        dir.join("a_good.toml"),
-        good.replace("duration_s = 9.0", "duration_s = 3.0"),
-    )
-    .expect("write");
-    std::fs::write(
-        dir.join("b_broken.toml"),
+    let write = |file: &str, text: String| std::fs::write(dir.join(file), text).expect("write");
+    write("a_good.toml", good.replace("duration_s = 9.0", "duration_s = 3.0"));
+    write(
+        "b_broken.toml",
         format!("{base}\n[[expect]]\nname = \"broken\"\nalways = \"Table.ActualPosition < 10.0\"\n")
             .replace("duration_s = 9.0", "duration_s = 2.0"),
-    )
-    .expect("write");
-    std::fs::write(
-        dir.join("c_bad.toml"),
+    );
+    write(
+        "c_bad.toml",
         base.replace("max_velocity = 360.0", "max_velocity = -1.0"),
-    )
-    .expect("write");
-    std::fs::write(
-        dir.join("d_hangs.toml"),
+    );
+    write(
+        "d_hangs.toml",
         base.replace("duration_s = 9.0", "duration_s = 100000.0"),
-    )
-    .expect("write");
+    );
     dir
 }
 
