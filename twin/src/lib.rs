@@ -17,6 +17,7 @@
 //!
 //! `ARCHITECTURE.md` at the repository root draws the whole picture.
 
+pub mod l5x;
 pub mod output;
 pub mod plant;
 pub mod program;

@@ -555,6 +555,10 @@ pub struct Summary {
     pub min_clearance_m: Vec<(String, Option<f64>)>,
     /// Whether an `abort` collision reaction ended the run early.
     pub collision_abort: bool,
+    /// A scene that names a Studio 5000 export: the export, what it holds
+    /// that the twin does not simulate, and what `not_simulated` skipped.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub l5x: Option<L5xSummary>,
     /// Axis faults in the order they were recorded (at most
     /// [`MAX_AXIS_FAULT_EVENTS`]; empty: none).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -581,6 +585,17 @@ pub struct Summary {
     /// Per sensor: its output's edges, time on and missed pulses.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub sensors: Vec<SensorSummary>,
+}
+
+/// What a scene took from its Studio 5000 export, in the summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct L5xSummary {
+    /// The export, as the scene names it.
+    pub file: String,
+    /// What is not simulated: `L5X line: what`.
+    pub not_simulated: Vec<String>,
+    /// What `[controller] not_simulated` skipped (`Program/Routine`).
+    pub skipped: Vec<String>,
 }
 
 /// The parts' part of the summary.
@@ -810,6 +825,11 @@ impl Stats {
                 .map(|(b, d)| (b, d.is_finite().then_some(d)))
                 .collect(),
             collision_abort: twin.plant().collision_abort(),
+            l5x: twin.scene().l5x.as_ref().map(|l| L5xSummary {
+                file: l.path.display().to_string(),
+                not_simulated: l.report.iter().map(|(line, text)| format!("{line}: {text}")).collect(),
+                skipped: l.skipped.clone(),
+            }),
             axis_faults: self.axis_faults.clone(),
             axis_fault_count: self.axis_fault_count,
             physics_fault: twin.plant().physics_fault().cloned(),

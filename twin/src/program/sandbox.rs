@@ -138,6 +138,7 @@ impl Sandbox {
             variant: None,
             cell: Default::default(),
             files,
+            l5x: None,
             snapshots: None,
             collision: None,
         };

@@ -12,13 +12,11 @@ use toml::Spanned;
 use super::error::{Problem, SceneError};
 use super::model::Location;
 use super::raw::{Numbers, ShapeKind};
-use crate::source::{Diagnostic, FileId, Files, Source, SourceFile, toml_string_map};
+use crate::source::{Diagnostic, FileId, Files, Source, toml_string_map};
 
 pub(super) struct Ctx<'a> {
     pub(super) file: PathBuf,
     pub(super) text: &'a str,
-    /// The scene file, for the carets of its errors.
-    pub(super) source: Arc<SourceFile>,
     /// The scene's files: the scene itself ([`Ctx::scene_file`]) and the
     /// routines read so far.
     pub(super) files: RefCell<Files>,
@@ -27,6 +25,11 @@ pub(super) struct Ctx<'a> {
     /// The data types known so far: `STRING`, then `[[data_types]]`
     /// (names first, members once checked).
     pub(super) data_types: RefCell<Vec<super::model::DataTypeDef>>,
+    /// A scene that names an L5X: `text` is the expanded scene, and this
+    /// maps its bytes back to the scene file and the export.
+    pub(super) expanded: Option<super::import::Expanded>,
+    /// What the scene took from its export.
+    pub(super) l5x: Option<super::model::L5xImport>,
 }
 
 /// A name's first declaration: (lower-case name) -> (line, what it is).
@@ -43,8 +46,10 @@ const MAX_FILE_NAME_PART: usize = 100;
 
 impl Ctx<'_> {
     pub(super) fn location(&self, byte: usize) -> Location {
-        let byte = byte.min(self.text.len());
-        let before = &self.text[..byte];
+        let (file, range) = self.mapped(byte..byte);
+        let text = Arc::clone(&self.files.borrow().get(file).text);
+        let byte = range.start.min(text.len());
+        let before = &text[..byte];
         let line_start = before.rfind('\n').map_or(0, |i| i + 1);
         Location {
             line: before.matches('\n').count() + 1,
@@ -62,23 +67,53 @@ impl Ctx<'_> {
 
     pub(super) fn invalid_at(&self, span: Range<usize>, field: impl Into<String>, problem: Problem) -> SceneError {
         let Location { line, column } = self.location(span.start);
+        let (file, range) = self.mapped(span.clone());
+        let field = match self.expanded.as_ref().and_then(|e| e.map.map(span).2) {
+            Some(item) => item.to_owned(),
+            None => field.into(),
+        };
+        let source = Arc::clone(self.files.borrow().get(file));
         SceneError::Invalid {
-            file: self.file.clone(),
+            file: source.path.clone(),
             line,
             column,
-            field: field.into(),
+            field,
             problem: Box::new(problem),
-            at: Some(Box::new((Arc::clone(&self.source), span))),
+            at: Some(Box::new((source, range))),
+        }
+    }
+
+    /// The file and bytes that expanded-scene bytes `span` stand for (the
+    /// scene file's own when the scene names no export).
+    pub(super) fn mapped(&self, span: Range<usize>) -> (FileId, Range<usize>) {
+        match &self.expanded {
+            Some(e) => {
+                let (file, range, _) = e.map.map(span);
+                (file, range)
+            }
+            None => (self.scene_file, span),
         }
     }
 
     pub(super) fn toml_error(&self, e: &toml::de::Error) -> SceneError {
         let start = e.span().map_or(0, |s| s.start);
+        // Table and key from the text as parsed (the expanded scene's).
+        let (text_line, text_column) = {
+            let before = &self.text[..start.min(self.text.len())];
+            let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+            (
+                before.matches('\n').count() + 1,
+                before[line_start..].chars().count() + 1,
+            )
+        };
         let Location { line, column } = self.location(start);
-        let table = e.span().and_then(|_| self.table_at(line));
+        let table = e.span().and_then(|_| self.table_at(text_line));
         // A value of the wrong type: name its field and say it plainly.
         let plain = plain_type_message(e.message());
-        let key = plain.as_ref().and(e.span()).and_then(|_| self.key_at(line, column));
+        let key = plain
+            .as_ref()
+            .and(e.span())
+            .and_then(|_| self.key_at(text_line, text_column));
         let field = key.map(|key| match &table {
             Some(table) => format!("{table}.{key}"),
             None => key,
@@ -87,14 +122,22 @@ impl Ctx<'_> {
             (Some(_), Some(plain)) => plain,
             _ => e.message().to_owned(),
         };
+        let (file, at) = match e.span() {
+            Some(s) => {
+                let (id, range) = self.mapped(s);
+                let source = Arc::clone(self.files.borrow().get(id));
+                (source.path.clone(), Some(Box::new((source, range))))
+            }
+            None => (self.file.clone(), None),
+        };
         SceneError::Toml {
-            file: self.file.clone(),
+            file,
             line,
             column,
             table,
             field,
             message,
-            at: e.span().map(|s| Box::new((Arc::clone(&self.source), s))),
+            at,
         }
     }
 
@@ -191,9 +234,17 @@ impl Ctx<'_> {
         field: &str,
         parse: impl FnOnce(&Source<'_>) -> Result<T, Box<Diagnostic>>,
     ) -> Result<T, SceneError> {
-        let map = toml_string_map(self.text, s.span(), s.get_ref());
+        let mut map = toml_string_map(self.text, s.span(), s.get_ref());
+        let mut file = self.scene_file;
+        if let Some(e) = &self.expanded {
+            file = e.map.map(s.span()).0;
+            map = map
+                .iter()
+                .map(|&b| e.map.map(b as usize..b as usize).1.start as u32)
+                .collect();
+        }
         let files = self.files.borrow();
-        let source = Source::embedded(s.get_ref(), &files, self.scene_file, map);
+        let source = Source::embedded(s.get_ref(), &files, file, map);
         parse(&source).map_err(|d| SceneError::Syntax(Box::new((*d).in_field(field))))
     }
 

@@ -39,6 +39,7 @@ mod collision;
 mod data_types;
 mod expect;
 mod geometry;
+pub mod import;
 mod program;
 mod tags;
 mod tasks;
@@ -55,11 +56,11 @@ pub use model::{
     AllowedPair, Axis, AxisKind, BaseType, CONTINUOUS_PRIORITY, CamPoint, Camera, CollisionSettings, Condition,
     Connection, ControllerSettings, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS, DEFAULT_START_TIME_US,
     DEFAULT_STATEMENT_US, DEFAULT_WATCHDOG_MS, DataTypeDef, Dialect, EventTrigger, ExpectKind, Expectation,
-    FunctionBlock, GeometrySettings, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S, MAX_IMAGE_PX,
-    MAX_LENGTH_M, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MAX_STRING_LENGTH, MIN_PHYSICS_STEP_MS, MemberDef,
-    MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef, RUN_EXIT_CODES, Reaction, Robot,
-    RoutineDef, STRING_LENGTH, STRING_TYPE, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType,
-    TagValue, Task, TaskKind, TestSettings, Tool, TraceTag, Trigger, Units, Usage, UserType, Variant,
+    FunctionBlock, GeometrySettings, L5xImport, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S,
+    MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MAX_STRING_LENGTH, MIN_PHYSICS_STEP_MS,
+    MemberDef, MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef, RUN_EXIT_CODES, Reaction,
+    Robot, RoutineDef, STRING_LENGTH, STRING_TYPE, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag,
+    TagType, TagValue, Task, TaskKind, TestSettings, Tool, TraceTag, Trigger, Units, Usage, UserType, Variant,
 };
 
 use crate::source::Files;
@@ -171,13 +172,28 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
     let mut files = Files::default();
     let scene_file = files.add(path, text);
+    let expanded = import::expand(path, text, &mut files).map_err(SceneError::Syntax)?;
+    let l5x = expanded.as_ref().map(|e| L5xImport {
+        path: e.l5x_path.clone(),
+        report: e.report.iter().map(|r| (r.line, r.text.clone())).collect(),
+        skipped: e.skipped.clone(),
+        expanded: e.text.clone(),
+        routines: {
+            let mut r: Vec<(std::path::PathBuf, String)> =
+                e.routines.iter().map(|(p, v)| (p.clone(), v.text.clone())).collect();
+            r.sort();
+            r
+        },
+    });
+    let text = expanded.as_ref().map_or(text, |e| e.text.as_str());
     let ctx = Ctx {
         file: path.to_owned(),
         text,
-        source: std::sync::Arc::clone(files.get(scene_file)),
         files: std::cell::RefCell::new(files),
         scene_file,
         data_types: std::cell::RefCell::new(vec![model::DataTypeDef::string()]),
+        expanded: expanded.clone(),
+        l5x,
     };
     let raw: RawScene = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
     ctx.validate(raw, path)

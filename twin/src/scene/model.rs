@@ -55,6 +55,9 @@ pub struct Scene {
     /// The files the scene's texts come from: the scene file, then its
     /// routines; every parsed node's span points into one of them.
     pub files: Files,
+    /// The Studio 5000 export the scene names (`[controller] l5x`), as
+    /// expanded into the scene.
+    pub l5x: Option<L5xImport>,
     /// Golden-image frames, if any.
     pub snapshots: Option<Snapshots>,
     /// Collision checking (`[collision]`); off when the table is absent.
@@ -805,6 +808,23 @@ impl BaseType {
             _ => None,
         }
     }
+}
+
+/// What a scene took from its Studio 5000 export.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct L5xImport {
+    /// The export, relative to the working folder as the scene names it.
+    pub path: PathBuf,
+    /// What it holds that the twin does not simulate: (L5X line, what).
+    pub report: Vec<(usize, String)>,
+    /// What `[controller] not_simulated` skipped.
+    pub skipped: Vec<String>,
+    /// The standalone scene it expands to (`twin import`).
+    pub expanded: String,
+    /// The routine files of the standalone scene: path relative to the
+    /// scene's folder, text.
+    pub routines: Vec<(PathBuf, String)>,
 }
 
 impl Scene {

@@ -367,6 +367,36 @@ impl Ctx<'_> {
             }
         };
         let path = base.join(file);
+        if let Some(v) = self
+            .expanded
+            .as_ref()
+            .and_then(|e| e.routines.get(Path::new(file)).map(|v| (e.l5x_file, v)))
+        {
+            let (l5x, v) = v;
+            let files = self.files.borrow();
+            let source = Source::embedded(&v.text, &files, l5x, std::sync::Arc::clone(&v.map));
+            let routine = parse_routine(&source).map_err(|d| {
+                // Name the routine and its line as Studio numbers them.
+                let line = d
+                    .labels
+                    .first()
+                    .and_then(|l| v.map.iter().position(|&b| b as usize >= l.range.start))
+                    .map_or(0, |i| v.text[..i.min(v.text.len())].matches('\n').count());
+                SceneError::Syntax(Box::new(
+                    (*d).with_note(format!("in {} Line Number=\"{line}\"", v.name)),
+                ))
+            })?;
+            let name = Path::new(file)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            return Ok(RoutineDef {
+                name,
+                path,
+                dialect,
+                routine,
+            });
+        }
         let name = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())

@@ -149,6 +149,7 @@ impl Ctx<'_> {
             controller,
             trace_tags,
             files: self.files.borrow().clone(),
+            l5x: self.l5x.clone(),
             snapshots,
             expectations,
             test,

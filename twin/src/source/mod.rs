@@ -84,6 +84,16 @@ pub struct Span {
 }
 
 impl Span {
+    /// Bytes `range` of `file`.
+    #[must_use]
+    pub fn new(file: FileId, range: Range<usize>) -> Span {
+        Span {
+            file,
+            start: range.start as u32,
+            end: range.end.max(range.start) as u32,
+        }
+    }
+
     /// From the start of `self` to the end of `other` (same file).
     #[must_use]
     pub fn to(self, other: Span) -> Span {

@@ -12,6 +12,7 @@ use twin::source::Diagnostic;
 use twin::source::diag::stderr_wants_color;
 
 mod bench;
+mod import;
 mod run;
 mod test;
 
@@ -71,6 +72,10 @@ enum Command {
         /// Scene file (TOML).
         scene: PathBuf,
     },
+    /// Write the standalone scene a scene naming an L5X export stands for:
+    /// the scene file and its routines, each item commented with its L5X line.
+    #[command(after_help = IMPORT_HELP)]
+    Import(import::ImportArgs),
     /// Measure scenes: the physics plant against a bare rapier simulation
     /// replaying the same drive commands, the kinematic plant, and where a
     /// run with every output spends its time.
@@ -82,6 +87,18 @@ enum Command {
     #[command(after_help = TEST_HELP)]
     Test(test::TestArgs),
 }
+
+const IMPORT_HELP: &str = "\
+OUT.toml is written with `routines/<Program>/<Routine>.st` beside it; paths
+in it are relative to its folder. Importing twice writes the same files, and
+the written scene runs as the scene naming the export does.
+
+Exit codes:
+  0 written; 64 usage (the scene names no export); 65 invalid input;
+  74 a file cannot be written
+
+Example:
+  twin import scenes/l5x/scara_pick.toml -o imported/scara_pick.toml";
 
 const TEST_HELP: &str = "\
 A run is a scene or one of its [[variants]] (`scenes/knife_cut.toml[250 mm]`).
@@ -231,7 +248,7 @@ fn main() -> ExitCode {
     let renders = match &cli.command {
         Command::Run(args) => args.frames.is_some() && !args.no_render,
         Command::Bench(args) => !args.no_render,
-        Command::Check { .. } | Command::Test(_) => false,
+        Command::Check { .. } | Command::Test(_) | Command::Import(_) => false,
     };
     if renders && let Some(code) = rerun_with_runtime_dir() {
         return code;
@@ -241,6 +258,7 @@ fn main() -> ExitCode {
         Command::Run(args) => run::run(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::Test(args) => test::test(&args),
+        Command::Import(args) => import::import(&args),
     };
     match result {
         Ok(code) => code,
@@ -363,7 +381,30 @@ fn check(path: &Path) -> Result<ExitCode> {
     );
     print!("{}", resolved(&twin));
     print!("{}", io_list(&mut twin));
+    print!("{}", l5x_report(twin.scene()));
     Ok(ExitCode::SUCCESS)
+}
+
+/// What a scene's L5X export holds that the twin does not simulate, with
+/// its lines, and what `not_simulated` skipped.
+fn l5x_report(scene: &scene::Scene) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let Some(l5x) = &scene.l5x else { return s };
+    let _ = writeln!(
+        s,
+        "L5X {}: {} not simulated, {} skipped",
+        l5x.path.display(),
+        l5x.report.len(),
+        l5x.skipped.len()
+    );
+    for (line, text) in &l5x.report {
+        let _ = writeln!(s, "  {}:{line}: {text}", l5x.path.display());
+    }
+    for item in &l5x.skipped {
+        let _ = writeln!(s, "  skipped (not_simulated): {item}");
+    }
+    s
 }
 
 /// The cell's I/O list (tag, direction, device, kind) and the routines'
