@@ -239,6 +239,8 @@ pub struct Project {
     pub programs: Vec<Program>,
     /// Tasks, in file order.
     pub tasks: Vec<Task>,
+    /// Module names, in file order.
+    pub modules: Vec<At<String>>,
     /// What is not simulated.
     pub not_simulated: Vec<Note>,
 }
@@ -443,6 +445,7 @@ impl Reader<'_> {
         if let Some(modules) = child(controller, "Modules") {
             for m in children(modules, "Module") {
                 let name = self.required(m, "Name")?;
+                p.modules.push(name.clone());
                 if name.value != "Local" {
                     p.not_simulated.push(Note {
                         span: name.span.clone(),

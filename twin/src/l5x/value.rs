@@ -254,7 +254,8 @@ fn l5k(raw: &str) -> Result<Value, String> {
     let v = p.value(0)?;
     p.ws();
     if p.at < p.s.len() {
-        return Err(format!("unexpected {:?} after the value", &raw[p.at..]));
+        let rest: String = raw[p.at..].chars().take(20).collect();
+        return Err(format!("unexpected {rest:?} after the value"));
     }
     Ok(v)
 }

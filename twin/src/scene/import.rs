@@ -216,11 +216,17 @@ pub struct Expanded {
 type Fail = Box<Diagnostic>;
 
 /// The scene text of `scene_text` with its export expanded, or `None`
-/// when it names none.
+/// when it names none. The export is read from its file, or is
+/// `l5x_text` when given.
 ///
 /// # Errors
 /// The first problem, as a diagnostic at its place (scene or L5X).
-pub fn expand(scene_path: &Path, scene_text: &str, files: &mut Files) -> Result<Option<Expanded>, Fail> {
+pub fn expand(
+    scene_path: &Path,
+    scene_text: &str,
+    files: &mut Files,
+    l5x_text: Option<&str>,
+) -> Result<Option<Expanded>, Fail> {
     // A scene TOML cannot parse: the loader reports it.
     let Ok(doc) = DeTable::parse(scene_text) else {
         return Ok(None);
@@ -250,7 +256,11 @@ pub fn expand(scene_path: &Path, scene_text: &str, files: &mut Files) -> Result<
     };
     let base = scene_path.parent().unwrap_or_else(|| Path::new(""));
     let l5x_path = base.join(name.as_ref());
-    let bytes = std::fs::read(&l5x_path).map_err(|e| {
+    let bytes = match l5x_text {
+        Some(t) => Ok(t.as_bytes().to_vec()),
+        None => std::fs::read(&l5x_path),
+    }
+    .map_err(|e| {
         err_scene(
             files,
             l5x.span(),
@@ -698,13 +708,10 @@ impl Gen<'_> {
 
     fn number(&self, a: &At<String>, item: &str) -> Result<f64, Fail> {
         let t = a.value.trim();
-        t.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-            self.l5x_err(
-                a.span.clone(),
-                item,
-                format!("{item}=\"{}\": expected a finite number", a.value),
-            )
-        })
+        t.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| self.l5x_err(a.span.clone(), item, format!("\"{}\" is not a finite number", a.value)))
     }
 
     fn controller_table(&mut self, controller: &DeTable<'_>) -> Result<(), Fail> {
@@ -1444,6 +1451,7 @@ impl Gen<'_> {
         let full = program.map_or_else(|| name.clone(), |p| format!("{}.{name}", p.name.value));
         let item = |attr: &str| format!("{full} {attr}");
         if let Some(alias) = &tag.alias_for {
+            self.alias_target(alias, program, &full)?;
             self.note(
                 &alias.span,
                 format!(
@@ -1568,6 +1576,69 @@ impl Gen<'_> {
                 });
             if let Some(c) = other {
                 self.line("connection", &quote(&c.value), &c.span, &item("ParameterConnection"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Refuses an alias whose target names nothing in the export: its
+    /// base tag (in the program, else the controller; a module's tag by
+    /// its module) and, for a structure, its first member.
+    fn alias_target(&self, alias: &At<String>, program: Option<&l5x::Program>, full: &str) -> Result<(), Fail> {
+        let target = alias.value.trim();
+        let project = self.project;
+        let dangling = |what: String| {
+            self.l5x_err(
+                alias.span.clone(),
+                &format!("{full} AliasFor"),
+                format!("alias {full}: AliasFor=\"{target}\" {what}"),
+            )
+        };
+        if let Some((module, _)) = target.split_once(':') {
+            return if project.modules.iter().any(|m| m.value.eq_ignore_ascii_case(module)) {
+                Ok(())
+            } else {
+                Err(dangling(format!(
+                    "names module {module}, which the export does not hold"
+                )))
+            };
+        }
+        let end = target.find(['.', '[']).unwrap_or(target.len());
+        let base = &target[..end];
+        let same = |n: &str| n.eq_ignore_ascii_case(base);
+        let in_program = program.and_then(|p| p.tags.iter().find(|t| same(&t.name.value)));
+        let tag = in_program.or_else(|| project.tags.iter().find(|t| same(&t.name.value)));
+        let motion = project.axes.iter().any(|a| same(&a.name.value))
+            || project.coordinate_systems.iter().any(|c| same(&c.name.value))
+            || project.motion_group.as_ref().is_some_and(|(m, _)| same(&m.value));
+        let Some(tag) = tag else {
+            return if motion {
+                Ok(())
+            } else {
+                Err(dangling("names no tag of the export".to_owned()))
+            };
+        };
+        // The first member of a structure tag.
+        let rest = target[end..]
+            .trim_start_matches(|c| c != '.' && c != ']')
+            .trim_start_matches(']');
+        if let (Some(member), Some(ty)) = (rest.strip_prefix('.'), &tag.data_type) {
+            let member = member.split(['.', '[']).next().unwrap_or("");
+            if let Some(udt) = project
+                .data_types
+                .iter()
+                .find(|d| d.name.value.eq_ignore_ascii_case(&ty.value))
+            {
+                let known = udt
+                    .members
+                    .iter()
+                    .any(|m| !m.hidden && m.name.value.eq_ignore_ascii_case(member));
+                if !known && member.parse::<u32>().is_err() {
+                    return Err(dangling(format!(
+                        "names member {member}, which {} does not have",
+                        udt.name.value
+                    )));
+                }
             }
         }
         Ok(())

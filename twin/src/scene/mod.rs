@@ -170,9 +170,18 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// # Errors
 /// As [`load`], without [`SceneError::Read`].
 pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
+    parse_with_l5x(path, text, None)
+}
+
+/// As [`parse`], with the text of the Studio 5000 export the scene names
+/// (`[controller] l5x`) given instead of read from its file.
+///
+/// # Errors
+/// As [`parse`].
+pub fn parse_with_l5x(path: &Path, text: &str, l5x: Option<&str>) -> Result<Scene, SceneError> {
     let mut files = Files::default();
     let scene_file = files.add(path, text);
-    let expanded = import::expand(path, text, &mut files).map_err(SceneError::Syntax)?;
+    let expanded = import::expand(path, text, &mut files, l5x).map_err(SceneError::Syntax)?;
     let l5x = expanded.as_ref().map(|e| L5xImport {
         path: e.l5x_path.clone(),
         report: e.report.iter().map(|r| (r.line, r.text.clone())).collect(),

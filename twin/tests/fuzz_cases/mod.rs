@@ -1,7 +1,9 @@
 //! Seeded mutation fuzzing of every file the twin reads: scene TOML,
-//! Structured Text routines, URDF, STL and COLLADA.
+//! Structured Text routines, URDF, STL, COLLADA and a Studio 5000 export.
 //!
-//! Case `n` draws from `ChaCha8Rng::seed_from_u64(SEED + n)`: a target (by
+//! Case `n` draws from `ChaCha8Rng::seed_from_u64(SEED + n)`: a target
+//! (every tenth case the L5X export of `scenes/l5x/scara_pick.toml`, loaded
+//! with that scene through [`twin::scene::parse_with_l5x`]; the others by
 //! weight: scenes 40 %, routines 20 %, URDF 20 %, STL 12 %, COLLADA 8 %), a
 //! shipped file of that kind (or a generated COLLADA document), and one to
 //! three mutations — a number replaced by an extreme (NaN, ±inf, ±1e300,
@@ -68,6 +70,8 @@ pub struct Corpus {
     urdfs: Vec<(PathBuf, String)>,
     stls: Vec<(PathBuf, Vec<u8>)>,
     dae: String,
+    /// The L5X example's scene (path, text) and export.
+    l5x: (PathBuf, String, String),
 }
 
 /// What a case fed, and how it ended badly.
@@ -126,6 +130,12 @@ impl Corpus {
                 })
                 .collect(),
             dae: tetrahedron_dae(),
+            l5x: {
+                let scene = scenes_dir.join("l5x/scara_pick.toml");
+                let scene_text = text(&scene);
+                let export = text(&scenes_dir.join("l5x/scara_pick.L5X"));
+                (scene, scene_text, export)
+            },
         }
     }
 }
@@ -286,7 +296,9 @@ fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
 pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
     let mut rng = ChaCha8Rng::seed_from_u64(SEED + n);
     let pick = rng.random_range(0..100);
+    // Every tenth case mutates the L5X export.
     let target = match pick {
+        _ if n.is_multiple_of(10) => "l5x",
         0..40 => "scene",
         40..60 => "routine",
         60..80 => "urdf",
@@ -310,6 +322,29 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
                         scene.duration_s = scene.duration_s.min(0.1);
                         match twin::run::Twin::new(scene) {
                             Err(e) => named_in_scene(&e.to_string()),
+                            Ok(mut t) => {
+                                for _ in 0..25 {
+                                    t.step();
+                                }
+                                Ok(())
+                            }
+                        }
+                    }
+                    Ok(_) => Ok(()),
+                }
+            }
+            "l5x" => {
+                let (scene, text, export) = &corpus.l5x;
+                let mutant = mutate_text(&mut rng, export);
+                match twin::scene::parse_with_l5x(scene, text, Some(&mutant)) {
+                    Err(e) => {
+                        named(&e.to_string(), "scara_pick.L5X").or_else(|_| named(&e.to_string(), "scara_pick.toml"))
+                    }
+                    Ok(mut scene) if n.is_multiple_of(50) => {
+                        scene.duration_s = scene.duration_s.min(0.1);
+                        match twin::run::Twin::new(scene) {
+                            Err(e) => named(&e.to_string(), "scara_pick.L5X")
+                                .or_else(|_| named(&e.to_string(), "scara_pick.toml")),
                             Ok(mut t) => {
                                 for _ in 0..25 {
                                     t.step();
@@ -464,6 +499,7 @@ pub fn mutant_of(corpus: &Corpus, n: u64) -> Option<(PathBuf, String)> {
     let mut rng = ChaCha8Rng::seed_from_u64(SEED + n);
     let pick: i32 = rng.random_range(0..100);
     match pick {
+        _ if n.is_multiple_of(10) => Some((corpus.l5x.0.with_extension("L5X"), mutate_text(&mut rng, &corpus.l5x.2))),
         0..40 => {
             let (p, t) = &corpus.scenes[rng.random_range(0..corpus.scenes.len())];
             Some((p.clone(), mutate_text(&mut rng, t)))

@@ -187,8 +187,14 @@ mod tests {
 
     #[test]
     fn paths_become_relative_to_the_output_folder() {
-        assert_eq!(relative(Path::new("scenes/robots/a.urdf"), Path::new("out")), Path::new("../scenes/robots/a.urdf"));
-        assert_eq!(relative(Path::new("scenes/l5x/../robots/a.urdf"), Path::new("scenes")), Path::new("robots/a.urdf"));
+        assert_eq!(
+            relative(Path::new("scenes/robots/a.urdf"), Path::new("out")),
+            Path::new("../scenes/robots/a.urdf")
+        );
+        assert_eq!(
+            relative(Path::new("scenes/l5x/../robots/a.urdf"), Path::new("scenes")),
+            Path::new("robots/a.urdf")
+        );
     }
 
     #[test]

@@ -1,0 +1,428 @@
+//! Scenes that name a Studio 5000 export (`[controller] l5x`): the example
+//! runs with the program's counts, `twin import` is deterministic and its
+//! scene runs byte for byte as the L5X scene does, and malformed exports
+//! and bindings get one line at their place.
+
+#[allow(dead_code)] // other suites use the other helpers
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use common::{fresh_dir, root};
+
+fn twin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_twin"))
+}
+
+fn example() -> (PathBuf, String, String) {
+    let dir = root().join("scenes/l5x");
+    let scene = std::fs::read_to_string(dir.join("scara_pick.toml")).expect("example scene");
+    let export = std::fs::read_to_string(dir.join("scara_pick.L5X")).expect("example export");
+    (dir, scene, export)
+}
+
+/// The example's scene and export, each with one replacement, written to
+/// a folder of their own (the URDF named by its absolute path).
+fn variant(name: &str, scene_edit: (&str, &str), l5x_edit: (&str, &str)) -> PathBuf {
+    let (_, scene, export) = example();
+    let urdf = root().join("scenes/robots/scara/scara.urdf");
+    let out = fresh_dir("l5x", name);
+    assert!(scene.contains(scene_edit.0), "{:?} not in the scene", scene_edit.0);
+    assert!(export.contains(l5x_edit.0), "{:?} not in the export", l5x_edit.0);
+    let scene = scene
+        .replace(
+            "\"../robots/scara/scara.urdf\"",
+            &format!("{:?}", urdf.display().to_string()),
+        )
+        .replacen(scene_edit.0, scene_edit.1, 1);
+    let export = export.replacen(l5x_edit.0, l5x_edit.1, 1);
+    std::fs::write(out.join("scara_pick.toml"), scene).unwrap();
+    std::fs::write(out.join("scara_pick.L5X"), export).unwrap();
+    out.join("scara_pick.toml")
+}
+
+/// `twin check` of a variant: exit code 65 and the first stderr line.
+fn refused(scene: &Path) -> String {
+    let out = twin().arg("check").arg(scene).output().expect("twin runs");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(65), "{stderr}");
+    let first = stderr.lines().next().unwrap_or_default();
+    first.strip_prefix("error: ").unwrap_or(first).to_owned()
+}
+
+/// 1-based line and column of the first `needle` in `text`.
+fn place(text: &str, needle: &str) -> (usize, usize) {
+    let at = text
+        .find(needle)
+        .unwrap_or_else(|| panic!("{needle:?} not in the file"));
+    let before = &text[..at];
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    (
+        before.matches('\n').count() + 1,
+        before[line_start..].chars().count() + 1,
+    )
+}
+
+/// Asserts a refusal at `needle`'s place in `file` (of the variant's
+/// folder), with `words` in the message.
+fn refused_at(scene: &Path, file: &str, needle: &str, words: &str) {
+    let line = refused(scene);
+    let path = scene.with_file_name(file);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (l, c) = place(&text, needle);
+    let prefix = format!("{}:{l}:{c}: ", path.display());
+    assert!(line.starts_with(&prefix), "expected {prefix}…, got {line}");
+    assert!(line.contains(words), "expected {words:?} in {line}");
+}
+
+#[test]
+fn the_example_checks_with_its_report_and_runs_to_the_programs_counts() {
+    let scene = root().join("scenes/l5x/scara_pick.toml");
+    let out = twin().arg("check").arg(&scene).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("L5X "), "{stdout}");
+    assert!(
+        stdout.contains("scara_pick.L5X:183: tag Placed: an alias for Recipe.Count"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("MotionExceptionAction is not read"), "{stdout}");
+
+    let dir = fresh_dir("l5x", "example_run");
+    let summary = dir.join("summary.json");
+    let out = twin()
+        .args(["run", "--no-render", "--summary"])
+        .arg(&summary)
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    let outcome = |name: &str| {
+        json["instructions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|i| i["name"] == name)
+            .unwrap_or_else(|| panic!("{name} in {json}"))
+            .clone()
+    };
+    // Two cycles: five linear moves each, one arc each, no errors.
+    assert_eq!(outcome("PickPlace.Move")["done"], 10, "{json}");
+    assert_eq!(outcome("PickPlace.Arc")["done"], 2, "{json}");
+    assert_eq!(outcome("PickPlace.Move")["errors"], 0, "{json}");
+    assert_eq!(json["expectations"].as_array().map(Vec::len), Some(3));
+    assert!(
+        json["expectations"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|e| e["passed"] == true),
+        "{json}"
+    );
+    assert!(
+        json["l5x"]["not_simulated"].as_array().is_some_and(|a| !a.is_empty()),
+        "{json}"
+    );
+}
+
+#[test]
+fn import_is_deterministic_and_its_scene_traces_byte_for_byte_as_the_l5x_scene() {
+    let scene = root().join("scenes/l5x/scara_pick.toml");
+    let dir = fresh_dir("l5x", "import");
+    let (a, b) = (dir.join("a/scene.toml"), dir.join("b/scene.toml"));
+    for out in [&a, &b] {
+        let o = twin().arg("import").arg(&scene).arg("-o").arg(out).output().unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let read = |p: &Path| std::fs::read(p).unwrap();
+    assert_eq!(read(&a), read(&b));
+    for r in ["PickPlace/Main.st", "PickPlace/ArcVia.st", "Stats/Count.st"] {
+        assert_eq!(
+            read(&a.with_file_name("routines").join(r)),
+            read(&b.with_file_name("routines").join(r)),
+            "{r}"
+        );
+    }
+    let text = String::from_utf8(read(&a)).unwrap();
+    assert!(text.contains("# scara_pick.L5X:64\n[[axes]]\nname = \"J1\""), "{text}");
+    // Both scenes traced.
+    let trace = |scene: &Path, name: &str| {
+        let t = dir.join(name);
+        let o = twin()
+            .args(["run", "--no-render", "--trace"])
+            .arg(&t)
+            .arg(scene)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        read(&t)
+    };
+    assert_eq!(trace(&scene, "l5x.csv"), trace(&a, "imported.csv"));
+    // A scene naming no export is a usage error.
+    let o = twin()
+        .arg("import")
+        .arg(&a)
+        .arg("-o")
+        .arg(dir.join("c.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(64), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn malformed_xml_is_refused_where_the_parser_stopped() {
+    let scene = variant("bad_xml", ("", ""), ("<Tag Name=\"Zero\"", "<Tag Name=\"Zero\" <"));
+    let line = refused(&scene);
+    let (l, _) = place(
+        &std::fs::read_to_string(scene.with_file_name("scara_pick.L5X")).unwrap(),
+        "<Tag Name=\"Zero\"",
+    );
+    assert!(line.contains(&format!("scara_pick.L5X:{l}:")), "{line}");
+    assert!(line.contains("malformed XML"), "{line}");
+}
+
+#[test]
+fn a_tag_without_a_data_type_is_refused_at_the_tag() {
+    let scene = variant(
+        "no_data_type",
+        ("", ""),
+        (
+            "<Tag Name=\"Pick\" TagType=\"Base\" DataType=\"REAL\"",
+            "<Tag Name=\"Pick\" TagType=\"Base\"",
+        ),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.L5X",
+        "<Tag Name=\"Pick\"",
+        "has no DataType attribute",
+    );
+}
+
+#[test]
+fn a_zero_dimension_is_refused_at_dimensions() {
+    let scene = variant(
+        "zero_dimension",
+        ("", ""),
+        (
+            "Name=\"Pick\" TagType=\"Base\" DataType=\"REAL\" Dimensions=\"3\"",
+            "Name=\"Pick\" TagType=\"Base\" DataType=\"REAL\" Dimensions=\"0\"",
+        ),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.L5X",
+        "0\" Radix=\"Float\" Constant=\"false\"",
+        "Pick Dimensions: Dimensions=\"0\"",
+    );
+}
+
+#[test]
+fn an_unknown_system_type_is_refused_listing_the_known_ones() {
+    let scene = variant(
+        "system_type",
+        ("", ""),
+        ("SystemType=\"SCARA Independent\"", "SystemType=\"Hexapod\""),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.L5X",
+        "Hexapod",
+        "Joints SystemType: Joints's SystemType \"Hexapod\" is not one the twin simulates: Cartesian, Articulated Dependent",
+    );
+}
+
+#[test]
+fn a_two_to_one_ratio_is_refused() {
+    let scene = variant(
+        "ratio",
+        ("", ""),
+        (
+            "ConversionRatioNumerator=\"1.0 1.0 1.0\"",
+            "ConversionRatioNumerator=\"2.0 1.0 1.0\"",
+        ),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.L5X",
+        "2.0 1.0 1.0",
+        "conversion ratio 2.0:1.0: the twin simulates 1:1 ratios only",
+    );
+}
+
+#[test]
+fn an_st_error_is_refused_at_its_character_in_the_cdata_with_its_line_number() {
+    let scene = variant(
+        "st_error",
+        ("", ""),
+        ("Slot := Recipe.Count MOD 2;", "Slot := Recipe.Count MOD ;"),
+    );
+    let line = refused(&scene);
+    let path = scene.with_file_name("scara_pick.L5X");
+    let export = std::fs::read_to_string(&path).unwrap();
+    let (l, c) = place(&export, "MOD ;");
+    // The routine line is the Line element's Number.
+    let at = export.find("MOD ;").unwrap();
+    let open = export[..at].rfind("<Line Number=\"").unwrap() + "<Line Number=\"".len();
+    let number = &export[open..open + export[open..].find('"').unwrap()];
+    let expected = format!(
+        "{}:{l}:{}: PickPlace/Main Line Number=\"{number}\": ",
+        path.display(),
+        c + 4
+    );
+    assert!(line.starts_with(&expected), "expected {expected}…, got {line}");
+}
+
+#[test]
+fn a_dangling_alias_is_refused_at_alias_for() {
+    let scene = variant(
+        "alias",
+        ("", ""),
+        ("AliasFor=\"Recipe.Count\"", "AliasFor=\"Recipe.Cuont\""),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.L5X",
+        "Recipe.Cuont",
+        "names member Cuont, which PickRecipe does not have",
+    );
+    let scene = variant(
+        "alias_tag",
+        ("", ""),
+        ("AliasFor=\"Recipe.Count\"", "AliasFor=\"Recipes.Count\""),
+    );
+    refused_at(&scene, "scara_pick.L5X", "Recipes.Count", "names no tag of the export");
+}
+
+#[test]
+fn a_program_export_is_refused_asking_for_the_controller() {
+    let scene = variant(
+        "program_export",
+        ("", ""),
+        ("TargetType=\"Controller\"", "TargetType=\"Program\""),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.L5X",
+        "Program\" ContainsContext",
+        "export the controller",
+    );
+}
+
+#[test]
+fn a_joint_the_urdf_lacks_is_refused_at_the_binding() {
+    let scene = variant("missing_joint", ("joint = \"j2\"", "joint = \"j9\""), ("", ""));
+    refused_at(&scene, "scara_pick.toml", "\"j9\"", "j9");
+}
+
+#[test]
+fn a_limit_the_export_holds_is_refused_in_the_scene_naming_both_places() {
+    let scene = variant(
+        "max_velocity",
+        (
+            "name = \"J1\"\njoint = \"j1\"",
+            "name = \"J1\"\njoint = \"j1\"\nmax_velocity = 100.0",
+        ),
+        ("", ""),
+    );
+    let export = std::fs::read_to_string(scene.with_file_name("scara_pick.L5X")).unwrap();
+    let j1 = export.find("<Tag Name=\"J1\"").unwrap();
+    let speed_line = export[..j1 + export[j1..].find("MaximumSpeed=").unwrap()]
+        .matches('\n')
+        .count()
+        + 1;
+    refused_at(
+        &scene,
+        "scara_pick.toml",
+        "max_velocity",
+        &format!("axes[0].max_velocity: J1's MaximumSpeed comes from scara_pick.L5X:{speed_line}; change it there"),
+    );
+}
+
+#[test]
+fn scene_tasks_and_unknown_bindings_are_refused() {
+    let scene = variant(
+        "scene_tasks",
+        ("[[cameras]]", "[[tasks]]\nname = \"T\"\n\n[[cameras]]"),
+        ("", ""),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.toml",
+        "tasks]]",
+        "the export's Tasks are the program",
+    );
+    let scene = variant("unknown_axis", ("name = \"Z\"", "name = \"W\""), ("", ""));
+    refused_at(&scene, "scara_pick.toml", "\"W\"", "no axis 'W' in scara_pick.L5X");
+    let scene = variant(
+        "bad_value",
+        (
+            "l5x = \"scara_pick.L5X\"",
+            "l5x = \"scara_pick.L5X\"\nvalues = { Nope = 1 }",
+        ),
+        ("", ""),
+    );
+    refused_at(&scene, "scara_pick.toml", "1 }", "no tag 'nope'");
+}
+
+#[test]
+fn a_non_st_main_routine_is_refused_unless_not_simulated_names_it() {
+    let l5x = (
+        "<Routine Name=\"Count\" Type=\"ST\">",
+        "<Routine Name=\"Count\" Type=\"RLL\">",
+    );
+    let scene = variant("rll_main", ("", ""), l5x);
+    refused_at(
+        &scene,
+        "scara_pick.L5X",
+        "RLL",
+        "name \"Stats/Count\" in [controller] not_simulated",
+    );
+    let scene = variant(
+        "rll_skipped",
+        (
+            "l5x = \"scara_pick.L5X\"",
+            "l5x = \"scara_pick.L5X\"\nnot_simulated = [\"Stats/Count\"]",
+        ),
+        l5x,
+    );
+    // The skipped program's tag goes with it.
+    let text = std::fs::read_to_string(&scene).unwrap().replace(", \"Stats.Scans\"", "");
+    std::fs::write(&scene, text).unwrap();
+    let out = twin().arg("check").arg(&scene).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("skipped (not_simulated): Stats/Count"), "{stdout}");
+}
+
+#[test]
+fn a_cip_axis_starts_servo_off_and_its_values_come_from_the_scene_when_given() {
+    // `values` over the exported ones: one cycle instead of two.
+    let scene = variant(
+        "values",
+        (
+            "l5x = \"scara_pick.L5X\"",
+            "l5x = \"scara_pick.L5X\"\nvalues = { Recipe = { Target = 1, DwellMs = 150 } }",
+        ),
+        ("", ""),
+    );
+    let text = std::fs::read_to_string(&scene)
+        .unwrap()
+        .replace("Recipe.Count = 2", "Recipe.Count = 1");
+    std::fs::write(&scene, text).unwrap();
+    let out = twin()
+        .args(["run", "--no-render", "--plant", "kinematic"])
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("PickPlace.Arc: done 1,"), "{stdout}");
+}
