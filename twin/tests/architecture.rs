@@ -236,11 +236,12 @@ fn twin_stages_import_only_the_stages_before_them() {
     let allowed: BTreeMap<&str, &[&str]> = BTreeMap::from([
         ("source", &[][..]),
         ("st", &["source"][..]),
-        ("scene", &["source", "st"][..]),
-        ("program", &["source", "st", "scene"][..]),
-        ("plant", &["source", "st", "scene"][..]),
-        ("run", &["source", "st", "scene", "program", "plant"][..]),
-        ("output", &["source", "st", "scene", "program", "plant", "run"][..]),
+        ("l5x", &["source"][..]),
+        ("scene", &["source", "st", "l5x"][..]),
+        ("program", &["source", "st", "l5x", "scene"][..]),
+        ("plant", &["source", "st", "l5x", "scene"][..]),
+        ("run", &["source", "st", "l5x", "scene", "program", "plant"][..]),
+        ("output", &["source", "st", "l5x", "scene", "program", "plant", "run"][..]),
     ]);
     let stage = |module: &str| module.split("::").next().unwrap_or_default().to_owned();
     let mut wrong = Vec::new();

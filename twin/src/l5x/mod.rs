@@ -23,35 +23,18 @@
 //! radix (`16#00FF`, `2#0101`, `8#17`) and `_` separators.
 
 mod value;
+mod xml;
 
 use std::ops::Range;
 
 pub use value::Value;
+pub use xml::{At, L5xError, MAX_XML_DEPTH};
+use xml::{Node, child, children, start_tag};
 
 /// The largest export read, bytes.
 pub const MAX_L5X_BYTES: usize = 256 * 1024 * 1024;
-/// The deepest element nesting accepted (Studio writes about 12).
-pub const MAX_XML_DEPTH: usize = 64;
 /// The most `Line Number`s an ST routine may skip at once.
 const MAX_LINE_GAP: u64 = 10_000;
-
-/// A value and the bytes of the file it was read from.
-#[derive(Debug, Clone, PartialEq)]
-pub struct At<T> {
-    /// The value.
-    pub value: T,
-    /// Its bytes in the L5X (an attribute's value, an element's start tag).
-    pub span: Range<usize>,
-}
-
-/// A problem with the file, at its bytes.
-#[derive(Debug, Clone, PartialEq)]
-pub struct L5xError {
-    /// Where.
-    pub span: Range<usize>,
-    /// What is wrong, one line.
-    pub message: String,
-}
 
 /// The attributes of one parameters element (`AxisParameters`,
 /// `CoordinateSystemParameters`, `MotionGroupParameters`), in file order.
@@ -245,7 +228,6 @@ pub struct Project {
     pub not_simulated: Vec<Note>,
 }
 
-type Node<'a, 'i> = roxmltree::Node<'a, 'i>;
 
 /// Reads an export.
 ///
@@ -313,21 +295,6 @@ fn check_depth(root: Node<'_, '_>) -> Result<(), L5xError> {
 
 struct Reader<'t> {
     text: &'t str,
-}
-
-fn children<'a, 'i>(node: Node<'a, 'i>, name: &'static str) -> impl Iterator<Item = Node<'a, 'i>> {
-    node.children().filter(move |c| c.has_tag_name(name))
-}
-
-fn child<'a, 'i>(node: Node<'a, 'i>, name: &'static str) -> Option<Node<'a, 'i>> {
-    children(node, name).next()
-}
-
-/// The start tag's bytes of an element.
-fn start_tag(text: &str, node: Node<'_, '_>) -> Range<usize> {
-    let r = node.range();
-    let end = text[r.clone()].find('>').map_or(r.end, |i| r.start + i + 1);
-    r.start..end
 }
 
 impl Reader<'_> {

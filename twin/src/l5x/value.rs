@@ -1,6 +1,6 @@
 //! A tag's value as Studio writes it: `Decorated`, `String` or `L5K` data.
 
-use super::{At, L5xError, Node, children, start_tag};
+use super::xml::{At, L5xError, MAX_XML_DEPTH, Node, children, start_tag};
 
 /// The most elements one array value may hold.
 pub const MAX_ARRAY_VALUES: usize = 1_000_000;
@@ -274,7 +274,7 @@ impl L5k<'_> {
     }
 
     fn value(&mut self, depth: usize) -> Result<Value, String> {
-        if depth > super::MAX_XML_DEPTH {
+        if depth > MAX_XML_DEPTH {
             return Err("brackets nested too deep".to_owned());
         }
         self.ws();

@@ -1482,7 +1482,7 @@ impl Gen<'_> {
             let dims: Vec<&str> = d.value.split_whitespace().collect();
             for x in &dims {
                 match x.parse::<u64>() {
-                    Ok(n) if n >= 1 && n <= super::MAX_ARRAY_LEN as u64 => {}
+                    Ok(n) if n >= 1 && n <= super::model::MAX_ARRAY_LEN as u64 => {}
                     _ => {
                         return Err(self.l5x_err(
                             d.span.clone(),
@@ -1490,7 +1490,7 @@ impl Gen<'_> {
                             format!(
                                 "Dimensions=\"{}\": each dimension is 1 to {}",
                                 d.value,
-                                super::MAX_ARRAY_LEN
+                                super::model::MAX_ARRAY_LEN
                             ),
                         ));
                     }
