@@ -507,3 +507,73 @@ fn ssv_sets_an_axis_limit_that_later_instructions_plan_with() {
         out.display()
     );
 }
+
+#[test]
+fn aliases_stand_for_members_elements_bits_and_other_aliases_in_their_scope() {
+    let tags = format!(
+        "{}{}{}[[data_types]]\nname = \"R\"\nmembers = [{{ name = \"N\", type = \"DINT\" }}]\n\
+         [[aliases]]\nname = \"Count\"\nalias_for = \"Rec.N\"\n\
+         [[aliases]]\nname = \"Third\"\nalias_for = \"Arr[2]\"\n\
+         [[aliases]]\nname = \"Bit5\"\nalias_for = \"Word.5\"\n\
+         [[aliases]]\nname = \"Again\"\nalias_for = \"Count\"\n",
+        tag("Rec", "R"),
+        tag("Arr", "REAL[4]"),
+        tag("Word", "DINT"),
+    );
+    let routine = "Count := Count + 1; Again := Again + 10; Third := 7.5; Bit5 := TRUE; Mine := Third + 1.0;";
+    let path = scene("aliases", &tags, routine, 10.0);
+    // The program's own alias Third shadows the controller's.
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    text.push_str(
+        "[[tasks.programs.tags]]\nname = \"Own\"\ntype = \"REAL\"\n\
+         [[tasks.programs.tags]]\nname = \"Out\"\ntype = \"REAL\"\n\
+         [[tasks.programs.aliases]]\nname = \"Third\"\nalias_for = \"Own\"\n\
+         [[tasks.programs.aliases]]\nname = \"Mine\"\nalias_for = \"Out\"\n\
+         [trace]\ntags = [\"Third\", \"Count\"]\n",
+    );
+    std::fs::write(&path, text).unwrap();
+    let mut twin = load(&path);
+    twin.step();
+    let mem = twin.program().controller().memory();
+    let slot = |name: &str, k: usize| mem.slots[mem.tags[mem.find(name).expect(name)].base + k];
+    assert_eq!(slot("Rec", 0), Value::Int(11));
+    assert_eq!(slot("Word", 0), Value::Int(32));
+    assert_eq!(slot("Arr", 2), Value::Real(0.0));
+    assert_eq!(slot("P.Own", 0), Value::Real(7.5));
+    assert_eq!(slot("P.Out", 0), Value::Real(8.5));
+}
+
+#[test]
+fn an_alias_naming_nothing_or_itself_is_refused_at_its_alias_for() {
+    for (name, aliases, words) in [
+        (
+            "alias_dangling",
+            "[[aliases]]\nname = \"A\"\nalias_for = \"Nope.X\"\n",
+            "'Nope' is not",
+        ),
+        (
+            "alias_circle",
+            "[[aliases]]\nname = \"A\"\nalias_for = \"B\"\n[[aliases]]\nname = \"B\"\nalias_for = \"A.1\"\n",
+            "stands for itself",
+        ),
+        (
+            "alias_not_a_ref",
+            "[[aliases]]\nname = \"A\"\nalias_for = \"1 + 2\"\n",
+            "an alias stands for a tag",
+        ),
+    ] {
+        let path = scene(name, aliases, "", 10.0);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_twin"))
+            .arg("check")
+            .arg(&path)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(65), "{name}: {stderr}");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let line = text[..text.find("alias_for").unwrap()].matches('\n').count() + 1;
+        let first = stderr.lines().next().unwrap_or_default();
+        assert!(first.contains(&format!("scene.toml:{line}:")), "{name}: {first}");
+        assert!(first.contains(words), "{name}: {first}");
+    }
+}

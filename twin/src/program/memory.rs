@@ -95,6 +95,10 @@ pub struct Memory {
     pub tags: Vec<TagInfo>,
     /// The data types' layouts (`STRING` first).
     pub layouts: Layouts,
+    /// Alias tags: (lower-case `Program.Name` or `Name`) → what it stands
+    /// for. They hold no memory: the compiler reads the target in their
+    /// place.
+    pub aliases: HashMap<String, crate::st::ast::Ref>,
     by_name: HashMap<String, usize>,
 }
 
@@ -120,6 +124,15 @@ impl Memory {
                 let t = mem.add(&name, tag.ty, tag.value.as_ref());
                 mem.tags[t].usage = tag.usage;
                 mem.tags[t].constant = tag.constant;
+            }
+        }
+        for a in &scene.aliases {
+            mem.aliases.insert(a.name.to_lowercase(), a.target.clone());
+        }
+        for p in scene.programs() {
+            for a in &p.aliases {
+                mem.aliases
+                    .insert(format!("{}.{}", p.name, a.name).to_lowercase(), a.target.clone());
             }
         }
         // InOut parameters stand for their connections (checked at load).
@@ -322,6 +335,25 @@ impl Memory {
     pub fn slot_count(&self, tag: usize) -> usize {
         let info = &self.tags[tag];
         info.len.unwrap_or(1) * info.stride()
+    }
+
+    /// The target of the alias `name` in this scope: the program's own
+    /// alias, else (when the program has no tag of the name) the
+    /// controller's.
+    #[must_use]
+    pub fn alias(&self, program: Option<&str>, name: &str) -> Option<&crate::st::ast::Ref> {
+        if self.aliases.is_empty() {
+            return None;
+        }
+        if let Some(p) = program {
+            if let Some(r) = self.aliases.get(&format!("{p}.{name}").to_lowercase()) {
+                return Some(r);
+            }
+            if self.find(&format!("{p}.{name}")).is_some() {
+                return None;
+            }
+        }
+        self.aliases.get(&name.to_lowercase())
     }
 
     /// The tag `name` as seen from `program`: its own tag first, then the

@@ -135,16 +135,15 @@ impl Program {
             Some(p) => Some(compile::scene::program(p, &mem, &mut env)?),
             None => None,
         };
-        let steps = compile::scene::steps(scene, &mem, &mut env)?
-            .into_iter()
-            .map(Step::new)
-            .collect();
+        let steps = compile::scene::steps(scene, &mem, &mut env)?;
+        compile::scene::aliases(scene, &mem, &mut env)?;
+        let steps = steps.into_iter().map(Step::new).collect();
         let plc = Controller::new(scene, mem, programs, handler);
         let mut traced = Vec::with_capacity(scene.trace_tags.len());
         for (index, t) in scene.trace_tags.iter().enumerate() {
             let mut compiler = Compiler::new(plc.memory(), None, &[], Dialect::Logix, &mut env, false);
             let in_field = |d: Box<Diagnostic>| Box::new((*d).in_field(format!("trace.tags[{index}]")));
-            if let Some(text) = compiler.traced_string(&t.expr) {
+            if let Some(text) = compiler.traced_string(&compiler.dealias_expr(&t.expr).into_owned()) {
                 traced.push(TracedTag {
                     name: t.text.clone(),
                     place: Place::MathFlag,
@@ -153,7 +152,9 @@ impl Program {
                 });
                 continue;
             }
-            let (place, ty) = compiler.traced(&t.expr).map_err(in_field)?;
+            let (place, ty) = compiler
+                .traced(&compiler.dealias_expr(&t.expr).into_owned())
+                .map_err(in_field)?;
             traced.push(TracedTag {
                 name: t.text.clone(),
                 place,
@@ -272,7 +273,10 @@ impl Program {
         expr: &crate::st::ast::Expr,
         columns: &[ir::Column],
     ) -> Result<ir::CExpr, Box<Diagnostic>> {
-        self.with_compiler(scene, task, None, columns, |compiler| compiler.expr(expr))
+        self.with_compiler(scene, task, None, columns, |compiler| {
+            let expr = compiler.dealias_expr(expr).into_owned();
+            compiler.expr(&expr)
+        })
     }
 
     /// The value of an expression [`Program::compile_expression`]
@@ -364,7 +368,10 @@ impl Program {
         scope: Option<(&str, &[String], Dialect)>,
         expr: &crate::st::ast::Expr,
     ) -> Result<(Place, DataType), Box<Diagnostic>> {
-        self.with_compiler(scene, task, scope, &[], |compiler| compiler.traced(expr))
+        self.with_compiler(scene, task, scope, &[], |compiler| {
+            let expr = compiler.dealias_expr(expr).into_owned();
+            compiler.traced(&expr)
+        })
     }
 
     /// Runs `f` with a compiler over tag memory, in controller scope or in

@@ -123,6 +123,7 @@ impl Sandbox {
                 programs: vec![ProgramDef {
                     name: "P".into(),
                     tags: Vec::new(),
+                    aliases: Vec::new(),
                     main,
                     routines: Vec::new(),
                     fault_routine: None,
@@ -139,6 +140,7 @@ impl Sandbox {
             cell: Default::default(),
             files,
             l5x: None,
+            aliases: Vec::new(),
             snapshots: None,
             collision: None,
         };

@@ -22,11 +22,15 @@
 //! Choices the issue and the manuals leave open, and what the twin does:
 //! * an axis' kind (linear or rotary) follows its units (`deg`, `rad`:
 //!   rotary; `m`, `mm`: linear);
-//! * exception actions (`MotionExceptionAction`, `CIPAxisExceptionAction`)
-//!   are reported, not read: the scene's defaults apply;
+//! * exception actions: the soft overtravel action is `MotionExceptionAction`
+//!   entries 1 and 2 (the positive one when they differ, reported), the
+//!   Excessive Position Error action `CIPAxisExceptionAction` entry 54
+//!   (MOTION-RM003); `Disable` is `stop_drive`, `Unsupported` the default;
 //! * a tag of a type the twin does not know (`TIMER`, `MESSAGE` …) is
 //!   reported and left out: a routine naming it is refused at load;
-//! * an alias tag is reported and left out likewise.
+//! * an alias tag becomes an `[[aliases]]` entry of its scope; an alias of
+//!   a module's I/O tag is reported and left out (the twin has no module
+//!   tags).
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -1060,14 +1064,7 @@ impl Gen<'_> {
                 self.line("axis_configuration", &quote(w), &a.span, &item("AxisConfiguration"));
             }
         }
-        for action in ["MotionExceptionAction", "CIPAxisExceptionAction"] {
-            if let Some(a) = p.get(action) {
-                self.note(
-                    &a.span,
-                    format!("axis {name}: {action} is not read; the scene's default exception actions apply"),
-                );
-            }
-        }
+        self.exception_actions(p, name, joint.is_some())?;
         self.home(p, name)?;
         // The drive: the export's loop tuning, the scene's torque limits.
         let motor = binding.and_then(|b| field(b, "motor"));
@@ -1118,6 +1115,78 @@ impl Gen<'_> {
             if let Some(v) = binding.and_then(|b| field(b, key)) {
                 self.copy_field(key, v);
             }
+        }
+        Ok(())
+    }
+
+    /// The soft overtravel action from `MotionExceptionAction` (entries 1
+    /// and 2: Soft Travel Limit - Positive / Negative, MOTION-RM003 *Motion
+    /// Fault and Alarm Exceptions*) and, on an axis with a joint, the
+    /// Excessive Position Error action from `CIPAxisExceptionAction`
+    /// (entry 54, *Standard Axis Exceptions*). `Unsupported` keeps the
+    /// scene's default.
+    fn exception_actions(&mut self, p: &l5x::Params, name: &str, joint: bool) -> Result<(), Fail> {
+        let word = |w: &str| match w {
+            "Ignore" => Some(Some("ignore")),
+            "Alarm" => Some(Some("alarm")),
+            "FaultStatusOnly" | "Fault Status Only" => Some(Some("fault_status_only")),
+            "StopPlanner" | "Stop Planner" => Some(Some("stop_planner")),
+            "Disable" | "StopDrive" | "Stop Drive" => Some(Some("stop_drive")),
+            "Shutdown" => Some(Some("shutdown")),
+            "Unsupported" => Some(None),
+            _ => None,
+        };
+        let entries = |a: &At<String>| -> Vec<String> {
+            // Studio writes each action as one word or as words in a
+            // multi-word name; split on the known names.
+            let mut out = Vec::new();
+            let words: Vec<&str> = a.value.split_whitespace().collect();
+            let mut i = 0;
+            while i < words.len() {
+                let two = words.get(i + 1).map(|w| format!("{} {w}", words[i]));
+                let three = words.get(i + 2).map(|w| format!("{} {} {w}", words[i], words[i + 1]));
+                if let Some(t) = three.filter(|t| word(t).is_some()) {
+                    out.push(t);
+                    i += 3;
+                } else if let Some(t) = two.filter(|t| word(t).is_some()) {
+                    out.push(t);
+                    i += 2;
+                } else {
+                    out.push(words[i].to_owned());
+                    i += 1;
+                }
+            }
+            out
+        };
+        let mut action = |attr: &str, indexes: &[usize], key: &str| -> Result<(), Fail> {
+            let Some(a) = p.get(attr) else { return Ok(()) };
+            let list = entries(a);
+            let mut chosen: Option<&'static str> = None;
+            for &i in indexes {
+                let Some(w) = list.get(i) else { continue };
+                let Some(mapped) = word(w) else {
+                    return Err(self.l5x_err(
+                        a.span.clone(),
+                        &format!("{name} {attr}"),
+                        format!("{attr} entry {i} \"{w}\": expected Ignore, Alarm, Fault Status Only, Stop Planner, Disable, Shutdown or Unsupported"),
+                    ));
+                };
+                match (chosen, mapped) {
+                    (None, Some(m)) => chosen = Some(m),
+                    (Some(c), Some(m)) if c != m => {
+                        self.note(&a.span, format!("axis {name}: {attr} differs between the soft travel limits; the twin applies {c} to both"));
+                    }
+                    _ => {}
+                }
+            }
+            if let Some(c) = chosen {
+                self.line(key, &quote(c), &a.span, &format!("{name} {attr}"));
+            }
+            Ok(())
+        };
+        action("MotionExceptionAction", &[1, 2], "soft_overtravel_action")?;
+        if joint {
+            action("CIPAxisExceptionAction", &[54], "position_error_action")?;
         }
         Ok(())
     }
@@ -1269,6 +1338,7 @@ impl Gen<'_> {
         for tag in &project.tags {
             self.tag(tag, None, "[[tags]]")?;
         }
+        self.aliases(&project.tags, None, "[[aliases]]")?;
         for (name, (span, used)) in &self.values {
             if !used {
                 return Err(self.scene_err(
@@ -1450,15 +1520,8 @@ impl Gen<'_> {
         let name = &tag.name.value;
         let full = program.map_or_else(|| name.clone(), |p| format!("{}.{name}", p.name.value));
         let item = |attr: &str| format!("{full} {attr}");
-        if let Some(alias) = &tag.alias_for {
-            self.alias_target(alias, program, &full)?;
-            self.note(
-                &alias.span,
-                format!(
-                    "tag {full}: an alias for {} is not simulated; a routine naming it is refused",
-                    alias.value
-                ),
-            );
+        if tag.alias_for.is_some() {
+            // Aliases follow the scope's tags (`aliases`).
             return Ok(());
         }
         let Some(data_type) = &tag.data_type else { return Ok(()) };
@@ -1576,6 +1639,36 @@ impl Gen<'_> {
                 });
             if let Some(c) = other {
                 self.line("connection", &quote(&c.value), &c.span, &item("ParameterConnection"));
+            }
+        }
+        Ok(())
+    }
+
+    /// The alias tags among `tags` as `[[aliases]]` entries of `header`.
+    /// An alias of a module's I/O tag (`Local:1:I.Data.3`) is reported and
+    /// left out: the twin has no module tags.
+    fn aliases(&mut self, tags: &[l5x::Tag], program: Option<&l5x::Program>, header: &str) -> Result<(), Fail> {
+        for tag in tags {
+            let Some(alias) = &tag.alias_for else { continue };
+            let name = &tag.name.value;
+            let full = program.map_or_else(|| name.clone(), |p| format!("{}.{name}", p.name.value));
+            self.alias_target(alias, program, &full)?;
+            if alias.value.contains(':') {
+                self.note(
+                    &alias.span,
+                    format!(
+                        "alias {full}: module tag {} is not simulated; a routine naming it is refused",
+                        alias.value
+                    ),
+                );
+                continue;
+            }
+            let item = |attr: &str| format!("{full} {attr}");
+            self.header(header, &tag.span, item("Name"));
+            self.line("name", &quote(name), &tag.name.span, &item("Name"));
+            self.line("alias_for", &quote(alias.value.trim()), &alias.span, &item("AliasFor"));
+            if !tag.description.is_empty() {
+                self.line("description", &quote(&tag.description), &tag.span, &item("Description"));
             }
         }
         Ok(())
@@ -2005,6 +2098,11 @@ impl Gen<'_> {
         for tag in &program.tags {
             self.tag(tag, Some(program), tags_header)?;
         }
+        self.aliases(
+            &program.tags,
+            Some(program),
+            &tags_header.replace("tags]]", "aliases]]"),
+        )?;
         Ok(())
     }
 

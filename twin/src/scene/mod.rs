@@ -53,7 +53,7 @@ pub use cell_model::{
 pub use error::{Problem, SceneError};
 pub use geometry::GEOMETRY_TYPES;
 pub use model::{
-    AllowedPair, Axis, AxisKind, BaseType, CONTINUOUS_PRIORITY, CamPoint, Camera, CollisionSettings, Condition,
+    Alias, AllowedPair, Axis, AxisKind, BaseType, CONTINUOUS_PRIORITY, CamPoint, Camera, CollisionSettings, Condition,
     Connection, ControllerSettings, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS, DEFAULT_START_TIME_US,
     DEFAULT_STATEMENT_US, DEFAULT_WATCHDOG_MS, DataTypeDef, Dialect, EventTrigger, ExpectKind, Expectation,
     FunctionBlock, GeometrySettings, L5xImport, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S,

@@ -55,6 +55,8 @@ pub struct Scene {
     /// The files the scene's texts come from: the scene file, then its
     /// routines; every parsed node's span points into one of them.
     pub files: Files,
+    /// Controller-scoped aliases (`[[aliases]]`).
+    pub aliases: Vec<Alias>,
     /// The Studio 5000 export the scene names (`[controller] l5x`), as
     /// expanded into the scene.
     pub l5x: Option<L5xImport>,
@@ -810,6 +812,21 @@ impl BaseType {
     }
 }
 
+/// An alias tag (`[[aliases]]`): a name that stands for another tag, a
+/// member, an element or a bit of one (Logix `TagType="Alias"`).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Alias {
+    /// Its name.
+    pub name: String,
+    /// What it stands for, parsed (`Recipe.Count`, `Flags.3`, `Pos[2]`).
+    pub target: crate::st::ast::Ref,
+    /// `description`.
+    pub description: String,
+    /// Where its `name` is written.
+    pub location: Location,
+}
+
 /// What a scene took from its Studio 5000 export.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -1498,6 +1515,8 @@ pub struct ProgramDef {
     pub name: String,
     /// Program-scoped tags (they shadow controller tags of the same name).
     pub tags: Vec<Tag>,
+    /// Program-scoped aliases (`[[tasks.programs.aliases]]`).
+    pub aliases: Vec<Alias>,
     /// The main routine: the one the task scans.
     pub main: RoutineDef,
     /// Further routines, called with `JSR`.

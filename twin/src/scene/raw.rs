@@ -29,6 +29,8 @@ pub(super) struct RawScene {
     #[serde(default)]
     pub(super) tags: Vec<RawTag>,
     #[serde(default)]
+    pub(super) aliases: Vec<RawAlias>,
+    #[serde(default)]
     pub(super) program: Vec<RawStep>,
     #[serde(default)]
     pub(super) tasks: Vec<RawTask>,
@@ -326,6 +328,15 @@ pub(super) struct RawMember {
     pub(super) description: Option<String>,
 }
 
+/// `[[aliases]]`: a name for another tag, member, element or bit.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawAlias {
+    pub(super) name: Spanned<String>,
+    pub(super) alias_for: Spanned<String>,
+    pub(super) description: Option<Spanned<String>>,
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawTag {
@@ -408,6 +419,8 @@ pub(super) struct RawProgram {
     pub(super) routines: Vec<Spanned<RawRoutine>>,
     #[serde(default)]
     pub(super) tags: Vec<RawTag>,
+    #[serde(default)]
+    pub(super) aliases: Vec<RawAlias>,
     pub(super) fault_routine: Option<Spanned<String>>,
     pub(super) disabled: Option<bool>,
 }

@@ -14,6 +14,36 @@ use super::model::{
 use super::raw::{RawCoordinateSystem, RawMoveOptions, RawTag};
 
 impl Ctx<'_> {
+    /// `[[aliases]]` of one scope: each name unique in the scope's
+    /// `names`, each `alias_for` a reference (a tag, a member, an element
+    /// or a bit; what it names is the program stage's to resolve).
+    pub(super) fn aliases(
+        &self,
+        raw: &[super::raw::RawAlias],
+        names: &mut super::context::Names,
+        prefix: &str,
+    ) -> Result<Vec<super::model::Alias>, SceneError> {
+        let mut out = Vec::with_capacity(raw.len());
+        for (i, a) in raw.iter().enumerate() {
+            let field = |f: &str| format!("{prefix}[{i}].{f}");
+            let name = self.identifier(&a.name, &field("name"))?;
+            self.unique(names, &a.name, &field("name"), super::context::NameKind::Tag)?;
+            let expr = self.parse_in(&a.alias_for, &field("alias_for"), crate::st::parse::parse_expression)?;
+            let crate::st::ast::ExprKind::Ref(target) = expr.kind else {
+                let why =
+                    "an alias stands for a tag, a member, an element or a bit: alias_for = \"Tag.Member\"".to_owned();
+                return Err(self.invalid(&a.alias_for, field("alias_for"), Problem::Rule { why }));
+            };
+            out.push(super::model::Alias {
+                name,
+                target,
+                description: a.description.as_ref().map(|d| d.get_ref().clone()).unwrap_or_default(),
+                location: self.loc(&a.name),
+            });
+        }
+        Ok(out)
+    }
+
     pub(super) fn tag_type(&self, raw: &Spanned<String>, field: &str) -> Result<TagType, SceneError> {
         let written = raw.get_ref().trim();
         let (base_name, dims) = match written.split_once('[') {

@@ -305,6 +305,7 @@ impl Ctx<'_> {
             .map(|(k, v)| (k.clone(), *v))
             .collect();
         let tags = self.tags(&p.tags, axes, &mut names, &format!("{prefix}.tags"))?;
+        let aliases = self.aliases(&p.aliases, &mut names, &format!("{prefix}.aliases"))?;
         for (k, t) in p.tags.iter().enumerate() {
             if tags[k].ty.base == BaseType::CoordinateSystem {
                 let problem = Problem::ControllerScopeOnly {
@@ -345,6 +346,7 @@ impl Ctx<'_> {
         Ok(ProgramDef {
             name,
             tags,
+            aliases,
             main,
             routines,
             fault_routine,

@@ -91,6 +91,7 @@ impl Ctx<'_> {
         let obstacles = self.obstacles(&raw.obstacles, base)?;
         let data_types = self.data_types(&raw.data_types)?;
         let tags = self.tags(&raw.tags, &axes, &mut names, "tags")?;
+        let aliases = self.aliases(&raw.aliases, &mut names, "aliases")?;
         let program = self.program(&raw.program, duration_s)?;
         let tasks = self.tasks(&raw.tasks, &axes, (&names, &tags), base)?;
         let controller = self.controller_settings(raw.controller.as_ref(), (&axes, &names, base), &tasks)?;
@@ -150,6 +151,7 @@ impl Ctx<'_> {
             trace_tags,
             files: self.files.borrow().clone(),
             l5x: self.l5x.clone(),
+            aliases,
             snapshots,
             expectations,
             test,

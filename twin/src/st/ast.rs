@@ -42,6 +42,111 @@ impl Routine {
 
 /// Calls `f` on every statement, nested ones after the statement holding
 /// them, in text order.
+/// Calls `f` on every reference of `statements`, subscripts and bit
+/// numbers inside references included, for a pass that rewrites names (an
+/// alias to its target).
+pub fn refs_mut(statements: &mut [Stmt], f: &mut dyn FnMut(&mut Ref)) {
+    for s in statements {
+        match &mut s.kind {
+            StmtKind::Assign { target, value, .. } => {
+                ref_mut(target, f);
+                value.refs_mut(f);
+            }
+            StmtKind::If { branches, otherwise } => {
+                for (c, body) in branches {
+                    c.refs_mut(f);
+                    refs_mut(body, f);
+                }
+                refs_mut(otherwise, f);
+            }
+            StmtKind::Case {
+                selector,
+                arms,
+                otherwise,
+            } => {
+                selector.refs_mut(f);
+                for (_, body) in arms {
+                    refs_mut(body, f);
+                }
+                refs_mut(otherwise, f);
+            }
+            StmtKind::For {
+                counter,
+                from,
+                to,
+                by,
+                body,
+            } => {
+                ref_mut(counter, f);
+                from.refs_mut(f);
+                to.refs_mut(f);
+                if let Some(b) = by {
+                    b.refs_mut(f);
+                }
+                refs_mut(body, f);
+            }
+            StmtKind::While { condition, body } => {
+                condition.refs_mut(f);
+                refs_mut(body, f);
+            }
+            StmtKind::Repeat { body, until } => {
+                refs_mut(body, f);
+                until.refs_mut(f);
+            }
+            StmtKind::Call(c) => c.refs_mut(f),
+            StmtKind::Exit | StmtKind::Empty => {}
+        }
+    }
+}
+
+fn ref_mut(r: &mut Ref, f: &mut dyn FnMut(&mut Ref)) {
+    f(r);
+    for a in &mut r.path {
+        match a {
+            Access::Index(subs) => {
+                for e in subs {
+                    e.refs_mut(f);
+                }
+            }
+            Access::BitExpr(e) => e.refs_mut(f),
+            Access::Member(..) | Access::Bit(_) => {}
+        }
+    }
+}
+
+impl Call {
+    /// Calls `f` on every reference in the arguments (see [`refs_mut`]).
+    pub fn refs_mut(&mut self, f: &mut dyn FnMut(&mut Ref)) {
+        for a in &mut self.args {
+            if let Some(e) = &mut a.expr {
+                e.refs_mut(f);
+            }
+        }
+    }
+}
+
+impl Expr {
+    /// Calls `f` on every reference in the expression (see [`refs_mut`]).
+    pub fn refs_mut(&mut self, f: &mut dyn FnMut(&mut Ref)) {
+        match &mut self.kind {
+            ExprKind::Ref(r) => ref_mut(r, f),
+            ExprKind::Unary(_, e) => e.refs_mut(f),
+            ExprKind::Binary(first, rest) => {
+                first.refs_mut(f);
+                for (_, e) in rest {
+                    e.refs_mut(f);
+                }
+            }
+            ExprKind::Function(_, _, args) => {
+                for e in args {
+                    e.refs_mut(f);
+                }
+            }
+            ExprKind::Int(_) | ExprKind::Real(_) | ExprKind::Bool(_) => {}
+        }
+    }
+}
+
 fn visit<'a>(statements: &'a [Stmt], f: &mut dyn FnMut(&'a Stmt)) {
     for s in statements {
         f(s);

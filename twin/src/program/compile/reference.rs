@@ -17,7 +17,36 @@ use planner::instruction::MotionInstructionBits;
 /// The `MOTION_INSTRUCTION` bits a program names.
 const BIT_NAMES: [&str; 8] = ["EN", "DN", "ER", "IP", "AC", "PC", "ACCEL", "DECEL"];
 
+/// How many aliases in a row a name may go through (an alias of an alias).
+const MAX_ALIAS_CHAIN: usize = 16;
+
 impl Compiler<'_, '_, '_> {
+    /// `r` with the aliases it names replaced by what they stand for
+    /// (`Placed.0` → `Recipe.Count.0` when `Placed` is an alias for
+    /// `Recipe.Count`), scoped as tags are.
+    pub fn dealias(&self, r: &mut Ref) {
+        for _ in 0..MAX_ALIAS_CHAIN {
+            let Some(target) = self.mem.alias(self.program, &r.name) else {
+                return;
+            };
+            let mut path = target.path.clone();
+            path.append(&mut r.path);
+            r.name.clone_from(&target.name);
+            r.path = path;
+        }
+    }
+
+    /// `e` with its aliases replaced (see [`Compiler::dealias`]); borrowed
+    /// when the scene has none.
+    pub fn dealias_expr<'x>(&self, e: &'x Expr) -> std::borrow::Cow<'x, Expr> {
+        if self.mem.aliases.is_empty() {
+            return std::borrow::Cow::Borrowed(e);
+        }
+        let mut e = e.clone();
+        e.refs_mut(&mut |r| self.dealias(r));
+        std::borrow::Cow::Owned(e)
+    }
+
     /// The tag a name resolves to in this scope.
     pub(super) fn resolve(&self, name: &str) -> Option<usize> {
         self.mem.resolve(self.program, name)

@@ -22,7 +22,13 @@ pub fn program(p: &ProgramDef, mem: &Memory, env: &mut Env<'_, '_>) -> Result<Co
     let mut routines = Vec::with_capacity(defs.len());
     for def in &defs {
         let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, env, true);
-        routines.push(compiler.block(&def.routine.body)?);
+        if mem.aliases.is_empty() {
+            routines.push(compiler.block(&def.routine.body)?);
+        } else {
+            let mut body = def.routine.body.clone();
+            crate::st::ast::refs_mut(&mut body, &mut |r| compiler.dealias(r));
+            routines.push(compiler.block(&body)?);
+        }
     }
     Ok(CompiledProgram {
         name: p.name.clone(),
@@ -43,14 +49,16 @@ pub fn steps(scene: &Scene, mem: &Memory, env: &mut Env<'_, '_>) -> Result<Vec<C
         let field = |f: &str| format!("program[{index}].{f}");
         let warned = env.bindings.warnings.len();
         let mut compiler = Compiler::new(mem, None, &[], Dialect::Logix, env, false);
+        let mut call = step.call.clone();
+        call.refs_mut(&mut |r| compiler.dealias(r));
         let call = compiler
-            .instruction_call(&step.call)
+            .instruction_call(&call)
             .map_err(|d| Box::new((*d).in_field(field("call"))))?;
         let trigger = match &step.trigger {
             Trigger::At { time_s } => StepTrigger::At(*time_s),
             Trigger::When { condition, delay_s } => StepTrigger::When {
                 condition: compiler
-                    .condition(condition)
+                    .condition(&compiler.dealias_expr(condition).into_owned())
                     .map_err(|d| Box::new((*d).in_field(field("when"))))?,
                 delay_s: *delay_s,
             },
@@ -61,4 +69,57 @@ pub fn steps(scene: &Scene, mem: &Memory, env: &mut Env<'_, '_>) -> Result<Vec<C
         steps.push(CompiledStep { trigger, call, index });
     }
     Ok(steps)
+}
+
+/// Checks that every alias stands for something readable in its scope
+/// (after the routines, so that they bind the planner first, in their
+/// order).
+///
+/// # Errors
+/// An alias whose target names nothing, pointing into its `alias_for`.
+pub fn aliases(scene: &Scene, mem: &Memory, env: &mut Env<'_, '_>) -> Result<()> {
+    let scopes =
+        std::iter::once((None, &scene.aliases)).chain(scene.programs().map(|p| (Some(p.name.as_str()), &p.aliases)));
+    for (program, aliases) in scopes {
+        for a in aliases {
+            let mut compiler = Compiler::new(mem, program, &[], Dialect::Logix, env, false);
+            let mut target = a.target.clone();
+            compiler.dealias(&mut target);
+            if mem.alias(program, &target.name).is_some() {
+                let d = compiler.error(
+                    a.target.span,
+                    format!("alias '{}' stands for itself through other aliases", a.name),
+                    "an alias circle",
+                );
+                return Err(d);
+            }
+            let expr = crate::st::ast::Expr {
+                span: a.target.span,
+                kind: crate::st::ast::ExprKind::Ref(target),
+            };
+            compiler.traced(&expr).map_err(|d| {
+                Box::new((*d).with_note(format!("alias '{}' stands for {}", a.name, show_ref(&a.target))))
+            })?;
+        }
+    }
+    Ok(())
+}
+
+fn show_ref(r: &crate::st::ast::Ref) -> String {
+    let mut s = r.name.clone();
+    for a in &r.path {
+        match a {
+            crate::st::ast::Access::Member(m, _) => {
+                s.push('.');
+                s.push_str(m);
+            }
+            crate::st::ast::Access::Bit(b) => {
+                s.push('.');
+                s.push_str(&b.to_string());
+            }
+            crate::st::ast::Access::Index(_) => s.push_str("[…]"),
+            crate::st::ast::Access::BitExpr(_) => s.push_str(".[…]"),
+        }
+    }
+    s
 }
