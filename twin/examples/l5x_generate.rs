@@ -8,9 +8,9 @@
 //!
 //! The export has 10,000 controller tags (REAL[16] arrays with L5K and
 //! Decorated data), 50 programs of 10 ST routines each (500 routines of
-//! 1,000 lines, every line an assignment between tags), a periodic task
-//! scheduling them, and comes to about 50 MB. Arguments: the folder, then
-//! optionally the tag count and the routine count.
+//! 750 lines, every line an assignment between tags), a periodic task
+//! scheduling them, and comes to 50 MB. Arguments: the folder, then
+//! optionally the tag count, the routine count and the lines a routine.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -21,7 +21,7 @@ fn main() {
     let tags: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(10_000);
     let routines: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(500);
     let per_program = 10;
-    let lines = 1_000;
+    let lines: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(750);
     std::fs::create_dir_all(&dir).expect("create the folder");
 
     let mut x = String::with_capacity(60 << 20);
@@ -38,7 +38,11 @@ fn main() {
         }
         x.push_str("]]]>\r\n</Data>\r\n<Data Format=\"Decorated\">\r\n<Array DataType=\"REAL\" Dimensions=\"16\" Radix=\"Float\">\r\n");
         for k in 0..16 {
-            let _ = write!(x, "<Element Index=\"[{k}]\" Value=\"{}\"/>\r\n", (t * 16 + k) as f64 * 0.001);
+            let _ = write!(
+                x,
+                "<Element Index=\"[{k}]\" Value=\"{}\"/>\r\n",
+                (t * 16 + k) as f64 * 0.001
+            );
         }
         x.push_str("</Array>\r\n</Data>\r\n</Tag>\r\n");
     }
@@ -57,7 +61,12 @@ fn main() {
                 let body = if l == 0 && r + 1 < per_program {
                     format!("JSR(R{}, 0);", r + 1)
                 } else {
-                    format!("T{a}[{}] := T{b}[{}] * 0.5 + T{a}[{}] - 1.25;   // line {l}", l % 16, (l + 3) % 16, (l + 5) % 16)
+                    format!(
+                        "T{a}[{}] := T{b}[{}] * 0.5 + T{a}[{}] - 1.25;   // line {l}",
+                        l % 16,
+                        (l + 3) % 16,
+                        (l + 5) % 16
+                    )
                 };
                 let _ = write!(x, "<Line Number=\"{l}\">\r\n<![CDATA[{body}]]>\r\n</Line>\r\n");
             }

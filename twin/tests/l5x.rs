@@ -157,7 +157,11 @@ fn import_is_deterministic_and_its_scene_traces_byte_for_byte_as_the_l5x_scene()
         );
     }
     let text = String::from_utf8(read(&a)).unwrap();
-    assert!(text.contains("# scara_pick.L5X:64\n[[axes]]\nname = \"J1\""), "{text}");
+    let j1 = export_line("<Tag Name=\"J1\"", "Name=\"J1\"");
+    assert!(
+        text.contains(&format!("# scara_pick.L5X:{j1}\n[[axes]]\nname = \"J1\"")),
+        "{text}"
+    );
     // Both scenes traced.
     let trace = |scene: &Path, name: &str| {
         let t = dir.join(name);
@@ -438,4 +442,43 @@ fn a_cip_axis_starts_servo_off_and_its_values_come_from_the_scene_when_given() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(stdout.contains("PickPlace.Arc: done 1,"), "{stdout}");
+}
+
+#[test]
+fn module_io_tags_are_controller_tags_and_a_sensor_on_one_takes_its_rpi() {
+    let sensor = "[[sensors]]\nname = \"Guard\"\nkind = \"beam\"\ntag = \"Local:1:I.Data.1\"\nfrom = [0.9, -0.1, 0.1]\nto = [0.9, 0.1, 0.1]\n\n[trace]";
+    let scene = variant("module_io", ("[trace]", sensor), ("", ""));
+    let out = twin().arg("check").arg(&scene).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("Local:1:I: AB_1756_DI_I_0"), "{stdout}");
+    assert!(stdout.contains("Local:1:I.Data.1"), "{stdout}");
+    let imported = scene.with_file_name("imported.toml");
+    let o = twin()
+        .arg("import")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&imported)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&imported).unwrap();
+    // The connection's RPI (20000 µs) after the sensor's header.
+    assert!(text.contains("[[sensors]]\nrpi_ms = 20.0\nname = \"Guard\""), "{text}");
+    assert!(
+        text.contains("[[aliases]]\nname = \"GuardOpen\"\nalias_for = \"Local:1:I.Data.0\""),
+        "{text}"
+    );
+    // A module alias to a module the export lacks.
+    let scene = variant(
+        "module_alias",
+        ("", ""),
+        ("AliasFor=\"Local:1:I.Data.0\"", "AliasFor=\"Local:7:I.Data.0\""),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.L5X",
+        "Local:7:I.Data.0",
+        "names no I/O tag of the export's modules",
+    );
 }

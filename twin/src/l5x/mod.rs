@@ -22,11 +22,13 @@
 //! the `L5K` text for numbers and arrays of numbers. Integers may carry a
 //! radix (`16#00FF`, `2#0101`, `8#17`) and `_` separators.
 
+mod module;
 mod value;
 mod xml;
 
 use std::ops::Range;
 
+pub use module::{Connection, IoMember, IoType, Module};
 pub use value::Value;
 pub use xml::{At, L5xError, MAX_XML_DEPTH};
 use xml::{Node, child, children, start_tag};
@@ -138,7 +140,7 @@ pub struct Routine {
     /// An ST routine's text: its `STContent/Line`s joined by `\n` (text
     /// line *i* is `Line Number="i"`), and the file byte of each text byte
     /// (one past the end too).
-    pub st: Option<(String, Vec<u32>)>,
+    pub st: Option<(std::sync::Arc<str>, std::sync::Arc<[u32]>)>,
 }
 
 /// A program.
@@ -222,12 +224,11 @@ pub struct Project {
     pub programs: Vec<Program>,
     /// Tasks, in file order.
     pub tasks: Vec<Task>,
-    /// Module names, in file order.
-    pub modules: Vec<At<String>>,
+    /// I/O modules, in file order.
+    pub modules: Vec<Module>,
     /// What is not simulated.
     pub not_simulated: Vec<Note>,
 }
-
 
 /// Reads an export.
 ///
@@ -411,15 +412,18 @@ impl Reader<'_> {
         }
         if let Some(modules) = child(controller, "Modules") {
             for m in children(modules, "Module") {
-                let name = self.required(m, "Name")?;
-                p.modules.push(name.clone());
-                if name.value != "Local" {
+                let module = module::read(self.text, m)?;
+                if module.inhibited {
                     p.not_simulated.push(Note {
-                        span: name.span.clone(),
-                        text: format!("module {}: its I/O tags are not simulated", name.value),
+                        span: module.name.span.clone(),
+                        text: format!(
+                            "module {}: inhibited on the controller; the twin's sensors update its input tags all the same",
+                            module.name.value
+                        ),
                         item: None,
                     });
                 }
+                p.modules.push(module);
             }
         }
         if let Some(aois) = child(controller, "AddOnInstructionDefinitions") {
@@ -685,7 +689,7 @@ impl Reader<'_> {
             self.line_text(line, &mut text, &mut map);
         }
         map.push(node.range().end as u32);
-        routine.st = Some((text, map));
+        routine.st = Some((text.into(), map.into()));
         Ok(routine)
     }
 

@@ -14,7 +14,7 @@ fn an_st_routine_keeps_the_file_byte_of_every_character() {
     let p = read(&text).unwrap();
     let (st, map) = p.programs[0].routines[0].st.clone().unwrap();
     // A skipped Line Number is an empty line: text line i is Line Number i.
-    assert_eq!(st, "A := 1;\n\nB := A;");
+    assert_eq!(&*st, "A := 1;\n\nB := A;");
     assert_eq!(map.len(), st.len() + 1);
     let b = st.find('B').unwrap();
     assert_eq!(&text[map[b] as usize..map[b] as usize + 7], "B := A;");
@@ -23,7 +23,8 @@ fn an_st_routine_keeps_the_file_byte_of_every_character() {
 
 #[test]
 fn only_a_controller_export_is_read() {
-    let e = read("<RSLogix5000Content TargetType=\"Routine\"><Controller Name=\"C\"/></RSLogix5000Content>").unwrap_err();
+    let e =
+        read("<RSLogix5000Content TargetType=\"Routine\"><Controller Name=\"C\"/></RSLogix5000Content>").unwrap_err();
     assert!(e.message.contains("export the controller"), "{}", e.message);
     let e = read("<Project/>").unwrap_err();
     assert!(e.message.contains("not a Studio 5000 export"), "{}", e.message);
@@ -43,11 +44,16 @@ fn nesting_past_the_bound_is_refused_at_the_element() {
 #[test]
 fn the_motion_group_is_one_and_unknown_elements_are_skipped() {
     let mg = |n: &str| {
-        format!("<Tag Name=\"{n}\" DataType=\"MOTION_GROUP\"><Data Format=\"MotionGroup\"><MotionGroupParameters CoarseUpdatePeriod=\"4000\"/></Data></Tag>")
+        format!(
+            "<Tag Name=\"{n}\" DataType=\"MOTION_GROUP\"><Data Format=\"MotionGroup\"><MotionGroupParameters CoarseUpdatePeriod=\"4000\"/></Data></Tag>"
+        )
     };
     let text = controller(&format!("<Mystery/><Tags>{}</Tags>", mg("MG")));
     let p = read(&text).unwrap();
-    assert_eq!(p.motion_group.unwrap().1.get("CoarseUpdatePeriod").unwrap().value, "4000");
+    assert_eq!(
+        p.motion_group.unwrap().1.get("CoarseUpdatePeriod").unwrap().value,
+        "4000"
+    );
     let text = controller(&format!("<Tags>{}{}</Tags>", mg("MG"), mg("MG2")));
     assert!(read(&text).unwrap_err().message.contains("a second motion group, MG2"));
 }

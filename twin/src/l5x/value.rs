@@ -133,10 +133,10 @@ fn decorated(text: &str, node: Node<'_, '_>) -> Result<Value, L5xError> {
                 && members
                     .iter()
                     .all(|(n, _)| n.eq_ignore_ascii_case("DATA") || n.eq_ignore_ascii_case("LEN"));
-            if is_string || ty.eq_ignore_ascii_case("STRING") {
-                if let Some((_, Value::Str(s))) = members.iter().find(|(n, _)| n.eq_ignore_ascii_case("DATA")) {
-                    return Ok(Value::Str(s.clone()));
-                }
+            if (is_string || ty.eq_ignore_ascii_case("STRING"))
+                && let Some((_, Value::Str(s))) = members.iter().find(|(n, _)| n.eq_ignore_ascii_case("DATA"))
+            {
+                return Ok(Value::Str(s.clone()));
             }
             Ok(Value::Struct(members))
         }

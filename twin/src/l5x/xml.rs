@@ -40,4 +40,3 @@ pub(super) fn start_tag(text: &str, node: Node<'_, '_>) -> Range<usize> {
     let end = text[r.clone()].find('>').map_or(r.end, |i| r.start + i + 1);
     r.start..end
 }
-

@@ -143,7 +143,7 @@ impl Program {
         for (index, t) in scene.trace_tags.iter().enumerate() {
             let mut compiler = Compiler::new(plc.memory(), None, &[], Dialect::Logix, &mut env, false);
             let in_field = |d: Box<Diagnostic>| Box::new((*d).in_field(format!("trace.tags[{index}]")));
-            if let Some(text) = compiler.traced_string(&compiler.dealias_expr(&t.expr).into_owned()) {
+            if let Some(text) = compiler.traced_string(&compiler.dealias_expr(&t.expr)) {
                 traced.push(TracedTag {
                     name: t.text.clone(),
                     place: Place::MathFlag,
@@ -153,7 +153,7 @@ impl Program {
                 continue;
             }
             let (place, ty) = compiler
-                .traced(&compiler.dealias_expr(&t.expr).into_owned())
+                .traced(&compiler.dealias_expr(&t.expr))
                 .map_err(in_field)?;
             traced.push(TracedTag {
                 name: t.text.clone(),

@@ -47,14 +47,8 @@ const MAX_FILE_NAME_PART: usize = 100;
 impl Ctx<'_> {
     pub(super) fn location(&self, byte: usize) -> Location {
         let (file, range) = self.mapped(byte..byte);
-        let text = Arc::clone(&self.files.borrow().get(file).text);
-        let byte = range.start.min(text.len());
-        let before = &text[..byte];
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        Location {
-            line: before.matches('\n').count() + 1,
-            column: before[line_start..].chars().count() + 1,
-        }
+        let (line, column) = self.files.borrow().get(file).line_column(range.start);
+        Location { line, column }
     }
 
     pub(super) fn loc<T>(&self, s: &Spanned<T>) -> Location {

@@ -28,9 +28,11 @@
 //!   (MOTION-RM003); `Disable` is `stop_drive`, `Unsupported` the default;
 //! * a tag of a type the twin does not know (`TIMER`, `MESSAGE` …) is
 //!   reported and left out: a routine naming it is refused at load;
-//! * an alias tag becomes an `[[aliases]]` entry of its scope; an alias of
-//!   a module's I/O tag is reported and left out (the twin has no module
-//!   tags).
+//! * an alias tag becomes an `[[aliases]]` entry of its scope;
+//! * a module's input and output tags become controller tags of their
+//!   names (`Local:1:I`) whose types are their Decorated structures, named
+//!   with `_` for `:` (`AB_1756_DI_I_0`); a sensor naming an input tag
+//!   takes the connection's RPI as its `rpi_ms` unless it gives one.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -131,6 +133,10 @@ const SYSTEM_TYPES: &[(&str, &str)] = &[
     ("SCARA Delta", "scara_delta"),
 ];
 
+/// A line the expansion inserts into the scene's own text: the scene
+/// offset, the text, the L5X bytes it comes from, the item.
+type Insert = (usize, String, Range<usize>, String);
+
 /// Where a piece of the expanded scene comes from.
 #[derive(Debug, Clone)]
 pub struct Segment {
@@ -181,7 +187,7 @@ impl PosMap {
 #[derive(Debug, Clone)]
 pub struct VirtualRoutine {
     /// Its text.
-    pub text: String,
+    pub text: Arc<str>,
     /// The L5X byte of each text byte, and one past the end.
     pub map: Arc<[u32]>,
     /// `Program/Routine`, for messages.
@@ -387,10 +393,9 @@ struct Binding<'t> {
     table: &'t DeTable<'t>,
 }
 
-impl Gen<'_> {
+impl<'a> Gen<'a> {
     fn line_of(&self, span: &Range<usize>) -> usize {
-        let text = &self.files.get(self.l5x_file).text;
-        text[..span.start.min(text.len())].matches('\n').count() + 1
+        self.files.get(self.l5x_file).line_column(span.start).0
     }
 
     fn place(&self, span: &Range<usize>) -> String {
@@ -549,12 +554,13 @@ impl Gen<'_> {
         // The scene, its bindings blanked.
         let mut blank = std::mem::take(&mut self.blank);
         blank.sort_by_key(|r| r.start);
+        let inserts = self.sensor_rpis(doc)?;
         let mut at = 0;
         for r in &blank {
             if r.start < at {
                 continue;
             }
-            self.copy(at..r.start);
+            self.copy_inserting(at..r.start, &inserts);
             let spaces: String = self.scene_text[r.clone()]
                 .chars()
                 .map(|c| if c == '\n' || c == '\r' { c } else { ' ' })
@@ -562,7 +568,7 @@ impl Gen<'_> {
             self.gen_scene(&spaces, &(r.start..r.start));
             at = r.end;
         }
-        self.copy(at..self.scene_text.len());
+        self.copy_inserting(at..self.scene_text.len(), &inserts);
         self.gen_scene("\n\n", &(0..0));
         self.gen_scene(
             &format!(
@@ -574,6 +580,7 @@ impl Gen<'_> {
 
         self.controller_table(controller)?;
         self.data_types()?;
+        self.module_data_types();
         self.axes(&axes_bindings)?;
         self.tags(&tag_bindings)?;
         self.tasks()?;
@@ -587,6 +594,51 @@ impl Gen<'_> {
             }
         }
         Ok(())
+    }
+
+    /// Scene bytes `range`, with the generated lines of `inserts` (scene
+    /// offset, text, L5X bytes, item) at their offsets.
+    fn copy_inserting(&mut self, range: Range<usize>, inserts: &[Insert]) {
+        let mut at = range.start;
+        for (offset, text, span, item) in inserts.iter().filter(|i| range.contains(&i.0)) {
+            self.copy(at..*offset);
+            self.emit(text, span, Some(item.clone()));
+            at = *offset;
+        }
+        self.copy(at..range.end);
+    }
+
+    /// `rpi_ms = …` for each scene sensor whose `tag` is a module's input
+    /// tag and that gives no `rpi_ms`: the connection's RPI, inserted after
+    /// the sensor's header line.
+    fn sensor_rpis(&self, doc: &DeTable<'_>) -> Result<Vec<Insert>, Fail> {
+        let tags = self.module_tags();
+        let mut out = Vec::new();
+        for (header, t) in array_tables(doc, "sensors") {
+            if get(t, "rpi_ms").is_some() || !self.scene_text[header.clone()].trim_start().starts_with("[[") {
+                continue;
+            }
+            let Some(tag) = get(t, "tag").and_then(string) else {
+                continue;
+            };
+            let base = tag.trim().split(['.', '[']).next().unwrap_or("");
+            let Some((name, _, Some(rpi))) = tags.iter().find(|(n, _, _)| n.eq_ignore_ascii_case(base)) else {
+                continue;
+            };
+            let item = format!("{name} RPI");
+            let us = self.number(rpi, &item)?;
+            let line_end = self.scene_text[header.end..]
+                .find('\n')
+                .map_or(self.scene_text.len(), |i| header.end + i + 1);
+            out.push((
+                line_end,
+                format!("rpi_ms = {}\n", float(us / 1000.0)),
+                rpi.span.clone(),
+                item,
+            ));
+        }
+        out.sort_by_key(|i| i.0);
+        Ok(out)
     }
 
     fn key_span(&self, t: &DeTable<'_>, key: &str) -> Option<(Range<usize>, Range<usize>)> {
@@ -1193,7 +1245,9 @@ impl Gen<'_> {
 
     fn home(&mut self, p: &l5x::Params, name: &str) -> Result<(), Fail> {
         let item = |attr: &str| format!("{name} {attr}");
-        let words: [(&str, &str, &[(&str, &str)]); 3] = [
+        // (scene field, L5X attribute, its words and the scene's).
+        type Words = &'static [(&'static str, &'static str)];
+        let words: [(&str, &str, Words); 3] = [
             ("home_mode", "HomeMode", &[("Active", "active"), ("Passive", "passive")]),
             (
                 "home_sequence",
@@ -1335,6 +1389,7 @@ impl Gen<'_> {
         for (cs, binding) in project.coordinate_systems.iter().zip(bound) {
             self.coordinate_system(cs, binding)?;
         }
+        self.module_io_tags();
         for tag in &project.tags {
             self.tag(tag, None, "[[tags]]")?;
         }
@@ -1572,16 +1627,19 @@ impl Gen<'_> {
         self.line("name", &quote(name), &tag.name.span, &item("Name"));
         self.line("type", &quote(&type_text), &data_type.span, &item("DataType"));
         let key = full.to_ascii_lowercase();
-        if let Some((span, used)) = self
-            .values
-            .get_mut(&key)
-            .or_else(|| if program.is_none() { None } else { None })
-        {
+        if let Some((span, used)) = self.values.get_mut(&key) {
             *used = true;
             let span = span.clone();
             self.copy_field("value", span);
         } else if let Some(v) = &tag.value {
-            if let Some(text) = self.value_text(&v.value, ty, tag.dimensions.is_some()) {
+            // Decorated data names the members; L5K data does not.
+            if is_instruction_structure(ty) && matches!(v.value, Value::Struct(_)) && has_settings(&v.value) {
+                self.note(
+                    &v.span,
+                    format!("tag {full}: its exported {ty} values (presets, settings) are not read; the structure starts cleared, EnableIn set"),
+                );
+            }
+            if let Some(text) = self.value_text(&v.value, ty) {
                 self.line("value", &text, &v.span, &item("Data"));
             }
         }
@@ -1644,25 +1702,93 @@ impl Gen<'_> {
         Ok(())
     }
 
+    /// Every module I/O tag: its name (`Local:1:I`), its structure and the
+    /// connection's RPI.
+    fn module_tags(&self) -> Vec<(String, &'a l5x::IoType, Option<&'a At<String>>)> {
+        let mut out = Vec::new();
+        let project: &'a Project = self.project;
+        for m in &project.modules {
+            let prefix = m.tag_prefix();
+            for c in &m.connections {
+                for (suffix, ty) in c.input.iter().chain(&c.output) {
+                    out.push((format!("{prefix}:{suffix}"), ty, c.rpi_us.as_ref()));
+                }
+            }
+        }
+        out
+    }
+
+    /// The data types of the module tags, each once, nested ones first.
+    fn module_data_types(&mut self) {
+        let mut done: Vec<String> = Vec::new();
+        for (_, ty, _) in self.module_tags() {
+            self.module_type(ty, &mut done);
+        }
+    }
+
+    fn module_type(&mut self, ty: &l5x::IoType, done: &mut Vec<String>) {
+        let name = io_type_name(&ty.data_type.value);
+        if done.iter().any(|d| d.eq_ignore_ascii_case(&name)) {
+            return;
+        }
+        done.push(name.clone());
+        for m in &ty.members {
+            if let Some(n) = &m.nested {
+                self.module_type(n, done);
+            }
+        }
+        let item = format!("DataType {}", ty.data_type.value);
+        self.header("[[data_types]]", &ty.data_type.span, item.clone());
+        self.line("name", &quote(&name), &ty.data_type.span, &item);
+        self.line(
+            "description",
+            &quote(&format!("the module-defined type {}", ty.data_type.value)),
+            &ty.data_type.span,
+            &item,
+        );
+        self.emit("members = [\n", &ty.data_type.span, Some(item.clone()));
+        for m in &ty.members {
+            let mty = match &m.nested {
+                Some(n) => io_type_name(&n.data_type.value),
+                None if m.data_type.eq_ignore_ascii_case("BIT") => "BOOL".to_owned(),
+                None => m.data_type.clone(),
+            };
+            let mut text = format!("  {{ name = {}, type = {}", quote(&m.name), quote(&mty));
+            if m.dimension > 0 {
+                let _ = write!(text, ", dimension = {}", m.dimension);
+            }
+            text.push_str(" },\n");
+            self.emit(
+                &text,
+                &ty.data_type.span,
+                Some(format!("{} {}", ty.data_type.value, m.name)),
+            );
+        }
+        self.emit("]\n", &ty.data_type.span, Some(item));
+    }
+
+    /// The module I/O tags as controller tags.
+    fn module_io_tags(&mut self) {
+        for (name, ty, _) in self.module_tags() {
+            let item = format!("{name} DataType");
+            self.header("[[tags]]", &ty.data_type.span, item.clone());
+            self.line("name", &quote(&name), &ty.data_type.span, &item);
+            self.line(
+                "type",
+                &quote(&io_type_name(&ty.data_type.value)),
+                &ty.data_type.span,
+                &item,
+            );
+        }
+    }
+
     /// The alias tags among `tags` as `[[aliases]]` entries of `header`.
-    /// An alias of a module's I/O tag (`Local:1:I.Data.3`) is reported and
-    /// left out: the twin has no module tags.
     fn aliases(&mut self, tags: &[l5x::Tag], program: Option<&l5x::Program>, header: &str) -> Result<(), Fail> {
         for tag in tags {
             let Some(alias) = &tag.alias_for else { continue };
             let name = &tag.name.value;
             let full = program.map_or_else(|| name.clone(), |p| format!("{}.{name}", p.name.value));
             self.alias_target(alias, program, &full)?;
-            if alias.value.contains(':') {
-                self.note(
-                    &alias.span,
-                    format!(
-                        "alias {full}: module tag {} is not simulated; a routine naming it is refused",
-                        alias.value
-                    ),
-                );
-                continue;
-            }
             let item = |attr: &str| format!("{full} {attr}");
             self.header(header, &tag.span, item("Name"));
             self.line("name", &quote(name), &tag.name.span, &item("Name"));
@@ -1687,13 +1813,12 @@ impl Gen<'_> {
                 format!("alias {full}: AliasFor=\"{target}\" {what}"),
             )
         };
-        if let Some((module, _)) = target.split_once(':') {
-            return if project.modules.iter().any(|m| m.value.eq_ignore_ascii_case(module)) {
+        if target.contains(':') {
+            let base = target.split(['.', '[']).next().unwrap_or("");
+            return if self.module_tags().iter().any(|(n, _, _)| n.eq_ignore_ascii_case(base)) {
                 Ok(())
             } else {
-                Err(dangling(format!(
-                    "names module {module}, which the export does not hold"
-                )))
+                Err(dangling("names no I/O tag of the export's modules".to_owned()))
             };
         }
         let end = target.find(['.', '[']).unwrap_or(target.len());
@@ -1738,29 +1863,13 @@ impl Gen<'_> {
     }
 
     /// A value as TOML for type `ty`; `None` for the types the twin fills.
-    fn value_text(&self, v: &Value, ty: &str, array: bool) -> Option<String> {
-        let base = BaseType::parse(ty);
-        match base {
+    fn value_text(&self, v: &Value, ty: &str) -> Option<String> {
+        match BaseType::parse(ty) {
             Some(BaseType::MotionInstruction | BaseType::CoordinateSystem | BaseType::CamProfile) => return None,
-            Some(b)
-                if matches!(
-                    b,
-                    BaseType::FbdTimer
-                        | BaseType::FbdCounter
-                        | BaseType::FbdOneshot
-                        | BaseType::RTrig
-                        | BaseType::FTrig
-                        | BaseType::Ton
-                        | BaseType::Tof
-                        | BaseType::FunctionBlock(_)
-                ) =>
-            {
-                return None;
-            }
+            _ if is_instruction_structure(ty) => return None,
             Some(BaseType::Cam) => return Some(self.cam_text(v)),
             _ => {}
         }
-        let _ = array;
         Some(self.toml_value(v, ty))
     }
 
@@ -1835,7 +1944,7 @@ impl Gen<'_> {
                     } else {
                         m.data_type.value.as_str()
                     };
-                    if let Some(text) = self.value_text(value, mty, m.dimension.value > 0) {
+                    if let Some(text) = self.value_text(value, mty) {
                         parts.push(format!("{} = {text}", key(name)));
                     }
                 }
@@ -2111,12 +2220,52 @@ impl Gen<'_> {
         self.routines.insert(
             PathBuf::from(path),
             VirtualRoutine {
-                text: text.clone(),
-                map: map.clone().into(),
+                text: Arc::clone(text),
+                map: Arc::clone(map),
                 name: format!("{}/{}", program.name.value, r.name.value),
             },
         );
     }
+}
+
+/// Whether `ty` is an instruction's structure the twin lays out itself.
+fn is_instruction_structure(ty: &str) -> bool {
+    matches!(
+        BaseType::parse(ty),
+        Some(
+            BaseType::FbdTimer
+                | BaseType::FbdCounter
+                | BaseType::FbdOneshot
+                | BaseType::RTrig
+                | BaseType::FTrig
+                | BaseType::Ton
+                | BaseType::Tof
+                | BaseType::FunctionBlock(_)
+        )
+    )
+}
+
+/// Whether an exported structure value sets anything but `EnableIn`.
+fn has_settings(v: &Value) -> bool {
+    match v {
+        Value::Bool(b) => *b,
+        Value::Int(i) => *i != 0,
+        Value::Float(f) => *f != 0.0,
+        Value::Str(s) => !s.is_empty(),
+        Value::Array(items) => items.iter().any(has_settings),
+        Value::Struct(members) => members
+            .iter()
+            .any(|(n, v)| !n.eq_ignore_ascii_case("EnableIn") && has_settings(v)),
+    }
+}
+
+/// A module-defined type's name as a scene data type's: `:` becomes `_`
+/// (`AB:1756_DI:I:0` → `AB_1756_DI_I_0`).
+fn io_type_name(data_type: &str) -> String {
+    data_type
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' })
+        .collect()
 }
 
 /// A PositionUnits text as a scene unit word.

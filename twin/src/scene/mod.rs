@@ -181,27 +181,32 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
 pub fn parse_with_l5x(path: &Path, text: &str, l5x: Option<&str>) -> Result<Scene, SceneError> {
     let mut files = Files::default();
     let scene_file = files.add(path, text);
-    let expanded = import::expand(path, text, &mut files, l5x).map_err(SceneError::Syntax)?;
-    let l5x = expanded.as_ref().map(|e| L5xImport {
+    let mut expanded = import::expand(path, text, &mut files, l5x).map_err(SceneError::Syntax)?;
+    // The expanded text once, shared by the loader and `twin import`.
+    let expanded_text: Option<std::sync::Arc<str>> = expanded.as_mut().map(|e| std::mem::take(&mut e.text).into());
+    let l5x = expanded.as_ref().zip(expanded_text.as_ref()).map(|(e, text)| L5xImport {
         path: e.l5x_path.clone(),
         report: e.report.iter().map(|r| (r.line, r.text.clone())).collect(),
         skipped: e.skipped.clone(),
-        expanded: e.text.clone(),
+        expanded: std::sync::Arc::clone(text),
         routines: {
-            let mut r: Vec<(std::path::PathBuf, String)> =
-                e.routines.iter().map(|(p, v)| (p.clone(), v.text.clone())).collect();
+            let mut r: Vec<(std::path::PathBuf, std::sync::Arc<str>)> = e
+                .routines
+                .iter()
+                .map(|(p, v)| (p.clone(), std::sync::Arc::clone(&v.text)))
+                .collect();
             r.sort();
             r
         },
     });
-    let text = expanded.as_ref().map_or(text, |e| e.text.as_str());
+    let text = expanded_text.as_deref().unwrap_or(text);
     let ctx = Ctx {
         file: path.to_owned(),
         text,
         files: std::cell::RefCell::new(files),
         scene_file,
         data_types: std::cell::RefCell::new(vec![model::DataTypeDef::string()]),
-        expanded: expanded.clone(),
+        expanded,
         l5x,
     };
     let raw: RawScene = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;

@@ -838,10 +838,10 @@ pub struct L5xImport {
     /// What `[controller] not_simulated` skipped.
     pub skipped: Vec<String>,
     /// The standalone scene it expands to (`twin import`).
-    pub expanded: String,
+    pub expanded: std::sync::Arc<str>,
     /// The routine files of the standalone scene: path relative to the
     /// scene's folder, text.
-    pub routines: Vec<(PathBuf, String)>,
+    pub routines: Vec<(PathBuf, std::sync::Arc<str>)>,
 }
 
 impl Scene {

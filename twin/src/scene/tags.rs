@@ -208,7 +208,12 @@ impl Ctx<'_> {
         let mut tags = Vec::with_capacity(raw.len());
         for (i, t) in raw.iter().enumerate() {
             let f = |field: &str| format!("{prefix}[{i}].{field}");
-            let name = self.identifier(&t.name, &f("name"))?;
+            // A module's I/O tag (`Local:1:I`) is a name of its own kind.
+            let name = if crate::st::lex::is_module_tag_name(t.name.get_ref()) {
+                t.name.get_ref().clone()
+            } else {
+                self.identifier(&t.name, &f("name"))?
+            };
             let ty = self.tag_type(&t.ty, &f("type"))?;
             self.unique(names, &t.name, &f("name"), NameKind::Tag)?;
             let value = match &t.value {

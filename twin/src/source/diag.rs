@@ -144,10 +144,7 @@ impl Diagnostic {
         let Ok(text) = std::fs::read_to_string(&path) else {
             return self;
         };
-        let file = Arc::new(SourceFile {
-            path,
-            text: text.into(),
-        });
+        let file = Arc::new(SourceFile::new(path, text));
         let range = file.token_at(line, column);
         if file.line_column(range.start) != (line, column) {
             return self;
@@ -350,10 +347,7 @@ mod tests {
     use super::*;
 
     fn file(text: &str) -> Arc<SourceFile> {
-        Arc::new(SourceFile {
-            path: "scene.toml".into(),
-            text: text.into(),
-        })
+        Arc::new(SourceFile::new("scene.toml", text))
     }
 
     #[test]

@@ -2,7 +2,7 @@
 
 use std::ops::Range;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// A file the user wrote, as read.
 #[derive(Debug, PartialEq, Eq)]
@@ -11,19 +11,35 @@ pub struct SourceFile {
     pub path: PathBuf,
     /// Its text.
     pub text: Arc<str>,
+    /// The byte each line starts at, made on first use: a large file (an
+    /// L5X export of tens of megabytes) answers [`SourceFile::line_column`]
+    /// in a binary search, not a scan from its start.
+    lines: OnceLock<Vec<usize>>,
 }
 
 impl SourceFile {
+    /// A file and its text.
+    #[must_use]
+    pub fn new(path: impl Into<PathBuf>, text: impl Into<Arc<str>>) -> Self {
+        SourceFile {
+            path: path.into(),
+            text: text.into(),
+            lines: OnceLock::new(),
+        }
+    }
+
     /// The 1-based line and column (in characters) of byte `at`.
     #[must_use]
     pub fn line_column(&self, at: usize) -> (usize, usize) {
         let at = floor_char_boundary(&self.text, at.min(self.text.len()));
-        let before = &self.text[..at];
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        (
-            before.matches('\n').count() + 1,
-            before[line_start..].chars().count() + 1,
-        )
+        let lines = self.lines.get_or_init(|| {
+            std::iter::once(0)
+                .chain(self.text.match_indices('\n').map(|(i, _)| i + 1))
+                .collect()
+        });
+        let line = lines.partition_point(|&start| start <= at);
+        let line_start = lines[line - 1];
+        (line, self.text[line_start..at].chars().count() + 1)
     }
 
     /// The bytes of the token that starts at 1-based `line` and `column`

@@ -31,10 +31,7 @@ pub struct Files {
 impl Files {
     /// Adds a file and returns its id.
     pub fn add(&mut self, path: impl Into<PathBuf>, text: impl Into<Arc<str>>) -> FileId {
-        self.files.push(Arc::new(SourceFile {
-            path: path.into(),
-            text: text.into(),
-        }));
+        self.files.push(Arc::new(SourceFile::new(path, text)));
         FileId(self.files.len() as u32 - 1)
     }
 
@@ -288,10 +285,7 @@ mod tests {
         let file = r#"call = "a\"b\u00B2c""#;
         let m = mapped(file, "a\"b²c");
         assert_eq!(m, vec![8, 9, 11, 12, 12, 18, 19]);
-        let f = SourceFile {
-            path: "s.toml".into(),
-            text: file.into(),
-        };
+        let f = SourceFile::new("s.toml", file);
         assert_eq!(f.line_column(m[5] as usize), (1, 19));
     }
 
@@ -302,10 +296,7 @@ mod tests {
 
     #[test]
     fn a_token_at_a_line_and_column() {
-        let f = SourceFile {
-            path: "s.toml".into(),
-            text: "[robot]\njoint = \"platter_jnt\"\nx = [1.5, 2]\n".into(),
-        };
+        let f = SourceFile::new("s.toml", "[robot]\njoint = \"platter_jnt\"\nx = [1.5, 2]\n");
         assert_eq!(&f.text[f.token_at(2, 9)], "\"platter_jnt\"");
         assert_eq!(&f.text[f.token_at(3, 6)], "1.5");
         assert_eq!(&f.text[f.token_at(3, 11)], "2");
@@ -313,10 +304,7 @@ mod tests {
 
     #[test]
     fn lines_and_columns_count_characters() {
-        let f = SourceFile {
-            path: "r.st".into(),
-            text: "a := 1;\nb² := 2;".into(),
-        };
+        let f = SourceFile::new("r.st", "a := 1;\nb² := 2;");
         assert_eq!(f.line_column(0), (1, 1));
         assert_eq!(f.line_column(8), (2, 1));
         assert_eq!(f.line_column(11), (2, 3));

@@ -4,8 +4,9 @@
 //! Comments (`// …`, `(* … *)`, `/* … */`) and white space are skipped.
 //! Identifiers are ASCII letters, digits and `_`, not starting with a digit;
 //! the Logix status flags `S:FS`, `S:N`, `S:Z`, `S:V`, `S:C`, `S:MINOR` lex
-//! as one identifier, and so does `\Program` (a program parameter's
-//! `\Program.Param`). Numbers: `123`, `1_000`, `16#FF`, `8#17`, `2#1010`,
+//! as one identifier, and so do `\Program` (a program parameter's
+//! `\Program.Param`) and a module's I/O tag (`Local:1:I`, `Drive1:O`:
+//! a name, an optional `:slot`, then `:I`, `:O`, `:C` or `:S`). Numbers: `123`, `1_000`, `16#FF`, `8#17`, `2#1010`,
 //! `1.5`, `1.0e-3`, `2E6`; `1..5` is `1`, `..`, `5` (a CASE range). A
 //! character that is none of these (`%`, `²`) becomes [`Tok::Other`]: it is
 //! an error everywhere except inside an enumeration word of an instruction
@@ -185,7 +186,12 @@ impl Lexer<'_> {
             if let Some(flag) = STATUS_FLAGS.iter().find(|f| f.eq_ignore_ascii_case(&rest)) {
                 self.at += 1 + rest.len();
                 word = format!("S:{flag}");
+                return Tok::Ident(word);
             }
+        }
+        if let Some(len) = module_tag_tail(&self.text[self.at..]) {
+            word.push_str(&self.text[self.at..self.at + len]);
+            self.at += len;
         }
         Tok::Ident(word)
     }
@@ -281,6 +287,41 @@ fn bit_pattern(v: i128) -> i128 {
     }
 }
 
+/// Whether `name` is a module I/O tag's name (`Local:1:I`, `Drive1:O`):
+/// an identifier and the tail [`module_tag_tail`] reads.
+#[must_use]
+pub fn is_module_tag_name(name: &str) -> bool {
+    let head = name.find(':').unwrap_or(name.len());
+    let ident = &name[..head];
+    ident
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && ident.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && module_tag_tail(&name[head..]) == Some(name.len() - head)
+}
+
+/// The length of a module I/O tag's tail right after its first name:
+/// `:1:I` of `Local:1:I`, `:I` of `Drive1:I` — optional `:slot` digits,
+/// then `:I`, `:O`, `:C` or `:S`, not followed by a name character. `None`
+/// for anything else (`:=`, a CASE label's `:`).
+fn module_tag_tail(rest: &str) -> Option<usize> {
+    let b = rest.as_bytes();
+    let mut at = 0;
+    if b.first() != Some(&b':') {
+        return None;
+    }
+    // `:slot`, digits.
+    let digits = b[1..].iter().take_while(|c| c.is_ascii_digit()).count();
+    if digits > 0 && b.get(1 + digits) == Some(&b':') {
+        at = 1 + digits;
+    }
+    let kind = *b.get(at + 1)?;
+    let after = b.get(at + 2);
+    let word_char = |c: &u8| c.is_ascii_alphanumeric() || *c == b'_';
+    (matches!(kind.to_ascii_uppercase(), b'I' | b'O' | b'C' | b'S') && !after.is_some_and(word_char)).then_some(at + 2)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -322,6 +363,28 @@ mod tests {
                 Tok::Eof
             ]
         );
+    }
+
+    #[test]
+    fn a_module_io_tag_lexes_as_one_name_and_a_case_label_does_not() {
+        assert_eq!(
+            toks("Local:1:I.Data.3 Drive1:O x:=1"),
+            vec![
+                Tok::Ident("Local:1:I".into()),
+                Tok::Sym("."),
+                Tok::Ident("Data".into()),
+                Tok::Sym("."),
+                Tok::Int(3),
+                Tok::Ident("Drive1:O".into()),
+                Tok::Ident("x".into()),
+                Tok::Sym(":="),
+                Tok::Int(1),
+                Tok::Eof
+            ]
+        );
+        // `Red:Inc` is a name, a colon and a name: the tail must end there.
+        assert_eq!(toks("Red:Inc")[0], Tok::Ident("Red".into()));
+        assert_eq!(toks("A:1:Input")[0], Tok::Ident("A".into()));
     }
 
     #[test]

@@ -58,7 +58,7 @@ pub fn import(args: &ImportArgs) -> Result<ExitCode> {
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         }
-        std::fs::write(&path, routine).with_context(|| format!("cannot write {}", path.display()))?;
+        std::fs::write(&path, routine.as_bytes()).with_context(|| format!("cannot write {}", path.display()))?;
     }
     std::fs::write(&args.output, text).with_context(|| format!("cannot write {}", args.output.display()))?;
     println!(

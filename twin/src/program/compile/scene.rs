@@ -58,7 +58,7 @@ pub fn steps(scene: &Scene, mem: &Memory, env: &mut Env<'_, '_>) -> Result<Vec<C
             Trigger::At { time_s } => StepTrigger::At(*time_s),
             Trigger::When { condition, delay_s } => StepTrigger::When {
                 condition: compiler
-                    .condition(&compiler.dealias_expr(condition).into_owned())
+                    .condition(&compiler.dealias_expr(condition))
                     .map_err(|d| Box::new((*d).in_field(field("when"))))?,
                 delay_s: *delay_s,
             },
