@@ -482,3 +482,21 @@ fn module_io_tags_are_controller_tags_and_a_sensor_on_one_takes_its_rpi() {
         "names no I/O tag of the export's modules",
     );
 }
+
+#[test]
+fn a_binding_the_urdf_disagrees_with_is_refused_at_the_binding() {
+    let scene = variant(
+        "geometry_link",
+        (
+            "geometry = { base_link = \"mct_base\", tool_link = \"tool\" }",
+            "geometry = { base_link = \"mct_base\", tool_link = \"nolink\" }",
+        ),
+        ("", ""),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.toml",
+        "geometry = { base_link",
+        "URDF has no link 'nolink'",
+    );
+}

@@ -471,6 +471,16 @@ impl<'a> Gen<'a> {
         self.emit(&text, span, Some(item));
     }
 
+    /// `key = { ` opening an inline table: standing for the scene's own
+    /// `key` in `binding` when it has one, else for L5X bytes `at`.
+    fn open_table(&mut self, key: &str, binding: Option<&DeTable<'_>>, at: &Range<usize>, item: String) {
+        let text = format!("{key} = {{ ");
+        match binding.and_then(|b| self.key_span(b, key)) {
+            Some((k, _)) => self.gen_scene(&text, &k),
+            None => self.emit(&text, at, Some(item)),
+        }
+    }
+
     /// A generated line `key = value` for L5X attribute `at`.
     fn line(&mut self, key: &str, value: &str, at: &Range<usize>, item: &str) {
         self.emit(&format!("{key} = {value}\n"), at, Some(item.to_owned()));
@@ -1443,11 +1453,14 @@ impl<'a> Gen<'a> {
                 }
             }
         }
-        // coordinate_system = { … }.
-        self.emit(
-            "coordinate_system = { ",
+        // coordinate_system = { … }. The table itself stands for the
+        // scene's binding when there is one: the checks after loading (the
+        // tool link against the URDF) are about what the scene gave.
+        self.open_table(
+            "coordinate_system",
+            binding,
             &p.element,
-            Some(item("CoordinateSystemParameters")),
+            item("CoordinateSystemParameters"),
         );
         let mut first = true;
         if let Some(mode) = p.get("CoordinationMode") {
@@ -1518,8 +1531,9 @@ impl<'a> Gen<'a> {
         if kind == "delta_3d" && dim.as_ref().is_some_and(|(d, _)| *d == 2.0) {
             kind = "delta_2d";
         }
+        self.open_table("geometry", binding, &system.span, item("SystemType"));
         self.emit(
-            &format!("geometry = {{ type = {}", quote(kind)),
+            &format!("type = {}", quote(kind)),
             &system.span,
             Some(item("SystemType")),
         );
