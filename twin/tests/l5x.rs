@@ -500,3 +500,35 @@ fn a_binding_the_urdf_disagrees_with_is_refused_at_the_binding() {
         "URDF has no link 'nolink'",
     );
 }
+
+#[test]
+fn a_drive_or_coordinate_system_setting_the_export_holds_is_refused_in_the_binding() {
+    let scene = variant(
+        "drive_tuning",
+        (
+            "motor = { stiffness = 35530.6, damping = 377.0 }",
+            "drive = { position_loop_bandwidth_hz = 50.0 }",
+        ),
+        ("", ""),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.toml",
+        "position_loop_bandwidth_hz",
+        "axes[0].drive.position_loop_bandwidth_hz: J1's PositionLoopBandwidth comes from scara_pick.L5X:",
+    );
+    let scene = variant(
+        "cs_speed",
+        (
+            "coordinate_system = { tool_link = \"tool\" }",
+            "coordinate_system = { tool_link = \"tool\", max_speed = 2.0 }",
+        ),
+        ("", ""),
+    );
+    refused_at(
+        &scene,
+        "scara_pick.toml",
+        "max_speed",
+        "tags[0].coordinate_system.max_speed: Cart's MaximumSpeed comes from scara_pick.L5X:",
+    );
+}

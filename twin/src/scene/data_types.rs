@@ -33,7 +33,7 @@ fn member_type_allowed(base: BaseType) -> bool {
 
 /// The structures of the timer, counter, one-shot and edge instructions,
 /// which keep their state in tag memory and take no initial value.
-fn is_instruction_structure(base: BaseType) -> bool {
+pub(super) fn is_instruction_structure(base: BaseType) -> bool {
     matches!(
         base,
         BaseType::FbdTimer

@@ -494,6 +494,30 @@ impl<'a> Gen<'a> {
         Binding { fields, table: t }
     }
 
+    /// Refuses a key of the binding table `sub` that is not in `allowed`,
+    /// naming the L5X attribute `fields` says holds it (`owner`'s).
+    fn refuse_unlisted(
+        &self,
+        sub: &DeTable<'_>,
+        (allowed, fields): (&[&str], &[(&str, &str)]),
+        (owner, params): (&str, &l5x::Params),
+        prefix: &str,
+    ) -> Result<(), Fail> {
+        for (k, _) in sub.iter() {
+            let key = k.get_ref().to_string();
+            if allowed.contains(&key.as_str()) {
+                continue;
+            }
+            let attr = fields
+                .iter()
+                .find(|(f, _)| *f == key)
+                .map_or("configuration", |(_, a)| a);
+            let at = params.get(attr).map_or(params.element.clone(), |a| a.span.clone());
+            return Err(self.refuse_field(&format!("{prefix}.{key}"), k.span(), owner, attr, &at));
+        }
+        Ok(())
+    }
+
     fn refuse_field(&self, field: &str, key_span: Range<usize>, owner: &str, attr: &str, at: &Range<usize>) -> Fail {
         self.scene_err(
             key_span,
@@ -894,26 +918,8 @@ impl<'a> Gen<'a> {
             for (key, kspan, _) in self.binding(t).fields {
                 if key == "drive" {
                     if let Some(DeValue::Table(d)) = get(t, "drive").map(toml::Spanned::get_ref) {
-                        for (dk, _) in d.iter() {
-                            let dk_s = dk.get_ref().to_string();
-                            if !DRIVE_BINDING.contains(&dk_s.as_str()) {
-                                let attr = DRIVE_FIELDS
-                                    .iter()
-                                    .find(|(f, _)| *f == dk_s)
-                                    .map_or("drive tuning", |(_, a)| a);
-                                let at = axis
-                                    .params
-                                    .get(attr)
-                                    .map_or(axis.params.element.clone(), |a| a.span.clone());
-                                return Err(self.refuse_field(
-                                    &field(&format!("drive.{dk_s}")),
-                                    dk.span(),
-                                    &axis.name.value,
-                                    attr,
-                                    &at,
-                                ));
-                            }
-                        }
+                        let owner = (axis.name.value.as_str(), &axis.params);
+                        self.refuse_unlisted(d, (DRIVE_BINDING, DRIVE_FIELDS), owner, &field("drive"))?;
                     }
                     continue;
                 }
@@ -1373,26 +1379,7 @@ impl<'a> Gen<'a> {
                 let DeValue::Table(sub) = v.get_ref() else {
                     return Err(self.scene_err(v.span(), &field(&key_s), "expected a table".to_owned()));
                 };
-                for (sk, _) in sub.iter() {
-                    let sk_s = sk.get_ref().to_string();
-                    if !allowed.contains(&sk_s.as_str()) {
-                        let attr = fields
-                            .iter()
-                            .find(|(f, _)| *f == sk_s)
-                            .map_or("configuration", |(_, a)| a);
-                        let at = cs
-                            .params
-                            .get(attr)
-                            .map_or(cs.params.element.clone(), |a| a.span.clone());
-                        return Err(self.refuse_field(
-                            &field(&format!("{key_s}.{sk_s}")),
-                            sk.span(),
-                            &cs.name.value,
-                            attr,
-                            &at,
-                        ));
-                    }
-                }
+                self.refuse_unlisted(sub, (allowed, fields), (&cs.name.value, &cs.params), &field(&key_s))?;
             }
             bound[k] = Some(t);
         }
@@ -2244,19 +2231,8 @@ impl<'a> Gen<'a> {
 
 /// Whether `ty` is an instruction's structure the twin lays out itself.
 fn is_instruction_structure(ty: &str) -> bool {
-    matches!(
-        BaseType::parse(ty),
-        Some(
-            BaseType::FbdTimer
-                | BaseType::FbdCounter
-                | BaseType::FbdOneshot
-                | BaseType::RTrig
-                | BaseType::FTrig
-                | BaseType::Ton
-                | BaseType::Tof
-                | BaseType::FunctionBlock(_)
-        )
-    )
+    BaseType::parse(ty)
+        .is_some_and(|b| super::data_types::is_instruction_structure(b) || matches!(b, BaseType::FunctionBlock(_)))
 }
 
 /// Whether an exported structure value sets anything but `EnableIn`.
