@@ -28,6 +28,9 @@
 //!   (MOTION-RM003); `Disable` is `stop_drive`, `Unsupported` the default;
 //! * a tag of a type the twin does not know (`TIMER`, `MESSAGE` …) is
 //!   reported and left out: a routine naming it is refused at load;
+//! * an instruction structure's exported values (an `FBD_TIMER`'s preset
+//!   …) are reported, not read: the twin's structures start cleared with
+//!   `EnableIn` set, and the routine sets what it uses;
 //! * an alias tag becomes an `[[aliases]]` entry of its scope;
 //! * a module's input and output tags become controller tags of their
 //!   names (`Local:1:I`) whose types are their Decorated structures, named
