@@ -27,23 +27,8 @@ use super::tags::scalar_value;
 /// Whether a member may have this type: a scalar, a string type, a data
 /// type, or an instruction's structure (`FBD_TIMER` …); not a cam point.
 fn member_type_allowed(base: BaseType) -> bool {
-    (base.in_tag_memory() || is_instruction_structure(base) || base == BaseType::MotionInstruction)
+    (base.in_tag_memory() || base.is_instruction_structure() || base == BaseType::MotionInstruction)
         && base != BaseType::Cam
-}
-
-/// The structures of the timer, counter, one-shot and edge instructions,
-/// which keep their state in tag memory and take no initial value.
-pub(super) fn is_instruction_structure(base: BaseType) -> bool {
-    matches!(
-        base,
-        BaseType::FbdTimer
-            | BaseType::FbdCounter
-            | BaseType::FbdOneshot
-            | BaseType::RTrig
-            | BaseType::FTrig
-            | BaseType::Ton
-            | BaseType::Tof
-    )
 }
 
 impl Ctx<'_> {
@@ -235,7 +220,7 @@ impl Ctx<'_> {
     /// its length and LEN; a data type its members', recursively), capped
     /// past [`MAX_ARRAY_LEN`].
     pub(super) fn leaves(&self, base: BaseType) -> usize {
-        if is_instruction_structure(base) {
+        if base.is_instruction_structure() {
             // The largest instruction structure's slots (FBD_TIMER's 13),
             // rounded up: a bound, not a layout.
             return 16;
@@ -328,7 +313,7 @@ impl Ctx<'_> {
     ) -> Result<TagValue, SceneError> {
         let one = |v: &toml::Value, f: &str| match ty.base {
             BaseType::User(inner) => self.user_value(at, v, inner, f),
-            base if is_instruction_structure(base) || base == BaseType::MotionInstruction => Err(self.invalid(
+            base if base.is_instruction_structure() || base == BaseType::MotionInstruction => Err(self.invalid(
                 at,
                 f,
                 Problem::ValueNotAllowed {

@@ -2234,8 +2234,7 @@ impl<'a> Gen<'a> {
 
 /// Whether `ty` is an instruction's structure the twin lays out itself.
 fn is_instruction_structure(ty: &str) -> bool {
-    BaseType::parse(ty)
-        .is_some_and(|b| super::data_types::is_instruction_structure(b) || matches!(b, BaseType::FunctionBlock(_)))
+    BaseType::parse(ty).is_some_and(|b| b.is_instruction_structure() || matches!(b, BaseType::FunctionBlock(_)))
 }
 
 /// Whether an exported structure value sets anything but `EnableIn`.

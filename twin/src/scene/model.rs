@@ -738,6 +738,23 @@ impl BaseType {
         ("CAM_PROFILE", BaseType::CamProfile),
     ];
 
+    /// An instruction's structure the twin lays out itself (`FBD_TIMER`,
+    /// `FBD_COUNTER`, `FBD_ONESHOT`, `R_TRIG`, `F_TRIG`, `TON`, `TOF`),
+    /// which keeps its state in tag memory and takes no initial value.
+    #[must_use]
+    pub fn is_instruction_structure(self) -> bool {
+        matches!(
+            self,
+            BaseType::FbdTimer
+                | BaseType::FbdCounter
+                | BaseType::FbdOneshot
+                | BaseType::RTrig
+                | BaseType::FTrig
+                | BaseType::Ton
+                | BaseType::Tof
+        )
+    }
+
     /// The type name as written in a scene.
     #[must_use]
     pub fn name(self) -> &'static str {
