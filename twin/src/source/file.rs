@@ -4,8 +4,9 @@ use std::ops::Range;
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 
-/// A file the user wrote, as read.
-#[derive(Debug, PartialEq, Eq)]
+/// A file the user wrote, as read. Two are equal when their paths and
+/// texts are (whether either has made its line index does not count).
+#[derive(Debug)]
 pub struct SourceFile {
     /// Its path, as the user named it (messages print it).
     pub path: PathBuf,
@@ -16,6 +17,14 @@ pub struct SourceFile {
     /// in a binary search, not a scan from its start.
     lines: OnceLock<Vec<usize>>,
 }
+
+impl PartialEq for SourceFile {
+    fn eq(&self, other: &Self) -> bool {
+        self.path == other.path && self.text == other.text
+    }
+}
+
+impl Eq for SourceFile {}
 
 impl SourceFile {
     /// A file and its text.

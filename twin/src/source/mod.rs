@@ -295,6 +295,15 @@ mod tests {
     }
 
     #[test]
+    fn a_files_line_index_does_not_change_its_equality() {
+        let a = SourceFile::new("s.toml", "x = 1\ny = 2\n");
+        let b = SourceFile::new("s.toml", "x = 1\ny = 2\n");
+        assert_eq!(a.line_column(8), (2, 3));
+        assert_eq!(a, b);
+        assert_ne!(a, SourceFile::new("t.toml", "x = 1\ny = 2\n"));
+    }
+
+    #[test]
     fn a_token_at_a_line_and_column() {
         let f = SourceFile::new("s.toml", "[robot]\njoint = \"platter_jnt\"\nx = [1.5, 2]\n");
         assert_eq!(&f.text[f.token_at(2, 9)], "\"platter_jnt\"");
