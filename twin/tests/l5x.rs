@@ -532,3 +532,29 @@ fn a_drive_or_coordinate_system_setting_the_export_holds_is_refused_in_the_bindi
         "tags[0].coordinate_system.max_speed: Cart's MaximumSpeed comes from scara_pick.L5X:",
     );
 }
+
+#[test]
+fn a_coordinate_system_bound_twice_is_refused() {
+    let scene = variant(
+        "cs_twice",
+        (
+            "[[tags]]\nname = \"Joints\"",
+            "[[tags]]\nname = \"Cart\"\n\n[[tags]]\nname = \"Joints\"",
+        ),
+        ("", ""),
+    );
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let second = text
+        .match_indices("name = \"Cart\"")
+        .nth(1)
+        .expect("two Cart bindings")
+        .0;
+    let line = text[..second].matches('\n').count() + 1;
+    let first = refused(&scene);
+    assert!(
+        first.contains(&format!(
+            "scara_pick.toml:{line}:8: tags[1].name: coordinate system 'Cart' is bound twice"
+        )),
+        "{first}"
+    );
+}

@@ -62,6 +62,11 @@ pub const AXIS_BINDING: &[&str] = &[
 ];
 /// Fields of an axis binding's `drive`.
 const DRIVE_BINDING: &[&str] = &["torque_limit_positive", "torque_limit_negative", "system_inertia"];
+/// Fields a `[[tags]]` binding of a coordinate system may give.
+const CS_TAG_BINDING: &[&str] = &["name", "coordinate_system", "geometry"];
+/// Scene fields of a coordinate system tag and the L5X attributes that
+/// hold them.
+const CS_TAG_FIELDS: &[(&str, &str)] = &[("value", "Axes")];
 /// Fields a coordinate system's `coordinate_system` binding may give.
 pub const CS_BINDING: &[&str] = &["tool_link", "master_axis"];
 /// Fields a coordinate system's `geometry` binding may give.
@@ -251,20 +256,12 @@ pub fn expand(
     let Some(l5x) = controller.iter().find(|(k, _)| k.get_ref() == "l5x").map(|(_, v)| v) else {
         return Ok(None);
     };
-    let scene_file = FileId::default();
-    let err_scene = |files: &Files, span: Range<usize>, field: &str, message: String| -> Fail {
-        Box::new(
-            Diagnostic::error(message)
-                .in_field(field)
-                .with_label(files.label(crate::source::Span::new(scene_file, span), "")),
-        )
-    };
     let DeValue::String(name) = l5x.get_ref() else {
-        return Err(err_scene(
+        return Err(scene_error(
             files,
             l5x.span(),
             "controller.l5x",
-            "expected the export's path, a string".into(),
+            "expected the export's path, a string",
         ));
     };
     let base = scene_path.parent().unwrap_or_else(|| Path::new(""));
@@ -274,7 +271,7 @@ pub fn expand(
         None => std::fs::read(&l5x_path),
     }
     .map_err(|e| {
-        err_scene(
+        scene_error(
             files,
             l5x.span(),
             "controller.l5x",
@@ -284,7 +281,7 @@ pub fn expand(
     let text = match String::from_utf8(bytes) {
         Ok(t) => t,
         Err(e) => {
-            return Err(err_scene(
+            return Err(scene_error(
                 files,
                 l5x.span(),
                 "controller.l5x",
@@ -338,13 +335,24 @@ pub fn expand(
     }))
 }
 
+/// An error at scene bytes `span`, about `field`.
+fn scene_error(files: &Files, span: Range<usize>, field: &str, message: impl Into<String>) -> Fail {
+    let label = files.label(crate::source::Span::new(FileId::default(), span), "");
+    Box::new(Diagnostic::error(message).in_field(field).with_label(label))
+}
+
 fn table<'a, 'i>(t: &'a DeTable<'i>, key: &str) -> Option<&'a DeTable<'i>> {
+    match get(t, key)?.get_ref() {
+        DeValue::Table(t) => Some(t),
+        _ => None,
+    }
+}
+
+/// The bytes of `key` and of its value in `t`.
+fn key_span(t: &DeTable<'_>, key: &str) -> Option<(Range<usize>, Range<usize>)> {
     t.iter()
         .find(|(k, _)| k.get_ref() == key)
-        .and_then(|(_, v)| match v.get_ref() {
-            DeValue::Table(t) => Some(t),
-            _ => None,
-        })
+        .map(|(k, v)| (k.span(), v.span()))
 }
 
 fn get<'a, 'i>(t: &'a DeTable<'i>, key: &str) -> Option<&'a toml::Spanned<DeValue<'i>>> {
@@ -390,12 +398,6 @@ struct Gen<'a> {
     not_simulated: Vec<(String, Range<usize>, bool)>,
 }
 
-/// A binding of the scene: its scene bytes per field.
-struct Binding<'t> {
-    fields: Vec<(String, Range<usize>, Range<usize>)>,
-    table: &'t DeTable<'t>,
-}
-
 impl<'a> Gen<'a> {
     fn line_of(&self, span: &Range<usize>) -> usize {
         self.files.get(self.l5x_file).line_column(span.start).0
@@ -418,34 +420,31 @@ impl<'a> Gen<'a> {
     }
 
     fn scene_err(&self, span: Range<usize>, field: &str, message: impl Into<String>) -> Fail {
-        let label = self.files.label(crate::source::Span::new(FileId::default(), span), "");
-        Box::new(Diagnostic::error(message).in_field(field).with_label(label))
+        scene_error(self.files, span, field, message)
     }
 
-    /// Appends generated `text` that stands for L5X bytes `span`.
-    fn emit(&mut self, text: &str, span: &Range<usize>, item: Option<String>) {
+    /// Appends `text` as one segment of the map.
+    fn push(&mut self, text: &str, file: FileId, source: Range<usize>, verbatim: bool, item: Option<String>) {
         let start = self.out.len();
         self.out.push_str(text);
         self.map.segments.push(Segment {
             expanded: start..self.out.len(),
-            file: self.l5x_file,
-            source: span.clone(),
-            verbatim: false,
+            file,
+            source,
+            verbatim,
             item,
         });
     }
 
+    /// Appends generated `text` that stands for L5X bytes `span`.
+    fn emit(&mut self, text: &str, span: &Range<usize>, item: Option<String>) {
+        self.push(text, self.l5x_file, span.clone(), false, item);
+    }
+
     /// Appends scene bytes `range` as they are.
     fn copy(&mut self, range: Range<usize>) {
-        let start = self.out.len();
-        self.out.push_str(&self.scene_text[range.clone()]);
-        self.map.segments.push(Segment {
-            expanded: start..self.out.len(),
-            file: FileId::default(),
-            source: range,
-            verbatim: true,
-            item: None,
-        });
+        let scene_text = self.scene_text;
+        self.push(&scene_text[range.clone()], FileId::default(), range, true, None);
     }
 
     /// `key = <scene bytes of value>` on a line of its own.
@@ -456,16 +455,9 @@ impl<'a> Gen<'a> {
         self.gen_scene("\n", &at);
     }
 
+    /// Appends generated `text` that stands for scene bytes `span`.
     fn gen_scene(&mut self, text: &str, span: &Range<usize>) {
-        let start = self.out.len();
-        self.out.push_str(text);
-        self.map.segments.push(Segment {
-            expanded: start..self.out.len(),
-            file: FileId::default(),
-            source: span.clone(),
-            verbatim: false,
-            item: None,
-        });
+        self.push(text, FileId::default(), span.clone(), false, None);
     }
 
     /// A table header, after a comment naming the L5X line it comes from.
@@ -478,7 +470,7 @@ impl<'a> Gen<'a> {
     /// `key` in `binding` when it has one, else for L5X bytes `at`.
     fn open_table(&mut self, key: &str, binding: Option<&DeTable<'_>>, at: &Range<usize>, item: String) {
         let text = format!("{key} = {{ ");
-        match binding.and_then(|b| self.key_span(b, key)) {
+        match binding.and_then(|b| key_span(b, key)) {
             Some((k, _)) => self.gen_scene(&text, &k),
             None => self.emit(&text, at, Some(item)),
         }
@@ -487,14 +479,6 @@ impl<'a> Gen<'a> {
     /// A generated line `key = value` for L5X attribute `at`.
     fn line(&mut self, key: &str, value: &str, at: &Range<usize>, item: &str) {
         self.emit(&format!("{key} = {value}\n"), at, Some(item.to_owned()));
-    }
-
-    fn binding<'t>(&self, t: &'t DeTable<'t>) -> Binding<'t> {
-        let fields = t
-            .iter()
-            .map(|(k, v)| (k.get_ref().to_string(), k.span(), v.span()))
-            .collect();
-        Binding { fields, table: t }
     }
 
     /// Refuses a key of the binding table `sub` that is not in `allowed`,
@@ -534,7 +518,7 @@ impl<'a> Gen<'a> {
         // What the scene may not give next to an export.
         for (key, attr) in [("tasks", "Tasks"), ("data_types", "DataTypes")] {
             if let Some(v) = get(doc, key) {
-                let (span, _) = self.key_span(doc, key).unwrap_or((v.span(), v.span()));
+                let (span, _) = key_span(doc, key).unwrap_or((v.span(), v.span()));
                 return Err(self.scene_err(
                     span,
                     key,
@@ -546,7 +530,7 @@ impl<'a> Gen<'a> {
             let at = params
                 .get("CoarseUpdatePeriod")
                 .map_or(mg.span.clone(), |a| a.span.clone());
-            let (k, _) = self.key_span(doc, "coarse_update_ms").unwrap_or((v.span(), v.span()));
+            let (k, _) = key_span(doc, "coarse_update_ms").unwrap_or((v.span(), v.span()));
             return Err(self.refuse_field("coarse_update_ms", k, &mg.value, "CoarseUpdatePeriod", &at));
         }
         self.read_controller(controller)?;
@@ -676,12 +660,6 @@ impl<'a> Gen<'a> {
         }
         out.sort_by_key(|i| i.0);
         Ok(out)
-    }
-
-    fn key_span(&self, t: &DeTable<'_>, key: &str) -> Option<(Range<usize>, Range<usize>)> {
-        t.iter()
-            .find(|(k, _)| k.get_ref() == key)
-            .map(|(k, v)| (k.span(), v.span()))
     }
 
     /// Blanks a standard table: its header and every key = value in it.
@@ -894,7 +872,7 @@ impl<'a> Gen<'a> {
     fn axes(&mut self, bindings: &[(Range<usize>, &DeTable<'_>)]) -> Result<(), Fail> {
         let project = self.project;
         // Each binding names an export axis.
-        let mut bound: Vec<Option<Binding<'_>>> = (0..project.axes.len()).map(|_| None).collect();
+        let mut bound: Vec<Option<&DeTable<'_>>> = vec![None; project.axes.len()];
         for (i, (header, t)) in bindings.iter().enumerate() {
             let field = |k: &str| format!("axes[{i}].{k}");
             let Some(name_v) = get(t, "name") else {
@@ -918,39 +896,23 @@ impl<'a> Gen<'a> {
                 ));
             };
             let axis = &project.axes[k];
-            for (key, kspan, _) in self.binding(t).fields {
-                if key == "drive" {
-                    if let Some(DeValue::Table(d)) = get(t, "drive").map(toml::Spanned::get_ref) {
-                        let owner = (axis.name.value.as_str(), &axis.params);
-                        self.refuse_unlisted(d, (DRIVE_BINDING, DRIVE_FIELDS), owner, &field("drive"))?;
-                    }
-                    continue;
-                }
-                if AXIS_BINDING.contains(&key.as_str()) {
-                    continue;
-                }
-                let attr = AXIS_FIELDS
-                    .iter()
-                    .find(|(f, _)| *f == key)
-                    .map_or("configuration", |(_, a)| a);
-                let at = axis
-                    .params
-                    .get(attr)
-                    .map_or(axis.params.element.clone(), |a| a.span.clone());
-                return Err(self.refuse_field(&field(&key), kspan, &axis.name.value, attr, &at));
+            let owner = (axis.name.value.as_str(), &axis.params);
+            self.refuse_unlisted(t, (AXIS_BINDING, AXIS_FIELDS), owner, &format!("axes[{i}]"))?;
+            if let Some(DeValue::Table(d)) = get(t, "drive").map(toml::Spanned::get_ref) {
+                self.refuse_unlisted(d, (DRIVE_BINDING, DRIVE_FIELDS), owner, &field("drive"))?;
             }
             if bound[k].is_some() {
                 return Err(self.scene_err(name_v.span(), &field("name"), format!("axis '{name}' is bound twice")));
             }
-            bound[k] = Some(self.binding(t));
+            bound[k] = Some(*t);
         }
-        for (axis, binding) in project.axes.iter().zip(&bound) {
-            self.axis(axis, binding.as_ref())?;
+        for (axis, binding) in project.axes.iter().zip(bound) {
+            self.axis(axis, binding)?;
         }
         Ok(())
     }
 
-    fn axis(&mut self, axis: &l5x::AxisTag, binding: Option<&Binding<'_>>) -> Result<(), Fail> {
+    fn axis(&mut self, axis: &l5x::AxisTag, binding: Option<&DeTable<'_>>) -> Result<(), Fail> {
         let name = &axis.name.value;
         let item = |attr: &str| format!("{name} {attr}");
         let cip = match axis.data_type.value.as_str() {
@@ -965,7 +927,7 @@ impl<'a> Gen<'a> {
             }
         };
         let p = &axis.params;
-        let field = |b: &Binding<'_>, key: &str| b.fields.iter().find(|(k, _, _)| k == key).map(|(_, _, v)| v.clone());
+        let field = |b: &DeTable<'_>, key: &str| get(b, key).map(toml::Spanned::span);
         let joint = binding.and_then(|b| field(b, "joint"));
         self.header("[[axes]]", &axis.name.span, item("Name"));
         self.line("name", &quote(name), &axis.name.span, &item("Name"));
@@ -1019,44 +981,13 @@ impl<'a> Gen<'a> {
             if p.get("TravelMode")
                 .is_some_and(|t| t.value.eq_ignore_ascii_case("Cyclic"))
             {
-                let num = self.required(p, "PositionUnwindNumerator", name)?;
-                let den = self.required(p, "PositionUnwindDenominator", name)?;
-                let (n, d) = (
-                    self.number(&num, &item("PositionUnwindNumerator"))?,
-                    self.number(&den, &item("PositionUnwindDenominator"))?,
-                );
-                if d == 0.0 {
-                    return Err(self.l5x_err(
-                        den.span,
-                        &item("PositionUnwindDenominator"),
-                        "PositionUnwindDenominator is 0".to_owned(),
-                    ));
-                }
-                self.line(
-                    "modulo_period",
-                    &float(n / d),
-                    &num.span,
-                    &item("PositionUnwindNumerator"),
-                );
+                self.modulo_period(p, name, "PositionUnwindNumerator", "PositionUnwindDenominator")?;
             }
         } else if p
             .get("RotaryAxis")
             .is_some_and(|t| t.value.eq_ignore_ascii_case("Rotary"))
         {
-            let unwind = self.required(p, "PositionUnwind", name)?;
-            let cc = self.required(p, "ConversionConstant", name)?;
-            let (u, c) = (
-                self.number(&unwind, &item("PositionUnwind"))?,
-                self.number(&cc, &item("ConversionConstant"))?,
-            );
-            if c == 0.0 {
-                return Err(self.l5x_err(
-                    cc.span,
-                    &item("ConversionConstant"),
-                    "ConversionConstant is 0".to_owned(),
-                ));
-            }
-            self.line("modulo_period", &float(u / c), &unwind.span, &item("PositionUnwind"));
+            self.modulo_period(p, name, "PositionUnwind", "ConversionConstant")?;
         }
         for (key, attr) in [
             ("max_velocity", "MaximumSpeed"),
@@ -1151,7 +1082,7 @@ impl<'a> Gen<'a> {
                     }
                 }
             }
-            if let Some(DeValue::Table(d)) = binding.and_then(|b| get(b.table, "drive")).map(toml::Spanned::get_ref) {
+            if let Some(DeValue::Table(d)) = binding.and_then(|b| get(b, "drive")).map(toml::Spanned::get_ref) {
                 for (k, v) in d.iter() {
                     parts.push((k.get_ref().to_string(), Some(v.span()), v.span()));
                 }
@@ -1262,6 +1193,24 @@ impl<'a> Gen<'a> {
         Ok(())
     }
 
+    /// `modulo_period = numerator / denominator`, two required attributes
+    /// (a CIP axis' unwind ratio, a virtual axis' unwind over its
+    /// conversion constant); a zero denominator is refused.
+    fn modulo_period(&mut self, p: &l5x::Params, name: &str, numerator: &str, denominator: &str) -> Result<(), Fail> {
+        let item = |attr: &str| format!("{name} {attr}");
+        let num = self.required(p, numerator, name)?;
+        let den = self.required(p, denominator, name)?;
+        let (n, d) = (
+            self.number(&num, &item(numerator))?,
+            self.number(&den, &item(denominator))?,
+        );
+        if d == 0.0 {
+            return Err(self.l5x_err(den.span, &item(denominator), format!("{denominator} is 0")));
+        }
+        self.line("modulo_period", &float(n / d), &num.span, &item(numerator));
+        Ok(())
+    }
+
     fn home(&mut self, p: &l5x::Params, name: &str) -> Result<(), Fail> {
         let item = |attr: &str| format!("{name} {attr}");
         // (scene field, L5X attribute, its words and the scene's).
@@ -1364,25 +1313,24 @@ impl<'a> Gen<'a> {
                 return Err(self.scene_err(name_v.span(), &field("name"), message));
             };
             let cs = &project.coordinate_systems[k];
-            for (key, v) in t.iter() {
-                let key_s = key.get_ref().to_string();
-                let (allowed, fields): (&[&str], &[(&str, &str)]) = match key_s.as_str() {
-                    "name" => continue,
-                    "coordinate_system" => (CS_BINDING, CS_FIELDS),
-                    "geometry" => (GEOMETRY_BINDING, GEOMETRY_FIELDS),
-                    other => {
-                        let attr = if other == "value" { "Axes" } else { "configuration" };
-                        let at = cs
-                            .params
-                            .get(attr)
-                            .map_or(cs.params.element.clone(), |a| a.span.clone());
-                        return Err(self.refuse_field(&field(other), key.span(), &cs.name.value, attr, &at));
-                    }
-                };
+            let owner = (cs.name.value.as_str(), &cs.params);
+            self.refuse_unlisted(t, (CS_TAG_BINDING, CS_TAG_FIELDS), owner, &format!("tags[{i}]"))?;
+            for (key, allowed, fields) in [
+                ("coordinate_system", CS_BINDING, CS_FIELDS),
+                ("geometry", GEOMETRY_BINDING, GEOMETRY_FIELDS),
+            ] {
+                let Some(v) = get(t, key) else { continue };
                 let DeValue::Table(sub) = v.get_ref() else {
-                    return Err(self.scene_err(v.span(), &field(&key_s), "expected a table".to_owned()));
+                    return Err(self.scene_err(v.span(), &field(key), "expected a table"));
                 };
-                self.refuse_unlisted(sub, (allowed, fields), (&cs.name.value, &cs.params), &field(&key_s))?;
+                self.refuse_unlisted(sub, (allowed, fields), owner, &field(key))?;
+            }
+            if bound[k].is_some() {
+                return Err(self.scene_err(
+                    name_v.span(),
+                    &field("name"),
+                    format!("coordinate system '{name}' is bound twice"),
+                ));
             }
             bound[k] = Some(t);
         }
