@@ -99,7 +99,9 @@ pub struct Memory {
     /// for. They hold no memory: the compiler reads the target in their
     /// place.
     pub aliases: HashMap<String, crate::st::ast::Ref>,
-    by_name: HashMap<String, usize>,
+    /// Lower-case name → tag; hashed with Fx, as a compile looks names up
+    /// several times a reference.
+    by_name: rustc_hash::FxHashMap<String, usize>,
 }
 
 impl Memory {
@@ -327,7 +329,35 @@ impl Memory {
     /// The tag declared as `name` (an InOut parameter itself).
     #[must_use]
     pub fn find_declared(&self, name: &str) -> Option<usize> {
-        self.by_name.get(&name.to_ascii_lowercase()).copied()
+        self.declared_in(None, name)
+    }
+
+    /// The tag declared as `program.name`, or `name` without a program
+    /// (case-insensitive). The compiler asks this a few times for every
+    /// reference it compiles, so the lower-cased key is built on the stack.
+    fn declared_in(&self, program: Option<&str>, name: &str) -> Option<usize> {
+        let mut buf = [0u8; 128];
+        let mut n = 0;
+        let mut fits = true;
+        for part in [program.unwrap_or(""), if program.is_some() { "." } else { "" }, name] {
+            if n + part.len() > buf.len() {
+                fits = false;
+                break;
+            }
+            buf[n..n + part.len()].copy_from_slice(part.as_bytes());
+            n += part.len();
+        }
+        if !fits {
+            let key = match program {
+                Some(p) => format!("{p}.{name}"),
+                None => name.to_owned(),
+            };
+            return self.by_name.get(&key.to_ascii_lowercase()).copied();
+        }
+        buf[..n].make_ascii_lowercase();
+        // Lower-casing ASCII bytes keeps whole UTF-8 text whole.
+        let key = std::str::from_utf8(&buf[..n]).ok()?;
+        self.by_name.get(key).copied()
     }
 
     /// Slots a tag takes.
@@ -360,9 +390,10 @@ impl Memory {
     /// controller's.
     #[must_use]
     pub fn resolve(&self, program: Option<&str>, name: &str) -> Option<usize> {
-        program
-            .and_then(|p| self.find(&format!("{p}.{name}")))
-            .or_else(|| self.find(name))
+        let declared = program
+            .and_then(|p| self.declared_in(Some(p), name))
+            .or_else(|| self.declared_in(None, name))?;
+        Some(self.tags[declared].alias.unwrap_or(declared))
     }
 
     /// A tag's current value in the scene's form (numeric arrays and cam

@@ -41,14 +41,24 @@ impl SourceFile {
     #[must_use]
     pub fn line_column(&self, at: usize) -> (usize, usize) {
         let at = floor_char_boundary(&self.text, at.min(self.text.len()));
-        let lines = self.lines.get_or_init(|| {
+        let line = self.line(at);
+        let line_start = self.lines()[line - 1];
+        (line, self.text[line_start..at].chars().count() + 1)
+    }
+
+    /// The 1-based line of byte `at`.
+    #[must_use]
+    pub fn line(&self, at: usize) -> usize {
+        self.lines().partition_point(|&start| start <= at)
+    }
+
+    /// The first byte of each line.
+    fn lines(&self) -> &[usize] {
+        self.lines.get_or_init(|| {
             std::iter::once(0)
                 .chain(self.text.match_indices('\n').map(|(i, _)| i + 1))
                 .collect()
-        });
-        let line = lines.partition_point(|&start| start <= at);
-        let line_start = lines[line - 1];
-        (line, self.text[line_start..at].chars().count() + 1)
+        })
     }
 
     /// The bytes of the token that starts at 1-based `line` and `column`

@@ -56,6 +56,12 @@ impl Files {
         self.get(span.file).line_column(span.start as usize)
     }
 
+    /// The 1-based line a span starts at.
+    #[must_use]
+    pub fn line(&self, span: Span) -> usize {
+        self.get(span.file).line(span.start as usize)
+    }
+
     /// A label on `span`, saying `message` there.
     #[must_use]
     pub fn label(&self, span: Span, message: impl Into<String>) -> Label {

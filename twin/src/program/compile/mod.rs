@@ -96,11 +96,12 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
     /// # Errors
     /// The first compile [`Error`].
     pub fn block(&mut self, stmts: &[Stmt]) -> Result<Vec<CStmt>> {
-        stmts
-            .iter()
-            .filter(|s| s.kind != StmtKind::Empty)
-            .map(|s| self.stmt(s))
-            .collect()
+        let mut out = Vec::with_capacity(stmts.len());
+        for s in stmts.iter().filter(|s| s.kind != StmtKind::Empty) {
+            out.push(self.stmt(s)?);
+        }
+        out.shrink_to_fit();
+        Ok(out)
     }
 
     fn stmt(&mut self, s: &Stmt) -> Result<CStmt> {
@@ -153,7 +154,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
         };
         Ok(CStmt {
             kind,
-            line: self.env.files.line_column(s.span).0 as u32,
+            line: self.env.files.line(s.span) as u32,
         })
     }
 
@@ -348,7 +349,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
         let mut acc = self.expr(first)?;
         let mut acc_span = first.span;
         let mut head: Option<CExpr> = None;
-        let mut links: Vec<Link> = Vec::new();
+        let mut links: Vec<Link> = Vec::with_capacity(rest.len());
         for (op, b) in rest {
             let y = self.expr(b)?;
             let (math, result) = self.operation_types(*op, acc.ty, y.ty, acc_span, b.span)?;

@@ -275,7 +275,10 @@ impl Compiler<'_, '_, '_> {
         if let Some(program) = r.name.strip_prefix('\\') {
             return self.parameter_place(r, program);
         }
-        if let Some(q) = self.qualified(r) {
+        let found = self.resolve(&r.name);
+        if found.is_none()
+            && let Some(q) = self.qualified(r)
+        {
             if self.scanned
                 && let Some(own) = self.program
                 && let Some((other, _)) = q.name.split_once('.')
@@ -297,18 +300,24 @@ impl Compiler<'_, '_, '_> {
             }
             return self.tag_place(&q);
         }
-        if let Some(flag) = self.status_flag(r)? {
-            return Ok(flag);
-        }
-        let t = self.tag(r)?;
-        let info = self.mem.tags[t].clone();
+        let t = match found {
+            Some(t) => t,
+            None => {
+                if let Some(flag) = self.status_flag(r)? {
+                    return Ok(flag);
+                }
+                self.tag(r)?
+            }
+        };
+        let mem = self.mem;
+        let info = &mem.tags[t];
         let mut path = r.path.iter();
         let member = |path: &mut std::slice::Iter<'_, Access>, hint: &str| match path.next() {
             Some(Access::Member(m, span)) => Ok((m.clone(), *span)),
             _ => err(self, r.span, format!("'{}' is {hint}", r.name)),
         };
         let (place, ty) = match info.kind {
-            Kind::Scalar(_) | Kind::Structure(_) | Kind::User(_) => self.memory_place(r, &info, &mut path)?,
+            Kind::Scalar(_) | Kind::Structure(_) | Kind::User(_) => self.memory_place(r, info, &mut path)?,
             Kind::Axis => {
                 let m = member(
                     &mut path,
@@ -321,7 +330,7 @@ impl Compiler<'_, '_, '_> {
                     (None, _) => None,
                     (Some(_), Some(Access::Index(sub))) => {
                         path.next();
-                        Some(self.control_element(r, &info, sub)?)
+                        Some(self.control_element(r, info, sub)?)
                     }
                     (Some(_), _) => {
                         return err(
@@ -500,8 +509,10 @@ impl Compiler<'_, '_, '_> {
         path: &mut std::slice::Iter<'_, Access>,
     ) -> Result<(Place, DataType)> {
         let at = self.locate(r, info, path)?;
-        let shown = show_upto(r, path);
+        // The reference as far as it went, for messages (`Cell.Pos`).
+        let shown = || show_upto(r, path);
         if at.array.is_some() {
+            let shown = shown();
             return err(
                 self,
                 r.span,
@@ -511,6 +522,7 @@ impl Compiler<'_, '_, '_> {
         let ty = match at.elem {
             Elem::Scalar(ty) => ty,
             Elem::Control => {
+                let shown = shown();
                 let Some(Access::Member(m, span)) = path.next() else {
                     return err(
                         self,
@@ -527,6 +539,7 @@ impl Compiler<'_, '_, '_> {
             }
             Elem::User(id) if self.mem.layouts.get(id).builtin.is_some() => {
                 let s = self.mem.layouts.get(id).builtin.expect("a structure");
+                let shown = shown();
                 return err(
                     self,
                     r.span,
@@ -540,6 +553,7 @@ impl Compiler<'_, '_, '_> {
                 } else {
                     "name a member, or copy it whole with COP"
                 };
+                let shown = shown();
                 return err(
                     self,
                     r.span,
@@ -597,7 +611,7 @@ impl Compiler<'_, '_, '_> {
         if let Some(len) = info.len {
             let Some(Access::Index(sub)) = path.as_slice().first() else {
                 at.array = Some(len);
-                at.parts.push(NamePart::Text(info.name.clone()));
+                at.parts.push(NamePart::Tag);
                 return Ok(at);
             };
             path.next();
@@ -606,15 +620,20 @@ impl Compiler<'_, '_, '_> {
             let constant = constant_of(&index);
             at.tag_term = self.push_term(&mut at, index, len, info.stride, bytes, &info.name);
             at.parts.push(match (at.tag_term, constant) {
-                (false, Some(k)) => NamePart::Text(element_name(info, k as usize)),
+                (false, Some(k)) => NamePart::TagConstant(k as usize),
                 _ => NamePart::TagElement,
             });
         } else {
-            at.parts.push(NamePart::Text(info.name.clone()));
+            at.parts.push(NamePart::Tag);
         }
-        let mut shown = info.name.clone();
+        // The path as far as it has gone (`Cell.Station`), written once a
+        // member is named.
+        let mut shown = String::new();
         while let (Elem::User(id), Some(Access::Member(m, span))) = (at.elem, path.as_slice().first()) {
             path.next();
+            if shown.is_empty() {
+                shown.push_str(&info.name);
+            }
             let layout = mem.layouts.get(id);
             if let Some(s) = layout.builtin {
                 // An instruction's structure: its visible members only.
@@ -669,7 +688,7 @@ impl Compiler<'_, '_, '_> {
             let constant = constant_of(&index);
             let added = self.push_term(&mut at, index, len, slots, bytes, &shown);
             at.parts.push(match (added, constant) {
-                (false, Some(k)) => NamePart::Text(format!("[{k}]")),
+                (false, Some(k)) => NamePart::Constant(k),
                 _ => NamePart::Index,
             });
         }
@@ -689,7 +708,10 @@ impl Compiler<'_, '_, '_> {
             let mut k = 0;
             for p in &parts {
                 match p {
+                    NamePart::Tag => name.push_str(&info.name),
+                    NamePart::TagConstant(k) => name.push_str(&element_name(info, *k)),
                     NamePart::Text(t) => name.push_str(t),
+                    NamePart::Constant(k) => name.push_str(&format!("[{k}]")),
                     NamePart::TagElement => {
                         name.push_str(&element_name(info, values[k]));
                         k += 1;
@@ -1158,8 +1180,14 @@ pub(super) struct Located {
 /// A piece of a path's name ([`Located::parts`]).
 #[derive(Debug, Clone)]
 pub(super) enum NamePart {
-    /// Text as it is (`Axes[2]`, `.Move`, `[0]`).
+    /// The tag's name (`Axes`).
+    Tag,
+    /// The tag's element a constant subscript names (`Axes[2]`, `Grid[1,0]`).
+    TagConstant(usize),
+    /// Text as it is (`.Move`).
     Text(String),
+    /// A member array's element a constant subscript names (`[0]`).
+    Constant(i64),
     /// The tag's element a computed subscript names (`Axes[i]`, `Grid[i,j]`).
     TagElement,
     /// A member array's element a computed subscript names (`[k]`).
