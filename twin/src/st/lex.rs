@@ -16,13 +16,15 @@
 //! Positions are byte offsets into the text ([`Token::start`]); the
 //! [`crate::source::Source`] maps them into their file.
 
+use std::borrow::Cow;
 use std::fmt;
 
 /// A token's kind and value.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Tok {
-    /// An identifier or keyword, as written.
-    Ident(String),
+pub enum Tok<'a> {
+    /// An identifier or keyword, as written (the text's own bytes, but for
+    /// a status flag, written `S:FS` whatever its case).
+    Ident(Cow<'a, str>),
     /// An integer literal (any base), before any type is applied.
     Int(i128),
     /// A real literal.
@@ -37,7 +39,7 @@ pub enum Tok {
     Eof,
 }
 
-impl fmt::Display for Tok {
+impl fmt::Display for Tok<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Tok::Ident(s) => write!(f, "'{s}'"),
@@ -52,9 +54,9 @@ impl fmt::Display for Tok {
 
 /// A token and its bytes in the text.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Token {
+pub struct Token<'a> {
     /// What it is.
-    pub tok: Tok,
+    pub tok: Tok<'a>,
     /// Its first byte.
     pub start: usize,
     /// One past its last byte.
@@ -83,9 +85,10 @@ const STATUS_FLAGS: [&str; 6] = ["FS", "N", "Z", "V", "C", "MINOR"];
 ///
 /// # Errors
 /// [`LexError`] for an unterminated block comment or a malformed number.
-pub fn lex(text: &str) -> Result<Vec<Token>, LexError> {
+pub fn lex(text: &str) -> Result<Vec<Token<'_>>, LexError> {
     let mut lexer = Lexer { text, at: 0 };
-    let mut out = Vec::new();
+    // About a token for every four characters of Structured Text.
+    let mut out = Vec::with_capacity(text.len() / 4 + 1);
     loop {
         lexer.skip_space_and_comments()?;
         let start = lexer.at;
@@ -106,7 +109,8 @@ pub fn lex(text: &str) -> Result<Vec<Token>, LexError> {
             // `\Program.Param`: another program's parameter (1756-PM021).
             lexer.at += 1;
             match lexer.word() {
-                Tok::Ident(w) => Tok::Ident(format!("\\{w}")),
+                Tok::Ident(Cow::Borrowed(_)) => Tok::Ident(Cow::Borrowed(&text[start..lexer.at])),
+                Tok::Ident(w) => Tok::Ident(Cow::Owned(format!("\\{w}"))),
                 other => other,
             }
         } else if let Some(sym) = SYMBOLS.iter().find(|s| rest.starts_with(**s)) {
@@ -129,7 +133,7 @@ struct Lexer<'a> {
     at: usize,
 }
 
-impl Lexer<'_> {
+impl<'a> Lexer<'a> {
     fn peek(&self, ahead: usize) -> Option<char> {
         self.text[self.at..].chars().nth(ahead)
     }
@@ -172,12 +176,12 @@ impl Lexer<'_> {
         }
     }
 
-    fn word(&mut self) -> Tok {
+    fn word(&mut self) -> Tok<'a> {
         let start = self.at;
         while self.peek(0).is_some_and(|c| c.is_ascii_alphanumeric() || c == '_') {
             self.at += 1;
         }
-        let mut word = self.text[start..self.at].to_owned();
+        let word = &self.text[start..self.at];
         if word.eq_ignore_ascii_case("S") && self.peek(0) == Some(':') {
             let rest: String = self.text[self.at + 1..]
                 .chars()
@@ -185,37 +189,40 @@ impl Lexer<'_> {
                 .collect();
             if let Some(flag) = STATUS_FLAGS.iter().find(|f| f.eq_ignore_ascii_case(&rest)) {
                 self.at += 1 + rest.len();
-                word = format!("S:{flag}");
-                return Tok::Ident(word);
+                return Tok::Ident(Cow::Owned(format!("S:{flag}")));
             }
         }
         if let Some(len) = module_tag_tail(&self.text[self.at..]) {
-            word.push_str(&self.text[self.at..self.at + len]);
             self.at += len;
         }
-        Tok::Ident(word)
+        Tok::Ident(Cow::Borrowed(&self.text[start..self.at]))
     }
 
-    fn digits(&mut self, radix: u32) -> String {
-        let mut out = String::new();
-        while let Some(c) = self.peek(0) {
+    /// Digits of `radix` and the `_` between them, without the `_`.
+    fn digits(&mut self, radix: u32) -> Cow<'a, str> {
+        let start = self.at;
+        let mut underscore = false;
+        while let Some(c) = self.text[self.at..].chars().next() {
             if c == '_' {
-                self.at += 1;
-            } else if c.is_digit(radix) {
-                out.push(c);
-                self.at += 1;
-            } else {
+                underscore = true;
+            } else if !c.is_digit(radix) {
                 break;
             }
+            self.at += 1;
         }
-        out
+        let written = &self.text[start..self.at];
+        if underscore {
+            Cow::Owned(written.replace('_', ""))
+        } else {
+            Cow::Borrowed(written)
+        }
     }
 
-    fn number(&mut self) -> Result<Tok, LexError> {
+    fn number(&mut self) -> Result<Tok<'a>, LexError> {
         let start = self.at;
         let whole = self.digits(10);
         if self.peek(0) == Some('#') {
-            let radix = match whole.as_str() {
+            let radix = match &*whole {
                 "2" => 2,
                 "8" => 8,
                 "16" => 16,
@@ -230,27 +237,29 @@ impl Lexer<'_> {
                 .map(|v| Tok::Int(bit_pattern(v)))
                 .map_err(|_| self.bad(start, format!("'{whole}#{digits}' is too large")));
         }
-        let mut text = whole;
         let mut real = false;
         if self.peek(0) == Some('.') && self.peek(1).is_some_and(|c| c.is_ascii_digit()) {
             self.at += 1;
-            text.push('.');
-            text.push_str(&self.digits(10));
+            self.digits(10);
             real = true;
         }
         if matches!(self.peek(0), Some('e' | 'E')) {
             let signed = matches!(self.peek(1), Some('+' | '-'));
             let digit_at = if signed { 2 } else { 1 };
             if self.peek(digit_at).is_some_and(|c| c.is_ascii_digit()) {
-                text.push('e');
-                if signed {
-                    text.push(self.peek(1).unwrap_or('+'));
-                }
                 self.at += digit_at;
-                text.push_str(&self.digits(10));
+                self.digits(10);
                 real = true;
             }
         }
+        // The literal as read: its digits without `_`, the exponent's `e`
+        // lower-case.
+        let written = &self.text[start..self.at];
+        let text: Cow<'_, str> = if written.contains(['_', 'E']) {
+            Cow::Owned(written.replace('_', "").replace('E', "e"))
+        } else {
+            Cow::Borrowed(written)
+        };
         if self.peek(0).is_some_and(|c| c.is_ascii_alphabetic() || c == '_') {
             return Err(self.bad(start, format!("'{text}' is followed by a letter: expected a number")));
         }
@@ -326,7 +335,7 @@ fn module_tag_tail(rest: &str) -> Option<usize> {
 mod tests {
     use super::*;
 
-    fn toks(text: &str) -> Vec<Tok> {
+    fn toks(text: &str) -> Vec<Tok<'_>> {
         lex(text).unwrap().into_iter().map(|t| t.tok).collect()
     }
 

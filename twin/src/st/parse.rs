@@ -80,6 +80,9 @@ const CLOSERS: [&str; 8] = [
     "END_REPEAT",
 ];
 
+/// The keywords a statement starts with.
+const STATEMENT_WORDS: [&str; 6] = ["IF", "CASE", "FOR", "WHILE", "REPEAT", "EXIT"];
+
 fn is_keyword(word: &str) -> bool {
     KEYWORDS.iter().any(|k| k.eq_ignore_ascii_case(word))
 }
@@ -119,7 +122,7 @@ pub fn parse_call(source: &Source<'_>) -> R<Call> {
     let call = match (p.tok(0).clone(), p.tok(1)) {
         (Tok::Ident(name), Tok::Sym("(")) if !is_keyword(&name) => {
             p.bump();
-            p.call(name, span)?
+            p.call(name.into_owned(), span)?
         }
         _ => return Err(p.unexpected("an instruction call such as MCLM(…) or an instance's Move(Input := …)")),
     };
@@ -148,7 +151,7 @@ pub fn parse_expression(source: &Source<'_>) -> R<Expr> {
 
 struct Parser<'s> {
     source: &'s Source<'s>,
-    tokens: Vec<Token>,
+    tokens: Vec<Token<'s>>,
     at: usize,
     /// Tokens from here on read as the end (a call argument being parsed).
     end: usize,
@@ -158,7 +161,7 @@ struct Parser<'s> {
     open: Vec<(&'static str, Span)>,
 }
 
-const EOF: Tok = Tok::Eof;
+const EOF: Tok<'static> = Tok::Eof;
 
 impl<'s> Parser<'s> {
     fn new(source: &'s Source<'s>) -> R<Parser<'s>> {
@@ -196,7 +199,7 @@ impl<'s> Parser<'s> {
         Ok(())
     }
 
-    fn tok(&self, ahead: usize) -> &Tok {
+    fn tok(&self, ahead: usize) -> &Tok<'s> {
         let i = self.at + ahead;
         if i >= self.end { &EOF } else { &self.tokens[i].tok }
     }
@@ -320,12 +323,12 @@ impl<'s> Parser<'s> {
     fn statements(&mut self, until: &[&str]) -> R<Vec<Stmt>> {
         let mut out = Vec::new();
         loop {
-            if self.at_end() || until.iter().any(|w| self.is_word(w)) || self.is_closer() {
-                return Ok(out);
-            }
-            // A CASE label ends the statements of the arm before it, also
-            // those of an IF inside the arm.
-            if self.at_case_label() && self.open.iter().any(|(k, _)| *k == "CASE") {
+            let done = self.at_end() || until.iter().any(|w| self.is_word(w)) || self.is_closer()
+                // A CASE label ends the statements of the arm before it, also
+                // those of an IF inside the arm.
+                || (self.at_case_label() && self.open.iter().any(|(k, _)| *k == "CASE"));
+            if done {
+                out.shrink_to_fit();
                 return Ok(out);
             }
             out.push(self.statement()?);
@@ -341,7 +344,7 @@ impl<'s> Parser<'s> {
 
     fn statement_inner(&mut self) -> R<Stmt> {
         let span = self.span(0);
-        let kind = match self.tok(0).clone() {
+        let word = match self.tok(0) {
             Tok::Sym(";") => {
                 self.bump();
                 return Ok(Stmt {
@@ -349,7 +352,11 @@ impl<'s> Parser<'s> {
                     span,
                 });
             }
-            Tok::Ident(w) => match w.to_ascii_uppercase().as_str() {
+            Tok::Ident(w) => STATEMENT_WORDS.iter().find(|k| k.eq_ignore_ascii_case(w)).copied(),
+            _ => return Err(self.unexpected("a statement")),
+        };
+        let kind = match word {
+            Some(word) => match word {
                 "IF" => self.if_statement()?,
                 "CASE" => self.case_statement()?,
                 "FOR" => self.for_statement()?,
@@ -376,14 +383,17 @@ impl<'s> Parser<'s> {
                     self.bump();
                     StmtKind::Exit
                 }
-                _ if is_keyword(&w) => return Err(self.unexpected("a statement")),
-                _ if matches!(self.tok(1), Tok::Sym("(")) => {
+                _ => return Err(self.unexpected("a statement")),
+            },
+            None => match self.tok(0) {
+                Tok::Ident(w) if is_keyword(w) => return Err(self.unexpected("a statement")),
+                Tok::Ident(w) if matches!(self.tok(1), Tok::Sym("(")) => {
+                    let name = w.to_string();
                     self.bump();
-                    StmtKind::Call(self.call(w, span)?)
+                    StmtKind::Call(self.call(name, span)?)
                 }
                 _ => self.assignment()?,
             },
-            _ => return Err(self.unexpected("a statement")),
         };
         self.sym(";")?;
         Ok(Stmt { kind, span })
@@ -541,7 +551,7 @@ impl<'s> Parser<'s> {
         while !self.is_sym(")") || !args.is_empty() {
             let arg_name = match (self.tok(0), self.tok(1)) {
                 (Tok::Ident(n), Tok::Sym(":=")) => {
-                    let n = n.clone();
+                    let n = n.to_string();
                     let span = self.span(0);
                     self.at += 2;
                     Some((n, span))
@@ -737,7 +747,7 @@ impl<'s> Parser<'s> {
     fn reference(&mut self) -> R<Ref> {
         let start = self.at;
         let name = match self.tok(0) {
-            Tok::Ident(w) if !is_keyword(w) => w.clone(),
+            Tok::Ident(w) if !is_keyword(w) => w.to_string(),
             _ => return Err(self.unexpected("a tag name")),
         };
         self.bump();
@@ -749,7 +759,7 @@ impl<'s> Parser<'s> {
                     Tok::Ident(m) => {
                         let span = self.span(0);
                         self.bump();
-                        path.push(Access::Member(m, span));
+                        path.push(Access::Member(m.into_owned(), span));
                     }
                     Tok::Int(b) => {
                         let bit = u32::try_from(b).map_err(|_| self.unexpected("a bit number"))?;
@@ -874,6 +884,11 @@ impl<'s> Parser<'s> {
             };
             chain = Some(level);
         }
+        // A routine holds hundreds of thousands of chains: none keeps room
+        // it will not use.
+        if let ExprKind::Binary(_, rest) = &mut left.kind {
+            rest.shrink_to_fit();
+        }
         Ok(left)
     }
 
@@ -927,12 +942,14 @@ impl<'s> Parser<'s> {
 
     fn primary(&mut self) -> R<Expr> {
         let start = self.at;
-        let kind = match self.tok(0).clone() {
+        let kind = match self.tok(0) {
             Tok::Int(i) => {
+                let i = *i;
                 self.bump();
                 ExprKind::Int(i)
             }
             Tok::Real(x) => {
+                let x = *x;
                 self.bump();
                 ExprKind::Real(x)
             }
@@ -946,10 +963,12 @@ impl<'s> Parser<'s> {
                 });
             }
             Tok::Ident(w) if w.eq_ignore_ascii_case("TRUE") || w.eq_ignore_ascii_case("FALSE") => {
+                let value = w.eq_ignore_ascii_case("TRUE");
                 self.bump();
-                ExprKind::Bool(w.eq_ignore_ascii_case("TRUE"))
+                ExprKind::Bool(value)
             }
-            Tok::Ident(w) if !is_keyword(&w) && matches!(self.tok(1), Tok::Sym("(")) => {
+            Tok::Ident(w) if !is_keyword(w) && matches!(self.tok(1), Tok::Sym("(")) => {
+                let w = w.to_string();
                 let name_span = self.span(0);
                 self.at += 2;
                 let mut args = Vec::new();
@@ -963,7 +982,7 @@ impl<'s> Parser<'s> {
                 self.sym(")")?;
                 ExprKind::Function(w, name_span, args)
             }
-            Tok::Ident(w) if !is_keyword(&w) => ExprKind::Ref(self.reference()?),
+            Tok::Ident(w) if !is_keyword(w) => ExprKind::Ref(self.reference()?),
             _ => return Err(self.unexpected("an operand (number, TRUE/FALSE, tag or '(')")),
         };
         Ok(Expr {
