@@ -30,7 +30,13 @@ pub(super) struct Ctx<'a> {
     pub(super) expanded: Option<super::import::Expanded>,
     /// What the scene took from its export.
     pub(super) l5x: Option<super::model::L5xImport>,
+    /// The export's routines, parsed on every core before the tasks are
+    /// read, by their path in the expanded scene; each is taken when read.
+    pub(super) parsed: RefCell<HashMap<PathBuf, Parsed>>,
 }
+
+/// A routine parsed ahead of the tasks that name it, or its syntax error.
+pub(super) type Parsed = Result<crate::st::ast::Routine, Box<Diagnostic>>;
 
 /// A name's first declaration: (lower-case name) -> (line, what it is).
 pub(super) type Names = HashMap<String, (usize, NameKind)>;

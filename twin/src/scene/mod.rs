@@ -200,6 +200,10 @@ pub fn parse_with_l5x(path: &Path, text: &str, l5x: Option<&str>) -> Result<Scen
         },
     });
     let text = expanded_text.as_deref().unwrap_or(text);
+    let parsed = expanded
+        .as_ref()
+        .map(|e| tasks::parse_embedded(e, &files))
+        .unwrap_or_default();
     let ctx = Ctx {
         file: path.to_owned(),
         text,
@@ -208,6 +212,7 @@ pub fn parse_with_l5x(path: &Path, text: &str, l5x: Option<&str>) -> Result<Scen
         data_types: std::cell::RefCell::new(vec![model::DataTypeDef::string()]),
         expanded,
         l5x,
+        parsed: std::cell::RefCell::new(parsed),
     };
     let raw: RawScene = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
     ctx.validate(raw, path)

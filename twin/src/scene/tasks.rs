@@ -7,16 +7,67 @@ use super::model::{
     CONTINUOUS_PRIORITY, Connection, ControllerSettings, DEFAULT_WATCHDOG_MS, Dialect, EventTrigger, ProgramDef,
     RoutineDef, Tag, Task, TaskKind, Usage,
 };
-use std::path::Path;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use toml::Spanned;
 
-use super::context::{Ctx, NameKind, Names};
+use super::context::{Ctx, NameKind, Names, Parsed};
 use super::error::{Problem, SceneError};
 use super::model::{Axis, BaseType};
 use super::raw::{RawController, RawProgram, RawRoutine, RawTask};
 use crate::source::{Diagnostic, Source};
 use crate::st::parse::parse_routine;
+
+/// Parses every routine an export holds, on every core the machine
+/// lends, largest first (a large project has hundreds of routines, and
+/// parsing them is a good part of its load time). The tasks take each
+/// result when they name its routine ([`Ctx::routine`]), so the error
+/// reported is the first in the order the scene reads its routines.
+pub(super) fn parse_embedded(
+    expanded: &super::import::Expanded,
+    files: &crate::source::Files,
+) -> HashMap<PathBuf, Parsed> {
+    let mut jobs: Vec<(&PathBuf, Source<'_>)> = expanded
+        .routines
+        .iter()
+        .map(|(path, v)| {
+            let source = Source::embedded(&v.text, files, expanded.l5x_file, std::sync::Arc::clone(&v.map));
+            (path, source)
+        })
+        .collect();
+    jobs.sort_by_key(|(path, source)| (std::cmp::Reverse(source.text.len()), *path));
+    let threads = std::thread::available_parallelism()
+        .map_or(1, std::num::NonZeroUsize::get)
+        .min(jobs.len());
+    if threads <= 1 {
+        return jobs
+            .iter()
+            .map(|(path, source)| ((*path).clone(), parse_routine(source)))
+            .collect();
+    }
+    let next = AtomicUsize::new(0);
+    let work = || {
+        let mut done = Vec::new();
+        loop {
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            let Some((path, source)) = jobs.get(k) else {
+                return done;
+            };
+            done.push(((*path).clone(), parse_routine(source)));
+        }
+    };
+    std::thread::scope(|scope| {
+        let helpers: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
+        let mut all: HashMap<PathBuf, Parsed> = work().into_iter().collect();
+        for h in helpers {
+            // A parser panic is a bug: let it surface as one.
+            all.extend(h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)));
+        }
+        all
+    })
+}
 
 impl Ctx<'_> {
     /// `[controller]`.
@@ -375,9 +426,12 @@ impl Ctx<'_> {
             .and_then(|e| e.routines.get(Path::new(file)).map(|v| (e.l5x_file, v)))
         {
             let (l5x, v) = v;
-            let files = self.files.borrow();
-            let source = Source::embedded(&v.text, &files, l5x, std::sync::Arc::clone(&v.map));
-            let routine = parse_routine(&source).map_err(|d| {
+            let parsed = self.parsed.borrow_mut().remove(Path::new(file));
+            let parsed = parsed.unwrap_or_else(|| {
+                let files = self.files.borrow();
+                parse_routine(&Source::embedded(&v.text, &files, l5x, std::sync::Arc::clone(&v.map)))
+            });
+            let routine = parsed.map_err(|d| {
                 // Name the routine and its line as Studio numbers them.
                 let line = d
                     .labels
