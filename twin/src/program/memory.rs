@@ -99,9 +99,20 @@ pub struct Memory {
     /// for. They hold no memory: the compiler reads the target in their
     /// place.
     pub aliases: HashMap<String, crate::st::ast::Ref>,
-    /// Lower-case name → tag; hashed with Fx, as a compile looks names up
-    /// several times a reference.
-    by_name: rustc_hash::FxHashMap<String, usize>,
+    /// Lower-case name → tag, with foldhash's fixed-seed
+    /// hasher: a compile looks names up several times a reference.
+    by_name: HashMap<NameKey, usize, foldhash::fast::FixedState>,
+    /// Lower-case tag name without its program → the controller's tag of
+    /// that name and whether a program has one: a controller tag named in
+    /// a routine is found with one lookup ([`Memory::resolve`]).
+    by_short: HashMap<NameKey, Scoped, foldhash::fast::FixedState>,
+}
+
+/// The tags of one name: the controller's, and whether a program has one.
+#[derive(Debug, Clone, Copy, Default)]
+struct Scoped {
+    controller: Option<usize>,
+    in_programs: bool,
 }
 
 impl Memory {
@@ -231,7 +242,7 @@ impl Memory {
             _ => {}
         }
         self.tags.push(info);
-        self.by_name.insert(name.to_ascii_lowercase(), self.tags.len() - 1);
+        self.index(name);
         self.tags.len() - 1
     }
 
@@ -315,7 +326,7 @@ impl Memory {
             alias: None,
             constant: false,
         });
-        self.by_name.insert(name.to_ascii_lowercase(), self.tags.len() - 1);
+        self.index(name);
     }
 
     /// The tag called `name` (case-insensitive), as stored; an InOut
@@ -333,31 +344,13 @@ impl Memory {
     }
 
     /// The tag declared as `program.name`, or `name` without a program
-    /// (case-insensitive). The compiler asks this a few times for every
-    /// reference it compiles, so the lower-cased key is built on the stack.
+    /// (case-insensitive).
     fn declared_in(&self, program: Option<&str>, name: &str) -> Option<usize> {
-        let mut buf = [0u8; 128];
-        let mut n = 0;
-        let mut fits = true;
-        for part in [program.unwrap_or(""), if program.is_some() { "." } else { "" }, name] {
-            if n + part.len() > buf.len() {
-                fits = false;
-                break;
-            }
-            buf[n..n + part.len()].copy_from_slice(part.as_bytes());
-            n += part.len();
-        }
-        if !fits {
-            let key = match program {
-                Some(p) => format!("{p}.{name}"),
-                None => name.to_owned(),
-            };
-            return self.by_name.get(&key.to_ascii_lowercase()).copied();
-        }
-        buf[..n].make_ascii_lowercase();
-        // Lower-casing ASCII bytes keeps whole UTF-8 text whole.
-        let key = std::str::from_utf8(&buf[..n]).ok()?;
-        self.by_name.get(key).copied()
+        let key = match program {
+            Some(p) => NameKey::of(&[p, ".", name]),
+            None => NameKey::of(&[name]),
+        };
+        self.by_name.get(&key).copied()
     }
 
     /// Slots a tag takes.
@@ -390,10 +383,35 @@ impl Memory {
     /// controller's.
     #[must_use]
     pub fn resolve(&self, program: Option<&str>, name: &str) -> Option<usize> {
-        let declared = program
-            .and_then(|p| self.declared_in(Some(p), name))
-            .or_else(|| self.declared_in(None, name))?;
+        let declared = if name.contains('.') {
+            // `Program.Tag` written out.
+            program
+                .and_then(|p| self.declared_in(Some(p), name))
+                .or_else(|| self.declared_in(None, name))?
+        } else {
+            let scoped = self.scoped(name)?;
+            match program {
+                Some(p) if scoped.in_programs => self.declared_in(Some(p), name).or(scoped.controller)?,
+                _ => scoped.controller?,
+            }
+        };
         Some(self.tags[declared].alias.unwrap_or(declared))
+    }
+
+    /// The tags called `name` (no program part, case-insensitive).
+    fn scoped(&self, name: &str) -> Option<Scoped> {
+        self.by_short.get(&NameKey::of(&[name])).copied()
+    }
+
+    /// Enters the last tag added under `name` in the name tables (a name
+    /// added again finds the later tag).
+    fn index(&mut self, name: &str) {
+        let t = self.tags.len() - 1;
+        self.by_name.insert(NameKey::of(&[name]), t);
+        match name.split_once('.') {
+            Some((_, short)) => self.by_short.entry(NameKey::of(&[short])).or_default().in_programs = true,
+            None => self.by_short.entry(NameKey::of(&[name])).or_default().controller = Some(t),
+        }
     }
 
     /// A tag's current value in the scene's form (numeric arrays and cam
@@ -453,5 +471,38 @@ fn segment(code: i64) -> SegmentType {
         SegmentType::Linear
     } else {
         SegmentType::Cubic
+    }
+}
+
+/// The key a tag name is stored under: its lower-case bytes, kept in the
+/// table itself when they fit (most names), so that a lookup compares
+/// them without following a pointer. The compiler looks names up a few
+/// times for every reference it compiles.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+enum NameKey {
+    /// Up to [`INLINE_NAME`] bytes, zero-padded (a name holds no NUL).
+    Inline([u8; INLINE_NAME]),
+    /// A longer name.
+    Long(Box<[u8]>),
+}
+
+/// The longest name kept inline in a [`NameKey`].
+const INLINE_NAME: usize = 32;
+
+impl NameKey {
+    /// The key of the name `parts` joined.
+    fn of(parts: &[&str]) -> NameKey {
+        let len: usize = parts.iter().map(|p| p.len()).sum();
+        if len > INLINE_NAME {
+            return NameKey::Long(parts.concat().to_ascii_lowercase().into_bytes().into_boxed_slice());
+        }
+        let mut bytes = [0u8; INLINE_NAME];
+        let mut n = 0;
+        for p in parts {
+            bytes[n..n + p.len()].copy_from_slice(p.as_bytes());
+            n += p.len();
+        }
+        bytes.make_ascii_lowercase();
+        NameKey::Inline(bytes)
     }
 }
