@@ -99,8 +99,8 @@ pub struct Memory {
     /// for. They hold no memory: the compiler reads the target in their
     /// place.
     pub aliases: HashMap<String, crate::st::ast::Ref>,
-    /// Lower-case name → tag, with foldhash's fixed-seed
-    /// hasher: a compile looks names up several times a reference.
+    /// Lower-case name → tag, with foldhash's fixed-seed hasher: a compile
+    /// looks names up several times a reference.
     by_name: HashMap<NameKey, usize, foldhash::fast::FixedState>,
     /// Lower-case tag name without its program → the controller's tag of
     /// that name and whether a program has one: a controller tag named in

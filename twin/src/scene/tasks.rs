@@ -41,12 +41,6 @@ pub(super) fn parse_embedded(
     let threads = std::thread::available_parallelism()
         .map_or(1, std::num::NonZeroUsize::get)
         .min(jobs.len());
-    if threads <= 1 {
-        return jobs
-            .iter()
-            .map(|(path, source)| ((*path).clone(), parse_routine(source)))
-            .collect();
-    }
     let next = AtomicUsize::new(0);
     let work = || {
         let mut done = Vec::new();
@@ -58,6 +52,7 @@ pub(super) fn parse_embedded(
             done.push(((*path).clone(), parse_routine(source)));
         }
     };
+    // This thread works too: one core, or one routine, spawns no helper.
     std::thread::scope(|scope| {
         let helpers: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
         let mut all: HashMap<PathBuf, Parsed> = work().into_iter().collect();
