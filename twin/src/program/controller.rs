@@ -1046,7 +1046,7 @@ pub(super) fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
             .and_then(|k| handles.get(k))
             .and_then(|h| super::exec::members::planner_value(&Place::Motion(*h, *member), task))
             .unwrap_or(Value::Int(0)),
-        Place::FirstScan | Place::MinorInScan | Place::MathFlag => Value::Bool(false),
+        Place::FirstScan | Place::MinorInScan | Place::MathFlag(_) => Value::Bool(false),
         Place::MinorFaults => Value::Int(0),
         Place::Column { .. } => Value::Int(0),
     }
@@ -1100,7 +1100,18 @@ fn prescan_block(body: &[CStmt], mem: &mut Memory, task: &mut MotionTask) {
                     prescan_builtin(*b, base, mem);
                 }
             }
-            SKind::Motion(call) => {
+            SKind::Ladder(l) => prescan_ladder(l, mem, task),
+            SKind::Motion(call) => prescan_motion(call, task),
+            _ => {}
+        }
+    }
+}
+
+/// The prescan of a motion instruction: `.EN .DN .ER .IP` cleared.
+fn prescan_motion(call: &super::ir::MotionCall, task: &mut MotionTask) {
+    {
+        {
+            {
                 let elements = call.operands.iter().flat_map(|o| match o {
                     super::ir::Operand::ControlAt(handles, ..) => handles.iter().copied(),
                     _ => [].iter().copied(),
@@ -1119,8 +1130,90 @@ fn prescan_block(body: &[CStmt], mem: &mut Memory, task: &mut MotionTask) {
                     );
                 }
             }
-            _ => {}
         }
+    }
+}
+
+/// Writes `v` to a place the prescan can reach without evaluating
+/// anything: a slot, an element or a bit with a constant subscript.
+fn set_constant_place(place: &Place, ty: super::types::DataType, v: Value, mem: &mut Memory) {
+    let constant = |e: &super::ir::CExpr| match e.kind {
+        super::ir::CKind::Const(c) => Some(c.as_i64()),
+        _ => None,
+    };
+    match place {
+        Place::Slot(i) => mem.slots[*i] = ty.store(v).0,
+        Place::Element { index, .. } => {
+            if let Some(i) = constant(index).and_then(|k| place.element_slot(k)) {
+                mem.slots[i] = ty.store(v).0;
+            }
+        }
+        Place::Bit { inner, width, bit, .. } => {
+            if let (Place::Slot(i), Some(b)) = (&**inner, constant(bit))
+                && (0..i64::from(*width)).contains(&b)
+            {
+                let old = mem.slots[*i].as_i64();
+                let new = if v.truthy() { old | 1 << b } else { old & !(1 << b) };
+                mem.slots[*i] = mem.types[*i].store(Value::Int(new)).0;
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The prescan of a ladder instruction (1756-RM003's "Prescan" rows).
+fn prescan_ladder(l: &super::ir::Ladder, mem: &mut Memory, task: &mut MotionTask) {
+    use super::ir::{Ladder, OutputKind, StackKind, TimerKind};
+    use super::types::{CT_DN, CT_EN, CT_ER, CT_EU, DataType, LC_CD, LC_CU, LT_ACC, LT_DN, LT_EN, LT_PRE, LT_TT};
+    let bit =
+        |place: &Place, on: bool, mem: &mut Memory| set_constant_place(place, DataType::Bool, Value::Bool(on), mem);
+    let each = |inst: &super::ir::Instance, mem: &mut Memory, f: &dyn Fn(&mut [Value], usize)| {
+        if !inst.terms.is_empty() {
+            return;
+        }
+        let n = inst.index.as_ref().map_or(1, |(_, len)| *len);
+        for k in 0..n {
+            f(&mut mem.slots, inst.base + k * inst.structure.size());
+        }
+    };
+    match l {
+        Ladder::Output(OutputKind::Energize, place) => bit(place, false, mem),
+        Ladder::Ons(storage) => bit(storage, true, mem),
+        Ladder::Edge {
+            rising,
+            storage,
+            output,
+        } => {
+            bit(storage, *rising, mem);
+            bit(output, false, mem);
+        }
+        Ladder::Timer(kind, inst) => each(inst, mem, &|s, b| {
+            for k in [LT_EN, LT_TT, LT_DN] {
+                s[b + k] = Value::Bool(false);
+            }
+            match kind {
+                TimerKind::On => s[b + LT_ACC] = Value::Int(0),
+                TimerKind::Off => s[b + LT_ACC] = s[b + LT_PRE],
+                TimerKind::Retentive => {}
+            }
+        }),
+        Ladder::Counter(up, inst) => each(inst, mem, &|s, b| {
+            s[b + if *up { LC_CU } else { LC_CD }] = Value::Bool(true)
+        }),
+        Ladder::Shift { control, .. } => each(control, mem, &|s, b| {
+            for k in [CT_EN, CT_DN, CT_ER] {
+                s[b + k] = Value::Bool(false);
+            }
+        }),
+        Ladder::Stack { kind, control, .. } => {
+            let k = match kind {
+                StackKind::FifoLoad | StackKind::LifoLoad => CT_EN,
+                StackKind::FifoUnload | StackKind::LifoUnload => CT_EU,
+            };
+            each(control, mem, &|s, b| s[b + k] = Value::Bool(true));
+        }
+        Ladder::Motion(call) => prescan_motion(call, task),
+        _ => {}
     }
 }
 

@@ -175,9 +175,9 @@ pub enum Place {
     FirstScan,
     /// `S:MINOR` (a minor fault was recorded in this scan).
     MinorInScan,
-    /// `S:N`, `S:Z`, `S:V`, `S:C`: set by ladder only, FALSE in
-    /// Structured Text.
-    MathFlag,
+    /// `S:N`, `S:Z`, `S:V`, `S:C` (one of [`MATH_N`] …): set by ladder
+    /// instructions only, read anywhere in the scan.
+    MathFlag(u8),
     /// The `MinorFaults` counter.
     MinorFaults,
     /// A trace column an expectation reads (`J1.act_pos`), by its index
@@ -189,6 +189,15 @@ pub enum Place {
         ty: DataType,
     },
 }
+
+/// `S:N`: the last math result was negative.
+pub const MATH_N: u8 = 1;
+/// `S:Z`: it was zero.
+pub const MATH_Z: u8 = 2;
+/// `S:V`: it overflowed (or did not fit its destination).
+pub const MATH_V: u8 = 4;
+/// `S:C`: an integer ADD or SUB carried (borrowed).
+pub const MATH_C: u8 = 8;
 
 /// A computed subscript on a path through structures.
 #[derive(Debug, Clone)]
@@ -818,6 +827,173 @@ pub enum SKind {
     /// instance with named inputs (IEC dialect; the inputs it names are set
     /// at every execution).
     Motion(MotionCall),
+    /// A ladder instruction, on the rung condition.
+    Ladder(Box<Ladder>),
+}
+
+/// A ladder instruction compiled: what it does with the rung condition
+/// (`crate::program::exec`'s ladder module holds the rules, 1756-RM003).
+#[derive(Debug, Clone)]
+pub enum Ladder {
+    /// A rung starts (its number): the condition is TRUE, FALSE inside a
+    /// disabled MCR zone.
+    Start(u32),
+    /// A rung ends: its condition-out is traced into this slot.
+    End(Option<usize>),
+    /// `[`: the condition is kept for every leg.
+    Open,
+    /// `,`: the next leg starts from the branch's condition.
+    Leg,
+    /// `]`: the condition is the OR of the legs'.
+    Close,
+    /// An input instruction: the condition AND this BOOL (XIC, XIO, EQU …
+    /// CMP, MEQ).
+    Examine(CExpr),
+    /// `LIM(Low, Test, High)`.
+    Lim(CExpr, CExpr, CExpr),
+    /// `AFI`: the condition is FALSE.
+    Afi,
+    /// `OTE`, `OTL`, `OTU`.
+    Output(OutputKind, Place),
+    /// `ONS(Storage)`.
+    Ons(Place),
+    /// `OSR(Storage, Output)` (`rising`) or `OSF`.
+    Edge {
+        /// OSR.
+        rising: bool,
+        /// The storage bit.
+        storage: Place,
+        /// The output bit.
+        output: Place,
+    },
+    /// TON, TOF, RTO on a `TIMER`.
+    Timer(TimerKind, Instance),
+    /// CTU (`up`) or CTD on a `COUNTER`.
+    Counter(bool, Instance),
+    /// `RES` of a TIMER, COUNTER or CONTROL.
+    Res(Instance),
+    /// A math, move or logic instruction: when the rung is TRUE, `target
+    /// := value`, setting the math flags `flags` names (`carry`: the ADD or
+    /// SUB whose carry `S:C` is).
+    Compute {
+        /// The destination.
+        target: Place,
+        /// Its type.
+        ty: DataType,
+        /// The result.
+        value: CExpr,
+        /// The flags it sets ([`MATH_N`] …).
+        flags: u8,
+        /// An integer ADD (`Some(true)`) or SUB: the operands, for `S:C`.
+        carry: Option<(bool, CExpr, CExpr)>,
+    },
+    /// `SWPB(Source, Order Mode, Dest)`.
+    Swpb(CExpr, SwapOrder, Place, DataType),
+    /// `BTD(Source, Source Bit, Dest, Dest Bit, Length)`.
+    Btd {
+        /// The source.
+        source: CExpr,
+        /// Its first bit.
+        source_bit: CExpr,
+        /// The destination.
+        dest: Place,
+        /// Its type.
+        ty: DataType,
+        /// Its first bit.
+        dest_bit: CExpr,
+        /// Bits moved.
+        length: CExpr,
+    },
+    /// An instruction the Structured Text engine executes (JSR, COP, FLL,
+    /// GSV …), when the rung is TRUE.
+    OnTrue(SKind),
+    /// A motion instruction: executed on the rung's false-to-true
+    /// transition (its `.EN` clear), `.EN` cleared on a false rung once
+    /// `.DN` or `.ER` is set (MOTION-RM002).
+    Motion(MotionCall),
+    /// `JMP(Label)`: to the statement of the rung the label starts.
+    Jmp(usize),
+    /// `TND`: the routine ends here.
+    Tnd,
+    /// `MCR`: opens a zone (enabled by the condition) or closes the open one.
+    Mcr,
+    /// `BSL`/`BSR` (`left`) on a `CONTROL`.
+    Shift {
+        /// BSL.
+        left: bool,
+        /// The DINT array (its first word).
+        array: ArrayAt,
+        /// The control.
+        control: Instance,
+        /// The bit shifted in.
+        source: CExpr,
+    },
+    /// `FFL`/`LFL` (load) and `FFU`/`LFU` (unload) on a `CONTROL`.
+    Stack {
+        /// What it does.
+        kind: StackKind,
+        /// The FIFO/LIFO array (its first element).
+        array: ArrayAt,
+        /// The control.
+        control: Instance,
+        /// The value loaded (FFL, LFL), or where the unloaded one goes.
+        value: StackValue,
+    },
+}
+
+/// The output instructions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutputKind {
+    /// `OTE`: the bit is the condition.
+    Energize,
+    /// `OTL`: set on a TRUE rung.
+    Latch,
+    /// `OTU`: cleared on a TRUE rung.
+    Unlatch,
+}
+
+/// The ladder timers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimerKind {
+    /// `TON`.
+    On,
+    /// `TOF`.
+    Off,
+    /// `RTO`.
+    Retentive,
+}
+
+/// SWPB's order modes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SwapOrder {
+    /// `REVERSE`: the bytes in reverse order.
+    Reverse,
+    /// `WORD`: the two words swapped.
+    Word,
+    /// `HIGH/LOW`: the bytes of each word swapped.
+    HighLow,
+}
+
+/// FIFO and LIFO instructions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StackKind {
+    /// `FFL`.
+    FifoLoad,
+    /// `FFU`.
+    FifoUnload,
+    /// `LFL`.
+    LifoLoad,
+    /// `LFU`.
+    LifoUnload,
+}
+
+/// What a FIFO/LIFO instruction moves.
+#[derive(Debug, Clone)]
+pub enum StackValue {
+    /// The Source loaded.
+    Load(CExpr),
+    /// Where the unloaded element goes.
+    Unload(Place, DataType),
 }
 
 /// The object a system `GSV`/`SSV` names.
@@ -875,6 +1051,9 @@ pub struct CompiledProgram {
     pub routine_paths: Vec<std::path::PathBuf>,
     /// Each routine's statements.
     pub routines: Vec<Vec<CStmt>>,
+    /// Slots the ladder routines' display operands set at load (a
+    /// timer's `PRE` written in its rung).
+    pub init: Vec<(usize, Value)>,
 }
 
 /// A `[[program]]` step, compiled: when it fires and the call it executes.

@@ -262,6 +262,9 @@ pub fn structure(base: BaseType) -> Option<Structure> {
         BaseType::Cam => Structure::Cam,
         BaseType::RTrig | BaseType::FTrig => Structure::Trig,
         BaseType::Ton | BaseType::Tof => Structure::IecTimer,
+        BaseType::Timer => Structure::LadderTimer,
+        BaseType::Counter => Structure::LadderCounter,
+        BaseType::Control => Structure::Control,
         _ => return None,
     })
 }

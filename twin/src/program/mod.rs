@@ -138,6 +138,10 @@ impl Program {
         let steps = compile::scene::steps(scene, &mem, &mut env)?;
         compile::scene::aliases(scene, &mem, &mut env)?;
         let steps = steps.into_iter().map(Step::new).collect();
+        let mut mem = mem;
+        for (slot, v) in programs.iter().flatten().chain(&handler).flat_map(|p| &p.init) {
+            mem.slots[*slot] = mem.types[*slot].store(*v).0;
+        }
         let plc = Controller::new(scene, mem, programs, handler);
         let mut traced = Vec::with_capacity(scene.trace_tags.len());
         for (index, t) in scene.trace_tags.iter().enumerate() {
@@ -146,7 +150,7 @@ impl Program {
             if let Some(text) = compiler.traced_string(&compiler.dealias_expr(&t.expr)) {
                 traced.push(TracedTag {
                     name: t.text.clone(),
-                    place: Place::MathFlag,
+                    place: Place::FirstScan,
                     ty: DataType::Sint,
                     text: Some(text.map_err(in_field)?),
                 });

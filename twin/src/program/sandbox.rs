@@ -16,7 +16,7 @@ use crate::scene::{
     Axis, AxisKind, BaseType, Dialect, Location, ProgramDef, Robot, RoutineDef, Scene, Tag, TagType, Task, Units,
 };
 use crate::source::{Files, Source};
-use crate::st::parse::parse_routine;
+use crate::st::parse::{parse_ladder, parse_routine};
 use planner::axis::AxisConfig;
 use planner::task::MotionTask;
 use std::path::PathBuf;
@@ -45,6 +45,19 @@ impl Sandbox {
     /// # Errors
     /// As [`Sandbox::new`].
     pub fn with_axes(axes: &[&str], tags: &[(&str, &str)], routine: &str) -> Result<Sandbox, String> {
+        Sandbox::build(axes, tags, routine, false)
+    }
+
+    /// As [`Sandbox::with_axes`], the routine a ladder routine (`Main.rll`:
+    /// one rung a line).
+    ///
+    /// # Errors
+    /// As [`Sandbox::new`].
+    pub fn ladder(axes: &[&str], tags: &[(&str, &str)], rungs: &str) -> Result<Sandbox, String> {
+        Sandbox::build(axes, tags, rungs, true)
+    }
+
+    fn build(axes: &[&str], tags: &[(&str, &str)], routine: &str, ladder: bool) -> Result<Sandbox, String> {
         let axes: Vec<Axis> = axes
             .iter()
             .map(|name| Axis {
@@ -85,11 +98,18 @@ impl Sandbox {
             });
         }
         let mut files = Files::default();
-        let id = files.add("Main.st", routine);
-        let parsed = parse_routine(&Source::file(&files, id)).map_err(|e| e.to_string())?;
+        let file = if ladder { "Main.rll" } else { "Main.st" };
+        let id = files.add(file, routine);
+        let source = Source::file(&files, id);
+        let parsed = if ladder {
+            parse_ladder(&source)
+        } else {
+            parse_routine(&source)
+        }
+        .map_err(|e| e.to_string())?;
         let main = RoutineDef {
             name: "Main".into(),
-            path: PathBuf::from("Main.st"),
+            path: PathBuf::from(file),
             dialect: Dialect::Logix,
             routine: parsed,
         };

@@ -277,6 +277,12 @@ pub enum Structure {
     Trig,
     /// `TON` / `TOF` (IEC dialect; `PT` and `ET` in ms).
     IecTimer,
+    /// `TIMER` (ladder TON, TOF, RTO; `PRE` and `ACC` in ms).
+    LadderTimer,
+    /// `COUNTER` (ladder CTU, CTD).
+    LadderCounter,
+    /// `CONTROL` (ladder BSL, BSR, FFL, FFU, LFL, LFU).
+    Control,
 }
 
 /// The members of each structure: name, type, and whether a program may
@@ -341,15 +347,99 @@ const IEC_TIMER: [(&str, DataType, bool); 6] = [
     ("Start_us", DataType::Lint, false),
 ];
 
+/// `TIMER`: the bits, `PRE`, `ACC`, and when the timer last measured.
+/// The slot offsets are [`LT_EN`] ….
+const LADDER_TIMER: [(&str, DataType, bool); 6] = [
+    ("EN", DataType::Bool, true),
+    ("TT", DataType::Bool, true),
+    ("DN", DataType::Bool, true),
+    ("PRE", DataType::Dint, true),
+    ("ACC", DataType::Dint, true),
+    ("LastScan_us", DataType::Lint, false),
+];
+
+/// `TIMER.EN`'s slot offset.
+pub const LT_EN: usize = 0;
+/// `TIMER.TT`'s.
+pub const LT_TT: usize = 1;
+/// `TIMER.DN`'s.
+pub const LT_DN: usize = 2;
+/// `TIMER.PRE`'s.
+pub const LT_PRE: usize = 3;
+/// `TIMER.ACC`'s.
+pub const LT_ACC: usize = 4;
+/// When the timer last measured, µs (hidden).
+pub const LT_LAST: usize = 5;
+
+/// `COUNTER`; the slot offsets are [`LC_CU`] ….
+const LADDER_COUNTER: [(&str, DataType, bool); 7] = [
+    ("CU", DataType::Bool, true),
+    ("CD", DataType::Bool, true),
+    ("DN", DataType::Bool, true),
+    ("OV", DataType::Bool, true),
+    ("UN", DataType::Bool, true),
+    ("PRE", DataType::Dint, true),
+    ("ACC", DataType::Dint, true),
+];
+
+/// `COUNTER.CU`'s slot offset.
+pub const LC_CU: usize = 0;
+/// `COUNTER.CD`'s.
+pub const LC_CD: usize = 1;
+/// `COUNTER.DN`'s.
+pub const LC_DN: usize = 2;
+/// `COUNTER.OV`'s.
+pub const LC_OV: usize = 3;
+/// `COUNTER.UN`'s.
+pub const LC_UN: usize = 4;
+/// `COUNTER.PRE`'s.
+pub const LC_PRE: usize = 5;
+/// `COUNTER.ACC`'s.
+pub const LC_ACC: usize = 6;
+
+/// `CONTROL`; the slot offsets are [`CT_EN`] ….
+const CONTROL: [(&str, DataType, bool); 10] = [
+    ("EN", DataType::Bool, true),
+    ("EU", DataType::Bool, true),
+    ("DN", DataType::Bool, true),
+    ("EM", DataType::Bool, true),
+    ("ER", DataType::Bool, true),
+    ("UL", DataType::Bool, true),
+    ("IN", DataType::Bool, true),
+    ("FD", DataType::Bool, true),
+    ("LEN", DataType::Dint, true),
+    ("POS", DataType::Dint, true),
+];
+
+/// `CONTROL.EN`'s slot offset.
+pub const CT_EN: usize = 0;
+/// `CONTROL.EU`'s.
+pub const CT_EU: usize = 1;
+/// `CONTROL.DN`'s.
+pub const CT_DN: usize = 2;
+/// `CONTROL.EM`'s.
+pub const CT_EM: usize = 3;
+/// `CONTROL.ER`'s.
+pub const CT_ER: usize = 4;
+/// `CONTROL.UL`'s.
+pub const CT_UL: usize = 5;
+/// `CONTROL.LEN`'s.
+pub const CT_LEN: usize = 8;
+/// `CONTROL.POS`'s.
+pub const CT_POS: usize = 9;
+
 impl Structure {
     /// Every structure kept in slots.
-    pub const ALL: [Structure; 6] = [
+    pub const ALL: [Structure; 9] = [
         Structure::Timer,
         Structure::Counter,
         Structure::OneShot,
         Structure::Cam,
         Structure::Trig,
         Structure::IecTimer,
+        Structure::LadderTimer,
+        Structure::LadderCounter,
+        Structure::Control,
     ];
 
     /// The type name.
@@ -362,6 +452,9 @@ impl Structure {
             Structure::Cam => "CAM",
             Structure::Trig => "R_TRIG/F_TRIG",
             Structure::IecTimer => "TON/TOF",
+            Structure::LadderTimer => "TIMER",
+            Structure::LadderCounter => "COUNTER",
+            Structure::Control => "CONTROL",
         }
     }
 
@@ -375,6 +468,9 @@ impl Structure {
             Structure::Cam => &CAM,
             Structure::Trig => &TRIG,
             Structure::IecTimer => &IEC_TIMER,
+            Structure::LadderTimer => &LADDER_TIMER,
+            Structure::LadderCounter => &LADDER_COUNTER,
+            Structure::Control => &CONTROL,
         }
     }
 

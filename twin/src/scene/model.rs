@@ -608,6 +608,12 @@ pub enum BaseType {
     Ton,
     /// `TOF` (IEC dialect only; `PT`, `ET` in ms).
     Tof,
+    /// `TIMER` (ladder TON, TOF, RTO; `PRE`, `ACC` in ms).
+    Timer,
+    /// `COUNTER` (ladder CTU, CTD).
+    Counter,
+    /// `CONTROL` (ladder shift, FIFO and LIFO instructions).
+    Control,
     /// `REAL`.
     Real,
     /// `LREAL`.
@@ -713,7 +719,7 @@ pub struct MemberDef {
 }
 
 impl BaseType {
-    const NAMED: [(&'static str, BaseType); 22] = [
+    const NAMED: [(&'static str, BaseType); 25] = [
         ("BOOL", BaseType::Bool),
         ("SINT", BaseType::Sint),
         ("INT", BaseType::Int),
@@ -730,6 +736,9 @@ impl BaseType {
         ("F_TRIG", BaseType::FTrig),
         ("TON", BaseType::Ton),
         ("TOF", BaseType::Tof),
+        ("TIMER", BaseType::Timer),
+        ("COUNTER", BaseType::Counter),
+        ("CONTROL", BaseType::Control),
         ("REAL", BaseType::Real),
         ("LREAL", BaseType::Lreal),
         ("MOTION_INSTRUCTION", BaseType::MotionInstruction),
@@ -752,6 +761,9 @@ impl BaseType {
                 | BaseType::FTrig
                 | BaseType::Ton
                 | BaseType::Tof
+                | BaseType::Timer
+                | BaseType::Counter
+                | BaseType::Control
         )
     }
 

@@ -366,7 +366,10 @@ impl Ctx<'_> {
                 | BaseType::RTrig
                 | BaseType::FTrig
                 | BaseType::Ton
-                | BaseType::Tof,
+                | BaseType::Tof
+                | BaseType::Timer
+                | BaseType::Counter
+                | BaseType::Control,
                 _,
             ) => Err(self.invalid(v, field, Problem::ValueNotAllowed { ty })),
             (BaseType::CoordinateSystem, _) => {

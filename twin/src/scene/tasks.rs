@@ -18,7 +18,7 @@ use super::error::{Problem, SceneError};
 use super::model::{Axis, BaseType};
 use super::raw::{RawController, RawProgram, RawRoutine, RawTask};
 use crate::source::{Diagnostic, Source};
-use crate::st::parse::parse_routine;
+use crate::st::parse::{parse_ladder, parse_routine};
 
 /// Parses every routine an export holds, on every core the machine
 /// lends, largest first (a large project has hundreds of routines, and
@@ -49,7 +49,7 @@ pub(super) fn parse_embedded(
             let Some((path, source)) = jobs.get(k) else {
                 return done;
             };
-            done.push(((*path).clone(), parse_routine(source)));
+            done.push(((*path).clone(), parse_any(path, source)));
         }
     };
     // This thread works too: one core, or one routine, spawns no helper.
@@ -62,6 +62,21 @@ pub(super) fn parse_embedded(
         }
         all
     })
+}
+
+/// Parses a routine file: ladder when its extension is `.rll`, else
+/// Structured Text.
+pub(super) fn parse_any(path: &Path, source: &Source<'_>) -> Parsed {
+    if is_ladder(path) {
+        parse_ladder(source)
+    } else {
+        parse_routine(source)
+    }
+}
+
+/// Whether a routine file is ladder (`*.rll`).
+pub(crate) fn is_ladder(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("rll"))
 }
 
 impl Ctx<'_> {
@@ -424,7 +439,10 @@ impl Ctx<'_> {
             let parsed = self.parsed.borrow_mut().remove(Path::new(file));
             let parsed = parsed.unwrap_or_else(|| {
                 let files = self.files.borrow();
-                parse_routine(&Source::embedded(&v.text, &files, l5x, std::sync::Arc::clone(&v.map)))
+                parse_any(
+                    Path::new(file),
+                    &Source::embedded(&v.text, &files, l5x, std::sync::Arc::clone(&v.map)),
+                )
             });
             let routine = parsed.map_err(|d| {
                 // Name the routine and its line as Studio numbers them.
@@ -464,7 +482,7 @@ impl Ctx<'_> {
         })?;
         let id = self.files.borrow_mut().add(path.clone(), text);
         let files = self.files.borrow();
-        let routine = parse_routine(&Source::file(&files, id)).map_err(SceneError::Syntax)?;
+        let routine = parse_any(&path, &Source::file(&files, id)).map_err(SceneError::Syntax)?;
         Ok(RoutineDef {
             name,
             path,

@@ -5,16 +5,73 @@
 
 pub use crate::source::Span;
 
-/// A routine: its statements in order.
+/// A routine: its statements in order (Structured Text), or its rungs
+/// (ladder).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Routine {
-    /// The statements.
+    /// The statements (none in a ladder routine).
     pub body: Vec<Stmt>,
+    /// A ladder routine's rungs, in order; `None` for Structured Text.
+    pub rungs: Option<Vec<Rung>>,
+}
+
+/// A ladder rung: instructions in series, branches among them, as the
+/// neutral text of an L5X export writes it
+/// (`XIC(Start)[XIO(Fault) OTE(Run) ,TON(T1,?,?) ];`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rung {
+    /// Its number in the routine (Studio numbers rungs from 0).
+    pub number: u32,
+    /// The instructions and branches, left to right.
+    pub elements: Vec<Element>,
+    /// The whole rung, its `;` included.
+    pub span: Span,
+}
+
+/// One element of a rung or of a branch's leg.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Element {
+    /// An instruction: `XIC(Start)`, `TON(T1,?,?)`, `NOP()`.
+    Instruction(Call),
+    /// A branch `[leg ,leg …]`: each leg's elements (a leg may be empty:
+    /// a wire), top to bottom, and where the branch is.
+    Branch(Vec<Vec<Element>>, Span),
+}
+
+impl Element {
+    /// Calls `f` on every instruction of `elements`, those inside branches
+    /// included, left to right, top to bottom.
+    pub fn visit<'a>(elements: &'a [Element], f: &mut dyn FnMut(&'a Call)) {
+        for e in elements {
+            match e {
+                Element::Instruction(c) => f(c),
+                Element::Branch(legs, _) => {
+                    for leg in legs {
+                        Element::visit(leg, f);
+                    }
+                }
+            }
+        }
+    }
+
+    /// As [`Element::visit`], with each instruction mutable.
+    pub fn visit_mut(elements: &mut [Element], f: &mut dyn FnMut(&mut Call)) {
+        for e in elements {
+            match e {
+                Element::Instruction(c) => f(c),
+                Element::Branch(legs, _) => {
+                    for leg in legs {
+                        Element::visit_mut(leg, f);
+                    }
+                }
+            }
+        }
+    }
 }
 
 impl Routine {
     /// Every instruction call of the routine, those inside `IF`, `CASE`
-    /// and loops included, in text order.
+    /// and loops (or a rung's branches) included, in text order.
     #[must_use]
     pub fn calls(&self) -> Vec<&Call> {
         let mut out = Vec::new();
@@ -23,11 +80,20 @@ impl Routine {
                 out.push(c);
             }
         });
+        for rung in self.rungs.iter().flatten() {
+            Element::visit(&rung.elements, &mut |c| out.push(c));
+        }
         out
     }
 
+    /// Whether it is a ladder routine.
+    #[must_use]
+    pub fn is_ladder(&self) -> bool {
+        self.rungs.is_some()
+    }
+
     /// Every assignment's target, those inside `IF`, `CASE` and loops
-    /// included, in text order.
+    /// included, in text order (none in a ladder routine).
     #[must_use]
     pub fn assignment_targets(&self) -> Vec<&Ref> {
         let mut out = Vec::new();

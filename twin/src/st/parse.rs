@@ -107,7 +107,7 @@ pub fn parse_routine(source: &Source<'_>) -> R<Routine> {
     if !p.at_end() {
         return Err(p.stray_closer());
     }
-    Ok(Routine { body })
+    Ok(Routine { body, rungs: None })
 }
 
 /// Parses one instruction call, as a `[[program]]` step writes it:
@@ -149,6 +149,75 @@ pub fn parse_expression(source: &Source<'_>) -> R<Expr> {
     Ok(e)
 }
 
+/// The deepest branch nesting a rung may have (Studio allows far fewer on
+/// screen; the bound keeps a generated rung from exhausting the stack).
+pub const MAX_BRANCH_NESTING: usize = 16;
+
+/// Parses a ladder routine: one rung a line, blank lines and `#` lines
+/// skipped (the grammar: the `ladder` module).
+///
+/// # Errors
+/// The first syntax error, as a [`Diagnostic`] pointing into the file.
+pub fn parse_ladder(source: &Source<'_>) -> R<Routine> {
+    let text = source.text;
+    let mut tokens: Vec<Token<'_>> = Vec::with_capacity(text.len() / 4 + 1);
+    let mut lines: Vec<(usize, usize)> = Vec::new();
+    let mut at = 0;
+    for line in text.split_inclusive('\n') {
+        let start = at;
+        at += line.len();
+        let body = line.trim();
+        if body.is_empty() || body.starts_with('#') {
+            continue;
+        }
+        let lexed = lex(line).map_err(|e| {
+            let span = source.span(start + e.start, start + e.end);
+            Box::new(Diagnostic::error(e.message).with_label(source.label(span, "")))
+        })?;
+        let first = tokens.len();
+        tokens.extend(lexed.into_iter().filter(|t| t.tok != Tok::Eof).map(|mut t| {
+            t.start += start;
+            t.end += start;
+            t
+        }));
+        if tokens.len() > first {
+            lines.push((first, tokens.len()));
+            // The line's end: what an error at the end of the rung points at.
+            let eol = start + line.trim_end().len();
+            tokens.push(Token {
+                tok: Tok::Eof,
+                start: eol,
+                end: eol,
+            });
+        }
+    }
+    tokens.push(Token {
+        tok: Tok::Eof,
+        start: text.len(),
+        end: text.len(),
+    });
+    let end = tokens.len() - 1;
+    let mut p = Parser {
+        source,
+        tokens,
+        at: 0,
+        end,
+        depth: 0,
+        open: Vec::new(),
+        ladder: true,
+    };
+    let mut rungs = Vec::with_capacity(lines.len());
+    for (number, (first, last)) in lines.into_iter().enumerate() {
+        p.at = first;
+        p.end = last;
+        rungs.push(p.rung(number as u32)?);
+    }
+    Ok(Routine {
+        body: Vec::new(),
+        rungs: Some(rungs),
+    })
+}
+
 struct Parser<'s> {
     source: &'s Source<'s>,
     tokens: Vec<Token<'s>>,
@@ -159,6 +228,9 @@ struct Parser<'s> {
     depth: usize,
     /// Open constructs: the keyword and where it is.
     open: Vec<(&'static str, Span)>,
+    /// A rung's operands: an operand that is not an expression (`?`, an
+    /// enumeration written with spaces, `Units per sec`) is kept as text.
+    ladder: bool,
 }
 
 const EOF: Tok<'static> = Tok::Eof;
@@ -177,6 +249,7 @@ impl<'s> Parser<'s> {
             end,
             depth: 0,
             open: Vec::new(),
+            ladder: false,
         })
     }
 
@@ -729,13 +802,20 @@ impl<'s> Parser<'s> {
         let expr = match self.expr() {
             Ok(e) if self.at == stop => Some(e),
             // Two operands side by side: a comma is missing between them.
-            Ok(_) if matches!(self.tok(0), Tok::Ident(_) | Tok::Int(_) | Tok::Real(_)) => {
+            Ok(_) if !self.ladder && matches!(self.tok(0), Tok::Ident(_) | Tok::Int(_) | Tok::Real(_)) => {
                 return Err(self.missing_comma());
             }
             _ => None,
         };
         self.end = outer_end;
         self.at = stop;
+        // A rung writes an enumeration as Studio displays it (`Units per
+        // sec`, `% of Time`): without its spaces it is the operand's word.
+        let text = if self.ladder && expr.is_none() {
+            text.split_whitespace().collect()
+        } else {
+            text
+        };
         Ok(Arg { name, text, expr, span })
     }
 
@@ -991,6 +1071,8 @@ impl<'s> Parser<'s> {
         })
     }
 }
+
+mod ladder;
 
 #[cfg(test)]
 mod tests;

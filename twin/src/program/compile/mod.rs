@@ -20,6 +20,7 @@ pub type Error = Box<Diagnostic>;
 pub type Result<T> = std::result::Result<T, Error>;
 
 mod call;
+pub mod ladder;
 mod motion;
 mod reference;
 pub mod scene;
@@ -44,6 +45,10 @@ pub struct Compiler<'c, 'e, 's> {
     /// Trace columns the text may also name (an expectation's); empty
     /// for a program's texts.
     pub columns: &'c [super::ir::Column],
+    /// Whether the text is a ladder routine.
+    pub ladder: bool,
+    /// Slots a ladder display operand sets at load (a timer's Preset …).
+    pub init: Vec<(usize, Value)>,
     /// Loop nesting (for `EXIT`).
     loops: usize,
 }
@@ -87,6 +92,8 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
             env,
             scanned,
             columns: &[],
+            ladder: false,
+            init: Vec::new(),
             loops: 0,
         }
     }

@@ -142,7 +142,7 @@ impl Compiler<'_, '_, '_> {
             | Place::Fb(..)
             | Place::FirstScan
             | Place::MinorInScan
-            | Place::MathFlag
+            | Place::MathFlag(_)
             | Place::MinorFaults
             | Place::Column { .. } => err(
                 self,
@@ -410,14 +410,22 @@ impl Compiler<'_, '_, '_> {
             "S:FS" => Some((Place::FirstScan, DataType::Bool)),
             "S:MINOR" => Some((Place::MinorInScan, DataType::Bool)),
             "S:N" | "S:Z" | "S:V" | "S:C" => {
-                let d = crate::source::Diagnostic::warning(format!(
-                    "{} is a math status flag: on a 5580 only ladder instructions set it, Structured Text never does, so it reads FALSE here",
-                    r.name.to_ascii_uppercase()
-                ))
-                .with_label(self.env.files.label(r.span, "always FALSE in Structured Text"))
-                .with_help("test the value itself (X < 0 for S:N, X = 0 for S:Z); overflow is counted in MinorFaults and S:MINOR");
-                self.env.bindings.warnings.push(d);
-                Some((Place::MathFlag, DataType::Bool))
+                let flag = match r.name.to_ascii_uppercase().as_str() {
+                    "S:N" => crate::program::ir::MATH_N,
+                    "S:Z" => crate::program::ir::MATH_Z,
+                    "S:V" => crate::program::ir::MATH_V,
+                    _ => crate::program::ir::MATH_C,
+                };
+                if !self.ladder {
+                    let d = crate::source::Diagnostic::warning(format!(
+                        "{} is a math status flag: on a 5580 only ladder instructions set it, Structured Text never does",
+                        r.name.to_ascii_uppercase()
+                    ))
+                    .with_label(self.env.files.label(r.span, "not set by Structured Text"))
+                    .with_help("test the value itself (X < 0 for S:N, X = 0 for S:Z); overflow is counted in MinorFaults and S:MINOR");
+                    self.env.bindings.warnings.push(d);
+                }
+                Some((Place::MathFlag(flag), DataType::Bool))
             }
             n if n.starts_with("S:") => {
                 return err(

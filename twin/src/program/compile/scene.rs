@@ -20,9 +20,23 @@ pub fn program(p: &ProgramDef, mem: &Memory, env: &mut Env<'_, '_>) -> Result<Co
         compiler.bind_blocks(&def.routine.body)?;
     }
     let mut routines = Vec::with_capacity(defs.len());
+    let mut init = Vec::new();
     for def in &defs {
         let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, env, true);
-        if mem.aliases.is_empty() {
+        if let Some(rungs) = &def.routine.rungs {
+            if mem.aliases.is_empty() {
+                routines.push(compiler.rungs(rungs)?);
+            } else {
+                let mut rungs = rungs.clone();
+                for r in &mut rungs {
+                    crate::st::ast::Element::visit_mut(&mut r.elements, &mut |c| {
+                        c.refs_mut(&mut |r| compiler.dealias(r));
+                    });
+                }
+                routines.push(compiler.rungs(&rungs)?);
+            }
+            init.append(&mut compiler.init);
+        } else if mem.aliases.is_empty() {
             routines.push(compiler.block(&def.routine.body)?);
         } else {
             let mut body = def.routine.body.clone();
@@ -34,6 +48,7 @@ pub fn program(p: &ProgramDef, mem: &Memory, env: &mut Env<'_, '_>) -> Result<Co
         name: p.name.clone(),
         routine_paths: defs.iter().map(|d| d.path.clone()).collect(),
         routines,
+        init,
     })
 }
 

@@ -21,10 +21,15 @@ pub(super) enum Frame<'r> {
         caller: usize,
         line: u32,
         returns: &'r [(Place, DataType)],
+        power: super::power::Power,
     },
     /// The program's fault routine, running for the fault raised at the
-    /// caller's routine and line.
-    FaultRoutine { caller: usize, line: u32 },
+    /// caller's routine and line (and the caller's rung, when ladder).
+    FaultRoutine {
+        caller: usize,
+        line: u32,
+        power: super::power::Power,
+    },
 }
 
 /// An empty frame stack of any lifetime, in the allocation of `frames`

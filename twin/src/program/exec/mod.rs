@@ -38,8 +38,8 @@
 //!   controller's SQRT does; `TRUNC` gives a DINT.
 
 use super::ir::{
-    ArrayAt, CExpr, CStmt, DataAt, GsvAttribute, Instance, MotionCall, Object, Place, SKind, SsvAttribute, SysData,
-    Term,
+    ArrayAt, CExpr, CStmt, DataAt, GsvAttribute, Instance, Ladder, MotionCall, Object, Place, SKind, SsvAttribute,
+    SysData, Term,
 };
 use super::layout::Elem;
 use super::memory::Memory;
@@ -51,9 +51,11 @@ use planner::task::MotionTask;
 mod arith;
 mod builtins;
 mod frame;
+mod ladder;
 pub(super) mod members;
 pub(super) mod motion;
 mod places;
+mod power;
 mod scratch;
 mod strings;
 
@@ -124,10 +126,23 @@ pub struct Raised {
 /// find them again in the same compiled routines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Saved {
-    Block { pc: usize, sub: u32 },
-    Loop { started: bool },
-    Call { caller: usize, line: u32 },
-    FaultRoutine { caller: usize, line: u32 },
+    Block {
+        pc: usize,
+        sub: u32,
+    },
+    Loop {
+        started: bool,
+    },
+    Call {
+        caller: usize,
+        line: u32,
+        power: power::Power,
+    },
+    FaultRoutine {
+        caller: usize,
+        line: u32,
+        power: power::Power,
+    },
 }
 
 /// A program's scan stopped between two statements, to resume where it
@@ -141,6 +156,8 @@ pub struct Paused {
     params: Vec<Value>,
     returns: Vec<Value>,
     fault: Option<Box<Raised>>,
+    power: power::Power,
+    math_flags: u8,
 }
 
 /// How far a scan got.
@@ -229,6 +246,16 @@ pub struct Exec<'e> {
     /// The trace columns an expectation reads ([`Place::Column`]); empty
     /// in a scan.
     pub columns: &'e [f64],
+    /// The math status flags ([`crate::program::ir::MATH_N`] …) the last
+    /// ladder instruction that sets them left.
+    pub math_flags: u8,
+    /// The rung condition and branches of the ladder rung executing.
+    power: power::Power,
+    /// Whether an arithmetic overflow happened since it was last cleared
+    /// (a ladder instruction's `S:V`).
+    overflowed: bool,
+    /// A ladder `JMP` taken: the statement the routine goes on at.
+    jump: Option<usize>,
 }
 
 impl Drop for Exec<'_> {
@@ -299,6 +326,10 @@ impl<'e> Exec<'e> {
             uncleared: false,
             fault: None,
             columns: &[],
+            math_flags: 0,
+            power: power::Power::default(),
+            overflowed: false,
+            jump: None,
         }
     }
 
@@ -328,6 +359,7 @@ impl<'e> Exec<'e> {
     }
 
     fn overflow(&mut self, what: &str) {
+        self.overflowed = true;
         if !self.report_overflow {
             return;
         }
@@ -422,14 +454,23 @@ impl<'e> Exec<'e> {
                     stmt: holder.expect("a loop sits in a block"),
                     started,
                 },
-                Saved::Call { caller, line } => {
+                Saved::Call { caller, line, power } => {
                     let returns: &'e [(Place, DataType)] = match holder.map(|s| &s.kind) {
                         Some(SKind::Jsr { returns, .. }) => returns,
+                        Some(SKind::Ladder(l)) => match &**l {
+                            super::ir::Ladder::OnTrue(SKind::Jsr { returns, .. }) => returns,
+                            _ => &[],
+                        },
                         _ => &[],
                     };
-                    Frame::Call { caller, line, returns }
+                    Frame::Call {
+                        caller,
+                        line,
+                        returns,
+                        power,
+                    }
                 }
-                Saved::FaultRoutine { caller, line } => Frame::FaultRoutine { caller, line },
+                Saved::FaultRoutine { caller, line, power } => Frame::FaultRoutine { caller, line, power },
             };
             frames.push(frame);
         }
@@ -440,6 +481,8 @@ impl<'e> Exec<'e> {
         self.params = paused.params;
         self.returns = paused.returns;
         self.handling = paused.fault;
+        self.power = paused.power;
+        self.math_flags = paused.math_flags;
     }
 
     fn pause(&mut self) -> Paused {
@@ -450,8 +493,10 @@ impl<'e> Exec<'e> {
                 .map(|f| match *f {
                     Frame::Block { pc, sub, .. } => Saved::Block { pc, sub },
                     Frame::Loop { started, .. } => Saved::Loop { started },
-                    Frame::Call { caller, line, .. } => Saved::Call { caller, line },
-                    Frame::FaultRoutine { caller, line } => Saved::FaultRoutine { caller, line },
+                    Frame::Call {
+                        caller, line, power, ..
+                    } => Saved::Call { caller, line, power },
+                    Frame::FaultRoutine { caller, line, power } => Saved::FaultRoutine { caller, line, power },
                 })
                 .collect(),
             routine: self.routine,
@@ -460,6 +505,8 @@ impl<'e> Exec<'e> {
             params: std::mem::take(&mut self.params),
             returns: std::mem::take(&mut self.returns),
             fault: self.handling.take(),
+            power: self.power,
+            math_flags: self.math_flags,
         }
     }
 
@@ -519,6 +566,9 @@ impl<'e> Exec<'e> {
                 let result = self.tick().and_then(|()| self.stmt(s));
                 let now = self.frames.len();
                 if now == depth && result.is_ok() {
+                    if let Some(to) = self.jump.take() {
+                        at = to;
+                    }
                     continue;
                 }
                 // It entered a block, a loop or a routine, or left this
@@ -561,9 +611,11 @@ impl<'e> Exec<'e> {
         if let Some((sys, _, program)) = self.system.as_mut() {
             sys.programs[*program].major_record = sys.record(clock_ns, raised.fault_type, raised.code);
         }
+        let power = self.take_power();
         self.frames.push(Frame::FaultRoutine {
             caller: self.routine,
             line: self.line,
+            power,
         });
         self.frames.push(Frame::Block {
             stmts: &self.routines[fr],
@@ -587,9 +639,16 @@ impl<'e> Exec<'e> {
     /// Leaves the routine of the innermost call (`values`: what its RET
     /// handed back; `None` when it ran to its end).
     fn return_from_call(&mut self, values: Option<Vec<Value>>) -> R<()> {
-        let Some(Frame::Call { caller, line, returns }) = self.frames.pop() else {
+        let Some(Frame::Call {
+            caller,
+            line,
+            returns,
+            power,
+        }) = self.frames.pop()
+        else {
             unreachable!("returning from a call")
         };
+        self.restore_power(power);
         self.depth -= 1;
         let called = self.routine;
         self.routine = caller;
@@ -630,9 +689,10 @@ impl<'e> Exec<'e> {
     /// code; then the scan resumes after the faulted statement, else the
     /// fault stands.
     fn fault_routine_ended(&mut self) -> R<()> {
-        let Some(Frame::FaultRoutine { caller, line }) = self.frames.pop() else {
+        let Some(Frame::FaultRoutine { caller, line, power }) = self.frames.pop() else {
             unreachable!("leaving the fault routine")
         };
+        self.restore_power(power);
         self.routine = caller;
         self.line = line;
         let raised = self.handling.take().expect("a fault is being handled");
@@ -658,7 +718,13 @@ impl<'e> Exec<'e> {
     }
 
     fn stmt(&mut self, s: &'e CStmt) -> R<()> {
-        match &s.kind {
+        self.kind(&s.kind, s)
+    }
+
+    /// Executes `kind`, statement `s`'s (or the instruction a ladder
+    /// statement holds).
+    fn kind(&mut self, kind: &'e SKind, s: &'e CStmt) -> R<()> {
+        match kind {
             SKind::Assign { target, ty, value, .. } => {
                 let v = self.eval(value);
                 self.check()?;
@@ -712,22 +778,46 @@ impl<'e> Exec<'e> {
             SKind::Ret(values) => {
                 let values: Vec<Value> = values.iter().map(|v| self.eval(v)).collect();
                 self.check()?;
-                // Leave every block and loop of this routine.
-                while matches!(self.frames.last(), Some(Frame::Block { .. } | Frame::Loop { .. })) {
-                    self.frames.pop();
-                }
-                match self.frames.last() {
-                    Some(Frame::Call { .. }) => self.return_from_call(Some(values))?,
-                    Some(Frame::FaultRoutine { .. }) => self.fault_routine_ended()?,
-                    _ => {}
-                }
+                self.leave_routine(Some(values))?;
             }
             SKind::Jsr {
                 routine,
                 inputs,
                 returns,
             } => self.jsr(*routine, inputs, returns)?,
+            SKind::Ladder(op) => match &**op {
+                Ladder::OnTrue(inner) => {
+                    if self.rung_condition() {
+                        self.kind(inner, s)?;
+                    }
+                }
+                Ladder::Jmp(to) => {
+                    if self.rung_condition() {
+                        self.jump = Some(*to);
+                    }
+                }
+                Ladder::Tnd => {
+                    if self.rung_condition() {
+                        self.leave_routine(None)?;
+                    }
+                }
+                other => self.ladder(other)?,
+            },
             other => self.instruction(other)?,
+        }
+        Ok(())
+    }
+
+    /// Leaves the routine executing (RET, TND): every block and loop of
+    /// it, then its call, handing back `values` (`None`: none).
+    fn leave_routine(&mut self, values: Option<Vec<Value>>) -> R<()> {
+        while matches!(self.frames.last(), Some(Frame::Block { .. } | Frame::Loop { .. })) {
+            self.frames.pop();
+        }
+        match self.frames.last() {
+            Some(Frame::Call { .. }) => self.return_from_call(values)?,
+            Some(Frame::FaultRoutine { .. }) => self.fault_routine_ended()?,
+            _ => {}
         }
         Ok(())
     }
@@ -943,10 +1033,12 @@ impl<'e> Exec<'e> {
         }
         self.params = inputs.iter().map(|e| self.eval(e)).collect();
         self.check()?;
+        let power = self.take_power();
         self.frames.push(Frame::Call {
             caller: self.routine,
             line: self.line,
             returns,
+            power,
         });
         self.depth += 1;
         self.routine = routine;

@@ -85,7 +85,7 @@ impl Exec<'_> {
             },
             Place::FirstScan => Value::Bool(self.first_scan),
             Place::MinorInScan => Value::Bool(!self.minor.is_empty()),
-            Place::MathFlag => Value::Bool(false),
+            Place::MathFlag(bit) => Value::Bool(self.math_flags & bit != 0),
             Place::MinorFaults => Value::Int(self.minor_total.min(i64::from(i32::MAX))),
             Place::Column { index, ty } => {
                 let x = self.columns.get(*index).copied().unwrap_or(0.0);

@@ -1,0 +1,480 @@
+//! Ladder routines in the engine's sandbox: each instruction's action on
+//! a TRUE rung, a FALSE rung and at prescan, and its status bits and math
+//! flags, against the Execution tables of the Logix 5000 General
+//! Instructions Reference (1756-RM003); rung grammar and its errors; a
+//! motion instruction's transition rule (MOTION-RM002). The sandbox scans
+//! one 4 ms periodic task per call.
+
+use twin::program::sandbox::Sandbox;
+use twin::program::types::Value;
+
+fn ladder(tags: &[(&str, &str)], rungs: &str) -> Sandbox {
+    Sandbox::ladder(&[], tags, rungs).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn b(s: &Sandbox, name: &str) -> bool {
+    s.value(name).unwrap_or_else(|| panic!("no {name}")).truthy()
+}
+
+fn i(s: &Sandbox, name: &str) -> i64 {
+    s.value(name).unwrap_or_else(|| panic!("no {name}")).as_i64()
+}
+
+fn f(s: &Sandbox, name: &str) -> f64 {
+    s.value(name).unwrap_or_else(|| panic!("no {name}")).as_f64()
+}
+
+fn set(s: &mut Sandbox, name: &str, on: bool) {
+    s.set(name, Value::Bool(on));
+}
+
+fn error(tags: &[(&str, &str)], rungs: &str) -> String {
+    match Sandbox::ladder(&[], tags, rungs) {
+        Ok(_) => panic!("{rungs:?} was accepted"),
+        Err(e) => e,
+    }
+}
+
+const BITS: &[(&str, &str)] = &[
+    ("A", "BOOL"),
+    ("B", "BOOL"),
+    ("C", "BOOL"),
+    ("Q", "BOOL"),
+    ("R", "BOOL"),
+    ("S", "BOOL"),
+    ("W", "DINT"),
+];
+
+#[test]
+fn series_and_branches_are_and_and_or_with_outputs_anywhere_in_a_leg() {
+    // Q = A AND (B OR C); R is written in the middle of the first leg,
+    // with the condition there (A AND B); S after the branch is Q.
+    let rungs = "XIC(A)[XIC(B) OTE(R) ,XIC(C) ]OTE(Q) OTE(S);\n";
+    let mut s = ladder(BITS, rungs);
+    for bits in 0..8u8 {
+        let (a, bb, c) = (bits & 1 == 1, bits & 2 == 2, bits & 4 == 4);
+        set(&mut s, "A", a);
+        set(&mut s, "B", bb);
+        set(&mut s, "C", c);
+        s.scan();
+        assert_eq!(b(&s, "Q"), a && (bb || c), "A {a} B {bb} C {c}");
+        assert_eq!(b(&s, "S"), a && (bb || c));
+        assert_eq!(b(&s, "R"), a && bb);
+    }
+}
+
+#[test]
+fn nested_branches_and_empty_legs() {
+    // An empty leg is a wire: [XIC(A) ,] is always TRUE.
+    let mut s = ladder(
+        BITS,
+        "[XIC(A) ,]OTE(Q);\n[[XIC(A) ,XIC(B) ]XIC(C) ,XIO(A) XIO(B) ]OTE(R);\n",
+    );
+    for bits in 0..8u8 {
+        let (a, bb, c) = (bits & 1 == 1, bits & 2 == 2, bits & 4 == 4);
+        set(&mut s, "A", a);
+        set(&mut s, "B", bb);
+        set(&mut s, "C", c);
+        s.scan();
+        assert!(b(&s, "Q"));
+        // [[A ,B ]C ,/A /B ]: (A OR B) AND C, OR neither A nor B.
+        let want = if a || bb { c } else { true };
+        assert_eq!(b(&s, "R"), want, "{a} {bb} {c}");
+    }
+}
+
+#[test]
+fn latch_unlatch_and_bits_of_integers() {
+    let mut s = ladder(
+        BITS,
+        "XIC(A) OTL(W.3);\nXIC(B) OTU(W.3);\nXIC(W.3) OTE(Q);\nXIO(W.3) OTE(W.0);\n",
+    );
+    s.scan();
+    assert_eq!(i(&s, "W"), 1);
+    set(&mut s, "A", true);
+    s.scan();
+    assert_eq!(i(&s, "W"), 8, "OTL set bit 3, OTE cleared bit 0");
+    assert!(b(&s, "Q"));
+    set(&mut s, "A", false);
+    s.scan();
+    assert_eq!(i(&s, "W"), 8, "a latch holds on a FALSE rung");
+    set(&mut s, "B", true);
+    s.scan();
+    assert_eq!(i(&s, "W"), 1);
+}
+
+#[test]
+fn one_shots_pulse_once_per_transition_and_prescan_arms_them() {
+    let rungs = "XIC(A) ONS(S) OTE(Q);\nXIC(A) OSR(B,R);\nXIC(A) OSF(C,W.0);\n";
+    let mut s = ladder(BITS, rungs);
+    // A TRUE on the first scan: the prescan set ONS's and OSR's storage
+    // bits, so neither fires.
+    set(&mut s, "A", true);
+    s.scan();
+    assert!(!b(&s, "Q") && !b(&s, "R"));
+    set(&mut s, "A", false);
+    s.scan();
+    assert!(!b(&s, "S"), "a FALSE rung clears ONS's storage bit");
+    assert_eq!(i(&s, "W"), 1, "OSF pulses when its rung goes FALSE");
+    s.scan();
+    assert_eq!(i(&s, "W"), 0, "for one scan");
+    set(&mut s, "A", true);
+    s.scan();
+    assert!(b(&s, "Q") && b(&s, "R"), "one scan on the rise");
+    s.scan();
+    assert!(!b(&s, "Q") && !b(&s, "R"), "then off while TRUE");
+}
+
+#[test]
+fn ton_tof_rto_time_in_milliseconds_and_res_clears() {
+    let tags = &[
+        ("A", "BOOL"),
+        ("Z", "BOOL"),
+        ("T1", "TIMER"),
+        ("T2", "TIMER"),
+        ("T3", "TIMER"),
+    ];
+    let rungs = "XIC(A) TON(T1,20,0);\nXIC(A) TOF(T2,20,0);\nXIC(A) RTO(T3,30,?);\nXIC(Z) RES(T3);\n";
+    let mut s = ladder(tags, rungs);
+    assert_eq!(i(&s, "T1.PRE"), 20, "the rung's Preset is PRE at load");
+    s.scan();
+    assert!(!b(&s, "T1.EN") && !b(&s, "T2.DN"));
+    set(&mut s, "A", true);
+    s.scan(); // starts timing
+    assert!(b(&s, "T1.EN") && b(&s, "T1.TT") && !b(&s, "T1.DN"));
+    assert!(b(&s, "T2.EN") && b(&s, "T2.DN") && !b(&s, "T2.TT"));
+    for _ in 0..4 {
+        s.scan();
+    }
+    assert_eq!(i(&s, "T1.ACC"), 16);
+    s.scan();
+    assert!(b(&s, "T1.DN") && !b(&s, "T1.TT"));
+    assert_eq!(i(&s, "T1.ACC"), 20, "ACC stops at PRE");
+    assert_eq!(i(&s, "T3.ACC"), 20);
+    set(&mut s, "A", false);
+    s.scan();
+    assert!(!b(&s, "T1.EN") && !b(&s, "T1.DN"));
+    assert_eq!(i(&s, "T1.ACC"), 0, "TON resets on a FALSE rung");
+    assert_eq!(i(&s, "T3.ACC"), 20, "RTO keeps ACC");
+    assert!(!b(&s, "T3.EN") && !b(&s, "T3.TT"));
+    assert!(
+        b(&s, "T2.TT") && b(&s, "T2.DN") && !b(&s, "T2.EN"),
+        "TOF times on a FALSE rung"
+    );
+    for _ in 0..5 {
+        s.scan();
+    }
+    assert!(!b(&s, "T2.DN") && !b(&s, "T2.TT"));
+    assert_eq!(i(&s, "T2.ACC"), 20);
+    set(&mut s, "A", true);
+    for _ in 0..4 {
+        s.scan();
+    }
+    assert!(b(&s, "T3.DN"), "RTO resumed from 20 and reached 30");
+    set(&mut s, "Z", true);
+    s.scan();
+    assert_eq!(i(&s, "T3.ACC"), 0);
+    assert!(!b(&s, "T3.DN"));
+}
+
+#[test]
+fn a_negative_preset_is_major_fault_4_34() {
+    let mut s = ladder(&[("A", "BOOL"), ("T1", "TIMER")], "TON(T1,-5,0);\n");
+    set(&mut s, "A", true);
+    s.scan();
+    let f = s.controller().major_fault().expect("a major fault");
+    assert_eq!((f.fault_type, f.code), (4, 34), "{f}");
+    assert!(f.routine.ends_with("Main.rll") && f.line == 1, "{f}");
+}
+
+#[test]
+fn counters_count_transitions_and_flag_overflow() {
+    let tags = &[("A", "BOOL"), ("B", "BOOL"), ("Z", "BOOL"), ("C1", "COUNTER")];
+    let mut s = ladder(tags, "XIC(A) CTU(C1,3,0);\nXIC(B) CTD(C1,?,?);\nXIC(Z) RES(C1);\n");
+    // The prescan set CU and CD: a rung TRUE at the first scan counts
+    // nothing; these start FALSE.
+    s.scan();
+    for _ in 0..3 {
+        set(&mut s, "A", true);
+        s.scan();
+        s.scan();
+        set(&mut s, "A", false);
+        s.scan();
+    }
+    assert_eq!(i(&s, "C1.ACC"), 3);
+    assert!(b(&s, "C1.DN"));
+    set(&mut s, "B", true);
+    s.scan();
+    assert_eq!(i(&s, "C1.ACC"), 2);
+    assert!(!b(&s, "C1.DN"));
+    set(&mut s, "Z", true);
+    s.scan();
+    assert_eq!(i(&s, "C1.ACC"), 0);
+    // Down past the smallest DINT: UN.
+    let mut s = ladder(tags, "XIC(B) CTD(C1,0,-2147483648);\n");
+    s.scan();
+    set(&mut s, "B", true);
+    s.scan();
+    assert!(b(&s, "C1.UN"));
+    assert_eq!(i(&s, "C1.ACC"), 2147483647);
+}
+
+#[test]
+fn comparisons_lim_both_ways_meq_and_cmp_expressions() {
+    let tags = &[("X", "DINT"), ("Y", "REAL"), ("Q", "BOOL[8]")];
+    let rungs = "EQU(X,5) OTE(Q[0]);\nGRT(Y,X) OTE(Q[1]);\nLIM(0,X,10) OTE(Q[2]);\nLIM(10,X,0) OTE(Q[3]);\nMEQ(X,16#F,16#5) OTE(Q[4]);\nCMP(X*2 + 1 >= 11 AND Y <> 0.0) OTE(Q[5]);\nNEQ(X,5)LEQ(X,7)OTE(Q[6]);\nCMP(SQR(X*X+0) = ABS(-X)) OTE(Q[7]);\n";
+    let mut s = ladder(tags, rungs);
+    let q = |s: &Sandbox| (0..8).map(|k| b(s, &format!("Q[{k}]"))).collect::<Vec<_>>();
+    s.set("X", Value::Int(5));
+    s.set("Y", Value::Real(5.5));
+    s.scan();
+    assert_eq!(q(&s), [true, true, true, false, true, true, false, true]);
+    s.set("X", Value::Int(21));
+    s.scan();
+    // LIM(10, X, 0): outside the open range 0 < X < 10.
+    assert_eq!(q(&s), [false, false, false, true, true, true, false, true]);
+}
+
+#[test]
+fn math_sets_the_status_flags_as_rm003_tabulates() {
+    let tags = &[
+        ("A", "DINT"),
+        ("D", "DINT"),
+        ("N", "BOOL"),
+        ("Z", "BOOL"),
+        ("V", "BOOL"),
+        ("C", "BOOL"),
+        ("R", "REAL"),
+        ("K", "SINT"),
+    ];
+    let flags = "XIC(S:N) OTE(N);\nXIC(S:Z) OTE(Z);\nXIC(S:V) OTE(V);\nXIC(S:C) OTE(C);\n";
+    let run = |rung: &str, a: i64| {
+        let mut s = ladder(tags, &format!("{rung}\n{flags}"));
+        s.set("A", Value::Int(a));
+        s.scan();
+        let out = [b(&s, "N"), b(&s, "Z"), b(&s, "V"), b(&s, "C")];
+        (s, out)
+    };
+    // ADD: 2147483647 + 1 overflows (V, negative) with no unsigned carry.
+    let (s, fl) = run("ADD(A,1,D);", 2_147_483_647);
+    assert_eq!(i(&s, "D"), -2_147_483_648);
+    assert_eq!(fl, [true, false, true, false]);
+    // -1 + 1 = 0 carries out of bit 31 (unsigned 0xFFFFFFFF + 1).
+    let (_, fl) = run("ADD(A,1,D);", -1);
+    assert_eq!(fl, [false, true, false, true]);
+    // SUB borrows when A < B as unsigned numbers.
+    let (s, fl) = run("SUB(A,5,D);", 3);
+    assert_eq!(i(&s, "D"), -2);
+    assert_eq!(fl, [true, false, false, true]);
+    // A result that does not fit its SINT destination: V.
+    let (s, fl) = run("MUL(A,100,K);", 3);
+    assert_eq!(i(&s, "K"), 44);
+    assert!(fl[2]);
+    // REAL math: no carry.
+    let (s, fl) = run("DIV(A,4.0,R);", -6);
+    assert_eq!(f(&s, "R"), -1.5);
+    assert_eq!(fl, [true, false, false, false]);
+    // CPT with the ladder function names.
+    let (s, _) = run("CPT(R,SQR(A) + ATN(0.0) + TRN(2.7) * 2 ** 2);", 16);
+    assert_eq!(f(&s, "R"), 12.0);
+    // A FALSE rung computes nothing and leaves the flags.
+    let (s, fl) = run("XIC(N) ADD(A,1,D);", 0);
+    assert_eq!(i(&s, "D"), 0);
+    assert_eq!(fl, [false; 4]);
+}
+
+#[test]
+fn moves_and_logic() {
+    let tags = &[("A", "DINT"), ("D", "DINT[8]"), ("I", "INT"), ("J", "INT")];
+    let rungs = "MOV(A,D[0]);\nMVM(16#0000_FFFF,16#0000_00F0,D[1]);\nCLR(D[2]);\nAND(A,16#F0,D[3]);\nOR(A,1,D[4]);\nXOR(A,A,D[5]);\nNOT(A,D[6]);\nSWPB(16#1234_5678,REVERSE,D[7]);\nSWPB(16#1234,HIGH/LOW,J);\n";
+    let mut s = ladder(tags, rungs);
+    s.set("A", Value::Int(0x1234));
+    s.scan();
+    let d = |k: usize| i(&s, &format!("D[{k}]"));
+    assert_eq!(d(0), 0x1234);
+    assert_eq!(d(1), 0xF0);
+    assert_eq!(d(2), 0);
+    assert_eq!(d(3), 0x30);
+    assert_eq!(d(4), 0x1235);
+    assert_eq!(d(5), 0);
+    assert_eq!(d(6), !0x1234);
+    assert_eq!(d(7), 0x7856_3412);
+    assert_eq!(i(&s, "J"), 0x3412);
+    let mut s = ladder(&[("A", "DINT"), ("D", "DINT")], "BTD(A,4,D,8,4);\n");
+    s.set("A", Value::Int(0xA0));
+    s.set("D", Value::Int(0xFFFF));
+    s.scan();
+    assert_eq!(i(&s, "D"), 0xFAFF);
+}
+
+#[test]
+fn bit_shifts_and_fifo_lifo_move_on_the_rung_transition() {
+    let tags = &[
+        ("A", "BOOL"),
+        ("In", "BOOL"),
+        ("Bits", "DINT[2]"),
+        ("R1", "CONTROL"),
+        ("Part", "DINT"),
+        ("Fifo", "DINT[4]"),
+        ("F1", "CONTROL"),
+        ("Out", "DINT"),
+        ("U", "BOOL"),
+    ];
+    let rungs = "XIC(A) BSL(Bits[0],R1,In,40);\nXIC(A) FFL(Part,Fifo[0],F1,3,0);\nXIC(U) FFU(Fifo[0],Out,F1,3,0);\n";
+    let mut s = ladder(tags, rungs);
+    assert_eq!(i(&s, "R1.LEN"), 40);
+    // The prescan set FFL's .EN: a rung TRUE at the first scan loads
+    // nothing; this one starts FALSE.
+    s.scan();
+    for k in 0..3 {
+        set(&mut s, "In", k != 1);
+        s.set("Part", Value::Int(10 + k));
+        set(&mut s, "A", true);
+        s.scan();
+        s.scan(); // still TRUE: no second shift or load
+        set(&mut s, "A", false);
+        s.scan();
+    }
+    assert_eq!(i(&s, "Bits[0]"), 0b101, "bit 0 is the last shifted in");
+    assert_eq!(i(&s, "F1.POS"), 3);
+    assert!(b(&s, "F1.DN"));
+    set(&mut s, "A", true);
+    s.set("Part", Value::Int(99));
+    s.scan();
+    assert_eq!(i(&s, "F1.POS"), 3, "a full FIFO loads nothing");
+    set(&mut s, "U", true);
+    s.scan();
+    assert_eq!(i(&s, "Out"), 10, "first in, first out");
+    assert_eq!(i(&s, "F1.POS"), 2);
+    assert_eq!((i(&s, "Fifo[0]"), i(&s, "Fifo[1]"), i(&s, "Fifo[2]")), (11, 12, 0));
+    // 40 bits: bit 39 (word 1 bit 7) shifts out into UL after 40 shifts.
+    let mut s = ladder(tags, "XIC(A) BSL(Bits[0],R1,In,40);\n");
+    set(&mut s, "In", true);
+    for _ in 0..40 {
+        set(&mut s, "A", true);
+        s.scan();
+        set(&mut s, "A", false);
+        s.scan();
+    }
+    assert_eq!(i(&s, "Bits[1]"), 0xFF);
+    assert!(!b(&s, "R1.UL"));
+    set(&mut s, "A", true);
+    s.scan();
+    assert!(b(&s, "R1.UL"));
+    // LIFO: last in, first out.
+    let rungs = "XIC(A) LFL(Part,Fifo[0],F1,4,0);\nXIC(U) LFU(Fifo[0],Out,F1,4,0);\n";
+    let mut s = ladder(tags, rungs);
+    for k in 0..2 {
+        s.set("Part", Value::Int(k + 1));
+        set(&mut s, "A", true);
+        s.scan();
+        set(&mut s, "A", false);
+        s.scan();
+    }
+    set(&mut s, "U", true);
+    s.scan();
+    assert_eq!(i(&s, "Out"), 2);
+}
+
+#[test]
+fn jumps_mcr_zones_afi_and_tnd() {
+    let tags = &[("A", "BOOL"), ("Q", "BOOL[6]"), ("N", "DINT")];
+    let rungs = "\
+XIC(A) JMP(Skip);
+OTE(Q[0]);
+LBL(Skip) OTE(Q[1]);
+XIC(A) MCR();
+OTE(Q[2]);
+MCR();
+AFI() OTE(Q[3]);
+XIO(A) TND();
+OTE(Q[4]);
+";
+    let mut s = ladder(tags, rungs);
+    s.scan();
+    let q = |s: &Sandbox| (0..5).map(|k| b(s, &format!("Q[{k}]"))).collect::<Vec<_>>();
+    assert_eq!(
+        q(&s),
+        [true, true, false, false, false],
+        "A FALSE: no jump, the MCR zone runs FALSE, TND ends the routine"
+    );
+    set(&mut s, "A", true);
+    s.scan();
+    assert_eq!(
+        q(&s),
+        [true, true, true, false, true],
+        "A TRUE: the jump skips rung 1 (Q[0] keeps its value); the zone runs; no TND"
+    );
+    // A backward jump loops (the watchdog bounds it).
+    let mut s = ladder(&[("N", "DINT")], "LBL(Top) ADD(N,1,N);\nLES(N,10) JMP(Top);\n");
+    s.scan();
+    assert_eq!(i(&s, "N"), 10);
+}
+
+#[test]
+fn malformed_rungs_are_one_line_errors_at_their_position() {
+    let cases: &[(&str, &str)] = &[
+        ("XIC(A) OTE(Q)\n", "Main.rll:1:13: the rung does not end with ';'"),
+        ("XIC(A) [OTE(Q) ,OTE(R);\n", "Main.rll:1:8: this branch is never closed"),
+        ("XIC(A) OTE(Q) ];\n", "Main.rll:1:15: ']' without its '['"),
+        ("XIC(A) OTE(Q); OTE(R);\n", "Main.rll:1:16: text after the rung's ';'"),
+        ("XIC(A) ,OTE(Q);\n", "',' outside a branch"),
+        (
+            "OTE(Q);\nXIC A OTE(Q);\n",
+            "Main.rll:2:1: expected '(' after the instruction XIC",
+        ),
+        ("FOO(A);\n", "unknown ladder instruction 'FOO'"),
+        (
+            "MSG(A);\n",
+            "MSG is a Logix instruction the twin does not simulate in ladder",
+        ),
+        ("XIC(A,Q);\n", "XIC takes 1 operand(s), got 2"),
+        ("TON(A,?,?);\n", "TON takes a TIMER tag, got 'A'"),
+        ("XIC(W);\n", "expected a BOOL or a bit"),
+        ("JMP(Nowhere);\n", "no LBL Nowhere in this routine"),
+        ("OTE(Q);\nXIC(A) LBL(X);\n", "LBL must be the rung's first instruction"),
+    ];
+    for (rungs, want) in cases {
+        let e = error(BITS, rungs);
+        assert!(e.contains(want), "{rungs:?}: {e}");
+    }
+}
+
+#[test]
+fn comments_and_blank_lines_are_skipped_and_rungs_number_from_zero() {
+    let mut s = ladder(
+        BITS,
+        "# a comment\n\nXIC(A) OTE(Q);\n   # indented comment\nXIO(A) OTE(R);\n",
+    );
+    s.scan();
+    assert!(!b(&s, "Q") && b(&s, "R"));
+}
+
+#[test]
+fn motion_in_ladder_executes_on_the_transition_and_st_at_every_scan() {
+    let tags = &[
+        ("Go", "BOOL"),
+        ("Mso1", "MOTION_INSTRUCTION"),
+        ("Mam1", "MOTION_INSTRUCTION"),
+        ("Ok", "BOOL"),
+        ("En", "BOOL"),
+        ("Dn", "BOOL"),
+        ("Ip", "BOOL"),
+    ];
+    let rungs = "MSO(X,Mso1);\nXIC(Go) MAM(X,Mam1,0,100,50,Units per sec,1000,Units per sec2,1000,Units per sec2,Trapezoidal,100,100,% of Time,Disabled,0,0,None,0,0);\nXIC(Mso1.DN) OTE(Ok);\nXIC(Mam1.EN) OTE(En);\nXIC(Mam1.DN) OTE(Dn);\nXIC(Mam1.IP) OTE(Ip);\n";
+    let mut s = Sandbox::ladder(&["X"], tags, rungs).unwrap_or_else(|e| panic!("{e}"));
+    s.scan();
+    assert!(b(&s, "Ok"));
+    set(&mut s, "Go", true);
+    s.scan();
+    assert!(b(&s, "En") && b(&s, "Dn") && b(&s, "Ip"));
+    // The rung stays TRUE: .EN stays set and the move is not restarted.
+    for _ in 0..3 {
+        s.scan();
+        assert!(b(&s, "En") && b(&s, "Ip"));
+    }
+    set(&mut s, "Go", false);
+    s.scan();
+    assert!(!b(&s, "En"), "a FALSE rung clears .EN once .DN is set");
+    assert!(b(&s, "Ip"), "the move goes on");
+}
