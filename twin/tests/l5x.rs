@@ -383,20 +383,20 @@ fn scene_tasks_and_unknown_bindings_are_refused() {
 }
 
 #[test]
-fn a_non_st_main_routine_is_refused_unless_not_simulated_names_it() {
+fn a_main_routine_the_twin_does_not_run_is_refused_unless_not_simulated_names_it() {
     let l5x = (
         "<Routine Name=\"Count\" Type=\"ST\">",
-        "<Routine Name=\"Count\" Type=\"RLL\">",
+        "<Routine Name=\"Count\" Type=\"FBD\">",
     );
-    let scene = variant("rll_main", ("", ""), l5x);
+    let scene = variant("fbd_main", ("", ""), l5x);
     refused_at(
         &scene,
         "scara_pick.L5X",
-        "RLL",
+        "FBD\">",
         "name \"Stats/Count\" in [controller] not_simulated",
     );
     let scene = variant(
-        "rll_skipped",
+        "fbd_skipped",
         (
             "l5x = \"scara_pick.L5X\"",
             "l5x = \"scara_pick.L5X\"\nnot_simulated = [\"Stats/Count\"]",
@@ -556,5 +556,76 @@ fn a_coordinate_system_bound_twice_is_refused() {
             "scara_pick.toml:{line}:8: tags[1].name: coordinate system 'Cart' is bound twice"
         )),
         "{first}"
+    );
+}
+
+/// The Stats program's Count routine as ladder: `rungs` are (Type, text).
+fn ladder_count(name: &str, rungs: &[(&str, &str)]) -> PathBuf {
+    let body: String = rungs
+        .iter()
+        .enumerate()
+        .map(|(k, (ty, text))| {
+            format!("<Rung Number=\"{k}\" Type=\"{ty}\">\r\n<Text>\r\n<![CDATA[{text}]]>\r\n</Text>\r\n</Rung>\r\n")
+        })
+        .collect();
+    let st = "<Routine Name=\"Count\" Type=\"ST\">\r\n<STContent>\r\n<Line Number=\"0\">\r\n<![CDATA[// Stats: counts its own scans, in the time the motion task leaves.]]>\r\n</Line>\r\n<Line Number=\"1\">\r\n<![CDATA[Scans := Scans + 1;]]>\r\n</Line>\r\n</STContent>";
+    let rll = format!("<Routine Name=\"Count\" Type=\"RLL\">\r\n<RLLContent>\r\n{body}</RLLContent>");
+    variant(name, ("", ""), (st, &rll))
+}
+
+#[test]
+fn an_rll_routine_runs_from_the_export_and_imports_as_an_rll_file() {
+    let scene = ladder_count(
+        "rll_count",
+        &[("N", "ADD(Scans,1,Scans);"), ("N", "GRT(Scans,5)OTE(Big);")],
+    );
+    // `Big` is not a tag of the export: the error names the rung's CDATA.
+    refused_at(&scene, "scara_pick.L5X", "Big)", "'Big' is not a tag of this program");
+    let scene = ladder_count(
+        "rll_count",
+        &[("N", "ADD(Scans,1,Scans);"), ("N", "GRT(Scans,5)NOP();")],
+    );
+    let out = twin().arg("check").arg(&scene).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!stdout.contains("RLL routines are not simulated"), "{stdout}");
+    let imported = scene.with_file_name("imported/scene.toml");
+    let o = twin()
+        .arg("import")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&imported)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rll = std::fs::read_to_string(imported.with_file_name("routines/Stats/Count.rll")).expect("Count.rll");
+    assert_eq!(rll, "ADD(Scans,1,Scans);\nGRT(Scans,5)NOP();");
+    let run = twin().arg("check").arg(&imported).output().unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+}
+
+#[test]
+fn a_malformed_rung_names_its_l5x_position_and_rung_and_a_pending_edit_is_refused() {
+    let scene = ladder_count(
+        "rll_bad",
+        &[("N", "ADD(Scans,1,Scans);"), ("N", "XIC(Scans.0)[OTE(Scans.1);")],
+    );
+    let line = refused(&scene);
+    assert!(
+        line.contains("this branch is never closed") && line.contains("Stats/Count rung 1"),
+        "{line}"
+    );
+    let text = std::fs::read_to_string(scene.with_file_name("scara_pick.L5X")).unwrap();
+    let (l, c) = place(&text, "[OTE(Scans.1)");
+    assert!(line.contains(&format!("scara_pick.L5X:{l}:{c}:")), "{line}");
+    let scene = ladder_count(
+        "rll_edit",
+        &[("N", "ADD(Scans,1,Scans);"), ("rR", "NOP();"), ("I", "NOP();")],
+    );
+    refused_at(
+        &scene,
+        "scara_pick.L5X",
+        "rR\"",
+        "Stats/Count rung 1 has an online edit pending (Type=\"rR\"): accept or cancel the edits",
     );
 }

@@ -138,9 +138,10 @@ pub struct Routine {
     /// `Type` (`ST`, `RLL`, `FBD`, `SFC`).
     pub kind: At<String>,
     /// An ST routine's text: its `STContent/Line`s joined by `\n` (text
-    /// line *i* is `Line Number="i"`), and the file byte of each text byte
-    /// (one past the end too).
-    pub st: Option<(std::sync::Arc<str>, std::sync::Arc<[u32]>)>,
+    /// line *i* is `Line Number="i"`); or an RLL routine's: its
+    /// `RLLContent/Rung` texts, one a line (text line *i* is the *i*-th
+    /// rung); and the file byte of each text byte (one past the end too).
+    pub text: Option<(std::sync::Arc<str>, std::sync::Arc<[u32]>)>,
 }
 
 /// A program.
@@ -619,7 +620,7 @@ impl Reader<'_> {
         if let Some(routines) = child(node, "Routines") {
             for r in children(routines, "Routine") {
                 let routine = self.routine(r, &program.name.value)?;
-                if routine.kind.value != "ST" {
+                if !runs(&routine.kind.value) {
                     notes.push(Note {
                         span: routine.kind.span.clone(),
                         text: format!(
@@ -638,8 +639,8 @@ impl Reader<'_> {
     fn routine(&self, node: Node<'_, '_>, program: &str) -> Result<Routine, L5xError> {
         let name = self.required(node, "Name")?;
         let kind = self.required(node, "Type")?;
-        let mut routine = Routine { name, kind, st: None };
-        if routine.kind.value != "ST" {
+        let mut routine = Routine { name, kind, text: None };
+        if !runs(&routine.kind.value) {
             return Ok(routine);
         }
         if let Some(e) = node.descendants().find(|n| n.has_tag_name("EncodedData")) {
@@ -650,6 +651,10 @@ impl Reader<'_> {
                     routine.name.value
                 ),
             ));
+        }
+        if routine.kind.value == "RLL" {
+            routine.text = Some(self.rungs(node, program, &routine.name.value)?);
+            return Ok(routine);
         }
         let Some(content) = child(node, "STContent") else {
             return Err(self.err(
@@ -689,8 +694,60 @@ impl Reader<'_> {
             self.line_text(line, &mut text, &mut map);
         }
         map.push(node.range().end as u32);
-        routine.st = Some((text.into(), map.into()));
+        routine.text = Some((text.into(), map.into()));
         Ok(routine)
+    }
+
+    /// An RLL routine's rungs, one a line: each `Rung`'s `Text` (its CDATA,
+    /// line breaks inside made spaces), mapped byte for byte into the
+    /// file. A rung with an online edit pending (`Type` other than `N`) is
+    /// refused: the export holds both the old and the new rung.
+    fn rungs(
+        &self,
+        node: Node<'_, '_>,
+        program: &str,
+        routine: &str,
+    ) -> Result<(std::sync::Arc<str>, std::sync::Arc<[u32]>), L5xError> {
+        let (mut text, mut map) = (String::new(), Vec::new());
+        let Some(content) = child(node, "RLLContent") else {
+            map.push(node.range().end as u32);
+            return Ok((text.into(), map.into()));
+        };
+        for (k, rung) in children(content, "Rung").enumerate() {
+            let number = self.attr(rung, "Number").map_or_else(|| k.to_string(), |n| n.value);
+            if let Some(t) = self.attr(rung, "Type")
+                && t.value != "N"
+            {
+                return Err(self.err(
+                    t.span,
+                    format!(
+                        "{program}/{routine} rung {number} has an online edit pending (Type=\"{}\"): accept or cancel the edits in Studio 5000 (Logic > On-line Edits), then export again",
+                        t.value
+                    ),
+                ));
+            }
+            if k > 0 {
+                map.push(rung.range().start as u32);
+                text.push('\n');
+            }
+            match child(rung, "Text") {
+                Some(t) => {
+                    let start = text.len();
+                    self.line_text(t, &mut text, &mut map);
+                    // One rung a line: a line break inside the text is a space.
+                    let rest: String = text[start..].replace(['\r', '\n'], " ");
+                    text.truncate(start);
+                    text.push_str(&rest);
+                }
+                None => {
+                    // A rung without text is an empty rung.
+                    map.push(rung.range().start as u32);
+                    text.push(';');
+                }
+            }
+        }
+        map.push(node.range().end as u32);
+        Ok((text.into(), map.into()))
     }
 
     /// Appends a `Line`'s text (its CDATA sections, else its text) and the
@@ -740,6 +797,13 @@ impl Reader<'_> {
             programs,
         })
     }
+}
+
+/// Whether the twin runs a routine of this `Type`: Structured Text and
+/// ladder.
+#[must_use]
+pub fn runs(kind: &str) -> bool {
+    matches!(kind, "ST" | "RLL")
 }
 
 #[cfg(test)]

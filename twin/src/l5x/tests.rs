@@ -12,7 +12,7 @@ fn an_st_routine_keeps_the_file_byte_of_every_character() {
         "<Programs><Program Name=\"P\" MainRoutineName=\"Main\"><Routines><Routine Name=\"Main\" Type=\"ST\"><STContent>\r\n<Line Number=\"0\">\r\n<![CDATA[A := 1;]]>\r\n</Line>\r\n<Line Number=\"2\">\r\n<![CDATA[B := A;]]>\r\n</Line>\r\n</STContent></Routine></Routines></Program></Programs>",
     );
     let p = read(&text).unwrap();
-    let (st, map) = p.programs[0].routines[0].st.clone().unwrap();
+    let (st, map) = p.programs[0].routines[0].text.clone().unwrap();
     // A skipped Line Number is an empty line: text line i is Line Number i.
     assert_eq!(&*st, "A := 1;\n\nB := A;");
     assert_eq!(map.len(), st.len() + 1);

@@ -1,7 +1,7 @@
 //! A scene that names a Studio 5000 export (`[controller] l5x`): the
 //! export's motion group, axes, coordinate systems, data types, tags,
-//! tasks, programs and ST routines become the scene text they stand for,
-//! and the scene keeps the robot, the cell and the bindings.
+//! tasks, programs and ST and ladder routines become the scene text they
+//! stand for, and the scene keeps the robot, the cell and the bindings.
 //!
 //! The result is one TOML text, the *expanded scene*: generated top-level
 //! keys, then the scene file with its bindings blanked out (spaces, its
@@ -12,7 +12,8 @@
 //! generated from an L5X attribute (every position inside maps to that
 //! attribute, and an error there names it: `J1 MaximumSpeed`). The ST
 //! routines become files `routines/<Program>/<Routine>.st` of the expanded
-//! scene, each byte mapped into its CDATA.
+//! scene, the RLL routines `<Routine>.rll` (a rung a line), each byte
+//! mapped into its CDATA.
 //!
 //! What a binding may give is listed in [`AXIS_BINDING`], [`CS_BINDING`]
 //! and [`GEOMETRY_BINDING`]; a field the export already holds is refused,
@@ -2083,7 +2084,7 @@ impl<'a> Gen<'a> {
                 format!("program {name}'s main routine {} is not in the export", main.value),
             ));
         };
-        if main_routine.kind.value != "ST" {
+        if !l5x::runs(&main_routine.kind.value) {
             let what = format!("{name}/{}", main_routine.name.value);
             if self.skips(&what) || self.skips(name) {
                 self.note(
@@ -2107,19 +2108,22 @@ impl<'a> Gen<'a> {
         let _ = field;
         self.header(header, &program.name.span, item("Name"));
         self.line("name", &quote(name), &program.name.span, &item("Name"));
-        let path = |r: &str| format!("routines/{name}/{r}.st");
-        let main_path = path(&main_routine.name.value);
+        let path = |r: &l5x::Routine| {
+            let ext = if r.kind.value == "RLL" { "rll" } else { "st" };
+            format!("routines/{name}/{}.{ext}", r.name.value)
+        };
+        let main_path = path(main_routine);
         self.add_routine(program, main_routine, &main_path);
         self.line("main", &quote(&main_path), &main.span, &item("MainRoutineName"));
         let others: Vec<&l5x::Routine> = program
             .routines
             .iter()
-            .filter(|r| r.kind.value == "ST" && !r.name.value.eq_ignore_ascii_case(&main_routine.name.value))
+            .filter(|r| l5x::runs(&r.kind.value) && !r.name.value.eq_ignore_ascii_case(&main_routine.name.value))
             .collect();
         if !others.is_empty() {
             let mut list = Vec::new();
             for r in &others {
-                let p = path(&r.name.value);
+                let p = path(r);
                 self.add_routine(program, r, &p);
                 list.push(quote(&p));
             }
@@ -2132,7 +2136,7 @@ impl<'a> Gen<'a> {
         }
         if let Some(f) = &program.fault {
             match find(&f.value) {
-                Some(r) if r.kind.value == "ST" => self.line(
+                Some(r) if l5x::runs(&r.kind.value) => self.line(
                     "fault_routine",
                     &quote(&r.name.value),
                     &f.span,
@@ -2168,7 +2172,7 @@ impl<'a> Gen<'a> {
     }
 
     fn add_routine(&mut self, program: &l5x::Program, r: &l5x::Routine, path: &str) {
-        let Some((text, map)) = &r.st else { return };
+        let Some((text, map)) = &r.text else { return };
         self.routines.insert(
             PathBuf::from(path),
             VirtualRoutine {

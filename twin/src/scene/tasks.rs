@@ -451,7 +451,12 @@ impl Ctx<'_> {
                     .first()
                     .and_then(|l| v.map.iter().position(|&b| b as usize >= l.range.start))
                     .map_or(0, |i| v.text[..i.min(v.text.len())].matches('\n').count());
-                SceneError::Syntax(Box::new((*d).in_field(format!("{} Line Number=\"{line}\"", v.name))))
+                let at = if is_ladder(Path::new(file)) {
+                    format!("{} rung {line}", v.name)
+                } else {
+                    format!("{} Line Number=\"{line}\"", v.name)
+                };
+                SceneError::Syntax(Box::new((*d).in_field(at)))
             })?;
             let name = Path::new(file)
                 .file_stem()
