@@ -5,8 +5,11 @@
 //! motion instruction's transition rule (MOTION-RM002). The sandbox scans
 //! one 4 ms periodic task per call.
 
+use twin::program::Program;
 use twin::program::sandbox::Sandbox;
 use twin::program::types::Value;
+
+mod common;
 
 fn ladder(tags: &[(&str, &str)], rungs: &str) -> Sandbox {
     Sandbox::ladder(&[], tags, rungs).unwrap_or_else(|e| panic!("{e}"))
@@ -477,4 +480,126 @@ fn motion_in_ladder_executes_on_the_transition_and_st_at_every_scan() {
     s.scan();
     assert!(!b(&s, "En"), "a FALSE rung clears .EN once .DN is set");
     assert!(b(&s, "Ip"), "the move goes on");
+}
+
+/// A scene of the indexing table with one 4 ms task whose program's
+/// routines are the files `routines` (name with its extension, text).
+fn scene_program(name: &str, tags: &[(&str, &str)], routines: &[(&str, &str)], extra: &str) -> Program {
+    let dir = common::fresh_dir("ladder-tests", name);
+    for (file, text) in routines {
+        std::fs::write(dir.join(file), text).expect("routine");
+    }
+    let tags: String = tags
+        .iter()
+        .map(|(n, t)| format!("[[tags]]\nname = \"{n}\"\ntype = \"{t}\"\n"))
+        .collect();
+    let others: Vec<String> = routines[1..].iter().map(|(f, _)| format!("\"{f}\"")).collect();
+    let text = format!(
+        "{}{tags}[[tasks]]\nname = \"T\"\nperiod_ms = 4.0\npriority = 5\n[[tasks.programs]]\nname = \"P\"\nmain = \"{}\"\nroutines = [{}]\n{extra}\n",
+        common::indexing_table_head(),
+        routines[0].0,
+        others.join(", ")
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).expect("scene");
+    let scene = twin::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mut task = planner::task::MotionTask::new(scene.coarse_update_s()).unwrap();
+    for a in &scene.axes {
+        task.add_axis(a.config.clone(), 0.0).unwrap();
+    }
+    let mut program = Program::bind(&scene, &mut task).unwrap_or_else(|e| panic!("{e}"));
+    for _ in 0..2 {
+        program.scan(&mut task);
+        task.update();
+    }
+    program
+}
+
+fn tag_value(p: &Program, name: &str) -> i64 {
+    let mem = p.controller().memory();
+    let t = mem.find(name).unwrap_or_else(|| panic!("no tag {name}"));
+    mem.slots[mem.tags[t].base].as_i64()
+}
+
+#[test]
+fn jsr_between_ladder_and_st_passes_parameters_and_keeps_the_callers_rung() {
+    let main = "\
+JSR(Inc,1,In,Out);
+XIC(A)[JSR(Deep,0) ,XIC(B) ]OTE(Q);
+XIO(A) JSR(Calc,1,Out,Twice);
+";
+    let inc = "SBR(X);\nADD(X,1,Y);\nRET(Y);\n";
+    // Deep's own rungs leave their condition FALSE; the caller's rung
+    // resumes with its own.
+    let deep = "XIO(A) OTE(Seen);\nAFI() OTE(Never);\n";
+    let calc = "SBR(V);\nRET(V * 2);\n";
+    let tags = &[
+        ("In", "DINT"),
+        ("Out", "DINT"),
+        ("Twice", "DINT"),
+        ("X", "DINT"),
+        ("Y", "DINT"),
+        ("V", "DINT"),
+        ("A", "BOOL"),
+        ("B", "BOOL"),
+        ("Q", "BOOL"),
+        ("Seen", "BOOL"),
+        ("Never", "BOOL"),
+    ];
+    let routines = [
+        ("Main.rll", main),
+        ("Inc.rll", inc),
+        ("Deep.rll", deep),
+        ("Calc.st", calc),
+    ];
+    let p = scene_program("jsr", tags, &routines, "");
+    assert_eq!(tag_value(&p, "Out"), 1);
+    assert_eq!(tag_value(&p, "Twice"), 2, "ST called from ladder");
+    assert_eq!(tag_value(&p, "Q"), 0, "A FALSE: no JSR, Q FALSE");
+    // A TRUE: the rung calls Deep and goes on TRUE after it.
+    let extra = "[[tags]]\nname = \"One\"\ntype = \"BOOL\"\nvalue = true\n";
+    let main = main
+        .replace("XIC(A)[", "XIC(One)[")
+        .replace("XIO(A) JSR", "XIO(One) JSR");
+    let routines = [
+        ("Main.rll", main.as_str()),
+        ("Inc.rll", inc),
+        ("Deep.rll", deep),
+        ("Calc.st", calc),
+    ];
+    let p = scene_program("jsr_true", tags, &routines, extra);
+    assert_eq!(tag_value(&p, "Q"), 1, "the caller's rung condition survives the call");
+    assert_eq!(tag_value(&p, "Seen"), 1);
+    assert_eq!(tag_value(&p, "Never"), 0);
+}
+
+#[test]
+fn a_fault_in_a_rung_runs_the_fault_routine_and_the_rung_goes_on() {
+    let main = "XIC(Go) MOV(9,Idx) MOV(1,Arr[Idx]) OTE(After);\n";
+    // The fault routine clears the major fault record: the scan resumes
+    // after the faulted instruction, on the same rung.
+    let fault = "GSV(PROGRAM, THIS, MajorFaultRecord, Record[0]);\nRecord[2] := 0;\nSSV(PROGRAM, THIS, MajorFaultRecord, Record[0]);\nHandled := Handled + 1;\n";
+    let tags = &[
+        ("Go", "BOOL"),
+        ("Idx", "DINT"),
+        ("Arr", "DINT[4]"),
+        ("After", "BOOL"),
+        ("Record", "DINT[11]"),
+        ("Handled", "DINT"),
+    ];
+    let extra = "fault_routine = \"Fault\"\n[[tags]]\nname = \"Go2\"\ntype = \"BOOL\"\nvalue = true\n";
+    let main = main.replace("XIC(Go)", "XIC(Go2)");
+    let p = scene_program(
+        "fault",
+        tags,
+        &[("Main.rll", main.as_str()), ("Fault.st", fault)],
+        extra,
+    );
+    assert!(
+        p.controller().major_fault().is_none(),
+        "{:?}",
+        p.controller().major_fault()
+    );
+    assert_eq!(tag_value(&p, "Handled"), 2, "once a scan");
+    assert_eq!(tag_value(&p, "After"), 1, "the rung went on TRUE after the faulted MOV");
 }
