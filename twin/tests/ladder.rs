@@ -603,3 +603,53 @@ fn a_fault_in_a_rung_runs_the_fault_routine_and_the_rung_goes_on() {
     assert_eq!(tag_value(&p, "Handled"), 2, "once a scan");
     assert_eq!(tag_value(&p, "After"), 1, "the rung went on TRUE after the faulted MOV");
 }
+
+#[test]
+fn a_traced_rung_is_a_trace_column_of_its_condition_out() {
+    let dir = common::fresh_dir("ladder-tests", "trace_rungs");
+    std::fs::write(dir.join("Main.rll"), "XIC(T1.DN) OTE(Q);\nTON(T1,20,0);\n").unwrap();
+    let text = format!(
+        "{}[[tags]]\nname = \"T1\"\ntype = \"TIMER\"\n[[tags]]\nname = \"Q\"\ntype = \"BOOL\"\n\
+         [[tasks]]\nname = \"T\"\nperiod_ms = 4.0\npriority = 5\n[[tasks.programs]]\nname = \"P\"\nmain = \"Main.rll\"\n\
+         [trace]\nrungs = [\"P/Main:0\"]\n",
+        common::indexing_table_head().replace("duration_s = 2.0", "duration_s = 0.1")
+    );
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, &text).unwrap();
+    let trace = dir.join("trace.csv");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_twin"))
+        .args(["run", "--no-render", "--trace"])
+        .arg(&trace)
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = std::fs::read_to_string(&trace).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == "P/Main:0").expect("the rung's column");
+    let col_t = header.iter().position(|h| *h == "time_s").expect("time_s");
+    let rows: Vec<(f64, f64)> = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            (cells[col_t].parse().unwrap(), cells[col].parse().unwrap())
+        })
+        .collect();
+    // TRUE from the scan after T1 is done (20 ms of timing from the first scan).
+    let first_on = rows.iter().find(|(_, v)| *v == 1.0).expect("the rung turns TRUE").0;
+    assert!((0.02..=0.03).contains(&first_on), "{first_on}");
+    assert!(rows.iter().filter(|(t, _)| *t < 0.02).all(|(_, v)| *v == 0.0));
+    // A rung that is not there.
+    std::fs::write(&scene, text.replace("P/Main:0", "P/Main:7")).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_twin"))
+        .arg("check")
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("trace.rungs[0]: 'P/Main:7' names no rung: P/Main has 2 rungs (0 to 1)"),
+        "{err}"
+    );
+}

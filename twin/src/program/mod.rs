@@ -89,6 +89,9 @@ pub struct TracedTag {
     ty: DataType,
     /// A string (STRING or a user string type), traced as its text.
     text: Option<ir::StrAt>,
+    /// The recording's entity path when it is not `tags/<name>`: a traced
+    /// rung's `program/<program>/<routine>/<rung>`.
+    pub entity: Option<String>,
 }
 
 impl TracedTag {
@@ -113,7 +116,17 @@ impl Program {
     /// # Errors
     /// The first error, as a diagnostic pointing into its file.
     pub fn bind(scene: &Scene, task: &mut MotionTask) -> Result<Program, Box<Diagnostic>> {
-        let mem = Memory::of_scene(scene);
+        let mut mem = Memory::of_scene(scene);
+        // A slot for each traced rung's condition-out, after the tags'.
+        let traced_rungs: Vec<_> = scene
+            .trace_rungs
+            .iter()
+            .map(|t| {
+                mem.slots.push(Value::Bool(false));
+                mem.types.push(DataType::Bool);
+                (t, mem.slots.len() - 1)
+            })
+            .collect();
         let decls = Declarations::of(scene);
         let mut bindings = Bindings::default();
         let mut env = Env {
@@ -127,23 +140,22 @@ impl Program {
         for t in &scene.tasks {
             let mut compiled = Vec::with_capacity(t.programs.len());
             for p in &t.programs {
-                compiled.push(compile::scene::program(p, &mem, &mut env)?);
+                compiled.push(compile::scene::program(p, &mem, &mut env, &traced_rungs)?);
             }
             programs.push(compiled);
         }
         let handler = match &scene.controller.fault_handler {
-            Some(p) => Some(compile::scene::program(p, &mem, &mut env)?),
+            Some(p) => Some(compile::scene::program(p, &mem, &mut env, &traced_rungs)?),
             None => None,
         };
         let steps = compile::scene::steps(scene, &mem, &mut env)?;
         compile::scene::aliases(scene, &mem, &mut env)?;
         let steps = steps.into_iter().map(Step::new).collect();
-        let mut mem = mem;
         for (slot, v) in programs.iter().flatten().chain(&handler).flat_map(|p| &p.init) {
             mem.slots[*slot] = mem.types[*slot].store(*v).0;
         }
         let plc = Controller::new(scene, mem, programs, handler);
-        let mut traced = Vec::with_capacity(scene.trace_tags.len());
+        let mut traced = Vec::with_capacity(scene.trace_tags.len() + traced_rungs.len());
         for (index, t) in scene.trace_tags.iter().enumerate() {
             let mut compiler = Compiler::new(plc.memory(), None, &[], Dialect::Logix, &mut env, false);
             let in_field = |d: Box<Diagnostic>| Box::new((*d).in_field(format!("trace.tags[{index}]")));
@@ -153,17 +165,26 @@ impl Program {
                     place: Place::FirstScan,
                     ty: DataType::Sint,
                     text: Some(text.map_err(in_field)?),
+                    entity: None,
                 });
                 continue;
             }
-            let (place, ty) = compiler
-                .traced(&compiler.dealias_expr(&t.expr))
-                .map_err(in_field)?;
+            let (place, ty) = compiler.traced(&compiler.dealias_expr(&t.expr)).map_err(in_field)?;
             traced.push(TracedTag {
                 name: t.text.clone(),
                 place,
                 ty,
                 text: None,
+                entity: None,
+            });
+        }
+        for (t, slot) in &traced_rungs {
+            traced.push(TracedTag {
+                name: t.text.clone(),
+                place: Place::Slot(*slot),
+                ty: DataType::Bool,
+                text: None,
+                entity: Some(format!("program/{}/{}/{}", t.program, t.routine, t.rung)),
             });
         }
         Ok(Program {

@@ -153,6 +153,7 @@ impl Sandbox {
                 location: Location::default(),
             }],
             trace_tags: Vec::new(),
+            trace_rungs: Vec::new(),
             expectations: Vec::new(),
             test: Default::default(),
             variants: Vec::new(),

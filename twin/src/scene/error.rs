@@ -332,6 +332,14 @@ pub enum Problem {
         /// The program's routines.
         routines: String,
     },
+    /// A `[trace] rungs` entry that names no ladder rung.
+    #[error("'{text}' names no rung: {why}")]
+    UnknownRung {
+        /// As written.
+        text: String,
+        /// What is wrong.
+        why: String,
+    },
     /// A date and time not written as RFC 3339 UTC.
     #[error("'{text}' is not a UTC date and time such as 2026-11-27T08:00:00Z ({why})")]
     BadDateTime {

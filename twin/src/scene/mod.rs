@@ -60,7 +60,7 @@ pub use model::{
     MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MAX_STRING_LENGTH, MIN_PHYSICS_STEP_MS,
     MemberDef, MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef, RUN_EXIT_CODES, Reaction,
     Robot, RoutineDef, STRING_LENGTH, STRING_TYPE, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag,
-    TagType, TagValue, Task, TaskKind, TestSettings, Tool, TraceTag, Trigger, Units, Usage, UserType, Variant,
+    TagType, TagValue, Task, TaskKind, TestSettings, Tool, TraceRung, TraceTag, Trigger, Units, Usage, UserType, Variant,
 };
 
 use crate::source::Files;

@@ -52,6 +52,8 @@ pub struct Scene {
     pub controller: ControllerSettings,
     /// `[trace] tags`: tag references traced as extra columns.
     pub trace_tags: Vec<TraceTag>,
+    /// `[trace] rungs`: ladder rungs traced.
+    pub trace_rungs: Vec<TraceRung>,
     /// The files the scene's texts come from: the scene file, then its
     /// routines; every parsed node's span points into one of them.
     pub files: Files,
@@ -1243,6 +1245,21 @@ pub struct Step {
     pub call: Call,
     /// Where the `call` string is written.
     pub location: Location,
+}
+
+/// A `[trace] rungs` entry: a ladder rung whose condition-out is traced
+/// as an extra column.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct TraceRung {
+    /// The reference as written, `Program/Routine:N` (the column's name).
+    pub text: String,
+    /// The program.
+    pub program: String,
+    /// The routine (its name: the file stem).
+    pub routine: String,
+    /// The rung's number (from 0).
+    pub rung: u32,
 }
 
 /// A `[trace] tags` entry: a reference traced as an extra column.

@@ -60,6 +60,71 @@ impl Ctx<'_> {
         Ok(steps)
     }
 
+    /// The `[trace] rungs` entries: `Program/Routine:N`, each naming a rung
+    /// of a ladder routine of a program of `tasks`.
+    pub(super) fn trace_rungs(
+        &self,
+        raw: &[Spanned<String>],
+        tasks: &[super::model::Task],
+    ) -> Result<Vec<super::model::TraceRung>, SceneError> {
+        let mut out: Vec<super::model::TraceRung> = Vec::with_capacity(raw.len());
+        for (i, s) in raw.iter().enumerate() {
+            let text = s.get_ref().trim();
+            let bad = |why: String| {
+                let problem = super::error::Problem::UnknownRung {
+                    text: text.to_owned(),
+                    why,
+                };
+                self.invalid(s, format!("trace.rungs[{i}]"), problem)
+            };
+            let Some((path, number)) = text.rsplit_once(':') else {
+                return Err(bad("write Program/Routine:N (N the rung's number, from 0)".to_owned()));
+            };
+            let Some((program, routine)) = path.split_once('/') else {
+                return Err(bad("write Program/Routine:N (N the rung's number, from 0)".to_owned()));
+            };
+            let Ok(rung) = number.trim().parse::<u32>() else {
+                return Err(bad(format!("'{number}' is not a rung number")));
+            };
+            let Some(p) = tasks
+                .iter()
+                .flat_map(|t| &t.programs)
+                .find(|p| p.name.eq_ignore_ascii_case(program))
+            else {
+                return Err(bad(format!("no program '{program}'")));
+            };
+            let Some(r) = std::iter::once(&p.main)
+                .chain(&p.routines)
+                .find(|r| r.name.eq_ignore_ascii_case(routine))
+            else {
+                return Err(bad(format!("program {} has no routine '{routine}'", p.name)));
+            };
+            let Some(rungs) = &r.routine.rungs else {
+                return Err(bad(format!("{}/{} is Structured Text, not ladder", p.name, r.name)));
+            };
+            if rung as usize >= rungs.len() {
+                return Err(bad(format!(
+                    "{}/{} has {} rungs (0 to {})",
+                    p.name,
+                    r.name,
+                    rungs.len(),
+                    rungs.len().saturating_sub(1)
+                )));
+            }
+            let entry = super::model::TraceRung {
+                text: format!("{}/{}:{rung}", p.name, r.name),
+                program: p.name.clone(),
+                routine: r.name.clone(),
+                rung,
+            };
+            if out.iter().any(|o| o.text == entry.text) {
+                return Err(bad("traced twice".to_owned()));
+            }
+            out.push(entry);
+        }
+        Ok(out)
+    }
+
     /// The `[trace] tags` entries, parsed.
     pub(super) fn trace_tags(&self, raw: &[Spanned<String>]) -> Result<Vec<super::model::TraceTag>, SceneError> {
         raw.iter()

@@ -452,6 +452,8 @@ pub(super) enum RawRoutine {
 pub(super) struct RawTrace {
     #[serde(default)]
     pub(super) tags: Vec<Spanned<String>>,
+    #[serde(default)]
+    pub(super) rungs: Vec<Spanned<String>>,
 }
 
 #[derive(Deserialize)]

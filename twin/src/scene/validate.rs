@@ -115,6 +115,7 @@ impl Ctx<'_> {
             },
         )?;
         let trace_tags = self.trace_tags(raw.trace.as_ref().map_or(&[], |t| t.tags.as_slice()))?;
+        let trace_rungs = self.trace_rungs(raw.trace.as_ref().map_or(&[], |t| t.rungs.as_slice()), &tasks)?;
         let expectations = self.expectations(&raw.expect, "expect", duration_s, None, &[])?;
         let test = self.test_settings(raw.test.as_ref())?;
         let variants = self.variants(
@@ -149,6 +150,7 @@ impl Ctx<'_> {
             tasks,
             controller,
             trace_tags,
+            trace_rungs,
             files: self.files.borrow().clone(),
             l5x: self.l5x.clone(),
             aliases,

@@ -379,6 +379,7 @@ fn check(path: &Path) -> Result<ExitCode> {
         scene.cameras.len(),
         scene.duration_s
     );
+    print!("{}", programs(twin.scene()));
     print!("{}", resolved(&twin));
     print!("{}", io_list(&mut twin));
     print!("{}", l5x_report(twin.scene()));
@@ -386,6 +387,30 @@ fn check(path: &Path) -> Result<ExitCode> {
     // piece would take a tenth of the load's time for nothing.
     std::mem::forget(twin);
     Ok(ExitCode::SUCCESS)
+}
+
+/// Each task's programs with their routines: how many are Structured
+/// Text and how many ladder, with the ladder routines' rungs.
+fn programs(scene: &scene::Scene) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    for t in &scene.tasks {
+        for p in &t.programs {
+            let routines: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
+            let ladder: Vec<_> = routines.iter().filter_map(|r| r.routine.rungs.as_ref()).collect();
+            let rungs: usize = ladder.iter().map(|r| r.len()).sum();
+            let _ = writeln!(
+                s,
+                "program {} (task {}): {} routine(s), {} Structured Text, {} ladder ({rungs} rungs)",
+                p.name,
+                t.name,
+                routines.len(),
+                routines.len() - ladder.len(),
+                ladder.len()
+            );
+        }
+    }
+    s
 }
 
 /// What a scene's L5X export holds that the twin does not simulate, with

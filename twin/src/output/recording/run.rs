@@ -18,6 +18,7 @@
 //! | `instructions/<tag>/EN` … `DECEL`, `ERR`, `EXERR`, `SEGMENT` | control-structure bits and codes | when they change |
 //! | `instructions/log` | one line per change of an instruction's status | on change |
 //! | `tags/<reference>` | each `[trace] tags` entry, as the trace writes it (a string as a text log line) | when it changes |
+//! | `program/<program>/<routine>/<rung>` | each `[trace] rungs` entry: the rung's condition-out (power flow), 0/1 | every coarse update |
 //! | `tool_trails/<system>/<k>` | the tool-centre path, piece `k` (m, world; systems sharing a tool link share the first one's trail) | every 100 updates and at the end, the new part only |
 //! | `collisions/clearance/<body>` | clearance, m (infinite while nothing is in range) | when it changes |
 //! | `collisions/contacts` | contact normals scaled by depth | when the contacts change |

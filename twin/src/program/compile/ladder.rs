@@ -236,8 +236,13 @@ impl Compiler<'_, '_, '_> {
                 }
             }
             self.elements(&rung.elements, &mut out, &mut jumps, line)?;
+            let traced = self
+                .traced_rungs
+                .iter()
+                .find(|(n, _)| *n == rung.number)
+                .map(|(_, slot)| *slot);
             out.push(CStmt {
-                kind: SKind::Ladder(Box::new(Ladder::End(None))),
+                kind: SKind::Ladder(Box::new(Ladder::End(traced))),
                 line,
             });
         }

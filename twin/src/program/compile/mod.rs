@@ -49,6 +49,9 @@ pub struct Compiler<'c, 'e, 's> {
     pub ladder: bool,
     /// Slots a ladder display operand sets at load (a timer's Preset …).
     pub init: Vec<(usize, Value)>,
+    /// The rungs of this routine `[trace] rungs` names, with the slot
+    /// each one's condition-out is written to.
+    pub traced_rungs: Vec<(u32, usize)>,
     /// Loop nesting (for `EXIT`).
     loops: usize,
 }
@@ -94,6 +97,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
             columns: &[],
             ladder: false,
             init: Vec::new(),
+            traced_rungs: Vec::new(),
             loops: 0,
         }
     }

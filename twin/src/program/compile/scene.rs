@@ -12,7 +12,12 @@ use crate::scene::{Dialect, ProgramDef, Scene, Trigger};
 ///
 /// # Errors
 /// The first compile error, pointing into its routine.
-pub fn program(p: &ProgramDef, mem: &Memory, env: &mut Env<'_, '_>) -> Result<CompiledProgram> {
+pub fn program(
+    p: &ProgramDef,
+    mem: &Memory,
+    env: &mut Env<'_, '_>,
+    traced: &[(&crate::scene::TraceRung, usize)],
+) -> Result<CompiledProgram> {
     let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
     let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
     for def in defs.iter().filter(|d| d.dialect == Dialect::Iec) {
@@ -24,6 +29,11 @@ pub fn program(p: &ProgramDef, mem: &Memory, env: &mut Env<'_, '_>) -> Result<Co
     for def in &defs {
         let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, env, true);
         if let Some(rungs) = &def.routine.rungs {
+            compiler.traced_rungs = traced
+                .iter()
+                .filter(|(t, _)| t.program == p.name && t.routine == def.name)
+                .map(|(t, slot)| (t.rung, *slot))
+                .collect();
             if mem.aliases.is_empty() {
                 routines.push(compiler.rungs(rungs)?);
             } else {

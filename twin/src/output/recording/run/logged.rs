@@ -75,12 +75,10 @@ impl Series {
             scalars.push(Series::new(path));
         }
         let program = twin.program();
-        scalars.extend(
-            program
-                .traced_tags()
-                .iter()
-                .map(|t| Series::new(format!("tags/{}", entity_part(&t.name)))),
-        );
+        scalars.extend(program.traced_tags().iter().map(|t| match &t.entity {
+            Some(path) => Series::new(path.clone()),
+            None => Series::new(format!("tags/{}", entity_part(&t.name))),
+        }));
         if plant.collision_enabled() {
             scalars.extend(
                 plant
