@@ -4,7 +4,8 @@
 //! motion instructions: a scan that executes eight (two each of MAM, MAJ,
 //! MAS and MRP on four virtual axes) against the same scan with the
 //! instructions' IF false. The difference divided by eight is the cost of
-//! one executed motion instruction (the README's benchmark table).
+//! one executed motion instruction (the README's benchmark table). And one
+//! scan of a 1,000-rung ladder routine of five instructions a rung.
 //!
 //! Run with `CARGO_PROFILE_DEV_OPT_LEVEL=3 cargo bench -p twin --profile dev
 //! --bench tasks`: the dependencies keep the dev profile's `opt-level = 2`,
@@ -112,5 +113,44 @@ fn motion(c: &mut Criterion) {
     c.bench_function("st_scan_8_motion_instructions_not_executed", |b| b.iter(|| off.scan()));
 }
 
-criterion_group!(benches, bench, motion);
+/// 1,000 rungs of five instructions each (bit, compare, math, move,
+/// output, a branch every third rung), every instruction executed or
+/// passed over as its rung condition says.
+fn rungs() -> String {
+    let mut s = String::new();
+    for i in 0..1000 {
+        let (j, k) = (i % 16, i % 50);
+        let _ = match i % 3 {
+            0 => writeln!(s, "XIC(Run) XIO(Fault) GRT(Count,{k}) ADD(Count,1,Count) OTE(Out[{j}]);"),
+            1 => writeln!(s, "XIC(Out[{j}]) LES(X,100.0) MUL(X,1.001,X) MOV(X,Y) OTL(Flag);"),
+            _ => writeln!(s, "[XIC(Flag) ,XIC(Run) ]EQU(Count,{k}) CPT(Z,Z + 1) OTU(Flag);"),
+        };
+    }
+    let _ = writeln!(s, "GRT(Count,100000) CLR(Count);");
+    s
+}
+
+fn ladder(c: &mut Criterion) {
+    let tags = [
+        ("Run", "BOOL"),
+        ("Fault", "BOOL"),
+        ("Flag", "BOOL"),
+        ("Count", "DINT"),
+        ("Z", "DINT"),
+        ("X", "REAL"),
+        ("Y", "REAL"),
+        ("Out", "BOOL[16]"),
+    ];
+    let mut sandbox = Sandbox::ladder(&[], &tags, &rungs()).expect("rungs compile");
+    // 5,002 instructions at the nominal 1 µs outlast the 4 ms task.
+    sandbox.set_statement_us(0.5);
+    sandbox.set("Run", Value::Bool(true));
+    sandbox.set("X", Value::Real(1.0));
+    sandbox.scan();
+    let instructions = sandbox.controller().stats().statements;
+    assert!(instructions >= 5000, "{instructions} instructions a scan");
+    c.bench_function("ladder_scan_1000_rungs", |b| b.iter(|| sandbox.scan()));
+}
+
+criterion_group!(benches, bench, motion, ladder);
 criterion_main!(benches);

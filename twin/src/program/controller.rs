@@ -1002,6 +1002,12 @@ impl Controller {
         &mut self.mem
     }
 
+    /// Sets the nominal time of a statement (`[controller] statement_us`),
+    /// as a sandbox does for a routine longer than its task's period.
+    pub fn set_statement_us(&mut self, us: f64) {
+        self.statement_ns = ((us * 1000.0).round() as i64).max(1);
+    }
+
     /// Tag memory, the operand scratch and the refusals, to fire the
     /// `[[program]]` steps.
     pub(super) fn step_context(&mut self) -> (&mut Memory, &mut Scratch, &mut Vec<String>) {

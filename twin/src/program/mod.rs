@@ -268,6 +268,11 @@ impl Program {
         self.plc.memory_mut()
     }
 
+    /// The controller, to change a setting as a sandbox does.
+    pub fn controller_mut(&mut self) -> &mut Controller {
+        &mut self.plc
+    }
+
     /// The function-block instances, in the order the program first calls them.
     pub fn fbs(&self) -> &[FbBinding] {
         &self.bindings.fbs

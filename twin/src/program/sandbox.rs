@@ -217,6 +217,13 @@ impl Sandbox {
         mem.slots[slot] = mem.types[slot].store(value).0;
     }
 
+    /// Sets the nominal time of a statement or ladder instruction
+    /// (`[controller] statement_us`, 1 µs unless set): a routine whose
+    /// scan would outlast the 4 ms task needs less.
+    pub fn set_statement_us(&mut self, us: f64) {
+        self.program.controller_mut().set_statement_us(us);
+    }
+
     /// The controller (faults, statistics).
     #[must_use]
     pub fn controller(&self) -> &Controller {

@@ -38,6 +38,14 @@ impl Exec<'_> {
     /// Executes one ladder instruction.
     pub(super) fn ladder(&mut self, op: &Ladder) -> R<()> {
         let rc = self.power.rc;
+        if matches!(
+            op,
+            Ladder::Start(_) | Ladder::End(_) | Ladder::Open | Ladder::Leg | Ladder::Close
+        ) {
+            // The rung's structure is not an instruction: it takes no time.
+            self.steps -= 1;
+            self.clock_ns -= self.statement_ns;
+        }
         match op {
             Ladder::Start(_) => {
                 self.power.rc = !self.power.mcr_off;
