@@ -41,3 +41,17 @@ fn no_mutated_input_panics_hangs_or_fails_without_naming_its_file() {
         &failures[..failures.len().min(10)]
     );
 }
+
+#[test]
+fn the_ladder_sample_the_mutants_start_from_compiles_and_scans() {
+    let mut s = twin::program::sandbox::Sandbox::ladder(&["Conv"], fuzz_cases::LADDER_TAGS, fuzz_cases::LADDER_SAMPLE)
+        .unwrap_or_else(|e| panic!("{e}"));
+    for _ in 0..5 {
+        s.scan();
+    }
+    assert!(
+        s.controller().major_fault().is_none(),
+        "{:?}",
+        s.controller().major_fault()
+    );
+}

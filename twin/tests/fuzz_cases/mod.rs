@@ -4,7 +4,8 @@
 //! Case `n` draws from `ChaCha8Rng::seed_from_u64(SEED + n)`: a target
 //! (every tenth case the L5X export of `scenes/l5x/scara_pick.toml`, loaded
 //! with that scene through [`twin::scene::parse_with_l5x`]; the others by
-//! weight: scenes 40 %, routines 20 %, URDF 20 %, STL 12 %, COLLADA 8 %), a
+//! weight: scenes 40 %, ST routines 10 %, ladder routines 12 %, URDF 18 %,
+//! STL 12 %, COLLADA 8 %), a
 //! shipped file of that kind (or a generated COLLADA document), and one to
 //! three mutations — a number replaced by an extreme (NaN, ±inf, ±1e300,
 //! 2³², 1e-300, -0, …), a line deleted, duplicated or moved, a character
@@ -13,7 +14,8 @@
 //! overwritten with NaN floats in binary STL. The mutant goes through the
 //! twin's own entry point: [`twin::scene::parse`] (every 25th scene that
 //! loads is also built with `Twin::new` and run for 25 updates),
-//! [`Sandbox::new`] and 5 scans, [`RobotModel::from_urdf_str`],
+//! [`Sandbox::new`] or [`Sandbox::ladder`] and 5 scans,
+//! [`RobotModel::from_urdf_str`],
 //! [`parse_stl`], [`parse_dae`].
 //!
 //! A case fails when it panics, takes longer than [`CASE_LIMIT`], or its
@@ -67,6 +69,8 @@ const SYNTAX: &[u8] = b"<>/\"'=[]{}(),;:.#\n\\-+*& \t0123456789abcXYZ_";
 pub struct Corpus {
     scenes: Vec<(PathBuf, String)>,
     routines: Vec<String>,
+    /// Ladder routines: the shipped `.rll` files and [`LADDER_SAMPLE`].
+    ladders: Vec<String>,
     urdfs: Vec<(PathBuf, String)>,
     stls: Vec<(PathBuf, Vec<u8>)>,
     dae: String,
@@ -115,6 +119,11 @@ impl Corpus {
                 })
                 .collect(),
             routines: read("st").iter().map(text).collect(),
+            ladders: read("rll")
+                .iter()
+                .map(text)
+                .chain(std::iter::once(LADDER_SAMPLE.to_owned()))
+                .collect(),
             urdfs: read("urdf")
                 .into_iter()
                 .map(|p| {
@@ -139,6 +148,52 @@ impl Corpus {
         }
     }
 }
+
+/// The tags a ladder mutant runs with (the sample's, and the shipped
+/// routines' where they share names; others are refused at load, named).
+pub const LADDER_TAGS: &[(&str, &str)] = &[
+    ("Start", "BOOL"),
+    ("Stop", "BOOL"),
+    ("Run", "BOOL"),
+    ("Fault", "BOOL"),
+    ("Eye", "BOOL"),
+    ("T1", "TIMER"),
+    ("Tmr", "TIMER[2]"),
+    ("C1", "COUNTER"),
+    ("R1", "CONTROL"),
+    ("F1", "CONTROL"),
+    ("Count", "DINT"),
+    ("Idx", "DINT"),
+    ("X", "REAL"),
+    ("Arr", "DINT[10]"),
+    ("Bits", "DINT[4]"),
+    ("Fifo", "DINT[8]"),
+    ("Part", "DINT"),
+    ("Out", "DINT"),
+    ("Mso1", "MOTION_INSTRUCTION"),
+    ("Mam1", "MOTION_INSTRUCTION"),
+];
+
+/// A ladder routine that uses most of the instruction set, mutated with
+/// the shipped `.rll` files.
+pub const LADDER_SAMPLE: &str = "\
+# Start/stop seal-in, a fault timer, a part counter.
+XIC(Start)[XIC(Run) ,XIO(Stop) ]XIO(Fault) OTE(Run);
+XIC(Run) XIO(Eye) TON(T1,500,0);
+XIC(T1.DN) OTL(Fault);
+XIC(Stop) OTU(Fault) RES(T1);
+XIC(Eye) ONS(Bits[3].0) CTU(C1,10,0) ADD(Count,1,Count);
+[GRT(Count,5) LES(Count,100) ,LIM(10,Count,0) ]MOV(Count,Arr[Idx]) CPT(X,SQR(Count) * 2.5 + ATN(1.0));
+MEQ(Count,16#F,3) MVM(Count,16#FF00,Out) SWPB(Out,REVERSE,Out) BTD(Count,0,Out,4,8);
+XIC(Eye) BSL(Bits[0],R1,Run,64);
+XIC(Eye) FFL(Count,Fifo[0],F1,8,0);
+XIC(Stop) FFU(Fifo[0],Part,F1,8,0);
+CMP(Count MOD 7 = 0 AND X > 1.5) OSR(Bits[3].1,Bits[3].2) COP(Arr[0],Fifo[0],4);
+XIC(Run) MSO(Conv,Mso1);
+XIC(Mso1.DN) XIC(Run) MAM(Conv,Mam1,1,10,50,Units per sec,100,Units per sec2,100,Units per sec2,Trapezoidal,100,100,% of Time,Disabled,0,0,None,0,0);
+XIO(Run) TND();
+LBL(Tail) ADD(Idx,1,Idx) GEQ(Idx,10) CLR(Idx);
+";
 
 /// A small COLLADA document (mesh-loader's reader is fuzzed through it).
 fn tetrahedron_dae() -> String {
@@ -300,8 +355,9 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
     let target = match pick {
         _ if n.is_multiple_of(10) => "l5x",
         0..40 => "scene",
-        40..60 => "routine",
-        60..80 => "urdf",
+        40..50 => "routine",
+        50..62 => "ladder",
+        62..80 => "urdf",
         80..92 => "stl",
         _ => "dae",
     };
@@ -388,6 +444,32 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
                             Ok(())
                         } else {
                             Err(format!("a routine error without its line:column: {e}"))
+                        }
+                    }
+                }
+            }
+            "ladder" => {
+                let text = &corpus.ladders[rng.random_range(0..corpus.ladders.len())];
+                let mutant = mutate_text(&mut rng, text);
+                match Sandbox::ladder(&["Conv"], LADDER_TAGS, &mutant) {
+                    Ok(mut s) => {
+                        for _ in 0..5 {
+                            s.scan();
+                        }
+                        Ok(())
+                    }
+                    Err(e) => {
+                        let placed = e
+                            .strip_prefix("Main.rll:")
+                            .and_then(|rest| rest.split_once(':'))
+                            .and_then(|(l, rest)| {
+                                Some((l.parse::<usize>().ok()?, rest.split_once(':')?.0.parse::<usize>().ok()?))
+                            })
+                            .is_some();
+                        if placed || e.starts_with("unknown type") {
+                            Ok(())
+                        } else {
+                            Err(format!("a rung error without its line:column: {e}"))
                         }
                     }
                 }
@@ -504,11 +586,15 @@ pub fn mutant_of(corpus: &Corpus, n: u64) -> Option<(PathBuf, String)> {
             let (p, t) = &corpus.scenes[rng.random_range(0..corpus.scenes.len())];
             Some((p.clone(), mutate_text(&mut rng, t)))
         }
-        40..60 => {
+        40..50 => {
             let t = &corpus.routines[rng.random_range(0..corpus.routines.len())];
             Some((PathBuf::from("routine.st"), mutate_text(&mut rng, t)))
         }
-        60..80 => {
+        50..62 => {
+            let t = &corpus.ladders[rng.random_range(0..corpus.ladders.len())];
+            Some((PathBuf::from("Main.rll"), mutate_text(&mut rng, t)))
+        }
+        62..80 => {
             let (p, t) = &corpus.urdfs[rng.random_range(0..corpus.urdfs.len())];
             Some((p.clone(), mutate_text(&mut rng, t)))
         }
