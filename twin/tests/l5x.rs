@@ -629,3 +629,57 @@ fn a_malformed_rung_names_its_l5x_position_and_rung_and_a_pending_edit_is_refuse
         "Stats/Count rung 1 has an online edit pending (Type=\"rR\"): accept or cancel the edits",
     );
 }
+
+/// The SCARA project with its routines in ladder (`scara_pick_ladder`)
+/// traces as its Structured Text twin in every column but two kinds:
+/// `.EN`, which a FALSE rung clears once `.DN` is set while a Structured
+/// Text statement leaves it set; and `Stats.Scans`, the continuous task's
+/// scans in the time the motion task leaves, which counts the routines'
+/// cost (every rung is scanned at every scan, a CASE runs one state's
+/// statements; the two scenes set `statement_us` apart).
+#[test]
+fn the_ladder_scara_traces_as_its_st_twin_but_for_en_and_the_idle_count() {
+    let dir = fresh_dir("l5x", "ladder_twin");
+    let trace = |scene: &str| {
+        let t = dir.join(format!("{scene}.csv"));
+        let o = twin()
+            .args(["run", "--no-render", "--trace"])
+            .arg(&t)
+            .arg(root().join(format!("scenes/l5x/{scene}.toml")))
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(&t).unwrap();
+        let rows: Vec<Vec<String>> = text
+            .lines()
+            .map(|l| l.split(',').map(str::to_owned).collect())
+            .collect();
+        rows
+    };
+    let (st, ladder) = (trace("scara_pick"), trace("scara_pick_ladder"));
+    assert_eq!(st[0], ladder[0], "the same columns");
+    assert_eq!(st.len(), ladder.len());
+    let header = &st[0];
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("{name}"))
+    };
+    for (k, name) in header.iter().enumerate() {
+        if name.ends_with(".EN") || name == "Stats.Scans" {
+            continue;
+        }
+        for (a, b) in st[1..].iter().zip(&ladder[1..]) {
+            assert_eq!(a[k], b[k], "{name} at t = {} s", a[0]);
+        }
+    }
+    // Where .EN differs: MSO executed at the first scan; the next scan its
+    // rung is FALSE (State moved on) and .DN is set, so ladder clears .EN.
+    let en = col("PickPlace.Servo[0].EN");
+    let last = |rows: &[Vec<String>]| rows.last().unwrap()[en].clone();
+    assert_eq!(last(&st), "1", "ST: MSO's .EN stays set");
+    assert_eq!(last(&ladder), "0", "ladder: the FALSE rung cleared it");
+    let placed = col("Recipe.Done");
+    assert_eq!(ladder.last().unwrap()[placed], "1");
+}

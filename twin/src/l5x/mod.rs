@@ -242,6 +242,12 @@ pub fn read(text: &str) -> Result<Project, L5xError> {
             message: format!("the file is {} bytes; at most {MAX_L5X_BYTES} are read", text.len()),
         });
     }
+    if let Some(at) = xml::too_deep(text, MAX_XML_DEPTH) {
+        return Err(L5xError {
+            span: at..at,
+            message: format!("elements nested deeper than {MAX_XML_DEPTH}"),
+        });
+    }
     let options = roxmltree::ParsingOptions {
         allow_dtd: false,
         ..roxmltree::ParsingOptions::default()

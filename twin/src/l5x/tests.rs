@@ -57,3 +57,35 @@ fn the_motion_group_is_one_and_unknown_elements_are_skipped() {
     let text = controller(&format!("<Tags>{}{}</Tags>", mg("MG"), mg("MG2")));
     assert!(read(&text).unwrap_err().message.contains("a second motion group, MG2"));
 }
+
+#[test]
+fn thousands_of_unclosed_elements_are_refused_before_the_parser_recurses() {
+    // 50,000 nested start tags (a comment, a CDATA and a quoted '>' on
+    // the way are not tags) on a thread with a small stack: refused at
+    // the 65th, without recursion.
+    let deep = "<A x=\"a>b\"><!-- <B> --><![CDATA[<C>]]>".repeat(50_000);
+    let text = controller(&deep);
+    let e = std::thread::Builder::new()
+        .stack_size(256 * 1024)
+        .spawn(move || read(&text).unwrap_err())
+        .unwrap()
+        .join()
+        .unwrap();
+    assert_eq!(e.message, format!("elements nested deeper than {MAX_XML_DEPTH}"));
+    // Closed elements, however many, are not deep.
+    let wide = controller(&"<A><B/></A>".repeat(10_000));
+    assert!(read(&wide).is_ok());
+}
+
+#[test]
+fn an_rll_routine_is_a_rung_a_line_mapped_into_its_cdata() {
+    let text = controller(
+        "<Programs><Program Name=\"P\" MainRoutineName=\"Main\"><Routines><Routine Name=\"Main\" Type=\"RLL\"><RLLContent>\r\n<Rung Number=\"0\" Type=\"N\">\r\n<Text>\r\n<![CDATA[XIC(A)OTE(B);]]>\r\n</Text>\r\n</Rung>\r\n<Rung Number=\"1\" Type=\"N\">\r\n<Comment>\r\n<![CDATA[two\r\nlines]]>\r\n</Comment>\r\n<Text>\r\n<![CDATA[XIC(B)\r\nOTE(C);]]>\r\n</Text>\r\n</Rung>\r\n</RLLContent></Routine></Routines></Program></Programs>",
+    );
+    let p = read(&text).unwrap();
+    let (rll, map) = p.programs[0].routines[0].text.clone().unwrap();
+    assert_eq!(&*rll, "XIC(A)OTE(B);\nXIC(B)  OTE(C);");
+    assert_eq!(map.len(), rll.len() + 1);
+    let c = rll.find("OTE(C)").unwrap();
+    assert_eq!(&text[map[c] as usize..map[c] as usize + 6], "OTE(C)");
+}

@@ -40,3 +40,67 @@ pub(super) fn start_tag(text: &str, node: Node<'_, '_>) -> Range<usize> {
     let end = text[r.clone()].find('>').map_or(r.end, |i| r.start + i + 1);
     r.start..end
 }
+
+/// The byte of the first start tag nested deeper than `max` elements, if
+/// any: a scan of the tags alone (comments, CDATA, processing
+/// instructions and declarations skipped, quoted attribute values
+/// respected), run before the XML parser, which recurses once per level
+/// and would exhaust a thread's stack on a file of thousands of unclosed
+/// elements. Malformed markup is left for the parser to report.
+pub(super) fn too_deep(text: &str, max: usize) -> Option<usize> {
+    let b = text.as_bytes();
+    let mut depth = 0usize;
+    let mut i = 0;
+    while let Some(k) = memchr(b'<', &b[i..]) {
+        let at = i + k;
+        let rest = &text[at..];
+        let skip_to = |close: &str| rest.find(close).map(|e| at + e + close.len());
+        let next = if rest.starts_with("<!--") {
+            skip_to("-->")
+        } else if rest.starts_with("<![CDATA[") {
+            skip_to("]]>")
+        } else if rest.starts_with("<?") {
+            skip_to("?>")
+        } else if rest.starts_with("<!") {
+            skip_to(">")
+        } else if rest.starts_with("</") {
+            depth = depth.saturating_sub(1);
+            skip_to(">")
+        } else {
+            // A start tag: its end is the first '>' outside quotes.
+            let mut quote = None;
+            let mut end = None;
+            for (j, &c) in b[at + 1..].iter().enumerate() {
+                match (quote, c) {
+                    (Some(q), c) if c == q => quote = None,
+                    (Some(_), _) => {}
+                    (None, b'"' | b'\'') => quote = Some(c),
+                    (None, b'>') => {
+                        end = Some(at + 1 + j);
+                        break;
+                    }
+                    _ => {}
+                }
+            }
+            end.map(|e| {
+                if b[e - 1] != b'/' {
+                    depth += 1;
+                    if depth > max {
+                        return usize::MAX;
+                    }
+                }
+                e + 1
+            })
+        };
+        match next {
+            Some(usize::MAX) => return Some(at),
+            Some(n) => i = n,
+            None => return None,
+        }
+    }
+    None
+}
+
+fn memchr(needle: u8, hay: &[u8]) -> Option<usize> {
+    hay.iter().position(|&c| c == needle)
+}

@@ -2,7 +2,8 @@
 //! Structured Text routines, URDF, STL, COLLADA and a Studio 5000 export.
 //!
 //! Case `n` draws from `ChaCha8Rng::seed_from_u64(SEED + n)`: a target
-//! (every tenth case the L5X export of `scenes/l5x/scara_pick.toml`, loaded
+//! (every tenth case the L5X export of `scenes/l5x/scara_pick.toml` or of
+//! its ladder twin `scara_pick_ladder.toml`, in turn, loaded
 //! with that scene through [`twin::scene::parse_with_l5x`]; the others by
 //! weight: scenes 40 %, ST routines 10 %, ladder routines 12 %, URDF 18 %,
 //! STL 12 %, COLLADA 8 %), a
@@ -75,7 +76,7 @@ pub struct Corpus {
     stls: Vec<(PathBuf, Vec<u8>)>,
     dae: String,
     /// The L5X example's scene (path, text) and export.
-    l5x: (PathBuf, String, String),
+    l5x: Vec<(PathBuf, String, String)>,
 }
 
 /// What a case fed, and how it ended badly.
@@ -139,12 +140,15 @@ impl Corpus {
                 })
                 .collect(),
             dae: tetrahedron_dae(),
-            l5x: {
-                let scene = scenes_dir.join("l5x/scara_pick.toml");
-                let scene_text = text(&scene);
-                let export = text(&scenes_dir.join("l5x/scara_pick.L5X"));
-                (scene, scene_text, export)
-            },
+            l5x: ["scara_pick", "scara_pick_ladder"]
+                .iter()
+                .map(|name| {
+                    let scene = scenes_dir.join(format!("l5x/{name}.toml"));
+                    let scene_text = text(&scene);
+                    let export = text(&scenes_dir.join(format!("l5x/{name}.L5X")));
+                    (scene, scene_text, export)
+                })
+                .collect(),
         }
     }
 }
@@ -390,17 +394,23 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
                 }
             }
             "l5x" => {
-                let (scene, text, export) = &corpus.l5x;
+                let (scene, text, export) = &corpus.l5x[(n / 10) as usize % corpus.l5x.len()];
                 let mutant = mutate_text(&mut rng, export);
+                let file = |ext: &str| {
+                    scene
+                        .with_extension(ext)
+                        .file_name()
+                        .unwrap()
+                        .to_string_lossy()
+                        .into_owned()
+                };
+                let (l5x, toml) = (file("L5X"), file("toml"));
                 match twin::scene::parse_with_l5x(scene, text, Some(&mutant)) {
-                    Err(e) => {
-                        named(&e.to_string(), "scara_pick.L5X").or_else(|_| named(&e.to_string(), "scara_pick.toml"))
-                    }
+                    Err(e) => named(&e.to_string(), &l5x).or_else(|_| named(&e.to_string(), &toml)),
                     Ok(mut scene) if n.is_multiple_of(50) => {
                         scene.duration_s = scene.duration_s.min(0.1);
                         match twin::run::Twin::new(scene) {
-                            Err(e) => named(&e.to_string(), "scara_pick.L5X")
-                                .or_else(|_| named(&e.to_string(), "scara_pick.toml")),
+                            Err(e) => named(&e.to_string(), &l5x).or_else(|_| named(&e.to_string(), &toml)),
                             Ok(mut t) => {
                                 for _ in 0..25 {
                                     t.step();
@@ -581,7 +591,10 @@ pub fn mutant_of(corpus: &Corpus, n: u64) -> Option<(PathBuf, String)> {
     let mut rng = ChaCha8Rng::seed_from_u64(SEED + n);
     let pick: i32 = rng.random_range(0..100);
     match pick {
-        _ if n.is_multiple_of(10) => Some((corpus.l5x.0.with_extension("L5X"), mutate_text(&mut rng, &corpus.l5x.2))),
+        _ if n.is_multiple_of(10) => {
+            let (scene, _, export) = &corpus.l5x[(n / 10) as usize % corpus.l5x.len()];
+            Some((scene.with_extension("L5X"), mutate_text(&mut rng, export)))
+        }
         0..40 => {
             let (p, t) = &corpus.scenes[rng.random_range(0..corpus.scenes.len())];
             Some((p.clone(), mutate_text(&mut rng, t)))
