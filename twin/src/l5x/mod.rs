@@ -190,6 +190,69 @@ pub struct Task {
     pub programs: Vec<At<String>>,
 }
 
+/// An Add-On Instruction's parameter (1756-PM010).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AoiParameter {
+    /// `Name`.
+    pub name: At<String>,
+    /// `DataType`.
+    pub data_type: At<String>,
+    /// `Dimensions` (an InOut array).
+    pub dimensions: Option<At<String>>,
+    /// `Usage`: `Input`, `Output` or `InOut`.
+    pub usage: At<String>,
+    /// `Required="true"`: a call passes it.
+    pub required: bool,
+    /// `Visible="true"`.
+    pub visible: bool,
+    /// `Constant="true"` (an InOut the instruction may not write).
+    pub constant: bool,
+    /// `DefaultData`.
+    pub default: Option<At<Value>>,
+    /// `Description`.
+    pub description: String,
+}
+
+/// An Add-On Instruction's local tag.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AoiLocal {
+    /// `Name`.
+    pub name: At<String>,
+    /// `DataType`.
+    pub data_type: At<String>,
+    /// `Dimensions`.
+    pub dimensions: Option<At<String>>,
+    /// `DefaultData`.
+    pub default: Option<At<Value>>,
+}
+
+/// An `AddOnInstructionDefinition`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AoiDefinition {
+    /// `Name`.
+    pub name: At<String>,
+    /// `Revision`.
+    pub revision: Option<String>,
+    /// `Description`.
+    pub description: String,
+    /// `ExecutePrescan="true"`: the Prescan routine runs at prescan.
+    pub execute_prescan: bool,
+    /// `ExecutePostscan="true"` (SFC actions only: never runs here).
+    pub execute_postscan: bool,
+    /// `ExecuteEnableInFalse="true"`: the EnableInFalse routine runs on a
+    /// FALSE rung.
+    pub execute_enable_in_false: bool,
+    /// `Parameters/Parameter` in definition order, `EnableIn` and
+    /// `EnableOut` included.
+    pub parameters: Vec<AoiParameter>,
+    /// `LocalTags/LocalTag`.
+    pub local_tags: Vec<AoiLocal>,
+    /// `Routines/Routine`: `Logic`, `Prescan`, `Postscan`, `EnableInFalse`.
+    pub routines: Vec<Routine>,
+    /// The element's bytes in the file (for an export of its own).
+    pub span: Range<usize>,
+}
+
 /// What the twin does not simulate, found in the file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Note {
@@ -227,15 +290,56 @@ pub struct Project {
     pub tasks: Vec<Task>,
     /// I/O modules, in file order.
     pub modules: Vec<Module>,
+    /// Add-On Instruction definitions, in file order.
+    pub aois: Vec<AoiDefinition>,
     /// What is not simulated.
     pub not_simulated: Vec<Note>,
 }
 
-/// Reads an export.
+/// Reads an Add-On Instruction export (`TargetType=
+/// "AddOnInstructionDefinition"`): its definition, the one marked
+/// `Use="Target"` (or the only one), and the others it uses.
 ///
 /// # Errors
 /// The first problem, at its bytes.
-pub fn read(text: &str) -> Result<Project, L5xError> {
+pub fn read_aoi_export(text: &str) -> Result<Vec<AoiDefinition>, L5xError> {
+    let doc = parse_xml(text)?;
+    let root = doc.root_element();
+    let r = Reader { text };
+    if !root.has_tag_name("RSLogix5000Content") {
+        return Err(r.err(
+            start_tag(text, root),
+            format!(
+                "<{}> is not a Studio 5000 export (RSLogix5000Content)",
+                root.tag_name().name()
+            ),
+        ));
+    }
+    let target = r.required(root, "TargetType")?;
+    if target.value != "AddOnInstructionDefinition" {
+        return Err(r.err(
+            target.span,
+            format!(
+                "a {} export: export the Add-On Instruction (right-click it > Export Add-On Instruction)",
+                target.value
+            ),
+        ));
+    }
+    let defs = child(root, "Controller").and_then(|c| child(c, "AddOnInstructionDefinitions"));
+    let mut out = Vec::new();
+    for a in defs.into_iter().flat_map(|d| children(d, "AddOnInstructionDefinition")) {
+        out.push(r.aoi(a)?);
+    }
+    if out.is_empty() {
+        return Err(r.err(
+            start_tag(text, root),
+            "the export holds no <AddOnInstructionDefinition>",
+        ));
+    }
+    Ok(out)
+}
+
+fn parse_xml(text: &str) -> Result<roxmltree::Document<'_>, L5xError> {
     if text.len() > MAX_L5X_BYTES {
         return Err(L5xError {
             span: 0..0,
@@ -259,10 +363,18 @@ pub fn read(text: &str) -> Result<Project, L5xError> {
             message: format!("malformed XML: {e}"),
         }
     })?;
-    let root = doc.root_element();
-    check_depth(root)?;
+    check_depth(doc.root_element())?;
+    Ok(doc)
+}
+
+/// Reads an export.
+///
+/// # Errors
+/// The first problem, at its bytes.
+pub fn read(text: &str) -> Result<Project, L5xError> {
+    let doc = parse_xml(text)?;
     let r = Reader { text };
-    r.project(root)
+    r.project(doc.root_element())
 }
 
 fn byte_of(text: &str, row: usize, col: usize) -> usize {
@@ -435,12 +547,7 @@ impl Reader<'_> {
         }
         if let Some(aois) = child(controller, "AddOnInstructionDefinitions") {
             for a in children(aois, "AddOnInstructionDefinition") {
-                let name = self.required(a, "Name")?;
-                p.not_simulated.push(Note {
-                    span: name.span.clone(),
-                    text: format!("Add-On Instruction {}", name.value),
-                    item: Some(name.value),
-                });
+                p.aois.push(self.aoi(a)?);
             }
         }
         if let Some(tags) = child(controller, "Tags") {
@@ -640,6 +747,66 @@ impl Reader<'_> {
             }
         }
         Ok(program)
+    }
+
+    fn aoi(&self, node: Node<'_, '_>) -> Result<AoiDefinition, L5xError> {
+        let name = self.required(node, "Name")?;
+        if let Some(e) = node.descendants().find(|n| n.has_tag_name("EncodedData")) {
+            return Err(self.err(
+                start_tag(self.text, e),
+                format!(
+                    "Add-On Instruction {} is source-protected (EncodedData): export it without protection",
+                    name.value
+                ),
+            ));
+        }
+        let mut parameters = Vec::new();
+        if let Some(ps) = child(node, "Parameters") {
+            for p in children(ps, "Parameter") {
+                let data_type = self.required(p, "DataType")?;
+                parameters.push(AoiParameter {
+                    name: self.required(p, "Name")?,
+                    default: value::read_in(self.text, p, &data_type.value, "DefaultData")?,
+                    data_type,
+                    dimensions: self.attr(p, "Dimensions"),
+                    usage: self.required(p, "Usage")?,
+                    required: self.flag(p, "Required")?,
+                    visible: self.flag(p, "Visible")?,
+                    constant: self.flag(p, "Constant")?,
+                    description: self.description(p),
+                });
+            }
+        }
+        let mut local_tags = Vec::new();
+        if let Some(ls) = child(node, "LocalTags") {
+            for l in children(ls, "LocalTag") {
+                let data_type = self.required(l, "DataType")?;
+                local_tags.push(AoiLocal {
+                    name: self.required(l, "Name")?,
+                    default: value::read_in(self.text, l, &data_type.value, "DefaultData")?,
+                    data_type,
+                    dimensions: self.attr(l, "Dimensions"),
+                });
+            }
+        }
+        let mut routines = Vec::new();
+        if let Some(rs) = child(node, "Routines") {
+            for r in children(rs, "Routine") {
+                routines.push(self.routine(r, &name.value)?);
+            }
+        }
+        Ok(AoiDefinition {
+            revision: self.attr(node, "Revision").map(|r| r.value),
+            description: self.description(node),
+            execute_prescan: self.flag(node, "ExecutePrescan")?,
+            execute_postscan: self.flag(node, "ExecutePostscan")?,
+            execute_enable_in_false: self.flag(node, "ExecuteEnableInFalse")?,
+            parameters,
+            local_tags,
+            routines,
+            span: node.range(),
+            name,
+        })
     }
 
     fn routine(&self, node: Node<'_, '_>, program: &str) -> Result<Routine, L5xError> {

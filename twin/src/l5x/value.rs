@@ -25,7 +25,18 @@ pub enum Value {
 /// The value of tag `node` of type `data_type`: `None` when it has no
 /// data the twin reads.
 pub(super) fn read(text: &str, node: Node<'_, '_>, data_type: &str) -> Result<Option<At<Value>>, L5xError> {
-    let data = |format: &str| children(node, "Data").find(|d| d.attribute("Format") == Some(format));
+    read_in(text, node, data_type, "Data")
+}
+
+/// As [`read`], from the children named `element` (`DefaultData` of an
+/// Add-On Instruction's parameter or local tag).
+pub(super) fn read_in(
+    text: &str,
+    node: Node<'_, '_>,
+    data_type: &str,
+    element: &'static str,
+) -> Result<Option<At<Value>>, L5xError> {
+    let data = |format: &str| children(node, element).find(|d| d.attribute("Format") == Some(format));
     if let Some(d) = data("Decorated") {
         let Some(first) = d.children().find(Node::is_element) else {
             return Ok(None);

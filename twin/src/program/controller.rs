@@ -148,6 +148,10 @@ struct ProgramRun {
     name: String,
     routine_paths: Vec<PathBuf>,
     routines: Vec<Vec<CStmt>>,
+    /// The first Add-On Instruction routine.
+    aoi_from: usize,
+    /// The instructions' Prescan routines.
+    aoi_prescan: Vec<usize>,
     fault_routine: Option<usize>,
     first_scan: bool,
     /// Its index in [`System::programs`].
@@ -356,6 +360,8 @@ impl Controller {
                     name: p.name,
                     routine_paths: p.routine_paths,
                     routines: p.routines,
+                    aoi_from: p.aoi_from,
+                    aoi_prescan: p.aoi_prescan,
                     // The fault routine is one of `routines`, after main.
                     fault_routine: def.fault_routine.map(|k| k + 1),
                     first_scan: true,
@@ -399,6 +405,8 @@ impl Controller {
                 name: p.name,
                 routine_paths: p.routine_paths,
                 routines: p.routines,
+                aoi_from: p.aoi_from,
+                aoi_prescan: p.aoi_prescan,
                 fault_routine: None,
                 first_scan: true,
                 index: sys.programs.len() - 1,
@@ -702,6 +710,7 @@ impl Controller {
                 self.minor_total,
             );
             exec.clock_ns = self.clock_ns;
+            exec.aoi_from = program.aoi_from;
             exec.stop_ns = stop_ns;
             exec.statement_ns = self.statement_ns;
             exec.watchdog_ns = scan.start_ns + t.watchdog_ns;
@@ -820,6 +829,7 @@ impl Controller {
             self.minor_total,
         );
         exec.clock_ns = self.clock_ns;
+        exec.aoi_from = handler.aoi_from;
         exec.statement_ns = self.statement_ns;
         exec.watchdog_ns = self.clock_ns + self.tasks[i].watchdog_ns;
         exec.watchdog_us = self.tasks[i].watchdog_us;
@@ -924,6 +934,21 @@ impl Controller {
             for p in &t.programs {
                 for body in &p.routines {
                     prescan_block(body, &mut self.mem, task);
+                }
+            }
+        }
+        // Add-On Instructions that execute their Prescan routine: each
+        // call site's, once (1756-PM010). A fault there is a minor one.
+        let programs = self.tasks.iter().flat_map(|t| &t.programs).chain(&self.fault_handler);
+        for p in programs {
+            for &k in &p.aoi_prescan {
+                let mut exec = Exec::new(&mut self.mem, task, 0, false, &p.routines, &mut self.scratch, 0);
+                exec.aoi_from = p.aoi_from;
+                exec.statement_ns = self.statement_ns;
+                if let Err(r) = exec.run_routine(k) {
+                    let f = Fault::of(*r, false, "(prescan)", &p.name, &p.routine_paths, 0);
+                    self.log.push(f.clone());
+                    self.minor.push(f);
                 }
             }
         }

@@ -1054,6 +1054,24 @@ pub struct CompiledProgram {
     /// Slots the ladder routines' display operands set at load (a
     /// timer's `PRE` written in its rung).
     pub init: Vec<(usize, Value)>,
+    /// The first routine an Add-On Instruction call site added (the
+    /// routines from here on are instructions'); `routines.len()` when
+    /// none.
+    pub aoi_from: usize,
+    /// The instructions' Prescan routines (their indices), run at
+    /// prescan.
+    pub aoi_prescan: Vec<usize>,
+}
+
+/// A routine an Add-On Instruction call site adds to its program.
+#[derive(Debug, Clone)]
+pub struct AoiRoutine {
+    /// The file its statements' lines are in (the instruction's export).
+    pub path: std::path::PathBuf,
+    /// Its statements.
+    pub body: Vec<CStmt>,
+    /// Whether it is an instruction's Prescan routine, run at prescan.
+    pub prescan: bool,
 }
 
 /// A `[[program]]` step, compiled: when it fires and the call it executes.

@@ -130,6 +130,9 @@ impl Memory {
         for t in &scene.tags {
             let k = mem.add(&t.name, t.ty, t.value.as_ref());
             mem.tags[k].constant = t.constant;
+            if t.value.is_none() {
+                mem.aoi_defaults(k, scene);
+            }
         }
         for p in scene.programs() {
             for tag in &p.tags {
@@ -137,6 +140,9 @@ impl Memory {
                 let t = mem.add(&name, tag.ty, tag.value.as_ref());
                 mem.tags[t].usage = tag.usage;
                 mem.tags[t].constant = tag.constant;
+                if tag.value.is_none() {
+                    mem.aoi_defaults(t, scene);
+                }
             }
         }
         for a in &scene.aliases {
@@ -162,6 +168,31 @@ impl Memory {
             }
         }
         mem
+    }
+
+    /// An Add-On Instruction instance (or array of them) without a value
+    /// of its own: its parameters' and local tags' default values.
+    fn aoi_defaults(&mut self, k: usize, scene: &crate::scene::Scene) {
+        let Kind::User(id) = self.tags[k].kind else { return };
+        let Some(aoi) = scene.add_on_instructions.iter().find(|a| a.data_type.index == id) else {
+            return;
+        };
+        let (base, stride, n) = (self.tags[k].base, self.tags[k].stride, self.tags[k].len.unwrap_or(1));
+        for (member, v) in &aoi.defaults {
+            let Some(m) = self.layouts.get(id).member(member) else {
+                continue;
+            };
+            let slot = m.slot;
+            for e in 0..n {
+                let at = base + e * stride + slot;
+                let value = if self.types[at] == DataType::Bool || self.types[at].is_integer() {
+                    Value::Int(*v as i64)
+                } else {
+                    Value::Real(*v)
+                };
+                self.slots[at] = self.types[at].store(value).0;
+            }
+        }
     }
 
     /// Adds a tag with its initial value (zeros when it has none) and

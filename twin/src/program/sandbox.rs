@@ -154,6 +154,7 @@ impl Sandbox {
             }],
             trace_tags: Vec::new(),
             trace_rungs: Vec::new(),
+            add_on_instructions: Vec::new(),
             expectations: Vec::new(),
             test: Default::default(),
             variants: Vec::new(),

@@ -4,10 +4,10 @@
 //! the URDF by [`crate::collision`].
 
 use super::context::Ctx;
+use super::context::ShapeFields;
 use super::error::{Problem, SceneError};
 use super::model::{AllowedPair, CollisionSettings, MeshApproximation, Preflight, Reaction, Tool};
 use super::raw::{RawCollision, RawTool};
-use super::context::ShapeFields;
 use std::path::Path;
 
 impl Ctx<'_> {

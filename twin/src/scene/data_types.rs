@@ -26,7 +26,7 @@ use super::tags::scalar_value;
 
 /// Whether a member may have this type: a scalar, a string type, a data
 /// type, or an instruction's structure (`FBD_TIMER` …); not a cam point.
-fn member_type_allowed(base: BaseType) -> bool {
+pub(super) fn member_type_allowed(base: BaseType) -> bool {
     (base.in_tag_memory() || base.is_instruction_structure() || base == BaseType::MotionInstruction)
         && base != BaseType::Cam
 }

@@ -143,8 +143,10 @@ impl Ctx<'_> {
             }
             Ok(Some(value))
         };
-        let ordered = |low: (&'static str, Option<f64>), high: (&'static str, Option<f64>, &Option<Spanned<f64>>)| {
-            match (low.1, high.1, high.2) {
+        let ordered =
+            |low: (&'static str, Option<f64>), high: (&'static str, Option<f64>, &Option<Spanned<f64>>)| match (
+                low.1, high.1, high.2,
+            ) {
                 (Some(low_s), Some(high_s), Some(at)) if low_s > high_s => Err(self.invalid(
                     at,
                     f(high.0),
@@ -156,8 +158,7 @@ impl Ctx<'_> {
                     },
                 )),
                 _ => Ok(()),
-            }
-        };
+            };
         let one = |s: &Option<Spanned<String>>| {
             let s = s.as_ref().expect("the kind given");
             self.condition(s, f(kind))
@@ -287,9 +288,13 @@ impl Ctx<'_> {
                         .tags
                         .iter()
                         .map(|t| t.name.clone())
-                        .chain(scope.tasks.iter().flat_map(|t| &t.programs).flat_map(|p| {
-                            p.tags.iter().map(move |t| format!("{}.{}", p.name, t.name))
-                        }))
+                        .chain(
+                            scope
+                                .tasks
+                                .iter()
+                                .flat_map(|t| &t.programs)
+                                .flat_map(|p| p.tags.iter().map(move |t| format!("{}.{}", p.name, t.name))),
+                        )
                         .collect::<Vec<_>>();
                     let nearest =
                         crate::source::diag::nearest(tag_name, names.iter().map(String::as_str)).map(str::to_owned);

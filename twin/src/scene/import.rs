@@ -222,6 +222,10 @@ pub struct Expanded {
     pub map: PosMap,
     /// The routine files it names, by path relative to the scene's folder.
     pub routines: HashMap<PathBuf, VirtualRoutine>,
+    /// The Add-On Instruction exports it names (`aoi/<Name>.L5X`), each
+    /// the project's definition copied byte for byte inside an export's
+    /// envelope, mapped back into the project.
+    pub aois: Vec<(PathBuf, VirtualRoutine)>,
     /// The export.
     pub l5x_path: PathBuf,
     /// The export's id in the files.
@@ -309,6 +313,7 @@ pub fn expand(
         out: String::new(),
         map: PosMap::default(),
         routines: HashMap::new(),
+        aois: Vec::new(),
         report: Vec::new(),
         skipped: Vec::new(),
         blank: Vec::new(),
@@ -321,6 +326,7 @@ pub fn expand(
         out,
         map,
         routines,
+        aois,
         report,
         skipped,
         ..
@@ -329,6 +335,7 @@ pub fn expand(
         text: out,
         map,
         routines,
+        aois,
         l5x_path,
         l5x_file,
         report,
@@ -388,6 +395,7 @@ struct Gen<'a> {
     out: String,
     map: PosMap,
     routines: HashMap<PathBuf, VirtualRoutine>,
+    aois: Vec<(PathBuf, VirtualRoutine)>,
     report: Vec<ReportLine>,
     skipped: Vec<String>,
     /// Scene bytes blanked in the copy (bindings, `[controller]`).
@@ -565,6 +573,7 @@ impl<'a> Gen<'a> {
                         .get("TestModeConfiguration")
                         .is_some_and(|v| v.value.eq_ignore_ascii_case("Controller Loop Back"))
             });
+        self.aoi_files(doc)?;
         if loopback && get(doc, "plant").is_none() {
             let at = project.axes[0]
                 .params
@@ -2168,6 +2177,82 @@ impl<'a> Gen<'a> {
             Some(program),
             &tags_header.replace("tags]]", "aliases]]"),
         )?;
+        Ok(())
+    }
+
+    /// `add_on_instructions`: each of the project's definitions as an
+    /// export of its own, `aoi/<Name>.L5X` (what `twin import` writes, and
+    /// what Studio 5000 imports).
+    fn aoi_files(&mut self, doc: &DeTable<'_>) -> Result<(), Fail> {
+        let project = self.project;
+        if project.aois.is_empty() {
+            return Ok(());
+        }
+        if let Some(v) = get(doc, "add_on_instructions") {
+            let (span, _) = key_span(doc, "add_on_instructions").unwrap_or((v.span(), v.span()));
+            return Err(self.scene_err(
+                span,
+                "add_on_instructions",
+                format!(
+                    "the export's Add-On Instructions are the program's: change them in {}",
+                    self.l5x_name
+                ),
+            ));
+        }
+        let text = Arc::clone(&self.files.get(self.l5x_file).text);
+        let mut list = Vec::new();
+        for a in &project.aois {
+            let name = &a.name.value;
+            let head = format!(
+                "<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"yes\"?>\r\n<RSLogix5000Content SchemaRevision=\"1.0\" TargetName=\"{name}\" TargetType=\"AddOnInstructionDefinition\" ContainsContext=\"true\">\r\n<Controller Use=\"Context\" Name=\"{}\">\r\n<AddOnInstructionDefinitions Use=\"Context\">\r\n",
+                self.project.controller
+            );
+            let tail = "\r\n</AddOnInstructionDefinitions>\r\n</Controller>\r\n</RSLogix5000Content>\r\n";
+            let body = &text[a.span.clone()];
+            // Studio marks the exported definition Use="Target".
+            let start_tag = &body[..body.find('>').unwrap_or(body.len())];
+            let body = if start_tag.contains(" Use=") {
+                body.to_owned()
+            } else {
+                body.replacen(
+                    "<AddOnInstructionDefinition ",
+                    "<AddOnInstructionDefinition Use=\"Target\" ",
+                    1,
+                )
+            };
+            let inserted = body.len() - (a.span.end - a.span.start);
+            let mut map: Vec<u32> = Vec::with_capacity(head.len() + body.len() + tail.len() + 1);
+            map.extend(std::iter::repeat_n(a.span.start as u32, head.len()));
+            let open = "<AddOnInstructionDefinition ".len();
+            map.extend((0..body.len()).map(|i| {
+                let original = if i < open {
+                    i
+                } else if i < open + inserted {
+                    open
+                } else {
+                    i - inserted
+                };
+                (a.span.start + original) as u32
+            }));
+            map.extend(std::iter::repeat_n(a.span.end as u32, tail.len() + 1));
+            let path = format!("aoi/{name}.L5X");
+            list.push(quote(&path));
+            self.aois.push((
+                PathBuf::from(path),
+                VirtualRoutine {
+                    text: format!("{head}{body}{tail}").into(),
+                    map: map.into(),
+                    name: name.clone(),
+                },
+            ));
+        }
+        let item = format!("{} Name", project.aois[0].name.value);
+        self.line(
+            "add_on_instructions",
+            &format!("[{}]", list.join(", ")),
+            &project.aois[0].name.span,
+            &item,
+        );
         Ok(())
     }
 

@@ -33,6 +33,7 @@ mod model;
 mod raw;
 mod shape;
 
+pub mod aoi;
 mod cell;
 mod cell_model;
 mod collision;
@@ -53,14 +54,15 @@ pub use cell_model::{
 pub use error::{Problem, SceneError};
 pub use geometry::GEOMETRY_TYPES;
 pub use model::{
-    Alias, AllowedPair, Axis, AxisKind, BaseType, CONTINUOUS_PRIORITY, CamPoint, Camera, CollisionSettings, Condition,
-    Connection, ControllerSettings, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS, DEFAULT_START_TIME_US,
-    DEFAULT_STATEMENT_US, DEFAULT_WATCHDOG_MS, DataTypeDef, Dialect, EventTrigger, ExpectKind, Expectation,
-    FunctionBlock, GeometrySettings, L5xImport, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN, MAX_DURATION_S,
-    MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MAX_STRING_LENGTH, MIN_PHYSICS_STEP_MS,
-    MemberDef, MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef, RUN_EXIT_CODES, Reaction,
-    Robot, RoutineDef, STRING_LENGTH, STRING_TYPE, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag,
-    TagType, TagValue, Task, TaskKind, TestSettings, Tool, TraceRung, TraceTag, Trigger, Units, Usage, UserType, Variant,
+    Alias, AllowedPair, AoiDef, AoiParam, AoiUsage, Axis, AxisKind, BaseType, CONTINUOUS_PRIORITY, CamPoint, Camera,
+    CollisionSettings, Condition, Connection, ControllerSettings, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS,
+    DEFAULT_START_TIME_US, DEFAULT_STATEMENT_US, DEFAULT_WATCHDOG_MS, DataTypeDef, Dialect, EventTrigger, ExpectKind,
+    Expectation, FunctionBlock, GeometrySettings, L5xImport, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN,
+    MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MAX_STRING_LENGTH,
+    MIN_PHYSICS_STEP_MS, MemberDef, MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef,
+    RUN_EXIT_CODES, Reaction, Robot, RoutineDef, STRING_LENGTH, STRING_TYPE, Scene, SegmentType, ServoGains, Shape,
+    Snapshots, Step, Tag, TagType, TagValue, Task, TaskKind, TestSettings, Tool, TraceRung, TraceTag, Trigger, Units,
+    Usage, UserType, Variant,
 };
 
 use crate::source::Files;
@@ -184,21 +186,25 @@ pub fn parse_with_l5x(path: &Path, text: &str, l5x: Option<&str>) -> Result<Scen
     let mut expanded = import::expand(path, text, &mut files, l5x).map_err(SceneError::Syntax)?;
     // The expanded text once, shared by the loader and `twin import`.
     let expanded_text: Option<std::sync::Arc<str>> = expanded.as_mut().map(|e| std::mem::take(&mut e.text).into());
-    let l5x = expanded.as_ref().zip(expanded_text.as_ref()).map(|(e, text)| L5xImport {
-        path: e.l5x_path.clone(),
-        report: e.report.iter().map(|r| (r.line, r.text.clone())).collect(),
-        skipped: e.skipped.clone(),
-        expanded: std::sync::Arc::clone(text),
-        routines: {
-            let mut r: Vec<(std::path::PathBuf, std::sync::Arc<str>)> = e
-                .routines
-                .iter()
-                .map(|(p, v)| (p.clone(), std::sync::Arc::clone(&v.text)))
-                .collect();
-            r.sort();
-            r
-        },
-    });
+    let l5x = expanded
+        .as_ref()
+        .zip(expanded_text.as_ref())
+        .map(|(e, text)| L5xImport {
+            path: e.l5x_path.clone(),
+            report: e.report.iter().map(|r| (r.line, r.text.clone())).collect(),
+            skipped: e.skipped.clone(),
+            expanded: std::sync::Arc::clone(text),
+            routines: {
+                let mut r: Vec<(std::path::PathBuf, std::sync::Arc<str>)> = e
+                    .routines
+                    .iter()
+                    .chain(e.aois.iter().map(|(p, v)| (p, v)))
+                    .map(|(p, v)| (p.clone(), std::sync::Arc::clone(&v.text)))
+                    .collect();
+                r.sort();
+                r
+            },
+        });
     let text = expanded_text.as_deref().unwrap_or(text);
     let parsed = expanded
         .as_ref()

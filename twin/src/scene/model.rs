@@ -54,6 +54,9 @@ pub struct Scene {
     pub trace_tags: Vec<TraceTag>,
     /// `[trace] rungs`: ladder rungs traced.
     pub trace_rungs: Vec<TraceRung>,
+    /// `add_on_instructions`: the Add-On Instructions the program may
+    /// call (their instances' data types are in `data_types`).
+    pub add_on_instructions: Vec<AoiDef>,
     /// The files the scene's texts come from: the scene file, then its
     /// routines; every parsed node's span points into one of them.
     pub files: Files,
@@ -1245,6 +1248,75 @@ pub struct Step {
     pub call: Call,
     /// Where the `call` string is written.
     pub location: Location,
+}
+
+/// How a call passes a parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AoiUsage {
+    /// Copied into the instance before the logic runs.
+    Input,
+    /// Copied out of the instance after it.
+    Output,
+    /// Passed by reference.
+    InOut,
+}
+
+/// A parameter (not `EnableIn`/`EnableOut`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AoiParam {
+    /// Its name.
+    pub name: String,
+    /// Its `DataType` as written (`DINT`, `TIMER`, `AXIS_CIP_DRIVE` …).
+    pub data_type: String,
+    /// Its type, when it is one a tag may have (`None`: an axis type).
+    pub ty: Option<TagType>,
+    /// Input, Output or InOut.
+    pub usage: AoiUsage,
+    /// A call passes it.
+    pub required: bool,
+    /// An InOut the instruction may not write.
+    pub constant: bool,
+    /// Where its `Name` is.
+    pub span: crate::source::Span,
+}
+
+/// An Add-On Instruction the program may call.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AoiDef {
+    /// Its name (the call's, and its instances' data type's).
+    pub name: String,
+    /// The data type of its instances.
+    pub data_type: UserType,
+    /// Its parameters in definition order, `EnableIn`/`EnableOut` left out.
+    pub parameters: Vec<AoiParam>,
+    /// Its local tags' names (members of the instance).
+    pub locals: Vec<String>,
+    /// Member default values (parameters' and local tags' `DefaultData`)
+    /// of scalars: member, value.
+    pub defaults: Vec<(String, f64)>,
+    /// `Logic`.
+    pub logic: RoutineDef,
+    /// `Prescan`, when `ExecutePrescan`.
+    pub prescan: Option<RoutineDef>,
+    /// `EnableInFalse`, when `ExecuteEnableInFalse`.
+    pub enable_in_false: Option<RoutineDef>,
+    /// Where its `Name` is.
+    pub span: crate::source::Span,
+    /// The `add_on_instructions` entry it came from.
+    pub location: Location,
+}
+
+impl AoiDef {
+    /// The parameters a call passes after the instance, in order.
+    pub fn required(&self) -> impl Iterator<Item = &AoiParam> {
+        self.parameters.iter().filter(|p| p.required)
+    }
+
+    /// A parameter by name (case-insensitive).
+    #[must_use]
+    pub fn parameter(&self, name: &str) -> Option<&AoiParam> {
+        self.parameters.iter().find(|p| p.name.eq_ignore_ascii_case(name))
+    }
 }
 
 /// A `[trace] rungs` entry: a ladder rung whose condition-out is traced

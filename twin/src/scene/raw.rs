@@ -27,6 +27,8 @@ pub(super) struct RawScene {
     #[serde(default)]
     pub(super) data_types: Vec<RawDataType>,
     #[serde(default)]
+    pub(super) add_on_instructions: Vec<Spanned<String>>,
+    #[serde(default)]
     pub(super) tags: Vec<RawTag>,
     #[serde(default)]
     pub(super) aliases: Vec<RawAlias>,

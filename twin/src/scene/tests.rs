@@ -842,6 +842,14 @@ fn a_variant_sets_a_program_tag_written_either_way() {
     }
     let text = format!("{shipped}\n[[variants]]\nname = \"x\"\ntags = {{ Pallet.Pich = 0.125 }}\n");
     let e = parse(&path, &text).expect_err("unknown tag");
-    assert!(e.to_string().contains("variants[0].tags.Pallet.Pich: unknown tag 'Pallet.Pich'"), "{e}");
-    assert!(e.diagnostic().render(false).contains("did you mean 'Pallet.Pitch'?"), "{}", e.diagnostic().render(false));
+    assert!(
+        e.to_string()
+            .contains("variants[0].tags.Pallet.Pich: unknown tag 'Pallet.Pich'"),
+        "{e}"
+    );
+    assert!(
+        e.diagnostic().render(false).contains("did you mean 'Pallet.Pitch'?"),
+        "{}",
+        e.diagnostic().render(false)
+    );
 }

@@ -90,6 +90,13 @@ impl Ctx<'_> {
         let cameras = self.cameras(&raw.cameras, coarse_update_ms)?;
         let obstacles = self.obstacles(&raw.obstacles, base)?;
         let data_types = self.data_types(&raw.data_types)?;
+        let add_on_instructions = self.add_on_instructions(&raw.add_on_instructions, base)?;
+        // The instructions' data types follow the scene's.
+        let data_types = if add_on_instructions.is_empty() {
+            data_types
+        } else {
+            self.data_types.borrow().clone()
+        };
         let tags = self.tags(&raw.tags, &axes, &mut names, "tags")?;
         let aliases = self.aliases(&raw.aliases, &mut names, "aliases")?;
         let program = self.program(&raw.program, duration_s)?;
@@ -151,6 +158,7 @@ impl Ctx<'_> {
             controller,
             trace_tags,
             trace_rungs,
+            add_on_instructions,
             files: self.files.borrow().clone(),
             l5x: self.l5x.clone(),
             aliases,

@@ -165,6 +165,32 @@ pub fn refs_mut(statements: &mut [Stmt], f: &mut dyn FnMut(&mut Ref)) {
     }
 }
 
+/// Calls `f` on every instruction call of `statements`, those inside
+/// `IF`, `CASE` and loops included.
+pub fn calls_mut(statements: &mut [Stmt], f: &mut dyn FnMut(&mut Call)) {
+    for s in statements {
+        match &mut s.kind {
+            StmtKind::Call(c) => f(c),
+            StmtKind::If { branches, otherwise } => {
+                for (_, body) in branches {
+                    calls_mut(body, f);
+                }
+                calls_mut(otherwise, f);
+            }
+            StmtKind::Case { arms, otherwise, .. } => {
+                for (_, body) in arms {
+                    calls_mut(body, f);
+                }
+                calls_mut(otherwise, f);
+            }
+            StmtKind::For { body, .. } | StmtKind::While { body, .. } | StmtKind::Repeat { body, .. } => {
+                calls_mut(body, f);
+            }
+            _ => {}
+        }
+    }
+}
+
 fn ref_mut(r: &mut Ref, f: &mut dyn FnMut(&mut Ref)) {
     f(r);
     for a in &mut r.path {

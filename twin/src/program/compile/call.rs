@@ -77,6 +77,17 @@ impl Compiler<'_, '_, '_> {
     /// function block of the catalogue.
     pub(super) fn call(&mut self, call: &Call) -> Result<SKind> {
         let Some(general) = General::find(&call.name) else {
+            if let Some(aoi) = self.find_aoi(&call.name) {
+                // The call site's statements, as one block.
+                let line = self.env.files.line(call.span) as u32;
+                let body = self
+                    .aoi_call(aoi, call, false)?
+                    .into_iter()
+                    .map(|kind| crate::program::ir::CStmt { kind, line })
+                    .collect();
+                let always = super::constant(Value::Bool(true), Ty::Bool);
+                return Ok(SKind::If(vec![(always, body)], Vec::new()));
+            }
             return self.motion(call);
         };
         let upper = general.name();

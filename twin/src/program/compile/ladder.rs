@@ -187,6 +187,25 @@ pub const LADDER_NOT_SIMULATED: &[&str] = &[
     "SEL", "SNEG", "SSUM", "MUX", "CC", "IMC", "MMC", "RMPS", "POSP", "SRTP", "LDLG", "FGEN",
 ];
 
+/// The operands a ladder instruction writes (by index), for the check
+/// that an Add-On Instruction writes no constant InOut parameter.
+#[must_use]
+pub fn written_operands(name: &str) -> &'static [usize] {
+    let Some((_, _, op)) = find(name) else { return &[] };
+    match op {
+        Op::Output(_) | Op::Ons | Op::Res | Op::Clr => &[0],
+        Op::Edge(_) => &[0, 1],
+        Op::Timer(_) | Op::Counter(_) => &[0],
+        Op::Binary(_) | Op::Mvm | Op::Swpb | Op::Btd => &[2],
+        Op::Neg | Op::Abs | Op::Sqr | Op::Not | Op::Mov => &[1],
+        Op::Cpt => &[0],
+        Op::Shift(_) => &[0, 1],
+        Op::Stack(StackKind::FifoLoad | StackKind::LifoLoad) => &[1, 2],
+        Op::Stack(_) => &[0, 1, 2],
+        _ => &[],
+    }
+}
+
 /// The ladder instruction called `name` (case-insensitive).
 #[must_use]
 pub fn find(name: &str) -> Option<&'static (&'static str, &'static [&'static str], Op)> {
@@ -277,6 +296,14 @@ impl Compiler<'_, '_, '_> {
             match e {
                 Element::Instruction(call) => {
                     let line = self.env.files.line(call.span) as u32;
+                    if find(&call.name).is_none()
+                        && let Some(aoi) = self.find_aoi(&call.name)
+                    {
+                        for kind in self.aoi_call(aoi, call, true)? {
+                            out.push(CStmt { kind, line });
+                        }
+                        continue;
+                    }
                     if let Some(op) = self.instruction(call, out.len(), jumps)? {
                         out.push(CStmt { kind: op, line });
                     }

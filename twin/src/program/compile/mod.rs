@@ -19,6 +19,7 @@ pub type Error = Box<Diagnostic>;
 /// A compile result.
 pub type Result<T> = std::result::Result<T, Error>;
 
+pub mod aoi;
 mod call;
 pub mod ladder;
 mod motion;
@@ -52,6 +53,14 @@ pub struct Compiler<'c, 'e, 's> {
     /// The rungs of this routine `[trace] rungs` names, with the slot
     /// each one's condition-out is written to.
     pub traced_rungs: Vec<(u32, usize)>,
+    /// The Add-On Instruction routines this compiler's call sites added,
+    /// in order; the first is the program's routine [`Compiler::aoi_base`].
+    pub aoi_routines: Vec<super::ir::AoiRoutine>,
+    /// The program's routine index the next added routine takes, less
+    /// those this compiler added.
+    pub aoi_base: usize,
+    /// The Add-On Instructions being expanded, outermost first.
+    aoi_stack: Vec<String>,
     /// Loop nesting (for `EXIT`).
     loops: usize,
 }
@@ -98,6 +107,9 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
             ladder: false,
             init: Vec::new(),
             traced_rungs: Vec::new(),
+            aoi_routines: Vec::new(),
+            aoi_base: routines.len(),
+            aoi_stack: Vec::new(),
             loops: 0,
         }
     }

@@ -26,8 +26,10 @@ pub fn program(
     }
     let mut routines = Vec::with_capacity(defs.len());
     let mut init = Vec::new();
+    let mut added: Vec<crate::program::ir::AoiRoutine> = Vec::new();
     for def in &defs {
         let mut compiler = Compiler::new(mem, Some(&p.name), &names, def.dialect, env, true);
+        compiler.aoi_base = defs.len() + added.len();
         if let Some(rungs) = &def.routine.rungs {
             compiler.traced_rungs = traced
                 .iter()
@@ -45,7 +47,6 @@ pub fn program(
                 }
                 routines.push(compiler.rungs(&rungs)?);
             }
-            init.append(&mut compiler.init);
         } else if mem.aliases.is_empty() {
             routines.push(compiler.block(&def.routine.body)?);
         } else {
@@ -53,12 +54,26 @@ pub fn program(
             crate::st::ast::refs_mut(&mut body, &mut |r| compiler.dealias(r));
             routines.push(compiler.block(&body)?);
         }
+        init.append(&mut compiler.init);
+        added.append(&mut compiler.aoi_routines);
+    }
+    let mut routine_paths: Vec<_> = defs.iter().map(|d| d.path.clone()).collect();
+    let aoi_from = routines.len();
+    let mut prescan = Vec::new();
+    for r in added {
+        if r.prescan {
+            prescan.push(routines.len());
+        }
+        routine_paths.push(r.path);
+        routines.push(r.body);
     }
     Ok(CompiledProgram {
         name: p.name.clone(),
-        routine_paths: defs.iter().map(|d| d.path.clone()).collect(),
+        routine_paths,
         routines,
         init,
+        aoi_from,
+        aoi_prescan: prescan,
     })
 }
 

@@ -256,6 +256,10 @@ pub struct Exec<'e> {
     overflowed: bool,
     /// A ladder `JMP` taken: the statement the routine goes on at.
     jump: Option<usize>,
+    /// The first of the program's routines an Add-On Instruction call
+    /// site added: a fault the fault routine clears inside one cancels the
+    /// rest of the instruction.
+    pub aoi_from: usize,
 }
 
 impl Drop for Exec<'_> {
@@ -330,6 +334,7 @@ impl<'e> Exec<'e> {
             power: power::Power::default(),
             overflowed: false,
             jump: None,
+            aoi_from: usize::MAX,
         }
     }
 
@@ -411,6 +416,25 @@ impl<'e> Exec<'e> {
             Progress::Done => Ok(()),
             Progress::Paused(_) => unreachable!("a scan with no stop time runs to its end"),
         }
+    }
+
+    /// Runs routine `k` from its start to its end (an Add-On
+    /// Instruction's Prescan routine, at prescan).
+    ///
+    /// # Errors
+    /// The fault that stopped it.
+    pub fn run_routine(&mut self, k: usize) -> R<()> {
+        self.frames.clear();
+        self.routine = k;
+        self.depth = 0;
+        if let Some(body) = self.routines.get(k) {
+            self.frames.push(Frame::Block {
+                stmts: body,
+                pc: 0,
+                sub: k as u32,
+            });
+        }
+        self.run().map(|_| ())
     }
 
     /// Puts the scan at the start of the main routine.
@@ -702,6 +726,11 @@ impl<'e> Exec<'e> {
                 sys.major_fault_bits |= 1 << raised.fault_type;
             }
             self.cleared.push(*raised);
+            // Inside an Add-On Instruction the rest of it is cancelled:
+            // the scan goes on after the call.
+            while self.routine >= self.aoi_from && self.frames.iter().any(|f| matches!(f, Frame::Call { .. })) {
+                self.leave_routine(None)?;
+            }
             Ok(())
         } else {
             self.uncleared = true;
