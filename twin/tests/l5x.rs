@@ -683,3 +683,74 @@ fn the_ladder_scara_traces_as_its_st_twin_but_for_en_and_the_idle_count() {
     let placed = col("Recipe.Done");
     assert_eq!(ladder.last().unwrap()[placed], "1");
 }
+
+/// The project's Add-On Instruction: Stats counts its scans through one
+/// (an InOut DINT), the export's instance tag of the instruction's type.
+fn with_aoi(name: &str, call: &str) -> PathBuf {
+    let aoi = "<AddOnInstructionDefinitions>\r\n<AddOnInstructionDefinition Name=\"Tally\" Revision=\"1.0\" ExecutePrescan=\"false\" ExecutePostscan=\"false\" ExecuteEnableInFalse=\"false\">\r\n<Parameters>\r\n<Parameter Name=\"EnableIn\" TagType=\"Base\" DataType=\"BOOL\" Usage=\"Input\" Required=\"false\" Visible=\"false\"/>\r\n<Parameter Name=\"EnableOut\" TagType=\"Base\" DataType=\"BOOL\" Usage=\"Output\" Required=\"false\" Visible=\"false\"/>\r\n<Parameter Name=\"Count\" TagType=\"Base\" DataType=\"DINT\" Usage=\"InOut\" Required=\"true\" Visible=\"true\" Constant=\"false\"/>\r\n</Parameters>\r\n<Routines>\r\n<Routine Name=\"Logic\" Type=\"RLL\">\r\n<RLLContent>\r\n<Rung Number=\"0\" Type=\"N\">\r\n<Text>\r\n<![CDATA[ADD(Count,1,Count);]]>\r\n</Text>\r\n</Rung>\r\n</RLLContent>\r\n</Routine>\r\n</Routines>\r\n</AddOnInstructionDefinition>\r\n</AddOnInstructionDefinitions>\r\n";
+    let scene = variant(name, ("", ""), ("<AddOnInstructionDefinitions/>\r\n", aoi));
+    let l5x = scene.with_file_name("scara_pick.L5X");
+    let text = std::fs::read_to_string(&l5x).unwrap();
+    let tag = "<Tag Name=\"T1\" TagType=\"Base\" DataType=\"Tally\" ExternalAccess=\"Read/Write\"/>\r\n";
+    let text = text
+        .replacen(
+            "<Program Name=\"Stats\" TestEdits=\"false\" MainRoutineName=\"Count\" Disabled=\"false\" UseAsFolder=\"false\">\r\n<Tags>\r\n",
+            &format!("<Program Name=\"Stats\" TestEdits=\"false\" MainRoutineName=\"Count\" Disabled=\"false\" UseAsFolder=\"false\">\r\n<Tags>\r\n{tag}"),
+            1,
+        )
+        .replacen("Scans := Scans + 1;", call, 1);
+    std::fs::write(&l5x, text).unwrap();
+    scene
+}
+
+#[test]
+fn a_projects_add_on_instructions_run_and_import_as_exports_of_their_own() {
+    let scene = with_aoi("aoi_project", "Tally(T1, Scans);");
+    let out = twin().arg("check").arg(&scene).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!stdout.contains("Add-On Instruction"), "no longer reported: {stdout}");
+    let imported = scene.with_file_name("imported/scene.toml");
+    let o = twin()
+        .arg("import")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&imported)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let aoi = std::fs::read_to_string(imported.with_file_name("aoi/Tally.L5X")).expect("aoi/Tally.L5X");
+    assert!(aoi.contains("TargetType=\"AddOnInstructionDefinition\""), "{aoi}");
+    assert!(
+        aoi.contains("<AddOnInstructionDefinition Use=\"Target\" Name=\"Tally\""),
+        "{aoi}"
+    );
+    let text = std::fs::read_to_string(&imported).unwrap();
+    assert!(text.contains("add_on_instructions = [\"aoi/Tally.L5X\"]"), "{text}");
+    // The two scenes run alike: Stats counts through the instruction.
+    let trace = |scene: &Path, name: &str| {
+        let t = scene.with_file_name(name);
+        let o = twin()
+            .args(["run", "--no-render", "--trace"])
+            .arg(&t)
+            .arg(scene)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read(&t).unwrap()
+    };
+    let (a, b) = (trace(&scene, "a.csv"), trace(&imported, "b.csv"));
+    assert_eq!(a, b);
+    let text = String::from_utf8(a).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == "Stats.Scans").unwrap();
+    let last: f64 = text.lines().last().unwrap().split(',').nth(k).unwrap().parse().unwrap();
+    assert!(last > 1000.0, "{last}");
+    // An error inside the instruction names the project's line.
+    let scene = with_aoi("aoi_missing", "Tally(T1);");
+    let line = refused(&scene);
+    assert!(
+        line.contains("Tally is missing its required parameter(s) Count"),
+        "{line}"
+    );
+}

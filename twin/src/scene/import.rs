@@ -27,8 +27,9 @@
 //!   entries 1 and 2 (the positive one when they differ, reported), the
 //!   Excessive Position Error action `CIPAxisExceptionAction` entry 54
 //!   (MOTION-RM003); `Disable` is `stop_drive`, `Unsupported` the default;
-//! * a tag of a type the twin does not know (`TIMER`, `MESSAGE` …) is
-//!   reported and left out: a routine naming it is refused at load;
+//! * a tag of a type the twin does not know (`MESSAGE` …) is reported and
+//!   left out: a routine naming it is refused at load; a tag of an
+//!   Add-On Instruction's type is its instance;
 //! * an instruction structure's exported values (an `FBD_TIMER`'s preset
 //!   …) are reported, not read: the twin's structures start cleared with
 //!   `EnableIn` set, and the routine sets what it uses;
@@ -1549,7 +1550,8 @@ impl<'a> Gen<'a> {
                 .project
                 .data_types
                 .iter()
-                .any(|d| d.name.value.eq_ignore_ascii_case(ty));
+                .any(|d| d.name.value.eq_ignore_ascii_case(ty))
+            || self.project.aois.iter().any(|a| a.name.value.eq_ignore_ascii_case(ty));
         if !known {
             self.note(
                 &data_type.span,
