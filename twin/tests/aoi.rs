@@ -572,3 +572,24 @@ fn the_verifier_refuses_what_studio_refuses() {
     let e = refused(&path);
     assert!(e.contains("nested deeper than 7 levels"), "{e}");
 }
+
+/// `scenes/conveyor_ladder.toml`: conveyor_pick's cell run by a ladder
+/// routine with the Valve, CartMove and Jog instructions delivers every
+/// box it spawns, and its valve never alarms (its expectations).
+#[test]
+fn the_ladder_conveyor_cell_delivers_every_part_it_spawns() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_twin"))
+        .arg("test")
+        .arg(common::root().join("scenes/conveyor_ladder.toml"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("conveyor_ladder.toml  8 expectations"), "{stdout}");
+    assert!(stdout.contains("2 passed, 0 failed"), "{stdout}");
+}
