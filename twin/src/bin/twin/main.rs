@@ -390,7 +390,8 @@ fn check(path: &Path) -> Result<ExitCode> {
 }
 
 /// Each task's programs with their routines: how many are Structured
-/// Text and how many ladder, with the ladder routines' rungs.
+/// Text and how many ladder, with the ladder routines' rungs, and the
+/// Add-On Instructions they call.
 fn programs(scene: &scene::Scene) -> String {
     use std::fmt::Write as _;
     let mut s = String::new();
@@ -399,9 +400,25 @@ fn programs(scene: &scene::Scene) -> String {
             let routines: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
             let ladder: Vec<_> = routines.iter().filter_map(|r| r.routine.rungs.as_ref()).collect();
             let rungs: usize = ladder.iter().map(|r| r.len()).sum();
+            // Add-On Instruction calls by instruction, in first-call order.
+            let mut calls: Vec<(&str, usize)> = Vec::new();
+            for c in routines.iter().flat_map(|r| r.routine.calls()) {
+                if let Some(a) = scene.add_on_instructions.iter().find(|a| a.name.eq_ignore_ascii_case(&c.name)) {
+                    match calls.iter_mut().find(|(n, _)| *n == a.name) {
+                        Some((_, k)) => *k += 1,
+                        None => calls.push((&a.name, 1)),
+                    }
+                }
+            }
+            let aois = if calls.is_empty() {
+                String::new()
+            } else {
+                let list: Vec<String> = calls.iter().map(|(n, k)| format!("{n} ×{k}")).collect();
+                format!("; {} Add-On Instruction call(s): {}", calls.iter().map(|c| c.1).sum::<usize>(), list.join(", "))
+            };
             let _ = writeln!(
                 s,
-                "program {} (task {}): {} routine(s), {} Structured Text, {} ladder ({rungs} rungs)",
+                "program {} (task {}): {} routine(s), {} Structured Text, {} ladder ({rungs} rungs){aois}",
                 p.name,
                 t.name,
                 routines.len(),
