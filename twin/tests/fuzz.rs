@@ -55,3 +55,12 @@ fn the_ladder_sample_the_mutants_start_from_compiles_and_scans() {
         s.controller().major_fault()
     );
 }
+
+#[test]
+fn the_aoi_scene_the_mutants_start_from_loads() {
+    let root = root();
+    let corpus = Corpus::load(&root);
+    let (path, text) = fuzz_cases::aoi_scene(&corpus, &root, None).unwrap();
+    let scene = twin::scene::parse(&path, &text).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.add_on_instructions.len(), 3);
+}

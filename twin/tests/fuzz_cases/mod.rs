@@ -5,8 +5,9 @@
 //! (every tenth case the L5X export of `scenes/l5x/scara_pick.toml` or of
 //! its ladder twin `scara_pick_ladder.toml`, in turn, loaded
 //! with that scene through [`twin::scene::parse_with_l5x`]; the others by
-//! weight: scenes 40 %, ST routines 10 %, ladder routines 12 %, URDF 18 %,
-//! STL 12 %, COLLADA 8 %), a
+//! weight: scenes 32 %, Add-On Instruction exports 8 % (loaded with
+//! `scenes/conveyor_ladder.toml`), ST routines 10 %, ladder routines 12 %,
+//! URDF 18 %, STL 12 %, COLLADA 8 %), a
 //! shipped file of that kind (or a generated COLLADA document), and one to
 //! three mutations — a number replaced by an extreme (NaN, ±inf, ±1e300,
 //! 2³², 1e-300, -0, …), a line deleted, duplicated or moved, a character
@@ -72,6 +73,10 @@ pub struct Corpus {
     routines: Vec<String>,
     /// Ladder routines: the shipped `.rll` files and [`LADDER_SAMPLE`].
     ladders: Vec<String>,
+    /// The shipped Add-On Instruction exports (`scenes/aoi`).
+    aois: Vec<(PathBuf, String)>,
+    /// The scene that uses them (`scenes/conveyor_ladder.toml`).
+    aoi_scene: String,
     urdfs: Vec<(PathBuf, String)>,
     stls: Vec<(PathBuf, Vec<u8>)>,
     dae: String,
@@ -125,6 +130,19 @@ impl Corpus {
                 .map(text)
                 .chain(std::iter::once(LADDER_SAMPLE.to_owned()))
                 .collect(),
+            aois: {
+                let mut paths = Vec::new();
+                files(&scenes_dir.join("aoi"), "L5X", &mut paths);
+                paths.sort();
+                paths
+                    .into_iter()
+                    .map(|p| {
+                        let t = text(&p);
+                        (p, t)
+                    })
+                    .collect()
+            },
+            aoi_scene: text(&scenes_dir.join("conveyor_ladder.toml")),
             urdfs: read("urdf")
                 .into_iter()
                 .map(|p| {
@@ -358,7 +376,8 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
     // Every tenth case mutates the L5X export.
     let target = match pick {
         _ if n.is_multiple_of(10) => "l5x",
-        0..40 => "scene",
+        0..32 => "scene",
+        32..40 => "aoi",
         40..50 => "routine",
         50..62 => "ladder",
         62..80 => "urdf",
@@ -371,6 +390,27 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
     let started = Instant::now();
     let outcome = catch_unwind(AssertUnwindSafe(|| -> Result<(), String> {
         match target {
+            "aoi" => {
+                let (original, text) = &corpus.aois[rng.random_range(0..corpus.aois.len())];
+                let mutant = mutate_text(&mut rng, text);
+                let (path, scene_text) = aoi_scene(corpus, root, Some((original, &mutant)))?;
+                match twin::scene::parse(&path, &scene_text) {
+                    Err(e) => named_in_scene(&e.to_string()),
+                    Ok(mut scene) if n.is_multiple_of(50) => {
+                        scene.duration_s = scene.duration_s.min(0.1);
+                        match twin::run::Twin::new(scene) {
+                            Err(e) => named_in_scene(&e.to_string()),
+                            Ok(mut t) => {
+                                for _ in 0..25 {
+                                    t.step();
+                                }
+                                Ok(())
+                            }
+                        }
+                    }
+                    Ok(_) => Ok(()),
+                }
+            }
             "scene" => {
                 let (original, text) = &corpus.scenes[rng.random_range(0..corpus.scenes.len())];
                 let mutant = mutate_text(&mut rng, text);
@@ -542,7 +582,7 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
 /// A scene's error names the scene or the file it refers to that is wrong
 /// (a routine, the URDF, a mesh).
 fn named_in_scene(message: &str) -> Result<(), String> {
-    let files = ["fuzz_case.toml", ".st:", ".urdf", ".stl", ".dae"];
+    let files = ["fuzz_case.toml", ".st:", ".rll:", ".L5X:", ".urdf", ".stl", ".dae"];
     if files.iter().any(|f| message.contains(f)) {
         Ok(())
     } else {
@@ -585,6 +625,32 @@ thread_local! {
     static LAST_PANIC: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
 }
 
+/// The ladder conveyor scene (path, text) with its Add-On Instruction
+/// exports in a folder of this thread's own, one of them replaced by
+/// `mutant` (its original's path, its text).
+pub fn aoi_scene(corpus: &Corpus, root: &Path, mutant: Option<(&PathBuf, &str)>) -> Result<(PathBuf, String), String> {
+    let dir = root
+        .join("target/fuzz-aoi")
+        .join(format!("{:?}", std::thread::current().id()).replace(['(', ')'], ""));
+    std::fs::create_dir_all(dir.join("aoi")).map_err(|e| e.to_string())?;
+    for (p, t) in &corpus.aois {
+        let name = p.file_name().unwrap_or_default();
+        let text = match mutant {
+            Some((original, m)) if original == p => m,
+            _ => t.as_str(),
+        };
+        std::fs::write(dir.join("aoi").join(name), text).map_err(|e| e.to_string())?;
+    }
+    // Its robot and routine where they are: paths from `scenes/`.
+    let scenes = root.join("scenes");
+    let from_scenes = |sub: &str| format!("\"{}/", scenes.join(sub).display());
+    let text = corpus
+        .aoi_scene
+        .replace("\"robots/", &from_scenes("robots"))
+        .replace("\"routines/", &from_scenes("routines"));
+    Ok((dir.join("fuzz_case.toml"), text))
+}
+
 /// The text mutant of case `n` and the file it came from (STL cases:
 /// `None`), for reproducing a failure by hand.
 pub fn mutant_of(corpus: &Corpus, n: u64) -> Option<(PathBuf, String)> {
@@ -595,7 +661,11 @@ pub fn mutant_of(corpus: &Corpus, n: u64) -> Option<(PathBuf, String)> {
             let (scene, _, export) = &corpus.l5x[(n / 10) as usize % corpus.l5x.len()];
             Some((scene.with_extension("L5X"), mutate_text(&mut rng, export)))
         }
-        0..40 => {
+        32..40 => {
+            let (p, t) = &corpus.aois[rng.random_range(0..corpus.aois.len())];
+            Some((p.clone(), mutate_text(&mut rng, t)))
+        }
+        0..32 => {
             let (p, t) = &corpus.scenes[rng.random_range(0..corpus.scenes.len())];
             Some((p.clone(), mutate_text(&mut rng, t)))
         }
