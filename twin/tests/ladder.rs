@@ -280,6 +280,13 @@ fn math_sets_the_status_flags_as_rm003_tabulates() {
     // CPT with the ladder function names.
     let (s, _) = run("CPT(R,SQR(A) + ATN(0.0) + TRN(2.7) * 2 ** 2);", 16);
     assert_eq!(f(&s, "R"), 12.0);
+    // BCD: TOD of 1234 is 16#1234, FRD reads it back.
+    let (s, _) = run("CPT(D,TOD(A));", 1234);
+    assert_eq!(i(&s, "D"), 0x1234);
+    let (s, _) = run("CPT(D,FRD(A));", 0x9876);
+    assert_eq!(i(&s, "D"), 9876);
+    let (s, fl) = run("CPT(D,FRD(A));", 0x1A);
+    assert_eq!((i(&s, "D"), fl[2]), (0, true), "not BCD: overflow");
     // A FALSE rung computes nothing and leaves the flags.
     let (s, fl) = run("XIC(N) ADD(A,1,D);", 0);
     assert_eq!(i(&s, "D"), 0);

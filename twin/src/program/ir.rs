@@ -88,12 +88,16 @@ pub enum Func {
     Rad,
     /// `TRUNC`.
     Trunc,
+    /// `FRD`: a BCD value (eight digits in 32 bits) to an integer.
+    Frd,
+    /// `TOD`: an integer 0 to 99,999,999 to BCD.
+    Tod,
 }
 
 impl Func {
     /// Every function's name, for messages.
-    pub const NAMES: [&'static str; 13] = [
-        "ABS", "SQRT", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "LN", "LOG", "DEG", "RAD", "TRUNC",
+    pub const NAMES: [&'static str; 15] = [
+        "ABS", "SQRT", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "LN", "LOG", "DEG", "RAD", "TRUNC", "FRD", "TOD",
     ];
 
     /// The function called `name` (case-insensitive).
@@ -113,6 +117,8 @@ impl Func {
             "DEG" => Func::Deg,
             "RAD" => Func::Rad,
             "TRUNC" => Func::Trunc,
+            "FRD" => Func::Frd,
+            "TOD" => Func::Tod,
             _ => return None,
         })
     }

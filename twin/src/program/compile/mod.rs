@@ -351,9 +351,16 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
                         format!("{} needs a number, got BOOL", name.to_ascii_uppercase()),
                     );
                 }
+                if matches!(f, Func::Frd | Func::Tod) && !a.ty.is_integer() {
+                    return err(
+                        self,
+                        args[0].span,
+                        format!("{} converts an integer, got {}", name.to_ascii_uppercase(), a.ty.name()),
+                    );
+                }
                 let ty = match f {
                     Func::Abs => a.ty,
-                    Func::Trunc => Ty::Dint,
+                    Func::Trunc | Func::Frd | Func::Tod => Ty::Dint,
                     _ if a.ty == Ty::Lreal => Ty::Lreal,
                     _ => Ty::Real,
                 };

@@ -212,6 +212,9 @@ impl Exec<'_> {
         if f == Func::Abs && arg.is_integer() {
             return self.int_result(i128::from(v.as_i64()).abs(), arg, "ABS");
         }
+        if let Func::Frd | Func::Tod = f {
+            return self.bcd(f == Func::Tod, v.as_i64());
+        }
         let x = if result == Ty::Real || arg == Ty::Real {
             f64::from(v.as_f64() as f32)
         } else {
@@ -230,6 +233,7 @@ impl Exec<'_> {
             Func::Log => x.log10(),
             Func::Deg => x.to_degrees(),
             Func::Rad => x.to_radians(),
+            Func::Frd | Func::Tod => unreachable!("integers, above"),
             Func::Trunc => {
                 let t = x.trunc();
                 return if t.is_finite() {
@@ -241,6 +245,39 @@ impl Exec<'_> {
             }
         };
         self.real_result(y, result, x.is_finite())
+    }
+}
+
+impl Exec<'_> {
+    /// TOD (`to`: an integer to BCD) or FRD (BCD to an integer), on 32
+    /// bits (1756-RM003): a value TOD cannot write in eight digits, or an
+    /// FRD source with a digit above 9, overflows (minor fault 4/4, `S:V`)
+    /// and gives 0.
+    fn bcd(&mut self, to: bool, v: i64) -> Value {
+        if to {
+            if !(0..=99_999_999).contains(&v) {
+                self.overflow(&format!("TOD of {v}: BCD holds 0 to 99,999,999"));
+                return Value::Int(0);
+            }
+            let (mut x, mut out, mut shift) = (v, 0i64, 0);
+            while x > 0 {
+                out |= (x % 10) << shift;
+                x /= 10;
+                shift += 4;
+            }
+            return Value::Int(i64::from(out as u32 as i32));
+        }
+        let bits = v as u32;
+        let mut out = 0i64;
+        for k in (0..8).rev() {
+            let digit = i64::from((bits >> (4 * k)) & 0xF);
+            if digit > 9 {
+                self.overflow(&format!("FRD of 16#{bits:08X}: not BCD"));
+                return Value::Int(0);
+            }
+            out = out * 10 + digit;
+        }
+        Value::Int(out)
     }
 }
 
