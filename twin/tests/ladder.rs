@@ -660,3 +660,456 @@ fn a_traced_rung_is_a_trace_column_of_its_condition_out() {
         "{err}"
     );
 }
+
+/// One instruction's row: its rung (`XIC(En)` before it makes the rung
+/// condition), the tags, the values before the prescan, and what must
+/// hold after the prescan, then after scans with `En` FALSE, TRUE, TRUE,
+/// FALSE ("A=1 T.ACC=4"; empty: not checked). 4 ms a scan.
+struct Row {
+    rung: &'static str,
+    tags: &'static [(&'static str, &'static str)],
+    init: &'static str,
+    phases: [&'static str; 5],
+}
+
+fn assign(s: &mut Sandbox, spec: &str) {
+    for item in spec.split_whitespace() {
+        let (name, v) = item.split_once('=').expect("name=value");
+        let value = if v.contains('.') {
+            Value::Real(v.parse().unwrap())
+        } else {
+            Value::Int(v.parse().unwrap())
+        };
+        s.set(name, value);
+    }
+}
+
+fn check(s: &Sandbox, rung: &str, phase: &str, spec: &str) {
+    for item in spec.split_whitespace() {
+        let (name, v) = item.split_once('=').expect("name=value");
+        let got = s.value(name).unwrap_or_else(|| panic!("{rung}: no {name}"));
+        let want: f64 = v.parse().unwrap();
+        assert!(
+            (got.as_f64() - want).abs() < 1e-9,
+            "{rung}, {phase}: {name} = {got:?}, want {v}"
+        );
+    }
+}
+
+const TMR: &[(&str, &str)] = &[("En", "BOOL"), ("T", "TIMER"), ("Q", "BOOL")];
+const CNT: &[(&str, &str)] = &[("En", "BOOL"), ("C", "COUNTER"), ("Q", "BOOL")];
+const BIT: &[(&str, &str)] = &[
+    ("En", "BOOL"),
+    ("Q", "BOOL"),
+    ("S", "BOOL"),
+    ("O", "BOOL"),
+    ("B", "BOOL"),
+];
+const NUM: &[(&str, &str)] = &[
+    ("En", "BOOL"),
+    ("Q", "BOOL"),
+    ("A", "DINT"),
+    ("D", "DINT"),
+    ("R", "REAL"),
+    ("N", "BOOL"),
+    ("Z", "BOOL"),
+    ("V", "BOOL"),
+];
+const ARR: &[(&str, &str)] = &[
+    ("En", "BOOL"),
+    ("B", "BOOL"),
+    ("A", "DINT"),
+    ("D", "DINT"),
+    ("Arr", "DINT[4]"),
+    ("Ctl", "CONTROL"),
+];
+
+/// 1756-RM003's Execution rows, instruction by instruction.
+const ROWS: &[Row] = &[
+    // Bit: input instructions pass the condition AND the bit.
+    Row {
+        rung: "XIC(En) XIC(B) OTE(Q);",
+        tags: BIT,
+        init: "B=1",
+        phases: ["Q=0", "Q=0", "Q=1", "Q=1", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) XIO(B) OTE(Q);",
+        tags: BIT,
+        init: "B=1",
+        phases: ["", "Q=0", "Q=0", "Q=0", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) OTE(Q);",
+        tags: BIT,
+        init: "Q=1",
+        phases: ["Q=0", "Q=0", "Q=1", "Q=1", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) OTL(Q);",
+        tags: BIT,
+        init: "Q=0",
+        phases: ["Q=0", "Q=0", "Q=1", "Q=1", "Q=1"],
+    },
+    Row {
+        rung: "XIC(En) OTU(Q);",
+        tags: BIT,
+        init: "Q=1",
+        phases: ["Q=1", "Q=1", "Q=0", "Q=0", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) ONS(S) OTE(Q);",
+        tags: BIT,
+        init: "",
+        phases: ["S=1", "S=0 Q=0", "S=1 Q=1", "S=1 Q=0", "S=0 Q=0"],
+    },
+    Row {
+        rung: "XIC(En) OSR(S,O) OTE(Q);",
+        tags: BIT,
+        init: "O=1",
+        phases: ["S=1 O=0", "S=0 O=0 Q=0", "S=1 O=1 Q=1", "O=0 Q=1", "S=0 O=0"],
+    },
+    Row {
+        rung: "XIC(En) OSF(S,O) OTE(Q);",
+        tags: BIT,
+        init: "S=1 O=1",
+        phases: ["S=0 O=0", "O=0 Q=0", "S=1 O=0 Q=1", "S=1 O=0", "S=0 O=1 Q=0"],
+    },
+    // Timers: 4 ms a scan; PRE 8.
+    Row {
+        rung: "XIC(En) TON(T,8,0) XIC(T.DN) OTE(Q);",
+        tags: TMR,
+        init: "T.ACC=3 T.EN=1",
+        phases: [
+            "T.EN=0 T.TT=0 T.DN=0 T.ACC=0 T.PRE=8",
+            "T.EN=0 T.ACC=0",
+            "T.EN=1 T.TT=1 T.ACC=0 Q=0",
+            "T.TT=1 T.ACC=4",
+            "T.EN=0 T.TT=0 T.DN=0 T.ACC=0",
+        ],
+    },
+    Row {
+        rung: "XIC(En) TOF(T,8,0);",
+        tags: TMR,
+        init: "",
+        phases: [
+            "T.EN=0 T.DN=0 T.ACC=8",
+            "T.EN=0 T.TT=0 T.DN=0",
+            "T.EN=1 T.DN=1 T.TT=0 T.ACC=0",
+            "T.EN=1 T.DN=1",
+            "T.EN=0 T.TT=1 T.DN=1 T.ACC=0",
+        ],
+    },
+    // RTO keeps ACC through the prescan and a FALSE rung.
+    Row {
+        rung: "XIC(En) RTO(T,8,0);",
+        tags: TMR,
+        init: "T.ACC=5 T.DN=1 T.EN=1 T.TT=1",
+        phases: [
+            "T.EN=0 T.TT=0 T.DN=0 T.ACC=5",
+            "T.ACC=5",
+            "T.EN=1 T.TT=1 T.ACC=5",
+            "T.ACC=8 T.DN=1 T.TT=0",
+            "T.EN=0 T.TT=0 T.ACC=8 T.DN=1",
+        ],
+    },
+    Row {
+        rung: "XIC(En) RES(T);",
+        tags: TMR,
+        init: "T.ACC=5 T.DN=1",
+        phases: ["T.ACC=5 T.DN=1", "T.ACC=5", "T.ACC=0 T.DN=0", "", ""],
+    },
+    // Counters: the prescan sets CU/CD, so a TRUE first scan counts nothing.
+    Row {
+        rung: "XIC(En) CTU(C,2,0);",
+        tags: CNT,
+        init: "",
+        phases: [
+            "C.CU=1 C.PRE=2",
+            "C.CU=0 C.ACC=0",
+            "C.CU=1 C.ACC=1 C.DN=0",
+            "C.ACC=1",
+            "C.CU=0 C.ACC=1",
+        ],
+    },
+    Row {
+        rung: "XIC(En) CTD(C,-1,0);",
+        tags: CNT,
+        init: "",
+        phases: [
+            "C.CD=1",
+            "C.CD=0 C.ACC=0 C.DN=1",
+            "C.CD=1 C.ACC=-1 C.DN=1",
+            "C.ACC=-1",
+            "C.CD=0",
+        ],
+    },
+    // Compare: the rung goes on with the test.
+    Row {
+        rung: "XIC(En) EQU(A,3) OTE(Q);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "Q=0", "Q=1", "Q=1", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) NEQ(A,3) OTE(Q);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "Q=0", "Q=0", "Q=0", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) LES(A,4) OTE(Q);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "Q=1", "", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) LEQ(A,3) OTE(Q);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "Q=1", "", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) GRT(A,3) OTE(Q);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "Q=0", "", ""],
+    },
+    Row {
+        rung: "XIC(En) GEQ(A,3.0) OTE(Q);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "Q=1", "", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) LIM(1,A,5) OTE(Q);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "Q=1", "", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) LIM(5,A,1) OTE(Q);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "Q=0", "", ""],
+    },
+    Row {
+        rung: "XIC(En) MEQ(A,16#F,16#13) OTE(Q);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "Q=1", "", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) CMP(A * 2 > 5) OTE(Q);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "Q=1", "", "Q=0"],
+    },
+    // Math: Dest on a TRUE rung, with the flags; nothing on a FALSE one.
+    Row {
+        rung: "XIC(En) ADD(A,D,D) XIC(S:Z) OTE(Z);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["D=0", "D=0", "D=3 Z=0", "D=6", "D=6"],
+    },
+    Row {
+        rung: "XIC(En) SUB(D,A,D) XIC(S:N) OTE(N);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "D=0", "D=-3 N=1", "D=-6 N=1", "D=-6"],
+    },
+    Row {
+        rung: "XIC(En) MUL(A,1000000000,D) XIC(S:V) OTE(V);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "D=0 V=0", "V=1", "", ""],
+    },
+    Row {
+        rung: "XIC(En) DIV(A,2,D);",
+        tags: NUM,
+        init: "A=7",
+        phases: ["", "D=0", "D=3", "", ""],
+    },
+    Row {
+        rung: "XIC(En) DIV(A,2.0,D);",
+        tags: NUM,
+        init: "A=7",
+        phases: ["", "", "D=4", "", ""],
+    },
+    Row {
+        rung: "XIC(En) MOD(A,4,D);",
+        tags: NUM,
+        init: "A=7",
+        phases: ["", "", "D=3", "", ""],
+    },
+    Row {
+        rung: "XIC(En) NEG(A,D);",
+        tags: NUM,
+        init: "A=7",
+        phases: ["", "", "D=-7", "", ""],
+    },
+    Row {
+        rung: "XIC(En) ABS(A,D);",
+        tags: NUM,
+        init: "A=-7",
+        phases: ["", "", "D=7", "", ""],
+    },
+    Row {
+        rung: "XIC(En) SQR(A,R);",
+        tags: NUM,
+        init: "A=16",
+        phases: ["", "R=0.0", "R=4.0", "", ""],
+    },
+    Row {
+        rung: "XIC(En) CPT(R,A ** 2 / 4.0);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "R=2.25", "", ""],
+    },
+    // Move and logic.
+    Row {
+        rung: "XIC(En) MOV(A,D);",
+        tags: NUM,
+        init: "A=9",
+        phases: ["", "D=0", "D=9", "", ""],
+    },
+    Row {
+        rung: "XIC(En) MVM(A,16#F0,D);",
+        tags: NUM,
+        init: "A=255 D=1",
+        phases: ["", "D=1", "D=241", "", ""],
+    },
+    Row {
+        rung: "XIC(En) CLR(D);",
+        tags: NUM,
+        init: "D=9",
+        phases: ["", "D=9", "D=0", "", ""],
+    },
+    Row {
+        rung: "XIC(En) AND(A,6,D);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "D=2", "", ""],
+    },
+    Row {
+        rung: "XIC(En) OR(A,4,D);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "D=7", "", ""],
+    },
+    Row {
+        rung: "XIC(En) XOR(A,1,D);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "D=2", "", ""],
+    },
+    Row {
+        rung: "XIC(En) NOT(A,D);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "D=-4", "", ""],
+    },
+    Row {
+        rung: "XIC(En) SWPB(A,WORD,D);",
+        tags: NUM,
+        init: "A=1",
+        phases: ["", "", "D=65536", "", ""],
+    },
+    Row {
+        rung: "XIC(En) BTD(A,0,D,2,2);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "", "D=12", "", ""],
+    },
+    // Shift, FIFO and LIFO act on the rise.
+    Row {
+        rung: "XIC(En) BSL(Arr[0],Ctl,B,3);",
+        tags: ARR,
+        init: "B=1 Ctl.EN=1",
+        phases: [
+            "Ctl.EN=0 Ctl.LEN=3",
+            "Ctl.EN=0 Ctl.DN=0",
+            "Arr[0]=1 Ctl.EN=1 Ctl.DN=1",
+            "Arr[0]=1",
+            "Ctl.EN=0 Ctl.DN=0",
+        ],
+    },
+    Row {
+        rung: "XIC(En) BSR(Arr[0],Ctl,B,3);",
+        tags: ARR,
+        init: "B=1",
+        phases: ["", "", "Arr[0]=4", "Arr[0]=4", ""],
+    },
+    Row {
+        rung: "XIC(En) FFL(A,Arr[0],Ctl,4,0);",
+        tags: ARR,
+        init: "A=5",
+        phases: [
+            "Ctl.EN=1",
+            "Ctl.EN=0 Ctl.POS=0 Ctl.EM=1",
+            "Arr[0]=5 Ctl.POS=1 Ctl.EM=0",
+            "Ctl.POS=1",
+            "Ctl.EN=0",
+        ],
+    },
+    Row {
+        rung: "XIC(En) FFU(Arr[0],D,Ctl,4,2);",
+        tags: ARR,
+        init: "Arr[0]=7 Arr[1]=8",
+        phases: [
+            "Ctl.EU=1 Ctl.POS=2",
+            "Ctl.EU=0",
+            "D=7 Arr[0]=8 Arr[1]=0 Ctl.POS=1",
+            "Ctl.POS=1",
+            "Ctl.EU=0",
+        ],
+    },
+    Row {
+        rung: "XIC(En) LFL(A,Arr[0],Ctl,4,1);",
+        tags: ARR,
+        init: "A=5",
+        phases: ["Ctl.EN=1", "", "Arr[1]=5 Ctl.POS=2", "Ctl.POS=2", ""],
+    },
+    Row {
+        rung: "XIC(En) LFU(Arr[0],D,Ctl,4,2);",
+        tags: ARR,
+        init: "Arr[0]=7 Arr[1]=8",
+        phases: ["Ctl.EU=1", "", "D=8 Arr[1]=0 Ctl.POS=1", "", ""],
+    },
+    // Program control.
+    Row {
+        rung: "XIC(En) AFI() OTE(Q);",
+        tags: BIT,
+        init: "",
+        phases: ["", "Q=0", "Q=0", "Q=0", "Q=0"],
+    },
+    Row {
+        rung: "XIC(En) NOP() OTE(Q);",
+        tags: BIT,
+        init: "",
+        phases: ["", "Q=0", "Q=1", "Q=1", "Q=0"],
+    },
+];
+
+#[test]
+fn every_instruction_on_a_true_rung_a_false_rung_and_at_prescan() {
+    let phase_names = ["prescan", "FALSE scan", "TRUE scan", "second TRUE scan", "FALSE again"];
+    for row in ROWS {
+        let mut s =
+            Sandbox::ladder(&[], row.tags, &format!("{}\n", row.rung)).unwrap_or_else(|e| panic!("{}: {e}", row.rung));
+        assign(&mut s, row.init);
+        s.prescan();
+        check(&s, row.rung, phase_names[0], row.phases[0]);
+        for (k, en) in [false, true, true, false].into_iter().enumerate() {
+            s.set("En", Value::Bool(en));
+            s.scan();
+            check(&s, row.rung, phase_names[k + 1], row.phases[k + 1]);
+        }
+        assert!(
+            s.controller().major_fault().is_none(),
+            "{}: {:?}",
+            row.rung,
+            s.controller().major_fault()
+        );
+    }
+}

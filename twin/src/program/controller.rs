@@ -451,10 +451,7 @@ impl Controller {
             return;
         }
         let wall = Instant::now();
-        if !self.prescanned {
-            self.prescan(task);
-            self.prescanned = true;
-        }
+        self.prescan_once(task);
         let now_ns = (task.time_s() * 1e6).round() as i64 * 1000;
         let horizon_ns = now_ns + self.update_ns;
         for t in &mut self.tasks {
@@ -926,6 +923,15 @@ impl Controller {
         if self.minor.len() < MINOR_FAULTS_KEPT {
             self.log.push(f.clone());
             self.minor.push(f);
+        }
+    }
+
+    /// The prescan (module doc), unless it ran: the first scan runs it, a
+    /// sandbox may run it alone to see what it leaves.
+    pub fn prescan_once(&mut self, task: &mut MotionTask) {
+        if !self.prescanned {
+            self.prescan(task);
+            self.prescanned = true;
         }
     }
 

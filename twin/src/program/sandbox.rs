@@ -180,41 +180,60 @@ impl Sandbox {
         self.task.update();
     }
 
+    /// The prescan alone (the first [`Sandbox::scan`] runs it otherwise),
+    /// to see what it leaves.
+    pub fn prescan(&mut self) {
+        self.program.controller_mut().prescan_once(&mut self.task);
+    }
+
     /// A scalar tag's value, or an element's (`Arr[3]`), or a structure
-    /// member's (`T1.ACC`).
+    /// member's (`T1.ACC`, `Tmr[1].ACC`).
     #[must_use]
     pub fn value(&self, name: &str) -> Option<Value> {
         let mem = self.program.controller().memory();
+        self.slot(name).map(|k| mem.slots[k])
+    }
+
+    /// The slot of a scalar tag, an element or a structure member.
+    fn slot(&self, name: &str) -> Option<usize> {
+        let mem = self.program.controller().memory();
         let (base, rest) = match name.split_once('[') {
-            Some((b, r)) => (b, Some(r.trim_end_matches(']'))),
+            Some((b, r)) => (b, Some(r)),
             None => (name, None),
         };
-        let (tag_name, member) = match base.split_once('.') {
-            Some((t, m)) => (t, Some(m)),
-            None => (base, None),
+        let (index, member) = match rest {
+            Some(r) => {
+                let (i, after) = r.split_once(']')?;
+                (Some(i), after.strip_prefix('.'))
+            }
+            None => (None, None),
+        };
+        let (tag_name, member) = match (base.split_once('.'), member) {
+            (Some((t, m)), None) => (t, Some(m)),
+            _ => (base, member),
         };
         let info = &mem.tags[mem.find(tag_name)?];
-        let index: usize = match rest {
+        let index: usize = match index {
             Some(i) => i.parse().ok().filter(|i| *i < info.len.unwrap_or(0))?,
             None => 0,
         };
         let offset = match (info.kind, member) {
             (memory::Kind::Structure(s), Some(m)) => s.member(m)?.0,
+            (memory::Kind::User(id), Some(m)) => mem.layouts.get(id).member(m)?.slot,
             (memory::Kind::Scalar(_), None) => 0,
             _ => return None,
         };
-        mem.slots.get(info.base + index * info.stride() + offset).copied()
+        Some(info.base + index * info.stride() + offset)
     }
 
-    /// Sets a scalar tag (`A`) to `value`, as a program's assignment would.
+    /// Sets a tag, element or member (`A`, `Arr[2]`, `T1.PRE`) to `value`,
+    /// as a program's assignment would.
     ///
     /// # Panics
-    /// When there is no such scalar tag.
+    /// When there is no such tag.
     pub fn set(&mut self, name: &str, value: Value) {
+        let slot = self.slot(name).unwrap_or_else(|| panic!("no tag {name}"));
         let mem = self.program.memory_mut();
-        let info = &mem.tags[mem.find(name).unwrap_or_else(|| panic!("no tag {name}"))];
-        assert!(matches!(info.kind, memory::Kind::Scalar(_)), "{name} is not a scalar");
-        let slot = info.base;
         mem.slots[slot] = mem.types[slot].store(value).0;
     }
 
