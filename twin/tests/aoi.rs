@@ -501,6 +501,23 @@ fn the_verifier_refuses_what_studio_refuses() {
         "",
     );
     assert!(refused(&path).contains("'N' is none of its parameters and local tags"));
+    // An instruction's name.
+    let mov = Aoi {
+        name: "MOV",
+        params: &[],
+        locals: &[],
+        routines: &[("Logic", "RLL", &["NOP();"])],
+        prescan: false,
+        enable_in_false: false,
+    };
+    let path = scene(
+        "taken",
+        &[("A.L5X", export(&[mov]))],
+        &[("N", "DINT")],
+        &[("Main.rll", "NOP();\n")],
+        "",
+    );
+    assert!(refused(&path).contains("Add-On Instruction MOV: the name is taken by an instruction"));
     // An instruction that calls itself through an InOut instance.
     let ping = Aoi {
         name: "Ping",

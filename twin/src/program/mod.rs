@@ -116,6 +116,17 @@ impl Program {
     /// # Errors
     /// The first error, as a diagnostic pointing into its file.
     pub fn bind(scene: &Scene, task: &mut MotionTask) -> Result<Program, Box<Diagnostic>> {
+        // An Add-On Instruction may not take an instruction's name (the
+        // scene checked data types and motion instructions).
+        for a in &scene.add_on_instructions {
+            if compile::ladder::find(&a.name).is_some() || ir::General::find(&a.name).is_some() {
+                return Err(Box::new(scene.files.error(
+                    a.span,
+                    format!("Add-On Instruction {}: the name is taken by an instruction", a.name),
+                    "",
+                )));
+            }
+        }
         let mut mem = Memory::of_scene(scene);
         // A slot for each traced rung's condition-out, after the tags'.
         let traced_rungs: Vec<_> = scene
