@@ -709,7 +709,8 @@ fn a_projects_add_on_instructions_run_and_import_as_exports_of_their_own() {
     let out = twin().arg("check").arg(&scene).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(!stdout.contains("Add-On Instruction"), "no longer reported: {stdout}");
+    assert!(!stdout.contains("Add-On Instruction Tally"), "no longer reported: {stdout}");
+    assert!(stdout.contains("1 Add-On Instruction call(s): Tally ×1"), "{stdout}");
     let imported = scene.with_file_name("imported/scene.toml");
     let o = twin()
         .arg("import")
