@@ -215,7 +215,7 @@ impl Ctx<'_> {
                 &export.span(p.data_type.span.clone()),
             )?;
             if usage != AoiUsage::InOut {
-                let atomic = ty.is_some_and(|t| t.array_len.is_none() && is_atomic(t.base));
+                let atomic = ty.is_some_and(|t| t.array_len.is_none() && t.base.is_atomic());
                 if !atomic {
                     return Err(self.aoi_error(
                         export.span(p.data_type.span.clone()),
@@ -409,22 +409,4 @@ fn scalar(v: &l5x::Value) -> Option<f64> {
         l5x::Value::Float(f) => Some(*f),
         _ => None,
     }
-}
-
-/// BOOL or a number: what an Input or Output parameter may be.
-fn is_atomic(b: BaseType) -> bool {
-    matches!(
-        b,
-        BaseType::Bool
-            | BaseType::Sint
-            | BaseType::Int
-            | BaseType::Dint
-            | BaseType::Lint
-            | BaseType::Usint
-            | BaseType::Uint
-            | BaseType::Udint
-            | BaseType::Ulint
-            | BaseType::Real
-            | BaseType::Lreal
-    )
 }

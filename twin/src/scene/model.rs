@@ -814,6 +814,13 @@ impl BaseType {
     /// profiles, function blocks) or in an instruction's structure.
     #[must_use]
     pub fn in_tag_memory(self) -> bool {
+        self.is_atomic() || matches!(self, BaseType::Cam | BaseType::User(_))
+    }
+
+    /// BOOL or a number (what an Add-On Instruction's Input or Output
+    /// parameter may be).
+    #[must_use]
+    pub fn is_atomic(self) -> bool {
         matches!(
             self,
             BaseType::Bool
@@ -827,8 +834,6 @@ impl BaseType {
                 | BaseType::Ulint
                 | BaseType::Real
                 | BaseType::Lreal
-                | BaseType::Cam
-                | BaseType::User(_)
         )
     }
 

@@ -474,55 +474,12 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
                     ("Flag", "BOOL"),
                     ("T1", "FBD_TIMER"),
                 ];
-                match Sandbox::new(&tags, &mutant) {
-                    Ok(mut s) => {
-                        for _ in 0..5 {
-                            s.scan();
-                        }
-                        Ok(())
-                    }
-                    Err(e) => {
-                        let placed = e
-                            .strip_prefix("Main.st:")
-                            .and_then(|rest| rest.split_once(':'))
-                            .and_then(|(l, rest)| {
-                                Some((l.parse::<usize>().ok()?, rest.split_once(':')?.0.parse::<usize>().ok()?))
-                            })
-                            .is_some();
-                        // An undeclared tag is the sandbox's own refusal.
-                        if placed || e.starts_with("unknown type") {
-                            Ok(())
-                        } else {
-                            Err(format!("a routine error without its line:column: {e}"))
-                        }
-                    }
-                }
+                scanned(Sandbox::new(&tags, &mutant), "Main.st:")
             }
             "ladder" => {
                 let text = &corpus.ladders[rng.random_range(0..corpus.ladders.len())];
                 let mutant = mutate_text(&mut rng, text);
-                match Sandbox::ladder(&["Conv"], LADDER_TAGS, &mutant) {
-                    Ok(mut s) => {
-                        for _ in 0..5 {
-                            s.scan();
-                        }
-                        Ok(())
-                    }
-                    Err(e) => {
-                        let placed = e
-                            .strip_prefix("Main.rll:")
-                            .and_then(|rest| rest.split_once(':'))
-                            .and_then(|(l, rest)| {
-                                Some((l.parse::<usize>().ok()?, rest.split_once(':')?.0.parse::<usize>().ok()?))
-                            })
-                            .is_some();
-                        if placed || e.starts_with("unknown type") {
-                            Ok(())
-                        } else {
-                            Err(format!("a rung error without its line:column: {e}"))
-                        }
-                    }
-                }
+                scanned(Sandbox::ladder(&["Conv"], LADDER_TAGS, &mutant), "Main.rll:")
             }
             "urdf" => {
                 let (path, text) = &corpus.urdfs[rng.random_range(0..corpus.urdfs.len())];
@@ -576,6 +533,32 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
     match what {
         None => Ok(()),
         Some(what) => Err(Failure { case: n, target, what }),
+    }
+}
+
+/// A sandbox that compiled scans five times; one that did not names its
+/// routine's `file:line:column` (an undeclared type is the sandbox's own
+/// refusal).
+fn scanned(sandbox: Result<Sandbox, String>, file: &str) -> Result<(), String> {
+    match sandbox {
+        Ok(mut s) => {
+            for _ in 0..5 {
+                s.scan();
+            }
+            Ok(())
+        }
+        Err(e) => {
+            let placed = e
+                .strip_prefix(file)
+                .and_then(|rest| rest.split_once(':'))
+                .and_then(|(l, rest)| Some((l.parse::<usize>().ok()?, rest.split_once(':')?.0.parse::<usize>().ok()?)))
+                .is_some();
+            if placed || e.starts_with("unknown type") {
+                Ok(())
+            } else {
+                Err(format!("a routine error without its line:column: {e}"))
+            }
+        }
     }
 }
 
