@@ -1,6 +1,6 @@
 //! The task engine: the scene's `[[tasks]]` scanned against the planner,
 //! the way a Logix controller (a 5580) runs periodic, continuous and event
-//! tasks of Structured Text programs (1756-PM005).
+//! tasks of Structured Text and ladder programs (1756-PM005).
 //!
 //! **In:** the scene's tasks (parsed routines), its tags and axes, the
 //! planner. **Out:** live tag values, motion instructions executed into the
@@ -47,6 +47,11 @@
 //! `S:FS` set, and an instruction executed in it takes its stored input as
 //! set (`OSRI`: a TRUE input on the first scan gives no pulse; `OSFI`: a
 //! FALSE one none either; `CTUD`: an enable already TRUE does not count).
+//! Ladder instructions take their prescan actions (1756-RM003: `OTE`
+//! clears, `ONS` and `OSR` set their storage bit, `TON` resets, `CTU` sets
+//! `CU` …; `scenes/README.md`, *Ladder routines*), and each Add-On
+//! Instruction call whose instruction executes its Prescan routine runs it
+//! once.
 //!
 //! # Faults (1756-PM014)
 //! | kind | type | code | when |

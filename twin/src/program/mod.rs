@@ -7,7 +7,9 @@
 //! values, faults.
 //!
 //! The stage is one compiler and one interpreter for everything a user
-//! writes in Structured Text:
+//! writes in Structured Text and ladder (a rung's instructions are
+//! statements on a rung-condition register, their operands compiled as
+//! Structured Text's; an Add-On Instruction call a routine of its own):
 //! * [`memory`] lays out tag memory; [`bindings`] binds the planner
 //!   handles the program names, on first use;
 //! * [`compile`] compiles routines, step calls and scene expressions into

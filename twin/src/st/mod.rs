@@ -1,8 +1,11 @@
 //! Structured Text, one front-end for every text a user writes in it:
 //! routines (`[[tasks]]`), the single calls of `[[program]]` steps (a call
 //! is a one-statement routine), and the expressions a scene holds (a
-//! step's `when`, `[trace] tags`). [`lex`] → [`parse`] → [`ast`]; names are
-//! resolved and types checked by the program stage's compiler.
+//! step's `when`, `[trace] tags`); and ladder rungs (`*.rll`, an L5X's RLL
+//! routines), whose instructions, operands and CPT/CMP expressions are the
+//! same tokens and calls (`parse::parse_ladder`). [`lex`] → [`parse`] →
+//! [`ast`]; names are resolved and types checked by the program stage's
+//! compiler.
 //!
 //! Calls take two shapes, the two the specs use:
 //! * **Positional** (Rockwell Logix instructions): the operands in the
