@@ -580,7 +580,12 @@ fn an_rll_routine_runs_from_the_export_and_imports_as_an_rll_file() {
         &[("N", "ADD(Scans,1,Scans);"), ("N", "GRT(Scans,5)OTE(Big);")],
     );
     // `Big` is not a tag of the export: the error names the rung's CDATA.
-    refused_at(&scene, "scara_pick.L5X", "Big)", "'Big' is not a tag of this program");
+    refused_at(
+        &scene,
+        "scara_pick.L5X",
+        "Big)",
+        "Stats/Count rung 1: 'Big' is not a tag of this program",
+    );
     let scene = ladder_count(
         "rll_count",
         &[("N", "ADD(Scans,1,Scans);"), ("N", "GRT(Scans,5)NOP();")],
@@ -657,7 +662,9 @@ fn the_ladder_scara_traces_as_its_st_twin_but_for_en_and_the_idle_count() {
         rows
     };
     let (st, ladder) = (trace("scara_pick"), trace("scara_pick_ladder"));
-    assert_eq!(st[0], ladder[0], "the same columns");
+    // The ladder trace has the ST trace's columns, then its traced rung.
+    assert_eq!(&ladder[0][..st[0].len()], &st[0][..]);
+    assert_eq!(&ladder[0][st[0].len()..], ["PickPlace/Main:17"]);
     assert_eq!(st.len(), ladder.len());
     let header = &st[0];
     let col = |name: &str| {
@@ -674,6 +681,15 @@ fn the_ladder_scara_traces_as_its_st_twin_but_for_en_and_the_idle_count() {
             assert_eq!(a[k], b[k], "{name} at t = {} s", a[0]);
         }
     }
+    // The traced rung is TRUE in the scans that count a part (Placed
+    // rises there).
+    let (rung, placed) = (st[0].len(), col("Placed"));
+    let rises: Vec<&str> = ladder[1..]
+        .windows(2)
+        .filter(|w| w[0][placed] != w[1][placed])
+        .map(|w| w[1][rung].as_str())
+        .collect();
+    assert_eq!(rises, ["1", "1"], "two parts, each counted by rung 17");
     // Where .EN differs: MSO executed at the first scan; the next scan its
     // rung is FALSE (State moved on) and .DN is set, so ladder clears .EN.
     let en = col("PickPlace.Servo[0].EN");
@@ -709,7 +725,10 @@ fn a_projects_add_on_instructions_run_and_import_as_exports_of_their_own() {
     let out = twin().arg("check").arg(&scene).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(!stdout.contains("Add-On Instruction Tally"), "no longer reported: {stdout}");
+    assert!(
+        !stdout.contains("Add-On Instruction Tally"),
+        "no longer reported: {stdout}"
+    );
     assert!(stdout.contains("1 Add-On Instruction call(s): Tally ×1"), "{stdout}");
     let imported = scene.with_file_name("imported/scene.toml");
     let o = twin()

@@ -36,8 +36,8 @@ pub fn program(
                 .filter(|(t, _)| t.program == p.name && t.routine == def.name)
                 .map(|(t, slot)| (t.rung, *slot))
                 .collect();
-            if mem.aliases.is_empty() {
-                routines.push(compiler.rungs(rungs)?);
+            let compiled = if mem.aliases.is_empty() {
+                compiler.rungs(rungs)
             } else {
                 let mut rungs = rungs.clone();
                 for r in &mut rungs {
@@ -45,8 +45,10 @@ pub fn program(
                         c.refs_mut(&mut |r| compiler.dealias(r));
                     });
                 }
-                routines.push(compiler.rungs(&rungs)?);
-            }
+                compiler.rungs(&rungs)
+            };
+            let files = compiler.env.files;
+            routines.push(compiled.map_err(|d| in_rung(d, rungs, files, &p.name, &def.name))?);
         } else if mem.aliases.is_empty() {
             routines.push(compiler.block(&def.routine.body)?);
         } else {
@@ -75,6 +77,29 @@ pub fn program(
         aoi_from,
         aoi_prescan: prescan,
     })
+}
+
+/// An error inside a ladder routine, naming its rung (`Cell/Main rung
+/// 12`) besides its file, line and column.
+fn in_rung(
+    d: super::Error,
+    rungs: &[crate::st::ast::Rung],
+    files: &crate::source::Files,
+    program: &str,
+    routine: &str,
+) -> super::Error {
+    if d.field.is_some() {
+        return d;
+    }
+    let Some(label) = d.labels.first() else { return d };
+    let at = label.range.start as u32;
+    let rung = rungs
+        .iter()
+        .find(|r| files.path(r.span.file) == label.file.path.as_path() && (r.span.start..=r.span.end).contains(&at));
+    match rung {
+        Some(r) => Box::new((*d).in_field(format!("{program}/{routine} rung {}", r.number))),
+        None => d,
+    }
 }
 
 /// Compiles every step of the scene: its call, then its `when`, in order
