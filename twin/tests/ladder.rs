@@ -1113,3 +1113,26 @@ fn every_instruction_on_a_true_rung_a_false_rung_and_at_prescan() {
         );
     }
 }
+
+#[test]
+fn twin_check_names_a_rung_that_writes_an_input_tag() {
+    let dir = common::fresh_dir("ladder-tests", "input_write");
+    std::fs::write(dir.join("Main.rll"), "XIC(Go) OTE(DI.2);\nXIC(Go) MOV(0,DI);\n").unwrap();
+    let text = format!(
+        "{}[[tags]]\nname = \"DI\"\ntype = \"DINT\"\n[[tags]]\nname = \"Go\"\ntype = \"BOOL\"\n\
+         [[sensors]]\nname = \"PE\"\nkind = \"beam\"\ntag = \"DI.2\"\nfrom = [0.0, -0.2, 0.6]\nto = [0.0, 0.2, 0.6]\n\
+         [[tasks]]\nname = \"T\"\nperiod_ms = 4.0\npriority = 5\n[[tasks.programs]]\nname = \"P\"\nmain = \"Main.rll\"\n",
+        common::indexing_table_head()
+    );
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_twin"))
+        .arg("check")
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("Main.rll:1:13 writes the input tag DI.2"), "{stdout}");
+    assert!(stdout.contains("Main.rll:2:15 writes the input tag DI.2"), "{stdout}");
+}

@@ -449,7 +449,8 @@ impl Program {
         &self.io
     }
 
-    /// The routines' assignments to input tags (a routine may write one,
+    /// The routines' assignments to input tags, and a ladder
+    /// instruction's writes (a routine may write one,
     /// as on a controller; the next input update overwrites it), for
     /// `twin check`: (`routine:line:col`, the tag as the device names it).
     pub fn input_writes(&mut self, scene: &Scene, task: &mut MotionTask) -> Vec<(String, String)> {
@@ -458,7 +459,25 @@ impl Program {
             let defs: Vec<_> = std::iter::once(&p.main).chain(&p.routines).collect();
             let names: Vec<String> = defs.iter().map(|r| r.name.clone()).collect();
             for def in &defs {
-                for target in def.routine.assignment_targets() {
+                // Assignments, and the operands ladder instructions write.
+                let mut targets = def.routine.assignment_targets();
+                let rung_calls = if def.routine.is_ladder() {
+                    def.routine.calls()
+                } else {
+                    Vec::new()
+                };
+                for c in rung_calls {
+                    for &k in compile::ladder::written_operands(&c.name) {
+                        if let Some(crate::st::ast::Expr {
+                            kind: crate::st::ast::ExprKind::Ref(r),
+                            ..
+                        }) = c.args.get(k).and_then(|a| a.expr.as_ref())
+                        {
+                            targets.push(r);
+                        }
+                    }
+                }
+                for target in targets {
                     let expr = crate::st::ast::Expr {
                         kind: crate::st::ast::ExprKind::Ref(target.clone()),
                         span: target.span,
