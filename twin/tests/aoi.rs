@@ -158,23 +158,35 @@ impl Run {
         self
     }
 
+    /// `Tag`, `Tag[i]`, `Tag.Member`, `Tag[i].Member.Member` …
     fn value(&self, name: &str) -> Value {
         let mem = self.program.controller().memory();
-        let (tag, member) = match name.split_once('.') {
-            Some((t, m)) => (t, Some(m)),
-            None => (name, None),
-        };
+        let mut parts = name.split('.');
+        let tag = parts.next().unwrap();
         let (base, index) = match tag.split_once('[') {
             Some((b, i)) => (b, i.trim_end_matches(']').parse::<usize>().unwrap()),
             None => (tag, 0),
         };
         let k = mem.find(base).unwrap_or_else(|| panic!("no tag {base}"));
         let info = &mem.tags[k];
-        let offset = match (member, info.kind) {
-            (Some(m), twin::program::memory::Kind::User(id)) => mem.layouts.get(id).member(m).expect("member").slot,
-            _ => 0,
-        };
-        mem.slots[info.base + index * info.stride() + offset]
+        let mut slot = info.base + index * info.stride();
+        let mut kind = info.kind;
+        for m in parts {
+            let twin::program::memory::Kind::User(id) = kind else {
+                panic!("{name}: {m} of a non-structure")
+            };
+            let member = mem
+                .layouts
+                .get(id)
+                .member(m)
+                .unwrap_or_else(|| panic!("{name}: no member {m}"));
+            slot += member.slot;
+            kind = match member.elem {
+                twin::program::layout::Elem::User(inner) => twin::program::memory::Kind::User(inner),
+                _ => twin::program::memory::Kind::Axis,
+            };
+        }
+        mem.slots[slot]
     }
 
     fn f(&self, name: &str) -> f64 {
@@ -484,7 +496,11 @@ fn the_verifier_refuses_what_studio_refuses() {
         &[("Main.rll", "Jumps(J1);\n")],
         "",
     );
-    assert!(refused(&path).contains("JSR is not allowed inside an instruction"));
+    let e = refused(&path);
+    assert!(
+        e.contains("Jumps/Logic rung 0: Add-On Instruction Jumps: JSR is not allowed inside an instruction"),
+        "{e}"
+    );
     let global = Aoi {
         name: "Peek",
         params: &[],
@@ -500,7 +516,11 @@ fn the_verifier_refuses_what_studio_refuses() {
         &[("Main.rll", "Peek(P1);\n")],
         "",
     );
-    assert!(refused(&path).contains("'N' is none of its parameters and local tags"));
+    let e = refused(&path);
+    assert!(
+        e.contains("Peek/Logic: Add-On Instruction Peek: 'N' is none of its parameters and local tags"),
+        "{e}"
+    );
     // An instruction's name.
     let mov = Aoi {
         name: "MOV",
@@ -518,6 +538,25 @@ fn the_verifier_refuses_what_studio_refuses() {
         "",
     );
     assert!(refused(&path).contains("Add-On Instruction MOV: the name is taken by an instruction"));
+    // One instruction in two exports, differently.
+    let mut other = SCALE;
+    other.params = &[
+        ("In", "REAL", "Input", true, false, None),
+        ("Gain", "REAL", "Input", false, false, Some("7.0")),
+        ("Out", "REAL", "Output", true, false, None),
+    ];
+    let path = scene(
+        "twice",
+        &[("A.L5X", export(&[SCALE])), ("B.L5X", export(&[other]))],
+        &[("S1", "Scale"), ("X", "REAL"), ("Y", "REAL")],
+        &[("Main.rll", "Scale(S1,X,Y);\n")],
+        "",
+    );
+    let e = refused(&path);
+    assert!(
+        e.contains("Add-On Instruction Scale is defined twice, differently (first at"),
+        "{e}"
+    );
     // An instruction that calls itself through an InOut instance.
     let ping = Aoi {
         name: "Ping",
@@ -609,4 +648,32 @@ fn the_ladder_conveyor_cell_delivers_every_part_it_spawns() {
     );
     assert!(stdout.contains("conveyor_ladder.toml  8 expectations"), "{stdout}");
     assert!(stdout.contains("2 passed, 0 failed"), "{stdout}");
+}
+
+#[test]
+fn an_instance_inside_an_instruction_starts_at_its_defaults_too() {
+    let outer = Aoi {
+        name: "Outer",
+        params: &[
+            ("In", "REAL", "Input", true, false, None),
+            ("Out", "REAL", "Output", true, false, None),
+        ],
+        locals: &[("S", "Scale", 0)],
+        routines: &[("Logic", "ST", &["Scale(S, In, Out);"])],
+        prescan: false,
+        enable_in_false: false,
+    };
+    let tags = &[("O1", "Outer"), ("Os", "Outer[2]"), ("X", "REAL"), ("Y", "REAL")];
+    let path = scene(
+        "nested_defaults",
+        &[("Scale.L5X", export(&[SCALE, outer]))],
+        tags,
+        &[("Main.rll", "MOV(10.0,X) Outer(O1,X,Y);\n")],
+        "",
+    );
+    let mut run = load(&path);
+    assert_eq!(run.f("Os[1].S.Gain"), 2.0, "an array element's nested instance");
+    run.scans(1);
+    assert_eq!(run.f("O1.S.Gain"), 2.0);
+    assert_eq!(run.f("Y"), 20.0);
 }

@@ -443,11 +443,27 @@ fn malformed_rungs_are_one_line_errors_at_their_position() {
         ("XIC(W);\n", "expected a BOOL or a bit"),
         ("JMP(Nowhere);\n", "no LBL Nowhere in this routine"),
         ("OTE(Q);\nXIC(A) LBL(X);\n", "LBL must be the rung's first instruction"),
+        (
+            "MOV(W+1,W);\n",
+            "MOV's operand 'W+1' is an expression: a ladder operand is a tag or a number",
+        ),
     ];
     for (rungs, want) in cases {
         let e = error(BITS, rungs);
         assert!(e.contains(want), "{rungs:?}: {e}");
     }
+    // An expression nested too deep is reported as such, not echoed.
+    let deep = format!("CPT(W,{}1{});\n", "(".repeat(40), ")".repeat(40));
+    let e = error(BITS, &deep);
+    assert!(e.contains("nested deeper than 32 levels"), "{e}");
+    // Two display operands of one member that disagree.
+    let e = Sandbox::ladder(&[], &[("T", "TIMER")], "TON(T,500,0);\nTOF(T,800,?);\n")
+        .err()
+        .expect("refused");
+    assert!(
+        e.contains("Main.rll:2:7: this display operand sets 800 where Main.rll:1:7 sets 500"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -1059,7 +1059,7 @@ pub struct CompiledProgram {
     pub routines: Vec<Vec<CStmt>>,
     /// Slots the ladder routines' display operands set at load (a
     /// timer's `PRE` written in its rung).
-    pub init: Vec<(usize, Value)>,
+    pub init: Vec<(usize, Value, crate::source::Span)>,
     /// The first routine an Add-On Instruction call site added (the
     /// routines from here on are instructions'); `routines.len()` when
     /// none.

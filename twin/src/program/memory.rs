@@ -173,24 +173,48 @@ impl Memory {
     /// An Add-On Instruction instance (or array of them) without a value
     /// of its own: its parameters' and local tags' default values.
     fn aoi_defaults(&mut self, k: usize, scene: &crate::scene::Scene) {
-        let Kind::User(id) = self.tags[k].kind else { return };
-        let Some(aoi) = scene.add_on_instructions.iter().find(|a| a.data_type.index == id) else {
+        if scene.add_on_instructions.is_empty() {
             return;
-        };
-        let (base, stride, n) = (self.tags[k].base, self.tags[k].stride, self.tags[k].len.unwrap_or(1));
-        for (member, v) in &aoi.defaults {
-            let Some(m) = self.layouts.get(id).member(member) else {
-                continue;
-            };
-            let slot = m.slot;
-            for e in 0..n {
-                let at = base + e * stride + slot;
+        }
+        let Kind::User(id) = self.tags[k].kind else { return };
+        let (base, stride) = (self.tags[k].base, self.tags[k].stride);
+        for e in 0..self.tags[k].len.unwrap_or(1) {
+            self.defaults_at(id, base + e * stride, scene);
+        }
+    }
+
+    /// The defaults of the instance of data type `id` at slot `base`: its
+    /// own when it is an Add-On Instruction's, and those of the instances
+    /// among its members (an instruction's local tag of another's type).
+    fn defaults_at(&mut self, id: u16, base: usize, scene: &crate::scene::Scene) {
+        if let Some(aoi) = scene.add_on_instructions.iter().find(|a| a.data_type.index == id) {
+            for (member, v) in &aoi.defaults {
+                let Some(m) = self.layouts.get(id).member(member) else {
+                    continue;
+                };
+                let at = base + m.slot;
                 let value = if self.types[at] == DataType::Bool || self.types[at].is_integer() {
                     Value::Int(*v as i64)
                 } else {
                     Value::Real(*v)
                 };
                 self.slots[at] = self.types[at].store(value).0;
+            }
+        }
+        let nested: Vec<(u16, usize, usize)> = self
+            .layouts
+            .get(id)
+            .members
+            .iter()
+            .filter_map(|m| match m.elem {
+                crate::program::layout::Elem::User(inner) => Some((inner, m.slot, m.len.unwrap_or(1))),
+                _ => None,
+            })
+            .collect();
+        for (inner, slot, n) in nested {
+            let size = self.layouts.slots(crate::program::layout::Elem::User(inner));
+            for e in 0..n {
+                self.defaults_at(inner, base + slot + e * size, scene);
             }
         }
     }

@@ -164,7 +164,27 @@ impl Program {
         let steps = compile::scene::steps(scene, &mem, &mut env)?;
         compile::scene::aliases(scene, &mem, &mut env)?;
         let steps = steps.into_iter().map(Step::new).collect();
-        for (slot, v) in programs.iter().flatten().chain(&handler).flat_map(|p| &p.init) {
+        // A display operand sets its member once: two that differ (a
+        // timer's Preset written 500 in one rung and 800 in another) are an
+        // error, as the member holds one value.
+        let mut set: std::collections::HashMap<usize, (Value, crate::source::Span)> = std::collections::HashMap::new();
+        for (slot, v, span) in programs.iter().flatten().chain(&handler).flat_map(|p| &p.init) {
+            if let Some((first, at)) = set.get(slot)
+                && first != v
+            {
+                let (line, column) = scene.files.line_column(*at);
+                let file = scene.files.path(at.file).display().to_string();
+                return Err(Box::new(scene.files.error(
+                    *span,
+                    format!(
+                        "this display operand sets {} where {file}:{line}:{column} sets {}: one member holds one value (write '?' in all but one)",
+                        v.as_i64(),
+                        first.as_i64()
+                    ),
+                    "",
+                )));
+            }
+            set.insert(*slot, (*v, *span));
             mem.slots[*slot] = mem.types[*slot].store(*v).0;
         }
         let plc = Controller::new(scene, mem, programs, handler);

@@ -74,13 +74,26 @@ impl Ctx<'_> {
             let defs =
                 l5x::read_aoi_export(&export.text).map_err(|e| self.aoi_error(export.span(e.span), e.message))?;
             for d in defs {
-                if found
+                let same = found
                     .iter()
-                    .any(|(o, ..)| o.name.value.eq_ignore_ascii_case(&d.name.value))
-                {
+                    .find(|(o, ..)| o.name.value.eq_ignore_ascii_case(&d.name.value));
+                if let Some((o, first, ..)) = same {
                     // An export carries the definitions its instruction
-                    // uses: the same one twice is one.
-                    continue;
+                    // uses: the same one twice is one; two that differ are
+                    // an error.
+                    if first.text[o.span.clone()] == export.text[d.span.clone()] {
+                        continue;
+                    }
+                    let at = first.span(o.name.span.clone());
+                    let (line, _) = self.files.borrow().line_column(at);
+                    let file = self.files.borrow().path(at.file).display().to_string();
+                    return Err(self.aoi_error(
+                        export.span(d.name.span.clone()),
+                        format!(
+                            "Add-On Instruction {} is defined twice, differently (first at {file}:{line}): list one export of it",
+                            d.name.value
+                        ),
+                    ));
                 }
                 let index = self.aoi_name(&d, &export)?;
                 found.push((d, Arc::clone(&export), self.loc(entry), index));
@@ -210,6 +223,7 @@ impl Ctx<'_> {
                 .map(|d| d.value.trim().to_owned())
                 .filter(|d| d != "0");
             let ty = self.aoi_type(
+                &format!("{name}.{pname}"),
                 &p.data_type.value,
                 dims.as_deref(),
                 &export.span(p.data_type.span.clone()),
@@ -248,7 +262,8 @@ impl Ctx<'_> {
                 .map(|d| d.value.trim().to_owned())
                 .filter(|d| d != "0");
             let span = export.span(l.data_type.span.clone());
-            let ty = self.aoi_type(&l.data_type.value, dims.as_deref(), &span)?;
+            let owner = format!("{name}.{}", l.name.value);
+            let ty = self.aoi_type(&owner, &l.data_type.value, dims.as_deref(), &span)?;
             let Some(ty) = ty.filter(|t| super::data_types::member_type_allowed(t.base)) else {
                 return Err(self.aoi_error(
                     span,
@@ -316,28 +331,36 @@ impl Ctx<'_> {
     }
 
     /// A parameter's or local tag's type: `None` for an axis (an InOut).
-    fn aoi_type(&self, data_type: &str, dims: Option<&str>, span: &Span) -> Result<Option<TagType>, SceneError> {
+    fn aoi_type(
+        &self,
+        owner: &str,
+        data_type: &str,
+        dims: Option<&str>,
+        span: &Span,
+    ) -> Result<Option<TagType>, SceneError> {
         if data_type.starts_with("AXIS_") {
             return Ok(None);
         }
         let Some(base) = BaseType::parse(data_type).or_else(|| self.find_data_type(data_type)) else {
-            return Err(self.aoi_error(*span, format!("unknown data type {data_type}")));
+            return Err(self.aoi_error(*span, format!("{owner}: unknown data type {data_type}")));
         };
         let len = match dims {
             None => None,
             Some(d) => {
                 let mut n = 1usize;
                 for part in d.split_whitespace() {
-                    let k: usize =
-                        part.parse().ok().filter(|k| *k > 0).ok_or_else(|| {
-                            self.aoi_error(*span, format!("Dimensions=\"{d}\": expected whole numbers"))
-                        })?;
+                    let k: usize = part.parse().ok().filter(|k| *k > 0).ok_or_else(|| {
+                        self.aoi_error(*span, format!("{owner}: Dimensions=\"{d}\": expected whole numbers"))
+                    })?;
                     n = n.saturating_mul(k);
                 }
                 if n > super::model::MAX_ARRAY_LEN {
                     return Err(self.aoi_error(
                         *span,
-                        format!("Dimensions=\"{d}\": more than {} elements", super::model::MAX_ARRAY_LEN),
+                        format!(
+                            "{owner}: Dimensions=\"{d}\": more than {} elements",
+                            super::model::MAX_ARRAY_LEN
+                        ),
                     ));
                 }
                 Some(n)

@@ -805,6 +805,12 @@ impl<'s> Parser<'s> {
             Ok(_) if !self.ladder && matches!(self.tok(0), Tok::Ident(_) | Tok::Int(_) | Tok::Real(_)) => {
                 return Err(self.missing_comma());
             }
+            // A rung's operand that is no enumeration word and no `?` is
+            // an expression: its error (nesting too deep, say) stands.
+            Err(e) if self.ladder && !text.chars().all(|c| c.is_ascii_alphanumeric() || " _%/-.?".contains(c)) => {
+                self.end = outer_end;
+                return Err(e);
+            }
             _ => None,
         };
         self.end = outer_end;

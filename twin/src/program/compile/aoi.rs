@@ -253,9 +253,9 @@ impl<'s> Compiler<'_, '_, 's> {
         });
         self.aoi_stack.push(aoi.name.clone());
         let result = (|| -> Result<Vec<CStmt>> {
-            let logic = self.aoi_body(aoi, &aoi.logic.routine, instance, &inouts)?;
+            let logic = self.aoi_body(aoi, &aoi.logic, instance, &inouts)?;
             let otherwise = match &aoi.enable_in_false {
-                Some(r) => self.aoi_body(aoi, &r.routine, instance, &inouts)?,
+                Some(r) => self.aoi_body(aoi, r, instance, &inouts)?,
                 None => Vec::new(),
             };
             let line = self.env.files.line(aoi.span) as u32;
@@ -281,7 +281,7 @@ impl<'s> Compiler<'_, '_, 's> {
             }];
             body.shrink_to_fit();
             if let Some(p) = &aoi.prescan {
-                let pre = self.aoi_body(aoi, &p.routine, instance, &inouts)?;
+                let pre = self.aoi_body(aoi, p, instance, &inouts)?;
                 self.aoi_routines.push(AoiRoutine {
                     path: p.path.clone(),
                     body: pre,
@@ -297,6 +297,23 @@ impl<'s> Compiler<'_, '_, 's> {
 
     /// One of the instruction's routines, rewritten and compiled.
     fn aoi_body(
+        &mut self,
+        aoi: &AoiDef,
+        def: &crate::scene::RoutineDef,
+        instance: &Ref,
+        inouts: &[(String, Ref, bool)],
+    ) -> Result<Vec<CStmt>> {
+        // An error names the instruction's routine (and rung).
+        let which = def.name.get(aoi.name.len() + 1..).unwrap_or(&def.name);
+        let result = self.aoi_routine_body(aoi, &def.routine, instance, inouts);
+        result.map_err(|d| match &def.routine.rungs {
+            Some(rungs) => super::ladder::in_rung(d, rungs, self.env.files, &aoi.name, which),
+            None if d.field.is_none() => Box::new((*d).in_field(format!("{}/{which}", aoi.name))),
+            None => d,
+        })
+    }
+
+    fn aoi_routine_body(
         &mut self,
         aoi: &AoiDef,
         routine: &Routine,

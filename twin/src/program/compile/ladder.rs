@@ -295,6 +295,7 @@ impl Compiler<'_, '_, '_> {
         for e in elements {
             match e {
                 Element::Instruction(call) => {
+                    self.plain_operands(call)?;
                     let line = self.env.files.line(call.span) as u32;
                     if find(&call.name).is_none()
                         && let Some(aoi) = self.find_aoi(&call.name)
@@ -561,10 +562,48 @@ impl Compiler<'_, '_, '_> {
             Some(e) => Ok(e.clone()),
             None => Err(self.error(
                 a.span,
-                format!("'{}' is not an operand: expected a tag or a number", a.text),
+                format!("'{}' is not an operand: expected a tag or a number", shorten(&a.text)),
                 "not a tag or number",
             )),
         }
+    }
+
+    /// A ladder operand is a tag or a number (1756-RM003: Immediate or
+    /// Tag); only CPT's and CMP's are expressions.
+    fn plain_operands(&self, call: &Call) -> Result<()> {
+        let upper = call.name.to_ascii_uppercase();
+        let motion = planner::task::instructions::find(&call.name);
+        for (k, a) in call.args.iter().enumerate() {
+            if (upper == "CPT" && k == 1) || (upper == "CMP" && k == 0) || (upper == "SWPB" && k == 1) {
+                continue;
+            }
+            // An enumeration word that reads as an expression (`S-Curve`).
+            if motion
+                .and_then(|m| m.operands.get(k))
+                .is_some_and(|spec| spec.code_of(a.text.trim()).is_some())
+            {
+                continue;
+            }
+            let plain = match &a.expr {
+                None => true,
+                Some(e) => match &e.kind {
+                    ExprKind::Ref(_) | ExprKind::Int(_) | ExprKind::Real(_) | ExprKind::Bool(_) => true,
+                    ExprKind::Unary(UnaryOp::Neg, x) => matches!(x.kind, ExprKind::Int(_) | ExprKind::Real(_)),
+                    _ => false,
+                },
+            };
+            if !plain {
+                return err(
+                    self,
+                    a.span,
+                    format!(
+                        "{upper}'s operand '{}' is an expression: a ladder operand is a tag or a number (compute it first with CPT)",
+                        shorten(&a.text)
+                    ),
+                );
+            }
+        }
+        Ok(())
     }
 
     /// A CPT or CMP expression, with the ladder function names (`SQR`,
@@ -686,7 +725,7 @@ impl Compiler<'_, '_, '_> {
             );
         };
         if inst.index.is_none() && inst.terms.is_empty() {
-            self.init.push((inst.base + offset, Value::Int(v)));
+            self.init.push((inst.base + offset, Value::Int(v), a.span));
         }
         Ok(())
     }
@@ -712,6 +751,37 @@ impl Compiler<'_, '_, '_> {
             .map(|(n, ..)| *n)
             .chain(planner::task::instructions::INSTRUCTIONS.iter().map(|i| i.mnemonic));
         super::suggest(d, &call.name, known)
+    }
+}
+
+/// An error inside a ladder routine, naming its rung (`Cell/Main rung
+/// 12`) besides its file, line and column.
+pub(super) fn in_rung(
+    d: super::Error,
+    rungs: &[crate::st::ast::Rung],
+    files: &crate::source::Files,
+    program: &str,
+    routine: &str,
+) -> super::Error {
+    if d.field.is_some() {
+        return d;
+    }
+    let Some(label) = d.labels.first() else { return d };
+    let at = label.range.start as u32;
+    let rung = rungs
+        .iter()
+        .find(|r| files.path(r.span.file) == label.file.path.as_path() && (r.span.start..=r.span.end).contains(&at));
+    match rung {
+        Some(r) => Box::new((*d).in_field(format!("{program}/{routine} rung {}", r.number))),
+        None => d,
+    }
+}
+
+/// An operand's text for a message: at most 60 characters.
+fn shorten(text: &str) -> String {
+    match text.char_indices().nth(60) {
+        Some((i, _)) => format!("{}…", &text[..i]),
+        None => text.to_owned(),
     }
 }
 

@@ -49,7 +49,7 @@ pub struct Compiler<'c, 'e, 's> {
     /// Whether the text is a ladder routine.
     pub ladder: bool,
     /// Slots a ladder display operand sets at load (a timer's Preset …).
-    pub init: Vec<(usize, Value)>,
+    pub init: Vec<(usize, Value, Span)>,
     /// The rungs of this routine `[trace] rungs` names, with the slot
     /// each one's condition-out is written to.
     pub traced_rungs: Vec<(u32, usize)>,

@@ -48,7 +48,7 @@ pub fn program(
                 compiler.rungs(&rungs)
             };
             let files = compiler.env.files;
-            routines.push(compiled.map_err(|d| in_rung(d, rungs, files, &p.name, &def.name))?);
+            routines.push(compiled.map_err(|d| super::ladder::in_rung(d, rungs, files, &p.name, &def.name))?);
         } else if mem.aliases.is_empty() {
             routines.push(compiler.block(&def.routine.body)?);
         } else {
@@ -77,29 +77,6 @@ pub fn program(
         aoi_from,
         aoi_prescan: prescan,
     })
-}
-
-/// An error inside a ladder routine, naming its rung (`Cell/Main rung
-/// 12`) besides its file, line and column.
-fn in_rung(
-    d: super::Error,
-    rungs: &[crate::st::ast::Rung],
-    files: &crate::source::Files,
-    program: &str,
-    routine: &str,
-) -> super::Error {
-    if d.field.is_some() {
-        return d;
-    }
-    let Some(label) = d.labels.first() else { return d };
-    let at = label.range.start as u32;
-    let rung = rungs
-        .iter()
-        .find(|r| files.path(r.span.file) == label.file.path.as_path() && (r.span.start..=r.span.end).contains(&at));
-    match rung {
-        Some(r) => Box::new((*d).in_field(format!("{program}/{routine} rung {}", r.number))),
-        None => d,
-    }
 }
 
 /// Compiles every step of the scene: its call, then its `when`, in order
