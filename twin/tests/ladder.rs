@@ -982,6 +982,37 @@ const ROWS: &[Row] = &[
         init: "A=3",
         phases: ["", "", "R=2.25", "", ""],
     },
+    // The math functions as instructions, and XPY.
+    Row {
+        rung: "XIC(En) XPY(A,2,D);",
+        tags: NUM,
+        init: "A=3",
+        phases: ["", "D=0", "D=9", "", ""],
+    },
+    Row {
+        rung: "XIC(En) TRN(R,D);",
+        tags: NUM,
+        init: "R=2.7",
+        phases: ["", "", "D=2", "", ""],
+    },
+    Row {
+        rung: "XIC(En) TOD(A,D);",
+        tags: NUM,
+        init: "A=12",
+        phases: ["", "", "D=18", "", ""],
+    },
+    Row {
+        rung: "XIC(En) FRD(A,D);",
+        tags: NUM,
+        init: "A=18",
+        phases: ["", "", "D=12", "", ""],
+    },
+    Row {
+        rung: "XIC(En) COS(R,R);",
+        tags: NUM,
+        init: "R=0.0",
+        phases: ["", "R=0.0", "R=1.0", "", ""],
+    },
     // Move and logic.
     Row {
         rung: "XIC(En) MOV(A,D);",
@@ -1151,4 +1182,17 @@ fn twin_check_names_a_rung_that_writes_an_input_tag() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("Main.rll:1:13 writes the input tag DI.2"), "{stdout}");
     assert!(stdout.contains("Main.rll:2:15 writes the input tag DI.2"), "{stdout}");
+}
+
+#[test]
+fn the_string_instructions_run_on_a_true_rung() {
+    let tags = &[("En", "BOOL"), ("A", "DINT"), ("S1", "STRING"), ("S3", "STRING")];
+    let mut s = ladder(tags, "XIC(En) DTOS(A,S1) CONCAT(S1,S1,S3);\n");
+    s.set("A", Value::Int(427));
+    s.scan();
+    assert_eq!(i(&s, "S3.LEN"), 0, "a FALSE rung: nothing");
+    s.set("En", Value::Bool(true));
+    s.scan();
+    assert_eq!(i(&s, "S1.LEN"), 3);
+    assert_eq!(i(&s, "S3.LEN"), 6);
 }

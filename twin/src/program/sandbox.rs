@@ -29,7 +29,7 @@ pub struct Sandbox {
 
 impl Sandbox {
     /// Declares `tags` (name, type as in a scene: `DINT`, `REAL[4]`,
-    /// `FBD_TIMER` …; zero initial values) and compiles `routine`.
+    /// `FBD_TIMER`, `STRING` …; zero initial values) and compiles `routine`.
     ///
     /// # Errors
     /// `Main.st:LINE:COLUMN: message` for a routine that does not parse or
@@ -81,7 +81,11 @@ impl Sandbox {
                 Some((b, rest)) => (b, rest.trim_end_matches(']').parse::<usize>().ok()),
                 None => (*ty, None),
             };
-            let base = BaseType::parse(base).ok_or_else(|| format!("unknown type {ty}"))?;
+            let base = if base.eq_ignore_ascii_case("STRING") {
+                BaseType::User(crate::scene::STRING_TYPE)
+            } else {
+                BaseType::parse(base).ok_or_else(|| format!("unknown type {ty}"))?
+            };
             declared.push(Tag {
                 name: (*name).to_owned(),
                 ty: TagType::new(base, len),

@@ -17,7 +17,7 @@
 
 use super::{Compiler, Result, constant, err};
 use crate::program::ir::{
-    CExpr, CStmt, Func, General, Instance, Ladder, MATH_C, MATH_N, MATH_V, MATH_Z, OutputKind, Place, SKind, StackKind,
+    CExpr, CStmt, General, Instance, Ladder, MATH_C, MATH_N, MATH_V, MATH_Z, OutputKind, Place, SKind, StackKind,
     StackValue, SwapOrder, TimerKind,
 };
 use crate::program::types::{CT_LEN, CT_POS, DataType, LC_ACC, LC_PRE, LT_ACC, LT_PRE, Structure, Ty, Value};
@@ -57,6 +57,9 @@ pub enum Op {
     Abs,
     /// SQR.
     Sqr,
+    /// SIN COS TAN ASN ACS ATN LN LOG DEG RAD TRN TOD FRD (Source, Dest):
+    /// the Structured Text function of that name.
+    Function(&'static str),
     /// NOT.
     Not,
     /// CPT.
@@ -125,6 +128,20 @@ pub const LADDER: &[(&str, &[&str], Op)] = &[
     ("NEG", &["Source", "Dest"], Op::Neg),
     ("ABS", &["Source", "Dest"], Op::Abs),
     ("SQR", &["Source", "Dest"], Op::Sqr),
+    ("SIN", &["Source", "Dest"], Op::Function("SIN")),
+    ("COS", &["Source", "Dest"], Op::Function("COS")),
+    ("TAN", &["Source", "Dest"], Op::Function("TAN")),
+    ("ASN", &["Source", "Dest"], Op::Function("ASIN")),
+    ("ACS", &["Source", "Dest"], Op::Function("ACOS")),
+    ("ATN", &["Source", "Dest"], Op::Function("ATAN")),
+    ("LN", &["Source", "Dest"], Op::Function("LN")),
+    ("LOG", &["Source", "Dest"], Op::Function("LOG")),
+    ("DEG", &["Source", "Dest"], Op::Function("DEG")),
+    ("RAD", &["Source", "Dest"], Op::Function("RAD")),
+    ("TRN", &["Source", "Dest"], Op::Function("TRUNC")),
+    ("TOD", &["Source", "Dest"], Op::Function("TOD")),
+    ("FRD", &["Source", "Dest"], Op::Function("FRD")),
+    ("XPY", &["Source X", "Source Y", "Dest"], Op::Binary(BinaryOp::Pow)),
     ("CPT", &["Dest", "Expression"], Op::Cpt),
     ("MOV", &["Source", "Dest"], Op::Mov),
     ("MVM", &["Source", "Mask", "Dest"], Op::Mvm),
@@ -167,6 +184,17 @@ pub const LADDER: &[(&str, &[&str], Op)] = &[
     ("GSV", &[], Op::General),
     ("SSV", &[], Op::General),
     ("EVENT", &[], Op::General),
+    ("CONCAT", &[], Op::General),
+    ("MID", &[], Op::General),
+    ("FIND", &[], Op::General),
+    ("INSERT", &[], Op::General),
+    ("DELETE", &[], Op::General),
+    ("UPPER", &[], Op::General),
+    ("LOWER", &[], Op::General),
+    ("DTOS", &[], Op::General),
+    ("STOD", &[], Op::General),
+    ("RTOS", &[], Op::General),
+    ("STOR", &[], Op::General),
     ("JMP", &["Label Name"], Op::Jmp),
     ("LBL", &["Label Name"], Op::Lbl),
     ("TND", &[], Op::Tnd),
@@ -179,12 +207,10 @@ pub const LADDER: &[(&str, &[&str], Op)] = &[
 /// in the refusal as such rather than as unknown.
 pub const LADDER_NOT_SIMULATED: &[&str] = &[
     "MSG", "PID", "PIDE", "SQO", "SQI", "SQL", "FAL", "FSC", "FBC", "DDT", "DTR", "AVE", "SRT", "STD", "FOR", "BRK",
-    "UID", "UIE", "IOT", "SFP", "SFR", "XPY", "LN", "LOG", "SIN", "COS", "TAN", "ASN", "ACS", "ATN", "DEG", "RAD",
-    "TRN", "TOD", "FRD", "DTOS", "STOD", "RTOS", "STOR", "CONCAT", "MID", "FIND", "INSERT", "DELETE", "UPPER", "LOWER",
-    "ALM", "SCL", "SCRV", "TONR", "TOFR", "RTOR", "CTUD", "OSRI", "OSFI", "JXR", "ABL", "ACB", "ACL", "AHL", "ARD",
-    "ARL", "AWA", "AWT", "CPM", "TRND", "DEDT", "LDLG", "LDL2", "HPF", "LPF", "NTCH", "INTG", "PI", "PMUL", "SCRV",
-    "SOC", "UPDN", "MAVE", "MAXC", "MINC", "MSTD", "RESD", "SETD", "TOT", "DFF", "JKFF", "SSUM", "ESEL", "HLL", "RLIM",
-    "SEL", "SNEG", "SSUM", "MUX", "CC", "IMC", "MMC", "RMPS", "POSP", "SRTP", "LDLG", "FGEN",
+    "UID", "UIE", "IOT", "SFP", "SFR", "ALM", "SCL", "SCRV", "TONR", "TOFR", "RTOR", "CTUD", "OSRI", "OSFI", "JXR",
+    "ABL", "ACB", "ACL", "AHL", "ARD", "ARL", "AWA", "AWT", "CPM", "TRND", "DEDT", "LDLG", "LDL2", "HPF", "LPF",
+    "NTCH", "INTG", "PI", "PMUL", "SOC", "UPDN", "MAVE", "MAXC", "MINC", "MSTD", "RESD", "SETD", "TOT", "DFF", "JKFF",
+    "SSUM", "ESEL", "HLL", "RLIM", "SEL", "SNEG", "MUX", "CC", "IMC", "MMC", "RMPS", "POSP", "SRTP", "FGEN",
 ];
 
 /// The operands a ladder instruction writes (by index), for the check
@@ -197,7 +223,7 @@ pub fn written_operands(name: &str) -> &'static [usize] {
         Op::Edge(_) => &[0, 1],
         Op::Timer(_) | Op::Counter(_) => &[0],
         Op::Binary(_) | Op::Mvm | Op::Swpb | Op::Btd => &[2],
-        Op::Neg | Op::Abs | Op::Sqr | Op::Not | Op::Mov => &[1],
+        Op::Neg | Op::Abs | Op::Sqr | Op::Function(_) | Op::Not | Op::Mov => &[1],
         Op::Cpt => &[0],
         Op::Shift(_) => &[0, 1],
         Op::Stack(StackKind::FifoLoad | StackKind::LifoLoad) => &[1, 2],
@@ -422,9 +448,14 @@ impl Compiler<'_, '_, '_> {
                 })?;
                 self.compute(&a[1], value, MATH_N | MATH_Z | MATH_V, None)?
             }
-            Op::Abs | Op::Sqr => {
+            Op::Abs | Op::Sqr | Op::Function(_) => {
                 let x = self.rung_operand(&a[0])?;
-                let f = if op == Op::Abs { Func::Abs } else { Func::Sqrt };
+                let f = match op {
+                    Op::Abs => "ABS",
+                    Op::Sqr => "SQRT",
+                    Op::Function(f) => f,
+                    _ => unreachable!("matched"),
+                };
                 let value = self.function(f, x)?;
                 self.compute(&a[1], value, MATH_N | MATH_Z | MATH_V, None)?
             }
@@ -622,9 +653,8 @@ impl Compiler<'_, '_, '_> {
         Ok(c)
     }
 
-    fn function(&mut self, f: Func, x: Expr) -> Result<CExpr> {
+    fn function(&mut self, name: &str, x: Expr) -> Result<CExpr> {
         let span = x.span;
-        let name = if f == Func::Abs { "ABS" } else { "SQRT" };
         self.expr(&Expr {
             kind: ExprKind::Function(name.to_owned(), span, vec![x]),
             span,
