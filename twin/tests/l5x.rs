@@ -739,6 +739,11 @@ fn a_projects_add_on_instructions_run_and_import_as_exports_of_their_own() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        said.contains("with 3 routines under") && said.contains("and 1 Add-On Instruction exports under"),
+        "{said}"
+    );
     let aoi = std::fs::read_to_string(imported.with_file_name("aoi/Tally.L5X")).expect("aoi/Tally.L5X");
     assert!(aoi.contains("TargetType=\"AddOnInstructionDefinition\""), "{aoi}");
     assert!(

@@ -61,10 +61,19 @@ pub fn import(args: &ImportArgs) -> Result<ExitCode> {
         std::fs::write(&path, routine.as_bytes()).with_context(|| format!("cannot write {}", path.display()))?;
     }
     std::fs::write(&args.output, text).with_context(|| format!("cannot write {}", args.output.display()))?;
+    let aois = l5x.routines.iter().filter(|(rel, _)| rel.starts_with("aoi")).count();
+    let routines = l5x.routines.len() - aois;
+    let aoi_text = if aois == 0 {
+        String::new()
+    } else {
+        format!(
+            " and {aois} Add-On Instruction exports under {}",
+            out_dir.join("aoi").display()
+        )
+    };
     println!(
-        "{}: written, with {} routines under {}",
+        "{}: written, with {routines} routines under {}{aoi_text}",
         args.output.display(),
-        l5x.routines.len(),
         out_dir.join("routines").display()
     );
     Ok(ExitCode::SUCCESS)
