@@ -627,6 +627,40 @@ fn the_verifier_refuses_what_studio_refuses() {
     );
     let e = refused(&path);
     assert!(e.contains("nested deeper than 7 levels"), "{e}");
+    // A web of 30 instructions, each holding two of the next: refused at
+    // once (2^29 values), each type counted once.
+    let names: Vec<String> = (1..=30).map(|k| format!("W{k}")).collect();
+    let locals: Vec<[(&str, &str, u32); 2]> = (0..30)
+        .map(|k| {
+            let next = if k < 29 { names[k + 1].as_str() } else { "DINT" };
+            [("P", next, 0), ("Q", next, 0)]
+        })
+        .collect();
+    let nop: [(&str, &str, &[&str]); 1] = [("Logic", "RLL", &["NOP();"])];
+    let web: Vec<Aoi<'_>> = (0..30)
+        .map(|k| Aoi {
+            name: &names[k],
+            params: &[],
+            locals: &locals[k],
+            routines: &nop,
+            prescan: false,
+            enable_in_false: false,
+        })
+        .collect();
+    let path = scene(
+        "web",
+        &[("A.L5X", export(&web))],
+        &[("Top", "W1")],
+        &[("Main.rll", "NOP();\n")],
+        "",
+    );
+    let started = std::time::Instant::now();
+    let e = refused(&path);
+    assert!(
+        e.contains("Add-On Instruction W1: an instance would hold more than 1000000 values"),
+        "{e}"
+    );
+    assert!(started.elapsed().as_secs() < 20, "{:?}", started.elapsed());
 }
 
 /// `scenes/conveyor_ladder.toml`: conveyor_pick's cell run by a ladder

@@ -106,27 +106,87 @@ impl Ctx<'_> {
         // No instruction contains itself through its local tags.
         for a in &out {
             let mut path = vec![a.name.clone()];
-            if self.contains(a.data_type.index, a.data_type.index, &mut path) {
+            if self.contains_itself(a.data_type.index, &mut path) {
                 return Err(self.aoi_error(
                     a.span,
                     format!("Add-On Instruction {} contains itself: {}", a.name, path.join(" → ")),
                 ));
             }
         }
+        // Nor holds more values than a tag may.
+        let mut memo = vec![None; self.data_types.borrow().len()];
+        for a in &out {
+            if self.values_in(a.data_type.index, &mut memo) > super::model::MAX_ARRAY_LEN {
+                return Err(self.aoi_error(
+                    a.span,
+                    format!(
+                        "Add-On Instruction {}: an instance would hold more than {} values, local tags of local tags included",
+                        a.name,
+                        super::model::MAX_ARRAY_LEN
+                    ),
+                ));
+            }
+        }
         Ok(out)
     }
 
-    /// Whether data type `of` holds `target` through its members (`path`
-    /// the chain when it does).
-    fn contains(&self, of: u16, target: u16, path: &mut Vec<String>) -> bool {
-        let members = self.data_types.borrow()[usize::from(of)].members.clone();
-        for m in members {
-            if let BaseType::User(u) = m.ty.base {
-                path.push(format!("{} ({})", m.name, u.name));
-                if u.index == target || (path.len() < 64 && self.contains(u.index, target, path)) {
-                    return true;
+    /// The values one instance of data type `id` holds (capped just past
+    /// the bound), each type counted once (`memo`).
+    fn values_in(&self, id: u16, memo: &mut [Option<usize>]) -> usize {
+        if let Some(n) = memo[usize::from(id)] {
+            return n;
+        }
+        let members: Vec<TagType> = self.data_types.borrow()[usize::from(id)]
+            .members
+            .iter()
+            .map(|m| m.ty)
+            .collect();
+        let cap = super::model::MAX_ARRAY_LEN + 1;
+        let n = members
+            .iter()
+            .map(|t| {
+                let one = match t.base {
+                    BaseType::User(u) if self.data_types.borrow()[usize::from(u.index)].string_length.is_none() => {
+                        self.values_in(u.index, memo)
+                    }
+                    b => self.leaves(b),
+                };
+                one.saturating_mul(t.array_len.unwrap_or(1))
+            })
+            .fold(0usize, |a, b| a.saturating_add(b).min(cap));
+        memo[usize::from(id)] = Some(n);
+        n
+    }
+
+    /// Whether data type `start` holds itself through its members
+    /// (`path` the chain when it does): a search that visits each type
+    /// once and keeps its own stack, so that neither a wide nor a deep
+    /// web of instructions costs more than its size.
+    fn contains_itself(&self, start: u16, path: &mut Vec<String>) -> bool {
+        let types = self.data_types.borrow();
+        let mut done = vec![false; types.len()];
+        done[usize::from(start)] = true;
+        // Each frame: a type and its next member to look at.
+        let mut stack: Vec<(u16, usize)> = vec![(start, 0)];
+        while let Some(top) = stack.last_mut() {
+            let (t, k) = *top;
+            let members = &types[usize::from(t)].members;
+            let Some(m) = members.get(k) else {
+                stack.pop();
+                if !stack.is_empty() {
+                    path.pop();
                 }
-                path.pop();
+                continue;
+            };
+            top.1 += 1;
+            let BaseType::User(u) = m.ty.base else { continue };
+            if u.index == start {
+                path.push(format!("{} ({})", m.name, u.name));
+                return true;
+            }
+            if !std::mem::replace(&mut done[usize::from(u.index)], true) {
+                path.push(format!("{} ({})", m.name, u.name));
+                stack.push((u.index, 0));
             }
         }
         false
