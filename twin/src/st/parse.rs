@@ -196,16 +196,7 @@ pub fn parse_ladder(source: &Source<'_>) -> R<Routine> {
         start: text.len(),
         end: text.len(),
     });
-    let end = tokens.len() - 1;
-    let mut p = Parser {
-        source,
-        tokens,
-        at: 0,
-        end,
-        depth: 0,
-        open: Vec::new(),
-        ladder: true,
-    };
+    let mut p = Parser::from_tokens(source, tokens, true);
     let mut rungs = Vec::with_capacity(lines.len());
     for (number, (first, last)) in lines.into_iter().enumerate() {
         p.at = first;
@@ -241,16 +232,21 @@ impl<'s> Parser<'s> {
             let span = source.span(e.start, e.end);
             Box::new(Diagnostic::error(e.message).with_label(source.label(span, "")))
         })?;
+        Ok(Parser::from_tokens(source, tokens, false))
+    }
+
+    /// A parser at the first of `tokens` (the last is the end).
+    fn from_tokens(source: &'s Source<'s>, tokens: Vec<Token<'s>>, ladder: bool) -> Parser<'s> {
         let end = tokens.len() - 1;
-        Ok(Parser {
+        Parser {
             source,
             tokens,
             at: 0,
             end,
             depth: 0,
             open: Vec::new(),
-            ladder: false,
-        })
+            ladder,
+        }
     }
 
     fn error(&self, span: Span, message: impl Into<String>, label: impl Into<String>) -> Box<Diagnostic> {

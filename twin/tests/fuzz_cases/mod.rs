@@ -396,18 +396,7 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
                 let (path, scene_text) = aoi_scene(corpus, root, Some((original, &mutant)))?;
                 match twin::scene::parse(&path, &scene_text) {
                     Err(e) => named_in_scene(&e.to_string()),
-                    Ok(mut scene) if n.is_multiple_of(50) => {
-                        scene.duration_s = scene.duration_s.min(0.1);
-                        match twin::run::Twin::new(scene) {
-                            Err(e) => named_in_scene(&e.to_string()),
-                            Ok(mut t) => {
-                                for _ in 0..25 {
-                                    t.step();
-                                }
-                                Ok(())
-                            }
-                        }
-                    }
+                    Ok(scene) if n.is_multiple_of(50) => run_briefly(scene, &named_in_scene),
                     Ok(_) => Ok(()),
                 }
             }
@@ -418,18 +407,7 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
                 let path = original.with_file_name("fuzz_case.toml");
                 match twin::scene::parse(&path, &mutant) {
                     Err(e) => named_in_scene(&e.to_string()),
-                    Ok(mut scene) if n.is_multiple_of(25) => {
-                        scene.duration_s = scene.duration_s.min(0.1);
-                        match twin::run::Twin::new(scene) {
-                            Err(e) => named_in_scene(&e.to_string()),
-                            Ok(mut t) => {
-                                for _ in 0..25 {
-                                    t.step();
-                                }
-                                Ok(())
-                            }
-                        }
-                    }
+                    Ok(scene) if n.is_multiple_of(25) => run_briefly(scene, &named_in_scene),
                     Ok(_) => Ok(()),
                 }
             }
@@ -445,20 +423,10 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
                         .into_owned()
                 };
                 let (l5x, toml) = (file("L5X"), file("toml"));
+                let in_either = |m: &str| named(m, &l5x).or_else(|_| named(m, &toml));
                 match twin::scene::parse_with_l5x(scene, text, Some(&mutant)) {
-                    Err(e) => named(&e.to_string(), &l5x).or_else(|_| named(&e.to_string(), &toml)),
-                    Ok(mut scene) if n.is_multiple_of(50) => {
-                        scene.duration_s = scene.duration_s.min(0.1);
-                        match twin::run::Twin::new(scene) {
-                            Err(e) => named(&e.to_string(), &l5x).or_else(|_| named(&e.to_string(), &toml)),
-                            Ok(mut t) => {
-                                for _ in 0..25 {
-                                    t.step();
-                                }
-                                Ok(())
-                            }
-                        }
-                    }
+                    Err(e) => in_either(&e.to_string()),
+                    Ok(scene) if n.is_multiple_of(50) => run_briefly(scene, &in_either),
                     Ok(_) => Ok(()),
                 }
             }
@@ -533,6 +501,21 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
     match what {
         None => Ok(()),
         Some(what) => Err(Failure { case: n, target, what }),
+    }
+}
+
+/// A scene that loaded, built and run for 25 updates of at most 0.1 s;
+/// an error building it must satisfy `named`.
+fn run_briefly(mut scene: twin::scene::Scene, named: &dyn Fn(&str) -> Result<(), String>) -> Result<(), String> {
+    scene.duration_s = scene.duration_s.min(0.1);
+    match twin::run::Twin::new(scene) {
+        Err(e) => named(&e.to_string()),
+        Ok(mut t) => {
+            for _ in 0..25 {
+                t.step();
+            }
+            Ok(())
+        }
     }
 }
 

@@ -25,8 +25,8 @@
 //! its parameters and local tags, nesting deeper than [`MAX_AOI_NESTING`],
 //! an instruction that calls itself (directly or through others).
 
-use super::{Compiler, Result, err};
-use crate::program::ir::{AoiRoutine, CKind, CStmt, Ladder, OutputKind, Place, SKind};
+use super::{Compiler, Result, err, load};
+use crate::program::ir::{AoiRoutine, CStmt, Ladder, OutputKind, SKind};
 use crate::program::memory::Kind;
 use crate::program::types::{DataType, Ty, Value};
 use crate::scene::{AoiDef, AoiUsage};
@@ -476,14 +476,6 @@ fn member_ref(base: &Ref, member: &str, span: Span) -> Ref {
         path,
         span,
     }
-}
-
-fn load(place: Place, ty: DataType) -> crate::program::ir::CExpr {
-    let kind = match place {
-        Place::Slot(i) => CKind::Slot(i),
-        p => CKind::Load(Box::new(p)),
-    };
-    crate::program::ir::CExpr { kind, ty: ty.math() }
 }
 
 /// Where a routine writes `name` (an assignment's target, or an operand

@@ -282,11 +282,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
             ExprKind::Bool(b) => constant(Value::Bool(*b), Ty::Bool),
             ExprKind::Ref(r) => {
                 let (place, ty) = self.place(r)?;
-                let kind = match place {
-                    Place::Slot(i) => CKind::Slot(i),
-                    place => CKind::Load(Box::new(place)),
-                };
-                CExpr { kind, ty: ty.math() }
+                load(place, ty)
             }
             ExprKind::Unary(UnaryOp::Neg, a) => {
                 let a = self.expr(a)?;
@@ -501,6 +497,15 @@ fn fold_dint(op: BinaryOp, a: i64, b: i64) -> Option<Value> {
         BinaryOp::Ne => Some(Value::Bool(a != b)),
         _ => None,
     }
+}
+
+/// A read of `place`, of type `ty` (a slot read in place).
+pub(super) fn load(place: Place, ty: crate::program::types::DataType) -> CExpr {
+    let kind = match place {
+        Place::Slot(i) => CKind::Slot(i),
+        place => CKind::Load(Box::new(place)),
+    };
+    CExpr { kind, ty: ty.math() }
 }
 
 pub(super) fn constant(v: Value, ty: Ty) -> CExpr {
