@@ -288,14 +288,17 @@ fn asymmetric_jerk_table() {
 }
 
 /// Where an axis that ends its acceleration as fast as the limits allow
-/// (accel jerk while the speed rises, decel jerk while it falls) coasts to.
-/// A coast that reverses the direction of travel uses the smaller jerk
-/// throughout (the planner's rule for reversing ramps).
+/// coasts to, using the jerk of each phase: the decel jerk while the speed
+/// falls, the accel jerk while it rises — so one that passes zero speed
+/// first eases with the decel jerk down to zero speed, then ends what is
+/// left of its acceleration with the accel jerk.
 fn coast(v: f64, a: f64, ja: f64, jd: f64) -> f64 {
     let j = if v * a >= 0.0 { ja } else { jd };
     let free = v + a * a.abs() / (2.0 * j);
     if free * v < 0.0 {
-        v + a * a.abs() / (2.0 * ja.min(jd))
+        // a² − a_zero² = 2·jd·|v| on the way to zero speed.
+        let a_zero_sq = a * a - 2.0 * jd * v.abs();
+        (a_zero_sq / (2.0 * ja)).copysign(a)
     } else {
         free
     }
@@ -398,6 +401,25 @@ fn a_stop_while_accelerating_keeps_the_velocity_limit() {
     // From rest, the whole move: the accel ramp ends at exactly v_max.
     let full = Profile::to_position(State::at_rest(0.0), 100.0, 0.0, &limits);
     assert!((full.peak_speed() - 10.0).abs() < 1e-12);
+}
+
+/// The reversal: decelerating towards zero speed (v −98.9, a
+/// +243.1) to a target just behind with a final speed the other way. Ending
+/// the acceleration with the decel jerk (24.1) past zero speed peaks at 4.07
+/// × v_max; with the accel jerk (112.7) once the speed rises it stays within.
+#[test]
+fn a_reversal_ends_its_acceleration_with_the_accel_jerk() {
+    let limits = Limits::s_curve(276.2, 270.4, 872.5, 112.7, 24.1).unwrap();
+    let start = State {
+        position: 78.401,
+        velocity: -98.9,
+        acceleration: 243.1,
+    };
+    let p = Profile::to_position(start, 78.398, 104.8, &limits);
+    reaches_target(&p, 78.398, "reversal");
+    assert!(coast(start.velocity, start.acceleration, 112.7, 24.1) < 276.2);
+    assert!(p.peak_speed() <= 276.2 * (1.0 + 1e-12), "peak {}", p.peak_speed());
+    limits_held(&p, &limits, 276.2).unwrap();
 }
 
 /// `Profile::overshoot`: a plan that must pass its target (it lies behind

@@ -42,7 +42,10 @@
 //! with such jerks, and there the planner holds every limit (100,000
 //! seeded cases). A reversal with different limits uses the
 //! smaller pair throughout, which holds them but is not time-optimal across
-//! zero speed.
+//! zero speed — except where ending its acceleration with the smaller jerk
+//! would carry the speed past `v_max` on the far side: there each phase
+//! uses its own jerk (decel jerk down to zero speed, accel jerk as the speed
+//! rises), which peaks at the least speed any plan can.
 //!
 //! # Limits, and where they apply
 //! A phase that raises the speed |v| uses the *acceleration* limit and the
@@ -53,7 +56,9 @@
 //! `v_max` when the start state lets it stay within. A ramp that reverses
 //! the direction of travel uses the smaller of each pair (it both lowers and
 //! raises the speed), after easing, while the speed still falls, an
-//! acceleration the far side could not end in time. Choices the textbooks
+//! acceleration the far side could not end in time; where that would still
+//! pass `v_max`, it falls to zero speed with the decel jerk and ends the
+//! acceleration left with the accel jerk. Choices the textbooks
 //! leave open, made here:
 //! * a trapezoidal profile ignores the start acceleration (acceleration may
 //!   jump, by definition of a trapezoid);
@@ -586,7 +591,7 @@ impl Profile {
 /// at a time): the state and time reached, in the frame they are planned
 /// in.
 struct Integrated {
-    segments: [Segment; 4],
+    segments: [Segment; 5],
     count: usize,
     state: State,
     t_s: f64,
@@ -600,7 +605,7 @@ impl Integrated {
             state.acceleration = 0.0;
         }
         Self {
-            segments: [Segment::default(); 4],
+            segments: [Segment::default(); 5],
             count: 0,
             state,
             t_s: 0.0,
@@ -610,14 +615,14 @@ impl Integrated {
     /// From where `before` ends, with no segments yet.
     fn continuing(before: &Integrated) -> Self {
         Self {
-            segments: [Segment::default(); 4],
+            segments: [Segment::default(); 5],
             count: 0,
             state: before.state,
             t_s: before.t_s,
         }
     }
 
-    /// Appends one phase (none if it has no duration); at most four
+    /// Appends one phase (none if it has no duration); at most five
     /// before [`Integrated::move_into`].
     fn phase(&mut self, phase: Phase) {
         if phase.duration_s <= 0.0 {
@@ -641,7 +646,7 @@ impl Integrated {
         self.count += 1;
     }
 
-    /// Appends a ramp's phases (at most four).
+    /// Appends a ramp's phases (at most five).
     fn ramp(&mut self, ramp: &Ramp) {
         for phase in ramp.phases() {
             self.phase(phase);

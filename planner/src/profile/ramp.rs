@@ -30,7 +30,7 @@ pub(super) struct Phase {
 /// planner's searches use the closed-form [`Course::reach`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Ramp {
-    phases: [Phase; 4],
+    phases: [Phase; 5],
     count: usize,
     /// The speed and acceleration it starts from.
     start: (f64, f64),
@@ -76,10 +76,14 @@ pub(super) struct Tail {
     pub jerk: Option<f64>,
 }
 
-/// How a ramp from (v, a) reaches its target: at most one lead phase (ending
-/// or easing the start acceleration), then a [`Tail`].
+/// How a ramp from (v, a) reaches its target: at most two lead phases (the
+/// fall to zero speed of a reversal that must end its acceleration on the
+/// far side, then ending or easing the acceleration), then a [`Tail`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Course {
+    /// A reversal's fall to zero speed with the decel jerk (see
+    /// [`Course::through_zero`]).
+    pub fall: Option<Phase>,
     pub lead: Option<Phase>,
     pub tail: Tail,
     /// Set when the lead eases a deceleration into a reversal just enough
@@ -104,6 +108,7 @@ pub(super) struct Easing {
 impl Course {
     pub(super) fn new(v: f64, a: f64, vt: f64, limits: &Limits) -> Self {
         let simple = |v: f64, a: f64, a_max: f64, jerk: Option<f64>| Course {
+            fall: None,
             lead: None,
             tail: Tail { v, a, a_max, jerk },
             eased: None,
@@ -134,6 +139,7 @@ impl Course {
                 // acceleration with the limits of the new sense.
                 let (a_max, jerk) = ramp_limits(v_free, vt, limits);
                 return Course {
+                    fall: None,
                     lead: Some(Phase {
                         duration_s: a.abs() / j_now,
                         jerk: -j_now.copysign(a),
@@ -180,7 +186,8 @@ impl Course {
                 // Only while the speed still falls: an easing that would
                 // reach zero speed first is left to the smaller limits.
                 if a_c < a_s && v1 * v > 0.0 {
-                    return Course {
+                    let course = Course {
+                        fall: None,
                         lead: Some(Phase {
                             duration_s,
                             jerk,
@@ -194,19 +201,64 @@ impl Course {
                         },
                         eased,
                     };
+                    return Self::through_zero(v, a, vt, limits)
+                        .filter(|_| course.tail.passes(limits))
+                        .unwrap_or(course);
                 }
             }
             if reverses {
-                return simple(v, a, a_both, Some(j_both));
+                let course = simple(v, a, a_both, Some(j_both));
+                if !rising && course.tail.passes(limits) {
+                    return Self::through_zero(v, a, vt, limits).unwrap_or(course);
+                }
+                return course;
             }
         }
         let (a_max, jerk) = ramp_limits(v, vt, limits);
         simple(v, a, a_max, jerk)
     }
 
-    /// Distance of the lead phase from (v, a), where the ramp starts.
+    /// A reversal whose speed still falls, planned by the jerk of each
+    /// phase: the decel jerk eases the acceleration until the speed is
+    /// zero, then the course of a start at rest with the acceleration left
+    /// (accel jerk while the speed rises, decel jerk if it must fall again).
+    /// The speed past zero then peaks at a_z²/(2·accel jerk), the least
+    /// any plan reaches, where ending the acceleration with the smaller jerk
+    /// of both senses peaks higher. `None` when the acceleration ends before
+    /// zero speed.
+    fn through_zero(v: f64, a: f64, vt: f64, limits: &Limits) -> Option<Course> {
+        let Shape::SCurve { decel_jerk, .. } = limits.shape else {
+            return None;
+        };
+        let (v_s, a_s) = (v * a.signum(), a.abs());
+        let a_zero_sq = a_s * a_s + 2.0 * decel_jerk * v_s;
+        if v_s >= 0.0 || a_zero_sq <= 0.0 {
+            return None;
+        }
+        let a_zero = a_zero_sq.sqrt();
+        let fall = Phase {
+            duration_s: (a_s - a_zero) / decel_jerk,
+            jerk: -decel_jerk.copysign(a),
+            set_acceleration: None,
+        };
+        let rest = Course::new(0.0, a_zero.copysign(a), vt, limits);
+        Some(Course {
+            fall: Some(fall),
+            ..rest
+        })
+    }
+
+    /// Distance of the lead phases from (v, a), where the ramp starts.
     pub(super) fn lead_distance(&self, v: f64, a: f64) -> f64 {
-        self.lead.map_or(0.0, |p| phase_distance(v, a, p.jerk, p.duration_s))
+        let (mut distance, mut v, mut a) = (0.0, v, a);
+        if let Some(p) = self.fall {
+            distance += phase_distance(v, a, p.jerk, p.duration_s);
+            // The fall ends at zero speed (the rest of the course starts
+            // there).
+            v = 0.0;
+            a += p.jerk * p.duration_s;
+        }
+        distance + self.lead.map_or(0.0, |p| phase_distance(v, a, p.jerk, p.duration_s))
     }
 
     /// Signed distance of the ramp from (v, a) to `vt` (the target this
@@ -243,6 +295,15 @@ pub(super) fn ramp_distance(v: f64, a: f64, vt: f64, limits: &Limits) -> f64 {
 }
 
 impl Tail {
+    /// Whether ending this tail's acceleration carries its speed past the
+    /// velocity limit.
+    fn passes(&self, limits: &Limits) -> bool {
+        let Some(j) = self.jerk else {
+            return false;
+        };
+        coast(self.v, self.a, j).abs() > limits.velocity
+    }
+
     /// Signed distance of this tail to `vt`, and its first and second
     /// derivatives with respect to `vt`, in closed form (the phases
     /// [`Ramp::new`] builds).
@@ -450,7 +511,7 @@ impl Settle {
 impl Ramp {
     fn empty(v: f64, a: f64) -> Self {
         Self {
-            phases: [Phase::default(); 4],
+            phases: [Phase::default(); 5],
             count: 0,
             start: (v, a),
         }
@@ -459,6 +520,9 @@ impl Ramp {
     pub(super) fn new(v: f64, a: f64, vt: f64, limits: &Limits) -> Self {
         let course = Course::new(v, a, vt, limits);
         let mut ramp = Self::empty(v, a);
+        if let Some(fall) = course.fall {
+            ramp.push(fall);
+        }
         if let Some(lead) = course.lead {
             ramp.push(lead);
         }
