@@ -58,7 +58,7 @@ use crate::task::engine::Finish;
 use crate::task::engine::Need;
 use crate::task::engine::SuperKind;
 use crate::task::engine::Takes;
-use crate::task::engine::{CamAxis, LimitFlags, MapcCall, MasterKey, RampRun, Tag};
+use crate::task::engine::{CamAxis, LimitFlags, MapcCall, MasterKey, RampAim, RampPlan, RampRun, Tag};
 use crate::task::handles::CamProfileHandle;
 use crate::task::handles::{AxisHandle, InstructionHandle};
 use std::sync::Arc;
@@ -186,6 +186,13 @@ impl MotionTask {
         c.redefined += delta;
         if let Some(r) = c.ramp.as_mut() {
             r.profile.shift_position(delta);
+            if let Some(RampPlan {
+                aim: RampAim::Move { target },
+                ..
+            }) = r.plan.as_mut()
+            {
+                *target += delta;
+            }
         }
         c.cam.redefine_slave(delta);
     }
@@ -550,10 +557,17 @@ impl MotionTask {
 
     /// Starts a MAM's move along `profile` on `axis` (whatever ramp ran
     /// there ends): `.IP` and `.AC` until the command reaches the end.
-    pub(super) fn start_move_ramp(&mut self, axis: AxisHandle, profile: Profile, control: InstructionHandle) {
+    pub(super) fn start_move_ramp(
+        &mut self,
+        axis: AxisHandle,
+        profile: Profile,
+        plan: RampPlan,
+        control: InstructionHandle,
+    ) {
         self.end_ramp(axis);
         self.cam_axis(axis).ramp = Some(RampRun {
             mv: Some(control),
+            plan: Some(plan),
             ..RampRun::new(profile)
         });
         let b = self.motion_bits_mut(control);

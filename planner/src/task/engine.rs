@@ -21,7 +21,7 @@ use crate::mccp::CamProfileTag;
 use crate::mct::instruction::{Mct, Transform, TransformId, TransformTable};
 use crate::mct::{GeometryKind, GeometryParams};
 use crate::modulo::{MoveModulo, MoveModuloError, MoveModuloInputs};
-use crate::profile::{Profile, Sample};
+use crate::profile::{Limits, Profile, Sample};
 use crate::servo::{AxisFaults, AxisType, MotionFaults};
 use thiserror::Error;
 
@@ -165,6 +165,25 @@ pub(crate) struct RampRun {
     pub(crate) mv: Option<InstructionHandle>,
     /// The MAS stopping it, if any.
     pub(crate) stop: Option<InstructionHandle>,
+    /// What a jog or a move was planned for, which MCD re-plans (`None` for
+    /// a stop ramp).
+    pub(crate) plan: Option<RampPlan>,
+}
+
+/// The limits and aim of a jog's or a move's ramp.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct RampPlan {
+    pub(crate) limits: Limits,
+    pub(crate) aim: RampAim,
+}
+
+/// Where a ramp goes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum RampAim {
+    /// A jog: its direction (±1) and speed.
+    Jog { sign: f64, speed: f64 },
+    /// A move: its absolute target, reached at rest.
+    Move { target: f64 },
 }
 
 impl RampRun {
@@ -176,6 +195,7 @@ impl RampRun {
             jog: None,
             mv: None,
             stop: None,
+            plan: None,
         }
     }
 }

@@ -46,6 +46,7 @@ instructions! {
     maj::MAJ,
     mas::MAS,
     mam::MAM,
+    mcd::MCD,
     mag::MAG,
     mso::MSO,
     msf::MSF,
@@ -83,7 +84,7 @@ pub fn positional_mnemonics() -> String {
 pub const NOT_SIMULATED: &[&str] = &[
     // Motion state
     "MDO", "MDF", "MDS", // Motion move
-    "MCD", "MCSV", "MATC", "MDAC", // Motion group
+    "MCSV", "MATC", "MDAC", // Motion group
     "MGS", "MGSD", "MGSR", "MGSP", // Motion event
     "MAW", "MDW", "MAOC", "MDOC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
@@ -263,7 +264,7 @@ mod tests {
         assert_eq!(find("mc_movemodulo").map(|i| i.mnemonic), Some("MC_MoveModulo"));
         assert_eq!(find("Mapc").map(|i| i.operands.len()), Some(14));
         assert_eq!(find("mso").map(|i| i.operands.len()), Some(2));
-        assert!(find("MCD").is_none());
+        assert!(find("MATC").is_none());
         for name in NOT_SIMULATED {
             assert!(find(name).is_none(), "{name} is both simulated and not");
         }

@@ -452,7 +452,7 @@ fn compile_errors_name_the_line_column_and_what_was_expected() {
         ("A := Arr;", "is an array"),
         ("EXIT;", "EXIT outside"),
         ("TON(T1);", "IEC dialect"),
-        ("MCD(Table, M);", "does not simulate"),
+        ("MDO(Table, M);", "does not simulate"),
         ("A := FOO(1);", "unknown function"),
         ("A.40 := TRUE;", "outside a DINT"),
     ];

@@ -21,16 +21,16 @@
 //! The jog runs as the axis' ramp in the engine (`task/cam.rs`), which a
 //! MAS, a move or a cam ends; `.DN` and `.IP` at once.
 
-use crate::task::engine::Takes;
+use super::entry::{Instruction, no_load, one_shot};
 use crate::axis::AxisConfig;
-use crate::catalogue::words::{motion_control, JOG_ACCEL_UNITS, JOG_DIRECTION, JOG_SPEED_UNITS, PROFILE, op};
+use crate::catalogue::words::{JOG_ACCEL_UNITS, JOG_DIRECTION, JOG_SPEED_UNITS, PROFILE, motion_control, op};
 use crate::catalogue::{CallStyle, Format, Kind};
-use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, one_shot, no_load};
 use crate::dynamics::{positive, time_rate};
+use crate::instruction::{Fault, fault};
 use crate::instruction::{NoFault, Refusal};
 use crate::profile::{Limits, Profile};
 use crate::task::engine::Need;
+use crate::task::engine::{RampAim, RampPlan, Takes};
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask, RampRun};
 
 /// Motion Axis Jog (its first ten operands).
@@ -43,13 +43,37 @@ pub const MAJ: Instruction = Instruction {
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),
         motion_control(1),
-        op("Direction", "DINT", Format::Immediate, Kind::Enumeration(JOG_DIRECTION), 2),
+        op(
+            "Direction",
+            "DINT",
+            Format::Immediate,
+            Kind::Enumeration(JOG_DIRECTION),
+            2,
+        ),
         op("Speed", "REAL", Format::ImmediateOrTag, Kind::Number, 3),
-        op("Speed Units", "DINT", Format::Immediate, Kind::Enumeration(JOG_SPEED_UNITS), 4),
+        op(
+            "Speed Units",
+            "DINT",
+            Format::Immediate,
+            Kind::Enumeration(JOG_SPEED_UNITS),
+            4,
+        ),
         op("Accel Rate", "REAL", Format::ImmediateOrTag, Kind::Number, 5),
-        op("Accel Units", "DINT", Format::Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 6),
+        op(
+            "Accel Units",
+            "DINT",
+            Format::Immediate,
+            Kind::Enumeration(JOG_ACCEL_UNITS),
+            6,
+        ),
         op("Decel Rate", "REAL", Format::ImmediateOrTag, Kind::Number, 7),
-        op("Decel Units", "DINT", Format::Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 8),
+        op(
+            "Decel Units",
+            "DINT",
+            Format::Immediate,
+            Kind::Enumeration(JOG_ACCEL_UNITS),
+            8,
+        ),
         op("Profile", "DINT", Format::Immediate, Kind::Enumeration(PROFILE), 9),
     ],
     execute,
@@ -196,7 +220,9 @@ impl Jog {
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(1);
-    one_shot(task, control, |task| task.maj(args.axis(0), control, &MajOperands::bind(args)))
+    one_shot(task, control, |task| {
+        task.maj(args.axis(0), control, &MajOperands::bind(args))
+    })
 }
 
 fn check(task: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {
@@ -228,6 +254,13 @@ impl MotionTask {
             let state = task.axes[axis.0 as usize].command.state();
             task.cam_axis(axis).ramp = Some(RampRun {
                 jog: Some(motion_control),
+                plan: Some(RampPlan {
+                    limits: jog.limits,
+                    aim: RampAim::Jog {
+                        sign: if operands.direction == 1 { -1.0 } else { 1.0 },
+                        speed: jog.velocity.abs(),
+                    },
+                }),
                 ..RampRun::new(Profile::to_velocity(state, jog.velocity, &jog.limits))
             });
             let b = task.motion_bits_mut(motion_control);

@@ -53,19 +53,19 @@
 //!   between), as Logix does. Superimposing a MAM on a jog is not
 //!   simulated: it ends the jog as a merge does.
 
-use crate::task::engine::Takes;
+use super::entry::{Instruction, no_load, one_shot};
 use crate::axis::AxisConfig;
-use crate::catalogue::words::{motion_control, 
+use crate::catalogue::words::{
     INTEGER, JOG_ACCEL_UNITS, JOG_SPEED_UNITS, LOCK_DIRECTION, MAM_MERGE, MERGE_SPEED, NUMERIC, PROFILE,
-    TIME_JERK_UNITS, op,
+    TIME_JERK_UNITS, motion_control, op,
 };
 use crate::catalogue::{CallStyle, Format, Kind};
-use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, one_shot, no_load};
 use crate::dynamics::{MoveDynamics, time_rate};
+use crate::instruction::{Fault, fault};
 use crate::instruction::{LogixFault, Refusal};
 use crate::profile::{Limits, Profile, State, jerk_from_percent_of_time};
 use crate::task::engine::Need;
+use crate::task::engine::{RampAim, RampPlan, Takes};
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
 use thiserror::Error;
 
@@ -82,17 +82,47 @@ pub const MAM: Instruction = Instruction {
         op("Move Type", INTEGER, Format::ImmediateOrTag, Kind::Integer, 2),
         op("Position", NUMERIC, Format::ImmediateOrTag, Kind::Number, 3),
         op("Speed", NUMERIC, Format::ImmediateOrTag, Kind::Number, 4),
-        op("Speed Units", INTEGER, Format::Immediate, Kind::Enumeration(JOG_SPEED_UNITS), 5),
+        op(
+            "Speed Units",
+            INTEGER,
+            Format::Immediate,
+            Kind::Enumeration(JOG_SPEED_UNITS),
+            5,
+        ),
         op("Accel Rate", NUMERIC, Format::ImmediateOrTag, Kind::Number, 6),
-        op("Accel Units", INTEGER, Format::Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 7),
+        op(
+            "Accel Units",
+            INTEGER,
+            Format::Immediate,
+            Kind::Enumeration(JOG_ACCEL_UNITS),
+            7,
+        ),
         op("Decel Rate", NUMERIC, Format::ImmediateOrTag, Kind::Number, 8),
-        op("Decel Units", INTEGER, Format::Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 9),
+        op(
+            "Decel Units",
+            INTEGER,
+            Format::Immediate,
+            Kind::Enumeration(JOG_ACCEL_UNITS),
+            9,
+        ),
         op("Profile", INTEGER, Format::Immediate, Kind::Enumeration(PROFILE), 10),
         op("Accel Jerk", NUMERIC, Format::ImmediateOrTag, Kind::Number, 11),
         op("Decel Jerk", NUMERIC, Format::ImmediateOrTag, Kind::Number, 12),
-        op("Jerk Units", INTEGER, Format::Immediate, Kind::Enumeration(TIME_JERK_UNITS), 13),
+        op(
+            "Jerk Units",
+            INTEGER,
+            Format::Immediate,
+            Kind::Enumeration(TIME_JERK_UNITS),
+            13,
+        ),
         op("Merge", INTEGER, Format::Immediate, Kind::Enumeration(MAM_MERGE), 14),
-        op("Merge Speed", INTEGER, Format::Immediate, Kind::Enumeration(MERGE_SPEED), 15),
+        op(
+            "Merge Speed",
+            INTEGER,
+            Format::Immediate,
+            Kind::Enumeration(MERGE_SPEED),
+            15,
+        ),
         op("Lock Position", "REAL", Format::ImmediateOrTag, Kind::Number, 16),
         op(
             "Lock Direction",
@@ -101,8 +131,20 @@ pub const MAM: Instruction = Instruction {
             Kind::Enumeration(LOCK_DIRECTION),
             17,
         ),
-        op("Event Distance", "REAL ARRAY or 0", Format::Array, Kind::OptionalArray, 18),
-        op("Calculated Data", "REAL ARRAY or 0", Format::Array, Kind::OptionalArray, 19),
+        op(
+            "Event Distance",
+            "REAL ARRAY or 0",
+            Format::Array,
+            Kind::OptionalArray,
+            18,
+        ),
+        op(
+            "Calculated Data",
+            "REAL ARRAY or 0",
+            Format::Array,
+            Kind::OptionalArray,
+            19,
+        ),
     ],
     execute,
     check,
@@ -412,7 +454,9 @@ impl Mam {
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(1);
-    one_shot(task, control, |task| task.mam(args.axis(0), control, &MamOperands::bind(args)))
+    one_shot(task, control, |task| {
+        task.mam(args.axis(0), control, &MamOperands::bind(args))
+    })
 }
 
 /// The operands' validation against the axis at rest.
@@ -469,10 +513,13 @@ impl MotionTask {
         );
         let start = self.axes[axis.0 as usize].command.state();
         let profile = Profile::to_position(start, target, 0.0, &mam.limits);
-        self.start_move_ramp(axis, profile, control);
+        let plan = RampPlan {
+            limits: mam.limits,
+            aim: RampAim::Move { target },
+        };
+        self.start_move_ramp(axis, profile, plan, control);
         Ok(())
     }
-
 }
 
 #[cfg(test)]

@@ -132,12 +132,12 @@ fn instructions_outside_the_catalogue_are_refused_at_load() {
         "{d}"
     );
     // Named inputs or not.
-    let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "MCD(Axis := Table)");
+    let text = edited("MoveTable(Axis := Table, Execute := FALSE)", "MDO(Axis := Table)");
     let d = error_of(&text);
-    assert_at(&d, &text, "MCD(", "program[1].call");
+    assert_at(&d, &text, "MDO(", "program[1].call");
     assert!(
         d.message
-            .starts_with("MCD is a Logix motion instruction the twin does not simulate"),
+            .starts_with("MDO is a Logix motion instruction the twin does not simulate"),
         "{d}"
     );
 }
