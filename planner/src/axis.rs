@@ -128,6 +128,52 @@ pub struct AxisConfig {
     /// How MAH homes the axis (default: active, immediate, home position
     /// 0). See [`crate::homing`].
     pub homing: Homing,
+    /// Logix `ProgrammedStopMode`: how an MGS of Stop Mode *programmed*
+    /// stops the axis (default: Fast Stop).
+    pub programmed_stop_mode: ProgrammedStopMode,
+}
+
+/// Logix `ProgrammedStopMode` (MOTION-RM003): how the group's programmed
+/// stop (MGS *programmed*, a controller state change) stops an axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ProgrammedStopMode {
+    /// Ramp to rest at the axis' maximum deceleration; the servo stays on.
+    #[default]
+    FastStop,
+    /// Ramp to rest at the maximum deceleration, then disable the drive.
+    FastDisable,
+    /// Disable the drive at once (no ramp).
+    HardDisable,
+    /// Ramp to rest at the maximum deceleration, then shut the axis down.
+    FastShutdown,
+    /// Shut the axis down at once.
+    HardShutdown,
+}
+
+impl ProgrammedStopMode {
+    /// Every mode with its scene word, in the manual's order (its code).
+    pub const ALL: [(&'static str, ProgrammedStopMode); 5] = [
+        ("fast_stop", Self::FastStop),
+        ("fast_disable", Self::FastDisable),
+        ("hard_disable", Self::HardDisable),
+        ("fast_shutdown", Self::FastShutdown),
+        ("hard_shutdown", Self::HardShutdown),
+    ];
+
+    /// The mode of a scene word or an export's attribute value
+    /// (`fast_stop`, `FastStop`, `Fast Stop`: case, spaces and
+    /// underscores ignored).
+    #[must_use]
+    pub fn parse(text: &str) -> Option<Self> {
+        let squash = |t: &str| {
+            t.chars()
+                .filter(|c| *c != '_' && *c != ' ')
+                .collect::<String>()
+                .to_ascii_lowercase()
+        };
+        let text = squash(text);
+        Self::ALL.iter().find(|(w, _)| squash(w) == text).map(|(_, m)| *m)
+    }
 }
 
 impl AxisConfig {
@@ -156,6 +202,7 @@ impl AxisConfig {
             position_error_tolerance: None,
             position_error_action: FaultAction::StopDrive,
             homing: Homing::default(),
+            programmed_stop_mode: ProgrammedStopMode::FastStop,
         }
     }
 

@@ -107,6 +107,8 @@ pub enum Kind {
     DriveAxis,
     /// A `COORDINATE_SYSTEM` tag.
     CoordinateSystem,
+    /// The `MOTION_GROUP` tag (one per controller: every axis is in it).
+    Group,
     /// A `MOTION_INSTRUCTION` tag (the control structure).
     MotionControl,
     /// A `CAM` array tag or element.

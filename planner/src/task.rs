@@ -42,6 +42,7 @@ mod handles;
 
 mod cam;
 mod coord;
+pub mod group;
 mod homing;
 mod mct;
 mod servo;
@@ -96,6 +97,7 @@ impl MotionTask {
             cam: CamState::default(),
             mct: MctState::default(),
             superimposed_removed: false,
+            group: Default::default(),
         })
     }
 

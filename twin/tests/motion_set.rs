@@ -128,3 +128,180 @@ fn mcd_immediate_operands_out_of_range_are_refused_at_load() {
     };
     assert!(e.contains("17"), "{e}");
 }
+
+const GROUP_TAGS: &[(&str, &str)] = &[
+    ("G", "MOTION_GROUP"),
+    ("Jog1", "MOTION_INSTRUCTION"),
+    ("Mam1", "MOTION_INSTRUCTION"),
+    ("Mgs1", "MOTION_INSTRUCTION"),
+    ("Mgsd1", "MOTION_INSTRUCTION"),
+    ("Mgsr1", "MOTION_INSTRUCTION"),
+    ("Mgsp1", "MOTION_INSTRUCTION"),
+    ("Stop", "BOOL"),
+    ("Move", "BOOL"),
+    ("Down", "BOOL"),
+    ("Reset", "BOOL"),
+    ("Strobe", "BOOL"),
+    ("V", "REAL"),
+    ("P", "REAL"),
+    ("Latched", "REAL"),
+    ("LatchedActual", "REAL"),
+    ("Bits", "DINT"),
+    ("Synced", "BOOL"),
+    ("ServoOn", "BOOL"),
+    ("Shut", "BOOL"),
+    ("MgsPc", "BOOL"),
+    ("MgsIp", "BOOL"),
+    ("MgsDn", "BOOL"),
+    ("MamIp", "BOOL"),
+    ("MamErr", "DINT"),
+    ("MgspDn", "BOOL"),
+];
+
+/// X jogs at its maximum speed (1 mm/s); `Stop` runs MGS with `mode`,
+/// `Move` a MAM, `Down` MGSD, `Reset` MGSR, `Strobe` MGSP.
+fn group_routine(mode: &str) -> String {
+    format!(
+        "
+IF NOT Jog1.EN THEN MAJ(X, Jog1, 0, 100, %ofMaximum, 100, %ofMaximum, 100, %ofMaximum, trapezoidal); END_IF;
+P := X.CommandPosition;
+IF Stop AND NOT Mgs1.EN THEN MGS(G, Mgs1, {mode}); END_IF;
+IF Move AND NOT Mam1.EN THEN
+    MAM(X, Mam1, 1, 0.5, 0.5, UnitsPerSec, 10, UnitsPerSec2, 10, UnitsPerSec2, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);
+END_IF;
+IF Down AND NOT Mgsd1.EN THEN MGSD(G, Mgsd1); END_IF;
+IF Reset AND NOT Mgsr1.EN THEN MGSR(G, Mgsr1); END_IF;
+IF Strobe AND NOT Mgsp1.EN THEN MGSP(G, Mgsp1); END_IF;
+V := X.CommandVelocity;
+Latched := X.StrobeCommandPosition; LatchedActual := X.StrobeActualPosition;
+Bits := G.GroupStatus; Synced := G.GroupSynced;
+ServoOn := X.ServoActionStatus; Shut := X.ShutdownStatus;
+MgsPc := Mgs1.PC; MgsIp := Mgs1.IP; MgsDn := Mgs1.DN;
+MamIp := Mam1.IP; MamErr := Mam1.ERR; MgspDn := Mgsp1.DN;
+"
+    )
+}
+
+fn group_sandbox(mode: &str) -> Sandbox {
+    Sandbox::with_axes(&["X"], GROUP_TAGS, &group_routine(mode)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn mgs_fast_stop_brings_every_axis_to_rest_at_its_maximum_deceleration_and_a_move_follows() {
+    let mut s = group_sandbox("faststop");
+    for _ in 0..40 {
+        s.scan();
+    }
+    assert!((real(&s, "V") - 1.0).abs() < 1e-6);
+    assert!(
+        flag(&s, "Synced") && int(&s, "Bits") == 2,
+        "GroupSynced, nothing inhibited"
+    );
+    s.set("Stop", Value::Bool(true));
+    s.scan();
+    assert!(flag(&s, "MgsDn") && flag(&s, "MgsIp") && !flag(&s, "MgsPc"));
+    // The sandbox axis' maximum deceleration is 10 mm/s²: 0.04 mm/s an
+    // update, at rest after 25 updates (V is read in each scan, before its
+    // update: the MGS scan reads 1 mm/s, then 25 scans ramp it).
+    let mut last = real(&s, "V");
+    let mut updates = 1;
+    while real(&s, "V") > 0.0 {
+        s.scan();
+        let v = real(&s, "V");
+        assert!((last - v - 0.04).abs() < 1e-6 || v == 0.0, "{last} → {v}");
+        last = v;
+        updates += 1;
+        assert!(updates < 40);
+    }
+    assert_eq!(updates, 26);
+    s.scan();
+    assert!(
+        flag(&s, "MgsPc") && !flag(&s, "MgsIp"),
+        ".PC once every axis is at rest"
+    );
+    assert!(flag(&s, "ServoOn"), "Fast Stop leaves the servo on");
+    s.set("Move", Value::Bool(true));
+    s.scan();
+    s.scan();
+    assert!(flag(&s, "MamIp") && real(&s, "V") > 0.0, "a following MAM runs");
+}
+
+#[test]
+fn mgs_fast_disable_leaves_the_drive_off() {
+    let mut s = group_sandbox("fastdisable");
+    for _ in 0..40 {
+        s.scan();
+    }
+    s.set("Stop", Value::Bool(true));
+    for _ in 0..24 {
+        s.scan();
+        assert!(flag(&s, "ServoOn"), "on while it ramps");
+    }
+    for _ in 0..3 {
+        s.scan();
+    }
+    assert!(flag(&s, "MgsPc") && !flag(&s, "ServoOn"), "off once at rest");
+    s.set("Move", Value::Bool(true));
+    s.scan();
+    assert_eq!(int(&s, "MamErr"), 5, "servo off state: MSO again");
+}
+
+#[test]
+fn mgsd_shuts_the_group_down_until_mgsr() {
+    let mut s = group_sandbox("programmed");
+    for _ in 0..10 {
+        s.scan();
+    }
+    s.set("Down", Value::Bool(true));
+    s.scan();
+    assert!(flag(&s, "Shut") && real(&s, "V") == 0.0);
+    for _ in 0..10 {
+        s.scan();
+        assert!(flag(&s, "Shut"), "stays shut down");
+    }
+    s.set("Move", Value::Bool(true));
+    s.scan();
+    assert_eq!(int(&s, "MamErr"), 7, "shutdown state");
+    s.set("Reset", Value::Bool(true));
+    s.scan();
+    assert!(!flag(&s, "Shut"));
+}
+
+#[test]
+fn mgsp_latches_the_positions_of_that_update() {
+    let mut s = group_sandbox("programmed");
+    for _ in 0..30 {
+        s.scan();
+    }
+    let before = real(&s, "P");
+    s.set("Strobe", Value::Bool(true));
+    s.scan();
+    assert!(flag(&s, "MgspDn"));
+    // P is read in the scan before MGSP executes: the command position of
+    // the last update, which MGSP latches.
+    assert_eq!(real(&s, "Latched"), real(&s, "P"));
+    assert!(real(&s, "P") > before);
+    let latched = real(&s, "Latched");
+    for _ in 0..5 {
+        s.scan();
+    }
+    assert_eq!(real(&s, "Latched"), latched, "held until the next MGSP");
+    assert_eq!(real(&s, "LatchedActual"), latched, "no plant: actual = command");
+}
+
+#[test]
+fn group_operands_are_checked_at_load() {
+    for (routine, needle) in [
+        ("MGS(G, Mgs1, 5);", "Stop Mode"),
+        ("MGS(X, Mgs1, programmed);", "MOTION_GROUP"),
+        ("MGSD(Jog1, Mgsd1);", "MOTION_GROUP"),
+        ("V := G.Speed;", "no member 'Speed'"),
+        ("G.GroupStatus := 1;", "read"),
+    ] {
+        let e = match Sandbox::with_axes(&["X"], GROUP_TAGS, routine) {
+            Ok(_) => panic!("{routine} loads"),
+            Err(e) => e,
+        };
+        assert!(e.contains(needle), "{routine}: {e}");
+    }
+}

@@ -52,6 +52,13 @@ pub const SYSTEM_AND_CONTROL: &[Operand] = &[
     motion_control(1),
 ];
 
+/// The operands of a motion group instruction (MGSD, MGSR, MGSP): the
+/// group and the control structure.
+pub const GROUP_AND_CONTROL: &[Operand] = &[
+    op("Group", "MOTION_GROUP", Format::Tag, Kind::Group, 0),
+    motion_control(1),
+];
+
 /// An enumeration word and its code.
 pub const fn w(word: &'static str, code: i64) -> Word {
     Word { word, code }
@@ -155,6 +162,8 @@ pub const MAS_STOP_TYPE: &[Word] = &[
     w("masteroffsetmove", 9),
     w("directcontrol", 10),
 ];
+/// MGS's Stop Mode.
+pub const MGS_STOP_MODE: &[Word] = &[w("programmed", 0), w("faststop", 1), w("fastdisable", 2)];
 /// MC_MoveModulo's Direction (PLCopen MC_Direction).
 pub const MC_DIRECTION: &[Word] = &[
     w("MC_Positive_Direction", 1),

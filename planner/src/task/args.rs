@@ -19,6 +19,8 @@ pub enum Arg<'a> {
     Axis(AxisHandle),
     /// A coordinate system.
     System(CoordHandle),
+    /// The motion group (one per controller).
+    Group,
     /// A control structure (`MOTION_INSTRUCTION` tag).
     Control(InstructionHandle),
     /// A `CAM_PROFILE` tag.

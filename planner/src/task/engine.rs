@@ -41,6 +41,8 @@ pub struct MotionTask {
     /// Between [`MotionTask::remove_superimposed`](MotionTask::remove_superimposed) and
     /// [`MotionTask::add_superimposed`](MotionTask::add_superimposed): commands are bases.
     pub(super) superimposed_removed: bool,
+    /// The motion group (`task/group.rs`).
+    pub(super) group: GroupState,
 }
 
 impl MotionTask {
@@ -63,7 +65,20 @@ impl MotionTask {
         self.add_superimposed();
         self.advance_homing();
         self.advance_servo_states();
+        self.advance_group();
     }
+}
+
+/// The motion group's state kept by the task (`task/group.rs`).
+#[derive(Debug, Clone, Default)]
+pub(super) struct GroupState {
+    /// The MGS whose stop is in process.
+    pub(super) stop: Option<InstructionHandle>,
+    /// Axes a Fast Disable or Fast Shutdown disables once at rest.
+    pub(super) disable_at_rest: Vec<(AxisHandle, Power)>,
+    /// Per axis: (`StrobeActualPosition`, `StrobeCommandPosition`) of the
+    /// last MGSP.
+    pub(super) strobes: Vec<(f64, f64)>,
 }
 
 // The task itself: axes, function-block instances, control structures.

@@ -59,7 +59,9 @@ impl MotionTask {
         !self.at_rest(axis)
     }
 
-    fn at_rest(&self, axis: AxisHandle) -> bool {
+    /// Whether `axis` stands still with no stop, superimposed or
+    /// coordinated motion moving it.
+    pub(super) fn at_rest(&self, axis: AxisHandle) -> bool {
         let a = &self.axes[axis.0 as usize];
         a.command.velocity == 0.0
             && !self.is_stopping(axis)

@@ -56,6 +56,10 @@ instructions! {
     mah::MAH,
     mcsd::MCSD,
     mcsr::MCSR,
+    mgs::MGS,
+    mgsd::MGSD,
+    mgsr::MGSR,
+    mgsp::MGSP,
     mc_move_modulo::MC_MOVE_MODULO,
 }
 
@@ -84,8 +88,7 @@ pub fn positional_mnemonics() -> String {
 pub const NOT_SIMULATED: &[&str] = &[
     // Motion state
     "MDO", "MDF", "MDS", // Motion move
-    "MCSV", "MATC", "MDAC", // Motion group
-    "MGS", "MGSD", "MGSR", "MGSP", // Motion event
+    "MCSV", "MATC", "MDAC", // Motion event
     "MAW", "MDW", "MAOC", "MDOC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
     "MCCD", "MCTP", "MCTO", "MCTPO", "MCPM", "MDCC",

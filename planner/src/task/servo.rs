@@ -319,7 +319,7 @@ impl MotionTask {
         }))
     }
 
-    fn shutdown_reset(&mut self, axis: AxisHandle) {
+    pub(super) fn shutdown_reset(&mut self, axis: AxisHandle) {
         let a = &mut self.axes[axis.0 as usize];
         if a.servo.power == Power::Shutdown {
             a.servo.faults = AxisFaults::default();
@@ -335,7 +335,7 @@ impl MotionTask {
 
     /// Disables `axis` into `to` (Off, Faulted, Shutdown): every motion
     /// process on it ends now, and a pending MSO fails.
-    fn disable(&mut self, axis: AxisHandle, to: Power) {
+    pub(super) fn disable(&mut self, axis: AxisHandle, to: Power) {
         if let Power::Starting(Some(control), _) = self.axes[axis.0 as usize].servo.power {
             let b = self.motion_bits_mut(control);
             let e = if to == Power::Shutdown {
@@ -470,7 +470,7 @@ impl MotionTask {
     /// A fault's Stop Planner action: every motion process on the axis
     /// ends and the command ramps to rest at the axis' maximum deceleration
     /// (the servo stays on).
-    fn stop_planner(&mut self, axis: AxisHandle) {
+    pub(super) fn stop_planner(&mut self, axis: AxisHandle) {
         let state = self.axes[axis.0 as usize].command.state();
         self.end_all_motion(axis);
         let cfg = &self.axes[axis.0 as usize].config;

@@ -1080,7 +1080,7 @@ pub(super) fn peek(place: &Place, mem: &Memory, task: &MotionTask) -> Value {
             mem.slots[slot]
         }
         Place::Bit { inner, bit, .. } => Value::Bool(peek(inner, mem, task).as_i64() >> constant(bit) & 1 == 1),
-        Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Fb(..) => {
+        Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Group(..) | Place::Fb(..) => {
             super::exec::members::planner_value(place, task).unwrap_or(Value::Int(0))
         }
         Place::MotionAt(handles, index, member, _) => usize::try_from(constant(index))

@@ -175,6 +175,8 @@ pub enum Place {
     Axis(AxisHandle, AxisMember),
     /// A coordinate-system status bit (read-only).
     Coord(CoordHandle, CoordMember),
+    /// A member of the motion group (read-only).
+    Group(GroupMember),
     /// An output of a PLCopen function-block instance (read-only).
     Fb(FbHandle, FbMember),
     /// `S:FS`.
@@ -371,10 +373,15 @@ pub enum AxisMember {
     RegEventStatus(u8),
     /// `RegEventNArmedStatus`: input N is armed.
     RegEventArmedStatus(u8),
+    /// `StrobeActualPosition`: the actual position the last MGSP latched.
+    StrobeActualPosition,
+    /// `StrobeCommandPosition`: the command position the last MGSP
+    /// latched.
+    StrobeCommandPosition,
 }
 
 /// Every axis member, with its name and type, for parsing and docs.
-pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 36] = [
+pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 38] = [
     ("ActualPosition", AxisMember::ActualPosition, DataType::Real),
     ("CommandPosition", AxisMember::CommandPosition, DataType::Real),
     ("ActualVelocity", AxisMember::ActualVelocity, DataType::Real),
@@ -415,6 +422,12 @@ pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 36] = [
     ("GearingStatus", AxisMember::GearingStatus, DataType::Bool),
     ("GearingLockStatus", AxisMember::GearingLockStatus, DataType::Bool),
     ("StoppingStatus", AxisMember::StoppingStatus, DataType::Bool),
+    ("StrobeActualPosition", AxisMember::StrobeActualPosition, DataType::Real),
+    (
+        "StrobeCommandPosition",
+        AxisMember::StrobeCommandPosition,
+        DataType::Real,
+    ),
     ("MotionFault", AxisMember::MotionFault, DataType::Dint),
     (
         "SoftTravelLimitPositiveFault",
@@ -463,6 +476,45 @@ pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 36] = [
         AxisMember::RegEventArmedStatus(2),
         DataType::Bool,
     ),
+];
+
+/// The motion group's members a program reads
+/// ([`planner::task::group`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GroupMember {
+    /// A status word (`GroupStatus`, `MotionFault`, `ServoFault`,
+    /// `GroupFault`, `AxisFault`), DINT.
+    Word(GroupWord),
+    /// A BOOL member for a bit of `GroupStatus` (`InhibStatus` 0,
+    /// `GroupSynced` 1, `AxisInhibitStatus` 2).
+    StatusBit(u32),
+}
+
+/// The motion group's status words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GroupWord {
+    /// `GroupStatus`.
+    GroupStatus,
+    /// `MotionFault`.
+    MotionFault,
+    /// `ServoFault`.
+    ServoFault,
+    /// `GroupFault`.
+    GroupFault,
+    /// `AxisFault`.
+    AxisFault,
+}
+
+/// Every member of a `MOTION_GROUP` a program reads, with its name.
+pub const GROUP_MEMBERS: [(&str, GroupMember); 8] = [
+    ("GroupStatus", GroupMember::Word(GroupWord::GroupStatus)),
+    ("InhibStatus", GroupMember::StatusBit(0)),
+    ("GroupSynced", GroupMember::StatusBit(1)),
+    ("AxisInhibitStatus", GroupMember::StatusBit(2)),
+    ("MotionFault", GroupMember::Word(GroupWord::MotionFault)),
+    ("ServoFault", GroupMember::Word(GroupWord::ServoFault)),
+    ("GroupFault", GroupMember::Word(GroupWord::GroupFault)),
+    ("AxisFault", GroupMember::Word(GroupWord::AxisFault)),
 ];
 
 /// Coordinate-system status bits.

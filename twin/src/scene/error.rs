@@ -233,6 +233,12 @@ pub enum Problem {
     /// coordinate system.
     #[error("only COORDINATE_SYSTEM tags take coordinate_system and geometry tables")]
     CoordinateSystemOnly,
+    /// A second `MOTION_GROUP` tag, or one in a program.
+    #[error("a controller has one MOTION_GROUP, a controller tag ({why})")]
+    OneMotionGroup {
+        /// What is wrong: `'G1' is already it`, `not a program's`.
+        why: String,
+    },
     /// An `options` table on a tag that is not an MC_MoveModulo instance.
     #[error("only MC_MoveModulo instances take an options table (ST_MoveOptions)")]
     MoveOptionsOnly,

@@ -1226,7 +1226,7 @@ impl<'a> Gen<'a> {
         let item = |attr: &str| format!("{name} {attr}");
         // (scene field, L5X attribute, its words and the scene's).
         type Words = &'static [(&'static str, &'static str)];
-        let words: [(&str, &str, Words); 3] = [
+        let words: [(&str, &str, Words); 4] = [
             ("home_mode", "HomeMode", &[("Active", "active"), ("Passive", "passive")]),
             (
                 "home_sequence",
@@ -1248,6 +1248,17 @@ impl<'a> Gen<'a> {
                     ("Bi-directional Forward", "bidirectional_forward"),
                     ("Uni-directional Reverse", "unidirectional_reverse"),
                     ("Bi-directional Reverse", "bidirectional_reverse"),
+                ],
+            ),
+            (
+                "programmed_stop_mode",
+                "ProgrammedStopMode",
+                &[
+                    ("Fast Stop", "fast_stop"),
+                    ("Fast Disable", "fast_disable"),
+                    ("Hard Disable", "hard_disable"),
+                    ("Fast Shutdown", "fast_shutdown"),
+                    ("Hard Shutdown", "hard_shutdown"),
                 ],
             ),
         ];
@@ -1347,6 +1358,12 @@ impl<'a> Gen<'a> {
         }
         for (cs, binding) in project.coordinate_systems.iter().zip(bound) {
             self.coordinate_system(cs, binding)?;
+        }
+        if let Some((mg, _)) = &project.motion_group {
+            let item = format!("{} Name", mg.value);
+            self.header("[[tags]]", &mg.span, item.clone());
+            self.line("name", &quote(&mg.value), &mg.span, &item);
+            self.line("type", "\"MOTION_GROUP\"", &mg.span, &format!("{} DataType", mg.value));
         }
         self.module_io_tags();
         for tag in &project.tags {
@@ -1829,7 +1846,9 @@ impl<'a> Gen<'a> {
     /// A value as TOML for type `ty`; `None` for the types the twin fills.
     fn value_text(&self, v: &Value, ty: &str) -> Option<String> {
         match BaseType::parse(ty) {
-            Some(BaseType::MotionInstruction | BaseType::CoordinateSystem | BaseType::CamProfile) => return None,
+            Some(
+                BaseType::MotionInstruction | BaseType::CoordinateSystem | BaseType::MotionGroup | BaseType::CamProfile,
+            ) => return None,
             _ if is_instruction_structure(ty) => return None,
             Some(BaseType::Cam) => return Some(self.cam_text(v)),
             _ => {}

@@ -627,6 +627,9 @@ pub enum BaseType {
     MotionInstruction,
     /// `COORDINATE_SYSTEM`; its value lists the member axes.
     CoordinateSystem,
+    /// `MOTION_GROUP`: the controller's one motion group, every axis in it
+    /// (MGS, MGSD, MGSR, MGSP; its status words).
+    MotionGroup,
     /// `CAM` (one cam point: master, slave, segment type).
     Cam,
     /// `CAM_PROFILE` (filled by MCCP).
@@ -724,7 +727,7 @@ pub struct MemberDef {
 }
 
 impl BaseType {
-    const NAMED: [(&'static str, BaseType); 25] = [
+    const NAMED: [(&'static str, BaseType); 26] = [
         ("BOOL", BaseType::Bool),
         ("SINT", BaseType::Sint),
         ("INT", BaseType::Int),
@@ -748,6 +751,7 @@ impl BaseType {
         ("LREAL", BaseType::Lreal),
         ("MOTION_INSTRUCTION", BaseType::MotionInstruction),
         ("COORDINATE_SYSTEM", BaseType::CoordinateSystem),
+        ("MOTION_GROUP", BaseType::MotionGroup),
         ("CAM", BaseType::Cam),
         ("CAM_PROFILE", BaseType::CamProfile),
     ];

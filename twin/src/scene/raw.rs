@@ -156,6 +156,7 @@ pub(super) struct RawAxis {
     pub(super) position_error_tolerance: Option<Spanned<f64>>,
     pub(super) position_error_action: Option<Spanned<ExceptionAction>>,
     pub(super) holding_brake: Option<Spanned<bool>>,
+    pub(super) programmed_stop_mode: Option<Spanned<StopModeWord>>,
     pub(super) brake_release_delay_ms: Option<Spanned<f64>>,
     pub(super) drive: Option<Spanned<RawDrive>>,
     pub(super) home_mode: Option<Spanned<HomeModeWord>>,
@@ -232,6 +233,30 @@ pub(super) struct RawDrive {
 pub(super) enum AxisConfiguration {
     PositionLoop,
     FeedbackOnly,
+}
+
+/// `[[axes]] programmed_stop_mode`: Logix `ProgrammedStopMode`.
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum StopModeWord {
+    FastStop,
+    FastDisable,
+    HardDisable,
+    FastShutdown,
+    HardShutdown,
+}
+
+impl StopModeWord {
+    pub(super) fn planner(self) -> planner::axis::ProgrammedStopMode {
+        use planner::axis::ProgrammedStopMode as M;
+        match self {
+            Self::FastStop => M::FastStop,
+            Self::FastDisable => M::FastDisable,
+            Self::HardDisable => M::HardDisable,
+            Self::FastShutdown => M::FastShutdown,
+            Self::HardShutdown => M::HardShutdown,
+        }
+    }
 }
 
 /// `[[axes]] position_error_action`, `soft_overtravel_action`: the

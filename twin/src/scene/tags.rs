@@ -89,7 +89,12 @@ impl Ctx<'_> {
                 },
             ));
         };
-        if array_len.is_some() && matches!(base, BaseType::CoordinateSystem | BaseType::FunctionBlock(_)) {
+        if array_len.is_some()
+            && matches!(
+                base,
+                BaseType::CoordinateSystem | BaseType::MotionGroup | BaseType::FunctionBlock(_)
+            )
+        {
             return Err(self.invalid(raw, field, Problem::ArrayNotAllowed { base: base.name() }));
         }
         if let Some(len) = array_len
@@ -205,7 +210,7 @@ impl Ctx<'_> {
         names: &mut Names,
         prefix: &str,
     ) -> Result<Vec<Tag>, SceneError> {
-        let mut tags = Vec::with_capacity(raw.len());
+        let mut tags: Vec<Tag> = Vec::with_capacity(raw.len());
         for (i, t) in raw.iter().enumerate() {
             let f = |field: &str| format!("{prefix}[{i}].{field}");
             // A module's I/O tag (`Local:1:I`) is a name of its own kind.
@@ -215,6 +220,17 @@ impl Ctx<'_> {
                 self.identifier(&t.name, &f("name"))?
             };
             let ty = self.tag_type(&t.ty, &f("type"))?;
+            if ty.base == BaseType::MotionGroup {
+                let first = tags.iter().find(|t| t.ty.base == BaseType::MotionGroup);
+                let why = match first {
+                    _ if prefix != "tags" => Some("not a program's".to_owned()),
+                    Some(first) => Some(format!("'{}' is already it", first.name)),
+                    None => None,
+                };
+                if let Some(why) = why {
+                    return Err(self.invalid(&t.ty, f("type"), Problem::OneMotionGroup { why }));
+                }
+            }
             self.unique(names, &t.name, &f("name"), NameKind::Tag)?;
             let value = match &t.value {
                 Some(v) => Some(self.tag_value(v, ty, axes, &f("value"))?),
@@ -358,6 +374,7 @@ impl Ctx<'_> {
         match (ty.base, ty.array_len) {
             (
                 BaseType::MotionInstruction
+                | BaseType::MotionGroup
                 | BaseType::CamProfile
                 | BaseType::FunctionBlock(_)
                 | BaseType::FbdTimer

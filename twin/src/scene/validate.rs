@@ -524,6 +524,10 @@ impl Ctx<'_> {
                     position_error_tolerance: drive.position_error_tolerance,
                     position_error_action: drive.position_error_action,
                     homing,
+                    programmed_stop_mode: a
+                        .programmed_stop_mode
+                        .as_ref()
+                        .map_or(Default::default(), |m| m.get_ref().planner()),
                     ..AxisConfig::new(name, kind.planner_kind())
                 },
                 initial_position,

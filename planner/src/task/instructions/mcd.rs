@@ -46,7 +46,7 @@
 //! * Speed 0 is a valid jog speed (the axis ramps to rest and the jog stays
 //!   in process, as MAJ allows); a move needs a speed above 0.
 
-use super::entry::{Instruction, one_shot};
+use super::entry::{Instruction, no_load, one_shot};
 use crate::axis::AxisConfig;
 use crate::catalogue::words::{
     JOG_ACCEL_UNITS, JOG_SPEED_UNITS, NO_YES, NUMERIC, TIME_JERK_UNITS, motion_control, op, w,
@@ -149,7 +149,7 @@ pub const MCD: Instruction = Instruction {
     ],
     execute,
     check,
-    load: super::no_load,
+    load: no_load,
 };
 
 /// Why MCD fails: ERR 13 with the operand.

@@ -184,6 +184,25 @@ impl Compiler<'_, '_, '_> {
                 let name = self.bare_name(spec, arg, "a COORDINATE_SYSTEM tag")?;
                 Ok(Operand::Fixed(Arg::System(self.system(name, arg.span)?)))
             }
+            Kind::Group => {
+                let name = self.bare_name(spec, arg, "the MOTION_GROUP tag")?;
+                let Some(t) = self.resolve(name) else {
+                    return Err(self.unknown_name(name, arg.span));
+                };
+                let info = &self.mem.tags[t];
+                if info.kind != TagKind::Planner(BaseType::MotionGroup) {
+                    return err(
+                        self,
+                        arg.span,
+                        format!(
+                            "{} '{name}' is {}, expected the MOTION_GROUP tag",
+                            spec.name,
+                            describe(info)
+                        ),
+                    );
+                }
+                Ok(Operand::Fixed(Arg::Group))
+            }
             Kind::MotionControl => self.control_operand(spec, arg),
             Kind::CamProfile => self.cam_profile_operand(spec, arg),
             Kind::Cam => self.cam_operand(spec, arg),

@@ -139,6 +139,7 @@ impl Compiler<'_, '_, '_> {
         match place {
             Place::Axis(..)
             | Place::Coord(..)
+            | Place::Group(..)
             | Place::Fb(..)
             | Place::FirstScan
             | Place::MinorInScan
@@ -366,6 +367,28 @@ impl Compiler<'_, '_, '_> {
             Kind::Planner(BaseType::CoordinateSystem) => {
                 let m = member(&mut path, "a COORDINATE_SYSTEM: name a status bit")?;
                 self.coord_place(r, &info.name, &m)?
+            }
+            Kind::Planner(BaseType::MotionGroup) => {
+                let (m, span) = member(&mut path, "a MOTION_GROUP: name a member, e.g. Group.GroupStatus")?;
+                match crate::program::ir::GROUP_MEMBERS
+                    .iter()
+                    .find(|(n, _)| n.eq_ignore_ascii_case(&m))
+                {
+                    Some((_, member @ crate::program::ir::GroupMember::StatusBit(_))) => {
+                        (Place::Group(*member), DataType::Bool)
+                    }
+                    Some((_, member)) => (Place::Group(*member), DataType::Dint),
+                    None => {
+                        let names = crate::program::ir::GROUP_MEMBERS.iter().map(|(n, _)| *n);
+                        let list: Vec<&str> = names.clone().collect();
+                        let d = self.error(
+                            span,
+                            format!("MOTION_GROUP has no member '{m}' (members: {})", list.join(", ")),
+                            "no such member",
+                        );
+                        return Err(suggest(d, &m, names));
+                    }
+                }
             }
             Kind::Planner(BaseType::FunctionBlock(_)) => {
                 let m = member(

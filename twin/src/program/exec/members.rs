@@ -2,7 +2,7 @@
 //! an axis', a coordinate system's, a function block's outputs — as values
 //! a program reads.
 
-use crate::program::ir::{AxisMember, CoordMember, FbMember, MotionMember, Place};
+use crate::program::ir::{AxisMember, CoordMember, FbMember, GroupMember, GroupWord, MotionMember, Place};
 use crate::program::types::Value;
 use planner::task::{AxisHandle, MotionTask};
 
@@ -26,6 +26,19 @@ pub(in crate::program) fn planner_value(place: &Place, task: &MotionTask) -> Opt
             CoordMember::TransformSource => task.transform_source_status(*h),
             CoordMember::TransformTarget => task.transform_target_status(*h),
         }),
+        Place::Group(m) => {
+            let s = task.group_status();
+            match m {
+                GroupMember::Word(w) => Value::Int(i64::from(match w {
+                    GroupWord::GroupStatus => s.group_status,
+                    GroupWord::MotionFault => s.motion_fault,
+                    GroupWord::ServoFault => s.servo_fault,
+                    GroupWord::GroupFault => s.group_fault,
+                    GroupWord::AxisFault => s.axis_fault,
+                })),
+                GroupMember::StatusBit(bit) => Value::Bool(s.group_status >> bit & 1 == 1),
+            }
+        }
         Place::Fb(h, m) => {
             let o = task.outputs(*h);
             match m {
@@ -75,5 +88,7 @@ pub(in crate::program) fn axis_value(task: &MotionTask, h: AxisHandle, m: AxisMe
         AxisMember::RegistrationPosition(n) => real(task.registration(h, n).map_or(0.0, |r| r.position)),
         AxisMember::RegEventStatus(n) => Value::Bool(task.registration(h, n).is_some_and(|r| r.event)),
         AxisMember::RegEventArmedStatus(n) => Value::Bool(task.registration(h, n).is_some_and(|r| r.armed())),
+        AxisMember::StrobeActualPosition => real(task.strobe_positions(h).0),
+        AxisMember::StrobeCommandPosition => real(task.strobe_positions(h).1),
     }
 }

@@ -76,7 +76,7 @@ impl Exec<'_> {
                 let b = self.bit_number(bit, *width).unwrap_or(0);
                 Value::Bool(v >> b & 1 == 1)
             }
-            Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Fb(..) => {
+            Place::Motion(..) | Place::Axis(..) | Place::Coord(..) | Place::Group(..) | Place::Fb(..) => {
                 planner_value(place, self.task).unwrap_or(Value::Int(0))
             }
             Place::MotionAt(handles, index, member, name) => match self.control_at(handles, index, name) {

@@ -1,0 +1,25 @@
+//! MGSD (Motion Group Shutdown): shuts every axis of the motion group down (motion ends, drives off) until MGSR or MASR (`task/group.rs`). `.DN` in the scan it
+//! executes; no `.IP` or `.PC`.
+
+use super::entry::{Instruction, one_shot};
+use crate::catalogue::words::GROUP_AND_CONTROL;
+use crate::instruction::{Fault, NoFault};
+use crate::task::{Args, MotionTask};
+
+/// Motion Group Shutdown.
+pub const MGSD: Instruction = Instruction::positional(
+    "MGSD",
+    "Motion Group Shutdown",
+    "shuts every axis of the motion group down (motion ends, drives off) until MGSR or MASR",
+    "Logix motion reference",
+    GROUP_AND_CONTROL,
+    execute,
+);
+
+fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
+    let control = args.control(1);
+    one_shot(task, control, |task| {
+        task.group_shutdown(control);
+        Ok::<(), NoFault>(())
+    })
+}
