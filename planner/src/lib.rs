@@ -24,6 +24,7 @@
 //! * [`coord`] — coordinate systems, coordinated-move operands and status;
 //!   [`mclm`] lines and [`mccm`] circles.
 //! * [`mct`] — coordinated transforms and robot geometries.
+//! * [`registration`], [`watch`] — an axis' motion events (MAR, MAW).
 
 pub mod axis;
 pub mod catalogue;
@@ -42,3 +43,4 @@ pub mod registration;
 pub mod servo;
 pub mod task;
 mod vector;
+pub mod watch;

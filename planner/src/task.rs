@@ -150,6 +150,7 @@ impl MotionTask {
             job: None,
             buffered: None,
             registration: Default::default(),
+            watch: Default::default(),
         });
         Ok(AxisHandle(self.axes.len() as u32 - 1))
     }

@@ -929,6 +929,68 @@ fn a_registration_sensor_latches_the_axis_position_at_the_crossing() {
     assert_eq!(tag_value(&t, "Events").as_i64(), 1, "the event task ran once");
 }
 
+/// MOTION-RM002, MAW: a forward watch at 30 mm on a jogging virtual axis
+/// fires once the actual position passes it, at the crossing interpolated
+/// inside its coarse update; `.PC`, `WatchEventStatus`, `WatchPosition`
+/// and the event task on `axis_watch` follow, and MDW disarms a second
+/// watch before it fires.
+#[test]
+fn a_watch_fires_at_the_crossing_and_triggers_its_event_task() {
+    let axis = "[[axes]]\nname = \"Conv\"\nkind = \"linear\"\nunits = \"mm\"\nmax_velocity = 1000.0\nmax_acceleration = 100000.0\n\
+                max_deceleration = 100000.0\nmax_jerk = 10000000.0\nin_position_window = 0.1\n";
+    let body = axis.to_owned()
+        + &tags(&[
+            ("Events", "DINT"),
+            ("State", "DINT"),
+            ("Fired", "BOOL"),
+            ("Armed", "BOOL"),
+            ("At", "REAL"),
+            ("W", "MOTION_INSTRUCTION"),
+            ("W2", "MOTION_INSTRUCTION"),
+            ("D", "MOTION_INSTRUCTION"),
+            ("J", "MOTION_INSTRUCTION"),
+        ])
+        + "[[tasks]]\nname = \"OnWatch\"\ntype = \"event\"\ntrigger = \"axis_watch\"\naxis = \"Conv\"\npriority = 4\n\
+           [[tasks.programs]]\nname = \"Count\"\nmain = \"Count.st\"\n";
+    let routine = "CASE State OF\n\
+                   0: MAJ(Conv, J, forward, 200.0, unitspersec, 100000.0, unitspersec2, 100000.0, unitspersec2, trapezoidal);\n\
+                      MAW(Conv, W, forward, 30.0);\n\
+                      State := 1;\n\
+                   1: IF W.PC THEN At := Conv.WatchPosition; State := 2; END_IF;\n\
+                   2: MAW(Conv, W2, forward, 1000.0); State := 3;\n\
+                   3: MDW(Conv, D); State := 4;\n\
+                   END_CASE;\n\
+                   Fired := Conv.WatchEventStatus; Armed := Conv.WatchEventArmedStatus;\n";
+    let path = scene("watch", &body, Some(routine));
+    std::fs::write(path.with_file_name("Count.st"), "Events := Events + 1;\n").expect("routine");
+    let mut t = twin(&path);
+    let conv = t.plant().axes()[1].handle;
+    let mut before = (t.time_s(), t.task().axis_state(conv).actual_position);
+    let mut crossing_s = None;
+    for _ in 0..100 {
+        t.step();
+        let now = (t.time_s(), t.task().axis_state(conv).actual_position);
+        if crossing_s.is_none() && before.1 < 30.0 && now.1 >= 30.0 {
+            crossing_s = Some(before.0 + (30.0 - before.1) / (now.1 - before.1) * (now.0 - before.0));
+        }
+        before = now;
+    }
+    let w = *t.task().watch(conv);
+    let crossing_s = crossing_s.expect("the axis passed 30 mm");
+    assert!(
+        (w.event_time_s - crossing_s).abs() < 1e-9,
+        "{} vs {crossing_s}",
+        w.event_time_s
+    );
+    assert_eq!(w.events, 1);
+    assert!(!w.event, "the second MAW cleared WatchEventStatus");
+    assert!(!w.armed(), "MDW disarmed the second watch");
+    assert_eq!(w.position, 1000.0, "WatchPosition: the last set-point");
+    assert_eq!(tag_value(&t, "At").as_f64(), 30.0);
+    assert_eq!(tag_value(&t, "Armed").as_i64(), 0);
+    assert_eq!(tag_value(&t, "Events").as_i64(), 1, "the event task ran once");
+}
+
 /// Where each cut of `knife_registration` (or its variant) lands behind its
 /// sheet's leading edge, mm: the knife's actual angle passing 180° (mod
 /// 360°) against the sheet under the knife (x = 0) at that instant, both

@@ -305,3 +305,48 @@ fn group_operands_are_checked_at_load() {
         assert!(e.contains(needle), "{routine}: {e}");
     }
 }
+
+#[test]
+fn maw_and_mdw_in_a_routine() {
+    let tags = &[
+        ("W", "MOTION_INSTRUCTION"),
+        ("D", "MOTION_INSTRUCTION"),
+        ("Arm", "BOOL"),
+        ("Disarm", "BOOL"),
+        ("Where", "REAL"),
+        ("Armed", "BOOL"),
+        ("Ip", "BOOL"),
+        ("Dn", "BOOL"),
+        ("Err", "DINT"),
+        ("Exerr", "DINT"),
+        ("Set", "REAL"),
+    ];
+    let routine = "
+IF Arm AND NOT W.EN THEN MAW(X, W, reverse, Where); END_IF;
+IF Disarm AND NOT D.EN THEN MDW(X, D); END_IF;
+Armed := X.WatchEventArmedStatus; Set := X.WatchPosition;
+Ip := W.IP; Dn := W.DN; Err := W.ERR; Exerr := W.EXERR;
+";
+    let mut s = Sandbox::with_axes(&["X"], tags, routine).unwrap_or_else(|e| panic!("{e}"));
+    s.set("Where", Value::Real(-2.5));
+    s.set("Arm", Value::Bool(true));
+    s.scan();
+    assert!(flag(&s, "Dn") && flag(&s, "Ip") && flag(&s, "Armed"));
+    assert_eq!(real(&s, "Set"), -2.5);
+    s.set("Disarm", Value::Bool(true));
+    s.scan();
+    assert!(!flag(&s, "Ip") && !flag(&s, "Armed"), "MDW disarms");
+    // A position that is not a number: ERR 13 on Position (faceplate 3).
+    let mut s = Sandbox::with_axes(&["X"], tags, routine).unwrap_or_else(|e| panic!("{e}"));
+    s.set("Where", Value::Real(f64::INFINITY));
+    s.set("Arm", Value::Bool(true));
+    s.scan();
+    assert_eq!((int(&s, "Err"), int(&s, "Exerr")), (13, 3));
+    assert!(!flag(&s, "Armed"));
+    // The trigger is Immediate: refused at load.
+    let e = match Sandbox::with_axes(&["X"], tags, "MAW(X, W, sideways, 1.0);") {
+        Ok(_) => panic!("loads"),
+        Err(e) => e,
+    };
+    assert!(e.contains("Trigger Condition"), "{e}");
+}

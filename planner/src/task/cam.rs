@@ -182,6 +182,7 @@ impl MotionTask {
             job.profile.shift_position(delta);
             job.target += delta;
         }
+        a.watch.last_actual += delta;
         let c = self.cam_axis(axis);
         c.redefined += delta;
         if let Some(r) = c.ramp.as_mut() {

@@ -66,6 +66,7 @@ impl MotionTask {
         self.advance_homing();
         self.advance_servo_states();
         self.advance_group();
+        self.advance_watches();
     }
 }
 
@@ -118,6 +119,8 @@ pub(super) struct AxisSlot {
     pub(super) gear: Option<GearRun>,
     /// Registration inputs 1 and 2 (`task/instructions/mar.rs`).
     pub(super) registration: [crate::registration::RegistrationInput<InstructionHandle>; 2],
+    /// The watch event (`task/instructions/maw.rs`).
+    pub(super) watch: crate::watch::Watch<InstructionHandle>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

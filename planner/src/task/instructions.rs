@@ -43,6 +43,8 @@ instructions! {
     mrp::MRP,
     mar::MAR,
     mdr::MDR,
+    maw::MAW,
+    mdw::MDW,
     maj::MAJ,
     mas::MAS,
     mam::MAM,
@@ -89,7 +91,7 @@ pub const NOT_SIMULATED: &[&str] = &[
     // Motion state
     "MDO", "MDF", "MDS", // Motion move
     "MCSV", "MATC", "MDAC", // Motion event
-    "MAW", "MDW", "MAOC", "MDOC", // Motion configuration
+    "MAOC", "MDOC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
     "MCCD", "MCTP", "MCTO", "MCTPO", "MCPM", "MDCC",
 ];

@@ -460,19 +460,23 @@ impl Controller {
         let now_ns = (task.time_s() * 1e6).round() as i64 * 1000;
         let horizon_ns = now_ns + self.update_ns;
         for t in &mut self.tasks {
-            if let TaskKind::Event {
-                trigger: EventTrigger::AxisRegistration { axis, input },
-                ..
-            } = t.kind
-            {
-                let events = task
+            let events = match t.kind {
+                TaskKind::Event {
+                    trigger: EventTrigger::AxisRegistration { axis, input },
+                    ..
+                } => task
                     .axis_handles()
                     .nth(axis)
                     .and_then(|h| task.registration(h, input))
-                    .map_or(0, |r| r.events);
-                t.registration_due = events > t.registrations_seen;
-                t.registrations_seen = events;
-            }
+                    .map_or(0, |r| r.events),
+                TaskKind::Event {
+                    trigger: EventTrigger::AxisWatch { axis },
+                    ..
+                } => task.axis_handles().nth(axis).map_or(0, |h| task.watch(h).events),
+                _ => continue,
+            };
+            t.registration_due = events > t.registrations_seen;
+            t.registrations_seen = events;
         }
         self.collect_releases(now_ns, horizon_ns);
         let mut next = 0;

@@ -373,6 +373,12 @@ pub enum AxisMember {
     RegEventStatus(u8),
     /// `RegEventNArmedStatus`: input N is armed.
     RegEventArmedStatus(u8),
+    /// `WatchEventArmedStatus`: a MAW armed the watch.
+    WatchEventArmedStatus,
+    /// `WatchEventStatus`: the watch event occurred.
+    WatchEventStatus,
+    /// `WatchPosition`: the watch's set-point.
+    WatchPosition,
     /// `StrobeActualPosition`: the actual position the last MGSP latched.
     StrobeActualPosition,
     /// `StrobeCommandPosition`: the command position the last MGSP
@@ -381,7 +387,7 @@ pub enum AxisMember {
 }
 
 /// Every axis member, with its name and type, for parsing and docs.
-pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 38] = [
+pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 41] = [
     ("ActualPosition", AxisMember::ActualPosition, DataType::Real),
     ("CommandPosition", AxisMember::CommandPosition, DataType::Real),
     ("ActualVelocity", AxisMember::ActualVelocity, DataType::Real),
@@ -422,6 +428,13 @@ pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 38] = [
     ("GearingStatus", AxisMember::GearingStatus, DataType::Bool),
     ("GearingLockStatus", AxisMember::GearingLockStatus, DataType::Bool),
     ("StoppingStatus", AxisMember::StoppingStatus, DataType::Bool),
+    (
+        "WatchEventArmedStatus",
+        AxisMember::WatchEventArmedStatus,
+        DataType::Bool,
+    ),
+    ("WatchEventStatus", AxisMember::WatchEventStatus, DataType::Bool),
+    ("WatchPosition", AxisMember::WatchPosition, DataType::Real),
     ("StrobeActualPosition", AxisMember::StrobeActualPosition, DataType::Real),
     (
         "StrobeCommandPosition",

@@ -1977,6 +1977,7 @@ impl<'a> Gen<'a> {
                         "Motion Group Execution" => Some("motion_group_execution"),
                         "Axis Registration 1" => Some("axis_registration_1"),
                         "Axis Registration 2" => Some("axis_registration_2"),
+                        "Axis Watch" => Some("axis_watch"),
                         _ => None,
                     };
                     match word {
@@ -1992,7 +1993,7 @@ impl<'a> Gen<'a> {
                             self.line("trigger", "\"event_instruction\"", &trigger.span, &item("EventTrigger"));
                         }
                     }
-                    if word.is_some_and(|w| w.starts_with("axis_registration")) {
+                    if word.is_some_and(|w| w.starts_with("axis_")) {
                         let axis = task.event_tag.clone().ok_or_else(|| {
                             self.l5x_err(
                                 trigger.span.clone(),

@@ -1586,6 +1586,11 @@ pub enum EventTrigger {
         /// The input, 1 or 2.
         input: u8,
     },
+    /// `"axis_watch"` with `axis`: each watch event of that axis (MAW).
+    AxisWatch {
+        /// The axis (index into the scene's axes).
+        axis: usize,
+    },
 }
 
 impl EventTrigger {

@@ -296,17 +296,20 @@ impl Ctx<'_> {
                 let Some(trigger) = &t.trigger else {
                     return Err(required(
                         "trigger",
-                        " (\"event_instruction\", \"motion_group_execution\", \"axis_registration_1\" or \"axis_registration_2\")",
+                        " (\"event_instruction\", \"motion_group_execution\", \"axis_registration_1\", \"axis_registration_2\" or \"axis_watch\")",
                     ));
                 };
-                let registration = match trigger.get_ref().to_ascii_lowercase().as_str() {
+                // The axis triggers: a registration input (1, 2) or the
+                // watch (0).
+                let axis_event = match trigger.get_ref().to_ascii_lowercase().as_str() {
                     "axis_registration_1" => Some(1),
                     "axis_registration_2" => Some(2),
+                    "axis_watch" => Some(0),
                     _ => None,
                 };
-                let trig = match (registration, &t.axis) {
-                    (Some(input), Some(axis)) => EventTrigger::AxisRegistration {
-                        axis: axes
+                let trig = match (axis_event, &t.axis) {
+                    (Some(input), Some(axis)) => {
+                        let axis = axes
                             .iter()
                             .position(|a| a.name.eq_ignore_ascii_case(axis.get_ref().trim()))
                             .ok_or_else(|| {
@@ -315,23 +318,27 @@ impl Ctx<'_> {
                                     nearest: None,
                                 };
                                 self.invalid(axis, f("axis"), problem)
-                            })?,
-                        input,
-                    },
+                            })?;
+                        match input {
+                            0 => EventTrigger::AxisWatch { axis },
+                            _ => EventTrigger::AxisRegistration { axis, input },
+                        }
+                    }
                     (Some(_), None) => {
-                        let why = "a registration trigger names its axis: axis = \"…\"".to_owned();
+                        let why = "an axis trigger names its axis: axis = \"…\"".to_owned();
                         return Err(self.invalid(trigger, f("axis"), Problem::Rule { why }));
                     }
                     (None, Some(axis)) => {
-                        let why = "'axis' applies to the axis_registration_1 and _2 triggers".to_owned();
+                        let why = "'axis' applies to the axis_registration_1, _2 and axis_watch triggers".to_owned();
                         return Err(self.invalid(axis, f("axis"), Problem::Rule { why }));
                     }
                     (None, None) => {
-                        const WORDS: [(&str, EventTrigger); 4] = [
+                        const WORDS: [(&str, EventTrigger); 5] = [
                             ("event_instruction", EventTrigger::EventInstruction),
                             ("motion_group_execution", EventTrigger::MotionGroupExecution),
                             ("axis_registration_1", EventTrigger::EventInstruction),
                             ("axis_registration_2", EventTrigger::EventInstruction),
+                            ("axis_watch", EventTrigger::EventInstruction),
                         ];
                         self.word(trigger, &f("trigger"), "event trigger", &WORDS)?
                     }

@@ -88,6 +88,9 @@ pub(in crate::program) fn axis_value(task: &MotionTask, h: AxisHandle, m: AxisMe
         AxisMember::RegistrationPosition(n) => real(task.registration(h, n).map_or(0.0, |r| r.position)),
         AxisMember::RegEventStatus(n) => Value::Bool(task.registration(h, n).is_some_and(|r| r.event)),
         AxisMember::RegEventArmedStatus(n) => Value::Bool(task.registration(h, n).is_some_and(|r| r.armed())),
+        AxisMember::WatchEventArmedStatus => Value::Bool(task.watch(h).armed()),
+        AxisMember::WatchEventStatus => Value::Bool(task.watch(h).event),
+        AxisMember::WatchPosition => real(task.watch(h).position),
         AxisMember::StrobeActualPosition => real(task.strobe_positions(h).0),
         AxisMember::StrobeCommandPosition => real(task.strobe_positions(h).1),
     }
