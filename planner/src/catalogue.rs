@@ -130,6 +130,9 @@ pub enum Kind {
     Values,
     /// Three REALs from an array element (`REAL[3]`).
     Vector3,
+    /// Three REALs from an array element (`REAL[3]`) that the instruction
+    /// writes ([`crate::task::MotionTask::take_output`]).
+    OutputVector3,
     /// `0` (none) or a REAL array tag.
     OptionalArray,
 }

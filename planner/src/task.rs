@@ -98,6 +98,7 @@ impl MotionTask {
             mct: MctState::default(),
             superimposed_removed: false,
             group: Default::default(),
+            output: None,
         })
     }
 
@@ -296,6 +297,13 @@ impl MotionTask {
             .as_ref()
             .is_some_and(|j| !j.generation_done && j.profile.overshoot_at(j.t_s));
         job || self.ramp_overshoots(axis)
+    }
+
+    /// What the instruction just executed wrote to its output operand (a
+    /// `Kind::OutputVector3`: MCTP's Transform Position), taken once; the
+    /// caller stores it in the operand's tag.
+    pub fn take_output(&mut self) -> Option<[f64; 3]> {
+        self.output.take()
     }
 
     /// An axis' state after the last update.

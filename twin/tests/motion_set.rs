@@ -2,6 +2,9 @@
 //! physics): MCD's bits and its change of a running move, its Format
 //! errors at load and its ERR 13 at run time.
 
+mod common;
+
+use twin::program::Program;
 use twin::program::sandbox::Sandbox;
 use twin::program::types::Value;
 
@@ -349,4 +352,126 @@ Ip := W.IP; Dn := W.DN; Err := W.ERR; Exerr := W.EXERR;
         Err(e) => e,
     };
     assert!(e.contains("Trigger Condition"), "{e}");
+}
+
+/// A scene of virtual axes: Cartesian X, Y, Z (m) and a SCARA J1, J2 (deg)
+/// sharing Z, with `routine` in a 4 ms task; two scans run.
+fn scara_program(name: &str, tags: &[(&str, &str)], routine: &str) -> Program {
+    let (mut program, mut task) = scara_bind(name, tags, routine).unwrap_or_else(|e| panic!("{e}"));
+    for _ in 0..2 {
+        program.scan(&mut task);
+        task.update();
+    }
+    program
+}
+
+/// The scene of [`scara_program`] loaded and bound, or the error.
+fn scara_bind(
+    name: &str,
+    tags: &[(&str, &str)],
+    routine: &str,
+) -> Result<(Program, planner::task::MotionTask), String> {
+    let dir = common::fresh_dir("motion-set", name);
+    std::fs::write(dir.join("Main.st"), routine).expect("routine");
+    let axis = |n: &str, kind: &str, units: &str| {
+        format!(
+            "[[axes]]\nname = \"{n}\"\nkind = \"{kind}\"\nunits = \"{units}\"\nmax_velocity = 360.0\n\
+             max_acceleration = 3600.0\nmax_deceleration = 3600.0\nmax_jerk = 100000.0\nin_position_window = 0.001\n"
+        )
+    };
+    let axes = axis("X", "linear", "m")
+        + &axis("Y", "linear", "m")
+        + &axis("Z", "linear", "m")
+        + &axis("J1", "rotary", "deg")
+        + &axis("J2", "rotary", "deg");
+    let systems = "[[tags]]\nname = \"Cart\"\ntype = \"COORDINATE_SYSTEM\"\nvalue = [\"X\", \"Y\", \"Z\"]\n\
+                   geometry = { type = \"cartesian_gantry\", transform_dimension = 2 }\n\
+                   [[tags]]\nname = \"Joints\"\ntype = \"COORDINATE_SYSTEM\"\nvalue = [\"J1\", \"J2\", \"Z\"]\n\
+                   coordinate_system = { primary_axes = 2 }\n\
+                   geometry = { type = \"scara_independent\", link_lengths = [0.35, 0.25] }\n";
+    let tags: String = tags
+        .iter()
+        .map(|(n, t)| format!("[[tags]]\nname = \"{n}\"\ntype = \"{t}\"\n"))
+        .collect();
+    let text = format!(
+        "{}{axes}{systems}{tags}[[tasks]]\nname = \"T\"\nperiod_ms = 4.0\npriority = 5\n[[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\n",
+        common::indexing_table_head()
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).expect("scene");
+    let scene = twin::scene::load(&path).map_err(|e| e.to_string())?;
+    let mut task = planner::task::MotionTask::new(scene.coarse_update_s()).unwrap();
+    for a in &scene.axes {
+        task.add_axis(a.config.clone(), 0.0).unwrap();
+    }
+    let program = Program::bind(&scene, &mut task).map_err(|e| e.to_string())?;
+    Ok((program, task))
+}
+
+fn element(p: &Program, name: &str, k: usize) -> f64 {
+    let mem = p.controller().memory();
+    let t = mem.find(name).unwrap_or_else(|| panic!("no tag {name}"));
+    mem.slots[mem.tags[t].base + k].as_f64()
+}
+
+#[test]
+fn mctp_converts_forward_and_back_without_motion_and_reports_err_67() {
+    let tags = &[
+        ("Orient", "REAL[3]"),
+        ("Trans", "REAL[3]"),
+        ("Ref", "REAL[3]"),
+        ("Out", "REAL[3]"),
+        ("Back", "REAL[3]"),
+        ("Far", "REAL[6]"),
+        ("Mc1", "MOTION_INSTRUCTION"),
+        ("Mc2", "MOTION_INSTRUCTION"),
+        ("Mc3", "MOTION_INSTRUCTION"),
+        ("Dn", "BOOL"),
+        ("Err3", "DINT"),
+        ("Done", "BOOL"),
+    ];
+    let routine = "
+IF NOT Done THEN
+    Ref[0] := 30.0; Ref[1] := 45.0; Far[0] := 2.0; Far[3] := -7.0; Far[4] := -7.0; Far[5] := -7.0;
+    MCTP(Cart, Joints, Mc1, Orient[0], Trans[0], forward, Ref[0], Out[0]);
+    MCTP(Cart, Joints, Mc2, Orient[0], Trans[0], inverserightarm, Out[0], Back[0]);
+    MCTP(Cart, Joints, Mc3, Orient[0], Trans[0], inverse, Far[0], Far[3]);
+    Done := TRUE;
+END_IF;
+Dn := Mc1.DN AND Mc2.DN; Err3 := Mc3.ERR;
+";
+    let p = scara_program("mctp", tags, routine);
+    let (a, b) = (30f64.to_radians(), 75f64.to_radians());
+    let x = 0.35 * a.cos() + 0.25 * b.cos();
+    let y = 0.35 * a.sin() + 0.25 * b.sin();
+    assert!((element(&p, "Out", 0) - x).abs() < 1e-6 && (element(&p, "Out", 1) - y).abs() < 1e-6);
+    assert!((element(&p, "Back", 0) - 30.0).abs() < 1e-3 && (element(&p, "Back", 1) - 45.0).abs() < 1e-3);
+    let mem = p.controller().memory();
+    assert_eq!(mem.slots[mem.tags[mem.find("Dn").unwrap()].base].as_i64(), 1);
+    assert_eq!(mem.slots[mem.tags[mem.find("Err3").unwrap()].base].as_i64(), 67);
+    assert_eq!(element(&p, "Far", 3), -7.0, "left as it was on an error");
+}
+
+#[test]
+fn mctp_operands_are_checked_at_load() {
+    let tags = &[("V", "REAL[3]"), ("Mc1", "MOTION_INSTRUCTION")];
+    for (routine, needle) in [
+        (
+            "MCTP(Cart, Joints, Mc1, V[0], V[0], inverseabove, V[0], V[0]);",
+            "Transform Direction",
+        ),
+        (
+            "MCTP(Cart, Joints, Mc1, V[0], V[0], forward, V[0], 5.0);",
+            "Transform Position",
+        ),
+        (
+            "MCTP(Cart, Mc1, Mc1, V[0], V[0], forward, V[0], V[0]);",
+            "COORDINATE_SYSTEM",
+        ),
+    ] {
+        match scara_bind("mctp-load", tags, routine) {
+            Ok(_) => panic!("{routine} loads"),
+            Err(e) => assert!(e.contains(needle), "{routine}: {e}"),
+        }
+    }
 }

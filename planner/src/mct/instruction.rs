@@ -227,40 +227,7 @@ impl TransformTable {
     ) -> Result<(TransformId, Vec3), MctError> {
         let restart = restart.filter(|id| self.get(*id).is_some());
         let (geometry, placement) = self.check(request, restart)?;
-        let (source, target) = (request.source, request.target);
-        let dim = geometry.dimension();
-        let mut source_axes = source.axes[..dim].to_vec();
-        let target_axes = target.axes[..dim].to_vec();
-        if geometry.shares_third_axis() {
-            source_axes.push(source.axes[2]);
-        }
-        let kinds = geometry.joint_kinds();
-        let scale = [0, 1, 2].map(|i| {
-            if kinds[i] == JointKind::Revolute {
-                180.0 / std::f64::consts::PI
-            } else {
-                1.0
-            }
-        });
-        let joint_axes = request.joint_axes.iter().take(dim).copied().collect();
-        let mut t = Transform {
-            source: source.id,
-            target: target.id,
-            source_axes,
-            target_axes,
-            geometry,
-            placement,
-            solution: ArmSolution::default(),
-            joint_axes,
-            scale,
-            joints: AxesCommand {
-                positions: request.joints,
-                velocities: [0.0; 3],
-            },
-            source_command: AxesCommand::default(),
-            driven: Driven::None,
-            stopping: false,
-        };
+        let mut t = build(request, geometry, placement);
         t.check_limits(request.joints)?;
         let position = t.source_of(request.joints)?;
         t.solution = geometry.solution(t.to_kinematic(request.joints))?;
@@ -285,44 +252,9 @@ impl TransformTable {
     }
 
     fn check(&self, r: &MctRequest<'_>, restart: Option<TransformId>) -> Result<(Geometry, Placement), MctError> {
+        let (geometry, placement) = check_systems(r)?;
         let (source, target) = (r.source, r.target);
-        let placement = Placement::new(r.orientation_deg, r.translation)?;
-        for system in [source, target] {
-            if !system.in_motion_group {
-                return Err(MctError::NotInMotionGroup { system: system.id });
-            }
-        }
-        if source.id == target.id {
-            return Err(MctError::SameSystem { system: source.id });
-        }
         let (sd, td) = (source.transform_dimension, target.transform_dimension);
-        if !(1..=3).contains(&sd) || sd > source.axes.len() {
-            return Err(MctError::SourceDimension {
-                dimension: sd,
-                axes: source.axes.len(),
-            });
-        }
-        if !(1..=3).contains(&td) || td > target.axes.len() {
-            return Err(MctError::TargetDimension {
-                dimension: td,
-                axes: target.axes.len(),
-            });
-        }
-        if matches!(
-            target.geometry,
-            GeometryKind::ScaraIndependent | GeometryKind::ScaraDelta
-        ) && (sd != 2 || source.axes.get(2).is_none() || source.axes.get(2) != target.axes.get(2))
-        {
-            return Err(MctError::ScaraAxes { source_dimension: sd });
-        }
-        if sd != td {
-            return Err(MctError::DimensionMismatch {
-                source_dimension: sd,
-                target_dimension: td,
-            });
-        }
-        let geometry = Geometry::new(target.geometry, &target.params, td)?;
-        check_in_plane(r.orientation_deg, r.translation, td)?;
         let others = || self.running().filter(|(id, _)| Some(*id) != restart).map(|(_, t)| t);
         // Axes a faulted transform is still stopping: in motion (EXERR 10).
         let stopping = |axis: &AxisId| {
@@ -393,6 +325,146 @@ impl TransformTable {
         }
         Ok((geometry, placement))
     }
+}
+
+/// A transform of `request`'s systems at its joints, not yet placed in a
+/// table.
+fn build(request: &MctRequest<'_>, geometry: Geometry, placement: Placement) -> Transform {
+    let (source, target) = (request.source, request.target);
+    let dim = geometry.dimension();
+    let mut source_axes = source.axes[..dim].to_vec();
+    let target_axes = target.axes[..dim].to_vec();
+    if geometry.shares_third_axis() {
+        source_axes.push(source.axes[2]);
+    }
+    let kinds = geometry.joint_kinds();
+    let scale = [0, 1, 2].map(|i| {
+        if kinds[i] == JointKind::Revolute {
+            180.0 / std::f64::consts::PI
+        } else {
+            1.0
+        }
+    });
+    let joint_axes = request.joint_axes.iter().take(dim).copied().collect();
+    Transform {
+        source: source.id,
+        target: target.id,
+        source_axes,
+        target_axes,
+        geometry,
+        placement,
+        solution: ArmSolution::default(),
+        joint_axes,
+        scale,
+        joints: AxesCommand {
+            positions: request.joints,
+            velocities: [0.0; 3],
+        },
+        source_command: AxesCommand::default(),
+        driven: Driven::None,
+        stopping: false,
+    }
+}
+
+/// MCTP's Transform Direction: which way to convert, and for an inverse
+/// which arm solution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TransformDirection {
+    /// Joint positions (target system) to the Cartesian position (source).
+    Forward,
+    /// The Cartesian position to joint positions, on the arm solution the
+    /// target's joints stand in now.
+    Inverse,
+    /// The Cartesian position to joint positions, left arm (a serial arm's
+    /// elbow angle negative; other geometries as [`TransformDirection::Inverse`]).
+    InverseLeftArm,
+    /// The Cartesian position to joint positions, right arm (elbow angle
+    /// positive).
+    InverseRightArm,
+}
+
+/// MCTP: the position `reference` converted between `request`'s systems as
+/// MCT would convert it (its geometry, Orientation and Translation, arm
+/// solutions), without a transform running or anything moving. Forward
+/// gives the source's coordinates of joint positions (axis units);
+/// inverse the joint positions (axis units, revolute joints on the turn
+/// nearest the target's joints now) of source coordinates. A system's
+/// axes may be in motion or in another transform: nothing is driven. Soft
+/// travel limits are not checked (MCT checks them when it moves).
+///
+/// # Errors
+/// MCT's refusals of the systems, orientation and translation (ERR 61
+/// with its EXERR, ERR 13); ERR 67 for a position the geometry cannot
+/// convert.
+pub fn calculate(request: &MctRequest<'_>, direction: TransformDirection, reference: Vec3) -> Result<Vec3, MctError> {
+    let (geometry, placement) = check_systems(request)?;
+    let mut t = build(request, geometry, placement);
+    t.joint_axes.clear();
+    match direction {
+        TransformDirection::Forward => Ok(t.source_of(reference)?),
+        _ => {
+            let now = geometry.solution(t.to_kinematic(request.joints));
+            // Left and right are a serial arm's elbow (bit 0); a Delta's
+            // knees and a Cartesian robot have no arms to choose.
+            let serial = matches!(
+                request.target.geometry,
+                GeometryKind::ArticulatedIndependent
+                    | GeometryKind::ArticulatedDependent
+                    | GeometryKind::ScaraIndependent
+            );
+            t.solution = match direction {
+                TransformDirection::InverseLeftArm if serial => now.unwrap_or_default().with(0, true),
+                TransformDirection::InverseRightArm if serial => now.unwrap_or_default().with(0, false),
+                _ => now?,
+            };
+            Ok(t.joints_of(reference)?)
+        }
+    }
+}
+
+/// The checks of a transform's two systems, orientation and translation
+/// that do not depend on what else runs (MCT's and MCTP's): the geometry
+/// and placement they give.
+fn check_systems(r: &MctRequest<'_>) -> Result<(Geometry, Placement), MctError> {
+    let (source, target) = (r.source, r.target);
+    let placement = Placement::new(r.orientation_deg, r.translation)?;
+    for system in [source, target] {
+        if !system.in_motion_group {
+            return Err(MctError::NotInMotionGroup { system: system.id });
+        }
+    }
+    if source.id == target.id {
+        return Err(MctError::SameSystem { system: source.id });
+    }
+    let (sd, td) = (source.transform_dimension, target.transform_dimension);
+    if !(1..=3).contains(&sd) || sd > source.axes.len() {
+        return Err(MctError::SourceDimension {
+            dimension: sd,
+            axes: source.axes.len(),
+        });
+    }
+    if !(1..=3).contains(&td) || td > target.axes.len() {
+        return Err(MctError::TargetDimension {
+            dimension: td,
+            axes: target.axes.len(),
+        });
+    }
+    if matches!(
+        target.geometry,
+        GeometryKind::ScaraIndependent | GeometryKind::ScaraDelta
+    ) && (sd != 2 || source.axes.get(2).is_none() || source.axes.get(2) != target.axes.get(2))
+    {
+        return Err(MctError::ScaraAxes { source_dimension: sd });
+    }
+    if sd != td {
+        return Err(MctError::DimensionMismatch {
+            source_dimension: sd,
+            target_dimension: td,
+        });
+    }
+    let geometry = Geometry::new(target.geometry, &target.params, td)?;
+    check_in_plane(r.orientation_deg, r.translation, td)?;
+    Ok((geometry, placement))
 }
 
 fn check_in_plane(orientation_deg: Vec3, translation: Vec3, dimension: usize) -> Result<(), MctError> {

@@ -43,6 +43,9 @@ pub struct MotionTask {
     pub(super) superimposed_removed: bool,
     /// The motion group (`task/group.rs`).
     pub(super) group: GroupState,
+    /// What the last instruction executed wrote to its output operand
+    /// (MCTP's Transform Position), until the caller takes it.
+    pub(super) output: Option<[f64; 3]>,
 }
 
 impl MotionTask {

@@ -38,6 +38,7 @@ instructions! {
     mccm::MCCM,
     mcs::MCS,
     mct::MCT,
+    mctp::MCTP,
     mccp::MCCP,
     mapc::MAPC,
     mrp::MRP,
@@ -93,7 +94,7 @@ pub const NOT_SIMULATED: &[&str] = &[
     "MCSV", "MATC", "MDAC", // Motion event
     "MAOC", "MDOC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
-    "MCCD", "MCTP", "MCTO", "MCTPO", "MCPM", "MDCC",
+    "MCCD", "MCTO", "MCTPO", "MCPM", "MDCC",
 ];
 
 /// The file of `instruction`'s unit, from the planner's root

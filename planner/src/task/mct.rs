@@ -226,6 +226,56 @@ impl MotionTask {
         Ok(())
     }
 
+    /// MCTP: `reference` converted from one of the systems to the other
+    /// ([`crate::mct::instruction::calculate`]), with the target's joints
+    /// as they stand; `.DN` in the scan it executes. Nothing moves.
+    ///
+    /// # Errors
+    /// MCT's refusals of the systems and placement, ERR 67 for a position
+    /// the geometry cannot convert.
+    pub(crate) fn mctp(
+        &mut self,
+        control: InstructionHandle,
+        (source, target): (CoordHandle, CoordHandle),
+        (orientation_deg, translation): (Vec3, Vec3),
+        direction: crate::mct::instruction::TransformDirection,
+        reference: Vec3,
+    ) -> Result<Vec3, MctError> {
+        self.instruction(control, |task| {
+            let source_system = task.transform_system(source);
+            let target_system = task.transform_system(target);
+            let target_axes: Vec<AxisHandle> = task.coord_axes(target).to_vec();
+            let joint_axes: Vec<JointAxis> = target_axes
+                .iter()
+                .map(|a| {
+                    let c = &task.axes[a.0 as usize].config;
+                    JointAxis {
+                        max_speed: c.max_velocity,
+                        max_deceleration: c.max_deceleration,
+                        limits: c.soft_travel_limits,
+                    }
+                })
+                .collect();
+            let mut joints = [0.0; 3];
+            for (j, a) in joints.iter_mut().zip(&target_axes) {
+                *j = task.axes[a.0 as usize].command.position;
+            }
+            let idle = |_: AxisId| AxisCondition::default();
+            let request = MctRequest {
+                source: &source_system,
+                target: &target_system,
+                orientation_deg,
+                translation,
+                joint_axes: &joint_axes,
+                joints,
+                condition: &idle,
+            };
+            let position = crate::mct::instruction::calculate(&request, direction, reference)?;
+            task.motion_bits_mut(control).dn = true;
+            Ok(position)
+        })
+    }
+
     /// The transform an MCT control structure runs, while its `.IP` is set.
     pub fn mct_transform(&self, control: InstructionHandle) -> Option<&Transform> {
         let slot = self.mct.instructions.iter().find(|s| s.control == control)?;

@@ -731,3 +731,144 @@ fn the_predicted_stopping_travel_is_what_the_controlled_stop_travels() {
         );
     }
 }
+
+/// MCTP agrees with MCT's own transform on every geometry: forward, the
+/// source position MCT starts a transform at from the same joints; inverse
+/// (on the arm solution the joints stand in), the joints MCT commands for
+/// that position — both within 1e-9 — with an orientation and a
+/// translation.
+#[test]
+fn mctp_agrees_with_mcts_own_transform_on_every_geometry() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(38);
+    let j = joints3();
+    let cart3 = cartesian(1, &[1, 2, 3], 3);
+    let cart2 = cartesian(1, &[1, 2, 3], 2);
+    let articulated = GeometryParams {
+        link_lengths: [0.4, 0.35, 0.0],
+        base_offsets: [0.05, 0.0, 0.4],
+        ..Default::default()
+    };
+    let delta = GeometryParams {
+        link_lengths: [0.3, 0.8, 0.0],
+        base_offsets: [0.2, 0.0, 0.0],
+        end_effector_offsets: [0.05, 0.0, -0.05],
+        ..Default::default()
+    };
+    let scara_delta = GeometryParams {
+        link_lengths: [0.3, 0.5, 0.0],
+        base_offsets: [0.1, 0.0, 0.0],
+        ..Default::default()
+    };
+    let cases: Vec<(&TransformSystem, TransformSystem, [std::ops::Range<f64>; 3])> = vec![
+        (
+            &cart3,
+            cartesian(2, &[11, 12, 13], 3),
+            [-0.5..0.5, -0.5..0.5, -0.5..0.5],
+        ),
+        (
+            &cart2,
+            system(
+                2,
+                &[11, 12, 13],
+                2,
+                GeometryKind::CartesianHBot,
+                GeometryParams::default(),
+            ),
+            [-0.5..0.5, -0.5..0.5, 0.0..0.0],
+        ),
+        (
+            &cart3,
+            system(2, &[11, 12, 13], 3, GeometryKind::ArticulatedIndependent, articulated),
+            [-90.0..90.0, -20.0..80.0, -150.0..-10.0],
+        ),
+        (
+            &cart3,
+            system(2, &[11, 12, 13], 3, GeometryKind::ArticulatedDependent, articulated),
+            [-90.0..90.0, 10.0..80.0, -100.0..-20.0],
+        ),
+        (
+            &cart2,
+            system(2, &[11, 12, 3], 2, GeometryKind::ScaraIndependent, scara_params()),
+            [-150.0..150.0, 10.0..170.0, 0.0..0.0],
+        ),
+        (
+            &cart3,
+            system(2, &[11, 12, 13], 3, GeometryKind::Delta3d, delta),
+            [10.0..60.0, 10.0..60.0, 10.0..60.0],
+        ),
+        (
+            &cart2,
+            system(2, &[11, 12, 13], 2, GeometryKind::Delta2d, delta),
+            [10.0..60.0, 10.0..60.0, 0.0..0.0],
+        ),
+        (
+            &cart2,
+            system(2, &[11, 12, 3], 2, GeometryKind::ScaraDelta, scara_delta),
+            [40.0..100.0, 80.0..140.0, 0.0..0.0],
+        ),
+    ];
+    for (source, target, ranges) in &cases {
+        let three = target.transform_dimension == 3;
+        let orientation = if three { [10.0, -5.0, 30.0] } else { [0.0, 0.0, 30.0] };
+        let translation = if three { [0.1, -0.05, 0.02] } else { [0.1, -0.05, 0.0] };
+        let mut agreed = 0;
+        for _ in 0..200 {
+            let joints: Vec3 = [0, 1, 2].map(|i| {
+                let r = ranges[i].clone();
+                if r.is_empty() { r.start } else { rng.random_range(r) }
+            });
+            let r = MctRequest {
+                orientation_deg: orientation,
+                translation,
+                ..request(source, target, &j, joints)
+            };
+            let mut table = TransformTable::new();
+            let Ok((id, position)) = table.execute(&r, None) else {
+                continue;
+            };
+            let forward = calculate(&r, TransformDirection::Forward, joints).unwrap();
+            for i in 0..3 {
+                assert!(
+                    (forward[i] - position[i]).abs() < 1e-9,
+                    "{:?}: {forward:?} vs {position:?}",
+                    target.geometry
+                );
+            }
+            let mct_joints = table.get(id).unwrap().joints_of(position).unwrap();
+            let inverse = calculate(&r, TransformDirection::Inverse, position).unwrap();
+            for i in 0..3 {
+                assert!(
+                    (inverse[i] - mct_joints[i]).abs() < 1e-9 && (inverse[i] - joints[i]).abs() < 1e-6,
+                    "{:?}: {inverse:?} vs MCT {mct_joints:?} from {joints:?}",
+                    target.geometry
+                );
+            }
+            agreed += 1;
+        }
+        assert!(agreed >= 100, "{:?}: only {agreed} starts", target.geometry);
+    }
+}
+
+#[test]
+fn mctp_chooses_a_serial_arm_and_refuses_what_mct_refuses() {
+    let (s, g) = scara_pair();
+    let j = joints3();
+    // Right arm (elbow +60°) now; the left arm reaches the same point with
+    // the elbow at −60°.
+    let r = request(&s, &g, &j, [0.0, 60.0, 0.0]);
+    let x = calculate(&r, TransformDirection::Forward, [0.0, 60.0, 0.0]).unwrap();
+    let left = calculate(&r, TransformDirection::InverseLeftArm, x).unwrap();
+    let right = calculate(&r, TransformDirection::InverseRightArm, x).unwrap();
+    assert!(
+        (right[1] - 60.0).abs() < 1e-9 && (left[1] + 60.0).abs() < 1e-9,
+        "{left:?} {right:?}"
+    );
+    let back = calculate(&r, TransformDirection::Forward, left).unwrap();
+    assert!((0..3).all(|i| (back[i] - x[i]).abs() < 1e-12));
+    // Out of reach: ERR 67; the same system twice: ERR 61 EXERR 2.
+    let far = calculate(&r, TransformDirection::Inverse, [2.0, 0.0, 0.0]).unwrap_err();
+    assert_eq!(far.err(), 67);
+    let same = calculate(&request(&s, &s, &j, [0.0; 3]), TransformDirection::Forward, [0.0; 3]).unwrap_err();
+    assert_eq!((same.err(), same.exerr()), (61, 2));
+}

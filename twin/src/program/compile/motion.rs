@@ -212,7 +212,7 @@ impl Compiler<'_, '_, '_> {
                 .code_operand(spec, arg)
                 .map_err(|d| word_elsewhere(instruction, spec, arg, d)),
             Kind::Bool => self.bool_operand(spec, arg),
-            Kind::Values | Kind::Vector3 | Kind::OptionalArray => self.array_operand(spec, arg),
+            Kind::Values | Kind::Vector3 | Kind::OutputVector3 | Kind::OptionalArray => self.array_operand(spec, arg),
         }
     }
 
@@ -712,6 +712,16 @@ impl Compiler<'_, '_, '_> {
             && ty != DataType::Bool
         {
             let len = info.len.unwrap_or(0);
+            if !self.scanned && spec.kind == Kind::OutputVector3 {
+                return err(
+                    self,
+                    arg.span,
+                    format!(
+                        "{} {}: the instruction writes it, which only a routine's call can have it do",
+                        spec.name, arg.text
+                    ),
+                );
+            }
             if !self.scanned {
                 let start = match index {
                     Some(e) => self.constant_index(e, r, len)?,
@@ -753,7 +763,7 @@ impl Compiler<'_, '_, '_> {
         }
         let expected = match spec.kind {
             Kind::OptionalArray => "0 or a REAL array tag",
-            Kind::Vector3 => "a REAL array element, three from there (REAL[3])",
+            Kind::Vector3 | Kind::OutputVector3 => "a REAL array element, three from there (REAL[3])",
             _ => "a REAL array tag or element, e.g. Pos[0]",
         };
         if spec.kind == Kind::Values

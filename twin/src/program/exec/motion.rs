@@ -15,6 +15,7 @@ use super::{Exec, R};
 use crate::program::ir::{MotionCall, Operand};
 use crate::program::memory::Memory;
 use crate::program::types::Value;
+use planner::catalogue::Kind;
 use planner::instruction::Fault;
 use planner::mccp::CamElement;
 use planner::task::{Arg, Args};
@@ -111,7 +112,24 @@ impl Exec<'_> {
             values: &args[..n],
             instance: call.instance,
         };
-        Ok(call.instruction.execute(self.task, &args))
+        let result = call.instruction.execute(self.task, &args);
+        // An output operand (MCTP's Transform Position): what the
+        // instruction wrote goes to the array's elements from the one named.
+        if let Some(values) = self.task.take_output() {
+            for (i, op) in call.operands.iter().take(n).enumerate() {
+                if let (Operand::Array(a), Slice::Numbers(from, to)) = (op, slices[i])
+                    && call.instruction.operands[i].kind == Kind::OutputVector3
+                    && to - from >= values.len()
+                {
+                    let first = a.base + a.len - (to - from);
+                    for (k, x) in values.iter().enumerate() {
+                        let slot = first + k;
+                        self.mem.slots[slot] = self.mem.types[slot].store(Value::Real(*x)).0;
+                    }
+                }
+            }
+        }
+        Ok(result)
     }
 }
 
