@@ -475,3 +475,76 @@ fn mctp_operands_are_checked_at_load() {
         }
     }
 }
+
+fn set_bool(p: &mut Program, name: &str, value: bool) {
+    let mem = p.memory_mut();
+    let t = mem.find(name).unwrap_or_else(|| panic!("no tag {name}"));
+    let slot = mem.tags[t].base;
+    mem.slots[slot] = Value::Bool(value);
+}
+
+#[test]
+fn mccd_in_a_routine_changes_the_moving_systems_speed() {
+    let tags = &[
+        ("Target", "REAL[3]"),
+        ("Mv", "MOTION_INSTRUCTION"),
+        ("Ch", "MOTION_INSTRUCTION"),
+        ("Slow", "BOOL"),
+        ("V", "REAL"),
+        ("Dn", "BOOL"),
+        ("Err", "DINT"),
+        ("Exerr", "DINT"),
+        ("NewSpeed", "REAL"),
+        ("SlowSeen", "BOOL"),
+    ];
+    let routine = "
+IF NOT Mv.EN THEN
+    Target[0] := 1.0;
+    MCLM(Cart, Mv, 0, Target[0], 0.5, unitspersec, 5, unitspersec2, 5, unitspersec2, trapezoidal, 100, 100, %oftime, 0, disabled, programmed, 0, 0, none, 0, 0);
+END_IF;
+IF Slow AND NOT SlowSeen THEN
+    MCCD(Cart, Ch, coordinatedmove, yes, NewSpeed, unitspersec, no, 0, unitspersec2, no, 0, unitspersec2, no, 0, no, 0, unitspersec3, activemotion);
+END_IF;
+SlowSeen := Slow;
+V := X.CommandVelocity; Dn := Ch.DN; Err := Ch.ERR; Exerr := Ch.EXERR;
+";
+    let (mut p, mut task) = scara_bind("mccd", tags, routine).unwrap_or_else(|e| panic!("{e}"));
+    let scan = |p: &mut Program, task: &mut planner::task::MotionTask| {
+        p.scan(task);
+        task.update();
+    };
+    for _ in 0..60 {
+        scan(&mut p, &mut task);
+    }
+    let v = |p: &Program| element(p, "V", 0);
+    assert!((v(&p) - 0.5).abs() < 1e-6, "{}", v(&p));
+    {
+        let mem = p.memory_mut();
+        let t = mem.find("NewSpeed").unwrap();
+        let slot = mem.tags[t].base;
+        mem.slots[slot] = Value::Real(0.2);
+    }
+    set_bool(&mut p, "Slow", true);
+    scan(&mut p, &mut task);
+    assert_eq!(element(&p, "Dn", 0), 1.0);
+    // Down to 0.2 at 5 m/s²: 0.06 s, 15 updates of 0.02.
+    for _ in 0..20 {
+        scan(&mut p, &mut task);
+    }
+    assert!((v(&p) - 0.2).abs() < 1e-6, "{}", v(&p));
+    // A negative speed at run time: ERR 13 on Speed (faceplate 4).
+    {
+        let mem = p.memory_mut();
+        let t = mem.find("NewSpeed").unwrap();
+        let slot = mem.tags[t].base;
+        mem.slots[slot] = Value::Real(-1.0);
+    }
+    set_bool(&mut p, "Slow", false);
+    scan(&mut p, &mut task);
+    set_bool(&mut p, "Slow", true);
+    for _ in 0..4 {
+        scan(&mut p, &mut task);
+    }
+    assert_eq!((element(&p, "Err", 0), element(&p, "Exerr", 0)), (13.0, 4.0));
+    assert!((v(&p) - 0.2).abs() < 1e-6, "the move keeps its speed");
+}

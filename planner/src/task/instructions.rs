@@ -36,6 +36,7 @@ macro_rules! instructions {
 instructions! {
     mclm::MCLM,
     mccm::MCCM,
+    mccd::MCCD,
     mcs::MCS,
     mct::MCT,
     mctp::MCTP,
@@ -94,7 +95,7 @@ pub const NOT_SIMULATED: &[&str] = &[
     "MCSV", "MATC", "MDAC", // Motion event
     "MAOC", "MDOC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
-    "MCCD", "MCTO", "MCTPO", "MCPM", "MDCC",
+    "MCTO", "MCTPO", "MCPM", "MDCC",
 ];
 
 /// The file of `instruction`'s unit, from the planner's root
