@@ -131,6 +131,10 @@ pub struct AxisConfig {
     /// Logix `ProgrammedStopMode`: how an MGS of Stop Mode *programmed*
     /// stops the axis (default: Fast Stop).
     pub programmed_stop_mode: ProgrammedStopMode,
+    /// Logix `OutputCamExecutionTargets`: how many output cams (MAOC) the
+    /// axis runs at once, each an Execution Target 0 … n − 1 (default 4,
+    /// at most 8).
+    pub output_cam_execution_targets: u32,
 }
 
 /// Logix `ProgrammedStopMode` (MOTION-RM003): how the group's programmed
@@ -203,6 +207,7 @@ impl AxisConfig {
             position_error_action: FaultAction::StopDrive,
             homing: Homing::default(),
             programmed_stop_mode: ProgrammedStopMode::FastStop,
+            output_cam_execution_targets: 4,
         }
     }
 

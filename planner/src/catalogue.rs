@@ -135,6 +135,16 @@ pub enum Kind {
     OutputVector3,
     /// `0` (none) or a REAL array tag.
     OptionalArray,
+    /// A DINT tag the instruction keeps writing (MAOC's Output), passed as
+    /// the caller's reference ([`crate::task::Arg::Reference`]).
+    OutputWord,
+    /// A DINT tag the instruction keeps reading (MAOC's Input), passed as
+    /// the caller's reference.
+    InputWord,
+    /// An `OUTPUT_CAM` array from the element named.
+    OutputCams,
+    /// An `OUTPUT_COMPENSATION` array from the element named.
+    Compensations,
 }
 
 impl Kind {

@@ -38,6 +38,7 @@ pub mod mccp;
 pub mod mclm;
 pub mod mct;
 pub mod modulo;
+pub mod output_cam;
 pub mod profile;
 pub mod registration;
 pub mod servo;

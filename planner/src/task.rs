@@ -45,6 +45,7 @@ mod coord;
 pub mod group;
 mod homing;
 mod mct;
+pub mod output_cam;
 mod servo;
 mod stop;
 mod superimposed;
@@ -152,6 +153,7 @@ impl MotionTask {
             buffered: None,
             registration: Default::default(),
             watch: Default::default(),
+            output_cams: Vec::new(),
         });
         Ok(AxisHandle(self.axes.len() as u32 - 1))
     }

@@ -548,3 +548,86 @@ V := X.CommandVelocity; Dn := Ch.DN; Err := Ch.ERR; Exerr := Ch.EXERR;
     assert_eq!((element(&p, "Err", 0), element(&p, "Exerr", 0)), (13.0, 4.0));
     assert!((v(&p) - 0.2).abs() < 1e-6, "the move keeps its speed");
 }
+
+const MAOC_TAGS: &[(&str, &str)] = &[
+    ("Cams", "OUTPUT_CAM[2]"),
+    ("Comp", "OUTPUT_COMPENSATION[4]"),
+    ("Out", "DINT"),
+    ("In", "DINT"),
+    ("Cam1", "MOTION_INSTRUCTION"),
+    ("Off", "MOTION_INSTRUCTION"),
+    ("J", "MOTION_INSTRUCTION"),
+    ("Init", "BOOL"),
+    ("Target", "DINT"),
+    ("Disarm", "BOOL"),
+    ("Bit", "BOOL"),
+    ("Ip", "BOOL"),
+    ("Err", "DINT"),
+    ("Seg", "DINT"),
+];
+
+/// X jogs at 1 mm/s; a once cam on execution target `Target` turns Out.2
+/// on from 0.2 to 0.4 mm (Out.5 is the program's own).
+const MAOC_ROUTINE: &str = "
+IF NOT Init THEN
+    Cams[0].OutputBit := 2; Cams[0].LatchType := 1; Cams[0].UnlatchType := 1;
+    Cams[0].Left := 0.2; Cams[0].Right := 0.4;
+    Cams[1].OutputBit := 2; Cams[1].LatchType := 0;
+    Out.5 := TRUE;
+    MAJ(X, J, 0, 1.0, unitspersec, 1000, unitspersec2, 1000, unitspersec2, trapezoidal);
+    MAOC(X, 0, Cam1, Out, In, Cams[0], 0.0, 10.0, Comp[0], once, immediate, 0.0, 0.0, command);
+    Init := TRUE;
+END_IF;
+IF Disarm AND NOT Off.EN THEN MDOC(X, 0, Off, all); END_IF;
+Bit := Out.2; Ip := Cam1.IP; Err := Cam1.ERR; Seg := Cam1.SEGMENT;
+";
+
+#[test]
+fn maoc_switches_its_output_bit_and_leaves_the_others() {
+    let mut s = Sandbox::with_axes(&["X"], MAOC_TAGS, MAOC_ROUTINE).unwrap_or_else(|e| panic!("{e}"));
+    let mut on = Vec::new();
+    for k in 0..300 {
+        s.scan();
+        if flag(&s, "Bit") {
+            on.push(k);
+        }
+        assert_eq!(int(&s, "Out") >> 5 & 1, 1, "the program's bit stays");
+    }
+    // 4 µm an update: 0.2 mm after 50 updates, 0.4 mm after 100 (the Output
+    // word reaches the tag at the next scan).
+    assert!(
+        (50..=52).contains(&on[0]) && (99..=102).contains(on.last().unwrap()),
+        "{on:?}"
+    );
+    assert!(flag(&s, "Ip"), "still inside its range");
+    // MDOC all: .IP clears, the bit stays off.
+    s.set("Disarm", Value::Bool(true));
+    s.scan();
+    s.scan();
+    assert!(!flag(&s, "Ip"));
+}
+
+#[test]
+fn maoc_refusals_at_run_time_and_at_load() {
+    // An illegal element: ERR 36 with the element in SEGMENT.
+    let routine = MAOC_ROUTINE.replace("Cams[1].OutputBit := 2;", "Cams[1].OutputBit := 32;");
+    let mut s = Sandbox::with_axes(&["X"], MAOC_TAGS, &routine).unwrap_or_else(|e| panic!("{e}"));
+    s.scan();
+    assert_eq!((int(&s, "Err"), int(&s, "Seg")), (36, 1));
+    // An execution target the axis does not have: ERR 35.
+    let routine = MAOC_ROUTINE.replace("MAOC(X, 0,", "MAOC(X, 4,");
+    let mut s = Sandbox::with_axes(&["X"], MAOC_TAGS, &routine).unwrap_or_else(|e| panic!("{e}"));
+    s.scan();
+    assert_eq!(int(&s, "Err"), 35);
+    for (from, to, needle) in [
+        ("Out, In, Cams[0]", "Init, In, Cams[0]", "expected a DINT tag"),
+        ("Cams[0], 0.0", "Comp[0], 0.0", "OUTPUT_CAM array"),
+        ("once, immediate", "twice, immediate", "Execution Mode"),
+    ] {
+        let routine = MAOC_ROUTINE.replace(from, to);
+        match Sandbox::with_axes(&["X"], MAOC_TAGS, &routine) {
+            Ok(_) => panic!("{to} loads"),
+            Err(e) => assert!(e.contains(needle), "{to}: {e}"),
+        }
+    }
+}

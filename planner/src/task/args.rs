@@ -21,6 +21,13 @@ pub enum Arg<'a> {
     System(CoordHandle),
     /// The motion group (one per controller).
     Group,
+    /// A tag the instruction keeps writing or reading, by the caller's
+    /// reference (MAOC's Output and Input words).
+    Reference(usize),
+    /// `OUTPUT_CAM` elements from the one the operand names.
+    OutputCams(&'a [crate::output_cam::OutputCamElement]),
+    /// `OUTPUT_COMPENSATION` elements, whole array.
+    Compensations(&'a [crate::output_cam::OutputCompensation]),
     /// A control structure (`MOTION_INSTRUCTION` tag).
     Control(InstructionHandle),
     /// A `CAM_PROFILE` tag.
@@ -160,6 +167,37 @@ impl<'a> Args<'a> {
             Arg::Array(v) => Some(v),
             Arg::NoElement => None,
             _ => self.wrong(i, "an array"),
+        }
+    }
+
+    /// The tag reference at `i` (MAOC's Output and Input words).
+    #[must_use]
+    pub fn reference(&self, i: usize) -> usize {
+        match self.get(i) {
+            Arg::Reference(r) => r,
+            _ => self.wrong(i, "a tag reference"),
+        }
+    }
+
+    /// The `OUTPUT_CAM` elements at `i`; `None` for an element outside its
+    /// array.
+    #[must_use]
+    pub fn output_cams(&self, i: usize) -> Option<&'a [crate::output_cam::OutputCamElement]> {
+        match self.get(i) {
+            Arg::OutputCams(v) => Some(v),
+            Arg::NoElement => None,
+            _ => self.wrong(i, "OUTPUT_CAM elements"),
+        }
+    }
+
+    /// The `OUTPUT_COMPENSATION` elements at `i`; `None` for an element
+    /// outside its array.
+    #[must_use]
+    pub fn compensations(&self, i: usize) -> Option<&'a [crate::output_cam::OutputCompensation]> {
+        match self.get(i) {
+            Arg::Compensations(v) => Some(v),
+            Arg::NoElement => None,
+            _ => self.wrong(i, "OUTPUT_COMPENSATION elements"),
         }
     }
 

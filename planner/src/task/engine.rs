@@ -70,6 +70,7 @@ impl MotionTask {
         self.advance_servo_states();
         self.advance_group();
         self.advance_watches();
+        self.advance_output_cams();
     }
 }
 
@@ -124,6 +125,66 @@ pub(super) struct AxisSlot {
     pub(super) registration: [crate::registration::RegistrationInput<InstructionHandle>; 2],
     /// The watch event (`task/instructions/maw.rs`).
     pub(super) watch: crate::watch::Watch<InstructionHandle>,
+    /// Output cams by execution target (`task/output_cam.rs`).
+    pub(super) output_cams: Vec<OutputCamTarget>,
+}
+
+/// One execution target of an axis' output cams.
+#[derive(Debug, Clone, Default)]
+pub(super) struct OutputCamTarget {
+    pub(super) active: Option<OutputCamRun>,
+    pub(super) pending: Option<OutputCamRun>,
+    /// The Input word as the program last gave it.
+    pub(super) input: u32,
+    /// The bits the cam drives and their values; `release` once the cam
+    /// has ended and its bits have been turned off.
+    pub(super) mask: u32,
+    pub(super) bits: u32,
+    pub(super) release: bool,
+    /// The Output and Input words' references (the caller's).
+    pub(super) words: (usize, usize),
+    /// The switches of the last update.
+    pub(super) switches: Vec<crate::output_cam::Switch>,
+}
+
+/// An output cam MAOC armed (or made pending).
+#[derive(Debug, Clone)]
+pub(super) struct OutputCamRun {
+    pub(super) control: InstructionHandle,
+    pub(super) cam: crate::output_cam::OutputCam,
+    /// The bits the cam drives.
+    pub(super) mask_hint: u32,
+    pub(super) latches: Vec<crate::output_cam::Latch>,
+    pub(super) range: (f64, f64),
+    pub(super) mode: CamMode,
+    pub(super) schedule: CamSchedule,
+    pub(super) axis_arm: f64,
+    pub(super) cam_arm: f64,
+    pub(super) actual: bool,
+    /// Armed: the cam position follows the axis.
+    pub(super) armed: bool,
+    /// The axis position and the cam position of the last evaluation.
+    pub(super) last_axis: f64,
+    pub(super) last_cam: f64,
+    pub(super) words: (usize, usize),
+}
+
+/// An output cam's Execution Mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum CamMode {
+    Once,
+    Continuous,
+    Persistent,
+}
+
+/// An output cam's Execution Schedule.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum CamSchedule {
+    Immediate,
+    Pending,
+    ForwardOnly,
+    ReverseOnly,
+    BiDirectional,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -47,6 +47,8 @@ instructions! {
     mdr::MDR,
     maw::MAW,
     mdw::MDW,
+    maoc::MAOC,
+    mdoc::MDOC,
     maj::MAJ,
     mas::MAS,
     mam::MAM,
@@ -92,8 +94,7 @@ pub fn positional_mnemonics() -> String {
 pub const NOT_SIMULATED: &[&str] = &[
     // Motion state
     "MDO", "MDF", "MDS", // Motion move
-    "MCSV", "MATC", "MDAC", // Motion event
-    "MAOC", "MDOC", // Motion configuration
+    "MCSV", "MATC", "MDAC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
     "MCTO", "MCTPO", "MCPM", "MDCC",
 ];

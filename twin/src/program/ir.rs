@@ -781,6 +781,9 @@ pub enum Operand {
     Scalar(CExpr),
     /// A CAM array and the element it starts at.
     Cam(ArrayAt),
+    /// An array of an instruction structure (`OUTPUT_CAM`,
+    /// `OUTPUT_COMPENSATION`) and the element it starts at.
+    Structures(ArrayAt, crate::program::types::Structure),
     /// Numbers known at load: a `[[program]]` step's array operand, read
     /// from the scene's tag values.
     Values(Vec<f64>),

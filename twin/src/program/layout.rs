@@ -265,6 +265,8 @@ pub fn structure(base: BaseType) -> Option<Structure> {
         BaseType::Timer => Structure::LadderTimer,
         BaseType::Counter => Structure::LadderCounter,
         BaseType::Control => Structure::Control,
+        BaseType::OutputCam => Structure::OutputCam,
+        BaseType::OutputCompensation => Structure::OutputCompensation,
         _ => return None,
     })
 }

@@ -233,11 +233,29 @@ impl Program {
     /// runs the task triggers due (their calls take effect at the next
     /// planner update).
     pub fn scan(&mut self, task: &mut MotionTask) {
+        self.sync_output_cams(task);
         if !self.steps.is_empty() {
             let (mem, scratch, refusals) = self.plc.step_context();
             steps::fire(&mut self.steps, mem, scratch, task, refusals);
         }
         self.plc.scan(task);
+    }
+
+    /// The Output and Input words of the axes' output cams (MAOC): the
+    /// bits the cams drove in the last update go to their Output tags, the
+    /// Input tags' values to the cams (for their enable bits).
+    fn sync_output_cams(&mut self, task: &mut MotionTask) {
+        let words = task.output_cam_words();
+        if words.is_empty() {
+            return;
+        }
+        let mem = self.plc.memory_mut();
+        for w in words {
+            let word = mem.slots[w.output].as_i64() as u32;
+            let merged = (word & !w.mask) | (w.bits & w.mask);
+            mem.slots[w.output] = Value::Int(i64::from(merged as i32));
+            task.set_output_cam_input(w.axis, w.target, mem.slots[w.input].as_i64() as u32);
+        }
     }
 
     /// The `[trace] tags` entries.

@@ -283,6 +283,10 @@ pub enum Structure {
     LadderCounter,
     /// `CONTROL` (ladder BSL, BSR, FFL, FFU, LFL, LFU).
     Control,
+    /// `OUTPUT_CAM` (MAOC).
+    OutputCam,
+    /// `OUTPUT_COMPENSATION` (MAOC).
+    OutputCompensation,
 }
 
 /// The members of each structure: name, type, and whether a program may
@@ -411,6 +415,29 @@ const CONTROL: [(&str, DataType, bool); 10] = [
     ("POS", DataType::Dint, true),
 ];
 
+/// `OUTPUT_CAM`, in [`planner::output_cam::OutputCamElement`]'s order.
+const OUTPUT_CAM: [(&str, DataType, bool); 8] = [
+    ("OutputBit", DataType::Dint, true),
+    ("LatchType", DataType::Dint, true),
+    ("UnlatchType", DataType::Dint, true),
+    ("Left", DataType::Real, true),
+    ("Right", DataType::Real, true),
+    ("Duration", DataType::Real, true),
+    ("EnableType", DataType::Dint, true),
+    ("EnableBit", DataType::Dint, true),
+];
+
+/// `OUTPUT_COMPENSATION`, in [`planner::output_cam::OutputCompensation`]'s
+/// order.
+const OUTPUT_COMPENSATION: [(&str, DataType, bool); 6] = [
+    ("Offset", DataType::Real, true),
+    ("LatchDelay", DataType::Real, true),
+    ("UnlatchDelay", DataType::Real, true),
+    ("Mode", DataType::Dint, true),
+    ("CycleTime", DataType::Real, true),
+    ("DutyCycle", DataType::Real, true),
+];
+
 /// `CONTROL.EN`'s slot offset.
 pub const CT_EN: usize = 0;
 /// `CONTROL.EU`'s.
@@ -430,7 +457,7 @@ pub const CT_POS: usize = 9;
 
 impl Structure {
     /// Every structure kept in slots.
-    pub const ALL: [Structure; 9] = [
+    pub const ALL: [Structure; 11] = [
         Structure::Timer,
         Structure::Counter,
         Structure::OneShot,
@@ -440,6 +467,8 @@ impl Structure {
         Structure::LadderTimer,
         Structure::LadderCounter,
         Structure::Control,
+        Structure::OutputCam,
+        Structure::OutputCompensation,
     ];
 
     /// The type name.
@@ -455,6 +484,8 @@ impl Structure {
             Structure::LadderTimer => "TIMER",
             Structure::LadderCounter => "COUNTER",
             Structure::Control => "CONTROL",
+            Structure::OutputCam => "OUTPUT_CAM",
+            Structure::OutputCompensation => "OUTPUT_COMPENSATION",
         }
     }
 
@@ -471,6 +502,8 @@ impl Structure {
             Structure::LadderTimer => &LADDER_TIMER,
             Structure::LadderCounter => &LADDER_COUNTER,
             Structure::Control => &CONTROL,
+            Structure::OutputCam => &OUTPUT_CAM,
+            Structure::OutputCompensation => &OUTPUT_COMPENSATION,
         }
     }
 

@@ -634,6 +634,10 @@ pub enum BaseType {
     Cam,
     /// `CAM_PROFILE` (filled by MCCP).
     CamProfile,
+    /// `OUTPUT_CAM` (one output cam element, MAOC).
+    OutputCam,
+    /// `OUTPUT_COMPENSATION` (one output bit's compensation, MAOC).
+    OutputCompensation,
     /// A PLCopen function-block instance.
     FunctionBlock(FunctionBlock),
     /// A `[[data_types]]` structure, or a string type (`STRING` and the
@@ -727,7 +731,7 @@ pub struct MemberDef {
 }
 
 impl BaseType {
-    const NAMED: [(&'static str, BaseType); 26] = [
+    const NAMED: [(&'static str, BaseType); 28] = [
         ("BOOL", BaseType::Bool),
         ("SINT", BaseType::Sint),
         ("INT", BaseType::Int),
@@ -754,6 +758,8 @@ impl BaseType {
         ("MOTION_GROUP", BaseType::MotionGroup),
         ("CAM", BaseType::Cam),
         ("CAM_PROFILE", BaseType::CamProfile),
+        ("OUTPUT_CAM", BaseType::OutputCam),
+        ("OUTPUT_COMPENSATION", BaseType::OutputCompensation),
     ];
 
     /// An instruction's structure the twin lays out itself (`FBD_TIMER`,
@@ -773,6 +779,8 @@ impl BaseType {
                 | BaseType::Timer
                 | BaseType::Counter
                 | BaseType::Control
+                | BaseType::OutputCam
+                | BaseType::OutputCompensation
         )
     }
 

@@ -203,6 +203,9 @@ impl Compiler<'_, '_, '_> {
                 }
                 Ok(Operand::Fixed(Arg::Group))
             }
+            Kind::OutputWord | Kind::InputWord => self.word_operand(spec, arg),
+            Kind::OutputCams => self.structures_operand(spec, arg, Structure::OutputCam),
+            Kind::Compensations => self.structures_operand(spec, arg, Structure::OutputCompensation),
             Kind::MotionControl => self.control_operand(spec, arg),
             Kind::CamProfile => self.cam_profile_operand(spec, arg),
             Kind::Cam => self.cam_operand(spec, arg),
@@ -214,6 +217,90 @@ impl Compiler<'_, '_, '_> {
             Kind::Bool => self.bool_operand(spec, arg),
             Kind::Values | Kind::Vector3 | Kind::OutputVector3 | Kind::OptionalArray => self.array_operand(spec, arg),
         }
+    }
+
+    /// A DINT tag an instruction keeps writing or reading (MAOC's Output
+    /// and Input): the tag's slot is the instruction's reference to it.
+    fn word_operand(&mut self, spec: &Spec, arg: &ArgText) -> Result<Operand> {
+        let name = self.bare_name(spec, arg, "a DINT tag")?;
+        let Some(t) = self.resolve(name) else {
+            return Err(self.unknown_name(name, arg.span));
+        };
+        let info = &self.mem.tags[t];
+        if info.kind != TagKind::Scalar(DataType::Dint) || info.len.is_some() {
+            return err(
+                self,
+                arg.span,
+                format!("{} '{name}' is {}, expected a DINT tag", spec.name, describe(info)),
+            );
+        }
+        if spec.kind == Kind::OutputWord && info.constant {
+            return err(
+                self,
+                arg.span,
+                format!("{} '{name}' is a constant: the instruction writes it", spec.name),
+            );
+        }
+        Ok(Operand::Fixed(Arg::Reference(info.base)))
+    }
+
+    /// An array of an instruction structure from the element named
+    /// (`Cams`, `Cams[2]`), read from tag memory when the call executes:
+    /// MAOC's Output Cam and Output Compensation. Only a routine's call
+    /// takes one (a step has no such values).
+    fn structures_operand(&mut self, spec: &Spec, arg: &ArgText, structure: Structure) -> Result<Operand> {
+        let bad = |c: &Self| {
+            c.error(
+                arg.span,
+                format!(
+                    "{} '{}': expected an {} array or an element of one",
+                    spec.name,
+                    arg.text.trim(),
+                    structure.name()
+                ),
+                "not such an array",
+            )
+        };
+        let Some(Expr {
+            kind: ExprKind::Ref(r), ..
+        }) = &arg.expr
+        else {
+            return Err(bad(self));
+        };
+        let Some(t) = self.resolve(&r.name) else {
+            return Err(self.unknown_name(&r.name, r.name_span()));
+        };
+        let info = self.mem.tags[t].clone();
+        if info.kind != TagKind::Structure(structure) || info.len.is_none() {
+            return Err(bad(self));
+        }
+        if !self.scanned {
+            return err(
+                self,
+                arg.span,
+                format!(
+                    "{} takes {} values a routine sets: call it from a routine",
+                    spec.name,
+                    structure.name()
+                ),
+            );
+        }
+        let len = info.len.unwrap_or(1);
+        let start = match r.path.as_slice() {
+            [] => super::constant(Value::Int(0), Ty::Dint),
+            [Access::Index(sub)] => self.checked_subscript(sub, r, &info)?,
+            _ => return Err(bad(self)),
+        };
+        Ok(Operand::Structures(
+            ArrayAt {
+                base: info.base,
+                len,
+                start,
+                ty: DataType::Dint,
+                name: info.name,
+            },
+            structure,
+        ))
     }
 
     /// A Motion Control operand: a `MOTION_INSTRUCTION` tag, or an element

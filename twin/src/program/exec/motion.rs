@@ -26,6 +26,8 @@ enum Slice {
     None,
     Numbers(usize, usize),
     Cams(usize, usize, usize),
+    OutputCams(usize, usize),
+    Compensations(usize, usize),
     NoElement,
 }
 
@@ -51,6 +53,8 @@ impl Exec<'_> {
         let mut slices = [Slice::None; MAX_OPERANDS];
         self.scratch.numbers.clear();
         self.scratch.cams.clear();
+        self.scratch.output_cams.clear();
+        self.scratch.compensations.clear();
         for (i, op) in call.operands.iter().take(n).enumerate() {
             match op {
                 Operand::Fixed(_) | Operand::Values(_) | Operand::CamPoints(..) => {}
@@ -87,6 +91,13 @@ impl Exec<'_> {
                     let start = usize::try_from(start).unwrap_or(a.len);
                     slices[i] = Slice::Cams(at, self.scratch.cams.len(), start);
                 }
+                Operand::Structures(a, structure) => {
+                    let start = self.eval(&a.start).as_i64();
+                    slices[i] = match usize::try_from(start) {
+                        Ok(s) if s < a.len => read_structures(self.mem, a, s, *structure, self.scratch),
+                        _ => Slice::NoElement,
+                    };
+                }
             }
         }
         self.check()?;
@@ -101,9 +112,11 @@ impl Exec<'_> {
                 Operand::Bool(_) => Arg::Bool(values[i].truthy()),
                 Operand::Values(v) => Arg::Array(v),
                 Operand::CamPoints(points, start) => Arg::Cam(points, *start),
-                Operand::Scalar(_) | Operand::Array(_) | Operand::Cam(_) => match slices[i] {
+                Operand::Scalar(_) | Operand::Array(_) | Operand::Cam(_) | Operand::Structures(..) => match slices[i] {
                     Slice::Numbers(a, b) => Arg::Array(&scratch.numbers[a..b]),
                     Slice::Cams(a, b, start) => Arg::Cam(&scratch.cams[a..b], start),
+                    Slice::OutputCams(a, b) => Arg::OutputCams(&scratch.output_cams[a..b]),
+                    Slice::Compensations(a, b) => Arg::Compensations(&scratch.compensations[a..b]),
                     Slice::NoElement | Slice::None => Arg::NoElement,
                 },
             };
@@ -140,6 +153,52 @@ pub(in crate::program) fn refusal_text(call: &MotionCall, fault: &Fault) -> Stri
         "{}: {fault}",
         call.instruction.refusal_codes(fault.err(), fault.exerr())
     )
+}
+
+/// The elements of an `OUTPUT_CAM` or `OUTPUT_COMPENSATION` array from
+/// element `start` to its end, read into the scratch.
+fn read_structures(
+    mem: &Memory,
+    a: &crate::program::ir::ArrayAt,
+    start: usize,
+    structure: crate::program::types::Structure,
+    scratch: &mut super::scratch::Scratch,
+) -> Slice {
+    use crate::program::types::Structure as S;
+    let size = structure.size();
+    let at = |k: usize, m: usize| mem.slots[a.base + k * size + m];
+    match structure {
+        S::OutputCam => {
+            let first = scratch.output_cams.len();
+            for k in start..a.len {
+                scratch.output_cams.push(planner::output_cam::OutputCamElement {
+                    output_bit: at(k, 0).as_i64(),
+                    latch_type: at(k, 1).as_i64(),
+                    unlatch_type: at(k, 2).as_i64(),
+                    left: at(k, 3).as_f64(),
+                    right: at(k, 4).as_f64(),
+                    duration: at(k, 5).as_f64(),
+                    enable_type: at(k, 6).as_i64(),
+                    enable_bit: at(k, 7).as_i64(),
+                });
+            }
+            Slice::OutputCams(first, scratch.output_cams.len())
+        }
+        _ => {
+            let first = scratch.compensations.len();
+            for k in start..a.len {
+                scratch.compensations.push(planner::output_cam::OutputCompensation {
+                    offset: at(k, 0).as_f64(),
+                    latch_delay: at(k, 1).as_f64(),
+                    unlatch_delay: at(k, 2).as_f64(),
+                    mode: at(k, 3).as_i64(),
+                    cycle_time: at(k, 4).as_f64(),
+                    duty_cycle: at(k, 5).as_f64(),
+                });
+            }
+            Slice::Compensations(first, scratch.compensations.len())
+        }
+    }
 }
 
 /// The elements of a CAM array in tag memory: master, slave, and the

@@ -14,5 +14,7 @@ pub(super) const MAX_OPERANDS: usize = 32;
 pub struct Scratch {
     pub(super) numbers: Vec<f64>,
     pub(super) cams: Vec<CamElement>,
+    pub(super) output_cams: Vec<planner::output_cam::OutputCamElement>,
+    pub(super) compensations: Vec<planner::output_cam::OutputCompensation>,
     pub(super) frames: Vec<Frame<'static>>,
 }
