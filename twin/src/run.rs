@@ -66,6 +66,82 @@ pub struct Twin {
     io: CellIo,
     /// `twin bench`: wall time by stage.
     times: Option<StageTimes>,
+    /// The scheduled output modules (tags with `scheduled_output`).
+    scheduled: Vec<ScheduledRun>,
+}
+
+/// A scheduled output module: the switches its output cam made, each with
+/// when its device acted and where the axis was then.
+#[derive(Debug)]
+struct ScheduledRun {
+    tag: String,
+    axis: planner::task::AxisHandle,
+    target: u32,
+    response_s: f64,
+    /// The axis' actual position at the last coarse updates: (s, position).
+    history: std::collections::VecDeque<(f64, f64)>,
+    /// Switches whose device has not acted yet.
+    pending: Vec<planner::output_cam::Switch>,
+    done: Vec<ScheduledSwitch>,
+}
+
+/// One switch of a scheduled output (the summary lists them).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ScheduledSwitch {
+    /// The output bit.
+    pub bit: u32,
+    /// On or off.
+    pub on: bool,
+    /// When the module switched it, s (interpolated inside the update).
+    pub switch_s: f64,
+    /// When the device acted (`switch_s` + `response_ms`), s.
+    pub device_s: f64,
+    /// The axis' actual position then (interpolated between updates).
+    pub axis_position: f64,
+}
+
+/// The most switches a scheduled output keeps for the summary.
+pub const MAX_SCHEDULED_SWITCHES: usize = 10_000;
+
+impl ScheduledRun {
+    /// After an update: the cam's new switches wait for their device; the
+    /// ones whose device has acted by `now_s` get the axis position then.
+    fn collect(&mut self, task: &MotionTask, now_s: f64) {
+        let position = task.axis_state(self.axis).actual_position;
+        self.history.push_back((now_s, position));
+        while self.history.len() > 4096 {
+            self.history.pop_front();
+        }
+        self.pending
+            .extend(task.output_cam_switches(self.axis, self.target).iter().copied());
+        let history = &self.history;
+        let at = |t: f64| -> Option<f64> {
+            let k = history.iter().position(|(ht, _)| *ht >= t)?;
+            let (t1, p1) = history[k];
+            if k == 0 || t1 == t {
+                return Some(p1);
+            }
+            let (t0, p0) = history[k - 1];
+            Some(p0 + (p1 - p0) * (t - t0) / (t1 - t0))
+        };
+        let response = self.response_s;
+        let mut left = Vec::new();
+        for s in self.pending.drain(..) {
+            let device_s = s.time_s + response;
+            match at(device_s) {
+                Some(axis_position) if self.done.len() < MAX_SCHEDULED_SWITCHES => self.done.push(ScheduledSwitch {
+                    bit: s.bit,
+                    on: s.on,
+                    switch_s: s.time_s,
+                    device_s,
+                    axis_position,
+                }),
+                Some(_) => {}
+                None => left.push(s),
+            }
+        }
+        self.pending = left;
+    }
 }
 
 /// A run's wall time by stage (`twin bench`; [`Twin::record_for_bench`]).
@@ -107,6 +183,22 @@ impl Twin {
         let mut program = Program::bind(&scene, &mut task)?;
         plant.bind_tool_trails(&scene, &task)?;
         let io = CellIo::bind(&scene, &mut task, &mut program)?;
+        let scheduled = scene
+            .tags
+            .iter()
+            .filter_map(|t| {
+                let s = t.scheduled_output?;
+                Some(ScheduledRun {
+                    tag: t.name.clone(),
+                    axis: task.axis_handles().nth(s.axis)?,
+                    target: s.execution_target,
+                    response_s: s.response_s,
+                    history: Default::default(),
+                    pending: Vec::new(),
+                    done: Vec::new(),
+                })
+            })
+            .collect();
         Ok(Twin {
             scene,
             task,
@@ -114,6 +206,7 @@ impl Twin {
             plant,
             io,
             times: None,
+            scheduled,
         })
     }
 
@@ -143,6 +236,15 @@ impl Twin {
         lap(|t| &mut t.sweep_s);
         self.plant.advance(&mut self.task);
         lap(|t| &mut t.plant_s);
+        let now_s = self.task.time_s();
+        for s in &mut self.scheduled {
+            s.collect(&self.task, now_s);
+        }
+    }
+
+    /// Each scheduled output module's tag and its switches so far.
+    pub fn scheduled_switches(&self) -> impl Iterator<Item = (&str, &[ScheduledSwitch])> {
+        self.scheduled.iter().map(|s| (s.tag.as_str(), s.done.as_slice()))
     }
 
     /// `twin bench`: from now on, time every stage of [`Twin::step`]

@@ -585,6 +585,20 @@ pub struct Summary {
     /// Per sensor: its output's edges, time on and missed pulses.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub sensors: Vec<SensorSummary>,
+    /// Per scheduled output module (a tag's `scheduled_output`): every
+    /// switch, at its interpolated time, with when its device acted and
+    /// where the axis was then.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub scheduled_outputs: Vec<ScheduledOutputSummary>,
+}
+
+/// One scheduled output module's part of the summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ScheduledOutputSummary {
+    /// The Output tag.
+    pub tag: String,
+    /// Its switches in time order.
+    pub switches: Vec<crate::run::ScheduledSwitch>,
 }
 
 /// What a scene took from its Studio 5000 export, in the summary.
@@ -908,6 +922,13 @@ impl Stats {
                     }
                 })
                 .collect(),
+            scheduled_outputs: twin
+                .scheduled_switches()
+                .map(|(tag, switches)| ScheduledOutputSummary {
+                    tag: tag.to_owned(),
+                    switches: switches.to_vec(),
+                })
+                .collect(),
         }
     }
 }
@@ -1112,6 +1133,20 @@ impl Summary {
                     String::new()
                 }
             );
+        }
+        for o in &self.scheduled_outputs {
+            let _ = writeln!(s, "  scheduled output {}: {} switches", o.tag, o.switches.len());
+            for w in o.switches.iter().take(20) {
+                let _ = writeln!(
+                    s,
+                    "    bit {} {} at {:.6} s, device at {:.6} s, axis at {:.4}",
+                    w.bit,
+                    if w.on { "on " } else { "off" },
+                    w.switch_s,
+                    w.device_s,
+                    w.axis_position
+                );
+            }
         }
         let _ = writeln!(s, "  frames written: {}", self.frames_written);
         if !self.expectations.is_empty() {

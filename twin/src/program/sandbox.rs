@@ -98,6 +98,7 @@ impl Sandbox {
                 constant: false,
                 description: String::new(),
                 external_access: Default::default(),
+                scheduled_output: None,
                 location: Location::default(),
             });
         }

@@ -1275,6 +1275,15 @@ impl<'a> Gen<'a> {
                 self.line(key, &quote(w), &a.span, &item(attr));
             }
         }
+        if let Some(a) = p.get("OutputCamExecutionTargets") {
+            let v = self.number(a, &item("OutputCamExecutionTargets"))?;
+            self.line(
+                "output_cam_execution_targets",
+                &format!("{}", v as i64),
+                &a.span,
+                &item("OutputCamExecutionTargets"),
+            );
+        }
         for (key, attr) in [
             ("home_position", "HomePosition"),
             ("home_offset", "HomeOffset"),

@@ -1118,6 +1118,10 @@ pub struct Tag {
     pub description: String,
     /// `external_access`: what HMIs and other controllers may do with it.
     pub external_access: ExternalAccess,
+    /// `scheduled_output`: a DINT Output word on a scheduled output
+    /// module (1756-OB16IS), tied to an axis' output cam: its bits switch
+    /// at the interpolated times inside the coarse update.
+    pub scheduled_output: Option<ScheduledOutput>,
     /// Where the entry's `name` is written.
     pub location: Location,
 }
@@ -1576,6 +1580,19 @@ pub enum TaskKind {
         /// `timeout_ms`: a scan when no trigger came within it.
         timeout_ms: Option<f64>,
     },
+}
+
+/// `[[tags]] scheduled_output`: the axis and output cam execution target
+/// a scheduled output module is tied to, and the response time of the
+/// device it switches (a glue valve).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScheduledOutput {
+    /// The axis (index into the scene's axes).
+    pub axis: usize,
+    /// The output cam execution target.
+    pub execution_target: u32,
+    /// How long after a switch the device acts, s (`response_ms`).
+    pub response_s: f64,
 }
 
 /// An event task's trigger.

@@ -157,6 +157,7 @@ pub(super) struct RawAxis {
     pub(super) position_error_action: Option<Spanned<ExceptionAction>>,
     pub(super) holding_brake: Option<Spanned<bool>>,
     pub(super) programmed_stop_mode: Option<Spanned<StopModeWord>>,
+    pub(super) output_cam_execution_targets: Option<Spanned<i64>>,
     pub(super) brake_release_delay_ms: Option<Spanned<f64>>,
     pub(super) drive: Option<Spanned<RawDrive>>,
     pub(super) home_mode: Option<Spanned<HomeModeWord>>,
@@ -379,6 +380,16 @@ pub(super) struct RawTag {
     pub(super) constant: Option<Spanned<bool>>,
     pub(super) description: Option<String>,
     pub(super) external_access: Option<Spanned<String>>,
+    pub(super) scheduled_output: Option<Spanned<RawScheduledOutput>>,
+}
+
+/// `[[tags]] scheduled_output`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawScheduledOutput {
+    pub(super) axis: Spanned<String>,
+    pub(super) execution_target: Option<Spanned<i64>>,
+    pub(super) response_ms: Option<Spanned<f64>>,
 }
 
 /// An `MC_MoveModulo` instance's `Options` input (`ST_MoveOptions`), as

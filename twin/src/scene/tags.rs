@@ -293,10 +293,62 @@ impl Ctx<'_> {
                     Some(c) => Some(self.connection(c, &f("connection"))?),
                     None => None,
                 },
+                scheduled_output: match &t.scheduled_output {
+                    Some(s) if prefix != "tags" || ty != TagType::new(BaseType::Dint, None) => {
+                        let why = "a scheduled output is a controller DINT tag (the Output word)".to_owned();
+                        return Err(self.invalid(s, f("scheduled_output"), Problem::Rule { why }));
+                    }
+                    Some(s) => Some(self.scheduled_output(s.get_ref(), axes, &f("scheduled_output"))?),
+                    None => None,
+                },
                 location: self.loc(&t.name),
             });
         }
         Ok(tags)
+    }
+
+    /// A tag's `scheduled_output`: an axis of the scene, one of its output
+    /// cam execution targets, and a response time of at most 1 s.
+    fn scheduled_output(
+        &self,
+        raw: &super::raw::RawScheduledOutput,
+        axes: &[Axis],
+        field: &str,
+    ) -> Result<super::model::ScheduledOutput, SceneError> {
+        let f = |x: &str| format!("{field}.{x}");
+        let axis = axes
+            .iter()
+            .position(|a| a.name.eq_ignore_ascii_case(raw.axis.get_ref().trim()))
+            .ok_or_else(|| {
+                let problem = Problem::UnknownAxis {
+                    name: raw.axis.get_ref().clone(),
+                    nearest: None,
+                };
+                self.invalid(&raw.axis, f("axis"), problem)
+            })?;
+        let targets = axes[axis].config.output_cam_execution_targets;
+        let execution_target = match &raw.execution_target {
+            Some(t) => match u32::try_from(*t.get_ref()).ok().filter(|k| *k < targets) {
+                Some(k) => k,
+                None => {
+                    let why = format!(
+                        "the axis has output cam execution targets 0 to {}",
+                        targets.saturating_sub(1)
+                    );
+                    return Err(self.invalid(t, f("execution_target"), Problem::Rule { why }));
+                }
+            },
+            None => 0,
+        };
+        let response_s = match &raw.response_ms {
+            Some(r) => self.in_range(r, &f("response_ms"), 0.0, 1000.0)? / 1000.0,
+            None => 0.0,
+        };
+        Ok(super::model::ScheduledOutput {
+            axis,
+            execution_target,
+            response_s,
+        })
     }
 
     pub(super) fn coordinate_system(

@@ -528,6 +528,10 @@ impl Ctx<'_> {
                         .programmed_stop_mode
                         .as_ref()
                         .map_or(Default::default(), |m| m.get_ref().planner()),
+                    output_cam_execution_targets: match &a.output_cam_execution_targets {
+                        Some(n) => self.int_in_range(n, &f("output_cam_execution_targets"), 0, 8)? as u32,
+                        None => 4,
+                    },
                     ..AxisConfig::new(name, kind.planner_kind())
                 },
                 initial_position,
