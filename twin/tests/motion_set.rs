@@ -631,3 +631,44 @@ fn maoc_refusals_at_run_time_and_at_load() {
         }
     }
 }
+
+#[test]
+fn matc_in_a_routine_time_cams_the_axis_and_refuses_master_driven_mode() {
+    let tags = &[
+        ("C", "CAM[2]"),
+        ("P", "CAM_PROFILE[2]"),
+        ("Calc", "MOTION_INSTRUCTION"),
+        ("Tc", "MOTION_INSTRUCTION"),
+        ("Init", "BOOL"),
+        ("Status", "BOOL"),
+        ("Pc", "BOOL"),
+        ("Pos", "REAL"),
+        ("Err", "DINT"),
+    ];
+    let routine = "
+IF NOT Init THEN
+    C[1].Master := 1.0; C[1].Slave := 0.5;
+    MCCP(Calc, C[0], 2, 0.0, 0.0, P[0]);
+    Init := TRUE;
+END_IF;
+IF Calc.DN AND NOT Tc.EN THEN
+    MATC(X, Tc, same, P[0], 2.0, 0.5, once, immediate, 0.0, none, timedriven);
+END_IF;
+Status := X.TimeCamStatus; Pc := Tc.PC; Pos := X.CommandPosition; Err := Tc.ERR;
+";
+    let mut s = Sandbox::with_axes(&["X"], tags, routine).unwrap_or_else(|e| panic!("{e}"));
+    s.scan();
+    s.scan();
+    assert!(flag(&s, "Status"), "time camming: {}", int(&s, "Err"));
+    // 1 mm over 0.5 s (distance × 2, time × 0.5).
+    for _ in 0..130 {
+        s.scan();
+    }
+    assert!(flag(&s, "Pc") && !flag(&s, "Status"));
+    assert!((real(&s, "Pos") - 1.0).abs() < 1e-6, "{}", real(&s, "Pos"));
+    let master = routine.replace("timedriven);", "masterdriven);");
+    match Sandbox::with_axes(&["X"], tags, &master) {
+        Ok(_) => panic!("master driven loads"),
+        Err(e) => assert!(e.contains("MDAC"), "{e}"),
+    }
+}

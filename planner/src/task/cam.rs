@@ -326,8 +326,9 @@ impl MotionTask {
             }
         };
         if mapc.execution_schedule != crate::mapc::ExecutionSchedule::Pending {
-            // A cam takes the axis from a move, a gearing and a jog; the
-            // cams queued on it are its own.
+            // A cam takes the axis from a move, a gearing, a jog and a time
+            // cam; the position cams queued on it are its own.
+            self.end_time_cams(call.slave);
             self.take_axis(
                 call.slave,
                 Takes {
@@ -406,6 +407,7 @@ impl MotionTask {
     }
 
     pub(super) fn end_cams(&mut self, axis: AxisHandle) {
+        self.end_time_cams(axis);
         let c = self.cam_axis(axis);
         c.cam_drove = false;
         let events = c.cam.stop();

@@ -63,6 +63,7 @@ impl MotionTask {
         }
         self.advance_coordinate_systems();
         self.advance_cams_and_jogs();
+        self.advance_time_cams();
         self.advance_gears();
         self.advance_transforms();
         self.add_superimposed();
@@ -286,10 +287,31 @@ impl RampRun {
 pub(crate) struct CamAxis {
     pub(crate) cam: PositionCamAxis<Tag, MasterKey>,
     pub(crate) ramp: Option<RampRun>,
+    /// The time cam (MATC) driving the axis, and the one pending behind it
+    /// (`task/instructions/matc.rs`).
+    pub(crate) time_cam: Option<TimeCamRun>,
+    pub(crate) time_cam_pending: Option<TimeCamRun>,
     pub(super) cam_drove: bool,
     pub(super) redefined: f64,
     pub(super) limits: LimitFlags,
     pub(super) declared_slave: bool,
+}
+
+/// A time cam (MATC): the profile's master is time.
+#[derive(Debug, Clone)]
+pub(crate) struct TimeCamRun {
+    pub(crate) control: InstructionHandle,
+    pub(crate) handle: CamProfileHandle,
+    pub(crate) profile: std::sync::Arc<crate::mccp::CamProfile>,
+    /// +1 same, −1 opposite.
+    pub(crate) sign: f64,
+    pub(crate) distance_scaling: f64,
+    pub(crate) time_scaling: f64,
+    pub(crate) continuous: bool,
+    /// Time since it started, s.
+    pub(crate) t_s: f64,
+    /// The slave position at its start (and at each cycle's start).
+    pub(crate) origin: f64,
 }
 
 /// The task's cam-instruction state (profiles, tags, per-axis processes).

@@ -373,6 +373,10 @@ pub enum AxisMember {
     RegEventStatus(u8),
     /// `RegEventNArmedStatus`: input N is armed.
     RegEventArmedStatus(u8),
+    /// `TimeCamStatus`: a time cam (MATC) drives the axis.
+    TimeCamStatus,
+    /// `TimeCamPendingStatus`: a time cam waits to.
+    TimeCamPendingStatus,
     /// `WatchEventArmedStatus`: a MAW armed the watch.
     WatchEventArmedStatus,
     /// `WatchEventStatus`: the watch event occurred.
@@ -387,7 +391,7 @@ pub enum AxisMember {
 }
 
 /// Every axis member, with its name and type, for parsing and docs.
-pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 41] = [
+pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 43] = [
     ("ActualPosition", AxisMember::ActualPosition, DataType::Real),
     ("CommandPosition", AxisMember::CommandPosition, DataType::Real),
     ("ActualVelocity", AxisMember::ActualVelocity, DataType::Real),
@@ -428,6 +432,8 @@ pub const AXIS_MEMBERS: [(&str, AxisMember, DataType); 41] = [
     ("GearingStatus", AxisMember::GearingStatus, DataType::Bool),
     ("GearingLockStatus", AxisMember::GearingLockStatus, DataType::Bool),
     ("StoppingStatus", AxisMember::StoppingStatus, DataType::Bool),
+    ("TimeCamStatus", AxisMember::TimeCamStatus, DataType::Bool),
+    ("TimeCamPendingStatus", AxisMember::TimeCamPendingStatus, DataType::Bool),
     (
         "WatchEventArmedStatus",
         AxisMember::WatchEventArmedStatus,

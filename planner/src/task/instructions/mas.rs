@@ -1,24 +1,24 @@
 //! MAS (Motion Axis Stop), its first six operands: stops what its Stop
-//! Type names on an axis — jogs, moves, position cams, gearing — and ramps
-//! the axis to rest.
+//! Type names on an axis — jogs, moves, position cams, gearing, time cams
+//! — and ramps the axis to rest.
 //!
 //! `MAS(Axis, MotionControl, StopType, ChangeDecel, DecelRate, DecelUnits)`:
-//! Stop Type 0 All, 1 Jog, 2 Move, 3 Gear, 8 Position Cam (the other Logix
-//! numbers — home, tune, test, time cam, master offset move, direct control
-//! — name processes this planner does not have; they are accepted and stop
-//! nothing). Change Decel 0 uses the axis' `max_deceleration`, 1 uses
+//! Stop Type 0 All, 1 Jog, 2 Move, 3 Gear, 7 Time Cam, 8 Position Cam (the
+//! other Logix numbers — home, tune, test, master offset move, direct
+//! control — name processes this planner does not have; they are accepted
+//! and stop nothing). Change Decel 0 uses the axis' `max_deceleration`, 1 uses
 //! DecelRate (DecelUnits 0 units/s², 1 percent of the maximum). The axis
 //! ramps from its current velocity to rest; `.IP` while it does, `.PC` when
 //! it is at rest (at once when nothing named was running). ERR 13 with
 //! EXERR = faceplate operand number for an operand out of range.
 
+use super::entry::{Instruction, no_load, one_shot};
 use super::maj::rate;
 use crate::axis::AxisConfig;
-use crate::catalogue::words::{motion_control, JOG_ACCEL_UNITS, MAS_STOP_TYPE, NO_YES, op};
+use crate::catalogue::words::{JOG_ACCEL_UNITS, MAS_STOP_TYPE, NO_YES, motion_control, op};
 use crate::catalogue::{CallStyle, Format, Kind};
-use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, one_shot, no_load};
 use crate::dynamics::positive;
+use crate::instruction::{Fault, fault};
 use crate::instruction::{NoFault, Refusal};
 use crate::profile::{Limits, Profile, Sample, State};
 use crate::task::engine::Need;
@@ -35,10 +35,22 @@ pub const MAS: Instruction = Instruction {
     operands: &[
         op("Axis", "AXIS", Format::Tag, Kind::Axis, 0),
         motion_control(1),
-        op("Stop Type", "DINT", Format::Immediate, Kind::Enumeration(MAS_STOP_TYPE), 2),
+        op(
+            "Stop Type",
+            "DINT",
+            Format::Immediate,
+            Kind::Enumeration(MAS_STOP_TYPE),
+            2,
+        ),
         op("Change Decel", "DINT", Format::Immediate, Kind::Enumeration(NO_YES), 3),
         op("Decel Rate", "REAL", Format::ImmediateOrTag, Kind::Number, 4),
-        op("Decel Units", "DINT", Format::Immediate, Kind::Enumeration(JOG_ACCEL_UNITS), 5),
+        op(
+            "Decel Units",
+            "DINT",
+            Format::Immediate,
+            Kind::Enumeration(JOG_ACCEL_UNITS),
+            5,
+        ),
     ],
     execute,
     check,
@@ -95,6 +107,8 @@ pub struct StopScope {
     pub position_cam: bool,
     /// Gearing (MAG).
     pub gear: bool,
+    /// Time cams (MATC).
+    pub time_cam: bool,
 }
 
 /// A validated MAS.
@@ -117,12 +131,20 @@ impl Stop {
             moves,
             position_cam,
             gear,
+            time_cam: false,
         };
         let scope = match o.stop_type {
-            0 => scope(true, true, true, true),
+            0 => StopScope {
+                time_cam: true,
+                ..scope(true, true, true, true)
+            },
             1 => scope(true, false, false, false),
             2 => scope(false, true, false, false),
             3 => scope(false, false, false, true),
+            7 => StopScope {
+                time_cam: true,
+                ..scope(false, false, false, false)
+            },
             8 => scope(false, false, true, false),
             4..=10 => scope(false, false, false, false),
             t => return Err(Refusal::operand(exerr::STOP_TYPE, f64::from(t))),
@@ -145,7 +167,9 @@ impl Stop {
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(1);
-    one_shot(task, control, |task| task.mas(args.axis(0), control, &MasOperands::bind(args)))
+    one_shot(task, control, |task| {
+        task.mas(args.axis(0), control, &MasOperands::bind(args))
+    })
 }
 
 fn check(task: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {
@@ -188,6 +212,9 @@ impl MotionTask {
             stops = true;
         }
         if stop.scope.gear && self.end_gear(axis) {
+            stops = true;
+        }
+        if stop.scope.time_cam && self.end_time_cams(axis) {
             stops = true;
         }
         if stop.scope.jog && jogging {

@@ -79,7 +79,7 @@ impl Compiler<'_, '_, '_> {
             control,
             instance: None,
         };
-        self.prepare(&compiled, call);
+        self.prepare(&compiled, call)?;
         Ok(compiled)
     }
 
@@ -1093,13 +1093,19 @@ impl Compiler<'_, '_, '_> {
             control: None,
             instance: Some(instance),
         };
-        self.prepare(&compiled, call);
+        self.prepare(&compiled, call)?;
         Ok(compiled)
     }
 
     /// Notes the call, prepares the task for it, and checks it when its
-    /// operands are all known.
-    fn prepare(&mut self, compiled: &MotionCall, call: &Call) {
+    /// operands are all known: a refusal is a warning (the call fails
+    /// whenever it runs), or an error where the operand it names is
+    /// Immediate (the controller's verifier refuses the routine: MATC's
+    /// master driven mode).
+    ///
+    /// # Errors
+    /// The refusal of an Immediate operand.
+    fn prepare(&mut self, compiled: &MotionCall, call: &Call) -> Result<()> {
         let instruction = compiled.instruction;
         self.env.note_call(instruction);
         let mut known = true;
@@ -1122,9 +1128,16 @@ impl Compiler<'_, '_, '_> {
         };
         instruction.prepare(self.env.task, &args);
         if !known || instruction.style == CallStyle::Named {
-            return;
+            return Ok(());
         }
         if let Err(fault) = instruction.check(self.env.task, &args) {
+            if let Some((i, o)) = instruction
+                .operand_at_faceplate(fault.exerr())
+                .filter(|(_, o)| fault.err() == 13 && o.format == Format::Immediate)
+            {
+                let span = call.args.get(i).map_or(call.name_span, |a| a.span);
+                return err(self, span, format!("{} {}: {fault}", instruction.mnemonic, o.name));
+            }
             let d = Diagnostic::warning(format!(
                 "{} refuses this call whenever it runs: {}",
                 instruction.mnemonic,
@@ -1144,6 +1157,7 @@ impl Compiler<'_, '_, '_> {
                 .warnings
                 .push(d.with_note(format!("the instruction says: {fault}")));
         }
+        Ok(())
     }
 }
 

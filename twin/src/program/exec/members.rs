@@ -88,6 +88,8 @@ pub(in crate::program) fn axis_value(task: &MotionTask, h: AxisHandle, m: AxisMe
         AxisMember::RegistrationPosition(n) => real(task.registration(h, n).map_or(0.0, |r| r.position)),
         AxisMember::RegEventStatus(n) => Value::Bool(task.registration(h, n).is_some_and(|r| r.event)),
         AxisMember::RegEventArmedStatus(n) => Value::Bool(task.registration(h, n).is_some_and(|r| r.armed())),
+        AxisMember::TimeCamStatus => Value::Bool(task.time_cam_status(h).0),
+        AxisMember::TimeCamPendingStatus => Value::Bool(task.time_cam_status(h).1),
         AxisMember::WatchEventArmedStatus => Value::Bool(task.watch(h).armed()),
         AxisMember::WatchEventStatus => Value::Bool(task.watch(h).event),
         AxisMember::WatchPosition => real(task.watch(h).position),
