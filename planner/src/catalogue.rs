@@ -135,6 +135,11 @@ pub enum Kind {
     OutputVector3,
     /// `0` (none) or a REAL array tag.
     OptionalArray,
+    /// A REAL tag the instruction writes when it executes (MCSV's Slave
+    /// Value, Slope, Slope Derivative), passed as the caller's reference:
+    /// the n-th such operand takes the n-th value of
+    /// [`crate::task::MotionTask::take_output`].
+    OutputReal,
     /// A DINT tag the instruction keeps writing (MAOC's Output), passed as
     /// the caller's reference ([`crate::task::Arg::Reference`]).
     OutputWord,

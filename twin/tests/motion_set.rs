@@ -672,3 +672,50 @@ Status := X.TimeCamStatus; Pc := Tc.PC; Pos := X.CommandPosition; Err := Tc.ERR;
         Err(e) => assert!(e.contains("MDAC"), "{e}"),
     }
 }
+
+#[test]
+fn mcsv_in_a_routine_writes_the_slave_value_and_its_slopes() {
+    let tags = &[
+        ("C", "CAM[2]"),
+        ("P", "CAM_PROFILE[2]"),
+        ("Calc", "MOTION_INSTRUCTION"),
+        ("Mc", "MOTION_INSTRUCTION"),
+        ("Init", "BOOL"),
+        ("Master", "REAL"),
+        ("Slave", "REAL"),
+        ("Slope", "REAL"),
+        ("Slope2", "REAL"),
+        ("Err", "DINT"),
+        ("Exerr", "DINT"),
+    ];
+    let routine = "
+IF NOT Init THEN
+    C[1].Master := 4.0; C[1].Slave := 2.0;
+    MCCP(Calc, C[0], 2, 0.0, 0.0, P[0]);
+    Init := TRUE;
+END_IF;
+IF Calc.DN THEN MCSV(Mc, P[0], Master, Slave, Slope, Slope2); END_IF;
+Err := Mc.ERR; Exerr := Mc.EXERR;
+";
+    let mut s = Sandbox::with_axes(&[], tags, routine).unwrap_or_else(|e| panic!("{e}"));
+    s.set("Master", Value::Real(3.0));
+    for _ in 0..3 {
+        s.scan();
+    }
+    assert_eq!(
+        (real(&s, "Slave"), real(&s, "Slope"), real(&s, "Slope2")),
+        (1.5, 0.5, 0.0)
+    );
+    // Outside the profile's master range: ERR 13 on Master Value, the
+    // values as they were.
+    s.set("Master", Value::Real(9.0));
+    for _ in 0..3 {
+        s.scan();
+    }
+    assert_eq!((int(&s, "Err"), int(&s, "Exerr")), (13, 2));
+    assert_eq!(real(&s, "Slave"), 1.5);
+    match Sandbox::with_axes(&[], tags, "MCSV(Mc, P[0], 1.0, Init, Slope, Slope2);") {
+        Ok(_) => panic!("a BOOL output loads"),
+        Err(e) => assert!(e.contains("expected a REAL tag"), "{e}"),
+    }
+}

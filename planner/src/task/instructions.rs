@@ -41,6 +41,7 @@ instructions! {
     mct::MCT,
     mctp::MCTP,
     mccp::MCCP,
+    mcsv::MCSV,
     mapc::MAPC,
     matc::MATC,
     mrp::MRP,
@@ -94,8 +95,8 @@ pub fn positional_mnemonics() -> String {
 /// than as an unknown name.
 pub const NOT_SIMULATED: &[&str] = &[
     // Motion state
-    "MDO", "MDF", "MDS", // Motion move
-    "MCSV", "MDAC", // Motion configuration
+    "MDO", "MDF", "MDS",  // Motion move
+    "MDAC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
     "MCTO", "MCTPO", "MCPM", "MDCC",
 ];

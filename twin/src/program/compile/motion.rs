@@ -204,6 +204,7 @@ impl Compiler<'_, '_, '_> {
                 Ok(Operand::Fixed(Arg::Group))
             }
             Kind::OutputWord | Kind::InputWord => self.word_operand(spec, arg),
+            Kind::OutputReal => self.output_real_operand(spec, arg),
             Kind::OutputCams => self.structures_operand(spec, arg, Structure::OutputCam),
             Kind::Compensations => self.structures_operand(spec, arg, Structure::OutputCompensation),
             Kind::MotionControl => self.control_operand(spec, arg),
@@ -239,6 +240,38 @@ impl Compiler<'_, '_, '_> {
                 self,
                 arg.span,
                 format!("{} '{name}' is a constant: the instruction writes it", spec.name),
+            );
+        }
+        Ok(Operand::Fixed(Arg::Reference(info.base)))
+    }
+
+    /// A REAL tag an instruction writes (MCSV's values): its slot is the
+    /// instruction's reference to it. Only a routine's call writes one.
+    fn output_real_operand(&mut self, spec: &Spec, arg: &ArgText) -> Result<Operand> {
+        let name = self.bare_name(spec, arg, "a REAL tag")?;
+        let Some(t) = self.resolve(name) else {
+            return Err(self.unknown_name(name, arg.span));
+        };
+        let info = &self.mem.tags[t];
+        if info.kind != TagKind::Scalar(DataType::Real) || info.len.is_some() {
+            return err(
+                self,
+                arg.span,
+                format!("{} '{name}' is {}, expected a REAL tag", spec.name, describe(info)),
+            );
+        }
+        if info.constant {
+            return err(
+                self,
+                arg.span,
+                format!("{} '{name}' is a constant: the instruction writes it", spec.name),
+            );
+        }
+        if !self.scanned {
+            return err(
+                self,
+                arg.span,
+                format!("{} is written by the instruction: call it from a routine", spec.name),
             );
         }
         Ok(Operand::Fixed(Arg::Reference(info.base)))

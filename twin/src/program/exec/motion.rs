@@ -126,19 +126,29 @@ impl Exec<'_> {
             instance: call.instance,
         };
         let result = call.instruction.execute(self.task, &args);
-        // An output operand (MCTP's Transform Position): what the
-        // instruction wrote goes to the array's elements from the one named.
+        // Output operands: what the instruction wrote goes to the array's
+        // elements from the one named (MCTP's Transform Position), or to
+        // the REAL tags in order (MCSV's values).
         if let Some(values) = self.task.take_output() {
+            let mut reals = values.iter();
             for (i, op) in call.operands.iter().take(n).enumerate() {
-                if let (Operand::Array(a), Slice::Numbers(from, to)) = (op, slices[i])
-                    && call.instruction.operands[i].kind == Kind::OutputVector3
-                    && to - from >= values.len()
-                {
-                    let first = a.base + a.len - (to - from);
-                    for (k, x) in values.iter().enumerate() {
-                        let slot = first + k;
-                        self.mem.slots[slot] = self.mem.types[slot].store(Value::Real(*x)).0;
+                let kind = call.instruction.operands[i].kind;
+                match (op, slices[i]) {
+                    (Operand::Array(a), Slice::Numbers(from, to))
+                        if kind == Kind::OutputVector3 && to - from >= values.len() =>
+                    {
+                        let first = a.base + a.len - (to - from);
+                        for (k, x) in values.iter().enumerate() {
+                            let slot = first + k;
+                            self.mem.slots[slot] = self.mem.types[slot].store(Value::Real(*x)).0;
+                        }
                     }
+                    (Operand::Fixed(Arg::Reference(slot)), _) if kind == Kind::OutputReal => {
+                        if let Some(x) = reals.next() {
+                            self.mem.slots[*slot] = self.mem.types[*slot].store(Value::Real(*x)).0;
+                        }
+                    }
+                    _ => {}
                 }
             }
         }
