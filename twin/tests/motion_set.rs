@@ -719,3 +719,38 @@ Err := Mc.ERR; Exerr := Mc.EXERR;
         Err(e) => assert!(e.contains("expected a REAL tag"), "{e}"),
     }
 }
+
+#[test]
+fn mdcc_in_a_routine_links_a_system_to_a_master() {
+    let tags = &[
+        ("Target", "REAL[3]"),
+        ("Link", "MOTION_INSTRUCTION"),
+        ("Mv", "MOTION_INSTRUCTION"),
+        ("Jog", "MOTION_INSTRUCTION"),
+        ("Init", "BOOL"),
+        ("Ip", "BOOL"),
+        ("Ac", "BOOL"),
+        ("Err", "DINT"),
+    ];
+    let routine = "
+IF NOT Init THEN
+    Target[0] := 0.5;
+    MDCC(Cart, J1, Link, command, 10.0);
+    MCLM(Cart, Mv, 0, Target[0], 0.01, unitspermasterunit, 1.0, unitspermasterunit2, 1.0, unitspermasterunit2, trapezoidal, 100, 100, %oftime, 0, disabled, programmed, 0, 0, none, 0, 0);
+    MAJ(J1, Jog, forward, 10.0, unitspersec, 100.0, unitspersec2, 100.0, unitspersec2, trapezoidal);
+    Init := TRUE;
+END_IF;
+Ip := Link.IP; Ac := Link.AC; Err := Mv.ERR;
+";
+    let (mut p, mut task) = scara_bind("mdcc", tags, routine).unwrap_or_else(|e| panic!("{e}"));
+    for _ in 0..50 {
+        p.scan(&mut task);
+        task.update();
+    }
+    assert_eq!(element(&p, "Err", 0), 0.0);
+    assert_eq!((element(&p, "Ip", 0), element(&p, "Ac", 0)), (1.0, 1.0));
+    // J1 jogs at 10°/s: 0.01 m per degree, the line moves with it (X is
+    // the scene's second axis, after the indexing table's).
+    let x = task.axis_state(task.axis_handles().nth(1).unwrap()).command_position;
+    assert!(x > 0.0 && x < 0.5, "{x}");
+}

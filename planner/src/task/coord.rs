@@ -92,10 +92,11 @@
 //!   at rest. Stop type *all* also brings the single-axis commands on the
 //!   system's axes to rest (they report `CommandAborted`).
 //! * **Master driven** (speed units per master unit): the path advances by
-//!   the master axis' command position instead of time (see
-//!   [`LockDirection`] for when it follows). The master is linked with
-//!   [`MotionTask::set_coordinate_system_master`] (the MDCC of a Logix
-//!   program).
+//!   the master axis' command position (or, linked by an MDCC with Master
+//!   Reference actual, its actual position) instead of time (see
+//!   [`LockDirection`] for when it follows). The master is linked by MDCC
+//!   (`task/instructions/mdcc.rs`) or with
+//!   [`MotionTask::set_coordinate_system_master`].
 //! * The twin's pre-flight sweep sees each move when it starts
 //!   ([`MotionTask::coord_moves_started`]) and may reject it
 //!   ([`MotionTask::reject_coord_move`], `.ER` with ERR
@@ -132,10 +133,7 @@
 //!   turn by the increment. The via/center operands of an arc are not
 //!   unwound (a rotary primary axis in an arc uses its unwrapped position).
 //!
-//! # Not modelled
-//! * MCCD (change dynamics), MCSD/MCSR and MDCC as instructions; the
-//!   master of master-driven moves is set with
-//!   [`MotionTask::set_coordinate_system_master`].
+//! MCCD changes a running move's dynamics (`task/instructions/mccd.rs`).
 
 use super::MotionTask;
 use crate::coord::{CoordMove, CoordMoveError, CoordStatus, CoordinateSystem, CoordinateSystemConfig, MoveContext};
@@ -178,6 +176,8 @@ impl MotionTask {
             axes: axes.to_vec(),
             master: None,
             master_prev: None,
+            master_actual: false,
+            mdcc: None,
             status: CoordStatus::default(),
             base: here.clone(),
             components: Vec::new(),
@@ -196,6 +196,7 @@ impl MotionTask {
     pub fn set_coordinate_system_master(&mut self, system: CoordHandle, master: Option<AxisHandle>) {
         let slot = &mut self.coord.systems[system.0 as usize];
         slot.master = master;
+        slot.master_actual = false;
         slot.master_prev = master.map(|m| self.axes[m.0 as usize].command.position);
     }
 

@@ -62,6 +62,7 @@ impl MotionTask {
             self.advance_axis(AxisHandle(i as u32));
         }
         self.advance_coordinate_systems();
+        self.advance_master_links();
         self.advance_cams_and_jogs();
         self.advance_time_cams();
         self.advance_gears();
@@ -390,6 +391,11 @@ pub(super) struct SystemSlot {
     pub(super) axes: Vec<AxisHandle>,
     pub(super) master: Option<AxisHandle>,
     pub(super) master_prev: Option<f64>,
+    /// The master's actual position drives the system (MDCC Master
+    /// Reference actual), else its command position.
+    pub(super) master_actual: bool,
+    /// The MDCC that linked the master, while the link holds.
+    pub(super) mdcc: Option<InstructionHandle>,
     pub(super) status: CoordStatus,
     pub(super) base: Vec<f64>,
     pub(super) components: Vec<Component>,

@@ -143,6 +143,7 @@ impl MotionTask {
             };
             self.stop_axis_by(axis, mode);
         }
+        self.break_all_master_links();
         let b = self.motion_bits_mut(control);
         b.dn = true;
         b.ip = true;
@@ -206,6 +207,7 @@ impl MotionTask {
             self.motion_bits_mut(previous).ip = false;
         }
         self.group.disable_at_rest.clear();
+        self.break_all_master_links();
         for i in 0..self.axes.len() {
             if !self.axes[i].config.inhibited {
                 self.disable(AxisHandle(i as u32), Power::Shutdown);

@@ -64,6 +64,7 @@ instructions! {
     mah::MAH,
     mcsd::MCSD,
     mcsr::MCSR,
+    mdcc::MDCC,
     mgs::MGS,
     mgsd::MGSD,
     mgsr::MGSR,
@@ -98,7 +99,7 @@ pub const NOT_SIMULATED: &[&str] = &[
     "MDO", "MDF", "MDS",  // Motion move
     "MDAC", // Motion configuration
     "MAAT", "MRAT", "MAHD", "MRHD", // Multi-axis coordinated motion
-    "MCTO", "MCTPO", "MCPM", "MDCC",
+    "MCTO", "MCTPO", "MCPM",
 ];
 
 /// The file of `instruction`'s unit, from the planner's root

@@ -223,6 +223,7 @@ impl MotionTask {
         self.begin_state(control);
         let r = self.check_state(axis, Need::Any);
         if r.is_ok() {
+            self.break_master_links_of_axis(axis);
             self.disable(axis, Power::Shutdown);
         }
         self.state_result(control, r)
@@ -280,6 +281,7 @@ impl MotionTask {
         if let Some(r) = self.first_inhibited(&axes, control) {
             return r;
         }
+        self.break_master_link(system);
         for axis in axes {
             self.disable(axis, Power::Shutdown);
         }

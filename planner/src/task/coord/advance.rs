@@ -27,7 +27,14 @@ impl MotionTask {
         let dt = self.dt_s;
         let master_now = {
             let sys = &self.coord.systems[cs.0 as usize];
-            sys.master.map(|m| self.axes[m.0 as usize].command.position)
+            sys.master.map(|m| {
+                let a = &self.axes[m.0 as usize];
+                if sys.master_actual {
+                    a.actual
+                } else {
+                    a.command.position
+                }
+            })
         };
         let sys = &mut self.coord.systems[cs.0 as usize];
         let master_prev = sys.master_prev.or(master_now).unwrap_or(0.0);

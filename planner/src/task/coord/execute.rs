@@ -235,6 +235,7 @@ impl MotionTask {
         self.mct_on_mcs(cs, inputs.stop_type);
         if stop.stop_all {
             self.stop_single_axis_motion(cs);
+            self.break_master_link(cs);
         }
         let sys = &mut self.coord.systems[cs.0 as usize];
         if sys.components.is_empty() && sys.pending.is_none() {
@@ -402,9 +403,14 @@ impl MotionTask {
         }
         let from_time_driven =
             sys.components.is_empty() || sys.components.iter().any(|c| c.mv.driver() == Driver::Time);
-        let master_idle = sys
-            .master
-            .is_none_or(|m| self.axes[m.0 as usize].command.velocity == 0.0);
+        let master_idle = sys.master.is_none_or(|m| {
+            let a = &self.axes[m.0 as usize];
+            (if sys.master_actual {
+                a.actual_velocity
+            } else {
+                a.command.velocity
+            }) == 0.0
+        });
         from_time_driven && master_idle && self.vector_speed(cs) > 0.0
     }
 

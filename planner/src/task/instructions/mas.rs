@@ -217,6 +217,10 @@ impl MotionTask {
         if stop.scope.time_cam && self.end_time_cams(axis) {
             stops = true;
         }
+        if stop.scope.jog && stop.scope.moves && stop.scope.position_cam {
+            // Stop Type All breaks a master link of the axis' systems.
+            self.break_master_links_of_axis(axis);
+        }
         if stop.scope.jog && jogging {
             self.end_ramp(axis);
             stops = true;
