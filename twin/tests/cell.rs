@@ -1225,3 +1225,34 @@ fn a_scheduled_output_names_a_dint_an_axis_and_one_of_its_targets() {
         assert!(e.contains(needle) && e.contains("scheduled_output"), "{e}");
     }
 }
+
+/// The coarse update lives on the MOTION_GROUP tag; the scene's
+/// `coarse_update_ms` is its shorthand: either, or both the same.
+#[test]
+fn the_motion_group_tag_carries_the_coarse_update() {
+    let group = |ms: f64| format!("[[tags]]\nname = \"Group\"\ntype = \"MOTION_GROUP\"\ncoarse_update_ms = {ms:?}\n");
+    let same = scene("group-same", &group(4.0), None);
+    assert_eq!(
+        twin::scene::load(&same)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .coarse_update_ms,
+        4.0
+    );
+    let other = scene("group-other", &group(8.0), None);
+    let e = refusal(&other);
+    assert!(e.contains("coarse_update_ms") && e.contains("MOTION_GROUP"), "{e}");
+    // Only on the group tag.
+    let wrong = scene(
+        "group-wrong",
+        "[[tags]]\nname = \"N\"\ntype = \"DINT\"\ncoarse_update_ms = 4.0\n",
+        None,
+    );
+    assert!(refusal(&wrong).contains("only a MOTION_GROUP tag"));
+    // On the tag alone: the scene's period.
+    let text = std::fs::read_to_string(&other)
+        .expect("scene")
+        .replace("coarse_update_ms = 4.0\n", "");
+    std::fs::write(&other, text).expect("scene");
+    let scene = twin::scene::load(&other).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.coarse_update_ms, 8.0);
+}

@@ -15,7 +15,7 @@ use super::model::{AxisKind, MotorGains, Units};
 pub(super) struct RawScene {
     pub(super) name: Option<Spanned<String>>,
     pub(super) duration_s: Spanned<f64>,
-    pub(super) coarse_update_ms: Spanned<f64>,
+    pub(super) coarse_update_ms: Option<Spanned<f64>>,
     pub(super) physics_step_ms: Spanned<f64>,
     pub(super) robot: RawRobot,
     #[serde(default)]
@@ -381,6 +381,8 @@ pub(super) struct RawTag {
     pub(super) description: Option<String>,
     pub(super) external_access: Option<Spanned<String>>,
     pub(super) scheduled_output: Option<Spanned<RawScheduledOutput>>,
+    /// A `MOTION_GROUP` tag's coarse update period.
+    pub(super) coarse_update_ms: Option<Spanned<f64>>,
 }
 
 /// `[[tags]] scheduled_output`.

@@ -220,6 +220,12 @@ impl Ctx<'_> {
                 self.identifier(&t.name, &f("name"))?
             };
             let ty = self.tag_type(&t.ty, &f("type"))?;
+            if let Some(period) = &t.coarse_update_ms
+                && ty.base != BaseType::MotionGroup
+            {
+                let why = "only a MOTION_GROUP tag has a coarse update period".to_owned();
+                return Err(self.invalid(period, f("coarse_update_ms"), Problem::Rule { why }));
+            }
             if ty.base == BaseType::MotionGroup {
                 let first = tags.iter().find(|t| t.ty.base == BaseType::MotionGroup);
                 let why = match first {

@@ -39,7 +39,28 @@ impl Ctx<'_> {
             };
             return Err(self.invalid(&raw.duration_s, "duration_s", problem));
         }
-        let coarse_update_ms = self.finite(&raw.coarse_update_ms, "coarse_update_ms")?;
+        // The coarse update lives on the MOTION_GROUP tag; the scene's
+        // `coarse_update_ms` is its shorthand. One of them, or both the same.
+        let group = raw.tags.iter().enumerate().find_map(|(i, t)| {
+            let period = t.coarse_update_ms.as_ref()?;
+            Some((period, format!("tags[{i}].coarse_update_ms")))
+        });
+        let (period, field) = match (&raw.coarse_update_ms, &group) {
+            (Some(scene), Some((tag, field))) if scene.get_ref() != tag.get_ref() => {
+                let why = format!(
+                    "the MOTION_GROUP tag's coarse_update_ms is {} (the scene's coarse_update_ms is its shorthand: give one)",
+                    tag.get_ref()
+                );
+                return Err(self.invalid(scene, "coarse_update_ms", Problem::Rule { why }));
+            }
+            (Some(scene), _) => (scene, "coarse_update_ms".to_owned()),
+            (None, Some((tag, field))) => (*tag, field.clone()),
+            (None, None) => {
+                let why = "required: the coarse update period, ms (or a MOTION_GROUP tag's coarse_update_ms)".to_owned();
+                return Err(self.invalid(&raw.duration_s, "coarse_update_ms", Problem::Rule { why }));
+            }
+        };
+        let coarse_update_ms = self.finite(period, &field)?;
         if !(1.0..=32.0).contains(&coarse_update_ms) {
             let problem = Problem::OutOfRange {
                 value: coarse_update_ms,
@@ -47,7 +68,7 @@ impl Ctx<'_> {
                 max: 32.0,
                 exclusive: false,
             };
-            return Err(self.invalid(&raw.coarse_update_ms, "coarse_update_ms", problem));
+            return Err(self.invalid(period, field, problem));
         }
         let physics_step_ms = self.positive(&raw.physics_step_ms, "physics_step_ms")?;
         if physics_step_ms < MIN_PHYSICS_STEP_MS {
