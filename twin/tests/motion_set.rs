@@ -754,3 +754,53 @@ Ip := Link.IP; Ac := Link.AC; Err := Mv.ERR;
     let x = task.axis_state(task.axis_handles().nth(1).unwrap()).command_position;
     assert!(x > 0.0 && x < 0.5, "{x}");
 }
+
+/// Every Immediate enumeration operand of the instructions this set adds
+/// refuses a code outside its words when the program loads, naming the
+/// operand (the catalogue says which operands those are).
+#[test]
+fn every_immediate_operand_of_the_new_instructions_is_checked_at_load() {
+    let tags = &[
+        ("MC", "MOTION_INSTRUCTION"),
+        ("G", "MOTION_GROUP"),
+        ("V", "REAL[3]"),
+        ("Cams", "OUTPUT_CAM[2]"),
+        ("Comp", "OUTPUT_COMPENSATION[2]"),
+        ("Out", "DINT"),
+        ("In", "DINT"),
+        ("Prof", "CAM_PROFILE[2]"),
+    ];
+    let calls = [
+        "MCD(X, MC, move, yes, 1.0, no, 0, no, 0, no, 0, no, 0, unitspersec, unitspersec2, unitspersec2, unitspersec3)",
+        "MCCD(Cart, MC, coordinatedmove, yes, 1.0, unitspersec, no, 0, unitspersec2, no, 0, unitspersec2, no, 0, no, 0, unitspersec3, activemotion)",
+        "MGS(G, MC, programmed)",
+        "MAW(X, MC, forward, 1.0)",
+        "MAOC(X, 0, MC, Out, In, Cams[0], 0.0, 10.0, Comp[0], once, immediate, 0.0, 0.0, actual)",
+        "MDOC(X, 0, MC, all)",
+        "MATC(X, MC, same, Prof[0], 1.0, 1.0, once, immediate, 0.0, none, timedriven)",
+        "MCTP(Cart, Joints, MC, V[0], V[0], forward, V[0], V[0])",
+        "MDCC(Cart, J1, MC, command, 1.0)",
+    ];
+    let mut checked = 0;
+    for call in calls {
+        let (name, rest) = call.split_once('(').unwrap();
+        let args: Vec<&str> = rest.trim_end_matches(')').split(", ").collect();
+        scara_bind("immediate-ok", tags, &format!("{call};\n")).unwrap_or_else(|e| panic!("{call}: {e}"));
+        let instruction = planner::task::instructions::find(name).unwrap();
+        assert_eq!(instruction.operands.len(), args.len(), "{name}");
+        for (i, o) in instruction.operands.iter().enumerate() {
+            if o.format != planner::catalogue::Format::Immediate || o.kind.words().is_empty() {
+                continue;
+            }
+            let mut bad = args.clone();
+            bad[i] = "99";
+            let text = format!("{name}({});\n", bad.join(", "));
+            match scara_bind("immediate-bad", tags, &text) {
+                Ok(_) => panic!("{text} loads"),
+                Err(e) => assert!(e.contains(o.name), "{text}: {e}"),
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 30, "{checked}");
+}
