@@ -146,22 +146,7 @@ impl MotionTask {
         };
         let source_system = self.transform_system(source);
         let target_system = self.transform_system(target);
-        let target_axes: Vec<AxisHandle> = self.coord_axes(target).to_vec();
-        let joint_axes: Vec<JointAxis> = target_axes
-            .iter()
-            .map(|a| {
-                let c = &self.axes[a.0 as usize].config;
-                JointAxis {
-                    max_speed: c.max_velocity,
-                    max_deceleration: c.max_deceleration,
-                    limits: c.soft_travel_limits,
-                }
-            })
-            .collect();
-        let mut joints = [0.0; 3];
-        for (j, a) in joints.iter_mut().zip(&target_axes) {
-            *j = self.axes[a.0 as usize].command.position;
-        }
+        let (joint_axes, joints) = self.target_joints(target);
         let conditions: Vec<(AxisId, AxisCondition)> = source_system
             .axes
             .iter()
@@ -226,6 +211,27 @@ impl MotionTask {
         Ok(())
     }
 
+    /// A target system's joint axes (limits) and their command positions.
+    fn target_joints(&self, target: CoordHandle) -> (Vec<JointAxis>, Vec3) {
+        let target_axes = self.coord_axes(target);
+        let joint_axes = target_axes
+            .iter()
+            .map(|a| {
+                let c = &self.axes[a.0 as usize].config;
+                JointAxis {
+                    max_speed: c.max_velocity,
+                    max_deceleration: c.max_deceleration,
+                    limits: c.soft_travel_limits,
+                }
+            })
+            .collect();
+        let mut joints = [0.0; 3];
+        for (j, a) in joints.iter_mut().zip(target_axes) {
+            *j = self.axes[a.0 as usize].command.position;
+        }
+        (joint_axes, joints)
+    }
+
     /// MCTP: `reference` converted from one of the systems to the other
     /// ([`crate::mct::instruction::calculate`]), with the target's joints
     /// as they stand; `.DN` in the scan it executes. Nothing moves.
@@ -244,22 +250,7 @@ impl MotionTask {
         self.instruction(control, |task| {
             let source_system = task.transform_system(source);
             let target_system = task.transform_system(target);
-            let target_axes: Vec<AxisHandle> = task.coord_axes(target).to_vec();
-            let joint_axes: Vec<JointAxis> = target_axes
-                .iter()
-                .map(|a| {
-                    let c = &task.axes[a.0 as usize].config;
-                    JointAxis {
-                        max_speed: c.max_velocity,
-                        max_deceleration: c.max_deceleration,
-                        limits: c.soft_travel_limits,
-                    }
-                })
-                .collect();
-            let mut joints = [0.0; 3];
-            for (j, a) in joints.iter_mut().zip(&target_axes) {
-                *j = task.axes[a.0 as usize].command.position;
-            }
+            let (joint_axes, joints) = task.target_joints(target);
             let idle = |_: AxisId| AxisCondition::default();
             let request = MctRequest {
                 source: &source_system,

@@ -39,7 +39,7 @@
 //! * Speed 0 (a feed hold) is not simulated: ERR 13 on Speed.
 
 use super::entry::{Instruction, no_load, one_shot};
-use super::mcd::Change;
+use super::mcd::{Change, Jerk, jerk_change, rate};
 use crate::catalogue::words::{ACCEL_UNITS, JERK_UNITS, NO_YES, NUMERIC, SPEED_UNITS, motion_control, op, w};
 use crate::catalogue::{CallStyle, Format, Kind, Word};
 use crate::coord::{CoordMove, CoordinateSystemConfig, Driver, progress_at_length};
@@ -230,14 +230,6 @@ fn bad(operand: i32, value: f64) -> MccdError {
     Refusal::operand(operand, value)
 }
 
-/// A jerk change: units/s³, or % of time (converted with the speed and
-/// rate after the change).
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Jerk {
-    Absolute(f64),
-    PercentOfTime(f64),
-}
-
 /// A validated MCCD, its values in coordinate units (`None`: unchanged).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Mccd {
@@ -260,59 +252,29 @@ impl Mccd {
         if o.motion_type != 0 {
             return Err(bad(MOTION_TYPE, o.motion_type as f64));
         }
-        let changed = |c: Change, flag: i32| match c.flag {
-            0 => Ok(false),
-            1 => Ok(true),
-            f => Err(bad(flag, f as f64)),
-        };
-        let rate = |c: Change, (flag, value, units_op): (i32, i32, i32), units: i64, max: f64| {
-            if !changed(c, flag)? {
-                return Ok(None);
-            }
-            let r = match units {
-                0 => c.value,
-                1 => c.value / 100.0 * max,
-                u => return Err(bad(units_op, u as f64)),
-            };
-            if r.is_finite() && r > 0.0 {
-                Ok(Some(r))
-            } else {
-                Err(bad(value, c.value))
-            }
-        };
         let speed = rate(
             o.speed,
             (CHANGE_SPEED, SPEED, SPEED_UNITS),
             o.speed_units,
             sys.max_speed,
+            false,
         )?;
         let accel = rate(
             o.accel,
             (CHANGE_ACCEL, ACCEL_RATE, ACCEL_UNITS),
             o.accel_units,
             sys.max_accel,
+            false,
         )?;
         let decel = rate(
             o.decel,
             (CHANGE_DECEL, DECEL_RATE, DECEL_UNITS),
             o.decel_units,
             sys.max_decel,
+            false,
         )?;
-        let jerk = |c: Change, flag: i32, operand: i32, max: f64| -> Result<Option<Jerk>, MccdError> {
-            if !changed(c, flag)? {
-                return Ok(None);
-            }
-            let j = match o.jerk_units {
-                0 => Jerk::Absolute(c.value),
-                1 => Jerk::Absolute(c.value / 100.0 * max),
-                2 if c.value > 0.0 && c.value <= 100.0 => return Ok(Some(Jerk::PercentOfTime(c.value))),
-                2 => return Err(bad(operand, c.value)),
-                u => return Err(bad(JERK_UNITS, u as f64)),
-            };
-            match j {
-                Jerk::Absolute(j) if j.is_finite() && j > 0.0 => Ok(Some(Jerk::Absolute(j))),
-                _ => Err(bad(operand, c.value)),
-            }
+        let jerk = |c: Change, flag: i32, operand: i32, max: f64| {
+            jerk_change(c, (flag, operand, JERK_UNITS), o.jerk_units, max)
         };
         let accel_jerk = jerk(o.accel_jerk, CHANGE_ACCEL_JERK, ACCEL_JERK, sys.max_accel_jerk)?;
         let decel_jerk = jerk(o.decel_jerk, CHANGE_DECEL_JERK, DECEL_JERK, sys.max_decel_jerk)?;
@@ -359,7 +321,7 @@ impl Mccd {
                 let convert = |change: Option<Jerk>, percent: Option<f64>, old: f64, rate: f64, operand: i32| {
                     let percent = match change {
                         Some(Jerk::Absolute(j)) => return Ok((j, None)),
-                        Some(Jerk::PercentOfTime(p)) => Some(p),
+                        Some(Jerk::PercentOfTime(p, _)) => Some(p),
                         None => percent,
                     };
                     match percent {

@@ -305,7 +305,7 @@ fn bad(operand: i32, value: f64) -> McdError {
 }
 
 /// Whether a Change operand says yes.
-fn changed(flag: i64, operand: i32) -> Result<bool, McdError> {
+pub(super) fn changed(flag: i64, operand: i32) -> Result<bool, McdError> {
     match flag {
         0 => Ok(false),
         1 => Ok(true),
@@ -314,8 +314,9 @@ fn changed(flag: i64, operand: i32) -> Result<bool, McdError> {
 }
 
 /// A changed rate in units/s (units 0) or % of `max` (units 1): finite,
-/// above 0 (or 0 where `zero_ok`).
-fn rate(
+/// above 0 (or 0 where `zero_ok`). `operands` are the faceplate indices
+/// of the Change, the value and the units.
+pub(super) fn rate(
     change: Change,
     (flag, operand, units_operand): (i32, i32, i32),
     units: i64,
@@ -330,6 +331,35 @@ fn rate(
         Ok(Some(v))
     } else {
         Err(bad(operand, change.value))
+    }
+}
+
+/// A changed jerk in units/s³ (units 0), % of `max` (1) or % of time (2,
+/// kept as a percentage for the speed and rate after the change); the
+/// faceplate indices of the Change, the jerk and the Jerk Units.
+pub(super) fn jerk_change(
+    change: Change,
+    (flag, operand, units_operand): (i32, i32, i32),
+    units: i64,
+    max: f64,
+) -> Result<Option<Jerk>, McdError> {
+    if !changed(change.flag, flag)? {
+        return Ok(None);
+    }
+    let value = change.value;
+    let j = match units {
+        0 => value,
+        1 => value / 100.0 * max,
+        2 if value.is_finite() && value > 0.0 && value <= 100.0 => {
+            return Ok(Some(Jerk::PercentOfTime(value, operand)));
+        }
+        2 => return Err(bad(operand, value)),
+        u => return Err(bad(units_operand, u as f64)),
+    };
+    if j.is_finite() && j > 0.0 {
+        Ok(Some(Jerk::Absolute(j)))
+    } else {
+        Err(bad(operand, value))
     }
 }
 
@@ -367,24 +397,8 @@ impl Mcd {
             axis.max_deceleration,
             false,
         )?;
-        let jerk = |change: Change, flag: i32, operand: i32| -> Result<Option<Jerk>, McdError> {
-            if !changed(change.flag, flag)? {
-                return Ok(None);
-            }
-            let value = change.value;
-            let j = match o.jerk_units {
-                0 => Jerk::Absolute(value),
-                1 => Jerk::Absolute(value / 100.0 * axis.max_jerk),
-                2 if value.is_finite() && value > 0.0 && value <= 100.0 => {
-                    return Ok(Some(Jerk::PercentOfTime(value, operand)));
-                }
-                2 => return Err(bad(operand, value)),
-                u => return Err(bad(JERK_UNITS, u as f64)),
-            };
-            match j {
-                Jerk::Absolute(j) if j.is_finite() && j > 0.0 => Ok(Some(Jerk::Absolute(j))),
-                _ => Err(bad(operand, value)),
-            }
+        let jerk = |change: Change, flag: i32, operand: i32| {
+            jerk_change(change, (flag, operand, JERK_UNITS), o.jerk_units, axis.max_jerk)
         };
         Ok(Self {
             motion_type,

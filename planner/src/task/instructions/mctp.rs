@@ -29,9 +29,10 @@
 //! not checked (MCT checks them when it moves).
 
 use super::entry::{Instruction, no_check, no_load, one_shot};
+use super::mct::vector3;
 use crate::catalogue::words::{motion_control, op, w};
 use crate::catalogue::{CallStyle, Format, Kind, Word};
-use crate::instruction::{Fault, NoFault, Refusal};
+use crate::instruction::{Fault, Refusal};
 use crate::mct::instruction::TransformDirection;
 use crate::task::{Args, MotionTask};
 
@@ -83,14 +84,6 @@ pub const MCTP: Instruction = Instruction {
     load: no_load,
 };
 
-/// Three REALs from the element operand `i` names.
-fn vector3(args: &Args<'_>, i: usize) -> Result<[f64; 3], Refusal<NoFault>> {
-    match args.array(i) {
-        Some([x, y, z, ..]) => Ok([*x, *y, *z]),
-        _ => Err(Refusal::operand_index(MCTP.operands[i].faceplate)),
-    }
-}
-
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(2);
     let operands = (|| {
@@ -102,8 +95,13 @@ fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
             d => return Err(Refusal::operand(MCTP.exerr("Transform Direction"), d as f64)),
         };
         // Transform Position needs three elements to be written.
-        vector3(args, 7)?;
-        Ok((vector3(args, 3)?, vector3(args, 4)?, direction, vector3(args, 6)?))
+        vector3(&MCTP, args, 7)?;
+        Ok((
+            vector3(&MCTP, args, 3)?,
+            vector3(&MCTP, args, 4)?,
+            direction,
+            vector3(&MCTP, args, 6)?,
+        ))
     })();
     let (orientation, translation, direction, reference) = match operands {
         Ok(o) => o,
