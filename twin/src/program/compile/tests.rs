@@ -123,12 +123,12 @@ fn enumeration_words_belong_to_their_operand() {
 
 #[test]
 fn instructions_outside_the_catalogue_are_refused_at_load() {
-    let text = edited("MCCP(MC1", "MDCC(MC1");
+    let text = edited("MCCP(MC1", "MDAC(MC1");
     let d = error_of(&text);
-    assert_at(&d, &text, "MDCC", "program[3].call");
+    assert_at(&d, &text, "MDAC", "program[3].call");
     assert!(
         d.message
-            .starts_with("MDCC is a Logix motion instruction the twin does not simulate (it simulates: MCLM, MCCM,"),
+            .starts_with("MDAC is a Logix motion instruction the twin does not simulate (it simulates: MCLM, MCCM,"),
         "{d}"
     );
     // Named inputs or not.
