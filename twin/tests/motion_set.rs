@@ -426,8 +426,11 @@ fn mctp_converts_forward_and_back_without_motion_and_reports_err_67() {
         ("Mc1", "MOTION_INSTRUCTION"),
         ("Mc2", "MOTION_INSTRUCTION"),
         ("Mc3", "MOTION_INSTRUCTION"),
+        ("Mc4", "MOTION_INSTRUCTION"),
         ("Dn", "BOOL"),
         ("Err3", "DINT"),
+        ("Err4", "DINT"),
+        ("Exerr4", "DINT"),
         ("Done", "BOOL"),
     ];
     let routine = "
@@ -436,9 +439,10 @@ IF NOT Done THEN
     MCTP(Cart, Joints, Mc1, Orient[0], Trans[0], forward, Ref[0], Out[0]);
     MCTP(Cart, Joints, Mc2, Orient[0], Trans[0], inverserightarm, Out[0], Back[0]);
     MCTP(Cart, Joints, Mc3, Orient[0], Trans[0], inverse, Far[0], Far[3]);
+    MCTP(Cart, Joints, Mc4, Orient[0], Trans[0], forward, Ref[0], Far[4]);
     Done := TRUE;
 END_IF;
-Dn := Mc1.DN AND Mc2.DN; Err3 := Mc3.ERR;
+Dn := Mc1.DN AND Mc2.DN; Err3 := Mc3.ERR; Err4 := Mc4.ERR; Exerr4 := Mc4.EXERR;
 ";
     let p = scara_program("mctp", tags, routine);
     let (a, b) = (30f64.to_radians(), 75f64.to_radians());
@@ -450,6 +454,8 @@ Dn := Mc1.DN AND Mc2.DN; Err3 := Mc3.ERR;
     assert_eq!(mem.slots[mem.tags[mem.find("Dn").unwrap()].base].as_i64(), 1);
     assert_eq!(mem.slots[mem.tags[mem.find("Err3").unwrap()].base].as_i64(), 67);
     assert_eq!(element(&p, "Far", 3), -7.0, "left as it was on an error");
+    // Two elements from Far[4]: ERR 13 on Transform Position (faceplate 7).
+    assert_eq!((element(&p, "Err4", 0), element(&p, "Exerr4", 0)), (13.0, 7.0));
 }
 
 #[test]

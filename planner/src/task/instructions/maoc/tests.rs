@@ -179,6 +179,17 @@ fn refusals() {
         (13, 12, 0)
     );
     assert_eq!(e(&mut task, MaocOperands { cams: None, ..ok }), (13, 5, 0));
+    assert_eq!(
+        e(
+            &mut task,
+            MaocOperands {
+                arm: (f64::NAN, 0.0),
+                ..ok
+            }
+        ),
+        (13, 11, 0)
+    );
+    assert_eq!(e(&mut task, MaocOperands { codes: (3, 2, 1), ..ok }), (13, 9, 0));
     let bad = [bead(0, 1.0, 2.0), bead(40, 1.0, 2.0)];
     assert_eq!(e(&mut task, MaocOperands { cams: Some(&bad), ..ok }), (36, 0, 1));
     let comp = [OutputCompensation {
