@@ -421,6 +421,9 @@ pub(super) struct Component {
     /// end point at the junction speed of the pending move.
     pub(super) contour: bool,
     pub(super) stopping: bool,
+    /// An MCCD of speed 0 holds it where it came to rest on its path
+    /// (a feed hold), until an MCCD gives it a speed again.
+    pub(super) held: bool,
     pub(super) lock: Lock,
     /// When and from what it started (`task/coord/preflight.rs`).
     pub(super) start: Start,

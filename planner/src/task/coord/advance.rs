@@ -121,7 +121,12 @@ impl MotionTask {
             lead.mv.termination(),
             TerminationType::FollowContourConstrained | TerminationType::FollowContourUnconstrained
         );
-        if !contour_type || lead.successor_started || lead.stopping || lead.progress >= lead.profile.duration_s() {
+        if !contour_type
+            || lead.successor_started
+            || lead.stopping
+            || lead.held
+            || lead.progress >= lead.profile.duration_s()
+        {
             return;
         }
         let Some(limits) = lead.mv.limits().copied() else {

@@ -495,6 +495,7 @@ impl MotionTask {
             successor_started: false,
             contour: false,
             stopping: false,
+            held: false,
             lock,
             start,
         });

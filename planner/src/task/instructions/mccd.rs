@@ -36,13 +36,18 @@
 //!   a master-driven move is ERR 13 on Speed Units, the mode change the
 //!   manual refuses at run time. A move programmed at speed 0 (it never
 //!   advances) keeps speed 0 unless MCCD changes its speed.
-//! * Speed 0 (a feed hold) is not simulated: ERR 13 on Speed.
+//! * Speed 0 is a feed hold: the active move decelerates with its
+//!   deceleration limits to rest on its path and stays there, `.IP` and
+//!   its bits as they were, no blend to the pending move meanwhile; an
+//!   MCCD that changes the speed again resumes it to its end point (one
+//!   that changes only rates keeps it held). A hold leaves the pending move
+//!   as it is (a queued move at speed 0 would never advance).
 
 use super::entry::{Instruction, no_load, one_shot};
 use super::mcd::{Change, Jerk, jerk_change, rate};
 use crate::catalogue::words::{ACCEL_UNITS, JERK_UNITS, NO_YES, NUMERIC, SPEED_UNITS, motion_control, op, w};
 use crate::catalogue::{CallStyle, Format, Kind, Word};
-use crate::coord::{CoordMove, CoordinateSystemConfig, Driver, progress_at_length};
+use crate::coord::{CoordMove, CoordinateSystemConfig, Driver, progress_at_length, with_velocity};
 use crate::instruction::{Fault, NoFault, Refusal, fault};
 use crate::profile::{Limits, Profile, Shape, State, jerk_from_percent_of_time};
 use crate::task::{Args, CoordHandle, InstructionHandle, MotionTask};
@@ -257,7 +262,7 @@ impl Mccd {
             (CHANGE_SPEED, SPEED, SPEED_UNITS),
             o.speed_units,
             sys.max_speed,
-            false,
+            true,
         )?;
         let accel = rate(
             o.accel,
@@ -307,7 +312,8 @@ impl Mccd {
             // A move at speed 0 gets rates only with a speed.
             return Ok(m);
         };
-        let speed = self.speed.unwrap_or(old.velocity());
+        // A hold keeps the move's speed for when it resumes.
+        let speed = self.speed.filter(|s| *s > 0.0).unwrap_or(old.velocity());
         let accel = self.accel.unwrap_or(old.acceleration());
         let decel = self.decel.unwrap_or(old.deceleration());
         let limits = match old.shape() {
@@ -380,6 +386,7 @@ impl MotionTask {
                 (Some((_, mv)), true) => Some(mccd.apply(mv)?),
                 _ => None,
             };
+            let hold = mccd.speed == Some(0.0);
             if let (Some(k), Some(mv)) = (active, new_active) {
                 let c = &mut sys.components[k];
                 let now = c.profile.sample(c.progress);
@@ -390,25 +397,39 @@ impl MotionTask {
                 };
                 let length = mv.path().length();
                 if let Some(limits) = mv.limits() {
-                    let end_speed = c.profile.final_state().velocity.min(limits.velocity());
-                    c.profile = Profile::to_position(from, length, end_speed, limits);
+                    c.held = hold || (c.held && mccd.speed.is_none());
+                    if c.held {
+                        // To rest on the path, with the move's limits at
+                        // least as fast as it goes now.
+                        let brake =
+                            with_velocity(limits, limits.velocity().max(from.velocity.abs())).unwrap_or(*limits);
+                        c.profile = Profile::to_velocity(from, 0.0, &brake);
+                        c.blend_at = None;
+                    } else {
+                        let end_speed = c.profile.final_state().velocity.min(limits.velocity());
+                        c.profile = Profile::to_position(from, length, end_speed, limits);
+                        if !c.successor_started {
+                            c.blend_at = if c.contour {
+                                Some(c.profile.duration_s())
+                            } else if mv.termination().blends() {
+                                let decel_point = c.profile.deceleration_start_s();
+                                Some(match mv.termination() {
+                                    crate::coord::TerminationType::NoDecel => decel_point,
+                                    _ => {
+                                        progress_at_length(&c.profile, length - mv.command_tolerance()).max(decel_point)
+                                    }
+                                })
+                            } else {
+                                None
+                            };
+                        }
+                    }
                     c.progress = 0.0;
                     c.last_delta = 0.0;
-                    if c.blend_at.is_some() && !c.successor_started {
-                        c.blend_at = Some(if c.contour {
-                            c.profile.duration_s()
-                        } else {
-                            let decel_point = c.profile.deceleration_start_s();
-                            match mv.termination() {
-                                crate::coord::TerminationType::NoDecel => decel_point,
-                                _ => progress_at_length(&c.profile, length - mv.command_tolerance()).max(decel_point),
-                            }
-                        });
-                    }
                 }
                 c.mv = mv;
             }
-            if let (Some((_, pending)), Some(mv)) = (sys.pending.as_mut(), new_pending) {
+            if let (Some((_, pending)), Some(mv)) = (sys.pending.as_mut(), new_pending.filter(|_| !hold)) {
                 *pending = mv;
             }
             task.motion_bits_mut(control).dn = true;

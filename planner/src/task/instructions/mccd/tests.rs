@@ -165,6 +165,62 @@ fn scope_active_leaves_the_pending_move_as_it_was() {
 }
 
 #[test]
+fn speed_0_holds_the_active_move_on_its_path_until_a_speed_resumes_it() {
+    let (mut task, cs, axes) = gantry();
+    let first = start(&mut task, cs, "M1", &[40.0, 0.0]);
+    task.update();
+    let second = start(&mut task, cs, "M2", &[40.0, 40.0]);
+    for _ in 0..150 {
+        task.update();
+    }
+    let change = task.add_instruction("Change");
+    let hold = MccdOperands {
+        speed: Change::to(0.0),
+        ..MccdOperands::default()
+    };
+    task.mccd(cs, change, &hold).unwrap();
+    let mut last = path_speed(&task, &axes);
+    for _ in 0..300 {
+        task.update();
+        let v = path_speed(&task, &axes);
+        assert!(last - v <= 100.0 * DT + 1e-9 && v <= last + 1e-9, "{last} → {v}");
+        last = v;
+    }
+    let held_at = task.axis_state(axes[0]).command_position;
+    assert_eq!(path_speed(&task, &axes), 0.0);
+    assert!(held_at < 40.0, "held short of the end: {held_at}");
+    assert!(
+        task.coord_bits(first).ip && !task.coord_bits(first).pc,
+        "still in process"
+    );
+    assert!(task.coord_status(cs).move_pending, "the pending move waits");
+    // Changing a rate keeps it held; a speed resumes it to its end.
+    let slower = MccdOperands {
+        decel: Change::to(50.0),
+        ..MccdOperands::default()
+    };
+    task.mccd(cs, change, &slower).unwrap();
+    for _ in 0..50 {
+        task.update();
+    }
+    assert_eq!(task.axis_state(axes[0]).command_position, held_at);
+    let resume = MccdOperands {
+        speed: Change::to(20.0),
+        ..MccdOperands::default()
+    };
+    task.mccd(cs, change, &resume).unwrap();
+    let mut k = 0;
+    while !task.coord_bits(second).pc {
+        task.update();
+        k += 1;
+        assert!(k < 5000);
+    }
+    assert!(task.coord_bits(first).pc);
+    assert!((task.axis_state(axes[0]).command_position - 40.0).abs() < 1e-9);
+    assert!((task.axis_state(axes[1]).command_position - 40.0).abs() < 1e-9);
+}
+
+#[test]
 fn each_operand_out_of_range_names_its_faceplate_index() {
     let (task, cs, _) = gantry();
     let sys = task.coord_config(cs);
@@ -174,7 +230,7 @@ fn each_operand_out_of_range_names_its_faceplate_index() {
     let flag = |f| Change { flag: f, value: 1.0 };
     assert_eq!(exerr(MccdOperands { motion_type: 1, ..ok }), 2);
     assert_eq!(exerr(MccdOperands { speed: flag(2), ..ok }), 3);
-    assert_eq!(exerr(MccdOperands { speed: yes(0.0), ..ok }), 4);
+    assert_eq!(exerr(MccdOperands { speed: yes(-1.0), ..ok }), 4);
     assert_eq!(
         exerr(MccdOperands {
             speed: yes(1.0),
