@@ -552,19 +552,8 @@ impl<'a> Gen<'a> {
             self.blank_entries(header.clone(), t);
         }
 
-        // Top-level keys: before the scene's first table.
-        if let Some((mg, params)) = &project.motion_group {
-            let Some(period) = params.get("CoarseUpdatePeriod") else {
-                return Err(self.l5x_err(
-                    params.element.clone(),
-                    &mg.value,
-                    format!("motion group {} has no CoarseUpdatePeriod", mg.value),
-                ));
-            };
-            let item = format!("{} CoarseUpdatePeriod", mg.value);
-            let us = self.number(period, &item)?;
-            self.line("coarse_update_ms", &float(us / 1000.0), &period.span, &item);
-        }
+        // Top-level keys: before the scene's first table. (The motion
+        // group's period goes on its tag.)
         let loopback = !project.axes.is_empty()
             && project.axes.iter().all(|a| {
                 a.params
@@ -1368,11 +1357,21 @@ impl<'a> Gen<'a> {
         for (cs, binding) in project.coordinate_systems.iter().zip(bound) {
             self.coordinate_system(cs, binding)?;
         }
-        if let Some((mg, _)) = &project.motion_group {
+        if let Some((mg, params)) = &project.motion_group {
+            let Some(period) = params.get("CoarseUpdatePeriod") else {
+                return Err(self.l5x_err(
+                    params.element.clone(),
+                    &mg.value,
+                    format!("motion group {} has no CoarseUpdatePeriod", mg.value),
+                ));
+            };
             let item = format!("{} Name", mg.value);
             self.header("[[tags]]", &mg.span, item.clone());
             self.line("name", &quote(&mg.value), &mg.span, &item);
             self.line("type", "\"MOTION_GROUP\"", &mg.span, &format!("{} DataType", mg.value));
+            let item = format!("{} CoarseUpdatePeriod", mg.value);
+            let us = self.number(period, &item)?;
+            self.line("coarse_update_ms", &float(us / 1000.0), &period.span, &item);
         }
         self.module_io_tags();
         for tag in &project.tags {
