@@ -231,6 +231,7 @@ impl Twin {
         self.io.outputs(self.task.time_s(), &self.program, &mut self.plant);
         lap(|t| &mut t.program_s);
         self.task.update();
+        self.program.sync_output_cams(&mut self.task);
         lap(|t| &mut t.planner_s);
         self.plant.after_planner_update(&mut self.task);
         lap(|t| &mut t.sweep_s);

@@ -243,8 +243,10 @@ impl Program {
 
     /// The Output and Input words of the axes' output cams (MAOC): the
     /// bits the cams drove in the last update go to their Output tags, the
-    /// Input tags' values to the cams (for their enable bits).
-    fn sync_output_cams(&mut self, task: &mut MotionTask) {
+    /// Input tags' values to the cams (for their enable bits). The run
+    /// calls it right after each planner update, so that the update's trace
+    /// row shows the bits the update switched; a scan does it too.
+    pub fn sync_output_cams(&mut self, task: &mut MotionTask) {
         let words = task.output_cam_words();
         if words.is_empty() {
             return;

@@ -183,6 +183,7 @@ impl Sandbox {
     pub fn scan(&mut self) {
         self.program.scan(&mut self.task);
         self.task.update();
+        self.program.sync_output_cams(&mut self.task);
     }
 
     /// The prescan alone (the first [`Sandbox::scan`] runs it otherwise),
