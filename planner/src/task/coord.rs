@@ -178,6 +178,7 @@ impl MotionTask {
             master_prev: None,
             master_actual: false,
             mdcc: None,
+            pending_master: None,
             status: CoordStatus::default(),
             base: here.clone(),
             components: Vec::new(),

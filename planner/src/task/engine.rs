@@ -396,6 +396,9 @@ pub(super) struct SystemSlot {
     pub(super) master_actual: bool,
     /// The MDCC that linked the master, while the link holds.
     pub(super) mdcc: Option<InstructionHandle>,
+    /// An MDCC to another master made while master-driven motion runs:
+    /// (master, actual reference, its MDCC), linked when that motion ends.
+    pub(super) pending_master: Option<(AxisHandle, bool, InstructionHandle)>,
     pub(super) status: CoordStatus,
     pub(super) base: Vec<f64>,
     pub(super) components: Vec<Component>,

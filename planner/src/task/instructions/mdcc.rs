@@ -20,12 +20,14 @@
 //! slave axis, MCSD on the system and MGSD break the link: `.IP` and `.AC`
 //! clear, the system has no master until the next MDCC.
 //!
-//! # Choices where the manual is silent
-//! A new MDCC re-links at once (the manual makes a reassignment pending
-//! while master-driven motion runs; the twin applies it when executed, the
-//! running move then follows the new master from its position). The
-//! scene's `coordinate_system.master_axis` is the same link made at start
-//! with the command position, without a control structure.
+//! # Reassignment
+//! An MDCC to another master while master-driven motion runs on the
+//! system is pending, as the manual describes: its `.IP` is set, the
+//! running motion keeps following the old master, and the new link is
+//! made when no master-driven move is active on the system any more (the
+//! old MDCC then leaves `.IP`). With no such motion it links at once.
+//! The scene's `coordinate_system.master_axis` is the same link made at
+//! start with the command position, without a control structure.
 
 use super::entry::{Instruction, no_check, no_load, one_shot};
 use crate::catalogue::words::{ACTUAL_COMMAND, motion_control, op};
@@ -106,14 +108,18 @@ impl MotionTask {
             if !(nominal.is_finite() && nominal >= 0.0) {
                 return Err(Refusal::operand(4, nominal));
             }
-            task.break_master_link(system);
-            task.set_coordinate_system_master(system, Some(master));
-            let a = &task.axes[master.0 as usize];
-            let now = if actual { a.actual } else { a.command.position };
             let sys = &mut task.coord.systems[system.0 as usize];
-            sys.master_actual = actual;
-            sys.master_prev = Some(now);
-            sys.mdcc = Some(control);
+            let following = sys
+                .components
+                .iter()
+                .any(|c| c.mv.driver() == Driver::Master && !c.stopping);
+            if following && sys.master.is_some_and(|m| m != master) {
+                if let Some((_, _, old)) = sys.pending_master.replace((master, actual, control)) {
+                    task.motion_bits_mut(old).ip = false;
+                }
+            } else {
+                task.link_master(system, master, actual, control);
+            }
             let b = task.motion_bits_mut(control);
             b.dn = true;
             b.ip = true;
@@ -121,9 +127,27 @@ impl MotionTask {
         })
     }
 
+    /// Links `system` to `master` for MDCC `control`, ending the link it
+    /// had.
+    fn link_master(&mut self, system: CoordHandle, master: AxisHandle, actual: bool, control: InstructionHandle) {
+        self.break_master_link(system);
+        self.set_coordinate_system_master(system, Some(master));
+        let a = &self.axes[master.0 as usize];
+        let now = if actual { a.actual } else { a.command.position };
+        let sys = &mut self.coord.systems[system.0 as usize];
+        sys.master_actual = actual;
+        sys.master_prev = Some(now);
+        sys.mdcc = Some(control);
+    }
+
     /// Breaks the MDCC link of `system` (module doc): its MDCC leaves
-    /// `.IP` and `.AC`, the system has no master.
+    /// `.IP` and `.AC`, the system has no master; a pending reassignment
+    /// is dropped too.
     pub(crate) fn break_master_link(&mut self, system: CoordHandle) {
+        let sys = &mut self.coord.systems[system.0 as usize];
+        if let Some((_, _, pending)) = sys.pending_master.take() {
+            self.motion_bits_mut(pending).ip = false;
+        }
         let sys = &mut self.coord.systems[system.0 as usize];
         let Some(control) = sys.mdcc.take() else {
             return;
@@ -152,15 +176,22 @@ impl MotionTask {
     }
 
     /// `.AC` of each MDCC: a master-driven move is active on its system
-    /// (after the coordinate systems' update).
+    /// (after the coordinate systems' update); a pending reassignment is
+    /// linked once none is.
     pub(crate) fn advance_master_links(&mut self) {
         for i in 0..self.coord.systems.len() {
             let sys = &self.coord.systems[i];
-            let Some(control) = sys.mdcc else { continue };
             let active = sys
                 .components
                 .iter()
                 .any(|c| c.mv.driver() == Driver::Master && !c.stopping);
+            if !active && let Some((master, actual, control)) = sys.pending_master {
+                self.coord.systems[i].pending_master = None;
+                self.link_master(CoordHandle(i as u32), master, actual, control);
+            }
+            let Some(control) = self.coord.systems[i].mdcc else {
+                continue;
+            };
             self.motion_bits_mut(control).ac = active;
         }
     }

@@ -131,3 +131,33 @@ fn the_actual_reference_follows_the_fed_position_and_refusals() {
     task.masd(axes[1], down).unwrap();
     assert!(!task.motion_bits(link).ip);
 }
+
+#[test]
+fn a_reassignment_while_master_driven_motion_runs_is_pending_until_it_ends() {
+    let (mut task, cs, m, axes) = setup();
+    let other = task.add_axis(AxisConfig::new("M2", AxisKind::Linear), 0.0).unwrap();
+    let first = task.add_instruction("First");
+    task.mdcc(cs, m, first, 1, 0.0).unwrap();
+    let mv = task.add_coord_instruction("Mv", cs, line());
+    task.set_coord_instruction(mv, true, line());
+    task.update();
+    let second = task.add_instruction("Second");
+    task.mdcc(cs, other, second, 1, 0.0).unwrap();
+    assert!(task.motion_bits(second).dn && task.motion_bits(second).ip);
+    assert_eq!(
+        task.coordinate_system_master(cs),
+        Some(m),
+        "pending: the move follows M"
+    );
+    let mut master = 0.0;
+    while !task.coord_bits(mv).pc {
+        master += 1.0;
+        task.axes[m.0 as usize].command.position = master;
+        task.update();
+        assert!(master < 100.0);
+    }
+    assert!((task.axis_state(axes[0]).command_position - 10.0).abs() < 1e-9);
+    task.update();
+    assert_eq!(task.coordinate_system_master(cs), Some(other));
+    assert!(!task.motion_bits(first).ip && task.motion_bits(second).ip);
+}
