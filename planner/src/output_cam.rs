@@ -340,11 +340,20 @@ pub struct Step {
 
 impl OutputCam {
     /// Evaluates the cam at `step.to`: updates the latches, returns the
-    /// driven bits' values (within [`OutputCam::mask`]) and pushes the
-    /// switches of position and duration edges at their interpolated
-    /// times (enable edges switch at `t1_s`).
+    /// driven bits' values (within [`OutputCam::mask`]) and pushes each
+    /// bit's switches: at the interpolated times of its position and
+    /// duration edges (enable edges at `t1_s`), inverted for an inverted
+    /// bit; a pulsed bit switches at update boundaries, when its value
+    /// changes from `step.output`'s.
     pub fn evaluate(&self, latches: &mut Vec<Latch>, step: &Step, switches: &mut Vec<Switch>) -> u32 {
         latches.resize(self.elements.len(), Latch::default());
+        // How many elements hold each bit latched, before this update.
+        let mut held = [0u32; 32];
+        for (e, l) in self.elements.iter().zip(latches.iter()) {
+            held[e.bit as usize] += u32::from(l.on);
+        }
+        // The elements' latch (true) and unlatch edges, by time.
+        let mut edges: Vec<Switch> = Vec::new();
         for (e, l) in self.elements.iter().zip(latches.iter_mut()) {
             let (lo, hi) = self.edges(e, step.speed);
             let inside = lo <= step.to && step.to <= hi;
@@ -366,7 +375,7 @@ impl OutputCam {
                     Condition::Position | Condition::PositionAndEnable => crossing_time(step, edge),
                     _ => step.t1_s,
                 };
-                switches.push(Switch {
+                edges.push(Switch {
                     time_s: l.since_s,
                     bit: e.bit,
                     on: true,
@@ -393,7 +402,7 @@ impl OutputCam {
                         Condition::DurationAndEnable if expired => l.since_s + e.duration_s,
                         _ => step.t1_s,
                     };
-                    switches.push(Switch {
+                    edges.push(Switch {
                         time_s,
                         bit: e.bit,
                         on: false,
@@ -401,8 +410,37 @@ impl OutputCam {
                 }
             }
         }
-        // Pulsed bits switch at update boundaries.
-        self.bits_at(latches, step.t1_s)
+        // A bit switches where the first of its elements latches and the
+        // last unlatches.
+        edges.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
+        for edge in edges {
+            let b = edge.bit as usize;
+            let c = &self.compensation[b];
+            let was = held[b] > 0;
+            held[b] = if edge.on {
+                held[b] + 1
+            } else {
+                held[b].saturating_sub(1)
+            };
+            if c.pulsed.is_none() && was != (held[b] > 0) {
+                switches.push(Switch {
+                    on: edge.on != c.inverted,
+                    ..edge
+                });
+            }
+        }
+        let bits = self.bits_at(latches, step.t1_s);
+        for (bit, c) in self.compensation.iter().enumerate() {
+            let now = bits >> bit & 1 == 1;
+            if c.pulsed.is_some() && self.mask() >> bit & 1 == 1 && now != (step.output >> bit & 1 == 1) {
+                switches.push(Switch {
+                    time_s: step.t1_s,
+                    bit: bit as u32,
+                    on: now,
+                });
+            }
+        }
+        bits
     }
 
     /// The driven bits' values with the latches as they are, at `t_s`

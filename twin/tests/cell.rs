@@ -1219,6 +1219,10 @@ fn a_scheduled_output_names_a_dint_an_axis_and_one_of_its_targets() {
             "[[tags]]\nname = \"G\"\ntype = \"DINT\"\nscheduled_output = { axis = \"Nope\" }\n",
             "Nope",
         ),
+        (
+            "[[tags]]\nname = \"G\"\ntype = \"DINT\"\nscheduled_output = { axis = \"Table\" }\n[[tags]]\nname = \"H\"\ntype = \"DINT\"\nscheduled_output = { axis = \"Table\", execution_target = 0 }\n",
+            "'G' is already the scheduled output",
+        ),
     ] {
         let path = scene("scheduled", tag, None);
         let e = refusal(&path);
@@ -1244,7 +1248,7 @@ fn the_motion_group_tag_carries_the_coarse_update() {
     // Only on the group tag.
     let wrong = scene(
         "group-wrong",
-        "[[tags]]\nname = \"N\"\ntype = \"DINT\"\ncoarse_update_ms = 4.0\n",
+        "[[tags]]\nname = \"N\"\ntype = \"REAL\"\ncoarse_update_ms = 2.0\n",
         None,
     );
     assert!(refusal(&wrong).contains("only a MOTION_GROUP tag"));

@@ -626,6 +626,11 @@ fn maoc_refusals_at_run_time_and_at_load() {
     s.scan();
     assert_eq!(int(&s, "Err"), 35);
     for (from, to, needle) in [
+        (
+            "MAOC(X, 0,",
+            "MAOC(X, Target,",
+            "Execution Target 'Target': the operand's format is Immediate",
+        ),
         ("Out, In, Cams[0]", "Init, In, Cams[0]", "expected a DINT tag"),
         ("Cams[0], 0.0", "Comp[0], 0.0", "OUTPUT_CAM array"),
         ("once, immediate", "twice, immediate", "Execution Mode"),

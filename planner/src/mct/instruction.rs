@@ -387,8 +387,8 @@ pub enum TransformDirection {
 /// MCT would convert it (its geometry, Orientation and Translation, arm
 /// solutions), without a transform running or anything moving. Forward
 /// gives the source's coordinates of joint positions (axis units);
-/// inverse the joint positions (axis units, revolute joints on the turn
-/// nearest the target's joints now) of source coordinates. A system's
+/// inverse the joint positions (axis units, revolute joints from −180° to
+/// 180°, as the geometry solves them) of source coordinates. A system's
 /// axes may be in motion or in another transform: nothing is driven. Soft
 /// travel limits are not checked (MCT checks them when it moves).
 ///
@@ -417,7 +417,7 @@ pub fn calculate(request: &MctRequest<'_>, direction: TransformDirection, refere
                 TransformDirection::InverseRightArm if serial => now.unwrap_or_default().with(0, false),
                 _ => now?,
             };
-            Ok(t.joints_of(reference)?)
+            Ok(t.joints_principal(reference)?)
         }
     }
 }

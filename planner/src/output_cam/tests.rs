@@ -161,3 +161,42 @@ fn duration_enable_pulsed_and_inverted_outputs() {
     let pulses: Vec<u32> = words[50..58].iter().map(|w| w >> 1 & 1).collect();
     assert!(pulses.contains(&0) && pulses.contains(&1), "{pulses:?}");
 }
+
+#[test]
+fn switches_follow_the_bit_not_its_elements() {
+    // Two overlapping elements on one bit: one switch on, one off.
+    let cam = OutputCam::new(
+        &[position(0, 100.0, 150.0), position(0, 120.0, 180.0)],
+        &[],
+        (0.0, 1000.0),
+    )
+    .unwrap();
+    let (_, switches) = run(&cam, 0.0, 500.0, 100, 0);
+    let times: Vec<(bool, f64)> = switches.iter().map(|s| (s.on, s.time_s)).collect();
+    assert_eq!(times.len(), 2, "{times:?}");
+    assert!(times[0].0 && (times[0].1 - 0.2).abs() < 1e-12);
+    assert!(!times[1].0 && (times[1].1 - 0.36).abs() < 1e-12);
+    // An inverted bit switches off at the latch edge and on at the unlatch.
+    let mut comps = [OutputCompensation::default(); 2];
+    comps[0].mode = 1;
+    comps[1] = OutputCompensation {
+        mode: 2,
+        cycle_time: 0.008,
+        duty_cycle: 50.0,
+        ..Default::default()
+    };
+    let cam = OutputCam::new(
+        &[position(0, 100.0, 150.0), position(1, 100.0, 150.0)],
+        &comps,
+        (0.0, 1000.0),
+    )
+    .unwrap();
+    let (words, switches) = run(&cam, 0.0, 500.0, 100, 0);
+    let bit0: Vec<bool> = switches.iter().filter(|s| s.bit == 0).map(|s| s.on).collect();
+    assert_eq!(bit0, [false, true]);
+    // A pulsed bit: a switch for every change of the word, at the update.
+    let pulses = switches.iter().filter(|s| s.bit == 1).count();
+    let changes = words.windows(2).filter(|w| (w[0] ^ w[1]) & 2 != 0).count() + usize::from(words[0] & 2 != 0);
+    assert_eq!(pulses, changes);
+    assert!(pulses > 4, "{pulses}");
+}

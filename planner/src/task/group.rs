@@ -18,7 +18,11 @@
 //! * **Hard Shutdown**: the axis is shut down at once.
 //!
 //! A servo-off, faulted or shut-down axis is already still: a stop leaves
-//! its state alone, except that a shutdown mode shuts it down. A virtual
+//! its state alone, except that a shutdown mode shuts it down, and it does
+//! not hold back `.PC` (its joint may still coast on a physics plant).
+//! Fast Disable and Fast Shutdown disable the drive when the command
+//! ramp has brought the command to rest; a joint that lags its command
+//! coasts from there. A virtual
 //! axis has no drive to disable: Fast and Hard Disable ramp it to rest as
 //! Fast Stop does (as MSF leaves a virtual axis on). An inhibited axis is
 //! left alone. The MGS's `.IP` is set while the group stops and `.PC` in
@@ -189,7 +193,12 @@ impl MotionTask {
         let Some(control) = self.group.stop else {
             return;
         };
-        let all = (0..self.axes.len()).all(|i| self.at_rest(AxisHandle(i as u32)));
+        // A servo-off, faulted or shut-down axis is still as far as the
+        // planner goes (its joint may coast; no command moves it).
+        let all = (0..self.axes.len()).all(|i| {
+            let off = matches!(self.axes[i].servo.power, Power::Off | Power::Faulted | Power::Shutdown);
+            off || self.at_rest(AxisHandle(i as u32))
+        });
         if all && self.group.disable_at_rest.is_empty() {
             let b = self.motion_bits_mut(control);
             b.ip = false;

@@ -11,9 +11,10 @@
 //!   position passes Axis Arm Position in that direction; the cam position
 //!   is then Cam Arm Position plus the axis' travel since.
 //! * *pending*: waits for the cam running on the target to end (a *once*
-//!   cam leaving its range), then is armed there, its cam position Cam Arm
-//!   Position plus the travel since; with no cam running it arms at once,
-//!   as *immediate*.
+//!   cam leaving its range), then is armed at the axis position where it
+//!   left its range (interpolated inside the update), its cam position Cam
+//!   Arm Position plus the travel since; with no cam running it arms at
+//!   once, as *immediate*.
 //!
 //! # Execution Mode
 //! * *once*: when the cam position leaves the range (past Cam End Position
@@ -212,16 +213,17 @@ impl MotionTask {
                     // Before the range (still coming) or past it.
                     let past = (to > end && travel >= 0.0) || (to < start && travel <= 0.0);
                     if run.mode == CamMode::Once && past {
-                        completed.push((i, k));
+                        // The axis position where the cam left its range.
+                        let left_at = if to > end { p - (to - end) } else { p - (to - start) };
+                        completed.push((i, k, left_at));
                     }
                 }
             }
         }
-        for (i, k) in completed {
+        for (i, k, position) in completed {
             let t = &mut self.axes[i].output_cams[k];
             let Some(run) = t.active.take() else { continue };
             t.release = true;
-            let position = run.last_axis;
             if let Some(mut next) = t.pending.take() {
                 next.armed = true;
                 next.axis_arm = position;

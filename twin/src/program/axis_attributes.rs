@@ -190,7 +190,7 @@ use DataType::{Real, Usint};
 /// Every `AXIS` configuration attribute the twin models (one row a line).
 #[rustfmt::skip]
 pub const AXIS_ATTRIBUTES: [AxisAttribute; 28] = [
-    row("MaximumSpeed", Config(AxisLimit::Velocity), Real, "units/s", true, "`max_velocity`: the speed `% of maximum` refers to, and the most an instruction may ask"),
+    row("MaximumSpeed", Config(AxisLimit::Velocity), Real, "units/s", true, "`max_velocity`: the speed `% of maximum` refers to, and the limit of the moves and stops the planner makes itself; a speed an instruction asks for in units/s (MAJ, MAM, MCD) is run as asked, as on the controller"),
     row("MaximumAcceleration", Config(AxisLimit::Acceleration), Real, "units/s²", true, "`max_acceleration`"),
     row("MaximumDeceleration", Config(AxisLimit::Deceleration), Real, "units/s²", true, "`max_deceleration`"),
     row("MaximumAccelerationJerk", Config(AxisLimit::Jerk), Real, "units/s³", true, "`max_jerk` (0: none); the planner has one jerk limit, so this and MaximumDecelerationJerk read and set the same value"),

@@ -304,7 +304,20 @@ impl Ctx<'_> {
                         let why = "a scheduled output is a controller DINT tag (the Output word)".to_owned();
                         return Err(self.invalid(s, f("scheduled_output"), Problem::Rule { why }));
                     }
-                    Some(s) => Some(self.scheduled_output(s.get_ref(), axes, &f("scheduled_output"))?),
+                    Some(s) => {
+                        let scheduled = self.scheduled_output(s.get_ref(), axes, &f("scheduled_output"))?;
+                        let same = |o: &super::model::ScheduledOutput| {
+                            (o.axis, o.execution_target) == (scheduled.axis, scheduled.execution_target)
+                        };
+                        if let Some(first) = tags.iter().find(|t| t.scheduled_output.as_ref().is_some_and(same)) {
+                            let why = format!(
+                                "'{}' is already the scheduled output of this axis' execution target {}",
+                                first.name, scheduled.execution_target
+                            );
+                            return Err(self.invalid(s, f("scheduled_output"), Problem::Rule { why }));
+                        }
+                        Some(scheduled)
+                    }
                     None => None,
                 },
                 location: self.loc(&t.name),

@@ -43,7 +43,11 @@ impl Ctx<'_> {
         // `coarse_update_ms` is its shorthand. One of them, or both the same.
         let group = raw.tags.iter().enumerate().find_map(|(i, t)| {
             let period = t.coarse_update_ms.as_ref()?;
-            Some((period, format!("tags[{i}].coarse_update_ms")))
+            // Another type's is refused with the tags.
+            t.ty.get_ref()
+                .trim()
+                .eq_ignore_ascii_case("MOTION_GROUP")
+                .then(|| (period, format!("tags[{i}].coarse_update_ms")))
         });
         let (period, field) = match (&raw.coarse_update_ms, &group) {
             (Some(scene), Some((tag, field))) if scene.get_ref() != tag.get_ref() => {
@@ -56,7 +60,8 @@ impl Ctx<'_> {
             (Some(scene), _) => (scene, "coarse_update_ms".to_owned()),
             (None, Some((tag, field))) => (*tag, field.clone()),
             (None, None) => {
-                let why = "required: the coarse update period, ms (or a MOTION_GROUP tag's coarse_update_ms)".to_owned();
+                let why =
+                    "required: the coarse update period, ms (or a MOTION_GROUP tag's coarse_update_ms)".to_owned();
                 return Err(self.invalid(&raw.duration_s, "coarse_update_ms", Problem::Rule { why }));
             }
         };

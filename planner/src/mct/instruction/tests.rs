@@ -866,6 +866,11 @@ fn mctp_chooses_a_serial_arm_and_refuses_what_mct_refuses() {
     );
     let back = calculate(&r, TransformDirection::Forward, left).unwrap();
     assert!((0..3).all(|i| (back[i] - x[i]).abs() < 1e-12));
+    // The elbow far round (+100°): the left arm is −100°, not 260°.
+    let r = request(&s, &g, &j, [0.0, 100.0, 0.0]);
+    let x = calculate(&r, TransformDirection::Forward, [0.0, 100.0, 0.0]).unwrap();
+    let left = calculate(&r, TransformDirection::InverseLeftArm, x).unwrap();
+    assert!((left[1] + 100.0).abs() < 1e-9, "{left:?}");
     // Out of reach: ERR 67; the same system twice: ERR 61 EXERR 2.
     let far = calculate(&r, TransformDirection::Inverse, [2.0, 0.0, 0.0]).unwrap_err();
     assert_eq!(far.err(), 67);

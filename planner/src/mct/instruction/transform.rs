@@ -162,6 +162,22 @@ impl Transform {
         Ok(joints)
     }
 
+    /// The joint positions (axis units) for source position `source` on
+    /// the kept arm solution, revolute joints as the geometry gives them
+    /// (−180° to 180°), limits not checked (MCTP).
+    ///
+    /// # Errors
+    /// [`PositionError`]: out of reach, singular, other assembly.
+    pub(super) fn joints_principal(&self, source: Vec3) -> Result<Vec3, PositionError> {
+        let mut target = self.placement.target_from_source(source);
+        self.trim(&mut target);
+        if self.geometry.shares_third_axis() {
+            target[2] = source[2];
+        }
+        let q = self.geometry.inverse(target, self.solution)?;
+        Ok([0, 1, 2].map(|i| q[i] * self.scale[i]))
+    }
+
     pub(super) fn check_limits(&self, joints: Vec3) -> Result<(), PositionError> {
         for (i, axis) in self.joint_axes.iter().enumerate() {
             if let Some((min, max)) = axis.limits

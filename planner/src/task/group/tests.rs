@@ -105,3 +105,35 @@ fn status_words_follow_the_axes() {
     assert_eq!(task.strobe_positions(b), (0.0, 0.0));
     assert!(task.motion_bits(strobe).dn);
 }
+
+/// A fast-disabled axis whose joint still coasts (its fed position moves
+/// after the drive is off) does not hold back `.PC`.
+#[test]
+fn a_disabled_axis_that_coasts_does_not_hold_back_pc() {
+    let mut task = MotionTask::new(0.004).unwrap();
+    let a = axis(&mut task, "A", ProgrammedStopMode::FastStop, AxisType::Servo);
+    let b = axis(&mut task, "B", ProgrammedStopMode::FastStop, AxisType::Servo);
+    let jog = task.add_instruction("Jog");
+    let fast = MajOperands {
+        speed: 100.0,
+        ..MajOperands::default()
+    };
+    task.maj(a, jog, &fast).unwrap();
+    let jog_b = task.add_instruction("JogB");
+    task.maj(b, jog_b, &MajOperands { speed: 10.0, ..fast }).unwrap();
+    for _ in 0..50 {
+        task.update();
+    }
+    let mgs = task.add_instruction("Mgs");
+    task.group_stop(mgs, GroupStop::FastDisable);
+    // B's joint lags: after its drive is off its fed position keeps moving.
+    let mut fed = task.axis_state(b).command_position;
+    for _ in 0..100 {
+        fed += 0.05;
+        task.feed_actual_position(b, fed);
+        task.feed_actual_position(a, task.axis_state(a).command_position);
+        task.update();
+    }
+    assert!(!task.is_servo_on(b) && !task.is_servo_on(a));
+    assert!(task.motion_bits(mgs).pc && !task.motion_bits(mgs).ip);
+}

@@ -13,8 +13,10 @@
 //! * Output and Input: DINT tags. The cam writes the Output word's bits
 //!   its elements name each coarse update; enable bits of type Input read
 //!   the Input word.
-//! * Output Cam, Output Compensation: arrays from the element named
-//!   (Output Compensation indexed by output bit from there).
+//! * Output Cam, Output Compensation: arrays from the element named. The
+//!   cam uses every element from there to the end of the array (a spare
+//!   element is an Inactive one: `LatchType` 0); Output Compensation is
+//!   indexed by output bit from there.
 //! * Cam Start / End Position: the cam's range, Start below End (ERR 13 on
 //!   Cam End Position otherwise, on Cam Start for a number that is not
 //!   finite).

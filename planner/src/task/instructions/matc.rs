@@ -119,7 +119,7 @@ pub enum MatcFault {
     #[error("the cam profile is {} (ERR {})", if *.0 == 30 { "being calculated" } else { "not calculated" }, .0)]
     Profile(i32),
     /// Master Driven mode.
-    #[error("Instruction Mode master driven needs MDAC, which the twin does not simulate (ERR 13)")]
+    #[error("Instruction Mode master driven needs MDAC, which the twin does not simulate")]
     MasterDriven,
 }
 

@@ -657,8 +657,23 @@ impl Compiler<'_, '_, '_> {
         let c = self.numeric(spec, arg, e)?;
         Ok(match c.kind {
             CKind::Const(v) => Operand::Fixed(Arg::Number(v.as_f64())),
+            _ if spec.format == Format::Immediate => return Err(self.not_constant(spec, arg)),
             _ => Operand::Number(c),
         })
+    }
+
+    /// An Immediate operand given a tag or an expression: the controller's
+    /// verifier refuses it.
+    fn not_constant(&self, spec: &Spec, arg: &ArgText) -> Error {
+        self.error(
+            arg.span,
+            format!(
+                "{} '{}': the operand's format is Immediate: write a constant",
+                spec.name,
+                arg.text.trim()
+            ),
+            "not a constant",
+        )
     }
 
     /// An integer operand without words (Move Type, Length, a count).
@@ -678,6 +693,7 @@ impl Compiler<'_, '_, '_> {
         let c = self.numeric(spec, arg, e)?;
         match c.kind {
             CKind::Const(v) => self.fitting(spec, arg, v.as_i64()),
+            _ if spec.format == Format::Immediate => Err(self.not_constant(spec, arg)),
             _ => Ok(Operand::Integer(c)),
         }
     }

@@ -97,13 +97,22 @@ fn a_once_cam_switches_its_bit_ends_past_its_range_and_a_pending_cam_follows() {
     assert!(task.motion_bits(mc).pc);
     assert_eq!(task.output_cam_status(x, 0), (true, false));
     let mut second_on = None;
+    let mut latched_at = None;
     for j in 0..20 {
         task.update();
         if task.output_cam_words()[0].bits & 1 << 3 != 0 && second_on.is_none() {
             second_on = Some(j);
         }
+        if let Some(s) = task.output_cam_switches(x, 0).iter().find(|s| s.bit == 3 && s.on) {
+            latched_at = Some(s.time_s);
+        }
     }
     assert!(second_on.is_some_and(|j| (3..=5).contains(&j)), "{second_on:?}");
+    // Armed where the first cam left its range (400 mm), not where the
+    // update found the axis: its 10 mm edge at 410 mm, 0.82 s (and the
+    // jog's 25 µs).
+    let latched_at = latched_at.expect("the pending cam latched");
+    assert!((latched_at - 0.820_025).abs() < 1e-9, "{latched_at}");
     // MDOC: the bit goes off, the MAOC leaves .IP without .PC.
     task.disarm_output_cam(x, 0, true);
     assert!(!task.motion_bits(pending).ip && !task.motion_bits(pending).pc);
