@@ -694,8 +694,11 @@ pub struct TasksSummary {
     pub cleared_faults: Vec<crate::program::controller::Fault>,
     /// Each task's scans, scan times and overlaps, in scene order.
     pub per_task: Vec<TaskSummary>,
-    /// Motion instructions whose operand values were refused at run time.
+    /// Motion instructions whose operand values were refused at run time
+    /// (the first 1,000).
     pub refused: Vec<String>,
+    /// How many refusals there were in all.
+    pub refused_count: u64,
 }
 
 impl Stats {
@@ -872,6 +875,7 @@ impl Stats {
                         })
                         .collect(),
                     refused: c.refusals().to_vec(),
+                    refused_count: c.refusal_count(),
                 }
             }),
             variant: twin.scene().variant.clone(),
@@ -1096,6 +1100,14 @@ impl Summary {
             }
             for r in &t.refused {
                 let _ = writeln!(s, "  refused at run time: {r}");
+            }
+            if t.refused_count > t.refused.len() as u64 {
+                let _ = writeln!(
+                    s,
+                    "  refused at run time: {} more not listed ({} in all)",
+                    t.refused_count - t.refused.len() as u64,
+                    t.refused_count
+                );
             }
         }
         if let Some(p) = &self.parts {

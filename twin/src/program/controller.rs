@@ -277,6 +277,9 @@ pub struct Controller {
     log: Vec<Fault>,
     minor_total: i64,
     refusals: Vec<String>,
+    /// Every refusal so far, and how many of `refusals` are counted.
+    refusal_total: u64,
+    refusals_counted: usize,
     stats: TaskStats,
     /// The controller's clock, ns.
     clock_ns: i64,
@@ -302,6 +305,10 @@ impl std::fmt::Debug for Controller {
 
 /// The most minor faults kept with their text (all are counted).
 pub const MINOR_FAULTS_KEPT: usize = 1000;
+
+/// Run-time refusals kept for the summary; [`Controller::refusal_count`]
+/// counts them all.
+pub const REFUSALS_KEPT: usize = 1000;
 
 /// Equal-priority tasks alternate in slices of this much of the
 /// controller's time, ns (1756-PM005: "tasks of equal priority ... each
@@ -432,6 +439,8 @@ impl Controller {
             log: Vec::new(),
             minor_total: 0,
             refusals: Vec::new(),
+            refusal_total: 0,
+            refusals_counted: 0,
             stats: TaskStats::default(),
             clock_ns: 0,
             update_ns: ns(scene.coarse_update_ms),
@@ -896,6 +905,7 @@ impl Controller {
         result: Result<(), Box<Raised>>,
     ) -> bool {
         self.refusals.extend(refusals);
+        self.cap_refusals();
         if minor.is_empty() && cleared.is_empty() && result.is_ok() {
             return true;
         }
@@ -1002,10 +1012,27 @@ impl Controller {
     }
 
     /// Instructions that refused an operand's value at run time (ERR 13,
-    /// also in their control structure) and SSVs that refused a value.
+    /// also in their control structure) and SSVs that refused a value: the
+    /// first [`REFUSALS_KEPT`].
     #[must_use]
     pub fn refusals(&self) -> &[String] {
         &self.refusals
+    }
+
+    /// How many refusals there were in all.
+    #[must_use]
+    pub fn refusal_count(&self) -> u64 {
+        self.refusal_total
+    }
+
+    /// Counts the refusals added since the last call and keeps the first
+    /// [`REFUSALS_KEPT`] (a refusal every scan of a fast task would grow
+    /// the list without bound).
+    pub(super) fn cap_refusals(&mut self) {
+        let added = self.refusals.len().saturating_sub(self.refusals_counted);
+        self.refusal_total += added as u64;
+        self.refusals.truncate(REFUSALS_KEPT);
+        self.refusals_counted = self.refusals.len();
     }
 
     /// What the tasks cost.

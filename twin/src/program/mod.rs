@@ -237,6 +237,7 @@ impl Program {
         if !self.steps.is_empty() {
             let (mem, scratch, refusals) = self.plc.step_context();
             steps::fire(&mut self.steps, mem, scratch, task, refusals);
+            self.plc.cap_refusals();
         }
         self.plc.scan(task);
     }

@@ -264,9 +264,12 @@ impl<'a> Lexer<'a> {
             return Err(self.bad(start, format!("'{text}' is followed by a letter: expected a number")));
         }
         if real {
-            text.parse::<f64>()
-                .map(Tok::Real)
-                .map_err(|_| self.bad(start, format!("'{text}' is not a number")))
+            match text.parse::<f64>() {
+                // Past LREAL's range the literal would be infinity.
+                Ok(x) if x.is_infinite() => Err(self.bad(start, format!("'{text}' is too large for an LREAL"))),
+                Ok(x) => Ok(Tok::Real(x)),
+                Err(_) => Err(self.bad(start, format!("'{text}' is not a number"))),
+            }
         } else {
             text.parse::<i128>()
                 .map(Tok::Int)

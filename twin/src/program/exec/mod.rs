@@ -1153,7 +1153,7 @@ impl<'e> Exec<'e> {
     fn array_range(&mut self, a: &ArrayAt, n: i64) -> R<usize> {
         let start = self.eval(&a.start).as_i64();
         self.check()?;
-        if start < 0 || n < 0 || start + n > a.len as i64 {
+        if start < 0 || n < 0 || start.checked_add(n).is_none_or(|end| end > a.len as i64) {
             return Err(self.raise(
                 4,
                 20,
