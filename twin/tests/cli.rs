@@ -313,6 +313,8 @@ fn two_outputs_on_one_path_or_an_output_on_an_input_are_refused() {
     let dir = fresh_dir("cli", "same_path");
     let scene = edited("same_path_scene", &[]);
     let before = std::fs::read(&scene).expect("scene");
+    let mesh = root().join("scenes/robots/indexing_table/meshes/vblock_fixture.stl");
+    let mesh_before = std::fs::read(&mesh).expect("mesh");
     let out_file = dir.join("out");
     let cases: Vec<(Vec<std::ffi::OsString>, &str)> = vec![
         (
@@ -337,6 +339,28 @@ fn two_outputs_on_one_path_or_an_output_on_an_input_are_refused() {
             vec!["--trace".into(), scene.clone().into()],
             "the scene reads this file",
         ),
+        // Through a folder that does not exist yet.
+        (
+            vec![
+                "--trace".into(),
+                dir.join("n").join("z").into(),
+                "--summary".into(),
+                dir.join("n").join("..").join("n").join("z").into(),
+            ],
+            "--summary",
+        ),
+        // A file a frame takes.
+        (
+            vec![
+                "--frames".into(),
+                dir.join("ff").into(),
+                "--trace".into(),
+                dir.join("ff").join("iso-00000.png").into(),
+            ],
+            "inside the --frames folder",
+        ),
+        // A mesh the URDF names.
+        (vec!["--trace".into(), mesh.clone().into()], "the scene reads this file"),
     ];
     for (flags, needle) in cases {
         let out = twin()
@@ -351,7 +375,35 @@ fn two_outputs_on_one_path_or_an_output_on_an_input_are_refused() {
         assert!(err.contains(needle), "{flags:?}: {err}");
     }
     assert_eq!(std::fs::read(&scene).expect("scene"), before, "the scene was written");
+    assert_eq!(std::fs::read(&mesh).expect("mesh"), mesh_before, "the mesh was written");
     assert!(!out_file.exists(), "nothing is written when outputs are refused");
+    assert!(!dir.join("n").exists(), "nothing is written when outputs are refused");
+}
+
+/// With standard output closed (`twin run … | true`), printing the summary
+/// panicked before `--summary` was written; the file is written and the run
+/// ends normally.
+#[test]
+fn a_closed_standard_output_costs_no_file() {
+    let dir = fresh_dir("cli", "closed_stdout");
+    let scene = edited("closed_stdout_scene", &[]);
+    let summary = dir.join("s.json");
+    let mut child = twin()
+        .arg("run")
+        .arg(&scene)
+        .arg("--no-render")
+        .arg("--summary")
+        .arg(&summary)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run twin");
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("wait");
+    let err = stderr(&out);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(summary.exists(), "--summary was not written");
 }
 
 #[test]

@@ -272,6 +272,23 @@ impl RobotModel {
         build(&robot, &urdf_dir)
     }
 
+    /// The mesh files the robot's visuals and collisions were loaded
+    /// from, each once (the run's inputs, never to be overwritten).
+    pub fn mesh_files(&self) -> Vec<PathBuf> {
+        let mut files: Vec<PathBuf> = Vec::new();
+        for link in &self.links {
+            let geometries = link.visuals.iter().map(|v| &v.geometry);
+            for g in geometries.chain(link.collisions.iter().map(|c| &c.geometry)) {
+                if let Geometry::Mesh { path, .. } = g
+                    && !files.contains(path)
+                {
+                    files.push(path.clone());
+                }
+            }
+        }
+        files
+    }
+
     /// The link called `name`, if any.
     pub fn link_by_name(&self, name: &str) -> Option<LinkIndex> {
         self.links.iter().position(|l| l.name == name).map(LinkIndex)

@@ -192,10 +192,10 @@ fn bench_scene(path: &Path, runs: u32, render: bool) -> Result<BenchRow> {
 
 pub(crate) fn bench(args: &BenchArgs) -> Result<ExitCode> {
     let scenes = bench_scenes(&args.scenes)?;
-    println!(
+    outln!(
         "| scene | physics xRT | steps/s | bare steps/s | twin/bare | kinematic xRT | collision µs | parts µs | sensors µs | program | planner | sweep | physics | collision | trace | recording | frames |"
     );
-    println!(
+    outln!(
         "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     );
     for path in &scenes {
@@ -208,7 +208,7 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<ExitCode> {
         let collision = row.collision_us.map_or_else(|| "-".to_string(), |c| format!("{c:.2}"));
         let parts = row.parts_us.map_or_else(|| "-".to_string(), |c| format!("{c:.1}"));
         let sensors = row.sensors_us.map_or_else(|| "-".to_string(), |c| format!("{c:.1}"));
-        println!(
+        outln!(
             "| {} | {:.1} | {:.0} | {bare} | {ratio} | {:.0} | {collision} | {parts} | {sensors} | {} |",
             row.name,
             row.physics_rtf,

@@ -71,7 +71,7 @@ pub fn import(args: &ImportArgs) -> Result<ExitCode> {
             out_dir.join("aoi").display()
         )
     };
-    println!(
+    outln!(
         "{}: written, with {routines} routines under {}{aoi_text}",
         args.output.display(),
         out_dir.join("routines").display()

@@ -11,6 +11,31 @@ use twin::scene;
 use twin::source::Diagnostic;
 use twin::source::diag::stderr_wants_color;
 
+/// Writes to standard output; a closed output (`twin check … | head`)
+/// ends the writing quietly instead of panicking: the reader is gone, and
+/// the run's files are written all the same.
+macro_rules! out {
+    ($($t:tt)*) => {
+        $crate::emit(&format!($($t)*))
+    };
+}
+
+/// [`out!`] with a newline.
+macro_rules! outln {
+    () => {
+        $crate::emit("\n")
+    };
+    ($($t:tt)*) => {
+        $crate::emit(&format!("{}\n", format_args!($($t)*)))
+    };
+}
+
+/// What [`out!`] writes with.
+pub(crate) fn emit(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().write_all(text.as_bytes());
+}
+
 mod bench;
 mod import;
 mod run;
@@ -370,7 +395,7 @@ pub(crate) fn print_warnings(twin: &Twin) {
 fn check(path: &Path) -> Result<ExitCode> {
     let mut twin = load(path)?;
     let scene = twin.scene();
-    println!(
+    outln!(
         "{}: ok ({} axes, {} program steps, {} tasks, {} cameras, {:.3} s)",
         path.display(),
         twin.plant().axes().len(),
@@ -379,10 +404,10 @@ fn check(path: &Path) -> Result<ExitCode> {
         scene.cameras.len(),
         scene.duration_s
     );
-    print!("{}", programs(twin.scene()));
-    print!("{}", resolved(&twin));
-    print!("{}", io_list(&mut twin));
-    print!("{}", l5x_report(twin.scene()));
+    out!("{}", programs(twin.scene()));
+    out!("{}", resolved(&twin));
+    out!("{}", io_list(&mut twin));
+    out!("{}", l5x_report(twin.scene()));
     // The process ends here: freeing a large project's program piece by
     // piece would take a tenth of the load's time for nothing.
     std::mem::forget(twin);
@@ -403,7 +428,11 @@ fn programs(scene: &scene::Scene) -> String {
             // Add-On Instruction calls by instruction, in first-call order.
             let mut calls: Vec<(&str, usize)> = Vec::new();
             for c in routines.iter().flat_map(|r| r.routine.calls()) {
-                if let Some(a) = scene.add_on_instructions.iter().find(|a| a.name.eq_ignore_ascii_case(&c.name)) {
+                if let Some(a) = scene
+                    .add_on_instructions
+                    .iter()
+                    .find(|a| a.name.eq_ignore_ascii_case(&c.name))
+                {
                     match calls.iter_mut().find(|(n, _)| *n == a.name) {
                         Some((_, k)) => *k += 1,
                         None => calls.push((&a.name, 1)),
@@ -414,7 +443,11 @@ fn programs(scene: &scene::Scene) -> String {
                 String::new()
             } else {
                 let list: Vec<String> = calls.iter().map(|(n, k)| format!("{n} ×{k}")).collect();
-                format!("; {} Add-On Instruction call(s): {}", calls.iter().map(|c| c.1).sum::<usize>(), list.join(", "))
+                format!(
+                    "; {} Add-On Instruction call(s): {}",
+                    calls.iter().map(|c| c.1).sum::<usize>(),
+                    list.join(", ")
+                )
             };
             let _ = writeln!(
                 s,

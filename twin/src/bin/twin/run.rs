@@ -167,10 +167,21 @@ fn check_output_paths(args: &RunArgs, inputs: &[PathBuf]) -> Result<()> {
         ("--frames", &args.frames),
     ];
     let inputs: Vec<PathBuf> = inputs.iter().map(|p| same_file(p)).collect();
+    let frames = args.frames.as_deref().map(same_file);
     let mut seen: Vec<(&str, PathBuf)> = Vec::new();
     for (flag, path) in outputs {
         let Some(path) = path else { continue };
         let key = same_file(path);
+        if flag != "--frames"
+            && let Some(dir) = &frames
+            && key.starts_with(dir)
+        {
+            return Err(Refused(format!(
+                "{flag} {}: inside the --frames folder, whose files the frames replace",
+                path.display()
+            ))
+            .into());
+        }
         if let Some((other, _)) = seen.iter().find(|(_, k)| *k == key) {
             return Err(Refused(format!("{flag} {}: {other} writes there too", path.display())).into());
         }
@@ -187,19 +198,39 @@ fn check_output_paths(args: &RunArgs, inputs: &[PathBuf]) -> Result<()> {
 }
 
 /// A path as compared for sameness: an existing file with its links
-/// resolved; a new one as its resolved folder and its name.
-fn same_file(path: &Path) -> PathBuf {
+/// resolved; a new one as its deepest existing folder, resolved, and the
+/// rest of the path with `.` and `..` worked out (`out/n/../n/z` and
+/// `out/n/z` are one path even before `out/n` exists).
+pub(crate) fn same_file(path: &Path) -> PathBuf {
     if let Ok(p) = fs::canonicalize(path) {
         return p;
     }
     let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-    match (
-        absolute.parent().and_then(|d| fs::canonicalize(d).ok()),
-        absolute.file_name(),
-    ) {
-        (Some(dir), Some(name)) => dir.join(name),
-        _ => absolute,
+    let mut base = absolute.as_path();
+    let mut rest = Vec::new();
+    let resolved = loop {
+        if let Ok(p) = fs::canonicalize(base) {
+            break p;
+        }
+        match (base.parent(), base.components().next_back()) {
+            (Some(parent), Some(last)) => {
+                rest.push(last);
+                base = parent;
+            }
+            _ => break PathBuf::new(),
+        }
+    };
+    let mut out = resolved;
+    for c in rest.into_iter().rev() {
+        match c {
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            std::path::Component::CurDir => {}
+            other => out.push(other),
+        }
     }
+    out
 }
 
 /// Flags that cannot go together (exit code 64).
@@ -264,6 +295,10 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     }
     check_output_paths(args, &scene.input_files())?;
     let mut twin = Twin::new(scene)?;
+    // The robot's meshes are inputs too (the URDF names them).
+    let mut inputs = twin.scene().input_files();
+    inputs.extend(twin.plant().model().mesh_files());
+    check_output_paths(args, &inputs)?;
     crate::print_warnings(&twin);
     let mut expectations = Expectations::new(&mut twin).map_err(twin::run::RunError::Program)?;
     for (flag, path) in [
@@ -369,12 +404,7 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     }
     let mut summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), written);
     summary.expectations = expectations.outcomes();
-    if args.stdout {
-        // Standard output carries the recording.
-        eprint!("{}", summary.human());
-    } else {
-        print!("{}", summary.human());
-    }
+    // The file first: a closed standard output must not cost it.
     if let Some(p) = &args.summary {
         let file = OutputFile::new("--summary", p);
         let written = fs::write(file.writing(), summary.json())
@@ -383,6 +413,12 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
         if let Err(e) = written {
             failures.push(e);
         }
+    }
+    if args.stdout {
+        // Standard output carries the recording.
+        eprint!("{}", summary.human());
+    } else {
+        out!("{}", summary.human());
     }
     let code = if let Some(f) = &summary.physics_fault {
         eprintln!("error: {f} (check the URDF's masses and inertias and the drives' gains)");

@@ -354,7 +354,7 @@ pub(crate) fn test(args: &TestArgs) -> Result<ExitCode> {
     let runs = shard_runs(runs_of(&files, args.timeout), shard);
     if args.list {
         for r in &runs {
-            println!("{}", r.name);
+            outln!("{}", r.name);
         }
         return Ok(ExitCode::SUCCESS);
     }
@@ -509,12 +509,12 @@ pub(crate) fn test(args: &TestArgs) -> Result<ExitCode> {
     // The report.
     let failed: Vec<(&Run, &RunResult)> = runs.iter().zip(&results).filter(|(_, r)| !r.passed()).collect();
     if !failed.is_empty() {
-        println!();
+        outln!();
     }
     for (run, result) in &failed {
-        println!("{}:", run.name);
+        outln!("{}:", run.name);
         for line in failure_lines(run, result) {
-            println!("  {line}");
+            outln!("  {line}");
         }
     }
     let passed = runs.len() - failed.len();
@@ -527,7 +527,7 @@ pub(crate) fn test(args: &TestArgs) -> Result<ExitCode> {
         let _ = write!(last, ", {skipped} skipped");
     }
     let summed: f64 = results.iter().map(|r| r.wall_s).sum();
-    println!(
+    outln!(
         "{last} ({} runs in {total_wall_s:.2} s wall; {summed:.2} s of runs)",
         runs.len()
     );
@@ -576,7 +576,7 @@ fn report_line(run: &Run, r: &RunResult) {
         "FAIL"
     };
     let count = run.expectations.len();
-    println!(
+    outln!(
         "{word:<5} {}  {count} expectation{}  {:.2} s",
         run.name,
         if count == 1 { "" } else { "s" },
