@@ -48,3 +48,28 @@ fn a_real_literal_past_lreal_is_refused() {
     assert!(e.contains("too large") && e.contains("Main.st:1:"), "{e}");
     assert!(Sandbox::new(&[("R", "REAL")], "R := 1.7e308;").is_ok());
 }
+
+/// Each array was bounded, not their sum: ten `FBD_TIMER[1000000]` took
+/// 2.17 GB. The tags' total is checked before anything is allocated.
+#[test]
+fn tag_memory_is_bounded_in_sum_before_it_is_allocated() {
+    let names: Vec<String> = (0..20).map(|i| format!("T{i}")).collect();
+    let tags: Vec<(&str, &str)> = names.iter().map(|n| (n.as_str(), "FBD_TIMER[1000000]")).collect();
+    let e = match Sandbox::new(&tags, "") {
+        Ok(_) => panic!("20 million timers load"),
+        Err(e) => e,
+    };
+    assert!(e.contains("tag T1:") && e.contains("budget for tag memory"), "{e}");
+    // At the bound: 2^24 DINTs in 17 arrays of 986,895 (and one short).
+    let per = twin::program::memory::MAX_TAG_SLOTS / 17;
+    let last = twin::program::memory::MAX_TAG_SLOTS - 16 * per;
+    let ty_full = format!("DINT[{per}]");
+    let ty_last = format!("DINT[{last}]");
+    let mut at_bound: Vec<(&str, &str)> = names[..16].iter().map(|n| (n.as_str(), ty_full.as_str())).collect();
+    at_bound.push(("Last", ty_last.as_str()));
+    assert!(Sandbox::new(&at_bound, "").is_ok(), "at the bound");
+    let ty_over = format!("DINT[{}]", last + 1);
+    at_bound.pop();
+    at_bound.push(("Last", ty_over.as_str()));
+    assert!(Sandbox::new(&at_bound, "").is_err(), "one past the bound");
+}

@@ -115,6 +115,39 @@ struct Scoped {
     in_programs: bool,
 }
 
+/// The most slots (values) all the tags of a scene may take together:
+/// 2²⁴, about 300 MB. Each array is bounded by itself
+/// ([`crate::scene::MAX_ARRAY_LEN`]); this bounds their sum, where a
+/// structure element takes a slot per member (ten `FBD_TIMER[1000000]`
+/// would take 130 million).
+pub const MAX_TAG_SLOTS: usize = 1 << 24;
+
+/// The first tag (controller tags, then each program's) with which the
+/// scene's tags pass [`MAX_TAG_SLOTS`]: its name, where it is written and
+/// the slots they would take up to it. Counted before any is allocated.
+#[must_use]
+pub fn over_budget(scene: &crate::scene::Scene) -> Option<(String, crate::scene::Location, usize)> {
+    let layouts = Layouts::of(&scene.data_types);
+    let mut total = 0usize;
+    let controller = scene.tags.iter().map(|t| (t.name.clone(), t));
+    let programs = scene
+        .programs()
+        .flat_map(|p| p.tags.iter().map(move |t| (format!("{}.{}", p.name, t.name), t)));
+    for (name, t) in controller.chain(programs) {
+        let stride = match (scalar(t.ty.base), structure(t.ty.base), t.ty.base) {
+            (Some(_), ..) => 1,
+            (_, Some(s), _) => s.size(),
+            (.., BaseType::User(u)) => layouts.get(u.index).slots,
+            _ => 0,
+        };
+        total = total.saturating_add(t.ty.array_len.unwrap_or(1).saturating_mul(stride));
+        if total > MAX_TAG_SLOTS {
+            return Some((name, t.location, total));
+        }
+    }
+    None
+}
+
 impl Memory {
     /// The tag memory of a scene: its axes, its controller tags, then each
     /// program's tags under `Program.Tag`, with their initial values.

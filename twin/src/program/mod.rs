@@ -129,6 +129,15 @@ impl Program {
                 )));
             }
         }
+        if let Some((name, at, slots)) = memory::over_budget(scene) {
+            return Err(Box::new(Diagnostic::error(format!(
+                "{}:{}:{}: tag {name}: the tags would take {slots} values with it, more than the {} a scene may have (twin's budget for tag memory)",
+                scene.path.display(),
+                at.line,
+                at.column,
+                memory::MAX_TAG_SLOTS
+            ))));
+        }
         let mut mem = Memory::of_scene(scene);
         // A slot for each traced rung's condition-out, after the tags'.
         let traced_rungs: Vec<_> = scene

@@ -11,7 +11,7 @@
 //! | --- | --- |
 //! | every `<origin>` `xyz`, `rpy` | finite; `xyz` within ±[`MAX_LENGTH_M`] |
 //! | `<inertial><mass value>` | finite, ≥ 0, ≤ [`MAX_MASS_KG`] (0: no inertial) |
-//! | `<inertial><inertia>` (with a mass) | finite; symmetric positive-definite (every principal moment > 0); each principal moment at most the sum of the other two (the triangle inequality every rigid body obeys, to 10⁻⁶ relative) |
+//! | `<inertial><inertia>` (with a mass) | finite; symmetric positive-definite (every principal moment > 0); each principal moment at most the sum of the other two (the triangle inequality every rigid body obeys, to 10⁻⁶ relative); the largest at most mass × [`MAX_LENGTH_M`]² (what the mass could have if it lay that far from its centre: a larger moment is not a body a scene can hold, and it makes the multibody diverge) |
 //! | `<box size>`, `<sphere radius>`, `<cylinder>`/`<capsule>` `radius`, `length` | finite, > 0, ≤ [`MAX_LENGTH_M`] |
 //! | `<mesh scale>` | finite, non-zero, magnitude ≤ 10⁶ |
 //! | `<limit>` `lower`, `upper`, `effort`, `velocity` | finite; `lower ≤ upper`; `effort`, `velocity` ≥ 0 |
@@ -84,7 +84,7 @@ fn link_finding(link: &urdf_rs::Link) -> Option<Finding> {
         ));
     }
     if mass > 0.0
-        && let Some(p) = inertia_problem(&i.inertia)
+        && let Some(p) = inertia_problem(&i.inertia, mass)
     {
         return Some(at("inertial/inertia", p));
     }
@@ -183,7 +183,7 @@ fn geometry_problem(geometry: &urdf_rs::Geometry) -> Option<(&'static str, Strin
     }
 }
 
-fn inertia_problem(i: &urdf_rs::Inertia) -> Option<String> {
+fn inertia_problem(i: &urdf_rs::Inertia, mass_kg: f64) -> Option<String> {
     let values = [i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz];
     if !values.iter().all(|v| v.is_finite()) {
         return Some(format!("ixx..izz {values:?} must be finite"));
@@ -194,6 +194,13 @@ fn inertia_problem(i: &urdf_rs::Inertia) -> Option<String> {
     if moments[0] <= 0.0 {
         return Some(format!(
             "not positive-definite: principal moments {moments:?} kg·m² (every one must be > 0)"
+        ));
+    }
+    let largest = mass_kg * MAX_LENGTH_M * MAX_LENGTH_M;
+    if moments[2] > largest {
+        return Some(format!(
+            "principal moment {} kg·m² is more than mass × {MAX_LENGTH_M:e} m squared ({largest:e} kg·m²): no body in a scene has it",
+            moments[2]
         ));
     }
     let tolerance = 1e-6 * moments[2];
@@ -305,6 +312,17 @@ mod tests {
             (
                 urdf(
                     "<inertial><mass value=\"1\"/><inertia ixx=\"1e-6\" ixy=\"0\" ixz=\"0\" iyy=\"1e-6\" iyz=\"0\" izz=\"1e3\"/></inertial>",
+                    "",
+                ),
+                "link arm",
+                "inertial/inertia",
+                4,
+            ),
+            // 1e20 on a 4 kg link passed and the multibody diverged (J1 at
+            // 27,565° after 12 ms, exit 0).
+            (
+                urdf(
+                    "<inertial><mass value=\"4\"/><inertia ixx=\"1e20\" ixy=\"0\" ixz=\"0\" iyy=\"1e20\" iyz=\"0\" izz=\"1e20\"/></inertial>",
                     "",
                 ),
                 "link arm",
