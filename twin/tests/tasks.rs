@@ -390,6 +390,29 @@ fn twin_check_reports_a_routine_syntax_error_with_file_line_and_column() {
     assert!(stderr.contains("Main.st:3:8: expected an operand"), "{stderr}");
 }
 
+/// Issue 39, 16: an instance's output read in one of its own call's
+/// inputs (`Execute := NOT Move.Busy`) was refused with "'Move' is never
+/// called"; the instance is now made before its inputs are compiled.
+#[test]
+fn an_iec_call_may_read_its_own_instances_outputs() {
+    let routine = "Move(Axis := Table, Execute := NOT Move.Busy AND NOT Move.Done, Position := 90.0, Velocity := 180.0,\n\
+                        Acceleration := 1800.0, Deceleration := 1800.0, Jerk := 18000.0,\n\
+                        Direction := MC_Positive_Direction, BufferMode := MC_Aborting);\n\
+                   IF Move.Done THEN Finished := TRUE; END_IF;";
+    let tags = format!("{}{}", tag("Finished", "BOOL"), tag("Move", "MC_MoveModulo"));
+    let path = scene("iec_fb_self_read", &tags, routine, 4.0);
+    let text = std::fs::read_to_string(&path).expect("scene");
+    let text = text
+        .replace("main = \"Main.st\"", "main = { file = \"Main.st\", dialect = \"iec\" }")
+        .replacen("kind = \"rotary\"", "kind = \"rotary\"\nmodulo_period = 360.0", 1);
+    std::fs::write(&path, text).expect("scene");
+    let mut twin = load(&path);
+    for _ in 0..300 {
+        twin.step();
+    }
+    assert_eq!(value(&twin, "Finished"), Value::Bool(true));
+}
+
 #[test]
 fn an_iec_routine_calls_mc_move_modulo_on_its_instance_and_reads_its_outputs() {
     let routine = "Trig.CLK := TRUE; R_TRIG(Trig); IF Trig.Q THEN Go := TRUE; END_IF;\n\

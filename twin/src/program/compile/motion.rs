@@ -1099,7 +1099,28 @@ impl Compiler<'_, '_, '_> {
             .iter()
             .map(|_| Operand::Fixed(Arg::Absent))
             .collect();
-        for arg in &call.args {
+        // The instance first, with the axis its call names: another input
+        // may read its outputs (`Execute := NOT MM.Busy`).
+        let axis_arg = call
+            .args
+            .iter()
+            .position(|a| a.name.as_ref().is_some_and(|(n, _)| n.eq_ignore_ascii_case("Axis")));
+        let mut axis = None;
+        if let (Some(k), Some((i, spec))) = (axis_arg, instruction.operand("Axis")) {
+            let op = self.operand(instruction, spec, &call.args[k])?;
+            if let Operand::Fixed(Arg::Axis(h)) = op {
+                axis = Some(h);
+            }
+            operands[i] = op;
+        }
+        let instance = self
+            .env
+            .instance(&info.name, axis)
+            .map_err(|message| self.error(call.name_span, message, ""))?;
+        for (k, arg) in call.args.iter().enumerate() {
+            if Some(k) == axis_arg {
+                continue;
+            }
             let Some((input, span)) = &arg.name else {
                 return err(
                     self,
@@ -1128,14 +1149,6 @@ impl Compiler<'_, '_, '_> {
             }
             operands[i] = self.operand(instruction, spec, arg)?;
         }
-        let axis = operands.iter().find_map(|o| match o {
-            Operand::Fixed(Arg::Axis(h)) => Some(*h),
-            _ => None,
-        });
-        let instance = self
-            .env
-            .instance(&info.name, axis)
-            .map_err(|message| self.error(call.name_span, message, ""))?;
         let compiled = MotionCall {
             instruction,
             operands,
