@@ -192,21 +192,21 @@ impl MotionTask {
                 run.last_axis = p;
                 run.last_cam = to;
                 let inside = start <= to && to <= end;
-                if inside || run.mode == CamMode::Continuous {
-                    t.bits = run.cam.evaluate(&mut run.latches, &step, &mut t.switches);
-                } else {
+                // The elements' own edges first (one that ends at the range's
+                // end unlatches where the cam crosses it, inside the update).
+                t.bits = run.cam.evaluate(&mut run.latches, &step, &mut t.switches);
+                if !inside && run.mode != CamMode::Continuous {
+                    // Outside the range: what is still on goes off now.
                     for l in &mut run.latches {
                         *l = Default::default();
                     }
-                    if t.bits != 0 {
-                        for bit in 0..32 {
-                            if t.bits >> bit & 1 == 1 {
-                                t.switches.push(Switch {
-                                    time_s: now_s,
-                                    bit,
-                                    on: false,
-                                });
-                            }
+                    for bit in 0..32 {
+                        if t.bits >> bit & 1 == 1 {
+                            t.switches.push(Switch {
+                                time_s: now_s,
+                                bit,
+                                on: false,
+                            });
                         }
                     }
                     t.bits = 0;

@@ -218,3 +218,26 @@ fn refusals() {
     assert!(task.motion_bits(mc).er);
     assert_eq!(task.output_cam_status(x, 0), (false, false));
 }
+
+/// A once cam whose element ends at the range's end: its bit goes off
+/// where the cam crosses the end, inside the update, not at the update.
+#[test]
+fn an_element_ending_at_the_range_end_switches_off_at_the_crossing() {
+    let (mut task, x) = conveyor();
+    let cams = [bead(1, 300.0, 401.0)];
+    let mc = task.add_instruction("Cam");
+    task.maoc(x, mc, &operands(&cams, &[], 0, 0)).unwrap();
+    let mut off = None;
+    for _ in 0..250 {
+        task.update();
+        if let Some(s) = task.output_cam_switches(x, 0).iter().find(|s| !s.on) {
+            off = Some(s.time_s);
+        }
+    }
+    // Right is clamped to the end, 400 mm: 0.8 s (and the jog's 25 µs),
+    // between two updates (0.8 s falls on one; the crossing is 25 µs
+    // after it).
+    let off = off.expect("switched off");
+    assert!((off - 0.800_025).abs() < 1e-9, "{off}");
+    assert!(task.motion_bits(mc).pc);
+}
