@@ -12,7 +12,7 @@ use crate::catalogue::words::{MGS_STOP_MODE, motion_control, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, NoFault, Refusal};
 use crate::task::group::GroupStop;
-use crate::task::{Args, MotionTask};
+use crate::task::{Args, InstructionHandle, MotionTask};
 
 /// Motion Group Stop.
 pub const MGS: Instruction = Instruction {
@@ -51,5 +51,20 @@ fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
         };
         task.group_stop(control, stop);
         Ok(())
+    })
+}
+
+/// Runs a group instruction whose only operands are the group and its
+/// control structure (MGSD, MGSR, MGSP): `run` on the control structure,
+/// on a one-shot rung; these never refuse.
+pub(super) fn group_call(
+    task: &mut MotionTask,
+    args: &Args<'_>,
+    run: fn(&mut MotionTask, InstructionHandle),
+) -> Result<(), Fault> {
+    let control = args.control(1);
+    one_shot(task, control, |task| {
+        run(task, control);
+        Ok::<(), NoFault>(())
     })
 }

@@ -1,9 +1,12 @@
-//! MGSP (Motion Group Strobe Position): latches every axis' StrobeActualPosition and StrobeCommandPosition at one instant (`task/group.rs`). `.DN` in the scan it
-//! executes; no `.IP` or `.PC`.
+//! MGSP (Motion Group Strobe Position): latches every axis'
+//! StrobeActualPosition and StrobeCommandPosition at one instant
+//! (`task/group.rs`). `.DN` in the scan it executes; no
+//! `.IP` or `.PC`.
 
-use super::entry::{Instruction, one_shot};
+use super::entry::Instruction;
+use super::mgs::group_call;
 use crate::catalogue::words::GROUP_AND_CONTROL;
-use crate::instruction::{Fault, NoFault};
+use crate::instruction::Fault;
 use crate::task::{Args, MotionTask};
 
 /// Motion Group Strobe Position.
@@ -17,9 +20,5 @@ pub const MGSP: Instruction = Instruction::positional(
 );
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
-    let control = args.control(1);
-    one_shot(task, control, |task| {
-        task.group_strobe(control);
-        Ok::<(), NoFault>(())
-    })
+    group_call(task, args, MotionTask::group_strobe)
 }

@@ -1,9 +1,11 @@
-//! MGSR (Motion Group Shutdown Reset): takes every shut-down axis of the motion group out of Shutdown, as MASR does (`task/group.rs`). `.DN` in the scan it
-//! executes; no `.IP` or `.PC`.
+//! MGSR (Motion Group Shutdown Reset): takes every shut-down axis of the
+//! motion group out of Shutdown, as MASR does (`task/group.rs`). `.DN` in the scan it executes; no
+//! `.IP` or `.PC`.
 
-use super::entry::{Instruction, one_shot};
+use super::entry::Instruction;
+use super::mgs::group_call;
 use crate::catalogue::words::GROUP_AND_CONTROL;
-use crate::instruction::{Fault, NoFault};
+use crate::instruction::Fault;
 use crate::task::{Args, MotionTask};
 
 /// Motion Group Shutdown Reset.
@@ -17,9 +19,5 @@ pub const MGSR: Instruction = Instruction::positional(
 );
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
-    let control = args.control(1);
-    one_shot(task, control, |task| {
-        task.group_shutdown_reset(control);
-        Ok::<(), NoFault>(())
-    })
+    group_call(task, args, MotionTask::group_shutdown_reset)
 }
