@@ -357,7 +357,16 @@ fn two_outputs_on_one_path_or_an_output_on_an_input_are_refused() {
                 "--trace".into(),
                 dir.join("ff").join("iso-00000.png").into(),
             ],
-            "inside the --frames folder",
+            "a frame of the --frames folder takes this name",
+        ),
+        (
+            vec![
+                "--frames".into(),
+                dir.join("ff").into(),
+                "--summary".into(),
+                dir.join("ff").join("iso-t1.5.png").into(),
+            ],
+            "a frame of the --frames folder takes this name",
         ),
         // A mesh the URDF names.
         (vec!["--trace".into(), mesh.clone().into()], "the scene reads this file"),
@@ -1095,16 +1104,56 @@ fn a_failed_expectation_attaches_a_picture_of_every_camera() {
         .skip(1)
         .filter_map(|s| s.split("]]").next())
         .find(|p| p.ends_with(".png"));
+    // The summary, trace and recording sit beside the pictures.
+    for file in ["summary.json", "trace.csv"] {
+        assert!(xml.contains(&format!("{file}]]")), "{file} attached: {xml}");
+    }
+    let rerun_stderr = std::fs::read_dir(&artifacts)
+        .expect("artifacts")
+        .filter_map(Result::ok)
+        .map(|e| std::fs::read_to_string(e.path().join("stderr.txt")).unwrap_or_default())
+        .collect::<String>();
     match picture {
         Some(p) => {
             assert!(std::path::Path::new(p).is_file(), "{p}");
             assert!(p.contains("iso-t"), "named after the camera and the time: {p}");
         }
         None => {
-            // No Vulkan adapter: the run says so; CI has lavapipe.
-            assert!(std::env::var_os("CI").is_none(), "no picture in CI: {xml}");
-            eprintln!("SKIPPED the picture check: no frames rendered ({xml})");
+            // Only a machine with no Vulkan adapter takes no picture, and
+            // the re-run says so; CI has lavapipe.
+            assert!(
+                std::env::var_os("CI").is_none() && rerun_stderr.contains("no Vulkan adapter"),
+                "no picture: {xml}\n{rerun_stderr}"
+            );
+            eprintln!("SKIPPED the picture check: no Vulkan adapter ({rerun_stderr})");
         }
+    }
+}
+
+/// Outputs may share the `--frames` folder under names no frame takes:
+/// `twin test --artifacts` writes the summary, trace and recording beside
+/// the pictures.
+#[test]
+fn outputs_beside_the_frames_are_kept() {
+    let dir = fresh_dir("cli", "beside_frames");
+    let scene = plain_scene("beside_frames_scene");
+    let frames = dir.join("f");
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--duration", "0.1", "--frames-at", "0.05"])
+        .arg("--frames")
+        .arg(&frames)
+        .arg("--summary")
+        .arg(frames.join("summary.json"))
+        .arg("--trace")
+        .arg(frames.join("trace.csv"))
+        .output()
+        .expect("run twin");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    for file in ["summary.json", "trace.csv"] {
+        let len = std::fs::metadata(frames.join(file)).map(|m| m.len()).unwrap_or(0);
+        assert!(len > 0, "{file} written beside the frames");
     }
 }
 

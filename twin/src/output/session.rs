@@ -374,6 +374,19 @@ impl Frames {
     }
 }
 
+/// Whether a frame of one of `cameras` may be written under `file_name`
+/// in the `--frames` folder: `<camera>-<frame>.png`, or
+/// `<camera>-t<seconds>.png` with `--frames-at`. Another file in that
+/// folder (a trace, a summary) is left alone by the frames.
+pub fn frame_may_take(file_name: &str, cameras: &[crate::scene::Camera]) -> bool {
+    cameras.iter().any(|c| {
+        file_name
+            .strip_prefix(c.name.as_str())
+            .and_then(|rest| rest.strip_prefix('-'))
+            .is_some_and(|rest| rest.len() > ".png".len() && rest.to_ascii_lowercase().ends_with(".png"))
+    })
+}
+
 /// The recording of a twin built without the `rerun` feature: it logs
 /// nothing, and refuses to be asked for a file or a viewer.
 #[cfg(not(feature = "rerun"))]

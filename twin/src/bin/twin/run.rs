@@ -157,9 +157,10 @@ impl Trace {
     }
 }
 
-/// Refuses two outputs on one path and an output on a file the scene
-/// reads: either would silently lose data.
-fn check_output_paths(args: &RunArgs, inputs: &[PathBuf]) -> Result<()> {
+/// Refuses two outputs on one path, an output on a file the scene reads
+/// and an output in the `--frames` folder under a name a frame takes:
+/// each would silently lose data.
+fn check_output_paths(args: &RunArgs, inputs: &[PathBuf], cameras: &[twin::scene::Camera]) -> Result<()> {
     let outputs = [
         ("--trace", &args.trace),
         ("--summary", &args.summary),
@@ -174,10 +175,14 @@ fn check_output_paths(args: &RunArgs, inputs: &[PathBuf]) -> Result<()> {
         let key = same_file(path);
         if flag != "--frames"
             && let Some(dir) = &frames
-            && key.starts_with(dir)
+            && key.parent() == Some(dir.as_path())
+            && key
+                .file_name()
+                .and_then(|f| f.to_str())
+                .is_some_and(|f| twin::output::session::frame_may_take(f, cameras))
         {
             return Err(Refused(format!(
-                "{flag} {}: inside the --frames folder, whose files the frames replace",
+                "{flag} {}: a frame of the --frames folder takes this name (<camera>-<frame>.png)",
                 path.display()
             ))
             .into());
@@ -293,12 +298,12 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     if let Some(mode) = args.plant {
         scene.plant = mode;
     }
-    check_output_paths(args, &scene.input_files())?;
+    check_output_paths(args, &scene.input_files(), &scene.cameras)?;
     let mut twin = Twin::new(scene)?;
     // The robot's meshes are inputs too (the URDF names them).
     let mut inputs = twin.scene().input_files();
     inputs.extend(twin.plant().model().mesh_files());
-    check_output_paths(args, &inputs)?;
+    check_output_paths(args, &inputs, &twin.scene().cameras)?;
     crate::print_warnings(&twin);
     let mut expectations = Expectations::new(&mut twin).map_err(twin::run::RunError::Program)?;
     for (flag, path) in [
