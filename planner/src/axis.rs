@@ -337,12 +337,25 @@ pub enum AxisConfigError {
     /// A soft travel limit set on an axis configured without them.
     #[error("the axis has no soft travel limits to change (give soft_travel_limits in its configuration)")]
     NoSoftTravelLimits,
-    /// The initial position is not finite.
-    #[error("axis initial position must be finite, got {value}")]
+    /// The initial position is not finite or past [`MAX_POSITION`].
+    #[error("axis initial position must be finite and at most 1e9 in magnitude, got {value}")]
     InitialPosition {
         /// Its value.
         value: f64,
     },
+}
+
+/// The largest magnitude an axis position may have, in axis units: an
+/// initial or home position, a soft travel limit, an MAM, MRP or
+/// MC_MoveModulo target. Past it a double resolves less than 10⁻⁷ of a
+/// unit, and the increments of a move vanish below the float's resolution
+/// (at 10³⁰⁸ a half turn moves nothing). Run-time targets past it are
+/// refused with ERR 13 on their operand.
+pub const MAX_POSITION: f64 = 1e9;
+
+/// Whether `position` is finite and within [`MAX_POSITION`].
+pub fn position_in_reach(position: f64) -> bool {
+    position.is_finite() && position.abs() <= MAX_POSITION
 }
 
 fn positive(field: &'static str, value: f64) -> Result<f64, AxisConfigError> {

@@ -410,7 +410,7 @@ impl MoveModulo {
     /// the order Position, Velocity, Acceleration, Deceleration, Jerk), an
     /// axis without modulo period, or `Options.EnableBlendingPosition`.
     pub fn new(inputs: &MoveModuloInputs, axis: &AxisConfig) -> Result<Self, MoveModuloError> {
-        if !(inputs.position.is_finite() && inputs.position >= 0.0) {
+        if !(crate::axis::position_in_reach(inputs.position) && inputs.position >= 0.0) {
             return Err(MoveModuloError::Position {
                 position: inputs.position,
             });

@@ -123,14 +123,15 @@ impl MotionTask {
     ///
     /// # Errors
     /// [`TaskError::Axis`] when the configuration or the position is invalid
-    /// (not finite, or outside the axis' soft travel limits).
+    /// (not finite or past [`crate::axis::MAX_POSITION`], or outside the
+    /// axis' soft travel limits).
     pub fn add_axis(&mut self, config: AxisConfig, initial_position: f64) -> Result<AxisHandle, TaskError> {
         let err = |source| TaskError::Axis {
             name: config.name.clone(),
             source,
         };
         config.validate().map_err(err)?;
-        if !initial_position.is_finite() {
+        if !crate::axis::position_in_reach(initial_position) {
             return Err(err(AxisConfigError::InitialPosition {
                 value: initial_position,
             }));

@@ -26,6 +26,9 @@
 //!   whole revolutions (`Position` = 720 + 90 ends at 90 after two more
 //!   turns); a negative position is refused (ERR 13).
 //! * 5, 6 (master offset moves) are not simulated: ERR 13, EXERR 2.
+//! * A `Position` past ±10⁹ units ([`crate::axis::MAX_POSITION`]) is
+//!   refused with ERR 13 on Position, as is an incremental move whose
+//!   target would pass it.
 //!
 //! Types 2–4 need a modulo axis: ERR 17 (Axis Mode Not Rotary) otherwise.
 //!
@@ -332,7 +335,7 @@ impl Mam {
             4 => MoveType::RotaryNegative,
             t => return Err(bad(exerr::MOVE_TYPE, t as f64)),
         };
-        if !o.position.is_finite() {
+        if !crate::axis::position_in_reach(o.position) {
             return Err(bad(exerr::POSITION, o.position));
         }
         let rotary = !matches!(move_type, MoveType::Absolute | MoveType::Incremental);
@@ -489,6 +492,9 @@ impl MotionTask {
             let m = Mam::new(operands, &a.config, start.velocity.abs())?;
             task.check_state(axis, Need::Motion)?;
             let target = m.target(start, &a.config);
+            if !crate::axis::position_in_reach(target) {
+                return Err(bad(exerr::POSITION, operands.position));
+            }
             if target != start.position {
                 task.check_overtravel(axis, target - start.position)?;
             }

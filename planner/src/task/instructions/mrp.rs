@@ -15,7 +15,7 @@
 //!   equal to the motion of the axis during the time it takes to execute"
 //!   is at most one coarse update of travel).
 //! * ERR 13 with EXERR 2 (Type), 3 (Position Select) or 4 (Position not
-//!   finite).
+//!   finite, or past ±10⁹ units: [`crate::axis::MAX_POSITION`]).
 //! * **Soft travel limits** (`AxisConfig::soft_travel_limits`, the spec's
 //!   Max Positive / Max Negative Travel): a redefined *actual* position
 //!   (the one soft overtravel checking watches; absolute or relative, either
@@ -28,10 +28,10 @@
 //! Choice: the redefinition completes inside the call (`.DN` at once; the
 //! spec allows several coarse updates).
 
-use crate::catalogue::words::{motion_control, ACTUAL_COMMAND, MRP_TYPE, op};
+use super::entry::{Instruction, no_load, one_shot};
+use crate::catalogue::words::{ACTUAL_COMMAND, MRP_TYPE, motion_control, op};
 use crate::catalogue::{CallStyle, Format, Kind};
 use crate::instruction::{Fault, fault};
-use super::entry::{Instruction, one_shot, no_load};
 use crate::instruction::{NoFault, Refusal};
 use crate::task::engine::Need;
 use crate::task::{Args, AxisHandle, InstructionHandle, MotionTask};
@@ -109,7 +109,7 @@ impl Mrp {
             1 => PositionSelect::Command,
             s => return Err(Refusal::operand(MRP.exerr("Position Select"), f64::from(s))),
         };
-        if !position.is_finite() {
+        if !crate::axis::position_in_reach(position) {
             return Err(Refusal::operand(MRP.exerr("Position"), position));
         }
         Ok(Self { kind, select, position })
@@ -138,7 +138,9 @@ impl Mrp {
 
 fn execute(task: &mut MotionTask, args: &Args<'_>) -> Result<(), Fault> {
     let control = args.control(1);
-    one_shot(task, control, |task| task.mrp(args.axis(0), control, args.code(2), args.code(3), args.number(4)))
+    one_shot(task, control, |task| {
+        task.mrp(args.axis(0), control, args.code(2), args.code(3), args.number(4))
+    })
 }
 
 fn check(_: &MotionTask, args: &Args<'_>) -> Result<(), Fault> {
