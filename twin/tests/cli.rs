@@ -1306,3 +1306,48 @@ fn shipped_scenes_with_expected_faults_pass_and_their_junit_reads_back() {
         assert!(names.iter().any(|n| n == expected), "{expected} in {names:?}");
     }
 }
+
+/// A one-line routine could cost minutes of wall time a simulated second;
+/// `--max-wall` stops a run cleanly between two updates: exit 7, the
+/// outputs written up to there, the summary saying where it stopped.
+#[test]
+fn max_wall_stops_the_run_with_exit_7_and_its_outputs() {
+    let dir = fresh_dir("cli", "max_wall");
+    let scene = plain_scene("max_wall_scene");
+    let (trace, summary) = (dir.join("t.csv"), dir.join("s.json"));
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--max-wall", "0.000001", "--trace"])
+        .arg(&trace)
+        .arg("--summary")
+        .arg(&summary)
+        .output()
+        .expect("run twin");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(7), "{err}");
+    assert!(
+        err.contains("--max-wall") && err.contains("stopped the run at t = 0.004 s"),
+        "{err}"
+    );
+    let rows = std::fs::read_to_string(&trace).expect("trace").lines().count();
+    assert_eq!(rows, 3, "the header, t = 0 and the one update run");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary).expect("summary")).expect("json");
+    assert_eq!(json["wall_limit"]["time_s"].as_f64(), Some(0.004), "{json}");
+    // A limit the run does not reach changes nothing.
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--duration", "0.1", "--max-wall", "600"])
+        .output()
+        .expect("run twin");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--max-wall", "0"])
+        .output()
+        .expect("run twin");
+    assert_eq!(out.status.code(), Some(64), "{}", stderr(&out));
+}

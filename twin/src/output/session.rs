@@ -579,9 +579,13 @@ pub struct Summary {
     /// How many axis faults were recorded in all.
     #[serde(skip_serializing_if = "is_zero")]
     pub axis_fault_count: u64,
-    /// Set when the physics state became non-finite and stopped the run.
+    /// Set when the physics state diverged (non-finite, or a joint or link ran away) and stopped the run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub physics_fault: Option<crate::plant::PhysicsFault>,
+    /// Set when `twin run --max-wall S` stopped the run: the wall-time
+    /// limit, s, and the simulated time reached.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wall_limit: Option<WallLimit>,
     /// Scenes with `[[tasks]]`: what the tasks did and cost, and their
     /// faults.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -603,6 +607,15 @@ pub struct Summary {
     /// where the axis was then.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub scheduled_outputs: Vec<ScheduledOutputSummary>,
+}
+
+/// A run stopped by `--max-wall` between two coarse updates.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct WallLimit {
+    /// The limit, s of wall time.
+    pub max_wall_s: f64,
+    /// Simulated time the run reached, s.
+    pub time_s: f64,
 }
 
 /// One scheduled output module's part of the summary.
@@ -863,6 +876,7 @@ impl Stats {
             axis_faults: self.axis_faults.clone(),
             axis_fault_count: self.axis_fault_count,
             physics_fault: twin.plant().physics_fault().cloned(),
+            wall_limit: None,
             tasks: (!twin.scene().tasks.is_empty()).then(|| {
                 let c = twin.program().controller();
                 let task_wall_s = c.stats().wall.as_secs_f64();

@@ -51,8 +51,9 @@ Examples:
 
 Exit codes:
   0 success; 2 an instruction reported an error; 3 a collision aborted the run;
-  4 a major controller fault stopped it; 5 the physics became non-finite;
-  6 an expectation ([[expect]]) failed and none of 2-5 happened; 64 usage
+  4 a major controller fault stopped it; 5 the physics diverged;
+  6 an expectation ([[expect]]) failed and none of 2-5 happened; 7 --max-wall
+  stopped the run before its end (none of 2-5 first); 64 usage
   error; 65 invalid input (scene, routine, URDF, mesh); 74 an output cannot
   be written or a viewer reached (it outweighs the others)";
 
@@ -65,11 +66,13 @@ mod exit {
     pub const COLLISION_ABORT: u8 = 3;
     /// A major controller fault stopped the run.
     pub const MAJOR_FAULT: u8 = 4;
-    /// The physics state became non-finite and stopped the run.
+    /// The physics state diverged (non-finite, or a joint or link ran away) and stopped the run.
     pub const PHYSICS_FAULT: u8 = 5;
     /// The run went to its end with none of 2–5, and an `[[expect]]`
     /// failed.
     pub const EXPECTATION_FAILED: u8 = 6;
+    /// `--max-wall` stopped the run before its end (none of 2–5 first).
+    pub const WALL_LIMIT: u8 = 7;
     /// Unknown flag or subcommand, a bad flag value, a flag this build lacks.
     pub const USAGE: u8 = 64;
     /// The scene, a routine, the URDF or a mesh is invalid.
@@ -229,6 +232,18 @@ struct RunArgs {
     /// test mode; for program tests, many times faster).
     #[arg(long, value_name = "MODE", value_parser = parse_plant)]
     plant: Option<scene::PlantMode>,
+    /// Stop the run after S seconds of wall time (checked between coarse
+    /// updates), writing every output up to there; exit code 7.
+    #[arg(long, value_name = "S", value_parser = parse_wall)]
+    max_wall: Option<f64>,
+}
+
+/// A `--max-wall`: seconds of wall time, positive and finite.
+fn parse_wall(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(s) if s > 0.0 && s.is_finite() => Ok(s),
+        _ => Err(format!("expected seconds of wall time (more than 0), found {text:?}")),
+    }
 }
 
 /// A `--plant` mode by name.

@@ -362,6 +362,7 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     };
     sinks.write(&twin);
     expectations.observe(&mut twin);
+    let mut wall_limit = None;
     for _ in 0..total {
         twin.step();
         stats.observe(&twin);
@@ -369,6 +370,16 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
         expectations.observe(&mut twin);
         progress.tick(twin.task().updates(), &wall);
         if twin.stopped() {
+            break;
+        }
+        if let Some(max_wall_s) = args.max_wall
+            && wall.elapsed().as_secs_f64() >= max_wall_s
+            && twin.task().updates() < total
+        {
+            wall_limit = Some(twin::output::session::WallLimit {
+                max_wall_s,
+                time_s: twin.time_s(),
+            });
             break;
         }
     }
@@ -409,6 +420,7 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     }
     let mut summary = stats.summary(&twin, wall.elapsed().as_secs_f64(), written);
     summary.expectations = expectations.outcomes();
+    summary.wall_limit = wall_limit;
     // The file first: a closed standard output must not cost it.
     if let Some(p) = &args.summary {
         let file = OutputFile::new("--summary", p);
@@ -437,6 +449,14 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     } else if summary.any_error() {
         eprintln!("error: an instruction reported an error (see the summary above)");
         exit::INSTRUCTION_ERROR
+    } else if let Some(w) = &summary.wall_limit {
+        eprintln!(
+            "error: --max-wall {} s stopped the run at t = {:.3} s of its {:.3} s; the outputs end there",
+            w.max_wall_s,
+            w.time_s,
+            total as f64 * twin.scene().coarse_update_s()
+        );
+        exit::WALL_LIMIT
     } else if summary.failed_expectations() > 0 {
         eprintln!(
             "error: {} of {} expectations failed (see above)",
