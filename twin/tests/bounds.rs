@@ -73,3 +73,431 @@ fn tag_memory_is_bounded_in_sum_before_it_is_allocated() {
     at_bound.push(("Last", ty_over.as_str()));
     assert!(Sandbox::new(&at_bound, "").is_err(), "one past the bound");
 }
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// A one-joint arm whose 4 kg forearm hangs 0.3 m off a horizontal joint,
+/// with `collision` inside the forearm's `<link>`, and a scene on it (a
+/// servo drive holding it against gravity) with `axis` and `drive` added
+/// to the axis' table; both written under `target/bounds/<name>/`.
+fn arm(name: &str, collision: &str, axis: &str, drive: &str) -> PathBuf {
+    let dir = common::fresh_dir("bounds", name);
+    std::fs::write(
+        dir.join("arm.urdf"),
+        format!(
+            r#"<robot name="arm">
+  <link name="base"/>
+  <link name="forearm">
+    <inertial><origin xyz="0.3 0 0"/><mass value="4"/>
+      <inertia ixx="0.01" iyy="0.05" izz="0.05" ixy="0" ixz="0" iyz="0"/></inertial>
+    {collision}
+  </link>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="forearm"/><origin xyz="0 0 1"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="200" velocity="5"/>
+  </joint>
+</robot>
+"#
+        ),
+    )
+    .expect("write URDF");
+    let path = dir.join("arm.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "name = \"arm\"\nduration_s = 0.5\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n\
+             [robot]\nurdf = \"arm.urdf\"\n\
+             [[axes]]\nname = \"J1\"\njoint = \"j1\"\nkind = \"rotary\"\nunits = \"deg\"\n\
+             max_velocity = 180.0\nmax_acceleration = 1800.0\nmax_deceleration = 1800.0\nmax_jerk = 18000.0\n\
+             in_position_window = 0.1\n{axis}\ndrive = {{ {drive} }}\n"
+        ),
+    )
+    .expect("write scene");
+    path
+}
+
+/// Loads `scene` and builds the twin: the load error's text, if any.
+fn build(scene: &Path) -> Result<twin::run::Twin, String> {
+    let s = twin::scene::load(scene).map_err(|e| e.to_string())?;
+    twin::run::Twin::new(s).map_err(|e| {
+        let mut text = e.to_string();
+        let mut cause = std::error::Error::source(&e);
+        while let Some(c) = cause {
+            text = format!("{text}: {c}");
+            cause = c.source();
+        }
+        text
+    })
+}
+
+/// The error of what must fail; `what` says what was wrongly accepted.
+fn refused<T, E: ToString>(r: Result<T, E>, what: &str) -> String {
+    match r {
+        Ok(_) => panic!("{what}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn twin_cmd() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_twin"))
+}
+
+/// A binary STL of `triangles` (each three corners, metres).
+fn stl(triangles: &[[[f32; 3]; 3]]) -> Vec<u8> {
+    let mut b = vec![0u8; 80];
+    b.extend((triangles.len() as u32).to_le_bytes());
+    for t in triangles {
+        b.extend([0u8; 12]);
+        for c in t.iter().flatten() {
+            b.extend(c.to_le_bytes());
+        }
+        b.extend([0u8; 2]);
+    }
+    b
+}
+
+/// A tetrahedron `size_m` across.
+fn tetrahedron(size_m: f32) -> Vec<[[f32; 3]; 3]> {
+    let [o, x, y, z] = [
+        [0.0, 0.0, 0.0],
+        [size_m, 0.0, 0.0],
+        [0.0, size_m, 0.0],
+        [0.0, 0.0, size_m],
+    ];
+    vec![[o, y, x], [o, x, z], [o, z, y], [x, y, z]]
+}
+
+/// `twin check /dev/zero` read the stream until memory ran out; every
+/// input is read up to its kind's bound (README budget table; the bound
+/// itself and one byte more: `source::read`'s unit tests).
+#[test]
+fn a_stream_without_end_is_refused_at_the_scene_bound() {
+    let out = twin_cmd().args(["check", "/dev/zero"]).output().expect("twin check");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_ne!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("/dev/zero") && err.contains("longer than 16 MiB"), "{err}");
+    // A mesh one byte past its bound (a sparse file: no disk is used).
+    let dir = common::fresh_dir("bounds", "endless_mesh");
+    std::fs::File::create(dir.join("part.stl"))
+        .and_then(|f| f.set_len(twin::source::InputKind::Mesh.max_bytes() + 1))
+        .expect("sparse mesh");
+    let scene = arm("endless_mesh_arm", "", "", "");
+    let urdf = scene.with_file_name("arm.urdf");
+    let text = std::fs::read_to_string(&urdf).expect("urdf").replace(
+        "</link>\n  <joint",
+        &format!(
+            "<visual><geometry><mesh filename=\"{}\"/></geometry></visual></link>\n  <joint",
+            dir.join("part.stl").display()
+        ),
+    );
+    std::fs::write(&urdf, text).expect("urdf");
+    let e = refused(build(&scene), "an endless mesh loads");
+    assert!(e.contains("longer than 64 MiB"), "{e}");
+}
+
+/// `position_loop_bandwidth_hz = 1e6` gave 2e14 N·m and joints 200° off
+/// with exit 0: a loop too fast for its substep is refused at its field;
+/// the bound itself loads.
+#[test]
+fn drive_bandwidths_too_fast_for_the_substep_are_refused_at_load() {
+    // physics_step_ms = 1 with 2 substeps: 0.5 ms.
+    let max_hz = twin::scene::MAX_LOOP_BANDWIDTH_STEP / (std::f64::consts::TAU * 0.5e-3);
+    let scene = arm("fast_loop", "", "", "position_loop_bandwidth_hz = 1e6");
+    let e = refused(build(&scene), "a 1 MHz loop loads");
+    assert!(
+        e.contains("arm.toml:") && e.contains("axes[0].drive.position_loop_bandwidth_hz") && e.contains("unstable"),
+        "{e}"
+    );
+    let at = arm(
+        "loop_at_bound",
+        "",
+        "",
+        &format!("velocity_loop_bandwidth_hz = {max_hz}"),
+    );
+    assert!(build(&at).is_ok(), "at the bound");
+    let past = arm(
+        "loop_past_bound",
+        "",
+        "",
+        &format!("velocity_loop_bandwidth_hz = {}", max_hz * 1.001),
+    );
+    assert!(build(&past).is_err(), "past the bound");
+    // A default bandwidth on a step too long for it names physics_step_ms.
+    let long = std::fs::read_to_string(&scene)
+        .expect("scene")
+        .replace("position_loop_bandwidth_hz = 1e6", "")
+        .replace("physics_step_ms = 1.0", "physics_step_ms = 4.0\nphysics_substeps = 1");
+    std::fs::write(&scene, long).expect("scene");
+    let e = refused(build(&scene), "80 Hz at 4 ms loads");
+    assert!(e.contains("physics_step_ms") && e.contains("80 Hz"), "{e}");
+}
+
+/// Finite divergence ran to exit 0; a gain set that passes the load checks
+/// but makes the joint run away (a `system_inertia` 10⁴ times the arm's)
+/// stops the run as a physics fault within 50 ms, naming the link.
+#[test]
+fn a_runaway_joint_stops_the_run_as_a_physics_fault() {
+    let runaway = "system_inertia = 4000.0, torque_limit_positive = 1e30, torque_limit_negative = -1e30";
+    let scene = arm("runaway", "", "", runaway);
+    let mut twin = build(&scene).unwrap_or_else(|e| panic!("{e}"));
+    while !twin.stopped() && twin.time_s() < 0.5 {
+        twin.step();
+    }
+    let fault = twin.plant().physics_fault().cloned().expect("a physics fault");
+    assert!(fault.time_s <= 0.05, "stopped at {} s: {fault}", fault.time_s);
+    assert!(fault.what.contains("link forearm"), "{fault}");
+    // The right inertia holds the arm: no fault.
+    let scene = arm(
+        "held",
+        "",
+        "",
+        "system_inertia = 0.41, torque_limit_positive = 1e30, torque_limit_negative = -1e30",
+    );
+    let mut twin = build(&scene).unwrap_or_else(|e| panic!("{e}"));
+    while !twin.stopped() && twin.time_s() < 0.5 {
+        twin.step();
+    }
+    assert!(twin.plant().physics_fault().is_none());
+    // The CLI's exit code.
+    let scene = arm("runaway_cli", "", "", runaway);
+    let out = twin_cmd()
+        .arg("run")
+        .arg(&scene)
+        .arg("--no-render")
+        .output()
+        .expect("twin run");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(5), "{err}");
+    assert!(err.contains("ran away") && err.contains("forearm"), "{err}");
+}
+
+/// `initial_position = -1e308` made a 180° move vanish below the float's
+/// resolution; positions are bounded at ±10⁹ units at load and at run
+/// time (ERR 13 on the operand).
+#[test]
+fn positions_beyond_reason_are_refused_at_load_and_at_run_time() {
+    let far = arm("far", "", "initial_position = -1e308", "");
+    let e = refused(build(&far), "-1e308 loads");
+    assert!(
+        e.contains("axes[0].initial_position") && e.contains("1000000000"),
+        "{e}"
+    );
+    let limits = arm("far_limits", "", "soft_travel_limits = [-2e9, 10.0]", "");
+    assert!(build(&limits).is_err(), "soft travel limits past the bound");
+    // On a virtual axis (no joint range) the bound itself loads.
+    let mut s = Sandbox::with_axes(
+        &["X"],
+        &[("M", "MOTION_INSTRUCTION"), ("P", "REAL"), ("E", "DINT"), ("Ex", "DINT")],
+        "MAM(X, M, 0, P, 10, unitspersec, 100, unitspersec2, 100, unitspersec2, trapezoidal, 100, 100, %ofTime, disabled, programmed, 0, none, 0, 0);\n\
+         E := M.ERR; Ex := M.EXERR;",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    s.set("P", twin::program::types::Value::Real(2e9));
+    s.scan();
+    assert_eq!(s.value("E"), Some(twin::program::types::Value::Int(13)), "MAM to 2e9");
+    assert_eq!(s.value("Ex"), Some(twin::program::types::Value::Int(3)), "on Position");
+    // At the bound: the move starts.
+    s.set("P", twin::program::types::Value::Real(1e9));
+    s.scan();
+    s.scan();
+    assert_eq!(s.value("E"), Some(twin::program::types::Value::Int(0)), "MAM to 1e9");
+}
+
+/// A 284-byte STL tetrahedron 10³⁰ m across as a collision shape passed
+/// `twin check` and hung the continuous collision check: a collision mesh
+/// is bounded like the URDF's primitives (10⁴ m from its frame).
+#[test]
+fn an_astronomical_collision_mesh_is_refused_at_load() {
+    for (name, size_m, ok) in [
+        ("tetra_huge", 1e30f32, false),
+        ("tetra_bound", 1e4, true),
+        ("tetra_past", 1.001e4, false),
+    ] {
+        let scene = arm(
+            name,
+            "<collision><geometry><mesh filename=\"tetra.stl\"/></geometry></collision>",
+            "",
+            "",
+        );
+        std::fs::write(scene.with_file_name("tetra.stl"), stl(&tetrahedron(size_m))).expect("stl");
+        std::fs::write(
+            &scene,
+            std::fs::read_to_string(&scene).expect("scene") + "[collision]\nreaction = \"stop\"\n",
+        )
+        .expect("scene");
+        match build(&scene) {
+            Ok(_) => assert!(ok, "{name} loads"),
+            Err(e) => {
+                assert!(!ok, "{name}: {e}");
+                assert!(e.contains("forearm") && e.contains("reaches"), "{e}");
+            }
+        }
+    }
+}
+
+/// VHACD ran without bound (20,000 triangles: more than two minutes): a
+/// mesh for `meshes = "convex_decomposition"` is bounded in triangles.
+#[test]
+fn convex_decomposition_is_bounded_in_triangles() {
+    let max = twin::plant::collision::MAX_DECOMPOSITION_TRIANGLES;
+    for (name, n, ok) in [("soup_bound", max, true), ("soup_past", max + 1, false)] {
+        // A soup of small tetrahedra' faces along a line: concave as a whole.
+        let mut triangles = Vec::new();
+        let mut k = 0usize;
+        while triangles.len() < n {
+            let x = k as f32 * 0.01;
+            for t in tetrahedron(0.008) {
+                if triangles.len() < n {
+                    triangles.push(t.map(|c| [c[0] + x, c[1], c[2]]));
+                }
+            }
+            k += 1;
+        }
+        let scene = arm(
+            name,
+            "<collision><geometry><mesh filename=\"soup.stl\"/></geometry></collision>",
+            "",
+            "",
+        );
+        std::fs::write(scene.with_file_name("soup.stl"), stl(&triangles)).expect("stl");
+        std::fs::write(
+            &scene,
+            std::fs::read_to_string(&scene).expect("scene")
+                + "[collision]\nreaction = \"stop\"\nmeshes = \"convex_decomposition\"\n",
+        )
+        .expect("scene");
+        match build(&scene) {
+            Ok(_) => assert!(ok, "{name} loads"),
+            Err(e) => {
+                assert!(!ok, "{name}: {e}");
+                assert!(e.contains("triangles") && e.contains("convex_hull"), "{e}");
+            }
+        }
+    }
+}
+
+/// A COLLADA index past its arrays was refused (exit 65) but mesh-loader's
+/// panic text reached stderr first.
+#[test]
+fn a_collada_index_past_its_arrays_is_refused_without_panic_text() {
+    let scene = arm(
+        "dae_index",
+        "<visual><geometry><mesh filename=\"part.dae\"/></geometry></visual>",
+        "",
+        "",
+    );
+    let dae = r##"<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit meter="1"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="g" name="g"><mesh>
+      <source id="g-pos"><float_array id="g-pos-a" count="9">0 0 0 1 0 0 0 1 0</float_array>
+        <technique_common><accessor source="#g-pos-a" count="3" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common></source>
+      <vertices id="g-v"><input semantic="POSITION" source="#g-pos"/></vertices>
+      <triangles count="1"><input semantic="VERTEX" source="#g-v" offset="0"/><p>0 1 999</p></triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"/></node></visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+"##;
+    std::fs::write(scene.with_file_name("part.dae"), dae).expect("dae");
+    let out = twin_cmd().arg("check").arg(&scene).output().expect("twin check");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(65), "{err}");
+    assert!(err.contains("part.dae"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// A 10,000-link chain took 4.8 GB to build (rapier's multibody keeps a
+/// Jacobian of every link over every joint): a robot has at most
+/// `MAX_LINKS` links, checked before anything is built.
+#[test]
+fn a_chain_of_links_past_the_bound_is_refused_before_it_is_built() {
+    let max = twin::plant::urdf::checks::MAX_LINKS;
+    let chain = |links: usize| {
+        let mut s = String::from("<robot name=\"chain\">\n<link name=\"l0\"/>\n");
+        for i in 1..links {
+            s.push_str(&format!(
+                "<link name=\"l{i}\"/>\n<joint name=\"j{i}\" type=\"fixed\"><parent link=\"l{}\"/><child link=\"l{i}\"/></joint>\n",
+                i - 1
+            ));
+        }
+        s + "</robot>\n"
+    };
+    let path = Path::new("chain.urdf");
+    assert!(
+        twin::plant::urdf::RobotModel::from_urdf_str(&chain(max), path).is_ok(),
+        "at the bound"
+    );
+    let e = refused(
+        twin::plant::urdf::RobotModel::from_urdf_str(&chain(max + 1), path),
+        "one link past the bound loads",
+    );
+    let m = e.to_string();
+    assert!(
+        m.starts_with(&format!("chain.urdf:{}: link l{max}:", max * 2 + 1)),
+        "{m}"
+    );
+    assert!(m.contains("257 links, more than the 256"), "{m}");
+    let e = refused(
+        twin::plant::urdf::RobotModel::from_urdf_str(&chain(10_000), path),
+        "10,000 links load",
+    );
+    assert!(e.to_string().contains("10000 links"), "{e}");
+}
+
+/// A scene of `tasks` periodic tasks of `programs` programs each (one
+/// statement a program), on the fixture table; loaded.
+fn tasks_scene(name: &str, tasks: usize, programs: usize, statement_us: f64) -> Result<twin::scene::Scene, String> {
+    let dir = common::fresh_dir("bounds", name);
+    std::fs::write(dir.join("Main.st"), "N := N + 1;\n").expect("routine");
+    let urdf = common::root().join("twin/tests/fixtures/robots/indexing_table.urdf");
+    let mut s = format!(
+        "name = \"tasks\"\nduration_s = 0.1\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n\
+         [robot]\nurdf = {urdf:?}\n[controller]\nstatement_us = {statement_us}\n\
+         [[tags]]\nname = \"N\"\ntype = \"DINT\"\n"
+    );
+    for t in 0..tasks {
+        s.push_str(&format!("[[tasks]]\nname = \"T{t}\"\nperiod_ms = 4.0\npriority = 5\n"));
+        for p in 0..programs {
+            s.push_str(&format!(
+                "[[tasks.programs]]\nname = \"P{t}_{p}\"\nmain = \"Main.st\"\n"
+            ));
+        }
+    }
+    let path = dir.join("tasks.toml");
+    std::fs::write(&path, s).expect("scene");
+    twin::scene::load(&path).map_err(|e| e.to_string())
+}
+
+/// The tasks, the programs a task schedules and the statements a run may
+/// execute per simulated second (1 s / `statement_us`) are bounded: each
+/// at its bound loads, one past it is refused naming its field.
+#[test]
+fn tasks_programs_and_statement_time_are_bounded() {
+    use twin::scene::{MAX_PROGRAMS_PER_TASK, MAX_TASKS, MIN_STATEMENT_US};
+    assert!(tasks_scene("tasks_at_bound", MAX_TASKS, 1, 1.0).is_ok());
+    let e = refused(tasks_scene("tasks_past_bound", MAX_TASKS + 1, 1, 1.0), "33 tasks load");
+    assert!(e.contains("tasks[32].name") && e.contains("at most 32 tasks"), "{e}");
+    assert!(tasks_scene("programs_at_bound", 1, MAX_PROGRAMS_PER_TASK, 1.0).is_ok());
+    let e = refused(
+        tasks_scene("programs_past_bound", 1, MAX_PROGRAMS_PER_TASK + 1, 1.0),
+        "1,001 programs load",
+    );
+    assert!(
+        e.contains("tasks[0].programs[1000].name") && e.contains("at most 1000 programs"),
+        "{e}"
+    );
+    assert!(tasks_scene("statement_at_bound", 1, 1, MIN_STATEMENT_US).is_ok());
+    let e = refused(
+        tasks_scene("statement_past_bound", 1, 1, MIN_STATEMENT_US * 0.99),
+        "a 9.9 ns statement loads",
+    );
+    assert!(e.contains("controller.statement_us"), "{e}");
+}

@@ -95,6 +95,7 @@ pub mod monitor;
 pub mod sweep;
 pub use bodies::{Body, CheckResult, CollisionModelError, Contact, ContactPoint};
 use bodies::{LocalSphere, RobotBody};
+pub use build::MAX_DECOMPOSITION_TRIANGLES;
 use build::{allowed_pairs, obstacle_shapes, reach_of, robot_bodies, self_pairs, vec3};
 pub(crate) use build::{pose_from_xyz_rpy_deg, scene_shape, shape_of};
 

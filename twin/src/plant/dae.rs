@@ -40,9 +40,36 @@
 //!   indexes arrays with indices from the file), is [`DaeError::Malformed`];
 //!   one without a single triangle is [`DaeError::Empty`].
 
+use std::cell::Cell;
 use std::collections::HashSet;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+thread_local! {
+    /// Set while [`quietly`] runs on this thread.
+    static QUIET: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Runs `f`, turning a panic into `Err` without the panic's message on
+/// stderr: the caller reports it as the file's error. The process' panic
+/// hook is wrapped once so that it stays silent for a panic inside
+/// `quietly` on the same thread and prints every other panic as before.
+fn quietly<T>(f: impl FnOnce() -> T) -> std::thread::Result<T> {
+    static WRAP: Once = Once::new();
+    WRAP.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !QUIET.with(Cell::get) {
+                previous(info);
+            }
+        }));
+    });
+    QUIET.with(|q| q.set(true));
+    let result = catch_unwind(AssertUnwindSafe(f));
+    QUIET.with(|q| q.set(false));
+    result
+}
 
 use crate::plant::mesh::TriMesh;
 use crate::plant::stl::winding_normal;
@@ -92,7 +119,7 @@ pub enum DaeError {
 /// [`DaeError::Read`] when the file cannot be read, otherwise whatever
 /// [`parse_dae`] reports.
 pub fn load_dae(path: &Path) -> Result<TriMesh, DaeError> {
-    let bytes = std::fs::read(path).map_err(|source| DaeError::Read {
+    let bytes = crate::source::read_bounded(path, crate::source::InputKind::Mesh).map_err(|source| DaeError::Read {
         path: path.to_path_buf(),
         source,
     })?;
@@ -155,7 +182,7 @@ pub fn parse_dae(bytes: &[u8], path: &Path) -> Result<TriMesh, DaeError> {
         )));
     }
     let asset = Asset::read(&doc).map_err(malformed)?;
-    let scene = catch_unwind(AssertUnwindSafe(|| mesh_loader::collada::from_str(text)))
+    let scene = quietly(|| mesh_loader::collada::from_str(text))
         .map_err(|_| malformed("the COLLADA parser failed on inconsistent indices or sources".to_string()))?
         .map_err(|e| malformed(e.to_string()))?;
 

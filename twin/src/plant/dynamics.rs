@@ -97,6 +97,15 @@ impl Dynamics {
         }
     }
 
+    /// A joint's actual velocity, rad/s or m/s; `None` in the kinematic
+    /// plant (a joint there is where its command is).
+    pub(crate) fn joint_velocity(&self, drive: usize) -> Option<f64> {
+        match self {
+            Self::Physics(sim) => Some(sim.joint_velocity(drive)),
+            Self::Kinematic(_) => None,
+        }
+    }
+
     /// A servo drive's torque in the last substep; `None` for a spring
     /// drive and in the kinematic plant (nothing is solved).
     pub(crate) fn drive_torque(&self, drive: usize) -> Option<f64> {

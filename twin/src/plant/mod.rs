@@ -173,14 +173,30 @@ impl PhysicsReplay<'_> {
     }
 }
 
-/// The physics state became NaN or infinite (a model or gains the solver
-/// cannot integrate). The run stops: a non-finite pose is never fed back
-/// as an actual position.
+/// How fast a joint may move before the physics counts it as run away:
+/// this many times its axis' maximum speed (`max_velocity`, as a program
+/// may have changed it), and never less than [`RUNAWAY_FLOOR_RAD_PER_S`]
+/// or [`RUNAWAY_FLOOR_M_PER_S`]. The planner never commands more than the
+/// maximum speed, and a joint the drive lets go falls far slower: only a
+/// solver fed gains or masses it cannot integrate gets there.
+pub const RUNAWAY_SPEED_FACTOR: f64 = 100.0;
+
+/// The least runaway speed of a rotary joint, rad/s (about 9,500 rpm).
+pub const RUNAWAY_FLOOR_RAD_PER_S: f64 = 1000.0;
+
+/// The least runaway speed of a linear joint, m/s.
+pub const RUNAWAY_FLOOR_M_PER_S: f64 = 100.0;
+
+/// The physics state became NaN or infinite, or diverged while finite (a
+/// joint faster than [`RUNAWAY_SPEED_FACTOR`] × its axis' maximum speed,
+/// a link farther than [`crate::scene::MAX_LENGTH_M`] from the world's
+/// origin): a model or gains the solver cannot integrate. The run stops
+/// at that update: the state is never fed back as actual positions.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct PhysicsFault {
     /// Simulated time of the update that produced it, s.
     pub time_s: f64,
-    /// What is not finite: the first link or joint found.
+    /// What diverged: the first link or joint found, and how.
     pub what: String,
 }
 
@@ -188,7 +204,7 @@ impl std::fmt::Display for PhysicsFault {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "the physics state became non-finite at t = {:.3} s: {}",
+            "the physics state diverged at t = {:.3} s: {}",
             self.time_s, self.what
         )
     }
@@ -350,7 +366,10 @@ impl Plant {
                 .collect();
         }
         let world_from_link = self.sim.world_from_link();
-        if let Some(what) = self.non_finite(&world_from_link) {
+        if let Some(what) = self
+            .non_finite(&world_from_link)
+            .or_else(|| self.runaway(task, &world_from_link))
+        {
             self.physics_fault = Some(PhysicsFault {
                 time_s: task.time_s(),
                 what,
@@ -526,11 +545,46 @@ impl Plant {
     fn non_finite(&self, world_from_link: &[([f64; 3], [f64; 4])]) -> Option<String> {
         let finite = |(t, q): &([f64; 3], [f64; 4])| t.iter().chain(q).all(|v| v.is_finite());
         if let Some(k) = world_from_link.iter().position(|p| !finite(p)) {
-            return Some(format!("link {}'s pose", self.model.links[k].name));
+            return Some(format!("link {}'s pose is not finite", self.model.links[k].name));
         }
         self.axes.iter().find_map(|axis| {
             let drive = axis.drive?;
-            (!self.sim.joint_position(drive).is_finite()).then(|| format!("axis {}'s joint position", axis.name))
+            (!self.sim.joint_position(drive).is_finite())
+                .then(|| format!("axis {}'s joint position is not finite", axis.name))
+        })
+    }
+
+    /// The first link past the scene's reach or joint past its runaway
+    /// speed ([`RUNAWAY_SPEED_FACTOR`]), named with the link it moves.
+    fn runaway(&self, task: &MotionTask, world_from_link: &[([f64; 3], [f64; 4])]) -> Option<String> {
+        let max_m = crate::scene::MAX_LENGTH_M;
+        if let Some(k) = world_from_link
+            .iter()
+            .position(|(t, _)| t.iter().map(|x| x * x).sum::<f64>() > max_m * max_m)
+        {
+            let [x, y, z] = world_from_link[k].0;
+            return Some(format!(
+                "link {} left the scene: at ({x:.3e}, {y:.3e}, {z:.3e}) m, farther than {max_m:e} m from the origin",
+                self.model.links[k].name
+            ));
+        }
+        self.axes.iter().find_map(|axis| {
+            let (drive, joint) = (axis.drive?, axis.joint?);
+            let speed = self.sim.joint_velocity(drive)?.abs();
+            let joint = &self.model.joints[joint];
+            let (floor, unit) = if matches!(joint.kind, urdf::JointKind::Prismatic) {
+                (RUNAWAY_FLOOR_M_PER_S, "m/s")
+            } else {
+                (RUNAWAY_FLOOR_RAD_PER_S, "rad/s")
+            };
+            let limit = (RUNAWAY_SPEED_FACTOR * axis.to_si(task.axis_config(axis.handle).max_velocity)).max(floor);
+            (speed > limit).then(|| {
+                format!(
+                    "link {} ran away: joint {} of axis {} at {speed:.4e} {unit}, past {limit:.4e} {unit} \
+                     ({RUNAWAY_SPEED_FACTOR} × the axis' maximum speed, at least {floor} {unit})",
+                    self.model.links[joint.child.0].name, joint.name, axis.name
+                )
+            })
         })
     }
 
@@ -740,9 +794,7 @@ mod tests {
         let fault = plant.physics_fault().cloned().expect("a physics fault");
         assert!(fault.what.contains("link") || fault.what.contains("axis"), "{fault}");
         assert!(
-            fault
-                .to_string()
-                .starts_with("the physics state became non-finite at t = "),
+            fault.to_string().starts_with("the physics state diverged at t = "),
             "{fault}"
         );
         assert_eq!(

@@ -136,7 +136,7 @@ impl std::fmt::Display for AsciiDefect {
 /// [`StlError::Read`] when the file cannot be read, otherwise whatever
 /// [`parse_stl`] reports.
 pub fn load_stl(path: &Path) -> Result<TriMesh, StlError> {
-    let bytes = std::fs::read(path).map_err(|source| StlError::Read {
+    let bytes = crate::source::read_bounded(path, crate::source::InputKind::Mesh).map_err(|source| StlError::Read {
         path: path.to_path_buf(),
         source,
     })?;

@@ -229,9 +229,11 @@ impl RobotModel {
     /// [`UrdfError::Read`] when the file cannot be read, otherwise as
     /// [`RobotModel::from_urdf_str`].
     pub fn load(path: &Path) -> Result<RobotModel, UrdfError> {
-        let xml = std::fs::read_to_string(path).map_err(|source| UrdfError::Read {
-            path: path.to_path_buf(),
-            source,
+        let xml = crate::source::read_text_bounded(path, crate::source::InputKind::Urdf).map_err(|source| {
+            UrdfError::Read {
+                path: path.to_path_buf(),
+                source,
+            }
         })?;
         Self::from_urdf_str(&xml, path)
     }

@@ -240,7 +240,7 @@ impl Ctx<'_> {
         if !path.is_file() {
             return Err(self.invalid(entry, field, super::error::Problem::MissingFile { path: path.clone() }));
         }
-        let text = std::fs::read_to_string(&path).map_err(|e| {
+        let text = crate::source::read_text_bounded(&path, crate::source::InputKind::Routine).map_err(|e| {
             SceneError::Syntax(Box::new(Diagnostic::error(format!(
                 "{}: cannot read the Add-On Instruction export: {e}",
                 path.display()

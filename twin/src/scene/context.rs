@@ -462,6 +462,26 @@ impl Ctx<'_> {
         Ok(())
     }
 
+    /// [`Ctx::unique`] against names declared elsewhere, without adding
+    /// `name` to them.
+    pub(super) fn unique_beside<V>(
+        &self,
+        others: &HashMap<String, (usize, V)>,
+        name: &Spanned<String>,
+        field: &str,
+    ) -> Result<(), SceneError> {
+        match others.get(&name.get_ref().to_lowercase()) {
+            Some((first_line, _)) => {
+                let problem = Problem::DuplicateName {
+                    name: name.get_ref().clone(),
+                    first_line: *first_line,
+                };
+                Err(self.invalid(name, field, problem))
+            }
+            None => Ok(()),
+        }
+    }
+
     pub(super) fn identifier(&self, name: &Spanned<String>, field: &str) -> Result<String, SceneError> {
         let n = name.get_ref();
         let mut chars = n.chars();

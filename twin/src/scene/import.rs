@@ -274,7 +274,7 @@ pub fn expand(
     let l5x_path = base.join(name.as_ref());
     let bytes = match l5x_text {
         Some(t) => Ok(t.as_bytes().to_vec()),
-        None => std::fs::read(&l5x_path),
+        None => crate::source::read_bounded(&l5x_path, crate::source::InputKind::L5x),
     }
     .map_err(|e| {
         scene_error(

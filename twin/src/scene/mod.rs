@@ -58,11 +58,11 @@ pub use model::{
     CollisionSettings, Condition, Connection, ControllerSettings, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS,
     DEFAULT_START_TIME_US, DEFAULT_STATEMENT_US, DEFAULT_WATCHDOG_MS, DataTypeDef, Dialect, EventTrigger, ExpectKind,
     Expectation, FunctionBlock, GeometrySettings, L5xImport, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN,
-    MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MAX_STRING_LENGTH,
-    MIN_PHYSICS_STEP_MS, MemberDef, MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef,
-    RUN_EXIT_CODES, Reaction, Robot, RoutineDef, STRING_LENGTH, STRING_TYPE, Scene, SegmentType, ServoGains, Shape,
-    Snapshots, Step, Tag, TagType, TagValue, Task, TaskKind, TestSettings, Tool, TraceRung, TraceTag, Trigger, Units,
-    Usage, UserType, Variant,
+    MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_LOOP_BANDWIDTH_STEP, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS,
+    MAX_PROGRAMS_PER_TASK, MAX_STRING_LENGTH, MAX_TASKS, MIN_PHYSICS_STEP_MS, MIN_STATEMENT_US, MemberDef,
+    MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef, RUN_EXIT_CODES, Reaction, Robot,
+    RoutineDef, STRING_LENGTH, STRING_TYPE, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType,
+    TagValue, Task, TaskKind, TestSettings, Tool, TraceRung, TraceTag, Trigger, Units, Usage, UserType, Variant,
 };
 
 use crate::source::Files;
@@ -148,10 +148,11 @@ impl Scene {
 /// problem found, as [`SceneError::Toml`], [`SceneError::Syntax`] or
 /// [`SceneError::Invalid`], naming the file, line, column and field.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Read {
-        path: path.to_owned(),
-        source,
-    })?;
+    let bytes =
+        crate::source::read_bounded(path, crate::source::InputKind::Scene).map_err(|source| SceneError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
     let text = std::str::from_utf8(&bytes).map_err(|e| {
         // The valid part is text: count its lines and the last one's characters.
         let valid = String::from_utf8_lossy(&bytes[..e.valid_up_to()]);

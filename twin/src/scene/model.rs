@@ -942,6 +942,15 @@ impl Scene {
 /// queries fail on shapes of astronomical size.
 pub const MAX_LENGTH_M: f64 = 1e4;
 
+/// The most 2π × a servo loop's bandwidth × the physics substep may be.
+/// The drive closes its loops explicitly once a substep, and such a
+/// proportional loop diverges past 2 (each substep overshoots the error
+/// it corrects); 1.5 leaves room for the cascade of position and velocity
+/// loops. The default 80 Hz velocity loop is 0.50 at a 1 ms substep and
+/// 1.01 at 2 ms (a 2 ms physics step with one substep, which runs within
+/// 1 % of the default's following error).
+pub const MAX_LOOP_BANDWIDTH_STEP: f64 = 1.5;
+
 /// The largest mesh scale factor.
 pub const MAX_MESH_SCALE: f64 = 1e6;
 
@@ -1648,6 +1657,20 @@ pub struct ControllerSettings {
 /// The nominal time of one statement unless `[controller] statement_us`
 /// says otherwise, µs.
 pub const DEFAULT_STATEMENT_US: f64 = 1.0;
+
+/// The most `[[tasks]]` a controller has (1756-RM084: ControlLogix 32).
+pub const MAX_TASKS: usize = 32;
+
+/// The most programs one task schedules (1756-RM084: 1,000).
+pub const MAX_PROGRAMS_PER_TASK: usize = 1000;
+
+/// The least `[controller] statement_us`, µs. The controller's one clock
+/// advances by a statement's time for each statement it executes, and it
+/// never runs ahead of simulated time, so a run executes at most
+/// 1 s / `statement_us` statements per simulated second: 10⁶ at the
+/// default, 10⁸ at this bound, which the interpreter (10–25 ns a
+/// statement) runs in one to three seconds of wall time.
+pub const MIN_STATEMENT_US: f64 = 0.01;
 
 /// The wall clock at the start of a run unless `[controller] start_time`
 /// says otherwise: 2000-01-01T00:00:00Z, µs since 1970.

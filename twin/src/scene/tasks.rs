@@ -95,7 +95,8 @@ impl Ctx<'_> {
             settings.report_overflow_faults = r;
         }
         if let Some(s) = &raw.statement_us {
-            settings.statement_us = self.in_range(s, "controller.statement_us", 0.001, 1000.0)?;
+            settings.statement_us =
+                self.in_range(s, "controller.statement_us", super::model::MIN_STATEMENT_US, 1000.0)?;
         }
         if let Some(t) = &raw.start_time {
             settings.start_time_us = utc_micros(t.get_ref()).map_err(|why| {
@@ -125,11 +126,27 @@ impl Ctx<'_> {
         (controller, controller_tags): (&Names, &[Tag]),
         base: &Path,
     ) -> Result<Vec<Task>, SceneError> {
+        if let Some(t) = raw.get(super::model::MAX_TASKS) {
+            let why = format!(
+                "a controller has at most {} tasks (1756-RM084: ControlLogix)",
+                super::model::MAX_TASKS
+            );
+            let field = format!("tasks[{}].name", super::model::MAX_TASKS);
+            return Err(self.invalid(&t.name, field, Problem::Rule { why }));
+        }
         let mut task_names: Names = Names::new();
         let mut program_names: Names = Names::new();
         let mut tasks = Vec::with_capacity(raw.len());
         for (i, t) in raw.iter().enumerate() {
             let f = |field: &str| format!("tasks[{i}].{field}");
+            if let Some(p) = t.programs.get(super::model::MAX_PROGRAMS_PER_TASK) {
+                let why = format!(
+                    "a task schedules at most {} programs (1756-RM084)",
+                    super::model::MAX_PROGRAMS_PER_TASK
+                );
+                let field = f(&format!("programs[{}].name", super::model::MAX_PROGRAMS_PER_TASK));
+                return Err(self.invalid(&p.name, field, Problem::Rule { why }));
+            }
             let name = self.identifier(&t.name, &f("name"))?;
             self.unique(&mut task_names, &t.name, &f("name"), NameKind::Axis)?;
             let (kind, priority) = self.task_kind(t, i, &tasks, axes)?;
@@ -142,8 +159,7 @@ impl Ctx<'_> {
                 let prefix = format!("tasks[{i}].programs[{j}]");
                 // `Program.Tag` names a program's tag from outside it: a
                 // program may not share its name with an axis or a tag.
-                let mut taken = controller.clone();
-                self.unique(&mut taken, &p.name, &format!("{prefix}.name"), NameKind::Axis)?;
+                self.unique_beside(controller, &p.name, &format!("{prefix}.name"))?;
                 self.unique(&mut program_names, &p.name, &format!("{prefix}.name"), NameKind::Axis)?;
                 programs.push(self.program_def(p, axes, controller, base, &prefix)?);
             }
@@ -488,7 +504,7 @@ impl Ctx<'_> {
         if !path.is_file() {
             return Err(self.invalid(raw, field, Problem::MissingFile { path }));
         }
-        let text = std::fs::read_to_string(&path).map_err(|e| {
+        let text = crate::source::read_text_bounded(&path, crate::source::InputKind::Routine).map_err(|e| {
             let d = Diagnostic::error(format!("{}: cannot read the routine: {e}", path.display()));
             SceneError::Syntax(Box::new(d))
         })?;

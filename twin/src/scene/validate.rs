@@ -13,8 +13,9 @@ use toml::Spanned;
 use super::context::{Ctx, NameKind, Names, ShapeFields};
 use super::error::{Problem, SceneError};
 use super::model::{
-    Axis, Camera, DEFAULT_PHYSICS_SUBSTEPS, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_MESH_SCALE,
-    MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, Obstacle, Robot, Scene, ServoGains, Shape, Snapshots,
+    Axis, Camera, DEFAULT_PHYSICS_SUBSTEPS, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_LOOP_BANDWIDTH_STEP,
+    MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, Obstacle, Robot, Scene, ServoGains, Shape,
+    Snapshots,
 };
 use super::raw::{
     AxisConfiguration, RawAxis, RawCamera, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, ShapeKind,
@@ -113,6 +114,7 @@ impl Ctx<'_> {
         let robot = self.robot(&raw.robot, base)?;
         let mut names: Names = HashMap::new();
         let axes = self.axes(&raw.axes, &robot, &mut names)?;
+        self.loops_stable(&raw, &axes, physics_step_ms / 1000.0 / physics_substeps as f64)?;
         let cameras = self.cameras(&raw.cameras, coarse_update_ms)?;
         let obstacles = self.obstacles(&raw.obstacles, base)?;
         let data_types = self.data_types(&raw.data_types)?;
@@ -299,7 +301,11 @@ impl Ctx<'_> {
             return Err(self.invalid(s, f("home_sequence"), Problem::HomeSequenceNotSimulated { sequence }));
         }
         let finite = |v: &Option<Spanned<f64>>, name: &str| match v {
-            Some(v) => self.finite(v, &f(name)),
+            Some(v) => {
+                let x = self.finite(v, &f(name))?;
+                self.at_most(v, &f(name), &[x], planner::axis::MAX_POSITION)?;
+                Ok(x)
+            }
             None => Ok(0.0),
         };
         let non_negative = |v: &Option<Spanned<f64>>, name: &str| match v {
@@ -320,6 +326,58 @@ impl Ctx<'_> {
             speed: non_negative(&a.home_speed, "home_speed")?,
             return_speed: non_negative(&a.home_return_speed, "home_return_speed")?,
         })
+    }
+
+    /// Each servo drive's loops are closed explicitly at the physics
+    /// substep, which is stable only while 2π × bandwidth × substep stays
+    /// at most [`MAX_LOOP_BANDWIDTH_STEP`]: a bandwidth past it is refused
+    /// at its field, a default bandwidth too fast for the scene's step at
+    /// `physics_step_ms`.
+    fn loops_stable(&self, raw: &RawScene, axes: &[Axis], substep_s: f64) -> Result<(), SceneError> {
+        let max_hz = MAX_LOOP_BANDWIDTH_STEP / (std::f64::consts::TAU * substep_s);
+        for (i, (axis, a)) in axes.iter().zip(&raw.axes).enumerate() {
+            let Some(g) = &axis.servo else { continue };
+            let d = a.drive.as_ref().map(|d| d.get_ref());
+            let loops = [
+                (
+                    "position_loop_bandwidth_hz",
+                    g.position_loop_bandwidth_hz,
+                    d.and_then(|d| d.position_loop_bandwidth_hz.as_ref()),
+                ),
+                (
+                    "position_integrator_bandwidth_hz",
+                    g.position_integrator_bandwidth_hz,
+                    d.and_then(|d| d.position_integrator_bandwidth_hz.as_ref()),
+                ),
+                (
+                    "velocity_loop_bandwidth_hz",
+                    g.velocity_loop_bandwidth_hz,
+                    d.and_then(|d| d.velocity_loop_bandwidth_hz.as_ref()),
+                ),
+                (
+                    "velocity_integrator_bandwidth_hz",
+                    g.velocity_integrator_bandwidth_hz,
+                    d.and_then(|d| d.velocity_integrator_bandwidth_hz.as_ref()),
+                ),
+            ];
+            for (name, hz, given) in loops {
+                if hz <= max_hz {
+                    continue;
+                }
+                let why = format!(
+                    "a {hz} Hz loop closed every {:.4} ms physics substep is unstable: 2π × bandwidth × substep \
+                     = {:.3} passes {MAX_LOOP_BANDWIDTH_STEP}; keep axes[{i}].drive.{name} at most {max_hz:.1} Hz \
+                     or shorten physics_step_ms / raise physics_substeps",
+                    substep_s * 1000.0,
+                    std::f64::consts::TAU * hz * substep_s
+                );
+                return Err(match given {
+                    Some(v) => self.invalid(v, format!("axes[{i}].drive.{name}"), Problem::Rule { why }),
+                    None => self.invalid(&raw.physics_step_ms, "physics_step_ms", Problem::Rule { why }),
+                });
+            }
+        }
+        Ok(())
     }
 
     /// `[[axes]] drive`: the servo gains, defaults for what it leaves out.
@@ -462,6 +520,7 @@ impl Ctx<'_> {
             let initial_position = match (&a.initial_position, joint_si) {
                 (Some(p), joint_si) => {
                     let value = self.finite(p, &f("initial_position"))?;
+                    self.at_most(p, &f("initial_position"), &[value], planner::axis::MAX_POSITION)?;
                     if let Some(si) = joint_si {
                         let as_si = value * units.si_per_unit();
                         if (as_si - si).abs() > 1e-9 * (1.0 + si.abs()) {
@@ -482,6 +541,7 @@ impl Ctx<'_> {
             let soft_travel_limits = match &a.soft_travel_limits {
                 Some(l) => {
                     let [min, max] = self.finite_array(l, &f("soft_travel_limits"))?;
+                    self.at_most(l, &f("soft_travel_limits"), &[min, max], planner::axis::MAX_POSITION)?;
                     if min >= max {
                         return Err(self.invalid(
                             l,

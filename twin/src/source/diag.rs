@@ -141,7 +141,7 @@ impl Diagnostic {
         let Some((path, line, column)) = self.place.clone() else {
             return self;
         };
-        let Ok(text) = std::fs::read_to_string(&path) else {
+        let Ok(text) = super::read::read_text_bounded(&path, super::read::InputKind::L5x) else {
             return self;
         };
         let file = Arc::new(SourceFile::new(path, text));

@@ -9,9 +9,11 @@
 
 pub mod diag;
 mod file;
+pub mod read;
 
 pub use diag::{Diagnostic, Label, Severity};
 pub use file::SourceFile;
+pub use read::{InputKind, read_bounded, read_text_bounded};
 
 use std::fmt;
 use std::ops::Range;

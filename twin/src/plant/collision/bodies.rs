@@ -46,6 +46,32 @@ pub enum CollisionModelError {
         /// Link, tool or obstacle name.
         body: String,
     },
+    /// A collision mesh reaches farther than [`crate::scene::MAX_LENGTH_M`]
+    /// from its frame once scaled: parry's continuous collision checks
+    /// crawl on it (10⁴ m costs seconds an update, 10³⁰ m never ends).
+    #[error("{body}: collision mesh reaches {extent_m:e} m from its frame once scaled, more than {max_m:e} m")]
+    MeshTooLarge {
+        /// Link, tool or obstacle name.
+        body: String,
+        /// The largest scaled coordinate's magnitude, m.
+        extent_m: f64,
+        /// The bound, m.
+        max_m: f64,
+    },
+    /// A mesh for `meshes = "convex_decomposition"` has more triangles
+    /// than the decomposition may take.
+    #[error(
+        "{body}: collision mesh has {triangles} triangles, more than the {max} that meshes = \"convex_decomposition\" \
+         decomposes (simplify the mesh, or use meshes = \"convex_hull\")"
+    )]
+    DecompositionTooLarge {
+        /// Link, tool or obstacle name.
+        body: String,
+        /// Its triangles.
+        triangles: usize,
+        /// The bound ([`super::build::MAX_DECOMPOSITION_TRIANGLES`]).
+        max: usize,
+    },
     /// A tool or obstacle mesh file cannot be loaded.
     #[error("{body}: {source}")]
     Mesh {

@@ -39,6 +39,13 @@ pub(crate) fn shape_of(
     })
 }
 
+/// The most triangles a mesh may have for parry's VHACD convex
+/// decomposition (`meshes = "convex_decomposition"`), whose time grows
+/// with them: a random soup of 250, 500, 1,000 and 2,000 triangles took
+/// 1.8, 2.7, 4.5 and 8.4 s (dev build, 2026-11-28); 20,000 took minutes.
+/// A mesh with more is refused, naming `convex_hull` as the way out.
+pub const MAX_DECOMPOSITION_TRIANGLES: usize = 1_000;
+
 pub(super) fn mesh_shape(
     mesh: &crate::plant::mesh::TriMesh,
     scale: [f64; 3],
@@ -56,12 +63,33 @@ pub(super) fn mesh_shape(
             )
         })
         .collect();
+    let max_m = crate::scene::MAX_LENGTH_M;
+    let extent_m = mesh
+        .positions
+        .iter()
+        .flat_map(|p| (0..3).map(move |k| (f64::from(p[k]) * scale[k]).abs()))
+        .fold(0.0, f64::max);
+    if extent_m > max_m {
+        return Err(CollisionModelError::MeshTooLarge {
+            body: body.to_string(),
+            extent_m,
+            max_m,
+        });
+    }
     let degenerate = || CollisionModelError::DegenerateMesh { body: body.to_string() };
     // A mesh without a 3-D hull has nothing to decompose either (and parry
     // refuses an empty decomposition).
     let hull = SharedShape::convex_hull(&points).ok_or_else(degenerate)?;
     match meshes {
         MeshApproximation::ConvexDecomposition if mesh.indices.len() >= 3 => {
+            let triangles = mesh.indices.len() / 3;
+            if triangles > MAX_DECOMPOSITION_TRIANGLES {
+                return Err(CollisionModelError::DecompositionTooLarge {
+                    body: body.to_string(),
+                    triangles,
+                    max: MAX_DECOMPOSITION_TRIANGLES,
+                });
+            }
             let triangles: Vec<[u32; 3]> = mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
             Ok(SharedShape::convex_decomposition(&points, &triangles))
         }
