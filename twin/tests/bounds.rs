@@ -501,3 +501,48 @@ fn tasks_programs_and_statement_time_are_bounded() {
     );
     assert!(e.contains("controller.statement_us"), "{e}");
 }
+
+/// ULINT values above 2⁶³ − 1 could not be written (the literal was out of
+/// range) and ULINT math was LINT's: `0 - 1` wrapped with no minor fault.
+/// ULINT now computes unsigned.
+#[test]
+fn ulint_holds_values_past_2_63_and_its_underflow_is_a_minor_fault() {
+    use twin::program::types::Value;
+    let tags = [
+        ("U", "ULINT"),
+        ("Z", "ULINT"),
+        ("D", "ULINT"),
+        ("Big", "BOOL"),
+        ("Wrapped", "BOOL"),
+        ("R", "LREAL"),
+    ];
+    let routine = "U := 18446744073709551615; Big := U > 9223372036854775807; D := U / 2; R := U;\n\
+                   Z := 0; Z := Z - 1; Wrapped := Z = U;";
+    let mut s = Sandbox::new(&tags, routine).unwrap_or_else(|e| panic!("{e}"));
+    s.scan();
+    assert_eq!(s.value("U"), Some(Value::Int(-1)), "2^64 - 1 in its 64 bits");
+    assert_eq!(s.value("Big"), Some(Value::Bool(true)));
+    assert_eq!(s.value("D"), Some(Value::Int(i64::MAX)), "(2^64 - 1) / 2 = 2^63 - 1");
+    assert_eq!(s.value("R"), Some(Value::Real(18446744073709551615.0)));
+    assert_eq!(s.value("Wrapped"), Some(Value::Bool(true)), "0 - 1 wraps to 2^64 - 1");
+    let minors = s.controller().minor_faults();
+    assert_eq!(minors.len(), 1, "{minors:?}");
+    assert_eq!((minors[0].fault_type, minors[0].code), (4, 4));
+    assert!(
+        Sandbox::new(&tags, "U := 18446744073709551616;").is_err(),
+        "2^64 is past ULINT"
+    );
+}
+
+/// A 21.6 MB routine took 2.65 GB: a routine file is read up to its
+/// bound (4 MiB) and refused past it, naming the file.
+#[test]
+fn a_routine_past_its_size_bound_is_refused_naming_its_file() {
+    let scene = tasks_scene("big_routine", 1, 1, 1.0).map(|s| s.path).expect("the scene loads");
+    let routine = scene.with_file_name("Main.st");
+    std::fs::File::create(&routine)
+        .and_then(|f| f.set_len(twin::source::InputKind::Routine.max_bytes() + 1))
+        .expect("sparse routine");
+    let e = refused(twin::scene::load(&scene), "a 4 MiB + 1 routine loads");
+    assert!(e.contains("Main.st") && e.contains("longer than 4 MiB"), "{e}");
+}

@@ -31,7 +31,7 @@ pub enum DataType {
     Uint,
     /// `UDINT`.
     Udint,
-    /// `ULINT` (stored in 64 bits; its math is LINT's).
+    /// `ULINT` (its 64 bits in an `i64`; computed unsigned, [`Ty::Ulint`]).
     Ulint,
     /// `REAL` (IEEE single).
     Real,
@@ -82,7 +82,8 @@ impl DataType {
         match self {
             DataType::Bool => Ty::Bool,
             DataType::Sint | DataType::Int | DataType::Dint | DataType::Usint | DataType::Uint => Ty::Dint,
-            DataType::Lint | DataType::Udint | DataType::Ulint => Ty::Lint,
+            DataType::Lint | DataType::Udint => Ty::Lint,
+            DataType::Ulint => Ty::Ulint,
             DataType::Real => Ty::Real,
             DataType::Lreal => Ty::Lreal,
         }
@@ -104,7 +105,9 @@ impl DataType {
                 let (wide, bad) = match v {
                     Value::Bool(b) => (i128::from(b), false),
                     Value::Int(i) => (i128::from(i), false),
-                    Value::Real(x) if x.is_finite() => (round_half_even(x), false),
+                    // A negative real has no ULINT (an integer value's
+                    // sign cannot be told from a ULINT's bits).
+                    Value::Real(x) if x.is_finite() => (round_half_even(x), self == DataType::Ulint && x <= -0.5),
                     Value::Real(_) => (0, true),
                 };
                 let stored = self.wrap(wide);
@@ -141,7 +144,7 @@ impl DataType {
 }
 
 /// The type an expression is computed in: SINT, INT, USINT, UINT and DINT
-/// are promoted to DINT; UDINT, LINT and ULINT computed as LINT.
+/// are promoted to DINT; UDINT and LINT computed as LINT; ULINT unsigned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Ty {
     /// BOOL.
@@ -150,6 +153,9 @@ pub enum Ty {
     Dint,
     /// 64-bit integer math.
     Lint,
+    /// Unsigned 64-bit integer math (an operand of ULINT: its bits read
+    /// unsigned; of a signed type: its value), results 0 to 2⁶⁴ − 1.
+    Ulint,
     /// Single-precision math.
     Real,
     /// Double-precision math.
@@ -160,7 +166,7 @@ impl Ty {
     /// Whether it is one of the integer kinds.
     #[must_use]
     pub fn is_integer(self) -> bool {
-        matches!(self, Ty::Dint | Ty::Lint)
+        matches!(self, Ty::Dint | Ty::Lint | Ty::Ulint)
     }
 
     /// Whether it is one of the real kinds.
@@ -176,6 +182,7 @@ impl Ty {
             Ty::Bool => "BOOL",
             Ty::Dint => "DINT",
             Ty::Lint => "LINT",
+            Ty::Ulint => "ULINT",
             Ty::Real => "REAL",
             Ty::Lreal => "LREAL",
         }
@@ -188,6 +195,7 @@ impl Ty {
             Ty::Bool => DataType::Bool,
             Ty::Dint => DataType::Dint,
             Ty::Lint => DataType::Lint,
+            Ty::Ulint => DataType::Ulint,
             Ty::Real => DataType::Real,
             Ty::Lreal => DataType::Lreal,
         }

@@ -499,6 +499,15 @@ pub enum BinaryOp {
 }
 
 impl BinaryOp {
+    /// Whether it compares (its result is BOOL whatever it computes in).
+    #[must_use]
+    pub fn is_comparison(self) -> bool {
+        matches!(
+            self,
+            BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge | BinaryOp::Eq | BinaryOp::Ne
+        )
+    }
+
     /// The operator as written.
     #[must_use]
     pub fn symbol(self) -> &'static str {

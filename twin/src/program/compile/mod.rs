@@ -8,7 +8,7 @@
 use super::bindings::Env;
 use super::ir::{CExpr, CKind, CStmt, Func, Link, Place, SKind};
 use super::memory::Memory;
-use super::types::{Ty, Value};
+use super::types::{DataType, Ty, Value};
 use crate::scene::Dialect;
 use crate::source::{Diagnostic, Span, diag};
 use crate::st::ast::{Access, BinaryOp, Expr, ExprKind, Ref, Stmt, StmtKind, UnaryOp};
@@ -135,7 +135,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
                 retentive,
             } => {
                 let (target, ty) = self.writable(target)?;
-                let value = self.expr(value)?;
+                let value = ulint_as_real(self.expr(value)?, ty);
                 SKind::Assign {
                     target,
                     ty,
@@ -276,7 +276,11 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
             ExprKind::Int(i) => match i64::try_from(*i) {
                 Ok(v) if i32::try_from(v).is_ok() => constant(Value::Int(v), Ty::Dint),
                 Ok(v) => constant(Value::Int(v), Ty::Lint),
-                Err(_) => return err(self, e.span, format!("integer literal {i} is out of range (64 bits)")),
+                // Past LINT, a ULINT (its bits).
+                Err(_) => match u64::try_from(*i) {
+                    Ok(v) => constant(Value::Int(v as i64), Ty::Ulint),
+                    Err(_) => return err(self, e.span, format!("integer literal {i} is out of range (64 bits)")),
+                },
             },
             ExprKind::Real(x) => constant(Value::Real(f64::from(*x as f32)), Ty::Real),
             ExprKind::Bool(b) => constant(Value::Bool(*b), Ty::Bool),
@@ -294,7 +298,9 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
                 match a.kind {
                     // (A DINT -(-2147483648), `-16#8000_0000`, overflows:
                     // left to the scan, which records it.)
-                    CKind::Const(Value::Int(i)) if i != i64::MIN && (ty != Ty::Dint || i != i64::from(i32::MIN)) => {
+                    CKind::Const(Value::Int(i))
+                        if ty != Ty::Ulint && i != i64::MIN && (ty != Ty::Dint || i != i64::from(i32::MIN)) =>
+                    {
                         constant(Value::Int(-i), ty)
                     }
                     CKind::Const(Value::Real(x)) => constant(Value::Real(-x), ty),
@@ -418,11 +424,13 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
             if x == Ty::Lreal || y == Ty::Lreal {
                 Ty::Lreal
             } else if x == Ty::Real || y == Ty::Real {
-                if x == Ty::Lint || y == Ty::Lint {
+                if matches!(x, Ty::Lint | Ty::Ulint) || matches!(y, Ty::Lint | Ty::Ulint) {
                     Ty::Lreal
                 } else {
                     Ty::Real
                 }
+            } else if x == Ty::Ulint || y == Ty::Ulint {
+                Ty::Ulint
             } else if x == Ty::Lint || y == Ty::Lint {
                 Ty::Lint
             } else {
@@ -431,7 +439,7 @@ impl<'c, 'e, 's> Compiler<'c, 'e, 's> {
         };
         let (math, result) = match op {
             BinaryOp::Pow => {
-                let m = if arith(x, y) == Ty::Lreal || arith(x, y) == Ty::Lint {
+                let m = if matches!(arith(x, y), Ty::Lreal | Ty::Lint | Ty::Ulint) {
                     Ty::Lreal
                 } else {
                     Ty::Real
@@ -506,6 +514,24 @@ pub(super) fn load(place: Place, ty: crate::program::types::DataType) -> CExpr {
         place => CKind::Load(Box::new(place)),
     };
     CExpr { kind, ty: ty.math() }
+}
+
+/// A ULINT value written to a REAL or LREAL: converted as the unsigned
+/// number its bits are (`value + 0.0` in LREAL; storing reads a value's
+/// integer as signed). Any other value as it is.
+pub(super) fn ulint_as_real(value: CExpr, to: DataType) -> CExpr {
+    if value.ty != Ty::Ulint || !matches!(to, DataType::Real | DataType::Lreal) {
+        return value;
+    }
+    CExpr {
+        kind: CKind::Binary(
+            BinaryOp::Add,
+            Box::new(value),
+            Box::new(constant(Value::Real(0.0), Ty::Lreal)),
+            Ty::Lreal,
+        ),
+        ty: Ty::Lreal,
+    }
 }
 
 pub(super) fn constant(v: Value, ty: Ty) -> CExpr {

@@ -16,6 +16,7 @@ impl Exec<'_> {
             CKind::Neg(a) => {
                 let v = self.eval(a);
                 match e.ty {
+                    Ty::Ulint => self.int_result(-unsigned(v), e.ty, "negation"),
                     Ty::Dint | Ty::Lint => self.int_result(-i128::from(v.as_i64()), e.ty, "negation"),
                     Ty::Real => Value::Real(f64::from(-v.as_f64() as f32)),
                     _ => Value::Real(-v.as_f64()),
@@ -32,13 +33,22 @@ impl Exec<'_> {
             CKind::Binary(op, a, b, math) => {
                 let x = self.leaf(a);
                 let y = self.leaf(b);
+                if a.ty == Ty::Ulint || b.ty == Ty::Ulint {
+                    return self.ulint_operation(*op, (x, a.ty), (y, b.ty), *math);
+                }
                 self.operation(*op, x, y, *math)
             }
             CKind::Chain(first, links) => {
                 let mut x = self.leaf(first);
+                let mut x_ty = first.ty;
                 for l in links {
                     let y = self.leaf(&l.operand);
-                    x = self.operation(l.op, x, y, l.math);
+                    x = if x_ty == Ty::Ulint || l.operand.ty == Ty::Ulint {
+                        self.ulint_operation(l.op, (x, x_ty), (y, l.operand.ty), l.math)
+                    } else {
+                        self.operation(l.op, x, y, l.math)
+                    };
+                    x_ty = if l.op.is_comparison() { Ty::Bool } else { l.math };
                 }
                 x
             }
@@ -108,6 +118,13 @@ impl Exec<'_> {
     }
 
     pub(super) fn int_result(&mut self, r: i128, ty: Ty, what: &str) -> Value {
+        if ty == Ty::Ulint {
+            if !(0..=i128::from(u64::MAX)).contains(&r) {
+                self.overflow(&format!("{what} gives {r}, outside ULINT"));
+            }
+            // Its low 64 bits (two's complement: -1 is 2⁶⁴ − 1).
+            return Value::Int(r as u64 as i64);
+        }
         let (lo, hi) = if ty == Ty::Dint {
             (i128::from(i32::MIN), i128::from(i32::MAX))
         } else {
@@ -209,6 +226,15 @@ impl Exec<'_> {
     }
 
     pub(super) fn function(&mut self, f: Func, v: Value, arg: Ty, result: Ty) -> Value {
+        if f == Func::Abs && arg == Ty::Ulint {
+            return v;
+        }
+        // A ULINT argument as the unsigned number its bits are.
+        let v = if arg == Ty::Ulint && result.is_real() {
+            Value::Real(unsigned(v) as f64)
+        } else {
+            v
+        };
         if f == Func::Abs && arg.is_integer() {
             return self.int_result(i128::from(v.as_i64()).abs(), arg, "ABS");
         }
@@ -279,6 +305,60 @@ impl Exec<'_> {
         }
         Value::Int(out)
     }
+}
+
+impl Exec<'_> {
+    /// `x op y` where an operand is ULINT (`(value, type)` each): in
+    /// ULINT math each operand is widened by its own type (a ULINT's bits
+    /// unsigned, a signed type's value), and a result outside 0 to
+    /// 2⁶⁴ − 1 records the overflow and keeps its low 64 bits (0 − 1 is
+    /// 18446744073709551615); in REAL or LREAL math a ULINT operand is the
+    /// unsigned number its bits are.
+    fn ulint_operation(&mut self, op: BinaryOp, (x, x_ty): (Value, Ty), (y, y_ty): (Value, Ty), math: Ty) -> Value {
+        use BinaryOp as B;
+        let wide = |v: Value, ty: Ty| {
+            if ty == Ty::Ulint {
+                unsigned(v)
+            } else {
+                i128::from(v.as_i64())
+            }
+        };
+        if math.is_real() {
+            let real = |v: Value, ty: Ty| {
+                if ty == Ty::Ulint {
+                    Value::Real(unsigned(v) as f64)
+                } else {
+                    v
+                }
+            };
+            return self.binary(op, real(x, x_ty), real(y, y_ty), math);
+        }
+        if math != Ty::Ulint {
+            return self.operation(op, x, y, math);
+        }
+        let (a, b) = (wide(x, x_ty), wide(y, y_ty));
+        match op {
+            B::Add => self.int_result(a + b, math, "addition"),
+            B::Sub => self.int_result(a - b, math, "subtraction"),
+            B::Mul => self.int_result(a * b, math, "multiplication"),
+            B::Div | B::Mod if b == 0 => {
+                self.overflow("division by zero");
+                Value::Int(if op == B::Div && a != 0 { -1 } else { 0 })
+            }
+            B::Div => self.int_result(a / b, math, "division"),
+            B::Mod => self.int_result(a % b, math, "MOD"),
+            B::And => Value::Int((a & b) as u64 as i64),
+            B::Or => Value::Int((a | b) as u64 as i64),
+            B::Xor => Value::Int((a ^ b) as u64 as i64),
+            B::Pow => unreachable!("** computes in REAL"),
+            _ => compare(op, a, b),
+        }
+    }
+}
+
+/// A ULINT's bits as the unsigned number they are.
+fn unsigned(v: Value) -> i128 {
+    i128::from(v.as_i64() as u64)
 }
 
 /// A comparison operator applied to two operands of one math type.

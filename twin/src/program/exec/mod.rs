@@ -18,9 +18,15 @@
 //! the fault routine.
 //!
 //! # Arithmetic
-//! * SINT, INT, USINT, UINT and DINT compute in 32 bits; UDINT, LINT and
-//!   ULINT in 64. A result that does not fit wraps (two's complement) and
+//! * SINT, INT, USINT, UINT and DINT compute in 32 bits; UDINT and LINT
+//!   in 64. A result that does not fit wraps (two's complement) and
 //!   records a minor fault (type 4, code 4): 2147483647 + 1 = −2147483648.
+//! * An operation with a ULINT operand (and no real one) computes unsigned
+//!   in 64 bits, a signed operand taken at its value: results outside
+//!   0 to 2⁶⁴ − 1 keep their low 64 bits and record the minor fault
+//!   (0 − 1 = 18446744073709551615). A literal past LINT is a ULINT. A
+//!   ULINT written to a signed integer keeps its bits (no fault); one in
+//!   a REAL or LREAL operation or assignment is its unsigned value.
 //! * Integer ÷ integer truncates toward zero (7/2 = 3, −7/2 = −3); `MOD`
 //!   takes the dividend's sign (−7 MOD 2 = −1).
 //! * Division or `MOD` by zero records the minor fault (type 4, code 4).
