@@ -6,7 +6,9 @@
 //! ```
 //!
 //! Prints progress every million cases and every failure (case number,
-//! target, what happened); exits 1 if any case failed. The dev build the
+//! target, what happened), then the distinct outcomes (accepted, or a
+//! clean error with its numbers and paths left out) per target; exits 1
+//! if any case failed. The dev build the
 //! tests use runs about 5,000 cases a second on two cores; `--release`
 //! is faster but builds every dependency again. `--example fuzz_show N`
 //! prints case N's mutant.
@@ -14,7 +16,8 @@
 #[path = "../tests/fuzz_cases/mod.rs"]
 mod fuzz_cases;
 
-use fuzz_cases::{Corpus, run_cases, silence_panics};
+use fuzz_cases::{Corpus, run_cases_counted, silence_panics};
+use std::collections::HashMap;
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -38,6 +41,7 @@ fn main() -> ExitCode {
     let _printing = silence_panics();
     let started = Instant::now();
     let mut failed = 0usize;
+    let mut outcomes: HashMap<String, u64> = HashMap::new();
     let block = 1_000_000u64;
     let mut next = from;
     while next < from + cases {
@@ -48,13 +52,18 @@ fn main() -> ExitCode {
                 .map(|t| {
                     let (a, b) = ((next + t * per).min(end), (next + (t + 1) * per).min(end));
                     let (corpus, root) = (&corpus, &root);
-                    s.spawn(move || run_cases(corpus, root, a..b))
+                    s.spawn(move || run_cases_counted(corpus, root, a..b))
                 })
                 .collect();
-            handles
-                .into_iter()
-                .flat_map(|h| h.join().expect("a fuzz worker"))
-                .collect()
+            let mut failures = Vec::new();
+            for h in handles {
+                let (f, o) = h.join().expect("a fuzz worker");
+                failures.extend(f);
+                for (k, n) in o {
+                    *outcomes.entry(k).or_insert(0) += n;
+                }
+            }
+            failures
         });
         for f in &failures {
             println!("FAIL case {} ({}): {}", f.case, f.target, f.what);
@@ -66,6 +75,29 @@ fn main() -> ExitCode {
             next - from,
             started.elapsed().as_secs_f64()
         );
+    }
+    // Per target: cases, accepted, distinct clean errors.
+    let mut targets: Vec<(String, (u64, u64, u64))> = Vec::new();
+    for (key, n) in &outcomes {
+        let (target, what) = key.split_once(": ").unwrap_or((key, ""));
+        let row = match targets.iter_mut().position(|(t, _)| t == target) {
+            Some(i) => &mut targets[i].1,
+            None => {
+                targets.push((target.to_owned(), (0, 0, 0)));
+                &mut targets.last_mut().expect("pushed").1
+            }
+        };
+        row.0 += n;
+        if what == "accepted" {
+            row.1 += n;
+        } else {
+            row.2 += 1;
+        }
+    }
+    targets.sort();
+    println!("{} distinct outcomes", outcomes.len());
+    for (target, (cases, accepted, errors)) in &targets {
+        println!("  {target}: {cases} cases, {accepted} accepted, {errors} distinct clean errors");
     }
     if failed == 0 {
         ExitCode::SUCCESS

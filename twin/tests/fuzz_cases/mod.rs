@@ -371,7 +371,8 @@ fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
 }
 
 /// Runs case `n`; `Err` describes how it failed (module doc).
-pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
+pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<String, Failure> {
+    OUTCOME.with(|o| o.borrow_mut().take());
     let mut rng = ChaCha8Rng::seed_from_u64(SEED + n);
     let pick = rng.random_range(0..100);
     // Every tenth case mutates the L5X export.
@@ -464,6 +465,7 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
                             .unwrap_or_default();
                         let structural = ["link ", "joint ", "URDF "].iter().any(|p| m.starts_with(p));
                         if m.contains(&name) || structural {
+                            note(&m);
                             Ok(())
                         } else {
                             Err(format!("a URDF error naming neither its file nor a link or joint: {m}"))
@@ -502,9 +504,30 @@ pub fn run_case(corpus: &Corpus, root: &Path, n: u64) -> Result<(), Failure> {
         (took > CASE_LIMIT).then(|| format!("took {took:?}"))
     });
     match what {
-        None => Ok(()),
+        None => {
+            let outcome = OUTCOME.with(|o| o.borrow_mut().take());
+            Ok(format!("{target}: {}", outcome.as_deref().unwrap_or("accepted")))
+        }
         Some(what) => Err(Failure { case: n, target, what }),
     }
+}
+
+thread_local! {
+    /// The clean error the case on this thread ended with ([`note`]).
+    static OUTCOME: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Records a case's clean error as its outcome: the message with its
+/// paths left out, digits as `#`, at most 72 characters (outcomes that
+/// differ only in a number or a file are one).
+fn note(message: &str) {
+    let words: Vec<String> = message
+        .split_whitespace()
+        .filter(|w| !w.contains('/'))
+        .map(|w| w.chars().map(|c| if c.is_ascii_digit() { '#' } else { c }).collect())
+        .collect();
+    let key: String = words.join(" ").chars().take(72).collect();
+    OUTCOME.with(|o| *o.borrow_mut() = Some(key));
 }
 
 /// The budgets' own surfaces, generated rather than mutated: FLL and COP
@@ -579,7 +602,10 @@ fn bounds_case(rng: &mut ChaCha8Rng, root: &Path, n: u64) -> Result<(), String> 
                 .collect();
             match Sandbox::new(&tags, "") {
                 Ok(_) => Ok(()),
-                Err(e) if e.contains("budget for tag memory") => Ok(()),
+                Err(e) if e.contains("budget for tag memory") => {
+                    note(&e);
+                    Ok(())
+                }
                 Err(e) => Err(format!("a tag sum refused without naming its budget: {e}")),
             }
         }
@@ -682,6 +708,7 @@ fn scanned(sandbox: Result<Sandbox, String>, file: &str) -> Result<(), String> {
                 .and_then(|(l, rest)| Some((l.parse::<usize>().ok()?, rest.split_once(':')?.0.parse::<usize>().ok()?)))
                 .is_some();
             if placed || e.starts_with("unknown type") {
+                note(&e);
                 Ok(())
             } else {
                 Err(format!("a routine error without its line:column: {e}"))
@@ -695,6 +722,7 @@ fn scanned(sandbox: Result<Sandbox, String>, file: &str) -> Result<(), String> {
 fn named_in_scene(message: &str) -> Result<(), String> {
     let files = ["fuzz_case.toml", ".st:", ".rll:", ".L5X:", ".urdf", ".stl", ".dae"];
     if files.iter().any(|f| message.contains(f)) {
+        note(message);
         Ok(())
     } else {
         Err(format!(
@@ -705,6 +733,7 @@ fn named_in_scene(message: &str) -> Result<(), String> {
 
 fn named(message: &str, file: &str) -> Result<(), String> {
     if message.contains(file) {
+        note(message);
         Ok(())
     } else {
         Err(format!("an error not naming {file}: {message}"))
@@ -715,6 +744,24 @@ fn named(message: &str, file: &str) -> Result<(), String> {
 /// first ([`silence_panics`]): each failure keeps its own message.
 pub fn run_cases(corpus: &Corpus, root: &Path, cases: std::ops::Range<u64>) -> Vec<Failure> {
     cases.filter_map(|n| run_case(corpus, root, n).err()).collect()
+}
+
+/// [`run_cases`], with how many cases ended in each outcome (`target:
+/// accepted`, or the target and its error, [`note`]).
+pub fn run_cases_counted(
+    corpus: &Corpus,
+    root: &Path,
+    cases: std::ops::Range<u64>,
+) -> (Vec<Failure>, std::collections::HashMap<String, u64>) {
+    let mut failures = Vec::new();
+    let mut outcomes = std::collections::HashMap::new();
+    for n in cases {
+        match run_case(corpus, root, n) {
+            Ok(key) => *outcomes.entry(key).or_insert(0) += 1,
+            Err(f) => failures.push(f),
+        }
+    }
+    (failures, outcomes)
 }
 
 /// Panics caught by a case print nothing (the failure carries the
