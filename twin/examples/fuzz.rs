@@ -2,7 +2,7 @@
 //! `twin/tests/fuzz_cases`):
 //!
 //! ```text
-//! cargo run -p twin --example fuzz -- --cases 10000000 [--from 0] [--threads 2]
+//! cargo run -p twin --example fuzz -- --cases 10000000 [--from 0] [--threads 2] [--outcomes FILE]
 //! ```
 //!
 //! Prints progress every million cases and every failure (case number,
@@ -96,6 +96,19 @@ fn main() -> ExitCode {
     }
     targets.sort();
     println!("{} distinct outcomes", outcomes.len());
+    // `--outcomes FILE`: every outcome with its count, a line each
+    // (`count<TAB>outcome`), to merge the figures of campaigns run apart.
+    if let Some(path) = args
+        .iter()
+        .position(|a| a == "--outcomes")
+        .and_then(|i| args.get(i + 1))
+    {
+        let mut lines: Vec<String> = outcomes.iter().map(|(k, n)| format!("{n}\t{k}")).collect();
+        lines.sort();
+        if let Err(e) = std::fs::write(path, lines.join("\n") + "\n") {
+            eprintln!("--outcomes {path}: {e}");
+        }
+    }
     for (target, (cases, accepted, errors)) in &targets {
         println!("  {target}: {cases} cases, {accepted} accepted, {errors} distinct clean errors");
     }

@@ -41,6 +41,7 @@ mod data_types;
 mod expect;
 mod geometry;
 pub mod import;
+mod nesting;
 mod program;
 mod tags;
 mod tasks;
@@ -184,6 +185,20 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
 pub fn parse_with_l5x(path: &Path, text: &str, l5x: Option<&str>) -> Result<Scene, SceneError> {
     let mut files = Files::default();
     let scene_file = files.add(path, text);
+    if let Some(at) = nesting::too_deep(text) {
+        let file = files.get(scene_file);
+        let d = crate::source::Diagnostic::error(format!(
+            "arrays and inline tables nested deeper than {} levels",
+            nesting::MAX_TOML_NESTING
+        ))
+        .with_label(crate::source::Label::new(
+            file,
+            at..at + 1,
+            "this one opens the next level",
+        ))
+        .with_help("a bracket or brace is probably not closed");
+        return Err(SceneError::Syntax(Box::new(d)));
+    }
     let mut expanded = import::expand(path, text, &mut files, l5x).map_err(SceneError::Syntax)?;
     // The expanded text once, shared by the loader and `twin import`.
     let expanded_text: Option<std::sync::Arc<str>> = expanded.as_mut().map(|e| std::mem::take(&mut e.text).into());
