@@ -538,11 +538,34 @@ fn ulint_holds_values_past_2_63_and_its_underflow_is_a_minor_fault() {
 /// bound (4 MiB) and refused past it, naming the file.
 #[test]
 fn a_routine_past_its_size_bound_is_refused_naming_its_file() {
-    let scene = tasks_scene("big_routine", 1, 1, 1.0).map(|s| s.path).expect("the scene loads");
+    let scene = tasks_scene("big_routine", 1, 1, 1.0)
+        .map(|s| s.path)
+        .expect("the scene loads");
     let routine = scene.with_file_name("Main.st");
     std::fs::File::create(&routine)
         .and_then(|f| f.set_len(twin::source::InputKind::Routine.max_bytes() + 1))
         .expect("sparse routine");
     let e = refused(twin::scene::load(&scene), "a 4 MiB + 1 routine loads");
     assert!(e.contains("Main.st") && e.contains("longer than 4 MiB"), "{e}");
+}
+
+/// 20,000 unclosed `coordinate_system = { [` lines (a fuzz mutant) made
+/// the TOML parser's recovery overflow the stack: exit 134. The nesting is
+/// checked before parsing, at the bracket that opens level 65.
+#[test]
+fn a_scene_of_unclosed_inline_tables_is_refused_not_a_stack_overflow() {
+    let dir = common::fresh_dir("bounds", "unclosed_tables");
+    let scene = dir.join("deep.toml");
+    let text = format!(
+        "name = \"deep\"\n{}",
+        "coordinate_system = { [\"X\", \"Y\"]\n".repeat(20_000)
+    );
+    std::fs::write(&scene, text).expect("scene");
+    let out = twin_cmd().arg("check").arg(&scene).output().expect("twin check");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(65), "{err}");
+    assert!(
+        err.contains("deep.toml:65:23: arrays and inline tables nested deeper than 64 levels"),
+        "{err}"
+    );
 }
