@@ -569,3 +569,112 @@ fn a_scene_of_unclosed_inline_tables_is_refused_not_a_stack_overflow() {
         "{err}"
     );
 }
+
+/// Runs `twin` with `args` under a 2 GB address-space limit (`ulimit -v`),
+/// killed after 20 s of wall time: its exit code, or `None` if it was
+/// killed or died on a signal.
+fn twin_in_2_gb(args: &[&std::ffi::OsStr]) -> (Option<i32>, String) {
+    let mut cmd = Command::new("bash");
+    cmd.arg("-c")
+        .arg("ulimit -v 2000000 && exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_twin"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped());
+    let mut child = cmd.spawn().expect("bash");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            let mut err = String::new();
+            if let Some(mut e) = child.stderr.take() {
+                let _ = std::io::Read::read_to_string(&mut e, &mut err);
+            }
+            return (status.code(), err);
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            return (None, "killed after 20 s".to_owned());
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// The acceptance run of issue 39: one generated input of each budget's
+/// surface through `twin run`, under `ulimit -v 2000000`, ends with a
+/// clean exit code (0, 2–5 or 65) within 20 s: nothing aborts or hangs.
+#[test]
+fn every_budget_surface_ends_cleanly_in_2_gb_and_20_s() {
+    let os = |s: &Path| s.as_os_str().to_owned();
+    let mut cases: Vec<(&str, std::ffi::OsString)> = Vec::new();
+    // A runaway drive (exit 5).
+    cases.push((
+        "runaway",
+        os(&arm(
+            "gb_runaway",
+            "",
+            "",
+            "system_inertia = 4000.0, torque_limit_positive = 1e30, torque_limit_negative = -1e30",
+        )),
+    ));
+    // A collision mesh of 1e30 m.
+    let huge = arm(
+        "gb_mesh",
+        "<collision><geometry><mesh filename=\"t.stl\"/></geometry></collision>",
+        "",
+        "",
+    );
+    std::fs::write(huge.with_file_name("t.stl"), stl(&tetrahedron(1e30))).expect("stl");
+    let with_collision = std::fs::read_to_string(&huge).expect("scene") + "[collision]\nreaction = \"stop\"\n";
+    std::fs::write(&huge, with_collision).expect("scene");
+    cases.push(("mesh", os(&huge)));
+    // An inertia of 1e20 on the forearm.
+    let heavy = arm("gb_inertia", "", "", "");
+    let urdf = heavy.with_file_name("arm.urdf");
+    let text = std::fs::read_to_string(&urdf).expect("urdf").replace(
+        "ixx=\"0.01\" iyy=\"0.05\" izz=\"0.05\"",
+        "ixx=\"1e20\" iyy=\"1e20\" izz=\"1e20\"",
+    );
+    std::fs::write(&urdf, text).expect("urdf");
+    cases.push(("inertia", os(&heavy)));
+    // A chain of 3,000 links.
+    let chain = arm("gb_chain", "", "", "");
+    let mut links = String::from(
+        "<robot name=\"arm\">\n<link name=\"base\"/>\n<link name=\"forearm\"/>\n<joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"forearm\"/><axis xyz=\"0 1 0\"/><limit lower=\"-3\" upper=\"3\" effort=\"200\" velocity=\"5\"/></joint>\n",
+    );
+    for i in 0..3000 {
+        let parent = if i == 0 {
+            "forearm".to_owned()
+        } else {
+            format!("c{}", i - 1)
+        };
+        links.push_str(&format!("<link name=\"c{i}\"/><joint name=\"cj{i}\" type=\"fixed\"><parent link=\"{parent}\"/><child link=\"c{i}\"/></joint>\n"));
+    }
+    std::fs::write(chain.with_file_name("arm.urdf"), links + "</robot>\n").expect("urdf");
+    cases.push(("chain", os(&chain)));
+    // Forty timer arrays of a million, and FLL of i64::MAX elements.
+    for (name, tag_type, routine) in [
+        ("gb_tags", "FBD_TIMER[1000000]", "N := N + 1;"),
+        ("gb_fll", "DINT[4]", "FLL(0, T0[1], 9223372036854775807);"),
+    ] {
+        let dir = common::fresh_dir("bounds", name);
+        std::fs::write(dir.join("Main.st"), routine).expect("routine");
+        let urdf = common::root().join("twin/tests/fixtures/robots/indexing_table.urdf");
+        let count = if name == "gb_tags" { 40 } else { 1 };
+        let mut s = format!(
+            "name = \"x\"\nduration_s = 0.2\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n[robot]\nurdf = {urdf:?}\n[[tags]]\nname = \"N\"\ntype = \"DINT\"\n"
+        );
+        for i in 0..count {
+            s.push_str(&format!("[[tags]]\nname = \"T{i}\"\ntype = \"{tag_type}\"\n"));
+        }
+        s.push_str("[[tasks]]\nname = \"Main\"\nperiod_ms = 4.0\npriority = 5\n[[tasks.programs]]\nname = \"P\"\nmain = \"Main.st\"\n");
+        std::fs::write(dir.join("x.toml"), s).expect("scene");
+        cases.push((if name == "gb_tags" { "tags" } else { "fll" }, os(&dir.join("x.toml"))));
+    }
+    for (what, scene) in &cases {
+        let (code, err) = twin_in_2_gb(&[std::ffi::OsStr::new("run"), scene, std::ffi::OsStr::new("--no-render")]);
+        assert!(matches!(code, Some(0 | 2..=5 | 65)), "{what}: exit {code:?}: {err}");
+    }
+    let (code, err) = twin_in_2_gb(&[std::ffi::OsStr::new("check"), std::ffi::OsStr::new("/dev/zero")]);
+    assert_eq!(code, Some(65), "/dev/zero: {err}");
+}
