@@ -13,6 +13,9 @@
 //! is faster but builds every dependency again. `--example fuzz_show N`
 //! prints case N's mutant.
 
+#[allow(dead_code)] // the fuzz cases use a part
+#[path = "../tests/common/mod.rs"]
+mod common;
 #[path = "../tests/fuzz_cases/mod.rs"]
 mod fuzz_cases;
 

@@ -2,6 +2,9 @@
 //! `cargo run -p twin --example fuzz_show -- N`. The first line names the
 //! file it was made from.
 
+#[allow(dead_code)] // the fuzz cases use a part
+#[path = "../tests/common/mod.rs"]
+mod common;
 #[path = "../tests/fuzz_cases/mod.rs"]
 mod fuzz_cases;
 

@@ -316,25 +316,8 @@ fn an_astronomical_collision_mesh_is_refused_at_load() {
         ("tetra_bound", 1e4, true),
         ("tetra_past", 1.001e4, false),
     ] {
-        let scene = arm(
-            name,
-            "<collision><geometry><mesh filename=\"tetra.stl\"/></geometry></collision>",
-            "",
-            "",
-        );
-        std::fs::write(scene.with_file_name("tetra.stl"), stl(&tetrahedron(size_m))).expect("stl");
-        std::fs::write(
-            &scene,
-            std::fs::read_to_string(&scene).expect("scene") + "[collision]\nreaction = \"stop\"\n",
-        )
-        .expect("scene");
-        match build(&scene) {
-            Ok(_) => assert!(ok, "{name} loads"),
-            Err(e) => {
-                assert!(!ok, "{name}: {e}");
-                assert!(e.contains("forearm") && e.contains("reaches"), "{e}");
-            }
-        }
+        let scene = collision_mesh_arm(name, &tetrahedron(size_m), "");
+        loads_or_names(&scene, ok, &["forearm", "reaches"]);
     }
 }
 
@@ -356,25 +339,33 @@ fn convex_decomposition_is_bounded_in_triangles() {
             }
             k += 1;
         }
-        let scene = arm(
-            name,
-            "<collision><geometry><mesh filename=\"soup.stl\"/></geometry></collision>",
-            "",
-            "",
-        );
-        std::fs::write(scene.with_file_name("soup.stl"), stl(&triangles)).expect("stl");
-        std::fs::write(
-            &scene,
-            std::fs::read_to_string(&scene).expect("scene")
-                + "[collision]\nreaction = \"stop\"\nmeshes = \"convex_decomposition\"\n",
-        )
-        .expect("scene");
-        match build(&scene) {
-            Ok(_) => assert!(ok, "{name} loads"),
-            Err(e) => {
-                assert!(!ok, "{name}: {e}");
-                assert!(e.contains("triangles") && e.contains("convex_hull"), "{e}");
-            }
+        let scene = collision_mesh_arm(name, &triangles, "meshes = \"convex_decomposition\"\n");
+        loads_or_names(&scene, ok, &["triangles", "convex_hull"]);
+    }
+}
+
+/// The arm with `triangles` as the forearm's collision mesh and a
+/// `[collision]` table with `settings`.
+fn collision_mesh_arm(name: &str, triangles: &[[[f32; 3]; 3]], settings: &str) -> PathBuf {
+    let scene = arm(
+        name,
+        "<collision><geometry><mesh filename=\"part.stl\"/></geometry></collision>",
+        "",
+        "",
+    );
+    std::fs::write(scene.with_file_name("part.stl"), stl(triangles)).expect("stl");
+    let text = std::fs::read_to_string(&scene).expect("scene") + "[collision]\nreaction = \"stop\"\n" + settings;
+    std::fs::write(&scene, text).expect("scene");
+    scene
+}
+
+/// `scene` builds when `ok`, else its error holds every one of `needles`.
+fn loads_or_names(scene: &Path, ok: bool, needles: &[&str]) {
+    match build(scene) {
+        Ok(_) => assert!(ok, "{} loads", scene.display()),
+        Err(e) => {
+            assert!(!ok, "{}: {e}", scene.display());
+            assert!(needles.iter().all(|n| e.contains(n)), "{e}");
         }
     }
 }
@@ -420,16 +411,8 @@ fn a_collada_index_past_its_arrays_is_refused_without_panic_text() {
 #[test]
 fn a_chain_of_links_past_the_bound_is_refused_before_it_is_built() {
     let max = twin::plant::urdf::checks::MAX_LINKS;
-    let chain = |links: usize| {
-        let mut s = String::from("<robot name=\"chain\">\n<link name=\"l0\"/>\n");
-        for i in 1..links {
-            s.push_str(&format!(
-                "<link name=\"l{i}\"/>\n<joint name=\"j{i}\" type=\"fixed\"><parent link=\"l{}\"/><child link=\"l{i}\"/></joint>\n",
-                i - 1
-            ));
-        }
-        s + "</robot>\n"
-    };
+    // `links` links.
+    let chain = |links: usize| common::chain_urdf(links - 1);
     let path = Path::new("chain.urdf");
     assert!(
         twin::plant::urdf::RobotModel::from_urdf_str(&chain(max), path).is_ok(),
@@ -618,16 +601,7 @@ fn every_budget_surface_ends_cleanly_in_2_gb_and_20_s() {
         )),
     ));
     // A collision mesh of 1e30 m.
-    let huge = arm(
-        "gb_mesh",
-        "<collision><geometry><mesh filename=\"t.stl\"/></geometry></collision>",
-        "",
-        "",
-    );
-    std::fs::write(huge.with_file_name("t.stl"), stl(&tetrahedron(1e30))).expect("stl");
-    let with_collision = std::fs::read_to_string(&huge).expect("scene") + "[collision]\nreaction = \"stop\"\n";
-    std::fs::write(&huge, with_collision).expect("scene");
-    cases.push(("mesh", os(&huge)));
+    cases.push(("mesh", os(&collision_mesh_arm("gb_mesh", &tetrahedron(1e30), ""))));
     // An inertia of 1e20 on the forearm.
     let heavy = arm("gb_inertia", "", "", "");
     let urdf = heavy.with_file_name("arm.urdf");

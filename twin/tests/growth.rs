@@ -22,28 +22,11 @@ fn allocated(f: impl FnOnce()) -> u64 {
     (change.bytes_allocated + change.bytes_reallocated.max(0) as usize) as u64
 }
 
-/// A chain of `n` revolute links, each 0.1 m on from its parent.
-fn chain_urdf(n: usize) -> String {
-    let mut s = String::from("<robot name=\"chain\">\n<link name=\"l0\"/>\n");
-    for i in 1..=n {
-        s.push_str(&format!(
-            "<link name=\"l{i}\"><inertial><mass value=\"1\"/>\
-             <inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial></link>\n\
-             <joint name=\"j{i}\" type=\"revolute\"><parent link=\"l{p}\"/><child link=\"l{i}\"/>\
-             <origin xyz=\"0 0 0.1\"/><axis xyz=\"0 0 1\"/>\
-             <limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"1\"/></joint>\n",
-            p = i - 1
-        ));
-    }
-    s.push_str("</robot>\n");
-    s
-}
-
 /// A scene on the chain of `n` links, its first joint an axis, one
 /// coarse update long.
 fn chain_scene(name: &str, n: usize) -> std::path::PathBuf {
     let dir = common::fresh_dir("growth", name);
-    std::fs::write(dir.join("chain.urdf"), chain_urdf(n)).expect("urdf");
+    std::fs::write(dir.join("chain.urdf"), common::chain_urdf(n)).expect("urdf");
     let path = dir.join("chain.toml");
     std::fs::write(
         &path,

@@ -50,3 +50,23 @@ pub fn indexing_table_head() -> String {
          in_position_window = 0.1\nmotor = {{ stiffness = 35530.6, damping = 377.0 }}\n"
     )
 }
+
+/// A URDF chain of `joints` revolute joints and `joints + 1` links
+/// (`l0` … `lN`, each 1 kg, 0.1 m on from its parent; link `lk` on line
+/// 2k + 1).
+#[allow(dead_code)]
+pub fn chain_urdf(joints: usize) -> String {
+    let mut s = String::from("<robot name=\"chain\">\n<link name=\"l0\"/>\n");
+    for i in 1..=joints {
+        s.push_str(&format!(
+            "<link name=\"l{i}\"><inertial><mass value=\"1\"/>\
+             <inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial></link>\n\
+             <joint name=\"j{i}\" type=\"revolute\"><parent link=\"l{p}\"/><child link=\"l{i}\"/>\
+             <origin xyz=\"0 0 0.1\"/><axis xyz=\"0 0 1\"/>\
+             <limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"1\"/></joint>\n",
+            p = i - 1
+        ));
+    }
+    s.push_str("</robot>\n");
+    s
+}

@@ -587,7 +587,7 @@ fn bounds_case(rng: &mut ChaCha8Rng, root: &Path, n: u64) -> Result<(), String> 
             // Log-uniform from 1 to 3,000 links.
             let links = 10f64.powf(rng.random_range(0.0..3.48)) as usize;
             let path = dir.join("fuzz_case.urdf");
-            match RobotModel::from_urdf_str(&chain_urdf(links), &path) {
+            match RobotModel::from_urdf_str(&crate::common::chain_urdf(links), &path) {
                 Ok(_) => Ok(()),
                 Err(e) => named(&e.to_string(), "fuzz_case.urdf"),
             }
@@ -635,23 +635,6 @@ fn arm_urdf(collision: &str, inertial: &str) -> String {
          <origin xyz=\"0 0 1\"/><axis xyz=\"0 1 0\"/>\
          <limit lower=\"-3\" upper=\"3\" effort=\"200\" velocity=\"5\"/></joint>\n</robot>\n"
     )
-}
-
-/// A chain of `links` revolute links, 0.1 m apart.
-fn chain_urdf(links: usize) -> String {
-    let mut s = String::from("<robot name=\"chain\">\n<link name=\"l0\"/>\n");
-    for i in 1..=links {
-        s.push_str(&format!(
-            "<link name=\"l{i}\"><inertial><mass value=\"1\"/>\
-             <inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial></link>\n\
-             <joint name=\"j{i}\" type=\"revolute\"><parent link=\"l{p}\"/><child link=\"l{i}\"/>\
-             <origin xyz=\"0 0 0.1\"/><axis xyz=\"0 0 1\"/>\
-             <limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"1\"/></joint>\n",
-            p = i - 1
-        ));
-    }
-    s.push_str("</robot>\n");
-    s
 }
 
 /// A binary STL tetrahedron `size_m` across.
