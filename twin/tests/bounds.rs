@@ -299,7 +299,15 @@ fn positions_beyond_reason_are_refused_at_load_and_at_run_time() {
     s.scan();
     assert_eq!(s.value("E"), Some(twin::program::types::Value::Int(13)), "MAM to 2e9");
     assert_eq!(s.value("Ex"), Some(twin::program::types::Value::Int(3)), "on Position");
-    // At the bound: the move starts.
+    // The REAL just past the bound (1,000,000,064) is refused too; the
+    // bound itself starts the move.
+    s.set("P", twin::program::types::Value::Real(1_000_000_064.0));
+    s.scan();
+    assert_eq!(
+        s.value("E"),
+        Some(twin::program::types::Value::Int(13)),
+        "MAM to 1e9 + 64"
+    );
     s.set("P", twin::program::types::Value::Real(1e9));
     s.scan();
     s.scan();

@@ -113,15 +113,19 @@ mod tests {
     }
 
     #[test]
-    fn a_file_at_the_bound_is_read_and_one_byte_more_is_refused() {
+    fn a_file_at_its_kinds_bound_is_read_and_one_byte_more_is_refused() {
         let dir = std::env::temp_dir().join(format!("twin-read-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("routine.st");
-        let max = InputKind::Routine.max_bytes() as usize;
-        std::fs::write(&path, vec![b' '; max]).unwrap();
-        assert_eq!(read_text_bounded(&path, InputKind::Routine).unwrap().len(), max);
-        std::fs::write(&path, vec![b' '; max + 1]).unwrap();
-        assert!(read_text_bounded(&path, InputKind::Routine).is_err());
+        let path = dir.join("input");
+        for kind in InputKind::ALL {
+            let max = kind.max_bytes();
+            // Sparse files: no disk is written.
+            std::fs::File::create(&path).and_then(|f| f.set_len(max)).unwrap();
+            assert_eq!(read_bounded(&path, kind).unwrap().len() as u64, max, "{kind:?}");
+            std::fs::File::create(&path).and_then(|f| f.set_len(max + 1)).unwrap();
+            let err = read_bounded(&path, kind).unwrap_err();
+            assert!(err.to_string().contains(kind.name()), "{kind:?}: {err}");
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
