@@ -231,6 +231,8 @@ pub trait Cells {
     fn bit(&mut self, b: bool);
     /// An integer.
     fn int(&mut self, i: i64);
+    /// An unsigned 64-bit integer (a ULINT tag).
+    fn uint(&mut self, u: u64);
     /// A string's text (escaped: no comma, [`crate::program::Program::traced_text`]).
     fn text(&mut self, s: &str);
 }
@@ -273,6 +275,11 @@ impl Cells for Values {
 
     fn int(&mut self, i: i64) {
         self.values.push(i as f64);
+        self.types.push(DataType::Dint);
+    }
+
+    fn uint(&mut self, u: u64) {
+        self.values.push(u as f64);
         self.types.push(DataType::Dint);
     }
 
@@ -376,6 +383,7 @@ pub fn write_cells(twin: &Twin, row: &mut impl Cells) {
         }
         match program.traced(t, task) {
             Value::Bool(b) => row.bit(b),
+            Value::Int(i) if t.unsigned_64() => row.uint(i as u64),
             Value::Int(i) => row.int(i),
             Value::Real(x) if t.single_precision() => row.real32(x as f32),
             Value::Real(x) => row.number(x),
@@ -421,6 +429,12 @@ impl Cells for Row<'_> {
         use std::fmt::Write;
         // Writing to a String cannot fail.
         let _ = write!(self.cell(), "{i}");
+    }
+
+    fn uint(&mut self, u: u64) {
+        use std::fmt::Write;
+        // Writing to a String cannot fail.
+        let _ = write!(self.cell(), "{u}");
     }
 
     fn text(&mut self, s: &str) {

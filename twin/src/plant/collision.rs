@@ -95,7 +95,7 @@ pub mod monitor;
 pub mod sweep;
 pub use bodies::{Body, CheckResult, CollisionModelError, Contact, ContactPoint};
 use bodies::{LocalSphere, RobotBody};
-pub use build::MAX_DECOMPOSITION_TRIANGLES;
+pub use build::{MAX_DECOMPOSITION_TRIANGLES, MAX_DECOMPOSITION_TRIANGLES_TOTAL};
 use build::{allowed_pairs, obstacle_shapes, reach_of, robot_bodies, self_pairs, vec3};
 pub(crate) use build::{pose_from_xyz_rpy_deg, scene_shape, shape_of};
 
@@ -231,6 +231,7 @@ impl CollisionModel {
         obstacles: &[Obstacle],
         settings: &CollisionSettings,
     ) -> Result<CollisionModel, CollisionModelError> {
+        build::decomposition_budget(model, obstacles, settings)?;
         let bodies = robot_bodies(model, settings)?;
         let obstacle_shapes = obstacle_shapes(obstacles, settings)?;
         let obstacle_names: Vec<String> = obstacles.iter().map(|o| o.name.clone()).collect();

@@ -20,6 +20,16 @@ const MIN_SEGMENTS: u32 = 3;
 const MIN_RINGS: u32 = 2;
 
 impl TriMesh {
+    /// The largest magnitude of any vertex coordinate once scaled by
+    /// `scale` (per axis), m.
+    #[must_use]
+    pub fn extent_m(&self, scale: [f64; 3]) -> f64 {
+        self.positions
+            .iter()
+            .flat_map(|p| (0..3).map(move |k| (f64::from(p[k]) * scale[k]).abs()))
+            .fold(0.0, f64::max)
+    }
+
     /// A box centred at the origin with edge lengths `size_xyz` (metres) along
     /// X, Y and Z, as URDF's `<box size="x y z"/>`.
     ///

@@ -187,10 +187,16 @@ pub const RUNAWAY_FLOOR_RAD_PER_S: f64 = 1000.0;
 /// The least runaway speed of a linear joint, m/s.
 pub const RUNAWAY_FLOOR_M_PER_S: f64 = 100.0;
 
+/// How far from the world's origin a link may be before the physics
+/// counts it as run away, m: a thousand times the largest length a scene
+/// or URDF may give ([`crate::scene::MAX_LENGTH_M`]), so that a long
+/// prismatic joint at its travel never reaches it.
+pub const RUNAWAY_REACH_M: f64 = 1e7;
+
 /// The physics state became NaN or infinite, or diverged while finite (a
 /// joint faster than [`RUNAWAY_SPEED_FACTOR`] × its axis' maximum speed,
-/// a link farther than [`crate::scene::MAX_LENGTH_M`] from the world's
-/// origin): a model or gains the solver cannot integrate. The run stops
+/// a link farther than [`RUNAWAY_REACH_M`] from the world's origin): a
+/// model or gains the solver cannot integrate. The run stops
 /// at that update: the state is never fed back as actual positions.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct PhysicsFault {
@@ -557,7 +563,7 @@ impl Plant {
     /// The first link past the scene's reach or joint past its runaway
     /// speed ([`RUNAWAY_SPEED_FACTOR`]), named with the link it moves.
     fn runaway(&self, task: &MotionTask, world_from_link: &[([f64; 3], [f64; 4])]) -> Option<String> {
-        let max_m = crate::scene::MAX_LENGTH_M;
+        let max_m = RUNAWAY_REACH_M;
         if let Some(k) = world_from_link
             .iter()
             .position(|(t, _)| t.iter().map(|x| x * x).sum::<f64>() > max_m * max_m)

@@ -514,10 +514,24 @@ fn convert_link(
         .collision
         .iter()
         .map(|c| {
+            let geometry = convert_geometry(&c.geometry, &link.name, urdf_dir)?;
+            // Bounded whether or not the scene checks collisions: the
+            // physics and the parts world build their shapes too.
+            if let Geometry::Mesh { path, scale, mesh } = &geometry {
+                let extent_m = mesh.extent_m(*scale);
+                if extent_m > crate::scene::MAX_LENGTH_M {
+                    return Err(UrdfError::CollisionMeshTooLarge {
+                        link: link.name.clone(),
+                        path: path.clone(),
+                        extent_m,
+                        max_m: crate::scene::MAX_LENGTH_M,
+                    });
+                }
+            }
             Ok(Collision {
                 name: c.name.clone(),
                 link_from_collision: isometry_from_urdf_pose(&c.origin),
-                geometry: convert_geometry(&c.geometry, &link.name, urdf_dir)?,
+                geometry,
             })
         })
         .collect::<Result<Vec<_>, UrdfError>>()?;

@@ -103,6 +103,11 @@ impl TracedTag {
         self.ty == DataType::Real && self.text.is_none()
     }
 
+    /// Whether it is a ULINT, whose 64 bits the trace writes unsigned.
+    pub fn unsigned_64(&self) -> bool {
+        self.ty == DataType::Ulint
+    }
+
     /// Whether it is a string, which the trace writes as text.
     pub fn is_text(&self) -> bool {
         self.text.is_some()
@@ -309,6 +314,7 @@ impl Program {
     pub fn traced_number(&self, t: &TracedTag, task: &MotionTask) -> f64 {
         match self.traced(t, task) {
             Value::Bool(b) => f64::from(u8::from(b)),
+            Value::Int(i) if t.unsigned_64() => i as u64 as f64,
             Value::Int(i) => i as f64,
             Value::Real(x) if t.single_precision() => f64::from(x as f32),
             Value::Real(x) => x,

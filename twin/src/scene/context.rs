@@ -373,7 +373,15 @@ impl Ctx<'_> {
     /// A value within `(0, max]`.
     pub(super) fn bounded(&self, v: &Spanned<f64>, field: &str, max: f64) -> Result<f64, SceneError> {
         let value = self.positive(v, field)?;
-        self.at_most(v, field, &[value], max)?;
+        if value > max {
+            let problem = Problem::OutOfRange {
+                value,
+                min: 0.0,
+                max,
+                exclusive: false,
+            };
+            return Err(self.invalid(v, field, problem));
+        }
         Ok(value)
     }
 

@@ -32,7 +32,7 @@ pub enum Problem {
         value: f64,
     },
     /// Outside an inclusive (or, when `exclusive`, open) range.
-    #[error("must be between {min} and {max}{}, got {value}", if *exclusive { " (exclusive)" } else { "" })]
+    #[error("must be between {} and {}{}, got {}", short(*min), short(*max), if *exclusive { " (exclusive)" } else { "" }, short(*value))]
     OutOfRange {
         /// The value.
         value: f64,
@@ -95,8 +95,9 @@ pub enum Problem {
         /// The name.
         name: String,
     },
-    /// A referenced file that does not exist.
-    #[error("file '{}' does not exist", path.display())]
+    /// A referenced file that does not exist, or is not a regular file
+    /// (a folder, a device, a FIFO).
+    #[error("file '{}' {}", path.display(), if path.exists() { "is not a regular file (a folder, a device or a FIFO)" } else { "does not exist" })]
     MissingFile {
         /// The resolved path.
         path: PathBuf,
@@ -787,4 +788,15 @@ fn unknown_field_nearest(text: &str) -> Option<String> {
     let expected = &rest[rest.find("expected one of ")? + "expected one of ".len()..];
     let known: Vec<&str> = expected.split(", ").map(|k| k.trim_matches('\'')).collect();
     crate::source::diag::nearest(field, known).map(str::to_owned)
+}
+
+/// A number as a message writes it: plainly between 10⁻⁴ and 10¹⁵ in
+/// magnitude (and 0), in exponent form past them (`1e300`, not three
+/// hundred digits).
+fn short(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }

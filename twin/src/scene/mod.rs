@@ -58,12 +58,13 @@ pub use model::{
     Alias, AllowedPair, AoiDef, AoiParam, AoiUsage, Axis, AxisKind, BaseType, CONTINUOUS_PRIORITY, CamPoint, Camera,
     CollisionSettings, Condition, Connection, ControllerSettings, CoordinateSystemSettings, DEFAULT_PHYSICS_SUBSTEPS,
     DEFAULT_START_TIME_US, DEFAULT_STATEMENT_US, DEFAULT_WATCHDOG_MS, DataTypeDef, Dialect, EventTrigger, ExpectKind,
-    Expectation, FunctionBlock, GeometrySettings, L5xImport, Location, MAX_ARRAY_LEN, MAX_CAM_ARRAY_LEN,
-    MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_LOOP_BANDWIDTH_STEP, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS,
-    MAX_PROGRAMS_PER_TASK, MAX_STRING_LENGTH, MAX_TASKS, MIN_PHYSICS_STEP_MS, MIN_STATEMENT_US, MemberDef,
-    MeshApproximation, MotorGains, Obstacle, PlantMode, Preflight, ProgramDef, RUN_EXIT_CODES, Reaction, Robot,
-    RoutineDef, STRING_LENGTH, STRING_TYPE, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType,
-    TagValue, Task, TaskKind, TestSettings, Tool, TraceRung, TraceTag, Trigger, Units, Usage, UserType, Variant,
+    Expectation, FunctionBlock, GeometrySettings, L5xImport, Location, MAX_ARRAY_LEN, MAX_AXIS_ACCELERATION,
+    MAX_AXIS_JERK, MAX_AXIS_SPEED, MAX_CAM_ARRAY_LEN, MAX_DRIVE_TORQUE, MAX_DURATION_S, MAX_FEEDFORWARD_PCT,
+    MAX_IMAGE_PX, MAX_LENGTH_M, MAX_LOOP_BANDWIDTH_STEP, MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MAX_PROGRAMS_PER_TASK,
+    MAX_STRING_LENGTH, MAX_TASKS, MIN_PHYSICS_STEP_MS, MIN_STATEMENT_US, MemberDef, MeshApproximation, MotorGains,
+    Obstacle, PlantMode, Preflight, ProgramDef, RUN_EXIT_CODES, Reaction, Robot, RoutineDef, STRING_LENGTH,
+    STRING_TYPE, Scene, SegmentType, ServoGains, Shape, Snapshots, Step, Tag, TagType, TagValue, Task, TaskKind,
+    TestSettings, Tool, TraceRung, TraceTag, Trigger, Units, Usage, UserType, Variant,
 };
 
 use crate::source::Files;

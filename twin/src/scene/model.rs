@@ -942,6 +942,26 @@ impl Scene {
 /// queries fail on shapes of astronomical size.
 pub const MAX_LENGTH_M: f64 = 1e4;
 
+/// The largest `max_velocity` of an axis, units/s: at it a move reaches
+/// the position bound (`planner::axis::MAX_POSITION`, 10⁹ units) in a
+/// second; a jog at 10³⁰⁷ units/s reached infinity.
+pub const MAX_AXIS_SPEED: f64 = 1e9;
+
+/// The largest `max_acceleration` and `max_deceleration`, units/s².
+pub const MAX_AXIS_ACCELERATION: f64 = 1e12;
+
+/// The largest `max_jerk`, units/s³.
+pub const MAX_AXIS_JERK: f64 = 1e15;
+
+/// The largest velocity and acceleration feed-forward gain of a servo
+/// drive, % (the command fed forward twice over; 10³⁰⁰ % drove a joint
+/// into its limit with 10²⁹⁹ N·m and exit 0).
+pub const MAX_FEEDFORWARD_PCT: f64 = 200.0;
+
+/// The largest magnitude of a servo drive's torque limits, N·m (N for a
+/// linear joint): more than any motor in a cell gives.
+pub const MAX_DRIVE_TORQUE: f64 = 1e7;
+
 /// The most 2π × a servo loop's bandwidth × the physics substep may be.
 /// The drive closes its loops explicitly once a substep, and such a
 /// proportional loop diverges past 2 (each substep overshoots the error

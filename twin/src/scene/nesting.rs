@@ -11,17 +11,30 @@ pub const MAX_TOML_NESTING: usize = 64;
 /// The byte offset of the first `[` or `{` that opens a level past
 /// [`MAX_TOML_NESTING`], scanning as TOML does: brackets inside strings
 /// (basic, literal, multi-line) and comments do not count, and a table
-/// header's brackets (`[x]`, `[[x]]` at a line's start) do not nest.
+/// header's brackets (`[x]`, `[[x]]` at a line's start) do not nest. A
+/// dotted key nests its value once per dot (`a.b.c = { … }` opens three
+/// levels), as the parsed document does.
 pub fn too_deep(text: &str) -> Option<usize> {
     let bytes = text.as_bytes();
+    // Per open bracket: the levels it opened (1 + its key's dots).
+    let mut open: Vec<(u8, usize)> = Vec::new();
     let mut depth = 0usize;
+    // Dots of the key being read, and of the key whose value comes next.
+    let (mut key_dots, mut value_dots) = (0usize, 0usize);
+    let mut in_key = true;
     let mut i = 0;
     let mut line_start = true;
     while i < bytes.len() {
         let c = bytes[i];
+        let in_table = open.last().is_none_or(|(b, _)| *b == b'{');
         match c {
             b'\n' => {
                 line_start = true;
+                if open.is_empty() {
+                    in_key = true;
+                    key_dots = 0;
+                    value_dots = 0;
+                }
                 i += 1;
                 continue;
             }
@@ -40,19 +53,39 @@ pub fn too_deep(text: &str) -> Option<usize> {
                 line_start = false;
                 continue;
             }
-            b'[' if line_start && depth == 0 => {
+            b'[' if line_start && open.is_empty() => {
                 // A table header: up to its closing bracket on this line.
                 while i < bytes.len() && bytes[i] != b'\n' && bytes[i] != b']' {
                     i += 1;
                 }
             }
+            b'.' if in_key && in_table => key_dots += 1,
+            b'=' if in_key && in_table => {
+                in_key = false;
+                value_dots = key_dots;
+                key_dots = 0;
+            }
             b'[' | b'{' => {
-                depth += 1;
+                let levels = 1 + std::mem::take(&mut value_dots);
+                depth += levels;
                 if depth > MAX_TOML_NESTING {
                     return Some(i);
                 }
+                open.push((c, levels));
+                in_key = c == b'{';
+                key_dots = 0;
             }
-            b']' | b'}' => depth = depth.saturating_sub(1),
+            b']' | b'}' => {
+                if let Some((_, levels)) = open.pop() {
+                    depth -= levels;
+                }
+                value_dots = 0;
+            }
+            b',' => {
+                in_key = in_table;
+                key_dots = 0;
+                value_dots = 0;
+            }
             _ => {}
         }
         line_start = false;
@@ -112,5 +145,24 @@ mod tests {
         assert_eq!(too_deep(&text), None);
         let deep = format!("a = {}1{}\n", "[".repeat(65), "]".repeat(65));
         assert_eq!(too_deep(&deep), Some(4 + 64));
+        // Floats and dotted keys in arrays' tables do not add up.
+        let floats = format!("a = [{}]\n", "1.5, ".repeat(1000));
+        assert_eq!(too_deep(&floats), None);
+    }
+
+    #[test]
+    fn a_dotted_key_nests_its_value_once_per_dot() {
+        // 24 tables under keys of 60 dots: 1,464 levels (it overflowed the
+        // stack deserializing a tag's value).
+        let key = "a.".repeat(60);
+        let text = format!("value = {}1{}\n", format!("{{{key}b = ").repeat(24), "}".repeat(24));
+        assert!(too_deep(&text).is_some());
+        // 1 + 2 dots + 1 + 2 dots: 6 levels.
+        assert_eq!(too_deep("v = { a.b.c = { d.e.f = 1 } }\n"), None);
+        // `v`'s table opens 1 level, each under `a.b.c` 3 more.
+        let just = format!("v = {}1{}\n", "{a.b.c = ".repeat(22), "}".repeat(22));
+        assert_eq!(too_deep(&just), None, "1 + 21 × 3 = 64 levels");
+        let past = format!("v = {}1{}\n", "{a.b.c = ".repeat(23), "}".repeat(23));
+        assert!(too_deep(&past).is_some(), "67 levels");
     }
 }

@@ -13,9 +13,9 @@ use toml::Spanned;
 use super::context::{Ctx, NameKind, Names, ShapeFields};
 use super::error::{Problem, SceneError};
 use super::model::{
-    Axis, Camera, DEFAULT_PHYSICS_SUBSTEPS, MAX_DURATION_S, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_LOOP_BANDWIDTH_STEP,
-    MAX_MESH_SCALE, MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, Obstacle, Robot, Scene, ServoGains, Shape,
-    Snapshots,
+    Axis, Camera, DEFAULT_PHYSICS_SUBSTEPS, MAX_AXIS_ACCELERATION, MAX_AXIS_JERK, MAX_AXIS_SPEED, MAX_DRIVE_TORQUE,
+    MAX_DURATION_S, MAX_FEEDFORWARD_PCT, MAX_IMAGE_PX, MAX_LENGTH_M, MAX_LOOP_BANDWIDTH_STEP, MAX_MESH_SCALE,
+    MAX_PHYSICS_SUBSTEPS, MIN_PHYSICS_STEP_MS, MotorGains, Obstacle, Robot, Scene, ServoGains, Shape, Snapshots,
 };
 use super::raw::{
     AxisConfiguration, RawAxis, RawCamera, RawDrive, RawObstacle, RawRobot, RawScene, RawSnapshots, ShapeKind,
@@ -387,13 +387,17 @@ impl Ctx<'_> {
         let positive = |v: &Option<Spanned<f64>>, name: &str, default: f64| self.positive_or(v, &field(name), default);
         let non_negative =
             |v: &Option<Spanned<f64>>, name: &str, default: f64| self.non_negative_or(v, &field(name), default);
+        let feedforward = |v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
+            Some(v) => self.in_range(v, &field(name), 0.0, MAX_FEEDFORWARD_PCT),
+            None => Ok(default),
+        };
         let torque_limit_negative = match &d.torque_limit_negative {
             Some(v) => {
                 let x = self.finite(v, &field("torque_limit_negative"))?;
-                if x >= 0.0 {
+                if !(-MAX_DRIVE_TORQUE..0.0).contains(&x) {
                     let problem = Problem::OutOfRange {
                         value: x,
-                        min: f64::NEG_INFINITY,
+                        min: -MAX_DRIVE_TORQUE,
                         max: 0.0,
                         exclusive: true,
                     };
@@ -424,18 +428,18 @@ impl Ctx<'_> {
                 "velocity_integrator_bandwidth_hz",
                 g.velocity_integrator_bandwidth_hz,
             )?,
-            velocity_feedforward_gain_pct: non_negative(
+            velocity_feedforward_gain_pct: feedforward(
                 &d.velocity_feedforward_gain_pct,
                 "velocity_feedforward_gain_pct",
                 g.velocity_feedforward_gain_pct,
             )?,
-            acceleration_feedforward_gain_pct: non_negative(
+            acceleration_feedforward_gain_pct: feedforward(
                 &d.acceleration_feedforward_gain_pct,
                 "acceleration_feedforward_gain_pct",
                 g.acceleration_feedforward_gain_pct,
             )?,
             torque_limit_positive: match &d.torque_limit_positive {
-                Some(v) => Some(self.positive(v, &field("torque_limit_positive"))?),
+                Some(v) => Some(self.bounded(v, &field("torque_limit_positive"), MAX_DRIVE_TORQUE)?),
                 None => None,
             },
             torque_limit_negative,
@@ -477,10 +481,10 @@ impl Ctx<'_> {
                 Some(p) => Some(self.positive(p, &f("modulo_period"))?),
                 None => None,
             };
-            let max_velocity = self.positive(&a.max_velocity, &f("max_velocity"))?;
-            let max_acceleration = self.positive(&a.max_acceleration, &f("max_acceleration"))?;
-            let max_deceleration = self.positive(&a.max_deceleration, &f("max_deceleration"))?;
-            let max_jerk = self.positive(&a.max_jerk, &f("max_jerk"))?;
+            let max_velocity = self.bounded(&a.max_velocity, &f("max_velocity"), MAX_AXIS_SPEED)?;
+            let max_acceleration = self.bounded(&a.max_acceleration, &f("max_acceleration"), MAX_AXIS_ACCELERATION)?;
+            let max_deceleration = self.bounded(&a.max_deceleration, &f("max_deceleration"), MAX_AXIS_ACCELERATION)?;
+            let max_jerk = self.bounded(&a.max_jerk, &f("max_jerk"), MAX_AXIS_JERK)?;
             let in_position_window = self.positive(&a.in_position_window, &f("in_position_window"))?;
             let position_range_window = match &a.position_range_window {
                 Some(w) => self.non_negative(w, &f("position_range_window"))?,

@@ -1,7 +1,8 @@
-//! Reading an input file with a bound on its size, so that a device
-//! (`/dev/zero`), a `/proc` file or a giant never takes the machine's
-//! memory: every file the twin reads goes through [`read_bounded`], with
-//! the bound of its [`InputKind`] (the README's budget table).
+//! Reading an input file with a bound on its size, so that a `/proc`
+//! file or a giant never takes the machine's memory: every file the twin
+//! reads goes through [`read_bounded`], with the bound of its
+//! [`InputKind`] (the README's budget table). Only regular files are read:
+//! a device (`/dev/zero`) never ends and a FIFO blocks until written.
 
 use std::io::Read;
 use std::path::Path;
@@ -73,6 +74,14 @@ impl InputKind {
 /// [`InputKind::max_bytes`].
 pub fn read_bounded(path: &Path, kind: InputKind) -> std::io::Result<Vec<u8>> {
     let max = kind.max_bytes();
+    // Only a regular file: opening a FIFO waits for a writer forever, and
+    // a device (`/dev/zero`, a terminal) is not an input a scene names.
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file (a folder, a device or a FIFO)",
+        ));
+    }
     let file = std::fs::File::open(path)?;
     // The length a regular file states sizes the buffer (never past the
     // bound); a device or pipe states none and grows it as it is read.
@@ -106,10 +115,19 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_stream_without_end_is_refused_at_its_bound() {
+    fn a_device_or_fifo_is_refused_before_it_is_opened() {
         let err = read_bounded(Path::new("/dev/zero"), InputKind::Routine).unwrap_err();
-        assert_eq!(err.kind(), std::io::ErrorKind::InvalidData);
-        assert!(err.to_string().contains("longer than 4 MiB"), "{err}");
+        assert!(err.to_string().contains("not a regular file"), "{err}");
+        // A FIFO with no writer: opening it would wait forever.
+        let dir = std::env::temp_dir().join(format!("twin-fifo-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let fifo = dir.join("scene.toml");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            let err = read_bounded(&fifo, InputKind::Scene).unwrap_err();
+            assert!(err.to_string().contains("not a regular file"), "{err}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -548,7 +548,7 @@ fn bounds_case(rng: &mut ChaCha8Rng, root: &Path, n: u64) -> Result<(), String> 
     ];
     let dir = root
         .join("target/fuzz-bounds")
-        .join(format!("{:?}", std::thread::current().id()).replace(['(', ')'], ""));
+        .join(format!("{}-{:?}", std::process::id(), std::thread::current().id()).replace(['(', ')'], ""));
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
     let scene_at = dir.join("fuzz_case.toml");
     let arm_scene = |collision: &str, inertial: &str| -> Result<(), String> {
@@ -767,12 +767,12 @@ thread_local! {
 }
 
 /// The ladder conveyor scene (path, text) with its Add-On Instruction
-/// exports in a folder of this thread's own, one of them replaced by
+/// exports in a folder of this process and thread, one of them replaced by
 /// `mutant` (its original's path, its text).
 pub fn aoi_scene(corpus: &Corpus, root: &Path, mutant: Option<(&PathBuf, &str)>) -> Result<(PathBuf, String), String> {
     let dir = root
         .join("target/fuzz-aoi")
-        .join(format!("{:?}", std::thread::current().id()).replace(['(', ')'], ""));
+        .join(format!("{}-{:?}", std::process::id(), std::thread::current().id()).replace(['(', ')'], ""));
     std::fs::create_dir_all(dir.join("aoi")).map_err(|e| e.to_string())?;
     for (p, t) in &corpus.aois {
         let name = p.file_name().unwrap_or_default();

@@ -72,6 +72,18 @@ pub enum CollisionModelError {
         /// The bound ([`super::build::MAX_DECOMPOSITION_TRIANGLES`]).
         max: usize,
     },
+    /// The meshes for `meshes = "convex_decomposition"` have more
+    /// triangles together than the decomposition may take in one scene.
+    #[error(
+        "collision meshes to decompose have {triangles} triangles together, more than the {max} a scene may have \
+         with meshes = \"convex_decomposition\" (simplify them, or use meshes = \"convex_hull\")"
+    )]
+    DecompositionBudget {
+        /// Their triangles.
+        triangles: usize,
+        /// The bound ([`super::build::MAX_DECOMPOSITION_TRIANGLES_TOTAL`]).
+        max: usize,
+    },
     /// A tool or obstacle mesh file cannot be loaded.
     #[error("{body}: {source}")]
     Mesh {

@@ -46,6 +46,53 @@ pub(crate) fn shape_of(
 /// A mesh with more is refused, naming `convex_hull` as the way out.
 pub const MAX_DECOMPOSITION_TRIANGLES: usize = 1_000;
 
+/// The most triangles all the meshes of a scene may have together for
+/// `meshes = "convex_decomposition"` (links, tool and obstacles): about
+/// 15 s of decomposition in the dev build; the work is not shared between
+/// meshes, so six meshes of 1,000 took 34 s.
+pub const MAX_DECOMPOSITION_TRIANGLES_TOTAL: usize = 3_000;
+
+/// Refuses a scene whose meshes to decompose have more triangles together
+/// than [`MAX_DECOMPOSITION_TRIANGLES_TOTAL`], before any is decomposed.
+pub(super) fn decomposition_budget(
+    model: &RobotModel,
+    obstacles: &[Obstacle],
+    settings: &CollisionSettings,
+) -> Result<(), CollisionModelError> {
+    if settings.meshes != MeshApproximation::ConvexDecomposition {
+        return Ok(());
+    }
+    let mut triangles: usize = model
+        .links
+        .iter()
+        .flat_map(|l| &l.collisions)
+        .map(|c| match &c.geometry {
+            Geometry::Mesh { mesh, .. } => mesh.indices.len() / 3,
+            _ => 0,
+        })
+        .sum();
+    let scene_shapes = obstacles
+        .iter()
+        .map(|o| (&o.shape, o.name.as_str()))
+        .chain(settings.tool.iter().map(|t| (&t.shape, t.name.as_str())));
+    for (shape, name) in scene_shapes {
+        if let Shape::Mesh { path, .. } = shape {
+            let mesh = load_stl(path).map_err(|source| CollisionModelError::Mesh {
+                body: name.to_string(),
+                source,
+            })?;
+            triangles += mesh.indices.len() / 3;
+        }
+    }
+    if triangles > MAX_DECOMPOSITION_TRIANGLES_TOTAL {
+        return Err(CollisionModelError::DecompositionBudget {
+            triangles,
+            max: MAX_DECOMPOSITION_TRIANGLES_TOTAL,
+        });
+    }
+    Ok(())
+}
+
 pub(super) fn mesh_shape(
     mesh: &crate::plant::mesh::TriMesh,
     scale: [f64; 3],
@@ -64,11 +111,7 @@ pub(super) fn mesh_shape(
         })
         .collect();
     let max_m = crate::scene::MAX_LENGTH_M;
-    let extent_m = mesh
-        .positions
-        .iter()
-        .flat_map(|p| (0..3).map(move |k| (f64::from(p[k]) * scale[k]).abs()))
-        .fold(0.0, f64::max);
+    let extent_m = mesh.extent_m(scale);
     if extent_m > max_m {
         return Err(CollisionModelError::MeshTooLarge {
             body: body.to_string(),

@@ -87,6 +87,21 @@ pub enum UrdfError {
         #[source]
         source: DaeError,
     },
+    /// A `<collision>` mesh reaches farther than
+    /// [`crate::scene::MAX_LENGTH_M`] from its frame once scaled.
+    #[error(
+        "link {link}: collision mesh {path} reaches {extent_m:e} m from its frame once scaled, more than {max_m:e} m"
+    )]
+    CollisionMeshTooLarge {
+        /// The link.
+        link: String,
+        /// The resolved mesh file.
+        path: PathBuf,
+        /// The largest scaled coordinate's magnitude, m.
+        extent_m: f64,
+        /// The bound, m.
+        max_m: f64,
+    },
     /// A mesh file is in a format other than STL or COLLADA.
     #[error("link {link}: mesh {path} has unsupported format {extension:?} (only STL and COLLADA .dae are supported)")]
     UnsupportedMeshFormat {

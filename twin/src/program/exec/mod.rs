@@ -25,8 +25,10 @@
 //!   in 64 bits, a signed operand taken at its value: results outside
 //!   0 to 2⁶⁴ − 1 keep their low 64 bits and record the minor fault
 //!   (0 − 1 = 18446744073709551615). A literal past LINT is a ULINT. A
-//!   ULINT written to a signed integer keeps its bits (no fault); one in
-//!   a REAL or LREAL operation or assignment is its unsigned value.
+//!   ULINT assigned to a signed integer that cannot hold it, or a negative
+//!   integer assigned to a ULINT, keeps the low bits and records the
+//!   minor fault; a ULINT in a REAL or LREAL operation or assignment is
+//!   its unsigned value.
 //! * Integer ÷ integer truncates toward zero (7/2 = 3, −7/2 = −3); `MOD`
 //!   takes the dividend's sign (−7 MOD 2 = −1).
 //! * Division or `MOD` by zero records the minor fault (type 4, code 4).
@@ -50,7 +52,7 @@ use super::ir::{
 use super::layout::Elem;
 use super::memory::Memory;
 use super::system::{Attribute, Class, System};
-use super::types::{DataType, Value};
+use super::types::{DataType, Ty, Value};
 use planner::instruction::Fault;
 use planner::task::MotionTask;
 
@@ -382,6 +384,27 @@ impl<'e> Exec<'e> {
             sys.minor_events += 1;
             sys.minor_fault_bits |= 1 << 4;
             sys.programs[*program].minor_record = sys.record(clock_ns, 4, 4);
+        }
+    }
+
+    /// A ULINT written to a signed integer that cannot hold its value, or
+    /// a negative integer written to a ULINT, records the overflow minor
+    /// fault (the store keeps the low bits, as for any integer that does
+    /// not fit): storing alone reads an integer's bits the same either way.
+    #[cold]
+    fn check_sign_change(&mut self, from: Ty, to: DataType, v: Value) {
+        let Value::Int(bits) = v else { return };
+        let lost = match (from, to) {
+            (Ty::Ulint, DataType::Ulint) => false,
+            (Ty::Ulint, to) if to.math().is_integer() => {
+                let wide = i128::from(bits as u64);
+                i128::from(to.wrap(wide)) != wide
+            }
+            (Ty::Dint | Ty::Lint, DataType::Ulint) => bits < 0,
+            _ => false,
+        };
+        if lost {
+            self.overflow(&format!("the value does not fit {}", to.name()));
         }
     }
 
@@ -763,6 +786,9 @@ impl<'e> Exec<'e> {
             SKind::Assign { target, ty, value, .. } => {
                 let v = self.eval(value);
                 self.check()?;
+                if value.ty == Ty::Ulint || *ty == DataType::Ulint {
+                    self.check_sign_change(value.ty, *ty, v);
+                }
                 self.store(target, *ty, v);
                 self.check()?;
             }
