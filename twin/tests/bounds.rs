@@ -632,7 +632,7 @@ fn a_scene_of_unclosed_inline_tables_is_refused_not_a_stack_overflow() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(65), "{err}");
     assert!(
-        err.contains("deep.toml:65:23: arrays and inline tables nested deeper than 64 levels"),
+        err.contains("deep.toml:65:23: tables and arrays nested deeper than 64 levels"),
         "{err}"
     );
     // A tag's value of 24 tables under keys of 60 dots (1,464 levels):

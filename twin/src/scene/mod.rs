@@ -189,7 +189,7 @@ pub fn parse_with_l5x(path: &Path, text: &str, l5x: Option<&str>) -> Result<Scen
     if let Some(at) = nesting::too_deep(text) {
         let file = files.get(scene_file);
         let d = crate::source::Diagnostic::error(format!(
-            "arrays and inline tables nested deeper than {} levels",
+            "tables and arrays nested deeper than {} levels (brackets, braces and the dots of keys)",
             nesting::MAX_TOML_NESTING
         ))
         .with_label(crate::source::Label::new(

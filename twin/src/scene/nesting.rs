@@ -54,12 +54,25 @@ pub fn too_deep(text: &str) -> Option<usize> {
                 continue;
             }
             b'[' if line_start && open.is_empty() => {
-                // A table header: up to its closing bracket on this line.
+                // A table header: up to its closing bracket on this line;
+                // its dots nest the table's keys as a dotted key's do.
+                let mut dots = 0;
                 while i < bytes.len() && bytes[i] != b'\n' && bytes[i] != b']' {
+                    if bytes[i] == b'.' {
+                        dots += 1;
+                        if dots > MAX_TOML_NESTING {
+                            return Some(i);
+                        }
+                    }
                     i += 1;
                 }
             }
-            b'.' if in_key && in_table => key_dots += 1,
+            b'.' if in_key && in_table => {
+                key_dots += 1;
+                if depth + key_dots > MAX_TOML_NESTING {
+                    return Some(i);
+                }
+            }
             b'=' if in_key && in_table => {
                 in_key = false;
                 value_dots = key_dots;
@@ -151,6 +164,15 @@ mod tests {
     }
 
     #[test]
+    fn a_key_or_header_of_more_dots_than_the_bound_is_found_at_its_dot() {
+        let key = format!("x{} = 1\n", ".a".repeat(65));
+        assert_eq!(too_deep(&key), Some(1 + 2 * 64));
+        assert_eq!(too_deep(&format!("x{} = 1\n", ".a".repeat(64))), None);
+        let header = format!("[x{}]\ny = 1\n", ".a".repeat(65));
+        assert_eq!(too_deep(&header), Some(2 + 2 * 64));
+    }
+
+    #[test]
     fn a_dotted_key_nests_its_value_once_per_dot() {
         // 24 tables under keys of 60 dots: 1,464 levels (it overflowed the
         // stack deserializing a tag's value).
@@ -159,10 +181,11 @@ mod tests {
         assert!(too_deep(&text).is_some());
         // 1 + 2 dots + 1 + 2 dots: 6 levels.
         assert_eq!(too_deep("v = { a.b.c = { d.e.f = 1 } }\n"), None);
-        // `v`'s table opens 1 level, each under `a.b.c` 3 more.
-        let just = format!("v = {}1{}\n", "{a.b.c = ".repeat(22), "}".repeat(22));
-        assert_eq!(too_deep(&just), None, "1 + 21 × 3 = 64 levels");
-        let past = format!("v = {}1{}\n", "{a.b.c = ".repeat(23), "}".repeat(23));
-        assert!(too_deep(&past).is_some(), "67 levels");
+        // `v`'s table opens 1 level, each under `a.b.c` 3 more, and the
+        // innermost `a.b.c = 1` 2 more: 3 n levels for n tables.
+        let just = format!("v = {}1{}\n", "{a.b.c = ".repeat(21), "}".repeat(21));
+        assert_eq!(too_deep(&just), None, "63 levels");
+        let past = format!("v = {}1{}\n", "{a.b.c = ".repeat(22), "}".repeat(22));
+        assert!(too_deep(&past).is_some(), "66 levels");
     }
 }
