@@ -1351,3 +1351,39 @@ fn max_wall_stops_the_run_with_exit_7_and_its_outputs() {
         .expect("run twin");
     assert_eq!(out.status.code(), Some(64), "{}", stderr(&out));
 }
+
+/// sysexits for the scene file itself: one that does not exist, or is not
+/// a regular file, is EX_NOINPUT (66); `--stdout` with standard output a
+/// terminal is a usage error (64). A file the scene names that is missing
+/// stays invalid input (65, the README's error table).
+#[test]
+fn a_missing_scene_exits_66_and_stdout_on_a_terminal_exits_64() {
+    let dir = fresh_dir("cli", "no_input");
+    for args in [
+        vec!["check".to_owned(), dir.join("nope.toml").display().to_string()],
+        vec![
+            "run".to_owned(),
+            dir.join("nope.toml").display().to_string(),
+            "--no-render".to_owned(),
+        ],
+        vec!["check".to_owned(), dir.display().to_string()],
+    ] {
+        let out = twin().args(&args).output().expect("run twin");
+        assert_eq!(out.status.code(), Some(66), "{args:?}: {}", stderr(&out));
+    }
+    // Standard output a terminal: `script` gives the command a pty.
+    let scene = plain_scene("stdout_tty");
+    let command = format!(
+        "{} run {} --no-render --duration 0.01 --stdout",
+        env!("CARGO_BIN_EXE_twin"),
+        scene.display()
+    );
+    let out = std::process::Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("script (util-linux) gives the command a terminal");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(64), "{text}");
+    assert!(text.contains("standard output is a terminal"), "{text}");
+}

@@ -54,8 +54,10 @@ Exit codes:
   4 a major controller fault stopped it; 5 the physics diverged;
   6 an expectation ([[expect]]) failed and none of 2-5 happened; 7 --max-wall
   stopped the run before its end (none of 2-5 first); 64 usage
-  error; 65 invalid input (scene, routine, URDF, mesh); 74 an output cannot
-  be written or a viewer reached (it outweighs the others)";
+  error (also --stdout on a terminal); 65 invalid input (scene, routine,
+  URDF, mesh); 66 the scene file does not exist or is not a readable file;
+  74 an output cannot be written or a viewer reached (it outweighs the
+  others)";
 
 /// Exit codes (README, "Errors and exit codes"): 2, 3 and 4 are what a run reports,
 /// the others follow sysexits.h.
@@ -77,6 +79,8 @@ mod exit {
     pub const USAGE: u8 = 64;
     /// The scene, a routine, the URDF or a mesh is invalid.
     pub const INVALID_INPUT: u8 = 65;
+    /// The scene file given does not exist or cannot be read as a file.
+    pub const NO_INPUT: u8 = 66;
     /// An output cannot be written, or a viewer cannot be reached.
     pub const OUTPUT: u8 = 74;
 }
@@ -365,8 +369,23 @@ fn rerun_with_runtime_dir() -> Option<ExitCode> {
 fn exit_code(e: &anyhow::Error) -> u8 {
     use twin::output::session::OutputError;
     for cause in e.chain() {
+        // The scene file itself missing or not a file: sysexits' EX_NOINPUT.
+        if let Some(scene::SceneError::Read { source, .. }) = cause.downcast_ref::<scene::SceneError>()
+            && matches!(
+                source.kind(),
+                std::io::ErrorKind::NotFound | std::io::ErrorKind::PermissionDenied | std::io::ErrorKind::InvalidInput
+            )
+        {
+            return exit::NO_INPUT;
+        }
         if cause.is::<scene::SceneError>() || cause.is::<twin::run::RunError>() {
             return exit::INVALID_INPUT;
+        }
+        #[cfg(feature = "rerun")]
+        if let Some(twin::output::recording::RecordingError::StdoutIsTerminal) =
+            cause.downcast_ref::<twin::output::recording::RecordingError>()
+        {
+            return exit::USAGE;
         }
         if let Some(OutputError::NoRerun { .. }) = cause.downcast_ref::<OutputError>() {
             return exit::USAGE;
