@@ -136,18 +136,8 @@ impl PlantError {
     /// first line is the error's own text.
     #[must_use]
     pub fn diagnostic(&self) -> Diagnostic {
-        // The error and its causes (a mesh's own error under the URDF's),
-        // each once.
-        let mut text = self.to_string();
-        let mut cause = std::error::Error::source(self);
-        while let Some(c) = cause {
-            let part = c.to_string();
-            if !text.contains(&part) {
-                text.push_str(": ");
-                text.push_str(&part);
-            }
-            cause = c.source();
-        }
+        // The error and its causes (a mesh's own error under the URDF's).
+        let text = crate::source::diag::with_causes(self);
         let place = match self {
             PlantError::Joint {
                 scene, line, column, ..

@@ -258,6 +258,24 @@ impl fmt::Display for Diagnostic {
 
 impl std::error::Error for Diagnostic {}
 
+/// An error and its causes on one line, `: ` between them, each cause
+/// left out whose text the line already holds (a wrapper that repeats its
+/// source's message).
+#[must_use]
+pub fn with_causes(error: &(dyn std::error::Error + 'static)) -> String {
+    let mut text = error.to_string();
+    let mut cause = error.source();
+    while let Some(c) = cause {
+        let part = c.to_string();
+        if !text.contains(&part) {
+            text.push_str(": ");
+            text.push_str(&part);
+        }
+        cause = c.source();
+    }
+    text
+}
+
 /// Whether diagnostics on stderr should be coloured: a terminal, and no
 /// `NO_COLOR` (<https://no-color.org>).
 #[must_use]

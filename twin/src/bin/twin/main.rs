@@ -313,16 +313,7 @@ fn main() -> ExitCode {
                 return ExitCode::from(exit_code(&e));
             }
             // The error and its causes on one line, each cause once.
-            let mut text = String::new();
-            for cause in e.chain() {
-                let part = cause.to_string();
-                if !text.contains(&part) {
-                    if !text.is_empty() {
-                        text.push_str(": ");
-                    }
-                    text.push_str(&part);
-                }
-            }
+            let text = twin::source::diag::with_causes(e.as_ref());
             eprintln!("error: {}", text.replace('\n', " "));
             ExitCode::from(exit_code(&e))
         }
