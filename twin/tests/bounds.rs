@@ -122,15 +122,7 @@ fn arm(name: &str, collision: &str, axis: &str, drive: &str) -> PathBuf {
 /// Loads `scene` and builds the twin: the load error's text, if any.
 fn build(scene: &Path) -> Result<twin::run::Twin, String> {
     let s = twin::scene::load(scene).map_err(|e| e.to_string())?;
-    twin::run::Twin::new(s).map_err(|e| {
-        let mut text = e.to_string();
-        let mut cause = std::error::Error::source(&e);
-        while let Some(c) = cause {
-            text = format!("{text}: {c}");
-            cause = c.source();
-        }
-        text
-    })
+    twin::run::Twin::new(s).map_err(|e| twin::source::diag::with_causes(&e))
 }
 
 /// The error of what must fail; `what` says what was wrongly accepted.
@@ -143,31 +135,6 @@ fn refused<T, E: ToString>(r: Result<T, E>, what: &str) -> String {
 
 fn twin_cmd() -> Command {
     Command::new(env!("CARGO_BIN_EXE_twin"))
-}
-
-/// A binary STL of `triangles` (each three corners, metres).
-fn stl(triangles: &[[[f32; 3]; 3]]) -> Vec<u8> {
-    let mut b = vec![0u8; 80];
-    b.extend((triangles.len() as u32).to_le_bytes());
-    for t in triangles {
-        b.extend([0u8; 12]);
-        for c in t.iter().flatten() {
-            b.extend(c.to_le_bytes());
-        }
-        b.extend([0u8; 2]);
-    }
-    b
-}
-
-/// A tetrahedron `size_m` across.
-fn tetrahedron(size_m: f32) -> Vec<[[f32; 3]; 3]> {
-    let [o, x, y, z] = [
-        [0.0, 0.0, 0.0],
-        [size_m, 0.0, 0.0],
-        [0.0, size_m, 0.0],
-        [0.0, 0.0, size_m],
-    ];
-    vec![[o, y, x], [o, x, z], [o, z, y], [x, y, z]]
 }
 
 /// `twin check /dev/zero` read the stream until memory ran out: only
@@ -325,7 +292,7 @@ fn an_astronomical_collision_mesh_is_refused_at_load() {
         ("tetra_bound", 1e4, true),
         ("tetra_past", 1.001e4, false),
     ] {
-        let scene = collision_mesh_arm(name, &tetrahedron(size_m), "");
+        let scene = collision_mesh_arm(name, &common::tetrahedron(size_m), "");
         loads_or_names(&scene, ok, &["forearm", "reaches"]);
         // Without `[collision]` too: the physics and the parts world build
         // shapes from the URDF's collision meshes as well.
@@ -335,7 +302,7 @@ fn an_astronomical_collision_mesh_is_refused_at_load() {
         loads_or_names(&scene, ok, &["forearm", "reaches"]);
     }
     // An obstacle's mesh, scaled past the bound.
-    let scene = collision_mesh_arm("obstacle_huge", &tetrahedron(1.0), "");
+    let scene = collision_mesh_arm("obstacle_huge", &common::tetrahedron(1.0), "");
     let obstacle = format!(
         "[[obstacles]]\nname = \"slab\"\nshape = \"mesh\"\nfile = {:?}\nscale = [2e4, 1.0, 1.0]\nposition = [2.0, 0.0, 0.0]\n",
         scene.with_file_name("part.stl")
@@ -358,7 +325,7 @@ fn convex_decomposition_is_bounded_in_triangles() {
         let mut k = 0usize;
         while triangles.len() < n {
             let x = k as f32 * 0.01;
-            for t in tetrahedron(0.008) {
+            for t in common::tetrahedron(0.008) {
                 if triangles.len() < n {
                     triangles.push(t.map(|c| [c[0] + x, c[1], c[2]]));
                 }
@@ -393,7 +360,7 @@ fn collision_mesh_arm(name: &str, triangles: &[[[f32; 3]; 3]], settings: &str) -
         "",
         "",
     );
-    std::fs::write(scene.with_file_name("part.stl"), stl(triangles)).expect("stl");
+    std::fs::write(scene.with_file_name("part.stl"), common::binary_stl(triangles)).expect("stl");
     let text = std::fs::read_to_string(&scene).expect("scene") + "[collision]\nreaction = \"stop\"\n" + settings;
     std::fs::write(&scene, text).expect("scene");
     scene
@@ -760,7 +727,10 @@ fn every_budget_surface_ends_cleanly_in_2_gb_and_20_s() {
         )),
     ));
     // A collision mesh of 1e30 m.
-    cases.push(("mesh", os(&collision_mesh_arm("gb_mesh", &tetrahedron(1e30), ""))));
+    cases.push((
+        "mesh",
+        os(&collision_mesh_arm("gb_mesh", &common::tetrahedron(1e30), "")),
+    ));
     // An inertia of 1e20 on the forearm.
     let heavy = arm("gb_inertia", "", "", "");
     let urdf = heavy.with_file_name("arm.urdf");

@@ -393,14 +393,10 @@ fn twin_check_reports_a_routine_syntax_error_with_file_line_and_column() {
 /// Issue 39, 16: an instance's output read in one of its own call's
 /// inputs (`Execute := NOT Move.Busy`) was refused with "'Move' is never
 /// called"; the instance is now made before its inputs are compiled.
-#[test]
-fn an_iec_call_may_read_its_own_instances_outputs() {
-    let routine = "Move(Axis := Table, Execute := NOT Move.Busy AND NOT Move.Done, Position := 90.0, Velocity := 180.0,\n\
-                        Acceleration := 1800.0, Deceleration := 1800.0, Jerk := 18000.0,\n\
-                        Direction := MC_Positive_Direction, BufferMode := MC_Aborting);\n\
-                   IF Move.Done THEN Finished := TRUE; END_IF;";
-    let tags = format!("{}{}", tag("Finished", "BOOL"), tag("Move", "MC_MoveModulo"));
-    let path = scene("iec_fb_self_read", &tags, routine, 4.0);
+/// The table scene with `routine` as an IEC main routine and the table a
+/// modulo axis, run for 300 updates (1.2 s).
+fn iec_table_run(name: &str, tags: &str, routine: &str) -> twin::run::Twin {
+    let path = scene(name, tags, routine, 4.0);
     let text = std::fs::read_to_string(&path).expect("scene");
     let text = text
         .replace("main = \"Main.st\"", "main = { file = \"Main.st\", dialect = \"iec\" }")
@@ -410,6 +406,17 @@ fn an_iec_call_may_read_its_own_instances_outputs() {
     for _ in 0..300 {
         twin.step();
     }
+    twin
+}
+
+#[test]
+fn an_iec_call_may_read_its_own_instances_outputs() {
+    let routine = "Move(Axis := Table, Execute := NOT Move.Busy AND NOT Move.Done, Position := 90.0, Velocity := 180.0,\n\
+                        Acceleration := 1800.0, Deceleration := 1800.0, Jerk := 18000.0,\n\
+                        Direction := MC_Positive_Direction, BufferMode := MC_Aborting);\n\
+                   IF Move.Done THEN Finished := TRUE; END_IF;";
+    let tags = format!("{}{}", tag("Finished", "BOOL"), tag("Move", "MC_MoveModulo"));
+    let twin = iec_table_run("iec_fb_self_read", &tags, routine);
     assert_eq!(value(&twin, "Finished"), Value::Bool(true));
 }
 
@@ -426,16 +433,7 @@ fn an_iec_routine_calls_mc_move_modulo_on_its_instance_and_reads_its_outputs() {
         tag("Finished", "BOOL"),
         tag("Move", "MC_MoveModulo")
     );
-    let path = scene("iec_fb", &tags, routine, 4.0);
-    let text = std::fs::read_to_string(&path).expect("scene");
-    let text = text
-        .replace("main = \"Main.st\"", "main = { file = \"Main.st\", dialect = \"iec\" }")
-        .replacen("kind = \"rotary\"", "kind = \"rotary\"\nmodulo_period = 360.0", 1);
-    std::fs::write(&path, text).expect("scene");
-    let mut twin = load(&path);
-    for _ in 0..300 {
-        twin.step();
-    }
+    let twin = iec_table_run("iec_fb", &tags, routine);
     assert_eq!(value(&twin, "Finished"), Value::Bool(true));
     let table = twin.task().axis_state(axis(&twin, "Table"));
     assert!(

@@ -70,3 +70,30 @@ pub fn chain_urdf(joints: usize) -> String {
     s.push_str("</robot>\n");
     s
 }
+
+/// A binary STL of `triangles` (each three corners, metres).
+#[allow(dead_code)]
+pub fn binary_stl(triangles: &[[[f32; 3]; 3]]) -> Vec<u8> {
+    let mut b = vec![0u8; 80];
+    b.extend((triangles.len() as u32).to_le_bytes());
+    for t in triangles {
+        b.extend([0u8; 12]);
+        for c in t.iter().flatten() {
+            b.extend(c.to_le_bytes());
+        }
+        b.extend([0u8; 2]);
+    }
+    b
+}
+
+/// The four faces of a tetrahedron `size_m` across, wound outwards.
+#[allow(dead_code)]
+pub fn tetrahedron(size_m: f32) -> Vec<[[f32; 3]; 3]> {
+    let [o, x, y, z] = [
+        [0.0, 0.0, 0.0],
+        [size_m, 0.0, 0.0],
+        [0.0, size_m, 0.0],
+        [0.0, 0.0, size_m],
+    ];
+    vec![[o, y, x], [o, x, z], [o, z, y], [x, y, z]]
+}

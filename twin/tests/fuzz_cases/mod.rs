@@ -576,7 +576,7 @@ fn bounds_case(rng: &mut ChaCha8Rng, root: &Path, n: u64) -> Result<(), String> 
         }
         1 => {
             let size_m = 10f32.powi(rng.random_range(-30..31));
-            let stl = tetrahedron_stl(size_m);
+            let stl = crate::common::binary_stl(&crate::common::tetrahedron(size_m));
             std::fs::write(dir.join("fuzz_case.stl"), stl).map_err(|e| e.to_string())?;
             arm_scene(
                 "<collision><geometry><mesh filename=\"fuzz_case.stl\"/></geometry></collision>",
@@ -635,27 +635,6 @@ fn arm_urdf(collision: &str, inertial: &str) -> String {
          <origin xyz=\"0 0 1\"/><axis xyz=\"0 1 0\"/>\
          <limit lower=\"-3\" upper=\"3\" effort=\"200\" velocity=\"5\"/></joint>\n</robot>\n"
     )
-}
-
-/// A binary STL tetrahedron `size_m` across.
-fn tetrahedron_stl(size_m: f32) -> Vec<u8> {
-    let [o, x, y, z] = [
-        [0.0, 0.0, 0.0],
-        [size_m, 0.0, 0.0],
-        [0.0, size_m, 0.0],
-        [0.0, 0.0, size_m],
-    ];
-    let faces: [[[f32; 3]; 3]; 4] = [[o, y, x], [o, x, z], [o, z, y], [x, y, z]];
-    let mut b = vec![0u8; 80];
-    b.extend(4u32.to_le_bytes());
-    for f in faces {
-        b.extend([0u8; 12]);
-        for c in f.iter().flatten() {
-            b.extend(c.to_le_bytes());
-        }
-        b.extend([0u8; 2]);
-    }
-    b
 }
 
 /// A scene that loaded, built and run for 25 updates of at most 0.1 s;
