@@ -129,11 +129,13 @@ pub const MAX_TAG_SLOTS: usize = 1 << 24;
 pub fn over_budget(scene: &crate::scene::Scene) -> Option<(String, crate::scene::Location, usize)> {
     let layouts = Layouts::of(&scene.data_types);
     let mut total = 0usize;
-    let controller = scene.tags.iter().map(|t| (t.name.clone(), t));
+    // The program's name beside each of its tags (none for controller
+    // tags); the full name is written only for the tag that passes.
+    let controller = scene.tags.iter().map(|t| (None, t));
     let programs = scene
         .programs()
-        .flat_map(|p| p.tags.iter().map(move |t| (format!("{}.{}", p.name, t.name), t)));
-    for (name, t) in controller.chain(programs) {
+        .flat_map(|p| p.tags.iter().map(move |t| (Some(p.name.as_str()), t)));
+    for (program, t) in controller.chain(programs) {
         let stride = match (scalar(t.ty.base), structure(t.ty.base), t.ty.base) {
             (Some(_), ..) => 1,
             (_, Some(s), _) => s.size(),
@@ -142,6 +144,7 @@ pub fn over_budget(scene: &crate::scene::Scene) -> Option<(String, crate::scene:
         };
         total = total.saturating_add(t.ty.array_len.unwrap_or(1).saturating_mul(stride));
         if total > MAX_TAG_SLOTS {
+            let name = program.map_or_else(|| t.name.clone(), |p| format!("{p}.{}", t.name));
             return Some((name, t.location, total));
         }
     }
