@@ -95,105 +95,189 @@ fn write_shortest<T: std::fmt::Display + std::fmt::LowerExp>(text: &mut String, 
     };
 }
 
-/// The trace's column names (module doc).
-pub fn header(twin: &Twin) -> Vec<String> {
-    let (task, program, plant) = (twin.task(), twin.program(), twin.plant());
-    let mut h = vec!["time_s".to_string()];
-    for a in plant.axes() {
-        for c in ["cmd_pos", "cmd_vel", "cmd_acc", "act_pos"] {
-            h.push(format!("{}.{c}", a.name));
+/// What a trace column belongs to: the recording logs the columns of one
+/// group as one series of several values (`output::recording::run`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Group {
+    /// `time_s`: the recording's timeline, not a series.
+    Time,
+    /// An axis' column (`<axis>.<leaf>`): its name.
+    Axis(String),
+    /// A function block's outputs or a control structure's bits and codes:
+    /// the instance's name.
+    Instruction(String),
+    /// `collision.count`.
+    CollisionCount,
+    /// A collision body's clearance.
+    Clearance,
+    /// A coordinate system's status bits: its name.
+    System(String),
+    /// A coordinate system's tool centre (`tool_x`, `tool_y`, `tool_z`): its name.
+    Tool(String),
+    /// A sensor's state.
+    Sensor,
+    /// A conveyor's speed.
+    Conveyor,
+    /// The part a gripper holds.
+    Gripper,
+    /// A cylinder's travel.
+    Cylinder,
+    /// The parts counts.
+    Parts,
+    /// A `[trace] tags` entry: its index in `Program::traced_tags`.
+    Tag(usize),
+    /// `plant.kinematic`.
+    Plant,
+}
+
+/// A trace column: its name, what it belongs to, and its name within
+/// that (`cmd_pos`, `EN`, a body's or sensor's name, a tag's reference).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Column {
+    /// The column's name in the header.
+    pub name: String,
+    /// What it belongs to.
+    pub group: Group,
+    /// Its name within the group.
+    pub leaf: String,
+}
+
+impl Column {
+    /// `<owner>.<leaf>`.
+    fn of(group: Group, owner: &str, leaf: &str) -> Column {
+        Column {
+            name: format!("{owner}.{leaf}"),
+            group,
+            leaf: leaf.to_owned(),
         }
     }
+}
+
+/// The trace's column names (module doc).
+pub fn header(twin: &Twin) -> Vec<String> {
+    columns(twin).into_iter().map(|c| c.name).collect()
+}
+
+/// The trace's columns in order (module doc), with what each belongs to.
+pub fn columns(twin: &Twin) -> Vec<Column> {
+    let (task, program, plant) = (twin.task(), twin.program(), twin.plant());
+    let axis = |a: &crate::plant::axes::AxisBinding, leaf: &str| Column::of(Group::Axis(a.name.clone()), &a.name, leaf);
+    let mut h = vec![Column {
+        name: "time_s".to_string(),
+        group: Group::Time,
+        leaf: "time_s".to_string(),
+    }];
+    for a in plant.axes() {
+        for c in ["cmd_pos", "cmd_vel", "cmd_acc", "act_pos"] {
+            h.push(axis(a, c));
+        }
+    }
+    let instruction = |name: &str, leaf: &str| Column::of(Group::Instruction(name.to_owned()), name, leaf);
     for fb in program.fbs() {
         for (c, _) in FbOutputs::default().bits() {
-            h.push(format!("{}.{c}", fb.name));
+            h.push(instruction(&fb.name, c));
         }
-        h.push(format!("{}.ErrorID", fb.name));
+        h.push(instruction(&fb.name, "ErrorID"));
     }
     let zero = MotionInstructionBits::default();
     for ins in program.instructions() {
         for (c, _) in zero.bits() {
-            h.push(format!("{}.{c}", ins.name));
+            h.push(instruction(&ins.name, c));
         }
         for (c, _) in zero.codes() {
-            h.push(format!("{}.{c}", ins.name));
+            h.push(instruction(&ins.name, c));
         }
     }
     if plant.collision_enabled() {
-        h.push("collision.count".to_string());
-        h.extend(plant.collision_bodies().iter().map(|b| format!("{b}.clearance_m")));
+        h.push(Column::of(Group::CollisionCount, "collision", "count"));
+        h.extend(plant.collision_bodies().iter().map(|b| Column {
+            name: format!("{b}.clearance_m"),
+            group: Group::Clearance,
+            leaf: b.clone(),
+        }));
     }
     for a in plant.axes().iter().filter(|a| task.is_cam_slave(a.handle)) {
         for c in CAM_COLUMNS {
-            h.push(format!("{}.{c}", a.name));
+            h.push(axis(a, c));
         }
     }
     for cs in task.coord_handles() {
         let name = &task.coord_config(cs).name;
         for (bit, _) in CoordStatus::default().bits() {
-            h.push(format!("{name}.{bit}"));
+            h.push(Column::of(Group::System(name.clone()), name, bit));
         }
         if plant.tool_trails().iter().any(|t| &t.system == name) {
             for c in ["tool_x", "tool_y", "tool_z"] {
-                h.push(format!("{name}.{c}"));
+                h.push(Column::of(Group::Tool(name.clone()), name, c));
             }
         }
     }
     if uses_mct(twin) {
         for cs in task.coord_handles() {
             let name = &task.coord_config(cs).name;
-            h.push(format!("{name}.TransformSourceStatus"));
-            h.push(format!("{name}.TransformTargetStatus"));
+            h.push(Column::of(Group::System(name.clone()), name, "TransformSourceStatus"));
+            h.push(Column::of(Group::System(name.clone()), name, "TransformTargetStatus"));
         }
         for a in plant.axes() {
-            h.push(format!("{}.TransformStateStatus", a.name));
-            h.push(format!("{}.ControlledByTransformStatus", a.name));
+            h.push(axis(a, "TransformStateStatus"));
+            h.push(axis(a, "ControlledByTransformStatus"));
         }
     }
     if superimposes(twin) {
         for a in plant.axes() {
-            h.push(format!("{}.sup_pos", a.name));
-            h.push(format!("{}.sup_vel", a.name));
+            h.push(axis(a, "sup_pos"));
+            h.push(axis(a, "sup_vel"));
         }
     }
     if uses_states(twin) {
         for a in plant.axes() {
-            h.push(format!("{}.CIPAxisState", a.name));
-            h.push(format!("{}.AxisFault", a.name));
+            h.push(axis(a, "CIPAxisState"));
+            h.push(axis(a, "AxisFault"));
         }
     }
     for a in plant.axes() {
         if task.axis_config(a.handle).soft_travel_limits.is_some() {
-            h.push(format!("{}.MotionFault", a.name));
+            h.push(axis(a, "MotionFault"));
         }
     }
     for (k, a) in plant.axes().iter().enumerate() {
         if plant.drive_torque(k).is_some() {
-            h.push(format!("{}.torque", a.name));
+            h.push(axis(a, "torque"));
         }
     }
     for a in plant.axes() {
-        h.push(format!("{}.overshoot", a.name));
+        h.push(axis(a, "overshoot"));
     }
-    h.extend(plant.sensors().iter().map(|s| format!("{}.state", s.name)));
+    let named = |group: Group, owner: &str, leaf: &str| Column {
+        name: format!("{owner}.{leaf}"),
+        group,
+        leaf: owner.to_owned(),
+    };
+    h.extend(plant.sensors().iter().map(|s| named(Group::Sensor, &s.name, "state")));
     if plant.material().is_some() {
-        h.extend(
-            twin.scene()
-                .cell
-                .conveyors
-                .iter()
-                .map(|c| format!("{}.speed_mps", c.name)),
-        );
         let cell = &twin.scene().cell;
-        h.extend(cell.grippers.iter().map(|g| format!("{}.part", g.name)));
-        h.extend(cell.cylinders.iter().map(|c| format!("{}.position_m", c.name)));
+        h.extend(
+            cell.conveyors
+                .iter()
+                .map(|c| named(Group::Conveyor, &c.name, "speed_mps")),
+        );
+        h.extend(cell.grippers.iter().map(|g| named(Group::Gripper, &g.name, "part")));
+        h.extend(
+            cell.cylinders
+                .iter()
+                .map(|c| named(Group::Cylinder, &c.name, "position_m")),
+        );
         for c in ["in_cell", "delivered", "rejected", "dropped", "lost"] {
-            h.push(format!("parts.{c}"));
+            h.push(Column::of(Group::Parts, "parts", c));
         }
     }
-    h.extend(program.traced_tags().iter().map(|t| t.name.clone()));
+    h.extend(program.traced_tags().iter().enumerate().map(|(k, t)| Column {
+        name: t.name.clone(),
+        group: Group::Tag(k),
+        leaf: t.name.clone(),
+    }));
     if twin.scene().plant == crate::scene::PlantMode::Kinematic {
-        h.push("plant.kinematic".to_string());
+        h.push(Column::of(Group::Plant, "plant", "kinematic"));
     }
     h
 }
