@@ -9,16 +9,22 @@
 //! `rerun`) and the golden-image comparison of the snapshot tests
 //! ([`snapshot`]).
 
+pub mod axis_faults;
+pub mod expect;
 #[cfg(feature = "rerun")]
 pub mod recording;
 #[cfg(feature = "render")]
 pub mod render;
-pub mod expect;
 pub mod session;
 #[cfg(feature = "render")]
 pub mod snapshot;
 pub(crate) mod status;
 pub mod trace;
+
+/// A rendered frame kept for the recording (`twin run --save-frames`,
+/// `session::Frames::keep_images`): the camera's name, 8-bit RGB pixels
+/// (rows top to bottom), width and height.
+pub type KeptImage = (String, Vec<u8>, [u32; 2]);
 
 /// Tint of a link in collision, in frames and the Rerun highlight (red).
 pub const COLLISION_TINT_RGBA: [f32; 4] = [1.0, 0.05, 0.05, 0.8];

@@ -4,15 +4,17 @@
 //!
 //! # Layout of a recording
 //!
-//! - A URDF robot becomes an entity tree mirroring its kinematic tree:
-//!   `robot/<root_link>/<joint>/<child_link>/…` (see [`urdf_entity_paths`]).
-//!   Each link entity carries a [`Recorder::log_transform`] relative to its
-//!   parent entity (`parent_from_link`), so the viewer composes the chain.
-//! - Link meshes are logged once, as static data, on a child entity of the link
-//!   (`<link path>/visual_<i>`, see [`visual_entity_path`]) together with the
-//!   static `link_from_mesh` transform of the URDF visual origin.
+//! - A URDF robot is logged the way Rerun's own URDF importer logs it (so
+//!   that `rerun robot.urdf` and a twin recording share entity paths and
+//!   frames, and a layout saved for one applies to the other): the root
+//!   entity `<robot name>` in the root link's named frame; each visual at
+//!   `<robot>/visual_geometries/<link>/<name or visual_i>` in its link's
+//!   frame (the link's name), placed by an instance pose; the joints'
+//!   origins at [`TF_STATIC_ENTITY`]; the joints' motion (and the root
+//!   link's pose in the world, [`WORLD_FRAME`]) as transforms between the
+//!   named frames at [`TRANSFORMS_ENTITY`].
 //! - `RIGHT_HAND_Z_UP` view coordinates are logged once (static) at the root
-//!   `/` and at `robot`: URDF and every [`TriMesh`] here are Z-up.
+//!   `/`: URDF and every [`TriMesh`] here are Z-up.
 //! - Everything that changes over time is logged on the [`SIM_TIME_TIMELINE`]
 //!   (`sim_time`), a duration timeline in seconds of simulated time, set with
 //!   [`Recorder::set_time_s`]. Rerun adds its own wall-clock `log_time` and
@@ -84,8 +86,17 @@ impl Served {
 /// Name of the timeline carrying simulated time (a duration timeline).
 pub const SIM_TIME_TIMELINE: &str = "sim_time";
 
-/// Root entity of the robot tree built by [`urdf_entity_paths`].
-pub const ROBOT_ENTITY: &str = "robot";
+/// Where the joints' origins are logged (static), as Rerun's URDF
+/// importer logs them.
+pub const TF_STATIC_ENTITY: &str = "tf_static";
+
+/// Where the joints' and the root link's transforms are logged over time,
+/// as Rerun's URDF examples log them.
+pub const TRANSFORMS_ENTITY: &str = "transforms";
+
+/// The world's frame: the implicit frame of the root entity `/`, which the
+/// obstacles, trails and parts are in and the robot's root link is placed in.
+pub const WORLD_FRAME: &str = "tf#/";
 
 /// How long [`Recorder::finish`] waits for all sinks to take the pending data.
 const FINISH_FLUSH_TIMEOUT: Duration = Duration::from_secs(20);
@@ -247,6 +258,235 @@ impl Recorder {
         }
         self.log_static(entity_path, &mesh_from_link)?;
         self.log_static(entity_path, &archetype)
+    }
+
+    /// Logs a robot link's visual mesh once, as static data, the way
+    /// Rerun's URDF importer lays it out: at `entity_path`
+    /// ([`visual_entity_path`]) in the link's named frame `frame` (the link's
+    /// name), placed in it by `link_from_mesh` (translation in metres,
+    /// `xyzw` rotation) as an instance pose. `color_rgba` as in
+    /// [`Self::log_link_mesh_static`].
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidMesh`] for a malformed mesh,
+    /// [`RecordingError::InvalidValue`] for a non-finite or degenerate pose,
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_visual_static(
+        &mut self,
+        entity_path: &str,
+        frame: &str,
+        mesh: &TriMesh,
+        color_rgba: [f32; 4],
+        link_from_mesh: ([f64; 3], [f64; 4]),
+    ) -> Result<(), RecordingError> {
+        check_mesh(mesh).map_err(|defect| RecordingError::InvalidMesh {
+            entity_path: entity_path.to_owned(),
+            defect,
+        })?;
+        let invalid = |quantity| RecordingError::InvalidValue {
+            entity_path: entity_path.to_owned(),
+            quantity,
+        };
+        let (translation, rotation) = link_from_mesh;
+        if !translation.iter().all(|v| v.is_finite()) {
+            return Err(invalid(Quantity::Translation));
+        }
+        let rotation = unit_quaternion(rotation).ok_or_else(|| invalid(Quantity::Rotation))?;
+        let pose = rerun::archetypes::InstancePoses3D::new()
+            .with_translations([translation.map(|v| v as f32)])
+            .with_quaternions([rerun::datatypes::Quaternion::from_xyzw(rotation)]);
+        self.log_static(entity_path, &rerun::archetypes::CoordinateFrame::new(frame))?;
+        self.log_static(entity_path, &pose)?;
+        self.log_static(entity_path, &mesh_archetype(mesh, color_rgba))
+    }
+
+    /// Logs, static, that `entity_path` and what it holds are in the named
+    /// frame `frame`.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_frame_static(&mut self, entity_path: &str, frame: &str) -> Result<(), RecordingError> {
+        self.log_static(entity_path, &rerun::archetypes::CoordinateFrame::new(frame))
+    }
+
+    /// Logs, static and in one chunk, transforms between named frames:
+    /// each row is (parent frame, child frame, `parent_from_child`
+    /// translation in metres, `xyzw` rotation). Rerun's URDF importer logs
+    /// a robot's joint origins so, at `tf_static`.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidValue`] for a non-finite or degenerate
+    /// pose, [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn send_static_frame_transforms(
+        &mut self,
+        entity_path: &str,
+        rows: &[FrameTransform],
+    ) -> Result<(), RecordingError> {
+        let columns = frame_transform_columns(entity_path, rows)?;
+        self.stream
+            .send_columns(entity_path, [], columns)
+            .map_err(|source| RecordingError::Log {
+                entity_path: entity_path.to_owned(),
+                source,
+            })
+    }
+
+    /// Logs a whole column of transforms from the named frame `child` to
+    /// `parent` in one chunk at `entity_path` (many frames may share the
+    /// entity, as Rerun's URDF examples do with `transforms`): row `i` at
+    /// `sim_time` `times_ns[i]` (ns).
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidValue`] for a non-finite or degenerate
+    /// pose, [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn send_frame_transform_column(
+        &mut self,
+        entity_path: &str,
+        times_ns: &[i64],
+        rows: &[FrameTransform],
+    ) -> Result<(), RecordingError> {
+        if times_ns.len() != rows.len() {
+            return Err(RecordingError::InvalidValue {
+                entity_path: entity_path.to_owned(),
+                quantity: Quantity::ColumnLength,
+            });
+        }
+        let columns = frame_transform_columns(entity_path, rows)?;
+        self.send_timed_columns(entity_path, times_ns, Ok(columns))
+    }
+
+    /// Logs a whole column of a series of `width` values at `entity_path` in
+    /// one chunk: `values[i * width..(i + 1) * width]` at `sim_time`
+    /// `times_ns[i]` (ns). Each of the `width` values is its own line in a
+    /// plot, named by [`Self::log_series_styles`].
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidValue`] when the lengths disagree,
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn send_scalars_column(
+        &mut self,
+        entity_path: &str,
+        times_ns: &[i64],
+        values: &[f64],
+        width: usize,
+    ) -> Result<(), RecordingError> {
+        if width == 0 || times_ns.len().checked_mul(width) != Some(values.len()) {
+            return Err(RecordingError::InvalidValue {
+                entity_path: entity_path.to_owned(),
+                quantity: Quantity::ColumnLength,
+            });
+        }
+        let columns =
+            rerun::archetypes::Scalars::new(values.iter().copied()).columns(std::iter::repeat_n(width, times_ns.len()));
+        self.send_timed_columns(entity_path, times_ns, columns)
+    }
+
+    /// Names and colours the lines of the series at `entity_path`, one per
+    /// value (static).
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_series_styles(
+        &mut self,
+        entity_path: &str,
+        names: &[String],
+        colors_rgba: &[[f32; 4]],
+    ) -> Result<(), RecordingError> {
+        let style = rerun::archetypes::SeriesLines::new()
+            .with_names(names.iter().map(String::as_str))
+            .with_colors(colors_rgba.iter().map(|c| rgba32(*c)));
+        self.log_static(entity_path, &style)
+    }
+
+    /// Logs the state `label` of `entity_path` from the current `sim_time`
+    /// on (a lane of Rerun's state timeline view; an empty label is a gap).
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_state(&mut self, entity_path: &str, label: &str) -> Result<(), RecordingError> {
+        self.log_timed(entity_path, &rerun::archetypes::StateChange::single(label))
+    }
+
+    /// Logs the states `labels` of `entity_path`'s lanes, one lane each,
+    /// from the current `sim_time` on.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_states(&mut self, entity_path: &str, labels: &[String]) -> Result<(), RecordingError> {
+        let state = rerun::archetypes::StateChange::new().with_state(labels.iter().map(String::as_str));
+        self.log_timed(entity_path, &state)
+    }
+
+    /// Logs a Markdown document once, static.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_markdown_static(&mut self, entity_path: &str, markdown: &str) -> Result<(), RecordingError> {
+        let document =
+            rerun::archetypes::TextDocument::new(markdown).with_media_type(rerun::components::MediaType::markdown());
+        self.log_static(entity_path, &document)
+    }
+
+    /// Logs a pinhole camera once, static, with its pose in the world
+    /// (`world_from_camera`, the camera looking along +Z with +X right and
+    /// +Y down), its vertical field of view (radians) and its image size in
+    /// pixels.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidValue`] for a non-finite or degenerate
+    /// pose, [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_camera_static(
+        &mut self,
+        entity_path: &str,
+        world_from_camera: ([f64; 3], [f64; 4]),
+        fov_y_rad: f64,
+        size_px: [u32; 2],
+    ) -> Result<(), RecordingError> {
+        let invalid = |quantity| RecordingError::InvalidValue {
+            entity_path: entity_path.to_owned(),
+            quantity,
+        };
+        let (translation, rotation) = world_from_camera;
+        if !translation.iter().all(|v| v.is_finite()) {
+            return Err(invalid(Quantity::Translation));
+        }
+        let rotation = unit_quaternion(rotation).ok_or_else(|| invalid(Quantity::Rotation))?;
+        let pose = rerun::archetypes::Transform3D::from_translation_rotation(
+            translation.map(|v| v as f32),
+            rerun::datatypes::Quaternion::from_xyzw(rotation),
+        );
+        let [w, h] = size_px;
+        let pinhole = rerun::archetypes::Pinhole::from_fov_and_aspect_ratio(fov_y_rad as f32, w as f32 / h as f32)
+            .with_resolution([w as f32, h as f32])
+            .with_image_plane_distance(0.15);
+        self.log_static(entity_path, &pose)?;
+        self.log_static(entity_path, &pinhole)
+    }
+
+    /// Logs an 8-bit RGB image (rows top to bottom) at the current `sim_time`.
+    ///
+    /// # Errors
+    ///
+    /// [`RecordingError::InvalidValue`] when the bytes do not fill the
+    /// size, [`RecordingError::Log`] if Rerun refuses the data.
+    pub fn log_rgb_image(&mut self, entity_path: &str, rgb: Vec<u8>, size_px: [u32; 2]) -> Result<(), RecordingError> {
+        if rgb.len() as u64 != 3 * u64::from(size_px[0]) * u64::from(size_px[1]) {
+            return Err(RecordingError::InvalidValue {
+                entity_path: entity_path.to_owned(),
+                quantity: Quantity::ColumnLength,
+            });
+        }
+        self.log_timed(entity_path, &rerun::archetypes::Image::from_rgb24(rgb, size_px))
     }
 
     /// Logs the pose of the entity relative to its parent entity
@@ -582,82 +822,81 @@ impl Recorder {
     }
 }
 
-/// Entity paths mirroring a URDF kinematic tree, one per link, in link order:
-/// the root link is `robot/<root_link>`, and each child link is
-/// `<parent link path>/<joint>/<child link>`.
-///
-/// `joints` holds `(name, parent link index, child link index)`. Names are
-/// escaped as Rerun entity-path parts, so a `/` or space in a URDF name does
-/// not split the hierarchy. The function never fails, and is forgiving about
-/// trees a URDF loader should already have rejected: joints with an
-/// out-of-range index are skipped, a link with several parent joints keeps the
-/// first, and a link not reachable from `root` (a second root, part of a
-/// cycle, or `root` itself out of range) gets the top-level path
-/// `robot/<link>`.
+/// The robot's root entity, as Rerun's URDF importer names it: the
+/// `<robot name>` of the URDF, one entity-path part.
+pub fn robot_entity_path(robot_name: &str) -> String {
+    rerun::EntityPathPart::new(robot_name).escaped_string()
+}
+
+/// The entity of a link's visual, as Rerun's URDF importer names it:
+/// `<robot>/visual_geometries/<link>/<name>`, the visual's `name`
+/// attribute or `visual_<index>` (its index among the link's visuals).
+/// Names are escaped as entity-path parts, so a `/` or space in a URDF
+/// name does not split the path.
 ///
 /// # Examples
 ///
 /// ```
-/// use twin::output::recording::urdf_entity_paths;
-/// let paths = urdf_entity_paths(
-///     &["base", "upper_arm", "tool"],
-///     &[("shoulder", 0, 1), ("wrist", 1, 2)],
-///     0,
-/// );
-/// assert_eq!(paths, [
-///     "robot/base",
-///     "robot/base/shoulder/upper_arm",
-///     "robot/base/shoulder/upper_arm/wrist/tool",
-/// ]);
+/// use twin::output::recording::{robot_entity_path, visual_entity_path};
+/// let robot = robot_entity_path("scara");
+/// assert_eq!(visual_entity_path(&robot, "forearm", None, 1), "scara/visual_geometries/forearm/visual_1");
+/// assert_eq!(visual_entity_path(&robot, "base link", Some("column"), 0), "scara/visual_geometries/base\\ link/column");
 /// ```
-pub fn urdf_entity_paths(links: &[&str], joints: &[(&str, usize, usize)], root: usize) -> Vec<String> {
+pub fn visual_entity_path(robot_path: &str, link: &str, name: Option<&str>, index: usize) -> String {
     let part = |name: &str| rerun::EntityPathPart::new(name).escaped_string();
-
-    // The first joint naming a link as its child is that link's parent joint.
-    let mut parent_joint: Vec<Option<usize>> = vec![None; links.len()];
-    for (j, &(_, parent, child)) in joints.iter().enumerate() {
-        if parent < links.len() && child < links.len() && child != root {
-            let slot = &mut parent_joint[child];
-            if slot.is_none() {
-                *slot = Some(j);
-            }
-        }
-    }
-
-    let mut paths: Vec<Option<String>> = vec![None; links.len()];
-    if root < links.len() {
-        paths[root] = Some(format!("{ROBOT_ENTITY}/{}", part(links[root])));
-        // Breadth-first from the root over parent links, in joint order; a
-        // link is visited once, so cycles cannot loop.
-        let mut frontier = vec![root];
-        while !frontier.is_empty() {
-            let mut next = Vec::new();
-            for &parent in &frontier {
-                for (j, &(joint, p, child)) in joints.iter().enumerate() {
-                    if p == parent
-                        && child < links.len()
-                        && parent_joint[child] == Some(j)
-                        && let (None, Some(parent_path)) = (&paths[child], &paths[parent])
-                    {
-                        paths[child] = Some(format!("{parent_path}/{}/{}", part(joint), part(links[child])));
-                        next.push(child);
-                    }
-                }
-            }
-            frontier = next;
-        }
-    }
-
-    paths
-        .into_iter()
-        .zip(links)
-        .map(|(path, link)| path.unwrap_or_else(|| format!("{ROBOT_ENTITY}/{}", part(link))))
-        .collect()
+    let visual = name.map_or_else(|| format!("visual_{index}"), part);
+    format!("{robot_path}/visual_geometries/{}/{visual}", part(link))
 }
 
-/// The entity path of a link's `index`-th visual: `<link_path>/visual_<index>`.
-pub fn visual_entity_path(link_path: &str, index: usize) -> String {
-    format!("{link_path}/visual_{index}")
+/// A transform between two named frames: parent frame, child frame,
+/// `parent_from_child` translation in metres and `xyzw` rotation.
+pub type FrameTransform = (String, String, [f64; 3], [f64; 4]);
+
+/// The columns of [`FrameTransform`] rows, checked.
+fn frame_transform_columns(
+    entity_path: &str,
+    rows: &[FrameTransform],
+) -> Result<Vec<rerun::SerializedComponentColumn>, RecordingError> {
+    let invalid = |quantity| RecordingError::InvalidValue {
+        entity_path: entity_path.to_owned(),
+        quantity,
+    };
+    if !rows.iter().flat_map(|r| r.2).all(f64::is_finite) {
+        return Err(invalid(Quantity::Translation));
+    }
+    let rotations = rows
+        .iter()
+        .map(|r| unit_quaternion(r.3).map(rerun::datatypes::Quaternion::from_xyzw))
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| invalid(Quantity::Rotation))?;
+    rerun::archetypes::Transform3D::update_fields()
+        .with_many_translation(rows.iter().map(|r| r.2.map(|v| v as f32)))
+        .with_many_quaternion(rotations)
+        .with_many_parent_frame(rows.iter().map(|r| r.0.as_str()))
+        .with_many_child_frame(rows.iter().map(|r| r.1.as_str()))
+        .columns_of_unit_batches()
+        .map(|c| c.collect())
+        .map_err(|e| RecordingError::Log {
+            entity_path: entity_path.to_owned(),
+            source: e.into(),
+        })
+}
+
+/// A mesh with one colour, as Rerun's archetype.
+fn mesh_archetype(mesh: &TriMesh, color_rgba: [f32; 4]) -> rerun::archetypes::Mesh3D {
+    let mut archetype =
+        rerun::archetypes::Mesh3D::new(mesh.positions.iter().copied()).with_albedo_factor(rgba32(color_rgba));
+    if !mesh.indices.is_empty() {
+        archetype = archetype.with_triangle_indices(
+            mesh.indices
+                .chunks_exact(3)
+                .map(|t| rerun::datatypes::UVec3D::new(t[0], t[1], t[2])),
+        );
+    }
+    if !mesh.normals.is_empty() {
+        archetype = archetype.with_vertex_normals(mesh.normals.iter().copied());
+    }
+    archetype
 }
 
 fn check_mesh(mesh: &TriMesh) -> Result<(), MeshDefect> {

@@ -41,6 +41,24 @@ pub enum OutputError {
 
 pub use crate::output::COLLISION_TINT_RGBA;
 
+/// A frame as the recording keeps it: RGB, at most `max_width_px` wide
+/// (scaled down with its aspect kept).
+#[cfg(feature = "render")]
+fn kept_image(name: &str, image: &image::RgbaImage, max_width_px: u32) -> KeptImage {
+    let (w, h) = image.dimensions();
+    let scaled;
+    let image = if w > max_width_px {
+        let height = ((u64::from(h) * u64::from(max_width_px)).div_ceil(u64::from(w))).max(1) as u32;
+        scaled = image::imageops::resize(image, max_width_px, height, image::imageops::FilterType::Triangle);
+        &scaled
+    } else {
+        image
+    };
+    let size = [image.width(), image.height()];
+    let rgb = image.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect();
+    (name.to_owned(), rgb, size)
+}
+
 /// Writes `image` as a PNG at `path`, encoded for speed (fast deflate, the
 /// Sub filter): a frame is written every few updates, and files a third
 /// larger than the best compression are the better trade.
@@ -62,7 +80,15 @@ pub struct Frames {
     #[cfg(feature = "render")]
     inner: Option<FramesInner>,
     written: usize,
+    /// [`Frames::keep_images`]: the widest a kept image is, and the images
+    /// rendered since [`Frames::take_images`].
+    kept: Option<(u32, Vec<KeptImage>)>,
 }
+
+pub use crate::output::KeptImage;
+
+/// The widest a frame kept for the recording is, pixels (`--save-frames`).
+pub const KEPT_IMAGE_MAX_WIDTH_PX: u32 = 640;
 
 #[cfg(feature = "render")]
 struct FramesInner {
@@ -96,6 +122,7 @@ impl Frames {
                 #[cfg(feature = "render")]
                 inner: None,
                 written: 0,
+                kept: None,
             });
         };
         #[cfg(feature = "render")]
@@ -107,6 +134,7 @@ impl Frames {
                     return Ok(Frames {
                         inner: None,
                         written: 0,
+                        kept: None,
                     });
                 }
                 Err(e) => {
@@ -169,13 +197,14 @@ impl Frames {
                     only: None,
                 }),
                 written: 0,
+                kept: None,
             })
         }
         #[cfg(not(feature = "render"))]
         {
             let _ = (twin, dir);
             eprintln!("twin was built without the `render` feature: frames are not rendered");
-            Ok(Frames { written: 0 })
+            Ok(Frames { written: 0, kept: None })
         }
     }
 
@@ -323,6 +352,9 @@ impl Frames {
                     path: path.clone(),
                     message: e.to_string(),
                 })?;
+                if let Some((max_width, kept)) = &mut self.kept {
+                    kept.push(kept_image(name, &image, *max_width));
+                }
                 *next += 1;
                 self.written += 1;
             }
@@ -339,6 +371,18 @@ impl Frames {
     /// PNG files written so far.
     pub fn written(&self) -> usize {
         self.written
+    }
+
+    /// Keeps a copy of each frame rendered from now on, scaled down to at
+    /// most `max_width_px` wide, for [`Frames::take_images`]
+    /// (`--save-frames`: the recording logs them).
+    pub fn keep_images(&mut self, max_width_px: u32) {
+        self.kept = Some((max_width_px.max(1), Vec::new()));
+    }
+
+    /// The frames kept since the last call ([`Frames::keep_images`]).
+    pub fn take_images(&mut self) -> Vec<KeptImage> {
+        self.kept.as_mut().map(|(_, k)| std::mem::take(k)).unwrap_or_default()
     }
 
     /// Frames in the folder named like this run's (`<camera>-<frame>.png`)
@@ -413,6 +457,9 @@ impl Recording {
     pub fn log(&mut self, _twin: &Twin) -> Result<(), OutputError> {
         Ok(())
     }
+
+    /// Logs nothing.
+    pub fn images(&mut self, _twin: &Twin, _images: Vec<KeptImage>) {}
 
     /// Nothing to flush.
     pub fn finish(self, _twin: &Twin) -> Finished {
@@ -493,16 +540,89 @@ pub struct AxisFaultEvent {
     pub actual_position: f64,
 }
 
+/// The instruction events of a run as lines of text, as they happen
+/// (`twin run -v`): a change of an instance's outputs (`MC1: .EN .IP`, with
+/// the error's meaning), a controller fault, an axis fault; each with the
+/// simulated time.
+#[derive(Debug)]
+pub struct EventLines {
+    fbs: Vec<planner::instruction::FbOutputs>,
+    instructions: Vec<MotionInstructionBits>,
+    faults: usize,
+    axes: Vec<(u32, bool)>,
+}
+
+impl EventLines {
+    /// Starts from `twin`'s outputs now (no event for them).
+    pub fn new(twin: &Twin) -> EventLines {
+        let (task, program) = (twin.task(), twin.program());
+        EventLines {
+            fbs: program.fbs().iter().map(|fb| task.outputs(fb.handle)).collect(),
+            instructions: program
+                .instructions()
+                .iter()
+                .map(|ins| task.motion_bits(ins.handle))
+                .collect(),
+            faults: program.controller().fault_log().len(),
+            axes: twin
+                .plant()
+                .axes()
+                .iter()
+                .map(|a| (task.motion_faults(a.handle).0, task.position_error_exceeded(a.handle)))
+                .collect(),
+        }
+    }
+
+    /// The events since the last call, one line each.
+    pub fn take(&mut self, twin: &Twin) -> Vec<String> {
+        let (task, program) = (twin.task(), twin.program());
+        let at = format!("t = {:.3} s", twin.time_s());
+        let mut lines = Vec::new();
+        for (fb, previous) in program.fbs().iter().zip(&mut self.fbs) {
+            let now = task.outputs(fb.handle);
+            if std::mem::replace(previous, now) != now {
+                lines.push(format!("{at}  {}: {}", fb.name, describe(now)));
+            }
+        }
+        for (ins, previous) in program.instructions().iter().zip(&mut self.instructions) {
+            let now = task.motion_bits(ins.handle);
+            if std::mem::replace(previous, now) != now {
+                lines.push(format!("{at}  {}: {}", ins.name, describe(now)));
+            }
+        }
+        let log = program.controller().fault_log();
+        lines.extend(log.iter().skip(self.faults).map(|f| format!("{at}  {f}")));
+        self.faults = log.len();
+        for (a, previous) in twin.plant().axes().iter().zip(&mut self.axes) {
+            for f in crate::output::axis_faults::new_axis_faults(twin, a, previous) {
+                lines.push(format!(
+                    "{at}  axis {}: {} ({}), action {}",
+                    a.name, f.fault, f.meaning, f.action
+                ));
+            }
+        }
+        lines
+    }
+}
+
 /// How one instance (or control structure) did over the run. For a Logix
-/// control structure `done` counts rises of `.PC`, `errors` rises of `.ER`,
-/// and `aborted` the times `.IP` fell without `.PC` or `.ER` (the process was
-/// stopped or replaced by another instruction).
+/// control structure `done` counts rises of `.DN` (the instruction was
+/// executed: a motion instruction accepted its move, MCCP calculated its
+/// profile, MSO enabled the drive), `completed` rises of `.PC` (a move
+/// reached its end), `errors` rises of `.ER`, and `aborted` the times `.IP`
+/// fell without `.PC` or `.ER` (the process was stopped or replaced by
+/// another instruction). For a PLCopen function block `done` counts rises
+/// of `Done`.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct InstructionOutcome {
     /// Instance name.
     pub name: String,
-    /// Times `Done` (`.PC`) rose.
+    /// Times `Done` (`.DN`) rose.
     pub done: u32,
+    /// Times `.PC` rose (Logix control structures; absent for a function
+    /// block).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub completed: Option<u32>,
     /// Times `CommandAborted` rose.
     pub aborted: u32,
     /// Times `Error` rose.
@@ -514,10 +634,14 @@ pub struct InstructionOutcome {
 }
 
 impl InstructionOutcome {
-    /// Counts one update's rising edges: `done`, `aborted`, and an error
-    /// (with its description) when one rose.
-    fn count(&mut self, done: bool, aborted: bool, error: Option<String>) {
+    /// Counts one update's rising edges: `done`, `completed` (a Logix
+    /// structure's `.PC`), `aborted`, and an error (with its description)
+    /// when one rose.
+    fn count(&mut self, done: bool, completed: Option<bool>, aborted: bool, error: Option<String>) {
         self.done += u32::from(done);
+        if let Some(pc) = completed {
+            *self.completed.get_or_insert(0) += u32::from(pc);
+        }
         self.aborted += u32::from(aborted);
         if let Some(error) = error {
             self.errors += 1;
@@ -756,35 +880,15 @@ impl Stats {
     /// bit of its `MotionFault` word, or its position error exceeding the
     /// tolerance (unless that exception's action is Ignore).
     fn observe_faults(&mut self, twin: &Twin, i: usize, axis: &crate::plant::axes::AxisBinding) {
-        use planner::servo::{FaultAction, MotionFaults};
-        let task = twin.task();
-        let now = (
-            task.motion_faults(axis.handle).0,
-            task.position_error_exceeded(axis.handle),
-        );
-        let (motion_before, exceeded_before) = std::mem::replace(&mut self.previous_faults[i], now);
-        let config = task.axis_config(axis.handle);
-        let mut faults = Vec::new();
-        for (bit, fault) in [
-            (MotionFaults::SOFT_TRAVEL_POSITIVE, "Soft Travel Limit - Positive"),
-            (MotionFaults::SOFT_TRAVEL_NEGATIVE, "Soft Travel Limit - Negative"),
-        ] {
-            if now.0 & bit != 0 && motion_before & bit == 0 {
-                faults.push((fault, config.soft_overtravel_action.name()));
-            }
-        }
-        if now.1 && !exceeded_before && config.position_error_action != FaultAction::Ignore {
-            faults.push(("Excessive Position Error", config.position_error_action.name()));
-        }
-        for (fault, action) in faults {
+        for f in crate::output::axis_faults::new_axis_faults(twin, axis, &mut self.previous_faults[i]) {
             self.axis_fault_count += 1;
             if self.axis_faults.len() < MAX_AXIS_FAULT_EVENTS {
                 self.axis_faults.push(AxisFaultEvent {
                     axis: axis.name.clone(),
                     time_s: twin.time_s(),
-                    fault,
-                    action,
-                    actual_position: task.axis_state(axis.handle).actual_position,
+                    fault: f.fault,
+                    action: f.action,
+                    actual_position: twin.task().axis_state(axis.handle).actual_position,
                 });
             }
         }
@@ -810,13 +914,18 @@ impl Stats {
                     planner::modulo::ErrorId(o.error_id).meaning()
                 )
             });
-            self.outcomes[i].count(o.done && !p.done, o.command_aborted && !p.command_aborted, error);
+            self.outcomes[i].count(o.done && !p.done, None, o.command_aborted && !p.command_aborted, error);
         }
         for (i, ins) in twin.program().instructions().iter().enumerate() {
             let b = twin.task().motion_bits(ins.handle);
             let p = std::mem::replace(&mut self.previous_bits[i], b);
             let error = (b.er && !p.er).then(|| error_codes(b));
-            self.logix_outcomes[i].count(b.pc && !p.pc, p.ip && !b.ip && !b.pc && !b.er, error);
+            self.logix_outcomes[i].count(
+                b.dn && !p.dn,
+                Some(b.pc && !p.pc),
+                p.ip && !b.ip && !b.pc && !b.er,
+                error,
+            );
         }
     }
 
@@ -1003,11 +1112,18 @@ impl Summary {
             );
         }
         for i in &self.instructions {
-            let _ = write!(
-                s,
-                "  {}: done {}, aborted {}, errors {}; now {}",
-                i.name, i.done, i.aborted, i.errors, i.final_outputs
-            );
+            let _ = match i.completed {
+                Some(completed) => write!(
+                    s,
+                    "  {}: done {}, completed {}, aborted {}, errors {}; now {}",
+                    i.name, i.done, completed, i.aborted, i.errors, i.final_outputs
+                ),
+                None => write!(
+                    s,
+                    "  {}: done {}, aborted {}, errors {}; now {}",
+                    i.name, i.done, i.aborted, i.errors, i.final_outputs
+                ),
+            };
             if let Some(e) = &i.last_error {
                 let _ = write!(s, "; last error {e}");
             }
@@ -1200,5 +1316,26 @@ impl Summary {
             }
         }
         s
+    }
+}
+
+#[cfg(all(test, feature = "render"))]
+mod kept_tests {
+    /// A kept frame is RGB and at most the given width, its aspect kept.
+    #[test]
+    fn kept_frames_are_scaled_down_to_the_width() {
+        let image = image::RgbaImage::from_fn(1280, 720, |x, y| {
+            image::Rgba([(x % 256) as u8, (y % 256) as u8, 7, 255])
+        });
+        let (name, rgb, size) = super::kept_image("iso", &image, 640);
+        assert_eq!((name.as_str(), size), ("iso", [640, 360]));
+        assert_eq!(rgb.len(), 640 * 360 * 3);
+        assert!(
+            rgb.chunks_exact(3).all(|p| p[2] == 7),
+            "the blue channel, alpha dropped"
+        );
+        let small = image::RgbaImage::new(320, 200);
+        let (_, rgb, size) = super::kept_image("iso", &small, 640);
+        assert_eq!((size, rgb.len()), ([320, 200], 320 * 200 * 3), "not scaled up");
     }
 }

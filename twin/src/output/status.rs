@@ -1,5 +1,5 @@
 //! How an instruction's status reads as text: the summary's final outputs
-//! and first errors, and the recording's instruction log and series.
+//! and first errors, and the recording's instruction log and state lanes.
 
 use planner::instruction::{FbOutputs, MotionInstructionBits};
 use std::fmt::Write as _;
@@ -10,25 +10,22 @@ use std::fmt::Write as _;
 pub(crate) trait Status: Copy + PartialEq {
     /// The bits, named, in their documented order.
     fn named_bits(&self) -> impl Iterator<Item = (&'static str, bool)>;
-    /// The codes, named: `ErrorID`; `ERR`, `EXERR`, `SEGMENT` (the
-    /// recording's series).
-    #[cfg(feature = "rerun")]
-    fn named_codes(&self) -> impl Iterator<Item = (&'static str, f64)>;
     /// Whether it reports an error (`Error`, `.ER`).
     fn failed(&self) -> bool;
     /// A set bit as text: `Done`, `.DN`.
     fn bit_text(name: &str) -> String;
     /// The error as text, when [`Status::failed`].
     fn error_text(&self) -> String;
+    /// One word for the state it is in, the recording's state lane: the
+    /// error (`ER 54`, `Error 16#4605`), else `IP` / `Busy`, `PC` / `Done`,
+    /// `DN`, `EN`, `Aborted`; empty when idle (a gap in the lane).
+    #[cfg(feature = "rerun")]
+    fn lane(&self) -> String;
 }
 
 impl Status for FbOutputs {
     fn named_bits(&self) -> impl Iterator<Item = (&'static str, bool)> {
         self.bits().into_iter()
-    }
-    #[cfg(feature = "rerun")]
-    fn named_codes(&self) -> impl Iterator<Item = (&'static str, f64)> {
-        [("ErrorID", f64::from(self.error_id))].into_iter()
     }
     fn failed(&self) -> bool {
         self.error
@@ -43,15 +40,28 @@ impl Status for FbOutputs {
             planner::modulo::ErrorId(self.error_id).meaning()
         )
     }
+    #[cfg(feature = "rerun")]
+    fn lane(&self) -> String {
+        let word = if self.error {
+            return format!("Error 16#{:04X}", self.error_id);
+        } else if self.active {
+            "Active"
+        } else if self.busy {
+            "Busy"
+        } else if self.done {
+            "Done"
+        } else if self.command_aborted {
+            "Aborted"
+        } else {
+            ""
+        };
+        word.to_owned()
+    }
 }
 
 impl Status for MotionInstructionBits {
     fn named_bits(&self) -> impl Iterator<Item = (&'static str, bool)> {
         self.bits().into_iter()
-    }
-    #[cfg(feature = "rerun")]
-    fn named_codes(&self) -> impl Iterator<Item = (&'static str, f64)> {
-        self.codes().into_iter().map(|(name, code)| (name, f64::from(code)))
     }
     fn failed(&self) -> bool {
         self.er
@@ -61,6 +71,23 @@ impl Status for MotionInstructionBits {
     }
     fn error_text(&self) -> String {
         error_codes(*self)
+    }
+    #[cfg(feature = "rerun")]
+    fn lane(&self) -> String {
+        let word = if self.er {
+            return format!("ER {}", self.err);
+        } else if self.ip {
+            "IP"
+        } else if self.pc {
+            "PC"
+        } else if self.dn {
+            "DN"
+        } else if self.en {
+            "EN"
+        } else {
+            ""
+        };
+        word.to_owned()
     }
 }
 

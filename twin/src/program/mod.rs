@@ -112,6 +112,11 @@ impl TracedTag {
     pub fn is_text(&self) -> bool {
         self.text.is_some()
     }
+
+    /// Its data type.
+    pub fn data_type(&self) -> DataType {
+        self.ty
+    }
 }
 
 impl Program {

@@ -46,6 +46,11 @@ impl Files {
         &self.files[id.0 as usize]
     }
 
+    /// Every file, in the order they were added.
+    pub fn iter(&self) -> impl Iterator<Item = &Arc<SourceFile>> {
+        self.files.iter()
+    }
+
     /// The file's path.
     #[must_use]
     pub fn path(&self, id: FileId) -> &Path {

@@ -9,22 +9,41 @@
 //!
 //! # Entities
 //!
+//! Every trace column (`output::trace`) has its line in the recording,
+//! named after the column (`SeriesLines` names: `J1.cmd_pos`, `MC1.EN`,
+//! `Main.State`); the lines of one thing share an entity, so a view shows
+//! them together and the recording stays small (heavy_arm: 95 entities,
+//! layout included).
+//!
 //! | entity | what | when |
 //! | --- | --- | --- |
-//! | `robot/<link>/<joint>/<link>/…` | link poses (parent from link), meshes static | when a pose changes |
-//! | `obstacles/<part>` | fixed parts, static | once |
-//! | `axes/<axis>/cmd_pos`, `act_pos`, `cmd_vel`, `act_vel`, `torque` | axis units, units/s, N·m or N | when the value changes |
-//! | `instructions/<fb>/Done` … `Error`, `ErrorID` | function-block outputs | when they change |
-//! | `instructions/<tag>/EN` … `DECEL`, `ERR`, `EXERR`, `SEGMENT` | control-structure bits and codes | when they change |
-//! | `instructions/log` | one line per change of an instruction's status | on change |
-//! | `tags/<reference>` | each `[trace] tags` entry, as the trace writes it (a string as a text log line) | when it changes |
-//! | `program/<program>/<routine>/<rung>` | each `[trace] rungs` entry: the rung's condition-out (power flow), 0/1 | every coarse update |
+//! | `<robot>` | the root link's named frame, static | once |
+//! | `<robot>/visual_geometries/<link>/<visual>` | link meshes in their link's named frame, static (Rerun's URDF importer's paths: `<visual>` is the visual's `name` or `visual_<i>`) | once |
+//! | `tf_static` | the joints' origins between their links' frames, static | once |
+//! | `transforms` | each joint's child link in its parent's frame, and the root link in the world (`tf#/`) | when a pose changes |
+//! | `<robot>/collision_highlight/<link>/<k>` | red copies of a colliding link's visuals | while it collides |
+//! | `cameras/<camera>` | the scene camera as a pinhole (pose, field of view, size), static; with `--save-frames` its frames (at most 640 px wide) | once; per frame |
+//! | `obstacles/<part>`, `conveyors/<part>` | fixed parts, static | once |
+//! | `axes/<axis>/position` | `cmd_pos`, `act_pos` (and `sup_pos`) | when a value changes |
+//! | `axes/<axis>/velocity` | `cmd_vel`, `act_vel` (not traced), `sup_vel` | when a value changes |
+//! | `axes/<axis>/torque` | the servo drive's torque | when it changes |
+//! | `axes/acceleration` | every axis' `cmd_acc` | when a value changes |
+//! | `axes/status` | every axis' status columns: cam and transform bits, `CIPAxisState`, `AxisFault`, `MotionFault`, `overshoot` | when a value changes |
+//! | `instructions/<instance>` | its outputs (`Done` … `ErrorID`; `EN` … `SEGMENT`) as lines, and its state lane (`IP`, `PC`, `ER 54`, `Error 16#4605`; a gap while idle) | when they change |
+//! | `instructions/log` | one line per change of an instruction's outputs, with the error's meaning | on change |
+//! | `coordinate_systems/<cs>/status`, `…/tool` | status bits (and MCT's), tool centre | when a value changes |
+//! | `collisions/count`, `collisions/clearance` | collision events so far; each body's clearance, m | when a value changes |
+//! | `cell/sensors`, `cell/conveyors`, `cell/grippers`, `cell/cylinders`, `cell/parts` | the cell's columns | when a value changes |
+//! | `tags/<program>`, `tags` | a program's (a controller's) `[trace] tags`: a line each, and a state lane each for BOOL and integer tags | when a value changes |
+//! | `tags/<reference>` | a traced string: its text as a text log line and a state lane | when it changes |
+//! | `program/<program>/<routine>/<rung>` | each `[trace] rungs` entry: the rung's condition-out, 0/1, and its lane | when it changes |
+//! | `plant/kinematic` | 1 in a run of the kinematic plant | once |
+//! | `routines/<program>/<routine>` | the routine's text, a Markdown document, static | once |
 //! | `tool_trails/<system>/<k>` | the tool-centre path, piece `k` (m, world; systems sharing a tool link share the first one's trail) | every 100 updates and at the end, the new part only |
-//! | `collisions/clearance/<body>` | clearance, m (infinite while nothing is in range) | when it changes |
 //! | `collisions/contacts` | contact normals scaled by depth | when the contacts change |
 //! | `collisions/log` | collision events and pre-flight predictions | as they happen |
-//! | `controller/log` | each fault record: time, type, code, task, program, routine, line (minor, cleared, the major that stopped the controller) | at the update they happen in |
-//! | `robot/…/collision_highlight` | red copies of colliding links | while they collide |
+//! | `controller/log` | each controller fault record (major, minor, cleared: time, type, code, task, program, routine, line, what it means) and each axis fault (Excessive Position Error, soft travel limits: what it means, its action) | at the update they happen in |
+//! | `parts/<id>`, `cylinders/<name>`, `sensors/<name>` | the parts world's bodies and the sensors' beams | as they move |
 //!
 //! A series is logged where its value changes, and also at the update
 //! before a change (so a plot steps instead of ramping between two
@@ -66,26 +85,33 @@
 //! # Layout
 //!
 //! The recording carries a default blueprint ([`blueprint`]): the cell in
-//! 3D with the tool trails and contacts; per coordinate system (and one
-//! group for the axes in none) a position view (command and actual) and a
-//! velocity view; a program view with the instruction bits and traced tags;
-//! the instruction and collision logs; `sim_time` as the active timeline.
+//! 3D with the robot, the cameras, the tool trails and contacts; per
+//! coordinate system (and one group for the axes in none) a position, a
+//! velocity and a torque view; a tab per program (and `Controller` for
+//! controller-scoped tags and instructions) with a state timeline, one
+//! lane per instruction and traced tag, above its routines' text; with
+//! `[collision]` a clearance view; the instruction, controller and
+//! collision logs; `sim_time` as the active timeline.
 
 use super::sinks::Sink;
-use super::{Recorder, RecordingError, Served, TextLevel, sim_time_ns, urdf_entity_paths, visual_entity_path};
-use crate::output::RecordingTargets;
+use super::{Recorder, RecordingError, Served, TextLevel, sim_time_ns};
+use crate::output::{RecordingTargets, trace};
 use crate::plant::mesh::TriMesh;
 use crate::plant::visuals::column_major;
 use crate::run::Twin;
 
 mod batch;
+mod fixed;
 mod layout;
 mod logged;
+mod paths;
 
-use batch::{Batch, Item, StaticMesh};
+use batch::{Batch, Item};
 pub use batch::{FLUSH_UPDATES, IDLE_FLUSH_UPDATES, LIVE_FLUSH};
+use fixed::Static;
 pub use layout::blueprint;
-use logged::{Logged, Series, entity_part};
+use logged::{Logged, Series};
+use paths::entity_part;
 
 /// The Rerun application id of every twin recording.
 pub const APPLICATION_ID: &str = "twin";
@@ -146,7 +172,12 @@ struct Feed {
     /// Each traced string's text last logged (`None` for other tags).
     logged_texts: Vec<Option<String>>,
     highlighted: Vec<usize>,
-    link_paths: Vec<String>,
+    /// The robot's root entity.
+    robot: String,
+    /// The update's trace values, read into.
+    row: trace::Values,
+    /// Per axis: its fault words last seen ([`crate::output::axis_faults::new_axis_faults`]).
+    previous_faults: Vec<(u32, bool)>,
     /// The parts logged so far (ids, ascending): a part gone from the cell
     /// is cleared.
     logged_parts: Vec<u64>,
@@ -236,56 +267,22 @@ impl Recording {
         if let (Some(f), Some(v)) = (files.as_mut(), viewers.as_ref()) {
             f.same_recording_as(v);
         }
-        let model = twin.plant().model();
-        let names: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
-        let joints: Vec<(&str, usize, usize)> = model
-            .joints
-            .iter()
-            .map(|j| (j.name.as_str(), j.parent.0, j.child.0))
-            .collect();
-        let link_paths = urdf_entity_paths(&names, &joints, model.root.0);
-        let mut count = vec![0usize; model.links.len()];
-        let meshes: Vec<StaticMesh> = twin
-            .plant()
-            .visuals()
-            .iter()
-            .map(|part| {
-                let path = match part.link {
-                    Some(i) => {
-                        count[i] += 1;
-                        visual_entity_path(&link_paths[i], count[i] - 1)
-                    }
-                    None => format!("{}/{}", part.group, part.name),
-                };
-                let pose = part.parent_from_mesh;
-                let t = pose.translation.vector;
-                let q = pose.rotation.coords;
-                let local = (
-                    [t.x as f32, t.y as f32, t.z as f32],
-                    [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
-                    [1.0, 1.0, 1.0],
-                );
-                (path, part.mesh.clone(), part.color_rgba, local)
-            })
-            .collect();
-
-        let meshes = std::sync::Arc::new(meshes);
         let (returns, returned) = std::sync::mpsc::channel();
         let mut workers = Vec::new();
         for (part, sinks) in [(Part::Files, files), (Part::Viewers, viewers)] {
             let Some(sinks) = sinks else { continue };
-            let (series, styles) = Series::of(twin, &link_paths);
+            let (series, styles) = Series::of(twin);
+            let fixed = Static::of(twin, styles);
             let live = part == Part::Viewers;
-            let meshes = std::sync::Arc::clone(&meshes);
             let (sender, receiver) = std::sync::mpsc::sync_channel(BATCHES_IN_FLIGHT);
             let (done_tx, done) = std::sync::mpsc::channel();
             let returns = returns.clone();
             std::thread::Builder::new()
                 .name("twin_recording".to_owned())
                 .spawn(move || {
-                    let result = sinks.start().and_then(|recorder| {
-                        Logged::new(recorder, series, live).run(&meshes, &styles, &receiver, &returns)
-                    });
+                    let result = sinks
+                        .start()
+                        .and_then(|recorder| Logged::new(recorder, series, live).run(&fixed, &receiver, &returns));
                     let _ = done_tx.send(result);
                 })
                 .map_err(|source| RecordingError::Worker {
@@ -312,7 +309,9 @@ impl Recording {
                 logged_faults: 0,
                 logged_texts: Vec::new(),
                 highlighted: Vec::new(),
-                link_paths,
+                robot: super::robot_entity_path(&plant.model().name),
+                row: trace::Values::default(),
+                previous_faults: vec![(0, false); plant.axes().len()],
                 logged_parts: Vec::new(),
                 logged_sensors: Vec::new(),
                 logged_cylinders: Vec::new(),
@@ -359,6 +358,17 @@ impl Recording {
         Ok(())
     }
 
+    /// Logs rendered frames (`--save-frames`) at `cameras/<camera>`, at the
+    /// update last taken in.
+    pub fn images(&mut self, twin: &Twin, images: Vec<crate::output::KeptImage>) {
+        let Some(feed) = self.inner.as_mut() else { return };
+        let t = sim_time_ns(twin.time_s()).unwrap_or(0);
+        for (camera, rgb, size_px) in images {
+            let path = format!("cameras/{}", entity_part(&camera));
+            feed.push(t, Item::Image { path, rgb, size_px });
+        }
+    }
+
     /// Logs the tool trails' last pieces, hands over what has gathered, and
     /// waits for the recording threads to send everything, flush and close
     /// their streams (a `.rrd` gets its footer), together at most
@@ -400,25 +410,10 @@ impl Feed {
         let b = &mut self.batch;
         b.times_ns.push(t);
         b.world_from_link.extend(plant.world_from_link());
-        for a in plant.axes() {
-            let s = task.axis_state(a.handle);
-            b.values.extend([
-                Some(s.command_position),
-                Some(s.actual_position),
-                Some(s.command_velocity),
-                Some(s.actual_velocity),
-            ]);
-        }
-        for k in 0..plant.axes().len() {
-            b.values.push(plant.drive_torque(k));
-        }
-        for tag in program.traced_tags() {
-            b.values
-                .push((!tag.is_text()).then(|| program.traced_number(tag, task)));
-        }
-        if plant.collision_enabled() {
-            b.values.extend(plant.clearance_m().into_iter().map(Some));
-        }
+        self.row.read(twin);
+        b.values.extend_from_slice(&self.row.values[1..]);
+        b.values
+            .extend(plant.axes().iter().map(|a| task.axis_state(a.handle).actual_velocity));
         b.fbs.extend(program.fbs().iter().map(|fb| task.outputs(fb.handle)));
         b.instructions
             .extend(program.instructions().iter().map(|ins| task.motion_bits(ins.handle)));
@@ -453,6 +448,27 @@ impl Feed {
                     Item::Text {
                         path: "controller/log".into(),
                         level,
+                        text,
+                    },
+                );
+            }
+        }
+        for (k, a) in plant.axes().iter().enumerate() {
+            for fault in crate::output::axis_faults::new_axis_faults(twin, a, &mut self.previous_faults[k]) {
+                let text = format!(
+                    "axis {}: {} ({}) at {:.3} s, action {}, actual position {}",
+                    a.name,
+                    fault.fault,
+                    fault.meaning,
+                    twin.time_s(),
+                    fault.action,
+                    trace::number(task.axis_state(a.handle).actual_position)
+                );
+                self.push(
+                    t,
+                    Item::Text {
+                        path: "controller/log".into(),
+                        level: TextLevel::Error,
                         text,
                     },
                 );
@@ -576,6 +592,13 @@ impl Feed {
             let path = format!("tags/{}", entity_part(&tag.name));
             self.push(
                 t_ns,
+                Item::State {
+                    path: path.clone(),
+                    label: text.clone(),
+                },
+            );
+            self.push(
+                t_ns,
                 Item::Text {
                     path: path.into(),
                     level: TextLevel::Info,
@@ -668,7 +691,7 @@ impl Feed {
         if colliding != self.highlighted {
             for l in std::mem::take(&mut self.highlighted) {
                 if !colliding.contains(&l) {
-                    let path = format!("{}/collision_highlight", self.link_paths[l]);
+                    let path = self.highlight_path(plant, l);
                     self.push(t_ns, Item::Clear { path });
                 }
             }
@@ -676,14 +699,27 @@ impl Feed {
                 if self.highlighted.contains(&l) {
                     continue;
                 }
+                let frame = plant.model().links[l].name.clone();
+                let link_path = self.highlight_path(plant, l);
                 for (k, part) in plant.visuals().iter().filter(|p| p.link == Some(l)).enumerate() {
                     let mesh = part.mesh.transformed(&column_major(&part.parent_from_mesh));
-                    let path = format!("{}/collision_highlight/{k}", self.link_paths[l]);
-                    self.push(t_ns, Item::Mesh { path, mesh });
+                    let path = format!("{link_path}/{k}");
+                    let frame = frame.clone();
+                    self.push(t_ns, Item::Mesh { path, frame, mesh });
                 }
             }
             self.highlighted = colliding;
         }
+    }
+
+    /// The entity of a link's red collision highlight:
+    /// `<robot>/collision_highlight/<link>`, in the link's frame.
+    fn highlight_path(&self, plant: &crate::plant::Plant, link: usize) -> String {
+        format!(
+            "{}/collision_highlight/{}",
+            self.robot,
+            entity_part(&plant.model().links[link].name)
+        )
     }
 
     /// Hands a batch to every recording thread, waiting at most

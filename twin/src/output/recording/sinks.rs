@@ -12,7 +12,7 @@ use rerun::external::re_uri::ProxyUri;
 use rerun::grpc_server::GrpcServerSink;
 use rerun::sink::{FileSink, FileSinkError, GrpcSink, LogSink};
 
-use super::{ROBOT_ENTITY, Recorder, RecordingError};
+use super::{Recorder, RecordingError};
 
 /// Address of a Rerun viewer's gRPC proxy on this machine (`rerun` listens there by default).
 pub const DEFAULT_CONNECT_ADDR: &str = "127.0.0.1:9876";
@@ -114,9 +114,7 @@ impl OpenSinks {
             sink_names: self.names,
             served: self.served,
         };
-        for entity_path in ["/", ROBOT_ENTITY] {
-            recorder.log_static(entity_path, &rerun::archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())?;
-        }
+        recorder.log_static("/", &rerun::archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         Ok(recorder)
     }
 }

@@ -39,12 +39,11 @@ fn records_a_small_sequence_to_an_rrd_file() {
     let path = test_dir().join("test.rrd");
     let _ = std::fs::remove_file(&path);
 
-    let links = ["base", "arm", "tool"];
-    let paths = urdf_entity_paths(&links, &[("j1", 0, 1), ("j2", 1, 2)], 0);
+    let paths = ["robot/base", "robot/base/j1/arm", "robot/base/j1/arm/j2/tool"];
     let mut rec = Recorder::new("twin_recording_test", &[Sink::File(path.clone())]).expect("open recording");
     for link_path in &paths {
         rec.log_link_mesh_static(
-            &visual_entity_path(link_path, 0),
+            &format!("{link_path}/visual_0"),
             &tetrahedron(),
             [0.8, 0.5, 0.1, 1.0],
             ([0.0, 0.0, 0.05], [0.0, 0.0, 0.0, 1.0], [1.0, 1.0, 2.0]),
@@ -58,9 +57,9 @@ fn records_a_small_sequence_to_an_rrd_file() {
         let t = f64::from(step) * 0.1;
         rec.set_time_s(t);
         let (s, c) = (t / 2.0).sin_cos();
-        rec.log_transform(&paths[1], [0.0, 0.0, 0.3], [0.0, 0.0, s, c])
+        rec.log_transform(paths[1], [0.0, 0.0, 0.3], [0.0, 0.0, s, c])
             .expect("transform");
-        rec.log_transform(&paths[2], [0.4, 0.0, 0.0], [0.0, s, 0.0, c])
+        rec.log_transform(paths[2], [0.4, 0.0, 0.0], [0.0, s, 0.0, c])
             .expect("transform");
         rec.log_scalar("plots/j1_position", t).expect("scalar");
         trail.push([0.4 * t.cos(), 0.4 * t.sin(), 0.3]);
@@ -230,57 +229,63 @@ fn mesh_defects_are_named() {
 }
 
 #[test]
-fn urdf_paths_follow_branches() {
-    // base ─ j_torso ─ torso ─┬─ j_left ─ left ─ j_lwrist ─ left_hand
-    //                         └─ j_right ─ right
-    // Links listed out of tree order; joints too.
-    let links = ["left_hand", "torso", "base", "right", "left"];
-    let joints = [
-        ("j_right", 1, 3),
-        ("j_lwrist", 4, 0),
-        ("j_torso", 2, 1),
-        ("j_left", 1, 4),
-    ];
+fn visual_paths_follow_rerun_s_urdf_importer() {
+    let robot = robot_entity_path("arm 1");
+    assert_eq!(robot, "arm\\ 1");
     assert_eq!(
-        urdf_entity_paths(&links, &joints, 2),
-        [
-            "robot/base/j_torso/torso/j_left/left/j_lwrist/left_hand",
-            "robot/base/j_torso/torso",
-            "robot/base",
-            "robot/base/j_torso/torso/j_right/right",
-            "robot/base/j_torso/torso/j_left/left",
-        ]
+        visual_entity_path(&robot, "base", None, 0),
+        "arm\\ 1/visual_geometries/base/visual_0"
     );
-}
-
-#[test]
-fn urdf_paths_tolerate_malformed_trees() {
-    let links = ["a", "b", "c", "d"];
-    // Out-of-range joint, a cycle c <-> d unreachable from a, a joint into the root.
-    let joints = [("bad", 0, 7), ("ab", 0, 1), ("cd", 2, 3), ("dc", 3, 2), ("ba", 1, 0)];
     assert_eq!(
-        urdf_entity_paths(&links, &joints, 0),
-        ["robot/a", "robot/a/ab/b", "robot/c", "robot/d"]
+        visual_entity_path(&robot, "base", Some("column"), 3),
+        "arm\\ 1/visual_geometries/base/column"
     );
-    // Root out of range: every link is top level.
-    assert_eq!(
-        urdf_entity_paths(&links[..2], &[("ab", 0, 1)], 5),
-        ["robot/a", "robot/b"]
-    );
-    assert!(urdf_entity_paths(&[], &[], 0).is_empty());
-}
-
-#[test]
-fn urdf_names_are_escaped() {
-    let paths = urdf_entity_paths(&["base link", "a/b"], &[("j 1", 0, 1)], 0);
-    assert_eq!(paths.len(), 2);
     // Escaping keeps one entity-path part per name.
-    let parsed = rerun::EntityPath::from(paths[1].as_str());
-    assert_eq!(parsed.len(), 4, "{}", paths[1]);
-    assert_eq!(
-        parsed.iter().nth(3).map(|p| p.unescaped_str().to_owned()),
-        Some("a/b".to_owned())
-    );
+    let path = visual_entity_path(&robot, "a/b", Some("c.d e"), 0);
+    let parsed = rerun::EntityPath::from(path.as_str());
+    let parts: Vec<String> = parsed.iter().map(|p| p.unescaped_str().to_owned()).collect();
+    assert_eq!(parts, ["arm 1", "visual_geometries", "a/b", "c.d e"], "{path}");
+}
+
+#[test]
+fn frame_transforms_are_checked() {
+    let path = test_dir().join("frames.rrd");
+    let _ = std::fs::remove_file(&path);
+    let mut rec = Recorder::new("twin_recording_test", &[Sink::File(path.clone())]).expect("open recording");
+    let row = |t: [f64; 3], q: [f64; 4]| ("base".to_owned(), "arm".to_owned(), t, q);
+    rec.send_static_frame_transforms("tf_static", &[row([0.0, 0.0, 0.5], [0.0, 0.0, 0.0, 1.0])])
+        .expect("static transforms");
+    assert!(matches!(
+        rec.send_frame_transform_column("transforms", &[0], &[row([f64::NAN, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0])]),
+        Err(RecordingError::InvalidValue {
+            quantity: Quantity::Translation,
+            ..
+        })
+    ));
+    assert!(matches!(
+        rec.send_frame_transform_column("transforms", &[0], &[row([0.0; 3], [0.0; 4])]),
+        Err(RecordingError::InvalidValue {
+            quantity: Quantity::Rotation,
+            ..
+        })
+    ));
+    assert!(matches!(
+        rec.send_frame_transform_column("transforms", &[0, 1], &[row([0.0; 3], [0.0, 0.0, 0.0, 1.0])]),
+        Err(RecordingError::InvalidValue {
+            quantity: Quantity::ColumnLength,
+            ..
+        })
+    ));
+    assert!(matches!(
+        rec.send_scalars_column("s", &[0, 1], &[1.0, 2.0, 3.0], 2),
+        Err(RecordingError::InvalidValue {
+            quantity: Quantity::ColumnLength,
+            ..
+        })
+    ));
+    rec.send_scalars_column("s", &[0, 1], &[1.0, 2.0, 3.0, 4.0], 2)
+        .expect("two values a row");
+    rec.finish().expect("finish");
 }
 
 #[test]

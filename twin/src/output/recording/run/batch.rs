@@ -37,14 +37,15 @@ pub(super) const AXIS_RGBA: [[f32; 4]; 8] = [
 ];
 
 /// Updates gathered on the run's thread: per update its time, the world
-/// poses of the links, the scalar values in series order (`None`: no
-/// sample), the function blocks' outputs and the control structures' bits;
+/// poses of the links, its row of values (the trace's after `time_s`, then
+/// each axis' actual velocity), the function blocks' outputs and the
+/// control structures' bits;
 /// and what is logged as it happens, after the update it follows.
 #[derive(Default, Clone)]
 pub(super) struct Batch {
     pub(super) times_ns: Vec<i64>,
     pub(super) world_from_link: Vec<([f64; 3], [f64; 4])>,
-    pub(super) values: Vec<Option<f64>>,
+    pub(super) values: Vec<f64>,
     pub(super) fbs: Vec<FbOutputs>,
     pub(super) instructions: Vec<MotionInstructionBits>,
     /// (updates of this batch before it, `sim_time` in ns, what).
@@ -67,11 +68,18 @@ pub(super) enum Item {
         level: TextLevel,
         text: String,
     },
+    /// A new state in an entity's lane.
+    State {
+        path: String,
+        label: String,
+    },
     Clear {
         path: String,
     },
+    /// A mesh in a named frame.
     Mesh {
         path: String,
+        frame: String,
         mesh: TriMesh,
     },
     /// A part's pose; with its mesh and colour the first time.
@@ -85,6 +93,12 @@ pub(super) enum Item {
         path: String,
         segments: Vec<([f64; 3], [f64; 3])>,
         color: [f32; 4],
+    },
+    /// A camera's rendered frame, 8-bit RGB.
+    Image {
+        path: String,
+        rgb: Vec<u8>,
+        size_px: [u32; 2],
     },
 }
 
@@ -102,7 +116,3 @@ impl Batch {
         self.items.clear();
     }
 }
-
-/// A static mesh logged when the recording thread starts: path, mesh,
-/// colour, parent-from-mesh pose.
-pub(super) type StaticMesh = (String, TriMesh, [f32; 4], ([f32; 3], [f32; 4], [f32; 3]));

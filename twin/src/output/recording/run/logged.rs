@@ -4,10 +4,14 @@
 
 use planner::instruction::{FbOutputs, MotionInstructionBits};
 
-use super::super::{Recorder, RecordingError, Served, TextLevel};
-use super::batch::{AXIS_RGBA, Batch, FLUSH_UPDATES, IDLE_FLUSH_UPDATES, Item, LIVE_FLUSH, StaticMesh, TRAIL_RGBA};
+use super::super::{FrameTransform, Recorder, RecordingError, Served, TextLevel};
+use super::batch::{AXIS_RGBA, Batch, FLUSH_UPDATES, IDLE_FLUSH_UPDATES, Item, LIVE_FLUSH, TRAIL_RGBA};
+use super::fixed::{Static, Style};
+use super::paths::{entity_part, tags_entity};
 use crate::output::COLLISION_TINT_RGBA;
 use crate::output::status::{Status, describe};
+use crate::output::trace;
+use crate::program::types::DataType;
 use crate::run::Twin;
 
 /// The recording thread's side: the recorder and the series.
@@ -24,89 +28,172 @@ pub(super) struct Logged {
 
 /// What the recording thread keeps per update (see [`Logged`]).
 pub(super) struct AllSeries {
-    /// Per URDF joint: (parent link, child link) and the child's pose
-    /// relative to its parent.
-    poses: Vec<((usize, usize), PoseSeries)>,
+    /// Per URDF joint: (parent link, child link) and the child's pose in
+    /// its parent's frame; then the root link's pose in the world.
+    poses: Vec<((usize, Option<usize>), PoseSeries)>,
     links: usize,
-    /// Every scalar series, in the order of [`Batch::values`]: per axis
-    /// cmd_pos, act_pos, cmd_vel, act_vel; the drives' torques; traced
-    /// tags; clearances.
-    scalars: Vec<Series>,
-    /// Per function block: its name, outputs then ErrorID, the last outputs.
-    fbs: Vec<(String, Vec<Series>, FbOutputs)>,
-    /// Per control structure: its name, bits then codes, the last bits.
-    instructions: Vec<(String, Vec<Series>, MotionInstructionBits)>,
+    /// Values in a batch's update row ([`Batch::values`]).
+    width: usize,
+    /// Every series of values: the trace's columns grouped (module doc).
+    groups: Vec<Series>,
+    /// Per function block: its name, entity and last outputs (none before
+    /// the first update).
+    fbs: Vec<(String, String, Option<FbOutputs>)>,
+    /// Per control structure: its name, entity and last bits.
+    instructions: Vec<(String, String, Option<MotionInstructionBits>)>,
 }
 
-/// A scalar series' path, name and colour in the plots.
-pub(super) type Style = (String, String, [f32; 4]);
+/// Where the recording logs a trace column: the series' entity path and
+/// whether its changes are also a state lane (an instruction's, or an
+/// integer or bit tag's); `None` for `time_s` and string tags (logged as
+/// text).
+fn series_path(twin: &Twin, column: &trace::Column) -> Option<(String, bool)> {
+    use trace::Group;
+    let path = match &column.group {
+        Group::Time => return None,
+        Group::Axis(axis) => match column.leaf.as_str() {
+            "cmd_pos" | "act_pos" | "sup_pos" => format!("axes/{}/position", entity_part(axis)),
+            "cmd_vel" | "sup_vel" => format!("axes/{}/velocity", entity_part(axis)),
+            "torque" => format!("axes/{}/torque", entity_part(axis)),
+            "cmd_acc" => "axes/acceleration".to_owned(),
+            _ => "axes/status".to_owned(),
+        },
+        Group::Instruction(name) => format!("instructions/{}", entity_part(name)),
+        Group::CollisionCount => "collisions/count".to_owned(),
+        Group::Clearance => "collisions/clearance".to_owned(),
+        Group::System(cs) => format!("coordinate_systems/{}/status", entity_part(cs)),
+        Group::Tool(cs) => format!("coordinate_systems/{}/tool", entity_part(cs)),
+        Group::Sensor => "cell/sensors".to_owned(),
+        Group::Conveyor => "cell/conveyors".to_owned(),
+        Group::Gripper => "cell/grippers".to_owned(),
+        Group::Cylinder => "cell/cylinders".to_owned(),
+        Group::Parts => "cell/parts".to_owned(),
+        Group::Tag(k) => {
+            let tag = &twin.program().traced_tags()[*k];
+            if tag.is_text() {
+                return None;
+            }
+            let lane = !matches!(tag.data_type(), DataType::Real | DataType::Lreal);
+            let path = match &tag.entity {
+                Some(path) => path.clone(),
+                None => tags_entity(twin, &tag.name),
+            };
+            return Some((path, lane));
+        }
+        Group::Plant => "plant/kinematic".to_owned(),
+    };
+    Some((path, false))
+}
+
+/// The colour of an axis' line: the axis' own for a command, lighter for
+/// the actual value, darker for the superimposed part.
+fn axis_rgba(k: usize, leaf: &str) -> [f32; 4] {
+    let color = AXIS_RGBA[k % AXIS_RGBA.len()];
+    match leaf {
+        "act_pos" | "act_vel" => color.map(|c| c + (1.0 - c) * 0.5),
+        "sup_pos" | "sup_vel" => [color[0] * 0.6, color[1] * 0.6, color[2] * 0.6, 1.0],
+        _ => color,
+    }
+}
 
 impl Series {
-    /// The series of `twin`'s link poses, axes, drives, instructions, tags
-    /// and clearances, and the (path, name, colour) of those plotted with
-    /// a name.
-    pub(super) fn of(twin: &Twin, link_paths: &[String]) -> (AllSeries, Vec<Style>) {
+    /// The series of `twin`'s link poses and of the trace's columns
+    /// grouped (module doc), with their styles. A batch's update row
+    /// ([`Batch::values`]) holds the trace's values after `time_s`, then
+    /// each axis' actual velocity.
+    pub(super) fn of(twin: &Twin) -> (AllSeries, Vec<Style>) {
         let plant = twin.plant();
-        let mut styles = Vec::new();
-        let mut scalars = Vec::new();
-        for (k, a) in plant.axes().iter().enumerate() {
-            let color = AXIS_RGBA[k % AXIS_RGBA.len()];
-            let lighter = color.map(|c| c + (1.0 - c) * 0.5);
-            for (leaf, what, rgba) in [
-                ("cmd_pos", "command position", color),
-                ("act_pos", "actual position", lighter),
-                ("cmd_vel", "command velocity", color),
-                ("act_vel", "actual velocity", lighter),
-            ] {
-                let path = format!("axes/{}/{leaf}", entity_part(&a.name));
-                styles.push((path.clone(), format!("{} {what}", a.name), rgba));
-                scalars.push(Series::new(path));
+        let columns = trace::columns(twin);
+        let axis_index = |name: &str| plant.axes().iter().position(|a| a.name == name);
+        // (path, lanes, names, colours, value indices)
+        type Group = (String, Vec<usize>, Vec<String>, Vec<[f32; 4]>, Vec<usize>);
+        fn place(groups: &mut Vec<Group>, path: String, lane: bool, name: String, rgba: [f32; 4], index: usize) {
+            let k = match groups.iter().position(|g| g.0 == path) {
+                Some(k) => k,
+                None => {
+                    groups.push((path, Vec::new(), Vec::new(), Vec::new(), Vec::new()));
+                    groups.len() - 1
+                }
+            };
+            let g = &mut groups[k];
+            if lane {
+                g.1.push(g.4.len());
+            }
+            g.2.push(name);
+            g.3.push(rgba);
+            g.4.push(index);
+        }
+        let mut groups: Vec<Group> = Vec::new();
+        let palette = |k: usize| AXIS_RGBA[k % AXIS_RGBA.len()];
+        let velocities = columns.len() - 1;
+        for (index, column) in columns.iter().enumerate().skip(1).map(|(k, c)| (k - 1, c)) {
+            let Some((path, lane)) = series_path(twin, column) else {
+                continue;
+            };
+            let rgba = match &column.group {
+                trace::Group::Axis(a) => axis_rgba(axis_index(a).unwrap_or(0), &column.leaf),
+                _ => palette(groups.iter().find(|g| g.0 == path).map_or(0, |g| g.2.len())),
+            };
+            place(&mut groups, path.clone(), lane, column.name.clone(), rgba, index);
+            if let (trace::Group::Axis(a), "cmd_vel") = (&column.group, column.leaf.as_str())
+                && let Some(k) = axis_index(a)
+            {
+                place(
+                    &mut groups,
+                    path,
+                    false,
+                    format!("{a}.act_vel"),
+                    axis_rgba(k, "act_vel"),
+                    velocities + k,
+                );
             }
         }
-        for (k, a) in plant.axes().iter().enumerate() {
-            let path = format!("axes/{}/torque", entity_part(&a.name));
-            if plant.drive_torque(k).is_some() {
-                styles.push((
-                    path.clone(),
-                    format!("{} torque", a.name),
-                    AXIS_RGBA[k % AXIS_RGBA.len()],
-                ));
-            }
-            scalars.push(Series::new(path));
-        }
+        let styles = groups
+            .iter()
+            .map(|(path, _, names, colors, _)| (path.clone(), names.clone(), colors.clone()))
+            .collect();
+        let groups = groups
+            .into_iter()
+            .map(|(path, lanes, _, _, indices)| Series::new(path, indices, lanes))
+            .collect();
         let program = twin.program();
-        scalars.extend(program.traced_tags().iter().map(|t| match &t.entity {
-            Some(path) => Series::new(path.clone()),
-            None => Series::new(format!("tags/{}", entity_part(&t.name))),
-        }));
-        if plant.collision_enabled() {
-            scalars.extend(
-                plant
-                    .collision_bodies()
-                    .iter()
-                    .map(|b| Series::new(format!("collisions/clearance/{}", entity_part(b)))),
-            );
-        }
         let fbs = program
             .fbs()
             .iter()
-            .map(|fb| status_series(&fb.name, FbOutputs::default()))
+            .map(|fb| (fb.name.clone(), format!("instructions/{}", entity_part(&fb.name)), None))
             .collect();
         let instructions = program
             .instructions()
             .iter()
-            .map(|ins| status_series(&ins.name, MotionInstructionBits::default()))
+            .map(|ins| {
+                let path = format!("instructions/{}", entity_part(&ins.name));
+                (ins.name.clone(), path, None)
+            })
             .collect();
         let model = plant.model();
-        let poses = model
+        let mut poses: Vec<((usize, Option<usize>), PoseSeries)> = model
             .joints
             .iter()
-            .map(|j| ((j.parent.0, j.child.0), PoseSeries::new(link_paths[j.child.0].clone())))
+            .map(|j| {
+                let frames = (
+                    model.links[j.parent.0].name.clone(),
+                    model.links[j.child.0].name.clone(),
+                );
+                ((j.child.0, Some(j.parent.0)), PoseSeries::new(frames))
+            })
             .collect();
+        poses.push((
+            (model.root.0, None),
+            PoseSeries::new((
+                super::super::WORLD_FRAME.to_owned(),
+                model.links[model.root.0].name.clone(),
+            )),
+        ));
         let series = AllSeries {
             poses,
             links: model.links.len(),
-            scalars,
+            width: velocities + plant.axes().len(),
+            groups,
             fbs,
             instructions,
         };
@@ -125,23 +212,18 @@ impl Logged {
         }
     }
 
-    /// The recording thread: logs the static meshes and the series'
-    /// styles, takes in batches until the run's side closes the channel,
-    /// then sends the last samples and closes the stream.
+    /// The recording thread: logs the static part (meshes, frames, series
+    /// styles, routines, cameras), takes in batches until the run's side
+    /// closes the channel, then sends the last samples and closes the
+    /// stream.
     pub(super) fn run(
         mut self,
-        meshes: &[StaticMesh],
-        styles: &[Style],
+        fixed: &Static,
         batches: &std::sync::mpsc::Receiver<Batch>,
         returns: &std::sync::mpsc::Sender<Batch>,
     ) -> Result<Served, RecordingError> {
         self.recorder.set_time_ns(0);
-        for (path, mesh, rgba, local) in meshes {
-            self.recorder.log_link_mesh_static(path, mesh, *rgba, *local)?;
-        }
-        for (path, name, rgba) in styles {
-            self.recorder.log_series_style(path, name, *rgba)?;
-        }
+        fixed.log(&mut self.recorder)?;
         // Static data on its way to the sinks while the run goes on.
         self.recorder.flush_async()?;
         loop {
@@ -168,7 +250,7 @@ impl Logged {
             batch.clear();
             let _ = returns.send(batch);
         }
-        for series in self.all_scalars() {
+        for series in &mut self.series.groups {
             series.close();
         }
         self.flush()?;
@@ -176,9 +258,9 @@ impl Logged {
     }
 
     /// Takes in a batch: every update's samples, the instruction log lines
-    /// of what changed, and the items in order.
+    /// and state lanes of what changed, and the items in order.
     fn take(&mut self, batch: &mut Batch) -> Result<(), RecordingError> {
-        let scalars = self.series.scalars.len();
+        let width = self.series.width;
         let (fbs, instructions) = (self.series.fbs.len(), self.series.instructions.len());
         let mut items = batch.items.drain(..).peekable();
         for (u, &t) in batch.times_ns.iter().enumerate() {
@@ -187,24 +269,23 @@ impl Logged {
             }
             self.recorder.set_time_ns(t);
             let poses = &batch.world_from_link[u * self.series.links..(u + 1) * self.series.links];
-            for ((parent, child), series) in &mut self.series.poses {
-                let (translation, rotation) = parent_from_child(poses[*parent], poses[*child]);
+            for ((child, parent), series) in &mut self.series.poses {
+                let (translation, rotation) = match parent {
+                    Some(parent) => parent_from_child(poses[*parent], poses[*child]),
+                    None => poses[*child],
+                };
                 series.observe(t, translation, rotation);
             }
-            for (series, value) in self
-                .series
-                .scalars
-                .iter_mut()
-                .zip(&batch.values[u * scalars..(u + 1) * scalars])
-            {
-                if let Some(v) = value {
-                    series.observe(t, *v);
+            let row = &batch.values[u * width..(u + 1) * width];
+            for series in &mut self.series.groups {
+                if series.observe(t, row) && series.new_labels() {
+                    self.recorder.log_states(&series.path, &series.labels)?;
                 }
             }
             let recorder = &mut self.recorder;
-            observe_statuses(recorder, t, &mut self.series.fbs, &batch.fbs[u * fbs..(u + 1) * fbs])?;
+            observe_statuses(recorder, &mut self.series.fbs, &batch.fbs[u * fbs..(u + 1) * fbs])?;
             let updated = &batch.instructions[u * instructions..(u + 1) * instructions];
-            observe_statuses(recorder, t, &mut self.series.instructions, updated)?;
+            observe_statuses(recorder, &mut self.series.instructions, updated)?;
             self.pending_updates += 1;
             if self.pending_updates >= FLUSH_UPDATES {
                 self.flush()?;
@@ -219,23 +300,6 @@ impl Logged {
         Ok(())
     }
 
-    /// Every scalar series: axes, drives, tags, clearances, then the
-    /// instructions'.
-    fn all_scalars(&mut self) -> impl Iterator<Item = &mut Series> {
-        self.scalar_series().1
-    }
-
-    /// The recorder, and every scalar series.
-    fn scalar_series(&mut self) -> (&mut Recorder, impl Iterator<Item = &mut Series>) {
-        let scalars = self
-            .series
-            .scalars
-            .iter_mut()
-            .chain(self.series.fbs.iter_mut().flat_map(|(_, s, _)| s))
-            .chain(self.series.instructions.iter_mut().flat_map(|(_, s, _)| s));
-        (&mut self.recorder, scalars)
-    }
-
     fn log_item(&mut self, t_ns: i64, item: Item) -> Result<(), RecordingError> {
         self.recorder.set_time_ns(t_ns);
         let r = &mut self.recorder;
@@ -245,8 +309,12 @@ impl Logged {
                 r.log_arrows("collisions/contacts", &origins, &vectors, COLLISION_TINT_RGBA)
             }
             Item::Text { path, level, text } => r.log_text(&path, level, &text),
+            Item::State { path, label } => r.log_state(&path, &label),
             Item::Clear { path } => r.log_clear(&path),
-            Item::Mesh { path, mesh } => r.log_mesh_timed(&path, &mesh, COLLISION_TINT_RGBA),
+            Item::Mesh { path, frame, mesh } => {
+                r.log_frame_static(&path, &frame)?;
+                r.log_mesh_timed(&path, &mesh, COLLISION_TINT_RGBA)
+            }
             Item::Part { path, mesh, pose } => {
                 if let Some((mesh, color)) = mesh {
                     r.log_mesh_timed(&path, &mesh, color)?;
@@ -259,6 +327,7 @@ impl Logged {
                 }
                 Ok(())
             }
+            Item::Image { path, rgb, size_px } => r.log_rgb_image(&path, rgb, size_px),
         }
     }
 
@@ -272,38 +341,41 @@ impl Logged {
         for (_, pose) in &mut self.series.poses {
             pose.flush(&mut self.recorder)?;
         }
-        let (recorder, scalars) = self.scalar_series();
-        for series in scalars {
-            series.flush(recorder)?;
+        for series in &mut self.series.groups {
+            series.flush(&mut self.recorder)?;
         }
         self.recorder.flush_async()
     }
 }
 
 /// Takes in one update's outputs of the function blocks or control
-/// structures: each one's series sample its bits then its codes, and a
-/// change of its outputs is a line of the instruction log.
-fn observe_statuses<S: Status>(
+/// structures: a change of its outputs is a line of the instruction log,
+/// and a change of its state word ([`Status::lane`]) a new state in its
+/// lane.
+fn observe_statuses<S: Status + Default>(
     recorder: &mut Recorder,
-    t_ns: i64,
-    rows: &mut [(String, Vec<Series>, S)],
+    rows: &mut [(String, String, Option<S>)],
     update: &[S],
 ) -> Result<(), RecordingError> {
-    for ((name, series, previous), status) in rows.iter_mut().zip(update) {
-        let values = status
-            .named_bits()
-            .map(|(_, bit)| f64::from(u8::from(bit)))
-            .chain(status.named_codes().map(|(_, code)| code));
-        for (s, v) in series.iter_mut().zip(values) {
-            s.observe(t_ns, v);
+    for ((name, path, previous), status) in rows.iter_mut().zip(update) {
+        // The first update: every instance gets its lane (a gap while idle).
+        let first = previous.is_none();
+        let before = previous.replace(*status).unwrap_or_default();
+        if first {
+            recorder.log_state(path, &status.lane())?;
         }
-        if std::mem::replace(previous, *status) != *status {
-            let level = if status.failed() {
-                TextLevel::Error
-            } else {
-                TextLevel::Info
-            };
-            recorder.log_text("instructions/log", level, &format!("{name}: {}", describe(*status)))?;
+        if before == *status {
+            continue;
+        }
+        let level = if status.failed() {
+            TextLevel::Error
+        } else {
+            TextLevel::Info
+        };
+        recorder.log_text("instructions/log", level, &format!("{name}: {}", describe(*status)))?;
+        let lane = status.lane();
+        if !first && lane != before.lane() {
+            recorder.log_state(path, &lane)?;
         }
     }
     Ok(())
@@ -353,78 +425,91 @@ fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-/// A function block's or control structure's series (its bits, then its
-/// codes), with the outputs it starts from.
-fn status_series<S: Status>(name: &str, start: S) -> (String, Vec<Series>, S) {
-    let part = entity_part(name);
-    let series = start
-        .named_bits()
-        .map(|(leaf, _)| leaf)
-        .chain(start.named_codes().map(|(leaf, _)| leaf))
-        .map(|leaf| Series::new(format!("instructions/{part}/{leaf}")))
-        .collect();
-    (name.to_owned(), series, start)
-}
-
-/// A name as one entity-path part (a `/`, `.` or space stays inside it).
-pub(super) fn entity_part(name: &str) -> String {
-    rerun::EntityPathPart::new(name).escaped_string()
-}
-
-/// A scalar series gathered where it changes (module doc).
+/// A series of one or more values (the lines of one entity) gathered where
+/// any of them changes (module doc).
 pub(super) struct Series {
     path: String,
+    /// Where its values are in an update's row.
+    columns: Vec<usize>,
+    /// Which of its values are also states in lanes, one lane each (their
+    /// text), and the labels last logged.
+    lanes: Vec<usize>,
+    labels: Vec<String>,
     times_ns: Vec<i64>,
+    /// `columns.len()` values per time.
     values: Vec<f64>,
-    /// The last sample taken in, and whether it is gathered.
-    last: Option<(i64, f64, bool)>,
+    /// The last values taken in, when, and whether they are gathered.
+    last: Vec<f64>,
+    last_at: Option<(i64, bool)>,
 }
 
 impl Series {
-    pub(super) fn new(path: String) -> Self {
+    pub(super) fn new(path: String, columns: Vec<usize>, lanes: Vec<usize>) -> Self {
         Self {
             path,
+            columns,
+            lanes,
+            labels: Vec::new(),
             times_ns: Vec::new(),
             values: Vec::new(),
-            last: None,
+            last: Vec::new(),
+            last_at: None,
         }
     }
 
-    /// Takes in the value at `t_ns`: gathered when it differs from the last
-    /// one (bit for bit, so a NaN that stays NaN is no change), together
-    /// with the last one if that was not gathered.
-    fn observe(&mut self, t_ns: i64, value: f64) {
-        match self.last {
-            Some((_, last, _)) if last.to_bits() == value.to_bits() => {
-                if let Some(l) = &mut self.last {
-                    l.0 = t_ns;
-                    l.2 = false;
-                }
-                return;
-            }
-            Some((t_last, last, false)) => self.push(t_last, last),
-            _ => {}
+    /// Takes in the values at `t_ns` from an update's `row`: gathered when
+    /// one differs from the last ones (bit for bit, so a NaN that stays NaN
+    /// is no change), together with the last ones if those were not
+    /// gathered. Whether they changed.
+    fn observe(&mut self, t_ns: i64, row: &[f64]) -> bool {
+        let same = self.last_at.is_some()
+            && self
+                .columns
+                .iter()
+                .zip(&self.last)
+                .all(|(&k, last)| row[k].to_bits() == last.to_bits());
+        if same {
+            self.last_at = Some((t_ns, false));
+            return false;
         }
-        self.push(t_ns, value);
-        self.last = Some((t_ns, value, true));
-    }
-
-    /// Gathers the last sample if it is not yet (the plot reaches the end).
-    fn close(&mut self) {
-        if let Some((t, v, false)) = self.last {
-            self.push(t, v);
-            self.last = Some((t, v, true));
+        if let Some((t_last, false)) = self.last_at {
+            self.times_ns.push(t_last);
+            self.values.extend_from_slice(&self.last);
         }
-    }
-
-    fn push(&mut self, t_ns: i64, value: f64) {
+        self.last.clear();
+        self.last.extend(self.columns.iter().map(|&k| row[k]));
         self.times_ns.push(t_ns);
-        self.values.push(value);
+        self.values.extend_from_slice(&self.last);
+        self.last_at = Some((t_ns, true));
+        true
+    }
+
+    /// Whether the lanes' labels differ from those last logged (they are
+    /// then the new ones).
+    fn new_labels(&mut self) -> bool {
+        if self.lanes.is_empty() {
+            return false;
+        }
+        let labels: Vec<String> = self.lanes.iter().map(|&k| trace::number(self.last[k])).collect();
+        if labels == self.labels {
+            return false;
+        }
+        self.labels = labels;
+        true
+    }
+
+    /// Gathers the last values if they are not yet (the plot reaches the end).
+    fn close(&mut self) {
+        if let Some((t, false)) = self.last_at {
+            self.times_ns.push(t);
+            self.values.extend_from_slice(&self.last);
+            self.last_at = Some((t, true));
+        }
     }
 
     fn flush(&mut self, rec: &mut Recorder) -> Result<(), RecordingError> {
         if !self.times_ns.is_empty() {
-            rec.send_scalar_column(&self.path, &self.times_ns, &self.values)?;
+            rec.send_scalars_column(&self.path, &self.times_ns, &self.values, self.columns.len())?;
             self.times_ns.clear();
             self.values.clear();
         }
@@ -434,7 +519,8 @@ impl Series {
 
 /// A link's pose gathered where it changes.
 struct PoseSeries {
-    path: String,
+    /// (parent frame, child frame).
+    frames: (String, String),
     times_ns: Vec<i64>,
     translations_m: Vec<[f64; 3]>,
     rotations_xyzw: Vec<[f64; 4]>,
@@ -442,9 +528,9 @@ struct PoseSeries {
 }
 
 impl PoseSeries {
-    fn new(path: String) -> Self {
+    fn new(frames: (String, String)) -> Self {
         Self {
-            path,
+            frames,
             times_ns: Vec::new(),
             translations_m: Vec::new(),
             rotations_xyzw: Vec::new(),
@@ -464,7 +550,13 @@ impl PoseSeries {
 
     fn flush(&mut self, rec: &mut Recorder) -> Result<(), RecordingError> {
         if !self.times_ns.is_empty() {
-            rec.send_transform_column(&self.path, &self.times_ns, &self.translations_m, &self.rotations_xyzw)?;
+            let rows: Vec<FrameTransform> = self
+                .translations_m
+                .iter()
+                .zip(&self.rotations_xyzw)
+                .map(|(t, q)| (self.frames.0.clone(), self.frames.1.clone(), *t, *q))
+                .collect();
+            rec.send_frame_transform_column(super::super::TRANSFORMS_ENTITY, &self.times_ns, &rows)?;
             self.times_ns.clear();
             self.translations_m.clear();
             self.rotations_xyzw.clear();
@@ -524,30 +616,25 @@ mod tests {
 
     #[test]
     fn a_series_gathers_changes_and_the_sample_before_each() {
-        let mut s = Series::new("x".into());
-        // 0 0 0 1 1 2 2 2 NaN NaN: gathered 0@0, 0@2 (before the change), 1@3,
-        // 1@4, 2@5, 2@7, NaN@8; close adds NaN@9.
-        for (t, v) in [0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 2.0, f64::NAN, f64::NAN]
-            .into_iter()
-            .enumerate()
-        {
-            s.observe(t as i64, v);
+        // Two values: the first 0 0 0 1 1 2 2 2 NaN NaN, the second 5
+        // throughout except 6 at update 6. Gathered: 0@0, 0@2 (before the
+        // change), 1@3, 1@4 (before the change), 2@5, 2 6@6, 2@7, NaN@8;
+        // close adds NaN@9.
+        let first = [0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 2.0, f64::NAN, f64::NAN];
+        let second = |t: usize| if t == 6 { 6.0 } else { 5.0 };
+        let mut s = Series::new("x".into(), vec![2, 0], Vec::new());
+        let mut changes = 0;
+        for (t, v) in first.into_iter().enumerate() {
+            changes += usize::from(s.observe(t as i64, &[second(t), -1.0, v]));
         }
         s.close();
-        assert_eq!(s.times_ns, [0, 2, 3, 4, 5, 7, 8, 9]);
-        let expected = [0.0, 0.0, 1.0, 1.0, 2.0, 2.0, f64::NAN, f64::NAN];
-        assert!(
-            s.values.iter().zip(expected).all(|(a, b)| a.to_bits() == b.to_bits()),
-            "{:?}",
-            s.values
-        );
+        assert_eq!(changes, 6, "changes at 0, 3, 5, 6, 7, 8");
+        assert_eq!(s.times_ns, [0, 2, 3, 4, 5, 6, 7, 8, 9]);
         // The latest sample at or before each update is that update's value.
-        for (t, v) in [0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 2.0, f64::NAN, f64::NAN]
-            .into_iter()
-            .enumerate()
-        {
+        for (t, v) in first.into_iter().enumerate() {
             let i = s.times_ns.partition_point(|&x| x <= t as i64) - 1;
-            assert_eq!(s.values[i].to_bits(), v.to_bits(), "update {t}");
+            assert_eq!(s.values[2 * i].to_bits(), v.to_bits(), "update {t}");
+            assert_eq!(s.values[2 * i + 1], second(t), "update {t}");
         }
     }
 }

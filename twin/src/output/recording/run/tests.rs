@@ -101,7 +101,7 @@ fn a_recording_opens_with_the_default_layout() {
         .name;
     assert!(has("TimeSeries", &format!("{system} position")), "{views:?}");
     assert!(has("TimeSeries", &format!("{system} velocity")), "{views:?}");
-    assert!(has("TimeSeries", "Program"), "{views:?}");
+    assert!(views.iter().any(|(c, _)| c == "StateTimeline"), "{views:?}");
     assert!(has("TimeSeries", "Clearance"), "{views:?}");
     assert!(has("TextLog", "Instruction log"), "{views:?}");
     assert!(has("TextLog", "Collision log"), "{views:?}");
@@ -110,6 +110,54 @@ fn a_recording_opens_with_the_default_layout() {
         !applications.is_empty() && applications.iter().all(|a| a == APPLICATION_ID),
         "{applications:?}"
     );
+}
+
+/// heavy_arm's recording: fewer than 100 entities in all (the layout's
+/// included), one per instruction holding its bits and codes as named
+/// lines and its state lane, and the robot's visuals in its links' named
+/// frames.
+#[test]
+fn heavy_arm_records_an_entity_per_instruction_and_named_frames() {
+    let (twin, path) = record("heavy_arm", "heavy_arm_entities.rrd", 40);
+    let chunks = chunks_in(&path);
+    let entities: std::collections::BTreeSet<String> =
+        chunks.iter().map(|(_, _, c)| c.entity_path().to_string()).collect();
+    assert!(entities.len() < 100, "{} entities: {entities:?}", entities.len());
+    let components = |entity: &str| -> Vec<String> {
+        chunks
+            .iter()
+            .filter(|(_, _, c)| c.entity_path().to_string() == entity)
+            .flat_map(|(_, _, c)| {
+                c.components()
+                    .0
+                    .values()
+                    .map(|col| col.descriptor.component.to_string())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    for ins in twin.program().instructions() {
+        let entity = format!("/instructions/{}", entity_part(&ins.name));
+        let have = components(&entity);
+        for component in ["Scalars:scalars", "SeriesLines:names", "StateChange:state"] {
+            assert!(have.iter().any(|c| c == component), "{entity}: {have:?}");
+        }
+    }
+    let model = twin.plant().model();
+    for link in model.links.iter().filter(|l| !l.visuals.is_empty()) {
+        let prefix = format!("/{}/visual_geometries/{}/", model.name, entity_part(&link.name));
+        let visual = entities
+            .iter()
+            .find(|e| e.starts_with(&prefix))
+            .unwrap_or_else(|| panic!("no visual under {prefix}: {entities:?}"));
+        assert!(
+            components(visual).iter().any(|c| c == "CoordinateFrame:frame"),
+            "{visual}"
+        );
+    }
+    for entity in ["/tf_static", "/transforms", "/axes/status", "/axes/acceleration"] {
+        assert!(entities.contains(entity), "{entity}: {entities:?}");
+    }
 }
 
 #[test]
@@ -176,4 +224,38 @@ fn batches_come_back_emptied_for_reuse() {
     assert!(back.values.capacity() >= BATCH_UPDATES, "{}", back.values.capacity());
     let finished = recording.finish(&twin);
     assert!(finished.files_complete, "{:?}", finished.failures);
+}
+
+/// `--save-frames`: a frame handed to the recording is logged as an image
+/// under its camera, whose pinhole (pose, field of view, size) is logged
+/// once.
+#[test]
+fn frames_are_logged_under_their_camera_s_pinhole() {
+    let (mut twin, mut recording, path) = open("indexing_table", "frames.rrd");
+    recording.log(&twin).expect("log");
+    twin.step();
+    recording.log(&twin).expect("log");
+    let rgb: Vec<u8> = (0..4 * 2 * 3).map(|k| k as u8).collect();
+    recording.images(&twin, vec![("iso".to_owned(), rgb, [4, 2])]);
+    let finished = recording.finish(&twin);
+    assert!(finished.files_complete, "{:?}", finished.failures);
+    let components: Vec<String> = chunks_in(&path)
+        .iter()
+        .filter(|(_, _, c)| c.entity_path().to_string() == "/cameras/iso")
+        .flat_map(|(_, _, c)| {
+            c.components()
+                .0
+                .values()
+                .map(|col| col.descriptor.component.to_string())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    for component in [
+        "Pinhole:image_from_camera",
+        "Pinhole:resolution",
+        "Transform3D:quaternion",
+        "Image:buffer",
+    ] {
+        assert!(components.iter().any(|c| c == component), "{component}: {components:?}");
+    }
 }

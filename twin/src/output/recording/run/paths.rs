@@ -1,0 +1,28 @@
+//! How a run's recording names its entities.
+
+use crate::run::Twin;
+
+/// A name as one entity-path part (a `/`, `.` or space stays inside it).
+pub(super) fn entity_part(name: &str) -> String {
+    rerun::EntityPathPart::new(name).escaped_string()
+}
+
+/// The program a `Program.Tag` reference names (`None`: a controller tag).
+pub(super) fn program_of<'a>(twin: &'a Twin, reference: &str) -> Option<&'a str> {
+    let (head, _) = reference.split_once('.')?;
+    twin.scene()
+        .tasks
+        .iter()
+        .flat_map(|t| &t.programs)
+        .map(|p| p.name.as_str())
+        .find(|p| *p == head)
+}
+
+/// The entity of a traced tag's series: its program's `tags/<program>`,
+/// or `tags` for a controller tag (and a seed program's).
+pub(super) fn tags_entity(twin: &Twin, reference: &str) -> String {
+    match program_of(twin, reference) {
+        Some(program) => format!("tags/{}", entity_part(program)),
+        None => "tags".to_owned(),
+    }
+}
