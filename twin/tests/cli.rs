@@ -157,6 +157,7 @@ fn usage_errors_exit_64_and_suggest_the_near_miss() {
 }
 
 #[test]
+#[cfg_attr(not(feature = "rerun"), ignore = "needs the `rerun` feature")]
 fn an_output_that_cannot_be_written_exits_74_naming_the_flag() {
     let dir = fresh_dir("cli", "unwritable");
     // A file where a folder is needed.
@@ -255,6 +256,7 @@ fn free_port() -> u16 {
 }
 
 #[test]
+#[cfg_attr(not(feature = "rerun"), ignore = "needs the `rerun` feature")]
 fn serve_refuses_a_busy_port_and_goes_on_serving_after_the_run() {
     use std::io::BufRead as _;
 
@@ -416,6 +418,7 @@ fn a_closed_standard_output_costs_no_file() {
 }
 
 #[test]
+#[cfg_attr(not(feature = "rerun"), ignore = "needs the `rerun` feature")]
 fn a_failing_output_names_its_flag_and_keeps_the_others() {
     let dir = fresh_dir("cli", "failing_output");
     let scene = plain_scene("plain_357");
@@ -491,6 +494,7 @@ fn connect_to_another_machine_warns() {
 }
 
 #[test]
+#[cfg_attr(not(feature = "render"), ignore = "needs the `render` feature")]
 fn frames_left_by_an_earlier_longer_run_are_named() {
     let dir = fresh_dir("cli", "stale_frames");
     std::fs::write(dir.join("iso-00099.png"), b"an earlier run's frame").expect("write");
@@ -515,6 +519,7 @@ fn frames_left_by_an_earlier_longer_run_are_named() {
 }
 
 #[test]
+#[cfg_attr(not(feature = "rerun"), ignore = "needs the `rerun` feature")]
 fn a_viewer_that_accepts_but_never_reads_costs_no_other_output() {
     // It used to block forever after the trace was written; the summary
     // was never written.
@@ -1070,13 +1075,15 @@ fn twin_test_reports_failures_errors_and_timeouts_in_junit() {
         .find(|e| e.file_name().to_string_lossy().contains("b_broken"))
         .expect("the broken run's folder")
         .path();
-    for file in ["summary.json", "trace.csv", "run.rrd"] {
+    let recording = cfg!(feature = "rerun").then_some("run.rrd");
+    for file in ["summary.json", "trace.csv"].into_iter().chain(recording) {
         assert!(failed_dir.join(file).is_file(), "{file} in {}", failed_dir.display());
     }
     assert!(xml.contains("[[ATTACHMENT|"), "{xml}");
 }
 
 #[test]
+#[cfg_attr(not(feature = "render"), ignore = "needs the `render` feature")]
 fn a_failed_expectation_attaches_a_picture_of_every_camera() {
     let dir = fresh_dir("cli", "suite_picture");
     let base = std::fs::read_to_string(edited("suite_picture_base", &[])).expect("scene");
@@ -1371,7 +1378,11 @@ fn a_missing_scene_exits_66_and_stdout_on_a_terminal_exits_64() {
         let out = twin().args(&args).output().expect("run twin");
         assert_eq!(out.status.code(), Some(66), "{args:?}: {}", stderr(&out));
     }
-    // Standard output a terminal: `script` gives the command a pty.
+    // Standard output a terminal: `script` gives the command a pty (a
+    // build without recordings refuses --stdout first, also 64).
+    if !cfg!(feature = "rerun") {
+        return;
+    }
     let scene = plain_scene("stdout_tty");
     let command = format!(
         "{} run {} --no-render --duration 0.01 --stdout",
@@ -1386,4 +1397,176 @@ fn a_missing_scene_exits_66_and_stdout_on_a_terminal_exits_64() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(64), "{text}");
     assert!(text.contains("standard output is a terminal"), "{text}");
+}
+
+/// The codes of the README's "What a run itself reports" table, in order.
+fn readme_exit_codes() -> Vec<u8> {
+    let readme = std::fs::read_to_string(root().join("README.md")).expect("README.md");
+    let table = readme
+        .split("| exit code | meaning |")
+        .nth(1)
+        .expect("the README's exit-code table");
+    table
+        .lines()
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .map(|l| {
+            let code = l.trim_start_matches('|').split('|').next().unwrap_or_default().trim();
+            code.parse().unwrap_or_else(|_| panic!("not an exit code: {l}"))
+        })
+        .collect()
+}
+
+/// The exit-code table holds row by row: every code the README lists is
+/// in `twin --help` and a run that ends with it, and a code the twin
+/// gives that the table lacks fails here.
+#[test]
+fn the_exit_code_table_holds_row_by_row() {
+    let codes = readme_exit_codes();
+    let help = String::from_utf8_lossy(&twin().arg("--help").output().expect("twin --help").stdout).into_owned();
+    let listed = help.split("Exit codes:").nth(1).expect("--help lists the exit codes");
+    let run = |args: &[&str], path: &std::path::Path| {
+        let mut command = twin();
+        command.arg(args[0]).arg(path).args(&args[1..]);
+        command.output().expect("run twin")
+    };
+    for code in &codes {
+        assert!(
+            listed.contains(&format!("{code} ")),
+            "--help's exit codes lack {code}: {listed}"
+        );
+        let dir = fresh_dir("cli", &format!("exit_{code}"));
+        let out = match code {
+            0 => run(
+                &["run", "--no-render", "--duration", "0.1"],
+                &plain_scene("exit_0_scene"),
+            ),
+            // MC_MoveModulo refuses a negative velocity (ErrorID).
+            2 => run(
+                &["run", "--no-render", "--duration", "0.2"],
+                &edited(
+                    "exit_2_scene",
+                    &[(
+                        "Position := 90.0, Velocity := 180.0",
+                        "Position := 90.0, Velocity := -180.0",
+                    )],
+                ),
+            ),
+            3 => {
+                let text = common::shipped_scene_text(&root().join("scenes/collision_cell.toml"))
+                    .replace("reaction = \"report\"", "reaction = \"abort\"")
+                    .replace(
+                        "urdf = \"robots/",
+                        &format!("urdf = \"{}/scenes/robots/", root().display()),
+                    );
+                let path = dir.join("abort.toml");
+                std::fs::write(&path, text).expect("scene");
+                run(&["run", "--no-render"], &path)
+            }
+            4 => run(&["run", "--no-render"], &root().join("scenes/fault_demo.toml")),
+            5 => run(
+                &["run", "--no-render"],
+                &common::one_joint_arm(
+                    "cli",
+                    "exit_5_arm",
+                    "",
+                    "",
+                    "system_inertia = 4000.0, torque_limit_positive = 1e7, torque_limit_negative = -1e7",
+                ),
+            ),
+            6 => {
+                let path = plain_scene("exit_6_scene");
+                let text = std::fs::read_to_string(&path).expect("scene")
+                    + "\n[[expect]]\nname = \"never\"\nalways = \"Table.cmd_pos > 1000\"\n";
+                std::fs::write(&path, text).expect("scene");
+                run(&["run", "--no-render", "--duration", "0.1"], &path)
+            }
+            7 => run(
+                &["run", "--no-render", "--max-wall", "0.001"],
+                &plain_scene("exit_7_scene"),
+            ),
+            64 => run(&["run", "--frmes", "out"], &plain_scene("exit_64_scene")),
+            65 => run(
+                &["check"],
+                &edited("exit_65_scene", &[("max_velocity = 360.0", "max_velocity = \"fast\"")]),
+            ),
+            66 => run(&["check"], &dir.join("nope.toml")),
+            // A folder for the trace where a file is.
+            74 => {
+                std::fs::write(dir.join("a_file"), "").expect("file");
+                let trace = dir.join("a_file/trace.csv");
+                twin()
+                    .arg("run")
+                    .arg(plain_scene("exit_74_scene"))
+                    .args(["--no-render", "--duration", "0.1", "--trace"])
+                    .arg(&trace)
+                    .output()
+                    .expect("run twin")
+            }
+            _ => panic!("the README lists exit code {code}, which this test has no case for"),
+        };
+        assert_eq!(
+            out.status.code(),
+            Some(i32::from(*code)),
+            "exit {code}: {}",
+            stderr(&out)
+        );
+    }
+    for code in [0, 2, 3, 4, 5, 6, 7, 64, 65, 66, 74] {
+        assert!(codes.contains(&code), "the README's table lacks exit code {code}");
+    }
+}
+
+/// `-q` prints the summary only when the run fails; `-v` prints each
+/// instruction event on stderr as it happens, with its time.
+#[test]
+fn quiet_and_verbose() {
+    let scene = plain_scene("quiet");
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--duration", "0.5", "-q"])
+        .output()
+        .expect("run twin");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(out.stdout.is_empty(), "{}", String::from_utf8_lossy(&out.stdout));
+    let failing = std::fs::read_to_string(&scene).expect("scene")
+        + "\n[[expect]]\nname = \"never\"\nalways = \"Table.cmd_pos > 1000\"\n";
+    let failing_scene = fresh_dir("cli", "quiet_failing").join("scene.toml");
+    std::fs::write(&failing_scene, failing).expect("scene");
+    let out = twin()
+        .arg("run")
+        .arg(&failing_scene)
+        .args(["--no-render", "--duration", "0.5", "--quiet"])
+        .output()
+        .expect("run twin");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(6), "{}", stderr(&out));
+    assert!(text.contains("scene indexing_table") && text.contains("FAIL"), "{text}");
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["--no-render", "--duration", "1.0", "-v"])
+        .output()
+        .expect("run twin");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let events: Vec<&str> = err.lines().filter(|l| l.starts_with("t = ")).collect();
+    assert!(
+        events.iter().any(|l| l.contains("MoveA: Busy")) && events.iter().any(|l| l.contains("MoveA: Done")),
+        "{err}"
+    );
+    // In time order.
+    let times: Vec<f64> = events
+        .iter()
+        .filter_map(|l| l.strip_prefix("t = ")?.split(' ').next()?.parse().ok())
+        .collect();
+    assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
+    let out = twin()
+        .arg("run")
+        .arg(&scene)
+        .args(["-q", "-v"])
+        .output()
+        .expect("run twin");
+    assert_eq!(out.status.code(), Some(64), "{}", stderr(&out));
 }

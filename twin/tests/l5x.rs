@@ -119,9 +119,10 @@ fn the_example_checks_with_its_report_and_runs_to_the_programs_counts() {
             .unwrap_or_else(|| panic!("{name} in {json}"))
             .clone()
     };
-    // Two cycles: five linear moves each, one arc each, no errors.
-    assert_eq!(outcome("PickPlace.Move")["done"], 10, "{json}");
-    assert_eq!(outcome("PickPlace.Arc")["done"], 2, "{json}");
+    // Two cycles: five linear moves each, one arc each, no errors
+    // (`completed` counts `.PC` rises, `done` `.DN` rises).
+    assert_eq!(outcome("PickPlace.Move")["completed"], 10, "{json}");
+    assert_eq!(outcome("PickPlace.Arc")["completed"], 2, "{json}");
     assert_eq!(outcome("PickPlace.Move")["errors"], 0, "{json}");
     assert_eq!(json["expectations"].as_array().map(Vec::len), Some(3));
     assert!(

@@ -97,3 +97,44 @@ pub fn tetrahedron(size_m: f32) -> Vec<[[f32; 3]; 3]> {
     ];
     vec![[o, y, x], [o, x, z], [o, z, y], [x, y, z]]
 }
+
+/// A one-joint arm whose 4 kg forearm hangs 0.3 m off a horizontal joint,
+/// with `collision` inside the forearm's `<link>`, and a scene on it (a
+/// servo drive holding it against gravity) with `axis` and `drive` added
+/// to the axis' table; both written under `target/<group>/<name>/`.
+#[allow(dead_code)]
+pub fn one_joint_arm(group: &str, name: &str, collision: &str, axis: &str, drive: &str) -> PathBuf {
+    let dir = fresh_dir(group, name);
+    std::fs::write(
+        dir.join("arm.urdf"),
+        format!(
+            r#"<robot name="arm">
+  <link name="base"/>
+  <link name="forearm">
+    <inertial><origin xyz="0.3 0 0"/><mass value="4"/>
+      <inertia ixx="0.01" iyy="0.05" izz="0.05" ixy="0" ixz="0" iyz="0"/></inertial>
+    {collision}
+  </link>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="forearm"/><origin xyz="0 0 1"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="200" velocity="5"/>
+  </joint>
+</robot>
+"#
+        ),
+    )
+    .expect("write URDF");
+    let path = dir.join("arm.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "name = \"arm\"\nduration_s = 0.5\ncoarse_update_ms = 4.0\nphysics_step_ms = 1.0\n\
+             [robot]\nurdf = \"arm.urdf\"\n\
+             [[axes]]\nname = \"J1\"\njoint = \"j1\"\nkind = \"rotary\"\nunits = \"deg\"\n\
+             max_velocity = 180.0\nmax_acceleration = 1800.0\nmax_deceleration = 1800.0\nmax_jerk = 18000.0\n\
+             in_position_window = 0.1\n{axis}\ndrive = {{ {drive} }}\n"
+        ),
+    )
+    .expect("write scene");
+    path
+}

@@ -197,6 +197,10 @@ struct RunArgs {
     /// Save a Rerun recording to FILE.rrd.
     #[arg(long, value_name = "FILE.rrd")]
     save: Option<PathBuf>,
+    /// With --frames and a recording: log every frame in the recording too
+    /// (scaled down to at most 640 pixels wide), under its camera.
+    #[arg(long, requires = "frames")]
+    save_frames: bool,
     /// Stream to a Rerun viewer (default address 127.0.0.1:9876).
     #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:9876")]
     connect: Option<String>,
@@ -240,6 +244,14 @@ struct RunArgs {
     /// updates), writing every output up to there; exit code 7.
     #[arg(long, value_name = "S", value_parser = parse_wall)]
     max_wall: Option<f64>,
+    /// Quiet: print the summary only when the run fails (an exit code
+    /// other than 0); errors are printed either way.
+    #[arg(short, long, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Verbose: print each instruction event (a change of an
+    /// instruction's outputs, a fault) on stderr as it happens.
+    #[arg(short, long)]
+    verbose: bool,
 }
 
 /// A `--max-wall`: seconds of wall time, positive and finite.

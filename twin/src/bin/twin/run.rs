@@ -39,6 +39,9 @@ impl UpdateSinks<'_> {
                 .push(anyhow::Error::new(e).context("the recording stopped"));
             *self.recording = None;
         }
+        if let (Some(r), Some(f)) = (self.recording.as_mut(), self.frames.as_mut()) {
+            r.images(twin, f.take_images());
+        }
         if let Some(t) = self.trace.as_mut() {
             t.row(twin);
         }
@@ -328,10 +331,14 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
             Some(numbers) => f.only_numbers(numbers),
             None => f,
         };
-        match args.frames_at {
+        let mut f = match args.frames_at {
             Some(at) => f.only_at(at),
             None => f,
+        };
+        if args.save_frames {
+            f.keep_images(twin::output::session::KEPT_IMAGE_MAX_WIDTH_PX);
         }
+        f
     });
     let rrd = args.save.as_deref().map(|p| OutputFile::new("--save", p));
     let targets = twin::output::RecordingTargets {
@@ -349,7 +356,15 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
              and the viewer there accepts any sender"
         );
     }
+    if args.save_frames && targets.first_flag().is_none() {
+        return Err(Refused(
+            "--save-frames: the frames go into a recording; add --save, --connect, --spawn, --stdout or --serve"
+                .to_owned(),
+        )
+        .into());
+    }
     let mut recording = Some(twin::output::session::Recording::new(&twin, &targets)?);
+    let mut events = args.verbose.then(|| twin::output::session::EventLines::new(&twin));
     let mut stats = twin::output::session::Stats::new(&twin);
 
     let total = twin.total_updates();
@@ -366,6 +381,11 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
     for _ in 0..total {
         twin.step();
         stats.observe(&twin);
+        if let Some(events) = &mut events {
+            for line in events.take(&twin) {
+                progress.println(&line);
+            }
+        }
         sinks.write(&twin);
         expectations.observe(&mut twin);
         progress.tick(twin.task().updates(), &wall);
@@ -431,42 +451,57 @@ pub(crate) fn run(args: &RunArgs) -> Result<ExitCode> {
             failures.push(e);
         }
     }
-    if args.stdout {
-        // Standard output carries the recording.
-        eprint!("{}", summary.human());
-    } else {
-        out!("{}", summary.human());
-    }
-    let code = if let Some(f) = &summary.physics_fault {
-        eprintln!("error: {f} (check the URDF's masses and inertias and the drives' gains)");
-        exit::PHYSICS_FAULT
+    let (code, why) = if let Some(f) = &summary.physics_fault {
+        (
+            exit::PHYSICS_FAULT,
+            format!("{f} (check the URDF's masses and inertias and the drives' gains)"),
+        )
     } else if summary.collision_abort {
-        eprintln!("error: the run was aborted by a collision (collision.reaction = \"abort\")");
-        exit::COLLISION_ABORT
+        (
+            exit::COLLISION_ABORT,
+            "the run was aborted by a collision (collision.reaction = \"abort\")".to_owned(),
+        )
     } else if let Some(f) = twin.program().controller().major_fault() {
-        eprintln!("error: the controller stopped on a {f}");
-        exit::MAJOR_FAULT
+        (exit::MAJOR_FAULT, format!("the controller stopped on a {f}"))
     } else if summary.any_error() {
-        eprintln!("error: an instruction reported an error (see the summary above)");
-        exit::INSTRUCTION_ERROR
+        (
+            exit::INSTRUCTION_ERROR,
+            "an instruction reported an error (see the summary above)".to_owned(),
+        )
     } else if let Some(w) = &summary.wall_limit {
-        eprintln!(
-            "error: --max-wall {} s stopped the run at t = {:.3} s of its {:.3} s; the outputs end there",
-            w.max_wall_s,
-            w.time_s,
-            total as f64 * twin.scene().coarse_update_s()
-        );
-        exit::WALL_LIMIT
+        (
+            exit::WALL_LIMIT,
+            format!(
+                "--max-wall {} s stopped the run at t = {:.3} s of its {:.3} s; the outputs end there",
+                w.max_wall_s,
+                w.time_s,
+                total as f64 * twin.scene().coarse_update_s()
+            ),
+        )
     } else if summary.failed_expectations() > 0 {
-        eprintln!(
-            "error: {} of {} expectations failed (see above)",
-            summary.failed_expectations(),
-            summary.expectations.len()
-        );
-        exit::EXPECTATION_FAILED
+        (
+            exit::EXPECTATION_FAILED,
+            format!(
+                "{} of {} expectations failed (see above)",
+                summary.failed_expectations(),
+                summary.expectations.len()
+            ),
+        )
     } else {
-        0
+        (0, String::new())
     };
+    // -q: the summary only when something went wrong.
+    if !args.quiet || code != 0 || !failures.is_empty() {
+        if args.stdout {
+            // Standard output carries the recording.
+            eprint!("{}", summary.human());
+        } else {
+            out!("{}", summary.human());
+        }
+    }
+    if code != 0 {
+        eprintln!("error: {why}");
+    }
     for e in &failures {
         eprintln!("error: {e:#}");
     }
@@ -528,6 +563,15 @@ impl Progress {
     fn finish(&self) {
         if self.shown {
             self.bar.finish();
+        }
+    }
+
+    /// A line on stderr, above the bar when it is shown.
+    fn println(&self, line: &str) {
+        if self.shown {
+            self.bar.suspend(|| eprintln!("{line}"));
+        } else {
+            eprintln!("{line}");
         }
     }
 }
