@@ -17,8 +17,9 @@
 //!   `/`: URDF and every [`TriMesh`] here are Z-up.
 //! - Everything that changes over time is logged on the [`SIM_TIME_TIMELINE`]
 //!   (`sim_time`), a duration timeline in seconds of simulated time, set with
-//!   [`Recorder::set_time_s`]. Rerun adds its own wall-clock `log_time` and
-//!   `log_tick` timelines as well.
+//!   [`Recorder::set_time_s`]. It is the only timeline: Rerun's wall-clock
+//!   `log_time` is switched off (a replay's wall clock means nothing, and
+//!   each timeline costs the file's footer an index column per component).
 //!
 //! # Sinks
 //!
@@ -256,8 +257,7 @@ impl Recorder {
         if !mesh.normals.is_empty() {
             archetype = archetype.with_vertex_normals(mesh.normals.iter().copied());
         }
-        self.log_static(entity_path, &mesh_from_link)?;
-        self.log_static(entity_path, &archetype)
+        self.log_static(entity_path, &[&mesh_from_link as &dyn rerun::AsComponents, &archetype])
     }
 
     /// Logs a robot link's visual mesh once, as static data, the way
@@ -296,9 +296,10 @@ impl Recorder {
         let pose = rerun::archetypes::InstancePoses3D::new()
             .with_translations([translation.map(|v| v as f32)])
             .with_quaternions([rerun::datatypes::Quaternion::from_xyzw(rotation)]);
-        self.log_static(entity_path, &rerun::archetypes::CoordinateFrame::new(frame))?;
-        self.log_static(entity_path, &pose)?;
-        self.log_static(entity_path, &mesh_archetype(mesh, color_rgba))
+        // One call: one chunk (a chunk costs the file writer more than its bytes).
+        let frame = rerun::archetypes::CoordinateFrame::new(frame);
+        let mesh = mesh_archetype(mesh, color_rgba);
+        self.log_static(entity_path, &[&frame as &dyn rerun::AsComponents, &pose, &mesh])
     }
 
     /// Logs, static, that `entity_path` and what it holds are in the named
@@ -469,8 +470,7 @@ impl Recorder {
         let pinhole = rerun::archetypes::Pinhole::from_fov_and_aspect_ratio(fov_y_rad as f32, w as f32 / h as f32)
             .with_resolution([w as f32, h as f32])
             .with_image_plane_distance(0.15);
-        self.log_static(entity_path, &pose)?;
-        self.log_static(entity_path, &pinhole)
+        self.log_static(entity_path, &[&pose as &dyn rerun::AsComponents, &pinhole])
     }
 
     /// Logs an 8-bit RGB image (rows top to bottom) at the current `sim_time`.

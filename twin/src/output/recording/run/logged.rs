@@ -338,8 +338,14 @@ impl Logged {
         if let Some(at) = &mut self.live {
             *at = std::time::Instant::now();
         }
+        // Every link's poses in one chunk.
+        let (mut times_ns, mut rows) = (Vec::new(), Vec::new());
         for (_, pose) in &mut self.series.poses {
-            pose.flush(&mut self.recorder)?;
+            pose.drain_into(&mut times_ns, &mut rows);
+        }
+        if !times_ns.is_empty() {
+            self.recorder
+                .send_frame_transform_column(super::super::TRANSFORMS_ENTITY, &times_ns, &rows)?;
         }
         for series in &mut self.series.groups {
             series.flush(&mut self.recorder)?;
@@ -548,20 +554,16 @@ impl PoseSeries {
         self.rotations_xyzw.push(rotation_xyzw);
     }
 
-    fn flush(&mut self, rec: &mut Recorder) -> Result<(), RecordingError> {
-        if !self.times_ns.is_empty() {
-            let rows: Vec<FrameTransform> = self
-                .translations_m
-                .iter()
-                .zip(&self.rotations_xyzw)
-                .map(|(t, q)| (self.frames.0.clone(), self.frames.1.clone(), *t, *q))
-                .collect();
-            rec.send_frame_transform_column(super::super::TRANSFORMS_ENTITY, &self.times_ns, &rows)?;
-            self.times_ns.clear();
-            self.translations_m.clear();
-            self.rotations_xyzw.clear();
-        }
-        Ok(())
+    /// Moves the gathered poses into `times_ns` and `rows` (a transform
+    /// between its two frames each).
+    fn drain_into(&mut self, times_ns: &mut Vec<i64>, rows: &mut Vec<FrameTransform>) {
+        times_ns.append(&mut self.times_ns);
+        rows.extend(
+            self.translations_m
+                .drain(..)
+                .zip(self.rotations_xyzw.drain(..))
+                .map(|(t, q)| (self.frames.0.clone(), self.frames.1.clone(), t, q)),
+        );
     }
 }
 
