@@ -204,11 +204,11 @@ impl Recorder {
         self.sim_time_ns.map(|ns| ns as f64 * 1e-9)
     }
 
-    /// Logs a link's visual mesh once, as static data, at `entity_path`
-    /// (normally [`visual_entity_path`] of the link), with its fixed
-    /// `link_from_mesh` transform: translation in metres, rotation as an
-    /// `xyzw` quaternion, per-axis scale. `color_rgba` is sRGB with alpha,
-    /// each channel in `0..=1` (clamped).
+    /// Logs a mesh once, as static data, at `entity_path` (a world-fixed
+    /// part: an obstacle, a conveyor), with its fixed `parent_from_mesh`
+    /// transform relative to the parent entity: translation in metres,
+    /// rotation as an `xyzw` quaternion, per-axis scale. `color_rgba` is
+    /// sRGB with alpha, each channel in `0..=1` (clamped).
     ///
     /// # Errors
     ///
@@ -222,7 +222,7 @@ impl Recorder {
         color_rgba: [f32; 4],
         local_from_mesh: ([f32; 3], [f32; 4], [f32; 3]),
     ) -> Result<(), RecordingError> {
-        use rerun::archetypes::{Mesh3D, Transform3D};
+        use rerun::archetypes::Transform3D;
 
         check_mesh(mesh).map_err(|defect| RecordingError::InvalidMesh {
             entity_path: entity_path.to_owned(),
@@ -246,17 +246,7 @@ impl Recorder {
             rerun::datatypes::Quaternion::from_xyzw(rotation),
             scale,
         );
-        let mut archetype = Mesh3D::new(mesh.positions.iter().copied()).with_albedo_factor(rgba32(color_rgba));
-        if !mesh.indices.is_empty() {
-            archetype = archetype.with_triangle_indices(
-                mesh.indices
-                    .chunks_exact(3)
-                    .map(|t| rerun::datatypes::UVec3D::new(t[0], t[1], t[2])),
-            );
-        }
-        if !mesh.normals.is_empty() {
-            archetype = archetype.with_vertex_normals(mesh.normals.iter().copied());
-        }
+        let archetype = mesh_archetype(mesh, color_rgba);
         self.log_static(entity_path, &[&mesh_from_link as &dyn rerun::AsComponents, &archetype])
     }
 
@@ -518,79 +508,6 @@ impl Recorder {
         self.log_timed(entity_path, &transform)
     }
 
-    /// Logs one sample of the scalar series at `entity_path` (one series per
-    /// path) at the current `sim_time`. NaN is logged as is and shows as a gap.
-    ///
-    /// # Errors
-    ///
-    /// [`RecordingError::Log`] if Rerun refuses the data.
-    pub fn log_scalar(&mut self, entity_path: &str, value: f64) -> Result<(), RecordingError> {
-        self.log_timed(entity_path, &rerun::archetypes::Scalars::single(value))
-    }
-
-    /// Logs a whole column of samples of the scalar series at `entity_path`
-    /// in one chunk: `values[i]` at `sim_time` `times_ns[i]` (ns). Much
-    /// cheaper per sample than [`Self::log_scalar`]; the viewer sees the
-    /// same series.
-    ///
-    /// # Errors
-    ///
-    /// [`RecordingError::InvalidValue`] when the slices differ in length,
-    /// [`RecordingError::Log`] if Rerun refuses the data.
-    pub fn send_scalar_column(
-        &mut self,
-        entity_path: &str,
-        times_ns: &[i64],
-        values: &[f64],
-    ) -> Result<(), RecordingError> {
-        if times_ns.len() != values.len() {
-            return Err(RecordingError::InvalidValue {
-                entity_path: entity_path.to_owned(),
-                quantity: Quantity::ColumnLength,
-            });
-        }
-        let columns = rerun::archetypes::Scalars::new(values.iter().copied()).columns_of_unit_batches();
-        self.send_timed_columns(entity_path, times_ns, columns)
-    }
-
-    /// Logs a whole column of poses of the entity relative to its parent
-    /// (`parent_from_entity`, as [`Self::log_transform`]) in one chunk:
-    /// pose `i` at `sim_time` `times_ns[i]` (ns).
-    ///
-    /// # Errors
-    ///
-    /// [`RecordingError::InvalidValue`] for a NaN/infinite translation, a
-    /// zero/non-finite quaternion or slices of different lengths,
-    /// [`RecordingError::Log`] if Rerun refuses the data.
-    pub fn send_transform_column(
-        &mut self,
-        entity_path: &str,
-        times_ns: &[i64],
-        translations_m: &[[f64; 3]],
-        rotations_xyzw: &[[f64; 4]],
-    ) -> Result<(), RecordingError> {
-        let invalid = |quantity| RecordingError::InvalidValue {
-            entity_path: entity_path.to_owned(),
-            quantity,
-        };
-        if times_ns.len() != translations_m.len() || times_ns.len() != rotations_xyzw.len() {
-            return Err(invalid(Quantity::ColumnLength));
-        }
-        if !translations_m.iter().flatten().all(|v| v.is_finite()) {
-            return Err(invalid(Quantity::Translation));
-        }
-        let rotations = rotations_xyzw
-            .iter()
-            .map(|&q| unit_quaternion(q).map(rerun::datatypes::Quaternion::from_xyzw))
-            .collect::<Option<Vec<_>>>()
-            .ok_or_else(|| invalid(Quantity::Rotation))?;
-        let columns = rerun::archetypes::Transform3D::update_fields()
-            .with_many_translation(translations_m.iter().map(|t| t.map(|v| v as f32)))
-            .with_many_quaternion(rotations)
-            .columns_of_unit_batches();
-        self.send_timed_columns(entity_path, times_ns, columns)
-    }
-
     /// Sends serialized component columns as one chunk at `entity_path`,
     /// indexed by `sim_time` `times_ns` (ns).
     fn send_timed_columns(
@@ -607,25 +524,6 @@ impl Recorder {
         self.stream
             .send_columns(entity_path, [time], columns.map_err(|e| log_error(e.into()))?)
             .map_err(log_error)
-    }
-
-    /// Names and colours the series at `entity_path` (static; call once,
-    /// before or after its samples). `color_rgba` as in
-    /// [`Self::log_link_mesh_static`].
-    ///
-    /// # Errors
-    ///
-    /// [`RecordingError::Log`] if Rerun refuses the data.
-    pub fn log_series_style(
-        &mut self,
-        entity_path: &str,
-        name: &str,
-        color_rgba: [f32; 4],
-    ) -> Result<(), RecordingError> {
-        let style = rerun::archetypes::SeriesLines::new()
-            .with_names([name])
-            .with_colors([rgba32(color_rgba)]);
-        self.log_static(entity_path, &style)
     }
 
     /// Logs a text entry at the current `sim_time`.
@@ -713,16 +611,7 @@ impl Recorder {
             entity_path: entity_path.to_owned(),
             defect,
         })?;
-        let mut archetype =
-            rerun::archetypes::Mesh3D::new(mesh.positions.iter().copied()).with_albedo_factor(rgba32(color_rgba));
-        if !mesh.indices.is_empty() {
-            archetype = archetype.with_triangle_indices(
-                mesh.indices
-                    .chunks_exact(3)
-                    .map(|t| rerun::datatypes::UVec3D::new(t[0], t[1], t[2])),
-            );
-        }
-        self.log_timed(entity_path, &archetype)
+        self.log_timed(entity_path, &mesh_archetype(mesh, color_rgba))
     }
 
     /// Clears what an entity and its children show from the current `sim_time` on.

@@ -50,8 +50,12 @@ fn records_a_small_sequence_to_an_rrd_file() {
         )
         .expect("mesh");
     }
-    rec.log_series_style("plots/j1_position", "j1 position", [0.2, 0.4, 1.0, 1.0])
-        .expect("series style");
+    rec.log_series_styles(
+        "plots/j1_position",
+        &["j1 position".to_owned()],
+        &[[0.2, 0.4, 1.0, 1.0]],
+    )
+    .expect("series style");
     let mut trail = Vec::new();
     for step in 0..10 {
         let t = f64::from(step) * 0.1;
@@ -61,7 +65,8 @@ fn records_a_small_sequence_to_an_rrd_file() {
             .expect("transform");
         rec.log_transform(paths[2], [0.4, 0.0, 0.0], [0.0, s, 0.0, c])
             .expect("transform");
-        rec.log_scalar("plots/j1_position", t).expect("scalar");
+        rec.send_scalars_column("plots/j1_position", &[rec.time_ns().expect("time")], &[t], 1)
+            .expect("scalar");
         trail.push([0.4 * t.cos(), 0.4 * t.sin(), 0.3]);
         rec.log_line_strip("world/tcp_trail", &trail, [1.0, 0.0, 0.0, 1.0])
             .expect("trail");
@@ -88,7 +93,7 @@ fn save_and_connect_together_reach_a_listening_viewer() {
     )
     .expect("open recording");
     rec.set_time_s(0.5);
-    rec.log_scalar("plots/x", 1.0).expect("scalar");
+    rec.send_scalars_column("plots/x", &[0], &[1.0], 1).expect("scalar");
     drop(listener);
     if let Err(err) = rec.finish() {
         assert!(matches!(err, RecordingError::Flush { .. }), "{err:?}");
@@ -108,7 +113,8 @@ fn streams_to_a_running_viewer() {
         .expect("mesh");
     for step in 0..5 {
         rec.set_time_s(f64::from(step) * 0.1);
-        rec.log_scalar("plots/x", f64::from(step)).expect("scalar");
+        rec.send_scalars_column("plots/x", &[rec.time_ns().expect("time")], &[f64::from(step)], 1)
+            .expect("scalar");
     }
     rec.finish().expect("finish");
 }
