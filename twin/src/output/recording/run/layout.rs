@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use super::paths::{entity_part, tags_entity};
+use super::paths::{entity_part, program_of, tags_entity};
 use crate::run::Twin;
 
 /// The default layout of a run's recording (module doc).
@@ -164,8 +164,8 @@ fn programs(twin: &Twin) -> Vec<(String, Vec<String>, Vec<String>)> {
         .collect();
     // `Program.Tag`: the program's; otherwise the controller's.
     let owner = |name: &str| -> Option<usize> {
-        let (head, _) = name.split_once('.')?;
-        names.iter().position(|p| *p == head)
+        let program = program_of(twin, name)?;
+        names.iter().position(|p| *p == program)
     };
     let mut tabs: Vec<(String, Vec<String>, Vec<String>)> = std::iter::once("Controller")
         .chain(names.iter().copied())
