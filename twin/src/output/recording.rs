@@ -353,7 +353,10 @@ impl Recorder {
     /// Logs a whole column of a series of `width` values at `entity_path` in
     /// one chunk: `values[i * width..(i + 1) * width]` at `sim_time`
     /// `times_ns[i]` (ns). Each of the `width` values is its own line in a
-    /// plot, named by [`Self::log_series_styles`].
+    /// plot, named by [`Self::log_series_styles`]. With `states` (labels,
+    /// lanes), row `i`'s labels `labels[i * lanes..(i + 1) * lanes]` go in
+    /// the same chunk as the entity's state lanes (`StateChange`; an empty
+    /// label is a gap).
     ///
     /// # Errors
     ///
@@ -365,15 +368,27 @@ impl Recorder {
         times_ns: &[i64],
         values: &[f64],
         width: usize,
+        states: Option<(&[String], usize)>,
     ) -> Result<(), RecordingError> {
-        if width == 0 || times_ns.len().checked_mul(width) != Some(values.len()) {
+        let rows = times_ns.len();
+        let states_fit =
+            states.is_none_or(|(labels, lanes)| lanes > 0 && rows.checked_mul(lanes) == Some(labels.len()));
+        if width == 0 || rows.checked_mul(width) != Some(values.len()) || !states_fit {
             return Err(RecordingError::InvalidValue {
                 entity_path: entity_path.to_owned(),
                 quantity: Quantity::ColumnLength,
             });
         }
-        let columns =
-            rerun::archetypes::Scalars::new(values.iter().copied()).columns(std::iter::repeat_n(width, times_ns.len()));
+        let scalars = rerun::archetypes::Scalars::new(values.iter().copied()).columns(std::iter::repeat_n(width, rows));
+        let columns: Result<Vec<rerun::SerializedComponentColumn>, _> = match states {
+            None => scalars.map(Iterator::collect),
+            Some((labels, lanes)) => scalars.and_then(|scalars| {
+                let states = rerun::archetypes::StateChange::new()
+                    .with_state(labels.iter().map(String::as_str))
+                    .columns(std::iter::repeat_n(lanes, rows))?;
+                Ok(scalars.chain(states).collect())
+            }),
+        };
         self.send_timed_columns(entity_path, times_ns, columns)
     }
 
@@ -403,17 +418,6 @@ impl Recorder {
     /// [`RecordingError::Log`] if Rerun refuses the data.
     pub fn log_state(&mut self, entity_path: &str, label: &str) -> Result<(), RecordingError> {
         self.log_timed(entity_path, &rerun::archetypes::StateChange::single(label))
-    }
-
-    /// Logs the states `labels` of `entity_path`'s lanes, one lane each,
-    /// from the current `sim_time` on.
-    ///
-    /// # Errors
-    ///
-    /// [`RecordingError::Log`] if Rerun refuses the data.
-    pub fn log_states(&mut self, entity_path: &str, labels: &[String]) -> Result<(), RecordingError> {
-        let state = rerun::archetypes::StateChange::new().with_state(labels.iter().map(String::as_str));
-        self.log_timed(entity_path, &state)
     }
 
     /// Logs a Markdown document once, static.

@@ -65,7 +65,7 @@ fn records_a_small_sequence_to_an_rrd_file() {
             .expect("transform");
         rec.log_transform(paths[2], [0.4, 0.0, 0.0], [0.0, s, 0.0, c])
             .expect("transform");
-        rec.send_scalars_column("plots/j1_position", &[rec.time_ns().expect("time")], &[t], 1)
+        rec.send_scalars_column("plots/j1_position", &[rec.time_ns().expect("time")], &[t], 1, None)
             .expect("scalar");
         trail.push([0.4 * t.cos(), 0.4 * t.sin(), 0.3]);
         rec.log_line_strip("world/tcp_trail", &trail, [1.0, 0.0, 0.0, 1.0])
@@ -93,7 +93,8 @@ fn save_and_connect_together_reach_a_listening_viewer() {
     )
     .expect("open recording");
     rec.set_time_s(0.5);
-    rec.send_scalars_column("plots/x", &[0], &[1.0], 1).expect("scalar");
+    rec.send_scalars_column("plots/x", &[0], &[1.0], 1, None)
+        .expect("scalar");
     drop(listener);
     if let Err(err) = rec.finish() {
         assert!(matches!(err, RecordingError::Flush { .. }), "{err:?}");
@@ -113,7 +114,7 @@ fn streams_to_a_running_viewer() {
         .expect("mesh");
     for step in 0..5 {
         rec.set_time_s(f64::from(step) * 0.1);
-        rec.send_scalars_column("plots/x", &[rec.time_ns().expect("time")], &[f64::from(step)], 1)
+        rec.send_scalars_column("plots/x", &[rec.time_ns().expect("time")], &[f64::from(step)], 1, None)
             .expect("scalar");
     }
     rec.finish().expect("finish");
@@ -283,14 +284,22 @@ fn frame_transforms_are_checked() {
         })
     ));
     assert!(matches!(
-        rec.send_scalars_column("s", &[0, 1], &[1.0, 2.0, 3.0], 2),
+        rec.send_scalars_column("s", &[0, 1], &[1.0, 2.0, 3.0], 2, None),
         Err(RecordingError::InvalidValue {
             quantity: Quantity::ColumnLength,
             ..
         })
     ));
-    rec.send_scalars_column("s", &[0, 1], &[1.0, 2.0, 3.0, 4.0], 2)
-        .expect("two values a row");
+    let labels = ["IP".to_owned(), "PC".to_owned()];
+    assert!(matches!(
+        rec.send_scalars_column("s", &[0, 1], &[1.0, 2.0, 3.0, 4.0], 2, Some((&labels[..1], 1))),
+        Err(RecordingError::InvalidValue {
+            quantity: Quantity::ColumnLength,
+            ..
+        })
+    ));
+    rec.send_scalars_column("s", &[0, 1], &[1.0, 2.0, 3.0, 4.0], 2, Some((&labels, 1)))
+        .expect("two values and a state a row");
     rec.finish().expect("finish");
 }
 

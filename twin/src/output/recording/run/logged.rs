@@ -36,18 +36,28 @@ pub(super) struct AllSeries {
     width: usize,
     /// Every series of values: the trace's columns grouped (module doc).
     groups: Vec<Series>,
-    /// Per function block: its name, entity and last outputs (none before
-    /// the first update).
-    fbs: Vec<(String, String, Option<FbOutputs>)>,
-    /// Per control structure: its name, entity and last bits.
-    instructions: Vec<(String, String, Option<MotionInstructionBits>)>,
+    /// Per function block: its name, its series (in `groups`) and last
+    /// outputs (none before the first update).
+    fbs: Vec<(String, usize, Option<FbOutputs>)>,
+    /// Per control structure: its name, its series and last bits.
+    instructions: Vec<(String, usize, Option<MotionInstructionBits>)>,
+}
+
+/// Whether a trace column's series is also a state lane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Lane {
+    /// No lane.
+    No,
+    /// The column's value is its own lane (an integer or bit tag).
+    Value,
+    /// The series has one lane, its instruction's state word
+    /// ([`Status::lane`]), set by [`observe_statuses`].
+    Instruction,
 }
 
 /// Where the recording logs a trace column: the series' entity path and
-/// whether its changes are also a state lane (an instruction's, or an
-/// integer or bit tag's); `None` for `time_s` and string tags (logged as
-/// text).
-fn series_path(twin: &Twin, column: &trace::Column) -> Option<(String, bool)> {
+/// its lane; `None` for `time_s` and string tags (logged as text).
+fn series_path(twin: &Twin, column: &trace::Column) -> Option<(String, Lane)> {
     use trace::Group;
     let path = match &column.group {
         Group::Time => return None,
@@ -58,7 +68,7 @@ fn series_path(twin: &Twin, column: &trace::Column) -> Option<(String, bool)> {
             "cmd_acc" => "axes/acceleration".to_owned(),
             _ => "axes/status".to_owned(),
         },
-        Group::Instruction(name) => format!("instructions/{}", entity_part(name)),
+        Group::Instruction(name) => return Some((format!("instructions/{}", entity_part(name)), Lane::Instruction)),
         Group::CollisionCount => "collisions/count".to_owned(),
         Group::Clearance => "collisions/clearance".to_owned(),
         Group::System(cs) => format!("coordinate_systems/{}/status", entity_part(cs)),
@@ -73,7 +83,11 @@ fn series_path(twin: &Twin, column: &trace::Column) -> Option<(String, bool)> {
             if tag.is_text() {
                 return None;
             }
-            let lane = !matches!(tag.data_type(), DataType::Real | DataType::Lreal);
+            let lane = if matches!(tag.data_type(), DataType::Real | DataType::Lreal) {
+                Lane::No
+            } else {
+                Lane::Value
+            };
             let path = match &tag.entity {
                 Some(path) => path.clone(),
                 None => tags_entity(twin, &tag.name),
@@ -82,7 +96,7 @@ fn series_path(twin: &Twin, column: &trace::Column) -> Option<(String, bool)> {
         }
         Group::Plant => "plant/kinematic".to_owned(),
     };
-    Some((path, false))
+    Some((path, Lane::No))
 }
 
 /// The colour of an axis' line: the axis' own for a command, lighter for
@@ -106,18 +120,20 @@ impl Series {
         let columns = trace::columns(twin);
         let axis_index = |name: &str| plant.axes().iter().position(|a| a.name == name);
         // (path, lanes, names, colours, value indices)
-        type Group = (String, Vec<usize>, Vec<String>, Vec<[f32; 4]>, Vec<usize>);
-        fn place(groups: &mut Vec<Group>, path: String, lane: bool, name: String, rgba: [f32; 4], index: usize) {
+        type Group = (String, Lanes, Vec<String>, Vec<[f32; 4]>, Vec<usize>);
+        fn place(groups: &mut Vec<Group>, path: String, lane: Lane, name: String, rgba: [f32; 4], index: usize) {
             let k = match groups.iter().position(|g| g.0 == path) {
                 Some(k) => k,
                 None => {
-                    groups.push((path, Vec::new(), Vec::new(), Vec::new(), Vec::new()));
+                    groups.push((path, Lanes::Values(Vec::new()), Vec::new(), Vec::new(), Vec::new()));
                     groups.len() - 1
                 }
             };
             let g = &mut groups[k];
-            if lane {
-                g.1.push(g.4.len());
+            match (lane, &mut g.1) {
+                (Lane::Instruction, lanes) => *lanes = Lanes::Set,
+                (Lane::Value, Lanes::Values(v)) => v.push(g.4.len()),
+                _ => {}
             }
             g.2.push(name);
             g.3.push(rgba);
@@ -141,7 +157,7 @@ impl Series {
                 place(
                     &mut groups,
                     path,
-                    false,
+                    Lane::No,
                     format!("{a}.act_vel"),
                     axis_rgba(k, "act_vel"),
                     velocities + k,
@@ -152,23 +168,27 @@ impl Series {
             .iter()
             .map(|(path, _, names, colors, _)| (path.clone(), names.clone(), colors.clone()))
             .collect();
-        let groups = groups
+        let groups: Vec<Series> = groups
             .into_iter()
             .map(|(path, lanes, _, _, indices)| Series::new(path, indices, lanes))
             .collect();
         let program = twin.program();
+        let series_of = |name: &str| {
+            let path = format!("instructions/{}", entity_part(name));
+            groups
+                .iter()
+                .position(|s: &Series| s.path == path)
+                .unwrap_or(usize::MAX)
+        };
         let fbs = program
             .fbs()
             .iter()
-            .map(|fb| (fb.name.clone(), format!("instructions/{}", entity_part(&fb.name)), None))
+            .map(|fb| (fb.name.clone(), series_of(&fb.name), None))
             .collect();
         let instructions = program
             .instructions()
             .iter()
-            .map(|ins| {
-                let path = format!("instructions/{}", entity_part(&ins.name));
-                (ins.name.clone(), path, None)
-            })
+            .map(|ins| (ins.name.clone(), series_of(&ins.name), None))
             .collect();
         let model = plant.model();
         let mut poses: Vec<((usize, Option<usize>), PoseSeries)> = model
@@ -276,16 +296,20 @@ impl Logged {
                 };
                 series.observe(t, translation, rotation);
             }
+            // The instructions' lanes first: their series take them in below.
+            let (recorder, groups) = (&mut self.recorder, &mut self.series.groups);
+            observe_statuses(
+                recorder,
+                groups,
+                &mut self.series.fbs,
+                &batch.fbs[u * fbs..(u + 1) * fbs],
+            )?;
+            let updated = &batch.instructions[u * instructions..(u + 1) * instructions];
+            observe_statuses(recorder, groups, &mut self.series.instructions, updated)?;
             let row = &batch.values[u * width..(u + 1) * width];
             for series in &mut self.series.groups {
-                if series.observe(t, row) && series.new_labels() {
-                    self.recorder.log_states(&series.path, &series.labels)?;
-                }
+                series.observe(t, row);
             }
-            let recorder = &mut self.recorder;
-            observe_statuses(recorder, &mut self.series.fbs, &batch.fbs[u * fbs..(u + 1) * fbs])?;
-            let updated = &batch.instructions[u * instructions..(u + 1) * instructions];
-            observe_statuses(recorder, &mut self.series.instructions, updated)?;
             self.pending_updates += 1;
             if self.pending_updates >= FLUSH_UPDATES {
                 self.flush()?;
@@ -356,19 +380,22 @@ impl Logged {
 
 /// Takes in one update's outputs of the function blocks or control
 /// structures: a change of its outputs is a line of the instruction log,
-/// and a change of its state word ([`Status::lane`]) a new state in its
-/// lane.
+/// and its state word ([`Status::lane`]) the label its series gathers
+/// next (every instance has its lane from the first update: a gap while
+/// idle).
 fn observe_statuses<S: Status + Default>(
     recorder: &mut Recorder,
-    rows: &mut [(String, String, Option<S>)],
+    groups: &mut [Series],
+    rows: &mut [(String, usize, Option<S>)],
     update: &[S],
 ) -> Result<(), RecordingError> {
-    for ((name, path, previous), status) in rows.iter_mut().zip(update) {
-        // The first update: every instance gets its lane (a gap while idle).
+    for ((name, series, previous), status) in rows.iter_mut().zip(update) {
         let first = previous.is_none();
         let before = previous.replace(*status).unwrap_or_default();
-        if first {
-            recorder.log_state(path, &status.lane())?;
+        if (first || before != *status)
+            && let Some(series) = groups.get_mut(*series)
+        {
+            series.set_labels(&[status.lane()]);
         }
         if before == *status {
             continue;
@@ -379,10 +406,6 @@ fn observe_statuses<S: Status + Default>(
             TextLevel::Info
         };
         recorder.log_text("instructions/log", level, &format!("{name}: {}", describe(*status)))?;
-        let lane = status.lane();
-        if !first && lane != before.lane() {
-            recorder.log_state(path, &lane)?;
-        }
     }
     Ok(())
 }
@@ -431,36 +454,65 @@ fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
     ]
 }
 
+/// Which values of a series are also state lanes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) enum Lanes {
+    /// These of its values, one lane each (their text); none: no lanes.
+    Values(Vec<usize>),
+    /// One lane whose label is set from outside ([`Series::set_labels`]).
+    Set,
+}
+
 /// A series of one or more values (the lines of one entity) gathered where
-/// any of them changes (module doc).
+/// any of them changes (module doc), with its state lanes' labels, which
+/// change only where its values do and are sent in the same chunk.
 pub(super) struct Series {
     path: String,
     /// Where its values are in an update's row.
     columns: Vec<usize>,
-    /// Which of its values are also states in lanes, one lane each (their
-    /// text), and the labels last logged.
-    lanes: Vec<usize>,
-    labels: Vec<String>,
+    lanes: Lanes,
     times_ns: Vec<i64>,
     /// `columns.len()` values per time.
     values: Vec<f64>,
+    /// The lanes' labels per time (empty without lanes).
+    states: Vec<String>,
     /// The last values taken in, when, and whether they are gathered.
     last: Vec<f64>,
     last_at: Option<(i64, bool)>,
+    /// The lanes' labels now, and at the last update taken in.
+    labels: Vec<String>,
+    last_labels: Vec<String>,
 }
 
 impl Series {
-    pub(super) fn new(path: String, columns: Vec<usize>, lanes: Vec<usize>) -> Self {
+    pub(super) fn new(path: String, columns: Vec<usize>, lanes: Lanes) -> Self {
         Self {
             path,
             columns,
             lanes,
-            labels: Vec::new(),
             times_ns: Vec::new(),
             values: Vec::new(),
+            states: Vec::new(),
             last: Vec::new(),
             last_at: None,
+            labels: Vec::new(),
+            last_labels: Vec::new(),
         }
+    }
+
+    /// Lanes per time: 0 without lanes.
+    fn lane_count(&self) -> usize {
+        match &self.lanes {
+            Lanes::Values(v) => v.len(),
+            Lanes::Set => 1,
+        }
+    }
+
+    /// The labels of a [`Lanes::Set`] series from the next update taken in
+    /// on (it changes only where its values do).
+    fn set_labels(&mut self, labels: &[String]) {
+        self.labels.clear();
+        self.labels.extend_from_slice(labels);
     }
 
     /// Takes in the values at `t_ns` from an update's `row`: gathered when
@@ -481,26 +533,26 @@ impl Series {
         if let Some((t_last, false)) = self.last_at {
             self.times_ns.push(t_last);
             self.values.extend_from_slice(&self.last);
+            self.states.extend_from_slice(&self.last_labels);
         }
         self.last.clear();
         self.last.extend(self.columns.iter().map(|&k| row[k]));
+        if let Lanes::Values(lanes) = &self.lanes {
+            self.labels = lanes.iter().map(|&k| trace::number(self.last[k])).collect();
+        }
         self.times_ns.push(t_ns);
         self.values.extend_from_slice(&self.last);
+        let lanes = self.lane_count();
+        self.states.extend(
+            self.labels
+                .iter()
+                .cloned()
+                .chain(std::iter::repeat(String::new()))
+                .take(lanes),
+        );
+        self.last_labels
+            .clone_from(&self.states[self.states.len() - lanes..].to_vec());
         self.last_at = Some((t_ns, true));
-        true
-    }
-
-    /// Whether the lanes' labels differ from those last logged (they are
-    /// then the new ones).
-    fn new_labels(&mut self) -> bool {
-        if self.lanes.is_empty() {
-            return false;
-        }
-        let labels: Vec<String> = self.lanes.iter().map(|&k| trace::number(self.last[k])).collect();
-        if labels == self.labels {
-            return false;
-        }
-        self.labels = labels;
         true
     }
 
@@ -509,15 +561,18 @@ impl Series {
         if let Some((t, false)) = self.last_at {
             self.times_ns.push(t);
             self.values.extend_from_slice(&self.last);
+            self.states.extend_from_slice(&self.last_labels);
             self.last_at = Some((t, true));
         }
     }
 
     fn flush(&mut self, rec: &mut Recorder) -> Result<(), RecordingError> {
         if !self.times_ns.is_empty() {
-            rec.send_scalars_column(&self.path, &self.times_ns, &self.values, self.columns.len())?;
+            let states = (self.lane_count() > 0).then_some((self.states.as_slice(), self.lane_count()));
+            rec.send_scalars_column(&self.path, &self.times_ns, &self.values, self.columns.len(), states)?;
             self.times_ns.clear();
             self.values.clear();
+            self.states.clear();
         }
         Ok(())
     }
@@ -624,7 +679,7 @@ mod tests {
         // close adds NaN@9.
         let first = [0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 2.0, f64::NAN, f64::NAN];
         let second = |t: usize| if t == 6 { 6.0 } else { 5.0 };
-        let mut s = Series::new("x".into(), vec![2, 0], Vec::new());
+        let mut s = Series::new("x".into(), vec![2, 0], Lanes::Values(Vec::new()));
         let mut changes = 0;
         for (t, v) in first.into_iter().enumerate() {
             changes += usize::from(s.observe(t as i64, &[second(t), -1.0, v]));
@@ -632,11 +687,35 @@ mod tests {
         s.close();
         assert_eq!(changes, 6, "changes at 0, 3, 5, 6, 7, 8");
         assert_eq!(s.times_ns, [0, 2, 3, 4, 5, 6, 7, 8, 9]);
+        assert!(s.states.is_empty(), "no lanes, no states");
         // The latest sample at or before each update is that update's value.
         for (t, v) in first.into_iter().enumerate() {
             let i = s.times_ns.partition_point(|&x| x <= t as i64) - 1;
             assert_eq!(s.values[2 * i].to_bits(), v.to_bits(), "update {t}");
             assert_eq!(s.values[2 * i + 1], second(t), "update {t}");
         }
+    }
+
+    #[test]
+    fn a_series_lanes_labels_go_with_its_rows() {
+        // A value lane on the second value: its label is that value's
+        // text at each gathered row, the row before a change included.
+        let mut s = Series::new("x".into(), vec![0, 1], Lanes::Values(vec![1]));
+        for (t, v) in [(0, 1.0), (1, 1.0), (2, 2.0), (3, 2.0)] {
+            s.observe(t, &[0.5, v]);
+        }
+        s.close();
+        assert_eq!(s.times_ns, [0, 1, 2, 3]);
+        assert_eq!(s.states, ["1", "1", "2", "2"]);
+        // A set lane: the label given before the update that changes.
+        let mut s = Series::new("y".into(), vec![0], Lanes::Set);
+        s.set_labels(&["".to_owned()]);
+        s.observe(0, &[0.0]);
+        s.observe(1, &[0.0]);
+        s.set_labels(&["IP".to_owned()]);
+        s.observe(2, &[1.0]);
+        s.close();
+        assert_eq!(s.times_ns, [0, 1, 2]);
+        assert_eq!(s.states, ["", "", "IP"]);
     }
 }
