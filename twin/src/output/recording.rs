@@ -274,18 +274,10 @@ impl Recorder {
             entity_path: entity_path.to_owned(),
             defect,
         })?;
-        let invalid = |quantity| RecordingError::InvalidValue {
-            entity_path: entity_path.to_owned(),
-            quantity,
-        };
-        let (translation, rotation) = link_from_mesh;
-        if !translation.iter().all(|v| v.is_finite()) {
-            return Err(invalid(Quantity::Translation));
-        }
-        let rotation = unit_quaternion(rotation).ok_or_else(|| invalid(Quantity::Rotation))?;
+        let (translation, rotation) = checked_pose(entity_path, link_from_mesh)?;
         let pose = rerun::archetypes::InstancePoses3D::new()
-            .with_translations([translation.map(|v| v as f32)])
-            .with_quaternions([rerun::datatypes::Quaternion::from_xyzw(rotation)]);
+            .with_translations([translation])
+            .with_quaternions([rotation]);
         // One call: one chunk (a chunk costs the file writer more than its bytes).
         let frame = rerun::archetypes::CoordinateFrame::new(frame);
         let mesh = mesh_archetype(mesh, color_rgba);
@@ -447,19 +439,8 @@ impl Recorder {
         fov_y_rad: f64,
         size_px: [u32; 2],
     ) -> Result<(), RecordingError> {
-        let invalid = |quantity| RecordingError::InvalidValue {
-            entity_path: entity_path.to_owned(),
-            quantity,
-        };
-        let (translation, rotation) = world_from_camera;
-        if !translation.iter().all(|v| v.is_finite()) {
-            return Err(invalid(Quantity::Translation));
-        }
-        let rotation = unit_quaternion(rotation).ok_or_else(|| invalid(Quantity::Rotation))?;
-        let pose = rerun::archetypes::Transform3D::from_translation_rotation(
-            translation.map(|v| v as f32),
-            rerun::datatypes::Quaternion::from_xyzw(rotation),
-        );
+        let (translation, rotation) = checked_pose(entity_path, world_from_camera)?;
+        let pose = rerun::archetypes::Transform3D::from_translation_rotation(translation, rotation);
         let [w, h] = size_px;
         let pinhole = rerun::archetypes::Pinhole::from_fov_and_aspect_ratio(fov_y_rad as f32, w as f32 / h as f32)
             .with_resolution([w as f32, h as f32])
@@ -497,18 +478,8 @@ impl Recorder {
         translation_m: [f64; 3],
         rotation_xyzw: [f64; 4],
     ) -> Result<(), RecordingError> {
-        let invalid = |quantity| RecordingError::InvalidValue {
-            entity_path: entity_path.to_owned(),
-            quantity,
-        };
-        if !translation_m.iter().all(|v| v.is_finite()) {
-            return Err(invalid(Quantity::Translation));
-        }
-        let rotation = unit_quaternion(rotation_xyzw).ok_or_else(|| invalid(Quantity::Rotation))?;
-        let transform = rerun::archetypes::Transform3D::from_translation_rotation(
-            translation_m,
-            rerun::datatypes::Quaternion::from_xyzw(rotation),
-        );
+        let (translation, rotation) = checked_pose(entity_path, (translation_m, rotation_xyzw))?;
+        let transform = rerun::archetypes::Transform3D::from_translation_rotation(translation, rotation);
         self.log_timed(entity_path, &transform)
     }
 
@@ -739,6 +710,28 @@ pub fn visual_entity_path(robot_path: &str, link: &str, name: Option<&str>, inde
     let part = |name: &str| rerun::EntityPathPart::new(name).escaped_string();
     let visual = name.map_or_else(|| format!("visual_{index}"), part);
     format!("{robot_path}/visual_geometries/{}/{visual}", part(link))
+}
+
+/// A pose (translation in metres, `xyzw` rotation) as Rerun stores it,
+/// the rotation normalised: [`RecordingError::InvalidValue`] naming
+/// `entity_path` for a NaN or infinite translation, or a zero or
+/// non-finite quaternion.
+fn checked_pose(
+    entity_path: &str,
+    (translation_m, rotation_xyzw): ([f64; 3], [f64; 4]),
+) -> Result<([f32; 3], rerun::datatypes::Quaternion), RecordingError> {
+    let invalid = |quantity| RecordingError::InvalidValue {
+        entity_path: entity_path.to_owned(),
+        quantity,
+    };
+    if !translation_m.iter().all(|v| v.is_finite()) {
+        return Err(invalid(Quantity::Translation));
+    }
+    let rotation = unit_quaternion(rotation_xyzw).ok_or_else(|| invalid(Quantity::Rotation))?;
+    Ok((
+        translation_m.map(|v| v as f32),
+        rerun::datatypes::Quaternion::from_xyzw(rotation),
+    ))
 }
 
 /// A transform between two named frames: parent frame, child frame,

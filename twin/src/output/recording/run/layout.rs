@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use super::paths::{entity_part, program_of, tags_entity};
+use super::paths::{entity_part, instruction_entity, program_of, tag_entity};
 use crate::run::Twin;
 
 /// The default layout of a run's recording (module doc).
@@ -178,13 +178,10 @@ fn programs(twin: &Twin) -> Vec<(String, Vec<String>, Vec<String>)> {
         .chain(program.instructions().iter().map(|i| i.name.as_str()));
     for name in instances {
         let k = owner(name).map_or(0, |k| k + 1);
-        tabs[k].1.push(format!("/instructions/{}", entity_part(name)));
+        tabs[k].1.push(format!("/{}", instruction_entity(name)));
     }
     for tag in program.traced_tags() {
-        let path = match &tag.entity {
-            Some(path) => format!("/{path}"),
-            None => format!("/{}", tags_entity(twin, &tag.name)),
-        };
+        let path = format!("/{}", tag_entity(twin, tag));
         if tabs.iter().any(|t| t.1.contains(&path)) {
             continue;
         }

@@ -7,7 +7,7 @@ use planner::instruction::{FbOutputs, MotionInstructionBits};
 use super::super::{FrameTransform, Recorder, RecordingError, Served, TextLevel};
 use super::batch::{AXIS_RGBA, Batch, FLUSH_UPDATES, IDLE_FLUSH_UPDATES, Item, LIVE_FLUSH, TRAIL_RGBA};
 use super::fixed::{Static, Style};
-use super::paths::{entity_part, tags_entity};
+use super::paths::{entity_part, instruction_entity, tag_entity};
 use crate::output::COLLISION_TINT_RGBA;
 use crate::output::status::{Status, describe};
 use crate::output::trace;
@@ -68,7 +68,7 @@ fn series_path(twin: &Twin, column: &trace::Column) -> Option<(String, Lane)> {
             "cmd_acc" => "axes/acceleration".to_owned(),
             _ => "axes/status".to_owned(),
         },
-        Group::Instruction(name) => return Some((format!("instructions/{}", entity_part(name)), Lane::Instruction)),
+        Group::Instruction(name) => return Some((instruction_entity(name), Lane::Instruction)),
         Group::CollisionCount => "collisions/count".to_owned(),
         Group::Clearance => "collisions/clearance".to_owned(),
         Group::System(cs) => format!("coordinate_systems/{}/status", entity_part(cs)),
@@ -88,11 +88,7 @@ fn series_path(twin: &Twin, column: &trace::Column) -> Option<(String, Lane)> {
             } else {
                 Lane::Value
             };
-            let path = match &tag.entity {
-                Some(path) => path.clone(),
-                None => tags_entity(twin, &tag.name),
-            };
-            return Some((path, lane));
+            return Some((tag_entity(twin, tag), lane));
         }
         Group::Plant => "plant/kinematic".to_owned(),
     };
@@ -174,7 +170,7 @@ impl Series {
             .collect();
         let program = twin.program();
         let series_of = |name: &str| {
-            let path = format!("instructions/{}", entity_part(name));
+            let path = instruction_entity(name);
             groups
                 .iter()
                 .position(|s: &Series| s.path == path)
@@ -395,7 +391,7 @@ fn observe_statuses<S: Status + Default>(
         if (first || before != *status)
             && let Some(series) = groups.get_mut(*series)
         {
-            series.set_labels(&[status.lane()]);
+            series.set_label(status.lane());
         }
         if before == *status {
             continue;
@@ -459,7 +455,7 @@ fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
 pub(super) enum Lanes {
     /// These of its values, one lane each (their text); none: no lanes.
     Values(Vec<usize>),
-    /// One lane whose label is set from outside ([`Series::set_labels`]).
+    /// One lane whose label is set from outside ([`Series::set_label`]).
     Set,
 }
 
@@ -486,6 +482,12 @@ pub(super) struct Series {
 
 impl Series {
     pub(super) fn new(path: String, columns: Vec<usize>, lanes: Lanes) -> Self {
+        // A label per lane from the start (a gap until one is set).
+        let count = match &lanes {
+            Lanes::Values(v) => v.len(),
+            Lanes::Set => 1,
+        };
+        let labels = vec![String::new(); count];
         Self {
             path,
             columns,
@@ -495,24 +497,17 @@ impl Series {
             states: Vec::new(),
             last: Vec::new(),
             last_at: None,
-            labels: Vec::new(),
-            last_labels: Vec::new(),
+            last_labels: labels.clone(),
+            labels,
         }
     }
 
-    /// Lanes per time: 0 without lanes.
-    fn lane_count(&self) -> usize {
-        match &self.lanes {
-            Lanes::Values(v) => v.len(),
-            Lanes::Set => 1,
-        }
-    }
-
-    /// The labels of a [`Lanes::Set`] series from the next update taken in
+    /// The label of a [`Lanes::Set`] series from the next update taken in
     /// on (it changes only where its values do).
-    fn set_labels(&mut self, labels: &[String]) {
-        self.labels.clear();
-        self.labels.extend_from_slice(labels);
+    fn set_label(&mut self, label: String) {
+        if let [only] = self.labels.as_mut_slice() {
+            *only = label;
+        }
     }
 
     /// Takes in the values at `t_ns` from an update's `row`: gathered when
@@ -542,16 +537,8 @@ impl Series {
         }
         self.times_ns.push(t_ns);
         self.values.extend_from_slice(&self.last);
-        let lanes = self.lane_count();
-        self.states.extend(
-            self.labels
-                .iter()
-                .cloned()
-                .chain(std::iter::repeat(String::new()))
-                .take(lanes),
-        );
-        self.last_labels
-            .clone_from(&self.states[self.states.len() - lanes..].to_vec());
+        self.states.extend_from_slice(&self.labels);
+        self.last_labels.clone_from(&self.labels);
         self.last_at = Some((t_ns, true));
         true
     }
@@ -568,7 +555,8 @@ impl Series {
 
     fn flush(&mut self, rec: &mut Recorder) -> Result<(), RecordingError> {
         if !self.times_ns.is_empty() {
-            let states = (self.lane_count() > 0).then_some((self.states.as_slice(), self.lane_count()));
+            let lanes = self.labels.len();
+            let states = (lanes > 0).then_some((self.states.as_slice(), lanes));
             rec.send_scalars_column(&self.path, &self.times_ns, &self.values, self.columns.len(), states)?;
             self.times_ns.clear();
             self.values.clear();
@@ -709,10 +697,10 @@ mod tests {
         assert_eq!(s.states, ["1", "1", "2", "2"]);
         // A set lane: the label given before the update that changes.
         let mut s = Series::new("y".into(), vec![0], Lanes::Set);
-        s.set_labels(&["".to_owned()]);
+        s.set_label(String::new());
         s.observe(0, &[0.0]);
         s.observe(1, &[0.0]);
-        s.set_labels(&["IP".to_owned()]);
+        s.set_label("IP".to_owned());
         s.observe(2, &[1.0]);
         s.close();
         assert_eq!(s.times_ns, [0, 1, 2]);
